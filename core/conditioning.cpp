@@ -1,0 +1,47 @@
+#include "core/conditioning.h"
+
+#include <Eigen/Geometry>
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace linkscape {
+namespace {
+
+// Largest eigenvalue of a symmetric 3x3 matrix: A = q I + p B with
+// eig(B) = 2 cos(phi + 2 pi k / 3); k = 0 gives the largest, where cos is flat
+// in phi, so rounding in det(B) barely moves it.
+double largest_eigenvalue(const Eigen::Matrix3d& A) {
+  const double q = A.trace() / 3.0;
+  const double off = A(0, 1) * A(0, 1) + A(0, 2) * A(0, 2) + A(1, 2) * A(1, 2);
+  const double d0 = A(0, 0) - q, d1 = A(1, 1) - q, d2 = A(2, 2) - q;
+  const double p = std::sqrt((d0 * d0 + d1 * d1 + d2 * d2 + 2.0 * off) / 6.0);
+  if (p == 0.0) return q;
+  const Eigen::Matrix3d B = (A - q * Eigen::Matrix3d::Identity()) / p;
+  const double r = std::clamp(B.determinant() / 2.0, -1.0, 1.0);
+  return q + 2.0 * p * std::cos(std::acos(r) / 3.0);
+}
+
+}  // namespace
+
+double condition_number_closed_form(const Eigen::Matrix3d& J) {
+  Eigen::Matrix3d K;
+  K.col(0) = J.col(1).cross(J.col(2));
+  K.col(1) = J.col(2).cross(J.col(0));
+  K.col(2) = J.col(0).cross(J.col(1));
+  const double det = J.col(0).dot(K.col(0));
+  if (det == 0.0 || !std::isfinite(det)) return std::numeric_limits<double>::infinity();
+  const double s_max2 = largest_eigenvalue(J.transpose() * J);          // sigma_max^2
+  const double s_max_mid2 = largest_eigenvalue(K.transpose() * K);      // (sigma_max sigma_mid)^2
+  return std::sqrt(s_max2 * s_max_mid2) / std::abs(det);
+}
+
+double condition_number_svd(const Eigen::Matrix3d& J) {
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(J);
+  const auto& s = svd.singularValues();
+  if (s(2) == 0.0) return std::numeric_limits<double>::infinity();
+  return s(0) / s(2);
+}
+
+}  // namespace linkscape

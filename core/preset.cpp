@@ -1,0 +1,134 @@
+#include "core/preset.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <stdexcept>
+
+namespace linkscape {
+namespace fs = std::filesystem;
+
+std::vector<fs::path> preset_search_path() {
+  std::vector<fs::path> dirs;
+  if (const char* env = std::getenv("LINKSCAPE_ASSETS"); env && *env)
+    dirs.push_back(fs::path(env) / "mechanisms");
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) dirs.push_back(exe.parent_path().parent_path() / "share/linkscape/mechanisms");
+  dirs.push_back(fs::path(LINKSCAPE_SOURCE_ASSETS) / "mechanisms");
+  return dirs;
+}
+
+std::vector<std::string> available_presets() {
+  std::vector<std::string> names;
+  for (const fs::path& dir : preset_search_path()) {
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(dir, ec))
+      if (entry.path().extension() == ".json") names.push_back(entry.path().stem().string());
+  }
+  std::sort(names.begin(), names.end());
+  names.erase(std::unique(names.begin(), names.end()), names.end());
+  return names;
+}
+
+namespace {
+
+fs::path resolve_preset(const std::string& name_or_path) {
+  const fs::path given(name_or_path);
+  if (given.extension() == ".json" || given.has_parent_path()) {
+    if (!fs::is_regular_file(given))
+      throw std::invalid_argument("preset file '" + name_or_path + "' does not exist");
+    return given;
+  }
+  for (const fs::path& dir : preset_search_path()) {
+    const fs::path candidate = dir / (name_or_path + ".json");
+    if (fs::is_regular_file(candidate)) return candidate;
+  }
+  std::string known;
+  for (const auto& n : available_presets()) known += (known.empty() ? "" : ", ") + n;
+  throw std::invalid_argument("unknown mechanism '" + name_or_path + "' (known presets: " +
+                              (known.empty() ? "none found" : known) +
+                              "; or give a path to a .json preset)");
+}
+
+}  // namespace
+
+Preset parse_preset(const std::string& text, const std::string& origin) {
+  using nlohmann::json;
+  Preset p;
+  try {
+    const json doc = json::parse(text);
+    if (!doc.is_object()) throw std::invalid_argument("top level must be a JSON object");
+    p.mechanism = doc.at("mechanism").get<std::string>();
+    p.title = doc.value("title", p.mechanism);
+    p.length_unit = doc.value("length_unit", "unit");
+    for (const auto& [key, value] : doc.at("parameters").items()) p.parameters[key] = value.get<double>();
+    if (doc.contains("actuator_limits_deg")) {
+      for (const auto& [key, value] : doc.at("actuator_limits_deg").items()) {
+        if (!value.is_array() || value.size() != 2)
+          throw std::invalid_argument("actuator_limits_deg." + key + " must be [lo, hi]");
+        p.limits_deg[key] = {value[0].get<double>(), value[1].get<double>()};
+      }
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw std::invalid_argument("preset " + origin + ": " + e.what());
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument("preset " + origin + ": " + e.what());
+  }
+  if (p.mechanism != parallel12r::kMechanismName)
+    throw std::invalid_argument("preset " + origin + ": unsupported mechanism '" + p.mechanism +
+                                "' (supported: parallel-12r)");
+  try {
+    make_parallel12r(p);  // validates names and values
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument("preset " + origin + ": " + e.what());
+  }
+  return p;
+}
+
+Preset load_preset(const std::string& name_or_path) {
+  const fs::path file = resolve_preset(name_or_path);
+  std::ifstream in(file);
+  if (!in) throw std::invalid_argument("cannot read preset file '" + file.string() + "'");
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  Preset p = parse_preset(buffer.str(), file.string());
+  p.source = file;
+  return p;
+}
+
+void apply_overrides(Preset& preset, const std::vector<std::string>& overrides) {
+  for (const std::string& pair : overrides) {
+    const auto eq = pair.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw std::invalid_argument("--param expects key=value, got '" + pair + "'");
+    const std::string key = pair.substr(0, eq), text = pair.substr(eq + 1);
+    if (!preset.parameters.contains(key)) {
+      std::string known;
+      for (const auto& [k, v] : preset.parameters) known += (known.empty() ? "" : ", ") + k;
+      throw std::invalid_argument("unknown parameter '" + key + "' for " + preset.mechanism +
+                                  " (known: " + known + ")");
+    }
+    std::size_t used = 0;
+    double value = 0.0;
+    try {
+      value = std::stod(text, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != text.size())
+      throw std::invalid_argument("parameter " + key + ": '" + text + "' is not a number");
+    preset.parameters[key] = value;
+  }
+  make_parallel12r(preset);  // validates the new values
+}
+
+parallel12r::Model make_parallel12r(const Preset& preset) {
+  return parallel12r::Model::from_parameters(preset.parameters, preset.limits_deg, preset.length_unit);
+}
+
+}  // namespace linkscape

@@ -1,0 +1,41 @@
+// Mechanism presets: JSON files in assets/mechanisms/ naming a mechanism,
+// its parameters and actuator ranges. Users pass a preset name or a path.
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/parallel12r.h"
+
+namespace linkscape {
+
+struct Preset {
+  std::string mechanism;    // model family, e.g. "parallel-12r"
+  std::string title;        // human-readable description
+  std::string length_unit;  // e.g. "cm"
+  std::map<std::string, double> parameters;
+  std::map<std::string, parallel12r::Interval> limits_deg;  // actuator ranges, degrees
+  std::filesystem::path source;                             // file it was read from
+};
+
+// Folders searched for preset names, in order: $LINKSCAPE_ASSETS/mechanisms,
+// <executable>/../share/linkscape/mechanisms, the source tree's assets.
+std::vector<std::filesystem::path> preset_search_path();
+// Names of all presets found on the search path.
+std::vector<std::string> available_presets();
+
+// `name_or_path` is a preset name ("parallel-12r") or a path to a .json file.
+// Throws std::invalid_argument naming the file and the problem.
+Preset load_preset(const std::string& name_or_path);
+Preset parse_preset(const std::string& json_text, const std::string& origin);
+
+// Applies "key=value" overrides to the preset's parameters. Throws
+// std::invalid_argument for a malformed pair, an unknown key or a bad number.
+void apply_overrides(Preset& preset, const std::vector<std::string>& overrides);
+
+// The 12R model described by a preset (mechanism must be "parallel-12r").
+parallel12r::Model make_parallel12r(const Preset& preset);
+
+}  // namespace linkscape

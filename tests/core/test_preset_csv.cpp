@@ -1,0 +1,79 @@
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "core/csv.h"
+#include "core/preset.h"
+
+using namespace linkscape;
+
+TEST(Preset, ShippedParallel12rIsThePapersDesign) {
+  const Preset p = load_preset("parallel-12r");
+  EXPECT_EQ(p.mechanism, "parallel-12r");
+  EXPECT_EQ(p.length_unit, "cm");
+  const auto m = make_parallel12r(p);
+  EXPECT_DOUBLE_EQ(m.L1, 15.0);
+  EXPECT_DOUBLE_EQ(m.L2, 15.0);
+  EXPECT_NEAR(m.alpha_limits.hi, std::numbers::pi / 2, 1e-15);
+}
+
+TEST(Preset, OverridesAndTheirErrors) {
+  Preset p = load_preset("parallel-12r");
+  apply_overrides(p, {"L1=1", "L2=2.5"});
+  EXPECT_DOUBLE_EQ(make_parallel12r(p).L2, 2.5);
+  EXPECT_THROW(apply_overrides(p, {"L3=1"}), std::invalid_argument);
+  EXPECT_THROW(apply_overrides(p, {"L1"}), std::invalid_argument);
+  EXPECT_THROW(apply_overrides(p, {"L1=abc"}), std::invalid_argument);
+  EXPECT_THROW(apply_overrides(p, {"L1=1x"}), std::invalid_argument);
+  EXPECT_THROW(apply_overrides(p, {"L1=-2"}), std::invalid_argument);
+  EXPECT_THROW(apply_overrides(p, {"L1=0"}), std::invalid_argument);
+}
+
+TEST(Preset, MalformedFileNamesTheFileAndTheProblem) {
+  const auto dir = std::filesystem::temp_directory_path();
+  const auto file = dir / "linkscape_bad_preset.json";
+  {
+    std::ofstream out(file);
+    out << "{ \"mechanism\": \"parallel-12r\", \"parameters\": { \"L1\": 1, }";
+  }
+  try {
+    load_preset(file.string());
+    FAIL() << "expected an exception";
+  } catch (const std::invalid_argument& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find(file.string()), std::string::npos) << msg;
+    EXPECT_NE(msg.find("parse error"), std::string::npos) << msg;
+  }
+  EXPECT_THROW(load_preset("no-such-mechanism"), std::invalid_argument);
+  EXPECT_THROW(parse_preset(R"({"mechanism":"parallel-12r","parameters":{"L1":"x"}})", "t"),
+               std::invalid_argument);
+  EXPECT_THROW(parse_preset(R"({"mechanism":"other","parameters":{}})", "t"), std::invalid_argument);
+  std::filesystem::remove(file);
+}
+
+TEST(Csv, ReadsHeaderAndRowsAndReportsLineOfBadField) {
+  std::istringstream good("# comment\nx, y ,z\n1,2,3\n\n4.5,-6,7e-3\n");
+  const Table t = read_csv(good, "good.csv");
+  ASSERT_EQ(t.rows.size(), 2u);
+  EXPECT_EQ(t.column("y"), 1u);
+  EXPECT_DOUBLE_EQ(t.rows[1][2], 7e-3);
+  EXPECT_THROW(t.column("w"), std::invalid_argument);
+
+  std::istringstream bad("x,y,z\n1,2,3\n1,two,3\n");
+  try {
+    read_csv(bad, "bad.csv");
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.csv:3"), std::string::npos) << e.what();
+  }
+  std::istringstream short_row("x,y,z\n1,2\n");
+  EXPECT_THROW(read_csv(short_row, "s.csv"), std::invalid_argument);
+  std::istringstream empty("");
+  EXPECT_THROW(read_csv(empty, "e.csv"), std::invalid_argument);
+}
+
+TEST(Csv, NumbersRoundTrip) {
+  for (double v : {0.1, 1.0 / 3.0, -2.5e-300, 15.0}) EXPECT_EQ(std::stod(format_number(v)), v);
+}
