@@ -38,8 +38,7 @@ double condition_number_closed_form(const Eigen::Matrix3d& J) {
 }
 
 double condition_number_svd(const Eigen::Matrix3d& J) {
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(J);
-  const auto& s = svd.singularValues();
+  const Eigen::Vector3d s = J.jacobiSvd().singularValues();
   if (s(2) == 0.0) return std::numeric_limits<double>::infinity();
   return s(0) / s(2);
 }

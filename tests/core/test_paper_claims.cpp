@@ -26,13 +26,13 @@ TEST(PaperFigure5, OptimumIsIsotropicAtZeroOneOne) {
   EXPECT_NEAR(cond_at(m, {0, 1, 1}), 1.0, 1e-12);
   EXPECT_NEAR(cond_at(m, {0, 1, -1}), 1.0, 1e-12);
   // A strict local minimum: every neighbour at 0.01 is worse.
-  for (const Eigen::Vector3d d : {Eigen::Vector3d(0.01, 0, 0), Eigen::Vector3d(0, 0.01, 0),
+  for (const Eigen::Vector3d& d : {Eigen::Vector3d(0.01, 0, 0), Eigen::Vector3d(0, 0.01, 0),
                                   Eigen::Vector3d(0, 0, 0.01), Eigen::Vector3d(0, -0.01, 0),
                                   Eigen::Vector3d(0, 0, -0.01)})
     EXPECT_GT(cond_at(m, Eigen::Vector3d(0, 1, 1) + d), 1.0 + 1e-6);
   // Over a grid of the octant plotted in Fig. 5 nothing beats it.
   double best = 1e9;
-  Eigen::Vector3d where;
+  Eigen::Vector3d where = Eigen::Vector3d::Zero();
   for (double x = 0; x <= 2; x += 0.05)
     for (double y = 0.05; y <= 2; y += 0.05)
       for (double z = 0; z <= 2; z += 0.05) {

@@ -1,0 +1,123 @@
+#include "gui/cli.h"
+
+#include <QCoreApplication>
+#include <CLI/CLI.hpp>
+#include <cstdlib>
+#include <iostream>
+
+#include "core/preset.h"
+#include "gui/headless.h"
+#include "gui/main_window.h"
+
+namespace linkscape::gui {
+namespace {
+
+constexpr const char* kDescription =
+    "Linkscape: kinematic design of parallel haptic-device mechanisms.\n"
+    "Without a command it opens the window; with one it runs headless.";
+
+constexpr const char* kHeadlessHint =
+    "Headless commands (no display needed):\n"
+    "  linkscape eval --mechanism parallel-12r --ik points.csv   inverse kinematics (x,y,z)\n"
+    "  linkscape eval --mechanism parallel-12r --fk angles.csv   forward kinematics (alpha,beta,gamma)\n"
+    "Run 'linkscape --help' or 'linkscape eval --help' for every option.\n";
+
+void add_mechanism_options(CLI::App& app, MechanismChoice& choice) {
+  std::string presets;
+  for (const auto& n : available_presets()) presets += (presets.empty() ? "" : ", ") + n;
+  app.add_option("-m,--mechanism", choice.mechanism,
+                 "Preset name (" + presets + ") or path to a preset .json file")
+      ->capture_default_str();
+  app.add_option("-p,--param", choice.params,
+                 "Override a model parameter, key=value in the preset's unit (repeatable), e.g. L1=1");
+}
+
+Eigen::Vector3d parse_seed(const std::string& text) {
+  std::vector<double> v;
+  std::stringstream ss(text);
+  std::string part;
+  while (std::getline(ss, part, ',')) {
+    try {
+      std::size_t used = 0;
+      v.push_back(std::stod(part, &used));
+      if (used != part.size()) throw std::invalid_argument(part);
+    } catch (const std::exception&) {
+      throw std::invalid_argument("--seed expects alpha,beta,gamma in radians, got '" + text + "'");
+    }
+  }
+  if (v.size() != 3) throw std::invalid_argument("--seed expects alpha,beta,gamma in radians, got '" + text + "'");
+  return {v[0], v[1], v[2]};
+}
+
+bool has_display() {
+  const char* platform = std::getenv("QT_QPA_PLATFORM");
+  if (platform && *platform) return true;  // the user chose a platform explicitly
+  for (const char* var : {"DISPLAY", "WAYLAND_DISPLAY"})
+    if (const char* v = std::getenv(var); v && *v) return true;
+  return false;
+}
+
+}  // namespace
+
+int run(int argc, char** argv) {
+  CLI::App app(kDescription, "linkscape");
+  app.set_version_flag("--version", std::string("linkscape ") + LINKSCAPE_VERSION);
+  app.footer(kHeadlessHint);
+
+  WindowOptions window;
+  add_mechanism_options(app, window.mechanism);
+  app.add_option("--screenshot", window.screenshot,
+                 "Open the window, render once, save it as PNG to this file and exit");
+  app.add_option("--size", window.size, "Window size for --screenshot, WIDTHxHEIGHT")->capture_default_str();
+
+  EvalOptions eval;
+  std::string seed_text;
+  CLI::App* eval_cmd = app.add_subcommand(
+      "eval", "Evaluate kinematics for each CSV row; writes CSV (stdout by default)");
+  add_mechanism_options(*eval_cmd, eval.mechanism);
+  auto* ik = eval_cmd->add_option("--ik", eval.ik_file,
+                                  "Inverse kinematics of targets in a CSV with header x,y,z ('-' = stdin). "
+                                  "Writes x,y,z,branch,status,alpha,beta,gamma,cond,det,residual,iterations, "
+                                  "one row per branch found");
+  auto* fk = eval_cmd->add_option("--fk", eval.fk_file,
+                                  "Forward kinematics of a CSV with header alpha,beta,gamma (rad). "
+                                  "Writes alpha,beta,gamma,x,y,z,cond,det");
+  ik->excludes(fk);
+  eval_cmd->add_option("--method", eval.method,
+                       "IK method: paper (Eqs. 14-16, corrected), planar (planar reduction), "
+                       "newton (Newton-Raphson from a seed), dls (damped least squares from a seed)")
+      ->capture_default_str();
+  eval_cmd->add_option("--branch", eval.branch, "Only this assembly branch: 0 (sin(beta-gamma) > 0) or 1");
+  eval_cmd->add_option("--seed", seed_text,
+                       "Start for newton/dls: alpha,beta,gamma in rad (default: each branch's home pose)");
+  eval_cmd->add_option("--tolerance", eval.tolerance, "Accept a solution when residual <= tolerance * (L1 + L2)")
+      ->capture_default_str();
+  eval_cmd->add_option("--max-iterations", eval.max_iterations, "Iteration limit for newton/dls")
+      ->capture_default_str();
+  eval_cmd->add_option("-o,--output", eval.output, "Output CSV file (written atomically); '-' = stdout")
+      ->capture_default_str();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);  // prints help/version or the error
+    return code == 0 ? 0 : 2;
+  }
+
+  if (eval_cmd->parsed()) {
+    if (!seed_text.empty()) eval.seed = parse_seed(seed_text);
+    QCoreApplication qt(argc, argv);
+    run_eval(eval, std::cin, std::cout);
+    return 0;
+  }
+
+  if (!has_display()) {
+    std::cerr << "linkscape: no display found (DISPLAY is not set), so the window cannot open.\n"
+              << "Start it on a desktop, or under Xvfb: xvfb-run -a linkscape\n\n"
+              << kHeadlessHint;
+    return 1;
+  }
+  return run_window(window, argc, argv);
+}
+
+}  // namespace linkscape::gui

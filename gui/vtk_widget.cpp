@@ -1,0 +1,333 @@
+#include "gui/vtk_widget.h"
+
+#include <QElapsedTimer>
+#include <QKeyEvent>
+#include <QMouseEvent>
+#include <QOpenGLContext>
+#include <QOpenGLFunctions>
+#include <QScopedValueRollback>
+#include <QScreen>
+#include <QWheelEvent>
+
+#include <vtkCommand.h>
+#include <vtkGenericOpenGLRenderWindow.h>
+#include <vtkGenericRenderWindowInteractor.h>
+#include <vtkInteractorStyleTrackballCamera.h>
+#include <vtkNew.h>
+#include <vtkOpenGLState.h>
+
+#include <cmath>
+#include <iterator>
+
+namespace linkscape::gui {
+
+namespace {
+
+// VTK names keys by X11 keysym; the interactor styles only look at a few.
+const char* keySym(const QKeyEvent* event) {
+  switch (event->key()) {
+    case Qt::Key_Left: return "Left";
+    case Qt::Key_Right: return "Right";
+    case Qt::Key_Up: return "Up";
+    case Qt::Key_Down: return "Down";
+    case Qt::Key_PageUp: return "Prior";
+    case Qt::Key_PageDown: return "Next";
+    case Qt::Key_Home: return "Home";
+    case Qt::Key_End: return "End";
+    case Qt::Key_Return: return "Return";
+    case Qt::Key_Enter: return "KP_Enter";
+    case Qt::Key_Escape: return "Escape";
+    case Qt::Key_Tab: return "Tab";
+    case Qt::Key_Backspace: return "BackSpace";
+    case Qt::Key_Delete: return "Delete";
+    case Qt::Key_Space: return "space";
+    case Qt::Key_Shift: return "Shift_L";
+    case Qt::Key_Control: return "Control_L";
+    case Qt::Key_Alt: return "Alt_L";
+    default: return nullptr;
+  }
+}
+
+// Returns the key's ASCII code, or 0 for keys without one.
+char setKeyInformation(vtkRenderWindowInteractor* interactor, const QKeyEvent* event) {
+  const QString text = event->text();
+  const char ascii = text.size() == 1 && text[0].unicode() < 128 ? text[0].toLatin1() : '\0';
+  const char letter[2] = {ascii, '\0'};
+  const char* name = keySym(event);
+  if (!name && ascii > ' ') name = letter;
+  const Qt::KeyboardModifiers mods = event->modifiers();
+  // SetKeyEventInformation copies the key sym string.
+  interactor->SetKeyEventInformation((mods & Qt::ControlModifier) ? 1 : 0,
+                                     (mods & Qt::ShiftModifier) ? 1 : 0, ascii,
+                                     event->isAutoRepeat() ? 1 : 0, name);
+  interactor->SetAltKey((mods & Qt::AltModifier) ? 1 : 0);
+  return ascii;
+}
+
+}  // namespace
+
+VtkWidget::VtkWidget(QWidget* parent)
+    : QOpenGLWidget(parent),
+      renderWindow_(vtkSmartPointer<vtkGenericOpenGLRenderWindow>::New()),
+      interactor_(vtkSmartPointer<vtkGenericRenderWindowInteractor>::New()) {
+  setFocusPolicy(Qt::StrongFocus);
+  // VTK redraws the whole frame; Qt need not preserve the old contents.
+  setUpdateBehavior(QOpenGLWidget::NoPartialUpdate);
+
+  // Nothing can render before initializeGL() hands VTK a context.
+  renderWindow_->SetReadyForRendering(false);
+  // paintGL() blits VTK's framebuffer into ours; VTK must not blit on its own.
+  renderWindow_->SetFrameBlitModeToNoBlit();
+  renderWindow_->SetOwnContext(0);
+
+  const unsigned long events[] = {
+      vtkCommand::WindowMakeCurrentEvent, vtkCommand::WindowIsCurrentEvent,
+      vtkCommand::WindowFrameEvent,       vtkCommand::WindowIsDirectEvent,
+      vtkCommand::WindowSupportsOpenGLEvent, vtkCommand::CursorChangedEvent};
+  static_assert(std::size(events) == std::size(decltype(observerTags_){}));
+  for (std::size_t i = 0; i < std::size(events); ++i)
+    observerTags_[i] = renderWindow_->AddObserver(events[i], this, &VtkWidget::onRenderWindowEvent);
+
+  interactor_->SetRenderWindow(renderWindow_);
+  vtkNew<vtkInteractorStyleTrackballCamera> style;
+  interactor_->SetInteractorStyle(style);
+  // All rendering happens in paintGL(), where the widget's framebuffer is
+  // bound; the interactor's render requests are turned into update() calls.
+  interactor_->EnableRenderOff();
+  renderRequestTag_ = interactor_->AddObserver(vtkCommand::RenderEvent, this,
+                                               &VtkWidget::onRenderWindowEvent);
+  interactor_->Initialize();
+}
+
+VtkWidget::~VtkWidget() {
+  // By the time QOpenGLWidget's destructor emits aboutToBeDestroyed, this
+  // part of the object is gone, so clean up here while the context exists.
+  if (QOpenGLContext* ctx = context()) {
+    disconnect(ctx, &QOpenGLContext::aboutToBeDestroyed, this, nullptr);
+    makeCurrent();
+    releaseGraphics();
+    doneCurrent();
+  }
+  interactor_->RemoveObserver(renderRequestTag_);
+  for (unsigned long tag : observerTags_) renderWindow_->RemoveObserver(tag);
+  // Others may hold references to the render window; keep them from
+  // reaching this widget through the interactor.
+  interactor_->SetInteractorStyle(nullptr);
+  renderWindow_->SetInteractor(nullptr);
+}
+
+QSurfaceFormat VtkWidget::defaultFormat() {
+  QSurfaceFormat format;
+  format.setRenderableType(QSurfaceFormat::OpenGL);
+  format.setVersion(3, 2);
+  format.setProfile(QSurfaceFormat::CoreProfile);
+  format.setSwapBehavior(QSurfaceFormat::DoubleBuffer);
+  format.setRedBufferSize(8);
+  format.setGreenBufferSize(8);
+  format.setBlueBufferSize(8);
+  format.setDepthBufferSize(24);
+  format.setStencilBufferSize(8);
+  // VTK multisamples in its own framebuffer if asked; the widget never needs to.
+  format.setSamples(0);
+  return format;
+}
+
+vtkGenericOpenGLRenderWindow* VtkWidget::renderWindow() const { return renderWindow_; }
+
+vtkRenderWindowInteractor* VtkWidget::interactor() const { return interactor_; }
+
+void VtkWidget::initializeGL() {
+  // Also reached again after a reparent gave us a fresh context; the old
+  // context's resources were released in releaseGraphics().
+  connect(context(), &QOpenGLContext::aboutToBeDestroyed, this, &VtkWidget::releaseGraphics,
+          static_cast<Qt::ConnectionType>(Qt::DirectConnection | Qt::UniqueConnection));
+
+  vtkOpenGLState* state = renderWindow_->GetState();
+  state->Reset();
+  // Qt leaves GL_LESS; VTK's shaders rely on GL_LEQUAL.
+  state->vtkglDepthFunc(GL_LEQUAL);
+
+  renderWindow_->SetReadyForRendering(true);
+  renderWindow_->OpenGLInitContext();
+  resizeGL(width(), height());
+}
+
+void VtkWidget::resizeGL(int, int) {
+  // Qt's arguments are not reliably in device pixels; VTK wants device pixels.
+  const double dpr = devicePixelRatioF();
+  interactor_->UpdateSize(static_cast<int>(std::lround(width() * dpr)),
+                          static_cast<int>(std::lround(height() * dpr)));
+  // Keeps text and line widths the same physical size on HiDPI screens.
+  renderWindow_->SetDPI(static_cast<int>(std::lround(72 * dpr)));
+  if (const QScreen* s = screen()) {
+    const QSize screenSize = s->size() * dpr;
+    renderWindow_->SetScreenSize(screenSize.width(), screenSize.height());
+  }
+}
+
+void VtkWidget::paintGL() {
+  if (!renderWindow_->GetReadyForRendering()) return;
+
+  // Qt changed GL state behind VTK's cache: resync it, and give Qt its state
+  // back afterwards.
+  vtkOpenGLState* state = renderWindow_->GetState();
+  state->Reset();
+  state->Push();
+  state->vtkglDepthFunc(GL_LEQUAL);
+
+  QElapsedTimer timer;
+  timer.start();
+  {
+    QScopedValueRollback<bool> painting(inPaint_, true);
+    renderWindow_->Render();
+  }
+  const double milliseconds = static_cast<double>(timer.nsecsElapsed()) / 1e6;
+
+  // Observers of the render (progress bars, other GL widgets) may have made
+  // another context current.
+  makeCurrent();
+
+  const int w = static_cast<int>(std::lround(width() * devicePixelRatioF()));
+  const int h = static_cast<int>(std::lround(height() * devicePixelRatioF()));
+  const int* source = renderWindow_->GetSize();
+  state->vtkglBindFramebuffer(GL_DRAW_FRAMEBUFFER, defaultFramebufferObject());
+  renderWindow_->BlitDisplayFramebuffer(0, 0, 0, source[0], source[1], 0, 0, w, h,
+                                        GL_COLOR_BUFFER_BIT, GL_LINEAR);
+
+  // Force opaque alpha: Qt composites the widget's framebuffer with alpha,
+  // and Mesa otherwise lets the window behind show through.
+  state->vtkglDisable(GL_SCISSOR_TEST);
+  state->vtkglColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_TRUE);
+  state->vtkglClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+  context()->functions()->glClear(GL_COLOR_BUFFER_BIT);
+
+  state->Pop();
+  emit rendered(milliseconds);
+}
+
+void VtkWidget::releaseGraphics() {
+  if (!renderWindow_->GetReadyForRendering()) return;
+  // Finalize() makes the context current through WindowMakeCurrentEvent.
+  renderWindow_->Finalize();
+  renderWindow_->SetReadyForRendering(false);
+}
+
+void VtkWidget::onRenderWindowEvent(vtkObject*, unsigned long eventId, void* callData) {
+  QOpenGLContext* ctx = context();
+  switch (eventId) {
+    case vtkCommand::WindowMakeCurrentEvent:
+      // Not QOpenGLWidget::makeCurrent(): VTK binds its own framebuffers,
+      // and rebinding the widget's here leaves the widget black.
+      if (ctx) ctx->makeCurrent(ctx->surface());
+      break;
+    case vtkCommand::WindowIsCurrentEvent: {
+      const QOpenGLContext* current = QOpenGLContext::currentContext();
+      *static_cast<bool*>(callData) =
+          ctx && current == ctx && current->surface() == ctx->surface();
+      break;
+    }
+    case vtkCommand::WindowIsDirectEvent:
+      *static_cast<int*>(callData) = 1;
+      break;
+    case vtkCommand::WindowSupportsOpenGLEvent:
+      *static_cast<int*>(callData) = ctx && ctx->isValid() ? 1 : 0;
+      break;
+    case vtkCommand::WindowFrameEvent:
+      // A render outside paintGL() (someone called Render() directly) must
+      // still reach the screen. Frames drawn without swapping are captures.
+      if (!inPaint_ && renderWindow_->GetSwapBuffers()) update();
+      break;
+    case vtkCommand::RenderEvent:
+      if (!inPaint_) update();
+      break;
+    case vtkCommand::CursorChangedEvent:
+      switch (*static_cast<int*>(callData)) {
+        case VTK_CURSOR_HAND: setCursor(Qt::PointingHandCursor); break;
+        case VTK_CURSOR_CROSSHAIR: setCursor(Qt::CrossCursor); break;
+        case VTK_CURSOR_SIZEALL: setCursor(Qt::SizeAllCursor); break;
+        default: unsetCursor(); break;
+      }
+      break;
+    default:
+      break;
+  }
+}
+
+void VtkWidget::setEventPosition(const QPointF& pos, const QInputEvent* event, int repeatCount) {
+  const double dpr = devicePixelRatioF();
+  const Qt::KeyboardModifiers mods = event->modifiers();
+  interactor_->SetEventInformationFlipY(static_cast<int>(std::lround(pos.x() * dpr)),
+                                        static_cast<int>(std::lround(pos.y() * dpr)),
+                                        (mods & Qt::ControlModifier) ? 1 : 0,
+                                        (mods & Qt::ShiftModifier) ? 1 : 0, 0, repeatCount);
+  interactor_->SetAltKey((mods & Qt::AltModifier) ? 1 : 0);
+}
+
+void VtkWidget::mousePressEvent(QMouseEvent* event) {
+  // QWidget routes double clicks here too; VTK marks them with a repeat count.
+  setEventPosition(event->position(), event,
+                   event->type() == QEvent::MouseButtonDblClick ? 1 : 0);
+  switch (event->button()) {
+    case Qt::LeftButton: interactor_->InvokeEvent(vtkCommand::LeftButtonPressEvent, event); break;
+    case Qt::MiddleButton: interactor_->InvokeEvent(vtkCommand::MiddleButtonPressEvent, event); break;
+    case Qt::RightButton: interactor_->InvokeEvent(vtkCommand::RightButtonPressEvent, event); break;
+    default: break;
+  }
+  update();
+}
+
+void VtkWidget::mouseReleaseEvent(QMouseEvent* event) {
+  setEventPosition(event->position(), event);
+  switch (event->button()) {
+    case Qt::LeftButton: interactor_->InvokeEvent(vtkCommand::LeftButtonReleaseEvent, event); break;
+    case Qt::MiddleButton: interactor_->InvokeEvent(vtkCommand::MiddleButtonReleaseEvent, event); break;
+    case Qt::RightButton: interactor_->InvokeEvent(vtkCommand::RightButtonReleaseEvent, event); break;
+    default: break;
+  }
+  update();
+}
+
+void VtkWidget::mouseMoveEvent(QMouseEvent* event) {
+  setEventPosition(event->position(), event);
+  interactor_->InvokeEvent(vtkCommand::MouseMoveEvent, event);
+  update();
+}
+
+void VtkWidget::wheelEvent(QWheelEvent* event) {
+  // Touchpads send many small deltas; VTK expects one event per 120-unit notch.
+  wheelDelta_ += event->angleDelta().y();
+  setEventPosition(event->position(), event);
+  for (; wheelDelta_ >= 120; wheelDelta_ -= 120)
+    interactor_->InvokeEvent(vtkCommand::MouseWheelForwardEvent, event);
+  for (; wheelDelta_ <= -120; wheelDelta_ += 120)
+    interactor_->InvokeEvent(vtkCommand::MouseWheelBackwardEvent, event);
+  event->accept();
+  update();
+}
+
+void VtkWidget::enterEvent(QEnterEvent* event) {
+  setEventPosition(event->position(), event);
+  interactor_->InvokeEvent(vtkCommand::EnterEvent, event);
+  update();
+}
+
+void VtkWidget::leaveEvent(QEvent* event) {
+  interactor_->InvokeEvent(vtkCommand::LeaveEvent, event);
+  update();
+}
+
+void VtkWidget::keyPressEvent(QKeyEvent* event) {
+  const char ascii = setKeyInformation(interactor_, event);
+  interactor_->InvokeEvent(vtkCommand::KeyPressEvent, event);
+  // The interactor styles' shortcuts ('r' reset, 'w' wireframe...) listen to CharEvent.
+  if (ascii) interactor_->InvokeEvent(vtkCommand::CharEvent, event);
+  update();
+}
+
+void VtkWidget::keyReleaseEvent(QKeyEvent* event) {
+  setKeyInformation(interactor_, event);
+  interactor_->InvokeEvent(vtkCommand::KeyReleaseEvent, event);
+  update();
+}
+
+}  // namespace linkscape::gui
