@@ -287,9 +287,9 @@ struct StyleValues {
 };
 StyleValues resolve(const Model& m, const SkeletonStyle& s) {
   const double scale = std::min(m.L1, m.L2);
-  return {s.inner_radius > 0 ? s.inner_radius : 0.2 * scale,
-          s.outer_radius > 0 ? s.outer_radius : 0.27 * scale,
-          s.motor_length > 0 ? s.motor_length : 0.12 * scale, s.parallelogram_fraction * m.L1};
+  return {s.inner_radius > 0 ? s.inner_radius : 0.26 * scale,
+          s.outer_radius > 0 ? s.outer_radius : 0.36 * scale,
+          s.motor_length > 0 ? s.motor_length : 0.14 * scale, s.parallelogram_fraction * m.L1};
 }
 
 std::vector<Vector3d> arc(const Vector3d& from, const Vector3d& to, double radius, int samples) {

@@ -155,9 +155,9 @@ Conditioning conditioning(const Model& model, const Eigen::Vector3d& q_actuated)
 // the common centre; loop III is the planar parallelogram.
 
 struct SkeletonStyle {
-  double inner_radius = 0.0;            // 0: 0.2 * min(L1, L2)
-  double outer_radius = 0.0;            // 0: 0.27 * min(L1, L2)
-  double motor_length = 0.0;            // 0: 0.12 * min(L1, L2)
+  double inner_radius = 0.0;            // 0: 0.26 * min(L1, L2)
+  double outer_radius = 0.0;            // 0: 0.36 * min(L1, L2)
+  double motor_length = 0.0;            // 0: 0.14 * min(L1, L2)
   double parallelogram_fraction = 0.4;  // side of link 4 as a fraction of L1
   int arc_samples = 24;
 };

@@ -14,6 +14,7 @@
 #include <vtkProperty.h>
 #include <vtkRenderer.h>
 #include <vtkSphereSource.h>
+#include <vtkTextActor.h>
 #include <vtkTextProperty.h>
 #include <vtkTransform.h>
 #include <vtkTubeFilter.h>
@@ -96,14 +97,14 @@ LinkageScene::LinkageScene() {
   endpoint_actor_->GetProperty()->SetColor(0.95, 0.10, 0.10);
   endpoint_actor_->GetProperty()->SetSpecular(0.6);
 
-  reach_source_->SetThetaResolution(36);
-  reach_source_->SetPhiResolution(18);
+  reach_source_->SetThetaResolution(24);
+  reach_source_->SetPhiResolution(12);
   vtkNew<vtkPolyDataMapper> reach_mapper;
   reach_mapper->SetInputConnection(reach_source_->GetOutputPort());
   reach_actor_->SetMapper(reach_mapper);
   reach_actor_->GetProperty()->SetRepresentationToWireframe();
   reach_actor_->GetProperty()->SetColor(0.55, 0.60, 0.70);
-  reach_actor_->GetProperty()->SetOpacity(0.18);
+  reach_actor_->GetProperty()->SetOpacity(0.10);
   reach_actor_->GetProperty()->LightingOff();
   reach_actor_->PickableOff();
 
@@ -111,15 +112,19 @@ LinkageScene::LinkageScene() {
   for (int i = 0; i < 4; ++i) {
     labels_[i] = vtkSmartPointer<vtkBillboardTextActor3D>::New();
     labels_[i]->SetInput(names[i]);
-    labels_[i]->GetTextProperty()->SetFontSize(18);
+    labels_[i]->GetTextProperty()->SetFontSize(20);
     labels_[i]->GetTextProperty()->BoldOn();
     labels_[i]->GetTextProperty()->SetColor(i == 3 ? 0.95 : 0.15, i == 3 ? 0.1 : 0.15, i == 3 ? 0.1 : 0.2);
   }
+  // Axis captions at a fixed small font size rather than scaled to their box.
   for (auto* caption : {axes_->GetXAxisCaptionActor2D(), axes_->GetYAxisCaptionActor2D(),
                         axes_->GetZAxisCaptionActor2D()}) {
-    caption->GetCaptionTextProperty()->SetColor(0.2, 0.2, 0.2);
+    caption->GetTextActor()->SetTextScaleModeToNone();
+    caption->GetCaptionTextProperty()->SetFontSize(16);
+    caption->GetCaptionTextProperty()->SetColor(0.2, 0.2, 0.25);
     caption->GetCaptionTextProperty()->ShadowOff();
     caption->GetCaptionTextProperty()->ItalicOff();
+    caption->GetCaptionTextProperty()->BoldOff();
   }
   axes_->SetShaftTypeToCylinder();
   axes_->PickableOff();
@@ -152,7 +157,7 @@ void LinkageScene::rebuild_geometry() {
     link_lines_[k]->Modified();
     auto* tube = vtkTubeFilter::SafeDownCast(link_actors_[k]->GetMapper()->GetInputAlgorithm());
     // Ground and shafts slightly thicker than the moving links.
-    tube->SetRadius((k == 0 ? 0.022 : 0.016) * scale);
+    tube->SetRadius((k == 0 ? 0.024 : 0.018) * scale);
   }
   endpoint_source_->SetRadius(0.05 * scale);
   reach_source_->SetRadius(model_.reach());
@@ -169,7 +174,7 @@ void LinkageScene::set_pose(const Eigen::Vector3d& q) {
   for (int j = 0; j < kJointCount; ++j) {
     // Cylinder source: unit height along y, radius 0.5.
     const bool actuator = j < 3;
-    const double length = (actuator ? 0.16 : 0.09) * scale, diameter = (actuator ? 0.09 : 0.055) * scale;
+    const double length = (actuator ? 0.16 : 0.09) * scale, diameter = (actuator ? 0.10 : 0.065) * scale;
     Eigen::Affine3d T = Eigen::Affine3d::Identity();
     T.translate(sk.joint_positions[j]);
     T.rotate(Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitY(), sk.joint_axes[j]));
@@ -180,9 +185,10 @@ void LinkageScene::set_pose(const Eigen::Vector3d& q) {
   const Eigen::Vector3d& d = sk.endpoint;
   endpoint_actor_->SetPosition(d.x(), d.y(), d.z());
   const double lift = 0.09 * scale;
+  // Actuator labels sit outside the motor ends on their shafts.
   for (int i = 0; i < 3; ++i) {
-    const Eigen::Vector3d p = sk.joint_positions[i] * 1.25;
-    labels_[i]->SetPosition(p.x(), p.y(), p.z() - lift);
+    const Eigen::Vector3d p = sk.joint_positions[i].normalized() * (sk.joint_positions[i].norm() + 0.3 * scale);
+    labels_[i]->SetPosition(p.x(), p.y(), p.z());
   }
   labels_[3]->SetPosition(d.x(), d.y(), d.z() + lift);
 }
@@ -190,8 +196,8 @@ void LinkageScene::set_pose(const Eigen::Vector3d& q) {
 void LinkageScene::reset_camera(vtkRenderer* renderer) const {
   const double r = model_.reach();
   vtkCamera* camera = renderer->GetActiveCamera();
-  camera->SetFocalPoint(0.0, 0.35 * r, 0.1 * r);
-  camera->SetPosition(2.6 * r, 2.9 * r, 1.6 * r);
+  camera->SetFocalPoint(0.0, 0.3 * r, 0.05 * r);
+  camera->SetPosition(2.2 * r, 2.0 * r, 1.3 * r);
   camera->SetViewUp(0.0, 0.0, 1.0);
   renderer->ResetCameraClippingRange();
 }
