@@ -1,0 +1,236 @@
+#include "core/field.h"
+
+#include <omp.h>
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/conditioning.h"
+
+namespace linkscape {
+namespace {
+
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+using parallel12r::Model;
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+bool full_ranges(const Model& m) {
+  constexpr double pi = std::numbers::pi;
+  return m.alpha_limits.lo <= -pi / 2 && m.alpha_limits.hi >= pi / 2 && m.beta_limits.lo <= -pi &&
+         m.beta_limits.hi >= pi && m.gamma_limits.lo <= -pi && m.gamma_limits.hi >= pi;
+}
+
+// Signed distance to the spheres |D| = L1 + L2 and |D| = |L1 - L2|, > 0 inside.
+double geometric_margin(const Model& m, double radius) {
+  return std::min(m.reach() - radius, radius - m.inner_reach());
+}
+
+// Actuator-range margin of a configuration, in length: angle margin times the
+// reach (the largest lever arm), so it is zero exactly on a range limit.
+double limits_margin(const Model& m, const Vector3d& q) {
+  const parallel12r::Interval r[] = {m.alpha_limits, m.beta_limits, m.gamma_limits};
+  double margin = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 3; ++k) margin = std::min({margin, q(k) - r[k].lo, r[k].hi - q(k)});
+  return margin * m.reach();
+}
+
+FieldSample unreachable_sample(double margin, Status status) {
+  FieldSample s;
+  s.cond = kInf;
+  s.residual = kInf;
+  s.reach_margin = float(margin);
+  s.status = std::uint8_t(status);
+  return s;
+}
+
+// The planar closed form written without trigonometry: cos/sin of alpha,
+// beta, gamma come from the target by algebra, the Jacobian from them, and
+// c(J) from the closed form. Same equations as parallel12r::inverse(Planar).
+FieldSample sample_planar(const Model& m, const Vector3d& p, int branch, bool check_limits) {
+  const double x = p.x(), y = p.y(), z = p.z();
+  const double rho2 = x * x + y * y, R2 = rho2 + z * z, R = std::sqrt(R2), rho = std::sqrt(rho2);
+  const double margin = geometric_margin(m, R);
+  const double tol = parallel12r::kSingularTolerance * m.reach();
+  if (margin < -tol) return unreachable_sample(margin, Status::Unreachable);
+  if (margin <= tol || std::abs(y) <= tol || rho <= tol) return unreachable_sample(margin, Status::Singular);
+
+  const double L1 = m.L1, L2 = m.L2;
+  const double sign_y = y > 0 ? 1.0 : -1.0;
+  const double ca = std::abs(y) / rho, sa = -x * sign_y / rho, r = sign_y * rho;
+  const double a = (R2 + L1 * L1 - L2 * L2) / (2.0 * R);
+  const double h = std::sqrt(std::max(0.0, (L1 + L2 - R) * (L2 - L1 + R) * (R + L1 - L2) * (R + L1 + L2)) / (4.0 * R2));
+  const double ur = r / R, uz = z / R, s = branch == 0 ? 1.0 : -1.0;
+  const double l1r = a * ur - s * h * uz, l1z = a * uz + s * h * ur;
+  const double l2r = r - l1r, l2z = z - l1z;
+  // (cos t, sin t) is proportional to (cos a * cos phi, sin phi) for each link.
+  const double nb = std::sqrt(ca * ca * l1r * l1r + l1z * l1z), ng = std::sqrt(ca * ca * l2r * l2r + l2z * l2z);
+  const double cb = ca * l1r / nb, sb = l1z / nb, cg = ca * l2r / ng, sg = l2z / ng;
+  const double db2 = 1.0 - sa * sa * sb * sb, dg2 = 1.0 - sa * sa * sg * sg;
+  const double db = std::sqrt(db2), dg = std::sqrt(dg2), db3 = db2 * db, dg3 = dg2 * dg;
+
+  Matrix3d J;
+  J.col(0) = L1 / db3 * Vector3d(-ca * cb, -sa * cb * cb * cb, -sa * sb * cb * cb) +
+             L2 / dg3 * Vector3d(-ca * cg, -sa * cg * cg * cg, -sa * sg * cg * cg);
+  J.col(1) = L1 * ca / db3 * Vector3d(sa * ca * sb, -ca * ca * sb, cb);
+  J.col(2) = L2 * ca / dg3 * Vector3d(sa * ca * sg, -ca * ca * sg, cg);
+  const Vector3d back = L1 / db * Vector3d(-sa * cb, ca * cb, ca * sb) + L2 / dg * Vector3d(-sa * cg, ca * cg, ca * sg);
+
+  FieldSample out;
+  out.residual = float((back - p).norm());
+  out.reach_margin = float(margin);
+  double limit_margin = std::numeric_limits<double>::infinity();
+  if (check_limits) {
+    const Vector3d q(std::atan2(sa, ca), std::atan2(sb, cb), std::atan2(sg, cg));
+    limit_margin = limits_margin(m, q);
+    out.reach_margin = float(std::min(margin, limit_margin));
+  }
+  out.status = std::uint8_t(limit_margin < 0 ? Status::OutOfLimits : Status::Ok);
+  out.reachable = limit_margin >= 0;
+  out.cond = out.reachable ? float(condition_number_closed_form(J)) : kInf;
+  return out;
+}
+
+FieldSample sample_general(const Model& m, const Vector3d& p, const FieldRequest& req, bool check_limits) {
+  const double margin = geometric_margin(m, p.norm());
+  const parallel12r::IkResult r = parallel12r::inverse(m, p, req.method, req.ik);
+  const parallel12r::IkSolution* s = nullptr;
+  for (const auto& candidate : r.solutions)
+    if (candidate.branch == req.branch) s = &candidate;
+  if (!s) {
+    FieldSample out = unreachable_sample(margin, r.status == Status::Ok ? Status::NotConverged : r.status);
+    return out;
+  }
+  FieldSample out;
+  out.status = std::uint8_t(s->status);
+  out.residual = float(s->residual);
+  out.iterations = std::uint16_t(std::min(s->iterations, 65535));
+  out.reach_margin = float(check_limits ? std::min(margin, limits_margin(m, s->q_actuated)) : margin);
+  out.reachable = s->status == Status::Ok;
+  out.cond = out.reachable ? float(parallel12r::conditioning(m, s->q_actuated).cond) : kInf;
+  return out;
+}
+
+void check_request(const FieldRequest& req) {
+  const Grid& g = req.grid;
+  for (int k = 0; k < 3; ++k)
+    if (g.dims[k] < 1 || !(g.spacing(k) > 0) || !std::isfinite(g.origin(k)))
+      throw std::invalid_argument("field: grid needs positive sizes and spacings and a finite origin");
+  if (req.branch != 0 && req.branch != 1)
+    throw std::invalid_argument("field: branch must be 0 or 1, got " + std::to_string(req.branch));
+  const double bytes = double(g.size()) * Field::bytes_per_sample();
+  if (bytes > double(req.memory_limit_bytes)) {
+    std::ostringstream msg;
+    msg << "field: " << g.dims[0] << "x" << g.dims[1] << "x" << g.dims[2] << " samples need "
+        << bytes / (1 << 20) << " MiB, over the limit of " << req.memory_limit_bytes / (1 << 20)
+        << " MiB; lower the resolution";
+    throw std::invalid_argument(msg.str());
+  }
+}
+
+}  // namespace
+
+Axis parse_axis(const std::string& name) {
+  if (name == "x" || name == "X") return Axis::X;
+  if (name == "y" || name == "Y") return Axis::Y;
+  if (name == "z" || name == "Z") return Axis::Z;
+  throw std::invalid_argument("axis must be x, y or z, got '" + name + "'");
+}
+
+std::array<Axis, 2> Grid::slice_axes(Axis normal) {
+  switch (normal) {
+    case Axis::X: return {Axis::Y, Axis::Z};
+    case Axis::Y: return {Axis::X, Axis::Z};
+    case Axis::Z: return {Axis::X, Axis::Y};
+  }
+  return {Axis::X, Axis::Y};
+}
+
+Grid Grid::slice(Axis normal, double position, double u_min, double u_max, double v_min, double v_max, int nu,
+                 int nv) {
+  if (!(u_max > u_min) || !(v_max > v_min) || nu < 1 || nv < 1 || !std::isfinite(position))
+    throw std::invalid_argument("slice: extents must satisfy min < max and sizes must be >= 1");
+  const auto [u, v] = slice_axes(normal);
+  Grid g;
+  const int n = int(normal), iu = int(u), iv = int(v);
+  g.dims[iu] = nu;
+  g.dims[iv] = nv;
+  g.dims[n] = 1;
+  g.spacing(iu) = (u_max - u_min) / nu;
+  g.spacing(iv) = (v_max - v_min) / nv;
+  g.spacing(n) = std::min(g.spacing(iu), g.spacing(iv));
+  g.origin(iu) = u_min;
+  g.origin(iv) = v_min;
+  g.origin(n) = position - 0.5 * g.spacing(n);
+  return g;
+}
+
+Grid Grid::box(const Vector3d& min, const Vector3d& max, std::array<int, 3> dims) {
+  Grid g;
+  for (int k = 0; k < 3; ++k)
+    if (!(max(k) > min(k)) || dims[k] < 1) throw std::invalid_argument("box: need min < max and sizes >= 1 on every axis");
+  g.origin = min;
+  g.dims = dims;
+  g.spacing = (max - min).cwiseQuotient(Vector3d(dims[0], dims[1], dims[2]));
+  return g;
+}
+
+FieldSample sample_point(const Model& m, const Vector3d& p, const FieldRequest& req) {
+  const bool check_limits = !full_ranges(m);
+  return req.method == parallel12r::IkMethod::Planar ? sample_planar(m, p, req.branch, check_limits)
+                                                     : sample_general(m, p, req, check_limits);
+}
+
+std::optional<Field> compute_field(const Model& m, const FieldRequest& req, const FieldProgress& progress) {
+  m.validate();
+  check_request(req);
+  const Grid& g = req.grid;
+  Field f;
+  f.grid = g;
+  const std::size_t n = g.size();
+  f.cond.resize(n);
+  f.reach_margin.resize(n);
+  f.residual.resize(n);
+  f.reachable.resize(n);
+  f.status.resize(n);
+  f.iterations.resize(n);
+  f.mechanism = std::string(parallel12r::kMechanismName);
+  f.length_unit = m.length_unit;
+  f.parameters = {{"L1", m.L1}, {"L2", m.L2}};
+  f.method = std::string(parallel12r::to_string(req.method));
+  f.branch = req.branch;
+
+  const bool check_limits = !full_ranges(m);
+  const bool planar = req.method == parallel12r::IkMethod::Planar;
+  const int rows = g.dims[1] * g.dims[2];
+  const int report_every = std::max(1, rows / 200);
+  std::atomic<int> rows_done{0};
+  const int threads = req.threads > 0 ? req.threads : omp_get_max_threads();
+
+#pragma omp parallel for schedule(dynamic, 2) num_threads(threads)
+  for (int row = 0; row < rows; ++row) {
+    if (progress.cancel && progress.cancel->load(std::memory_order_relaxed)) continue;
+    const int j = row % g.dims[1], k = row / g.dims[1];
+    for (int i = 0; i < g.dims[0]; ++i) {
+      const Vector3d p = g.point(i, j, k);
+      const FieldSample s = planar ? sample_planar(m, p, req.branch, check_limits) : sample_general(m, p, req, check_limits);
+      const std::size_t idx = g.index(i, j, k);
+      f.cond[idx] = s.cond;
+      f.reach_margin[idx] = s.reach_margin;
+      f.residual[idx] = s.residual;
+      f.reachable[idx] = s.reachable;
+      f.status[idx] = s.status;
+      f.iterations[idx] = s.iterations;
+    }
+    const int done = rows_done.fetch_add(1, std::memory_order_relaxed) + 1;
+    if (progress.report && done % report_every == 0) progress.report(double(done) / rows);
+  }
+  if (progress.cancel && progress.cancel->load()) return std::nullopt;
+  if (progress.report) progress.report(1.0);
+  return f;
+}
+
+}  // namespace linkscape

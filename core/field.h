@@ -1,0 +1,119 @@
+// Sampling kinematic fields on slices and volumes: condition number,
+// reachability and solver diagnostics at every sample of a regular grid.
+//
+// Samples sit at cell centres. Arrays are stored x fastest, then y, then z
+// (VTK's point order), so render/ can wrap them without reordering.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/parallel12r.h"
+
+namespace linkscape {
+
+enum class Axis { X = 0, Y = 1, Z = 2 };
+// Accepts "x", "y", "z". Throws std::invalid_argument.
+Axis parse_axis(const std::string& name);
+
+struct Grid {
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();   // min corner of the sampled box
+  Eigen::Vector3d spacing = Eigen::Vector3d::Ones();  // cell size per axis, length unit
+  std::array<int, 3> dims{1, 1, 1};                   // samples per axis
+
+  std::size_t size() const { return std::size_t(dims[0]) * dims[1] * dims[2]; }
+  std::size_t index(int i, int j, int k) const { return i + std::size_t(dims[0]) * (j + std::size_t(dims[1]) * k); }
+  Eigen::Vector3d point(int i, int j, int k) const {
+    return origin + Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5).cwiseProduct(spacing);
+  }
+  // The sample axes of a slice with this normal: X -> (y, z), Y -> (x, z), Z -> (x, y).
+  static std::array<Axis, 2> slice_axes(Axis normal);
+  // A one-sample-thick slice through `position` along `normal`, covering
+  // [u_min, u_max] x [v_min, v_max] of its slice axes with nu x nv samples.
+  // Throws std::invalid_argument for empty extents or non-positive counts.
+  static Grid slice(Axis normal, double position, double u_min, double u_max, double v_min, double v_max,
+                    int nu, int nv);
+  // The box [min, max] with dims samples per axis. Throws as above.
+  static Grid box(const Eigen::Vector3d& min, const Eigen::Vector3d& max, std::array<int, 3> dims);
+};
+
+struct FieldRequest {
+  Grid grid;
+  parallel12r::IkMethod method = parallel12r::IkMethod::Planar;
+  int branch = 0;  // assembly branch whose configuration is evaluated (0 or 1)
+  parallel12r::IkOptions ik;
+  // Requests needing more memory than this are refused before any work.
+  std::size_t memory_limit_bytes = std::size_t(6) << 30;
+  // Threads for the parallel loop; 0 = all cores (OpenMP default).
+  int threads = 0;
+};
+
+// Allocator that leaves new elements uninitialised: a field's arrays are
+// written in full by the sampling loop, and skipping the zero fill means the
+// pages are first touched there, in parallel and cancellably.
+template <class T>
+struct UninitialisedAllocator : std::allocator<T> {
+  template <class U>
+  struct rebind {
+    using other = UninitialisedAllocator<U>;
+  };
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    if constexpr (sizeof...(Args) == 0) ::new (static_cast<void*>(p)) U;
+    else ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+template <class T>
+using SampleArray = std::vector<T, UninitialisedAllocator<T>>;
+
+struct Field {
+  Grid grid;
+  // Per sample, index grid.index(i, j, k):
+  SampleArray<float> cond;          // c(J); +inf where singular or unreachable
+  SampleArray<float> reach_margin;  // signed distance to the workspace boundary, > 0 inside
+  SampleArray<float> residual;      // |forward(q) - p| of the solution, length unit; +inf if none
+  SampleArray<std::uint8_t> reachable;  // 1 if the branch's solution exists and is within limits
+  SampleArray<std::uint8_t> status;     // linkscape::Status of the branch's solution
+  SampleArray<std::uint16_t> iterations;
+  // What was computed, for the metadata of exported files.
+  std::string mechanism;
+  std::string length_unit;
+  std::map<std::string, double> parameters;
+  std::string method;
+  int branch = 0;
+
+  // Bytes of storage per sample, for the memory limit.
+  static constexpr std::size_t bytes_per_sample() { return 3 * sizeof(float) + 2 + sizeof(std::uint16_t); }
+};
+
+struct FieldProgress {
+  // Called from the calling thread's team with the fraction done (0..1);
+  // must be thread-safe and cheap.
+  std::function<void(double)> report;
+  // When set to true, sampling stops within one grid row and
+  // compute_field returns std::nullopt.
+  const std::atomic<bool>* cancel = nullptr;
+};
+
+// Samples the 12R mechanism on request.grid. Throws std::invalid_argument for
+// a bad request or one over the memory limit (the message gives both sizes).
+std::optional<Field> compute_field(const parallel12r::Model& model, const FieldRequest& request,
+                                   const FieldProgress& progress = {});
+
+// The same per-sample evaluation compute_field uses, for a single point.
+struct FieldSample {
+  float cond = 0, reach_margin = 0, residual = 0;
+  std::uint8_t reachable = 0, status = 0;
+  std::uint16_t iterations = 0;
+};
+FieldSample sample_point(const parallel12r::Model& model, const Eigen::Vector3d& p, const FieldRequest& request);
+
+}  // namespace linkscape
