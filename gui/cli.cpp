@@ -1,6 +1,7 @@
 #include "gui/cli.h"
 
 #include <QCoreApplication>
+#include <QGuiApplication>
 #include <CLI/CLI.hpp>
 #include <cstdlib>
 #include <iostream>
@@ -20,6 +21,10 @@ constexpr const char* kHeadlessHint =
     "Headless commands (no display needed):\n"
     "  linkscape eval --mechanism parallel-12r --ik points.csv   inverse kinematics (x,y,z)\n"
     "  linkscape eval --mechanism parallel-12r --fk angles.csv   forward kinematics (alpha,beta,gamma)\n"
+    "  linkscape slice --plane x=0.25 --output slice.png          condition-number slice image\n"
+    "  linkscape field --resolution 128 --output volume.vti       sampled volume for ParaView\n"
+    "  linkscape mesh --surface cond<3 --output ws.stl            workspace isosurface mesh\n"
+    "  linkscape bench                                            speed and accuracy figures\n"
     "Run 'linkscape --help' or 'linkscape eval --help' for every option.\n";
 
 void add_mechanism_options(CLI::App& app, MechanismChoice& choice) {
@@ -30,6 +35,13 @@ void add_mechanism_options(CLI::App& app, MechanismChoice& choice) {
       ->capture_default_str();
   app.add_option("-p,--param", choice.params,
                  "Override a model parameter, key=value in the preset's unit (repeatable), e.g. L1=1");
+}
+
+void add_sampling_options(CLI::App& app, SamplingOptions& s) {
+  add_mechanism_options(app, s.mechanism);
+  app.add_option("--method", s.method, "IK method per sample: planar, paper, newton, dls")->capture_default_str();
+  app.add_option("--branch", s.branch, "Assembly branch evaluated: 0 or 1")->capture_default_str();
+  app.add_flag("-q,--quiet", s.quiet, "No progress line on stderr");
 }
 
 Eigen::Vector3d parse_seed(const std::string& text) {
@@ -97,6 +109,63 @@ int run(int argc, char** argv) {
   eval_cmd->add_option("-o,--output", eval.output, "Output CSV file (written atomically); '-' = stdout")
       ->capture_default_str();
 
+  SliceOptions slice;
+  CLI::App* slice_cmd = app.add_subcommand(
+      "slice", "Sample a field on a plane and write a colour-mapped image or CSV (no display needed)");
+  add_sampling_options(*slice_cmd, slice.sampling);
+  slice_cmd->add_option("--plane", slice.plane, "Plane as axis=position in the length unit, e.g. x=0.25")
+      ->capture_default_str();
+  slice_cmd->add_option("--extent", slice.extent,
+                        "u_min,u_max,v_min,v_max of the plane's axes (x: y,z; y: x,z; z: x,y); default +-(L1+L2)")
+      ->delimiter(',')
+      ->expected(4);
+  slice_cmd->add_option("--size", slice.size, "Samples along u and v, WIDTHxHEIGHT")->capture_default_str();
+  slice_cmd->add_option("--field", slice.field, "Field to colour: cond, reach, residual, iterations, status")
+      ->capture_default_str();
+  slice_cmd->add_option("--contour", slice.contours, "c(J) levels drawn as contour lines (comma list)")
+      ->delimiter(',')
+      ->capture_default_str();
+  slice_cmd->add_option("--range", slice.range, "Colour range min,max (default: 1,10 for cond; data range otherwise)")
+      ->delimiter(',')
+      ->expected(2);
+  slice_cmd->add_flag("--linear", slice.linear, "Linear colour scale for cond and residual (default: log)");
+  slice_cmd->add_flag("--figure", slice.figure, "Add axes with units, colour bar, legend and title (PNG, SVG or PDF)");
+  slice_cmd->add_option("-o,--output", slice.output, "Output: .png or .csv; with --figure .png, .svg or .pdf")
+      ->required();
+
+  FieldCommandOptions field;
+  CLI::App* field_cmd = app.add_subcommand(
+      "field", "Sample c(J), reach margin and diagnostics on a 3-D grid; write VTK .vti or CSV");
+  add_sampling_options(*field_cmd, field.sampling);
+  field_cmd->add_option("--resolution", field.resolution, "Samples per axis: N or NXxNYxNZ")->capture_default_str();
+  field_cmd->add_option("--box", field.box, "x_min,x_max,y_min,y_max,z_min,z_max; default the cube +-(L1+L2)")
+      ->delimiter(',')
+      ->expected(6);
+  field_cmd->add_option("-o,--output", field.output, "Output: .vti (ParaView) or .csv")->required();
+
+  MeshOptions mesh;
+  CLI::App* mesh_cmd = app.add_subcommand(
+      "mesh", "Extract a workspace isosurface and write a mesh (STL, OBJ, PLY, OFF, VTP); prints its statistics");
+  add_sampling_options(*mesh_cmd, mesh.sampling);
+  mesh_cmd->add_option("--surface", mesh.surface,
+                       "reach (boundary of the reachable set) or cond<T (well-conditioned region, e.g. cond<3)")
+      ->capture_default_str();
+  mesh_cmd->add_option("--resolution", mesh.resolution, "Samples per axis: N or NXxNYxNZ")->capture_default_str();
+  mesh_cmd->add_option("--box", mesh.box, "x_min,x_max,y_min,y_max,z_min,z_max; default the cube +-(L1+L2)")
+      ->delimiter(',')
+      ->expected(6);
+  mesh_cmd->add_option("--decimate", mesh.decimate,
+                       "Simplify the mesh; the largest allowed deviation in the length unit (0 = off)")
+      ->capture_default_str();
+  mesh_cmd->add_option("-o,--output", mesh.output, "Output: .stl, .obj, .ply, .off or .vtp")->required();
+
+  BenchOptions bench;
+  CLI::App* bench_cmd = app.add_subcommand(
+      "bench", "Measure field throughput, slice/volume/isosurface times, peak memory and accuracy vs resolution");
+  add_mechanism_options(*bench_cmd, bench.mechanism);
+  bench_cmd->add_flag("--quick", bench.quick, "Small grids and single runs (a smoke test, not a measurement)");
+  bench_cmd->add_option("--csv", bench.csv, "Also write the figures to this CSV file");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -108,6 +177,31 @@ int run(int argc, char** argv) {
     if (!seed_text.empty()) eval.seed = parse_seed(seed_text);
     QCoreApplication qt(argc, argv);
     run_eval(eval, std::cin, std::cout);
+    return 0;
+  }
+
+  if (slice_cmd->parsed()) {
+    // The figure draws text with QPainter: a GUI application on the
+    // offscreen platform, so no display is needed.
+    if (!std::getenv("QT_QPA_PLATFORM")) setenv("QT_QPA_PLATFORM", "offscreen", 1);
+    QGuiApplication qt(argc, argv);
+    run_slice(slice);
+    return 0;
+  }
+  if (field_cmd->parsed()) {
+    QCoreApplication qt(argc, argv);
+    run_field(field);
+    return 0;
+  }
+
+  if (mesh_cmd->parsed()) {
+    QCoreApplication qt(argc, argv);
+    run_mesh(mesh, std::cout);
+    return 0;
+  }
+  if (bench_cmd->parsed()) {
+    QCoreApplication qt(argc, argv);
+    run_bench(bench, std::cout);
     return 0;
   }
 

@@ -30,4 +30,54 @@ struct EvalOptions {
 // Writes the evaluation as CSV. Throws std::invalid_argument for bad input.
 void run_eval(const EvalOptions& options, std::istream& stdin_stream, std::ostream& stdout_stream);
 
+// Options shared by the commands that sample a field.
+struct SamplingOptions {
+  MechanismChoice mechanism;
+  std::string method = "planar";
+  int branch = 0;
+  bool quiet = false;  // no progress on stderr
+};
+
+struct SliceOptions {
+  SamplingOptions sampling;
+  std::string plane = "x=0.25";  // axis=position, length unit
+  std::vector<double> extent;    // u_min,u_max,v_min,v_max; default +-reach
+  std::string size = "512x512";  // samples along u x v
+  std::string field = "cond";    // cond, reach, residual, iterations, status
+  std::vector<double> contours{3.0};
+  std::vector<double> range;     // colour range min,max
+  bool linear = false;           // linear colour scale for cond/residual
+  bool figure = false;           // axes, colour bar and title (PNG, SVG, PDF)
+  std::string output;            // .png, .csv (.svg, .pdf with --figure)
+};
+void run_slice(const SliceOptions& options);
+
+struct FieldCommandOptions {
+  SamplingOptions sampling;
+  std::string resolution = "128";  // N or NXxNYxNZ
+  std::vector<double> box;         // x_min,x_max,y_min,y_max,z_min,z_max; default +-reach
+  std::string output;              // .vti or .csv
+};
+void run_field(const FieldCommandOptions& options);
+
+struct MeshOptions {
+  SamplingOptions sampling;
+  std::string surface = "reach";   // "reach" or "cond<T"
+  std::string resolution = "128";
+  std::vector<double> box;
+  double decimate = 0;             // max decimation error, length unit; 0 = off
+  std::string output;              // .stl .obj .ply .off .vtp
+};
+// Writes the mesh and prints its statistics to `out`.
+void run_mesh(const MeshOptions& options, std::ostream& out);
+
+struct BenchOptions {
+  MechanismChoice mechanism;
+  bool quick = false;   // smaller grids, fewer repeats (for a smoke test)
+  std::string csv;      // also write the figures as CSV
+};
+// Measures field throughput, slice and volume times, isosurfaces, peak
+// memory and accuracy against resolution; prints a report to `out`.
+void run_bench(const BenchOptions& options, std::ostream& out);
+
 }  // namespace linkscape::gui

@@ -1,0 +1,197 @@
+#include "gui/slice_figure.h"
+
+#include <QFont>
+#include <QImage>
+#include <QPainter>
+#include <QPdfWriter>
+#include <QSvgGenerator>
+#include <vtkImageData.h>
+
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+#include "core/atomic_file.h"
+
+namespace linkscape::gui {
+namespace {
+
+const char* axis_name(Axis a) { return a == Axis::X ? "x" : a == Axis::Y ? "y" : "z"; }
+
+QString field_label(const std::string& field) {
+  if (field == "cond") return "c(J)";
+  if (field == "reach") return "reach margin";
+  return QString::fromStdString(field);
+}
+
+// Tick values: "nice" steps of 1, 2 or 5 times a power of ten, about n of them.
+std::vector<double> nice_ticks(double lo, double hi, int n) {
+  const double raw = (hi - lo) / std::max(1, n);
+  const double mag = std::pow(10.0, std::floor(std::log10(raw)));
+  const double step = raw / mag < 1.5 ? mag : raw / mag < 3.5 ? 2 * mag : raw / mag < 7.5 ? 5 * mag : 10 * mag;
+  std::vector<double> ticks;
+  for (double t = std::ceil(lo / step) * step; t <= hi + 1e-9 * step; t += step) ticks.push_back(std::abs(t) < 1e-12 * step ? 0.0 : t);
+  return ticks;
+}
+
+// Colour-bar ticks: 1-2-5 decades on a log scale, nice ticks otherwise.
+std::vector<double> bar_ticks(double lo, double hi, bool log) {
+  if (!log) return nice_ticks(lo, hi, 5);
+  std::vector<double> ticks;
+  for (double decade = std::pow(10.0, std::floor(std::log10(lo))); decade <= hi; decade *= 10)
+    for (double m : {1.0, 2.0, 3.0, 5.0})
+      if (m * decade >= lo * (1 - 1e-9) && m * decade <= hi * (1 + 1e-9)) ticks.push_back(m * decade);
+  return ticks;
+}
+
+QImage slice_qimage(const Field& field, const render::SliceStyle& style) {
+  vtkSmartPointer<vtkImageData> rgba = render::render_slice_rgba(field, style);
+  int dims[3];
+  rgba->GetDimensions(dims);
+  QImage image(dims[0], dims[1], QImage::Format_RGBA8888);
+  const auto* src = static_cast<const unsigned char*>(rgba->GetScalarPointer());
+  for (int row = 0; row < dims[1]; ++row)  // VTK row 0 is the bottom
+    std::memcpy(image.scanLine(dims[1] - 1 - row), src + std::size_t(row) * dims[0] * 4, std::size_t(dims[0]) * 4);
+  return image;
+}
+
+void draw(QPainter& p, const QSize& page, const Field& field, const render::SliceStyle& style, const QImage& image) {
+  const Grid& g = field.grid;
+  const Axis normal = render::slice_normal(g);
+  const auto [u, v] = Grid::slice_axes(normal);
+  const int iu = int(u), iv = int(v), in = int(normal);
+  const double u0 = g.origin(iu), u1 = u0 + g.dims[iu] * g.spacing(iu);
+  const double v0 = g.origin(iv), v1 = v0 + g.dims[iv] * g.spacing(iv);
+  const double position = g.origin(in) + 0.5 * g.spacing(in);
+  const QString unit = QString::fromStdString(field.length_unit);
+
+  p.fillRect(QRect(QPoint(0, 0), page), Qt::white);
+  p.setRenderHint(QPainter::Antialiasing);
+  QFont font("DejaVu Sans");
+  font.setPixelSize(std::max(11, page.height() / 55));
+  p.setFont(font);
+  const int fh = p.fontMetrics().height();
+
+  // Plot area keeps the data's aspect ratio.
+  const int left = 5 * fh, right = 9 * fh, top = 4 * fh, bottom = 4 * fh;
+  const double avail_w = page.width() - left - right, avail_h = page.height() - top - bottom;
+  const double aspect = (u1 - u0) / (v1 - v0);
+  const double w = std::min(avail_w, avail_h * aspect), h = w / aspect;
+  const QRectF plot(left + (avail_w - w) / 2, top + (avail_h - h) / 2, w, h);
+  p.drawImage(plot, image);
+  p.setPen(QPen(Qt::black, 1));
+  p.drawRect(plot);
+
+  // Title: mechanism, parameters, what is shown and how it was computed.
+  QString params;
+  for (const auto& [k, val] : field.parameters) params += QString("%1 = %2 %3, ").arg(QString::fromStdString(k)).arg(val).arg(unit);
+  params.chop(2);
+  QFont title_font = font;
+  title_font.setBold(true);
+  p.setFont(title_font);
+  p.drawText(QRectF(0, 0.6 * fh, page.width(), 1.5 * fh), Qt::AlignCenter,
+             QString("%1 (%2): %3 on the plane %4 = %5 %6")
+                 .arg(QString::fromStdString(field.mechanism), params, field_label(style.field), axis_name(normal))
+                 .arg(position)
+                 .arg(unit));
+  p.setFont(font);
+  p.drawText(QRectF(0, 2.0 * fh, page.width(), 1.2 * fh), Qt::AlignCenter,
+             QString("%1 IK, branch %2, %3 x %4 samples")
+                 .arg(QString::fromStdString(field.method))
+                 .arg(field.branch)
+                 .arg(g.dims[iu])
+                 .arg(g.dims[iv]));
+
+  // Axes with ticks in the model's unit.
+  for (double t : nice_ticks(u0, u1, 6)) {
+    const double x = plot.left() + (t - u0) / (u1 - u0) * plot.width();
+    p.drawLine(QPointF(x, plot.bottom()), QPointF(x, plot.bottom() + 0.4 * fh));
+    p.drawText(QRectF(x - 3 * fh, plot.bottom() + 0.5 * fh, 6 * fh, fh), Qt::AlignHCenter, QString::number(t));
+  }
+  for (double t : nice_ticks(v0, v1, 6)) {
+    const double y = plot.bottom() - (t - v0) / (v1 - v0) * plot.height();
+    p.drawLine(QPointF(plot.left() - 0.4 * fh, y), QPointF(plot.left(), y));
+    p.drawText(QRectF(plot.left() - 4.5 * fh, y - fh / 2.0, 4 * fh, fh), Qt::AlignRight | Qt::AlignVCenter, QString::number(t));
+  }
+  p.drawText(QRectF(plot.left(), plot.bottom() + 1.7 * fh, plot.width(), fh), Qt::AlignHCenter,
+             QString("%1 (%2)").arg(axis_name(u), unit));
+  p.save();
+  p.translate(plot.left() - 4 * fh, plot.center().y());
+  p.rotate(-90);
+  p.drawText(QRectF(-plot.height() / 2, -fh, plot.height(), fh), Qt::AlignHCenter, QString("%1 (%2)").arg(axis_name(v), unit));
+  p.restore();
+
+  // Colour bar.
+  // Colour bar over the top 70 % of the plot height, legend below it.
+  const QRectF bar(plot.right() + 1.5 * fh, plot.top(), 1.2 * fh, 0.7 * plot.height());
+  const int steps = 256;
+  for (int i = 0; i < steps; ++i) {
+    const auto c = render::colour_of((i + 0.5) / steps);
+    const QRectF cell(bar.left(), bar.bottom() - (i + 1) * bar.height() / steps, bar.width(), bar.height() / steps + 0.5);
+    p.fillRect(cell, QColor::fromRgbF(c[0], c[1], c[2]));
+  }
+  p.drawRect(bar);
+  const bool log = style.log_scale && (style.field == "cond" || style.field == "residual");
+  for (double t : bar_ticks(*style.min, *style.max, log)) {
+    const double y = bar.bottom() - render::normalised_value(t, style) * bar.height();
+    p.drawLine(QPointF(bar.right(), y), QPointF(bar.right() + 0.4 * fh, y));
+    p.drawText(QRectF(bar.right() + 0.6 * fh, y - fh / 2.0, 4 * fh, fh), Qt::AlignLeft | Qt::AlignVCenter, QString::number(t));
+  }
+  p.drawText(QRectF(bar.left() - fh, bar.top() - 1.5 * fh, 6 * fh, fh), Qt::AlignLeft,
+             field_label(style.field) + (log ? " (log)" : ""));
+
+  // Legend under the bar; line swatches sit on a mid-tone so white shows.
+  double y = bar.bottom() + 2.5 * fh;
+  auto legend_line = [&](const QColor& colour, int width, const QString& text) {
+    p.fillRect(QRectF(bar.left(), y - 0.4 * fh, 1.5 * fh, 0.8 * fh), QColor::fromRgbF(0.13, 0.57, 0.55));
+    p.setPen(QPen(colour, width));
+    p.drawLine(QPointF(bar.left(), y), QPointF(bar.left() + 1.5 * fh, y));
+    p.setPen(Qt::black);
+    p.drawText(QRectF(bar.left() + 2 * fh, y - fh / 2.0, 8 * fh, fh), Qt::AlignLeft | Qt::AlignVCenter, text);
+    y += 1.2 * fh;
+  };
+  QStringList levels;
+  for (double l : style.contour_levels) levels << QString::number(l);
+  if (!levels.isEmpty()) legend_line(QColor(255, 255, 255), 3, "c(J) = " + levels.join(", "));
+  if (style.draw_reach_boundary) legend_line(QColor(60, 60, 60), 3, "reach boundary");
+  p.fillRect(QRectF(bar.left(), y - 0.4 * fh, 1.5 * fh, 0.8 * fh), QColor::fromRgbF(0.85, 0.85, 0.85));
+  p.drawText(QRectF(bar.left() + 2 * fh, y - fh / 2.0, 8 * fh, fh), Qt::AlignLeft | Qt::AlignVCenter, "unreachable");
+}
+
+}  // namespace
+
+void write_slice_figure(const Field& field, const render::SliceStyle& style_in, const std::filesystem::path& path) {
+  const render::SliceStyle style = render::resolved_style(field, style_in);
+  const QImage image = slice_qimage(field, style);
+  const std::string ext = path.extension().string();
+  if (ext != ".png" && ext != ".svg" && ext != ".pdf")
+    throw std::invalid_argument("figure: output must end in .png, .svg or .pdf, got '" + path.string() + "'");
+  const QSize page(1400, 1050);
+  write_atomically(path, [&](const std::filesystem::path& tmp) {
+    const QString file = QString::fromStdString(tmp.string());
+    if (ext == ".png") {
+      QImage canvas(page, QImage::Format_RGB32);
+      QPainter p(&canvas);
+      draw(p, page, field, style, image);
+      p.end();
+      if (!canvas.save(file, "PNG")) throw std::runtime_error("cannot write '" + path.string() + "'");
+    } else if (ext == ".svg") {
+      QSvgGenerator svg;
+      svg.setFileName(file);
+      svg.setSize(page);
+      svg.setViewBox(QRect(QPoint(0, 0), page));
+      svg.setTitle("Linkscape slice");
+      QPainter p(&svg);
+      draw(p, page, field, style, image);
+    } else {  // .pdf
+      QPdfWriter pdf(file);
+      pdf.setPageSize(QPageSize(QSizeF(page.width() * 0.75, page.height() * 0.75), QPageSize::Point));
+      pdf.setPageMargins(QMarginsF(0, 0, 0, 0));
+      pdf.setResolution(96);
+      QPainter p(&pdf);
+      draw(p, QSize(pdf.width(), pdf.height()), field, style, image);
+    }
+  });
+}
+
+}  // namespace linkscape::gui

@@ -1,0 +1,167 @@
+#include "render/field_vtk.h"
+
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkFloatArray.h>
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkStringArray.h>
+#include <vtkUnsignedCharArray.h>
+#include <vtkUnsignedShortArray.h>
+#include <vtkXMLImageDataWriter.h>
+
+#include <algorithm>
+#include <charconv>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+
+#include "core/atomic_file.h"
+
+namespace linkscape::render {
+namespace {
+
+template <class Array, class Values>
+vtkSmartPointer<Array> copy_array(const char* name, const Values& values) {
+  auto array = vtkSmartPointer<Array>::New();
+  array->SetName(name);
+  array->SetNumberOfComponents(1);
+  array->SetNumberOfTuples(vtkIdType(values.size()));
+  std::copy(values.begin(), values.end(), array->GetPointer(0));
+  return array;
+}
+
+void add_string(vtkFieldData* out, const char* name, const std::string& value) {
+  vtkNew<vtkStringArray> array;
+  array->SetName(name);
+  array->InsertNextValue(value);
+  out->AddArray(array);
+}
+
+void add_numbers(vtkFieldData* out, const std::string& name, std::initializer_list<double> values) {
+  vtkNew<vtkDoubleArray> array;
+  array->SetName(name.c_str());
+  for (double v : values) array->InsertNextValue(v);
+  out->AddArray(array);
+}
+
+// Appends the shortest round-trip text of `v` (std::to_chars; inf -> "inf").
+template <class T>
+void append_number(std::string& out, T v) {
+  char buffer[64];
+  const auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, v);
+  if (ec != std::errc()) throw std::runtime_error("cannot format a number for CSV");
+  out.append(buffer, end);
+}
+
+}  // namespace
+
+void check_field(const Field& field) {
+  const auto& d = field.grid.dims;
+  if (d[0] <= 0 || d[1] <= 0 || d[2] <= 0)
+    throw std::invalid_argument("field: expected positive grid dims, got " + std::to_string(d[0]) + "x" +
+                                std::to_string(d[1]) + "x" + std::to_string(d[2]));
+  const std::size_t n = field.grid.size();
+  auto check = [&](const char* name, std::size_t size) {
+    if (size != n)
+      throw std::invalid_argument(std::string("field: expected ") + std::to_string(n) + " values of '" + name +
+                                  "' (grid " + std::to_string(d[0]) + "x" + std::to_string(d[1]) + "x" +
+                                  std::to_string(d[2]) + "), got " + std::to_string(size));
+  };
+  check("cond", field.cond.size());
+  check("reach_margin", field.reach_margin.size());
+  check("residual", field.residual.size());
+  check("reachable", field.reachable.size());
+  check("status", field.status.size());
+  check("iterations", field.iterations.size());
+  if (!(field.grid.spacing.array() > 0).all() || !field.grid.spacing.allFinite() || !field.grid.origin.allFinite())
+    throw std::invalid_argument("field: expected finite origin and positive finite spacing");
+}
+
+void add_metadata(vtkFieldData* out, const Field& field) {
+  add_string(out, "mechanism", field.mechanism);
+  add_string(out, "length_unit", field.length_unit);
+  add_string(out, "method", field.method);
+  add_numbers(out, "branch", {double(field.branch)});
+  for (const auto& [name, value] : field.parameters) add_numbers(out, "param_" + name, {value});
+  const auto& d = field.grid.dims;
+  add_numbers(out, "resolution", {double(d[0]), double(d[1]), double(d[2])});
+}
+
+vtkSmartPointer<vtkImageData> to_image_data(const Field& field) {
+  check_field(field);
+  const Grid& g = field.grid;
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->SetDimensions(g.dims[0], g.dims[1], g.dims[2]);
+  image->SetSpacing(g.spacing.x(), g.spacing.y(), g.spacing.z());
+  const Eigen::Vector3d first = g.origin + 0.5 * g.spacing;
+  image->SetOrigin(first.x(), first.y(), first.z());
+  vtkPointData* pd = image->GetPointData();
+  pd->AddArray(copy_array<vtkFloatArray>("cond", field.cond));
+  pd->AddArray(copy_array<vtkFloatArray>("reach_margin", field.reach_margin));
+  pd->AddArray(copy_array<vtkFloatArray>("residual", field.residual));
+  pd->AddArray(copy_array<vtkUnsignedCharArray>("reachable", field.reachable));
+  pd->AddArray(copy_array<vtkUnsignedCharArray>("status", field.status));
+  pd->AddArray(copy_array<vtkUnsignedShortArray>("iterations", field.iterations));
+  pd->SetActiveScalars("cond");
+  add_metadata(image->GetFieldData(), field);
+  return image;
+}
+
+void write_vti(const Field& field, const std::filesystem::path& path) {
+  vtkSmartPointer<vtkImageData> image = to_image_data(field);
+  write_atomically(path, [&](const std::filesystem::path& tmp) {
+    vtkNew<vtkXMLImageDataWriter> writer;
+    writer->SetFileName(tmp.c_str());
+    writer->SetInputData(image);
+    writer->SetDataModeToAppended();
+    writer->EncodeAppendedDataOff();  // raw binary
+    writer->SetCompressorTypeToZLib();
+    if (writer->Write() != 1 || writer->GetErrorCode() != 0)
+      throw std::runtime_error("cannot write VTK image data '" + path.string() + "'");
+  });
+}
+
+void write_field_csv(const Field& field, const std::filesystem::path& path) {
+  check_field(field);
+  const Grid& g = field.grid;
+  write_atomically(path, [&](const std::filesystem::path& tmp) {
+    std::ofstream out(tmp, std::ios::binary);
+    if (!out) throw std::runtime_error("cannot open '" + tmp.string() + "' for writing");
+    std::string chunk = "x,y,z,cond,reach_margin,residual,reachable,status,iterations\n";
+    for (int k = 0; k < g.dims[2]; ++k)
+      for (int j = 0; j < g.dims[1]; ++j)
+        for (int i = 0; i < g.dims[0]; ++i) {
+          const std::size_t s = g.index(i, j, k);
+          const Eigen::Vector3d p = g.point(i, j, k);
+          append_number(chunk, p.x());
+          chunk += ',';
+          append_number(chunk, p.y());
+          chunk += ',';
+          append_number(chunk, p.z());
+          chunk += ',';
+          append_number(chunk, field.cond[s]);
+          chunk += ',';
+          append_number(chunk, field.reach_margin[s]);
+          chunk += ',';
+          append_number(chunk, field.residual[s]);
+          chunk += ',';
+          append_number(chunk, unsigned(field.reachable[s]));
+          chunk += ',';
+          append_number(chunk, unsigned(field.status[s]));
+          chunk += ',';
+          append_number(chunk, unsigned(field.iterations[s]));
+          chunk += '\n';
+          if (chunk.size() > (1u << 20)) {
+            out.write(chunk.data(), std::streamsize(chunk.size()));
+            chunk.clear();
+          }
+        }
+    out.write(chunk.data(), std::streamsize(chunk.size()));
+    out.close();
+    if (!out) throw std::runtime_error("cannot write CSV '" + path.string() + "'");
+  });
+}
+
+}  // namespace linkscape::render

@@ -1,0 +1,48 @@
+// A core Field as VTK image data, and its export as .vti and .csv.
+//
+// Samples sit at cell centres, so the image's points are the samples: its
+// origin is grid.origin + spacing/2 (length unit) and its dimensions are
+// grid.dims. Point order is the Field's (x fastest), so no reordering.
+#pragma once
+
+#include <vtkSmartPointer.h>
+
+#include <filesystem>
+
+#include "core/field.h"
+
+class vtkFieldData;
+class vtkImageData;
+
+namespace linkscape::render {
+
+// Checks that `field` has samples and that every per-sample array holds
+// grid.size() values. Throws std::invalid_argument otherwise.
+void check_field(const Field& field);
+
+// The field as image data with point arrays "cond", "reach_margin",
+// "residual" (float), "reachable", "status" (unsigned char) and "iterations"
+// (unsigned short), active scalars "cond", and the metadata of
+// add_metadata(). The arrays are COPIED (about 2x the field's memory for a
+// moment), so the image is independent of the Field's lifetime.
+// Throws std::invalid_argument as check_field.
+vtkSmartPointer<vtkImageData> to_image_data(const Field& field);
+
+// Adds the field's provenance to `out`: "mechanism", "length_unit",
+// "method" (string arrays), "branch", "param_<name>" for every parameter
+// (one-value double arrays) and "resolution" (three doubles: grid.dims).
+void add_metadata(vtkFieldData* out, const Field& field);
+
+// Writes to_image_data(field) as binary, zlib-compressed VTK XML image data,
+// atomically. Throws std::invalid_argument as check_field, std::runtime_error
+// if the file cannot be written (the target is then untouched).
+void write_vti(const Field& field, const std::filesystem::path& path);
+
+// Writes one CSV row per sample, x fastest:
+//   x,y,z,cond,reach_margin,residual,reachable,status,iterations
+// x, y, z are the sample's cell centre (length unit); numbers use the
+// shortest text that reads back to the same value (floats as floats),
+// infinities as "inf"/"-inf". Atomic; throws as write_vti.
+void write_field_csv(const Field& field, const std::filesystem::path& path);
+
+}  // namespace linkscape::render

@@ -1,0 +1,326 @@
+#include "render/slice_image.h"
+
+#include <vtkImageData.h>
+#include <vtkLookupTable.h>
+#include <vtkNew.h>
+#include <vtkPNGWriter.h>
+#include <vtkPointData.h>
+#include <vtkUnsignedCharArray.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "core/atomic_file.h"
+#include "render/field_vtk.h"
+
+namespace linkscape::render {
+namespace {
+
+// Viridis (matplotlib, CC0): entries 0, 16, ..., 255 of its 256-entry table,
+// as (position, r, g, b); linear interpolation in between.
+constexpr std::array<std::array<double, 4>, 17> kViridis = {{
+    {0 / 255.0, 0.267004, 0.004874, 0.329415},   {16 / 255.0, 0.282327, 0.094955, 0.417331},
+    {32 / 255.0, 0.278826, 0.175490, 0.483397},  {48 / 255.0, 0.258965, 0.251537, 0.524736},
+    {64 / 255.0, 0.229739, 0.322361, 0.545706},  {80 / 255.0, 0.199430, 0.387607, 0.554642},
+    {96 / 255.0, 0.172719, 0.448791, 0.557885},  {112 / 255.0, 0.149039, 0.508051, 0.557250},
+    {128 / 255.0, 0.127568, 0.566949, 0.550556}, {143 / 255.0, 0.120081, 0.622161, 0.534946},
+    {159 / 255.0, 0.153894, 0.680203, 0.504172}, {175 / 255.0, 0.239374, 0.735588, 0.455688},
+    {191 / 255.0, 0.360741, 0.785964, 0.387814}, {207 / 255.0, 0.506271, 0.828786, 0.300362},
+    {223 / 255.0, 0.668054, 0.861999, 0.196293}, {239 / 255.0, 0.835270, 0.886029, 0.102646},
+    {255 / 255.0, 0.993248, 0.906157, 0.143936},
+}};
+
+constexpr double kUnreachableGrey = 0.85;
+constexpr std::array<unsigned char, 3> kContourColour = {255, 255, 255};
+constexpr std::array<unsigned char, 3> kBoundaryColour = {64, 64, 64};
+constexpr double kCondCap = 1e6;  // cond beyond this (and +inf) is treated as this for contours
+
+enum class Quantity { Cond, Reach, Residual, Iterations, Status };
+
+Quantity parse_quantity(const std::string& name) {
+  if (name == "cond") return Quantity::Cond;
+  if (name == "reach") return Quantity::Reach;
+  if (name == "residual") return Quantity::Residual;
+  if (name == "iterations") return Quantity::Iterations;
+  if (name == "status") return Quantity::Status;
+  throw std::invalid_argument("slice style: expected field cond, reach, residual, iterations or status, got '" +
+                              name + "'");
+}
+
+bool is_log(const SliceStyle& style, Quantity q) {
+  return style.log_scale && (q == Quantity::Cond || q == Quantity::Residual);
+}
+
+double value_at(const Field& f, Quantity q, std::size_t s) {
+  switch (q) {
+    case Quantity::Cond: return f.cond[s];
+    case Quantity::Reach: return f.reach_margin[s];
+    case Quantity::Residual: return f.residual[s];
+    case Quantity::Iterations: return f.iterations[s];
+    case Quantity::Status: return f.status[s];
+  }
+  return 0;
+}
+
+void check_range(double lo, double hi, bool log) {
+  if (!std::isfinite(lo) || !std::isfinite(hi) || !(lo < hi))
+    throw std::invalid_argument("slice style: expected a finite colour range with min < max, got [" +
+                                std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  if (log && lo <= 0)
+    throw std::invalid_argument("slice style: a logarithmic colour scale needs min > 0, got " + std::to_string(lo));
+}
+
+// A line segment in sample coordinates (fractional sample indices u, v).
+struct Segment {
+  double u0, v0, u1, v1;
+};
+
+// Marching squares: the segments where `f` (nu x nv, u fastest) crosses
+// `level`; saddles are resolved by the cell-centre average.
+std::vector<Segment> contour(const std::vector<double>& f, int nu, int nv, double level) {
+  std::vector<Segment> out;
+  static constexpr int kCorner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  for (int j = 0; j + 1 < nv; ++j)
+    for (int i = 0; i + 1 < nu; ++i) {
+      double value[4];
+      bool inside[4];
+      int count = 0;
+      for (int c = 0; c < 4; ++c) {
+        value[c] = f[std::size_t(i + kCorner[c][0]) + std::size_t(nu) * (j + kCorner[c][1])];
+        inside[c] = value[c] > level;
+        count += inside[c];
+      }
+      if (count == 0 || count == 4) continue;
+      // Crossing on edge e (corner e to corner e+1).
+      double pu[4], pv[4];
+      bool crossed[4];
+      for (int e = 0; e < 4; ++e) {
+        const int a = e, b = (e + 1) % 4;
+        crossed[e] = inside[a] != inside[b];
+        if (!crossed[e]) continue;
+        const double t = (level - value[a]) / (value[b] - value[a]);
+        pu[e] = i + kCorner[a][0] + t * (kCorner[b][0] - kCorner[a][0]);
+        pv[e] = j + kCorner[a][1] + t * (kCorner[b][1] - kCorner[a][1]);
+      }
+      auto add = [&](int e0, int e1) { out.push_back({pu[e0], pv[e0], pu[e1], pv[e1]}); };
+      if (crossed[0] && crossed[1] && crossed[2] && crossed[3]) {
+        const bool centre = (value[0] + value[1] + value[2] + value[3]) / 4 > level;
+        if (centre == inside[0]) {  // corners 0 and 2 joined: cut off 1 and 3
+          add(0, 1);
+          add(2, 3);
+        } else {
+          add(3, 0);
+          add(1, 2);
+        }
+        continue;
+      }
+      int e[2], n = 0;
+      for (int k = 0; k < 4; ++k)
+        if (crossed[k]) e[n++] = k;
+      add(e[0], e[1]);
+    }
+  return out;
+}
+
+// Draws `segments` into the RGBA buffer with a square brush `width` pixels wide.
+void draw(unsigned char* rgba, int width_px, int height_px, int scale, const std::vector<Segment>& segments,
+          std::array<unsigned char, 3> colour, int width) {
+  auto paint = [&](double x, double y) {
+    const int x0 = int(std::floor(x - width / 2.0 + 0.5)), y0 = int(std::floor(y - width / 2.0 + 0.5));
+    for (int py = y0; py < y0 + width; ++py)
+      for (int px = x0; px < x0 + width; ++px) {
+        if (px < 0 || py < 0 || px >= width_px || py >= height_px) continue;
+        unsigned char* p = rgba + 4 * (std::size_t(px) + std::size_t(width_px) * py);
+        p[0] = colour[0];
+        p[1] = colour[1];
+        p[2] = colour[2];
+        p[3] = 255;
+      }
+  };
+  for (const Segment& s : segments) {
+    const double x0 = (s.u0 + 0.5) * scale, y0 = (s.v0 + 0.5) * scale;
+    const double x1 = (s.u1 + 0.5) * scale, y1 = (s.v1 + 0.5) * scale;
+    const int steps = 1 + int(std::ceil(4 * std::max(std::abs(x1 - x0), std::abs(y1 - y0))));
+    for (int k = 0; k <= steps; ++k) {
+      const double t = double(k) / steps;
+      paint(x0 + t * (x1 - x0), y0 + t * (y1 - y0));
+    }
+  }
+}
+
+unsigned char to_byte(double c) { return static_cast<unsigned char>(std::lround(std::clamp(c, 0.0, 1.0) * 255)); }
+
+}  // namespace
+
+std::array<double, 3> colour_of(double value01) {
+  const double t = std::isnan(value01) ? 1.0 : std::clamp(value01, 0.0, 1.0);
+  std::size_t k = 1;
+  while (k + 1 < kViridis.size() && kViridis[k][0] < t) ++k;
+  const auto& a = kViridis[k - 1];
+  const auto& b = kViridis[k];
+  const double w = (t - a[0]) / (b[0] - a[0]);
+  return {a[1] + w * (b[1] - a[1]), a[2] + w * (b[2] - a[2]), a[3] + w * (b[3] - a[3])};
+}
+
+vtkSmartPointer<vtkLookupTable> viridis_lookup_table(int entries) {
+  if (entries < 2) throw std::invalid_argument("viridis table: expected at least 2 entries, got " +
+                                               std::to_string(entries));
+  auto lut = vtkSmartPointer<vtkLookupTable>::New();
+  lut->SetNumberOfTableValues(entries);
+  lut->SetTableRange(0, 1);
+  for (int i = 0; i < entries; ++i) {
+    const auto c = colour_of(double(i) / (entries - 1));
+    lut->SetTableValue(i, c[0], c[1], c[2], 1.0);
+  }
+  lut->SetNanColor(kUnreachableGrey, kUnreachableGrey, kUnreachableGrey, 1.0);
+  return lut;
+}
+
+std::pair<double, double> colour_range(const Field& field, const SliceStyle& style) {
+  const Quantity q = parse_quantity(style.field);
+  check_field(field);
+  const bool log = is_log(style, q);
+  double lo = 1, hi = 10;
+  if (q != Quantity::Cond && !(style.min && style.max)) {
+    lo = std::numeric_limits<double>::infinity();
+    hi = -lo;
+    for (std::size_t s = 0; s < field.grid.size(); ++s) {
+      if (!field.reachable[s]) continue;
+      const double v = value_at(field, q, s);
+      if (!std::isfinite(v) || (log && v <= 0)) continue;
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+    if (lo > hi) {  // nothing reachable: any valid range
+      lo = log ? 1e-3 : 0;
+      hi = log ? 1 : 1;
+    } else if (lo == hi) {
+      lo = log ? lo / 2 : lo - 0.5;
+      hi = log ? hi * 2 : hi + 0.5;
+    }
+  }
+  if (style.min) lo = *style.min;
+  if (style.max) hi = *style.max;
+  check_range(lo, hi, log);
+  return {lo, hi};
+}
+
+SliceStyle resolved_style(const Field& field, const SliceStyle& style) {
+  SliceStyle out = style;
+  const auto [lo, hi] = colour_range(field, style);
+  out.min = lo;
+  out.max = hi;
+  return out;
+}
+
+double normalised_value(double v, const SliceStyle& style) {
+  const Quantity q = parse_quantity(style.field);
+  if (q != Quantity::Cond && !(style.min && style.max))
+    throw std::invalid_argument("normalised_value: expected a style with min and max for field '" + style.field +
+                                "' (use resolved_style), got none");
+  const double lo = style.min.value_or(1.0), hi = style.max.value_or(10.0);
+  const bool log = is_log(style, q);
+  check_range(lo, hi, log);
+  if (std::isnan(v) || v == std::numeric_limits<double>::infinity()) return 1.0;
+  double t;
+  if (log)
+    t = v <= 0 ? 0.0 : (std::log10(v) - std::log10(lo)) / (std::log10(hi) - std::log10(lo));
+  else
+    t = (v - lo) / (hi - lo);
+  return std::clamp(t, 0.0, 1.0);
+}
+
+Axis slice_normal(const Grid& grid) {
+  for (Axis a : {Axis::Z, Axis::Y, Axis::X})
+    if (grid.dims[int(a)] == 1) return a;
+  throw std::invalid_argument("slice: expected a grid with one sample along some axis, got " +
+                              std::to_string(grid.dims[0]) + "x" + std::to_string(grid.dims[1]) + "x" +
+                              std::to_string(grid.dims[2]));
+}
+
+vtkSmartPointer<vtkImageData> render_slice_rgba(const Field& field, const SliceStyle& style_in) {
+  const SliceStyle style = resolved_style(field, style_in);  // validates field and style
+  if (style.scale < 1 || style.scale > 64)
+    throw std::invalid_argument("slice style: expected scale in 1..64, got " + std::to_string(style.scale));
+  for (double level : style.contour_levels)
+    if (!(level > 0) || !std::isfinite(level))
+      throw std::invalid_argument("slice style: expected positive finite contour levels, got " +
+                                  std::to_string(level));
+  const Quantity q = parse_quantity(style.field);
+  const Grid& g = field.grid;
+  const Axis normal = slice_normal(g);
+  const auto [au, av] = Grid::slice_axes(normal);
+  const int nu = g.dims[int(au)], nv = g.dims[int(av)];
+  auto sample = [&](int iu, int iv) {
+    int ijk[3] = {0, 0, 0};
+    ijk[int(au)] = iu;
+    ijk[int(av)] = iv;
+    return g.index(ijk[0], ijk[1], ijk[2]);
+  };
+
+  const int scale = style.scale;
+  const int width = nu * scale, height = nv * scale;
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->SetDimensions(width, height, 1);
+  image->AllocateScalars(VTK_UNSIGNED_CHAR, 4);
+  image->GetPointData()->GetScalars()->SetName("rgba");
+  auto* rgba = static_cast<unsigned char*>(image->GetScalarPointer());
+
+  // Sample colours, upscaled by repetition.
+  const unsigned char grey = to_byte(kUnreachableGrey);
+  for (int iv = 0; iv < nv; ++iv)
+    for (int iu = 0; iu < nu; ++iu) {
+      const std::size_t s = sample(iu, iv);
+      std::array<unsigned char, 3> c{grey, grey, grey};
+      if (field.reachable[s]) {
+        const auto rgb = colour_of(normalised_value(value_at(field, q, s), style));
+        c = {to_byte(rgb[0]), to_byte(rgb[1]), to_byte(rgb[2])};
+      }
+      for (int y = iv * scale; y < (iv + 1) * scale; ++y)
+        for (int x = iu * scale; x < (iu + 1) * scale; ++x) {
+          unsigned char* p = rgba + 4 * (std::size_t(x) + std::size_t(width) * y);
+          p[0] = c[0];
+          p[1] = c[1];
+          p[2] = c[2];
+          p[3] = 255;
+        }
+    }
+
+  // Lines: cond contours in log10 (cond is spread over decades), then the
+  // reachable boundary on top.
+  std::vector<double> values(std::size_t(nu) * nv);
+  if (!style.contour_levels.empty()) {
+    for (int iv = 0; iv < nv; ++iv)
+      for (int iu = 0; iu < nu; ++iu) {
+        const double c = field.cond[sample(iu, iv)];
+        values[iu + std::size_t(nu) * iv] = std::log10(std::isnan(c) ? kCondCap : std::clamp(c, 1e-30, kCondCap));
+      }
+    const int line = scale == 1 ? 1 : 2;
+    for (double level : style.contour_levels)
+      draw(rgba, width, height, scale, contour(values, nu, nv, std::log10(level)), kContourColour, line);
+  }
+  if (style.draw_reach_boundary) {
+    for (int iv = 0; iv < nv; ++iv)
+      for (int iu = 0; iu < nu; ++iu) {
+        const double m = field.reach_margin[sample(iu, iv)];
+        values[iu + std::size_t(nu) * iv] = std::isnan(m) ? -1e30 : std::clamp(m, -1e30, 1e30);
+      }
+    draw(rgba, width, height, scale, contour(values, nu, nv, 0.0), kBoundaryColour, 2);
+  }
+  return image;
+}
+
+void write_slice_png(const Field& field, const SliceStyle& style, const std::filesystem::path& path) {
+  vtkSmartPointer<vtkImageData> image = render_slice_rgba(field, style);
+  write_atomically(path, [&](const std::filesystem::path& tmp) {
+    vtkNew<vtkPNGWriter> writer;
+    writer->SetFileName(tmp.c_str());
+    writer->SetInputData(image);
+    writer->Write();
+    if (writer->GetErrorCode() != 0) throw std::runtime_error("cannot write PNG '" + path.string() + "'");
+  });
+}
+
+}  // namespace linkscape::render

@@ -1,0 +1,74 @@
+// Colour-mapped images of a one-sample-thick field slice, drawn without any
+// display: pixels are computed on the CPU and written with vtkPNGWriter.
+//
+// Viridis for the value, light grey (0.85) for unreachable samples, white
+// contour lines of cond and a dark grey line on the reachable boundary
+// (reach_margin = 0), both found by marching squares on the sample grid.
+// The first slice axis (Grid::slice_axes) points right, the second up.
+#pragma once
+
+#include <vtkSmartPointer.h>
+
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/field.h"
+
+class vtkImageData;
+class vtkLookupTable;
+
+namespace linkscape::render {
+
+struct SliceStyle {
+  // Which per-sample value is colour-mapped: "cond", "reach" (reach_margin),
+  // "residual", "iterations" or "status".
+  std::string field = "cond";
+  // Logarithmic colour scale; applies to cond and residual only.
+  bool log_scale = true;
+  // Colour range in the value's own unit. Defaults: cond 1..10; otherwise
+  // the range of the finite values over reachable samples.
+  std::optional<double> min, max;
+  // cond values outlined by contour lines (whatever `field` is shown).
+  std::vector<double> contour_levels = {3.0};
+  bool draw_reach_boundary = true;
+  // Pixels per sample along each axis (nearest-neighbour upscaling), >= 1.
+  int scale = 1;
+};
+
+// Viridis at value01 in [0, 1] (clamped; NaN gives the value at 1), RGB 0..1.
+std::array<double, 3> colour_of(double value01);
+// Viridis as an n-entry lookup table over [0, 1], for colour bars.
+vtkSmartPointer<vtkLookupTable> viridis_lookup_table(int entries = 256);
+
+// The colour range used for `field`: style.min/max where given, else the
+// defaults described in SliceStyle. Throws std::invalid_argument for an
+// unknown style.field, an empty field, min >= max, or a non-positive bound
+// on a logarithmic scale.
+std::pair<double, double> colour_range(const Field& field, const SliceStyle& style);
+// `style` with min and max filled in from colour_range().
+SliceStyle resolved_style(const Field& field, const SliceStyle& style);
+// Where `v` falls in the colour range of `style` (0..1, clamped; log10 on a
+// logarithmic scale; +inf and NaN give 1). The range is style.min/max, or
+// for cond the default 1..10; otherwise use resolved_style() first.
+// Throws std::invalid_argument if the range is unknown or empty.
+double normalised_value(double v, const SliceStyle& style);
+
+// The slice's normal: the axis with dims == 1 (Z first, then Y, then X if
+// several). Throws std::invalid_argument if no axis has one sample.
+Axis slice_normal(const Grid& grid);
+
+// The slice as an RGBA unsigned char image of (nu*scale) x (nv*scale)
+// pixels, where nu, nv are the sample counts along the slice axes; x to the
+// right, y up (row 0 at the bottom, as VTK images are). Throws
+// std::invalid_argument for a bad field or style (see colour_range, scale < 1).
+vtkSmartPointer<vtkImageData> render_slice_rgba(const Field& field, const SliceStyle& style);
+
+// render_slice_rgba() written as a PNG (top row = max v), atomically.
+// Throws as render_slice_rgba and std::runtime_error on I/O failure.
+void write_slice_png(const Field& field, const SliceStyle& style, const std::filesystem::path& path);
+
+}  // namespace linkscape::render

@@ -1,0 +1,391 @@
+#include "render/workspace_mesh.h"
+
+#include <vtkCellArray.h>
+#include <vtkCellArrayIterator.h>
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkFlyingEdges3D.h>
+#include <vtkFloatArray.h>
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkStringArray.h>
+#include <vtkXMLPolyDataWriter.h>
+
+// MeshIO first: it registers OpenMesh's readers and writers.
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <OpenMesh/Tools/Decimater/DecimaterT.hh>
+#include <OpenMesh/Tools/Decimater/ModHausdorffT.hh>
+#include <OpenMesh/Tools/Decimater/ModNormalFlippingT.hh>
+#include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <stdexcept>
+#include <unordered_map>
+#include <vector>
+
+#include "core/atomic_file.h"
+#include "render/field_vtk.h"
+
+namespace linkscape::render {
+namespace {
+
+using Mesh = OpenMesh::TriMesh_ArrayKernelT<>;
+
+constexpr double kCondCap = 1e6;  // cond above this (and +inf, NaN) counts as this
+
+// The scalar whose zero level set is the requested surface, > 0 inside.
+std::vector<float> surface_scalar(const Field& field, const SurfaceRequest& request) {
+  const std::size_t n = field.grid.size();
+  const double h = field.grid.spacing.minCoeff();
+  std::vector<float> s(n);
+  if (request.surface == Surface::Reach) {
+    for (std::size_t i = 0; i < n; ++i) s[i] = std::isnan(field.reach_margin[i]) ? float(-h) : field.reach_margin[i];
+  } else {
+    // s = log10(threshold) - log10(cond) in decades, combined by min() with
+    // the reach margin in cells (k*m). On every grid edge where the reach
+    // surface crosses (m_a > 0 > m_b), s_a <= k*m_a and s_b <= k*m_b give
+    // s_a/(s_a - s_b) <= m_a/(m_a - m_b): the interpolated crossing of s is no
+    // farther out than the reach surface's, so the well-conditioned surface
+    // stays inside the reachable set, whatever cond does outside it.
+    // Unreachable samples (also those with m > 0, e.g. at joint limits) get
+    // at most -1, one decade worse than the threshold.
+    const double k = 1.0 / h, top = std::log10(request.cond_threshold);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double m = std::isnan(field.reach_margin[i]) ? -h : double(field.reach_margin[i]);
+      const double c = field.cond[i];
+      if (field.reachable[i]) {
+        const double cond = std::isnan(c) ? kCondCap : std::clamp(c, 1.0, kCondCap);
+        s[i] = float(std::min(top - std::log10(cond), k * m));
+      } else {
+        s[i] = float(std::min(k * m, -1.0));
+      }
+    }
+  }
+  return s;
+}
+
+// The scalar padded by one sample on every side. A pad sample takes minus
+// its nearest real sample's value (or a small negative value), so a surface
+// leaving the box crosses exactly half-way, on the box face, and is closed.
+// Values of exactly 0 are nudged outside so that no triangle degenerates.
+vtkSmartPointer<vtkImageData> padded_image(const Grid& g, std::vector<float> s, float eps) {
+  for (float& v : s)
+    if (std::abs(v) < eps) v = -eps;
+  const int nx = g.dims[0] + 2, ny = g.dims[1] + 2, nz = g.dims[2] + 2;
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->SetDimensions(nx, ny, nz);
+  image->SetSpacing(g.spacing.x(), g.spacing.y(), g.spacing.z());
+  const Eigen::Vector3d first = g.origin - 0.5 * g.spacing;  // one sample before the first cell centre
+  image->SetOrigin(first.x(), first.y(), first.z());
+  vtkNew<vtkFloatArray> scalars;
+  scalars->SetName("surface_scalar");
+  scalars->SetNumberOfTuples(vtkIdType(nx) * ny * nz);
+  float* out = scalars->GetPointer(0);
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        const int ci = std::clamp(i - 1, 0, g.dims[0] - 1), cj = std::clamp(j - 1, 0, g.dims[1] - 1),
+                  ck = std::clamp(k - 1, 0, g.dims[2] - 1);
+        const float v = s[g.index(ci, cj, ck)];
+        const bool pad = i == 0 || j == 0 || k == 0 || i == nx - 1 || j == ny - 1 || k == nz - 1;
+        out[i + std::size_t(nx) * (j + std::size_t(ny) * k)] = pad ? std::min(-eps, -v) : v;
+      }
+  image->GetPointData()->SetScalars(scalars);
+  return image;
+}
+
+// Triangles of a poly data (polygons fan-triangulated), as point ids.
+std::vector<std::array<vtkIdType, 3>> triangles_of(vtkPolyData* mesh) {
+  std::vector<std::array<vtkIdType, 3>> out;
+  vtkCellArray* polys = mesh->GetPolys();
+  if (!polys) return out;
+  auto it = vtk::TakeSmartPointer(polys->NewIterator());
+  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell()) {
+    vtkIdType n;
+    const vtkIdType* ids;
+    it->GetCurrentCell(n, ids);
+    for (vtkIdType k = 1; k + 1 < n; ++k) out.push_back({ids[0], ids[k], ids[k + 1]});
+  }
+  return out;
+}
+
+struct FloatKey {
+  std::array<float, 3> p;
+  bool operator==(const FloatKey& o) const { return p == o.p; }
+};
+struct FloatKeyHash {
+  std::size_t operator()(const FloatKey& k) const {
+    std::uint32_t b[3];
+    std::memcpy(b, k.p.data(), sizeof b);
+    return (std::size_t(b[0]) * 73856093u) ^ (std::size_t(b[1]) * 19349663u) ^ (std::size_t(b[2]) * 83492791u);
+  }
+};
+
+// An OpenMesh mesh from the triangles of `poly`, points merged by exact
+// coordinates, degenerate triangles dropped, every face reversed if `flip`.
+Mesh to_openmesh(vtkPolyData* poly, bool flip) {
+  Mesh mesh;
+  std::unordered_map<FloatKey, Mesh::VertexHandle, FloatKeyHash> merged;
+  std::vector<Mesh::VertexHandle> handle(std::size_t(poly->GetNumberOfPoints()));
+  for (vtkIdType i = 0; i < poly->GetNumberOfPoints(); ++i) {
+    double p[3];
+    poly->GetPoint(i, p);
+    const FloatKey key{{float(p[0]), float(p[1]), float(p[2])}};
+    auto [it, added] = merged.try_emplace(key);
+    if (added) it->second = mesh.add_vertex(Mesh::Point(key.p[0], key.p[1], key.p[2]));
+    handle[std::size_t(i)] = it->second;
+  }
+  for (const auto& t : triangles_of(poly)) {
+    Mesh::VertexHandle a = handle[std::size_t(t[0])], b = handle[std::size_t(t[1])], c = handle[std::size_t(t[2])];
+    if (a == b || b == c || a == c) continue;
+    if (flip) std::swap(b, c);
+    mesh.add_face(a, b, c);  // an invalid handle (complex edge) leaves a hole, visible in mesh_stats
+  }
+  // Vertices left isolated (only in degenerate triangles) are dropped.
+  mesh.request_vertex_status();
+  mesh.request_edge_status();
+  mesh.request_face_status();
+  for (auto v : mesh.vertices())
+    if (mesh.is_isolated(v)) mesh.delete_vertex(v, false);
+  mesh.garbage_collection();
+  return mesh;
+}
+
+vtkSmartPointer<vtkPolyData> to_polydata(Mesh& mesh) {
+  mesh.request_face_normals();
+  mesh.request_vertex_normals();
+  mesh.update_normals();
+  auto poly = vtkSmartPointer<vtkPolyData>::New();
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToFloat();
+  points->SetNumberOfPoints(vtkIdType(mesh.n_vertices()));
+  vtkNew<vtkFloatArray> normals;
+  normals->SetName("Normals");
+  normals->SetNumberOfComponents(3);
+  normals->SetNumberOfTuples(vtkIdType(mesh.n_vertices()));
+  for (auto v : mesh.vertices()) {
+    const auto& p = mesh.point(v);
+    const auto& nrm = mesh.normal(v);
+    points->SetPoint(v.idx(), p[0], p[1], p[2]);
+    normals->SetTuple3(v.idx(), nrm[0], nrm[1], nrm[2]);
+  }
+  vtkNew<vtkCellArray> polys;
+  polys->AllocateExact(vtkIdType(mesh.n_faces()), 3 * vtkIdType(mesh.n_faces()));
+  for (auto f : mesh.faces()) {
+    vtkIdType ids[3];
+    int k = 0;
+    for (auto v : mesh.fv_range(f)) ids[k++] = v.idx();
+    polys->InsertNextCell(3, ids);
+  }
+  poly->SetPoints(points);
+  poly->SetPolys(polys);
+  poly->GetPointData()->SetNormals(normals);
+  return poly;
+}
+
+double signed_volume(vtkPolyData* poly) {
+  double volume = 0;
+  for (const auto& t : triangles_of(poly)) {
+    double a[3], b[3], c[3];
+    poly->GetPoint(t[0], a);
+    poly->GetPoint(t[1], b);
+    poly->GetPoint(t[2], c);
+    volume += Eigen::Vector3d(a).dot(Eigen::Vector3d(b).cross(Eigen::Vector3d(c))) / 6;
+  }
+  return volume;
+}
+
+void decimate(Mesh& mesh, double max_error) {
+  namespace D = OpenMesh::Decimater;
+  mesh.request_face_normals();  // for the normal-flipping module
+  mesh.update_face_normals();
+  D::DecimaterT<Mesh> decimater(mesh);
+  // Quadrics order the collapses; in OpenMesh 9 they are area weighted, so
+  // their value is not a distance: the length bound comes from the
+  // Hausdorff module. Normal flipping forbids fold-overs.
+  D::ModQuadricT<Mesh>::Handle quadric;
+  D::ModHausdorffT<Mesh>::Handle hausdorff;
+  D::ModNormalFlippingT<Mesh>::Handle normal_flipping;
+  decimater.add(quadric);
+  decimater.module(quadric).unset_max_err();
+  decimater.add(hausdorff);
+  decimater.module(hausdorff).set_tolerance(float(max_error));
+  decimater.add(normal_flipping);
+  decimater.module(normal_flipping).set_max_normal_deviation(60.0);
+  if (!decimater.initialize()) throw std::runtime_error("OpenMesh decimater failed to initialise");
+  decimater.decimate();
+  mesh.garbage_collection();
+}
+
+void add_surface_metadata(vtkFieldData* out, const SurfaceRequest& request) {
+  vtkNew<vtkStringArray> surface;
+  surface->SetName("surface");
+  surface->InsertNextValue(to_string(request.surface));
+  out->AddArray(surface);
+  for (auto [name, value] : {std::pair<const char*, double>{"cond_threshold", request.cond_threshold},
+                             std::pair<const char*, double>{"decimate_error", request.decimate_error}}) {
+    vtkNew<vtkDoubleArray> number;
+    number->SetName(name);
+    number->InsertNextValue(value);
+    out->AddArray(number);
+  }
+}
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return s;
+}
+
+}  // namespace
+
+std::string to_string(Surface surface) {
+  return surface == Surface::Reach ? "reach" : "well_conditioned";
+}
+
+vtkSmartPointer<vtkPolyData> extract_surface(const Field& field, const SurfaceRequest& request) {
+  check_field(field);
+  const auto& d = field.grid.dims;
+  if (d[0] < 2 || d[1] < 2 || d[2] < 2)
+    throw std::invalid_argument("surface: expected a volume with at least 2 samples per axis, got " +
+                                std::to_string(d[0]) + "x" + std::to_string(d[1]) + "x" + std::to_string(d[2]));
+  if (request.surface == Surface::WellConditioned && !(request.cond_threshold > 1 && std::isfinite(request.cond_threshold)))
+    throw std::invalid_argument("surface: expected a finite cond_threshold > 1, got " +
+                                std::to_string(request.cond_threshold));
+  if (!(request.decimate_error >= 0) || !std::isfinite(request.decimate_error))
+    throw std::invalid_argument("surface: expected decimate_error >= 0, got " + std::to_string(request.decimate_error));
+
+  const float eps = request.surface == Surface::Reach ? float(1e-6 * field.grid.spacing.minCoeff()) : 1e-6f;
+  vtkSmartPointer<vtkImageData> image = padded_image(field.grid, surface_scalar(field, request), eps);
+  vtkNew<vtkFlyingEdges3D> contour;
+  contour->SetInputData(image);
+  contour->SetValue(0, 0.0);
+  contour->ComputeNormalsOff();
+  contour->ComputeGradientsOff();
+  contour->ComputeScalarsOff();
+  contour->Update();
+  vtkPolyData* raw = contour->GetOutput();
+
+  // Flying edges orients all triangles consistently with the gradient, so a
+  // single global flip makes them outward; per-component flips would be
+  // wrong for cavities, whose surfaces must face inward (negative volume).
+  Mesh mesh = to_openmesh(raw, signed_volume(raw) < 0);
+  if (request.decimate_error > 0 && mesh.n_faces() > 0) decimate(mesh, request.decimate_error);
+  vtkSmartPointer<vtkPolyData> out = to_polydata(mesh);
+  add_metadata(out->GetFieldData(), field);
+  add_surface_metadata(out->GetFieldData(), request);
+  return out;
+}
+
+MeshStats mesh_stats(vtkPolyData* mesh) {
+  if (!mesh) throw std::invalid_argument("mesh_stats: expected a mesh, got null");
+  MeshStats stats;
+  const auto triangles = triangles_of(mesh);
+  std::unordered_map<std::uint64_t, int> edges;
+  std::vector<char> used(std::size_t(mesh->GetNumberOfPoints()), 0);
+  stats.min = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  stats.max = -stats.min;
+  for (const auto& t : triangles) {
+    Eigen::Vector3d p[3];
+    for (int k = 0; k < 3; ++k) {
+      mesh->GetPoint(t[k], p[k].data());
+      if (!used[std::size_t(t[k])]) {
+        used[std::size_t(t[k])] = 1;
+        ++stats.vertices;
+        stats.min = stats.min.cwiseMin(p[k]);
+        stats.max = stats.max.cwiseMax(p[k]);
+      }
+      const std::uint64_t a = std::uint64_t(t[k]), b = std::uint64_t(t[(k + 1) % 3]);
+      ++edges[std::min(a, b) << 32 | std::max(a, b)];
+    }
+    stats.volume += p[0].dot(p[1].cross(p[2])) / 6;
+    stats.area += (p[1] - p[0]).cross(p[2] - p[0]).norm() / 2;
+  }
+  stats.faces = triangles.size();
+  for (const auto& [key, count] : edges) {
+    if (count == 1) ++stats.boundary_edges;
+    if (count > 2) ++stats.non_manifold_edges;
+  }
+  if (stats.vertices == 0) stats.min = stats.max = Eigen::Vector3d::Zero();
+  stats.euler_characteristic = int(stats.vertices) - int(edges.size()) + int(stats.faces);
+  return stats;
+}
+
+void write_mesh(vtkPolyData* mesh, const std::filesystem::path& path, const Field& for_metadata,
+                const SurfaceRequest& request) {
+  if (!mesh) throw std::invalid_argument("write_mesh: expected a mesh, got null");
+  const std::string ext = lower(path.extension().string());
+  if (ext != ".stl" && ext != ".obj" && ext != ".ply" && ext != ".off" && ext != ".vtp")
+    throw std::invalid_argument("write_mesh: expected a path ending in .stl, .obj, .ply, .off or .vtp, got '" +
+                                path.string() + "'");
+  if (ext == ".vtp") {
+    vtkNew<vtkPolyData> copy;
+    copy->ShallowCopy(mesh);
+    vtkNew<vtkFieldData> metadata;
+    add_metadata(metadata, for_metadata);
+    add_surface_metadata(metadata, request);
+    copy->SetFieldData(metadata);
+    write_atomically(path, [&](const std::filesystem::path& tmp) {
+      vtkNew<vtkXMLPolyDataWriter> writer;
+      writer->SetFileName(tmp.c_str());
+      writer->SetInputData(copy);
+      writer->SetDataModeToAppended();
+      writer->EncodeAppendedDataOff();
+      writer->SetCompressorTypeToZLib();
+      if (writer->Write() != 1 || writer->GetErrorCode() != 0)
+        throw std::runtime_error("cannot write VTK poly data '" + path.string() + "'");
+    });
+    return;
+  }
+
+  // Same vertex order as `mesh` (no merging, no flipping) so that readers
+  // see the same points and triangles.
+  Mesh om;
+  for (vtkIdType i = 0; i < mesh->GetNumberOfPoints(); ++i) {
+    double p[3];
+    mesh->GetPoint(i, p);
+    om.add_vertex(Mesh::Point(float(p[0]), float(p[1]), float(p[2])));
+  }
+  const auto triangles = triangles_of(mesh);
+  for (const auto& t : triangles)
+    om.add_face(om.vertex_handle(int(t[0])), om.vertex_handle(int(t[1])), om.vertex_handle(int(t[2])));
+  if (om.n_faces() != triangles.size())
+    throw std::invalid_argument("write_mesh: expected a manifold triangle mesh, got " +
+                                std::to_string(triangles.size() - om.n_faces()) + " triangles OpenMesh cannot connect");
+  OpenMesh::IO::Options options;
+  if (ext == ".stl" || ext == ".ply") options += OpenMesh::IO::Options::Binary;
+  if (ext == ".ply" || ext == ".obj") {
+    vtkDataArray* normals = mesh->GetPointData()->GetNormals();
+    if (normals && normals->GetNumberOfComponents() == 3) {
+      om.request_vertex_normals();
+      for (auto v : om.vertices()) {
+        const double* n = normals->GetTuple3(v.idx());
+        om.set_normal(v, Mesh::Normal(float(n[0]), float(n[1]), float(n[2])));
+      }
+      options += OpenMesh::IO::Options::VertexNormal;
+    }
+  }
+  // OpenMesh's writers log every file to omlog (stdout); keep quiet.
+  struct QuietLog {
+    bool was = ::omlog().is_enabled();
+    QuietLog() { ::omlog().disable(); }
+    ~QuietLog() {
+      if (was) ::omlog().enable();
+    }
+  } quiet;
+  write_atomically(path, [&](const std::filesystem::path& tmp) {
+    if (!OpenMesh::IO::write_mesh(om, tmp.string(), options, 9))
+      throw std::runtime_error("cannot write mesh '" + path.string() + "'");
+  });
+}
+
+}  // namespace linkscape::render
