@@ -37,6 +37,17 @@ double condition_number_closed_form(const Eigen::Matrix3d& J) {
   return std::sqrt(s_max2 * s_max_mid2) / std::abs(det);
 }
 
+double condition_number_fast(const Eigen::Matrix3d& J) {
+  const Eigen::Vector3d k0 = J.col(1).cross(J.col(2)), k1 = J.col(2).cross(J.col(0)), k2 = J.col(0).cross(J.col(1));
+  const double det = J.col(0).dot(k0);
+  if (det == 0.0 || !std::isfinite(det)) return std::numeric_limits<double>::infinity();
+  const double l1 = largest_eigenvalue(J.transpose() * J);
+  const double product = det * det / l1;                                          // lambda_2 lambda_3
+  const double sum = (k0.squaredNorm() + k1.squaredNorm() + k2.squaredNorm() - product) / l1;  // lambda_2 + lambda_3
+  const double l2 = 0.5 * (sum + std::sqrt(std::max(0.0, sum * sum - 4.0 * product)));
+  return std::sqrt(l1 * l2 / product);  // lambda_1 / lambda_3 with lambda_3 = product / lambda_2
+}
+
 double condition_number_svd(const Eigen::Matrix3d& J) {
   const Eigen::Vector3d s = J.jacobiSvd().singularValues();
   if (s(2) == 0.0) return std::numeric_limits<double>::infinity();

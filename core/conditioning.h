@@ -13,6 +13,14 @@ namespace linkscape {
 // (the smaller roots are where it loses digits). Returns +inf if det J == 0.
 double condition_number_closed_form(const Eigen::Matrix3d& J);
 
+// Faster closed form with one eigenvalue solve: with lambda_1 = lambda_max(J^T J),
+// lambda_2 lambda_3 = det^2 / lambda_1 and lambda_2 + lambda_3 =
+// (|K|_F^2 - lambda_2 lambda_3) / lambda_1, a quadratic gives lambda_3.
+// Relative error up to ~1e-8 where sigma_mid ~ sigma_min (the quadratic's
+// double root), else as the closed form. The field engine uses it: fields
+// store c(J) as float (6e-8 relative).
+double condition_number_fast(const Eigen::Matrix3d& J);
+
 // Reference: singular values from Eigen's Jacobi SVD.
 double condition_number_svd(const Eigen::Matrix3d& J);
 

@@ -90,7 +90,7 @@ FieldSample sample_planar(const Model& m, const Vector3d& p, int branch, bool ch
   }
   out.status = std::uint8_t(limit_margin < 0 ? Status::OutOfLimits : Status::Ok);
   out.reachable = limit_margin >= 0;
-  out.cond = out.reachable ? float(condition_number_closed_form(J)) : kInf;
+  out.cond = out.reachable ? float(condition_number_fast(J)) : kInf;
   return out;
 }
 

@@ -69,3 +69,18 @@ TEST(Conditioning, ClosedFormIsAtLeastAsAccurateAsSvdAgainstLongDouble) {
   }
   EXPECT_LT(worst_closed, 3 * worst_svd + 1e-16);
 }
+
+TEST(Conditioning, FastFormIsWithinFloatPrecisionOfTheClosedForm) {
+  // The field engine stores c(J) as float; the fast form must not add error
+  // beyond that over the 12R workspace, including near the isotropic optimum.
+  parallel12r::Model m;
+  linkscape::testing::ConfigurationSampler sample(14, 0.0);
+  for (int i = 0; i < 20000; ++i) {
+    const Eigen::Matrix3d J = parallel12r::jacobian(m, sample());
+    const double c = condition_number_closed_form(J);
+    if (!std::isfinite(c) || c > 1e7) continue;
+    EXPECT_NEAR(condition_number_fast(J), c, c * (3e-8 + 1e-14 * c));
+  }
+  const Eigen::Matrix3d iso = parallel12r::jacobian(m, parallel12r::home_pose(0));
+  EXPECT_NEAR(condition_number_fast(iso), 1.0, 3e-8);
+}
