@@ -188,7 +188,7 @@ TEST(Cli, HelpExplainsEveryOption) {
 }
 
 TEST(Cli, ScreenshotShowsTheLinkage) {
-  if (!std::getenv("DISPLAY")) GTEST_SKIP() << "needs an X server (ctest runs this under xvfb-run)";
+  if (!std::getenv("DISPLAY")) GTEST_SKIP() << "needs an X server (ctest runs this under tests/with-xvfb.sh)";
   const fs::path png = fs::temp_directory_path() / "linkscape_cli_tests" / "window.png";
   fs::remove(png);
   const CommandResult r = run_linkscape("--screenshot " + png.string() + " --size 1000x700");

@@ -1,28 +1,39 @@
-// The window, driven as a user drives it: sliders and spin boxes move the
-// model, and the picture changes with them.
+// The window, driven as a user drives it: sliders, link lengths, endpoint
+// drags, sessions and animation; checks both the model and the picture.
+#include <QCheckBox>
+#include <QComboBox>
 #include <QDoubleSpinBox>
 #include <QLabel>
+#include <QPushButton>
 #include <QSet>
+#include <QSignalSpy>
 #include <QSlider>
+#include <QTemporaryDir>
 #include <QtTest>
+#include <vtkCoordinate.h>
+#include <vtkGenericOpenGLRenderWindow.h>
+#include <vtkImageData.h>
+#include <vtkImageDifference.h>
+#include <vtkNew.h>
+#include <vtkPNGReader.h>
+#include <vtkPointData.h>
+#include <vtkRenderer.h>
+#include <vtkRendererCollection.h>
+#include <vtkUnsignedCharArray.h>
+
 #include <numbers>
 
 #include "core/preset.h"
 #include "gui/main_window.h"
 #include "gui/vtk_widget.h"
+#include "render/field_scene.h"
 
 using namespace linkscape;
 using linkscape::gui::MainWindow;
 
 namespace {
 
-// Number of distinct colours: a blank or black view has a handful.
-int distinct_colours(const QImage& image) {
-  QSet<QRgb> colours;
-  for (int y = 0; y < image.height(); y += 2)
-    for (int x = 0; x < image.width(); x += 2) colours.insert(image.pixel(x, y));
-  return int(colours.size());
-}
+constexpr double kDeg = std::numbers::pi / 180.0;
 
 // Fraction of pixels that differ by more than a small tolerance per channel.
 double changed_fraction(const QImage& a, const QImage& b) {
@@ -39,8 +50,52 @@ double changed_fraction(const QImage& a, const QImage& b) {
 
 QImage frame(MainWindow& w) {
   w.view()->update();
+  QTest::qWait(60);
+  return w.view()->grabFramebuffer().convertToFormat(QImage::Format_RGB888);
+}
+
+void wait_settled(MainWindow& w) {
+  QTRY_VERIFY_WITH_TIMEOUT(w.fieldsSettled(), 30000);
   QTest::qWait(50);
-  return w.view()->grabFramebuffer();
+}
+
+void show_fields(MainWindow& w, bool slice, bool surfaces) {
+  w.findChild<QCheckBox*>("showReachBox")->setChecked(surfaces);
+  w.findChild<QCheckBox*>("showWellBox")->setChecked(surfaces);
+  for (QCheckBox* c : w.findChildren<QCheckBox*>())
+    if (c->text() == "Slice") c->setChecked(slice);
+}
+
+vtkSmartPointer<vtkImageData> to_vtk(const QImage& rgb) {
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->SetDimensions(rgb.width(), rgb.height(), 1);
+  image->AllocateScalars(VTK_UNSIGNED_CHAR, 3);
+  auto* dst = static_cast<unsigned char*>(image->GetScalarPointer());
+  for (int y = 0; y < rgb.height(); ++y)  // VTK rows go up
+    std::memcpy(dst + std::size_t(y) * rgb.width() * 3, rgb.constScanLine(rgb.height() - 1 - y), rgb.width() * 3);
+  return image;
+}
+
+// Compares with tests/gui/baselines/<name>.png using vtkImageDifference (the
+// VTK regression-test metric, which tolerates one-pixel shifts). A missing
+// baseline is written next to the test binary and the check fails, so that a
+// new baseline is looked at before it is committed.
+void compare_with_baseline(const QImage& image, const QString& name, double threshold) {
+  const QString baseline = QString(LINKSCAPE_BASELINES) + "/" + name + ".png";
+  const QString produced = QDir::currentPath() + "/" + name + ".png";
+  image.save(produced);
+  if (!QFile::exists(baseline)) QFAIL(qPrintable("no baseline " + baseline + "; wrote " + produced));
+  vtkNew<vtkPNGReader> reader;
+  reader->SetFileName(baseline.toStdString().c_str());
+  reader->Update();
+  vtkNew<vtkImageDifference> diff;
+  diff->SetInputData(to_vtk(image));
+  diff->SetImageConnection(reader->GetOutputPort());
+  diff->Update();
+  const double error = diff->GetThresholdedError();
+  qInfo("%s: thresholded error %.3f (limit %.1f)", qPrintable(name), error, threshold);
+  QVERIFY2(error <= threshold, qPrintable(QString("%1 differs from its baseline: error %2 > %3; see %4")
+                                              .arg(name).arg(error).arg(threshold).arg(produced)));
 }
 
 }  // namespace
@@ -49,63 +104,186 @@ class MainWindowTest : public QObject {
   Q_OBJECT
 
  private slots:
+  void init() { QSettings().clear(); }
+
   void slidersMoveTheModelAndThePicture() {
     MainWindow w(load_preset("parallel-12r"));
-    w.resize(1000, 700);
+    w.resize(1200, 800);
     w.show();
     QVERIFY(QTest::qWaitForWindowExposed(&w));
+    show_fields(w, false, false);
+    wait_settled(w);
     const QImage before = frame(w);
-    QVERIFY2(distinct_colours(before) > 50, "the 3-D view looks blank");
 
     auto* beta = w.findChild<QSlider*>("betaSlider");
     auto* endpoint = w.findChild<QLabel*>("endpointLabel");
     QVERIFY(beta && endpoint);
     const QString endpoint_before = endpoint->text();
     beta->setValue(beta->value() - 400);  // 40 degrees
-    QCOMPARE(w.pose().y(), (beta->value() / 10.0) * std::numbers::pi / 180.0);
+    QCOMPARE(w.pose().y(), (beta->value() / 10.0) * kDeg);
     QVERIFY(endpoint->text() != endpoint_before);
     const Eigen::Vector3d expected = parallel12r::forward(w.model(), w.pose());
     QVERIFY(endpoint->text().startsWith(QString("(%1,").arg(expected.x(), 0, 'g', 4)));
-    const QImage after = frame(w);
-    QVERIFY2(changed_fraction(before, after) > 0.002, "moving beta did not change the picture");
+    QVERIFY2(changed_fraction(before, frame(w)) > 0.002, "moving beta did not change the picture");
 
-    // The spin box and the slider stay in step.
     auto* alpha_box = w.findChild<QDoubleSpinBox*>("alphaBox");
     auto* alpha_slider = w.findChild<QSlider*>("alphaSlider");
     alpha_box->setValue(-30.0);
     QCOMPARE(alpha_slider->value(), -300);
-    QVERIFY(std::abs(w.pose().x() + 30.0 * std::numbers::pi / 180.0) < 1e-12);
+    QVERIFY(std::abs(w.pose().x() + 30.0 * kDeg) < 1e-12);
   }
 
-  void linkLengthsRebuildTheLinkage() {
+  void linkLengthRecomputesFieldsCoarseThenFine() {
     MainWindow w(load_preset("parallel-12r"));
-    w.resize(1000, 700);
+    w.resize(1200, 800);
     w.show();
     QVERIFY(QTest::qWaitForWindowExposed(&w));
-    const QImage before = frame(w);
-    auto* l1 = w.findChild<QDoubleSpinBox*>("L1Box");
-    QVERIFY(l1);
-    l1->setValue(8.0);
+    wait_settled(w);
+    const std::size_t faces_before = w.fieldScene().surface_faces(render::Surface::Reach);
+    QVERIFY(faces_before > 0);
+    QSignalSpy updates(&w, &MainWindow::fieldsUpdated);
+    w.findChild<QDoubleSpinBox*>("L1Box")->setValue(8.0);
     QCOMPARE(w.model().L1, 8.0);
     QCOMPARE(w.model().L2, 15.0);
-    QVERIFY(changed_fraction(before, frame(w)) > 0.002);
+    wait_settled(w);
+    // The first answer is the coarse one, and a fine one follows.
+    QVERIFY(updates.size() >= 2);
+    QCOMPARE(updates.first().at(0).toBool(), false);
+    QCOMPARE(updates.last().at(0).toBool(), true);
+    // L1 != L2 makes the reachable set a shell: the inner sphere appears.
+    QVERIFY(w.fieldScene().surface_faces(render::Surface::Reach) > faces_before);
   }
 
-  void conditionReadoutFollowsThePose() {
+  void endpointDragNeverChangesBranch() {
     MainWindow w(load_preset("parallel-12r"));
     w.show();
     QVERIFY(QTest::qWaitForWindowExposed(&w));
-    w.setPose(parallel12r::home_pose(0));  // c(J) = 1 for L1 = L2
-    QCOMPARE(w.findChild<QLabel*>("condLabel")->text(), QString("1"));
-    w.setPose(Eigen::Vector3d(0.2, 0.7, 0.7));  // stretched: singular
-    QVERIFY(w.findChild<QLabel*>("condLabel")->text().contains("singular"));
-    QVERIFY(w.findChild<QLabel*>("singularLabel")->text().startsWith("stretched"));
+    for (int start_branch : {0, 1}) {
+      QVERIFY(w.moveEndpointTo({-12, 16, -8}, start_branch));
+      QCOMPARE(w.branch(), start_branch);
+      // A drag across the workspace, through the region where both branches
+      // come close to each other (near the z axis and the outer sphere).
+      for (int i = 0; i <= 200; ++i) {
+        const double t = i / 200.0;
+        const Eigen::Vector3d target = Eigen::Vector3d(-12, 16, -8) * (1 - t) + Eigen::Vector3d(14, 4, 22) * t;
+        QVERIFY2(w.moveEndpointTo(target), qPrintable(w.endpointMessage()));
+        QCOMPARE(w.branch(), start_branch);
+        QVERIFY((parallel12r::forward(w.model(), w.pose()) - target).norm() < 1e-9);
+      }
+    }
+    // Unreachable: the pose stays, the panel says why.
+    const Eigen::Vector3d kept = w.pose();
+    QVERIFY(!w.moveEndpointTo({0, 40, 0}));
+    QCOMPARE(w.pose(), kept);
+    QVERIFY(w.endpointMessage().startsWith("Unreachable"));
+    QVERIFY(w.findChild<QLabel*>("endpointStatus")->text().startsWith("Unreachable"));
+    // Singular: on the actuator plane.
+    QVERIFY(!w.moveEndpointTo({5, 0, 5}));
+    QCOMPARE(w.pose(), kept);
+    QVERIFY(w.endpointMessage().startsWith("Singular"));
+    // A jump across the actuator plane is refused rather than taken.
+    QVERIFY(!w.moveEndpointTo({10, -15, 10}));
+    QCOMPARE(w.pose(), kept);
+  }
+
+  void mouseDragOfTheHandleMovesTheEndpoint() {
+    MainWindow w(load_preset("parallel-12r"));
+    w.resize(1200, 800);
+    w.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    show_fields(w, false, false);
+    wait_settled(w);
+    frame(w);
+    vtkRenderer* renderer = w.view()->renderWindow()->GetRenderers()->GetFirstRenderer();
+    const Eigen::Vector3d d = parallel12r::forward(w.model(), w.pose());
+    vtkNew<vtkCoordinate> c;
+    c->SetCoordinateSystemToWorld();
+    c->SetValue(d.x(), d.y(), d.z());
+    const int* px = c->GetComputedDisplayValue(renderer);  // origin bottom left, device pixels
+    const double dpr = w.view()->devicePixelRatioF();
+    const QPoint start(int(px[0] / dpr), int(w.view()->height() - px[1] / dpr));
+    const int branch = w.branch();
+    const Eigen::Vector3d q0 = w.pose();
+    QTest::mousePress(w.view(), Qt::LeftButton, Qt::NoModifier, start);
+    for (int i = 1; i <= 10; ++i) {
+      QMouseEvent move(QEvent::MouseMove, QPointF(start + QPoint(0, -4 * i)), w.view()->mapToGlobal(QPointF(start + QPoint(0, -4 * i))),
+                       Qt::NoButton, Qt::LeftButton, Qt::NoModifier);
+      QApplication::sendEvent(w.view(), &move);
+      QTest::qWait(10);
+    }
+    QTest::mouseRelease(w.view(), Qt::LeftButton, Qt::NoModifier, start + QPoint(0, -40));
+    QVERIFY2((w.pose() - q0).norm() > 1e-3, "dragging the handle did not move the linkage");
+    QCOMPARE(w.branch(), branch);
+    // Moving up on screen raises the endpoint.
+    QVERIFY(parallel12r::forward(w.model(), w.pose()).z() > d.z());
+  }
+
+  void sessionRoundTrip() {
+    QTemporaryDir dir;
+    const QString path = dir.filePath("s.json");
+    MainWindow w(load_preset("parallel-12r"));
+    w.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    w.findChild<QDoubleSpinBox*>("L2Box")->setValue(12.5);
+    w.setPose({0.1, 0.9, -0.2});
+    w.findChild<QComboBox*>("normalBox")->setCurrentText("z");
+    w.findChild<QDoubleSpinBox*>("thresholdBox")->setValue(4.0);
+    QVERIFY(w.saveSession(path));
+
+    MainWindow other(load_preset("parallel-12r"));
+    other.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&other));
+    QVERIFY(other.openSession(path));
+    QCOMPARE(other.model().L2, 12.5);
+    QVERIFY((other.pose() - Eigen::Vector3d(0.1, 0.9, -0.2)).norm() < 1e-12);
+    QCOMPARE(other.findChild<QComboBox*>("normalBox")->currentText(), QString("z"));
+    QCOMPARE(other.findChild<QDoubleSpinBox*>("thresholdBox")->value(), 4.0);
+    QCOMPARE(other.session().camera->position, w.session().camera->position);
+    // Recent files remember it.
+    QVERIFY(QSettings().value("recentSessions").toStringList().contains(QFileInfo(path).absoluteFilePath()));
+  }
+
+  void animationFollowsACircleInOneBranch() {
+    MainWindow w(load_preset("parallel-12r"));
+    w.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    show_fields(w, false, false);
+    const int branch = w.branch();
+    const Eigen::Vector3d d0 = parallel12r::forward(w.model(), w.pose());
+    auto* play = w.findChild<QPushButton*>("playButton");
+    play->setChecked(true);
+    QTest::qWait(600);
+    play->setChecked(false);
+    const Eigen::Vector3d d1 = parallel12r::forward(w.model(), w.pose());
+    QVERIFY((d1 - d0).norm() > 0.5);
+    QCOMPARE(w.branch(), branch);
+    // The circle lies in the slice plane (normal x): x does not change.
+    QVERIFY(std::abs(d1.x() - d0.x()) < 1e-9);
+  }
+
+  void pictureMatchesBaselines() {
+    MainWindow w(load_preset("parallel-12r"));
+    w.resize(1100, 760);
+    w.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    show_fields(w, false, false);
+    wait_settled(w);
+    compare_with_baseline(frame(w), "linkage", 10.0);
+    show_fields(w, true, true);
+    wait_settled(w);
+    compare_with_baseline(frame(w), "linkage_and_fields", 10.0);
+    // Near a singular pose: alpha close to 90 degrees.
+    show_fields(w, false, false);
+    w.setPose({85 * kDeg, 40 * kDeg, -30 * kDeg});
+    compare_with_baseline(frame(w), "near_singular", 10.0);
   }
 };
 
 int main(int argc, char** argv) {
   QSurfaceFormat::setDefaultFormat(gui::VtkWidget::defaultFormat());
   QApplication app(argc, argv);
+  QApplication::setOrganizationName("LinkscapeTests");
+  QApplication::setApplicationName("gui_tests");
   MainWindowTest test;
   return QTest::qExec(&test, argc, argv);
 }

@@ -36,7 +36,7 @@ std::size_t distinct_colours(const std::filesystem::path& png) {
 }  // namespace
 
 TEST(LinkageScene, RendersOffscreenToANonBlankPng) {
-  if (!std::getenv("DISPLAY")) GTEST_SKIP() << "VTK's OpenGL needs an X server (ctest uses xvfb-run)";
+  if (!std::getenv("DISPLAY")) GTEST_SKIP() << "VTK's OpenGL needs an X server (ctest runs it under tests/with-xvfb.sh)";
   render::LinkageScene scene;
   parallel12r::Model m;
   m.L1 = m.L2 = 15;

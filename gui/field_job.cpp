@@ -1,0 +1,102 @@
+#include "gui/field_job.h"
+
+#include <QMetaObject>
+#include <chrono>
+#include <vtkPolyData.h>
+
+namespace linkscape::gui {
+namespace {
+
+// The same grid at 1/divisor of the resolution (at least 16 samples per axis
+// that has more than one).
+Grid coarsen(const Grid& g, int divisor) {
+  Grid c = g;
+  for (int k = 0; k < 3; ++k) {
+    if (g.dims[k] == 1) continue;
+    c.dims[k] = std::max(16, g.dims[k] / divisor);
+    c.spacing(k) = g.spacing(k) * g.dims[k] / c.dims[k];
+  }
+  return c;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+FieldJobRunner::FieldJobRunner(QObject* parent) : QObject(parent) {
+  qRegisterMetaType<SliceResult>("linkscape::gui::SliceResult");
+  qRegisterMetaType<SurfaceResult>("linkscape::gui::SurfaceResult");
+  pool_.setMaxThreadCount(1);  // one job at a time; OpenMP parallelises inside it
+}
+
+FieldJobRunner::~FieldJobRunner() {
+  cancel();
+  pool_.waitForDone();
+}
+
+void FieldJobRunner::cancel() {
+  if (cancel_) cancel_->store(true);
+  ++generation_;
+}
+
+bool FieldJobRunner::busy() const { return pool_.activeThreadCount() > 0; }
+
+void FieldJobRunner::submit(const FieldJob& job) {
+  cancel();
+  auto cancel_flag = std::make_shared<std::atomic<bool>>(false);
+  cancel_ = cancel_flag;
+  const std::uint64_t generation = generation_.load();
+  pool_.start([this, job, cancel_flag, generation] {
+    auto current = [&] { return !cancel_flag->load() && generation_.load() == generation; };
+    FieldProgress progress;
+    progress.cancel = cancel_flag.get();
+    progress.report = [this, &current](double f) {
+      if (current()) QMetaObject::invokeMethod(this, [this, f] { emit this->progress(f); }, Qt::QueuedConnection);
+    };
+    try {
+      for (bool fine : {false, true}) {
+        // Slice first: it is what the user is looking at.
+        if (job.slice) {
+        FieldRequest slice = *job.slice;
+        if (!fine) slice.grid = coarsen(slice.grid, job.coarse_divisor);
+        const auto t0 = std::chrono::steady_clock::now();
+        std::optional<Field> field = compute_field(job.model, slice, progress);
+        if (!field || !current()) return;
+        SliceResult sr{std::make_shared<const Field>(std::move(*field)), fine, seconds_since(t0), 0.0};
+        sr.points_per_second = slice.grid.size() / std::max(sr.seconds, 1e-9);
+        QMetaObject::invokeMethod(this, [this, sr, generation] {
+          if (generation_.load() == generation) emit sliceReady(sr);
+        }, Qt::QueuedConnection);
+
+        }
+        if (!job.volume) continue;
+        FieldRequest volume = *job.volume;
+        if (!fine) volume.grid = coarsen(volume.grid, job.coarse_divisor);
+        const auto t1 = std::chrono::steady_clock::now();
+        std::optional<Field> vol = compute_field(job.model, volume, progress);
+        if (!vol || !current()) return;
+        SurfaceResult su;
+        su.volume = std::make_shared<const Field>(std::move(*vol));
+        render::SurfaceRequest reach_request, cond_request;
+        cond_request.surface = render::Surface::WellConditioned;
+        cond_request.cond_threshold = job.cond_threshold;
+        su.reach = render::extract_surface(*su.volume, reach_request);
+        if (!current()) return;
+        su.well_conditioned = render::extract_surface(*su.volume, cond_request);
+        su.fine = fine;
+        su.seconds = seconds_since(t1);
+        if (!current()) return;
+        QMetaObject::invokeMethod(this, [this, su, generation] {
+          if (generation_.load() == generation) emit surfacesReady(su);
+        }, Qt::QueuedConnection);
+      }
+    } catch (const std::exception& e) {
+      const QString message = QString::fromStdString(e.what());
+      QMetaObject::invokeMethod(this, [this, message] { emit failed(message); }, Qt::QueuedConnection);
+    }
+  });
+}
+
+}  // namespace linkscape::gui

@@ -1,0 +1,70 @@
+// Field computations for the window, off the GUI thread. A new request
+// cancels the one in flight; each request is answered coarse first (fast),
+// then at full resolution. Results of superseded requests are dropped.
+#pragma once
+
+#include <QObject>
+#include <QThreadPool>
+#include <atomic>
+#include <memory>
+
+#include <vtkSmartPointer.h>
+
+#include "core/field.h"
+#include "core/parallel12r.h"
+#include "render/workspace_mesh.h"
+
+class vtkPolyData;
+
+namespace linkscape::gui {
+
+// A slice, a volume with its isosurfaces, or both. Each is computed twice:
+// at resolution / coarse_divisor (at least 16 samples per axis), then in full.
+struct FieldJob {
+  parallel12r::Model model;
+  std::optional<FieldRequest> slice;   // a one-sample-thick grid
+  std::optional<FieldRequest> volume;  // sampled for the isosurfaces
+  double cond_threshold = 3.0;
+  int coarse_divisor = 4;
+};
+
+struct SliceResult {
+  std::shared_ptr<const Field> field;
+  bool fine = false;
+  double seconds = 0.0;           // compute time
+  double points_per_second = 0.0;
+};
+
+struct SurfaceResult {
+  vtkSmartPointer<vtkPolyData> reach;
+  vtkSmartPointer<vtkPolyData> well_conditioned;
+  std::shared_ptr<const Field> volume;  // the field they came from (for export)
+  bool fine = false;
+  double seconds = 0.0;
+};
+
+class FieldJobRunner : public QObject {
+  Q_OBJECT
+
+ public:
+  explicit FieldJobRunner(QObject* parent = nullptr);
+  ~FieldJobRunner() override;  // cancels and waits
+
+  // Starts `job`, cancelling any earlier one.
+  void submit(const FieldJob& job);
+  void cancel();
+  bool busy() const;
+
+ signals:
+  void sliceReady(const linkscape::gui::SliceResult& result);
+  void surfacesReady(const linkscape::gui::SurfaceResult& result);
+  void progress(double fraction);  // of the current pass
+  void failed(const QString& message);
+
+ private:
+  QThreadPool pool_;
+  std::shared_ptr<std::atomic<bool>> cancel_;
+  std::atomic<std::uint64_t> generation_{0};
+};
+
+}  // namespace linkscape::gui

@@ -1,0 +1,47 @@
+// A saved exploration: mechanism, parameters, pose, camera and field
+// settings, as JSON. Everything the window needs to come back as it was.
+#pragma once
+
+#include <Eigen/Core>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+
+namespace linkscape::gui {
+
+struct CameraState {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  Eigen::Vector3d focal_point = Eigen::Vector3d::Zero();
+  Eigen::Vector3d view_up = Eigen::Vector3d::UnitZ();
+  double view_angle = 30.0;  // degrees
+};
+
+struct FieldSettings {
+  std::string field = "cond";  // cond, reach, residual, iterations, status
+  std::string normal = "x";    // slice plane normal
+  double position = 0.0;       // plane position, length unit
+  bool follow_endpoint = false;
+  double threshold = 3.0;      // c(J) contour and well-conditioned surface
+  std::optional<double> range_min, range_max;
+  int slice_resolution = 192;  // samples per side
+  int volume_resolution = 64;  // samples per axis
+  bool show_slice = true, show_reach = true, show_well_conditioned = true;
+  double reach_opacity = 0.15, well_conditioned_opacity = 0.35;
+  std::string method = "planar";
+};
+
+struct Session {
+  std::string mechanism = "parallel-12r";    // preset name or path
+  std::map<std::string, double> parameters;  // overrides, e.g. L1, L2
+  Eigen::Vector3d pose = Eigen::Vector3d::Zero();  // actuator angles, rad
+  std::optional<CameraState> camera;
+  FieldSettings field;
+};
+
+// Atomic write. Throws std::runtime_error if the file cannot be written.
+void save_session(const Session& session, const std::filesystem::path& path);
+// Throws std::invalid_argument naming the file and the problem.
+Session load_session(const std::filesystem::path& path);
+
+}  // namespace linkscape::gui

@@ -1,0 +1,212 @@
+#!/usr/bin/env bash
+# Usage: packaging/check-deb.sh BUILD_DIR
+#
+# Builds the Debian package of an already built tree (cpack -G DEB, run in
+# BUILD_DIR) and checks it WITHOUT installing it: control fields and Depends
+# (dpkg-deb -I), the file list, then runs the binary extracted with
+# dpkg-deb -x -- --help, a forward-kinematics eval that must find the
+# packaged preset through <exe>/../share/linkscape/mechanisms, and, when
+# DISPLAY is set, --screenshot. Prints one PASS/FAIL/SKIP line per check and
+# exits non-zero if any check failed. On success the package is also copied
+# to BUILD_DIR/linkscape_<version>_<arch>.deb.
+#
+# All work happens in a private temporary directory (cpack -B), so parallel
+# ctest runs and other users of BUILD_DIR are not disturbed.
+set -uo pipefail
+
+if [ $# -ne 1 ] || [ ! -f "$1/CPackConfig.cmake" ]; then
+  echo "usage: $0 BUILD_DIR   (a configured and built Linkscape tree)" >&2
+  exit 2
+fi
+build=$(cd "$1" && pwd)
+
+work=$(mktemp -d "${TMPDIR:-/tmp}/linkscape-check-deb.XXXXXX")
+trap 'rm -rf "$work"' EXIT
+
+failures=0
+pass() { echo "PASS: $*"; }
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+skip() { echo "SKIP: $*"; }
+finish() {
+  if [ "$failures" -eq 0 ]; then
+    echo "check-deb: all checks passed"
+    exit 0
+  fi
+  echo "check-deb: $failures check(s) FAILED"
+  exit 1
+}
+# Runs a command with a time limit, output to $work/<name>.log; shows the log on failure.
+run() {
+  local name=$1; shift
+  timeout 60 "$@" >"$work/$name.log" 2>&1
+  local rc=$?
+  [ $rc -eq 0 ] || { echo "---- $name (exit $rc): $*"; tail -n 30 "$work/$name.log"; echo "----"; }
+  return $rc
+}
+
+version=$(sed -n 's/^set(CPACK_PACKAGE_VERSION "\(.*\)")$/\1/p' "$build/CPackConfig.cmake")
+arch=$(dpkg --print-architecture)
+deb_name="linkscape_${version}_${arch}.deb"
+
+# --- 1. build the package -------------------------------------------------
+start=$(date +%s)
+if (cd "$build" && run cpack cpack -G DEB -B "$work/out" --config "$build/CPackConfig.cmake"); then
+  pass "cpack -G DEB ($(($(date +%s) - start)) s)"
+else
+  fail "cpack -G DEB"
+  finish
+fi
+deb="$work/out/$deb_name"
+if [ -s "$deb" ]; then
+  pass "package file is $deb_name ($(du -k "$deb" | cut -f1) KiB)"
+else
+  fail "expected $deb_name, cpack wrote: $(cd "$work/out" && ls -- *.deb 2>/dev/null | tr '\n' ' ')"
+  finish
+fi
+
+# --- 2. control fields ----------------------------------------------------
+dpkg-deb -I "$deb" >"$work/info.txt" 2>&1 || fail "dpkg-deb -I"
+field() { dpkg-deb -f "$deb" "$1" 2>/dev/null; }
+echo "---- dpkg-deb -I $deb_name"
+cat "$work/info.txt"
+echo "----"
+check_field() {  # name expected
+  local got; got=$(field "$1")
+  if [ "$got" = "$2" ]; then pass "$1: $got"; else fail "$1 is '$got', expected '$2'"; fi
+}
+check_field Package linkscape
+check_field Version "$version"
+check_field Architecture "$arch"
+check_field Maintainer "Linkscape developers"
+check_field Section science
+if [ -z "$(field Homepage)" ]; then pass "no Homepage field"; else fail "unexpected Homepage: $(field Homepage)"; fi
+if [ -n "$(field Description)" ]; then pass "Description: $(field Description | head -n1)"; else fail "no Description"; fi
+depends=$(field Depends)
+echo "Depends: $depends"
+# Package names in Depends, one a line, without versions or alternatives.
+dep_names=$(sed 's/([^)]*)//g; s/[|,]/\n/g' <<<"$depends" | tr -d ' ' | sed '/^$/d')
+missing=()
+for lib in libc6 libstdc++6 libgomp1 libqt6core6 libqt6gui6 libqt6widgets6 libqt6openglwidgets6 libvtk9.1; do
+  grep -qxF "$lib" <<<"$dep_names" || missing+=("$lib")
+done
+if [ ${#missing[@]} -eq 0 ]; then pass "Depends names libc6, libstdc++6, libgomp1, Qt6 and VTK 9.1"
+else fail "Depends lacks: ${missing[*]}"; fi
+# Every dependency must be installable here (the build machine has them all).
+unresolved=()
+for pkg in $dep_names; do
+  dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" || unresolved+=("$pkg")
+done
+if [ ${#unresolved[@]} -eq 0 ]; then pass "every package in Depends is installed on this machine"
+else fail "Depends names packages not installed here: ${unresolved[*]}"; fi
+
+# --- 3. contents ----------------------------------------------------------
+dpkg-deb -c "$deb" | awk '{print $NF}' >"$work/contents.txt"
+for f in ./usr/bin/linkscape \
+         ./usr/share/linkscape/mechanisms/parallel-12r.json \
+         ./usr/share/applications/linkscape.desktop \
+         ./usr/share/icons/hicolor/scalable/apps/linkscape.svg \
+         ./usr/share/icons/hicolor/256x256/apps/linkscape.png; do
+  if grep -qxF "$f" "$work/contents.txt"; then pass "contains ${f#.}"; else fail "missing ${f#.}"; fi
+done
+
+root="$work/root"
+mkdir -p "$root"
+if dpkg-deb -x "$deb" "$root"; then pass "dpkg-deb -x"; else fail "dpkg-deb -x"; finish; fi
+
+desktop="$root/usr/share/applications/linkscape.desktop"
+if [ -f "$desktop" ]; then
+  for kv in "Name=Linkscape" "Exec=linkscape %F" "Icon=linkscape" "Terminal=false" \
+            "Categories=Science;Engineering;Education;"; do
+    grep -qxF "$kv" "$desktop" || fail "desktop entry lacks '$kv'"
+  done
+  if command -v desktop-file-validate >/dev/null; then
+    # Hints (e.g. more than one main category) are not errors.
+    if desktop-file-validate "$desktop" >"$work/dfv.log" 2>&1; then
+      pass "desktop-file-validate linkscape.desktop"
+    else
+      fail "desktop-file-validate: $(cat "$work/dfv.log")"
+    fi
+  else
+    skip "desktop-file-validate not installed (apt package desktop-file-utils)"
+  fi
+fi
+png="$root/usr/share/icons/hicolor/256x256/apps/linkscape.png"
+if [ -f "$png" ]; then
+  read -r w h < <(od -An -tu1 -j16 -N8 "$png" |
+                  awk '{print $1*16777216+$2*65536+$3*256+$4, $5*16777216+$6*65536+$7*256+$8}')
+  if [ "$(od -An -tx1 -N8 "$png" | tr -d ' \n')" = 89504e470d0a1a0a ] && [ "$w" = 256 ] && [ "$h" = 256 ]; then
+    pass "256x256 icon is a 256x256 PNG"
+  else
+    fail "256x256 icon is not a 256x256 PNG (${w}x${h})"
+  fi
+fi
+svg="$root/usr/share/icons/hicolor/scalable/apps/linkscape.svg"
+if [ -f "$svg" ] && grep -q 'viewBox="0 0 256 256"' "$svg"; then pass "scalable icon is an SVG"
+elif [ -f "$svg" ]; then fail "scalable icon has no 256x256 viewBox"; fi
+
+# --- 4. run the extracted binary -----------------------------------------
+exe="$root/usr/bin/linkscape"
+# Only the packaged preset directory may be used: no LINKSCAPE_ASSETS.
+# (The binary also falls back to the source tree it was built from; step
+# 4b proves the packaged copy is the one read.)
+run_exe() { local name=$1; shift; (cd "$work" && run "$name" env -u LINKSCAPE_ASSETS "$exe" "$@"); }
+
+if run_exe help --help && grep -q "eval" "$work/help.log"; then
+  pass "linkscape --help (exit 0)"
+else
+  fail "linkscape --help"
+fi
+
+printf 'alpha,beta,gamma\n0,0,1.5707963267948966\n' >"$work/angles.csv"
+# Prints the x,y,z of the first data row of an eval --fk output.
+endpoint() { awk -F, 'NR==1{for(i=1;i<=NF;i++)c[$i]=i; next} NR==2{print $c["x"], $c["y"], $c["z"]}' "$1"; }
+near() {  # x y z ex ey ez: all within 1e-6
+  awk -v x="$1" -v y="$2" -v z="$3" -v a="$4" -v b="$5" -v c="$6" 'function d(u,v){return u>v?u-v:v-u}
+      BEGIN{exit !(x!="" && d(x,a)<1e-6 && d(y,b)<1e-6 && d(z,c)<1e-6)}'
+}
+if run_exe eval eval --mechanism parallel-12r --fk "$work/angles.csv" -o "$work/fk.csv"; then
+  read -r x y z < <(endpoint "$work/fk.csv")
+  if near "$x" "$y" "$z" 0 15 15; then
+    pass "eval --fk with the packaged preset: endpoint ($x, $y, $z) = (0, 15, 15)"
+  else
+    fail "eval --fk endpoint is ($x, $y, $z), expected (0, 15, 15)"; cat "$work/fk.csv"
+  fi
+else
+  fail "linkscape eval --mechanism parallel-12r --fk"
+fi
+
+# 4b. Change the extracted preset only: the result must follow it, so the
+# binary really reads <exe>/../share/linkscape/mechanisms.
+preset="$root/usr/share/linkscape/mechanisms/parallel-12r.json"
+if [ -f "$preset" ] && sed -i 's/"L1": *15\.0/"L1": 21.0/; s/"L2": *15\.0/"L2": 23.0/' "$preset" &&
+   grep -q '"L1": 21.0' "$preset" && grep -q '"L2": 23.0' "$preset"; then
+  if run_exe eval-moved eval --mechanism parallel-12r --fk "$work/angles.csv" -o "$work/fk2.csv"; then
+    read -r x y z < <(endpoint "$work/fk2.csv")
+    if near "$x" "$y" "$z" 0 21 23; then
+      pass "preset is found relative to the binary (edited packaged copy gives ($x, $y, $z))"
+    else
+      fail "edited packaged preset was not used: endpoint ($x, $y, $z), expected (0, 21, 23)"
+    fi
+  else
+    fail "linkscape eval with the edited packaged preset"
+  fi
+else
+  fail "cannot edit the packaged preset's L1/L2 (format changed?)"
+fi
+
+if [ -n "${DISPLAY:-}" ]; then
+  if run_exe screenshot --screenshot "$work/out.png" && [ -s "$work/out.png" ]; then
+    pass "linkscape --screenshot ($(du -k "$work/out.png" | cut -f1) KiB PNG)"
+  else
+    fail "linkscape --screenshot (exit 0 and a non-empty file expected)"
+  fi
+else
+  skip "linkscape --screenshot: DISPLAY is not set"
+fi
+
+# --- 5. hand the package over ---------------------------------------------
+if [ "$failures" -eq 0 ]; then
+  cp "$deb" "$build/.$deb_name.$$" && mv -f "$build/.$deb_name.$$" "$build/$deb_name" &&
+    echo "check-deb: package at $build/$deb_name"
+fi
+finish

@@ -1,0 +1,266 @@
+#include "render/field_scene.h"
+
+#include <vtkActor.h>
+#include <vtkAlgorithm.h>
+#include <vtkCoordinate.h>
+#include <vtkImageData.h>
+#include <vtkLookupTable.h>
+#include <vtkPlaneSource.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+#include <vtkPolyDataMapper.h>
+#include <vtkProperty.h>
+#include <vtkRenderer.h>
+#include <vtkScalarBarActor.h>
+#include <vtkTextProperty.h>
+#include <vtkTexture.h>
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace linkscape::render {
+namespace {
+
+void check_opacity(const char* what, double opacity) {
+  if (!(opacity >= 0 && opacity <= 1))
+    throw std::invalid_argument(std::string(what) + ": expected an opacity in [0, 1], got " +
+                                std::to_string(opacity));
+}
+
+// The colour bar's title: the quantity, with the length unit where it has one.
+std::string bar_title(const Field& field, const SliceStyle& style) {
+  const std::string unit = field.length_unit.empty() ? "" : " (" + field.length_unit + ")";
+  if (style.field == "cond") return "c(J)";
+  if (style.field == "reach") return "reach margin" + unit;
+  if (style.field == "residual") return "residual" + unit;
+  return style.field;  // iterations, status
+}
+
+// As slice_image.cpp: log10 applies to cond and residual only.
+bool bar_is_log(const SliceStyle& style) {
+  return style.log_scale && (style.field == "cond" || style.field == "residual");
+}
+
+}  // namespace
+
+FieldScene::FieldScene() {
+  // Slice: one quad whose texture coordinates run 0..1 from the origin
+  // corner along Point1 (first slice axis) and Point2 (second).
+  plane_->SetResolution(1, 1);
+  plane_->SetOutputPointsPrecision(vtkAlgorithm::DOUBLE_PRECISION);  // corners exactly at the cell edges
+  vtkNew<vtkPolyDataMapper> plane_mapper;
+  plane_mapper->SetInputConnection(plane_->GetOutputPort());
+  plane_mapper->ScalarVisibilityOff();
+  texture_->InterpolateOff();  // crisp samples
+  texture_->MipmapOff();
+  texture_->SetWrap(vtkTexture::ClampToEdge);  // no wrapped texels on the far edges
+  slice_actor_->SetMapper(plane_mapper);
+  slice_actor_->SetTexture(texture_);
+  // Unlit and white, so the texture's colours reach the screen unchanged and
+  // match the colour bar.
+  vtkProperty* sp = slice_actor_->GetProperty();
+  sp->SetColor(1, 1, 1);
+  sp->SetAmbient(1);
+  sp->SetDiffuse(0);
+  sp->SetSpecular(0);
+  sp->LightingOff();
+  sp->BackfaceCullingOff();
+  slice_actor_->PickableOff();
+  slice_actor_->VisibilityOff();
+
+  // Isosurfaces: translucent, smooth-shaded from the mesh's point normals.
+  const std::array<std::array<double, 3>, kSurfaces> colours = {{{0.72, 0.78, 0.90}, {0.15, 0.68, 0.58}}};
+  const std::array<double, kSurfaces> opacities = {0.15, 0.35};
+  for (std::size_t k = 0; k < kSurfaces; ++k) {
+    meshes_[k] = vtkSmartPointer<vtkPolyData>::New();
+    vtkNew<vtkPolyDataMapper> mapper;
+    mapper->SetInputData(meshes_[k]);
+    mapper->ScalarVisibilityOff();
+    surface_actors_[k] = vtkSmartPointer<vtkActor>::New();
+    surface_actors_[k]->SetMapper(mapper);
+    vtkProperty* p = surface_actors_[k]->GetProperty();
+    p->SetColor(colours[k][0], colours[k][1], colours[k][2]);
+    p->SetOpacity(opacities[k]);
+    p->SetInterpolationToPhong();
+    p->BackfaceCullingOff();
+    p->SetSpecular(0.1);
+    p->SetSpecularPower(20);
+    surface_actors_[k]->PickableOff();
+    surface_actors_[k]->VisibilityOff();
+  }
+
+  // Colour bar: vertical, at the right edge of the viewport.
+  lut_ = viridis_lookup_table(256);
+  colour_bar_->SetLookupTable(lut_);
+  colour_bar_->SetOrientationToVertical();
+  colour_bar_->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
+  colour_bar_->SetPosition(0.89, 0.10);
+  colour_bar_->SetWidth(0.10);
+  colour_bar_->SetHeight(0.80);
+  colour_bar_->SetMaximumWidthInPixels(110);
+  colour_bar_->SetNumberOfLabels(5);
+  colour_bar_->SetLabelFormat("%-#.3g");
+  colour_bar_->SetBarRatio(0.3);
+  colour_bar_->UnconstrainedFontSizeOn();
+  colour_bar_->SetVerticalTitleSeparation(10);  // pixels between the title and the top label
+  for (vtkTextProperty* t : {colour_bar_->GetTitleTextProperty(), colour_bar_->GetLabelTextProperty()}) {
+    t->SetColor(0.15, 0.15, 0.2);
+    t->ShadowOff();
+    t->ItalicOff();
+    t->SetFontSize(14);
+  }
+  colour_bar_->GetTitleTextProperty()->BoldOn();
+  colour_bar_->PickableOff();
+  colour_bar_->VisibilityOff();
+}
+
+FieldScene::~FieldScene() = default;
+
+std::size_t FieldScene::index(Surface which) {
+  switch (which) {
+    case Surface::Reach: return 0;
+    case Surface::WellConditioned: return 1;
+  }
+  throw std::invalid_argument("field scene: unknown surface " + std::to_string(int(which)));
+}
+
+void FieldScene::add_to(vtkRenderer* renderer) {
+  if (!renderer) throw std::invalid_argument("field scene: expected a renderer, got null");
+  // AddViewProp ignores props already present, so this is idempotent.
+  renderer->AddViewProp(slice_actor_);
+  for (auto& a : surface_actors_) renderer->AddViewProp(a);
+  renderer->AddViewProp(colour_bar_);
+  // Order-independent transparency for the translucent surfaces against the
+  // opaque linkage and slice. Needs a render window with AlphaBitPlanes on
+  // and MultiSamples 0 (set by whoever owns the window); otherwise VTK falls
+  // back to sorted alpha blending.
+  renderer->SetUseDepthPeeling(1);
+  renderer->SetMaximumNumberOfPeels(4);
+  renderer->SetOcclusionRatio(0.1);
+}
+
+void FieldScene::set_slice(const Field& slice, const SliceStyle& style) {
+  // Everything that can throw comes first, so a bad call leaves the scene as it was.
+  const SliceStyle resolved = resolved_style(slice, style);
+  vtkSmartPointer<vtkImageData> image = render_slice_rgba(slice, resolved);
+  const Grid& g = slice.grid;
+  const Axis normal = slice_normal(g);
+  const auto [au, av] = Grid::slice_axes(normal);
+  const int n = int(normal), u = int(au), v = int(av);
+
+  // Cell edges along u and v; the sample plane along the normal.
+  Eigen::Vector3d origin = g.origin;
+  origin(n) += 0.5 * g.spacing(n);
+  Eigen::Vector3d p1 = origin, p2 = origin;
+  p1(u) += g.dims[u] * g.spacing(u);
+  p2(v) += g.dims[v] * g.spacing(v);
+  plane_->SetOrigin(origin.data());
+  plane_->SetPoint1(p1.data());
+  plane_->SetPoint2(p2.data());
+
+  texture_->SetInputData(image);
+  has_slice_ = true;
+  update_colour_bar(slice, resolved);
+  update_visibility();
+}
+
+void FieldScene::update_colour_bar(const Field& slice, const SliceStyle& resolved) {
+  const std::array<double, 2> range = {*resolved.min, *resolved.max};
+  const bool log = bar_is_log(resolved);
+  const std::string title = bar_title(slice, resolved);
+  if (bar_range_ && *bar_range_ == range && bar_log_ == log && bar_title_ == title) return;
+  // The table's own range and scale make the bar's colours and tick labels
+  // match normalised_value(): log10 spacing for cond and residual.
+  if (log) lut_->SetScaleToLog10();
+  else lut_->SetScaleToLinear();
+  lut_->SetTableRange(range[0], range[1]);
+  colour_bar_->SetTitle(title.c_str());
+  colour_bar_->Modified();
+  bar_range_ = range;
+  bar_log_ = log;
+  bar_title_ = title;
+}
+
+void FieldScene::set_slice_visible(bool visible) {
+  slice_flag_ = visible;
+  update_visibility();
+}
+
+void FieldScene::set_slice_opacity(double opacity) {
+  check_opacity("slice", opacity);
+  slice_actor_->GetProperty()->SetOpacity(opacity);
+}
+
+void FieldScene::set_surface(Surface which, vtkPolyData* mesh) {
+  const std::size_t k = index(which);
+  if (mesh && mesh->GetNumberOfCells() > 0) {
+    meshes_[k]->ShallowCopy(mesh);
+    // extract_surface marks "Normals" active; accept a mesh where it is not.
+    vtkPointData* pd = meshes_[k]->GetPointData();
+    if (!pd->GetNormals()) {
+      vtkDataArray* normals = pd->GetArray("Normals");
+      if (normals && normals->GetNumberOfComponents() == 3) pd->SetNormals(normals);
+    }
+  } else {
+    meshes_[k]->Initialize();
+  }
+  meshes_[k]->Modified();
+  update_visibility();
+}
+
+void FieldScene::set_surface_visible(Surface which, bool visible) {
+  surface_flags_[index(which)] = visible;
+  update_visibility();
+}
+
+void FieldScene::set_surface_opacity(Surface which, double opacity) {
+  const std::size_t k = index(which);
+  check_opacity(to_string(which).c_str(), opacity);
+  surface_actors_[k]->GetProperty()->SetOpacity(opacity);
+}
+
+void FieldScene::set_colour_bar_visible(bool visible) {
+  colour_bar_flag_ = visible;
+  update_visibility();
+}
+
+void FieldScene::clear() {
+  has_slice_ = false;
+  texture_->SetInputData(nullptr);
+  for (auto& m : meshes_) {
+    m->Initialize();
+    m->Modified();
+  }
+  update_visibility();
+}
+
+void FieldScene::update_visibility() {
+  slice_actor_->SetVisibility(slice_visible());
+  for (Surface s : {Surface::Reach, Surface::WellConditioned})
+    surface_actors_[index(s)]->SetVisibility(surface_visible(s));
+  colour_bar_->SetVisibility(colour_bar_visible());
+}
+
+bool FieldScene::slice_visible() const { return slice_flag_ && has_slice_; }
+
+bool FieldScene::surface_visible(Surface which) const {
+  return surface_flags_[index(which)] && surface_faces(which) > 0;
+}
+
+std::size_t FieldScene::surface_faces(Surface which) const {
+  return std::size_t(meshes_[index(which)]->GetNumberOfCells());
+}
+
+bool FieldScene::colour_bar_visible() const { return colour_bar_flag_ && slice_visible(); }
+
+std::string FieldScene::colour_bar_title() const { return has_slice_ ? bar_title_ : std::string(); }
+
+std::array<double, 6> FieldScene::slice_bounds() const {
+  std::array<double, 6> b{};
+  if (!has_slice_) return b;
+  const double* actor = slice_actor_->GetBounds();  // world bounds: the actor has no transform
+  std::copy(actor, actor + 6, b.begin());
+  return b;
+}
+
+}  // namespace linkscape::render

@@ -1,0 +1,114 @@
+// Fields shown in the linkage's 3-D renderer: a colour-mapped slice as a flat
+// textured rectangle at its plane, the two workspace isosurfaces as
+// translucent meshes, and a colour bar for the slice.
+//
+// Props are created once and added to a renderer once; new data only swaps
+// the texture image, the plane's corners or a mesh, so updating at interactive
+// rates never adds props. Coordinates are in the field's length unit.
+#pragma once
+
+#include <vtkNew.h>
+#include <vtkSmartPointer.h>
+
+#include <array>
+#include <cstddef>
+#include <optional>
+#include <string>
+
+#include "core/field.h"
+#include "render/slice_image.h"
+#include "render/workspace_mesh.h"
+
+class vtkActor;
+class vtkImageData;
+class vtkLookupTable;
+class vtkPlaneSource;
+class vtkPolyData;
+class vtkRenderer;
+class vtkScalarBarActor;
+class vtkTexture;
+
+namespace linkscape::render {
+
+class FieldScene {
+ public:
+  FieldScene();
+  ~FieldScene();
+  FieldScene(const FieldScene&) = delete;
+  FieldScene& operator=(const FieldScene&) = delete;
+
+  // Adds every prop (slice plane, two surfaces, colour bar) to `renderer`
+  // once, and turns on depth peeling there so the translucent surfaces
+  // composite correctly with the opaque linkage. Depth peeling also needs a
+  // render window with alpha bit planes and 0 multisamples (the window's
+  // owner sets those). Throws std::invalid_argument for a null renderer.
+  void add_to(vtkRenderer* renderer);
+
+  // Shows a one-sample-thick field as a rectangle at its plane, textured
+  // exactly as render_slice_rgba(slice, style) (nearest-neighbour, unlit).
+  // The rectangle spans the grid's cell edges along the two slice axes (first
+  // axis = texture x, second = texture y). Throws std::invalid_argument as
+  // render_slice_rgba (bad field or style, no axis with one sample); the
+  // scene is unchanged then.
+  void set_slice(const Field& slice, const SliceStyle& style);
+  void set_slice_visible(bool visible);
+  // 0..1, default 1. Throws std::invalid_argument outside [0, 1].
+  void set_slice_opacity(double opacity);
+
+  // Shows an isosurface from extract_surface (smooth shading from its
+  // "Normals"). The mesh is shallow-copied. nullptr or a mesh without cells
+  // clears that surface.
+  void set_surface(Surface which, vtkPolyData* mesh);
+  void set_surface_visible(Surface which, bool visible);
+  // 0..1; defaults: Reach 0.15 (light grey-blue), WellConditioned 0.35
+  // (green-teal). Throws std::invalid_argument outside [0, 1].
+  void set_surface_opacity(Surface which, double opacity);
+
+  // Colour bar for the slice at the right of the view: viridis over
+  // colour_range(), log10 for cond/residual on a log scale, titled by the
+  // quantity and unit. Shown only while the slice is shown. Default on.
+  void set_colour_bar_visible(bool visible);
+
+  // Hides everything and drops all field data (visibility and opacity
+  // settings are kept for the next data).
+  void clear();
+
+  // Introspection (mainly for tests). "Visible" means drawn: the user's flag
+  // is on and there is data to draw.
+  bool slice_visible() const;
+  bool surface_visible(Surface which) const;
+  std::size_t surface_faces(Surface which) const;
+  bool colour_bar_visible() const;
+  std::string colour_bar_title() const;
+  // World bounds of the slice rectangle (xmin, xmax, ymin, ymax, zmin, zmax);
+  // all zero without a slice.
+  std::array<double, 6> slice_bounds() const;
+
+ private:
+  static constexpr std::size_t kSurfaces = 2;
+  static std::size_t index(Surface which);
+  void update_visibility();
+  void update_colour_bar(const Field& slice, const SliceStyle& resolved);
+
+  // Slice: a textured plane.
+  vtkNew<vtkPlaneSource> plane_;
+  vtkNew<vtkTexture> texture_;
+  vtkNew<vtkActor> slice_actor_;
+  bool has_slice_ = false;
+  bool slice_flag_ = true;
+
+  // Isosurfaces: each actor draws its own copy (shallow) of the mesh.
+  std::array<vtkSmartPointer<vtkPolyData>, kSurfaces> meshes_;
+  std::array<vtkSmartPointer<vtkActor>, kSurfaces> surface_actors_;
+  std::array<bool, kSurfaces> surface_flags_{true, true};
+
+  // Colour bar and the range it was last built for (rebuilt only on change).
+  vtkSmartPointer<vtkLookupTable> lut_;
+  vtkNew<vtkScalarBarActor> colour_bar_;
+  bool colour_bar_flag_ = true;
+  std::optional<std::array<double, 2>> bar_range_;
+  bool bar_log_ = false;
+  std::string bar_title_;
+};
+
+}  // namespace linkscape::render
