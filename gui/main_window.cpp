@@ -391,8 +391,8 @@ QWidget* MainWindow::buildFieldPanel() {
   reach_opacity_slider_ = new QSlider(Qt::Horizontal, w);
   well_opacity_slider_ = new QSlider(Qt::Horizontal, w);
   for (QSlider* s : {reach_opacity_slider_, well_opacity_slider_}) s->setRange(0, 100);
-  reach_opacity_slider_->setValue(15);
-  well_opacity_slider_->setValue(35);
+  reach_opacity_slider_->setValue(10);
+  well_opacity_slider_->setValue(22);
   for (QCheckBox* c : {show_slice_box_, show_reach_box_, show_well_box_}) c->setChecked(true);
   form->addRow(show_slice_box_);
   form->addRow(show_reach_box_, reach_opacity_slider_);
@@ -693,6 +693,7 @@ void MainWindow::restyleSlice() {
   style.min = f.range_min;
   style.max = f.range_max;
   style.scale = std::max(1, 768 / f.slice_resolution);
+  style.unreachable_alpha = 50;
   try {
     field_scene_->set_slice(*slice_field_, style);
   } catch (const std::invalid_argument& e) {

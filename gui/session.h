@@ -27,7 +27,7 @@ struct FieldSettings {
   int slice_resolution = 192;  // samples per side
   int volume_resolution = 64;  // samples per axis
   bool show_slice = true, show_reach = true, show_well_conditioned = true;
-  double reach_opacity = 0.15, well_conditioned_opacity = 0.35;
+  double reach_opacity = 0.10, well_conditioned_opacity = 0.22;
   std::string method = "planar";
 };
 

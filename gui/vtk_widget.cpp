@@ -79,6 +79,10 @@ VtkWidget::VtkWidget(QWidget* parent)
   // paintGL() blits VTK's framebuffer into ours; VTK must not blit on its own.
   renderWindow_->SetFrameBlitModeToNoBlit();
   renderWindow_->SetOwnContext(0);
+  // Depth peeling (order-independent transparency of the workspace surfaces)
+  // needs destination alpha in VTK's framebuffer and no multisampling.
+  renderWindow_->SetAlphaBitPlanes(1);
+  renderWindow_->SetMultiSamples(0);
 
   const unsigned long events[] = {
       vtkCommand::WindowMakeCurrentEvent, vtkCommand::WindowIsCurrentEvent,

@@ -70,7 +70,7 @@ FieldScene::FieldScene() {
 
   // Isosurfaces: translucent, smooth-shaded from the mesh's point normals.
   const std::array<std::array<double, 3>, kSurfaces> colours = {{{0.72, 0.78, 0.90}, {0.15, 0.68, 0.58}}};
-  const std::array<double, kSurfaces> opacities = {0.15, 0.35};
+  const std::array<double, kSurfaces> opacities = {0.10, 0.22};
   for (std::size_t k = 0; k < kSurfaces; ++k) {
     meshes_[k] = vtkSmartPointer<vtkPolyData>::New();
     vtkNew<vtkPolyDataMapper> mapper;

@@ -196,8 +196,9 @@ void LinkageScene::set_pose(const Eigen::Vector3d& q) {
 void LinkageScene::reset_camera(vtkRenderer* renderer) const {
   const double r = model_.reach();
   vtkCamera* camera = renderer->GetActiveCamera();
-  camera->SetFocalPoint(0.0, 0.15 * r, 0.0);
-  camera->SetPosition(3.0 * r, 2.6 * r, 1.7 * r);
+  camera->SetFocalPoint(0.0, 0.15 * r, 0.05 * r);
+  // From the -x side, so the default x-slice (at +x) lies behind the linkage.
+  camera->SetPosition(-3.2 * r, 2.2 * r, 1.6 * r);
   camera->SetViewUp(0.0, 0.0, 1.0);
   renderer->ResetCameraClippingRange();
 }

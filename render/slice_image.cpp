@@ -273,10 +273,10 @@ vtkSmartPointer<vtkImageData> render_slice_rgba(const Field& field, const SliceS
   for (int iv = 0; iv < nv; ++iv)
     for (int iu = 0; iu < nu; ++iu) {
       const std::size_t s = sample(iu, iv);
-      std::array<unsigned char, 3> c{grey, grey, grey};
+      std::array<unsigned char, 4> c{grey, grey, grey, style.unreachable_alpha};
       if (field.reachable[s]) {
         const auto rgb = colour_of(normalised_value(value_at(field, q, s), style));
-        c = {to_byte(rgb[0]), to_byte(rgb[1]), to_byte(rgb[2])};
+        c = {to_byte(rgb[0]), to_byte(rgb[1]), to_byte(rgb[2]), 255};
       }
       for (int y = iv * scale; y < (iv + 1) * scale; ++y)
         for (int x = iu * scale; x < (iu + 1) * scale; ++x) {
@@ -284,7 +284,7 @@ vtkSmartPointer<vtkImageData> render_slice_rgba(const Field& field, const SliceS
           p[0] = c[0];
           p[1] = c[1];
           p[2] = c[2];
-          p[3] = 255;
+          p[3] = c[3];
         }
     }
 

@@ -37,6 +37,9 @@ struct SliceStyle {
   bool draw_reach_boundary = true;
   // Pixels per sample along each axis (nearest-neighbour upscaling), >= 1.
   int scale = 1;
+  // Opacity (0..255) of samples outside the workspace: opaque in images; the
+  // 3-D view lowers it so the slice's square corners do not hide the scene.
+  unsigned char unreachable_alpha = 255;
 };
 
 // Viridis at value01 in [0, 1] (clamped; NaN gives the value at 1), RGB 0..1.
