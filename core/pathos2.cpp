@@ -1,0 +1,695 @@
+#include "core/pathos2.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+
+namespace linkscape::pathos2 {
+namespace {
+
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+constexpr double kPi = std::numbers::pi;
+constexpr double kDeg = kPi / 180.0;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// A leg counts as singular when |c1x c1y| (det / l2, cm^2) is below this
+// fraction of (l2 + l3)^2: one part in 1e10 is far below any pose a user sets
+// by hand and well above the rounding of the closed form (~1e-15).
+constexpr double kLegSingularTolerance = 1e-10;
+// Roots that are negative by no more than this fraction of the squared
+// length are rounding, not unreachability (a stretched leg).
+constexpr double kRootSlack = 1e-12;
+
+Matrix3d rot_x(double a) { return Eigen::AngleAxisd(a, Vector3d::UnitX()).toRotationMatrix(); }
+Matrix3d rot_y(double a) { return Eigen::AngleAxisd(a, Vector3d::UnitY()).toRotationMatrix(); }
+Matrix3d rot_z(double a) { return Eigen::AngleAxisd(a, Vector3d::UnitZ()).toRotationMatrix(); }
+
+double wrap_angle(double a) {
+  a = std::remainder(a, 2.0 * kPi);  // [-pi, pi]
+  return a <= -kPi ? a + 2.0 * kPi : a;
+}
+
+void require_finite(double v, const std::string& what) {
+  if (!std::isfinite(v)) {
+    std::ostringstream msg;
+    msg << "pathos2: " << what << " must be finite, got " << v;
+    throw std::invalid_argument(msg.str());
+  }
+}
+
+void require_positive(double v, const std::string& what) {
+  require_finite(v, what);
+  if (v <= 0.0) {
+    std::ostringstream msg;
+    msg << "pathos2: " << what << " must be > 0, got " << v;
+    throw std::invalid_argument(msg.str());
+  }
+}
+
+void require_limit(double v, const std::string& what) {
+  require_finite(v, what);
+  if (v <= 0.0 || v > kPi + 1e-12) {
+    std::ostringstream msg;
+    msg << "pathos2: " << what << " must be in (0, 180] deg, got " << v / kDeg << " deg";
+    throw std::invalid_argument(msg.str());
+  }
+}
+
+void require_pose(const Pose& pose) {
+  if (!pose.p_world_E.allFinite() || !pose.R_world_E.allFinite())
+    throw std::invalid_argument("pathos2: pose must be finite");
+  require_positive(pose.h0, "grip h0");
+  const double err = (pose.R_world_E.transpose() * pose.R_world_E - Matrix3d::Identity()).norm();
+  if (err > 1e-6 || pose.R_world_E.determinant() < 0.0) {
+    std::ostringstream msg;
+    msg << "pathos2: R_world_E must be a rotation (|R^T R - I| = " << err << ")";
+    throw std::invalid_argument(msg.str());
+  }
+}
+
+}  // namespace
+
+// ---- Model ------------------------------------------------------------------
+
+void Model::validate() const {
+  require_positive(l0, "l0");
+  require_positive(lb, "lb");
+  require_positive(l1, "l1");
+  require_positive(l2, "l2");
+  require_positive(l3, "l3");
+  require_finite(lp, "lp");
+  if (lp < 0.0) throw std::invalid_argument("pathos2: lp must be >= 0, got " + std::to_string(lp));
+  require_positive(h0, "h0");
+  require_finite(theta_t, "theta_t");
+  require_finite(theta_g, "theta_g");
+  require_finite(db, "db");
+  require_finite(lx, "lx");
+  require_finite(base_phase, "base_phase");
+  require_finite(plate_phase, "plate_phase");
+  if (tilt_sign != 1.0 && tilt_sign != -1.0)
+    throw std::invalid_argument("pathos2: tilt_sign must be +1 or -1, got " + std::to_string(tilt_sign));
+  for (int i = 0; i < kLegCount; ++i)
+    if (branch[i] != 1 && branch[i] != -1)
+      throw std::invalid_argument("pathos2: branch_" + std::to_string(i + 1) +
+                                  " must be +1 or -1, got " + std::to_string(branch[i]));
+  require_limit(cone_limit, "cone_limit");
+  require_limit(t2_limit, "t2_limit");
+  require_limit(t3_limit, "t3_limit");
+}
+
+std::vector<std::string> Model::parameter_names() {
+  return {"l0",         "lb",          "l1",         "l2",       "l3",       "lp",
+          "h0",         "theta_t",     "theta_g",    "db",       "lx",       "tilt_sign",
+          "base_phase", "plate_phase", "cone_limit", "t2_limit", "t3_limit", "branch_1",
+          "branch_2",   "branch_3",    "branch_4",   "branch_5", "branch_6"};
+}
+
+Model Model::from_parameters(const std::map<std::string, double>& parameters) {
+  Model m;
+  bool has_db = false, has_lx = false;
+  for (const auto& [name, value] : parameters) {
+    if (name == "l0") m.l0 = value;
+    else if (name == "lb") m.lb = value;
+    else if (name == "l1") m.l1 = value;
+    else if (name == "l2") m.l2 = value;
+    else if (name == "l3") m.l3 = value;
+    else if (name == "lp") m.lp = value;
+    else if (name == "h0") m.h0 = value;
+    else if (name == "theta_t") m.theta_t = value * kDeg;
+    else if (name == "theta_g") m.theta_g = value * kDeg;
+    else if (name == "db") m.db = value, has_db = true;
+    else if (name == "lx") m.lx = value, has_lx = true;
+    else if (name == "tilt_sign") m.tilt_sign = value;
+    else if (name == "base_phase") m.base_phase = value * kDeg;
+    else if (name == "plate_phase") m.plate_phase = value * kDeg;
+    else if (name == "cone_limit") m.cone_limit = value * kDeg;
+    else if (name == "t2_limit") m.t2_limit = value * kDeg;
+    else if (name == "t3_limit") m.t3_limit = value * kDeg;
+    else if (name.size() == 8 && name.starts_with("branch_") && name[7] >= '1' && name[7] <= '6') {
+      require_finite(value, name);
+      if (value != 1.0 && value != -1.0)
+        throw std::invalid_argument("pathos2: " + name + " must be +1 or -1, got " + std::to_string(value));
+      m.branch[name[7] - '1'] = static_cast<int>(value);
+    } else {
+      std::string known;
+      for (const auto& n : parameter_names()) known += (known.empty() ? "" : ", ") + n;
+      throw std::invalid_argument("pathos2: unknown parameter '" + name + "' (known: " + known + ")");
+    }
+  }
+  // Derived offsets follow the given lb and theta_t unless set explicitly.
+  if (!has_db) m.db = m.lb * std::tan(m.theta_t);
+  if (!has_lx) m.lx = m.lb / std::cos(m.theta_t);
+  m.validate();
+  return m;
+}
+
+std::map<std::string, double> Model::to_parameters() const {
+  std::map<std::string, double> p{
+      {"l0", l0},           {"lb", lb},
+      {"l1", l1},           {"l2", l2},
+      {"l3", l3},           {"lp", lp},
+      {"h0", h0},           {"theta_t", theta_t / kDeg},
+      {"theta_g", theta_g / kDeg}, {"db", db},
+      {"lx", lx},           {"tilt_sign", tilt_sign},
+      {"base_phase", base_phase / kDeg}, {"plate_phase", plate_phase / kDeg},
+      {"cone_limit", cone_limit / kDeg}, {"t2_limit", t2_limit / kDeg},
+      {"t3_limit", t3_limit / kDeg}};
+  for (int i = 0; i < kLegCount; ++i) p["branch_" + std::to_string(i + 1)] = branch[i];
+  return p;
+}
+
+Pose Pose::from_xyz_rpy(double x, double y, double z, double rx, double ry, double rz, double h0) {
+  Pose pose;
+  pose.p_world_E = Vector3d(x, y, z);
+  pose.R_world_E = rot_z(rz) * rot_y(ry) * rot_x(rx);
+  pose.h0 = h0;
+  return pose;
+}
+
+Vector3d Pose::rpy() const {
+  const Matrix3d& R = R_world_E;
+  const double ry = std::asin(std::clamp(-R(2, 0), -1.0, 1.0));
+  const double rx = std::atan2(R(2, 1), R(2, 2));
+  const double rz = std::atan2(R(1, 0), R(0, 0));
+  return {rx, ry, rz};
+}
+
+Pose home_pose(const Model& model) {
+  return Pose::from_xyz_rpy(0.0, 0.0, model.l0 / 2.0, 0.0, 0.0, 30.0 * kDeg, model.h0);
+}
+
+Geometry make_geometry(const Model& model) {
+  model.validate();
+  Geometry g;
+  g.model = model;
+  for (int i = 0; i < kLegCount; ++i) {
+    const bool upper = i >= 3;
+    const int k = i % 3;
+    const Matrix3d flip = upper ? rot_x(kPi) : Matrix3d::Identity();
+    const Vector3d lift(0.0, 0.0, upper ? model.l0 : 0.0);
+    const Matrix3d R_around = flip * rot_z(model.base_phase + 2.0 * kPi / 3.0 * k);
+    const Matrix3d R_tilt = rot_y(model.tilt_sign * model.theta_t);
+    g.R_world_B[i] = R_around * R_tilt;
+    g.p_world_B[i] = lift + R_around * (Vector3d(0.0, 0.0, model.db) + R_tilt * Vector3d(model.lx, 0.0, 0.0));
+    const Matrix3d R_plate = flip * rot_z(model.plate_phase + 2.0 * kPi / 3.0 * k);
+    g.p_E_attach_plate[i] = R_plate * Vector3d(model.lp, 0.0, 0.0);
+    g.grip_side[i] = upper ? 1.0 : -1.0;  // Rx(theta_b1) Tz(-h0)
+    g.R_E_A[i] = R_plate * rot_y(model.theta_g);
+  }
+  return g;
+}
+
+// ---- Leg ----------------------------------------------------------------------
+
+Vector3d leg_forward(double l1, double l2, double l3, double t1, double t2, double t3) {
+  // Eq. 3: Rz(t1)[Tz(l1) + Ry(t2){Tz(l2) + Rx(t3) Tz(l3)}].
+  const Vector3d c2(0.0, -l3 * std::sin(t3), l2 + l3 * std::cos(t3));
+  const Vector3d c1 = Vector3d(0.0, 0.0, l1) + rot_y(t2) * c2;
+  return rot_z(t1) * c1;
+}
+
+namespace {
+
+// Closed-form leg IK without angle output beyond what the caller needs; the
+// gradient dt1/da (first row of the inverse leg Jacobian) comes for free.
+struct LegCore {
+  Status status = Status::Unreachable;
+  double c1x = 0, c1y = 0, c2z = 0;  // Eq. 14 coefficients
+  double cos1 = 1, sin1 = 0;         // of t1, without trigonometric calls
+};
+
+inline LegCore leg_core(double l1, double l2, double l3, const Vector3d& a, int branch) {
+  LegCore r;
+  const double dz = a.z() - l1;
+  const double rxy2 = a.x() * a.x() + a.y() * a.y();
+  const double rho2 = rxy2 + dz * dz;  // |a - l1 z|^2
+  const double scale2 = (l2 + l3) * (l2 + l3);
+  // Eq. 14 (corrected): c2z = w = l2 + l3 c3; c1y = +-sqrt(l3^2 - (c2z - l2)^2);
+  // c1x = +sqrt(a_x^2 + a_y^2 - c1y^2) (the printed a_z^2 under the root is a misprint).
+  r.c2z = (l2 * l2 - l3 * l3 + rho2) / (2.0 * l2);
+  const double e = r.c2z - l2;
+  double y2 = l3 * l3 - e * e;
+  if (y2 < -kRootSlack * scale2) return r;  // |a - l1 z| outside [|l2 - l3|, l2 + l3]
+  y2 = std::max(y2, 0.0);
+  r.c1y = (branch >= 0 ? 1.0 : -1.0) * std::sqrt(y2);
+  double x2 = rxy2 - y2;
+  if (x2 < -kRootSlack * scale2) return r;  // |a_z - l1| > |w|: the R2 circle misses a
+  x2 = std::max(x2, 0.0);
+  r.c1x = std::sqrt(x2);
+  if (rxy2 > 0.0) {
+    // Eq. 9: Rz(t1) (c1x, c1y) = (a_x, a_y).
+    r.cos1 = (r.c1x * a.x() + r.c1y * a.y()) / rxy2;
+    r.sin1 = (r.c1x * a.y() - r.c1y * a.x()) / rxy2;
+  }
+  r.status = std::abs(r.c1x * r.c1y) <= kLegSingularTolerance * scale2 ? Status::Singular : Status::Ok;
+  return r;
+}
+
+}  // namespace
+
+LegSolution leg_inverse(double l1, double l2, double l3, const Vector3d& a, int branch) {
+  if (!a.allFinite()) throw std::invalid_argument("pathos2: leg target must be finite");
+  if (!(l1 > 0.0 && l2 > 0.0 && l3 > 0.0))
+    throw std::invalid_argument("pathos2: leg lengths l1, l2, l3 must be > 0");
+  LegSolution s;
+  s.p_B_globular = a;
+  const LegCore c = leg_core(l1, l2, l3, a, branch);
+  s.status = c.status;
+  if (c.status == Status::Unreachable) return s;
+  s.t1 = std::atan2(c.sin1, c.cos1);
+  // Eq. 11 with c2x = 0; atan2 keeps the quadrant when w = c2z < 0 (l3 > l2).
+  s.t2 = std::atan2(c.c2z * c.c1x, c.c2z * (a.z() - l1));
+  s.t3 = std::atan2(-c.c1y, c.c2z - l2);  // Eq. 13
+  s.det = -l2 * c.c1x * c.c1y;            // = l2 l3 w sin t2 sin t3
+  return s;
+}
+
+// ---- Pose IK -----------------------------------------------------------------
+
+PoseIkResult inverse(const Geometry& g, const Pose& pose) {
+  require_pose(pose);
+  const Model& m = g.model;
+  PoseIkResult out;
+  out.status = Status::Ok;
+  const Matrix3d& R = pose.R_world_E;
+  for (int i = 0; i < kLegCount; ++i) {
+    LegSolution& leg = out.legs[i];
+    Vector3d r_E = g.p_E_attach_plate[i];
+    r_E.z() += g.grip_side[i] * pose.h0;
+    const Vector3d p_glob = pose.p_world_E + R * r_E;
+    out.p_world_globular[i] = p_glob;
+    const Vector3d a = g.R_world_B[i].transpose() * (p_glob - g.p_world_B[i]);
+    leg.p_B_globular = a;
+    const LegCore c = leg_core(m.l1, m.l2, m.l3, a, m.branch[i]);
+    leg.status = c.status;
+    if (c.status != Status::Unreachable) {
+      leg.t1 = std::atan2(c.sin1, c.cos1);
+      leg.t2 = std::atan2(c.c2z * c.c1x, c.c2z * (a.z() - m.l1));
+      leg.t3 = std::atan2(-c.c1y, c.c2z - m.l2);
+      leg.det = -m.l2 * c.c1x * c.c1y;
+      // Globular joint (Eqs. 15-18): Rz(t4) Ry(t5) Rz(t6) = B, the rotation
+      // left between the end of l3 and the attachment frame A_i.
+      const Matrix3d R_B_end = rot_z(leg.t1) * rot_y(leg.t2) * rot_x(leg.t3);
+      const Matrix3d B = (g.R_world_B[i] * R_B_end).transpose() * R * g.R_E_A[i];
+      leg.t4 = std::atan2(B(1, 2), B(0, 2));  // Eq. 16, with atan2
+      const double c4 = std::cos(leg.t4), s4 = std::sin(leg.t4);
+      leg.t5 = std::atan2(B(0, 2) * c4 + B(1, 2) * s4, B(2, 2));           // Eq. 17
+      leg.t6 = std::atan2(-B(0, 0) * s4 + B(1, 0) * c4, -B(0, 1) * s4 + B(1, 1) * c4);  // Eq. 18
+      if (leg.status == Status::Ok &&
+          (leg.t5 > m.cone_limit || std::abs(leg.t2) > m.t2_limit || std::abs(leg.t3) > m.t3_limit))
+        leg.status = Status::OutOfLimits;
+    }
+    out.q_active[i] = leg.t1;
+    if (leg.status != Status::Ok && out.failing_leg < 0) {
+      out.failing_leg = i;
+      out.status = leg.status;
+    }
+  }
+  return out;
+}
+
+PoseIkResult inverse(const Model& model, const Pose& pose) {
+  return inverse(make_geometry(model), pose);
+}
+
+// ---- Jacobian -------------------------------------------------------------------
+
+namespace {
+
+// Largest eigenvalue of a symmetric 3x3 matrix, trigonometric form:
+// A = q I + p B, eig(B) = 2 cos(phi + 2 pi k / 3); k = 0 is the largest and
+// cos is flat there, so rounding in det(B) barely moves it (full relative
+// accuracy, unlike the smaller roots).
+double largest_eigenvalue(const Matrix3d& A) {
+  const double q = A.trace() / 3.0;
+  const double off = A(0, 1) * A(0, 1) + A(0, 2) * A(0, 2) + A(1, 2) * A(1, 2);
+  const double d0 = A(0, 0) - q, d1 = A(1, 1) - q, d2 = A(2, 2) - q;
+  const double p = std::sqrt((d0 * d0 + d1 * d1 + d2 * d2 + 2.0 * off) / 6.0);
+  if (p == 0.0) return q;
+  const Matrix3d B = (A - q * Matrix3d::Identity()) / p;
+  const double r = std::clamp(B.determinant() / 2.0, -1.0, 1.0);
+  return q + 2.0 * p * std::cos(std::acos(r) / 3.0);
+}
+
+}  // namespace
+
+double block_condition_number(const Eigen::Matrix<double, 3, 6>& block) {
+  // cond^2 = lambda_max(S) / lambda_min(S) = lambda_max(S) lambda_max(adj S) / det S
+  // for S = B B^T: only largest eigenvalues, each to full relative accuracy.
+  const Matrix3d S = block * block.transpose();
+  const double det = S.determinant();
+  const double lmax = largest_eigenvalue(S);
+  // A determinant below ~1e-13 lambda_max^3 is rounding: rank deficient.
+  if (!(det > 1e-13 * lmax * lmax * lmax) || !std::isfinite(det)) return kInf;
+  Matrix3d adj;
+  adj(0, 0) = S(1, 1) * S(2, 2) - S(1, 2) * S(1, 2);
+  adj(1, 1) = S(0, 0) * S(2, 2) - S(0, 2) * S(0, 2);
+  adj(2, 2) = S(0, 0) * S(1, 1) - S(0, 1) * S(0, 1);
+  adj(0, 1) = adj(1, 0) = S(0, 2) * S(1, 2) - S(0, 1) * S(2, 2);
+  adj(0, 2) = adj(2, 0) = S(0, 1) * S(1, 2) - S(0, 2) * S(1, 1);
+  adj(1, 2) = adj(2, 1) = S(0, 1) * S(0, 2) - S(0, 0) * S(1, 2);
+  return std::sqrt(lmax * largest_eigenvalue(adj) / det);
+}
+
+JacobianResult jacobian(const Geometry& g, const Pose& pose, const PoseIkResult& ik) {
+  JacobianResult out;
+  out.cond_p = out.cond_o = kInf;
+  if (ik.status != Status::Ok && ik.status != Status::OutOfLimits) {
+    out.status = ik.status;
+    return out;
+  }
+  const Model& m = g.model;
+  Matrix6d& M = out.J_qdot_from_twist;
+  for (int i = 0; i < kLegCount; ++i) {
+    const LegSolution& leg = ik.legs[i];
+    const Vector3d& a = leg.p_B_globular;
+    // Columns of the leg Jacobian da/dt (leg frame): about R1 (z through the
+    // origin), R2 (through l1 z) and R3 (through the elbow). dt1/da is the
+    // first row of its inverse: (c2 x c3) / det.
+    const double c1 = std::cos(leg.t1), s1 = std::sin(leg.t1);
+    const double c2 = std::cos(leg.t2), s2 = std::sin(leg.t2);
+    const Vector3d axis1 = Vector3d::UnitZ();
+    const Vector3d axis2(-s1, c1, 0.0);
+    const Vector3d axis3(c1 * c2, s1 * c2, -s2);
+    const Vector3d p2(0.0, 0.0, m.l1);
+    const Vector3d p3 = p2 + m.l2 * Vector3d(c1 * s2, s1 * s2, c2);
+    const Vector3d col1 = axis1.cross(a), col2 = axis2.cross(a - p2), col3 = axis3.cross(a - p3);
+    const Vector3d n = col2.cross(col3);
+    const double det = col1.dot(n);
+    const Vector3d grad_world = g.R_world_B[i] * (n / det);
+    const Vector3d rho = ik.p_world_globular[i] - pose.p_world_E;
+    M.block<1, 3>(i, 0) = grad_world.transpose();
+    M.block<1, 3>(i, 3) = rho.cross(grad_world).transpose();
+  }
+  if (!M.allFinite()) {
+    out.status = Status::Singular;
+    return out;
+  }
+  const Eigen::PartialPivLU<Matrix6d> lu(M);
+  // Hadamard bound: |det M| <= prod |row_i|; a ratio near zero is singular.
+  double hadamard = 1.0;
+  for (int i = 0; i < kLegCount; ++i) hadamard *= M.row(i).norm();
+  if (!(std::abs(lu.determinant()) > 1e-14 * hadamard)) {
+    out.status = Status::Singular;
+    return out;
+  }
+  out.J_twist_from_qdot = lu.inverse();
+  out.cond_p = block_condition_number(out.J_twist_from_qdot.topRows<3>());
+  out.cond_o = block_condition_number(out.J_twist_from_qdot.bottomRows<3>());
+  out.status = ik.status;
+  return out;
+}
+
+JacobianResult jacobian(const Model& model, const Pose& pose) {
+  const Geometry g = make_geometry(model);
+  return jacobian(g, pose, inverse(g, pose));
+}
+
+// ---- Forward kinematics ------------------------------------------------------
+
+NineSensors sensors_of(const PoseIkResult& ik) {
+  NineSensors s;
+  s.leg1 = Vector3d(ik.legs[0].t1, ik.legs[0].t2, ik.legs[0].t3);
+  s.leg5 = Vector3d(ik.legs[4].t1, ik.legs[4].t2, ik.legs[4].t3);
+  s.leg6 = Vector3d(ik.legs[5].t1, ik.legs[5].t2, ik.legs[5].t3);
+  return s;
+}
+
+namespace {
+
+Vector3d globular_world(const Geometry& g, int leg, const Vector3d& q) {
+  const Model& m = g.model;
+  return g.p_world_B[leg] + g.R_world_B[leg] * leg_forward(m.l1, m.l2, m.l3, q.x(), q.y(), q.z());
+}
+
+// Orthonormal frame with z along n and x along the part of u normal to n.
+Matrix3d frame_from(const Vector3d& n, const Vector3d& u) {
+  const Vector3d z = n.normalized();
+  const Vector3d x = (u - u.dot(z) * z).normalized();
+  Matrix3d F;
+  F.col(0) = x;
+  F.col(1) = z.cross(x);
+  F.col(2) = z;
+  return F;
+}
+
+}  // namespace
+
+FkResult forward_nine_sensors(const Geometry& g, const NineSensors& sensors) {
+  if (!sensors.leg1.allFinite() || !sensors.leg5.allFinite() || !sensors.leg6.allFinite())
+    throw std::invalid_argument("pathos2: sensor angles must be finite");
+  const Model& m = g.model;
+  FkResult out;
+  out.status = Status::Unreachable;
+  if (!(m.lp > 0.0)) {
+    out.status = Status::Singular;  // all globular centres of a plate coincide
+    return out;
+  }
+  // Globular centres from the sensed legs (Eq. 2). Paper names (Fig. 5):
+  // P3 = leg 1 (lower plate), P2 = leg 5, P1 = leg 6 (upper plate), P = leg 4.
+  const Vector3d P3 = globular_world(g, 0, sensors.leg1);
+  const Vector3d P2 = globular_world(g, 4, sensors.leg5);
+  const Vector3d P1 = globular_world(g, 5, sensors.leg6);
+  // In-plate offsets (E frame, without the grip term) fix every distance the
+  // paper writes with r = lp: |P - P1| = |P - P2| = sqrt(3) lp, and the
+  // horizontal offset of P from P3 (0 for plate_phase = 0).
+  const Vector3d& in4 = g.p_E_attach_plate[3];
+  const Vector3d& in1 = g.p_E_attach_plate[0];
+  const Vector3d& in6 = g.p_E_attach_plate[5];
+  const double side2 = (in4 - in6).squaredNorm();            // 3 lp^2
+  const double chord_13 = (in1 - in6).head<2>().squaredNorm();  // horizontal |P3 P1|^2
+  const double chord_34 = (in1 - in4).head<2>().squaredNorm();  // horizontal |P3 P|^2
+  // Eq. 19 with h = 2 h0: |P1 - P3|^2 = h^2 + (horizontal chord)^2.
+  const double h2 = (P1 - P3).squaredNorm() - chord_13;
+  if (!(h2 > 0.0)) return out;
+  const double h = std::sqrt(h2);
+  const double r3_2 = h2 + chord_34;  // |P - P3|^2
+  // Eq. 20 has rank 2 (its rows sum to zero). Keep rows 1 and 2 (the planes
+  // |P - P1| = |P - P2| and |P - P2|^2 - |P - P3|^2 = 3 r^2 - h^2) and add
+  // the sphere |P - P1|^2 = 3 r^2: a line meets a sphere in two roots.
+  const Vector3d n1 = 2.0 * (P2 - P1), n2 = 2.0 * (P3 - P2);
+  const double b1 = P2.squaredNorm() - P1.squaredNorm();
+  const double b2 = side2 - r3_2 + P3.squaredNorm() - P2.squaredNorm();
+  const Vector3d dir = n1.cross(n2);
+  const double dir2 = dir.squaredNorm();
+  if (!(dir2 > 1e-24 * n1.squaredNorm() * n2.squaredNorm())) {
+    out.status = Status::Singular;  // P1, P2, P3 collinear
+    return out;
+  }
+  // Point of the line: x0 = (b1 (n2 x dir) + b2 (dir x n1)) / |dir|^2.
+  const Vector3d x0 = (b1 * n2.cross(dir) + b2 * dir.cross(n1)) / dir2;
+  const Vector3d u = dir / std::sqrt(dir2);
+  const Vector3d d0 = x0 - P1;
+  const double bq = d0.dot(u), cq = d0.squaredNorm() - side2;
+  const double disc = bq * bq - cq;
+  if (disc < -1e-12 * side2) return out;
+  const double sq = std::sqrt(std::max(disc, 0.0));
+  // Handedness: legs 4, 6, 5 run counter-clockwise about z_E on the upper
+  // plate, and the lower plate (P3) lies on the -z_E side.
+  const Vector3d candidates[2] = {x0 + (-bq + sq) * u, x0 + (-bq - sq) * u};
+  int pick = -1;
+  double best = 0.0;
+  for (int c = 0; c < 2; ++c) {
+    const Vector3d& P = candidates[c];
+    const Vector3d normal = (P1 - P).cross(P2 - P);
+    const double score = normal.dot(P - P3);
+    if (score > best) best = score, pick = c;
+  }
+  if (pick < 0) return out;
+  const Vector3d P = candidates[pick];
+  const Vector3d z_E = (P1 - P).cross(P2 - P).normalized();
+  const double h0 = h / 2.0;
+  // Upper plate: its globular centres are in-plate offsets + h0 z_E; match
+  // the plate triangle's centroid and the direction to leg 4.
+  const Vector3d centroid_world = (P + P1 + P2) / 3.0;
+  const Vector3d centroid_plate = (in4 + g.p_E_attach_plate[4] + in6) / 3.0;
+  const Matrix3d F_world = frame_from(z_E, P - centroid_world);
+  const Matrix3d F_E = frame_from(Vector3d::UnitZ(), in4 - centroid_plate);
+  out.pose.R_world_E = F_world * F_E.transpose();
+  out.pose.h0 = h0;
+  out.pose.p_world_E =
+      centroid_world - out.pose.R_world_E * (centroid_plate + Vector3d(0.0, 0.0, h0));
+  // Residual: the lower point the pose predicts against the measured one.
+  const Vector3d P3_pose =
+      out.pose.p_world_E + out.pose.R_world_E * (in1 + Vector3d(0.0, 0.0, -h0));
+  out.residual = (P3_pose - P3).norm();
+  out.status = out.residual <= 1e-6 * (m.l2 + m.l3) ? Status::Ok : Status::Unreachable;
+  return out;
+}
+
+FkResult forward_nine_sensors(const Model& model, const NineSensors& sensors) {
+  return forward_nine_sensors(make_geometry(model), sensors);
+}
+
+namespace {
+
+double max_wrapped_error(const Vector6d& target, const Vector6d& q, Vector6d& r) {
+  double worst = 0.0;
+  for (int i = 0; i < kLegCount; ++i) {
+    r[i] = wrap_angle(target[i] - q[i]);
+    worst = std::max(worst, std::abs(r[i]));
+  }
+  return worst;
+}
+
+Pose step_pose(const Pose& pose, const Vector6d& twist) {
+  Pose next = pose;
+  next.p_world_E += twist.head<3>();
+  const Vector3d w = twist.tail<3>();
+  const double angle = w.norm();
+  if (angle > 0.0) next.R_world_E = Eigen::AngleAxisd(angle, w / angle).toRotationMatrix() * pose.R_world_E;
+  return next;
+}
+
+}  // namespace
+
+FkResult forward_numeric(const Geometry& g, const Vector6d& q_active, double h0, const Pose& seed,
+                         const FkOptions& options) {
+  if (!q_active.allFinite()) throw std::invalid_argument("pathos2: q_active must be finite");
+  require_positive(h0, "grip h0");
+  require_pose(seed);
+  if (options.max_iterations < 0 || !(options.tolerance > 0.0) || !(options.damping >= 0.0) ||
+      !(options.max_step_cm > 0.0) || !(options.max_step_rad > 0.0))
+    throw std::invalid_argument(
+        "pathos2: FK options need max_iterations >= 0, tolerance > 0, damping >= 0, max steps > 0");
+  FkResult out;
+  out.status = Status::NotConverged;
+  Pose pose = seed;
+  pose.h0 = h0;
+  out.pose = pose;
+  PoseIkResult ik = inverse(g, pose);
+  if (ik.status == Status::Unreachable || ik.status == Status::Singular) {
+    out.residual = kInf;
+    return out;  // the seed itself is not an assembly of this model
+  }
+  Vector6d r;
+  double err = max_wrapped_error(q_active, ik.q_active, r);
+  out.residual = err;
+  for (int it = 0; it < options.max_iterations && err > options.tolerance; ++it) {
+    const JacobianResult jr = jacobian(g, pose, ik);
+    const Matrix6d& M = jr.J_qdot_from_twist;  // qdot = M twist
+    if (!M.allFinite()) break;
+    // Levenberg-Marquardt step (M^T M + lambda I) dx = M^T r, lambda relative
+    // to |M|^2 so the damping means the same for every design size.
+    const double lambda = options.damping * M.squaredNorm() / 6.0;
+    const Matrix6d A = M.transpose() * M + lambda * Matrix6d::Identity();
+    Vector6d dx = A.ldlt().solve(M.transpose() * r);
+    if (!dx.allFinite()) break;
+    // Trust region: a tracking solver must not jump to another assembly.
+    const double scale = std::min({1.0, options.max_step_cm / std::max(dx.head<3>().norm(), 1e-300),
+                                   options.max_step_rad / std::max(dx.tail<3>().norm(), 1e-300)});
+    dx *= scale;
+    bool accepted = false;
+    for (int halving = 0; halving < 12; ++halving) {
+      const Pose trial = step_pose(pose, dx);
+      const PoseIkResult trial_ik = inverse(g, trial);
+      if (trial_ik.status != Status::Unreachable && trial_ik.status != Status::Singular) {
+        Vector6d trial_r;
+        const double trial_err = max_wrapped_error(q_active, trial_ik.q_active, trial_r);
+        if (trial_r.norm() < r.norm()) {
+          pose = trial, ik = trial_ik, r = trial_r, err = trial_err;
+          accepted = true;
+          break;
+        }
+      }
+      dx *= 0.5;
+    }
+    out.iterations = it + 1;
+    if (!accepted) break;  // stalled: report, do not guess
+  }
+  // Re-orthonormalise against drift from many small rotations.
+  const Eigen::Quaterniond qn(pose.R_world_E);
+  pose.R_world_E = qn.normalized().toRotationMatrix();
+  out.pose = pose;
+  out.residual = err;
+  out.status = err <= options.tolerance ? Status::Ok : Status::NotConverged;
+  return out;
+}
+
+FkResult forward_numeric(const Model& model, const Vector6d& q_active, double h0, const Pose& seed,
+                         const FkOptions& options) {
+  return forward_numeric(make_geometry(model), q_active, h0, seed, options);
+}
+
+// ---- Mobility --------------------------------------------------------------------
+
+MechanismGraph mechanism_graph(bool lock_grip) {
+  MechanismGraph graph;
+  graph.links.push_back({"ground (both base plates)"});
+  const int lower_plate = 1;
+  graph.links.push_back({lock_grip ? "top plates (grip locked)" : "lower top plate"});
+  int upper_plate = lower_plate;
+  if (!lock_grip) {
+    graph.links.push_back({"upper top plate"});
+    upper_plate = 2;
+    graph.joints.push_back({"grip (prismatic)", lower_plate, upper_plate, 1});
+  }
+  for (int i = 0; i < kLegCount; ++i) {
+    const std::string leg = "leg " + std::to_string(i + 1);
+    const int first = static_cast<int>(graph.links.size());
+    for (int l = 1; l <= 3; ++l) graph.links.push_back({leg + " link " + std::to_string(l)});
+    graph.joints.push_back({leg + " R1 (active)", 0, first, 1});
+    graph.joints.push_back({leg + " R2", first, first + 1, 1});
+    graph.joints.push_back({leg + " R3", first + 1, first + 2, 1});
+    graph.joints.push_back({leg + " globular", first + 2, i < 3 ? lower_plate : upper_plate, 3});
+  }
+  return graph;
+}
+
+int mobility(const MechanismGraph& graph) {
+  const int links = static_cast<int>(graph.links.size());
+  int freedoms = 0;
+  for (const GraphJoint& j : graph.joints) {
+    if (j.link_a < 0 || j.link_a >= links || j.link_b < 0 || j.link_b >= links || j.link_a == j.link_b)
+      throw std::invalid_argument("pathos2: joint '" + j.name + "' connects links " +
+                                  std::to_string(j.link_a) + " and " + std::to_string(j.link_b) +
+                                  " of " + std::to_string(links));
+    if (j.dof < 1 || j.dof > 5)
+      throw std::invalid_argument("pathos2: joint '" + j.name + "' has " + std::to_string(j.dof) +
+                                  " DOF (expected 1..5)");
+    freedoms += j.dof;
+  }
+  return 6 * (links - static_cast<int>(graph.joints.size()) - 1) + freedoms;
+}
+
+// ---- Skeleton ---------------------------------------------------------------------
+
+Skeleton skeleton(const Geometry& g, const Pose& pose, const PoseIkResult& ik) {
+  if (ik.status != Status::Ok && ik.status != Status::OutOfLimits)
+    throw std::invalid_argument("pathos2: skeleton needs a solved pose (leg " +
+                                std::to_string(ik.failing_leg + 1) + " is " +
+                                std::string(to_string(ik.status)) + ")");
+  const Model& m = g.model;
+  Skeleton s;
+  s.p_world_E = pose.p_world_E;
+  for (int i = 0; i < kLegCount; ++i) {
+    const LegSolution& leg = ik.legs[i];
+    const Matrix3d& RB = g.R_world_B[i];
+    const Matrix3d R1 = RB * rot_z(leg.t1);
+    const Matrix3d R2 = R1 * rot_y(leg.t2);
+    LegSkeleton& ls = s.legs[i];
+    ls.r1 = g.p_world_B[i];
+    ls.r1_axis = RB.col(2);
+    ls.r2 = ls.r1 + m.l1 * R1.col(2);
+    ls.r2_axis = R1.col(1);
+    ls.r3 = ls.r2 + m.l2 * R2.col(2);
+    ls.r3_axis = R2.col(0);
+    ls.globular = ls.r3 + m.l3 * (R2 * rot_x(leg.t3)).col(2);
+    s.base_plates[i / 3].push_back(ls.r1);
+    s.top_plates[i / 3][i % 3] = ik.p_world_globular[i];
+  }
+  return s;
+}
+
+Skeleton skeleton(const Model& model, const Pose& pose) {
+  const Geometry g = make_geometry(model);
+  return skeleton(g, pose, inverse(g, pose));
+}
+
+}  // namespace linkscape::pathos2

@@ -1,0 +1,409 @@
+// PATHOS-II core model: closure, round trips, Jacobian against finite
+// differences, mobility, input checks and the paper's claims.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <Eigen/SVD>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/pathos2.h"
+#include "core/preset.h"
+
+namespace {
+
+using namespace linkscape;
+using namespace linkscape::pathos2;
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+// Closed forms chain a handful of rotations on cm-sized vectors: 1e-9 cm is
+// ~1e4 times the double rounding of the chain and far below any visible error.
+constexpr double kClosureTolCm = 1e-9;
+constexpr double kAngleTol = 1e-9;  // rad, same reasoning for angles
+// Central differences with step 1e-6 have truncation + rounding error ~1e-8
+// relative; 1e-6 relative leaves margin near moderately conditioned poses.
+constexpr double kFdRelTol = 1e-6;
+
+// Random solvable poses around the home pose: up to 3 cm and 0.15 rad per
+// axis (inside the ~14 cm workspace the paper reports), rejecting the few
+// that leave it, so every test sees poses of the whole central region.
+Pose random_pose(std::mt19937& rng, const Model& m, double span_cm = 3.0, double span_rad = 0.15) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const Pose home = home_pose(m);
+  const Vector3d rpy = home.rpy();
+  const Geometry g = make_geometry(m);
+  for (;;) {
+    const Pose pose = Pose::from_xyz_rpy(u(rng) * span_cm, u(rng) * span_cm,
+                                         home.p_world_E.z() + u(rng) * span_cm, rpy.x() + u(rng) * span_rad,
+                                         rpy.y() + u(rng) * span_rad, rpy.z() + u(rng) * span_rad,
+                                         m.h0 + 0.5 * u(rng));
+    if (inverse(g, pose).status == Status::Ok) return pose;
+  }
+}
+
+double pose_distance(const Pose& a, const Pose& b) {
+  const double dp = (a.p_world_E - b.p_world_E).norm();
+  const double dR = Eigen::AngleAxisd(a.R_world_E.transpose() * b.R_world_E).angle();
+  return std::max({dp, dR, std::abs(a.h0 - b.h0)});
+}
+
+Matrix3d rot(double a, const Vector3d& axis) { return Eigen::AngleAxisd(a, axis).toRotationMatrix(); }
+
+TEST(Pathos2Model, DefaultsAreThePaperValues) {
+  const Model m;
+  EXPECT_DOUBLE_EQ(m.l0, 45.0);
+  EXPECT_DOUBLE_EQ(m.l2, 14.0);
+  EXPECT_DOUBLE_EQ(m.l3, 6.0);
+  EXPECT_DOUBLE_EQ(m.lp, 2.0);
+  EXPECT_NEAR(m.lx, m.lb / std::cos(m.theta_t), 1e-12);  // Table 1
+  EXPECT_NEAR(m.db, m.lb * std::tan(m.theta_t), 1e-12);  // our choice
+  EXPECT_NO_THROW(m.validate());
+}
+
+TEST(Pathos2Model, FromParametersRoundTripsAndDerivesOffsets) {
+  const Model m = Model::from_parameters({{"lb", 12.0}, {"theta_t", 20.0}, {"branch_4", 1.0}});
+  EXPECT_NEAR(m.db, 12.0 * std::tan(20.0 * kDeg), 1e-12);
+  EXPECT_NEAR(m.lx, 12.0 / std::cos(20.0 * kDeg), 1e-12);
+  EXPECT_EQ(m.branch[3], 1);
+  const Model back = Model::from_parameters(m.to_parameters());
+  EXPECT_EQ(back.to_parameters(), m.to_parameters());
+  for (const auto& name : Model::parameter_names()) EXPECT_TRUE(m.to_parameters().contains(name)) << name;
+}
+
+TEST(Pathos2Model, BadInputThrowsWithTheName) {
+  try {
+    Model::from_parameters({{"l9", 1.0}});
+    FAIL() << "unknown key accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("l9"), std::string::npos);
+  }
+  EXPECT_THROW(Model::from_parameters({{"l2", 0.0}}), std::invalid_argument);
+  EXPECT_THROW(Model::from_parameters({{"l3", -1.0}}), std::invalid_argument);
+  EXPECT_THROW(Model::from_parameters({{"l1", std::nan("")}}), std::invalid_argument);
+  EXPECT_THROW(Model::from_parameters({{"branch_2", 0.5}}), std::invalid_argument);
+  EXPECT_THROW(Model::from_parameters({{"tilt_sign", 0.0}}), std::invalid_argument);
+  EXPECT_THROW(Model::from_parameters({{"cone_limit", 0.0}}), std::invalid_argument);
+  Pose bad = home_pose(Model{});
+  bad.p_world_E.x() = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(inverse(Model{}, bad), std::invalid_argument);
+  Pose no_grip = home_pose(Model{});
+  no_grip.h0 = 0.0;
+  EXPECT_THROW(inverse(Model{}, no_grip), std::invalid_argument);
+  EXPECT_THROW(leg_inverse(7, 14, 6, Vector3d(std::nan(""), 0, 0), 1), std::invalid_argument);
+}
+
+TEST(Pathos2Preset, JsonFileBuildsTheModel) {
+  // The file itself, read with the same JSON library the preset loader uses.
+  std::filesystem::path file;
+  for (const auto& dir : preset_search_path())
+    if (file.empty() && std::filesystem::is_regular_file(dir / "pathos2.json")) file = dir / "pathos2.json";
+  ASSERT_FALSE(file.empty()) << "assets/mechanisms/pathos2.json missing";
+  std::ifstream in(file);
+  const auto doc = nlohmann::json::parse(in);
+  EXPECT_EQ(doc.at("mechanism").get<std::string>(), "pathos2");
+  EXPECT_EQ(doc.at("length_unit").get<std::string>(), "cm");
+  std::map<std::string, double> params;
+  for (const auto& [k, v] : doc.at("parameters").items()) params[k] = v.get<double>();
+  const Model m = Model::from_parameters(params);
+  EXPECT_EQ(m.to_parameters(), Model{}.to_parameters());
+}
+
+TEST(Pathos2Preset, LoadPresetBuildsTheModel) {
+  Preset preset;
+  try {
+    preset = load_preset("pathos2");
+  } catch (const std::invalid_argument& e) {
+    // parse_preset (core/preset.cpp) accepts only parallel-12r so far.
+    if (std::string(e.what()).find("unsupported mechanism") != std::string::npos)
+      GTEST_SKIP() << "preset loader does not accept 'pathos2' yet: " << e.what();
+    throw;
+  }
+  EXPECT_EQ(preset.mechanism, "pathos2");
+  const Model m = Model::from_parameters(preset.parameters);
+  EXPECT_EQ(m.to_parameters(), Model{}.to_parameters());
+}
+
+// ---- Leg -----------------------------------------------------------------------
+
+TEST(Pathos2Leg, BothBranchesCloseTheChain) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> ang(-3.0, 3.0);
+  int solved = 0;
+  for (int n = 0; n < 2000; ++n) {
+    const double t1 = ang(rng), t2 = ang(rng), t3 = ang(rng);
+    for (const auto& [l2, l3] : {std::pair{14.0, 6.0}, std::pair{6.0, 14.0}}) {
+      const Vector3d a = leg_forward(7.0, l2, l3, t1, t2, t3);
+      for (int branch : {+1, -1}) {
+        const LegSolution s = leg_inverse(7.0, l2, l3, a, branch);
+        if (s.status == Status::Unreachable) {
+          ADD_FAILURE() << "a point the chain reaches was called unreachable";
+          continue;
+        }
+        ++solved;
+        EXPECT_LT((leg_forward(7.0, l2, l3, s.t1, s.t2, s.t3) - a).norm(), kClosureTolCm);
+        // det = l2 l3 w sin t2 sin t3 (docs); the sign of c1y is the branch.
+        const double w = l2 + l3 * std::cos(s.t3);
+        EXPECT_NEAR(s.det, l2 * l3 * w * std::sin(s.t2) * std::sin(s.t3), 1e-8 * l2 * l3 * (l2 + l3));
+        EXPECT_GE(-branch * std::sin(s.t3), -1e-12);
+      }
+      // The generating angles are one of the branches, up to (t1 + pi, -t2, -t3).
+    }
+  }
+  EXPECT_EQ(solved, 2000 * 2 * 2);
+}
+
+TEST(Pathos2Leg, PrintedEq14RootIsAMisprint) {
+  // c1x = sqrt(ax^2 + ay^2 + az^2) as printed does not close the chain.
+  const Vector3d a = leg_forward(7, 14, 6, 0.4, 0.9, -1.1);
+  const LegSolution s = leg_inverse(7, 14, 6, a, +1);
+  const double c1x_printed = a.norm();
+  const double c1x = std::sqrt(a.x() * a.x() + a.y() * a.y() - std::pow(6 * std::sin(s.t3), 2));
+  EXPECT_GT(std::abs(c1x_printed - c1x), 1.0);
+  EXPECT_NEAR(c1x, 14 * std::sin(s.t2) + 6 * std::cos(s.t3) * std::sin(s.t2), 1e-9);
+}
+
+TEST(Pathos2Leg, UnreachableAndSingular) {
+  EXPECT_EQ(leg_inverse(7, 14, 6, Vector3d(0, 0, 7 + 25), 1).status, Status::Unreachable);
+  EXPECT_EQ(leg_inverse(7, 14, 6, Vector3d(1, 0, 7 + 1), 1).status, Status::Unreachable);
+  // Stretched leg: sin t3 = 0.
+  EXPECT_EQ(leg_inverse(7, 14, 6, leg_forward(7, 14, 6, 0.3, 0.7, 0.0), 1).status, Status::Singular);
+}
+
+// ---- Pose IK -----------------------------------------------------------------------
+
+TEST(Pathos2Ik, HomePoseOfTable3IsSolvable) {
+  const Model m;
+  const PoseIkResult ik = inverse(m, home_pose(m));
+  EXPECT_EQ(ik.status, Status::Ok);
+  EXPECT_EQ(ik.failing_leg, -1);
+}
+
+TEST(Pathos2Ik, FullClosureAtRandomPoses) {
+  const Model m;
+  const Geometry g = make_geometry(m);
+  std::mt19937 rng(11);
+  for (int n = 0; n < 500; ++n) {
+    const Pose pose = random_pose(rng, m);
+    const PoseIkResult ik = inverse(g, pose);
+    ASSERT_EQ(ik.status, Status::Ok) << "pose " << n;
+    for (int i = 0; i < kLegCount; ++i) {
+      const LegSolution& leg = ik.legs[i];
+      // Forward chain of the whole leg, Eq. 1: B_i * chain * globular = T_WE * A_i.
+      const Matrix3d R_end = g.R_world_B[i] * rot(leg.t1, Vector3d::UnitZ()) *
+                             rot(leg.t2, Vector3d::UnitY()) * rot(leg.t3, Vector3d::UnitX());
+      const Vector3d p_glob = g.p_world_B[i] + g.R_world_B[i] * leg_forward(m.l1, m.l2, m.l3, leg.t1, leg.t2, leg.t3);
+      Vector3d r_E = g.p_E_attach_plate[i];
+      r_E.z() += g.grip_side[i] * pose.h0;
+      EXPECT_LT((p_glob - (pose.p_world_E + pose.R_world_E * r_E)).norm(), kClosureTolCm);
+      const Matrix3d R_glob = R_end * rot(leg.t4, Vector3d::UnitZ()) * rot(leg.t5, Vector3d::UnitY()) *
+                              rot(leg.t6, Vector3d::UnitZ());
+      EXPECT_LT((R_glob - pose.R_world_E * g.R_E_A[i]).norm(), kAngleTol);
+    }
+  }
+}
+
+TEST(Pathos2Ik, MirrorSymmetryOfTheDefaultAssembly) {
+  // Legs 4-6 are legs 1-3 turned half a turn about X at Z = l0/2: at the
+  // symmetric home pose (Rx = Ry = 0) the mirrored legs have mirrored angles.
+  const Model m;
+  const PoseIkResult ik = inverse(m, home_pose(m));
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(ik.legs[i + 3].t1, -ik.legs[i].t1, kAngleTol);
+    EXPECT_NEAR(ik.legs[i + 3].t2, ik.legs[i].t2, kAngleTol);
+    EXPECT_NEAR(ik.legs[i + 3].t3, -ik.legs[i].t3, kAngleTol);
+  }
+}
+
+TEST(Pathos2Ik, UnreachablePoseNamesTheFailingLeg) {
+  const Model m;
+  Pose pose = home_pose(m);
+  pose.p_world_E.x() += 30.0;  // far beyond l1 + l2 + l3 of any leg
+  const PoseIkResult ik = inverse(m, pose);
+  EXPECT_EQ(ik.status, Status::Unreachable);
+  ASSERT_GE(ik.failing_leg, 0);
+  EXPECT_EQ(ik.legs[ik.failing_leg].status, Status::Unreachable);
+  for (int i = 0; i < ik.failing_leg; ++i) EXPECT_EQ(ik.legs[i].status, Status::Ok);
+}
+
+TEST(Pathos2Ik, JointLimitsGiveOutOfLimits) {
+  Model m;
+  const PoseIkResult free_ik = inverse(m, home_pose(m));
+  m.cone_limit = free_ik.legs[0].t5 - 1e-3;  // just below what home needs
+  const PoseIkResult ik = inverse(m, home_pose(m));
+  EXPECT_EQ(ik.status, Status::OutOfLimits);
+  EXPECT_EQ(ik.failing_leg, 0);
+}
+
+// ---- Jacobian -------------------------------------------------------------------------
+
+TEST(Pathos2Jacobian, MatchesFiniteDifferencesOfIk) {
+  const Model m;
+  const Geometry g = make_geometry(m);
+  std::mt19937 rng(5);
+  const double step = 1e-6;
+  for (int n = 0; n < 50; ++n) {
+    const Pose pose = random_pose(rng, m);
+    const PoseIkResult ik = inverse(g, pose);
+    ASSERT_EQ(ik.status, Status::Ok);
+    const JacobianResult jr = jacobian(g, pose, ik);
+    ASSERT_EQ(jr.status, Status::Ok);
+    // qdot = M twist: perturb the pose by a twist (v, omega in world) and
+    // difference the closed-form IK.
+    Eigen::Matrix<double, 6, 6> M_fd;
+    for (int c = 0; c < 6; ++c) {
+      Pose plus = pose, minus = pose;
+      if (c < 3) {
+        plus.p_world_E[c] += step;
+        minus.p_world_E[c] -= step;
+      } else {
+        const Vector3d axis = Vector3d::Unit(c - 3);
+        // The twist is about the world axis through the E origin.
+        plus.R_world_E = rot(step, axis) * pose.R_world_E;
+        minus.R_world_E = rot(-step, axis) * pose.R_world_E;
+      }
+      M_fd.col(c) = (inverse(g, plus).q_active - inverse(g, minus).q_active) / (2 * step);
+    }
+    EXPECT_LT((M_fd - jr.J_qdot_from_twist).norm(), kFdRelTol * jr.J_qdot_from_twist.norm()) << n;
+    EXPECT_LT((jr.J_twist_from_qdot * jr.J_qdot_from_twist - Matrix6d::Identity()).norm(), 1e-9);
+    EXPECT_GE(jr.cond_p, 1.0);
+    EXPECT_GE(jr.cond_o, 1.0);
+  }
+}
+
+TEST(Pathos2Jacobian, ConditionNumbersMatchSvd) {
+  const Model m;
+  const JacobianResult jr = jacobian(m, home_pose(m));
+  for (int b = 0; b < 2; ++b) {
+    const Eigen::Matrix<double, 3, 6> block = jr.J_twist_from_qdot.middleRows<3>(3 * b);
+    const Eigen::BDCSVD<Eigen::Matrix<double, 3, 6>> svd(block);
+    const double expected = svd.singularValues()(0) / svd.singularValues()(2);
+    // The trigonometric root loses up to ~sqrt(eps) = 1.5e-8 where the two
+    // largest singular values coincide, which the three-fold symmetry makes
+    // common; 5e-8 relative is far below anything a map or a chart shows.
+    EXPECT_NEAR(b == 0 ? jr.cond_p : jr.cond_o, expected, 5e-8 * expected);
+  }
+  EXPECT_EQ(block_condition_number(Eigen::Matrix<double, 3, 6>::Zero()), std::numeric_limits<double>::infinity());
+}
+
+// ---- Forward kinematics -----------------------------------------------------------
+
+TEST(Pathos2Fk, NineSensorsRecoverThePose) {
+  for (double plate_phase : {0.0, 10.0}) {
+    const Model m = Model::from_parameters({{"plate_phase", plate_phase}});
+    const Geometry g = make_geometry(m);
+    std::mt19937 rng(7);
+    for (int n = 0; n < 300; ++n) {
+      const Pose pose = random_pose(rng, m);
+      const PoseIkResult ik = inverse(g, pose);
+      ASSERT_EQ(ik.status, Status::Ok);
+      const FkResult fk = forward_nine_sensors(g, sensors_of(ik));
+      ASSERT_EQ(fk.status, Status::Ok) << n;
+      EXPECT_LT(pose_distance(fk.pose, pose), 1e-9) << n;
+    }
+  }
+}
+
+TEST(Pathos2Fk, NumericRoundTripFromNearbySeeds) {
+  const Model m;
+  const Geometry g = make_geometry(m);
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int converged = 0;
+  const int trials = 100;
+  for (int n = 0; n < trials; ++n) {
+    const Pose pose = random_pose(rng, m);
+    const PoseIkResult ik = inverse(g, pose);
+    ASSERT_EQ(ik.status, Status::Ok);
+    // Seed 0.5 cm and 2 degrees away: many tracking samples' worth of motion.
+    Pose seed = pose;
+    seed.p_world_E += Vector3d(u(rng), u(rng), u(rng)).normalized() * 0.5;
+    seed.R_world_E = rot(2 * kDeg, Vector3d(u(rng), u(rng), u(rng)).normalized()) * pose.R_world_E;
+    const FkResult fk = forward_numeric(g, ik.q_active, pose.h0, seed);
+    if (inverse(g, seed).status != Status::Ok) {
+      // Near the boundary the seed itself may not assemble: say so, no guess.
+      EXPECT_EQ(fk.status, Status::NotConverged) << n;
+      continue;
+    }
+    ASSERT_EQ(fk.status, Status::Ok) << n;
+    ++converged;
+    EXPECT_LE(fk.residual, 1e-12);
+    EXPECT_LT(fk.iterations, 15);
+    EXPECT_LT(pose_distance(fk.pose, pose), 1e-9) << n;
+  }
+  EXPECT_GE(converged, trials * 9 / 10);
+}
+
+TEST(Pathos2Fk, NumericReportsFarSeedsInsteadOfGuessing) {
+  const Model m;
+  const Geometry g = make_geometry(m);
+  const Pose pose = home_pose(m);
+  const Vector6d q = inverse(g, pose).q_active;
+  // A seed outside the reachable set, and one at the other end of the range
+  // with the plate turned over: neither may return Ok with a wrong pose.
+  Pose far = pose;
+  far.p_world_E.x() += 25.0;
+  EXPECT_NE(forward_numeric(g, q, pose.h0, far).status, Status::Ok);
+  Pose flipped = pose;
+  flipped.R_world_E = rot(std::numbers::pi, Vector3d::UnitX()) * pose.R_world_E;
+  const FkResult fk = forward_numeric(g, q, pose.h0, flipped);
+  if (fk.status == Status::Ok) {
+    // If it converged, the answer must reproduce the actuator angles.
+    EXPECT_LE((inverse(g, fk.pose).q_active - q).cwiseAbs().maxCoeff(), 1e-10);
+  } else {
+    EXPECT_EQ(fk.status, Status::NotConverged);
+  }
+}
+
+// ---- Mobility and skeleton -------------------------------------------------------------
+
+TEST(Pathos2Mobility, GrueblerFromTheGraph) {
+  const MechanismGraph free = mechanism_graph(false);
+  EXPECT_EQ(free.links.size(), 21u);   // paper: 21 links
+  EXPECT_EQ(free.joints.size(), 25u);  // paper: 25 joints
+  EXPECT_EQ(mobility(free), 7);
+  const MechanismGraph locked = mechanism_graph(true);
+  EXPECT_EQ(locked.links.size(), 20u);
+  EXPECT_EQ(locked.joints.size(), 24u);
+  EXPECT_EQ(mobility(locked), 6);
+  MechanismGraph broken = free;
+  broken.joints[0].link_b = 99;
+  EXPECT_THROW(mobility(broken), std::invalid_argument);
+}
+
+TEST(Pathos2Skeleton, JointsSitWhereTheModelSays) {
+  const Model m;
+  std::mt19937 rng(17);
+  const Pose pose = random_pose(rng, m);
+  const Skeleton s = skeleton(m, pose);
+  for (int i = 0; i < kLegCount; ++i) {
+    const LegSkeleton& l = s.legs[i];
+    EXPECT_NEAR((l.r2 - l.r1).norm(), m.l1, kClosureTolCm);
+    EXPECT_NEAR((l.r3 - l.r2).norm(), m.l2, kClosureTolCm);
+    EXPECT_NEAR((l.globular - l.r3).norm(), m.l3, kClosureTolCm);
+    EXPECT_LT((l.globular - s.top_plates[i / 3][i % 3]).norm(), kClosureTolCm);
+    EXPECT_NEAR(l.r1.z(), i < 3 ? 0.0 : m.l0, kClosureTolCm);  // R1 in the base-plate plane
+    EXPECT_NEAR(std::hypot(l.r1.x(), l.r1.y()), m.lb, kClosureTolCm);
+    // R1 and R2 axes meet at R2 (link 1 lies along the R1 axis).
+    EXPECT_LT((l.r2 - l.r1).cross(l.r1_axis).norm(), kClosureTolCm);
+    EXPECT_NEAR(l.r1_axis.dot(l.r2_axis), 0.0, kAngleTol);
+  }
+  // The top plates are at +-h0 along z_E.
+  const Vector3d z_E = pose.R_world_E.col(2);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR((s.top_plates[0][k] - pose.p_world_E).dot(z_E), -pose.h0, kClosureTolCm);
+    EXPECT_NEAR((s.top_plates[1][k] - pose.p_world_E).dot(z_E), pose.h0, kClosureTolCm);
+  }
+  Pose far = pose;
+  far.p_world_E.z() += 40;
+  EXPECT_THROW(skeleton(m, far), std::invalid_argument);
+}
+
+}  // namespace
