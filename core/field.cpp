@@ -90,6 +90,7 @@ FieldSample sample_planar(const Model& m, const Vector3d& p, int branch, bool ch
   }
   out.status = std::uint8_t(limit_margin < 0 ? Status::OutOfLimits : Status::Ok);
   out.reachable = limit_margin >= 0;
+  out.method_used = std::uint8_t(parallel12r::IkMethod::Planar);
   out.cond = out.reachable ? float(condition_number_fast(J)) : kInf;
   return out;
 }
@@ -108,6 +109,7 @@ FieldSample sample_general(const Model& m, const Vector3d& p, const FieldRequest
   out.status = std::uint8_t(s->status);
   out.residual = float(s->residual);
   out.iterations = std::uint16_t(std::min(s->iterations, 65535));
+  if (s->status == Status::Ok || s->status == Status::OutOfLimits) out.method_used = std::uint8_t(s->method);
   out.reach_margin = float(check_limits ? std::min(margin, limits_margin(m, s->q_actuated)) : margin);
   out.reachable = s->status == Status::Ok;
   out.cond = out.reachable ? float(parallel12r::conditioning(m, s->q_actuated).cond) : kInf;
@@ -197,6 +199,7 @@ std::optional<Field> compute_field(const Model& m, const FieldRequest& req, cons
   f.reachable.resize(n);
   f.status.resize(n);
   f.iterations.resize(n);
+  f.method_used.resize(n);
   f.mechanism = std::string(parallel12r::kMechanismName);
   f.length_unit = m.length_unit;
   f.parameters = {{"L1", m.L1}, {"L2", m.L2}};
@@ -228,6 +231,7 @@ std::optional<Field> compute_field(const Model& m, const FieldRequest& req, cons
       f.reachable[idx] = s.reachable;
       f.status[idx] = s.status;
       f.iterations[idx] = s.iterations;
+      f.method_used[idx] = s.method_used;
     }
     const std::int64_t done = chunks_done.fetch_add(1, std::memory_order_relaxed) + 1;
     if (progress.report && done % report_every == 0) progress.report(double(done) / double(chunks));

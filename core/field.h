@@ -83,6 +83,13 @@ struct Field {
   SampleArray<std::uint8_t> reachable;  // 1 if the branch's solution exists and is within limits
   SampleArray<std::uint8_t> status;     // linkscape::Status of the branch's solution
   SampleArray<std::uint16_t> iterations;
+  // The IK method that produced the sample's solution, as
+  // std::uint8_t(parallel12r::IkMethod): the requested method, or under
+  // IkMethod::Fallback Planar or Newton. kNoMethod where no solution exists
+  // (unreachable, singular, not converged). compute_field always fills it;
+  // a Field assembled by hand may leave it empty ("not recorded").
+  SampleArray<std::uint8_t> method_used;
+  static constexpr std::uint8_t kNoMethod = 255;
   // What was computed, for the metadata of exported files.
   std::string mechanism;
   std::string length_unit;
@@ -91,7 +98,7 @@ struct Field {
   int branch = 0;
 
   // Bytes of storage per sample, for the memory limit.
-  static constexpr std::size_t bytes_per_sample() { return 3 * sizeof(float) + 2 + sizeof(std::uint16_t); }
+  static constexpr std::size_t bytes_per_sample() { return 3 * sizeof(float) + 3 + sizeof(std::uint16_t); }
 };
 
 struct FieldProgress {
@@ -113,6 +120,7 @@ struct FieldSample {
   float cond = 0, reach_margin = 0, residual = 0;
   std::uint8_t reachable = 0, status = 0;
   std::uint16_t iterations = 0;
+  std::uint8_t method_used = Field::kNoMethod;
 };
 FieldSample sample_point(const parallel12r::Model& model, const Eigen::Vector3d& p, const FieldRequest& request);
 

@@ -69,8 +69,10 @@ Status limits_status(const Model& m, const Vector3d& q) {
 
 // Fills residual, branch and status of a candidate; keeps the best per branch.
 void offer(const Model& m, const Vector3d& target, const Vector3d& q, int iterations,
-           double tolerance, Status geometric_status, std::array<std::optional<IkSolution>, 2>& best) {
+           double tolerance, Status geometric_status, std::array<std::optional<IkSolution>, 2>& best,
+           IkMethod produced_by) {
   IkSolution s;
+  s.method = produced_by;
   s.q_actuated = normalise(q);
   s.branch = branch_of(s.q_actuated);
   s.residual = (forward(m, s.q_actuated) - target).norm();
@@ -117,7 +119,8 @@ IkResult collect(std::array<std::optional<IkSolution>, 2>& best, Status fallback
   if (result.solutions.size() == 2 &&
       (result.solutions[0].q_actuated - result.solutions[1].q_actuated).norm() < 1e-6)
     result.solutions.pop_back();
-  result.status = fallback;
+  // No candidate survived (e.g. Eqs. 11-13 gave NaN): never report Ok then.
+  result.status = result.solutions.empty() && fallback == Status::Ok ? Status::NotConverged : fallback;
   for (const auto& s : result.solutions) {
     if (s.status == Status::Ok) {
       result.status = Status::Ok;
@@ -152,7 +155,7 @@ IkResult inverse_planar(const Model& m, const Vector3d& p, const TargetGeometry&
     const double l1r = a * ur - s * h * uz, l1z = a * uz + s * h * ur;
     const double l2r = r - l1r, l2z = p.z() - l1z;
     const Vector3d q(alpha, std::atan2(l1z, ca * l1r), std::atan2(l2z, ca * l2r));
-    offer(m, p, q, 0, tolerance, g.status, best);
+    offer(m, p, q, 0, tolerance, g.status, best, IkMethod::Planar);
   }
   return collect(best, g.status);
 }
@@ -186,7 +189,7 @@ IkResult inverse_paper(const Model& m, const Vector3d& p, const TargetGeometry& 
       const double cos2_gamma = std::clamp(y * y * V * V / denom, 0.0, 1.0);
       const double g0 = std::acos(std::sqrt(cos2_gamma));
       for (double gamma : {g0, -g0, kPi - g0, g0 - kPi})
-        offer(m, p, Vector3d(alpha, beta, gamma), 0, tolerance, g.status, best);
+        offer(m, p, Vector3d(alpha, beta, gamma), 0, tolerance, g.status, best, IkMethod::Paper);
     }
   }
   return collect(best, g.status);
@@ -273,7 +276,29 @@ IkResult inverse_iterative(const Model& m, const Vector3d& p, const TargetGeomet
                                      ? iterate_newton(m, p, seed, options.max_iterations)
                                      : iterate_dls(m, p, seed, options.max_iterations);
     singular = singular || out.singular;
-    offer(m, p, out.q, out.iterations, options.tolerance, g.status, best);
+    offer(m, p, out.q, out.iterations, options.tolerance, g.status, best, method);
+  }
+  return collect(best, singular ? Status::Singular : Status::NotConverged);
+}
+
+// ---- Fallback policy --------------------------------------------------------
+// The planar closed form first (exact wherever it meets the tolerance, and
+// cheapest); for each branch whose planar candidate misses the tolerance,
+// Newton seeded from that candidate. Targets the geometry already classes as
+// unreachable or singular keep the planar answer: no method can do better.
+IkResult inverse_fallback(const Model& m, const Vector3d& p, const TargetGeometry& g, const IkOptions& options) {
+  IkResult planar = inverse_planar(m, p, g, options.tolerance);
+  if (g.status != Status::Ok) return planar;
+  std::array<std::optional<IkSolution>, 2> best;
+  for (const IkSolution& s : planar.solutions) best[s.branch] = s;
+  bool singular = false;
+  for (int branch = 0; branch < 2; ++branch) {
+    const bool missed = best[branch] && best[branch]->status == Status::NotConverged;
+    if (!missed && !planar.solutions.empty()) continue;
+    const Vector3d seed = best[branch] ? best[branch]->q_actuated : default_seed(branch, p);
+    const IterationOutcome out = iterate_newton(m, p, seed, options.max_iterations);
+    singular = singular || out.singular;
+    offer(m, p, out.q, out.iterations, options.tolerance, g.status, best, IkMethod::Newton);
   }
   return collect(best, singular ? Status::Singular : Status::NotConverged);
 }
@@ -403,15 +428,17 @@ std::string_view to_string(IkMethod method) {
     case IkMethod::Planar: return "planar";
     case IkMethod::Newton: return "newton";
     case IkMethod::DampedLeastSquares: return "dls";
+    case IkMethod::Fallback: return "fallback";
   }
   return "unknown";
 }
 
 IkMethod parse_ik_method(std::string_view name) {
-  for (IkMethod m : {IkMethod::Paper, IkMethod::Planar, IkMethod::Newton, IkMethod::DampedLeastSquares})
+  for (IkMethod m : {IkMethod::Paper, IkMethod::Planar, IkMethod::Newton, IkMethod::DampedLeastSquares,
+                     IkMethod::Fallback})
     if (name == to_string(m)) return m;
   throw std::invalid_argument("unknown IK method '" + std::string(name) +
-                              "' (expected paper, planar, newton or dls)");
+                              "' (expected paper, planar, newton, dls or fallback)");
 }
 
 int branch_of(const Vector3d& q) { return std::sin(q.y() - q.z()) >= 0.0 ? 0 : 1; }
@@ -431,6 +458,7 @@ IkResult inverse(const Model& m, const Vector3d& p, IkMethod method, const IkOpt
     case IkMethod::Planar: return inverse_planar(m, p, g, options.tolerance);
     case IkMethod::Newton:
     case IkMethod::DampedLeastSquares: return inverse_iterative(m, p, g, method, options);
+    case IkMethod::Fallback: return inverse_fallback(m, p, g, options);
   }
   return {};
 }

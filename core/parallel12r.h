@@ -83,9 +83,11 @@ enum class IkMethod {
   Planar,              // planar two-link reduction in the plane normal to n(alpha)
   Newton,              // Newton-Raphson with backtracking, from a seed
   DampedLeastSquares,  // Levenberg-Marquardt damping, from a seed
+  Fallback,            // Planar; where its candidate misses the tolerance, Newton
+                       // seeded from that candidate (IkSolution::method says which)
 };
 std::string_view to_string(IkMethod method);
-// Accepts "paper", "planar", "newton", "dls". Throws std::invalid_argument.
+// Accepts "paper", "planar", "newton", "dls", "fallback". Throws std::invalid_argument.
 IkMethod parse_ik_method(std::string_view name);
 
 struct IkOptions {
@@ -103,6 +105,9 @@ struct IkSolution {
   Status status = Status::Ok;
   double residual = 0.0;  // |forward(q) - target|, length unit
   int iterations = 0;     // 0 for closed forms
+  // The method that produced this solution: the requested one, except under
+  // Fallback, where it is Planar or Newton (seeded from the planar candidate).
+  IkMethod method = IkMethod::Planar;
 };
 
 struct IkResult {
