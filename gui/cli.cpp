@@ -4,6 +4,7 @@
 #include <QGuiApplication>
 #include <CLI/CLI.hpp>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 
 #include "core/preset.h"
@@ -24,7 +25,7 @@ constexpr const char* kHeadlessHint =
     "  linkscape slice --plane x=0.25 --output slice.png          condition-number slice image\n"
     "  linkscape field --resolution 128 --output volume.vti       sampled volume for ParaView\n"
     "  linkscape mesh --surface cond<3 --output ws.stl            workspace isosurface mesh\n"
-    "  linkscape bench                                            speed and accuracy figures\n"
+    "  linkscape bench --chart m.png --sweeps s.png --csv b.csv   speed and accuracy of every method\n"
     "Run 'linkscape --help' or 'linkscape eval --help' for every option.\n";
 
 void add_mechanism_options(CLI::App& app, MechanismChoice& choice) {
@@ -39,7 +40,10 @@ void add_mechanism_options(CLI::App& app, MechanismChoice& choice) {
 
 void add_sampling_options(CLI::App& app, SamplingOptions& s) {
   add_mechanism_options(app, s.mechanism);
-  app.add_option("--method", s.method, "IK method per sample: planar, paper, newton, dls")->capture_default_str();
+  app.add_option("--method", s.method,
+                 "IK method per sample: planar, paper, newton, dls, fallback (planar, then Newton from its "
+                 "candidate where planar misses the tolerance; the choice is recorded per sample)")
+      ->capture_default_str();
   app.add_option("--branch", s.branch, "Assembly branch evaluated: 0 or 1")->capture_default_str();
   app.add_flag("-q,--quiet", s.quiet, "No progress line on stderr");
 }
@@ -81,7 +85,9 @@ int run(int argc, char** argv) {
   app.add_option("--session", window.session, "Open a saved session (.json) at start");
   app.add_option("--screenshot", window.screenshot,
                  "Open the window, wait until the fields are computed, save it as PNG to this file and exit");
-  app.add_option("--size", window.size, "Window size for --screenshot, WIDTHxHEIGHT")->capture_default_str();
+  app.add_option("--size", window.size, "Window size for --screenshot and --latency, WIDTHxHEIGHT")->capture_default_str();
+  app.add_flag("--latency", window.latency,
+               "Open the window, measure slider-to-frame, link-length-to-slice and isosurface latencies, print them and exit");
 
   EvalOptions eval;
   std::string seed_text;
@@ -98,7 +104,8 @@ int run(int argc, char** argv) {
   ik->excludes(fk);
   eval_cmd->add_option("--method", eval.method,
                        "IK method: paper (Eqs. 14-16, corrected), planar (planar reduction), "
-                       "newton (Newton-Raphson from a seed), dls (damped least squares from a seed)")
+                       "newton (Newton-Raphson from a seed), dls (damped least squares from a seed), "
+                       "fallback (planar, then Newton from its candidate)")
       ->capture_default_str();
   eval_cmd->add_option("--branch", eval.branch, "Only this assembly branch: 0 (sin(beta-gamma) > 0) or 1");
   eval_cmd->add_option("--seed", seed_text,
@@ -121,7 +128,8 @@ int run(int argc, char** argv) {
       ->delimiter(',')
       ->expected(4);
   slice_cmd->add_option("--size", slice.size, "Samples along u and v, WIDTHxHEIGHT")->capture_default_str();
-  slice_cmd->add_option("--field", slice.field, "Field to colour: cond, reach, residual, iterations, status")
+  slice_cmd->add_option("--field", slice.field,
+                        "Field to colour: cond, reach, residual, iterations, status, method (IK method used per sample)")
       ->capture_default_str();
   slice_cmd->add_option("--contour", slice.contours, "c(J) levels drawn as contour lines (comma list)")
       ->delimiter(',')
@@ -162,10 +170,19 @@ int run(int argc, char** argv) {
 
   BenchOptions bench;
   CLI::App* bench_cmd = app.add_subcommand(
-      "bench", "Measure field throughput, slice/volume/isosurface times, peak memory and accuracy vs resolution");
+      "bench",
+      "Measure field throughput, slice/volume/isosurface times, peak memory, accuracy vs resolution, and every "
+      "numerical method's time per evaluation against its error, with stability sweeps towards the singular sets");
   add_mechanism_options(*bench_cmd, bench.mechanism);
   bench_cmd->add_flag("--quick", bench.quick, "Small grids and single runs (a smoke test, not a measurement)");
-  bench_cmd->add_option("--csv", bench.csv, "Also write the figures to this CSV file");
+  bench_cmd->add_option("--csv", bench.csv,
+                        "Also write the figures to this CSV file (measurement,value,unit, every method included), "
+                        "the method table to <stem>.methods.csv and the sweeps to <stem>.sweeps.csv");
+  bench_cmd->add_option("--chart", bench.chart,
+                        "Write the error-against-time chart of every method with its Pareto front (.png, .svg, .pdf)");
+  bench_cmd->add_option("--sweeps", bench.sweeps,
+                        "Write the error-against-distance chart of the sweeps towards each singular set "
+                        "(.png, .svg, .pdf)");
 
   try {
     app.parse(argc, argv);
@@ -201,7 +218,14 @@ int run(int argc, char** argv) {
     return 0;
   }
   if (bench_cmd->parsed()) {
-    QCoreApplication qt(argc, argv);
+    // The charts draw text with QPainter: offscreen platform, no display.
+    if (!std::getenv("QT_QPA_PLATFORM")) setenv("QT_QPA_PLATFORM", "offscreen", 1);
+    for (const std::string* chart : {&bench.chart, &bench.sweeps}) {
+      const std::string ext = std::filesystem::path(*chart).extension().string();
+      if (!chart->empty() && ext != ".png" && ext != ".svg" && ext != ".pdf")
+        throw std::invalid_argument("bench: --chart and --sweeps must end in .png, .svg or .pdf, got '" + *chart + "'");
+    }
+    QGuiApplication qt(argc, argv);
     run_bench(bench, std::cout);
     return 0;
   }

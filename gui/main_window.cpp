@@ -42,6 +42,7 @@
 #include <stdexcept>
 
 #include "core/atomic_file.h"
+#include "gui/latency_probe.h"
 #include "gui/slice_figure.h"
 #include "gui/vtk_widget.h"
 #include "render/field_scene.h"
@@ -489,6 +490,18 @@ void MainWindow::buildMenus() {
     scene_->reset_camera(renderer_);
     view_->update();
   });
+  // Depth peeling composites the translucent surfaces exactly but costs
+  // several full-screen passes per frame (about 8x the frame time on a
+  // software renderer, docs/performance.md), so interaction uses plain
+  // alpha blending unless the user asks.
+  QAction* exact = view->addAction(tr("&Exact transparency (slower)"));
+  exact->setObjectName("exactTransparencyAction");
+  exact->setCheckable(true);
+  connect(exact, &QAction::toggled, this, [this](bool on) {
+    renderer_->SetUseDepthPeeling(on);
+    view_->update();
+  });
+  renderer_->SetUseDepthPeeling(false);
 }
 
 // ---- Pose and IK ---------------------------------------------------------------
@@ -669,6 +682,7 @@ void MainWindow::onSlice(const SliceResult& result) {
   restyleSlice();
   compute_label_->setText(tr("slice %1 ms, %2 M points/s").arg(result.seconds * 1e3, 0, 'f', 1).arg(result.points_per_second / 1e6, 0, 'f', 1));
   if (result.fine) slice_settled_ = true;
+  emit sliceUpdated(result.fine);
   emit fieldsUpdated(result.fine);
 }
 
@@ -681,6 +695,7 @@ void MainWindow::onSurfaces(const SurfaceResult& result) {
   applyFieldVisibility();
   statusBar()->showMessage(tr("isosurfaces (%1) in %2 ms").arg(result.fine ? tr("full") : tr("coarse")).arg(result.seconds * 1e3, 0, 'f', 0), 4000);
   if (result.fine) surfaces_settled_ = true;
+  emit surfacesUpdated(result.fine);
   emit fieldsUpdated(result.fine);
 }
 
@@ -943,6 +958,7 @@ int run_window(const WindowOptions& options, int argc, char** argv) {
   if (session) window.applySession(*session);
   window.resize(width, height);
   window.show();
+  if (options.latency) return run_latency_probe(window, std::cout);
   if (options.screenshot.empty()) return QApplication::exec();
 
   // Screenshot mode: wait until the fields are computed in full and a frame

@@ -45,6 +45,7 @@ struct WindowOptions {
   MechanismChoice mechanism;
   std::string session;         // open this session file at start
   std::string screenshot;      // save a PNG of the window and exit
+  bool latency = false;        // measure interaction latencies, print them and exit
   std::string size = "1280x800";
 };
 
@@ -85,6 +86,9 @@ class MainWindow : public QMainWindow {
  signals:
   void poseChanged();
   void fieldsUpdated(bool fine);
+  // The slice or the isosurfaces were replaced (coarse or full resolution).
+  void sliceUpdated(bool fine);
+  void surfacesUpdated(bool fine);
 
  protected:
   void closeEvent(QCloseEvent* event) override;

@@ -1,0 +1,18 @@
+// Interaction latencies of the window, measured the way a user meets them:
+// from a change of a control to the frame that shows its result.
+#pragma once
+
+#include <iosfwd>
+
+namespace linkscape::gui {
+
+class MainWindow;
+
+// Drives `window` (shown, event loop not yet running) through a fixed script
+// and prints a table to `out`: actuator slider to frame (linkage only, and
+// with slice and isosurfaces), link length to the coarse and to the full
+// slice on screen, link length to the full isosurfaces on screen. Returns
+// the process exit code.
+int run_latency_probe(MainWindow& window, std::ostream& out);
+
+}  // namespace linkscape::gui
