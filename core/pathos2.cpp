@@ -65,7 +65,7 @@ void require_pose(const Pose& pose) {
   if (!pose.p_world_E.allFinite() || !pose.R_world_E.allFinite())
     throw std::invalid_argument("pathos2: pose must be finite");
   require_positive(pose.h0, "grip h0");
-  const double err = (pose.R_world_E.transpose() * pose.R_world_E - Matrix3d::Identity()).norm();
+  const double err = (pose.R_world_E.transpose() * pose.R_world_E - Matrix3d::Identity()).cwiseAbs().maxCoeff();
   if (err > 1e-6 || pose.R_world_E.determinant() < 0.0) {
     std::ostringstream msg;
     msg << "pathos2: R_world_E must be a rotation (|R^T R - I| = " << err << ")";
@@ -272,12 +272,15 @@ LegSolution leg_inverse(double l1, double l2, double l3, const Vector3d& a, int 
 
 // ---- Pose IK -----------------------------------------------------------------
 
-PoseIkResult inverse(const Geometry& g, const Pose& pose) {
+PoseIkResult inverse(const Geometry& g, const Pose& pose, IkDetail detail) {
   require_pose(pose);
   const Model& m = g.model;
   PoseIkResult out;
   out.status = Status::Ok;
   const Matrix3d& R = pose.R_world_E;
+  // Limits compare cosines: |t| <= lim  <=>  cos t >= cos lim for t in [-pi, pi].
+  const double cos_cone = std::cos(m.cone_limit), cos_t2 = std::cos(m.t2_limit),
+               cos_t3 = std::cos(m.t3_limit);
   for (int i = 0; i < kLegCount; ++i) {
     LegSolution& leg = out.legs[i];
     Vector3d r_E = g.p_E_attach_plate[i];
@@ -289,20 +292,37 @@ PoseIkResult inverse(const Geometry& g, const Pose& pose) {
     const LegCore c = leg_core(m.l1, m.l2, m.l3, a, m.branch[i]);
     leg.status = c.status;
     if (c.status != Status::Unreachable) {
-      leg.t1 = std::atan2(c.sin1, c.cos1);
-      leg.t2 = std::atan2(c.c2z * c.c1x, c.c2z * (a.z() - m.l1));
-      leg.t3 = std::atan2(-c.c1y, c.c2z - m.l2);
+      // Sines and cosines straight from Eq. 14's coefficients (w = c2z != 0
+      // whenever the leg is reachable and not singular).
+      const double w = c.c2z;
+      const double s2 = w != 0.0 ? c.c1x / w : 1.0, c2 = w != 0.0 ? (a.z() - m.l1) / w : 0.0;
+      const double s3 = -c.c1y / m.l3, c3 = (w - m.l2) / m.l3;
+      leg.cos_t1 = c.cos1, leg.sin_t1 = c.sin1, leg.cos_t2 = c2, leg.sin_t2 = s2;
+      leg.t1 = std::atan2(c.sin1, c.cos1);  // Eq. 9
       leg.det = -m.l2 * c.c1x * c.c1y;
-      // Globular joint (Eqs. 15-18): Rz(t4) Ry(t5) Rz(t6) = B, the rotation
-      // left between the end of l3 and the attachment frame A_i.
-      const Matrix3d R_B_end = rot_z(leg.t1) * rot_y(leg.t2) * rot_x(leg.t3);
-      const Matrix3d B = (g.R_world_B[i] * R_B_end).transpose() * R * g.R_E_A[i];
-      leg.t4 = std::atan2(B(1, 2), B(0, 2));  // Eq. 16, with atan2
-      const double c4 = std::cos(leg.t4), s4 = std::sin(leg.t4);
-      leg.t5 = std::atan2(B(0, 2) * c4 + B(1, 2) * s4, B(2, 2));           // Eq. 17
-      leg.t6 = std::atan2(-B(0, 0) * s4 + B(1, 0) * c4, -B(0, 1) * s4 + B(1, 1) * c4);  // Eq. 18
-      if (leg.status == Status::Ok &&
-          (leg.t5 > m.cone_limit || std::abs(leg.t2) > m.t2_limit || std::abs(leg.t3) > m.t3_limit))
+      // End of l3: Rz(t1) Ry(t2) Rx(t3), built from the cosines.
+      Matrix3d R_B_end;
+      const double c1 = c.cos1, s1 = c.sin1;
+      R_B_end << c1 * c2, c1 * s2 * s3 - s1 * c3, c1 * s2 * c3 + s1 * s3,
+                 s1 * c2, s1 * s2 * s3 + c1 * c3, s1 * s2 * c3 - c1 * s3,
+                 -s2,     c2 * s3,                c2 * c3;
+      const Matrix3d R_world_end = g.R_world_B[i] * R_B_end;
+      const Matrix3d R_world_A = R * g.R_E_A[i];
+      const double cos_t5 = R_world_end.col(2).dot(R_world_A.col(2));
+      if (detail == IkDetail::Full) {
+        // Eq. 11 with c2x = 0; atan2 keeps the quadrant when w < 0 (l3 > l2).
+        leg.t2 = std::atan2(w * c.c1x, w * (a.z() - m.l1));
+        leg.t3 = std::atan2(-c.c1y, w - m.l2);  // Eq. 13
+        // Globular joint (Eqs. 15-18): Rz(t4) Ry(t5) Rz(t6) = B, the rotation
+        // left between the end of l3 and the attachment frame A_i.
+        const Matrix3d B = R_world_end.transpose() * R_world_A;
+        const double rho = std::sqrt(B(0, 2) * B(0, 2) + B(1, 2) * B(1, 2));
+        const double c4 = rho > 0.0 ? B(0, 2) / rho : 1.0, s4 = rho > 0.0 ? B(1, 2) / rho : 0.0;
+        leg.t4 = std::atan2(s4, c4);                                                      // Eq. 16
+        leg.t5 = std::atan2(rho, B(2, 2));                                                // Eq. 17
+        leg.t6 = std::atan2(-B(0, 0) * s4 + B(1, 0) * c4, -B(0, 1) * s4 + B(1, 1) * c4);  // Eq. 18
+      }
+      if (leg.status == Status::Ok && (cos_t5 < cos_cone || c2 < cos_t2 || c3 < cos_t3))
         leg.status = Status::OutOfLimits;
     }
     out.q_active[i] = leg.t1;
@@ -372,8 +392,7 @@ JacobianResult jacobian(const Geometry& g, const Pose& pose, const PoseIkResult&
     // Columns of the leg Jacobian da/dt (leg frame): about R1 (z through the
     // origin), R2 (through l1 z) and R3 (through the elbow). dt1/da is the
     // first row of its inverse: (c2 x c3) / det.
-    const double c1 = std::cos(leg.t1), s1 = std::sin(leg.t1);
-    const double c2 = std::cos(leg.t2), s2 = std::sin(leg.t2);
+    const double c1 = leg.cos_t1, s1 = leg.sin_t1, c2 = leg.cos_t2, s2 = leg.sin_t2;
     const Vector3d axis1 = Vector3d::UnitZ();
     const Vector3d axis2(-s1, c1, 0.0);
     const Vector3d axis3(c1 * c2, s1 * c2, -s2);
@@ -563,7 +582,7 @@ FkResult forward_numeric(const Geometry& g, const Vector6d& q_active, double h0,
   Pose pose = seed;
   pose.h0 = h0;
   out.pose = pose;
-  PoseIkResult ik = inverse(g, pose);
+  PoseIkResult ik = inverse(g, pose, IkDetail::ActiveOnly);
   if (ik.status == Status::Unreachable || ik.status == Status::Singular) {
     out.residual = kInf;
     return out;  // the seed itself is not an assembly of this model
@@ -588,7 +607,7 @@ FkResult forward_numeric(const Geometry& g, const Vector6d& q_active, double h0,
     bool accepted = false;
     for (int halving = 0; halving < 12; ++halving) {
       const Pose trial = step_pose(pose, dx);
-      const PoseIkResult trial_ik = inverse(g, trial);
+      const PoseIkResult trial_ik = inverse(g, trial, IkDetail::ActiveOnly);
       if (trial_ik.status != Status::Unreachable && trial_ik.status != Status::Singular) {
         Vector6d trial_r;
         const double trial_err = max_wrapped_error(q_active, trial_ik.q_active, trial_r);
