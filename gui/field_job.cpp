@@ -59,23 +59,20 @@ void FieldJobRunner::submit(const FieldJob& job) {
       for (bool fine : {false, true}) {
         // Slice first: it is what the user is looking at.
         if (job.slice) {
-        FieldRequest slice = *job.slice;
-        if (!fine) slice.grid = coarsen(slice.grid, job.coarse_divisor);
-        const auto t0 = std::chrono::steady_clock::now();
-        std::optional<Field> field = compute_field(job.model, slice, progress);
-        if (!field || !current()) return;
-        SliceResult sr{std::make_shared<const Field>(std::move(*field)), fine, seconds_since(t0), 0.0};
-        sr.points_per_second = slice.grid.size() / std::max(sr.seconds, 1e-9);
-        QMetaObject::invokeMethod(this, [this, sr, generation] {
-          if (generation_.load() == generation) emit sliceReady(sr);
-        }, Qt::QueuedConnection);
-
+          const Grid grid = fine ? *job.slice : coarsen(*job.slice, job.coarse_divisor);
+          const auto t0 = std::chrono::steady_clock::now();
+          std::optional<Field> field = job.sampler(grid, progress);
+          if (!field || !current()) return;
+          SliceResult sr{std::make_shared<const Field>(std::move(*field)), fine, seconds_since(t0), 0.0};
+          sr.points_per_second = grid.size() / std::max(sr.seconds, 1e-9);
+          QMetaObject::invokeMethod(this, [this, sr, generation] {
+            if (generation_.load() == generation) emit sliceReady(sr);
+          }, Qt::QueuedConnection);
         }
         if (!job.volume) continue;
-        FieldRequest volume = *job.volume;
-        if (!fine) volume.grid = coarsen(volume.grid, job.coarse_divisor);
+        const Grid volume = fine ? *job.volume : coarsen(*job.volume, job.coarse_divisor);
         const auto t1 = std::chrono::steady_clock::now();
-        std::optional<Field> vol = compute_field(job.model, volume, progress);
+        std::optional<Field> vol = job.sampler(volume, progress);
         if (!vol || !current()) return;
         SurfaceResult su;
         su.volume = std::make_shared<const Field>(std::move(*vol));

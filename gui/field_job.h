@@ -6,24 +6,29 @@
 #include <QObject>
 #include <QThreadPool>
 #include <atomic>
+#include <functional>
 #include <memory>
 
 #include <vtkSmartPointer.h>
 
 #include "core/field.h"
-#include "core/parallel12r.h"
 #include "render/workspace_mesh.h"
 
 class vtkPolyData;
 
 namespace linkscape::gui {
 
+// Samples one mechanism on a grid (core's compute_field for 12R, or its
+// PATHOS-II counterpart). Called on a worker thread; returns nullopt when
+// cancelled and throws std::invalid_argument for a request it refuses.
+using FieldSampler = std::function<std::optional<Field>(const Grid&, const FieldProgress&)>;
+
 // A slice, a volume with its isosurfaces, or both. Each is computed twice:
 // at resolution / coarse_divisor (at least 16 samples per axis), then in full.
 struct FieldJob {
-  parallel12r::Model model;
-  std::optional<FieldRequest> slice;   // a one-sample-thick grid
-  std::optional<FieldRequest> volume;  // sampled for the isosurfaces
+  FieldSampler sampler;
+  std::optional<Grid> slice;   // a one-sample-thick grid
+  std::optional<Grid> volume;  // sampled for the isosurfaces
   double cond_threshold = 3.0;
   int coarse_divisor = 4;
 };

@@ -633,10 +633,16 @@ void MainWindow::requestFields(bool slice, bool volume) {
   const FieldSettings f = fieldSettingsFromPanel();
   const auto& m = model();
   const double r = m.reach();
+  FieldRequest request;
+  request.method = parallel12r::parse_ik_method(f.method);
+  request.branch = branch();
   FieldJob job;
-  job.model = m;
+  job.sampler = [m, request](const Grid& grid, const FieldProgress& progress) {
+    FieldRequest r = request;
+    r.grid = grid;
+    return compute_field(m, r, progress);
+  };
   job.cond_threshold = f.threshold;
-  const auto method = parallel12r::parse_ik_method(f.method);
   if (slice && f.show_slice) {
     const Axis normal = parse_axis(f.normal);
     double position = f.position;
@@ -646,28 +652,18 @@ void MainWindow::requestFields(bool slice, bool volume) {
       position_slider_->setValue(int(std::lround(position / r * kPositionSteps)));
     }
     position_label_->setText(QString("%1 %2").arg(number(position, 3), QString::fromStdString(m.length_unit)));
-    FieldRequest req;
-    req.grid = Grid::slice(normal, position, -r, r, -r, r, f.slice_resolution, f.slice_resolution);
-    req.method = method;
-    req.branch = branch();
-    job.slice = req;
-    slice_settled_ = false;
     FieldJob slice_job = job;
+    slice_job.slice = Grid::slice(normal, position, -r, r, -r, r, f.slice_resolution, f.slice_resolution);
+    slice_settled_ = false;
     slice_runner_.submit(slice_job);
   } else if (slice) {
     slice_runner_.cancel();
     slice_settled_ = true;
   }
   if (volume && (f.show_reach || f.show_well_conditioned)) {
-    FieldRequest req;
     const int n = f.volume_resolution;
-    req.grid = Grid::box({-r, -r, -r}, {r, r, r}, {n, n, n});
-    req.method = method;
-    req.branch = branch();
-    FieldJob volume_job;
-    volume_job.model = m;
-    volume_job.cond_threshold = f.threshold;
-    volume_job.volume = req;
+    FieldJob volume_job = job;
+    volume_job.volume = Grid::box({-r, -r, -r}, {r, r, r}, {n, n, n});
     volume_job.coarse_divisor = 2;
     surfaces_settled_ = false;
     volume_runner_.submit(volume_job);
