@@ -15,8 +15,11 @@
 
 #include "core/atomic_file.h"
 #include "core/field.h"
+#include "core/method_harness.h"
 #include "core/preset.h"
+#include "core/stability.h"
 #include "gui/headless.h"
+#include "gui/method_chart.h"
 #include <vtkPolyData.h>
 
 #include "render/workspace_mesh.h"
@@ -123,6 +126,95 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
     report("volume " + tag + ": c<3 region volume", cs.volume, unit + "^3");
   }
   report("peak resident memory", peak_memory_mib(), "MiB");
+
+  // Every numerical method: time per evaluation against error.
+  methods::HarnessOptions h;
+  h.samples = o.quick ? 2000 : 20000;
+  h.repeats = repeats;
+  h.field_resolutions = o.quick ? std::vector<int>{16, 32} : std::vector<int>{16, 32, 64, 128};
+  h.field_reference_resolution = o.quick ? 64 : 256;
+  const std::vector<methods::MethodRow> table = methods::run_method_harness(m, h);
+  out << "\nmethods: median time per evaluation (one thread; per field on " << threads
+      << " threads) and error against a long-double reference over " << h.samples << " workspace targets\n";
+  out << std::left << std::setw(14) << "family" << std::setw(20) << "method" << std::setw(11) << "parameter"
+      << std::right << std::setw(12) << "time (s)" << std::setw(12) << "median" << std::setw(12) << "p99"
+      << std::setw(12) << "max" << std::setw(9) << "not ok" << "  unit\n";
+  for (const methods::MethodRow& r : table) {
+    out << std::left << std::setw(14) << r.family << std::setw(20) << r.method << std::setw(11) << r.parameter
+        << std::right << std::setprecision(3) << std::setw(12) << r.seconds_per_evaluation << std::setw(12)
+        << r.error_median << std::setw(12) << r.error_p99 << std::setw(12) << r.error_max << std::setw(9)
+        << r.failures << "  " << r.error_unit << "\n";
+    const std::string name = "method " + r.family + "/" + r.method + (r.parameter.empty() ? "" : " " + r.parameter);
+    rows.push_back({name + ": time per evaluation", r.seconds_per_evaluation, "s"});
+    rows.push_back({name + ": median error", r.error_median, r.error_unit});
+    rows.push_back({name + ": 99th percentile error", r.error_p99, r.error_unit});
+    rows.push_back({name + ": max error", r.error_max, r.error_unit});
+    rows.push_back({name + ": not ok", double(r.failures), "evaluations"});
+  }
+
+  // Stability towards each singular set.
+  const std::vector<stability::SweepRow> sweeps = stability::run_stability_sweeps(m, {});
+  out << "\nstability sweeps (IK, worst of " << stability::SweepOptions{}.base_points
+      << " base points): smallest eps with an ok result, and the worst error / ((residual + u B) / sigma_min)\n";
+  for (stability::SweepPath path : stability::kAllPaths)
+    for (const char* method : {"paper", "planar", "newton", "dls", "fallback", "newton-near"}) {
+      double smallest = 0, ratio = 0;
+      for (const auto& r : sweeps)
+        if (r.path == path && r.family == "ik" && r.method == method && r.status == Status::Ok && std::isfinite(r.error)) {
+          if (smallest == 0 || r.eps < smallest) smallest = r.eps;
+          if (std::isfinite(r.predicted)) ratio = std::max(ratio, r.error / (r.predicted + r.residual / r.sigma_min));
+        }
+      out << "  " << std::left << std::setw(15) << stability::to_string(path) << std::setw(13) << method
+          << "ok down to eps " << std::setw(10) << std::setprecision(2) << smallest << " error/bound <= "
+          << ratio << "\n";
+      rows.push_back({std::string("sweep ") + std::string(stability::to_string(path)) + "/" + method +
+                          ": smallest eps with an ok result",
+                      smallest, ""});
+    }
+
+  const QString title = QString("%1 (L1 = %2, L2 = %3 %4)")
+                            .arg(QString::fromStdString(preset.mechanism))
+                            .arg(m.L1)
+                            .arg(m.L2)
+                            .arg(QString::fromStdString(unit));
+  if (!o.chart.empty()) {
+    write_method_chart(table, "Speed against accuracy: " + title, o.chart);
+    out << "wrote " << o.chart << "\n";
+  }
+  if (!o.sweeps.empty()) {
+    write_sweep_chart(sweeps, "Stability towards the singular sets: " + title, o.sweeps);
+    out << "wrote " << o.sweeps << "\n";
+  }
+
+  if (!o.csv.empty()) {
+    const std::filesystem::path base(o.csv);
+    const std::filesystem::path stem = base.parent_path() / base.stem();
+    auto write_text = [](const std::filesystem::path& path, const std::string& text) {
+      write_atomically(path, [&](const std::filesystem::path& tmp) {
+        std::ofstream f(tmp);
+        f << text;
+        if (!f) throw std::runtime_error("cannot write '" + path.string() + "'");
+      });
+    };
+    std::ostringstream table_csv;
+    table_csv << "family,method,parameter,samples,not_ok,seconds_per_evaluation,error_median,error_p99,error_max,"
+                 "error_unit\n"
+              << std::setprecision(6);
+    for (const auto& r : table)
+      table_csv << r.family << ',' << '"' << r.method << '"' << ',' << r.parameter << ',' << r.samples << ','
+                << r.failures << ',' << r.seconds_per_evaluation << ',' << r.error_median << ',' << r.error_p99 << ','
+                << r.error_max << ',' << r.error_unit << "\n";
+    write_text(stem.string() + ".methods.csv", table_csv.str());
+    std::ostringstream sweep_csv;
+    sweep_csv << "path,base_point,eps,distance,cond,sigma_min,predicted,family,method,status,error,residual,iterations\n"
+              << std::setprecision(6);
+    for (const auto& r : sweeps)
+      sweep_csv << stability::to_string(r.path) << ',' << r.base_point << ',' << r.eps << ',' << r.distance << ','
+                << r.cond << ',' << r.sigma_min << ',' << r.predicted << ',' << r.family << ',' << r.method << ','
+                << to_string(r.status) << ',' << r.error << ',' << r.residual << ',' << r.iterations << "\n";
+    write_text(stem.string() + ".sweeps.csv", sweep_csv.str());
+    out << "wrote " << o.csv << ", " << stem.string() << ".methods.csv, " << stem.string() << ".sweeps.csv\n";
+  }
 
   if (!o.csv.empty()) {
     std::ostringstream csv;

@@ -207,8 +207,14 @@ void run_slice(const SliceOptions& o) {
   }
   // Reject a bad style before sampling: check it on a tiny field of the same kind.
   if (style.field != "cond" && style.field != "reach" && style.field != "residual" && style.field != "iterations" &&
-      style.field != "status")
-    throw std::invalid_argument("--field must be cond, reach, residual, iterations or status, got '" + style.field + "'");
+      style.field != "status" && style.field != "method")
+    throw std::invalid_argument("--field must be cond, reach, residual, iterations, status or method, got '" + style.field +
+                                "'");
+  // The figure's colour bar is continuous; the categorical method colours
+  // are written as a plain image or CSV (column method_used).
+  if (style.field == "method" && o.figure)
+    throw std::invalid_argument("--field method is written without --figure (.png image or .csv)");
+  if (style.field == "method") style.log_scale = false;
 
   const Field field = sample(model, request, o.sampling.quiet);
   if (ext == ".csv") render::write_field_csv(field, o.output);

@@ -43,7 +43,7 @@ struct SliceOptions {
   std::string plane = "x=0.25";  // axis=position, length unit
   std::vector<double> extent;    // u_min,u_max,v_min,v_max; default +-reach
   std::string size = "512x512";  // samples along u x v
-  std::string field = "cond";    // cond, reach, residual, iterations, status
+  std::string field = "cond";    // cond, reach, residual, iterations, status, method
   std::vector<double> contours{3.0};
   std::vector<double> range;     // colour range min,max
   bool linear = false;           // linear colour scale for cond/residual
@@ -74,10 +74,14 @@ void run_mesh(const MeshOptions& options, std::ostream& out);
 struct BenchOptions {
   MechanismChoice mechanism;
   bool quick = false;   // smaller grids, fewer repeats (for a smoke test)
-  std::string csv;      // also write the figures as CSV
+  std::string csv;      // also write the figures as CSV (plus <stem>.methods.csv, <stem>.sweeps.csv)
+  std::string chart;    // error-against-time chart of every method (.png, .svg, .pdf)
+  std::string sweeps;   // error-against-eps chart of the stability sweeps (.png, .svg, .pdf)
 };
 // Measures field throughput, slice and volume times, isosurfaces, peak
-// memory and accuracy against resolution; prints a report to `out`.
+// memory and accuracy against resolution, then every numerical method's time
+// per evaluation and error (core/method_harness.h) and the stability sweeps
+// (core/stability.h); prints a report to `out`. Charts need a QGuiApplication.
 void run_bench(const BenchOptions& options, std::ostream& out);
 
 }  // namespace linkscape::gui

@@ -75,6 +75,7 @@ void check_field(const Field& field) {
   check("reachable", field.reachable.size());
   check("status", field.status.size());
   check("iterations", field.iterations.size());
+  if (!field.method_used.empty()) check("method_used", field.method_used.size());  // empty: not recorded
   if (!(field.grid.spacing.array() > 0).all() || !field.grid.spacing.allFinite() || !field.grid.origin.allFinite())
     throw std::invalid_argument("field: expected finite origin and positive finite spacing");
 }
@@ -104,6 +105,7 @@ vtkSmartPointer<vtkImageData> to_image_data(const Field& field) {
   pd->AddArray(copy_array<vtkUnsignedCharArray>("reachable", field.reachable));
   pd->AddArray(copy_array<vtkUnsignedCharArray>("status", field.status));
   pd->AddArray(copy_array<vtkUnsignedShortArray>("iterations", field.iterations));
+  if (!field.method_used.empty()) pd->AddArray(copy_array<vtkUnsignedCharArray>("method_used", field.method_used));
   pd->SetActiveScalars("cond");
   add_metadata(image->GetFieldData(), field);
   return image;
@@ -129,7 +131,9 @@ void write_field_csv(const Field& field, const std::filesystem::path& path) {
   write_atomically(path, [&](const std::filesystem::path& tmp) {
     std::ofstream out(tmp, std::ios::binary);
     if (!out) throw std::runtime_error("cannot open '" + tmp.string() + "' for writing");
-    std::string chunk = "x,y,z,cond,reach_margin,residual,reachable,status,iterations\n";
+    const bool with_method = !field.method_used.empty();
+    std::string chunk = "x,y,z,cond,reach_margin,residual,reachable,status,iterations";
+    chunk += with_method ? ",method_used\n" : "\n";
     for (int k = 0; k < g.dims[2]; ++k)
       for (int j = 0; j < g.dims[1]; ++j)
         for (int i = 0; i < g.dims[0]; ++i) {
@@ -152,6 +156,10 @@ void write_field_csv(const Field& field, const std::filesystem::path& path) {
           append_number(chunk, unsigned(field.status[s]));
           chunk += ',';
           append_number(chunk, unsigned(field.iterations[s]));
+          if (with_method) {
+            chunk += ',';
+            append_number(chunk, unsigned(field.method_used[s]));
+          }
           chunk += '\n';
           if (chunk.size() > (1u << 20)) {
             out.write(chunk.data(), std::streamsize(chunk.size()));

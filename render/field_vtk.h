@@ -22,7 +22,8 @@ void check_field(const Field& field);
 
 // The field as image data with point arrays "cond", "reach_margin",
 // "residual" (float), "reachable", "status" (unsigned char) and "iterations"
-// (unsigned short), active scalars "cond", and the metadata of
+// (unsigned short), "method_used" (unsigned char: parallel12r::IkMethod, 255 =
+// none; only when the field records it), active scalars "cond", and the metadata of
 // add_metadata(). The arrays are COPIED (about 2x the field's memory for a
 // moment), so the image is independent of the Field's lifetime.
 // Throws std::invalid_argument as check_field.
@@ -39,7 +40,8 @@ void add_metadata(vtkFieldData* out, const Field& field);
 void write_vti(const Field& field, const std::filesystem::path& path);
 
 // Writes one CSV row per sample, x fastest:
-//   x,y,z,cond,reach_margin,residual,reachable,status,iterations
+//   x,y,z,cond,reach_margin,residual,reachable,status,iterations[,method_used]
+// (method_used when the field records it: every field from compute_field).
 // x, y, z are the sample's cell centre (length unit); numbers use the
 // shortest text that reads back to the same value (floats as floats),
 // infinities as "inf"/"-inf". Atomic; throws as write_vti.

@@ -37,7 +37,7 @@ constexpr std::array<unsigned char, 3> kContourColour = {255, 255, 255};
 constexpr std::array<unsigned char, 3> kBoundaryColour = {64, 64, 64};
 constexpr double kCondCap = 1e6;  // cond beyond this (and +inf) is treated as this for contours
 
-enum class Quantity { Cond, Reach, Residual, Iterations, Status };
+enum class Quantity { Cond, Reach, Residual, Iterations, Status, Method };
 
 Quantity parse_quantity(const std::string& name) {
   if (name == "cond") return Quantity::Cond;
@@ -45,7 +45,8 @@ Quantity parse_quantity(const std::string& name) {
   if (name == "residual") return Quantity::Residual;
   if (name == "iterations") return Quantity::Iterations;
   if (name == "status") return Quantity::Status;
-  throw std::invalid_argument("slice style: expected field cond, reach, residual, iterations or status, got '" +
+  if (name == "method") return Quantity::Method;
+  throw std::invalid_argument("slice style: expected field cond, reach, residual, iterations, status or method, got '" +
                               name + "'");
 }
 
@@ -60,6 +61,7 @@ double value_at(const Field& f, Quantity q, std::size_t s) {
     case Quantity::Residual: return f.residual[s];
     case Quantity::Iterations: return f.iterations[s];
     case Quantity::Status: return f.status[s];
+    case Quantity::Method: return f.method_used.empty() ? 255.0 : double(f.method_used[s]);
   }
   return 0;
 }
@@ -153,6 +155,17 @@ void draw(unsigned char* rgba, int width_px, int height_px, int scale, const std
 unsigned char to_byte(double c) { return static_cast<unsigned char>(std::lround(std::clamp(c, 0.0, 1.0) * 255)); }
 
 }  // namespace
+
+std::array<double, 3> method_colour(std::uint8_t method) {
+  switch (method) {
+    case 0: return {0.58, 0.40, 0.74};  // paper
+    case 1: return {0.12, 0.47, 0.71};  // planar
+    case 2: return {1.00, 0.50, 0.05};  // newton
+    case 3: return {0.17, 0.63, 0.17};  // dls
+    case 4: return {0.50, 0.50, 0.50};  // fallback (never recorded: it records planar or newton)
+    default: return {kUnreachableGrey, kUnreachableGrey, kUnreachableGrey};
+  }
+}
 
 std::array<double, 3> colour_of(double value01) {
   const double t = std::isnan(value01) ? 1.0 : std::clamp(value01, 0.0, 1.0);
@@ -274,7 +287,10 @@ vtkSmartPointer<vtkImageData> render_slice_rgba(const Field& field, const SliceS
     for (int iu = 0; iu < nu; ++iu) {
       const std::size_t s = sample(iu, iv);
       std::array<unsigned char, 4> c{grey, grey, grey, style.unreachable_alpha};
-      if (field.reachable[s]) {
+      if (field.reachable[s] && q == Quantity::Method) {
+        const auto rgb = method_colour(std::uint8_t(value_at(field, q, s)));
+        c = {to_byte(rgb[0]), to_byte(rgb[1]), to_byte(rgb[2])};
+      } else if (field.reachable[s]) {
         const auto rgb = colour_of(normalised_value(value_at(field, q, s), style));
         c = {to_byte(rgb[0]), to_byte(rgb[1]), to_byte(rgb[2]), 255};
       }

@@ -10,6 +10,7 @@
 #include <vtkSmartPointer.h>
 
 #include <array>
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -25,7 +26,8 @@ namespace linkscape::render {
 
 struct SliceStyle {
   // Which per-sample value is colour-mapped: "cond", "reach" (reach_margin),
-  // "residual", "iterations" or "status".
+  // "residual", "iterations", "status" or "method" (method_used, drawn in
+  // categorical colours, method_colour(); min/max and log_scale are ignored).
   std::string field = "cond";
   // Logarithmic colour scale; applies to cond and residual only.
   bool log_scale = true;
@@ -44,6 +46,10 @@ struct SliceStyle {
 
 // Viridis at value01 in [0, 1] (clamped; NaN gives the value at 1), RGB 0..1.
 std::array<double, 3> colour_of(double value01);
+// Categorical colour of an IK method (std::uint8_t(parallel12r::IkMethod)) in
+// the "method" slice, RGB 0..1: paper purple, planar blue, newton orange, dls
+// green, fallback grey; anything else (no method) the unreachable grey.
+std::array<double, 3> method_colour(std::uint8_t method);
 // Viridis as an n-entry lookup table over [0, 1], for colour bars.
 vtkSmartPointer<vtkLookupTable> viridis_lookup_table(int entries = 256);
 
