@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <set>
 #include <numbers>
 #include <sstream>
 
@@ -343,4 +345,57 @@ TEST(CliBench, QuickRunReportsEveryFigure) {
   std::string header;
   std::getline(in, header);
   EXPECT_EQ(header, "measurement,value,unit");
+}
+
+TEST(CliBench, ChartAndCsvCoverEveryMethod) {
+  const fs::path png = kOut / "methods.png", sweeps = kOut / "sweeps.svg", csv = kOut / "methods_bench.csv";
+  for (const fs::path& p : {png, sweeps, csv}) fs::remove(p);
+  const CommandResult r = run_linkscape("bench --quick --param L1=1 --param L2=1 --chart " + png.string() +
+                                            " --sweeps " + sweeps.string() + " --csv " + csv.string(),
+                                        kNoDisplay);
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  // The existing figures are still reported.
+  for (const char* what : {"M points/s", "reach isosurface", "peak resident memory", "stability sweeps"})
+    EXPECT_NE(r.out.find(what), std::string::npos) << what;
+  // Every method appears in the CSV (long form) and in the method table.
+  std::ifstream in(csv);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(text.substr(0, text.find('\n')), "measurement,value,unit");
+  std::ifstream table_in(kOut / "methods_bench.methods.csv");
+  const std::string table((std::istreambuf_iterator<char>(table_in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(table.rfind("family,method,parameter,samples,not_ok,seconds_per_evaluation,", 0), 0u);
+  for (const char* method : {"ik/paper", "ik/planar", "ik/newton", "ik/dls", "ik/fallback", "jacobian/analytic",
+                             "jacobian/central-difference", "jacobian/forward-difference", "jacobian/complex-step",
+                             "conditioning/closed-form", "conditioning/closed-form-fast", "conditioning/svd",
+                             "conditioning/normal-equations", "field/reach volume", "field/c<3 volume"})
+  {
+    EXPECT_NE(text.find(std::string("method ") + method), std::string::npos) << method;
+    const std::string name = std::string(method);
+    const std::string family = name.substr(0, name.find('/')), rest = name.substr(name.find('/') + 1);
+    EXPECT_NE(table.find(family + ",\"" + rest + "\""), std::string::npos) << method;
+  }
+  EXPECT_TRUE(fs::exists(kOut / "methods_bench.sweeps.csv"));
+  // The chart: a full-size PNG with real content, and an SVG.
+  EXPECT_EQ(png_size(png), std::make_pair(1600, 1200));
+  EXPECT_GT(fs::file_size(png), 40000u);
+  EXPECT_GT(fs::file_size(sweeps), 20000u);
+}
+
+TEST(CliSlice, MethodFieldShowsWhichIkMethodServedEachSample) {
+  const fs::path png = kOut / "method.png", csv = kOut / "method.csv";
+  CommandResult r = run_linkscape("slice --param L1=1 --param L2=1 --method fallback --field method --plane y=4e-5 "
+                                  "--size 40x40 -q --output " + png.string(), kNoDisplay);
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_EQ(png_size(png), std::make_pair(40, 40));
+  r = run_linkscape("slice --param L1=1 --param L2=1 --method fallback --plane y=4e-5 --size 40x40 -q --output " +
+                    csv.string(), kNoDisplay);
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  std::ifstream in(csv);
+  const linkscape::Table t = linkscape::read_csv(in, "method.csv");
+  std::set<int> used;
+  for (const auto& row : t.rows) used.insert(int(row[t.column("method_used")]));
+  EXPECT_TRUE(used.count(1)) << "planar";  // IkMethod::Planar
+  EXPECT_TRUE(used.count(2)) << "newton";  // IkMethod::Newton, where planar missed the tolerance
+  r = run_linkscape("slice --field method --figure -q --output " + (kOut / "never.svg").string(), kNoDisplay);
+  EXPECT_EQ(r.exit_code, 2) << r.out;
 }
