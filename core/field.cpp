@@ -1,7 +1,5 @@
 #include "core/field.h"
 
-#include <omp.h>
-
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -9,6 +7,7 @@
 #include <stdexcept>
 
 #include "core/conditioning.h"
+#include "core/field_sampling.h"
 
 namespace linkscape {
 namespace {
@@ -117,20 +116,9 @@ FieldSample sample_general(const Model& m, const Vector3d& p, const FieldRequest
 }
 
 void check_request(const FieldRequest& req) {
-  const Grid& g = req.grid;
-  for (int k = 0; k < 3; ++k)
-    if (g.dims[k] < 1 || !(g.spacing(k) > 0) || !std::isfinite(g.origin(k)))
-      throw std::invalid_argument("field: grid needs positive sizes and spacings and a finite origin");
   if (req.branch != 0 && req.branch != 1)
     throw std::invalid_argument("field: branch must be 0 or 1, got " + std::to_string(req.branch));
-  const double bytes = double(g.size()) * Field::bytes_per_sample();
-  if (bytes > double(req.memory_limit_bytes)) {
-    std::ostringstream msg;
-    msg << "field: " << g.dims[0] << "x" << g.dims[1] << "x" << g.dims[2] << " samples need "
-        << bytes / (1 << 20) << " MiB, over the limit of " << req.memory_limit_bytes / (1 << 20)
-        << " MiB; lower the resolution";
-    throw std::invalid_argument(msg.str());
-  }
+  detail::check_grid(req.grid, Field::bytes_per_sample(), req.memory_limit_bytes);
 }
 
 }  // namespace
@@ -189,17 +177,8 @@ FieldSample sample_point(const Model& m, const Vector3d& p, const FieldRequest& 
 std::optional<Field> compute_field(const Model& m, const FieldRequest& req, const FieldProgress& progress) {
   m.validate();
   check_request(req);
-  const Grid& g = req.grid;
   Field f;
-  f.grid = g;
-  const std::size_t n = g.size();
-  f.cond.resize(n);
-  f.reach_margin.resize(n);
-  f.residual.resize(n);
-  f.reachable.resize(n);
-  f.status.resize(n);
-  f.iterations.resize(n);
-  f.method_used.resize(n);
+  f.grid = req.grid;
   f.mechanism = std::string(parallel12r::kMechanismName);
   f.length_unit = m.length_unit;
   f.parameters = {{"L1", m.L1}, {"L2", m.L2}};
@@ -208,36 +187,10 @@ std::optional<Field> compute_field(const Model& m, const FieldRequest& req, cons
 
   const bool check_limits = !full_ranges(m);
   const bool planar = req.method == parallel12r::IkMethod::Planar;
-  // Fixed chunks of consecutive samples: balanced whatever the slice
-  // orientation, and the cancel flag is checked before each chunk (<0.1 ms).
-  constexpr std::int64_t kChunk = 512;
-  const std::int64_t chunks = (std::int64_t(n) + kChunk - 1) / kChunk;
-  const std::int64_t report_every = std::max<std::int64_t>(1, chunks / 200);
-  std::atomic<std::int64_t> chunks_done{0};
-  const int threads = req.threads > 0 ? req.threads : omp_get_max_threads();
-  const std::int64_t nx = g.dims[0], nxy = nx * g.dims[1];
-
-#pragma omp parallel for schedule(dynamic, 4) num_threads(threads)
-  for (std::int64_t c = 0; c < chunks; ++c) {
-    if (progress.cancel && progress.cancel->load(std::memory_order_relaxed)) continue;
-    const std::int64_t end = std::min<std::int64_t>(std::int64_t(n), (c + 1) * kChunk);
-    for (std::int64_t idx = c * kChunk; idx < end; ++idx) {
-      const int i = int(idx % nx), j = int((idx / nx) % g.dims[1]), k = int(idx / nxy);
-      const Vector3d p = g.point(i, j, k);
-      const FieldSample s = planar ? sample_planar(m, p, req.branch, check_limits) : sample_general(m, p, req, check_limits);
-      f.cond[idx] = s.cond;
-      f.reach_margin[idx] = s.reach_margin;
-      f.residual[idx] = s.residual;
-      f.reachable[idx] = s.reachable;
-      f.status[idx] = s.status;
-      f.iterations[idx] = s.iterations;
-      f.method_used[idx] = s.method_used;
-    }
-    const std::int64_t done = chunks_done.fetch_add(1, std::memory_order_relaxed) + 1;
-    if (progress.report && done % report_every == 0) progress.report(double(done) / double(chunks));
-  }
-  if (progress.cancel && progress.cancel->load()) return std::nullopt;
-  if (progress.report) progress.report(1.0);
+  const bool complete = detail::fill_field(f, false, req.threads, progress, [&](const Vector3d& p) {
+    return planar ? sample_planar(m, p, req.branch, check_limits) : sample_general(m, p, req, check_limits);
+  });
+  if (!complete) return std::nullopt;
   return f;
 }
 

@@ -90,6 +90,9 @@ struct Field {
   // a Field assembled by hand may leave it empty ("not recorded").
   SampleArray<std::uint8_t> method_used;
   static constexpr std::uint8_t kNoMethod = 255;
+  // Six-DOF mechanisms (pathos2) only, else empty: cond holds cond(Jp) and
+  // this cond(Jo), the orientation block; +inf where singular or unreachable.
+  SampleArray<float> cond_orientation;
   // What was computed, for the metadata of exported files.
   std::string mechanism;
   std::string length_unit;
@@ -97,7 +100,8 @@ struct Field {
   std::string method;
   int branch = 0;
 
-  // Bytes of storage per sample, for the memory limit.
+  // Bytes of storage per sample, for the memory limit (cond_orientation adds
+  // sizeof(float) where present).
   static constexpr std::size_t bytes_per_sample() { return 3 * sizeof(float) + 3 + sizeof(std::uint16_t); }
 };
 
@@ -121,6 +125,7 @@ struct FieldSample {
   std::uint8_t reachable = 0, status = 0;
   std::uint16_t iterations = 0;
   std::uint8_t method_used = Field::kNoMethod;
+  float cond_orientation = 0;  // six-DOF mechanisms only
 };
 FieldSample sample_point(const parallel12r::Model& model, const Eigen::Vector3d& p, const FieldRequest& request);
 

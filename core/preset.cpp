@@ -79,11 +79,11 @@ Preset parse_preset(const std::string& text, const std::string& origin) {
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument("preset " + origin + ": " + e.what());
   }
-  if (p.mechanism != parallel12r::kMechanismName)
+  if (p.mechanism != parallel12r::kMechanismName && p.mechanism != pathos2::kMechanismName)
     throw std::invalid_argument("preset " + origin + ": unsupported mechanism '" + p.mechanism +
-                                "' (supported: parallel-12r)");
+                                "' (supported: parallel-12r, pathos2)");
   try {
-    make_parallel12r(p);  // validates names and values
+    validate(p);
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument("preset " + origin + ": " + e.what());
   }
@@ -107,9 +107,10 @@ void apply_overrides(Preset& preset, const std::vector<std::string>& overrides) 
     if (eq == std::string::npos || eq == 0)
       throw std::invalid_argument("--param expects key=value, got '" + pair + "'");
     const std::string key = pair.substr(0, eq), text = pair.substr(eq + 1);
-    if (!preset.parameters.contains(key)) {
+    const std::vector<std::string> names = parameter_names(preset);
+    if (std::find(names.begin(), names.end(), key) == names.end()) {
       std::string known;
-      for (const auto& [k, v] : preset.parameters) known += (known.empty() ? "" : ", ") + k;
+      for (const auto& k : names) known += (known.empty() ? "" : ", ") + k;
       throw std::invalid_argument("unknown parameter '" + key + "' for " + preset.mechanism +
                                   " (known: " + known + ")");
     }
@@ -124,11 +125,29 @@ void apply_overrides(Preset& preset, const std::vector<std::string>& overrides) 
       throw std::invalid_argument("parameter " + key + ": '" + text + "' is not a number");
     preset.parameters[key] = value;
   }
-  make_parallel12r(preset);  // validates the new values
+  validate(preset);  // the new values
+}
+
+std::vector<std::string> parameter_names(const Preset& preset) {
+  return preset.mechanism == pathos2::kMechanismName ? pathos2::Model::parameter_names()
+                                                     : parallel12r::Model::parameter_names();
+}
+
+void validate(const Preset& preset) {
+  if (preset.mechanism == pathos2::kMechanismName) make_pathos2(preset);
+  else make_parallel12r(preset);
 }
 
 parallel12r::Model make_parallel12r(const Preset& preset) {
+  if (preset.mechanism != parallel12r::kMechanismName)
+    throw std::invalid_argument("expected a parallel-12r preset, got '" + preset.mechanism + "'");
   return parallel12r::Model::from_parameters(preset.parameters, preset.limits_deg, preset.length_unit);
+}
+
+pathos2::Model make_pathos2(const Preset& preset) {
+  if (preset.mechanism != pathos2::kMechanismName)
+    throw std::invalid_argument("expected a pathos2 preset, got '" + preset.mechanism + "'");
+  return pathos2::Model::from_parameters(preset.parameters);
 }
 
 }  // namespace linkscape

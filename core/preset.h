@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/parallel12r.h"
+#include "core/pathos2.h"
 
 namespace linkscape {
 
@@ -32,10 +33,18 @@ Preset load_preset(const std::string& name_or_path);
 Preset parse_preset(const std::string& json_text, const std::string& origin);
 
 // Applies "key=value" overrides to the preset's parameters. Throws
-// std::invalid_argument for a malformed pair, an unknown key or a bad number.
+// std::invalid_argument for a malformed pair, a key that is not one of the
+// mechanism's parameter_names(), a bad number or an invalid resulting model.
 void apply_overrides(Preset& preset, const std::vector<std::string>& overrides);
 
-// The 12R model described by a preset (mechanism must be "parallel-12r").
+// Names --param accepts for the preset's mechanism.
+std::vector<std::string> parameter_names(const Preset& preset);
+// Builds the preset's model; throws std::invalid_argument if it is invalid.
+void validate(const Preset& preset);
+
+// The model described by a preset; throws std::invalid_argument if the
+// preset is of another mechanism or its values are invalid.
 parallel12r::Model make_parallel12r(const Preset& preset);
+pathos2::Model make_pathos2(const Preset& preset);
 
 }  // namespace linkscape

@@ -5,9 +5,6 @@
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
-#include <nlohmann/json.hpp>
 #include <numbers>
 #include <random>
 #include <sstream>
@@ -101,35 +98,27 @@ TEST(Pathos2Model, BadInputThrowsWithTheName) {
   EXPECT_THROW(leg_inverse(7, 14, 6, Vector3d(std::nan(""), 0, 0), 1), std::invalid_argument);
 }
 
-TEST(Pathos2Preset, JsonFileBuildsTheModel) {
-  // The file itself, read with the same JSON library the preset loader uses.
-  std::filesystem::path file;
-  for (const auto& dir : preset_search_path())
-    if (file.empty() && std::filesystem::is_regular_file(dir / "pathos2.json")) file = dir / "pathos2.json";
-  ASSERT_FALSE(file.empty()) << "assets/mechanisms/pathos2.json missing";
-  std::ifstream in(file);
-  const auto doc = nlohmann::json::parse(in);
-  EXPECT_EQ(doc.at("mechanism").get<std::string>(), "pathos2");
-  EXPECT_EQ(doc.at("length_unit").get<std::string>(), "cm");
-  std::map<std::string, double> params;
-  for (const auto& [k, v] : doc.at("parameters").items()) params[k] = v.get<double>();
-  const Model m = Model::from_parameters(params);
-  EXPECT_EQ(m.to_parameters(), Model{}.to_parameters());
+// Same names, values equal up to rounding (db and lx are derived with tan and cos).
+void expect_same_parameters(const std::map<std::string, double>& a, const std::map<std::string, double>& b) {
+  ASSERT_EQ(a.size(), b.size());
+  for (const auto& [k, v] : a) {
+    ASSERT_TRUE(b.contains(k)) << k;
+    EXPECT_NEAR(v, b.at(k), 1e-12 * std::max(1.0, std::abs(v))) << k;
+  }
 }
 
-TEST(Pathos2Preset, LoadPresetBuildsTheModel) {
-  Preset preset;
-  try {
-    preset = load_preset("pathos2");
-  } catch (const std::invalid_argument& e) {
-    // parse_preset (core/preset.cpp) accepts only parallel-12r so far.
-    if (std::string(e.what()).find("unsupported mechanism") != std::string::npos)
-      GTEST_SKIP() << "preset loader does not accept 'pathos2' yet: " << e.what();
-    throw;
-  }
+TEST(Pathos2Preset, LoadPresetBuildsTheTableModel) {
+  Preset preset = load_preset("pathos2");
   EXPECT_EQ(preset.mechanism, "pathos2");
-  const Model m = Model::from_parameters(preset.parameters);
-  EXPECT_EQ(m.to_parameters(), Model{}.to_parameters());
+  EXPECT_EQ(preset.length_unit, "cm");
+  expect_same_parameters(make_pathos2(preset).to_parameters(), Model{}.to_parameters());
+  // db and lx follow lb and theta_t unless given: the preset leaves them out.
+  apply_overrides(preset, {"theta_t=20", "l2=12"});
+  const Model m = make_pathos2(preset);
+  EXPECT_NEAR(m.db, 10.0 * std::tan(20.0 * std::numbers::pi / 180.0), 1e-12);
+  EXPECT_EQ(m.l2, 12.0);
+  EXPECT_THROW(apply_overrides(preset, {"L1=3"}), std::invalid_argument);      // a 12R name
+  EXPECT_THROW(apply_overrides(preset, {"branch_1=2"}), std::invalid_argument);  // not +-1
 }
 
 // ---- Leg -----------------------------------------------------------------------

@@ -1,0 +1,92 @@
+#include "core/pathos2_field.h"
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+
+#include "core/field_sampling.h"
+
+namespace linkscape::pathos2 {
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+// Margin of one leg to its reach: the shell of Eq. 14's c2z root and the
+// cylinder of its c1x root, both in the leg frame (cm).
+double leg_reach_margin(const Model& m, const Eigen::Vector3d& a) {
+  const double dz = a.z() - m.l1;
+  const double rxy = std::hypot(a.x(), a.y());
+  const double rho = std::hypot(rxy, dz);
+  const double shell = std::min(m.l2 + m.l3 - rho, rho - std::abs(m.l2 - m.l3));
+  // c1y^2 = l3^2 - (c2z - l2)^2; the root c1x = sqrt(rxy^2 - c1y^2) needs rxy >= |c1y|.
+  const double e = (m.l2 * m.l2 - m.l3 * m.l3 + rho * rho) / (2.0 * m.l2) - m.l2;
+  const double c1y = std::sqrt(std::max(0.0, m.l3 * m.l3 - e * e));
+  return std::min(shell, rxy - c1y);
+}
+
+}  // namespace
+
+double reach_margin(const Geometry& g, const PoseIkResult& ik) {
+  const Model& m = g.model;
+  constexpr double pi = std::numbers::pi;
+  double margin = std::numeric_limits<double>::infinity();
+  for (const LegSolution& leg : ik.legs) {
+    margin = std::min(margin, leg_reach_margin(m, leg.p_B_globular));
+    if (leg.status == Status::Unreachable) continue;  // the angles below are not set
+    // Joint limits, where set: angle margin times the radius it swings.
+    if (m.t2_limit < pi) margin = std::min(margin, (m.t2_limit - std::abs(leg.t2)) * (m.l2 + m.l3));
+    if (m.t3_limit < pi) margin = std::min(margin, (m.t3_limit - std::abs(leg.t3)) * m.l3);
+    if (m.cone_limit < pi) margin = std::min(margin, (m.cone_limit - leg.t5) * m.l3);
+  }
+  return margin;
+}
+
+FieldSample sample_position(const Geometry& g, const Eigen::Vector3d& p, const FieldRequest& req) {
+  const Pose pose = Pose::from_xyz_rpy(p.x(), p.y(), p.z(), req.rpy.x(), req.rpy.y(), req.rpy.z(), req.h0);
+  const Model& m = g.model;
+  const PoseIkResult ik = inverse(g, pose, IkDetail::Full);
+  FieldSample s;
+  s.reach_margin = float(reach_margin(g, ik));
+  s.status = std::uint8_t(ik.status);
+  s.reachable = ik.status == Status::Ok;
+  s.cond = s.cond_orientation = kInf;
+  s.residual = kInf;
+  if (ik.status == Status::Ok || ik.status == Status::OutOfLimits) {
+    double closure = 0.0;
+    for (const LegSolution& leg : ik.legs)
+      closure = std::max(closure, (leg_forward(m.l1, m.l2, m.l3, leg.t1, leg.t2, leg.t3) - leg.p_B_globular).norm());
+    s.residual = float(closure);
+  }
+  if (s.reachable) {
+    const JacobianResult J = jacobian(g, pose, ik);
+    s.cond = float(J.cond_p);
+    s.cond_orientation = float(J.cond_o);
+  }
+  return s;
+}
+
+std::optional<Field> compute_field(const Model& model, const FieldRequest& req, const FieldProgress& progress) {
+  if (!req.rpy.allFinite() || !std::isfinite(req.h0) || !(req.h0 > 0))
+    throw std::invalid_argument("pathos2 field: orientation must be finite and the grip h0 > 0");
+  const Geometry g = make_geometry(model);  // validates the model
+  detail::check_grid(req.grid, Field::bytes_per_sample() + sizeof(float), req.memory_limit_bytes);
+  Field f;
+  f.grid = req.grid;
+  f.mechanism = std::string(kMechanismName);
+  f.length_unit = "cm";
+  f.parameters = model.to_parameters();
+  f.parameters["rx"] = req.rpy.x() / kDeg;
+  f.parameters["ry"] = req.rpy.y() / kDeg;
+  f.parameters["rz"] = req.rpy.z() / kDeg;
+  f.parameters["h0"] = req.h0;  // the grip sampled, which may differ from the model default
+  f.method = "closed-form";
+  f.branch = 0;
+  if (!detail::fill_field(f, true, req.threads, progress,
+                          [&](const Eigen::Vector3d& p) { return sample_position(g, p, req); }))
+    return std::nullopt;
+  return f;
+}
+
+}  // namespace linkscape::pathos2

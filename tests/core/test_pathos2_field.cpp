@@ -1,0 +1,127 @@
+// PATHOS-II fields: every sample equals the pointwise IK and Jacobian, the
+// reach margin changes sign exactly where the pose IK starts to fail, and
+// the device's three-fold symmetry shows in the field.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "core/pathos2_field.h"
+
+using namespace linkscape;
+using namespace linkscape::pathos2;
+using Eigen::Vector3d;
+
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+pathos2::FieldRequest home_request(const Model& m, Grid grid) {
+  pathos2::FieldRequest r;
+  r.grid = grid;
+  r.rpy = Vector3d(0, 0, 30 * kDeg);  // Table 3 orientation
+  r.h0 = m.h0;
+  return r;
+}
+
+}  // namespace
+
+TEST(Pathos2Field, SamplesEqualPointwiseIkAndJacobian) {
+  const Model m;
+  const Grid g = Grid::box({-10, -10, 12.5}, {10, 10, 32.5}, {9, 9, 9});
+  const Field f = *pathos2::compute_field(m, home_request(m, g));
+  ASSERT_EQ(f.cond_orientation.size(), g.size());
+  EXPECT_EQ(f.mechanism, "pathos2");
+  int reachable = 0;
+  for (int k = 0; k < 9; ++k)
+    for (int j = 0; j < 9; ++j)
+      for (int i = 0; i < 9; ++i) {
+        const std::size_t s = g.index(i, j, k);
+        const Vector3d p = g.point(i, j, k);
+        const Pose pose = Pose::from_xyz_rpy(p.x(), p.y(), p.z(), 0, 0, 30 * kDeg, m.h0);
+        const PoseIkResult ik = inverse(m, pose);
+        EXPECT_EQ(f.status[s], std::uint8_t(ik.status));
+        EXPECT_EQ(f.reachable[s], ik.status == Status::Ok);
+        if (ik.status != Status::Ok) {
+          EXPECT_TRUE(std::isinf(f.cond[s]) && std::isinf(f.cond_orientation[s]));
+          continue;
+        }
+        ++reachable;
+        const JacobianResult J = jacobian(m, pose);
+        EXPECT_NEAR(f.cond[s], J.cond_p, 1e-5 * J.cond_p);
+        EXPECT_NEAR(f.cond_orientation[s], J.cond_o, 1e-5 * J.cond_o);
+        EXPECT_LT(f.residual[s], 1e-9);  // the solved legs close
+      }
+  EXPECT_GT(reachable, 50);  // 76 of the 729: the workspace is about an 11.5 cm ball (docs)
+}
+
+TEST(Pathos2Field, ReachMarginChangesSignWhereTheIkStartsToFail) {
+  // March outward from the home pose along random directions: the margin is
+  // positive while every leg solves and negative once one does not.
+  const Model m;
+  const Geometry g = make_geometry(m);
+  pathos2::FieldRequest req = home_request(m, Grid{});
+  std::mt19937 rng(11);
+  std::normal_distribution<double> n;
+  int crossings = 0;
+  for (int ray = 0; ray < 200; ++ray) {
+    const Vector3d dir = Vector3d(n(rng), n(rng), n(rng)).normalized();
+    double previous_margin = 1.0;
+    for (double t = 0.0; t < 30.0; t += 0.05) {
+      const Vector3d p = Vector3d(0, 0, m.l0 / 2) + t * dir;
+      const FieldSample s = sample_position(g, p, req);
+      const bool solvable = s.status == std::uint8_t(Status::Ok) || s.status == std::uint8_t(Status::Singular);
+      if (s.status == std::uint8_t(Status::Unreachable)) {
+        EXPECT_LT(s.reach_margin, 1e-6) << "ray " << ray << " t " << t;
+        if (previous_margin > 0) ++crossings;
+        break;
+      }
+      if (solvable) {
+        EXPECT_GT(s.reach_margin, -1e-6) << "ray " << ray << " t " << t;
+      }
+      // Continuous: a 0.5 mm step moves the margin by at most a few times that.
+      EXPECT_LT(std::abs(s.reach_margin - previous_margin), t == 0.0 ? 1e9 : 0.5) << "ray " << ray;
+      previous_margin = s.reach_margin;
+    }
+  }
+  EXPECT_GT(crossings, 150);  // most rays leave the workspace within 30 cm
+}
+
+TEST(Pathos2Field, ThreeFoldSymmetry) {
+  // Base joints and plate attachments repeat every 120 deg about z, so a
+  // position rotated by 120 deg with the orientation conjugated by the same
+  // rotation (Rz(120) Rz(30) Rz(-120) = Rz(30): unchanged) is the same
+  // configuration with the legs permuted: same status and conditioning.
+  const Model m;
+  const Geometry g = make_geometry(m);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-6, 6);
+  int compared = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const Vector3d p(u(rng), u(rng), m.l0 / 2 + u(rng));
+    const pathos2::FieldRequest a = home_request(m, Grid{}), b = a;
+    const Vector3d q = Eigen::AngleAxisd(120 * kDeg, Vector3d::UnitZ()) * p;
+    const FieldSample sa = sample_position(g, p, a), sb = sample_position(g, q, b);
+    EXPECT_EQ(sa.status, sb.status);
+    if (sa.status != std::uint8_t(Status::Ok)) continue;
+    EXPECT_NEAR(sa.cond, sb.cond, 1e-4 * sa.cond);
+    EXPECT_NEAR(sa.cond_orientation, sb.cond_orientation, 1e-4 * sa.cond_orientation);
+    EXPECT_NEAR(sa.reach_margin, sb.reach_margin, 1e-4);
+    ++compared;
+  }
+  EXPECT_GT(compared, 100);
+}
+
+TEST(Pathos2Field, BadRequestsAreRefused) {
+  const Model m;
+  pathos2::FieldRequest r = home_request(m, Grid::box({-1, -1, 20}, {1, 1, 22}, {4, 4, 4}));
+  r.h0 = 0;
+  EXPECT_THROW(pathos2::compute_field(m, r), std::invalid_argument);
+  r.h0 = 7;
+  r.memory_limit_bytes = 10;
+  EXPECT_THROW(pathos2::compute_field(m, r), std::invalid_argument);
+  std::atomic<bool> cancel{true};
+  r.memory_limit_bytes = std::size_t(1) << 30;
+  EXPECT_FALSE(pathos2::compute_field(m, r, FieldProgress{{}, &cancel}).has_value());
+}
