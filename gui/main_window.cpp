@@ -945,11 +945,18 @@ int run_window(const WindowOptions& options, int argc, char** argv) {
   int width = 0, height = 0;
   if (std::sscanf(options.size.c_str(), "%dx%d", &width, &height) != 2 || width < 200 || height < 150)
     throw std::invalid_argument("--size expects WIDTHxHEIGHT (at least 200x150), got '" + options.size + "'");
+  const bool is_pathos2 = preset.mechanism == pathos2::kMechanismName;
+  if (is_pathos2 && (session || options.latency))
+    throw std::invalid_argument("--session and --latency are available for parallel-12r only, not pathos2");
 
   QSurfaceFormat::setDefaultFormat(VtkWidget::defaultFormat());
   QApplication app(argc, argv);
   QApplication::setApplicationName("Linkscape");
   QApplication::setOrganizationName("Linkscape");
+  if (is_pathos2) {
+    int run_pathos2_window(const Preset&, const std::string&, int, int);  // gui/pathos2_window.h
+    return run_pathos2_window(preset, options.screenshot, width, height);
+  }
   MainWindow window(preset);
   if (session) window.applySession(*session);
   window.resize(width, height);
