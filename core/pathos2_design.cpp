@@ -107,7 +107,8 @@ Model table1_model() {
 }
 
 Pose table1_pose(const Model& model, double rz_rad) {
-  return Pose::from_xyz_rpy(0.0, 0.0, 25.0, 0.0, 0.0, rz_rad, model.h0);
+  // Mid-way between the base plates: z = 25 for Table 1's l0 = 50.
+  return Pose::from_xyz_rpy(0.0, 0.0, model.l0 / 2.0, 0.0, 0.0, rz_rad, model.h0);
 }
 
 DesignSearchResult design_search(const Model& base, const DesignGrid& grid, const RangeOptions& options,

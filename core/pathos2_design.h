@@ -66,7 +66,7 @@ struct DesignGrid {
 // Table 1: l0 = 50, lb = 10, l1 = 7, h0 = 7, theta_t = 30 deg, theta_g = 0;
 // the other parameters keep the Model defaults.
 Model table1_model();
-// Table 1 pose: (0, 0, 25), Rx = Ry = 0, Rz = rz_rad.
+// Table 1 pose: (0, 0, l0 / 2) (= 25 for Table 1), Rx = Ry = 0, Rz = rz_rad.
 Pose table1_pose(const Model& model, double rz_rad);
 
 enum class DesignOutcome : unsigned char {

@@ -8,6 +8,7 @@
 #include <iostream>
 
 #include "core/preset.h"
+#include "gui/design.h"
 #include "gui/headless.h"
 #include "gui/main_window.h"
 
@@ -25,6 +26,9 @@ constexpr const char* kHeadlessHint =
     "  linkscape slice --plane x=0.25 --output slice.png          condition-number slice image\n"
     "  linkscape field --resolution 128 --output volume.vti       sampled volume for ParaView\n"
     "  linkscape mesh --surface cond<3 --output ws.stl            workspace isosurface mesh\n"
+    "  linkscape eval --mechanism pathos2 --ik poses.csv         PATHOS-II pose IK (x,y,z,rx,ry,rz,h0)\n"
+    "  linkscape slice --mechanism pathos2 --field cond_jo -o s.png   PATHOS-II cond(Jo) through the home pose\n"
+    "  linkscape design --table t2.csv --sweep l0.csv --chart d.png   PATHOS-II Table 2 search and l0 sweep\n"
     "  linkscape bench --chart m.png --sweeps s.png --csv b.csv   speed and accuracy of every method\n"
     "Run 'linkscape --help' or 'linkscape eval --help' for every option.\n";
 
@@ -45,6 +49,10 @@ void add_sampling_options(CLI::App& app, SamplingOptions& s) {
                  "candidate where planar misses the tolerance; the choice is recorded per sample)")
       ->capture_default_str();
   app.add_option("--branch", s.branch, "Assembly branch evaluated: 0 or 1")->capture_default_str();
+  app.add_option("--pose", s.pose,
+                 "pathos2: x,y,z (cm), rx,ry,rz (rad, R = Rz Ry Rx), h0 (cm); orientation and grip are held fixed "
+                 "over the grid, the default slice passes through the position (default: Table 3 home pose "
+                 "0,0,l0/2,0,0,pi/6,h0)");
   app.add_flag("-q,--quiet", s.quiet, "No progress line on stderr");
 }
 
@@ -97,10 +105,12 @@ int run(int argc, char** argv) {
   auto* ik = eval_cmd->add_option("--ik", eval.ik_file,
                                   "Inverse kinematics of targets in a CSV with header x,y,z ('-' = stdin). "
                                   "Writes x,y,z,branch,status,alpha,beta,gamma,cond,det,residual,iterations, "
-                                  "one row per branch found");
+                                  "one row per branch found. pathos2: header x,y,z,rx,ry,rz,h0 (cm, rad); writes "
+                                  "the pose, status, failing_leg, q1..q6 (rad), cond_jp, cond_jo");
   auto* fk = eval_cmd->add_option("--fk", eval.fk_file,
                                   "Forward kinematics of a CSV with header alpha,beta,gamma (rad). "
-                                  "Writes alpha,beta,gamma,x,y,z,cond,det");
+                                  "Writes alpha,beta,gamma,x,y,z,cond,det. pathos2: header q1..q6,h0; numerical "
+                                  "FK from the previous row's pose (first: home); writes the pose, status, iterations");
   ik->excludes(fk);
   eval_cmd->add_option("--method", eval.method,
                        "IK method: paper (Eqs. 14-16, corrected), planar (planar reduction), "
@@ -121,17 +131,21 @@ int run(int argc, char** argv) {
   CLI::App* slice_cmd = app.add_subcommand(
       "slice", "Sample a field on a plane and write a colour-mapped image or CSV (no display needed)");
   add_sampling_options(*slice_cmd, slice.sampling);
-  slice_cmd->add_option("--plane", slice.plane, "Plane as axis=position in the length unit, e.g. x=0.25")
-      ->capture_default_str();
+  slice_cmd->add_option("--plane", slice.plane,
+                        "Plane as axis=position in the length unit, e.g. x=0.25 (default: x = (L1+L2)/8 for "
+                        "parallel-12r, z through the pose for pathos2)");
   slice_cmd->add_option("--extent", slice.extent,
-                        "u_min,u_max,v_min,v_max of the plane's axes (x: y,z; y: x,z; z: x,y); default +-(L1+L2)")
+                        "u_min,u_max,v_min,v_max of the plane's axes (x: y,z; y: x,z; z: x,y); default the "
+                        "mechanism's box (+-(L1+L2); pathos2: +-0.6(l2+l3) around the mid-plane)")
       ->delimiter(',')
       ->expected(4);
   slice_cmd->add_option("--size", slice.size, "Samples along u and v, WIDTHxHEIGHT")->capture_default_str();
   slice_cmd->add_option("--field", slice.field,
-                        "Field to colour: cond, reach, residual, iterations, status, method (IK method used per sample)")
+                        "Field to colour: cond (c(J); pathos2: cond(Jp)), cond_jo (pathos2: cond(Jo)), reach, residual, "
+                        "iterations, status, method (IK method used per sample)")
       ->capture_default_str();
-  slice_cmd->add_option("--contour", slice.contours, "c(J) levels drawn as contour lines (comma list)")
+  slice_cmd->add_option("--contour", slice.contours,
+                        "Condition-number levels drawn as contour lines (comma list; of cond_jo when that is shown)")
       ->delimiter(',')
       ->capture_default_str();
   slice_cmd->add_option("--range", slice.range, "Colour range min,max (default: 1,10 for cond; data range otherwise)")
@@ -147,7 +161,7 @@ int run(int argc, char** argv) {
       "field", "Sample c(J), reach margin and diagnostics on a 3-D grid; write VTK .vti or CSV");
   add_sampling_options(*field_cmd, field.sampling);
   field_cmd->add_option("--resolution", field.resolution, "Samples per axis: N or NXxNYxNZ")->capture_default_str();
-  field_cmd->add_option("--box", field.box, "x_min,x_max,y_min,y_max,z_min,z_max; default the cube +-(L1+L2)")
+  field_cmd->add_option("--box", field.box, "x_min,x_max,y_min,y_max,z_min,z_max; default the mechanism's box (+-(L1+L2); pathos2: +-0.6(l2+l3) around (0,0,l0/2))")
       ->delimiter(',')
       ->expected(6);
   field_cmd->add_option("-o,--output", field.output, "Output: .vti (ParaView) or .csv")->required();
@@ -160,13 +174,24 @@ int run(int argc, char** argv) {
                        "reach (boundary of the reachable set) or cond<T (well-conditioned region, e.g. cond<3)")
       ->capture_default_str();
   mesh_cmd->add_option("--resolution", mesh.resolution, "Samples per axis: N or NXxNYxNZ")->capture_default_str();
-  mesh_cmd->add_option("--box", mesh.box, "x_min,x_max,y_min,y_max,z_min,z_max; default the cube +-(L1+L2)")
+  mesh_cmd->add_option("--box", mesh.box, "x_min,x_max,y_min,y_max,z_min,z_max; default the mechanism's box (+-(L1+L2); pathos2: +-0.6(l2+l3) around (0,0,l0/2))")
       ->delimiter(',')
       ->expected(6);
   mesh_cmd->add_option("--decimate", mesh.decimate,
                        "Simplify the mesh; the largest allowed deviation in the length unit (0 = off)")
       ->capture_default_str();
   mesh_cmd->add_option("-o,--output", mesh.output, "Output: .stl, .obj, .ply, .off or .vtp")->required();
+
+  DesignOptions design;
+  CLI::App* design_cmd = app.add_subcommand(
+      "design", "PATHOS-II design study: the Table 2 grid search (cost G of Eq. 21 over l2, l3, lp, Rz) and the "
+                "l0 sweep of Fig. 6; writes CSV tables and a chart, prints the best design");
+  add_mechanism_options(*design_cmd, design.mechanism);
+  design_cmd->add_option("--table", design.table, "The search, one row per design (.csv)");
+  design_cmd->add_option("--sweep", design.sweep, "Movable ranges against l0 from 40 to 55 cm (.csv)");
+  design_cmd->add_option("--chart", design.chart, "Both as a chart (.png, .svg, .pdf)");
+  design_cmd->add_flag("--quick", design.quick, "A coarse grid (a smoke test, not the paper's Table 2)");
+  design_cmd->add_flag("-q,--quiet", design.quiet, "No progress line on stderr");
 
   BenchOptions bench;
   CLI::App* bench_cmd = app.add_subcommand(
@@ -215,6 +240,13 @@ int run(int argc, char** argv) {
   if (mesh_cmd->parsed()) {
     QCoreApplication qt(argc, argv);
     run_mesh(mesh, std::cout);
+    return 0;
+  }
+  if (design_cmd->parsed()) {
+    // The chart draws text with QPainter: offscreen platform, no display.
+    if (!std::getenv("QT_QPA_PLATFORM")) setenv("QT_QPA_PLATFORM", "offscreen", 1);
+    QGuiApplication qt(argc, argv);
+    run_design(design, std::cout);
     return 0;
   }
   if (bench_cmd->parsed()) {

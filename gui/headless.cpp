@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <functional>
 #include <fstream>
 #include <numbers>
 #include <iostream>
@@ -13,6 +14,8 @@
 #include "core/csv.h"
 #include "core/field.h"
 #include "core/parallel12r.h"
+#include "core/pathos2.h"
+#include "core/pathos2_field.h"
 #include "core/preset.h"
 #include "gui/slice_figure.h"
 #include "render/field_vtk.h"
@@ -79,6 +82,68 @@ void write_fk(const parallel12r::Model& model, const Table& table, std::ostream&
   }
 }
 
+// PATHOS-II pose IK: one row per pose, the active angles and both condition
+// numbers, or the status and the first failing leg (1-based).
+void write_pathos2_ik(const pathos2::Geometry& g, const Table& table, std::ostream& out) {
+  const char* names[] = {"x", "y", "z", "rx", "ry", "rz", "h0"};
+  std::array<std::size_t, 7> col{};
+  for (int k = 0; k < 7; ++k) col[k] = table.column(names[k]);
+  out << "x,y,z,rx,ry,rz,h0,status,failing_leg,q1,q2,q3,q4,q5,q6,cond_jp,cond_jo\n";
+  for (const auto& row : table.rows) {
+    std::string line;
+    for (int k = 0; k < 7; ++k) line += cell(row[col[k]]) + ",";
+    if (!(row[col[6]] > 0)) {
+      out << line << "invalid-grip,,,,,,,,,\n";
+      continue;
+    }
+    const pathos2::Pose pose =
+        pathos2::Pose::from_xyz_rpy(row[col[0]], row[col[1]], row[col[2]], row[col[3]], row[col[4]], row[col[5]], row[col[6]]);
+    const pathos2::PoseIkResult ik = pathos2::inverse(g, pose);
+    out << line << to_string(ik.status) << "," << (ik.failing_leg >= 0 ? std::to_string(ik.failing_leg + 1) : "");
+    if (ik.status == Status::Ok) {
+      const pathos2::JacobianResult J = pathos2::jacobian(g, pose, ik);
+      for (int i = 0; i < 6; ++i) out << "," << cell(ik.q_active(i));
+      out << "," << cell(J.cond_p) << "," << cell(J.cond_o) << "\n";
+    } else {
+      out << ",,,,,,,,\n";
+    }
+  }
+}
+
+// PATHOS-II numerical FK: damped Newton from the previous row's pose (the
+// home pose for the first row, and after a row that failed), so a sampled
+// trajectory is tracked.
+void write_pathos2_fk(const pathos2::Geometry& g, const Table& table, std::ostream& out) {
+  const char* names[] = {"q1", "q2", "q3", "q4", "q5", "q6", "h0"};
+  std::array<std::size_t, 7> col{};
+  for (int k = 0; k < 7; ++k) col[k] = table.column(names[k]);
+  out << "q1,q2,q3,q4,q5,q6,h0,status,x,y,z,rx,ry,rz,iterations,residual\n";
+  const pathos2::Pose home = pathos2::home_pose(g.model);
+  pathos2::Pose seed = home;
+  for (const auto& row : table.rows) {
+    pathos2::Vector6d q;
+    for (int i = 0; i < 6; ++i) q(i) = row[col[i]];
+    const double h0 = row[col[6]];
+    for (int k = 0; k < 7; ++k) out << cell(row[col[k]]) << ",";
+    if (!q.allFinite() || !(h0 > 0)) {
+      out << "invalid-input,,,,,,,,\n";
+      continue;
+    }
+    seed.h0 = h0;
+    const pathos2::FkResult fk = pathos2::forward_numeric(g, q, h0, seed);
+    out << to_string(fk.status);
+    if (fk.status == Status::Ok) {
+      const Eigen::Vector3d p = fk.pose.p_world_E, rpy = fk.pose.rpy();
+      for (double v : {p.x(), p.y(), p.z(), rpy.x(), rpy.y(), rpy.z()}) out << "," << cell(v);
+      seed = fk.pose;
+    } else {
+      out << ",,,,,,";
+      seed = home;
+    }
+    out << "," << fk.iterations << "," << cell(fk.residual) << "\n";
+  }
+}
+
 }  // namespace
 
 void run_eval(const EvalOptions& o, std::istream& stdin_stream, std::ostream& stdout_stream) {
@@ -89,13 +154,22 @@ void run_eval(const EvalOptions& o, std::istream& stdin_stream, std::ostream& st
   if (!(o.tolerance > 0)) throw std::invalid_argument("eval: --tolerance must be positive");
   Preset preset = load_preset(o.mechanism.mechanism);
   apply_overrides(preset, o.mechanism.params);
-  const parallel12r::Model model = make_parallel12r(preset);
-  parallel12r::parse_ik_method(o.method);  // reject a bad name before reading input
-  const Table table = read_input(o.ik_file.empty() ? o.fk_file : o.ik_file, stdin_stream);
-
   std::ostringstream result;
-  if (!o.ik_file.empty()) write_ik(model, table, o, result);
-  else write_fk(model, table, result);
+  if (preset.mechanism == pathos2::kMechanismName) {
+    if (o.method != "planar" || o.branch || o.seed)
+      throw std::invalid_argument("eval: --method, --branch and --seed apply to parallel-12r; pathos2 uses its "
+                                  "closed-form IK with the preset's branch_1..branch_6");
+    const pathos2::Geometry geometry = pathos2::make_geometry(make_pathos2(preset));
+    const Table table = read_input(o.ik_file.empty() ? o.fk_file : o.ik_file, stdin_stream);
+    if (!o.ik_file.empty()) write_pathos2_ik(geometry, table, result);
+    else write_pathos2_fk(geometry, table, result);
+  } else {
+    const parallel12r::Model model = make_parallel12r(preset);
+    parallel12r::parse_ik_method(o.method);  // reject a bad name before reading input
+    const Table table = read_input(o.ik_file.empty() ? o.fk_file : o.ik_file, stdin_stream);
+    if (!o.ik_file.empty()) write_ik(model, table, o, result);
+    else write_fk(model, table, result);
+  }
 
   if (o.output == "-") {
     stdout_stream << result.str();
@@ -112,10 +186,99 @@ void run_eval(const EvalOptions& o, std::istream& stdin_stream, std::ostream& st
 
 namespace {
 
-parallel12r::Model load_model(const MechanismChoice& choice) {
-  Preset preset = load_preset(choice.mechanism);
-  apply_overrides(preset, choice.params);
-  return make_parallel12r(preset);
+// What the sampling commands need of the chosen mechanism.
+struct Sampling {
+  std::string mechanism, length_unit;
+  Eigen::Vector3d box_min, box_max;  // default sampling box
+  Eigen::Vector3d focus;             // the default slice plane passes through it
+  std::function<std::optional<Field>(const Grid&, const FieldProgress&)> sample;
+  std::optional<double> analytic_reach_volume;  // of the reach mesh, where known
+};
+
+std::vector<double> parse_numbers(const std::string& text, std::size_t count, const std::string& what) {
+  std::vector<double> v;
+  std::stringstream ss(text);
+  std::string part;
+  while (std::getline(ss, part, ',')) {
+    std::size_t used = 0;
+    double x = 0;
+    try {
+      x = std::stod(part, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != part.size() || !std::isfinite(x)) throw std::invalid_argument(what + ", got '" + text + "'");
+    v.push_back(x);
+  }
+  if (v.size() != count) throw std::invalid_argument(what + ", got '" + text + "'");
+  return v;
+}
+
+// Volume of the reachable set when the actuator ranges do not cut it: the
+// shell between the spheres |L1 - L2| and L1 + L2.
+std::optional<double> analytic_reach_volume(const parallel12r::Model& m) {
+  const parallel12r::Model full;
+  const bool full_ranges = m.alpha_limits.lo <= full.alpha_limits.lo && m.alpha_limits.hi >= full.alpha_limits.hi &&
+                           m.beta_limits.lo <= full.beta_limits.lo && m.beta_limits.hi >= full.beta_limits.hi &&
+                           m.gamma_limits.lo <= full.gamma_limits.lo && m.gamma_limits.hi >= full.gamma_limits.hi;
+  if (!full_ranges) return std::nullopt;
+  const double R = m.reach(), r = m.inner_reach();
+  return 4.0 / 3.0 * std::numbers::pi * (R * R * R - r * r * r);
+}
+
+Sampling make_sampling(const SamplingOptions& s) {
+  Preset preset = load_preset(s.mechanism.mechanism);
+  apply_overrides(preset, s.mechanism.params);
+  Sampling out;
+  out.mechanism = preset.mechanism;
+  if (preset.mechanism == pathos2::kMechanismName) {
+    if (s.method != "planar" || s.branch != 0)
+      throw std::invalid_argument("--method and --branch apply to parallel-12r; pathos2 uses its closed-form IK "
+                                  "with the preset's branch_1..branch_6");
+    const pathos2::Model model = make_pathos2(preset);
+    pathos2::Pose pose = pathos2::home_pose(model);
+    if (!s.pose.empty()) {
+      const auto v = parse_numbers(s.pose, 7, "--pose expects x,y,z,rx,ry,rz,h0 (cm, rad, cm)");
+      if (!(v[6] > 0)) throw std::invalid_argument("--pose: the grip h0 must be > 0, got " + std::to_string(v[6]));
+      pose = pathos2::Pose::from_xyz_rpy(v[0], v[1], v[2], v[3], v[4], v[5], v[6]);
+    }
+    pathos2::FieldRequest request;
+    request.rpy = pose.rpy();
+    request.h0 = pose.h0;
+    out.length_unit = "cm";
+    // The workspace spans about half the leg reach l2 + l3 each way (13.8 cm
+    // along x for Table 1); 0.6 (l2 + l3) leaves room, and mesh reports a
+    // surface cut by the box as not watertight.
+    const double half = 0.6 * (model.l2 + model.l3);
+    const Eigen::Vector3d centre(0, 0, model.l0 / 2);
+    out.box_min = centre - Eigen::Vector3d::Constant(half);
+    out.box_max = centre + Eigen::Vector3d::Constant(half);
+    out.focus = pose.p_world_E;
+    out.sample = [model, request](const Grid& grid, const FieldProgress& progress) {
+      pathos2::FieldRequest r = request;
+      r.grid = grid;
+      return pathos2::compute_field(model, r, progress);
+    };
+    return out;
+  }
+  if (!s.pose.empty()) throw std::invalid_argument("--pose applies to pathos2");
+  if (s.branch != 0 && s.branch != 1) throw std::invalid_argument("--branch must be 0 or 1");
+  const parallel12r::Model model = make_parallel12r(preset);
+  FieldRequest request;
+  request.method = parallel12r::parse_ik_method(s.method);
+  request.branch = s.branch;
+  const double r = model.reach();
+  out.length_unit = model.length_unit;
+  out.box_min = Eigen::Vector3d::Constant(-r);
+  out.box_max = Eigen::Vector3d::Constant(r);
+  out.focus = Eigen::Vector3d(0.125 * r, 0, 0);  // x = 0.25 for L1 = L2 = 1, as in the paper's Fig. 5
+  out.analytic_reach_volume = analytic_reach_volume(model);
+  out.sample = [model, request](const Grid& grid, const FieldProgress& progress) {
+    FieldRequest q = request;
+    q.grid = grid;
+    return compute_field(model, q, progress);
+  };
+  return out;
 }
 
 std::string extension_of(const std::string& path) { return std::filesystem::path(path).extension().string(); }
@@ -143,17 +306,8 @@ std::array<int, 3> parse_resolution(const std::string& text) {
   throw std::invalid_argument("--resolution expects N or NXxNYxNZ (each >= 2), got '" + text + "'");
 }
 
-FieldRequest make_request(const SamplingOptions& s, const Grid& grid) {
-  FieldRequest r;
-  r.grid = grid;
-  r.method = parallel12r::parse_ik_method(s.method);
-  if (s.branch != 0 && s.branch != 1) throw std::invalid_argument("--branch must be 0 or 1");
-  r.branch = s.branch;
-  return r;
-}
-
 // Samples the field, with a progress line on an interactive stderr.
-Field sample(const parallel12r::Model& model, const FieldRequest& request, bool quiet) {
+Field sample(const Sampling& sampling, const Grid& grid, bool quiet) {
   FieldProgress progress;
   const bool show = !quiet && ::isatty(STDERR_FILENO);
   std::atomic<int> shown{-1};
@@ -162,9 +316,18 @@ Field sample(const parallel12r::Model& model, const FieldRequest& request, bool 
       const int percent = int(f * 100);
       if (percent != shown.exchange(percent)) std::cerr << "\rsampling " << percent << " %" << std::flush;
     };
-  std::optional<Field> field = compute_field(model, request, progress);
+  std::optional<Field> field = sampling.sample(grid, progress);
   if (show) std::cerr << "\r               \r";
   return std::move(*field);
+}
+
+Grid box_grid(const Sampling& sampling, const std::vector<double>& box_option, const std::string& resolution) {
+  std::vector<double> box = box_option;
+  if (box.empty())
+    box = {sampling.box_min.x(), sampling.box_max.x(), sampling.box_min.y(),
+           sampling.box_max.y(), sampling.box_min.z(), sampling.box_max.z()};
+  if (box.size() != 6) throw std::invalid_argument("--box expects x_min,x_max,y_min,y_max,z_min,z_max");
+  return Grid::box({box[0], box[2], box[4]}, {box[1], box[3], box[5]}, parse_resolution(resolution));
 }
 
 }  // namespace
@@ -176,25 +339,23 @@ void run_slice(const SliceOptions& o) {
   if (!ok_ext)
     throw std::invalid_argument("slice: --output must end in " + std::string(o.figure ? ".png, .svg or .pdf" : ".png or .csv") +
                                 ", got '" + o.output + "'");
-  const parallel12r::Model model = load_model(o.sampling.mechanism);
-  const auto eq = o.plane.find('=');
-  if (eq == std::string::npos) throw std::invalid_argument("--plane expects axis=position, e.g. x=0.25, got '" + o.plane + "'");
-  const Axis normal = parse_axis(o.plane.substr(0, eq));
-  double position = 0;
-  try {
-    std::size_t used = 0;
-    position = std::stod(o.plane.substr(eq + 1), &used);
-    if (used != o.plane.size() - eq - 1) throw std::invalid_argument("");
-  } catch (const std::exception&) {
-    throw std::invalid_argument("--plane expects axis=position, e.g. x=0.25, got '" + o.plane + "'");
-  }
+  const Sampling sampling = make_sampling(o.sampling);
+  // Default plane: x = 0.25 (L1 = L2 = 1 scale) for 12R, the x-y plane through the pose for pathos2.
+  const bool six_dof = sampling.mechanism == pathos2::kMechanismName;
+  const std::string plane =
+      !o.plane.empty() ? o.plane
+                       : (six_dof ? "z=" + format_number(sampling.focus.z()) : "x=" + format_number(sampling.focus.x()));
+  const auto eq = plane.find('=');
+  if (eq == std::string::npos) throw std::invalid_argument("--plane expects axis=position, e.g. x=0.25, got '" + plane + "'");
+  const Axis normal = parse_axis(plane.substr(0, eq));
+  const double position = parse_numbers(plane.substr(eq + 1), 1, "--plane expects axis=position, e.g. x=0.25")[0];
   std::vector<double> extent = o.extent;
-  const double r = model.reach();
-  if (extent.empty()) extent = {-r, r, -r, r};
+  const auto [au, av] = Grid::slice_axes(normal);
+  if (extent.empty())
+    extent = {sampling.box_min(int(au)), sampling.box_max(int(au)), sampling.box_min(int(av)), sampling.box_max(int(av))};
   if (extent.size() != 4) throw std::invalid_argument("--extent expects u_min,u_max,v_min,v_max");
   const auto size = parse_size(o.size, "--size");
   const Grid grid = Grid::slice(normal, position, extent[0], extent[1], extent[2], extent[3], size[0], size[1]);
-  const FieldRequest request = make_request(o.sampling, grid);
 
   render::SliceStyle style;
   style.field = o.field;
@@ -207,16 +368,18 @@ void run_slice(const SliceOptions& o) {
   }
   // Reject a bad style before sampling: check it on a tiny field of the same kind.
   if (style.field != "cond" && style.field != "reach" && style.field != "residual" && style.field != "iterations" &&
-      style.field != "status" && style.field != "method")
-    throw std::invalid_argument("--field must be cond, reach, residual, iterations, status or method, got '" + style.field +
-                                "'");
+      style.field != "status" && style.field != "method" && style.field != "cond_jo")
+    throw std::invalid_argument("--field must be cond, cond_jo, reach, residual, iterations, status or method, got '" +
+                                style.field + "'");
+  if (style.field == "cond_jo" && !six_dof)
+    throw std::invalid_argument("--field cond_jo (orientation conditioning) applies to pathos2");
   // The figure's colour bar is continuous; the categorical method colours
   // are written as a plain image or CSV (column method_used).
   if (style.field == "method" && o.figure)
     throw std::invalid_argument("--field method is written without --figure (.png image or .csv)");
   if (style.field == "method") style.log_scale = false;
 
-  const Field field = sample(model, request, o.sampling.quiet);
+  const Field field = sample(sampling, grid, o.sampling.quiet);
   if (ext == ".csv") render::write_field_csv(field, o.output);
   else if (o.figure) write_slice_figure(field, style, o.output);
   else render::write_slice_png(field, style, o.output);
@@ -227,13 +390,8 @@ void run_field(const FieldCommandOptions& o) {
   const std::string ext = extension_of(o.output);
   if (ext != ".vti" && ext != ".csv")
     throw std::invalid_argument("field: --output must end in .vti or .csv, got '" + o.output + "'");
-  const parallel12r::Model model = load_model(o.sampling.mechanism);
-  std::vector<double> box = o.box;
-  const double r = model.reach();
-  if (box.empty()) box = {-r, r, -r, r, -r, r};
-  if (box.size() != 6) throw std::invalid_argument("--box expects x_min,x_max,y_min,y_max,z_min,z_max");
-  const Grid grid = Grid::box({box[0], box[2], box[4]}, {box[1], box[3], box[5]}, parse_resolution(o.resolution));
-  const Field field = sample(model, make_request(o.sampling, grid), o.sampling.quiet);
+  const Sampling sampling = make_sampling(o.sampling);
+  const Field field = sample(sampling, box_grid(sampling, o.box, o.resolution), o.sampling.quiet);
   if (ext == ".vti") render::write_vti(field, o.output);
   else render::write_field_csv(field, o.output);
 }
@@ -257,18 +415,6 @@ render::SurfaceRequest parse_surface(const std::string& text) {
   throw std::invalid_argument("--surface expects reach or cond<T with T > 1 (e.g. cond<3), got '" + text + "'");
 }
 
-// Volume of the reachable set when the actuator ranges do not cut it: the
-// shell between the spheres |L1 - L2| and L1 + L2.
-std::optional<double> analytic_reach_volume(const parallel12r::Model& m) {
-  const parallel12r::Model full;
-  const bool full_ranges = m.alpha_limits.lo <= full.alpha_limits.lo && m.alpha_limits.hi >= full.alpha_limits.hi &&
-                           m.beta_limits.lo <= full.beta_limits.lo && m.beta_limits.hi >= full.beta_limits.hi &&
-                           m.gamma_limits.lo <= full.gamma_limits.lo && m.gamma_limits.hi >= full.gamma_limits.hi;
-  if (!full_ranges) return std::nullopt;
-  const double R = m.reach(), r = m.inner_reach();
-  return 4.0 / 3.0 * std::numbers::pi * (R * R * R - r * r * r);
-}
-
 }  // namespace
 
 void run_mesh(const MeshOptions& o, std::ostream& out) {
@@ -279,13 +425,8 @@ void run_mesh(const MeshOptions& o, std::ostream& out) {
   render::SurfaceRequest request = parse_surface(o.surface);
   if (!(o.decimate >= 0)) throw std::invalid_argument("--decimate must be >= 0");
   request.decimate_error = o.decimate;
-  const parallel12r::Model model = load_model(o.sampling.mechanism);
-  std::vector<double> box = o.box;
-  const double r = model.reach();
-  if (box.empty()) box = {-r, r, -r, r, -r, r};
-  if (box.size() != 6) throw std::invalid_argument("--box expects x_min,x_max,y_min,y_max,z_min,z_max");
-  const Grid grid = Grid::box({box[0], box[2], box[4]}, {box[1], box[3], box[5]}, parse_resolution(o.resolution));
-  const Field field = sample(model, make_request(o.sampling, grid), o.sampling.quiet);
+  const Sampling sampling = make_sampling(o.sampling);
+  const Field field = sample(sampling, box_grid(sampling, o.box, o.resolution), o.sampling.quiet);
   const vtkSmartPointer<vtkPolyData> mesh = render::extract_surface(field, request);
   const render::MeshStats s = render::mesh_stats(mesh);
   if (s.faces == 0) throw std::invalid_argument("mesh: the surface does not occur in the box (nothing written)");
@@ -293,12 +434,12 @@ void run_mesh(const MeshOptions& o, std::ostream& out) {
   out << "wrote " << o.output << ": " << s.vertices << " vertices, " << s.faces << " triangles, "
       << (s.boundary_edges == 0 && s.non_manifold_edges == 0 ? "watertight" : "NOT watertight")
       << ", Euler characteristic " << s.euler_characteristic << "\n"
-      << "volume " << s.volume << " " << model.length_unit << "^3, area " << s.area << " " << model.length_unit
+      << "volume " << s.volume << " " << sampling.length_unit << "^3, area " << s.area << " " << sampling.length_unit
       << "^2, bounds x [" << s.min.x() << ", " << s.max.x() << "] y [" << s.min.y() << ", " << s.max.y() << "] z ["
       << s.min.z() << ", " << s.max.z() << "]\n";
   if (request.surface == render::Surface::Reach)
-    if (const auto v = analytic_reach_volume(model))
-      out << "analytic volume " << *v << " " << model.length_unit << "^3 (error " << 100.0 * (s.volume - *v) / *v
+    if (const auto v = sampling.analytic_reach_volume)
+      out << "analytic volume " << *v << " " << sampling.length_unit << "^3 (error " << 100.0 * (s.volume - *v) / *v
           << " %)\n";
 }
 

@@ -33,14 +33,18 @@ void run_eval(const EvalOptions& options, std::istream& stdin_stream, std::ostre
 // Options shared by the commands that sample a field.
 struct SamplingOptions {
   MechanismChoice mechanism;
-  std::string method = "planar";
-  int branch = 0;
+  std::string method = "planar";  // parallel-12r
+  int branch = 0;                 // parallel-12r
+  // pathos2: x,y,z (cm), rx,ry,rz (rad, R = Rz Ry Rx), h0 (cm). The
+  // orientation and grip are held fixed over the grid; the position places
+  // the default slice plane. Empty: the Table 3 home pose.
+  std::string pose;
   bool quiet = false;  // no progress on stderr
 };
 
 struct SliceOptions {
   SamplingOptions sampling;
-  std::string plane = "x=0.25";  // axis=position, length unit
+  std::string plane;             // axis=position, length unit; default x=0.25 (12R), z through the pose (pathos2)
   std::vector<double> extent;    // u_min,u_max,v_min,v_max; default +-reach
   std::string size = "512x512";  // samples along u x v
   std::string field = "cond";    // cond, reach, residual, iterations, status, method

@@ -3,26 +3,19 @@
 #include <QFont>
 #include <QImage>
 #include <QPainter>
-#include <QPdfWriter>
-#include <QSvgGenerator>
 #include <vtkImageData.h>
 
 #include <cmath>
+#include <set>
 #include <cstring>
 #include <stdexcept>
 
-#include "core/atomic_file.h"
+#include "gui/painted_file.h"
 
 namespace linkscape::gui {
 namespace {
 
 const char* axis_name(Axis a) { return a == Axis::X ? "x" : a == Axis::Y ? "y" : "z"; }
-
-QString field_label(const std::string& field) {
-  if (field == "cond") return "c(J)";
-  if (field == "reach") return "reach margin";
-  return QString::fromStdString(field);
-}
 
 // Tick values: "nice" steps of 1, 2 or 5 times a power of ten, about n of them.
 std::vector<double> nice_ticks(double lo, double hi, int n) {
@@ -82,23 +75,34 @@ void draw(QPainter& p, const QSize& page, const Field& field, const render::Slic
   p.setPen(QPen(Qt::black, 1));
   p.drawRect(plot);
 
-  // Title: mechanism, parameters, what is shown and how it was computed.
+  // Title: mechanism, parameters, what is shown; subtitle: how it was computed.
+  // A six-DOF model has two dozen parameters: the title names the design
+  // lengths, the subtitle the orientation and grip held fixed; the .vti and
+  // CSV exports keep them all.
+  const bool six_dof = !field.cond_orientation.empty();
+  auto value = [&](const char* key) { return field.parameters.contains(key) ? field.parameters.at(key) : 0.0; };
   QString params;
-  for (const auto& [k, val] : field.parameters) params += QString("%1 = %2 %3, ").arg(QString::fromStdString(k)).arg(val).arg(unit);
+  for (const auto& [k, val] : field.parameters) {
+    static const std::set<std::string> design = {"l0", "l2", "l3", "lp"};
+    if (six_dof && !design.contains(k)) continue;
+    params += QString("%1 = %2 %3, ").arg(QString::fromStdString(k)).arg(val).arg(unit);
+  }
   params.chop(2);
+  const QString how = six_dof ? QString("closed-form IK at rx = %1, ry = %2, rz = %3 deg, grip h0 = %4 %5")
+                                    .arg(value("rx")).arg(value("ry")).arg(value("rz")).arg(value("h0")).arg(unit)
+                              : QString("%1 IK, branch %2").arg(QString::fromStdString(field.method)).arg(field.branch);
   QFont title_font = font;
   title_font.setBold(true);
   p.setFont(title_font);
   p.drawText(QRectF(0, 0.6 * fh, page.width(), 1.5 * fh), Qt::AlignCenter,
              QString("%1 (%2): %3 on the plane %4 = %5 %6")
-                 .arg(QString::fromStdString(field.mechanism), params, field_label(style.field), axis_name(normal))
+                 .arg(QString::fromStdString(field.mechanism), params, QString::fromStdString(render::field_title(field, style.field)), axis_name(normal))
                  .arg(position)
                  .arg(unit));
   p.setFont(font);
   p.drawText(QRectF(0, 2.0 * fh, page.width(), 1.2 * fh), Qt::AlignCenter,
-             QString("%1 IK, branch %2, %3 x %4 samples")
-                 .arg(QString::fromStdString(field.method))
-                 .arg(field.branch)
+             QString("%1, %2 x %3 samples")
+                 .arg(how)
                  .arg(g.dims[iu])
                  .arg(g.dims[iv]));
 
@@ -131,14 +135,14 @@ void draw(QPainter& p, const QSize& page, const Field& field, const render::Slic
     p.fillRect(cell, QColor::fromRgbF(c[0], c[1], c[2]));
   }
   p.drawRect(bar);
-  const bool log = style.log_scale && (style.field == "cond" || style.field == "residual");
+  const bool log = render::uses_log_scale(style);
   for (double t : bar_ticks(*style.min, *style.max, log)) {
     const double y = bar.bottom() - render::normalised_value(t, style) * bar.height();
     p.drawLine(QPointF(bar.right(), y), QPointF(bar.right() + 0.4 * fh, y));
     p.drawText(QRectF(bar.right() + 0.6 * fh, y - fh / 2.0, 4 * fh, fh), Qt::AlignLeft | Qt::AlignVCenter, QString::number(t));
   }
   p.drawText(QRectF(bar.left() - fh, bar.top() - 1.5 * fh, 6 * fh, fh), Qt::AlignLeft,
-             field_label(style.field) + (log ? " (log)" : ""));
+             QString::fromStdString(render::field_title(field, style.field)) + (log ? " (log)" : ""));
 
   // Legend under the bar; line swatches sit on a mid-tone so white shows.
   double y = bar.bottom() + 2.5 * fh;
@@ -152,7 +156,9 @@ void draw(QPainter& p, const QSize& page, const Field& field, const render::Slic
   };
   QStringList levels;
   for (double l : style.contour_levels) levels << QString::number(l);
-  if (!levels.isEmpty()) legend_line(QColor(255, 255, 255), 3, "c(J) = " + levels.join(", "));
+  if (!levels.isEmpty()) legend_line(QColor(255, 255, 255), 3,
+                QString::fromStdString(render::field_title(field, render::contour_field(style.field))) + " = " +
+                    levels.join(", "));
   if (style.draw_reach_boundary) legend_line(QColor(60, 60, 60), 3, "reach boundary");
   p.fillRect(QRectF(bar.left(), y - 0.4 * fh, 1.5 * fh, 0.8 * fh), QColor::fromRgbF(0.85, 0.85, 0.85));
   p.drawText(QRectF(bar.left() + 2 * fh, y - fh / 2.0, 8 * fh, fh), Qt::AlignLeft | Qt::AlignVCenter, "unreachable");
@@ -163,34 +169,8 @@ void draw(QPainter& p, const QSize& page, const Field& field, const render::Slic
 void write_slice_figure(const Field& field, const render::SliceStyle& style_in, const std::filesystem::path& path) {
   const render::SliceStyle style = render::resolved_style(field, style_in);
   const QImage image = slice_qimage(field, style);
-  const std::string ext = path.extension().string();
-  if (ext != ".png" && ext != ".svg" && ext != ".pdf")
-    throw std::invalid_argument("figure: output must end in .png, .svg or .pdf, got '" + path.string() + "'");
-  const QSize page(1400, 1050);
-  write_atomically(path, [&](const std::filesystem::path& tmp) {
-    const QString file = QString::fromStdString(tmp.string());
-    if (ext == ".png") {
-      QImage canvas(page, QImage::Format_RGB32);
-      QPainter p(&canvas);
-      draw(p, page, field, style, image);
-      p.end();
-      if (!canvas.save(file, "PNG")) throw std::runtime_error("cannot write '" + path.string() + "'");
-    } else if (ext == ".svg") {
-      QSvgGenerator svg;
-      svg.setFileName(file);
-      svg.setSize(page);
-      svg.setViewBox(QRect(QPoint(0, 0), page));
-      svg.setTitle("Linkscape slice");
-      QPainter p(&svg);
-      draw(p, page, field, style, image);
-    } else {  // .pdf
-      QPdfWriter pdf(file);
-      pdf.setPageSize(QPageSize(QSizeF(page.width() * 0.75, page.height() * 0.75), QPageSize::Point));
-      pdf.setPageMargins(QMarginsF(0, 0, 0, 0));
-      pdf.setResolution(96);
-      QPainter p(&pdf);
-      draw(p, QSize(pdf.width(), pdf.height()), field, style, image);
-    }
+  write_painted(path, QSize(1400, 1050), "Linkscape slice", [&](QPainter& p, const QRectF& area) {
+    draw(p, area.size().toSize(), field, style, image);
   });
 }
 

@@ -28,19 +28,6 @@ void check_opacity(const char* what, double opacity) {
 }
 
 // The colour bar's title: the quantity, with the length unit where it has one.
-std::string bar_title(const Field& field, const SliceStyle& style) {
-  const std::string unit = field.length_unit.empty() ? "" : " (" + field.length_unit + ")";
-  if (style.field == "cond") return "c(J)";
-  if (style.field == "reach") return "reach margin" + unit;
-  if (style.field == "residual") return "residual" + unit;
-  return style.field;  // iterations, status
-}
-
-// As slice_image.cpp: log10 applies to cond and residual only.
-bool bar_is_log(const SliceStyle& style) {
-  return style.log_scale && (style.field == "cond" || style.field == "residual");
-}
-
 }  // namespace
 
 FieldScene::FieldScene() {
@@ -166,8 +153,8 @@ void FieldScene::set_slice(const Field& slice, const SliceStyle& style) {
 
 void FieldScene::update_colour_bar(const Field& slice, const SliceStyle& resolved) {
   const std::array<double, 2> range = {*resolved.min, *resolved.max};
-  const bool log = bar_is_log(resolved);
-  const std::string title = bar_title(slice, resolved);
+  const bool log = uses_log_scale(resolved);
+  const std::string title = field_title(slice, resolved.field);
   if (bar_range_ && *bar_range_ == range && bar_log_ == log && bar_title_ == title) return;
   // The table's own range and scale make the bar's colours and tick labels
   // match normalised_value(): log10 spacing for cond and residual.

@@ -76,6 +76,7 @@ void check_field(const Field& field) {
   check("status", field.status.size());
   check("iterations", field.iterations.size());
   if (!field.method_used.empty()) check("method_used", field.method_used.size());  // empty: not recorded
+  if (!field.cond_orientation.empty()) check("cond_orientation", field.cond_orientation.size());  // six-DOF only
   if (!(field.grid.spacing.array() > 0).all() || !field.grid.spacing.allFinite() || !field.grid.origin.allFinite())
     throw std::invalid_argument("field: expected finite origin and positive finite spacing");
 }
@@ -100,6 +101,8 @@ vtkSmartPointer<vtkImageData> to_image_data(const Field& field) {
   image->SetOrigin(first.x(), first.y(), first.z());
   vtkPointData* pd = image->GetPointData();
   pd->AddArray(copy_array<vtkFloatArray>("cond", field.cond));
+  if (!field.cond_orientation.empty())
+    pd->AddArray(copy_array<vtkFloatArray>("cond_orientation", field.cond_orientation));
   pd->AddArray(copy_array<vtkFloatArray>("reach_margin", field.reach_margin));
   pd->AddArray(copy_array<vtkFloatArray>("residual", field.residual));
   pd->AddArray(copy_array<vtkUnsignedCharArray>("reachable", field.reachable));
@@ -131,8 +134,10 @@ void write_field_csv(const Field& field, const std::filesystem::path& path) {
   write_atomically(path, [&](const std::filesystem::path& tmp) {
     std::ofstream out(tmp, std::ios::binary);
     if (!out) throw std::runtime_error("cannot open '" + tmp.string() + "' for writing");
-    const bool with_method = !field.method_used.empty();
-    std::string chunk = "x,y,z,cond,reach_margin,residual,reachable,status,iterations";
+    const bool with_method = !field.method_used.empty(), with_orientation = !field.cond_orientation.empty();
+    std::string chunk = "x,y,z,cond,";
+    chunk += with_orientation ? "cond_orientation," : "";
+    chunk += "reach_margin,residual,reachable,status,iterations";
     chunk += with_method ? ",method_used\n" : "\n";
     for (int k = 0; k < g.dims[2]; ++k)
       for (int j = 0; j < g.dims[1]; ++j)
@@ -147,6 +152,10 @@ void write_field_csv(const Field& field, const std::filesystem::path& path) {
           chunk += ',';
           append_number(chunk, field.cond[s]);
           chunk += ',';
+          if (with_orientation) {
+            append_number(chunk, field.cond_orientation[s]);
+            chunk += ',';
+          }
           append_number(chunk, field.reach_margin[s]);
           chunk += ',';
           append_number(chunk, field.residual[s]);

@@ -37,26 +37,48 @@ constexpr std::array<unsigned char, 3> kContourColour = {255, 255, 255};
 constexpr std::array<unsigned char, 3> kBoundaryColour = {64, 64, 64};
 constexpr double kCondCap = 1e6;  // cond beyond this (and +inf) is treated as this for contours
 
-enum class Quantity { Cond, Reach, Residual, Iterations, Status, Method };
+enum class Quantity { Cond, CondOrientation, Reach, Residual, Iterations, Status, Method };
 
 Quantity parse_quantity(const std::string& name) {
   if (name == "cond") return Quantity::Cond;
+  if (name == "cond_jo") return Quantity::CondOrientation;
   if (name == "reach") return Quantity::Reach;
   if (name == "residual") return Quantity::Residual;
   if (name == "iterations") return Quantity::Iterations;
   if (name == "status") return Quantity::Status;
   if (name == "method") return Quantity::Method;
-  throw std::invalid_argument("slice style: expected field cond, reach, residual, iterations, status or method, got '" +
-                              name + "'");
+  throw std::invalid_argument(
+      "slice style: expected field cond, cond_jo, reach, residual, iterations, status or method, got '" + name + "'");
 }
 
+bool is_cond(Quantity q) { return q == Quantity::Cond || q == Quantity::CondOrientation; }
+
 bool is_log(const SliceStyle& style, Quantity q) {
-  return style.log_scale && (q == Quantity::Cond || q == Quantity::Residual);
+  return style.log_scale && (is_cond(q) || q == Quantity::Residual);
 }
+
+}  // namespace
+
+std::string field_title(const Field& field, const std::string& name) {
+  const std::string unit = field.length_unit.empty() ? "" : " (" + field.length_unit + ")";
+  const bool six_dof = !field.cond_orientation.empty();
+  if (name == "cond") return six_dof ? "cond(Jp)" : "c(J)";
+  if (name == "cond_jo") return "cond(Jo)";
+  if (name == "reach") return "reach margin" + unit;
+  if (name == "residual") return "residual" + unit;
+  return name;  // iterations, status, method
+}
+
+std::string contour_field(const std::string& name) { return name == "cond_jo" ? "cond_jo" : "cond"; }
+
+bool uses_log_scale(const SliceStyle& style) { return is_log(style, parse_quantity(style.field)); }
+
+namespace {
 
 double value_at(const Field& f, Quantity q, std::size_t s) {
   switch (q) {
     case Quantity::Cond: return f.cond[s];
+    case Quantity::CondOrientation: return f.cond_orientation[s];
     case Quantity::Reach: return f.reach_margin[s];
     case Quantity::Residual: return f.residual[s];
     case Quantity::Iterations: return f.iterations[s];
@@ -196,7 +218,9 @@ std::pair<double, double> colour_range(const Field& field, const SliceStyle& sty
   check_field(field);
   const bool log = is_log(style, q);
   double lo = 1, hi = 10;
-  if (q != Quantity::Cond && !(style.min && style.max)) {
+  if (q == Quantity::CondOrientation && field.cond_orientation.size() != field.grid.size())
+    throw std::invalid_argument("slice style: field 'cond_jo' needs a six-DOF mechanism's field (pathos2)");
+  if (!is_cond(q) && !(style.min && style.max)) {
     lo = std::numeric_limits<double>::infinity();
     hi = -lo;
     for (std::size_t s = 0; s < field.grid.size(); ++s) {
@@ -230,7 +254,7 @@ SliceStyle resolved_style(const Field& field, const SliceStyle& style) {
 
 double normalised_value(double v, const SliceStyle& style) {
   const Quantity q = parse_quantity(style.field);
-  if (q != Quantity::Cond && !(style.min && style.max))
+  if (!is_cond(q) && !(style.min && style.max))
     throw std::invalid_argument("normalised_value: expected a style with min and max for field '" + style.field +
                                 "' (use resolved_style), got none");
   const double lo = style.min.value_or(1.0), hi = style.max.value_or(10.0);
@@ -310,7 +334,7 @@ vtkSmartPointer<vtkImageData> render_slice_rgba(const Field& field, const SliceS
   if (!style.contour_levels.empty()) {
     for (int iv = 0; iv < nv; ++iv)
       for (int iu = 0; iu < nu; ++iu) {
-        const double c = field.cond[sample(iu, iv)];
+        const double c = value_at(field, parse_quantity(contour_field(style.field)), sample(iu, iv));
         values[iu + std::size_t(nu) * iv] = std::log10(std::isnan(c) ? kCondCap : std::clamp(c, 1e-30, kCondCap));
       }
     const int line = scale == 1 ? 1 : 2;

@@ -44,6 +44,15 @@ struct SliceStyle {
   unsigned char unreachable_alpha = 255;
 };
 
+// Display name of a slice field: "c(J)" (12R), "cond(Jp)" and "cond(Jo)"
+// (six-DOF mechanisms), "reach margin (cm)", "residual (cm)", else the name.
+std::string field_title(const Field& field, const std::string& name);
+// The quantity whose contours style.contour_levels draws: "cond_jo" when
+// that is shown, else "cond".
+std::string contour_field(const std::string& name);
+// Whether style.field is drawn on a log10 scale (cond, cond_jo, residual).
+bool uses_log_scale(const SliceStyle& style);
+
 // Viridis at value01 in [0, 1] (clamped; NaN gives the value at 1), RGB 0..1.
 std::array<double, 3> colour_of(double value01);
 // Categorical colour of an IK method (std::uint8_t(parallel12r::IkMethod)) in

@@ -62,7 +62,8 @@ std::vector<float> surface_scalar(const Field& field, const SurfaceRequest& requ
     const double k = 1.0 / h, top = std::log10(request.cond_threshold);
     for (std::size_t i = 0; i < n; ++i) {
       const double m = std::isnan(field.reach_margin[i]) ? -h : double(field.reach_margin[i]);
-      const double c = field.cond[i];
+      // Six-DOF mechanisms: well conditioned in position and orientation.
+      const double c = field.cond_orientation.empty() ? field.cond[i] : std::max(field.cond[i], field.cond_orientation[i]);
       if (field.reachable[i]) {
         const double cond = std::isnan(c) ? kCondCap : std::clamp(c, 1.0, kCondCap);
         s[i] = float(std::min(top - std::log10(cond), k * m));
