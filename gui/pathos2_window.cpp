@@ -53,7 +53,7 @@ QString cond_text(double c) { return std::isfinite(c) ? number(c) : QString::fro
 
 QString pose_text(const pathos2::Pose& p) {
   const Eigen::Vector3d r = p.rpy() / kDeg;
-  return QString::fromUtf8("(%1, %2, %3) cm, (%4, %5, %6)°")
+  return QString::fromUtf8("x, y, z = (%1, %2, %3) cm\nRx, Ry, Rz = (%4, %5, %6)°")
       .arg(fixed(p.p_world_E.x(), 3), fixed(p.p_world_E.y(), 3), fixed(p.p_world_E.z(), 3))
       .arg(fixed(r.x()), fixed(r.y()), fixed(r.z()));
 }
@@ -558,20 +558,20 @@ void Pathos2Window::setDrive(Drive drive) {
   pose_group_->setVisible(!fk);
   actuator_group_->setVisible(fk);
   fk_group_->setVisible(fk);
-  syncPanels();
+  syncPanels(true);
   QSettings().setValue(kDriveKey, fk ? "actuators" : "pose");
   // Both FK solutions at once for the pose shown (Newton converges at once).
   if (fk) setActuators(ik_.q_active, pose().h0);
 }
 
-void Pathos2Window::syncPanels() {
+void Pathos2Window::syncPanels(bool both) {
   const pathos2::Pose& p = pose();
   const Eigen::Vector3d rpy = p.rpy() / kDeg;
   const double pose_values[7] = {p.p_world_E.x(), p.p_world_E.y(), p.p_world_E.z(), rpy.x(), rpy.y(), rpy.z(), p.h0};
   // The panel that drives keeps what the user set; the other one follows.
-  if (drive_ == Drive::Actuators)
+  if (both || drive_ == Drive::Actuators)
     for (int i = 0; i < 7; ++i) set_quietly(pose_sliders_[i], pose_boxes_[i], pose_values[i]);
-  if (drive_ == Drive::Pose) {
+  if (both || drive_ == Drive::Pose) {
     for (int i = 0; i < 6; ++i)
       set_quietly(actuator_sliders_[i], actuator_boxes_[i], std::remainder(ik_.q_active(i), 2 * std::numbers::pi) / kDeg);
     set_quietly(actuator_sliders_[6], actuator_boxes_[6], p.h0);
@@ -586,7 +586,7 @@ void Pathos2Window::updateReadouts() {
   cond_p_label_->setText(cond_text(j.cond_p));
   cond_o_label_->setText(cond_text(j.cond_o));
   if (fk_numeric_ && fk_nine_) {
-    fk_numeric_label_->setText(tr("%1; %2 iterations, max |Δq| %3 rad")
+    fk_numeric_label_->setText(tr("%1\n%2 iterations, max |Δq| %3 rad")
                                    .arg(pose_text(fk_numeric_->pose))
                                    .arg(fk_numeric_->iterations)
                                    .arg(number(fk_numeric_->residual, 2)));
@@ -633,7 +633,6 @@ bool Pathos2Window::setModel(const pathos2::Model& m) {
     return revert(tr("This design cannot reach its home pose (leg %1: %2); design unchanged.")
                       .arg(ik.failing_leg + 1)
                       .arg(leg_problem(ik.status)));
-  const pathos2::Pose before = pose();
   scene_->set_model(m, p);
   geometry_ = std::move(g);
   ik_ = ik;
@@ -642,15 +641,8 @@ bool Pathos2Window::setModel(const pathos2::Model& m) {
   status_label_->setText(tr("ok: every leg solves"));
   status_label_->setStyleSheet("color: #1b5e20");
   set_range_quietly(pose_sliders_[2], pose_boxes_[2], 0.0, m.l0);
-  // Both panels follow the new pose (the actuator angles change with the design).
-  const Drive drive = drive_;
-  drive_ = Drive::Actuators;
-  syncPanels();
-  drive_ = Drive::Pose;
-  syncPanels();
-  drive_ = drive;
+  syncPanels(true);  // the actuator angles change with the design
   updateReadouts();
-  (void)before;
   requestFields(true, true);
   view_->update();
   emit poseChanged();

@@ -90,7 +90,8 @@ class Pathos2Window : public QMainWindow {
   QWidget* buildFieldPanel();
   void refuse(const QString& why, int failing_leg);
   void accept(const pathos2::Pose& pose, const pathos2::PoseIkResult& ik);
-  void syncPanels();
+  // The panel that is not driving follows the pose; `both`: both panels.
+  void syncPanels(bool both = false);
   void updateReadouts();
   pathos2::Model modelFromDesignPanel() const;
   pathos2::Pose poseFromPanel() const;

@@ -1,0 +1,246 @@
+// The PATHOS-II window, driven as a user drives it: pose sliders (IK),
+// actuator sliders (numerical FK beside the nine-sensor closed form), design
+// sliders and the live fields; checks both the model and the picture.
+#include <QCheckBox>
+#include <QComboBox>
+#include <QDoubleSpinBox>
+#include <QElapsedTimer>
+#include <QLabel>
+#include <QSignalSpy>
+#include <QSlider>
+#include <QtTest>
+#include <vtkImageData.h>
+#include <vtkImageDifference.h>
+#include <vtkNew.h>
+#include <vtkPNGReader.h>
+
+#include <cstring>
+#include <numbers>
+
+#include "core/pathos2.h"
+#include "core/preset.h"
+#include "gui/pathos2_window.h"
+#include "gui/vtk_widget.h"
+#include "render/field_scene.h"
+#include "render/pathos2_scene.h"
+
+using namespace linkscape;
+using linkscape::gui::Pathos2Window;
+
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+// The numerical FK converges to 1e-12 rad in the actuator angles; the
+// nine-sensor closed form is exact up to rounding. Both poses must agree far
+// below anything visible: 1e-6 cm.
+constexpr double kFkAgreementCm = 1e-6;
+// A field request must return to the event loop at once (the work is on a
+// worker thread); a blocked GUI thread would take the whole slice time.
+constexpr qint64 kNonBlockingMs = 150;
+
+// Fraction of pixels that differ by more than a small tolerance per channel.
+double changed_fraction(const QImage& a, const QImage& b) {
+  if (a.size() != b.size()) return 1.0;
+  int changed = 0;
+  for (int y = 0; y < a.height(); ++y)
+    for (int x = 0; x < a.width(); ++x) {
+      const QRgb p = a.pixel(x, y), q = b.pixel(x, y);
+      if (std::abs(qRed(p) - qRed(q)) + std::abs(qGreen(p) - qGreen(q)) + std::abs(qBlue(p) - qBlue(q)) > 24)
+        ++changed;
+    }
+  return double(changed) / (a.width() * a.height());
+}
+
+QImage frame(Pathos2Window& w) {
+  w.view()->update();
+  QTest::qWait(60);
+  return w.view()->grabFramebuffer().convertToFormat(QImage::Format_RGB888);
+}
+
+void wait_settled(Pathos2Window& w) {
+  QTRY_VERIFY_WITH_TIMEOUT(w.fieldsSettled(), 20000);
+  QTest::qWait(50);
+}
+
+void show_fields(Pathos2Window& w, bool slice, bool reach) {
+  w.findChild<QCheckBox*>("showSliceBox")->setChecked(slice);
+  w.findChild<QCheckBox*>("showReachBox")->setChecked(reach);
+}
+
+vtkSmartPointer<vtkImageData> to_vtk(const QImage& rgb) {
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->SetDimensions(rgb.width(), rgb.height(), 1);
+  image->AllocateScalars(VTK_UNSIGNED_CHAR, 3);
+  auto* dst = static_cast<unsigned char*>(image->GetScalarPointer());
+  for (int y = 0; y < rgb.height(); ++y)  // VTK rows go up
+    std::memcpy(dst + std::size_t(y) * rgb.width() * 3, rgb.constScanLine(rgb.height() - 1 - y), rgb.width() * 3);
+  return image;
+}
+
+// Compares with tests/gui/baselines/<name>.png using vtkImageDifference (the
+// VTK regression-test metric, which tolerates one-pixel shifts). A missing
+// baseline is written next to the test binary and the check fails, so that a
+// new baseline is looked at before it is committed.
+void compare_with_baseline(const QImage& image, const QString& name, double threshold) {
+  const QString baseline = QString(LINKSCAPE_BASELINES) + "/" + name + ".png";
+  const QString produced = QDir::currentPath() + "/" + name + ".png";
+  image.save(produced);
+  if (!QFile::exists(baseline)) QFAIL(qPrintable("no baseline " + baseline + "; wrote " + produced));
+  vtkNew<vtkPNGReader> reader;
+  reader->SetFileName(baseline.toStdString().c_str());
+  reader->Update();
+  vtkNew<vtkImageDifference> diff;
+  diff->SetInputData(to_vtk(image));
+  diff->SetImageConnection(reader->GetOutputPort());
+  diff->Update();
+  const double error = diff->GetThresholdedError();
+  qInfo("%s: thresholded error %.3f (limit %.1f)", qPrintable(name), error, threshold);
+  QVERIFY2(error <= threshold, qPrintable(QString("%1 differs from its baseline: error %2 > %3; see %4")
+                                              .arg(name).arg(error).arg(threshold).arg(produced)));
+}
+
+}  // namespace
+
+class Pathos2WindowTest : public QObject {
+  Q_OBJECT
+
+ private slots:
+  void init() { QSettings().clear(); }
+
+  void poseSlidersMoveTheModelAndThePicture() {
+    Pathos2Window w(load_preset("pathos2"));
+    w.resize(1200, 800);
+    w.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    show_fields(w, false, false);
+    wait_settled(w);
+    const QImage before = frame(w);
+    auto* q1 = w.findChild<QLabel*>("q1Label");
+    QVERIFY(q1);
+    const QString q1_before = q1->text();
+
+    w.findChild<QSlider*>("xSlider")->setValue(300);  // 3 cm
+    QCOMPARE(w.pose().p_world_E.x(), 3.0);
+    QCOMPARE(w.ik().status, Status::Ok);
+    QVERIFY(q1->text() != q1_before);
+    // The legs follow the IK of the pose shown.
+    const pathos2::PoseIkResult expected = pathos2::inverse(w.model(), w.pose());
+    QVERIFY((expected.q_active - w.activeAngles()).cwiseAbs().maxCoeff() < 1e-12);
+    QVERIFY((w.scene().skeleton().p_world_E - w.pose().p_world_E).norm() < 1e-12);
+    QVERIFY2(changed_fraction(before, frame(w)) > 0.002, "moving x did not change the picture");
+
+    w.findChild<QDoubleSpinBox*>("rxBox")->setValue(10.0);
+    QVERIFY(std::abs(w.pose().rpy().x() - 10.0 * kDeg) < 1e-12);
+    QCOMPARE(w.findChild<QSlider*>("rxSlider")->value(), 1000);
+  }
+
+  void unreachablePoseKeepsTheLastValidPoseAndNamesTheLeg() {
+    Pathos2Window w(load_preset("pathos2"));
+    w.resize(1200, 800);
+    w.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    show_fields(w, false, false);
+    const pathos2::Pose valid = w.pose();
+    auto* status = w.findChild<QLabel*>("poseStatus");
+    QVERIFY(status);
+
+    w.findChild<QDoubleSpinBox*>("zBox")->setValue(42.0);  // next to the upper base plate
+    const pathos2::PoseIkResult ik = pathos2::inverse(w.model(), pathos2::Pose::from_xyz_rpy(
+                                                                     0, 0, 42.0, 0, 0, 30 * kDeg, valid.h0));
+    QVERIFY(ik.status != Status::Ok);
+    QVERIFY((w.pose().p_world_E - valid.p_world_E).norm() == 0.0);
+    const QString expected = QString("leg %1: ").arg(ik.failing_leg + 1);
+    QVERIFY2(w.refusal().startsWith(expected), qPrintable(w.refusal()));
+    QVERIFY(w.refusal().contains("unreachable") || w.refusal().contains("singular") ||
+            w.refusal().contains("out of limits"));
+    QCOMPARE(status->text(), w.refusal());
+    QCOMPARE(w.scene().highlighted_leg(), ik.failing_leg);
+
+    // A reachable pose is taken again and clears the message and highlight.
+    w.findChild<QDoubleSpinBox*>("zBox")->setValue(24.0);
+    QCOMPARE(w.pose().p_world_E.z(), 24.0);
+    QVERIFY(w.refusal().isEmpty());
+    QCOMPARE(w.scene().highlighted_leg(), -1);
+  }
+
+  void actuatorSlidersMoveThePlatesByNumericalFk() {
+    Pathos2Window w(load_preset("pathos2"));
+    w.resize(1200, 800);
+    w.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    show_fields(w, false, false);
+    wait_settled(w);
+    w.setDrive(Pathos2Window::Drive::Actuators);
+    QVERIFY(w.findChild<QSlider*>("q1Slider")->isVisible());
+    QVERIFY(!w.findChild<QSlider*>("xSlider")->isVisible());
+    const QImage before = frame(w);
+    const pathos2::Pose start = w.pose();
+    auto* q1 = w.findChild<QDoubleSpinBox*>("q1Box");
+    auto* q5 = w.findChild<QDoubleSpinBox*>("q5Box");
+    QVERIFY(q1 && q5);
+    const double q1_target = q1->value() + 6.0, q5_target = q5->value() - 4.0;
+    q1->setValue(q1_target);
+    q5->setValue(q5_target);
+    QVERIFY2(w.refusal().isEmpty(), qPrintable(w.refusal()));
+    QVERIFY((w.pose().p_world_E - start.p_world_E).norm() > 0.1);  // the plates moved
+    QVERIFY(std::abs(std::remainder(w.activeAngles()(0) - q1_target * kDeg, 2 * std::numbers::pi)) < 1e-9);
+    QVERIFY(std::abs(std::remainder(w.activeAngles()(4) - q5_target * kDeg, 2 * std::numbers::pi)) < 1e-9);
+    QVERIFY(w.numericFk() && w.nineSensorFk());
+    QCOMPARE(w.numericFk()->status, Status::Ok);
+    QCOMPARE(w.nineSensorFk()->status, Status::Ok);
+    const double dp = (w.numericFk()->pose.p_world_E - w.nineSensorFk()->pose.p_world_E).norm();
+    QVERIFY2(dp < kFkAgreementCm, qPrintable(QString("numerical and nine-sensor FK differ by %1 cm").arg(dp)));
+    QVERIFY((w.numericFk()->pose.R_world_E - w.nineSensorFk()->pose.R_world_E).norm() < 1e-8);
+    QVERIFY(w.findChild<QLabel*>("fkDifferenceLabel")->text().contains("cm"));
+    // The pose panel follows, so switching back continues from here.
+    QVERIFY(std::abs(w.findChild<QDoubleSpinBox*>("xBox")->value() - w.pose().p_world_E.x()) < 0.006);
+    QVERIFY2(changed_fraction(before, frame(w)) > 0.002, "moving actuators did not change the picture");
+  }
+
+  void designSliderRecomputesTheSliceCoarseThenFine() {
+    Pathos2Window w(load_preset("pathos2"));
+    w.resize(1200, 800);
+    w.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    wait_settled(w);
+    QVERIFY(w.fieldScene().slice_visible());
+    QVERIFY(w.fieldScene().surface_faces(render::Surface::Reach) > 0);
+    QCOMPARE(w.fieldScene().colour_bar_title().substr(0, 8), std::string("cond(Jp)"));
+    QSignalSpy slices(&w, &Pathos2Window::sliceUpdated);
+    QElapsedTimer timer;
+    timer.start();
+    w.findChild<QDoubleSpinBox*>("l2Box")->setValue(15.0);
+    const qint64 returned_after = timer.elapsed();
+    QVERIFY2(returned_after < kNonBlockingMs, qPrintable(QString("the design change blocked for %1 ms").arg(returned_after)));
+    QCOMPARE(w.model().l2, 15.0);
+    QVERIFY(!w.fieldsSettled());
+    wait_settled(w);
+    QVERIFY(slices.size() >= 2);
+    QCOMPARE(slices.first().at(0).toBool(), false);  // coarse first
+    QCOMPARE(slices.last().at(0).toBool(), true);    // then full resolution
+
+    // cond(Jo) on the same slice (render accepts "cond_jo" for six-DOF fields).
+    w.findChild<QComboBox*>("fieldBox")->setCurrentIndex(1);
+    QCOMPARE(w.fieldScene().colour_bar_title().substr(0, 8), std::string("cond(Jo)"));
+  }
+
+  void homeMatchesBaseline() {
+    Pathos2Window w(load_preset("pathos2"));
+    w.resize(1200, 800);
+    w.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    wait_settled(w);
+    compare_with_baseline(frame(w), "pathos2_home", 10.0);
+  }
+};
+
+int main(int argc, char** argv) {
+  QSurfaceFormat::setDefaultFormat(gui::VtkWidget::defaultFormat());
+  QApplication app(argc, argv);
+  QApplication::setOrganizationName("LinkscapeTests");
+  QApplication::setApplicationName("pathos2_window_tests");
+  Pathos2WindowTest test;
+  return QTest::qExec(&test, argc, argv);
+}
+
+#include "test_pathos2_window.moc"
