@@ -47,7 +47,11 @@ constexpr int kPositionSteps = 400;
 const char* const kDriveKey = "pathos2/drive";
 
 QString number(double v, int precision = 4) { return QString::number(v, 'g', precision); }
-QString fixed(double v, int decimals = 2) { return QString::number(v, 'f', decimals); }
+// Fixed-point text; values that round to zero print as 0, never -0.
+QString fixed(double v, int decimals = 2) {
+  if (std::abs(v) < 0.5 * std::pow(10.0, -decimals)) v = 0.0;
+  return QString::number(v, 'f', decimals);
+}
 
 QString cond_text(double c) { return std::isfinite(c) ? number(c) : QString::fromUtf8("∞ (singular)"); }
 

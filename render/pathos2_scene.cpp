@@ -212,7 +212,7 @@ void Pathos2Scene::set_model(const pathos2::Model& model, const pathos2::Pose& p
   for (int i = 0; i < kLegCount; ++i) {
     const Eigen::Vector3d& r1 = geometry_.p_world_B[i];
     const Eigen::Vector3d radial = Eigen::Vector3d(r1.x(), r1.y(), 0).normalized();
-    const Eigen::Vector3d at = r1 + 4.5 * radial + Eigen::Vector3d(0, 0, i < 3 ? -0.5 : 1.5);
+    const Eigen::Vector3d at = r1 + 4.5 * radial + Eigen::Vector3d(0, 0, i < 3 ? -0.5 : 3.0);
     labels_[i]->SetPosition(at.x(), at.y(), at.z());
   }
   const double axes = 0.22 * l0;
@@ -289,7 +289,7 @@ void Pathos2Scene::reset_camera(vtkRenderer* renderer) const {
   camera->SetViewUp(0.0, 0.0, 1.0);
   // Frame the device's box with its leg numbers (not its bounding sphere,
   // which leaves margins).
-  double bounds[6] = {-radius, radius, -radius, radius, -4.0, l0 + 3.0};
+  double bounds[6] = {-radius, radius, -radius, radius, -4.0, l0 + 4.5};
   renderer->ResetCamera(bounds);
   camera->Zoom(1.12);
   renderer->ResetCameraClippingRange();
