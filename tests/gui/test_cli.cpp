@@ -14,44 +14,11 @@
 #include "core/csv.h"
 #include "core/parallel12r.h"
 #include "core/reference_12r.h"
+#include "cli_runner.h"
 
-namespace fs = std::filesystem;
 using linkscape::testing::ConfigurationSampler;
 using linkscape::testing::paper_forward;
 
-namespace {
-
-struct CommandResult {
-  int exit_code = -1;
-  std::string out;  // stdout and stderr
-};
-
-// Runs the binary with `args`; `environment` is prefixed as in a shell.
-CommandResult run_linkscape(const std::string& args, const std::string& environment = "") {
-  CommandResult r;
-  const std::string command = environment + " " + std::string(LINKSCAPE_BINARY) + " " + args + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  char buffer[4096];
-  while (std::size_t n = fread(buffer, 1, sizeof buffer, pipe)) r.out.append(buffer, n);
-  const int status = pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-fs::path temp_file(const std::string& name, const std::string& content) {
-  const fs::path dir = fs::temp_directory_path() / "linkscape_cli_tests";
-  fs::create_directories(dir);
-  const fs::path p = dir / name;
-  std::ofstream(p) << content;
-  return p;
-}
-
-linkscape::Table parse(const std::string& csv) {
-  std::istringstream in(csv);
-  return linkscape::read_csv(in, "output");
-}
-
-}  // namespace
 
 TEST(Cli, EvalInverseAgreesWithIndependentForwardForEveryMethod) {
   // Targets from random configurations of L1 = 1, L2 = 1.3 plus two points

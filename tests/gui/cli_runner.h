@@ -1,0 +1,77 @@
+// Runs the linkscape binary as a user does, for the command-line tests.
+#pragma once
+
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/csv.h"
+
+namespace fs = std::filesystem;
+
+namespace cli_runner {
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string out;  // stdout and stderr
+};
+
+// Runs the binary with `args`; `environment` is prefixed as in a shell.
+inline CommandResult run_linkscape(const std::string& args, const std::string& environment = "") {
+  CommandResult r;
+  const std::string command = environment + " " + std::string(LINKSCAPE_BINARY) + " " + args + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  char buffer[4096];
+  while (std::size_t n = fread(buffer, 1, sizeof buffer, pipe)) r.out.append(buffer, n);
+  const int status = pclose(pipe);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+inline fs::path temp_file(const std::string& name, const std::string& content) {
+  const fs::path dir = fs::temp_directory_path() / "linkscape_cli_tests";
+  fs::create_directories(dir);
+  const fs::path p = dir / name;
+  std::ofstream(p) << content;
+  return p;
+}
+
+inline linkscape::Table parse(const std::string& csv) {
+  std::istringstream in(csv);
+  return linkscape::read_csv(in, "output");
+}
+
+// Rows of a CSV with text cells (such as a status column), keyed by header.
+inline std::vector<std::map<std::string, std::string>> parse_cells(const std::string& csv) {
+  std::istringstream in(csv);
+  std::string line;
+  std::vector<std::string> header;
+  auto split = [](const std::string& text) {
+    std::vector<std::string> cells;
+    std::stringstream ss(text);
+    std::string cell;
+    while (std::getline(ss, cell, ',')) cells.push_back(cell);
+    if (!text.empty() && text.back() == ',') cells.push_back("");
+    return cells;
+  };
+  std::getline(in, line);
+  header = split(line);
+  std::vector<std::map<std::string, std::string>> rows;
+  while (std::getline(in, line)) {
+    const auto cells = split(line);
+    std::map<std::string, std::string> row;
+    for (std::size_t k = 0; k < header.size(); ++k) row[header[k]] = k < cells.size() ? cells[k] : "";
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+}  // namespace cli_runner
+
+using namespace cli_runner;
