@@ -51,6 +51,17 @@ double changed_fraction(const QImage& a, const QImage& b) {
   return double(changed) / (a.width() * a.height());
 }
 
+// Pixels of the highlight red (the device uses no other saturated red).
+int red_pixels(const QImage& image) {
+  int n = 0;
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x) {
+      const QRgb p = image.pixel(x, y);
+      if (qRed(p) > 150 && qGreen(p) < 60 && qBlue(p) < 60) ++n;
+    }
+  return n;
+}
+
 QImage frame(Pathos2Window& w) {
   w.view()->update();
   QTest::qWait(60);
@@ -140,7 +151,9 @@ class Pathos2WindowTest : public QObject {
     w.show();
     QVERIFY(QTest::qWaitForWindowExposed(&w));
     show_fields(w, false, false);
+    wait_settled(w);
     const pathos2::Pose valid = w.pose();
+    const int red_before = red_pixels(frame(w));
     auto* status = w.findChild<QLabel*>("poseStatus");
     QVERIFY(status);
 
@@ -155,6 +168,10 @@ class Pathos2WindowTest : public QObject {
             w.refusal().contains("out of limits"));
     QCOMPARE(status->text(), w.refusal());
     QCOMPARE(w.scene().highlighted_leg(), ik.failing_leg);
+    // The failing leg is drawn in red where the user looks.
+    const QImage refused = frame(w);
+    refused.save(QDir::currentPath() + "/pathos2_refused.png");  // for inspection
+    QVERIFY2(red_pixels(refused) > red_before + 200, "the failing leg is not highlighted in the view");
 
     // A reachable pose is taken again and clears the message and highlight.
     w.findChild<QDoubleSpinBox*>("zBox")->setValue(24.0);
