@@ -278,10 +278,9 @@ Matrix3d reference_jacobian(const Model& m, const Vector3d& q) {
 }
 
 double backward_error_scale(const Model& m, const Vector3d& q) {
-  const double sa = std::sin(q.x()), ca = std::cos(q.x());
-  const double db2 = ca * ca + sa * sa * std::cos(q.y()) * std::cos(q.y());
-  const double dg2 = ca * ca + sa * sa * std::cos(q.z()) * std::cos(q.z());
-  return m.reach() + kPi * reference_jacobian(m, q).norm() + m.L1 / db2 + m.L2 / dg2;
+  // forward() writes d^2 = cos^2 a + sin^2 a cos^2 t (no cancellation), so
+  // Eqs. 11-13 add only a few u (L1 + L2) of their own.
+  return m.reach() + kPi * reference_jacobian(m, q).norm();
 }
 
 Vector3d reference_singular_values(const Matrix3d& J) {
@@ -566,13 +565,17 @@ std::vector<MethodRow> run_method_harness(const Model& m, const HarnessOptions& 
   return rows;
 }
 
-std::vector<std::size_t> pareto_front(const std::vector<MethodRow>& rows, const std::string& family) {
+std::vector<std::size_t> pareto_front(const std::vector<MethodRow>& rows, const std::string& family,
+                                      const std::string& mechanism) {
+  auto member = [&](const MethodRow& r) {
+    return r.family == family && (mechanism.empty() || r.mechanism == mechanism) && std::isfinite(r.error_median);
+  };
   std::vector<std::size_t> front;
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    if (rows[i].family != family || !std::isfinite(rows[i].error_median)) continue;
+    if (!member(rows[i])) continue;
     bool dominated = false;
     for (std::size_t j = 0; j < rows.size() && !dominated; ++j) {
-      if (j == i || rows[j].family != family || !std::isfinite(rows[j].error_median)) continue;
+      if (j == i || !member(rows[j]) || rows[j].mechanism != rows[i].mechanism) continue;
       const bool no_worse = rows[j].seconds_per_evaluation <= rows[i].seconds_per_evaluation &&
                             rows[j].error_median <= rows[i].error_median;
       const bool better = rows[j].seconds_per_evaluation < rows[i].seconds_per_evaluation ||

@@ -84,10 +84,10 @@ inline constexpr double kCentralDifferenceStep = 6.0554544523933395e-06;  // cbr
 
 // The scale B(q) (length unit) of the smallest backward error a solver working
 // in double can reach at q, in units of u = 2^-53: the rounding of the
-// target (L1 + L2), of the angles (pi |J|_F) and of Eqs. 11-13 themselves,
-// whose d^2 = 1 - sin^2 a sin^2 t cancels near the actuator plane
-// (L1 / d_beta^2 + L2 / d_gamma^2). An Ok IK solution's joint error is
-// documented as at most (residual + u B) / sigma_min(J) to first order.
+// target (L1 + L2) and of the angles (pi |J|_F); forward() evaluates
+// d^2 = cos^2 a + sin^2 a cos^2 t, which does not cancel near the actuator
+// plane. An Ok IK solution's joint error is documented as at most
+// (residual + u B) / sigma_min(J) to first order.
 double backward_error_scale(const parallel12r::Model& model, const Eigen::Vector3d& q_actuated);
 
 // ---- One IK evaluation against the reference ------------------------------
@@ -110,7 +110,8 @@ IkMeasurement measure_ik(const parallel12r::Model& model, const Eigen::Vector3d&
 // ---- The harness -----------------------------------------------------------
 
 struct MethodRow {
-  std::string family;     // "ik", "jacobian", "conditioning", "field"
+  std::string mechanism = "parallel-12r";  // or "pathos2" (core/pathos2_methods.h)
+  std::string family;     // "ik", "jacobian", "conditioning", "field"; pathos2: "leg-ik", "fk", ...
   std::string method;     // e.g. "planar", "central-difference", "c<3 volume"
   std::string parameter;  // e.g. "h=6.1e-06", "N=64"; empty if none
   std::size_t samples = 0;   // evaluations whose error was measured
@@ -139,9 +140,11 @@ std::vector<Eigen::Vector3d> workspace_targets(const parallel12r::Model& model, 
 // order. Throws std::invalid_argument for bad options.
 std::vector<MethodRow> run_method_harness(const parallel12r::Model& model, const HarnessOptions& options = {});
 
-// Indices of the rows of `family` on the Pareto front of (time, median
-// error): no other row of the family is at least as fast and as accurate and
-// strictly better in one. In increasing time.
-std::vector<std::size_t> pareto_front(const std::vector<MethodRow>& rows, const std::string& family);
+// Indices of the rows of `family` (of `mechanism`, or of any mechanism if
+// empty) on the Pareto front of (time, median error): no other row of the
+// family is at least as fast and as accurate and strictly better in one. In
+// increasing time.
+std::vector<std::size_t> pareto_front(const std::vector<MethodRow>& rows, const std::string& family,
+                                      const std::string& mechanism = "");
 
 }  // namespace linkscape::methods

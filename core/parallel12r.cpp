@@ -51,7 +51,10 @@ struct LinkDirection {
 
 LinkDirection link_direction(double sa, double ca, double t) {
   const double st = std::sin(t), ct = std::cos(t);
-  const double d2 = 1.0 - sa * sa * st * st;
+  // d^2 = 1 - sa^2 st^2 written as ca^2 + sa^2 ct^2: the printed form
+  // cancels near the actuator plane (sa, st -> 1) and loses digits like
+  // 1/d^2; this one has no subtraction (docs/methods.md).
+  const double d2 = ca * ca + sa * sa * ct * ct;
   const double d = std::sqrt(d2), d3 = d2 * d;
   LinkDirection r;
   r.u = Vector3d(-sa * ct, ca * ct, ca * st) / d;
@@ -414,8 +417,9 @@ Matrix3d jacobian_central_difference(const Model& m, const Vector3d& q, double s
 
 double jacobian_determinant_eq18(const Model& m, const Vector3d& q) {
   const double sa = std::sin(q.x()), ca = std::cos(q.x());
-  const double db = std::sqrt(1.0 - sa * sa * std::sin(q.y()) * std::sin(q.y()));
-  const double dg = std::sqrt(1.0 - sa * sa * std::sin(q.z()) * std::sin(q.z()));
+  const double cb = std::cos(q.y()), cg = std::cos(q.z());
+  const double db = std::sqrt(ca * ca + sa * sa * cb * cb);  // no cancellation (see link_direction)
+  const double dg = std::sqrt(ca * ca + sa * sa * cg * cg);
   return m.L1 * m.L2 * ca * ca * ca * std::sin(q.y() - q.z()) / (db * db * db * dg * dg * dg) *
          (m.L1 * std::cos(q.y()) / db + m.L2 * std::cos(q.z()) / dg);
 }

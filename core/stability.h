@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/parallel12r.h"
+#include "core/pathos2.h"
 #include "core/status.h"
 
 namespace linkscape::stability {
@@ -25,10 +26,21 @@ enum class SweepPath {
   ZAxis,        // Cartesian: distance eps (L1 + L2) from the z axis, y > 0
   OuterSphere,  // Cartesian: |D| = (1 - eps) (L1 + L2)
   InnerSphere,  // Cartesian: |D| = |L1 - L2| + eps (L1 + L2)
+  // PATHOS-II (run_pathos2_sweeps). Leg joint paths, eps an angle (rad):
+  LegStretched,  // t3 = -eps: l2 and l3 in line, |a - l1 z| -> l2 + l3 (sin t3 -> 0)
+  LegFolded,     // t3 = -(pi - eps): folded, |a - l1 z| -> |l2 - l3| (sin t3 -> 0)
+  LegElbow,      // t2 = eps: c1x = w sin t2 -> 0 (sin t2 -> 0)
+  // Pose paths from the home pose along a seeded direction of (x, y, z,
+  // rx, ry, rz) (1 cm : 0.1 rad), s = s* (1 - eps), s* the first crossing:
+  Reach,          // s*: the first leg becomes unreachable (the workspace boundary)
+  ActuatedSingular,  // s*: det J_qdot_from_twist changes sign (the 6x6 J singular)
 };
 inline constexpr SweepPath kAllPaths[] = {SweepPath::CosAlpha, SweepPath::BetaGamma,   SweepPath::BetaGammaPi,
                                           SweepPath::ZAxis,    SweepPath::OuterSphere, SweepPath::InnerSphere};
-// "cos-alpha", "beta=gamma", "beta=gamma+pi", "z-axis", "outer-sphere", "inner-sphere".
+inline constexpr SweepPath kPathos2Paths[] = {SweepPath::LegStretched, SweepPath::LegFolded, SweepPath::LegElbow,
+                                              SweepPath::Reach, SweepPath::ActuatedSingular};
+// "cos-alpha", "beta=gamma", "beta=gamma+pi", "z-axis", "outer-sphere", "inner-sphere";
+// "leg-stretched", "leg-folded", "leg-elbow", "reach-boundary", "J-singular".
 std::string_view to_string(SweepPath path);
 // eps is an angle (rad) on joint paths, a distance / (L1 + L2) on Cartesian ones.
 bool is_joint_path(SweepPath path);
@@ -43,6 +55,7 @@ struct SweepOptions {
 };
 
 struct SweepRow {
+  std::string mechanism = "parallel-12r";  // or "pathos2"
   SweepPath path = SweepPath::CosAlpha;
   int base_point = 0;
   double eps = 0;
@@ -65,6 +78,21 @@ struct SweepRow {
 // closed-form-fast, svd, normal-equations. Throws std::invalid_argument for
 // bad options.
 std::vector<SweepRow> run_stability_sweeps(const parallel12r::Model& model, const SweepOptions& options = {});
+
+// PATHOS-II paths (kPathos2Paths). Leg paths: family "ik", methods
+// closed-form (pathos2::leg_inverse), newton (home-pose seed), newton-near
+// (seeded 1e-3 rad from the reference); cond and sigma_min of the 3x3 leg
+// Jacobian; predicted u (l1 + l2 + l3 + pi |J|_F) / sigma_min. Pose paths:
+// family "fk" nine-sensor, numeric (home seed), numeric-near (seed 1e-3 cm,
+// rad off), error the pose error of pathos2_methods::pose_error against the
+// nearest exact solution; cond = cond(J_twist_from_qdot), sigma_min =
+// 1 / |S J|_2 with S = diag(1 / (l2 + l3) I, I), predicted
+// u sqrt(6) (pi + (l0 + l2 + l3) |M|_F) |S J|_2 (the rounding of the six
+// angles and of their evaluation mapped through J); jacobian analytic,
+// central-difference, forward-difference (predicted u cond(J)); conditioning
+// closed-form, svd (predicted u max(cond Jp, cond Jo)). Throws
+// std::invalid_argument for bad options.
+std::vector<SweepRow> run_pathos2_sweeps(const pathos2::Model& model, const SweepOptions& options = {});
 
 // The target, and the configuration on the path (joint paths) or nearest to
 // it (Cartesian paths, from the planar closed form), of one sweep point.

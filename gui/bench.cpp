@@ -16,6 +16,7 @@
 #include "core/atomic_file.h"
 #include "core/field.h"
 #include "core/method_harness.h"
+#include "core/pathos2_methods.h"
 #include "core/preset.h"
 #include "core/stability.h"
 #include "gui/headless.h"
@@ -65,9 +66,15 @@ struct Row {
 }  // namespace
 
 void run_bench(const BenchOptions& o, std::ostream& out) {
-  Preset preset = load_preset(o.mechanism.mechanism);
-  apply_overrides(preset, o.mechanism.params);
+  // Both mechanisms are always measured: --mechanism/--param set the
+  // parameters of the one they name, the other keeps its default preset.
+  Preset chosen = load_preset(o.mechanism.mechanism);
+  apply_overrides(chosen, o.mechanism.params);
+  const bool chose_pathos2 = chosen.mechanism == pathos2::kMechanismName;
+  const Preset preset = chose_pathos2 ? load_preset("parallel-12r") : chosen;
+  const Preset preset_p2 = chose_pathos2 ? chosen : load_preset(std::string(pathos2::kMechanismName));
   const parallel12r::Model m = make_parallel12r(preset);
+  const pathos2::Model m_p2 = make_pathos2(preset_p2);
   const std::string unit = m.length_unit;
   const int repeats = o.quick ? 1 : 5;
   const int threads = omp_get_max_threads();
@@ -133,18 +140,29 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
   h.repeats = repeats;
   h.field_resolutions = o.quick ? std::vector<int>{16, 32} : std::vector<int>{16, 32, 64, 128};
   h.field_reference_resolution = o.quick ? 64 : 256;
-  const std::vector<methods::MethodRow> table = methods::run_method_harness(m, h);
+  std::vector<methods::MethodRow> table = methods::run_method_harness(m, h);
+  pathos2_methods::HarnessOptions h_p2;
+  h_p2.samples = o.quick ? 300 : 20000;
+  h_p2.repeats = repeats;
+  {
+    const auto rows_p2 = pathos2_methods::run_pathos2_harness(m_p2, h_p2);
+    table.insert(table.end(), rows_p2.begin(), rows_p2.end());
+  }
   out << "\nmethods: median time per evaluation (one thread; per field on " << threads
       << " threads) and error against a long-double reference over " << h.samples << " workspace targets\n";
   out << std::left << std::setw(14) << "family" << std::setw(20) << "method" << std::setw(11) << "parameter"
       << std::right << std::setw(12) << "time (s)" << std::setw(12) << "median" << std::setw(12) << "p99"
       << std::setw(12) << "max" << std::setw(9) << "not ok" << "  unit\n";
   for (const methods::MethodRow& r : table) {
+    if (r.mechanism != "parallel-12r" && &r != &table.front() && (&r - 1)->mechanism != r.mechanism)
+      out << "PATHOS-II (" << r.mechanism << " preset, " << h_p2.samples
+          << " poses around the home pose; leg-ik: 6 legs each; fk error: max(|dp| / (l2 + l3), angle))\n";
     out << std::left << std::setw(14) << r.family << std::setw(20) << r.method << std::setw(11) << r.parameter
         << std::right << std::setprecision(3) << std::setw(12) << r.seconds_per_evaluation << std::setw(12)
         << r.error_median << std::setw(12) << r.error_p99 << std::setw(12) << r.error_max << std::setw(9)
         << r.failures << "  " << r.error_unit << "\n";
-    const std::string name = "method " + r.family + "/" + r.method + (r.parameter.empty() ? "" : " " + r.parameter);
+    const std::string name = "method " + (r.mechanism == "parallel-12r" ? std::string() : r.mechanism + " ") + r.family +
+                             "/" + r.method + (r.parameter.empty() ? "" : " " + r.parameter);
     rows.push_back({name + ": time per evaluation", r.seconds_per_evaluation, "s"});
     rows.push_back({name + ": median error", r.error_median, r.error_unit});
     rows.push_back({name + ": 99th percentile error", r.error_p99, r.error_unit});
@@ -153,7 +171,11 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
   }
 
   // Stability towards each singular set.
-  const std::vector<stability::SweepRow> sweeps = stability::run_stability_sweeps(m, {});
+  std::vector<stability::SweepRow> sweeps = stability::run_stability_sweeps(m, {});
+  {
+    const auto rows_p2 = stability::run_pathos2_sweeps(m_p2, {});
+    sweeps.insert(sweeps.end(), rows_p2.begin(), rows_p2.end());
+  }
   out << "\nstability sweeps (IK, worst of " << stability::SweepOptions{}.base_points
       << " base points): smallest eps with an ok result, and the worst error / ((residual + u B) / sigma_min)\n";
   for (stability::SweepPath path : stability::kAllPaths)
@@ -171,12 +193,36 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
                           ": smallest eps with an ok result",
                       smallest, ""});
     }
+  for (stability::SweepPath path : stability::kPathos2Paths)
+    for (const char* method : {"closed-form", "newton", "newton-near", "nine-sensor", "numeric", "numeric-near"}) {
+      double smallest = 0, ratio = 0;
+      bool present = false;
+      for (const auto& r : sweeps) {
+        if (r.mechanism != "pathos2" || r.path != path || (r.family != "ik" && r.family != "fk") || r.method != method)
+          continue;
+        present = true;
+        if (r.status == Status::Ok && std::isfinite(r.error)) {
+          if (smallest == 0 || r.eps < smallest) smallest = r.eps;
+          if (std::isfinite(r.predicted)) ratio = std::max(ratio, r.error / (r.predicted + r.residual / r.sigma_min));
+        }
+      }
+      if (!present) continue;
+      out << "  pathos2 " << std::left << std::setw(15) << stability::to_string(path) << std::setw(13) << method
+          << "ok down to eps " << std::setw(10) << std::setprecision(2) << smallest << " error/bound <= " << ratio
+          << "\n";
+      rows.push_back({std::string("sweep pathos2 ") + std::string(stability::to_string(path)) + "/" + method +
+                          ": smallest eps with an ok result",
+                      smallest, ""});
+    }
 
-  const QString title = QString("%1 (L1 = %2, L2 = %3 %4)")
+  const QString title = QString("%1 (L1 = %2, L2 = %3 %4) and PATHOS-II (l2 = %5, l3 = %6, lp = %7 cm)")
                             .arg(QString::fromStdString(preset.mechanism))
                             .arg(m.L1)
                             .arg(m.L2)
-                            .arg(QString::fromStdString(unit));
+                            .arg(QString::fromStdString(unit))
+                            .arg(m_p2.l2)
+                            .arg(m_p2.l3)
+                            .arg(m_p2.lp);
   if (!o.chart.empty()) {
     write_method_chart(table, "Speed against accuracy: " + title, o.chart);
     out << "wrote " << o.chart << "\n";
@@ -198,20 +244,20 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
     };
     std::ostringstream table_csv;
     table_csv << "family,method,parameter,samples,not_ok,seconds_per_evaluation,error_median,error_p99,error_max,"
-                 "error_unit\n"
+                 "error_unit,mechanism\n"
               << std::setprecision(6);
     for (const auto& r : table)
       table_csv << r.family << ',' << '"' << r.method << '"' << ',' << r.parameter << ',' << r.samples << ','
                 << r.failures << ',' << r.seconds_per_evaluation << ',' << r.error_median << ',' << r.error_p99 << ','
-                << r.error_max << ',' << r.error_unit << "\n";
+                << r.error_max << ',' << r.error_unit << ',' << r.mechanism << "\n";
     write_text(stem.string() + ".methods.csv", table_csv.str());
     std::ostringstream sweep_csv;
-    sweep_csv << "path,base_point,eps,distance,cond,sigma_min,predicted,family,method,status,error,residual,iterations\n"
+    sweep_csv << "path,base_point,eps,distance,cond,sigma_min,predicted,family,method,status,error,residual,iterations,mechanism\n"
               << std::setprecision(6);
     for (const auto& r : sweeps)
       sweep_csv << stability::to_string(r.path) << ',' << r.base_point << ',' << r.eps << ',' << r.distance << ','
                 << r.cond << ',' << r.sigma_min << ',' << r.predicted << ',' << r.family << ',' << r.method << ','
-                << to_string(r.status) << ',' << r.error << ',' << r.residual << ',' << r.iterations << "\n";
+                << to_string(r.status) << ',' << r.error << ',' << r.residual << ',' << r.iterations << ',' << r.mechanism << "\n";
     write_text(stem.string() + ".sweeps.csv", sweep_csv.str());
     out << "wrote " << o.csv << ", " << stem.string() << ".methods.csv, " << stem.string() << ".sweeps.csv\n";
   }

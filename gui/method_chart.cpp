@@ -143,18 +143,41 @@ double font_height(QPainter& p, const QRectF& area) {
   return QFontMetricsF(font).height();
 }
 
-const char* family_title(const std::string& f) {
-  if (f == "ik") return "Inverse kinematics: joint error (rad)";
-  if (f == "jacobian") return "Jacobian: |J - J*| / |J*|";
-  if (f == "conditioning") return "Condition number: |c - c*| / c*";
-  return "Workspace fields: volume and extent errors";
+QString family_title(const std::string& f, const std::string& mechanism, bool label_mechanism) {
+  QString t;
+  if (f == "ik") t = "Inverse kinematics: joint error (rad)";
+  else if (f == "leg-ik") t = "Leg IK: joint error (rad)";
+  else if (f == "fk") t = "Forward kinematics: pose error";
+  else if (f == "jacobian") t = "Jacobian: |J - J*| / |J*|";
+  else if (f == "conditioning") t = mechanism == "pathos2" ? "cond(Jp), cond(Jo): |c - c*| / c*" : "Condition number: |c - c*| / c*";
+  else t = "Workspace fields: volume and extent errors";
+  if (!label_mechanism) return t;
+  // Two mechanisms: four narrow columns, short titles.
+  if (f == "ik") t = "IK: joint error (rad)";
+  else if (f == "leg-ik") t = "leg IK: joint error (rad)";
+  else if (f == "fk") t = "FK: pose error";
+  else if (f == "jacobian") t = "Jacobian: |J - J*| / |J*|";
+  else if (f == "conditioning") t = mechanism == "pathos2" ? "cond(Jp), cond(Jo)" : "c(J): |c - c*| / c*";
+  else t = "fields: volume, extents";
+  return (mechanism == "pathos2" ? QString("PATHOS-II ") : mechanism == "parallel-12r" ? QString("12R ")
+                                                                                      : QString::fromStdString(mechanism) + " ") +
+         t;
+}
+
+// (mechanism, family) panels in the order the rows first name them.
+std::vector<std::pair<std::string, std::string>> panels_of(const std::vector<methods::MethodRow>& rows) {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const auto& r : rows)
+    if (std::find(out.begin(), out.end(), std::make_pair(r.mechanism, r.family)) == out.end())
+      out.emplace_back(r.mechanism, r.family);
+  return out;
 }
 
 void draw_family(QPainter& p, const QRectF& cell, double fh, const std::vector<methods::MethodRow>& all,
-                 const std::string& family) {
+                 const std::string& mechanism, const std::string& family, bool label_mechanism) {
   std::vector<std::size_t> idx;
   for (std::size_t i = 0; i < all.size(); ++i)
-    if (all[i].family == family) idx.push_back(i);
+    if (all[i].family == family && all[i].mechanism == mechanism) idx.push_back(i);
   if (idx.empty()) return;
   double tmin = 1e300, tmax = 0, emin = 1e300, emax = 0;
   for (std::size_t i : idx) {
@@ -192,13 +215,17 @@ void draw_family(QPainter& p, const QRectF& cell, double fh, const std::vector<m
   const double f = std::min(0.6, (legend.size() * 1.15 * fh + 1.4 * fh) / panel.plot.height());
   const double top = std::log10(emax) + 0.3;
   panel.y1 = std::ceil((top - f * panel.y0) / (1 - f));
-  panel.draw_axes(p, fh, family_title(family), field ? "time per field, all threads" : "time per evaluation, one thread",
-                  field ? "relative error" : (family == "ik" ? "joint error (rad)" : "relative error"), time_label);
+  panel.draw_axes(p, fh, family_title(family, mechanism, label_mechanism), field ? "time per field, all threads" : "time per evaluation, one thread",
+                  field ? "relative error"
+                        : (family == "ik" || family == "leg-ik") ? "joint error (rad)"
+                        : family == "fk"                         ? "max(|dp| / (l2 + l3), angle)"
+                                                                 : "relative error",
+                  time_label);
   p.save();
   p.setClipRect(panel.plot.adjusted(-fh, -fh, fh, fh));
 
   // Pareto front first, underneath the markers.
-  const std::vector<std::size_t> front = methods::pareto_front(all, family);
+  const std::vector<std::size_t> front = methods::pareto_front(all, family, mechanism);
   if (front.size() >= 1) {
     QPainterPath stairs;
     for (std::size_t k = 0; k < front.size(); ++k) {
@@ -299,11 +326,23 @@ void draw_method_chart(QPainter& p, const QRectF& area, const std::vector<method
   p.drawText(QRectF(area.left(), area.top() + 1.6 * fh, area.width(), 1.2 * fh), Qt::AlignCenter,
              "error (log) against time (log): markers at the median error, lower-left is better");
   const QRectF body = area.adjusted(0.5 * fh, 3.2 * fh, -0.5 * fh, -0.3 * fh);
-  const std::string families[] = {"ik", "jacobian", "conditioning", "field"};
-  for (int k = 0; k < 4; ++k) {
-    const QRectF cell(body.left() + (k % 2) * body.width() / 2, body.top() + (k / 2) * body.height() / 2,
-                      body.width() / 2, body.height() / 2);
-    draw_family(p, cell, fh, rows, families[k]);
+  const auto panels = panels_of(rows);
+  bool several = false;
+  for (const auto& pf : panels) several |= pf.first != panels.front().first;
+  // Up to four panels 2 x 2; more (two mechanisms): four columns.
+  const int columns = panels.size() <= 4 ? 2 : 4;
+  const int lines = std::max<int>(1, int((panels.size() + columns - 1) / columns));
+  QFont small = p.font();
+  if (columns > 2) {
+    small.setPixelSize(std::max(9, int(small.pixelSize() * 0.72)));
+    p.setFont(small);
+  }
+  const double cell_fh = QFontMetricsF(p.font()).height();
+  for (std::size_t k = 0; k < panels.size(); ++k) {
+    const QRectF cell(body.left() + double(k % columns) * body.width() / columns,
+                      body.top() + double(k / columns) * body.height() / lines, body.width() / columns,
+                      body.height() / lines);
+    draw_family(p, cell, cell_fh, rows, panels[k].first, panels[k].second, several);
   }
   p.restore();
 }
@@ -324,54 +363,77 @@ void draw_sweep_chart(QPainter& p, const QRectF& area, const std::vector<stabili
              "IK joint error (worst of the base points) against distance eps to each singular set; "
              "crosses on the top band: not ok");
   const QRectF body = area.adjusted(0.5 * fh, 3.2 * fh, -0.5 * fh, -0.3 * fh);
-  const std::vector<std::string> ik_methods = {"paper", "planar", "newton", "dls", "fallback", "newton-near"};
-  int panel_index = 0;
-  for (stability::SweepPath path : stability::kAllPaths) {
-    const QRectF cell(body.left() + (panel_index % 3) * body.width() / 3,
-                      body.top() + (panel_index / 3) * body.height() / 2, body.width() / 3, body.height() / 2);
-    ++panel_index;
+  // Panels: (mechanism, path) in the order the rows name them.
+  std::vector<std::pair<std::string, stability::SweepPath>> panels;
+  for (const auto& r : rows)
+    if (std::find(panels.begin(), panels.end(), std::make_pair(r.mechanism, r.path)) == panels.end())
+      panels.emplace_back(r.mechanism, r.path);
+  const int columns = panels.size() <= 6 ? 3 : 4;
+  const int lines = std::max<int>(1, int((panels.size() + columns - 1) / columns));
+  if (columns > 3) {
+    QFont small = p.font();
+    small.setPixelSize(std::max(9, int(small.pixelSize() * 0.8)));
+    p.setFont(small);
+  }
+  const double pfh = QFontMetricsF(p.font()).height();
+  std::string legend_done;
+  for (std::size_t panel_index = 0; panel_index < panels.size(); ++panel_index) {
+    const auto& [mechanism, path] = panels[panel_index];
+    const QRectF cell(body.left() + double(panel_index % columns) * body.width() / columns,
+                      body.top() + double(panel_index / columns) * body.height() / lines, body.width() / columns,
+                      body.height() / lines);
+    auto in_panel = [&](const stability::SweepRow& r) {
+      return r.mechanism == mechanism && r.path == path && (r.family == "ik" || r.family == "fk");
+    };
+    std::vector<std::string> ik_methods;
+    for (const auto& r : rows)
+      if (in_panel(r) && std::find(ik_methods.begin(), ik_methods.end(), r.method) == ik_methods.end())
+        ik_methods.push_back(r.method);
+    const bool fk = std::any_of(rows.begin(), rows.end(), [&](const auto& r) { return in_panel(r) && r.family == "fk"; });
     LogPanel panel;
-    panel.plot = QRectF(cell.left() + 4.6 * fh, cell.top() + 1.8 * fh, cell.width() - 6.2 * fh,
-                        cell.height() - 4.8 * fh);
+    panel.plot = QRectF(cell.left() + 4.6 * pfh, cell.top() + 1.8 * pfh, cell.width() - 6.2 * pfh,
+                        cell.height() - 4.8 * pfh);
     panel.x0 = -12.3;
     panel.x1 = -0.7;
     panel.y0 = -18;
     panel.y1 = 0;
     const bool joint = stability::is_joint_path(path);
-    const QString name = QString::fromStdString(std::string(stability::to_string(path)));
-    panel.draw_axes(p, fh, name + (joint ? " (joint path)" : " (Cartesian path)"),
-                    joint ? "eps: angle from the set (rad)" : "eps: distance / (L1 + L2)", "joint error (rad)",
-                    [](int k) { return power_label(k); });
+    const bool p2 = mechanism == "pathos2";
+    const QString name = (p2 ? QString("PATHOS-II ") : QString()) +
+                         QString::fromStdString(std::string(stability::to_string(path)));
+    panel.draw_axes(p, pfh, name + (joint ? " (joint path)" : p2 ? " (pose path)" : " (Cartesian path)"),
+                    joint ? "eps: angle from the set (rad)" : p2 ? "eps: s = s* (1 - eps)" : "eps: distance / (L1 + L2)",
+                    fk ? "FK pose error" : "joint error (rad)", [](int k) { return power_label(k); });
     // "not ok" band at the top.
-    const double band = panel.plot.top() + 0.55 * fh;
+    const double band = panel.plot.top() + 0.55 * pfh;
     p.setPen(QColor(120, 120, 120));
-    p.drawText(QRectF(panel.plot.right() - 4.2 * fh, panel.plot.top() + 1.0 * fh, 4 * fh, fh), Qt::AlignRight,
+    p.drawText(QRectF(panel.plot.right() - 4.2 * pfh, panel.plot.top() + 1.0 * pfh, 4 * pfh, pfh), Qt::AlignRight,
                "not ok");
     p.setPen(QPen(QColor(200, 200, 200), 1, Qt::DotLine));
-    p.drawLine(QPointF(panel.plot.left(), band + 0.6 * fh), QPointF(panel.plot.right(), band + 0.6 * fh));
+    p.drawLine(QPointF(panel.plot.left(), band + 0.6 * pfh), QPointF(panel.plot.right(), band + 0.6 * pfh));
 
     // Prediction, worst over base points per eps.
     std::map<double, double> predicted;
     for (const auto& r : rows)
-      if (r.path == path && r.family == "ik" && r.method == "planar" && std::isfinite(r.predicted) &&
-          r.status != Status::Singular)
+      if (in_panel(r) && r.method == ik_methods.front() && std::isfinite(r.predicted) && r.status != Status::Singular)
         predicted[r.eps] = std::max(predicted[r.eps], r.predicted);
     QPolygonF pred_line;
     for (const auto& [eps, v] : predicted) pred_line << panel.at(eps, v);
     p.setPen(QPen(Qt::black, 1.6, Qt::DashLine));
     p.drawPolyline(pred_line);
 
+    const double centre = 0.5 * double(ik_methods.size() - 1);
     for (std::size_t k = 0; k < ik_methods.size(); ++k) {
       std::map<double, std::pair<double, int>> worst;  // eps -> (worst ok error, not-ok count)
       for (const auto& r : rows) {
-        if (r.path != path || r.family != "ik" || r.method != ik_methods[k]) continue;
+        if (!in_panel(r) || r.method != ik_methods[k]) continue;
         auto& w = worst[r.eps];
         if (r.status == Status::Ok && std::isfinite(r.error)) w.first = std::max(w.first, std::max(r.error, kErrorFloor));
         else ++w.second;
       }
       QPolygonF line;
       const QColor colour = kPalette[k % 8];
-      const double jitter = (double(k) - 2.5) * 0.12 * fh;  // keeps overlapping markers apart
+      const double jitter = (double(k) - centre) * 0.12 * pfh;  // keeps overlapping markers apart
       auto flush = [&] {
         p.setPen(QPen(colour, 1.6));
         p.drawPolyline(line);
@@ -386,25 +448,33 @@ void draw_sweep_chart(QPainter& p, const QRectF& area, const std::vector<stabili
       }
       flush();
       for (const auto& [eps, w] : worst) {
-        if (w.first > 0) draw_marker(p, panel.at(eps, w.first) + QPointF(jitter, 0), int(k), 0.26 * fh, colour);
+        if (w.first > 0) draw_marker(p, panel.at(eps, w.first) + QPointF(jitter, 0), int(k), 0.26 * pfh, colour);
         if (w.second > 0) {
-          const QPointF c(panel.at(eps, 1).x() + jitter, band + 0.2 * fh * (double(k) - 2.5));
+          const QPointF c(panel.at(eps, 1).x() + jitter, band + 0.2 * pfh * (double(k) - centre));
           p.setPen(QPen(colour, 1.6));
-          p.drawLine(c + QPointF(-0.25 * fh, -0.25 * fh), c + QPointF(0.25 * fh, 0.25 * fh));
-          p.drawLine(c + QPointF(-0.25 * fh, 0.25 * fh), c + QPointF(0.25 * fh, -0.25 * fh));
+          p.drawLine(c + QPointF(-0.25 * pfh, -0.25 * pfh), c + QPointF(0.25 * pfh, 0.25 * pfh));
+          p.drawLine(c + QPointF(-0.25 * pfh, 0.25 * pfh), c + QPointF(0.25 * pfh, -0.25 * pfh));
         }
       }
     }
-    if (panel_index == 1) {
+    // One legend per mechanism and kind of method (IK or FK), in its first panel.
+    const std::string legend_key = "|" + mechanism + (fk ? "/fk" : "/ik") + "|";
+    if (legend_done.find(legend_key) == std::string::npos) {
+      legend_done += legend_key;
       std::vector<LegendEntry> legend;
-      for (std::size_t k = 0; k < ik_methods.size(); ++k)
-        legend.push_back({QString::fromStdString(ik_methods[k] == "newton-near" ? "newton, seed 1e-3 rad off"
-                                                                               : ik_methods[k]),
-                          kPalette[k % 8], int(k), Qt::SolidLine});
-      legend.push_back({"prediction u B / sigma_min", Qt::black, -1, Qt::DashLine});
+      for (std::size_t k = 0; k < ik_methods.size(); ++k) {
+        const std::string& mname = ik_methods[k];
+        const QString text = mname == "newton-near"    ? (p2 ? "newton, seed 1e-3 rad off" : "newton, seed 1e-3 rad off")
+                             : mname == "numeric-near" ? "numeric, seed 1e-3 off"
+                             : mname == "numeric"      ? "numeric, home seed"
+                             : p2 && mname == "newton" ? "newton, home seed"
+                                                       : QString::fromStdString(mname);
+        legend.push_back({text, kPalette[k % 8], int(k), Qt::SolidLine});
+      }
+      legend.push_back({fk ? "prediction u B |J| (pose)" : "prediction u B / sigma_min", Qt::black, -1, Qt::DashLine});
       // Bottom left: near the actuator plane nothing is ok at small eps.
-      const double height = legend.size() * 1.15 * fh + 0.5 * fh;
-      draw_legend(p, QPointF(panel.plot.left() + 0.4 * fh, panel.plot.bottom() - height - 0.4 * fh), fh, legend);
+      const double height = legend.size() * 1.15 * pfh + 0.5 * pfh;
+      draw_legend(p, QPointF(panel.plot.left() + 0.4 * pfh, panel.plot.bottom() - height - 0.4 * pfh), pfh, legend);
     }
   }
   p.restore();
