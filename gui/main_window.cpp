@@ -43,6 +43,8 @@
 
 #include "core/atomic_file.h"
 #include "gui/latency_probe.h"
+#include "gui/mechanism_switch.h"
+#include "gui/pathos2_window.h"
 #include "gui/slice_figure.h"
 #include "gui/vtk_widget.h"
 #include "render/field_scene.h"
@@ -210,12 +212,7 @@ QWidget* MainWindow::buildMechanismPanel() {
   const QString unit = " " + QString::fromStdString(m.length_unit);
   auto* box = new QGroupBox(tr("Mechanism"));
   auto* form = new QFormLayout(box);
-  auto* preset_box = new QComboBox(box);
-  preset_box->setObjectName("presetBox");
-  for (const auto& name : available_presets()) preset_box->addItem(QString::fromStdString(name));
-  preset_box->setCurrentText(QString::fromStdString(preset_.mechanism));
-  preset_box->setToolTip(QString::fromStdString(preset_.title));
-  form->addRow(tr("Preset"), preset_box);
+  form->addRow(tr("Preset"), make_preset_chooser(this, preset_));
   const char* names[] = {"L1", "L2"};
   const double values[] = {m.L1, m.L2};
   for (int i = 0; i < 2; ++i) {
@@ -953,10 +950,7 @@ int run_window(const WindowOptions& options, int argc, char** argv) {
   QApplication app(argc, argv);
   QApplication::setApplicationName("Linkscape");
   QApplication::setOrganizationName("Linkscape");
-  if (is_pathos2) {
-    int run_pathos2_window(const Preset&, const std::string&, int, int);  // gui/pathos2_window.h
-    return run_pathos2_window(preset, options.screenshot, width, height);
-  }
+  if (is_pathos2) return run_pathos2_window(preset, options.screenshot, width, height);
   MainWindow window(preset);
   if (session) window.applySession(*session);
   window.resize(width, height);

@@ -33,6 +33,7 @@
 
 #include "core/atomic_file.h"
 #include "core/pathos2_field.h"
+#include "gui/mechanism_switch.h"
 #include "gui/vtk_widget.h"
 #include "render/field_scene.h"
 #include "render/pathos2_scene.h"
@@ -223,6 +224,7 @@ const pathos2::Pose& Pathos2Window::pose() const { return scene_->pose(); }
 QWidget* Pathos2Window::buildDesignPanel() {
   auto* w = new QWidget;
   auto* form = new QFormLayout(w);
+  form->addRow(tr("Preset"), make_preset_chooser(this, preset_));
   const pathos2::Model& m = model();
   struct Spec {
     const char* label;

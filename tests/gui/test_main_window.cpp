@@ -25,6 +25,7 @@
 
 #include "core/preset.h"
 #include "gui/main_window.h"
+#include "gui/pathos2_window.h"
 #include "gui/vtk_widget.h"
 #include "render/field_scene.h"
 
@@ -259,6 +260,24 @@ class MainWindowTest : public QObject {
     QCOMPARE(w.branch(), branch);
     // The circle lies in the slice plane (normal x): x does not change.
     QVERIFY(std::abs(d1.x() - d0.x()) < 1e-9);
+  }
+
+  void presetChooserOpensTheMechanismsWindow() {
+    MainWindow w(load_preset("parallel-12r"));
+    w.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    auto* chooser = w.findChild<QComboBox*>("presetBox");
+    QVERIFY(chooser);
+    const int index = chooser->findText("pathos2");
+    QVERIFY(index >= 0);
+    chooser->setCurrentIndex(index);
+    emit chooser->activated(index);
+    QTRY_VERIFY(!w.isVisible());  // replaced, not stacked
+    gui::Pathos2Window* opened = nullptr;
+    for (QWidget* top : QApplication::topLevelWidgets())
+      if (auto* p = qobject_cast<gui::Pathos2Window*>(top); p && p->isVisible()) opened = p;
+    QVERIFY2(opened, "choosing pathos2 did not open the PATHOS-II window");
+    opened->close();  // deletes itself
   }
 
   void pictureMatchesBaselines() {

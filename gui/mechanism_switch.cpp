@@ -1,0 +1,39 @@
+#include "gui/mechanism_switch.h"
+
+#include <QComboBox>
+#include <QMessageBox>
+#include <stdexcept>
+
+#include "gui/main_window.h"
+#include "gui/pathos2_window.h"
+
+namespace linkscape::gui {
+
+QComboBox* make_preset_chooser(QWidget* window, const Preset& current) {
+  auto* box = new QComboBox;
+  box->setObjectName("presetBox");
+  for (const auto& name : available_presets()) box->addItem(QString::fromStdString(name));
+  const QString current_name = QString::fromStdString(current.source.stem().string());
+  box->setCurrentText(current_name.isEmpty() ? QString::fromStdString(current.mechanism) : current_name);
+  box->setToolTip(QString::fromStdString(current.title));
+  QObject::connect(box, &QComboBox::activated, window, [window, box, current_name] {
+    const QString chosen = box->currentText();
+    if (chosen == current_name) return;
+    try {
+      const Preset preset = load_preset(chosen.toStdString());
+      QWidget* next = preset.mechanism == pathos2::kMechanismName ? static_cast<QWidget*>(new Pathos2Window(preset))
+                                                                   : static_cast<QWidget*>(new MainWindow(preset));
+      next->setAttribute(Qt::WA_DeleteOnClose);
+      next->setGeometry(window->geometry());
+      next->show();
+      window->close();
+    } catch (const std::invalid_argument& e) {
+      const QSignalBlocker block(box);
+      box->setCurrentText(current_name);
+      QMessageBox::warning(window, QObject::tr("Cannot open preset"), QString::fromStdString(e.what()));
+    }
+  });
+  return box;
+}
+
+}  // namespace linkscape::gui
