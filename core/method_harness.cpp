@@ -546,8 +546,10 @@ std::vector<MethodRow> run_method_harness(const Model& m, const HarnessOptions& 
     if (n < 2 || n > o.field_reference_resolution)
       throw std::invalid_argument("method harness: field resolutions must lie in 2..field_reference_resolution");
 
+  if (o.progress) o.progress(0.0, "references");
   std::vector<Sample> samples;
   for (const Vector3d& p : workspace_targets(m, o.samples, o.seed)) {
+    if (o.cancel && o.cancel->load()) return {};
     Sample s;
     s.target = p;
     s.ref = reference_ik(m, p);
@@ -558,10 +560,21 @@ std::vector<MethodRow> run_method_harness(const Model& m, const HarnessOptions& 
     samples.push_back(s);
   }
   std::vector<MethodRow> rows;
+  auto stage = [&](double fraction, const char* name) {
+    if (o.cancel && o.cancel->load()) return false;
+    if (o.progress) o.progress(fraction, name);
+    return true;
+  };
+  if (!stage(0.1, "inverse kinematics")) return rows;
   ik_rows(m, samples, o, rows);
+  if (!stage(0.55, "Jacobians")) return rows;
   jacobian_rows(m, samples, o, rows);
+  if (!stage(0.7, "condition numbers")) return rows;
   conditioning_rows(samples, o, rows);
-  if (o.include_field && !o.field_resolutions.empty()) field_rows(m, o, rows);
+  if (o.include_field && !o.field_resolutions.empty()) {
+    if (!stage(0.8, "workspace fields")) return rows;
+    field_rows(m, o, rows);
+  }
   return rows;
 }
 

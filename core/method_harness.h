@@ -19,6 +19,8 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <atomic>
+#include <functional>
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -130,6 +132,11 @@ struct HarnessOptions {
   int field_reference_resolution = 256;                    // reference for the c < 3 volume and extents
   double cond_threshold = 3.0;                             // "well conditioned" means c(J) < this
   parallel12r::IkOptions ik;
+  // Optional, for a window: progress(fraction done, stage) is called on the
+  // calling thread before each stage; a raised cancel flag stops between
+  // stages and the rows measured so far are returned.
+  std::function<void(double, const std::string&)> progress;
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 // Seeded targets uniform in the shell |L1 - L2| < |p| < L1 + L2 (the

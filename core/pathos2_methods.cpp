@@ -514,8 +514,15 @@ std::vector<methods::MethodRow> run_pathos2_harness(const pathos2::Model& model,
   const double L = m.l2 + m.l3;
   const Pose home = pathos2::home_pose(m);
   const pathos2::PoseIkResult home_ik = pathos2::inverse(g, home);
+  auto stage = [&](double fraction, const char* name) {
+    if (o.cancel && o.cancel->load()) return false;
+    if (o.progress) o.progress(fraction, name);
+    return true;
+  };
+  if (!stage(0.0, "references")) return {};
   std::vector<PoseSample> samples;
   for (const Pose& pose : workspace_poses(g, o.samples, o.seed, o.radius_cm, o.max_rotation_rad)) {
+    if (o.cancel && o.cancel->load()) return {};
     PoseSample s;
     s.pose = pose;
     s.ik = pathos2::inverse(g, pose);
@@ -543,6 +550,7 @@ std::vector<methods::MethodRow> run_pathos2_harness(const pathos2::Model& model,
   };
 
   // Leg IK: every leg of every pose.
+  if (!stage(0.3, "leg inverse kinematics")) return rows;
   {
     methods::MethodRow closed = new_row("leg-ik", "closed-form", "rad");
     std::vector<double> errors;
@@ -588,6 +596,7 @@ std::vector<methods::MethodRow> run_pathos2_harness(const pathos2::Model& model,
   }
 
   // Forward kinematics.
+  if (!stage(0.45, "forward kinematics")) return rows;
   {
     methods::MethodRow nine = new_row("fk", "nine-sensor", "pose");
     std::vector<double> errors;
@@ -640,6 +649,7 @@ std::vector<methods::MethodRow> run_pathos2_harness(const pathos2::Model& model,
   }
 
   // Jacobian.
+  if (!stage(0.75, "Jacobians")) return rows;
   {
     struct Method {
       const char* name;
@@ -687,6 +697,7 @@ std::vector<methods::MethodRow> run_pathos2_harness(const pathos2::Model& model,
   }
 
   // Conditioning of the analytic J's blocks.
+  if (!stage(0.9, "condition numbers")) return rows;
   {
     std::vector<Matrix6d> Js;
     for (const auto& s : samples) Js.push_back(pathos2::jacobian(g, s.pose, s.ik).J_twist_from_qdot);

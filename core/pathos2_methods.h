@@ -18,6 +18,8 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <atomic>
+#include <functional>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -102,6 +104,9 @@ struct HarnessOptions {
   int repeats = 5;
   double radius_cm = 6.0;        // poses: home + uniform ball of this radius
   double max_rotation_rad = 0.35;  //   and a rotation of at most this angle
+  // As methods::HarnessOptions: progress before each stage, cancel between stages.
+  std::function<void(double, const std::string&)> progress;
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 // Seeded poses around home_pose whose IK is Ok (all legs).

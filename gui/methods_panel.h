@@ -1,0 +1,72 @@
+// A window panel (QDockWidget content) with the speed-against-accuracy chart
+// of the numerical methods (gui/method_chart.h) and their table, for the
+// mechanism parameters the main window passes in. "Run" measures them again
+// on a worker thread (the GUI stays responsive), with progress text and
+// Cancel; results come back to the GUI thread through a queued call.
+#pragma once
+
+#include <QWidget>
+#include <atomic>
+#include <cstddef>
+#include <memory>
+#include <thread>
+#include <vector>
+
+#include "core/method_harness.h"
+#include "core/preset.h"
+
+class QLabel;
+class QPushButton;
+class QTableWidget;
+
+namespace linkscape::gui {
+
+class MethodsPanel : public QWidget {
+  Q_OBJECT
+
+ public:
+  explicit MethodsPanel(QWidget* parent = nullptr);
+  ~MethodsPanel() override;  // cancels and joins a running measurement
+
+  // The mechanism (12R or PATHOS-II preset, with the window's current
+  // parameters) that the next Run measures. Throws std::invalid_argument for
+  // an invalid preset. Does not start a run.
+  void setMechanism(const linkscape::Preset& preset);
+  // Workspace targets (12R) or poses (PATHOS-II) per run, and timed repeats;
+  // fields are measured for 12R only when include_fields is set (they take
+  // seconds). Defaults: 2000 samples, 3 repeats, no fields.
+  void setHarnessSize(std::size_t samples, int repeats, bool include_fields = false);
+
+  const std::vector<methods::MethodRow>& rows() const { return rows_; }
+  bool isRunning() const { return running_; }
+  QString statusText() const;
+
+ public slots:
+  void run();     // no-op while running
+  void cancel();  // the running measurement stops at its next stage
+
+ signals:
+  void runFinished(bool completed);  // false when cancelled or failed
+
+ private:
+  void finish(unsigned generation, std::vector<methods::MethodRow> rows, bool completed, const QString& message);
+  void fill_table();
+  void join_worker();
+
+  linkscape::Preset preset_;
+  std::size_t samples_ = 2000;
+  int repeats_ = 3;
+  bool include_fields_ = false;
+  std::vector<methods::MethodRow> rows_;
+  bool running_ = false;
+  unsigned generation_ = 0;
+  std::shared_ptr<std::atomic<bool>> cancel_;
+  std::thread worker_;
+  QWidget* chart_ = nullptr;
+  QLabel* status_ = nullptr;
+  QPushButton* run_button_ = nullptr;
+  QPushButton* cancel_button_ = nullptr;
+  QTableWidget* table_ = nullptr;
+};
+
+}  // namespace linkscape::gui
