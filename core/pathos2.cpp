@@ -281,6 +281,8 @@ PoseIkResult inverse(const Geometry& g, const Pose& pose, IkDetail detail) {
   // Limits compare cosines: |t| <= lim  <=>  cos t >= cos lim for t in [-pi, pi].
   const double cos_cone = std::cos(m.cone_limit), cos_t2 = std::cos(m.t2_limit),
                cos_t3 = std::cos(m.t3_limit);
+  // A cone limit of pi (the default) excludes nothing: t5 is in [0, pi].
+  const bool check_cone = m.cone_limit < kPi;
   for (int i = 0; i < kLegCount; ++i) {
     LegSolution& leg = out.legs[i];
     Vector3d r_E = g.p_E_attach_plate[i];
@@ -300,16 +302,24 @@ PoseIkResult inverse(const Geometry& g, const Pose& pose, IkDetail detail) {
       leg.cos_t1 = c.cos1, leg.sin_t1 = c.sin1, leg.cos_t2 = c2, leg.sin_t2 = s2;
       leg.t1 = std::atan2(c.sin1, c.cos1);  // Eq. 9
       leg.det = -m.l2 * c.c1x * c.c1y;
-      // End of l3: Rz(t1) Ry(t2) Rx(t3), built from the cosines.
-      Matrix3d R_B_end;
       const double c1 = c.cos1, s1 = c.sin1;
-      R_B_end << c1 * c2, c1 * s2 * s3 - s1 * c3, c1 * s2 * c3 + s1 * s3,
-                 s1 * c2, s1 * s2 * s3 + c1 * c3, s1 * s2 * c3 - c1 * s3,
-                 -s2,     c2 * s3,                c2 * c3;
-      const Matrix3d R_world_end = g.R_world_B[i] * R_B_end;
-      const Matrix3d R_world_A = R * g.R_E_A[i];
-      const double cos_t5 = R_world_end.col(2).dot(R_world_A.col(2));
-      if (detail == IkDetail::Full) {
+      // cos t5 = z of the end of l3 (Rz(t1) Ry(t2) Rx(t3) e_z, from the
+      // cosines) against z of A_i; only the z columns are needed.
+      double cos_t5 = 1.0;
+      if (detail == IkDetail::ActiveOnly) {
+        if (check_cone) {
+          const Vector3d z_B_end(c1 * s2 * c3 + s1 * s3, s1 * s2 * c3 - c1 * s3, c2 * c3);
+          cos_t5 = (g.R_world_B[i] * z_B_end).dot(R * g.R_E_A[i].col(2));
+        }
+      } else {
+        // End of l3: Rz(t1) Ry(t2) Rx(t3), built from the cosines.
+        Matrix3d R_B_end;
+        R_B_end << c1 * c2, c1 * s2 * s3 - s1 * c3, c1 * s2 * c3 + s1 * s3,
+                   s1 * c2, s1 * s2 * s3 + c1 * c3, s1 * s2 * c3 - c1 * s3,
+                   -s2,     c2 * s3,                c2 * c3;
+        const Matrix3d R_world_end = g.R_world_B[i] * R_B_end;
+        const Matrix3d R_world_A = R * g.R_E_A[i];
+        cos_t5 = R_world_end.col(2).dot(R_world_A.col(2));
         // Eq. 11 with c2x = 0; atan2 keeps the quadrant when w < 0 (l3 > l2).
         leg.t2 = std::atan2(w * c.c1x, w * (a.z() - m.l1));
         leg.t3 = std::atan2(-c.c1y, w - m.l2);  // Eq. 13
@@ -322,7 +332,7 @@ PoseIkResult inverse(const Geometry& g, const Pose& pose, IkDetail detail) {
         leg.t5 = std::atan2(rho, B(2, 2));                                                // Eq. 17
         leg.t6 = std::atan2(-B(0, 0) * s4 + B(1, 0) * c4, -B(0, 1) * s4 + B(1, 1) * c4);  // Eq. 18
       }
-      if (leg.status == Status::Ok && (cos_t5 < cos_cone || c2 < cos_t2 || c3 < cos_t3))
+      if (leg.status == Status::Ok && ((check_cone && cos_t5 < cos_cone) || c2 < cos_t2 || c3 < cos_t3))
         leg.status = Status::OutOfLimits;
     }
     out.q_active[i] = leg.t1;
