@@ -43,7 +43,8 @@
 
 #include "core/atomic_file.h"
 #include "gui/latency_probe.h"
-#include "gui/mechanism_switch.h"
+#include "gui/methods_panel.h"
+#include "gui/window_parts.h"
 #include "gui/pathos2_window.h"
 #include "gui/slice_figure.h"
 #include "gui/vtk_widget.h"
@@ -86,13 +87,6 @@ QDoubleSpinBox* spin(QWidget* parent, double lo, double hi, double value, int de
   return s;
 }
 
-QDockWidget* dock(QMainWindow* window, const QString& title, const QString& name, QWidget* content) {
-  auto* d = new QDockWidget(title, window);
-  d->setObjectName(name);
-  d->setWidget(content);
-  window->addDockWidget(Qt::RightDockWidgetArea, d);
-  return d;
-}
 
 }  // namespace
 
@@ -146,14 +140,15 @@ MainWindow::MainWindow(const Preset& preset, QWidget* parent)
   column->addWidget(buildMechanismPanel());
   column->addWidget(buildActuatorPanel());
   column->addStretch(1);
-  QDockWidget* first = dock(this, tr("Mechanism and actuators"), "mechanismDock", mechanism_and_actuators);
-  QDockWidget* endpoint = dock(this, tr("Endpoint"), "endpointDock", buildEndpointPanel());
-  QDockWidget* field = dock(this, tr("Field"), "fieldDock", buildFieldPanel());
-  QDockWidget* animation = dock(this, tr("Animation"), "animationDock", buildAnimationPanel());
+  QDockWidget* first = add_dock(this, tr("Mechanism and actuators"), "mechanismDock", mechanism_and_actuators);
+  QDockWidget* endpoint = add_dock(this, tr("Endpoint"), "endpointDock", buildEndpointPanel());
+  QDockWidget* field = add_dock(this, tr("Field"), "fieldDock", buildFieldPanel());
+  QDockWidget* animation = add_dock(this, tr("Animation"), "animationDock", buildAnimationPanel());
   // Mechanism and actuators on top; field, endpoint and animation as tabs below.
   splitDockWidget(first, field, Qt::Vertical);
   tabifyDockWidget(field, endpoint);
   tabifyDockWidget(field, animation);
+  methods_ = add_methods_dock(this, preset_, field);
   field->raise();
   buildMenus();
 
@@ -573,6 +568,17 @@ void MainWindow::setLinkLengths(double L1, double L2) {
   }
   preset_.parameters["L1"] = L1;
   preset_.parameters["L2"] = L2;
+  // Changes from sessions or scripts show in the panel too.
+  const double lengths[] = {L1, L2};
+  for (int i = 0; i < 2; ++i) {
+    QDoubleSpinBox* box = length_boxes_[i];
+    if (!box) continue;
+    const QSignalBlocker block_box(box), block_slider(length_sliders_[i]);
+    box->setValue(lengths[i]);
+    length_sliders_[i]->setValue(
+        int(std::lround((box->value() - box->minimum()) / (box->maximum() - box->minimum()) * kLengthSliderSteps)));
+  }
+  methods_->setMechanism(preset_);  // the next Run measures the new lengths
   placeHandle();
   updateReadouts();
   requestFields(true, true);

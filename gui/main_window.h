@@ -39,6 +39,7 @@ class LinkageScene;
 
 namespace linkscape::gui {
 
+class MethodsPanel;
 class VtkWidget;
 
 struct WindowOptions {
@@ -162,6 +163,7 @@ class MainWindow : public QMainWindow {
   QLabel *frame_label_ = nullptr, *compute_label_ = nullptr;
   QProgressBar* progress_ = nullptr;
   QString endpoint_message_;
+  MethodsPanel* methods_ = nullptr;
 };
 
 }  // namespace linkscape::gui

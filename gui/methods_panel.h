@@ -38,6 +38,7 @@ class MethodsPanel : public QWidget {
   void setHarnessSize(std::size_t samples, int repeats, bool include_fields = false);
 
   const std::vector<methods::MethodRow>& rows() const { return rows_; }
+  const linkscape::Preset& mechanism() const { return preset_; }
   bool isRunning() const { return running_; }
   QString statusText() const;
 

@@ -33,7 +33,8 @@
 
 #include "core/atomic_file.h"
 #include "core/pathos2_field.h"
-#include "gui/mechanism_switch.h"
+#include "gui/methods_panel.h"
+#include "gui/window_parts.h"
 #include "gui/vtk_widget.h"
 #include "render/field_scene.h"
 #include "render/pathos2_scene.h"
@@ -75,13 +76,6 @@ QString leg_problem(Status s) {
   return QObject::tr("ok");
 }
 
-QDockWidget* dock(QMainWindow* window, const QString& title, const QString& name, QWidget* content) {
-  auto* d = new QDockWidget(title, window);
-  d->setObjectName(name);
-  d->setWidget(content);
-  window->addDockWidget(Qt::RightDockWidgetArea, d);
-  return d;
-}
 
 // A slider and a spin box showing the same value (the spin box carries the
 // unit); `changed` runs when either is moved by the user.
@@ -162,12 +156,13 @@ Pathos2Window::Pathos2Window(const Preset& preset, QWidget* parent)
   renderer_->SetUseDepthPeeling(false);
   scene_->reset_camera(renderer_);
 
-  QDockWidget* design = dock(this, tr("Design"), "designDock", buildDesignPanel());
-  QDockWidget* drive = dock(this, tr("Drive"), "driveDock", buildDrivePanel());
-  QDockWidget* field = dock(this, tr("Field"), "fieldDock", buildFieldPanel());
+  QDockWidget* design = add_dock(this, tr("Design"), "designDock", buildDesignPanel());
+  QDockWidget* drive = add_dock(this, tr("Drive"), "driveDock", buildDrivePanel());
+  QDockWidget* field = add_dock(this, tr("Field"), "fieldDock", buildFieldPanel());
   // One column of tabs: the drive in front, fields and design behind it.
   tabifyDockWidget(drive, field);
   tabifyDockWidget(drive, design);
+  methods_ = add_methods_dock(this, preset_, drive);
   drive->raise();
 
   QMenu* file = menuBar()->addMenu(tr("&File"));
@@ -641,6 +636,9 @@ bool Pathos2Window::setModel(const pathos2::Model& m) {
                       .arg(leg_problem(ik.status)));
   scene_->set_model(m, p);
   geometry_ = std::move(g);
+  Preset current = preset_;
+  current.parameters = m.to_parameters();
+  methods_->setMechanism(current);  // the next Run measures the new design
   ik_ = ik;
   refusal_.clear();
   scene_->set_highlighted_leg(-1);

@@ -34,6 +34,7 @@ class Pathos2Scene;
 
 namespace linkscape::gui {
 
+class MethodsPanel;
 class VtkWidget;
 
 class Pathos2Window : public QMainWindow {
@@ -105,6 +106,7 @@ class Pathos2Window : public QMainWindow {
   double slicePosition() const;
 
   Preset preset_;
+  MethodsPanel* methods_ = nullptr;  // measures the current design on Run
   std::unique_ptr<render::Pathos2Scene> scene_;
   std::unique_ptr<render::FieldScene> field_scene_;
   vtkRenderer* renderer_ = nullptr;  // owned by the view's render window

@@ -2,6 +2,7 @@
 // drags, sessions and animation; checks both the model and the picture.
 #include <QCheckBox>
 #include <QComboBox>
+#include <QDockWidget>
 #include <QDoubleSpinBox>
 #include <QLabel>
 #include <QPushButton>
@@ -25,6 +26,7 @@
 
 #include "core/preset.h"
 #include "gui/main_window.h"
+#include "gui/methods_panel.h"
 #include "gui/pathos2_window.h"
 #include "gui/vtk_widget.h"
 #include "render/field_scene.h"
@@ -278,6 +280,28 @@ class MainWindowTest : public QObject {
       if (auto* p = qobject_cast<gui::Pathos2Window*>(top); p && p->isVisible()) opened = p;
     QVERIFY2(opened, "choosing pathos2 did not open the PATHOS-II window");
     opened->close();  // deletes itself
+  }
+
+  void methodsDockMeasuresTheCurrentLinkLengths() {
+    MainWindow w(load_preset("parallel-12r"));
+    w.resize(1400, 860);
+    w.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    w.setLinkLengths(12.0, 18.0);
+    auto* panel = w.findChild<gui::MethodsPanel*>();
+    QVERIFY(panel);
+    w.findChild<QDockWidget*>("methodsDock")->raise();
+    panel->setHarnessSize(200, 1);
+    QSignalSpy finished(panel, &gui::MethodsPanel::runFinished);
+    panel->run();
+    QTRY_VERIFY_WITH_TIMEOUT(finished.count() == 1, 60000);
+    QVERIFY(finished.front().front().toBool());
+    QVERIFY(!panel->rows().empty());
+    // The run measured the window's lengths, not the preset's.
+    QCOMPARE(panel->mechanism().parameters.at("L1"), 12.0);
+    QCOMPARE(panel->mechanism().parameters.at("L2"), 18.0);
+    QCOMPARE(w.findChild<QDoubleSpinBox*>("L1Box")->value(), 12.0);  // the panel shows them too
+    w.grab().save("methods_dock.png");  // for a look by hand; not compared
   }
 
   void pictureMatchesBaselines() {

@@ -1,13 +1,32 @@
-#include "gui/mechanism_switch.h"
+#include "gui/window_parts.h"
 
 #include <QComboBox>
+#include <QDockWidget>
+#include <QMainWindow>
 #include <QMessageBox>
 #include <stdexcept>
 
 #include "gui/main_window.h"
+#include "gui/methods_panel.h"
 #include "gui/pathos2_window.h"
 
 namespace linkscape::gui {
+
+QDockWidget* add_dock(QMainWindow* window, const QString& title, const QString& name, QWidget* content) {
+  auto* d = new QDockWidget(title, window);
+  d->setObjectName(name);
+  d->setWidget(content);
+  window->addDockWidget(Qt::RightDockWidgetArea, d);
+  return d;
+}
+
+MethodsPanel* add_methods_dock(QMainWindow* window, const Preset& preset, QDockWidget* tab_with) {
+  auto* panel = new MethodsPanel;
+  panel->setMechanism(preset);
+  QDockWidget* d = add_dock(window, QObject::tr("Methods"), "methodsDock", panel);
+  window->tabifyDockWidget(tab_with, d);
+  return panel;
+}
 
 QComboBox* make_preset_chooser(QWidget* window, const Preset& current) {
   auto* box = new QComboBox;

@@ -1,0 +1,31 @@
+// Pieces both mechanism windows are built from: docks, the preset chooser
+// (picking another preset opens that mechanism's window in place) and the
+// methods dock (speed against accuracy for the window's parameters).
+#pragma once
+
+#include <QString>
+
+#include "core/preset.h"
+
+class QComboBox;
+class QDockWidget;
+class QMainWindow;
+class QWidget;
+
+namespace linkscape::gui {
+
+class MethodsPanel;
+
+// A dock on the right holding `content`; `name` is its object name.
+QDockWidget* add_dock(QMainWindow* window, const QString& title, const QString& name, QWidget* content);
+
+// A combo box of every preset on the search path, showing `current`. Picking
+// another one opens its window (same size and place) and closes `window`; a
+// preset that fails to load leaves everything as it was and says why.
+QComboBox* make_preset_chooser(QWidget* window, const Preset& current);
+
+// A "Methods" dock tabbed behind `tab_with`, measuring `preset`'s methods
+// when the user presses Run (keep it current with MethodsPanel::setMechanism).
+MethodsPanel* add_methods_dock(QMainWindow* window, const Preset& preset, QDockWidget* tab_with);
+
+}  // namespace linkscape::gui
