@@ -249,9 +249,16 @@ TEST(MethodHarness, TableCoversEveryMethodWithAParetoFront) {
     EXPECT_TRUE(names.count(expected)) << expected;
   for (const char* family : {"ik", "jacobian", "conditioning", "field"})
     EXPECT_FALSE(methods::pareto_front(rows, family).empty()) << family;
-  // Planar is the fastest IK method and as accurate as any: always on the front.
+  // Planar is the fastest IK method and as accurate as any: on the front. The
+  // fallback runs planar first and (forward() no longer cancels) returns the
+  // same answers, so with one timed pass it may win the tie by timing noise.
   bool planar_on_front = false;
-  for (std::size_t i : methods::pareto_front(rows, "ik")) planar_on_front |= rows[i].method == "planar";
+  double planar_median = 0;
+  for (const auto& r : rows)
+    if (r.family == "ik" && r.method == "planar") planar_median = r.error_median;
+  for (std::size_t i : methods::pareto_front(rows, "ik"))
+    planar_on_front |= rows[i].method == "planar" ||
+                       (rows[i].method == "fallback" && rows[i].error_median == planar_median);
   EXPECT_TRUE(planar_on_front);
   // Finite differences are the least accurate Jacobians.
   double analytic = 0, forward = 0;
