@@ -12,13 +12,20 @@
 namespace linkscape::testing {
 
 // Eqs. 11-13 exactly as printed (x, y, z of endpoint D).
+// Evaluated in T (long double gives a reference for the double code).
+template <class T>
+Eigen::Vector3d paper_forward_in(double L1, double L2, double a_, double b_, double g_) {
+  using std::cos, std::sin, std::sqrt;
+  const T a = a_, b = b_, g = g_;
+  const T sa = sin(a), ca = cos(a);
+  const T db = sqrt(1 - sa * sa * sin(b) * sin(b));
+  const T dg = sqrt(1 - sa * sa * sin(g) * sin(g));
+  return {double(-(L1 * (sa * cos(b)) / db + L2 * (sa * cos(g)) / dg)),
+          double(L1 * (ca * cos(b)) / db + L2 * (ca * cos(g)) / dg),
+          double(L1 * (ca * sin(b)) / db + L2 * (ca * sin(g)) / dg)};
+}
 inline Eigen::Vector3d paper_forward(double L1, double L2, double a, double b, double g) {
-  const double sa = std::sin(a), ca = std::cos(a);
-  const double db = std::sqrt(1 - sa * sa * std::sin(b) * std::sin(b));
-  const double dg = std::sqrt(1 - sa * sa * std::sin(g) * std::sin(g));
-  return {-(L1 * (sa * std::cos(b)) / db + L2 * (sa * std::cos(g)) / dg),
-          L1 * (ca * std::cos(b)) / db + L2 * (ca * std::cos(g)) / dg,
-          L1 * (ca * std::sin(b)) / db + L2 * (ca * std::sin(g)) / dg};
+  return paper_forward_in<double>(L1, L2, a, b, g);
 }
 
 // Configurations with alpha in (-pi/2, pi/2) kept `margin` rad away from the
