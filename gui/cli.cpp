@@ -49,6 +49,10 @@ void add_sampling_options(CLI::App& app, SamplingOptions& s) {
                  "candidate where planar misses the tolerance; the choice is recorded per sample)")
       ->capture_default_str();
   app.add_option("--branch", s.branch, "Assembly branch evaluated: 0 or 1")->capture_default_str();
+  app.add_option("--tolerance", s.tolerance,
+                 "Accept a sample's IK solution when its residual <= tolerance * (L1 + L2); a tighter value shows "
+                 "where each method gives up")
+      ->capture_default_str();
   app.add_option("--pose", s.pose,
                  "pathos2: x,y,z (cm), rx,ry,rz (rad, R = Rz Ry Rx), h0 (cm); orientation and grip are held fixed "
                  "over the grid, the default slice passes through the position (default: Table 3 home pose "

@@ -232,9 +232,9 @@ Sampling make_sampling(const SamplingOptions& s) {
   Sampling out;
   out.mechanism = preset.mechanism;
   if (preset.mechanism == pathos2::kMechanismName) {
-    if (s.method != "planar" || s.branch != 0)
-      throw std::invalid_argument("--method and --branch apply to parallel-12r; pathos2 uses its closed-form IK "
-                                  "with the preset's branch_1..branch_6");
+    if (s.method != "planar" || s.branch != 0 || s.tolerance != SamplingOptions{}.tolerance)
+      throw std::invalid_argument("--method, --branch and --tolerance apply to parallel-12r; pathos2 uses its "
+                                  "closed-form IK with the preset's branch_1..branch_6");
     const pathos2::Model model = make_pathos2(preset);
     pathos2::Pose pose = pathos2::home_pose(model);
     if (!s.pose.empty()) {
@@ -267,6 +267,9 @@ Sampling make_sampling(const SamplingOptions& s) {
   FieldRequest request;
   request.method = parallel12r::parse_ik_method(s.method);
   request.branch = s.branch;
+  if (!(s.tolerance > 0) || !std::isfinite(s.tolerance))
+    throw std::invalid_argument("--tolerance must be positive, got " + format_number(s.tolerance));
+  request.ik.tolerance = s.tolerance;
   const double r = model.reach();
   out.length_unit = model.length_unit;
   out.box_min = Eigen::Vector3d::Constant(-r);

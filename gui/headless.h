@@ -35,6 +35,7 @@ struct SamplingOptions {
   MechanismChoice mechanism;
   std::string method = "planar";  // parallel-12r
   int branch = 0;                 // parallel-12r
+  double tolerance = 1e-10;       // parallel-12r: accept when residual <= tolerance * (L1 + L2)
   // pathos2: x,y,z (cm), rx,ry,rz (rad, R = Rz Ry Rx), h0 (cm). The
   // orientation and grip are held fixed over the grid; the position places
   // the default slice plane. Empty: the Table 3 home pose.

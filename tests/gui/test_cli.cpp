@@ -354,8 +354,10 @@ TEST(CliSlice, MethodFieldShowsWhichIkMethodServedEachSample) {
                                   "--size 40x40 -q --output " + png.string(), kNoDisplay);
   ASSERT_EQ(r.exit_code, 0) << r.out;
   EXPECT_EQ(png_size(png), std::make_pair(40, 40));
-  r = run_linkscape("slice --param L1=1 --param L2=1 --method fallback --plane y=4e-5 --size 40x40 -q --output " +
-                    csv.string(), kNoDisplay);
+  // At a tolerance near rounding, planar misses it at some samples and
+  // Newton (seeded by planar) takes over there.
+  r = run_linkscape("slice --param L1=1 --param L2=1 --method fallback --tolerance 3e-15 --plane y=4e-5 --size 60x60 "
+                    "-q --output " + csv.string(), kNoDisplay);
   ASSERT_EQ(r.exit_code, 0) << r.out;
   std::ifstream in(csv);
   const linkscape::Table t = linkscape::read_csv(in, "method.csv");
