@@ -26,6 +26,7 @@ class ChartView : public QWidget {
     setMinimumSize(320, 240);
   }
   void set_title(const QString& t) { title_ = t; }
+  const QString& title() const { return title_; }
 
  protected:
   void paintEvent(QPaintEvent*) override {
@@ -63,8 +64,14 @@ MethodsPanel::MethodsPanel(QWidget* parent) : QWidget(parent) {
   cancel_button_->setEnabled(false);
   status_ = new QLabel("Not measured yet.", this);
   status_->setObjectName("status");
+  // The chart has a panel per mechanism and family: a dock is too small to
+  // read it, so it also opens in a window of its own (kept current).
+  auto* enlarge = new QPushButton("Enlarge", this);
+  enlarge->setObjectName("enlarge");
+  enlarge->setToolTip("Open the chart in its own window, large enough to read");
   bar->addWidget(run_button_);
   bar->addWidget(cancel_button_);
+  bar->addWidget(enlarge);
   bar->addWidget(status_, 1);
   layout->addLayout(bar);
   auto* split = new QSplitter(Qt::Vertical, this);
@@ -81,6 +88,18 @@ MethodsPanel::MethodsPanel(QWidget* parent) : QWidget(parent) {
   split->setStretchFactor(0, 3);
   split->setStretchFactor(1, 1);
   layout->addWidget(split, 1);
+  connect(enlarge, &QPushButton::clicked, this, [this] {
+    auto* big = new ChartView(rows_, static_cast<ChartView*>(chart_)->title(), this);
+    big->setWindowFlags(Qt::Window);
+    big->setAttribute(Qt::WA_DeleteOnClose);
+    big->setWindowTitle("Linkscape: speed against accuracy");
+    big->resize(1400, 1000);
+    connect(this, &MethodsPanel::runFinished, big, [this, big] {
+      big->set_title(static_cast<ChartView*>(chart_)->title());
+      big->update();
+    });
+    big->show();
+  });
   connect(run_button_, &QPushButton::clicked, this, &MethodsPanel::run);
   connect(cancel_button_, &QPushButton::clicked, this, &MethodsPanel::cancel);
 }
