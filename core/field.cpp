@@ -1,6 +1,10 @@
 #include "core/field.h"
 
+#include <sys/mman.h>
+
 #include <cmath>
+#include <cstdlib>
+#include <new>
 #include <limits>
 #include <numbers>
 #include <sstream>
@@ -122,6 +126,31 @@ void check_request(const FieldRequest& req) {
 }
 
 }  // namespace
+
+namespace detail {
+
+namespace {
+constexpr std::size_t kHugePage = std::size_t(2) << 20;
+constexpr std::size_t kHugeThreshold = std::size_t(4) << 20;  // smaller blocks use the heap
+std::size_t round_up(std::size_t bytes) { return (bytes + kHugePage - 1) / kHugePage * kHugePage; }
+}  // namespace
+
+void* allocate_samples(std::size_t bytes) {
+  if (bytes < kHugeThreshold) return ::operator new(bytes);
+  void* p = std::aligned_alloc(kHugePage, round_up(bytes));
+  if (!p) throw std::bad_alloc();
+#ifdef MADV_HUGEPAGE
+  ::madvise(p, round_up(bytes), MADV_HUGEPAGE);  // a hint: without THP it is ignored
+#endif
+  return p;
+}
+
+void free_samples(void* p, std::size_t bytes) noexcept {
+  if (bytes < kHugeThreshold) ::operator delete(p);
+  else std::free(p);
+}
+
+}  // namespace detail
 
 Axis parse_axis(const std::string& name) {
   if (name == "x" || name == "X") return Axis::X;

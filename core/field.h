@@ -56,6 +56,14 @@ struct FieldRequest {
   int threads = 0;
 };
 
+namespace detail {
+// Large blocks aligned to 2 MiB and marked for transparent huge pages: first
+// touching a 4 KiB page costs a fault, and a field of millions of samples
+// otherwise spends about 40 % of its time in them (docs/performance.md).
+void* allocate_samples(std::size_t bytes);
+void free_samples(void* p, std::size_t bytes) noexcept;
+}  // namespace detail
+
 // Allocator that leaves new elements uninitialised: a field's arrays are
 // written in full by the sampling loop, and skipping the zero fill means the
 // pages are first touched there, in parallel and cancellably.
@@ -65,6 +73,8 @@ struct UninitialisedAllocator : std::allocator<T> {
   struct rebind {
     using other = UninitialisedAllocator<U>;
   };
+  T* allocate(std::size_t n) { return static_cast<T*>(detail::allocate_samples(n * sizeof(T))); }
+  void deallocate(T* p, std::size_t n) noexcept { detail::free_samples(p, n * sizeof(T)); }
   template <class U, class... Args>
   void construct(U* p, Args&&... args) {
     if constexpr (sizeof...(Args) == 0) ::new (static_cast<void*>(p)) U;
