@@ -7,6 +7,7 @@
 
 #include "core/pathos2.h"
 #include "core/pathos2_design.h"
+#include "core/pathos2_field.h"
 
 namespace {
 
@@ -107,5 +108,19 @@ void BM_Pathos2Table2Search(benchmark::State& state) {
 BENCHMARK(BM_Pathos2Table2Search)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
 
 }  // namespace
+
+// PATHOS-II field: 96^3 positions over +-12 cm around the Table 3 pose, full
+// IK + closure residual + Jacobian + both condition numbers per sample.
+void BM_Pathos2Field96(benchmark::State& state) {
+  const linkscape::pathos2::Model model;
+  linkscape::pathos2::FieldRequest r;
+  r.grid = linkscape::Grid::box({-12, -12, 10.5}, {12, 12, 34.5}, {96, 96, 96});
+  r.rpy = {0, 0, 0.5235987755982988};
+  r.h0 = model.h0;
+  r.threads = int(state.range(0));
+  for (auto _ : state) benchmark::DoNotOptimize(linkscape::pathos2::compute_field(model, r));
+  state.SetItemsProcessed(state.iterations() * std::int64_t(r.grid.size()));
+}
+BENCHMARK(BM_Pathos2Field96)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK_MAIN();
