@@ -963,37 +963,7 @@ int run_window(const WindowOptions& options, int argc, char** argv) {
   window.show();
   if (options.latency) return run_latency_probe(window, std::cout);
   if (options.screenshot.empty()) return QApplication::exec();
-
-  // Screenshot mode: wait until the fields are computed in full and a frame
-  // shows them, then grab, save and quit.
-  int status = 1;
-  bool grabbing = false;
-  auto grab_when_ready = [&] {
-    if (grabbing || !window.fieldsSettled()) return;
-    grabbing = true;
-    QTimer::singleShot(100, &window, [&] {
-      const QImage image = window.grab().toImage();
-      try {  // exceptions must not cross Qt's event loop
-        write_atomically(options.screenshot, [&](const std::filesystem::path& tmp) {
-          if (!image.save(QString::fromStdString(tmp.string()), "PNG"))
-            throw std::runtime_error("cannot write PNG '" + options.screenshot + "'");
-        });
-        std::cout << "wrote " << options.screenshot << " (" << image.width() << "x" << image.height() << ")\n";
-        status = 0;
-      } catch (const std::exception& e) {
-        std::cerr << "linkscape: error: " << e.what() << "\n";
-      }
-      QApplication::quit();
-    });
-  };
-  QObject::connect(&window, &MainWindow::fieldsUpdated, &window, grab_when_ready);
-  QTimer::singleShot(0, &window, grab_when_ready);
-  QTimer::singleShot(60000, &app, [] {
-    std::cerr << "linkscape: the window did not finish rendering within 60 s\n";
-    QApplication::exit(1);
-  });
-  QApplication::exec();
-  return status;
+  return save_screenshot_when_settled(window, options.screenshot);
 }
 
 }  // namespace linkscape::gui

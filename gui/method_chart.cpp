@@ -2,11 +2,8 @@
 
 #include <QFont>
 #include <QFontMetricsF>
-#include <QImage>
 #include <QPainter>
 #include <QPainterPath>
-#include <QPdfWriter>
-#include <QSvgGenerator>
 
 #include <algorithm>
 #include <cmath>
@@ -14,7 +11,7 @@
 #include <map>
 #include <stdexcept>
 
-#include "core/atomic_file.h"
+#include "gui/painted_file.h"
 
 namespace linkscape::gui {
 namespace {
@@ -274,41 +271,6 @@ void draw_family(QPainter& p, const QRectF& cell, double fh, const std::vector<m
   draw_legend(p, QPointF(panel.plot.left() + 0.4 * fh, panel.plot.top() + 0.4 * fh), fh, legend);
 }
 
-template <class Draw>
-void write_chart(const std::filesystem::path& path, QSize page, Draw&& draw) {
-  const std::string ext = path.extension().string();
-  if (ext != ".png" && ext != ".svg" && ext != ".pdf")
-    throw std::invalid_argument("chart: output must end in .png, .svg or .pdf, got '" + path.string() + "'");
-  write_atomically(path, [&](const std::filesystem::path& tmp) {
-    const QString file = QString::fromStdString(tmp.string());
-    if (ext == ".png") {
-      QImage canvas(page, QImage::Format_RGB32);
-      canvas.fill(Qt::white);
-      QPainter p(&canvas);
-      p.setRenderHint(QPainter::Antialiasing);
-      draw(p, QRectF(QPointF(0, 0), QSizeF(page)));
-      p.end();
-      if (!canvas.save(file, "PNG")) throw std::runtime_error("cannot write '" + path.string() + "'");
-    } else if (ext == ".svg") {
-      QSvgGenerator svg;
-      svg.setFileName(file);
-      svg.setSize(page);
-      svg.setViewBox(QRect(QPoint(0, 0), page));
-      svg.setTitle("Linkscape methods");
-      QPainter p(&svg);
-      p.setRenderHint(QPainter::Antialiasing);
-      draw(p, QRectF(QPointF(0, 0), QSizeF(page)));
-    } else {
-      QPdfWriter pdf(file);
-      pdf.setPageSize(QPageSize(QSizeF(page.width() * 0.75, page.height() * 0.75), QPageSize::Point));
-      pdf.setPageMargins(QMarginsF(0, 0, 0, 0));
-      pdf.setResolution(96);
-      QPainter p(&pdf);
-      draw(p, QRectF(0, 0, pdf.width(), pdf.height()));
-    }
-  });
-}
-
 }  // namespace
 
 void draw_method_chart(QPainter& p, const QRectF& area, const std::vector<methods::MethodRow>& rows,
@@ -482,12 +444,14 @@ void draw_sweep_chart(QPainter& p, const QRectF& area, const std::vector<stabili
 
 void write_method_chart(const std::vector<methods::MethodRow>& rows, const QString& title,
                         const std::filesystem::path& path) {
-  write_chart(path, QSize(1600, 1200), [&](QPainter& p, const QRectF& area) { draw_method_chart(p, area, rows, title); });
+  write_painted(path, QSize(1600, 1200), "Linkscape methods",
+                [&](QPainter& p, const QRectF& area) { draw_method_chart(p, area, rows, title); });
 }
 
 void write_sweep_chart(const std::vector<stability::SweepRow>& rows, const QString& title,
                        const std::filesystem::path& path) {
-  write_chart(path, QSize(1800, 1100), [&](QPainter& p, const QRectF& area) { draw_sweep_chart(p, area, rows, title); });
+  write_painted(path, QSize(1800, 1100), "Linkscape stability sweeps",
+                [&](QPainter& p, const QRectF& area) { draw_sweep_chart(p, area, rows, title); });
 }
 
 }  // namespace linkscape::gui

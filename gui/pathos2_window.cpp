@@ -17,7 +17,6 @@
 #include <QSignalBlocker>
 #include <QSlider>
 #include <QStatusBar>
-#include <QTimer>
 #include <QVBoxLayout>
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkNew.h>
@@ -27,11 +26,9 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
-#include <iostream>
 #include <numbers>
 #include <stdexcept>
 
-#include "core/atomic_file.h"
 #include "core/pathos2_field.h"
 #include "gui/methods_panel.h"
 #include "gui/window_parts.h"
@@ -774,37 +771,7 @@ int run_pathos2_window(const Preset& preset, const std::string& screenshot, int 
   window.resize(width, height);
   window.show();
   if (screenshot.empty()) return QApplication::exec();
-
-  // Screenshot mode: wait until the fields are computed in full and a frame
-  // shows them, then grab, save and quit.
-  int status = 1;
-  bool grabbing = false;
-  auto grab_when_ready = [&] {
-    if (grabbing || !window.fieldsSettled()) return;
-    grabbing = true;
-    QTimer::singleShot(100, &window, [&] {
-      const QImage image = window.grab().toImage();
-      try {  // exceptions must not cross Qt's event loop
-        write_atomically(screenshot, [&](const std::filesystem::path& tmp) {
-          if (!image.save(QString::fromStdString(tmp.string()), "PNG"))
-            throw std::runtime_error("cannot write PNG '" + screenshot + "'");
-        });
-        std::cout << "wrote " << screenshot << " (" << image.width() << "x" << image.height() << ")\n";
-        status = 0;
-      } catch (const std::exception& e) {
-        std::cerr << "linkscape: error: " << e.what() << "\n";
-      }
-      QApplication::quit();
-    });
-  };
-  QObject::connect(&window, &Pathos2Window::fieldsUpdated, &window, grab_when_ready);
-  QTimer::singleShot(0, &window, grab_when_ready);
-  QTimer::singleShot(60000, &window, [] {
-    std::cerr << "linkscape: the window did not finish rendering within 60 s\n";
-    QApplication::exit(1);
-  });
-  QApplication::exec();
-  return status;
+  return save_screenshot_when_settled(window, screenshot);
 }
 
 }  // namespace linkscape::gui

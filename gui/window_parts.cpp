@@ -1,11 +1,17 @@
 #include "gui/window_parts.h"
 
+#include <QApplication>
 #include <QComboBox>
 #include <QDockWidget>
+#include <QImage>
 #include <QMainWindow>
 #include <QMessageBox>
+#include <QTimer>
+#include <filesystem>
+#include <iostream>
 #include <stdexcept>
 
+#include "core/atomic_file.h"
 #include "gui/main_window.h"
 #include "gui/methods_panel.h"
 #include "gui/pathos2_window.h"
@@ -54,5 +60,42 @@ QComboBox* make_preset_chooser(QWidget* window, const Preset& current) {
   });
   return box;
 }
+
+namespace detail {
+
+int save_screenshot_when(QWidget& window, const std::string& path, const std::function<bool()>& ready,
+                         const std::function<void(std::function<void()>)>& on_update) {
+  int status = 1;
+  bool grabbing = false;
+  const std::function<void()> grab_when_ready = [&] {
+    if (grabbing || !ready()) return;
+    grabbing = true;
+    // One more frame so the picture shows the last fields.
+    QTimer::singleShot(100, &window, [&] {
+      const QImage image = window.grab().toImage();
+      try {  // exceptions must not cross Qt's event loop
+        write_atomically(path, [&](const std::filesystem::path& tmp) {
+          if (!image.save(QString::fromStdString(tmp.string()), "PNG"))
+            throw std::runtime_error("cannot write PNG '" + path + "'");
+        });
+        std::cout << "wrote " << path << " (" << image.width() << "x" << image.height() << ")\n";
+        status = 0;
+      } catch (const std::exception& e) {
+        std::cerr << "linkscape: error: " << e.what() << "\n";
+      }
+      QApplication::quit();
+    });
+  };
+  on_update(grab_when_ready);
+  QTimer::singleShot(0, &window, grab_when_ready);
+  QTimer::singleShot(60000, &window, [] {
+    std::cerr << "linkscape: the window did not finish rendering within 60 s\n";
+    QApplication::exit(1);
+  });
+  QApplication::exec();
+  return status;
+}
+
+}  // namespace detail
 
 }  // namespace linkscape::gui

@@ -3,7 +3,10 @@
 // methods dock (speed against accuracy for the window's parameters).
 #pragma once
 
+#include <QObject>
 #include <QString>
+#include <functional>
+#include <string>
 
 #include "core/preset.h"
 
@@ -27,5 +30,23 @@ QComboBox* make_preset_chooser(QWidget* window, const Preset& current);
 // A "Methods" dock tabbed behind `tab_with`, measuring `preset`'s methods
 // when the user presses Run (keep it current with MethodsPanel::setMechanism).
 MethodsPanel* add_methods_dock(QMainWindow* window, const Preset& preset, QDockWidget* tab_with);
+
+namespace detail {
+int save_screenshot_when(QWidget& window, const std::string& path, const std::function<bool()>& ready,
+                         const std::function<void(std::function<void()>)>& on_update);
+}  // namespace detail
+
+// Screenshot mode of either window: runs the event loop until the fields
+// are computed in full (window.fieldsSettled() after fieldsUpdated) and a
+// frame shows them, then writes a PNG of the window atomically. Returns the
+// exit code: 0, or 1 if the file cannot be written or after 60 s.
+template <class Window>
+int save_screenshot_when_settled(Window& window, const std::string& path) {
+  return detail::save_screenshot_when(
+      window, path, [&window] { return window.fieldsSettled(); },
+      [&window](std::function<void()> check) {
+        QObject::connect(&window, &Window::fieldsUpdated, &window, [check](bool) { check(); });
+      });
+}
 
 }  // namespace linkscape::gui
