@@ -23,6 +23,7 @@
 #include <QSlider>
 #include <QStatusBar>
 #include <QSurfaceFormat>
+#include <QScrollArea>
 #include <QTimer>
 #include <QVBoxLayout>
 #include <vtkCallbackCommand.h>
@@ -146,6 +147,13 @@ MainWindow::MainWindow(const Preset& preset, QWidget* parent)
   QDockWidget* animation = add_dock(this, tr("Animation"), "animationDock", buildAnimationPanel());
   // Mechanism and actuators on top; field, endpoint and animation as tabs below.
   splitDockWidget(first, field, Qt::Vertical);
+  // Once laid out: the top dock shows every read-out, the tabs below scroll
+  // if they must, and the column is wide enough for the field panel.
+  QTimer::singleShot(0, this, [this, first, field] {
+    const int top = static_cast<QScrollArea*>(first->widget())->widget()->sizeHint().height() + 36;  // + title bar
+    resizeDocks({first, field}, {top, std::max(200, height() - top)}, Qt::Vertical);
+    resizeDocks({first}, {std::max(first->width(), 470)}, Qt::Horizontal);
+  });
   tabifyDockWidget(field, endpoint);
   tabifyDockWidget(field, animation);
   methods_ = add_methods_dock(this, preset_, field);
@@ -234,11 +242,29 @@ QWidget* MainWindow::buildMechanismPanel() {
       setLinkLengths(length_boxes_[0]->value(), length_boxes_[1]->value());
     });
   }
-  const QString ranges = QString("α [%1, %2]°, β [%3, %4]°, γ [%5, %6]°")
-                             .arg(m.alpha_limits.lo / kDeg).arg(m.alpha_limits.hi / kDeg)
-                             .arg(m.beta_limits.lo / kDeg).arg(m.beta_limits.hi / kDeg)
-                             .arg(m.gamma_limits.lo / kDeg).arg(m.gamma_limits.hi / kDeg);
-  form->addRow(tr("Actuator ranges"), new QLabel(ranges, box));
+  // Actuator ranges: min and max per actuator; the sliders, the IK and the
+  // fields (reachable set) follow them.
+  auto* ranges = new QGridLayout;
+  const parallel12r::Interval limits[] = {m.alpha_limits, m.beta_limits, m.gamma_limits};
+  const char* actuators[] = {"alpha", "beta", "gamma"};
+  const QString symbols[] = {QString::fromUtf8("α"), QString::fromUtf8("β"), QString::fromUtf8("γ")};
+  for (int i = 0; i < 3; ++i) {
+    const double bound = i == 0 ? 90.0 : 180.0;
+    ranges->addWidget(new QLabel(symbols[i], box), i, 0);
+    for (int k = 0; k < 2; ++k) {
+      auto* limit = spin(box, -bound, bound, (k == 0 ? limits[i].lo : limits[i].hi) / kDeg, 1, QString::fromUtf8(" °"));
+      limit->setObjectName(QString("%1%2Box").arg(actuators[i], k == 0 ? "Min" : "Max"));
+      limit->setToolTip(k == 0 ? tr("Lower end of the actuator's range") : tr("Upper end of the actuator's range"));
+      limit_boxes_[i][k] = limit;
+      ranges->addWidget(limit, i, 1 + k);
+      connect(limit, &QDoubleSpinBox::editingFinished, this, [this] {
+        std::array<parallel12r::Interval, 3> deg;
+        for (int a = 0; a < 3; ++a) deg[a] = {limit_boxes_[a][0]->value(), limit_boxes_[a][1]->value()};
+        setActuatorRanges(deg);
+      });
+    }
+  }
+  form->addRow(tr("Actuator ranges"), ranges);
   return box;
 }
 
@@ -585,6 +611,49 @@ void MainWindow::setLinkLengths(double L1, double L2) {
   view_->update();
 }
 
+void MainWindow::setActuatorRanges(const std::array<parallel12r::Interval, 3>& ranges_deg) {
+  parallel12r::Model m = scene_->model();
+  m.alpha_limits = {ranges_deg[0].lo * kDeg, ranges_deg[0].hi * kDeg};
+  m.beta_limits = {ranges_deg[1].lo * kDeg, ranges_deg[1].hi * kDeg};
+  m.gamma_limits = {ranges_deg[2].lo * kDeg, ranges_deg[2].hi * kDeg};
+  try {
+    m.validate();  // empty or inverted ranges
+    scene_->set_model(m);
+  } catch (const std::invalid_argument& e) {
+    statusBar()->showMessage(QString::fromStdString(e.what()), 8000);
+    syncRangeBoxes();  // back to the ranges in force
+    return;
+  }
+  const char* names[] = {"alpha", "beta", "gamma"};
+  for (int i = 0; i < 3; ++i) preset_.limits_deg[names[i]] = ranges_deg[i];
+  syncRangeBoxes();
+  // Sliders span the new ranges (alpha inside the open interval of Eq. 14);
+  // the pose is clamped into them.
+  const parallel12r::Interval limits[] = {m.alpha_limits, m.beta_limits, m.gamma_limits};
+  Eigen::Vector3d q = q_;
+  for (int i = 0; i < 3; ++i) {
+    const double lo = std::max(limits[i].lo / kDeg, i == 0 ? -89.9 : -180.0);
+    const double hi = std::min(limits[i].hi / kDeg, i == 0 ? 89.9 : 180.0);
+    const QSignalBlocker b1(sliders_[i]), b2(angle_boxes_[i]);
+    sliders_[i]->setRange(int(std::lround(lo * kSliderStepsPerDegree)), int(std::lround(hi * kSliderStepsPerDegree)));
+    angle_boxes_[i]->setRange(lo, hi);
+    q(i) = std::clamp(q(i), lo * kDeg, hi * kDeg);
+  }
+  methods_->setMechanism(preset_);
+  setPose(q);
+  requestFields(true, true);
+}
+
+void MainWindow::syncRangeBoxes() {
+  const auto& m = scene_->model();
+  const parallel12r::Interval limits[] = {m.alpha_limits, m.beta_limits, m.gamma_limits};
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 2; ++k) {
+      const QSignalBlocker block(limit_boxes_[i][k]);
+      limit_boxes_[i][k]->setValue((k == 0 ? limits[i].lo : limits[i].hi) / kDeg);
+    }
+}
+
 void MainWindow::updateReadouts() {
   const auto& m = scene_->model();
   const QString unit = QString::fromStdString(m.length_unit);
@@ -766,6 +835,10 @@ Session MainWindow::session() const {
   Session s;
   s.mechanism = preset_.source.empty() ? preset_.mechanism : preset_.source.string();
   s.parameters = {{"L1", model().L1}, {"L2", model().L2}};
+  const auto& m = model();
+  s.actuator_limits_deg = {{"alpha", {m.alpha_limits.lo / kDeg, m.alpha_limits.hi / kDeg}},
+                           {"beta", {m.beta_limits.lo / kDeg, m.beta_limits.hi / kDeg}},
+                           {"gamma", {m.gamma_limits.lo / kDeg, m.gamma_limits.hi / kDeg}}};
   s.pose = q_;
   vtkCamera* c = renderer_->GetActiveCamera();
   CameraState cam;
@@ -808,6 +881,18 @@ void MainWindow::applySession(const Session& s) {
     position_slider_->setValue(int(std::lround(f.position / r * kPositionSteps)));
   }
   setLinkLengths(length_boxes_[0]->value(), length_boxes_[1]->value());
+  if (!s.actuator_limits_deg.empty()) {
+    std::array<parallel12r::Interval, 3> ranges;
+    const auto& m = model();
+    const parallel12r::Interval current[] = {m.alpha_limits, m.beta_limits, m.gamma_limits};
+    const char* names[] = {"alpha", "beta", "gamma"};
+    for (int i = 0; i < 3; ++i) {
+      const auto it = s.actuator_limits_deg.find(names[i]);
+      ranges[i] = it != s.actuator_limits_deg.end() ? parallel12r::Interval{it->second[0], it->second[1]}
+                                                     : parallel12r::Interval{current[i].lo / kDeg, current[i].hi / kDeg};
+    }
+    setActuatorRanges(ranges);
+  }
   if (s.camera) {
     vtkCamera* c = renderer_->GetActiveCamera();
     c->SetPosition(s.camera->position.data());

@@ -75,6 +75,10 @@ class MainWindow : public QMainWindow {
   void setPose(const Eigen::Vector3d& q_actuated);
   // New link lengths; the pose is kept; fields are recomputed.
   void setLinkLengths(double L1, double L2);
+  // New actuator ranges (alpha, beta, gamma; degrees): sliders follow, the
+  // pose is clamped into them, fields are recomputed. An empty or inverted
+  // range is refused with a message and the ranges stay as they were.
+  void setActuatorRanges(const std::array<parallel12r::Interval, 3>& ranges_deg);
   // Inverse kinematics to `target`. Without `branch` (drags, animation) the
   // current branch is tracked and a target that would make the linkage jump
   // is refused; with it (typed targets) any pose of that branch is taken.
@@ -116,6 +120,7 @@ class MainWindow : public QMainWindow {
   void saveScreenshot();
   FieldSettings fieldSettingsFromPanel() const;
   void placeHandle();
+  void syncRangeBoxes();
 
   Preset preset_;
   std::unique_ptr<render::LinkageScene> scene_;
@@ -135,6 +140,7 @@ class MainWindow : public QMainWindow {
 
   // Panels.
   std::array<QDoubleSpinBox*, 2> length_boxes_{};
+  std::array<std::array<QDoubleSpinBox*, 2>, 3> limit_boxes_{};  // [actuator][min, max], degrees
   std::array<QSlider*, 2> length_sliders_{};
   std::array<QSlider*, 3> sliders_{};
   std::array<QDoubleSpinBox*, 3> angle_boxes_{};

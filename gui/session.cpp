@@ -1,5 +1,6 @@
 #include "gui/session.h"
 
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -26,6 +27,7 @@ void save_session(const Session& s, const std::filesystem::path& path) {
   j["version"] = 1;
   j["mechanism"] = s.mechanism;
   j["parameters"] = s.parameters;
+  if (!s.actuator_limits_deg.empty()) j["actuator_limits_deg"] = s.actuator_limits_deg;
   j["pose_rad"] = vec(s.pose);
   if (s.camera)
     j["camera"] = {{"position", vec(s.camera->position)},
@@ -67,6 +69,10 @@ Session load_session(const std::filesystem::path& path) {
     if (j.value("format", "") != "linkscape-session") throw std::invalid_argument("not a Linkscape session (no \"format\": \"linkscape-session\")");
     s.mechanism = j.at("mechanism").get<std::string>();
     s.parameters = j.value("parameters", std::map<std::string, double>{});
+    s.actuator_limits_deg = j.value("actuator_limits_deg", std::map<std::string, std::array<double, 2>>{});
+    for (const auto& [name, range] : s.actuator_limits_deg)
+      if (!(range[0] < range[1]) || !std::isfinite(range[0]) || !std::isfinite(range[1]))
+        throw std::invalid_argument("actuator_limits_deg." + name + " must be [lo, hi] with lo < hi");
     s.pose = vec(j.at("pose_rad"));
     if (!s.pose.allFinite()) throw std::invalid_argument("pose_rad must be finite");
     if (j.contains("camera")) {

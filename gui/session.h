@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <filesystem>
 #include <map>
 #include <optional>
@@ -34,6 +35,7 @@ struct FieldSettings {
 struct Session {
   std::string mechanism = "parallel-12r";    // preset name or path
   std::map<std::string, double> parameters;  // overrides, e.g. L1, L2
+  std::map<std::string, std::array<double, 2>> actuator_limits_deg;  // alpha, beta, gamma: [lo, hi]
   Eigen::Vector3d pose = Eigen::Vector3d::Zero();  // actuator angles, rad
   std::optional<CameraState> camera;
   FieldSettings field;

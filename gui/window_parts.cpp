@@ -6,6 +6,7 @@
 #include <QImage>
 #include <QMainWindow>
 #include <QMessageBox>
+#include <QScrollArea>
 #include <QTimer>
 #include <filesystem>
 #include <iostream>
@@ -21,7 +22,13 @@ namespace linkscape::gui {
 QDockWidget* add_dock(QMainWindow* window, const QString& title, const QString& name, QWidget* content) {
   auto* d = new QDockWidget(title, window);
   d->setObjectName(name);
-  d->setWidget(content);
+  // Scrollable, so a tall panel never makes the window taller than the screen.
+  auto* scroll = new QScrollArea(d);
+  scroll->setWidget(content);
+  scroll->setWidgetResizable(true);
+  scroll->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);  // panels fit the dock's width
+  scroll->setFrameShape(QFrame::NoFrame);
+  d->setWidget(scroll);
   window->addDockWidget(Qt::RightDockWidgetArea, d);
   return d;
 }

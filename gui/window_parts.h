@@ -19,7 +19,7 @@ namespace linkscape::gui {
 
 class MethodsPanel;
 
-// A dock on the right holding `content`; `name` is its object name.
+// A dock on the right holding `content` (scrollable); `name` is its object name.
 QDockWidget* add_dock(QMainWindow* window, const QString& title, const QString& name, QWidget* content);
 
 // A combo box of every preset on the search path, showing `current`. Picking

@@ -259,6 +259,27 @@ class MainWindowTest : public QObject {
     big->close();
   }
 
+  void actuatorRangesBoundTheSlidersAndThePose() {
+    MainWindow w(load_preset("parallel-12r"));
+    w.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    w.setPose({20 * kDeg, 65 * kDeg, 5 * kDeg});
+    w.setActuatorRanges({{{-10, 10}, {-180, 180}, {-180, 180}}});
+    QCOMPARE(w.findChild<QSlider*>("alphaSlider")->maximum(), 100);  // tenths of a degree
+    QCOMPARE(w.findChild<QDoubleSpinBox*>("alphaMaxBox")->value(), 10.0);
+    QVERIFY(std::abs(w.pose().x() - 10 * kDeg) < 1e-12);  // the pose is clamped into the range
+    QCOMPARE(w.model().alpha_limits.hi, 10 * kDeg);
+    // An inverted range is refused; the ranges in force stay, and the boxes show them.
+    w.setActuatorRanges({{{5, -5}, {-180, 180}, {-180, 180}}});
+    QCOMPARE(w.model().alpha_limits.hi, 10 * kDeg);
+    QCOMPARE(w.findChild<QDoubleSpinBox*>("alphaMinBox")->value(), -10.0);
+    // Sessions keep them.
+    MainWindow other(load_preset("parallel-12r"));
+    other.applySession(w.session());
+    QCOMPARE(other.findChild<QSlider*>("alphaSlider")->maximum(), 100);
+    QCOMPARE(other.model().alpha_limits.lo, -10 * kDeg);
+  }
+
   void pictureMatchesBaselines() {
     MainWindow w(load_preset("parallel-12r"));
     w.resize(1100, 760);
