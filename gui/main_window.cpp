@@ -160,28 +160,9 @@ MainWindow::MainWindow(const Preset& preset, QWidget* parent)
   field->raise();
   buildMenus();
 
-  frame_label_ = new QLabel(this);
-  compute_label_ = new QLabel(this);
-  progress_ = new QProgressBar(this);
-  progress_->setRange(0, 100);
-  progress_->setMaximumWidth(160);
-  progress_->setVisible(false);
-  statusBar()->addPermanentWidget(compute_label_);
-  statusBar()->addPermanentWidget(progress_);
-  statusBar()->addPermanentWidget(frame_label_);
-  connect(view_, &VtkWidget::rendered, this,
-          [this](double ms) { frame_label_->setText(tr("frame %1 ms").arg(ms, 0, 'f', 1)); });
-  for (FieldJobRunner* runner : {&slice_runner_, &volume_runner_}) {
-    connect(runner, &FieldJobRunner::progress, this, [this](double f) {
-      progress_->setVisible(f < 1.0);
-      progress_->setValue(int(f * 100));
-    });
-    connect(runner, &FieldJobRunner::failed, this, [this](const QString& m) {
-      statusBar()->showMessage(tr("Field computation failed: %1").arg(m), 8000);
-      slice_settled_ = surfaces_settled_ = true;  // nothing more is coming
-      progress_->setVisible(false);
-    });
-  }
+  compute_label_ = add_field_status(this, view_, {&slice_runner_, &volume_runner_}, [this] {
+                     slice_settled_ = surfaces_settled_ = true;  // nothing more is coming
+                   }).compute;
   connect(&slice_runner_, &FieldJobRunner::sliceReady, this, &MainWindow::onSlice);
   connect(&volume_runner_, &FieldJobRunner::surfacesReady, this, &MainWindow::onSurfaces);
 

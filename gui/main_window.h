@@ -166,8 +166,7 @@ class MainWindow : public QMainWindow {
   Eigen::Vector3d animation_centre_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d animation_pose_ = Eigen::Vector3d::Zero();
   QMenu* recent_menu_ = nullptr;
-  QLabel *frame_label_ = nullptr, *compute_label_ = nullptr;
-  QProgressBar* progress_ = nullptr;
+  QLabel* compute_label_ = nullptr;  // in the status bar (window_parts.h)
   QString endpoint_message_;
   MethodsPanel* methods_ = nullptr;
 };

@@ -170,30 +170,9 @@ Pathos2Window::Pathos2Window(const Preset& preset, QWidget* parent)
     view_->update();
   });
 
-  frame_label_ = new QLabel(this);
-  frame_label_->setObjectName("frameLabel");
-  compute_label_ = new QLabel(this);
-  compute_label_->setObjectName("computeLabel");
-  progress_ = new QProgressBar(this);
-  progress_->setRange(0, 100);
-  progress_->setMaximumWidth(160);
-  progress_->setVisible(false);
-  statusBar()->addPermanentWidget(compute_label_);
-  statusBar()->addPermanentWidget(progress_);
-  statusBar()->addPermanentWidget(frame_label_);
-  connect(view_, &VtkWidget::rendered, this,
-          [this](double ms) { frame_label_->setText(tr("frame %1 ms").arg(ms, 0, 'f', 1)); });
-  for (FieldJobRunner* runner : {&slice_runner_, &volume_runner_}) {
-    connect(runner, &FieldJobRunner::progress, this, [this](double f) {
-      progress_->setVisible(f < 1.0);
-      progress_->setValue(int(f * 100));
-    });
-    connect(runner, &FieldJobRunner::failed, this, [this](const QString& message) {
-      statusBar()->showMessage(tr("Field computation failed: %1").arg(message), 8000);
-      slice_settled_ = surfaces_settled_ = true;  // nothing more is coming
-      progress_->setVisible(false);
-    });
-  }
+  compute_label_ = add_field_status(this, view_, {&slice_runner_, &volume_runner_}, [this] {
+                     slice_settled_ = surfaces_settled_ = true;  // nothing more is coming
+                   }).compute;
   connect(&slice_runner_, &FieldJobRunner::sliceReady, this, &Pathos2Window::onSlice);
   connect(&volume_runner_, &FieldJobRunner::surfacesReady, this, &Pathos2Window::onSurfaces);
 

@@ -142,8 +142,7 @@ class Pathos2Window : public QMainWindow {
   QCheckBox *follow_box_ = nullptr, *show_slice_box_ = nullptr, *show_reach_box_ = nullptr, *show_well_box_ = nullptr;
   QDoubleSpinBox* threshold_box_ = nullptr;
   QSlider *reach_opacity_slider_ = nullptr, *well_opacity_slider_ = nullptr;
-  QLabel *frame_label_ = nullptr, *compute_label_ = nullptr;
-  QProgressBar* progress_ = nullptr;
+  QLabel* compute_label_ = nullptr;  // in the status bar (window_parts.h)
 };
 
 // Opens a Pathos2Window of `preset` at width x height inside the running

@@ -5,17 +5,22 @@
 #include <QDockWidget>
 #include <QImage>
 #include <QMainWindow>
+#include <QLabel>
 #include <QMessageBox>
+#include <QProgressBar>
 #include <QScrollArea>
+#include <QStatusBar>
 #include <QTimer>
 #include <filesystem>
 #include <iostream>
 #include <stdexcept>
 
 #include "core/atomic_file.h"
+#include "gui/field_job.h"
 #include "gui/main_window.h"
 #include "gui/methods_panel.h"
 #include "gui/pathos2_window.h"
+#include "gui/vtk_widget.h"
 
 namespace linkscape::gui {
 
@@ -31,6 +36,36 @@ QDockWidget* add_dock(QMainWindow* window, const QString& title, const QString& 
   d->setWidget(scroll);
   window->addDockWidget(Qt::RightDockWidgetArea, d);
   return d;
+}
+
+FieldStatus add_field_status(QMainWindow* window, VtkWidget* view, std::initializer_list<FieldJobRunner*> runners,
+                             const std::function<void()>& on_failure) {
+  FieldStatus s;
+  s.frame = new QLabel(window);
+  s.frame->setObjectName("frameLabel");
+  s.compute = new QLabel(window);
+  s.compute->setObjectName("computeLabel");
+  s.progress = new QProgressBar(window);
+  s.progress->setRange(0, 100);
+  s.progress->setMaximumWidth(160);
+  s.progress->setVisible(false);
+  window->statusBar()->addPermanentWidget(s.compute);
+  window->statusBar()->addPermanentWidget(s.progress);
+  window->statusBar()->addPermanentWidget(s.frame);
+  QObject::connect(view, &VtkWidget::rendered, s.frame,
+                   [label = s.frame](double ms) { label->setText(QObject::tr("frame %1 ms").arg(ms, 0, 'f', 1)); });
+  for (FieldJobRunner* runner : runners) {
+    QObject::connect(runner, &FieldJobRunner::progress, s.progress, [bar = s.progress](double f) {
+      bar->setVisible(f < 1.0);
+      bar->setValue(int(f * 100));
+    });
+    QObject::connect(runner, &FieldJobRunner::failed, window, [window, bar = s.progress, on_failure](const QString& m) {
+      window->statusBar()->showMessage(QObject::tr("Field computation failed: %1").arg(m), 8000);
+      bar->setVisible(false);
+      on_failure();
+    });
+  }
+  return s;
 }
 
 MethodsPanel* add_methods_dock(QMainWindow* window, const Preset& preset, QDockWidget* tab_with) {

@@ -6,18 +6,35 @@
 #include <QObject>
 #include <QString>
 #include <functional>
+#include <initializer_list>
 #include <string>
 
 #include "core/preset.h"
 
 class QComboBox;
 class QDockWidget;
+class QLabel;
+class QProgressBar;
 class QMainWindow;
 class QWidget;
 
 namespace linkscape::gui {
 
+class FieldJobRunner;
 class MethodsPanel;
+class VtkWidget;
+
+// The status bar of a window with fields: compute time (set by the window),
+// a progress bar fed by the runners and the frame time of the view.
+struct FieldStatus {
+  QLabel* compute = nullptr;
+  QLabel* frame = nullptr;
+  QProgressBar* progress = nullptr;
+};
+// A runner's failure is shown in the status bar, then `on_failure` runs (the
+// window marks its fields settled: nothing more is coming).
+FieldStatus add_field_status(QMainWindow* window, VtkWidget* view, std::initializer_list<FieldJobRunner*> runners,
+                             const std::function<void()>& on_failure);
 
 // A dock on the right holding `content` (scrollable); `name` is its object name.
 QDockWidget* add_dock(QMainWindow* window, const QString& title, const QString& name, QWidget* content);
