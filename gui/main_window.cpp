@@ -341,10 +341,13 @@ QWidget* MainWindow::buildFieldPanel() {
   const QString unit = " " + QString::fromStdString(scene_->model().length_unit);
   field_box_ = new QComboBox(w);
   field_box_->setObjectName("fieldBox");
-  field_box_->addItems({"cond", "reach", "residual", "iterations", "status"});
+  field_box_->addItems({"cond", "reach", "residual", "iterations", "status", "method"});
+  field_box_->setToolTip(tr("method: which IK method served each sample (blue planar, orange Newton, purple paper, "
+                            "green DLS, grey none); with the fallback method it shows where planar gave up"));
   form->addRow(tr("Field"), field_box_);
   method_box_ = new QComboBox(w);
-  method_box_->addItems({"planar", "paper", "newton", "dls"});
+  method_box_->addItems({"planar", "paper", "newton", "dls", "fallback"});
+  method_box_->setToolTip(tr("fallback: planar, then Newton from its candidate where planar misses the tolerance"));
   form->addRow(tr("IK method"), method_box_);
   normal_box_ = new QComboBox(w);
   normal_box_->setObjectName("normalBox");
@@ -769,7 +772,8 @@ void MainWindow::restyleSlice() {
 void MainWindow::applyFieldVisibility() {
   const FieldSettings f = fieldSettingsFromPanel();
   field_scene_->set_slice_visible(f.show_slice && slice_field_ != nullptr);
-  field_scene_->set_colour_bar_visible(f.show_slice && slice_field_ != nullptr);
+  // The method field is categorical: its colours are named in the field box's tooltip, not on a scale.
+  field_scene_->set_colour_bar_visible(f.show_slice && slice_field_ != nullptr && f.field != "method");
   field_scene_->set_surface_visible(render::Surface::Reach, f.show_reach);
   field_scene_->set_surface_visible(render::Surface::WellConditioned, f.show_well_conditioned);
   field_scene_->set_surface_opacity(render::Surface::Reach, f.reach_opacity);
@@ -945,7 +949,10 @@ void MainWindow::exportSliceImage() {
   style.min = f.range_min;
   style.max = f.range_max;
   try {
-    if (path.endsWith(".svg") || path.endsWith(".pdf")) write_slice_figure(*slice_field_, style, path.toStdString());
+    const bool figure = path.endsWith(".svg") || path.endsWith(".pdf");
+    if (figure && f.field == "method")
+      throw std::invalid_argument("the method field is exported as a PNG image (its colours are categories)");
+    if (figure) write_slice_figure(*slice_field_, style, path.toStdString());
     else render::write_slice_png(*slice_field_, style, path.toStdString());
   } catch (const std::exception& e) {
     QMessageBox::warning(this, tr("Export failed"), QString::fromStdString(e.what()));

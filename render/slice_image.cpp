@@ -313,7 +313,7 @@ vtkSmartPointer<vtkImageData> render_slice_rgba(const Field& field, const SliceS
       std::array<unsigned char, 4> c{grey, grey, grey, style.unreachable_alpha};
       if (field.reachable[s] && q == Quantity::Method) {
         const auto rgb = method_colour(std::uint8_t(value_at(field, q, s)));
-        c = {to_byte(rgb[0]), to_byte(rgb[1]), to_byte(rgb[2])};
+        c = {to_byte(rgb[0]), to_byte(rgb[1]), to_byte(rgb[2]), 255};
       } else if (field.reachable[s]) {
         const auto rgb = colour_of(normalised_value(value_at(field, q, s), style));
         c = {to_byte(rgb[0]), to_byte(rgb[1]), to_byte(rgb[2]), 255};

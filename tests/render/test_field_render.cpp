@@ -585,3 +585,33 @@ TEST(FieldRenderErrors, FailedWriteKeepsTheOldFile) {
   EXPECT_THROW(render::write_mesh(mesh, dir / "blocked.stl", volume, {}), std::exception);
   EXPECT_EQ(dir.names(), (std::vector<std::string>{"blocked.stl", "keep.stl"}));
 }
+
+// Every field colour-maps its reachable samples opaquely; only samples outside
+// the workspace take the style's unreachable opacity (faint in the 3-D view).
+TEST(SliceImage, ReachableSamplesAreOpaqueForEveryField) {
+  parallel12r::Model m;
+  FieldRequest r;
+  r.grid = Grid::slice(Axis::Y, 0.5, -2, 2, -2, 2, 32, 32);
+  r.method = parallel12r::IkMethod::Fallback;
+  const Field f = *compute_field(m, r);
+  for (const char* name : {"cond", "reach", "residual", "iterations", "status", "method"}) {
+    render::SliceStyle style;
+    style.field = name;
+    style.log_scale = std::string(name) == "cond";
+    style.contour_levels.clear();
+    style.draw_reach_boundary = false;
+    style.unreachable_alpha = 40;
+    const auto image = render::render_slice_rgba(f, style);
+    const auto* rgba = static_cast<const unsigned char*>(image->GetScalarPointer());
+    int opaque = 0, faint = 0;
+    for (int v = 0; v < 32; ++v)
+      for (int u = 0; u < 32; ++u) {
+        const unsigned char alpha = rgba[4 * (u + 32 * v) + 3];
+        const bool reachable = f.reachable[f.grid.index(u, 0, v)];
+        EXPECT_EQ(alpha, reachable ? 255 : 40) << name << " at " << u << "," << v;
+        (reachable ? opaque : faint) += 1;
+      }
+    EXPECT_GT(opaque, 300) << name;
+    EXPECT_GT(faint, 50) << name;
+  }
+}
