@@ -3,6 +3,8 @@
 #include <QCoreApplication>
 #include <QGuiApplication>
 #include <CLI/CLI.hpp>
+#include <unistd.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -75,6 +77,24 @@ Eigen::Vector3d parse_seed(const std::string& text) {
   }
   if (v.size() != 3) throw std::invalid_argument("--seed expects alpha,beta,gamma in radians, got '" + text + "'");
   return {v[0], v[1], v[2]};
+}
+
+// A runtime directory for Qt where the session has none (root in a
+// container): the one Qt would pick anyway, without its warning.
+void ensure_runtime_dir() {
+  if (const char* dir = std::getenv("XDG_RUNTIME_DIR"); dir && *dir) return;
+  const std::filesystem::path runtime = std::filesystem::temp_directory_path() / ("runtime-" + std::to_string(getuid()));
+  std::error_code ec;
+  std::filesystem::create_directories(runtime, ec);
+  std::filesystem::permissions(runtime, std::filesystem::perms::owner_all, ec);
+  if (!ec) setenv("XDG_RUNTIME_DIR", runtime.c_str(), 1);
+}
+
+// Headless commands that draw text need a QGuiApplication on the offscreen
+// platform: no display.
+void prepare_offscreen_painting() {
+  if (!std::getenv("QT_QPA_PLATFORM")) setenv("QT_QPA_PLATFORM", "offscreen", 1);
+  ensure_runtime_dir();
 }
 
 bool has_display() {
@@ -228,9 +248,7 @@ int run(int argc, char** argv) {
   }
 
   if (slice_cmd->parsed()) {
-    // The figure draws text with QPainter: a GUI application on the
-    // offscreen platform, so no display is needed.
-    if (!std::getenv("QT_QPA_PLATFORM")) setenv("QT_QPA_PLATFORM", "offscreen", 1);
+    prepare_offscreen_painting();  // figures draw text with QPainter
     QGuiApplication qt(argc, argv);
     run_slice(slice);
     return 0;
@@ -247,15 +265,13 @@ int run(int argc, char** argv) {
     return 0;
   }
   if (design_cmd->parsed()) {
-    // The chart draws text with QPainter: offscreen platform, no display.
-    if (!std::getenv("QT_QPA_PLATFORM")) setenv("QT_QPA_PLATFORM", "offscreen", 1);
+    prepare_offscreen_painting();  // the chart draws text with QPainter
     QGuiApplication qt(argc, argv);
     run_design(design, std::cout);
     return 0;
   }
   if (bench_cmd->parsed()) {
-    // The charts draw text with QPainter: offscreen platform, no display.
-    if (!std::getenv("QT_QPA_PLATFORM")) setenv("QT_QPA_PLATFORM", "offscreen", 1);
+    prepare_offscreen_painting();  // the charts draw text with QPainter
     for (const std::string* chart : {&bench.chart, &bench.sweeps}) {
       const std::string ext = std::filesystem::path(*chart).extension().string();
       if (!chart->empty() && ext != ".png" && ext != ".svg" && ext != ".pdf")
@@ -272,6 +288,7 @@ int run(int argc, char** argv) {
               << kHeadlessHint;
     return 1;
   }
+  ensure_runtime_dir();
   return run_window(window, argc, argv);
 }
 
