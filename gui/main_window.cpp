@@ -482,9 +482,11 @@ void MainWindow::buildMenus() {
   recent_menu_ = file->addMenu(tr("Recent sessions"));
   file->addSeparator();
   file->addAction(tr("Export slice &image…"), this, &MainWindow::exportSliceImage);
-  file->addAction(tr("Export workspace &mesh…"), this, &MainWindow::exportMesh);
-  file->addAction(tr("Export &field (VTI)…"), this, &MainWindow::exportField);
-  file->addAction(tr("Save screens&hot…"), this, &MainWindow::saveScreenshot);
+  file->addAction(tr("Export workspace &mesh…"), this, [this] {
+    export_surface_mesh(this, volume_field_.get(), reach_mesh_, well_mesh_, threshold_box_->value());
+  });
+  file->addAction(tr("Export &field (VTI)…"), this, [this] { export_volume(this, volume_field_.get()); });
+  file->addAction(tr("Save screens&hot…"), this, [this] { export_screenshot(this); });
   file->addSeparator();
   file->addAction(tr("&Quit"), QKeySequence::Quit, this, &QWidget::close);
   QMenu* view = menuBar()->addMenu(tr("&View"));
@@ -938,70 +940,13 @@ void MainWindow::rebuildRecentMenu() {
 }
 
 void MainWindow::exportSliceImage() {
-  if (!slice_field_) return;
-  const QString path = QFileDialog::getSaveFileName(this, tr("Export slice image"), "slice.png",
-                                                    tr("Image (*.png);;Figure (*.svg *.pdf)"));
-  if (path.isEmpty()) return;
   const FieldSettings f = fieldSettingsFromPanel();
   render::SliceStyle style;
   style.field = f.field;
   style.contour_levels = {f.threshold};
   style.min = f.range_min;
   style.max = f.range_max;
-  try {
-    const bool figure = path.endsWith(".svg") || path.endsWith(".pdf");
-    if (figure && f.field == "method")
-      throw std::invalid_argument("the method field is exported as a PNG image (its colours are categories)");
-    if (figure) write_slice_figure(*slice_field_, style, path.toStdString());
-    else render::write_slice_png(*slice_field_, style, path.toStdString());
-  } catch (const std::exception& e) {
-    QMessageBox::warning(this, tr("Export failed"), QString::fromStdString(e.what()));
-  }
-}
-
-void MainWindow::exportMesh() {
-  if (!volume_field_) return;
-  QString selected;
-  const QString path = QFileDialog::getSaveFileName(this, tr("Export workspace mesh"), "workspace.stl",
-                                                    tr("Reachable workspace (*.stl *.obj *.ply *.off *.vtp);;"
-                                                       "Well-conditioned workspace (*.stl *.obj *.ply *.off *.vtp)"),
-                                                    &selected);
-  if (path.isEmpty()) return;
-  render::SurfaceRequest request;
-  const bool well = selected.startsWith("Well");
-  if (well) {
-    request.surface = render::Surface::WellConditioned;
-    request.cond_threshold = threshold_box_->value();
-  }
-  try {
-    render::write_mesh(well ? well_mesh_ : reach_mesh_, path.toStdString(), *volume_field_, request);
-  } catch (const std::exception& e) {
-    QMessageBox::warning(this, tr("Export failed"), QString::fromStdString(e.what()));
-  }
-}
-
-void MainWindow::exportField() {
-  if (!volume_field_) return;
-  const QString path = QFileDialog::getSaveFileName(this, tr("Export field"), "field.vti", tr("VTK image data (*.vti)"));
-  if (path.isEmpty()) return;
-  try {
-    render::write_vti(*volume_field_, path.toStdString());
-  } catch (const std::exception& e) {
-    QMessageBox::warning(this, tr("Export failed"), QString::fromStdString(e.what()));
-  }
-}
-
-void MainWindow::saveScreenshot() {
-  const QString path = QFileDialog::getSaveFileName(this, tr("Save screenshot"), "linkscape.png", tr("PNG (*.png)"));
-  if (path.isEmpty()) return;
-  const QImage image = grab().toImage();
-  try {
-    write_atomically(path.toStdString(), [&](const std::filesystem::path& tmp) {
-      if (!image.save(QString::fromStdString(tmp.string()), "PNG")) throw std::runtime_error("cannot write PNG");
-    });
-  } catch (const std::exception& e) {
-    QMessageBox::warning(this, tr("Screenshot failed"), QString::fromStdString(e.what()));
-  }
+  export_slice_image(this, slice_field_.get(), style);
 }
 
 void MainWindow::closeEvent(QCloseEvent* event) {

@@ -115,9 +115,6 @@ class MainWindow : public QMainWindow {
   void addRecent(const QString& path);
   void rebuildRecentMenu();
   void exportSliceImage();
-  void exportMesh();
-  void exportField();
-  void saveScreenshot();
   FieldSettings fieldSettingsFromPanel() const;
   void placeHandle();
   void syncRangeBoxes();

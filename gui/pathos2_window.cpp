@@ -163,6 +163,14 @@ Pathos2Window::Pathos2Window(const Preset& preset, QWidget* parent)
   drive->raise();
 
   QMenu* file = menuBar()->addMenu(tr("&File"));
+  file->addAction(tr("Export slice &image…"), this, [this] { export_slice_image(this, slice_field_.get(), sliceStyle()); });
+  file->addAction(tr("Export workspace &mesh…"), this, [this] {
+    export_surface_mesh(this, surfaces_.volume.get(), surfaces_.reach, surfaces_.well_conditioned,
+                        threshold_box_->value());
+  });
+  file->addAction(tr("Export &field (VTI)…"), this, [this] { export_volume(this, surfaces_.volume.get()); });
+  file->addAction(tr("Save screens&hot…"), this, [this] { export_screenshot(this); });
+  file->addSeparator();
   file->addAction(tr("&Quit"), QKeySequence::Quit, this, &QWidget::close);
   QMenu* view = menuBar()->addMenu(tr("&View"));
   view->addAction(tr("&Reset camera"), this, [this] {
@@ -705,6 +713,7 @@ void Pathos2Window::onSlice(const SliceResult& result) {
 }
 
 void Pathos2Window::onSurfaces(const SurfaceResult& result) {
+  surfaces_ = result;  // kept for export
   field_scene_->set_surface(render::Surface::Reach, result.reach);
   field_scene_->set_surface(render::Surface::WellConditioned, result.well_conditioned);
   applyFieldVisibility();
@@ -717,11 +726,16 @@ void Pathos2Window::onSurfaces(const SurfaceResult& result) {
   emit fieldsUpdated(result.fine);
 }
 
-void Pathos2Window::restyleSlice() {
-  if (!slice_field_) return;
+render::SliceStyle Pathos2Window::sliceStyle() const {
   render::SliceStyle style;
   style.field = field_box_->currentData().toString().toStdString();
   style.contour_levels = {threshold_box_->value()};
+  return style;
+}
+
+void Pathos2Window::restyleSlice() {
+  if (!slice_field_) return;
+  render::SliceStyle style = sliceStyle();
   style.scale = std::max(1, 512 / slice_resolution_box_->currentText().toInt());
   style.unreachable_alpha = 40;
   try {

@@ -17,6 +17,7 @@
 #include "core/pathos2.h"
 #include "core/preset.h"
 #include "gui/field_job.h"
+#include "render/slice_image.h"
 
 class QCheckBox;
 class QComboBox;
@@ -98,6 +99,7 @@ class Pathos2Window : public QMainWindow {
   pathos2::Pose poseFromPanel() const;
   void requestFields(bool slice, bool volume);
   void restyleSlice();
+  render::SliceStyle sliceStyle() const;  // of the field panel, for the view and exports
   void applyFieldVisibility();
   void onSlice(const SliceResult& result);
   void onSurfaces(const SurfaceResult& result);
@@ -118,6 +120,7 @@ class Pathos2Window : public QMainWindow {
   std::optional<pathos2::FkResult> fk_numeric_, fk_nine_;
   FieldJobRunner slice_runner_, volume_runner_;
   std::shared_ptr<const Field> slice_field_;
+  SurfaceResult surfaces_;  // the last isosurfaces and their volume, for export
   bool slice_settled_ = false, surfaces_settled_ = false;
 
   // Design panel: l0, l2, l3, lp, theta_t, db.

@@ -3,6 +3,7 @@
 #include <QApplication>
 #include <QComboBox>
 #include <QDockWidget>
+#include <QFileDialog>
 #include <QImage>
 #include <QMainWindow>
 #include <QLabel>
@@ -20,7 +21,10 @@
 #include "gui/main_window.h"
 #include "gui/methods_panel.h"
 #include "gui/pathos2_window.h"
+#include "gui/slice_figure.h"
 #include "gui/vtk_widget.h"
+#include "render/field_vtk.h"
+#include "render/workspace_mesh.h"
 
 namespace linkscape::gui {
 
@@ -101,6 +105,71 @@ QComboBox* make_preset_chooser(QWidget* window, const Preset& current) {
     }
   });
   return box;
+}
+
+void export_slice_image(QWidget* parent, const Field* slice, const render::SliceStyle& style) {
+  if (!slice) return;
+  const QString path = QFileDialog::getSaveFileName(parent, QObject::tr("Export slice image"), "slice.png",
+                                                    QObject::tr("Image (*.png);;Figure (*.svg *.pdf)"));
+  if (path.isEmpty()) return;
+  try {
+    const bool figure = path.endsWith(".svg") || path.endsWith(".pdf");
+    if (figure && style.field == "method")
+      throw std::invalid_argument("the method field is exported as a PNG image (its colours are categories)");
+    if (figure) write_slice_figure(*slice, style, path.toStdString());
+    else render::write_slice_png(*slice, style, path.toStdString());
+  } catch (const std::exception& e) {
+    QMessageBox::warning(parent, QObject::tr("Export failed"), QString::fromStdString(e.what()));
+  }
+}
+
+void export_surface_mesh(QWidget* parent, const Field* volume, vtkPolyData* reach, vtkPolyData* well,
+                         double cond_threshold) {
+  if (!volume) return;
+  QString selected;
+  const QString path = QFileDialog::getSaveFileName(
+      parent, QObject::tr("Export workspace mesh"), "workspace.stl",
+      QObject::tr("Reachable workspace (*.stl *.obj *.ply *.off *.vtp);;"
+                  "Well-conditioned workspace (*.stl *.obj *.ply *.off *.vtp)"),
+      &selected);
+  if (path.isEmpty()) return;
+  render::SurfaceRequest request;
+  const bool well_conditioned = selected.startsWith("Well");
+  if (well_conditioned) {
+    request.surface = render::Surface::WellConditioned;
+    request.cond_threshold = cond_threshold;
+  }
+  try {
+    render::write_mesh(well_conditioned ? well : reach, path.toStdString(), *volume, request);
+  } catch (const std::exception& e) {
+    QMessageBox::warning(parent, QObject::tr("Export failed"), QString::fromStdString(e.what()));
+  }
+}
+
+void export_volume(QWidget* parent, const Field* volume) {
+  if (!volume) return;
+  const QString path = QFileDialog::getSaveFileName(parent, QObject::tr("Export field"), "field.vti",
+                                                    QObject::tr("VTK image data (*.vti)"));
+  if (path.isEmpty()) return;
+  try {
+    render::write_vti(*volume, path.toStdString());
+  } catch (const std::exception& e) {
+    QMessageBox::warning(parent, QObject::tr("Export failed"), QString::fromStdString(e.what()));
+  }
+}
+
+void export_screenshot(QWidget* window) {
+  const QString path =
+      QFileDialog::getSaveFileName(window, QObject::tr("Save screenshot"), "linkscape.png", QObject::tr("PNG (*.png)"));
+  if (path.isEmpty()) return;
+  const QImage image = window->grab().toImage();
+  try {
+    write_atomically(path.toStdString(), [&](const std::filesystem::path& tmp) {
+      if (!image.save(QString::fromStdString(tmp.string()), "PNG")) throw std::runtime_error("cannot write PNG");
+    });
+  } catch (const std::exception& e) {
+    QMessageBox::warning(window, QObject::tr("Screenshot failed"), QString::fromStdString(e.what()));
+  }
 }
 
 namespace detail {

@@ -9,7 +9,9 @@
 #include <initializer_list>
 #include <string>
 
+#include "core/field.h"
 #include "core/preset.h"
+#include "render/slice_image.h"
 
 class QComboBox;
 class QDockWidget;
@@ -17,6 +19,7 @@ class QLabel;
 class QProgressBar;
 class QMainWindow;
 class QWidget;
+class vtkPolyData;
 
 namespace linkscape::gui {
 
@@ -47,6 +50,14 @@ QComboBox* make_preset_chooser(QWidget* window, const Preset& current);
 // A "Methods" dock tabbed behind `tab_with`, measuring `preset`'s methods
 // when the user presses Run (keep it current with MethodsPanel::setMechanism).
 MethodsPanel* add_methods_dock(QMainWindow* window, const Preset& preset, QDockWidget* tab_with);
+
+// File menu exports of both windows, through the headless commands' writers
+// (atomic); a failure is shown in a message box. Without data, nothing happens.
+void export_slice_image(QWidget* parent, const Field* slice, const render::SliceStyle& style);
+void export_surface_mesh(QWidget* parent, const Field* volume, vtkPolyData* reach, vtkPolyData* well,
+                         double cond_threshold);
+void export_volume(QWidget* parent, const Field* volume);
+void export_screenshot(QWidget* window);
 
 namespace detail {
 int save_screenshot_when(QWidget& window, const std::string& path, const std::function<bool()>& ready,
