@@ -338,7 +338,6 @@ QWidget* MainWindow::buildEndpointPanel() {
 QWidget* MainWindow::buildFieldPanel() {
   auto* w = new QWidget;
   auto* form = new QFormLayout(w);
-  const QString unit = " " + QString::fromStdString(scene_->model().length_unit);
   field_box_ = new QComboBox(w);
   field_box_->setObjectName("fieldBox");
   field_box_->addItems({"cond", "reach", "residual", "iterations", "status", "method"});
@@ -428,7 +427,6 @@ QWidget* MainWindow::buildFieldPanel() {
     });
   for (QSlider* s : {reach_opacity_slider_, well_opacity_slider_})
     connect(s, &QSlider::valueChanged, this, [this] { applyFieldVisibility(); });
-  (void)unit;
   return w;
 }
 
