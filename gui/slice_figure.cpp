@@ -88,8 +88,9 @@ void draw(QPainter& p, const QSize& page, const Field& field, const render::Slic
     params += QString("%1 = %2 %3, ").arg(QString::fromStdString(k)).arg(val).arg(unit);
   }
   params.chop(2);
-  const QString how = six_dof ? QString("closed-form IK at rx = %1, ry = %2, rz = %3 deg, grip h0 = %4 %5")
-                                    .arg(value("rx")).arg(value("ry")).arg(value("rz")).arg(value("h0")).arg(unit)
+  const auto g4 = [](double v) { return QString::number(v, 'g', 4); };
+  const QString how = six_dof ? QString("IK at (rx, ry, rz) = (%1, %2, %3) deg, grip %4 %5")
+                                    .arg(g4(value("rx")), g4(value("ry")), g4(value("rz")), g4(value("h0")), unit)
                               : QString("%1 IK, branch %2").arg(QString::fromStdString(field.method)).arg(field.branch);
   QFont title_font = font;
   title_font.setBold(true);
