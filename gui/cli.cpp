@@ -114,7 +114,7 @@ int run(int argc, char** argv) {
 
   WindowOptions window;
   add_mechanism_options(app, window.mechanism);
-  app.add_option("--session", window.session, "Open a saved session (.json) at start");
+  app.add_option("--session", window.session, "Open a saved session (.json) at start, with its mechanism");
   app.add_option("--screenshot", window.screenshot,
                  "Open the window, wait until the fields are computed, save it as PNG to this file and exit");
   app.add_option("--size", window.size, "Window size for --screenshot and --latency, WIDTHxHEIGHT")->capture_default_str();

@@ -825,13 +825,7 @@ Session MainWindow::session() const {
                            {"beta", {m.beta_limits.lo / kDeg, m.beta_limits.hi / kDeg}},
                            {"gamma", {m.gamma_limits.lo / kDeg, m.gamma_limits.hi / kDeg}}};
   s.pose = q_;
-  vtkCamera* c = renderer_->GetActiveCamera();
-  CameraState cam;
-  c->GetPosition(cam.position.data());
-  c->GetFocalPoint(cam.focal_point.data());
-  c->GetViewUp(cam.view_up.data());
-  cam.view_angle = c->GetViewAngle();
-  s.camera = cam;
+  s.camera = camera_state(renderer_);
   s.field = fieldSettingsFromPanel();
   return s;
 }
@@ -878,14 +872,7 @@ void MainWindow::applySession(const Session& s) {
     }
     setActuatorRanges(ranges);
   }
-  if (s.camera) {
-    vtkCamera* c = renderer_->GetActiveCamera();
-    c->SetPosition(s.camera->position.data());
-    c->SetFocalPoint(s.camera->focal_point.data());
-    c->SetViewUp(s.camera->view_up.data());
-    c->SetViewAngle(s.camera->view_angle);
-    renderer_->ResetCameraClippingRange();
-  }
+  if (s.camera) apply_camera(renderer_, *s.camera);
   setPose(s.pose);
   restyleSlice();
   requestFields(true, true);
@@ -957,22 +944,23 @@ void MainWindow::closeEvent(QCloseEvent* event) {
 // ---- Entry ------------------------------------------------------------------------
 
 int run_window(const WindowOptions& options, int argc, char** argv) {
-  Preset preset = load_preset(options.mechanism.mechanism);
-  apply_overrides(preset, options.mechanism.params);
   std::optional<Session> session;
   if (!options.session.empty()) session = load_session(options.session);  // bad file: exit code 2
+  // A session brings its own mechanism.
+  Preset preset = load_preset(session ? session->mechanism : options.mechanism.mechanism);
+  apply_overrides(preset, options.mechanism.params);
   int width = 0, height = 0;
   if (std::sscanf(options.size.c_str(), "%dx%d", &width, &height) != 2 || width < 200 || height < 150)
     throw std::invalid_argument("--size expects WIDTHxHEIGHT (at least 200x150), got '" + options.size + "'");
   const bool is_pathos2 = preset.mechanism == pathos2::kMechanismName;
-  if (is_pathos2 && (session || options.latency))
-    throw std::invalid_argument("--session and --latency are available for parallel-12r only, not pathos2");
+  if (is_pathos2 && options.latency)
+    throw std::invalid_argument("--latency measures the parallel-12r window");
 
   QSurfaceFormat::setDefaultFormat(VtkWidget::defaultFormat());
   QApplication app(argc, argv);
   QApplication::setApplicationName("Linkscape");
   QApplication::setOrganizationName("Linkscape");
-  if (is_pathos2) return run_pathos2_window(preset, options.screenshot, width, height);
+  if (is_pathos2) return run_pathos2_window(preset, session, options.screenshot, width, height);
   MainWindow window(preset);
   if (session) window.applySession(*session);
   window.resize(width, height);

@@ -5,6 +5,7 @@
 #include <QComboBox>
 #include <QDockWidget>
 #include <QDoubleSpinBox>
+#include <QFileDialog>
 #include <QFormLayout>
 #include <QGridLayout>
 #include <QGroupBox>
@@ -12,6 +13,7 @@
 #include <QImage>
 #include <QLabel>
 #include <QMenuBar>
+#include <QMessageBox>
 #include <QProgressBar>
 #include <QSettings>
 #include <QSignalBlocker>
@@ -163,6 +165,16 @@ Pathos2Window::Pathos2Window(const Preset& preset, QWidget* parent)
   drive->raise();
 
   QMenu* file = menuBar()->addMenu(tr("&File"));
+  file->addAction(tr("&Open session…"), QKeySequence::Open, this, [this] {
+    const QString path = QFileDialog::getOpenFileName(this, tr("Open session"), {}, tr("Sessions (*.json)"));
+    if (!path.isEmpty()) openSession(path);
+  });
+  file->addAction(tr("&Save session…"), QKeySequence::Save, this, [this] {
+    const QString path = QFileDialog::getSaveFileName(this, tr("Save session"), "pathos2-session.json",
+                                                      tr("Sessions (*.json)"));
+    if (!path.isEmpty()) saveSession(path);
+  });
+  file->addSeparator();
   file->addAction(tr("Export slice &image…"), this, [this] { export_slice_image(this, slice_field_.get(), sliceStyle()); });
   file->addAction(tr("Export workspace &mesh…"), this, [this] {
     export_surface_mesh(this, surfaces_.volume.get(), surfaces_.reach, surfaces_.well_conditioned,
@@ -629,6 +641,8 @@ bool Pathos2Window::setModel(const pathos2::Model& m) {
   status_label_->setText(tr("ok: every leg solves"));
   status_label_->setStyleSheet("color: #1b5e20");
   set_range_quietly(pose_sliders_[2], pose_boxes_[2], 0.0, m.l0);
+  const double design[kDesignCount] = {m.l0, m.l2, m.l3, m.lp, m.theta_t / kDeg, m.db};
+  for (int i = 0; i < kDesignCount; ++i) set_quietly(design_sliders_[i], design_boxes_[i], design[i]);
   syncPanels(true);  // the actuator angles change with the design
   updateReadouts();
   requestFields(true, true);
@@ -757,10 +771,95 @@ void Pathos2Window::applyFieldVisibility() {
   view_->update();
 }
 
+// ---- Sessions -----------------------------------------------------------------------
+
+Session Pathos2Window::session() const {
+  Session s;
+  s.mechanism = preset_.source.empty() ? preset_.mechanism : preset_.source.string();
+  s.parameters = model().to_parameters();
+  const pathos2::Pose& p = pose();
+  const Eigen::Vector3d rpy = p.rpy();
+  s.platform_pose = std::array<double, 7>{p.p_world_E.x(), p.p_world_E.y(), p.p_world_E.z(), rpy.x(), rpy.y(), rpy.z(), p.h0};
+  s.camera = camera_state(renderer_);
+  FieldSettings& f = s.field;
+  f.field = field_box_->currentData().toString().toStdString();
+  f.normal = normal_box_->currentText().toStdString();
+  f.position = slicePosition();
+  f.follow_endpoint = follow_box_->isChecked();
+  f.threshold = threshold_box_->value();
+  f.slice_resolution = slice_resolution_box_->currentText().toInt();
+  f.volume_resolution = volume_resolution_box_->currentText().toInt();
+  f.show_slice = show_slice_box_->isChecked();
+  f.show_reach = show_reach_box_->isChecked();
+  f.show_well_conditioned = show_well_box_->isChecked();
+  f.reach_opacity = reach_opacity_slider_->value() / 100.0;
+  f.well_conditioned_opacity = well_opacity_slider_->value() / 100.0;
+  return s;
+}
+
+void Pathos2Window::applySession(const Session& s) {
+  if (!s.platform_pose) throw std::invalid_argument("the session has no platform_pose (a parallel-12r session?)");
+  if (!setModel(pathos2::Model::from_parameters(s.parameters)))
+    throw std::invalid_argument("the session's design cannot reach its home pose");
+  const auto& v = *s.platform_pose;
+  const FieldSettings& f = s.field;
+  {
+    const QSignalBlocker b1(field_box_), b2(normal_box_), b3(follow_box_), b4(threshold_box_), b5(slice_resolution_box_),
+        b6(volume_resolution_box_), b7(show_slice_box_), b8(show_reach_box_), b9(show_well_box_),
+        b10(reach_opacity_slider_), b11(well_opacity_slider_);
+    field_box_->setCurrentIndex(std::max(0, field_box_->findData(QString::fromStdString(f.field))));
+    normal_box_->setCurrentText(QString::fromStdString(f.normal));
+    follow_box_->setChecked(f.follow_endpoint);
+    threshold_box_->setValue(f.threshold);
+    slice_resolution_box_->setCurrentText(QString::number(f.slice_resolution));
+    volume_resolution_box_->setCurrentText(QString::number(f.volume_resolution));
+    show_slice_box_->setChecked(f.show_slice);
+    show_reach_box_->setChecked(f.show_reach);
+    show_well_box_->setChecked(f.show_well_conditioned);
+    reach_opacity_slider_->setValue(int(std::lround(f.reach_opacity * 100)));
+    well_opacity_slider_->setValue(int(std::lround(f.well_conditioned_opacity * 100)));
+  }
+  if (!setPose(pathos2::Pose::from_xyz_rpy(v[0], v[1], v[2], v[3], v[4], v[5], v[6])))
+    statusBar()->showMessage(tr("The session's pose is not reachable (%1); the device stays where it was.").arg(refusal_),
+                             8000);
+  syncPanels(true);  // the pose sliders show the session's pose too
+  if (s.camera) apply_camera(renderer_, *s.camera);
+  applyFieldVisibility();
+  requestFields(true, true);
+  view_->update();
+}
+
+bool Pathos2Window::openSession(const QString& path) {
+  try {
+    const Session s = load_session(path.toStdString());
+    if (load_preset(s.mechanism).mechanism != pathos2::kMechanismName)
+      throw std::invalid_argument("the session is for another mechanism");
+    applySession(s);
+  } catch (const std::exception& e) {
+    QMessageBox::warning(this, tr("Cannot open session"), QString::fromStdString(e.what()));
+    return false;
+  }
+  statusBar()->showMessage(tr("Opened %1").arg(path), 4000);
+  return true;
+}
+
+bool Pathos2Window::saveSession(const QString& path) {
+  try {
+    save_session(session(), path.toStdString());
+  } catch (const std::exception& e) {
+    QMessageBox::warning(this, tr("Cannot save session"), QString::fromStdString(e.what()));
+    return false;
+  }
+  statusBar()->showMessage(tr("Saved %1").arg(path), 4000);
+  return true;
+}
+
 // ---- Entry ------------------------------------------------------------------------
 
-int run_pathos2_window(const Preset& preset, const std::string& screenshot, int width, int height) {
+int run_pathos2_window(const Preset& preset, const std::optional<Session>& session, const std::string& screenshot,
+                       int width, int height) {
   Pathos2Window window(preset);
+  if (session) window.applySession(*session);
   window.resize(width, height);
   window.show();
   if (screenshot.empty()) return QApplication::exec();

@@ -17,6 +17,7 @@
 #include "core/pathos2.h"
 #include "core/preset.h"
 #include "gui/field_job.h"
+#include "gui/session.h"
 #include "render/slice_image.h"
 
 class QCheckBox;
@@ -79,6 +80,12 @@ class Pathos2Window : public QMainWindow {
   // New design; keeps the pose (shifted with l0/2) when the new design
   // reaches it, else goes to its home pose; refuses an invalid design.
   bool setModel(const pathos2::Model& model);
+  // Sessions: design, pose, drive, camera and field settings as JSON (the
+  // 12R window's format, with platform_pose). Report failures in a message box.
+  Session session() const;
+  void applySession(const Session& session);
+  bool openSession(const QString& path);
+  bool saveSession(const QString& path);
 
  signals:
   void poseChanged();
@@ -148,10 +155,11 @@ class Pathos2Window : public QMainWindow {
   QLabel* compute_label_ = nullptr;  // in the status bar (window_parts.h)
 };
 
-// Opens a Pathos2Window of `preset` at width x height inside the running
-// QApplication. With a screenshot path, waits until the fields are computed
+// Opens a Pathos2Window of `preset` (then `session`, if given) at width x
+// height inside the running QApplication. With a screenshot path, waits until the fields are computed
 // in full, saves a PNG of the window and returns 0 (1 on failure); otherwise
 // runs the event loop. The drive mode is restored from the last session.
-int run_pathos2_window(const Preset& preset, const std::string& screenshot, int width, int height);
+int run_pathos2_window(const Preset& preset, const std::optional<Session>& session, const std::string& screenshot,
+                       int width, int height);
 
 }  // namespace linkscape::gui

@@ -6,6 +6,9 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <vtkCamera.h>
+#include <vtkRenderer.h>
+
 #include "core/atomic_file.h"
 
 namespace linkscape::gui {
@@ -28,7 +31,8 @@ void save_session(const Session& s, const std::filesystem::path& path) {
   j["mechanism"] = s.mechanism;
   j["parameters"] = s.parameters;
   if (!s.actuator_limits_deg.empty()) j["actuator_limits_deg"] = s.actuator_limits_deg;
-  j["pose_rad"] = vec(s.pose);
+  if (s.platform_pose) j["platform_pose"] = *s.platform_pose;
+  else j["pose_rad"] = vec(s.pose);
   if (s.camera)
     j["camera"] = {{"position", vec(s.camera->position)},
                    {"focal_point", vec(s.camera->focal_point)},
@@ -58,6 +62,25 @@ void save_session(const Session& s, const std::filesystem::path& path) {
   });
 }
 
+CameraState camera_state(vtkRenderer* renderer) {
+  vtkCamera* c = renderer->GetActiveCamera();
+  CameraState cam;
+  c->GetPosition(cam.position.data());
+  c->GetFocalPoint(cam.focal_point.data());
+  c->GetViewUp(cam.view_up.data());
+  cam.view_angle = c->GetViewAngle();
+  return cam;
+}
+
+void apply_camera(vtkRenderer* renderer, const CameraState& cam) {
+  vtkCamera* c = renderer->GetActiveCamera();
+  c->SetPosition(cam.position.data());
+  c->SetFocalPoint(cam.focal_point.data());
+  c->SetViewUp(cam.view_up.data());
+  c->SetViewAngle(cam.view_angle);
+  renderer->ResetCameraClippingRange();
+}
+
 Session load_session(const std::filesystem::path& path) {
   std::ifstream in(path);
   if (!in) throw std::invalid_argument("cannot open session file '" + path.string() + "'");
@@ -73,8 +96,15 @@ Session load_session(const std::filesystem::path& path) {
     for (const auto& [name, range] : s.actuator_limits_deg)
       if (!(range[0] < range[1]) || !std::isfinite(range[0]) || !std::isfinite(range[1]))
         throw std::invalid_argument("actuator_limits_deg." + name + " must be [lo, hi] with lo < hi");
-    s.pose = vec(j.at("pose_rad"));
-    if (!s.pose.allFinite()) throw std::invalid_argument("pose_rad must be finite");
+    if (j.contains("platform_pose")) {
+      s.platform_pose = j.at("platform_pose").get<std::array<double, 7>>();
+      for (double v : *s.platform_pose)
+        if (!std::isfinite(v)) throw std::invalid_argument("platform_pose must be finite");
+      if (!((*s.platform_pose)[6] > 0)) throw std::invalid_argument("platform_pose: the grip h0 must be > 0");
+    } else {
+      s.pose = vec(j.at("pose_rad"));
+      if (!s.pose.allFinite()) throw std::invalid_argument("pose_rad must be finite");
+    }
     if (j.contains("camera")) {
       const json& c = j["camera"];
       s.camera = CameraState{vec(c.at("position")), vec(c.at("focal_point")), vec(c.at("view_up")),

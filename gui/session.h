@@ -9,6 +9,8 @@
 #include <optional>
 #include <string>
 
+class vtkRenderer;
+
 namespace linkscape::gui {
 
 struct CameraState {
@@ -36,10 +38,16 @@ struct Session {
   std::string mechanism = "parallel-12r";    // preset name or path
   std::map<std::string, double> parameters;  // overrides, e.g. L1, L2
   std::map<std::string, std::array<double, 2>> actuator_limits_deg;  // alpha, beta, gamma: [lo, hi]
-  Eigen::Vector3d pose = Eigen::Vector3d::Zero();  // actuator angles, rad
+  Eigen::Vector3d pose = Eigen::Vector3d::Zero();  // parallel-12r: actuator angles, rad
+  // pathos2: top-plate pose x, y, z (cm), rx, ry, rz (rad, R = Rz Ry Rx), grip h0 (cm).
+  std::optional<std::array<double, 7>> platform_pose;
   std::optional<CameraState> camera;
   FieldSettings field;
 };
+
+// The camera of a renderer, and back.
+CameraState camera_state(vtkRenderer* renderer);
+void apply_camera(vtkRenderer* renderer, const CameraState& camera);
 
 // Atomic write. Throws std::runtime_error if the file cannot be written.
 void save_session(const Session& session, const std::filesystem::path& path);

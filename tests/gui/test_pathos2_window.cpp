@@ -7,6 +7,8 @@
 #include <QLabel>
 #include <QSignalSpy>
 #include <QSlider>
+#include <QTemporaryDir>
+#include <QTimer>
 #include <QtTest>
 #include <vtkImageData.h>
 #include <vtkImageDifference.h>
@@ -18,6 +20,7 @@
 
 #include "core/pathos2.h"
 #include "core/preset.h"
+#include "gui/main_window.h"
 #include "gui/pathos2_window.h"
 #include "gui/vtk_widget.h"
 #include "window_checks.h"
@@ -177,6 +180,42 @@ class Pathos2WindowTest : public QObject {
     // cond(Jo) on the same slice (render accepts "cond_jo" for six-DOF fields).
     w.findChild<QComboBox*>("fieldBox")->setCurrentIndex(1);
     QCOMPARE(w.fieldScene().colour_bar_title().substr(0, 8), std::string("cond(Jo)"));
+  }
+
+  void sessionRoundTrip() {
+    QTemporaryDir dir;
+    const QString path = dir.filePath("p2.json");
+    Pathos2Window w(load_preset("pathos2"));
+    w.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    pathos2::Model m = w.model();
+    m.l2 = 15.0;
+    QVERIFY(w.setModel(m));
+    const pathos2::Pose p = pathos2::Pose::from_xyz_rpy(1.0, -0.5, 23.0, 0.05, 0.0, 0.6, 6.5);
+    QVERIFY(w.setPose(p));
+    w.findChild<QComboBox*>("fieldBox")->setCurrentIndex(1);  // cond(Jo)
+    QVERIFY(w.saveSession(path));
+
+    Pathos2Window other(load_preset("pathos2"));
+    other.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&other));
+    QVERIFY(other.openSession(path));
+    QCOMPARE(other.model().l2, 15.0);
+    QCOMPARE(other.findChild<QDoubleSpinBox*>("l2Box")->value(), 15.0);  // the panel shows it
+    QVERIFY((other.pose().p_world_E - p.p_world_E).norm() < 1e-12);
+    QVERIFY((other.pose().R_world_E - p.R_world_E).norm() < 1e-12);
+    QCOMPARE(other.pose().h0, 6.5);
+    QCOMPARE(other.findChild<QDoubleSpinBox*>("xBox")->value(), 1.0);  // the pose panel shows it
+    QCOMPARE(other.findChild<QComboBox*>("fieldBox")->currentIndex(), 1);
+    // A parallel-12r session is refused with a message, the window unchanged.
+    gui::MainWindow twelve(load_preset("parallel-12r"));
+    const QString other_path = dir.filePath("12r.json");
+    QVERIFY(twelve.saveSession(other_path));
+    QTimer::singleShot(200, [] {  // dismiss the message box
+      if (QWidget* box = QApplication::activeModalWidget()) box->close();
+    });
+    QVERIFY(!other.openSession(other_path));
+    QCOMPARE(other.model().l2, 15.0);
   }
 
   void homeMatchesBaseline() {
