@@ -15,7 +15,6 @@
 #include <QImage>
 #include <QLabel>
 #include <QMenuBar>
-#include <QMessageBox>
 #include <QProgressBar>
 #include <QPushButton>
 #include <QSettings>
@@ -879,29 +878,14 @@ void MainWindow::applySession(const Session& s) {
 }
 
 bool MainWindow::openSession(const QString& path) {
-  try {
-    Session s = load_session(path.toStdString());
-    Preset p = load_preset(s.mechanism);
-    if (p.mechanism != preset_.mechanism) throw std::invalid_argument("session is for another mechanism: " + p.mechanism);
-    applySession(s);
-  } catch (const std::exception& e) {
-    QMessageBox::warning(this, tr("Cannot open session"), QString::fromStdString(e.what()));
-    return false;
-  }
+  if (!open_session_file(this, preset_, path)) return false;
   addRecent(path);
-  statusBar()->showMessage(tr("Opened %1").arg(path), 4000);
   return true;
 }
 
 bool MainWindow::saveSession(const QString& path) {
-  try {
-    save_session(session(), path.toStdString());
-  } catch (const std::exception& e) {
-    QMessageBox::warning(this, tr("Cannot save session"), QString::fromStdString(e.what()));
-    return false;
-  }
+  if (!save_session_file(this, session(), path)) return false;
   addRecent(path);
-  statusBar()->showMessage(tr("Saved %1").arg(path), 4000);
   return true;
 }
 

@@ -13,7 +13,6 @@
 #include <QImage>
 #include <QLabel>
 #include <QMenuBar>
-#include <QMessageBox>
 #include <QProgressBar>
 #include <QSettings>
 #include <QSignalBlocker>
@@ -829,30 +828,9 @@ void Pathos2Window::applySession(const Session& s) {
   view_->update();
 }
 
-bool Pathos2Window::openSession(const QString& path) {
-  try {
-    const Session s = load_session(path.toStdString());
-    if (load_preset(s.mechanism).mechanism != pathos2::kMechanismName)
-      throw std::invalid_argument("the session is for another mechanism");
-    applySession(s);
-  } catch (const std::exception& e) {
-    QMessageBox::warning(this, tr("Cannot open session"), QString::fromStdString(e.what()));
-    return false;
-  }
-  statusBar()->showMessage(tr("Opened %1").arg(path), 4000);
-  return true;
-}
+bool Pathos2Window::openSession(const QString& path) { return open_session_file(this, preset_, path); }
 
-bool Pathos2Window::saveSession(const QString& path) {
-  try {
-    save_session(session(), path.toStdString());
-  } catch (const std::exception& e) {
-    QMessageBox::warning(this, tr("Cannot save session"), QString::fromStdString(e.what()));
-    return false;
-  }
-  statusBar()->showMessage(tr("Saved %1").arg(path), 4000);
-  return true;
-}
+bool Pathos2Window::saveSession(const QString& path) { return save_session_file(this, session(), path); }
 
 // ---- Entry ------------------------------------------------------------------------
 

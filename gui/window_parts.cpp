@@ -13,6 +13,8 @@
 #include <QStatusBar>
 #include <QTimer>
 #include <filesystem>
+#include <memory>
+#include <optional>
 #include <iostream>
 #include <stdexcept>
 
@@ -80,6 +82,58 @@ MethodsPanel* add_methods_dock(QMainWindow* window, const Preset& preset, QDockW
   return panel;
 }
 
+namespace {
+
+// The window of `preset`'s mechanism, in the place of `window` (same geometry),
+// with `session` applied; the old window closes. Throws std::invalid_argument.
+void replace_window(QWidget* window, const Preset& preset, const std::optional<Session>& session) {
+  std::unique_ptr<QMainWindow> next;
+  if (preset.mechanism == pathos2::kMechanismName) {
+    auto w = std::make_unique<Pathos2Window>(preset);
+    if (session) w->applySession(*session);
+    next = std::move(w);
+  } else {
+    auto w = std::make_unique<MainWindow>(preset);
+    if (session) w->applySession(*session);
+    next = std::move(w);
+  }
+  next->setAttribute(Qt::WA_DeleteOnClose);
+  next->setGeometry(window->geometry());
+  next.release()->show();
+  window->close();
+}
+
+}  // namespace
+
+bool open_session_file(QMainWindow* window, const Preset& current, const QString& path) {
+  try {
+    const Session s = load_session(path.toStdString());
+    const Preset preset = load_preset(s.mechanism);
+    if (preset.mechanism == current.mechanism) {
+      if (auto* w = qobject_cast<MainWindow*>(window)) w->applySession(s);
+      else if (auto* p = qobject_cast<Pathos2Window*>(window)) p->applySession(s);
+    } else {
+      replace_window(window, preset, s);
+    }
+  } catch (const std::exception& e) {
+    QMessageBox::warning(window, QObject::tr("Cannot open session"), QString::fromStdString(e.what()));
+    return false;
+  }
+  window->statusBar()->showMessage(QObject::tr("Opened %1").arg(path), 4000);
+  return true;
+}
+
+bool save_session_file(QMainWindow* window, const Session& session, const QString& path) {
+  try {
+    save_session(session, path.toStdString());
+  } catch (const std::exception& e) {
+    QMessageBox::warning(window, QObject::tr("Cannot save session"), QString::fromStdString(e.what()));
+    return false;
+  }
+  window->statusBar()->showMessage(QObject::tr("Saved %1").arg(path), 4000);
+  return true;
+}
+
 QComboBox* make_preset_chooser(QWidget* window, const Preset& current) {
   auto* box = new QComboBox;
   box->setObjectName("presetBox");
@@ -91,13 +145,7 @@ QComboBox* make_preset_chooser(QWidget* window, const Preset& current) {
     const QString chosen = box->currentText();
     if (chosen == current_name) return;
     try {
-      const Preset preset = load_preset(chosen.toStdString());
-      QWidget* next = preset.mechanism == pathos2::kMechanismName ? static_cast<QWidget*>(new Pathos2Window(preset))
-                                                                   : static_cast<QWidget*>(new MainWindow(preset));
-      next->setAttribute(Qt::WA_DeleteOnClose);
-      next->setGeometry(window->geometry());
-      next->show();
-      window->close();
+      replace_window(window, load_preset(chosen.toStdString()), std::nullopt);
     } catch (const std::invalid_argument& e) {
       const QSignalBlocker block(box);
       box->setCurrentText(current_name);

@@ -11,6 +11,7 @@
 
 #include "core/field.h"
 #include "core/preset.h"
+#include "gui/session.h"
 #include "render/slice_image.h"
 
 class QComboBox;
@@ -50,6 +51,12 @@ QComboBox* make_preset_chooser(QWidget* window, const Preset& current);
 // A "Methods" dock tabbed behind `tab_with`, measuring `preset`'s methods
 // when the user presses Run (keep it current with MethodsPanel::setMechanism).
 MethodsPanel* add_methods_dock(QMainWindow* window, const Preset& preset, QDockWidget* tab_with);
+
+// Sessions from either window's File menu. A session of the window's own
+// mechanism is applied there; one of the other mechanism opens that
+// mechanism's window in its place. Failures are shown in a message box.
+bool open_session_file(QMainWindow* window, const Preset& current, const QString& path);
+bool save_session_file(QMainWindow* window, const Session& session, const QString& path);
 
 // File menu exports of both windows, through the headless commands' writers
 // (atomic); a failure is shown in a message box. Without data, nothing happens.
