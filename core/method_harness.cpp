@@ -177,35 +177,6 @@ Vector3d forward_t(const Model& m, const Eigen::Matrix<T, 3, 1>& q) {
     return p;
 }
 
-double percentile(std::vector<double> v, double fraction) {
-  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
-  const std::size_t k = std::min(v.size() - 1, std::size_t(fraction * double(v.size() - 1) + 0.5));
-  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
-  return v[k];
-}
-
-void fill_statistics(MethodRow& row, const std::vector<double>& errors) {
-  row.samples = errors.size();
-  row.error_median = percentile(errors, 0.5);
-  row.error_p99 = percentile(errors, 0.99);
-  row.error_max = errors.empty() ? std::numeric_limits<double>::quiet_NaN()
-                                 : *std::max_element(errors.begin(), errors.end());
-}
-
-using Clock = std::chrono::steady_clock;
-
-// Median seconds per pass of `pass` over `repeats` timed runs after a warm-up.
-double median_pass_seconds(int repeats, const std::function<void()>& pass) {
-  pass();
-  std::vector<double> t;
-  for (int i = 0; i < std::max(1, repeats); ++i) {
-    const auto start = Clock::now();
-    pass();
-    t.push_back(std::chrono::duration<double>(Clock::now() - start).count());
-  }
-  std::sort(t.begin(), t.end());
-  return t[t.size() / 2];
-}
 
 volatile double g_sink = 0;  // keeps timed results alive
 
@@ -601,6 +572,34 @@ std::vector<std::size_t> pareto_front(const std::vector<MethodRow>& rows, const 
     return rows[a].seconds_per_evaluation < rows[b].seconds_per_evaluation;
   });
   return front;
+}
+
+double median_pass_seconds(int repeats, const std::function<void()>& pass) {
+  using Clock = std::chrono::steady_clock;
+  pass();
+  std::vector<double> t;
+  for (int i = 0; i < std::max(1, repeats); ++i) {
+    const auto start = Clock::now();
+    pass();
+    t.push_back(std::chrono::duration<double>(Clock::now() - start).count());
+  }
+  std::sort(t.begin(), t.end());
+  return t[t.size() / 2];
+}
+
+double percentile(std::vector<double> v, double fraction) {
+  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
+  const std::size_t k = std::min(v.size() - 1, std::size_t(fraction * double(v.size() - 1) + 0.5));
+  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
+  return v[k];
+}
+
+void fill_statistics(MethodRow& row, const std::vector<double>& errors) {
+  row.samples = errors.size();
+  row.error_median = percentile(errors, 0.5);
+  row.error_p99 = percentile(errors, 0.99);
+  row.error_max = errors.empty() ? std::numeric_limits<double>::quiet_NaN()
+                                 : *std::max_element(errors.begin(), errors.end());
 }
 
 }  // namespace linkscape::methods

@@ -154,4 +154,12 @@ std::vector<MethodRow> run_method_harness(const parallel12r::Model& model, const
 std::vector<std::size_t> pareto_front(const std::vector<MethodRow>& rows, const std::string& family,
                                       const std::string& mechanism = "");
 
+// Shared by every harness (and the bench command): the median wall time of
+// `repeats` timed runs of `pass` after one warm-up run, in seconds.
+double median_pass_seconds(int repeats, const std::function<void()>& pass);
+// The value at `fraction` (0..1) of the sorted errors, NaN if there are none.
+double percentile(std::vector<double> errors, double fraction);
+// Sets row.samples and the median, 99th percentile and maximum error.
+void fill_statistics(MethodRow& row, const std::vector<double>& errors);
+
 }  // namespace linkscape::methods

@@ -572,6 +572,9 @@ double max_wrapped_error(const Vector6d& target, const Vector6d& q, Vector6d& r)
   return worst;
 }
 
+
+}  // namespace
+
 Pose step_pose(const Pose& pose, const Vector6d& twist) {
   Pose next = pose;
   next.p_world_E += twist.head<3>();
@@ -580,8 +583,6 @@ Pose step_pose(const Pose& pose, const Vector6d& twist) {
   if (angle > 0.0) next.R_world_E = Eigen::AngleAxisd(angle, w / angle).toRotationMatrix() * pose.R_world_E;
   return next;
 }
-
-}  // namespace
 
 FkResult forward_numeric(const Geometry& g, const Vector6d& q_active, double h0, const Pose& seed,
                          const FkOptions& options) {

@@ -198,6 +198,10 @@ struct FkResult {
 FkResult forward_nine_sensors(const Geometry& geometry, const NineSensors& sensors);
 FkResult forward_nine_sensors(const Model& model, const NineSensors& sensors);
 
+// `pose` moved by a small twist: translation by its first three entries (cm),
+// rotation about the world axes by the last three (rad, axis-angle).
+Pose step_pose(const Pose& pose, const Vector6d& twist);
+
 struct FkOptions {
   int max_iterations = 30;
   double tolerance = 1e-12;      // on max |q(x) - q_active| (rad)

@@ -15,6 +15,9 @@
 namespace linkscape::pathos2_methods {
 namespace {
 
+using methods::fill_statistics;
+using methods::median_pass_seconds;
+
 using Eigen::Matrix3d;
 using Eigen::Vector3d;
 using LD = long double;
@@ -113,43 +116,7 @@ Eigen::Matrix<T, 3, 3> frame_from(const Eigen::Matrix<T, 3, 1>& n, const Eigen::
   return F;
 }
 
-using Clock = std::chrono::steady_clock;
-volatile double g_sink = 0;
-
-double median_pass_seconds(int repeats, const std::function<void()>& pass) {
-  pass();
-  std::vector<double> t;
-  for (int i = 0; i < std::max(1, repeats); ++i) {
-    const auto start = Clock::now();
-    pass();
-    t.push_back(std::chrono::duration<double>(Clock::now() - start).count());
-  }
-  std::sort(t.begin(), t.end());
-  return t[t.size() / 2];
-}
-
-double percentile(std::vector<double> v, double fraction) {
-  if (v.empty()) return kNaN;
-  const std::size_t k = std::min(v.size() - 1, std::size_t(fraction * double(v.size() - 1) + 0.5));
-  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
-  return v[k];
-}
-
-void fill_statistics(methods::MethodRow& row, const std::vector<double>& errors) {
-  row.samples = errors.size();
-  row.error_median = percentile(errors, 0.5);
-  row.error_p99 = percentile(errors, 0.99);
-  row.error_max = errors.empty() ? kNaN : *std::max_element(errors.begin(), errors.end());
-}
-
-Pose step_pose(const Pose& pose, const Vector6d& twist) {
-  Pose next = pose;
-  next.p_world_E += twist.head<3>();
-  const Vector3d w = twist.tail<3>();
-  const double angle = w.norm();
-  if (angle > 0.0) next.R_world_E = Eigen::AngleAxisd(angle, w / angle).toRotationMatrix() * pose.R_world_E;
-  return next;
-}
+volatile double g_sink = 0;  // keeps timed results alive
 
 }  // namespace
 

@@ -28,21 +28,6 @@
 namespace linkscape::gui {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-// Median wall time in seconds of `repeats` runs (after one warm-up run).
-double median_seconds(int repeats, const std::function<void()>& work) {
-  work();
-  std::vector<double> t;
-  for (int i = 0; i < repeats; ++i) {
-    const auto start = Clock::now();
-    work();
-    t.push_back(std::chrono::duration<double>(Clock::now() - start).count());
-  }
-  std::sort(t.begin(), t.end());
-  return t[t.size() / 2];
-}
-
 double peak_memory_mib() {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
@@ -94,7 +79,7 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
   const int n_tp = o.quick ? 64 : 160;
   for (int t : {1, threads}) {
     const FieldRequest r = cube(m, n_tp, t);
-    const double s = median_seconds(repeats, [&] { compute_field(m, r); });
+    const double s = methods::median_pass_seconds(repeats, [&] { compute_field(m, r); });
     report("cond field, planar, " + std::to_string(n_tp) + "^3 cube, " + std::to_string(t) + " thread(s)",
            r.grid.size() / s / 1e6, "M points/s");
   }
@@ -105,7 +90,7 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
     const double R = m.reach();
     const int n = o.quick ? 128 : 512;
     r.grid = Grid::slice(Axis::X, 0.125 * R, -R, R, -R, R, n, n);
-    const double s = median_seconds(repeats, [&] { compute_field(m, r); });
+    const double s = methods::median_pass_seconds(repeats, [&] { compute_field(m, r); });
     report("slice " + std::to_string(n) + "x" + std::to_string(n) + " at x = (L1+L2)/8", s * 1e3, "ms");
   }
 
@@ -114,12 +99,12 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
   for (int n : o.quick ? std::vector<int>{32, 64} : std::vector<int>{32, 64, 128, 256}) {
     const FieldRequest r = cube(m, n);
     std::optional<Field> field;
-    const double t_field = median_seconds(n >= 256 ? 1 : repeats, [&] { field = compute_field(m, r); });
+    const double t_field = methods::median_pass_seconds(n >= 256 ? 1 : repeats, [&] { field = compute_field(m, r); });
     vtkSmartPointer<vtkPolyData> reach, cond;
     render::SurfaceRequest reach_request, cond_request;
     cond_request.surface = render::Surface::WellConditioned;
-    const double t_reach = median_seconds(n >= 256 ? 1 : repeats, [&] { reach = render::extract_surface(*field, reach_request); });
-    const double t_cond = median_seconds(n >= 256 ? 1 : repeats, [&] { cond = render::extract_surface(*field, cond_request); });
+    const double t_reach = methods::median_pass_seconds(n >= 256 ? 1 : repeats, [&] { reach = render::extract_surface(*field, reach_request); });
+    const double t_cond = methods::median_pass_seconds(n >= 256 ? 1 : repeats, [&] { cond = render::extract_surface(*field, cond_request); });
     const render::MeshStats rs = render::mesh_stats(reach), cs = render::mesh_stats(cond);
     const std::string tag = std::to_string(n) + "^3";
     report("volume " + tag + ": field", t_field * 1e3, "ms");

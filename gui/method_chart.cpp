@@ -271,22 +271,28 @@ void draw_family(QPainter& p, const QRectF& cell, double fh, const std::vector<m
   draw_legend(p, QPointF(panel.plot.left() + 0.4 * fh, panel.plot.top() + 0.4 * fh), fh, legend);
 }
 
+// White page, bold title and a one-line subtitle; returns the font height.
+double draw_header(QPainter& p, const QRectF& area, const QString& title, const QString& subtitle) {
+  p.fillRect(area, Qt::white);
+  const double fh = font_height(p, area);
+  QFont font = p.font();
+  font.setBold(true);
+  p.setFont(font);
+  p.setPen(Qt::black);
+  p.drawText(QRectF(area.left(), area.top() + 0.4 * fh, area.width(), 1.2 * fh), Qt::AlignCenter, title);
+  font.setBold(false);
+  p.setFont(font);
+  p.drawText(QRectF(area.left(), area.top() + 1.6 * fh, area.width(), 1.2 * fh), Qt::AlignCenter, subtitle);
+  return fh;
+}
+
 }  // namespace
 
 void draw_method_chart(QPainter& p, const QRectF& area, const std::vector<methods::MethodRow>& rows,
                        const QString& title) {
   p.save();
-  p.fillRect(area, Qt::white);
-  const double fh = font_height(p, area);
-  QFont bold = p.font();
-  bold.setBold(true);
-  p.setFont(bold);
-  p.setPen(Qt::black);
-  p.drawText(QRectF(area.left(), area.top() + 0.4 * fh, area.width(), 1.2 * fh), Qt::AlignCenter, title);
-  bold.setBold(false);
-  p.setFont(bold);
-  p.drawText(QRectF(area.left(), area.top() + 1.6 * fh, area.width(), 1.2 * fh), Qt::AlignCenter,
-             "error (log) against time (log): markers at the median error, lower-left is better");
+  const double fh = draw_header(p, area, title,
+                                "error (log) against time (log): markers at the median error, lower-left is better");
   const QRectF body = area.adjusted(0.5 * fh, 3.2 * fh, -0.5 * fh, -0.3 * fh);
   const auto panels = panels_of(rows);
   bool several = false;
@@ -312,18 +318,9 @@ void draw_method_chart(QPainter& p, const QRectF& area, const std::vector<method
 void draw_sweep_chart(QPainter& p, const QRectF& area, const std::vector<stability::SweepRow>& rows,
                       const QString& title) {
   p.save();
-  p.fillRect(area, Qt::white);
-  const double fh = font_height(p, area);
-  QFont bold = p.font();
-  bold.setBold(true);
-  p.setFont(bold);
-  p.setPen(Qt::black);
-  p.drawText(QRectF(area.left(), area.top() + 0.4 * fh, area.width(), 1.2 * fh), Qt::AlignCenter, title);
-  bold.setBold(false);
-  p.setFont(bold);
-  p.drawText(QRectF(area.left(), area.top() + 1.6 * fh, area.width(), 1.2 * fh), Qt::AlignCenter,
-             "IK joint error (worst of the base points) against distance eps to each singular set; "
-             "crosses on the top band: not ok");
+  const double fh = draw_header(p, area, title,
+                                "IK joint error (worst of the base points) against distance eps to each singular set; "
+                                "crosses on the top band: not ok");
   const QRectF body = area.adjusted(0.5 * fh, 3.2 * fh, -0.5 * fh, -0.3 * fh);
   // Panels: (mechanism, path) in the order the rows name them.
   std::vector<std::pair<std::string, stability::SweepPath>> panels;
