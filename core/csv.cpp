@@ -1,6 +1,7 @@
 #include "core/csv.h"
 
 #include <charconv>
+#include <cmath>
 #include <sstream>
 #include <stdexcept>
 
@@ -29,36 +30,82 @@ std::size_t Table::column(const std::string& name) const {
     if (columns[i] == name) return i;
   std::string have;
   for (const auto& c : columns) have += (have.empty() ? "" : ",") + c;
-  throw std::invalid_argument("missing column '" + name + "' (header is: " + have + ")");
+  throw std::invalid_argument(origin + ": missing column '" + name + "' (header is: " + have + ")");
+}
+
+std::string Table::where(std::size_t row) const {
+  return origin + ":" + std::to_string(row < lines.size() ? lines[row] : 0);
+}
+
+std::optional<double> parse_number(std::string_view text, bool* out_of_range) {
+  if (out_of_range) *out_of_range = false;
+  // from_chars takes no '+'; a sign followed by another sign is not a number.
+  if (!text.empty() && text.front() == '+') {
+    text.remove_prefix(1);
+    if (!text.empty() && (text.front() == '+' || text.front() == '-')) return std::nullopt;
+  }
+  if (text.empty()) return std::nullopt;
+  double v = 0.0;
+  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ptr != text.data() + text.size()) return std::nullopt;
+  if (ec == std::errc::result_out_of_range) {
+    if (out_of_range) *out_of_range = true;
+    return std::nullopt;
+  }
+  if (ec != std::errc()) return std::nullopt;
+  return v;
+}
+
+double parse_number_or_throw(std::string_view text, const std::string& what, bool allow_non_finite) {
+  bool out_of_range = false;
+  const std::optional<double> v = parse_number(text, &out_of_range);
+  const std::string quoted = "'" + std::string(text) + "'";
+  if (out_of_range)
+    throw std::invalid_argument(what + ": " + quoted +
+                                " is out of the range of double precision (magnitudes 2.2e-308 to 1.8e308, or 0)");
+  if (!v) throw std::invalid_argument(what + ": " + quoted + " is not a number");
+  if (!allow_non_finite && !std::isfinite(*v))
+    throw std::invalid_argument(what + ": " + quoted + " is not a finite number");
+  return *v;
 }
 
 Table read_csv(std::istream& in, const std::string& origin) {
   Table t;
+  t.origin = origin;
   std::string line;
   int number = 0;
+  const auto at = [&](int n) { return origin + ":" + std::to_string(n) + ": "; };
   while (std::getline(in, line)) {
     ++number;
+    // Spreadsheets save UTF-8 with a byte-order mark before the header.
+    if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
     const std::string content = trim(line);
     if (content.empty() || content[0] == '#') continue;
     const auto fields = split(content);
     if (t.columns.empty()) {
+      for (std::size_t i = 0; i < fields.size(); ++i) {
+        if (fields[i].empty()) throw std::invalid_argument(at(number) + "column " + std::to_string(i + 1) + " of the header has no name");
+        for (std::size_t j = 0; j < i; ++j)
+          if (fields[j] == fields[i]) throw std::invalid_argument(at(number) + "column '" + fields[i] + "' appears twice in the header");
+      }
       t.columns = fields;
       continue;
     }
     if (fields.size() != t.columns.size())
-      throw std::invalid_argument(origin + ":" + std::to_string(number) + ": expected " +
-                                  std::to_string(t.columns.size()) + " fields, got " +
+      throw std::invalid_argument(at(number) + "expected " + std::to_string(t.columns.size()) + " fields, got " +
                                   std::to_string(fields.size()));
     std::vector<double> row;
-    for (const auto& f : fields) {
-      double v = 0.0;
-      const auto [ptr, ec] = std::from_chars(f.data(), f.data() + f.size(), v);
-      if (ec != std::errc() || ptr != f.data() + f.size() || f.empty())
-        throw std::invalid_argument(origin + ":" + std::to_string(number) + ": '" + f +
-                                    "' is not a number");
-      row.push_back(v);
+    row.reserve(fields.size());
+    for (std::size_t i = 0; i < fields.size(); ++i) {
+      bool out_of_range = false;
+      const std::optional<double> v = parse_number(fields[i], &out_of_range);
+      if (!v)
+        throw std::invalid_argument(at(number) + "column '" + t.columns[i] + "': '" + fields[i] + "' " +
+                                    (out_of_range ? "is out of the range of double precision" : "is not a number"));
+      row.push_back(*v);
     }
     t.rows.push_back(std::move(row));
+    t.lines.push_back(number);
   }
   if (t.columns.empty()) throw std::invalid_argument(origin + ": empty input, expected a header row");
   return t;

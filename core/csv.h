@@ -2,22 +2,42 @@
 #pragma once
 
 #include <istream>
+#include <optional>
+#include <string_view>
 #include <string>
 #include <vector>
 
 namespace linkscape {
 
 struct Table {
+  std::string origin;  // file name, or "<stdin>"
   std::vector<std::string> columns;
   std::vector<std::vector<double>> rows;
+  std::vector<int> lines;  // 1-based line number of each row in the input
   // Index of a column; throws std::invalid_argument listing the columns.
   std::size_t column(const std::string& name) const;
+  // "origin:line" of a row, for messages.
+  std::string where(std::size_t row) const;
 };
 
 // Reads a header row then rows of numbers. Blank lines and lines starting
-// with '#' are skipped. Throws std::invalid_argument with "origin:line: ..."
-// for a wrong field count or a field that is not a number.
+// with '#' are skipped, as is a UTF-8 byte-order mark. Numbers may carry a
+// sign ('+' or '-'); "inf" and "nan" are read as such (callers that need
+// finite values check them). Throws std::invalid_argument with
+// "origin:line: ..." for an empty or repeated column name, a wrong field
+// count or a field that is not a number.
 Table read_csv(std::istream& in, const std::string& origin);
+
+// Parses one whole decimal number ("+1.5", "-2e-3", "inf"), or returns
+// nothing for anything else. `out_of_range` is set when the text is a
+// number that a double cannot hold (e.g. 1e400, or 1e-320 below the
+// smallest normal double).
+std::optional<double> parse_number(std::string_view text, bool* out_of_range = nullptr);
+
+// parse_number for a user-facing value: throws std::invalid_argument
+// "<what>: '<text>' is not a number" (or "... is out of the range of double
+// precision") and, unless `allow_non_finite`, rejects inf and nan.
+double parse_number_or_throw(std::string_view text, const std::string& what, bool allow_non_finite = false);
 
 // Shortest text that reads back to the same double ("%.17g"-exact).
 std::string format_number(double value);

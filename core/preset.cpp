@@ -1,8 +1,11 @@
 #include "core/preset.h"
 
+#include "core/csv.h"
+
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -63,6 +66,11 @@ Preset parse_preset(const std::string& text, const std::string& origin) {
   try {
     const json doc = json::parse(text);
     if (!doc.is_object()) throw std::invalid_argument("top level must be a JSON object");
+    for (const auto& [key, value] : doc.items())
+      if (key != "mechanism" && key != "title" && key != "length_unit" && key != "parameters" &&
+          key != "actuator_limits_deg")
+        throw std::invalid_argument("unknown key '" + key +
+                                    "' (known: mechanism, title, length_unit, parameters, actuator_limits_deg)");
     p.mechanism = doc.at("mechanism").get<std::string>();
     p.title = doc.value("title", p.mechanism);
     p.length_unit = doc.value("length_unit", "unit");
@@ -72,6 +80,8 @@ Preset parse_preset(const std::string& text, const std::string& origin) {
         if (!value.is_array() || value.size() != 2)
           throw std::invalid_argument("actuator_limits_deg." + key + " must be [lo, hi]");
         p.limits_deg[key] = {value[0].get<double>(), value[1].get<double>()};
+        if (!std::isfinite(p.limits_deg[key].lo) || !std::isfinite(p.limits_deg[key].hi))
+          throw std::invalid_argument("actuator_limits_deg." + key + " must be finite");
       }
     }
   } catch (const nlohmann::json::exception& e) {
@@ -101,6 +111,19 @@ Preset load_preset(const std::string& name_or_path) {
   return p;
 }
 
+std::string preset_reference(const Preset& preset) {
+  if (preset.source.empty()) return preset.mechanism;
+  const std::string name = preset.source.stem().string();
+  for (const fs::path& dir : preset_search_path()) {
+    const fs::path candidate = dir / (name + ".json");
+    std::error_code ec;
+    if (!fs::is_regular_file(candidate, ec)) continue;
+    // The first hit is what load_preset(name) would read.
+    return fs::equivalent(candidate, preset.source, ec) ? name : fs::absolute(preset.source).string();
+  }
+  return fs::absolute(preset.source).string();
+}
+
 void apply_overrides(Preset& preset, const std::vector<std::string>& overrides) {
   for (const std::string& pair : overrides) {
     const auto eq = pair.find('=');
@@ -114,16 +137,7 @@ void apply_overrides(Preset& preset, const std::vector<std::string>& overrides) 
       throw std::invalid_argument("unknown parameter '" + key + "' for " + preset.mechanism +
                                   " (known: " + known + ")");
     }
-    std::size_t used = 0;
-    double value = 0.0;
-    try {
-      value = std::stod(text, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != text.size())
-      throw std::invalid_argument("parameter " + key + ": '" + text + "' is not a number");
-    preset.parameters[key] = value;
+    preset.parameters[key] = parse_number_or_throw(text, "parameter " + key);
   }
   validate(preset);  // the new values
 }
@@ -147,6 +161,10 @@ parallel12r::Model make_parallel12r(const Preset& preset) {
 pathos2::Model make_pathos2(const Preset& preset) {
   if (preset.mechanism != pathos2::kMechanismName)
     throw std::invalid_argument("expected a pathos2 preset, got '" + preset.mechanism + "'");
+  // Its joint limits are the parameters t2_limit, t3_limit and cone_limit.
+  if (!preset.limits_deg.empty())
+    throw std::invalid_argument("pathos2 takes no actuator_limits_deg; its joint limits are the parameters "
+                                "t2_limit, t3_limit and cone_limit (degrees)");
   return pathos2::Model::from_parameters(preset.parameters);
 }
 

@@ -32,6 +32,11 @@ std::vector<std::string> available_presets();
 Preset load_preset(const std::string& name_or_path);
 Preset parse_preset(const std::string& json_text, const std::string& origin);
 
+// How a session or a report should name the preset: its name where the
+// preset search path finds this very file under it (portable between
+// machines and installed copies), else its absolute path.
+std::string preset_reference(const Preset& preset);
+
 // Applies "key=value" overrides to the preset's parameters. Throws
 // std::invalid_argument for a malformed pair, a key that is not one of the
 // mechanism's parameter_names(), a bad number or an invalid resulting model.

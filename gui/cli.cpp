@@ -3,12 +3,14 @@
 #include <QCoreApplication>
 #include <QGuiApplication>
 #include <CLI/CLI.hpp>
+#include <vtkObject.h>
 #include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
 
+#include "core/csv.h"
 #include "core/preset.h"
 #include "gui/design.h"
 #include "gui/headless.h"
@@ -66,17 +68,19 @@ Eigen::Vector3d parse_seed(const std::string& text) {
   std::vector<double> v;
   std::stringstream ss(text);
   std::string part;
-  while (std::getline(ss, part, ',')) {
-    try {
-      std::size_t used = 0;
-      v.push_back(std::stod(part, &used));
-      if (used != part.size()) throw std::invalid_argument(part);
-    } catch (const std::exception&) {
-      throw std::invalid_argument("--seed expects alpha,beta,gamma in radians, got '" + text + "'");
-    }
-  }
+  while (std::getline(ss, part, ',')) v.push_back(parse_number_or_throw(part, "--seed"));
   if (v.size() != 3) throw std::invalid_argument("--seed expects alpha,beta,gamma in radians, got '" + text + "'");
   return {v[0], v[1], v[2]};
+}
+
+// Options of the window given before a command would be ignored by it (a
+// silent wrong answer: `linkscape --param L1=12 eval` ran with L1 = 15).
+void reject_window_options(const CLI::App& app, const CLI::App& command) {
+  for (const CLI::Option* option : app.get_options()) {
+    if (option->count() == 0 || option->get_name() == "--help" || option->get_name() == "--version") continue;
+    throw std::invalid_argument("option " + option->get_name() + " belongs after the command: linkscape " +
+                                command.get_name() + " " + option->get_name() + " ...");
+  }
 }
 
 // A runtime directory for Qt where the session has none (root in a
@@ -239,6 +243,12 @@ int run(int argc, char** argv) {
     const int code = app.exit(e);  // prints help/version or the error
     return code == 0 ? 0 : 2;
   }
+
+  for (const CLI::App* command : app.get_subcommands()) reject_window_options(app, *command);
+  // Headless commands report a failed write in one line with its reason
+  // (the writers' error codes); VTK's own multi-line object dumps would
+  // bury it.
+  if (!app.get_subcommands().empty()) vtkObject::GlobalWarningDisplayOff();
 
   if (eval_cmd->parsed()) {
     if (!seed_text.empty()) eval.seed = parse_seed(seed_text);

@@ -2,8 +2,10 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <functional>
+#include <iomanip>
 #include <fstream>
 #include <numbers>
 #include <iostream>
@@ -37,6 +39,29 @@ Table read_input(const std::string& file, std::istream& stdin_stream) {
   return read_csv(in, file);
 }
 
+// Every value a command reads must be finite: the first that is not is an
+// error naming its file, line and column.
+void require_finite(const Table& table, const std::vector<std::size_t>& columns) {
+  for (std::size_t r = 0; r < table.rows.size(); ++r)
+    for (std::size_t c : columns)
+      if (!std::isfinite(table.rows[r][c]))
+        throw std::invalid_argument(table.where(r) + ": column '" + table.columns[c] + "': " +
+                                    format_number(table.rows[r][c]) + " is not a finite number");
+}
+
+// Runs `body` for each row; an invalid_argument thrown for a row is reported
+// with the row's file and line.
+template <typename Body>
+void for_each_row(const Table& table, Body body) {
+  for (std::size_t r = 0; r < table.rows.size(); ++r) {
+    try {
+      body(table.rows[r]);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(table.where(r) + ": " + e.what());
+    }
+  }
+}
+
 // CSV cells; missing values are empty cells, never NaN.
 std::string cell(double v) { return std::isfinite(v) ? format_number(v) : (std::isinf(v) ? "inf" : ""); }
 
@@ -47,8 +72,9 @@ void write_ik(const parallel12r::Model& model, const Table& table, const EvalOpt
   ik.tolerance = o.tolerance;
   ik.max_iterations = o.max_iterations;
   const auto method = parallel12r::parse_ik_method(o.method);
+  require_finite(table, {cx, cy, cz});
   out << "x,y,z,branch,status,alpha,beta,gamma,cond,det,residual,iterations\n";
-  for (const auto& row : table.rows) {
+  for_each_row(table, [&](const std::vector<double>& row) {
     const Eigen::Vector3d p(row[cx], row[cy], row[cz]);
     const std::string where = cell(p.x()) + "," + cell(p.y()) + "," + cell(p.z()) + ",";
     const IkResult r = parallel12r::inverse(model, p, method, ik);
@@ -67,19 +93,20 @@ void write_ik(const parallel12r::Model& model, const Table& table, const EvalOpt
       out << where << (o.branch ? std::to_string(*o.branch) : "") << "," << to_string(status)
           << ",,,,,,,\n";
     }
-  }
+  });
 }
 
 void write_fk(const parallel12r::Model& model, const Table& table, std::ostream& out) {
   const std::size_t ca = table.column("alpha"), cb = table.column("beta"), cg = table.column("gamma");
+  require_finite(table, {ca, cb, cg});
   out << "alpha,beta,gamma,x,y,z,cond,det\n";
-  for (const auto& row : table.rows) {
+  for_each_row(table, [&](const std::vector<double>& row) {
     const Eigen::Vector3d q(row[ca], row[cb], row[cg]);
     const Eigen::Vector3d p = parallel12r::forward(model, q);
     const auto c = parallel12r::conditioning(model, q);
     out << cell(q.x()) << "," << cell(q.y()) << "," << cell(q.z()) << "," << cell(p.x()) << ","
         << cell(p.y()) << "," << cell(p.z()) << "," << cell(c.cond) << "," << cell(c.det) << "\n";
-  }
+  });
 }
 
 // PATHOS-II pose IK: one row per pose, the active angles and both condition
@@ -88,13 +115,14 @@ void write_pathos2_ik(const pathos2::Geometry& g, const Table& table, std::ostre
   const char* names[] = {"x", "y", "z", "rx", "ry", "rz", "h0"};
   std::array<std::size_t, 7> col{};
   for (int k = 0; k < 7; ++k) col[k] = table.column(names[k]);
+  require_finite(table, {col.begin(), col.end()});
   out << "x,y,z,rx,ry,rz,h0,status,failing_leg,q1,q2,q3,q4,q5,q6,cond_jp,cond_jo\n";
-  for (const auto& row : table.rows) {
+  for_each_row(table, [&](const std::vector<double>& row) {
     std::string line;
     for (int k = 0; k < 7; ++k) line += cell(row[col[k]]) + ",";
     if (!(row[col[6]] > 0)) {
       out << line << "invalid-grip,,,,,,,,,\n";
-      continue;
+      return;
     }
     const pathos2::Pose pose =
         pathos2::Pose::from_xyz_rpy(row[col[0]], row[col[1]], row[col[2]], row[col[3]], row[col[4]], row[col[5]], row[col[6]]);
@@ -107,41 +135,55 @@ void write_pathos2_ik(const pathos2::Geometry& g, const Table& table, std::ostre
     } else {
       out << ",,,,,,,,\n";
     }
-  }
+  });
 }
 
-// PATHOS-II numerical FK: damped Newton from the previous row's pose (the
-// home pose for the first row, and after a row that failed), so a sampled
-// trajectory is tracked.
+// PATHOS-II numerical FK: damped Newton from a seed pose that depends on the
+// row alone, so a row's answer never depends on the rows before it: the
+// row's seed_x,seed_y,seed_z,seed_rx,seed_ry,seed_rz columns when the file
+// has them, else the home pose.
 void write_pathos2_fk(const pathos2::Geometry& g, const Table& table, std::ostream& out) {
   const char* names[] = {"q1", "q2", "q3", "q4", "q5", "q6", "h0"};
   std::array<std::size_t, 7> col{};
   for (int k = 0; k < 7; ++k) col[k] = table.column(names[k]);
+  std::vector<std::size_t> used(col.begin(), col.end());
+  const char* seed_names[] = {"seed_x", "seed_y", "seed_z", "seed_rx", "seed_ry", "seed_rz"};
+  int seed_columns_found = 0;
+  for (const char* n : seed_names)
+    seed_columns_found += std::count(table.columns.begin(), table.columns.end(), n) ? 1 : 0;
+  if (seed_columns_found != 0 && seed_columns_found != 6)
+    throw std::invalid_argument(table.origin + ": give all six seed columns (seed_x,seed_y,seed_z,seed_rx,seed_ry,"
+                                "seed_rz: cm, rad) or none");
+  std::array<std::size_t, 6> seed_col{};
+  if (seed_columns_found == 6)
+    for (int k = 0; k < 6; ++k) used.push_back(seed_col[k] = table.column(seed_names[k]));
+  require_finite(table, used);
   out << "q1,q2,q3,q4,q5,q6,h0,status,x,y,z,rx,ry,rz,iterations,residual\n";
   const pathos2::Pose home = pathos2::home_pose(g.model);
-  pathos2::Pose seed = home;
-  for (const auto& row : table.rows) {
+  for_each_row(table, [&](const std::vector<double>& row) {
     pathos2::Vector6d q;
     for (int i = 0; i < 6; ++i) q(i) = row[col[i]];
     const double h0 = row[col[6]];
     for (int k = 0; k < 7; ++k) out << cell(row[col[k]]) << ",";
-    if (!q.allFinite() || !(h0 > 0)) {
+    if (!(h0 > 0)) {
       out << "invalid-input,,,,,,,,\n";
-      continue;
+      return;
     }
+    pathos2::Pose seed = home;
+    if (seed_columns_found == 6)
+      seed = pathos2::Pose::from_xyz_rpy(row[seed_col[0]], row[seed_col[1]], row[seed_col[2]], row[seed_col[3]],
+                                         row[seed_col[4]], row[seed_col[5]], h0);
     seed.h0 = h0;
     const pathos2::FkResult fk = pathos2::forward_numeric(g, q, h0, seed);
     out << to_string(fk.status);
     if (fk.status == Status::Ok) {
       const Eigen::Vector3d p = fk.pose.p_world_E, rpy = fk.pose.rpy();
       for (double v : {p.x(), p.y(), p.z(), rpy.x(), rpy.y(), rpy.z()}) out << "," << cell(v);
-      seed = fk.pose;
     } else {
       out << ",,,,,,";
-      seed = home;
     }
     out << "," << fk.iterations << "," << cell(fk.residual) << "\n";
-  }
+  });
 }
 
 }  // namespace
@@ -151,7 +193,10 @@ void run_eval(const EvalOptions& o, std::istream& stdin_stream, std::ostream& st
     throw std::invalid_argument("eval: give exactly one of --ik FILE or --fk FILE");
   if (o.branch && (*o.branch < 0 || *o.branch > 1))
     throw std::invalid_argument("eval: --branch must be 0 or 1, got " + std::to_string(*o.branch));
-  if (!(o.tolerance > 0)) throw std::invalid_argument("eval: --tolerance must be positive");
+  if (!(o.tolerance > 0) || !std::isfinite(o.tolerance))
+    throw std::invalid_argument("eval: --tolerance must be a positive finite number, got " + format_number(o.tolerance));
+  if (o.max_iterations < 1)
+    throw std::invalid_argument("eval: --max-iterations must be at least 1, got " + std::to_string(o.max_iterations));
   Preset preset = load_preset(o.mechanism.mechanism);
   apply_overrides(preset, o.mechanism.params);
   std::ostringstream result;
@@ -177,6 +222,7 @@ void run_eval(const EvalOptions& o, std::istream& stdin_stream, std::ostream& st
     write_atomically(o.output, [&](const std::filesystem::path& tmp) {
       std::ofstream out(tmp);
       out << result.str();
+      out.close();
       if (!out) throw std::runtime_error("cannot write '" + o.output + "'");
     });
   }
@@ -193,24 +239,53 @@ struct Sampling {
   Eigen::Vector3d focus;             // the default slice plane passes through it
   std::function<std::optional<Field>(const Grid&, const FieldProgress&)> sample;
   std::optional<double> analytic_reach_volume;  // of the reach mesh, where known
+  std::size_t bytes_per_sample = Field::bytes_per_sample();  // the field arrays
 };
+
+// Peak memory of a whole command as a multiple of its field arrays, measured
+// with /usr/bin/time -v at 256^3 (parallel-12r, 285 MiB of arrays): a .vti
+// export copies the arrays into VTK and compresses (603 MiB, 2.1x), a mesh
+// adds the isosurface and its OpenMesh copy (523 MiB, 1.8x), a CSV streams
+// (323 MiB, 1.13x). Rounded up, plus the program itself.
+constexpr double kPeakVti = 2.3, kPeakMesh = 2.0, kPeakCsv = 1.25;
+constexpr double kProgramBytes = 96.0 * (1 << 20);
+
+// Refuses a command whose estimated peak exceeds the memory limit of the
+// field engine or the memory available now, whichever is smaller.
+void check_peak_memory(const Grid& grid, std::size_t bytes_per_sample, double factor, const std::string& what) {
+  const double arrays = double(grid.size()) * double(bytes_per_sample);
+  const double peak = arrays * factor + kProgramBytes;
+  double limit = double(FieldRequest{}.memory_limit_bytes);
+  std::string limit_source = "the field engine's limit";
+  std::ifstream meminfo("/proc/meminfo");
+  std::string key;
+  double kib = 0;
+  while (meminfo >> key >> kib) {
+    if (key == "MemAvailable:" && kib * 1024 < limit) {
+      limit = kib * 1024;
+      limit_source = "the memory available now";
+    }
+    meminfo.ignore(64, '\n');
+  }
+  if (peak <= limit) return;
+  std::ostringstream msg;
+  msg << std::fixed << std::setprecision(2) << what << ": " << grid.dims[0] << "x" << grid.dims[1] << "x" << grid.dims[2] << " samples need about "
+      << peak / (1 << 30) << " GiB at peak (field arrays " << arrays / (1 << 30) << " GiB x " << factor
+      << " for the output), over " << limit / (1 << 30) << " GiB (" << limit_source << "); lower the resolution";
+  throw std::invalid_argument(msg.str());
+}
 
 std::vector<double> parse_numbers(const std::string& text, std::size_t count, const std::string& what) {
   std::vector<double> v;
   std::stringstream ss(text);
   std::string part;
   while (std::getline(ss, part, ',')) {
-    std::size_t used = 0;
-    double x = 0;
-    try {
-      x = std::stod(part, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != part.size() || !std::isfinite(x)) throw std::invalid_argument(what + ", got '" + text + "'");
-    v.push_back(x);
+    const std::optional<double> x = parse_number(part);
+    if (!x || !std::isfinite(*x)) throw std::invalid_argument(what + ", got '" + text + "'");
+    v.push_back(*x);
   }
-  if (v.size() != count) throw std::invalid_argument(what + ", got '" + text + "'");
+  if (v.size() != count || (!text.empty() && text.back() == ','))
+    throw std::invalid_argument(what + ", got '" + text + "'");
   return v;
 }
 
@@ -254,6 +329,7 @@ Sampling make_sampling(const SamplingOptions& s) {
     out.box_min = centre - Eigen::Vector3d::Constant(half);
     out.box_max = centre + Eigen::Vector3d::Constant(half);
     out.focus = pose.p_world_E;
+    out.bytes_per_sample = Field::bytes_per_sample() + sizeof(float);  // cond_orientation
     out.sample = [model, request](const Grid& grid, const FieldProgress& progress) {
       pathos2::FieldRequest r = request;
       r.grid = grid;
@@ -276,6 +352,7 @@ Sampling make_sampling(const SamplingOptions& s) {
   out.box_max = Eigen::Vector3d::Constant(r);
   out.focus = Eigen::Vector3d(0.125 * r, 0, 0);  // x = 0.25 for L1 = L2 = 1, as in the paper's Fig. 5
   out.analytic_reach_volume = analytic_reach_volume(model);
+  if (request.method == parallel12r::IkMethod::Fallback) out.bytes_per_sample += 1;  // method_used
   out.sample = [model, request](const Grid& grid, const FieldProgress& progress) {
     FieldRequest q = request;
     q.grid = grid;
@@ -336,7 +413,7 @@ Grid box_grid(const Sampling& sampling, const std::vector<double>& box_option, c
 }  // namespace
 
 void run_slice(const SliceOptions& o) {
-  if (o.output.empty()) throw std::invalid_argument("slice: --output FILE is required (.png, .csv; .svg or .pdf with --figure)");
+  if (o.output.empty()) throw std::invalid_argument("slice: --output is empty; give a file (.png, .csv; .svg or .pdf with --figure)");
   const std::string ext = extension_of(o.output);
   const bool ok_ext = o.figure ? (ext == ".png" || ext == ".svg" || ext == ".pdf") : (ext == ".png" || ext == ".csv");
   if (!ok_ext)
@@ -389,12 +466,14 @@ void run_slice(const SliceOptions& o) {
 }
 
 void run_field(const FieldCommandOptions& o) {
-  if (o.output.empty()) throw std::invalid_argument("field: --output FILE is required (.vti or .csv)");
+  if (o.output.empty()) throw std::invalid_argument("field: --output is empty; give a file (.vti or .csv)");
   const std::string ext = extension_of(o.output);
   if (ext != ".vti" && ext != ".csv")
     throw std::invalid_argument("field: --output must end in .vti or .csv, got '" + o.output + "'");
   const Sampling sampling = make_sampling(o.sampling);
-  const Field field = sample(sampling, box_grid(sampling, o.box, o.resolution), o.sampling.quiet);
+  const Grid grid = box_grid(sampling, o.box, o.resolution);
+  check_peak_memory(grid, sampling.bytes_per_sample, ext == ".vti" ? kPeakVti : kPeakCsv, "field");
+  const Field field = sample(sampling, grid, o.sampling.quiet);
   if (ext == ".vti") render::write_vti(field, o.output);
   else render::write_field_csv(field, o.output);
 }
@@ -408,11 +487,10 @@ render::SurfaceRequest parse_surface(const std::string& text) {
   if (text == "reach") return r;
   if (text.rfind("cond<", 0) == 0) {
     r.surface = render::Surface::WellConditioned;
-    try {
-      std::size_t used = 0;
-      r.cond_threshold = std::stod(text.substr(5), &used);
-      if (used == text.size() - 5 && r.cond_threshold > 1) return r;
-    } catch (const std::exception&) {
+    const std::optional<double> t = parse_number(text.substr(5));
+    if (t && std::isfinite(*t) && *t > 1) {
+      r.cond_threshold = *t;
+      return r;
     }
   }
   throw std::invalid_argument("--surface expects reach or cond<T with T > 1 (e.g. cond<3), got '" + text + "'");
@@ -421,15 +499,18 @@ render::SurfaceRequest parse_surface(const std::string& text) {
 }  // namespace
 
 void run_mesh(const MeshOptions& o, std::ostream& out) {
-  if (o.output.empty()) throw std::invalid_argument("mesh: --output FILE is required (.stl, .obj, .ply, .off, .vtp)");
+  if (o.output.empty()) throw std::invalid_argument("mesh: --output is empty; give a file (.stl, .obj, .ply, .off, .vtp)");
   const std::string ext = extension_of(o.output);
   if (ext != ".stl" && ext != ".obj" && ext != ".ply" && ext != ".off" && ext != ".vtp")
     throw std::invalid_argument("mesh: --output must end in .stl, .obj, .ply, .off or .vtp, got '" + o.output + "'");
   render::SurfaceRequest request = parse_surface(o.surface);
-  if (!(o.decimate >= 0)) throw std::invalid_argument("--decimate must be >= 0");
+  if (!(o.decimate >= 0) || !std::isfinite(o.decimate))
+    throw std::invalid_argument("--decimate must be a finite number >= 0, got " + format_number(o.decimate));
   request.decimate_error = o.decimate;
   const Sampling sampling = make_sampling(o.sampling);
-  const Field field = sample(sampling, box_grid(sampling, o.box, o.resolution), o.sampling.quiet);
+  const Grid grid = box_grid(sampling, o.box, o.resolution);
+  check_peak_memory(grid, sampling.bytes_per_sample, kPeakMesh, "mesh");
+  const Field field = sample(sampling, grid, o.sampling.quiet);
   const vtkSmartPointer<vtkPolyData> mesh = render::extract_surface(field, request);
   const render::MeshStats s = render::mesh_stats(mesh);
   if (s.faces == 0) throw std::invalid_argument("mesh: the surface does not occur in the box (nothing written)");

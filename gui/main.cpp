@@ -3,11 +3,14 @@
 #include <iostream>
 #include <stdexcept>
 
+#include "core/atomic_file.h"
 #include "gui/cli.h"
 
 int main(int argc, char** argv) {
   try {
-    return linkscape::gui::run(argc, argv);
+    const int code = linkscape::gui::run(argc, argv);
+    linkscape::check_stdout();  // output lost to a full disk or a closed pipe is an error
+    return code;
   } catch (const std::invalid_argument& e) {
     std::cerr << "linkscape: " << e.what() << "\n";
     return 2;

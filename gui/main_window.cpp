@@ -42,6 +42,7 @@
 #include <stdexcept>
 
 #include "core/atomic_file.h"
+#include "core/csv.h"
 #include "gui/latency_probe.h"
 #include "gui/methods_panel.h"
 #include "gui/window_parts.h"
@@ -58,6 +59,7 @@ namespace linkscape::gui {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
+constexpr int kMaxWindowSide = 8192;
 constexpr int kSliderStepsPerDegree = 10;
 constexpr int kLengthSliderSteps = 1000;
 constexpr int kPositionSteps = 400;
@@ -339,12 +341,12 @@ QWidget* MainWindow::buildFieldPanel() {
   auto* form = new QFormLayout(w);
   field_box_ = new QComboBox(w);
   field_box_->setObjectName("fieldBox");
-  field_box_->addItems({"cond", "reach", "residual", "iterations", "status", "method"});
+  for (const auto& name : field_choices(preset_.mechanism).fields) field_box_->addItem(QString::fromStdString(name));
   field_box_->setToolTip(tr("method: which IK method served each sample (blue planar, orange Newton, purple paper, "
                             "green DLS, grey none); with the fallback method it shows where planar gave up"));
   form->addRow(tr("Field"), field_box_);
   method_box_ = new QComboBox(w);
-  method_box_->addItems({"planar", "paper", "newton", "dls", "fallback"});
+  for (const auto& name : field_choices(preset_.mechanism).methods) method_box_->addItem(QString::fromStdString(name));
   method_box_->setToolTip(tr("fallback: planar, then Newton from its candidate where planar misses the tolerance"));
   form->addRow(tr("IK method"), method_box_);
   normal_box_ = new QComboBox(w);
@@ -376,12 +378,13 @@ QWidget* MainWindow::buildFieldPanel() {
   form->addRow(auto_range_box_);
   form->addRow(tr("Colour range"), range_row);
   slice_resolution_box_ = new QComboBox(w);
-  slice_resolution_box_->addItems({"96", "192", "384", "768"});
-  slice_resolution_box_->setCurrentText("192");
+  const FieldChoices choices = field_choices(preset_.mechanism);
+  for (int n : choices.slice_resolutions) slice_resolution_box_->addItem(QString::number(n));
+  slice_resolution_box_->setCurrentText(QString::number(choices.default_slice_resolution));
   volume_resolution_box_ = new QComboBox(w);
   volume_resolution_box_->setObjectName("volumeResolutionBox");
-  volume_resolution_box_->addItems({"32", "48", "64", "96", "128"});
-  volume_resolution_box_->setCurrentText("64");
+  for (int n : choices.volume_resolutions) volume_resolution_box_->addItem(QString::number(n));
+  volume_resolution_box_->setCurrentText(QString::number(choices.default_volume_resolution));
   form->addRow(tr("Slice samples"), slice_resolution_box_);
   form->addRow(tr("Volume samples"), volume_resolution_box_);
   show_slice_box_ = new QCheckBox(tr("Slice"), w);
@@ -817,7 +820,7 @@ void MainWindow::animationStep() {
 
 Session MainWindow::session() const {
   Session s;
-  s.mechanism = preset_.source.empty() ? preset_.mechanism : preset_.source.string();
+  s.mechanism = preset_reference(preset_);
   s.parameters = {{"L1", model().L1}, {"L2", model().L2}};
   const auto& m = model();
   s.actuator_limits_deg = {{"alpha", {m.alpha_limits.lo / kDeg, m.alpha_limits.hi / kDeg}},
@@ -830,6 +833,17 @@ Session MainWindow::session() const {
 }
 
 void MainWindow::applySession(const Session& s) {
+  // Refuse before changing anything: the length boxes span 0.1 to 3 times
+  // the preset's lengths, and a value outside would be clamped.
+  for (int i = 0; i < 2; ++i) {
+    const char* name = i == 0 ? "L1" : "L2";
+    const auto it = s.parameters.find(name);
+    if (it != s.parameters.end() &&
+        (it->second < length_boxes_[i]->minimum() || it->second > length_boxes_[i]->maximum()))
+      throw std::invalid_argument("session: " + std::string(name) + " = " + format_number(it->second) +
+                                  " is outside the window's range [" + format_number(length_boxes_[i]->minimum()) +
+                                  ", " + format_number(length_boxes_[i]->maximum()) + "] for this preset");
+  }
   const FieldSettings& f = s.field;
   {
     const QSignalBlocker b1(field_box_), b2(normal_box_), b3(position_slider_), b4(follow_box_), b5(threshold_box_),
@@ -933,9 +947,14 @@ int run_window(const WindowOptions& options, int argc, char** argv) {
   // A session brings its own mechanism.
   Preset preset = load_preset(session ? session->mechanism : options.mechanism.mechanism);
   apply_overrides(preset, options.mechanism.params);
+  // Off-screen framebuffers beyond 8192 pixels a side fail inside the
+  // OpenGL driver (a crash, not an error), so the size is bounded here.
   int width = 0, height = 0;
-  if (std::sscanf(options.size.c_str(), "%dx%d", &width, &height) != 2 || width < 200 || height < 150)
-    throw std::invalid_argument("--size expects WIDTHxHEIGHT (at least 200x150), got '" + options.size + "'");
+  char x = 0, rest = 0;
+  if (std::sscanf(options.size.c_str(), "%d%c%d%c", &width, &x, &height, &rest) != 3 || x != 'x' || width < 200 ||
+      height < 150 || width > kMaxWindowSide || height > kMaxWindowSide)
+    throw std::invalid_argument("--size expects WIDTHxHEIGHT from 200x150 to " + std::to_string(kMaxWindowSide) + "x" +
+                                std::to_string(kMaxWindowSide) + ", got '" + options.size + "'");
   const bool is_pathos2 = preset.mechanism == pathos2::kMechanismName;
   if (is_pathos2 && options.latency)
     throw std::invalid_argument("--latency measures the parallel-12r window");

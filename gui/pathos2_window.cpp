@@ -390,12 +390,13 @@ QWidget* Pathos2Window::buildFieldPanel() {
   form->addRow(tr("cond(Jp) threshold"), threshold_box_);
   slice_resolution_box_ = new QComboBox(w);
   slice_resolution_box_->setObjectName("sliceResolutionBox");
-  slice_resolution_box_->addItems({"64", "128", "256", "512"});
-  slice_resolution_box_->setCurrentText("128");
+  const FieldChoices choices = field_choices(preset_.mechanism);
+  for (int n : choices.slice_resolutions) slice_resolution_box_->addItem(QString::number(n));
+  slice_resolution_box_->setCurrentText(QString::number(choices.default_slice_resolution));
   volume_resolution_box_ = new QComboBox(w);
   volume_resolution_box_->setObjectName("volumeResolutionBox");
-  volume_resolution_box_->addItems({"24", "32", "48", "64"});
-  volume_resolution_box_->setCurrentText("48");
+  for (int n : choices.volume_resolutions) volume_resolution_box_->addItem(QString::number(n));
+  volume_resolution_box_->setCurrentText(QString::number(choices.default_volume_resolution));
   form->addRow(tr("Slice samples"), slice_resolution_box_);
   form->addRow(tr("Volume samples"), volume_resolution_box_);
   show_slice_box_ = new QCheckBox(tr("Slice"), w);
@@ -774,7 +775,7 @@ void Pathos2Window::applyFieldVisibility() {
 
 Session Pathos2Window::session() const {
   Session s;
-  s.mechanism = preset_.source.empty() ? preset_.mechanism : preset_.source.string();
+  s.mechanism = preset_reference(preset_);
   s.parameters = model().to_parameters();
   const pathos2::Pose& p = pose();
   const Eigen::Vector3d rpy = p.rpy();
@@ -806,7 +807,7 @@ void Pathos2Window::applySession(const Session& s) {
     const QSignalBlocker b1(field_box_), b2(normal_box_), b3(follow_box_), b4(threshold_box_), b5(slice_resolution_box_),
         b6(volume_resolution_box_), b7(show_slice_box_), b8(show_reach_box_), b9(show_well_box_),
         b10(reach_opacity_slider_), b11(well_opacity_slider_);
-    field_box_->setCurrentIndex(std::max(0, field_box_->findData(QString::fromStdString(f.field))));
+    field_box_->setCurrentIndex(field_box_->findData(QString::fromStdString(f.field)));  // checked by load_session
     normal_box_->setCurrentText(QString::fromStdString(f.normal));
     follow_box_->setChecked(f.follow_endpoint);
     threshold_box_->setValue(f.threshold);

@@ -8,6 +8,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
 class vtkRenderer;
 
@@ -49,9 +50,26 @@ struct Session {
 CameraState camera_state(vtkRenderer* renderer);
 void apply_camera(vtkRenderer* renderer, const CameraState& camera);
 
+// What the window offers for a mechanism's fields (preset mechanism name):
+// its combo boxes are filled from here and sessions are checked against it.
+struct FieldChoices {
+  std::vector<std::string> fields;   // values of FieldSettings::field
+  std::vector<std::string> methods;  // IK methods per sample (empty: the device has one)
+  std::vector<int> slice_resolutions, volume_resolutions;
+  int default_slice_resolution = 0, default_volume_resolution = 0;
+};
+FieldChoices field_choices(const std::string& mechanism);
+
 // Atomic write. Throws std::runtime_error if the file cannot be written.
+// The mechanism is written as a preset name wherever the preset was found on
+// the preset search path, so that sessions open on other machines and in
+// installed copies.
 void save_session(const Session& session, const std::filesystem::path& path);
-// Throws std::invalid_argument naming the file and the problem.
+// Reads and checks a session: every key known, every value one the window
+// can honour (parameters valid for the mechanism, names and resolutions
+// the window offers, finite numbers in range). Throws std::invalid_argument
+// naming the file, the key and the problem; never clamps.
 Session load_session(const std::filesystem::path& path);
+Session parse_session(const std::string& json_text, const std::string& origin);
 
 }  // namespace linkscape::gui

@@ -1,5 +1,6 @@
 #include "render/field_vtk.h"
 
+#include <vtkErrorCode.h>
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
 #include <vtkFloatArray.h>
@@ -124,7 +125,8 @@ void write_vti(const Field& field, const std::filesystem::path& path) {
     writer->EncodeAppendedDataOff();  // raw binary
     writer->SetCompressorTypeToZLib();
     if (writer->Write() != 1 || writer->GetErrorCode() != 0)
-      throw std::runtime_error("cannot write VTK image data '" + path.string() + "'");
+      throw std::runtime_error("cannot write VTK image data '" + path.string() + "': " +
+                               vtkErrorCode::GetStringFromErrorCode(writer->GetErrorCode()));
   });
 }
 

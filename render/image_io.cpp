@@ -1,5 +1,6 @@
 #include "render/image_io.h"
 
+#include <vtkErrorCode.h>
 #include <vtkNew.h>
 #include <vtkPNGWriter.h>
 #include <vtkRenderWindow.h>
@@ -22,7 +23,9 @@ void save_png(vtkRenderWindow* window, const std::filesystem::path& path) {
     writer->SetFileName(tmp.c_str());
     writer->SetInputConnection(grab->GetOutputPort());
     writer->Write();
-    if (writer->GetErrorCode() != 0) throw std::runtime_error("cannot write PNG '" + path.string() + "'");
+    if (writer->GetErrorCode() != 0)
+      throw std::runtime_error("cannot write PNG '" + path.string() + "': " +
+                               vtkErrorCode::GetStringFromErrorCode(writer->GetErrorCode()));
   });
 }
 

@@ -1,5 +1,6 @@
 #include "render/slice_image.h"
 
+#include <vtkErrorCode.h>
 #include <vtkImageData.h>
 #include <vtkLookupTable.h>
 #include <vtkNew.h>
@@ -359,7 +360,9 @@ void write_slice_png(const Field& field, const SliceStyle& style, const std::fil
     writer->SetFileName(tmp.c_str());
     writer->SetInputData(image);
     writer->Write();
-    if (writer->GetErrorCode() != 0) throw std::runtime_error("cannot write PNG '" + path.string() + "'");
+    if (writer->GetErrorCode() != 0)
+      throw std::runtime_error("cannot write PNG '" + path.string() + "': " +
+                               vtkErrorCode::GetStringFromErrorCode(writer->GetErrorCode()));
   });
 }
 

@@ -1,5 +1,6 @@
 #include "render/workspace_mesh.h"
 
+#include <vtkErrorCode.h>
 #include <vtkCellArray.h>
 #include <vtkCellArrayIterator.h>
 #include <vtkDoubleArray.h>
@@ -343,7 +344,8 @@ void write_mesh(vtkPolyData* mesh, const std::filesystem::path& path, const Fiel
       writer->EncodeAppendedDataOff();
       writer->SetCompressorTypeToZLib();
       if (writer->Write() != 1 || writer->GetErrorCode() != 0)
-        throw std::runtime_error("cannot write VTK poly data '" + path.string() + "'");
+        throw std::runtime_error("cannot write VTK poly data '" + path.string() + "': " +
+                                 vtkErrorCode::GetStringFromErrorCode(writer->GetErrorCode()));
     });
     return;
   }

@@ -77,3 +77,84 @@ TEST(Csv, ReadsHeaderAndRowsAndReportsLineOfBadField) {
 TEST(Csv, NumbersRoundTrip) {
   for (double v : {0.1, 1.0 / 3.0, -2.5e-300, 15.0}) EXPECT_EQ(std::stod(format_number(v)), v);
 }
+
+TEST(Csv, AcceptsAByteOrderMarkAndAPlusSignAndKeepsLineNumbers) {
+  std::istringstream in("\xEF\xBB\xBFx,y,z\n# comment\n+1,2,+3e0\n\n-4,5,6\n");
+  const Table t = read_csv(in, "bom.csv");
+  ASSERT_EQ(t.columns.front(), "x");  // the mark is not part of the first name
+  ASSERT_EQ(t.rows.size(), 2u);
+  EXPECT_DOUBLE_EQ(t.rows[0][0], 1.0);
+  EXPECT_DOUBLE_EQ(t.rows[0][2], 3.0);
+  EXPECT_EQ(t.where(0), "bom.csv:3");
+  EXPECT_EQ(t.where(1), "bom.csv:5");
+  for (const char* not_numbers : {"++1", "+-1", "+", "-", "1e", "0x10", "1,0"})
+    EXPECT_FALSE(parse_number(not_numbers).has_value()) << not_numbers;
+}
+
+TEST(Csv, RefusesRepeatedAndUnnamedColumns) {
+  std::istringstream repeated("x,y,x\n1,2,3\n");
+  try {
+    read_csv(repeated, "dup.csv");
+    FAIL() << "a repeated column was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("dup.csv:1: column 'x' appears twice"), std::string::npos) << e.what();
+  }
+  std::istringstream unnamed("x,,z\n1,2,3\n");
+  EXPECT_THROW(read_csv(unnamed, "u.csv"), std::invalid_argument);
+}
+
+TEST(Csv, SaysOutOfRangeRatherThanNotANumber) {
+  bool out_of_range = false;
+  EXPECT_FALSE(parse_number("1e400", &out_of_range).has_value());
+  EXPECT_TRUE(out_of_range);
+  try {
+    parse_number_or_throw("1e400", "parameter L1");
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("out of the range"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(parse_number_or_throw("inf", "x"), std::invalid_argument);
+  EXPECT_TRUE(std::isinf(parse_number_or_throw("inf", "x", true)));
+  // Small but representable values are numbers, whatever a model then says of them.
+  EXPECT_DOUBLE_EQ(parse_number_or_throw("1e-300", "x"), 1e-300);
+}
+
+TEST(Preset, ParamOverridesUseTheStrictNumberRules) {
+  Preset p = load_preset("parallel-12r");
+  try {
+    apply_overrides(p, {"L1=1e400"});
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("out of the range"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(apply_overrides(p, {"L1=inf"}), std::invalid_argument);
+  EXPECT_THROW(apply_overrides(p, {"L1=nan"}), std::invalid_argument);
+  apply_overrides(p, {"L1=+12"});
+  EXPECT_DOUBLE_EQ(make_parallel12r(p).L1, 12.0);
+}
+
+TEST(Preset, RefusesWhatItWouldIgnore) {
+  // PATHOS-II's joint limits are parameters; a limits block would be ignored.
+  EXPECT_THROW(parse_preset(R"({"mechanism":"pathos2","parameters":{},"actuator_limits_deg":{"q1":[-90,90]}})", "t"),
+               std::invalid_argument);
+  // A misspelt key would be ignored too.
+  try {
+    parse_preset(R"({"mechanism":"parallel-12r","parameters":{"L1":1,"L2":1},"actuator_limit_deg":{}})", "p.json");
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("actuator_limit_deg"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(parse_preset(R"({"mechanism":"parallel-12r","parameters":{},"actuator_limits_deg":{"delta":[0,1]}})",
+                            "t"),
+               std::invalid_argument);
+}
+
+TEST(Preset, ReferenceIsTheNameForShippedPresetsAndThePathOtherwise) {
+  const Preset shipped = load_preset("parallel-12r");
+  EXPECT_EQ(preset_reference(shipped), "parallel-12r");
+  const auto file = std::filesystem::temp_directory_path() / "linkscape_own_preset.json";
+  std::filesystem::copy_file(shipped.source, file, std::filesystem::copy_options::overwrite_existing);
+  const Preset own = load_preset(file.string());
+  EXPECT_EQ(preset_reference(own), std::filesystem::absolute(file).string());
+  std::filesystem::remove(file);
+}

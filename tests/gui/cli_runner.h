@@ -22,10 +22,14 @@ struct CommandResult {
   std::string out;  // stdout and stderr
 };
 
-// Runs the binary with `args`; `environment` is prefixed as in a shell.
-inline CommandResult run_linkscape(const std::string& args, const std::string& environment = "") {
+// Runs the binary with `args`; `environment` is prefixed as in a shell;
+// `stdout_redirect` (e.g. ">/dev/full") sends stdout elsewhere, so that `out`
+// holds stderr alone.
+inline CommandResult run_linkscape(const std::string& args, const std::string& environment = "",
+                                   const std::string& stdout_redirect = "") {
   CommandResult r;
-  const std::string command = environment + " " + std::string(LINKSCAPE_BINARY) + " " + args + " 2>&1";
+  const std::string command =
+      environment + " " + std::string(LINKSCAPE_BINARY) + " " + args + " 2>&1 " + stdout_redirect;
   FILE* pipe = popen(command.c_str(), "r");
   char buffer[4096];
   while (std::size_t n = fread(buffer, 1, sizeof buffer, pipe)) r.out.append(buffer, n);

@@ -286,7 +286,7 @@ TEST(CliFieldCommands, BadArgumentsExitWithTwoAndWriteNothing) {
       {"slice --range 5,1 --output " + out.string(), ""},
       {"slice --plane x=0", "--output"},
       {"field --resolution 1 --output " + (kOut / "never.vti").string(), "--resolution"},
-      {"field --resolution 4000 --output " + (kOut / "never.vti").string(), "MiB"},
+      {"field --resolution 4000 --output " + (kOut / "never.vti").string(), "GiB at peak"},
       {"field --output " + (kOut / "never.xyz").string(), ".vti or .csv"},
       {"mesh --surface 'cond<0.5' --output " + (kOut / "never.stl").string(), "--surface"},
       {"mesh --surface volume --output " + (kOut / "never.stl").string(), "--surface"},

@@ -1,0 +1,157 @@
+// Hostile command lines: every input that cannot be honoured is an error
+// naming what is wrong, and no output is ever silently lost.
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include "cli_runner.h"
+
+namespace {
+
+const char* kTargets = "x,y,z\n0,15,15\n10,20,5\n";
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+}  // namespace
+
+TEST(CliHardening, OutputLostToAFullDeviceOrAClosedStdoutIsAnError) {
+  const fs::path in = temp_file("hard_targets.csv", kTargets);
+  for (const std::string redirect : {">/dev/full", ">&-"}) {
+    const auto r = run_linkscape("eval --ik " + in.string(), "", redirect);
+    EXPECT_EQ(r.exit_code, 1) << redirect << ": " << r.out;
+    EXPECT_TRUE(contains(r.out, "cannot write to standard output")) << r.out;
+  }
+  const auto ok = run_linkscape("eval --ik " + in.string(), "", ">/dev/null");
+  EXPECT_EQ(ok.exit_code, 0) << ok.out;
+}
+
+TEST(CliHardening, OptionsBeforeTheCommandAreRefusedNotIgnored) {
+  const fs::path in = temp_file("hard_targets.csv", kTargets);
+  for (const std::string before : std::vector<std::string>{"--param L1=12", "--mechanism pathos2", "--mechanism foo", "--size 800x600"}) {
+    const auto r = run_linkscape(before + " eval --ik " + in.string());
+    EXPECT_EQ(r.exit_code, 2) << before << ": " << r.out;
+    EXPECT_TRUE(contains(r.out, "belongs after the command")) << r.out;
+  }
+  // After the command the same option is honoured.
+  const auto after = run_linkscape("eval --param L1=12 --ik " + in.string());
+  ASSERT_EQ(after.exit_code, 0) << after.out;
+  const auto fifteen = run_linkscape("eval --ik " + in.string());
+  EXPECT_NE(after.out, fifteen.out);
+}
+
+TEST(CliHardening, BadRowsNameTheirFileLineAndColumn) {
+  const fs::path nan12r = temp_file("hard_nan.csv", "x,y,z\n0,15,15\n\n0,nan,3\n");
+  const auto a = run_linkscape("eval --ik " + nan12r.string());
+  EXPECT_EQ(a.exit_code, 2) << a.out;
+  EXPECT_TRUE(contains(a.out, "hard_nan.csv:4: column 'y'")) << a.out;
+
+  const fs::path fk = temp_file("hard_inf.csv", "alpha,beta,gamma\n0,1,inf\n");
+  const auto b = run_linkscape("eval --fk " + fk.string());
+  EXPECT_EQ(b.exit_code, 2) << b.out;
+  EXPECT_TRUE(contains(b.out, "hard_inf.csv:2: column 'gamma'")) << b.out;
+
+  for (const std::string bad : std::vector<std::string>{"nan", "inf", "-inf"}) {
+    const fs::path poses = temp_file("hard_pose.csv", "x,y,z,rx,ry,rz,h0\n0,0,22.5,0,0,0.5,7\n0,0,22.5,0,0,0.5," + bad + "\n");
+    const auto c = run_linkscape("eval -m pathos2 --ik " + poses.string());
+    EXPECT_EQ(c.exit_code, 2) << bad << ": " << c.out;
+    EXPECT_TRUE(contains(c.out, "hard_pose.csv:3: column 'h0'")) << c.out;
+  }
+}
+
+TEST(CliHardening, NonFiniteAndOutOfRangeOptionValuesAreRefused) {
+  const fs::path in = temp_file("hard_targets.csv", kTargets);
+  for (const std::string& args : std::vector<std::string>{"eval --tolerance inf --ik " + in.string(), "eval --tolerance nan --ik " + in.string(),
+        "eval --max-iterations 0 --ik " + in.string(), "slice --param L1=1e400 -o x.png",
+        "mesh --decimate inf -o x.stl", "slice --plane x=nan -o x.png", "mesh --surface 'cond<inf' -o x.stl"}) {
+    const auto r = run_linkscape(args);
+    EXPECT_EQ(r.exit_code, 2) << args << ": " << r.out;
+  }
+  const auto big = run_linkscape("slice --param L1=1e400 -o x.png");
+  EXPECT_TRUE(contains(big.out, "out of the range")) << big.out;
+}
+
+TEST(CliHardening, WindowSizeIsBoundedBeforeAnyWindowOpens) {
+  // A size the OpenGL driver cannot allocate used to crash it.
+  for (const std::string size : std::vector<std::string>{"100000x100000", "9000x600", "800x600junk", "100x100"}) {
+    const auto r = run_linkscape("--size " + size + " --screenshot never.png", "DISPLAY=:0");
+    EXPECT_EQ(r.exit_code, 2) << size << ": " << r.out;
+    EXPECT_TRUE(contains(r.out, "--size")) << r.out;
+  }
+}
+
+TEST(CliHardening, OutputPathsThatCannotBeWrittenGiveOneLineWithTheReason) {
+  const fs::path in = temp_file("hard_targets.csv", kTargets);
+  const auto empty = run_linkscape("eval --ik " + in.string() + " -o ''");
+  EXPECT_EQ(empty.exit_code, 2) << empty.out;
+  EXPECT_TRUE(contains(empty.out, "output path is empty")) << empty.out;
+  for (const std::string cmd : std::vector<std::string>{"slice --size 16x16 -o /proc/linkscape.png", "field --resolution 8 -o /proc/l.vti",
+                                 "mesh --resolution 16 -o /proc/l.stl"}) {
+    const auto r = run_linkscape(cmd);
+    EXPECT_EQ(r.exit_code, 1) << cmd << ": " << r.out;
+    EXPECT_TRUE(contains(r.out, "cannot write '/proc/l")) << r.out;
+    EXPECT_LE(std::count(r.out.begin(), r.out.end(), '\n'), 1) << "expected one line, got:\n" << r.out;
+  }
+  const fs::path folder = fs::temp_directory_path() / "linkscape_cli_tests" / "a_folder";
+  fs::create_directories(folder);
+  const auto dir = run_linkscape("eval --ik " + in.string() + " -o " + folder.string());
+  EXPECT_EQ(dir.exit_code, 2) << dir.out;
+  EXPECT_TRUE(contains(dir.out, "it is a folder")) << dir.out;
+}
+
+TEST(CliHardening, MemoryGuardCountsTheWholeCommand) {
+  // 1400^3 samples: the arrays alone (~44 GiB) exceed any limit here, and the
+  // message names the estimated peak.
+  const auto r = run_linkscape("field --resolution 1400 -o big.vti -q");
+  EXPECT_EQ(r.exit_code, 2) << r.out;
+  EXPECT_TRUE(contains(r.out, "GiB at peak")) << r.out;
+  EXPECT_FALSE(fs::exists("big.vti"));
+  // A .vti export needs more than a CSV of the same grid: at a size where the
+  // arrays fit but the export's copy does not, only the .vti is refused.
+  const auto csv = run_linkscape("field --resolution 8 -o " +
+                                 (fs::temp_directory_path() / "linkscape_cli_tests" / "small.csv").string() + " -q");
+  EXPECT_EQ(csv.exit_code, 0) << csv.out;
+}
+
+TEST(CliHardening, Pathos2ForwardKinematicsOfARowDependsOnTheRowAlone) {
+  // Row B evaluated after row A, and alone, must give the same answer.
+  const std::string header = "q1,q2,q3,q4,q5,q6,h0\n";
+  const fs::path ik_in = temp_file("hard_p2_ik.csv",
+                                   "x,y,z,rx,ry,rz,h0\n0,0,22.5,0,0,0.5235987755982988,7\n"
+                                   "3,-2,21,0.1,-0.05,0.6,7\n");
+  const auto ik = run_linkscape("eval -m pathos2 --ik " + ik_in.string());
+  ASSERT_EQ(ik.exit_code, 0) << ik.out;
+  const auto poses = parse_cells(ik.out);
+  ASSERT_EQ(poses.size(), 2u);
+  auto q_row = [&](const std::map<std::string, std::string>& p) {
+    return p.at("q1") + "," + p.at("q2") + "," + p.at("q3") + "," + p.at("q4") + "," + p.at("q5") + "," +
+           p.at("q6") + "," + p.at("h0") + "\n";
+  };
+  const fs::path both = temp_file("hard_p2_both.csv", header + q_row(poses[1]) + q_row(poses[0]));
+  const fs::path alone = temp_file("hard_p2_alone.csv", header + q_row(poses[0]));
+  const auto r_both = run_linkscape("eval -m pathos2 --fk " + both.string());
+  const auto r_alone = run_linkscape("eval -m pathos2 --fk " + alone.string());
+  ASSERT_EQ(r_both.exit_code, 0) << r_both.out;
+  ASSERT_EQ(r_alone.exit_code, 0) << r_alone.out;
+  const auto rows_both = parse_cells(r_both.out), rows_alone = parse_cells(r_alone.out);
+  ASSERT_EQ(rows_both.size(), 2u);
+  ASSERT_EQ(rows_alone.size(), 1u);
+  EXPECT_EQ(rows_both[1], rows_alone[0]);
+  EXPECT_EQ(rows_alone[0].at("status"), "ok");
+
+  // Seed columns: all six or none.
+  const fs::path partial = temp_file("hard_p2_seed.csv", "q1,q2,q3,q4,q5,q6,h0,seed_x\n" +
+                                                             q_row(poses[0]).substr(0, q_row(poses[0]).size() - 1) +
+                                                             ",0\n");
+  const auto r_partial = run_linkscape("eval -m pathos2 --fk " + partial.string());
+  EXPECT_EQ(r_partial.exit_code, 2) << r_partial.out;
+  // A seed at the answer converges to it.
+  const auto& p = poses[1];
+  const fs::path seeded = temp_file(
+      "hard_p2_seeded.csv", "q1,q2,q3,q4,q5,q6,h0,seed_x,seed_y,seed_z,seed_rx,seed_ry,seed_rz\n" +
+                                q_row(p).substr(0, q_row(p).size() - 1) + ",3,-2,21,0.1,-0.05,0.6\n");
+  const auto r_seeded = run_linkscape("eval -m pathos2 --fk " + seeded.string());
+  ASSERT_EQ(r_seeded.exit_code, 0) << r_seeded.out;
+  const auto row = parse_cells(r_seeded.out).at(0);
+  EXPECT_EQ(row.at("status"), "ok");
+  EXPECT_NEAR(std::stod(row.at("x")), 3.0, 1e-9);
+  EXPECT_NEAR(std::stod(row.at("rz")), 0.6, 1e-9);
+}

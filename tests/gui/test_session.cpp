@@ -1,0 +1,107 @@
+// Sessions open exactly as saved or not at all: a value the window cannot
+// honour is an error naming its key, never a silent clamp.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "core/preset.h"
+#include "gui/session.h"
+
+using namespace linkscape;
+using namespace linkscape::gui;
+using nlohmann::json;
+
+namespace {
+
+json good_12r() {
+  return json::parse(R"({"format": "linkscape-session", "version": 1, "mechanism": "parallel-12r",
+    "parameters": {"L1": 15, "L2": 15}, "pose_rad": [0.1, 1.2, 0.3],
+    "field": {"field": "cond", "normal": "x", "method": "planar", "slice_resolution": 192, "volume_resolution": 64}})");
+}
+
+// The message for `session`, or "" if it opened.
+std::string error_of(const json& session) {
+  try {
+    parse_session(session.dump(), "s.json");
+    return "";
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+}
+
+}  // namespace
+
+TEST(Session, AGoodSessionOpensAndRoundTrips) {
+  const Session s = parse_session(good_12r().dump(), "s.json");
+  EXPECT_EQ(s.mechanism, "parallel-12r");
+  EXPECT_DOUBLE_EQ(s.pose.y(), 1.2);
+  const auto file = std::filesystem::temp_directory_path() / "linkscape_session_roundtrip.json";
+  save_session(s, file);
+  const Session back = load_session(file);
+  EXPECT_EQ(back.mechanism, s.mechanism);
+  EXPECT_EQ(back.parameters, s.parameters);
+  EXPECT_EQ(back.pose, s.pose);
+  EXPECT_EQ(back.field.field, s.field.field);
+  std::filesystem::remove(file);
+}
+
+TEST(Session, ValuesTheWindowCannotHonourAreErrorsNamingTheKey) {
+  struct Case {
+    const char* pointer;
+    json value;
+    const char* expected;
+  };
+  const Case cases[] = {
+      {"/parameters/L1", -1, "L1"},
+      {"/parameters/L3", 1, "L3"},
+      {"/field/field", "conditioning", "field.field"},
+      {"/field/normal", "w", "field.normal"},
+      {"/field/method", "magic", "field.method"},
+      {"/field/volume_resolution", 100, "field.volume_resolution"},
+      {"/field/slice_resolution", 193, "field.slice_resolution"},
+      {"/field/threshold", 0.5, "field.threshold"},
+      {"/field/reach_opacity", 2, "opacities"},
+      {"/field/range_min", 5, "range_max"},
+      {"/field/colour", "red", "field.colour"},
+      {"/actuator_limits_deg", json::parse(R"({"alpha": [10, -10]})"), "alpha"},
+      {"/actuator_limits_deg", json::parse(R"({"delta": [0, 10]})"), "delta"},
+      {"/camera", json::parse(R"({"position": [1, 0, 0], "focal_point": [0, 0, 0], "view_up": [0, 0, 1], "view_angle_deg": 0})"), "view_angle"},
+      {"/mechanism", "no-such-mechanism", "no-such-mechanism"},
+      {"/version", 2, "version"},
+      {"/platform_pose", json::array({0, 0, 22.5, 0, 0, 0, 7}), "platform_pose"},
+      {"/extra", true, "extra"},
+  };
+  for (const Case& c : cases) {
+    json s = good_12r();
+    s[json::json_pointer(c.pointer)] = c.value;
+    const std::string message = error_of(s);
+    EXPECT_NE(message.find(c.expected), std::string::npos) << c.pointer << " gave: '" << message << "'";
+    EXPECT_NE(message.find("s.json"), std::string::npos) << message;
+  }
+}
+
+TEST(Session, Pathos2SessionsAreCheckedAgainstTheirOwnChoices) {
+  json s = json::parse(R"({"format": "linkscape-session", "version": 1, "mechanism": "pathos2",
+    "parameters": {"l2": 14}, "platform_pose": [0, 0, 22.5, 0, 0, 0.52, 7],
+    "field": {"field": "cond_jo", "volume_resolution": 48, "slice_resolution": 128}})");
+  EXPECT_EQ(error_of(s), "");
+  s["field"]["volume_resolution"] = 64 + 1;
+  EXPECT_NE(error_of(s).find("volume_resolution"), std::string::npos);
+  s["field"]["volume_resolution"] = 48;
+  s["field"]["field"] = "residual";  // a 12R field
+  EXPECT_NE(error_of(s).find("field.field"), std::string::npos);
+  s["field"]["field"] = "cond";
+  s["parameters"]["l2"] = -3;
+  EXPECT_NE(error_of(s).find("l2"), std::string::npos);
+}
+
+TEST(Session, APresetRecordedByAVanishedPathOpensByItsName) {
+  json s = good_12r();
+  s["mechanism"] = "/a/folder/that/is/gone/parallel-12r.json";
+  const Session opened = parse_session(s.dump(), "s.json");
+  EXPECT_EQ(opened.mechanism, "parallel-12r");
+  // A shipped preset is saved by name, so the session is portable.
+  EXPECT_EQ(preset_reference(load_preset("parallel-12r")), "parallel-12r");
+}
