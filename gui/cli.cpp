@@ -138,7 +138,8 @@ int run(int argc, char** argv) {
   auto* fk = eval_cmd->add_option("--fk", eval.fk_file,
                                   "Forward kinematics of a CSV with header alpha,beta,gamma (rad). "
                                   "Writes alpha,beta,gamma,x,y,z,cond,det. pathos2: header q1..q6,h0; numerical "
-                                  "FK from the previous row's pose (first: home); writes the pose, status, iterations");
+                                  "FK from the home pose, or from the row's seed_x,seed_y,seed_z,seed_rx,seed_ry,seed_rz when given, so each "
+                                  "row's answer depends on that row alone; writes the pose, status, iterations");
   ik->excludes(fk);
   eval_cmd->add_option("--method", eval.method,
                        "IK method: paper (Eqs. 14-16, corrected), planar (planar reduction), "

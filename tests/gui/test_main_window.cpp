@@ -28,6 +28,7 @@
 #include "gui/main_window.h"
 #include "gui/methods_panel.h"
 #include "gui/pathos2_window.h"
+#include "gui/session.h"
 #include "gui/vtk_widget.h"
 #include "window_checks.h"
 #include "render/field_scene.h"
@@ -189,6 +190,15 @@ class MainWindowTest : public QObject {
     QCOMPARE(other.session().camera->position, w.session().camera->position);
     // Recent files remember it.
     QVERIFY(QSettings().value("recentSessions").toStringList().contains(QFileInfo(path).absoluteFilePath()));
+    // The shipped preset is recorded by name, so the file opens elsewhere.
+    QCOMPARE(gui::load_session(path.toStdString()).mechanism, std::string("parallel-12r"));
+    // A length the window's box cannot show is refused before anything changes.
+    gui::Session far = other.session();
+    far.parameters["L1"] = 100.0;  // the box spans 1.5 .. 45 cm for this preset
+    far.pose = {0.3, 0.3, 0.3};
+    QVERIFY_THROWS_EXCEPTION(std::invalid_argument, other.applySession(far));
+    QCOMPARE(other.model().L1, 15.0);
+    QVERIFY((other.pose() - Eigen::Vector3d(0.1, 0.9, -0.2)).norm() < 1e-12);
   }
 
   void animationFollowsACircleInOneBranch() {
