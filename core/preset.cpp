@@ -1,6 +1,7 @@
 #include "core/preset.h"
 
 #include "core/csv.h"
+#include "core/mechanism.h"
 
 #include <unistd.h>
 
@@ -89,9 +90,6 @@ Preset parse_preset(const std::string& text, const std::string& origin) {
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument("preset " + origin + ": " + e.what());
   }
-  if (p.mechanism != parallel12r::kMechanismName && p.mechanism != pathos2::kMechanismName)
-    throw std::invalid_argument("preset " + origin + ": unsupported mechanism '" + p.mechanism +
-                                "' (supported: parallel-12r, pathos2)");
   try {
     validate(p);
   } catch (const std::invalid_argument& e) {
@@ -143,14 +141,13 @@ void apply_overrides(Preset& preset, const std::vector<std::string>& overrides) 
 }
 
 std::vector<std::string> parameter_names(const Preset& preset) {
-  return preset.mechanism == pathos2::kMechanismName ? pathos2::Model::parameter_names()
-                                                     : parallel12r::Model::parameter_names();
+  const auto mechanism = make_mechanism(preset);  // kept alive while its description is read
+  std::vector<std::string> names;
+  for (const Quantity& q : mechanism->info().parameters) names.push_back(q.name);
+  return names;
 }
 
-void validate(const Preset& preset) {
-  if (preset.mechanism == pathos2::kMechanismName) make_pathos2(preset);
-  else make_parallel12r(preset);
-}
+void validate(const Preset& preset) { make_mechanism(preset); }
 
 parallel12r::Model make_parallel12r(const Preset& preset) {
   if (preset.mechanism != parallel12r::kMechanismName)

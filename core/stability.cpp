@@ -479,4 +479,8 @@ std::vector<SweepRow> run_pathos2_sweeps(const pathos2::Model& model, const Swee
   return rows;
 }
 
+std::string path_label(const SweepRow& row) {
+  return row.path_name.empty() ? std::string(to_string(row.path)) : row.path_name;
+}
+
 }  // namespace linkscape::stability

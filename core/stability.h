@@ -57,6 +57,7 @@ struct SweepOptions {
 struct SweepRow {
   std::string mechanism = "parallel-12r";  // or "pathos2"
   SweepPath path = SweepPath::CosAlpha;
+  std::string path_name;  // the singular set's name where `path` does not apply (devices' own sweeps)
   int base_point = 0;
   double eps = 0;
   double distance = 0;  // Cartesian distance of the target from the singular set, length unit
@@ -70,6 +71,9 @@ struct SweepRow {
   double residual = 0;  // ik: |forward(q) - target| (length unit); 0 otherwise
   int iterations = 0;
 };
+// The row's path_name, else to_string(path).
+std::string path_label(const SweepRow& row);
+
 
 // Runs every path. Methods: ik paper, planar, newton, dls, fallback (default
 // seeds) and newton-near (seeded 1e-3 rad from the reference: Newton's own

@@ -240,7 +240,7 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
     sweep_csv << "path,base_point,eps,distance,cond,sigma_min,predicted,family,method,status,error,residual,iterations,mechanism\n"
               << std::setprecision(6);
     for (const auto& r : sweeps)
-      sweep_csv << stability::to_string(r.path) << ',' << r.base_point << ',' << r.eps << ',' << r.distance << ','
+      sweep_csv << stability::path_label(r) << ',' << r.base_point << ',' << r.eps << ',' << r.distance << ','
                 << r.cond << ',' << r.sigma_min << ',' << r.predicted << ',' << r.family << ',' << r.method << ','
                 << to_string(r.status) << ',' << r.error << ',' << r.residual << ',' << r.iterations << ',' << r.mechanism << "\n";
     write_text(stem.string() + ".sweeps.csv", sweep_csv.str());

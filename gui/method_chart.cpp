@@ -323,10 +323,10 @@ void draw_sweep_chart(QPainter& p, const QRectF& area, const std::vector<stabili
                                 "crosses on the top band: not ok");
   const QRectF body = area.adjusted(0.5 * fh, 3.2 * fh, -0.5 * fh, -0.3 * fh);
   // Panels: (mechanism, path) in the order the rows name them.
-  std::vector<std::pair<std::string, stability::SweepPath>> panels;
+  std::vector<std::pair<std::string, std::string>> panels;
   for (const auto& r : rows)
-    if (std::find(panels.begin(), panels.end(), std::make_pair(r.mechanism, r.path)) == panels.end())
-      panels.emplace_back(r.mechanism, r.path);
+    if (std::find(panels.begin(), panels.end(), std::make_pair(r.mechanism, stability::path_label(r))) == panels.end())
+      panels.emplace_back(r.mechanism, stability::path_label(r));
   const int columns = panels.size() <= 6 ? 3 : 4;
   const int lines = std::max<int>(1, int((panels.size() + columns - 1) / columns));
   if (columns > 3) {
@@ -342,8 +342,9 @@ void draw_sweep_chart(QPainter& p, const QRectF& area, const std::vector<stabili
                       body.top() + double(panel_index / columns) * body.height() / lines, body.width() / columns,
                       body.height() / lines);
     auto in_panel = [&](const stability::SweepRow& r) {
-      return r.mechanism == mechanism && r.path == path && (r.family == "ik" || r.family == "fk");
+      return r.mechanism == mechanism && stability::path_label(r) == path && (r.family == "ik" || r.family == "fk");
     };
+    const stability::SweepRow& first = *std::find_if(rows.begin(), rows.end(), in_panel);
     std::vector<std::string> ik_methods;
     for (const auto& r : rows)
       if (in_panel(r) && std::find(ik_methods.begin(), ik_methods.end(), r.method) == ik_methods.end())
@@ -356,13 +357,17 @@ void draw_sweep_chart(QPainter& p, const QRectF& area, const std::vector<stabili
     panel.x1 = -0.7;
     panel.y0 = -18;
     panel.y1 = 0;
-    const bool joint = stability::is_joint_path(path);
-    const bool p2 = mechanism == "pathos2";
-    const QString name = (p2 ? QString("PATHOS-II ") : QString()) +
-                         QString::fromStdString(std::string(stability::to_string(path)));
-    panel.draw_axes(p, pfh, name + (joint ? " (joint path)" : p2 ? " (pose path)" : " (Cartesian path)"),
-                    joint ? "eps: angle from the set (rad)" : p2 ? "eps: s = s* (1 - eps)" : "eps: distance / (L1 + L2)",
-                    fk ? "FK pose error" : "joint error (rad)", [](int k) { return power_label(k); });
+    // What eps means on this panel's path: an angle (joint paths), a
+    // fraction of the way to the set (pose paths, FK rows), else a distance
+    // relative to the device's size; devices' own sweeps give a residual.
+    const bool own = !first.path_name.empty();
+    const bool joint = !own && stability::is_joint_path(first.path);
+    const bool pose = !own && fk;
+    const QString name = QString::fromStdString(mechanism + " " + path);
+    panel.draw_axes(p, pfh, name + (joint ? " (joint path)" : pose ? " (pose path)" : " (Cartesian path)"),
+                    joint ? "eps: angle from the set (rad)" : pose ? "eps: s = s* (1 - eps)" : "eps: distance / size",
+                    fk ? "FK pose error" : own ? "residual / size" : "joint error (rad)",
+                    [](int k) { return power_label(k); });
     // "not ok" band at the top.
     const double band = panel.plot.top() + 0.55 * pfh;
     p.setPen(QColor(120, 120, 120));
@@ -423,10 +428,9 @@ void draw_sweep_chart(QPainter& p, const QRectF& area, const std::vector<stabili
       std::vector<LegendEntry> legend;
       for (std::size_t k = 0; k < ik_methods.size(); ++k) {
         const std::string& mname = ik_methods[k];
-        const QString text = mname == "newton-near"    ? (p2 ? "newton, seed 1e-3 rad off" : "newton, seed 1e-3 rad off")
+        const QString text = mname == "newton-near"    ? "newton, seed 1e-3 rad off"
                              : mname == "numeric-near" ? "numeric, seed 1e-3 off"
                              : mname == "numeric"      ? "numeric, home seed"
-                             : p2 && mname == "newton" ? "newton, home seed"
                                                        : QString::fromStdString(mname);
         legend.push_back({text, kPalette[k % 8], int(k), Qt::SolidLine});
       }

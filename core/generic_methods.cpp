@@ -1,0 +1,164 @@
+// The default speed-against-accuracy harness and stability sweeps of a device
+// (Mechanism::measure_methods, Mechanism::stability_sweeps): measured through
+// the interface alone, so every device has them.
+//
+// Ground truth without a higher-precision model: targets are made by the
+// device's forward kinematics from seeded actuator values q*, so the IK
+// error of a method is the joint distance of its solution to q* (the
+// solution on q*'s branch, the nearest of those returned), and the FK error
+// is the task distance to the target, relative to size().
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "core/mechanism.h"
+
+namespace linkscape {
+namespace {
+
+using Eigen::VectorXd;
+
+// Largest wrapped angle difference (actuators are angles).
+double joint_distance(const VectorXd& a, const VectorXd& b) {
+  double worst = 0;
+  for (Eigen::Index k = 0; k < a.size(); ++k)
+    worst = std::max(worst, std::abs(std::remainder(a(k) - b(k), 2 * std::numbers::pi)));
+  return worst;
+}
+
+struct Sample {
+  VectorXd q, x;
+};
+
+// Seeded actuator values in their ranges whose FK succeeds and whose main
+// measure is finite and below 1e3 (away from singular sets).
+std::vector<Sample> reachable_samples(const Mechanism& m, std::size_t count, unsigned seed) {
+  const MechanismInfo& info = m.info();
+  std::mt19937_64 rng(seed);
+  std::vector<Sample> out;
+  const VectorXd home_x = m.home_task();
+  for (std::size_t tries = 0; out.size() < count && tries < 50 * count; ++tries) {
+    VectorXd q(info.actuators.size());
+    for (std::size_t k = 0; k < info.actuators.size(); ++k) {
+      const Range r = info.actuators[k].range;
+      q(Eigen::Index(k)) = std::uniform_real_distribution<double>(r.lo, r.hi)(rng);
+    }
+    FkOptions fo;
+    fo.seed = home_x;
+    const FkResult fk = m.forward(q, fo);
+    if (fk.status != Status::Ok) continue;
+    const Measures meas = m.measures(q, fk.x);
+    if (meas.status != Status::Ok || meas.values.empty() || !(meas.values[0] < 1e3)) continue;
+    out.push_back({q, fk.x});
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<methods::MethodRow> Mechanism::measure_methods(const methods::HarnessOptions& options) const {
+  const MechanismInfo& info = this->info();
+  const std::vector<Sample> samples = reachable_samples(*this, options.samples, options.seed);
+  std::vector<methods::MethodRow> rows;
+  const double stages = double(info.ik_methods.size() + info.fk_methods.size());
+  int stage = 0;
+  auto cancelled = [&] { return options.cancel && options.cancel->load(); };
+  for (const NamedItem& method : info.ik_methods) {
+    if (cancelled()) return rows;
+    if (options.progress) options.progress(stage++ / stages, "IK " + method.name);
+    IkOptions io;
+    io.method = method.name;
+    io.tolerance = options.ik.tolerance;
+    io.max_iterations = options.ik.max_iterations;
+    methods::MethodRow row;
+    row.mechanism = info.name;
+    row.family = "ik";
+    row.method = method.name;
+    row.error_unit = "rad";
+    std::vector<double> errors;
+    row.seconds_per_evaluation = methods::median_pass_seconds(options.repeats, [&] {
+      errors.clear();
+      row.failures = 0;
+      for (const Sample& s : samples) {
+        const IkResult r = inverse(s.x, io);
+        double best = INFINITY;
+        for (const IkSolution& sol : r.solutions)
+          if (sol.status == Status::Ok) best = std::min(best, joint_distance(sol.q, s.q));
+        if (std::isfinite(best)) errors.push_back(best);
+        else ++row.failures;
+      }
+    }) / double(std::max<std::size_t>(samples.size(), 1));
+    methods::fill_statistics(row, errors);
+    rows.push_back(row);
+  }
+  for (const NamedItem& method : info.fk_methods) {
+    if (cancelled()) return rows;
+    if (options.progress) options.progress(stage++ / stages, "FK " + method.name);
+    FkOptions fo;
+    fo.method = method.name;
+    fo.seed = home_task();
+    methods::MethodRow row;
+    row.mechanism = info.name;
+    row.family = "fk";
+    row.method = method.name;
+    row.error_unit = "relative";
+    std::vector<double> errors;
+    row.seconds_per_evaluation = methods::median_pass_seconds(options.repeats, [&] {
+      errors.clear();
+      row.failures = 0;
+      for (const Sample& s : samples) {
+        const FkResult r = forward(s.q, fo);
+        if (r.status == Status::Ok) errors.push_back((r.x - s.x).head<3>().norm() / size());
+        else ++row.failures;
+      }
+    }) / double(std::max<std::size_t>(samples.size(), 1));
+    methods::fill_statistics(row, errors);
+    rows.push_back(row);
+  }
+  if (options.progress) options.progress(1.0, "done");
+  return rows;
+}
+
+std::vector<stability::SweepRow> Mechanism::stability_sweeps(const stability::SweepOptions& options) const {
+  const MechanismInfo& info = this->info();
+  std::vector<stability::SweepRow> rows;
+  const double decades = std::log10(options.eps_max / options.eps_min);
+  const int steps = std::max(1, int(std::lround(decades * options.steps_per_decade)));
+  for (const SingularApproach& approach : singular_approaches()) {
+    for (int k = 0; k < options.base_points; ++k) {
+      for (int step = 0; step <= steps; ++step) {
+        const double eps = options.eps_max * std::pow(options.eps_min / options.eps_max, double(step) / steps);
+        const VectorXd x = approach.target(eps, k);
+        for (const NamedItem& method : info.ik_methods) {
+          IkOptions io;
+          io.method = method.name;
+          const IkResult r = inverse(x, io);
+          stability::SweepRow row;
+          row.mechanism = info.name;
+          row.path_name = info.singular_sets[std::size_t(approach.set)].name;
+          row.base_point = k;
+          row.eps = eps;
+          row.distance = eps * size();
+          row.family = "ik";
+          row.method = method.name;
+          row.status = r.status;
+          row.error = NAN;  // no independent reference: the residual is the measure
+          row.residual = INFINITY;
+          for (const IkSolution& sol : r.solutions) {
+            if (sol.status != Status::Ok || !(sol.residual < row.residual)) continue;
+            row.residual = sol.residual;
+            row.iterations = sol.iterations;
+            const Measures meas = measures(sol.q, x);
+            row.cond = meas.values.empty() ? INFINITY : meas.values[0];
+          }
+          row.error = std::isfinite(row.residual) ? row.residual / size() : NAN;
+          row.predicted = NAN;
+          rows.push_back(row);
+        }
+      }
+    }
+  }
+  return rows;
+}
+
+}  // namespace linkscape

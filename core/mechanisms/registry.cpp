@@ -1,0 +1,49 @@
+// The devices Linkscape knows, by preset mechanism name. Adding a device adds
+// one line here and its folder beside this file.
+#include <algorithm>
+#include <stdexcept>
+#include <utility>
+
+#include "core/mechanism.h"
+#include "core/mechanisms/parallel12r/mechanism.h"
+#include "core/mechanisms/pathos2/mechanism.h"
+#include "core/preset.h"
+
+namespace linkscape {
+namespace {
+
+using Factory = std::shared_ptr<const Mechanism> (*)(const Preset&);
+
+const std::vector<std::pair<std::string, Factory>>& registry() {
+  static const std::vector<std::pair<std::string, Factory>> devices = {
+      {"parallel-12r", &parallel12r::make_mechanism},
+      {"pathos2", &pathos2::make_mechanism},
+  };
+  return devices;
+}
+
+}  // namespace
+
+std::vector<std::string> registered_mechanisms() {
+  std::vector<std::string> names;
+  for (const auto& [name, factory] : registry()) names.push_back(name);
+  return names;
+}
+
+std::shared_ptr<const Mechanism> make_mechanism(const Preset& preset) {
+  for (const auto& [name, factory] : registry())
+    if (name == preset.mechanism) return factory(preset);
+  std::string known;
+  for (const auto& n : registered_mechanisms()) known += (known.empty() ? "" : ", ") + n;
+  throw std::invalid_argument("unsupported mechanism '" + preset.mechanism + "' (supported: " + known + ")");
+}
+
+int index_of(const std::vector<NamedItem>& items, const std::string& name, const std::string& what) {
+  for (std::size_t k = 0; k < items.size(); ++k)
+    if (items[k].name == name) return int(k);
+  std::string known;
+  for (const auto& item : items) known += (known.empty() ? "" : ", ") + item.name;
+  throw std::invalid_argument("unknown " + what + " '" + name + "' (known: " + known + ")");
+}
+
+}  // namespace linkscape
