@@ -230,8 +230,10 @@ class Mechanism {
   virtual SkeletonPose skeleton_pose(const Eigen::VectorXd& q, const Eigen::VectorXd& x,
                                      const IkResult* ik = nullptr) const = 0;
 
-  // The default sampling box (x, y, z) of fields and meshes.
+  // The default sampling box (x, y, z) of fields and meshes, and the slice
+  // plane shown first (normal axis, position) for the task pose `x`.
   virtual Eigen::AlignedBox3d default_box() const = 0;
+  virtual std::pair<Axis, double> default_slice_plane(const Eigen::VectorXd& x) const = 0;
   // Samples the field over request.grid with the task's other coordinates
   // held at `fixed_task` (its x, y, z are ignored). Devices implement this
   // with their own fast per-block kernel. Returns nullopt when cancelled.

@@ -49,8 +49,9 @@ void add_mechanism_options(CLI::App& app, MechanismChoice& choice) {
 void add_sampling_options(CLI::App& app, SamplingOptions& s) {
   add_mechanism_options(app, s.mechanism);
   app.add_option("--method", s.method,
-                 "IK method per sample: planar, paper, newton, dls, fallback (planar, then Newton from its "
-                 "candidate where planar misses the tolerance; the choice is recorded per sample)")
+                 "IK method per sample, one of the device's (default: its first). parallel-12r: planar, paper, newton, "
+                 "dls, fallback (planar, then Newton from its candidate where planar misses the tolerance; the "
+                 "choice is recorded per sample); pathos2: closed")
       ->capture_default_str();
   app.add_option("--branch", s.branch, "Assembly branch evaluated: 0 or 1")->capture_default_str();
   app.add_option("--tolerance", s.tolerance,
@@ -64,13 +65,13 @@ void add_sampling_options(CLI::App& app, SamplingOptions& s) {
   app.add_flag("-q,--quiet", s.quiet, "No progress line on stderr");
 }
 
-Eigen::Vector3d parse_seed(const std::string& text) {
+Eigen::VectorXd parse_seed(const std::string& text) {
   std::vector<double> v;
   std::stringstream ss(text);
   std::string part;
   while (std::getline(ss, part, ',')) v.push_back(parse_number_or_throw(part, "--seed"));
-  if (v.size() != 3) throw std::invalid_argument("--seed expects alpha,beta,gamma in radians, got '" + text + "'");
-  return {v[0], v[1], v[2]};
+  if (v.empty()) throw std::invalid_argument("--seed expects the actuator values, comma separated, got '" + text + "'");
+  return Eigen::Map<const Eigen::VectorXd>(v.data(), Eigen::Index(v.size()));
 }
 
 // Options of the window given before a command would be ignored by it (a
@@ -142,13 +143,13 @@ int run(int argc, char** argv) {
                                   "row's answer depends on that row alone; writes the pose, status, iterations");
   ik->excludes(fk);
   eval_cmd->add_option("--method", eval.method,
-                       "IK method: paper (Eqs. 14-16, corrected), planar (planar reduction), "
+                       "IK method, one of the device's (default: its first). parallel-12r: paper (Eqs. 14-16, corrected), planar (planar reduction), "
                        "newton (Newton-Raphson from a seed), dls (damped least squares from a seed), "
                        "fallback (planar, then Newton from its candidate)")
       ->capture_default_str();
   eval_cmd->add_option("--branch", eval.branch, "Only this assembly branch: 0 (sin(beta-gamma) > 0) or 1");
   eval_cmd->add_option("--seed", seed_text,
-                       "Start for newton/dls: alpha,beta,gamma in rad (default: each branch's home pose)");
+                       "Start for iterative IK methods: the actuator values in rad, e.g. alpha,beta,gamma (default: each branch's home pose)");
   eval_cmd->add_option("--tolerance", eval.tolerance, "Accept a solution when residual <= tolerance * (L1 + L2)")
       ->capture_default_str();
   eval_cmd->add_option("--max-iterations", eval.max_iterations, "Iteration limit for newton/dls")

@@ -15,9 +15,7 @@
 #include "core/atomic_file.h"
 #include "core/csv.h"
 #include "core/field.h"
-#include "core/parallel12r.h"
-#include "core/pathos2.h"
-#include "core/pathos2_field.h"
+#include "core/mechanism.h"
 #include "core/preset.h"
 #include "gui/slice_figure.h"
 #include "render/field_vtk.h"
@@ -28,9 +26,6 @@
 
 namespace linkscape::gui {
 namespace {
-
-using parallel12r::IkResult;
-using parallel12r::IkSolution;
 
 Table read_input(const std::string& file, std::istream& stdin_stream) {
   if (file == "-") return read_csv(stdin_stream, "<stdin>");
@@ -65,125 +60,132 @@ void for_each_row(const Table& table, Body body) {
 // CSV cells; missing values are empty cells, never NaN.
 std::string cell(double v) { return std::isfinite(v) ? format_number(v) : (std::isinf(v) ? "inf" : ""); }
 
-void write_ik(const parallel12r::Model& model, const Table& table, const EvalOptions& o, std::ostream& out) {
-  const std::size_t cx = table.column("x"), cy = table.column("y"), cz = table.column("z");
-  parallel12r::IkOptions ik;
-  ik.seed = o.seed;
-  ik.tolerance = o.tolerance;
-  ik.max_iterations = o.max_iterations;
-  const auto method = parallel12r::parse_ik_method(o.method);
-  require_finite(table, {cx, cy, cz});
-  out << "x,y,z,branch,status,alpha,beta,gamma,cond,det,residual,iterations\n";
+std::string joined_names(const std::vector<Quantity>& items, const std::string& prefix = "") {
+  std::string out;
+  for (const Quantity& q : items) out += (out.empty() ? "" : ",") + prefix + q.name;
+  return out;
+}
+std::string joined_names(const std::vector<NamedItem>& items) {
+  std::string out;
+  for (const NamedItem& q : items) out += (out.empty() ? "" : ",") + q.name;
+  return out;
+}
+std::string empties(std::size_t n) { return std::string(n, ','); }
+
+// Inverse kinematics of each row of task coordinates: one output row per
+// solution (branch), or one row that says why there is none. Columns as
+// MechanismInfo::EvalColumns describes.
+void write_ik(const Mechanism& m, const Table& table, const IkOptions& ik, std::ostream& out) {
+  const MechanismInfo& info = m.info();
+  const auto& c = info.eval_columns;
+  std::vector<std::size_t> col;
+  for (const Quantity& q : info.task) col.push_back(table.column(q.name));
+  require_finite(table, col);
+  out << joined_names(info.task) << (c.ik_branch ? ",branch" : "") << ",status"
+      << (c.ik_failing_part.empty() ? "" : "," + c.ik_failing_part) << "," << joined_names(info.actuators);
+  for (const NamedItem& measure : info.measures) out << "," << measure.name;
+  out << (c.ik_det ? ",det" : "") << (c.ik_diagnostics ? ",residual,iterations" : "") << "\n";
+  const std::size_t after_status = info.actuators.size() + info.measures.size() + (c.ik_det ? 1 : 0) +
+                                   (c.ik_diagnostics ? 2 : 0) + (c.ik_failing_part.empty() ? 0 : 1);
   for_each_row(table, [&](const std::vector<double>& row) {
-    const Eigen::Vector3d p(row[cx], row[cy], row[cz]);
-    const std::string where = cell(p.x()) + "," + cell(p.y()) + "," + cell(p.z()) + ",";
-    const IkResult r = parallel12r::inverse(model, p, method, ik);
-    bool written = false;
+    Eigen::VectorXd x(Eigen::Index(col.size()));
+    std::string where;
+    for (std::size_t k = 0; k < col.size(); ++k) {
+      x(Eigen::Index(k)) = row[col[k]];
+      where += cell(row[col[k]]) + ",";
+    }
+    const IkResult r = m.inverse(x, ik);
     for (const IkSolution& s : r.solutions) {
-      if (o.branch && s.branch != *o.branch) continue;
-      const auto c = parallel12r::conditioning(model, s.q_actuated);
-      out << where << s.branch << "," << to_string(s.status) << "," << cell(s.q_actuated.x()) << ","
-          << cell(s.q_actuated.y()) << "," << cell(s.q_actuated.z()) << "," << cell(c.cond) << ","
-          << cell(c.det) << "," << cell(s.residual) << "," << s.iterations << "\n";
-      written = true;
+      out << where;
+      if (c.ik_branch) out << s.branch << ",";
+      out << to_string(s.status);
+      if (!c.ik_failing_part.empty()) out << ",";
+      for (Eigen::Index k = 0; k < s.q.size(); ++k) out << "," << cell(s.q(k));
+      const Measures meas = m.measures(s.q, x);
+      for (double v : meas.values) out << "," << cell(v);
+      if (c.ik_det) out << "," << cell(meas.det);
+      if (c.ik_diagnostics) out << "," << cell(s.residual) << "," << s.iterations;
+      out << "\n";
     }
-    if (!written) {
-      // No solution (in the requested branch): one row that says why.
+    if (r.solutions.empty()) {
       const Status status = r.status == Status::Ok ? Status::NotConverged : r.status;
-      out << where << (o.branch ? std::to_string(*o.branch) : "") << "," << to_string(status)
-          << ",,,,,,,\n";
+      out << where;
+      if (c.ik_branch) out << (ik.branch ? std::to_string(*ik.branch) : "") << ",";
+      out << (r.status_text.empty() ? std::string(to_string(status)) : r.status_text);
+      if (!c.ik_failing_part.empty()) out << "," << r.failing_part << empties(after_status - 1) << "\n";
+      else out << empties(after_status) << "\n";
     }
   });
 }
 
-void write_fk(const parallel12r::Model& model, const Table& table, std::ostream& out) {
-  const std::size_t ca = table.column("alpha"), cb = table.column("beta"), cg = table.column("gamma");
-  require_finite(table, {ca, cb, cg});
-  out << "alpha,beta,gamma,x,y,z,cond,det\n";
-  for_each_row(table, [&](const std::vector<double>& row) {
-    const Eigen::Vector3d q(row[ca], row[cb], row[cg]);
-    const Eigen::Vector3d p = parallel12r::forward(model, q);
-    const auto c = parallel12r::conditioning(model, q);
-    out << cell(q.x()) << "," << cell(q.y()) << "," << cell(q.z()) << "," << cell(p.x()) << ","
-        << cell(p.y()) << "," << cell(p.z()) << "," << cell(c.cond) << "," << cell(c.det) << "\n";
-  });
-}
-
-// PATHOS-II pose IK: one row per pose, the active angles and both condition
-// numbers, or the status and the first failing leg (1-based).
-void write_pathos2_ik(const pathos2::Geometry& g, const Table& table, std::ostream& out) {
-  const char* names[] = {"x", "y", "z", "rx", "ry", "rz", "h0"};
-  std::array<std::size_t, 7> col{};
-  for (int k = 0; k < 7; ++k) col[k] = table.column(names[k]);
-  require_finite(table, {col.begin(), col.end()});
-  out << "x,y,z,rx,ry,rz,h0,status,failing_leg,q1,q2,q3,q4,q5,q6,cond_jp,cond_jo\n";
-  for_each_row(table, [&](const std::vector<double>& row) {
-    std::string line;
-    for (int k = 0; k < 7; ++k) line += cell(row[col[k]]) + ",";
-    if (!(row[col[6]] > 0)) {
-      out << line << "invalid-grip,,,,,,,,,\n";
-      return;
-    }
-    const pathos2::Pose pose =
-        pathos2::Pose::from_xyz_rpy(row[col[0]], row[col[1]], row[col[2]], row[col[3]], row[col[4]], row[col[5]], row[col[6]]);
-    const pathos2::PoseIkResult ik = pathos2::inverse(g, pose);
-    out << line << to_string(ik.status) << "," << (ik.failing_leg >= 0 ? std::to_string(ik.failing_leg + 1) : "");
-    if (ik.status == Status::Ok) {
-      const pathos2::JacobianResult J = pathos2::jacobian(g, pose, ik);
-      for (int i = 0; i < 6; ++i) out << "," << cell(ik.q_active(i));
-      out << "," << cell(J.cond_p) << "," << cell(J.cond_o) << "\n";
-    } else {
-      out << ",,,,,,,,\n";
-    }
-  });
-}
-
-// PATHOS-II numerical FK: damped Newton from a seed pose that depends on the
-// row alone, so a row's answer never depends on the rows before it: the
-// row's seed_x,seed_y,seed_z,seed_rx,seed_ry,seed_rz columns when the file
-// has them, else the home pose.
-void write_pathos2_fk(const pathos2::Geometry& g, const Table& table, std::ostream& out) {
-  const char* names[] = {"q1", "q2", "q3", "q4", "q5", "q6", "h0"};
-  std::array<std::size_t, 7> col{};
-  for (int k = 0; k < 7; ++k) col[k] = table.column(names[k]);
-  std::vector<std::size_t> used(col.begin(), col.end());
-  const char* seed_names[] = {"seed_x", "seed_y", "seed_z", "seed_rx", "seed_ry", "seed_rz"};
-  int seed_columns_found = 0;
-  for (const char* n : seed_names)
-    seed_columns_found += std::count(table.columns.begin(), table.columns.end(), n) ? 1 : 0;
-  if (seed_columns_found != 0 && seed_columns_found != 6)
-    throw std::invalid_argument(table.origin + ": give all six seed columns (seed_x,seed_y,seed_z,seed_rx,seed_ry,"
-                                "seed_rz: cm, rad) or none");
-  std::array<std::size_t, 6> seed_col{};
-  if (seed_columns_found == 6)
-    for (int k = 0; k < 6; ++k) used.push_back(seed_col[k] = table.column(seed_names[k]));
+// Forward kinematics of each row of actuator values (and the task
+// coordinates the device reads as inputs), from the home pose or the row's
+// seed_<coordinate> columns: a row's answer depends on that row alone.
+void write_fk(const Mechanism& m, const Table& table, std::ostream& out) {
+  const MechanismInfo& info = m.info();
+  const auto& c = info.eval_columns;
+  std::vector<std::size_t> q_col, input_col, used;
+  for (const Quantity& q : info.actuators) used.push_back(q_col.emplace_back(table.column(q.name)));
+  std::vector<int> input_index, result_index;  // into info.task
+  for (std::size_t k = 0; k < info.task.size(); ++k) {
+    const bool input = std::count(info.fk_inputs.begin(), info.fk_inputs.end(), info.task[k].name) > 0;
+    (input ? input_index : result_index).push_back(int(k));
+    if (input) used.push_back(input_col.emplace_back(table.column(info.task[k].name)));
+  }
+  // Seeds: all of seed_<result coordinate> or none.
+  std::vector<std::size_t> seed_col;
+  std::string seed_names;
+  for (int k : result_index) {
+    const std::string name = "seed_" + info.task[std::size_t(k)].name;
+    seed_names += (seed_names.empty() ? "" : ",") + name;
+    if (std::count(table.columns.begin(), table.columns.end(), name)) seed_col.push_back(table.column(name));
+  }
+  if (!seed_col.empty() && seed_col.size() != result_index.size())
+    throw std::invalid_argument(table.origin + ": give all of the seed columns (" + seed_names + ") or none");
+  used.insert(used.end(), seed_col.begin(), seed_col.end());
   require_finite(table, used);
-  out << "q1,q2,q3,q4,q5,q6,h0,status,x,y,z,rx,ry,rz,iterations,residual\n";
-  const pathos2::Pose home = pathos2::home_pose(g.model);
+
+  out << joined_names(info.actuators);
+  for (int k : input_index) out << "," << info.task[std::size_t(k)].name;
+  if (c.fk_status) out << ",status";
+  for (int k : result_index) out << "," << info.task[std::size_t(k)].name;
+  if (c.fk_measures) {
+    for (const NamedItem& measure : info.measures) out << "," << measure.name;
+    out << ",det";
+  }
+  out << (c.fk_diagnostics ? ",iterations,residual" : "") << "\n";
+  const Eigen::VectorXd home = m.home_task();
   for_each_row(table, [&](const std::vector<double>& row) {
-    pathos2::Vector6d q;
-    for (int i = 0; i < 6; ++i) q(i) = row[col[i]];
-    const double h0 = row[col[6]];
-    for (int k = 0; k < 7; ++k) out << cell(row[col[k]]) << ",";
-    if (!(h0 > 0)) {
-      out << "invalid-input,,,,,,,,\n";
-      return;
+    Eigen::VectorXd q(Eigen::Index(q_col.size()));
+    for (std::size_t k = 0; k < q_col.size(); ++k) q(Eigen::Index(k)) = row[q_col[k]];
+    FkOptions fo;
+    fo.seed = home;
+    for (std::size_t k = 0; k < input_index.size(); ++k) (*fo.seed)(input_index[k]) = row[input_col[k]];
+    for (std::size_t k = 0; k < seed_col.size(); ++k) (*fo.seed)(result_index[k]) = row[seed_col[k]];
+    for (std::size_t k = 0; k < q_col.size(); ++k) out << (k ? "," : "") << cell(row[q_col[k]]);
+    for (std::size_t k = 0; k < input_col.size(); ++k) out << "," << cell(row[input_col[k]]);
+    const FkResult r = m.forward(q, fo);
+    const bool ok = r.status == Status::Ok;
+    if (c.fk_status) out << "," << (r.status_text.empty() ? std::string(to_string(r.status)) : r.status_text);
+    for (int k : result_index) out << "," << (ok ? cell(r.x(k)) : "");
+    if (c.fk_measures) {
+      const Measures meas = ok ? m.measures(q, r.x) : Measures{};
+      for (std::size_t k = 0; k < info.measures.size(); ++k)
+        out << "," << (ok && k < meas.values.size() ? cell(meas.values[k]) : "");
+      out << "," << (ok ? cell(meas.det) : "");
     }
-    pathos2::Pose seed = home;
-    if (seed_columns_found == 6)
-      seed = pathos2::Pose::from_xyz_rpy(row[seed_col[0]], row[seed_col[1]], row[seed_col[2]], row[seed_col[3]],
-                                         row[seed_col[4]], row[seed_col[5]], h0);
-    seed.h0 = h0;
-    const pathos2::FkResult fk = pathos2::forward_numeric(g, q, h0, seed);
-    out << to_string(fk.status);
-    if (fk.status == Status::Ok) {
-      const Eigen::Vector3d p = fk.pose.p_world_E, rpy = fk.pose.rpy();
-      for (double v : {p.x(), p.y(), p.z(), rpy.x(), rpy.y(), rpy.z()}) out << "," << cell(v);
-    } else {
-      out << ",,,,,,";
+    if (c.fk_diagnostics) {
+      if (r.status_text.empty()) out << "," << r.iterations << "," << cell(r.residual);
+      else out << ",,";
     }
-    out << "," << fk.iterations << "," << cell(fk.residual) << "\n";
+    out << "\n";
   });
+}
+
+std::shared_ptr<const Mechanism> chosen_mechanism(const MechanismChoice& choice) {
+  Preset preset = load_preset(choice.mechanism);
+  apply_overrides(preset, choice.params);
+  return make_mechanism(preset);
 }
 
 }  // namespace
@@ -191,30 +193,31 @@ void write_pathos2_fk(const pathos2::Geometry& g, const Table& table, std::ostre
 void run_eval(const EvalOptions& o, std::istream& stdin_stream, std::ostream& stdout_stream) {
   if (o.ik_file.empty() == o.fk_file.empty())
     throw std::invalid_argument("eval: give exactly one of --ik FILE or --fk FILE");
-  if (o.branch && (*o.branch < 0 || *o.branch > 1))
-    throw std::invalid_argument("eval: --branch must be 0 or 1, got " + std::to_string(*o.branch));
   if (!(o.tolerance > 0) || !std::isfinite(o.tolerance))
     throw std::invalid_argument("eval: --tolerance must be a positive finite number, got " + format_number(o.tolerance));
   if (o.max_iterations < 1)
     throw std::invalid_argument("eval: --max-iterations must be at least 1, got " + std::to_string(o.max_iterations));
-  Preset preset = load_preset(o.mechanism.mechanism);
-  apply_overrides(preset, o.mechanism.params);
-  std::ostringstream result;
-  if (preset.mechanism == pathos2::kMechanismName) {
-    if (o.method != "planar" || o.branch || o.seed)
-      throw std::invalid_argument("eval: --method, --branch and --seed apply to parallel-12r; pathos2 uses its "
-                                  "closed-form IK with the preset's branch_1..branch_6");
-    const pathos2::Geometry geometry = pathos2::make_geometry(make_pathos2(preset));
-    const Table table = read_input(o.ik_file.empty() ? o.fk_file : o.ik_file, stdin_stream);
-    if (!o.ik_file.empty()) write_pathos2_ik(geometry, table, result);
-    else write_pathos2_fk(geometry, table, result);
-  } else {
-    const parallel12r::Model model = make_parallel12r(preset);
-    parallel12r::parse_ik_method(o.method);  // reject a bad name before reading input
-    const Table table = read_input(o.ik_file.empty() ? o.fk_file : o.ik_file, stdin_stream);
-    if (!o.ik_file.empty()) write_ik(model, table, o, result);
-    else write_fk(model, table, result);
+  const std::shared_ptr<const Mechanism> m = chosen_mechanism(o.mechanism);
+  const MechanismInfo& info = m->info();
+  IkOptions ik;
+  if (!o.method.empty()) index_of(info.ik_methods, o.method, "IK method for " + info.name);  // before reading input
+  ik.method = o.method;
+  if (o.branch && (*o.branch < 0 || *o.branch >= int(info.branches.size())))
+    throw std::invalid_argument("eval: --branch must be 0.." + std::to_string(info.branches.size() - 1) + " for " +
+                                info.name + ", got " + std::to_string(*o.branch));
+  ik.branch = o.branch;
+  if (o.seed) {
+    if (o.seed->size() != Eigen::Index(info.actuators.size()))
+      throw std::invalid_argument("eval: --seed expects " + joined_names(info.actuators) + " (" +
+                                  std::to_string(info.actuators.size()) + " values) for " + info.name);
+    ik.seed = *o.seed;
   }
+  ik.tolerance = o.tolerance;
+  ik.max_iterations = o.max_iterations;
+  const Table table = read_input(o.ik_file.empty() ? o.fk_file : o.ik_file, stdin_stream);
+  std::ostringstream result;
+  if (!o.ik_file.empty()) write_ik(*m, table, ik, result);
+  else write_fk(*m, table, result);
 
   if (o.output == "-") {
     stdout_stream << result.str();
@@ -234,12 +237,16 @@ namespace {
 
 // What the sampling commands need of the chosen mechanism.
 struct Sampling {
-  std::string mechanism, length_unit;
-  Eigen::Vector3d box_min, box_max;  // default sampling box
-  Eigen::Vector3d focus;             // the default slice plane passes through it
-  std::function<std::optional<Field>(const Grid&, const FieldProgress&)> sample;
-  std::optional<double> analytic_reach_volume;  // of the reach mesh, where known
+  std::shared_ptr<const Mechanism> mechanism;
+  Eigen::VectorXd task;  // fields hold its non-position coordinates; the default slice passes through it
+  IkOptions ik;
   std::size_t bytes_per_sample = Field::bytes_per_sample();  // the field arrays
+  std::string length_unit() const { return mechanism->info().length_unit; }
+  Eigen::Vector3d box_min() const { return mechanism->default_box().min(); }
+  Eigen::Vector3d box_max() const { return mechanism->default_box().max(); }
+  std::optional<Field> sample(const Grid& grid, const FieldProgress& progress) const {
+    return mechanism->compute_field(grid, task, ik, 0, progress);
+  }
 };
 
 // Peak memory of a whole command as a multiple of its field arrays, measured
@@ -289,75 +296,29 @@ std::vector<double> parse_numbers(const std::string& text, std::size_t count, co
   return v;
 }
 
-// Volume of the reachable set when the actuator ranges do not cut it: the
-// shell between the spheres |L1 - L2| and L1 + L2.
-std::optional<double> analytic_reach_volume(const parallel12r::Model& m) {
-  const parallel12r::Model full;
-  const bool full_ranges = m.alpha_limits.lo <= full.alpha_limits.lo && m.alpha_limits.hi >= full.alpha_limits.hi &&
-                           m.beta_limits.lo <= full.beta_limits.lo && m.beta_limits.hi >= full.beta_limits.hi &&
-                           m.gamma_limits.lo <= full.gamma_limits.lo && m.gamma_limits.hi >= full.gamma_limits.hi;
-  if (!full_ranges) return std::nullopt;
-  const double R = m.reach(), r = m.inner_reach();
-  return 4.0 / 3.0 * std::numbers::pi * (R * R * R - r * r * r);
-}
-
 Sampling make_sampling(const SamplingOptions& s) {
-  Preset preset = load_preset(s.mechanism.mechanism);
-  apply_overrides(preset, s.mechanism.params);
   Sampling out;
-  out.mechanism = preset.mechanism;
-  if (preset.mechanism == pathos2::kMechanismName) {
-    if (s.method != "planar" || s.branch != 0 || s.tolerance != SamplingOptions{}.tolerance)
-      throw std::invalid_argument("--method, --branch and --tolerance apply to parallel-12r; pathos2 uses its "
-                                  "closed-form IK with the preset's branch_1..branch_6");
-    const pathos2::Model model = make_pathos2(preset);
-    pathos2::Pose pose = pathos2::home_pose(model);
-    if (!s.pose.empty()) {
-      const auto v = parse_numbers(s.pose, 7, "--pose expects x,y,z,rx,ry,rz,h0 (cm, rad, cm)");
-      if (!(v[6] > 0)) throw std::invalid_argument("--pose: the grip h0 must be > 0, got " + std::to_string(v[6]));
-      pose = pathos2::Pose::from_xyz_rpy(v[0], v[1], v[2], v[3], v[4], v[5], v[6]);
-    }
-    pathos2::FieldRequest request;
-    request.rpy = pose.rpy();
-    request.h0 = pose.h0;
-    out.length_unit = "cm";
-    // The workspace spans about half the leg reach l2 + l3 each way (13.8 cm
-    // along x for Table 1); 0.6 (l2 + l3) leaves room, and mesh reports a
-    // surface cut by the box as not watertight.
-    const double half = 0.6 * (model.l2 + model.l3);
-    const Eigen::Vector3d centre(0, 0, model.l0 / 2);
-    out.box_min = centre - Eigen::Vector3d::Constant(half);
-    out.box_max = centre + Eigen::Vector3d::Constant(half);
-    out.focus = pose.p_world_E;
-    out.bytes_per_sample = Field::bytes_per_sample() + sizeof(float);  // cond_orientation
-    out.sample = [model, request](const Grid& grid, const FieldProgress& progress) {
-      pathos2::FieldRequest r = request;
-      r.grid = grid;
-      return pathos2::compute_field(model, r, progress);
-    };
-    return out;
+  out.mechanism = chosen_mechanism(s.mechanism);
+  const MechanismInfo& info = out.mechanism->info();
+  out.task = out.mechanism->home_task();
+  if (!s.pose.empty()) {
+    const auto v = parse_numbers(s.pose, info.task.size(),
+                                 "--pose expects " + joined_names(info.task) + " for " + info.name);
+    out.task = Eigen::Map<const Eigen::VectorXd>(v.data(), Eigen::Index(v.size()));
   }
-  if (!s.pose.empty()) throw std::invalid_argument("--pose applies to pathos2");
-  if (s.branch != 0 && s.branch != 1) throw std::invalid_argument("--branch must be 0 or 1");
-  const parallel12r::Model model = make_parallel12r(preset);
-  FieldRequest request;
-  request.method = parallel12r::parse_ik_method(s.method);
-  request.branch = s.branch;
+  if (!s.method.empty()) index_of(info.ik_methods, s.method, "IK method for " + info.name);
+  out.ik.method = s.method;
+  if (s.branch < 0 || s.branch >= int(info.branches.size()))
+    throw std::invalid_argument("--branch must be 0.." + std::to_string(info.branches.size() - 1) + " for " +
+                                info.name + ", got " + std::to_string(s.branch));
+  if (s.branch != 0) out.ik.branch = s.branch;
   if (!(s.tolerance > 0) || !std::isfinite(s.tolerance))
     throw std::invalid_argument("--tolerance must be positive, got " + format_number(s.tolerance));
-  request.ik.tolerance = s.tolerance;
-  const double r = model.reach();
-  out.length_unit = model.length_unit;
-  out.box_min = Eigen::Vector3d::Constant(-r);
-  out.box_max = Eigen::Vector3d::Constant(r);
-  out.focus = Eigen::Vector3d(0.125 * r, 0, 0);  // x = 0.25 for L1 = L2 = 1, as in the paper's Fig. 5
-  out.analytic_reach_volume = analytic_reach_volume(model);
-  if (request.method == parallel12r::IkMethod::Fallback) out.bytes_per_sample += 1;  // method_used
-  out.sample = [model, request](const Grid& grid, const FieldProgress& progress) {
-    FieldRequest q = request;
-    q.grid = grid;
-    return compute_field(model, q, progress);
-  };
+  out.ik.tolerance = s.tolerance;
+  // Field arrays: a second condition array where the device has a second
+  // measure, the method used per sample where it has several methods.
+  if (info.measures.size() > 1) out.bytes_per_sample += sizeof(float);
+  if (info.ik_methods.size() > 1) out.bytes_per_sample += 1;
   return out;
 }
 
@@ -404,8 +365,8 @@ Field sample(const Sampling& sampling, const Grid& grid, bool quiet) {
 Grid box_grid(const Sampling& sampling, const std::vector<double>& box_option, const std::string& resolution) {
   std::vector<double> box = box_option;
   if (box.empty())
-    box = {sampling.box_min.x(), sampling.box_max.x(), sampling.box_min.y(),
-           sampling.box_max.y(), sampling.box_min.z(), sampling.box_max.z()};
+    box = {sampling.box_min().x(), sampling.box_max().x(), sampling.box_min().y(),
+           sampling.box_max().y(), sampling.box_min().z(), sampling.box_max().z()};
   if (box.size() != 6) throw std::invalid_argument("--box expects x_min,x_max,y_min,y_max,z_min,z_max");
   return Grid::box({box[0], box[2], box[4]}, {box[1], box[3], box[5]}, parse_resolution(resolution));
 }
@@ -420,11 +381,10 @@ void run_slice(const SliceOptions& o) {
     throw std::invalid_argument("slice: --output must end in " + std::string(o.figure ? ".png, .svg or .pdf" : ".png or .csv") +
                                 ", got '" + o.output + "'");
   const Sampling sampling = make_sampling(o.sampling);
-  // Default plane: x = 0.25 (L1 = L2 = 1 scale) for 12R, the x-y plane through the pose for pathos2.
-  const bool six_dof = sampling.mechanism == pathos2::kMechanismName;
+  const MechanismInfo& info = sampling.mechanism->info();
+  const auto [default_normal, default_position] = sampling.mechanism->default_slice_plane(sampling.task);
   const std::string plane =
-      !o.plane.empty() ? o.plane
-                       : (six_dof ? "z=" + format_number(sampling.focus.z()) : "x=" + format_number(sampling.focus.x()));
+      !o.plane.empty() ? o.plane : std::string(1, "xyz"[int(default_normal)]) + "=" + format_number(default_position);
   const auto eq = plane.find('=');
   if (eq == std::string::npos) throw std::invalid_argument("--plane expects axis=position, e.g. x=0.25, got '" + plane + "'");
   const Axis normal = parse_axis(plane.substr(0, eq));
@@ -432,7 +392,8 @@ void run_slice(const SliceOptions& o) {
   std::vector<double> extent = o.extent;
   const auto [au, av] = Grid::slice_axes(normal);
   if (extent.empty())
-    extent = {sampling.box_min(int(au)), sampling.box_max(int(au)), sampling.box_min(int(av)), sampling.box_max(int(av))};
+    extent = {sampling.box_min()(int(au)), sampling.box_max()(int(au)), sampling.box_min()(int(av)),
+              sampling.box_max()(int(av))};
   if (extent.size() != 4) throw std::invalid_argument("--extent expects u_min,u_max,v_min,v_max");
   const auto size = parse_size(o.size, "--size");
   const Grid grid = Grid::slice(normal, position, extent[0], extent[1], extent[2], extent[3], size[0], size[1]);
@@ -446,13 +407,20 @@ void run_slice(const SliceOptions& o) {
     style.min = o.range[0];
     style.max = o.range[1];
   }
-  // Reject a bad style before sampling: check it on a tiny field of the same kind.
-  if (style.field != "cond" && style.field != "reach" && style.field != "residual" && style.field != "iterations" &&
-      style.field != "status" && style.field != "method" && style.field != "cond_jo")
-    throw std::invalid_argument("--field must be cond, cond_jo, reach, residual, iterations, status or method, got '" +
-                                style.field + "'");
-  if (style.field == "cond_jo" && !six_dof)
-    throw std::invalid_argument("--field cond_jo (orientation conditioning) applies to pathos2");
+  // The fields a device has: its main measure as "cond", a second measure
+  // under its own name (the field's second condition array, "cond_jo" to
+  // the renderer), the reach margin and the solver diagnostics; "method"
+  // where it has several IK methods.
+  std::vector<std::string> fields = {"cond"};
+  if (info.measures.size() > 1) fields.push_back(info.measures[1].name);
+  for (const char* f : {"reach", "residual", "iterations", "status"}) fields.push_back(f);
+  if (info.ik_methods.size() > 1) fields.push_back("method");
+  if (std::find(fields.begin(), fields.end(), style.field) == fields.end()) {
+    std::string known;
+    for (const auto& f : fields) known += (known.empty() ? "" : ", ") + f;
+    throw std::invalid_argument("--field for " + info.name + " must be one of " + known + ", got '" + style.field + "'");
+  }
+  if (info.measures.size() > 1 && style.field == info.measures[1].name) style.field = "cond_jo";
   // The figure's colour bar is continuous; the categorical method colours
   // are written as a plain image or CSV (column method_used).
   if (style.field == "method" && o.figure)
@@ -518,12 +486,12 @@ void run_mesh(const MeshOptions& o, std::ostream& out) {
   out << "wrote " << o.output << ": " << s.vertices << " vertices, " << s.faces << " triangles, "
       << (s.boundary_edges == 0 && s.non_manifold_edges == 0 ? "watertight" : "NOT watertight")
       << ", Euler characteristic " << s.euler_characteristic << "\n"
-      << "volume " << s.volume << " " << sampling.length_unit << "^3, area " << s.area << " " << sampling.length_unit
+      << "volume " << s.volume << " " << sampling.length_unit() << "^3, area " << s.area << " " << sampling.length_unit()
       << "^2, bounds x [" << s.min.x() << ", " << s.max.x() << "] y [" << s.min.y() << ", " << s.max.y() << "] z ["
       << s.min.z() << ", " << s.max.z() << "]\n";
   if (request.surface == render::Surface::Reach)
-    if (const auto v = sampling.analytic_reach_volume)
-      out << "analytic volume " << *v << " " << sampling.length_unit << "^3 (error " << 100.0 * (s.volume - *v) / *v
+    if (const auto v = sampling.mechanism->analytic_reach_volume())
+      out << "analytic volume " << *v << " " << sampling.length_unit() << "^3 (error " << 100.0 * (s.volume - *v) / *v
           << " %)\n";
 }
 

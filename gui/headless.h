@@ -19,9 +19,9 @@ struct EvalOptions {
   MechanismChoice mechanism;
   std::string ik_file;  // CSV x,y,z ("-" = stdin); exclusive with fk_file
   std::string fk_file;  // CSV alpha,beta,gamma (rad)
-  std::string method = "planar";
+  std::string method;  // empty: the device's first IK method
   std::optional<int> branch;
-  std::optional<Eigen::Vector3d> seed;
+  std::optional<Eigen::VectorXd> seed;  // actuators
   double tolerance = 1e-10;
   int max_iterations = 100;
   std::string output = "-";  // file, or "-" for stdout
@@ -33,12 +33,11 @@ void run_eval(const EvalOptions& options, std::istream& stdin_stream, std::ostre
 // Options shared by the commands that sample a field.
 struct SamplingOptions {
   MechanismChoice mechanism;
-  std::string method = "planar";  // parallel-12r
-  int branch = 0;                 // parallel-12r
-  double tolerance = 1e-10;       // parallel-12r: accept when residual <= tolerance * (L1 + L2)
-  // pathos2: x,y,z (cm), rx,ry,rz (rad, R = Rz Ry Rx), h0 (cm). The
-  // orientation and grip are held fixed over the grid; the position places
-  // the default slice plane. Empty: the Table 3 home pose.
+  std::string method;        // empty: the device's first IK method
+  int branch = 0;
+  double tolerance = 1e-10;  // accept a sample when residual <= tolerance * the device's size
+  // The task pose, every coordinate: all but x, y, z are held fixed over
+  // the grid; the position places the default slice plane. Empty: home.
   std::string pose;
   bool quiet = false;  // no progress on stderr
 };

@@ -56,6 +56,8 @@ class Parallel12rMechanism final : public Mechanism {
                        {"folded", "folded", "beta = gamma +- pi: inner sphere |D| = |L1 - L2|"},
                        {"z-axis", "z axis", "x = y = 0"}};
     i.branches = {"0: sin(beta - gamma) > 0", "1: sin(beta - gamma) < 0"};
+    i.eval_columns.fk_status = false;
+    i.eval_columns.fk_diagnostics = false;
   }
 
   const MechanismInfo& info() const override { return info_; }
@@ -163,6 +165,11 @@ class Parallel12rMechanism final : public Mechanism {
   Eigen::AlignedBox3d default_box() const override {
     const double r = model_.reach();
     return {Vector3d::Constant(-r), Vector3d::Constant(r)};
+  }
+
+  // x = 0.25 for L1 = L2 = 1, as in the paper's Fig. 5.
+  std::pair<Axis, double> default_slice_plane(const VectorXd&) const override {
+    return {Axis::X, 0.125 * model_.reach()};
   }
 
   std::optional<Field> compute_field(const Grid& grid, const VectorXd&, const linkscape::IkOptions& o, int threads,

@@ -99,6 +99,7 @@ class Pathos2Mechanism final : public Mechanism {
       throw std::invalid_argument("pathos2: unknown IK method '" + o.method + "' (known: closed)");
     if (o.branch && *o.branch != 0) throw std::invalid_argument("pathos2 has one branch (its legs' are in the preset)");
     if (x.size() != 7) throw std::invalid_argument("pathos2: the task needs x, y, z, rx, ry, rz, h0");
+    if (o.seed) throw std::invalid_argument("pathos2: its IK is closed-form and takes no seed");
     linkscape::IkResult out;
     if (!(x(6) > 0)) {
       out.status = Status::Unreachable;
@@ -301,11 +302,17 @@ class Pathos2Mechanism final : public Mechanism {
     return {centre - Vector3d::Constant(half), centre + Vector3d::Constant(half)};
   }
 
+  // The x-y plane through the pose.
+  std::pair<Axis, double> default_slice_plane(const VectorXd& x) const override { return {Axis::Z, x(2)}; }
+
   std::optional<Field> compute_field(const Grid& grid, const VectorXd& fixed_task, const linkscape::IkOptions& o, int threads,
                                      const FieldProgress& progress) const override {
     if (!o.method.empty() && o.method != "closed")
       throw std::invalid_argument("pathos2: unknown IK method '" + o.method + "' (known: closed)");
     if (fixed_task.size() != 7) throw std::invalid_argument("pathos2: the task needs x, y, z, rx, ry, rz, h0");
+    if (o.branch && *o.branch != 0) throw std::invalid_argument("pathos2 has one branch (its legs' are in the preset)");
+    if (o.tolerance != linkscape::IkOptions{}.tolerance)
+      throw std::invalid_argument("pathos2: a tolerance does not apply (its IK is closed-form)");
     if (!(fixed_task(6) > 0)) throw std::invalid_argument("pathos2: the grip h0 must be > 0");
     pathos2::FieldRequest request;
     request.grid = grid;
