@@ -8,6 +8,8 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <sstream>
+#include <string>
 #include <utility>
 
 #include "core/mechanisms/delta/delta.h"
@@ -42,6 +44,14 @@ inline Eigen::Vector3d unassemblable_configuration(const Model& model, unsigned 
     const Eigen::Vector3d q(angle(rng), angle(rng), angle(rng));
     if (forward(model, q).status == Status::Unreachable) return q;
   }
+}
+
+// A measured number for RecordProperty, in scientific notation.
+inline std::string scientific(double value) {
+  std::ostringstream out;
+  out.precision(3);
+  out << std::scientific << value;
+  return out.str();
 }
 
 inline double angle_distance(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {

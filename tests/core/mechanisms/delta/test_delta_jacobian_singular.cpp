@@ -66,7 +66,7 @@ TEST(DeltaJacobian, MatchesCentralDifferencesOfTheForwardKinematics) {
     // Step 1e-6 rad: truncation ~1e-12, rounding ~1e-10 of |J| at c(J) <= 1e3.
     ASSERT_LT(e, 1e-6) << c.q.transpose();
   }
-  RecordProperty("worst_relative_error", std::to_string(worst));
+  RecordProperty("worst_relative_error", test_support::scientific(worst));
 }
 
 TEST(DeltaJacobian, InverseMatchesCentralDifferencesOfTheInverseKinematics) {
@@ -147,7 +147,7 @@ TEST(DeltaJacobian, ConditionNumberIsInvariantUnderTheDevicesSymmetries) {
     EXPECT_NEAR(mirrored.q_actuated(1), ik.q_actuated(2), 1e-11);
     EXPECT_NEAR(jacobian(m, mirrored.q_actuated, p_mirrored).cond, cond, 1e-9 * cond);
   }
-  RecordProperty("worst_relative_difference", std::to_string(worst));
+  RecordProperty("worst_relative_difference", test_support::scientific(worst));
 }
 
 // ---- Type I: a leg's forearm normal to its elbow's motion ----------------------
