@@ -504,7 +504,7 @@ JacobianResult jacobian(const Model& m, const Vector3d& q, const Vector3d& p) {
     r.J_task_from_actuated /= r.det_Jx;
     r.det_J = -r.det_Jq / r.det_Jx;
   }
-  if (!serial) {
+  if (r.det_Jq != 0.0) {
     for (int i = 0; i < kLegCount; ++i) r.J_actuated_from_task.row(i) = -r.Jx.row(i) / r.Jq_diagonal(i);
   }
   if (serial || parallel) {

@@ -203,9 +203,10 @@ FkResult forward(const Model& model, const Eigen::Vector3d& q_actuated, FkMethod
 
 struct JacobianResult {
   // Singular on a type I set (a leg margin within tolerance, or Jq_ii = 0) or
-  // a type II set (FK discriminant within tolerance, or det Jx = 0); then
-  // cond is +inf and J is zero if det Jx = 0. Also the FK's status when it
-  // was not Ok (unreachable q gives zero matrices and cond = +inf).
+  // a type II set (FK discriminant Lb - circumradius within tolerance, or
+  // det Jx = 0); then cond is +inf, J is zero if det Jx = 0 and J^-1 is zero
+  // if some Jq_ii = 0. jacobian(model, q) without a platform position gives
+  // the FK's status (Unreachable or NotConverged), zero matrices, cond = +inf.
   Status status = Status::Singular;
   Eigen::Matrix3d J_task_from_actuated = Eigen::Matrix3d::Zero();  // dp/dq, length unit / rad
   Eigen::Matrix3d J_actuated_from_task = Eigen::Matrix3d::Zero();  // dq/dp = -Jq^-1 Jx, rad / length
