@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "core/mechanism.h"
+#include "core/mechanisms/delta/mechanism.h"
 #include "core/mechanisms/parallel12r/mechanism.h"
 #include "core/mechanisms/pathos2/mechanism.h"
 #include "core/preset.h"
@@ -18,6 +19,7 @@ const std::vector<std::pair<std::string, Factory>>& registry() {
   static const std::vector<std::pair<std::string, Factory>> devices = {
       {"parallel-12r", &parallel12r::make_mechanism},
       {"pathos2", &pathos2::make_mechanism},
+      {"delta", &delta::make_mechanism},
   };
   return devices;
 }

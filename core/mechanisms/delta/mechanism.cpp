@@ -1,0 +1,247 @@
+#include "core/mechanisms/delta/mechanism.h"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "core/field_sampling.h"
+#include "core/preset.h"
+
+namespace linkscape::delta {
+namespace {
+
+using Eigen::Vector3d;
+using Eigen::VectorXd;
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+Vector3d three(const VectorXd& v, const char* what) {
+  if (v.size() != 3) throw std::invalid_argument(std::string("delta: ") + what + " needs 3 values");
+  return v.head<3>();
+}
+
+class DeltaMechanism final : public Mechanism {
+ public:
+  explicit DeltaMechanism(const Model& model) : model_(model) {
+    model_.validate();
+    const std::string u = model_.length_unit;
+    MechanismInfo& i = info_;
+    i.name = std::string(kMechanismName);
+    i.title = "Delta parallel haptic device (rotary actuators, parallelogram forearms)";
+    i.length_unit = u;
+    auto length = [&](const char* n, const char* d, double v) { return Quantity{n, u, d, v, {0.3 * v, 2.0 * v}}; };
+    i.parameters = {length("R", "Radius of the motor-axis circle", model_.R),
+                    length("r", "Radius of the platform joints' circle", model_.r),
+                    length("La", "Upper arm: motor axis to elbow", model_.La),
+                    length("Lb", "Forearm (parallelogram): elbow to platform", model_.Lb)};
+    const Vector3d q0 = home_pose(model_), p0 = home_position(model_);
+    for (int k = 0; k < kLegCount; ++k)
+      i.actuators.push_back({"q" + std::to_string(k + 1), "rad",
+                             "Motor " + std::to_string(k + 1) + ": 0 = arm horizontal outward, > 0 downward", q0(k),
+                             {model_.q_limits[k].lo, model_.q_limits[k].hi}});
+    const double s = model_.size();
+    i.task = {{"x", u, "Platform centre, base frame", p0.x(), {-0.7 * s, 0.7 * s}},
+              {"y", u, "", p0.y(), {-0.7 * s, 0.7 * s}},
+              {"z", u, "", p0.z(), {-1.1 * s, 0.4 * s}}};
+    i.ik_methods = {{"closed", "closed form", "Tangent half-angle per leg"},
+                    {"newton", "newton", "Newton on each leg's closure from a seed"}};
+    i.fk_methods = {{"closed", "closed form", "Intersection of three spheres"},
+                    {"newton", "newton", "Newton on the three closures from a seed"}};
+    i.measures = {{"cond", "c(J)", "sigma_max / sigma_min of J = dp/dq"}};
+    i.singular_sets = {{"leg-1", "leg 1 (type I)", "Leg 1's forearm normal to its elbow's motion"},
+                       {"leg-2", "leg 2 (type I)", "Leg 2's forearm normal to its elbow's motion"},
+                       {"leg-3", "leg 3 (type I)", "Leg 3's forearm normal to its elbow's motion"},
+                       {"parallel", "parallel (type II)", "The three forearms coplanar: det Jx = 0"}};
+    for (int b = 0; b < kBranchCount; ++b) {
+      std::string name = std::to_string(b) + ": elbows ";
+      for (int k = 0; k < kLegCount; ++k) name += (b >> k) & 1 ? "i" : "o";
+      i.branches.push_back(name);
+    }
+  }
+
+  const MechanismInfo& info() const override { return info_; }
+  std::map<std::string, double> parameters() const override {
+    return {{"R", model_.R}, {"r", model_.r}, {"La", model_.La}, {"Lb", model_.Lb}};
+  }
+  double size() const override { return model_.size(); }
+  VectorXd home_task() const override { return home_position(model_); }
+  VectorXd home_actuators() const override { return home_pose(model_); }
+
+  linkscape::IkResult inverse(const VectorXd& x, const linkscape::IkOptions& o) const override {
+    const IkMethod method = parse_ik_method(o.method.empty() ? "closed" : o.method);
+    delta::IkOptions io;
+    io.branch = o.branch.value_or(0);
+    if (o.seed) io.seed = three(*o.seed, "seed");
+    io.tolerance = o.tolerance;
+    io.max_iterations = o.max_iterations;
+    if (o.branch && (*o.branch < 0 || *o.branch >= kBranchCount))
+      throw std::invalid_argument("delta: branch must be 0..7, got " + std::to_string(*o.branch));
+    const delta::IkResult r = delta::inverse(model_, three(x, "x"), method, io);
+    linkscape::IkResult out;
+    out.status = r.status;
+    for (int k = 0; k < kLegCount; ++k)
+      if (r.leg_status[k] != Status::Ok && out.failing_part.empty()) out.failing_part = std::to_string(k + 1);
+    // Newton reports the branch it reached; a requested branch is kept only if met.
+    if (r.status == Status::Unreachable) return out;
+    if (o.branch && r.branch != *o.branch) {
+      out.status = Status::NotConverged;
+      return out;
+    }
+    out.solutions.push_back({r.q_actuated, r.branch, r.status, r.residual, r.iterations, std::string(to_string(r.method))});
+    return out;
+  }
+
+  linkscape::FkResult forward(const VectorXd& q, const linkscape::FkOptions& o) const override {
+    delta::FkOptions fo;
+    if (o.seed) fo.seed = three(*o.seed, "seed");
+    fo.tolerance = o.tolerance;
+    fo.max_iterations = o.max_iterations;
+    const delta::FkResult r = delta::forward(model_, three(q, "q"), parse_fk_method(o.method.empty() ? "closed" : o.method), fo);
+    linkscape::FkResult out;
+    out.status = r.status;
+    out.x = r.p_base_platform;
+    out.residual = r.residual;
+    out.iterations = r.iterations;
+    return out;
+  }
+
+  Eigen::MatrixXd jacobian(const VectorXd& q, const VectorXd& x) const override {
+    return delta::jacobian(model_, three(q, "q"), three(x, "x")).J_task_from_actuated;
+  }
+
+  Measures measures(const VectorXd& q, const VectorXd& x) const override {
+    const JacobianResult J = delta::jacobian(model_, three(q, "q"), three(x, "x"));
+    Measures m;
+    m.status = J.status == Status::Ok ? Status::Ok : Status::Singular;
+    m.values = {J.cond};
+    m.det = J.det_J;
+    return m;
+  }
+
+  double reach_margin(const VectorXd& x, int branch) const override {
+    return delta::reach_margin(model_, three(x, "x"), branch).value;
+  }
+
+  linkscape::SingularityReport nearest_singularity(const VectorXd& q, const VectorXd& x) const override {
+    const auto r = delta::nearest_singularity(model_, three(q, "q"), three(x, "x"));
+    return {int(r.nearest), r.distance, {r.distances.begin(), r.distances.end()}};
+  }
+
+  // Leg k's serial set: along the ray from home out through leg k's side,
+  // the last reachable point (bisection on the IK status), approached by a
+  // fraction eps of the way. The parallel set: the same towards the base.
+  std::vector<SingularApproach> singular_approaches() const override {
+    std::vector<SingularApproach> out;
+    const Model m = model_;
+    for (int set = 0; set < 4; ++set) {
+      out.push_back({set, [m, set](double eps, int k) -> VectorXd {
+                       const Vector3d home = home_position(m);
+                       const double tilt = 0.2 * k;
+                       Vector3d dir = set < 3 ? Vector3d(leg_radial(set).x(), leg_radial(set).y(), -tilt)
+                                              : Vector3d(0.1 * tilt, 0, 1);
+                       dir.normalize();
+                       double lo = 0, hi = 2 * m.size();
+                       for (int it = 0; it < 80; ++it) {
+                         const double mid = 0.5 * (lo + hi);
+                         const bool ok = delta::inverse(m, home + mid * dir).status != Status::Unreachable;
+                         (ok ? lo : hi) = mid;
+                       }
+                       return home + lo * (1 - eps) * dir;
+                     }});
+    }
+    return out;
+  }
+
+  SkeletonModel skeleton_model() const override {
+    SkeletonModel sk;
+    const auto shapes = body_shapes(model_);
+    for (int b = 0; b < kBodyCount; ++b) sk.bodies.push_back({shapes[b].name, shapes[b].polylines, {}, b == 0});
+    for (const JointDefinition& d : joint_definitions(model_)) {
+      linkscape::Joint j;
+      j.name = d.name;
+      j.type = d.type == delta::JointType::Revolute ? linkscape::JointType::Revolute : linkscape::JointType::Spherical;
+      j.body = d.body_a;
+      j.point_in_body = d.point_in_a;
+      j.axis_in_body = d.axis_in_a;
+      j.actuated = d.name.rfind("motor", 0) == 0;
+      if (j.actuated) j.label = "q" + d.name.substr(d.name.size() - 1);
+      sk.joints.push_back(std::move(j));
+    }
+    sk.scale = model_.La;
+    return sk;
+  }
+
+  SkeletonPose skeleton_pose(const VectorXd& q, const VectorXd& x, const linkscape::IkResult* failed) const override {
+    const Skeleton s = skeleton(model_, three(q, "q"), three(x, "x"));
+    SkeletonPose p;
+    p.body_frames.assign(s.body_frames.begin(), s.body_frames.end());
+    p.states.assign(kBodyCount, BodyState::Normal);
+    if (failed && !failed->failing_part.empty()) {
+      const int leg = std::stoi(failed->failing_part) - 1;
+      if (leg >= 0 && leg < kLegCount) p.states[1 + leg] = p.states[4 + leg] = BodyState::Failing;
+    }
+    p.endpoint = s.p_base_platform;
+    return p;
+  }
+
+  Eigen::AlignedBox3d default_box() const override {
+    // The workspace lies within 0.6 size of the z axis and between 1.0
+    // size below and 0.35 size above the base (La + Lb bounds every leg).
+    const double s = model_.size();
+    return {Vector3d(-0.7 * s, -0.7 * s, -1.1 * s), Vector3d(0.7 * s, 0.7 * s, 0.4 * s)};
+  }
+  // The x-z plane through the pose: it contains leg 1 and the z axis.
+  std::pair<Axis, double> default_slice_plane(const VectorXd& x) const override { return {Axis::Y, x(1)}; }
+
+  std::optional<Field> compute_field(const Grid& grid, const VectorXd&, const linkscape::IkOptions& o, int threads,
+                                     const FieldProgress& progress) const override {
+    const IkMethod method = parse_ik_method(o.method.empty() ? "closed" : o.method);
+    const int branch = o.branch.value_or(0);
+    if (branch < 0 || branch >= kBranchCount) throw std::invalid_argument("delta: branch must be 0..7");
+    detail::check_grid(grid, Field::bytes_per_sample(), std::size_t(6) << 30);
+    Field f;
+    f.grid = grid;
+    f.mechanism = std::string(kMechanismName);
+    f.length_unit = model_.length_unit;
+    f.parameters = parameters();
+    f.method = std::string(to_string(method));
+    f.branch = branch;
+    delta::IkOptions io;
+    io.branch = branch;
+    io.tolerance = o.tolerance;
+    io.max_iterations = o.max_iterations;
+    const std::uint8_t method_index = method == IkMethod::Closed ? 0 : 1;
+    const bool ok = detail::fill_field(f, false, threads, progress, [&](const Vector3d& p) {
+      FieldSample s;
+      const delta::IkResult r = delta::inverse(model_, p, method, io);
+      s.reach_margin = float(delta::reach_margin(model_, p, branch).value);
+      s.status = std::uint8_t(r.status);
+      s.iterations = std::uint16_t(std::min(r.iterations, 65535));
+      s.reachable = r.status == Status::Ok && r.branch == branch;
+      s.residual = r.status == Status::Unreachable ? kInf : float(r.residual);
+      s.cond = kInf;
+      if (s.reachable) {
+        s.cond = float(delta::jacobian(model_, r.q_actuated, p).cond);
+        s.method_used = method_index;
+      }
+      return s;
+    });
+    if (!ok) return std::nullopt;
+    return f;
+  }
+
+ private:
+  Model model_;
+  MechanismInfo info_;
+};
+
+}  // namespace
+
+std::shared_ptr<const Mechanism> make_mechanism(const Model& model) { return std::make_shared<DeltaMechanism>(model); }
+
+std::shared_ptr<const Mechanism> make_mechanism(const Preset& preset) {
+  std::map<std::string, Interval> limits;
+  for (const auto& [name, range] : preset.limits_deg) limits[name] = {range.lo, range.hi};
+  return make_mechanism(Model::from_parameters(preset.parameters, limits, preset.length_unit));
+}
+
+}  // namespace linkscape::delta

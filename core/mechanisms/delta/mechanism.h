@@ -1,0 +1,15 @@
+// The Delta behind the generic interface (core/mechanism.h).
+#pragma once
+
+#include <memory>
+
+#include "core/mechanism.h"
+#include "core/mechanisms/delta/delta.h"
+
+namespace linkscape::delta {
+
+// Throws std::invalid_argument for an invalid model.
+std::shared_ptr<const Mechanism> make_mechanism(const Model& model);
+std::shared_ptr<const Mechanism> make_mechanism(const Preset& preset);
+
+}  // namespace linkscape::delta

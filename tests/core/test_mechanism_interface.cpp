@@ -1,0 +1,170 @@
+// Every registered device keeps the promises of core/mechanism.h: a
+// consistent description, IK and FK that invert each other, a Jacobian that
+// matches finite differences of FK, fields that agree with point-wise
+// evaluation, and a skeleton that fits its model.
+#include <gtest/gtest.h>
+
+#include <random>
+#include <set>
+
+#include "core/mechanism.h"
+#include "core/preset.h"
+
+using namespace linkscape;
+using Eigen::VectorXd;
+
+namespace {
+
+std::shared_ptr<const Mechanism> shipped(const std::string& name) { return make_mechanism(load_preset(name)); }
+
+class EveryDevice : public ::testing::TestWithParam<std::string> {};
+
+}  // namespace
+
+TEST_P(EveryDevice, DescriptionIsConsistent) {
+  const auto m = shipped(GetParam());
+  const MechanismInfo& info = m->info();
+  EXPECT_EQ(info.name, GetParam());
+  EXPECT_GE(info.task.size(), 3u);
+  EXPECT_EQ(info.task[0].name, "x");
+  EXPECT_EQ(info.task[1].name, "y");
+  EXPECT_EQ(info.task[2].name, "z");
+  for (const auto* list : {&info.parameters, &info.actuators, &info.task}) {
+    std::set<std::string> names;
+    for (const Quantity& q : *list) {
+      EXPECT_TRUE(names.insert(q.name).second) << "repeated name " << q.name;
+      EXPECT_LE(q.range.lo, q.range.hi) << q.name;
+    }
+  }
+  EXPECT_FALSE(info.ik_methods.empty());
+  EXPECT_FALSE(info.fk_methods.empty());
+  EXPECT_FALSE(info.measures.empty());
+  EXPECT_FALSE(info.branches.empty());
+  EXPECT_FALSE(info.singular_sets.empty());
+  for (const auto& [name, value] : m->parameters()) EXPECT_TRUE(std::isfinite(value)) << name;
+  // The preset's parameters are the description's.
+  std::set<std::string> described;
+  for (const Quantity& q : info.parameters) described.insert(q.name);
+  for (const auto& [name, value] : m->parameters()) EXPECT_TRUE(described.count(name)) << name;
+}
+
+TEST_P(EveryDevice, HomeIsReachableAndForwardInvertsInverse) {
+  const auto m = shipped(GetParam());
+  const VectorXd x = m->home_task(), q = m->home_actuators();
+  FkOptions fo;
+  fo.seed = x;
+  const FkResult fk = m->forward(q, fo);
+  ASSERT_EQ(fk.status, Status::Ok);
+  EXPECT_LT((fk.x - x).norm(), 1e-9 * m->size());
+  EXPECT_GT(m->reach_margin(x), 0.0);
+  for (const NamedItem& method : m->info().ik_methods) {
+    IkOptions io;
+    io.method = method.name;
+    const IkResult ik = m->inverse(x, io);
+    ASSERT_EQ(ik.status, Status::Ok) << method.name;
+    double best = INFINITY;
+    for (const IkSolution& s : ik.solutions) best = std::min(best, (s.q - q).cwiseAbs().maxCoeff());
+    EXPECT_LT(best, 1e-9) << method.name;
+  }
+}
+
+TEST_P(EveryDevice, RandomPosesRoundTripAndJacobianMatchesFiniteDifferences) {
+  const auto m = shipped(GetParam());
+  const MechanismInfo& info = m->info();
+  std::mt19937_64 rng(11);
+  int checked = 0;
+  for (int trial = 0; trial < 400 && checked < 50; ++trial) {
+    // Near home, so that every device's pose stays assembled.
+    VectorXd q = m->home_actuators();
+    for (Eigen::Index k = 0; k < q.size(); ++k) q(k) += std::uniform_real_distribution<double>(-0.15, 0.15)(rng);
+    FkOptions fo;
+    fo.seed = m->home_task();
+    const FkResult fk = m->forward(q, fo);
+    if (fk.status != Status::Ok) continue;
+    const Measures meas = m->measures(q, fk.x);
+    if (meas.status != Status::Ok || !(meas.values[0] < 100)) continue;
+    ++checked;
+    const IkResult ik = m->inverse(fk.x, {});
+    ASSERT_EQ(ik.status, Status::Ok);
+    double best = INFINITY;
+    for (const IkSolution& s : ik.solutions) best = std::min(best, (s.q - q).cwiseAbs().maxCoeff());
+    EXPECT_LT(best, 1e-8) << "trial " << trial;
+    // J = dx/dq where the task is the position alone (3-DOF devices).
+    if (info.task.size() != info.actuators.size()) continue;
+    const Eigen::MatrixXd J = m->jacobian(q, fk.x);
+    const double h = 1e-6;
+    for (Eigen::Index k = 0; k < q.size(); ++k) {
+      VectorXd qp = q, qm = q;
+      qp(k) += h;
+      qm(k) -= h;
+      fo.seed = fk.x;
+      const VectorXd column = (m->forward(qp, fo).x - m->forward(qm, fo).x) / (2 * h);
+      EXPECT_LT((J.col(k) - column).norm(), 1e-6 * J.norm()) << "column " << k;
+    }
+  }
+  EXPECT_GE(checked, 20);
+}
+
+TEST_P(EveryDevice, FieldAgreesWithPointwiseEvaluation) {
+  const auto m = shipped(GetParam());
+  const VectorXd home = m->home_task();
+  const auto [normal, position] = m->default_slice_plane(home);
+  const Eigen::AlignedBox3d box = m->default_box();
+  EXPECT_TRUE(box.contains(home.head<3>()));
+  const auto [u, v] = Grid::slice_axes(normal);
+  const Grid grid = Grid::slice(normal, position, box.min()(int(u)), box.max()(int(u)), box.min()(int(v)),
+                                box.max()(int(v)), 24, 24);
+  const std::optional<Field> field = m->compute_field(grid, home, {}, 1, {});
+  ASSERT_TRUE(field.has_value());
+  int reachable = 0;
+  for (int k = 0; k < grid.dims[2]; ++k)
+    for (int j = 0; j < grid.dims[1]; ++j)
+      for (int i = 0; i < grid.dims[0]; ++i) {
+        const std::size_t s = grid.index(i, j, k);
+        VectorXd x = home;
+        x.head<3>() = grid.point(i, j, k);
+        ASSERT_FALSE(std::isnan(field->cond[s]));
+        ASSERT_FALSE(std::isnan(field->reach_margin[s]));
+        EXPECT_NEAR(field->reach_margin[s], m->reach_margin(x), 1e-5 * m->size());
+        if (!field->reachable[s]) continue;
+        ++reachable;
+        const IkResult ik = m->inverse(x, {});
+        ASSERT_EQ(ik.status, Status::Ok);
+        const Measures meas = m->measures(ik.solutions.front().q, x);
+        EXPECT_NEAR(field->cond[s], meas.values[0], 1e-5 * meas.values[0]);
+      }
+  EXPECT_GT(reachable, 20);
+}
+
+TEST_P(EveryDevice, SkeletonFitsItsModel) {
+  const auto m = shipped(GetParam());
+  const SkeletonModel model = m->skeleton_model();
+  const SkeletonPose pose = m->skeleton_pose(m->home_actuators(), m->home_task());
+  ASSERT_EQ(pose.body_frames.size(), model.bodies.size());
+  ASSERT_EQ(pose.states.size(), model.bodies.size());
+  for (const Joint& j : model.joints) {
+    ASSERT_GE(j.body, 0);
+    ASSERT_LT(j.body, int(model.bodies.size()));
+  }
+  EXPECT_LT((pose.endpoint - m->home_task().head<3>()).norm(), 1e-9 * m->size());
+  EXPECT_GT(model.scale, 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Registered, EveryDevice, ::testing::ValuesIn(registered_mechanisms()),
+                         [](const auto& info) {
+                           std::string n = info.param;
+                           for (char& c : n)
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           return n;
+                         });
+
+TEST(Registry, UnknownMechanismsListTheKnownOnes) {
+  Preset p;
+  p.mechanism = "stewart";
+  try {
+    make_mechanism(p);
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("delta"), std::string::npos) << e.what();
+  }
+}
