@@ -1,4 +1,7 @@
 // Condition number of a 3x3 Jacobian, c(J) = sigma_max / sigma_min.
+// Every form scales J by a power of two first (exact), so the result does not
+// depend on J's scale and holds for any finite J; +inf for a singular, zero or
+// non-finite J.
 #pragma once
 
 #include <Eigen/Core>

@@ -335,9 +335,10 @@ std::vector<Vector3d> arc(const Vector3d& from, const Vector3d& to, double radiu
 
 void Model::validate() const {
   auto check_length = [](const char* name, double v) {
-    if (!std::isfinite(v) || v <= 0.0) {
+    if (!(v >= kMinLength && v <= kMaxLength)) {
       std::ostringstream msg;
-      msg << "parallel-12r: " << name << " must be a positive finite length, got " << v;
+      msg << "parallel-12r: " << name << " must be a length in [" << kMinLength << ", " << kMaxLength
+          << "], got " << v;
       throw std::invalid_argument(msg.str());
     }
   };
@@ -456,15 +457,26 @@ IkResult inverse(const Model& m, const Vector3d& p, IkMethod method, const IkOpt
   require_finite(p, "IK target");
   if (!(options.tolerance > 0.0) || options.max_iterations < 0)
     throw std::invalid_argument("IK options: tolerance must be > 0 and max_iterations >= 0");
-  const TargetGeometry g = classify(m, p);
+  // The angles do not depend on scale: solve with lengths and target divided
+  // by a power of two near the reach (exact), so that no intermediate (the
+  // paper's quartic has terms of length^16) overflows or underflows, and
+  // scale the residuals back.
+  const int exponent = std::ilogb(m.reach());
+  Model unit = m;
+  unit.L1 = std::ldexp(m.L1, -exponent);
+  unit.L2 = std::ldexp(m.L2, -exponent);
+  const Vector3d p_unit = p * std::ldexp(1.0, -exponent);
+  const TargetGeometry g = classify(unit, p_unit);
+  IkResult result;
   switch (method) {
-    case IkMethod::Paper: return inverse_paper(m, p, g, options.tolerance);
-    case IkMethod::Planar: return inverse_planar(m, p, g, options.tolerance);
+    case IkMethod::Paper: result = inverse_paper(unit, p_unit, g, options.tolerance); break;
+    case IkMethod::Planar: result = inverse_planar(unit, p_unit, g, options.tolerance); break;
     case IkMethod::Newton:
-    case IkMethod::DampedLeastSquares: return inverse_iterative(m, p, g, method, options);
-    case IkMethod::Fallback: return inverse_fallback(m, p, g, options);
+    case IkMethod::DampedLeastSquares: result = inverse_iterative(unit, p_unit, g, method, options); break;
+    case IkMethod::Fallback: result = inverse_fallback(unit, p_unit, g, options); break;
   }
-  return {};
+  for (IkSolution& s : result.solutions) s.residual = std::ldexp(s.residual, exponent);
+  return result;
 }
 
 // ---- Conditioning and singularities ---------------------------------------

@@ -35,6 +35,13 @@ struct Interval {
   bool contains(double v) const { return v >= lo && v <= hi; }
 };
 
+// Accepted link lengths, in the model's length unit. The kinematics work in
+// lengths divided by a power of two near the reach, so results do not depend
+// on scale; the bounds come from the fields, which store lengths (reach
+// margin, residual) as float (normal range 1.2e-38 .. 3.4e38).
+inline constexpr double kMinLength = 1e-30;
+inline constexpr double kMaxLength = 1e30;
+
 struct Model {
   double L1 = 1.0;  // link along u(alpha, beta), length unit
   double L2 = 1.0;  // link along u(alpha, gamma), length unit
@@ -46,8 +53,8 @@ struct Model {
 
   double reach() const { return L1 + L2; }
   double inner_reach() const { return L1 > L2 ? L1 - L2 : L2 - L1; }
-  // Throws std::invalid_argument for non-positive or non-finite lengths or
-  // empty ranges.
+  // Throws std::invalid_argument for a length outside [kMinLength,
+  // kMaxLength] (or not finite) or an empty range.
   void validate() const;
 
   // Builds a model from named parameters ("L1", "L2") and ranges

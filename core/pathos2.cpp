@@ -53,6 +53,22 @@ void require_positive(double v, std::string_view what) {
   }
 }
 
+void require_length(double v, std::string_view what) {
+  if (!(v >= kMinLength && v <= kMaxLength)) {
+    std::ostringstream msg;
+    msg << "pathos2: " << what << " must be a length in [" << kMinLength << ", " << kMaxLength << "] cm, got " << v;
+    throw std::invalid_argument(msg.str());
+  }
+}
+
+void require_offset(double v, std::string_view what) {
+  if (!(std::abs(v) <= kMaxLength)) {
+    std::ostringstream msg;
+    msg << "pathos2: " << what << " must be in [" << -kMaxLength << ", " << kMaxLength << "] cm, got " << v;
+    throw std::invalid_argument(msg.str());
+  }
+}
+
 void require_limit(double v, std::string_view what) {
   require_finite(v, what);
   if (v <= 0.0 || v > kPi + 1e-12) {
@@ -79,18 +95,18 @@ void require_pose(const Pose& pose) {
 // ---- Model ------------------------------------------------------------------
 
 void Model::validate() const {
-  require_positive(l0, "l0");
-  require_positive(lb, "lb");
-  require_positive(l1, "l1");
-  require_positive(l2, "l2");
-  require_positive(l3, "l3");
-  require_finite(lp, "lp");
+  require_length(l0, "l0");
+  require_length(lb, "lb");
+  require_length(l1, "l1");
+  require_length(l2, "l2");
+  require_length(l3, "l3");
+  require_offset(lp, "lp");
   if (lp < 0.0) throw std::invalid_argument("pathos2: lp must be >= 0, got " + std::to_string(lp));
-  require_positive(h0, "h0");
+  require_length(h0, "h0");
   require_finite(theta_t, "theta_t");
   require_finite(theta_g, "theta_g");
-  require_finite(db, "db");
-  require_finite(lx, "lx");
+  require_offset(db, "db");
+  require_offset(lx, "lx");
   require_finite(base_phase, "base_phase");
   require_finite(plate_phase, "plate_phase");
   if (tilt_sign != 1.0 && tilt_sign != -1.0)

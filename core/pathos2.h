@@ -41,6 +41,12 @@ inline constexpr int kLegCount = 6;
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 
+// Accepted lengths (cm): l0, lb, l1, l2, l3, h0 in [kMinLength, kMaxLength],
+// |lp|, |db|, |lx| <= kMaxLength. The bounds come from the fields, which
+// store lengths as float.
+inline constexpr double kMinLength = 1e-30;
+inline constexpr double kMaxLength = 1e30;
+
 struct Model {
   // Table 1 / Table 3 values; lengths cm, angles rad.
   double l0 = 45.0;   // distance between base plates (Table 3; Table 1 has 50)
@@ -64,9 +70,10 @@ struct Model {
   double t2_limit = 3.141592653589793;
   double t3_limit = 3.141592653589793;
 
-  // Throws std::invalid_argument for non-finite values, non-positive l0, lb,
-  // l1, l2, l3, h0, negative lp, |tilt_sign| != 1, a branch not +-1, or a
-  // limit outside (0, pi].
+  // Throws std::invalid_argument for non-finite values, l0, lb, l1, l2, l3,
+  // h0 outside [kMinLength, kMaxLength], negative lp, |lp|, |db| or |lx|
+  // above kMaxLength, |tilt_sign| != 1, a branch not +-1, or a limit outside
+  // (0, pi].
   void validate() const;
 
   // Paper names: l0 lb l1 l2 l3 lp h0 db lx (cm); theta_t theta_g base_phase
