@@ -63,6 +63,23 @@ double condition_number_fast(const Eigen::Matrix3d& J_any_scale) {
   return std::sqrt(l1 * l2 / product);  // lambda_1 / lambda_3 with lambda_3 = product / lambda_2
 }
 
+double condition_number_lower_triangular(const Eigen::Matrix3d& L) {
+  // L = [a 0 0; b c 0; d e f]; its cofactor matrix is [cf -bf be-cd; 0 af -ae; 0 0 ac].
+  const double a = L(0, 0), b = L(1, 0), c = L(1, 1), d = L(2, 0), e = L(2, 1), f = L(2, 2);
+  const double det = a * c * f;
+  if (det == 0.0 || !std::isfinite(det)) return std::numeric_limits<double>::infinity();
+  Eigen::Matrix3d S;  // L L^T
+  S << a * a, a * b, a * d,  //
+      a * b, b * b + c * c, b * d + c * e,  //
+      a * d, b * d + c * e, d * d + e * e + f * f;
+  const double k02 = b * e - c * d;
+  Eigen::Matrix3d T;  // K^T K for the cofactor matrix K above
+  T << c * c * f * f, -b * c * f * f, c * f * k02,  //
+      -b * c * f * f, b * b * f * f + a * a * f * f, -b * f * k02 - a * a * e * f,  //
+      c * f * k02, -b * f * k02 - a * a * e * f, k02 * k02 + a * a * e * e + a * a * c * c;
+  return std::sqrt(largest_eigenvalue(S) * largest_eigenvalue(T)) / std::abs(det);
+}
+
 double condition_number_svd(const Eigen::Matrix3d& J_any_scale) {
   Eigen::Matrix3d J;
   if (!scale_to_unit(J_any_scale, J)) return std::numeric_limits<double>::infinity();

@@ -2,6 +2,10 @@
 // condition numbers and statuses that are never a silent wrong answer.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+#include <Eigen/QR>
+#include <Eigen/SVD>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -13,6 +17,8 @@
 #include "core/field.h"
 #include "core/parallel12r.h"
 #include "core/pathos2.h"
+#include "core/pathos2_field.h"
+#include "core/pathos2_methods.h"
 
 using namespace linkscape;
 using Eigen::Vector3d;
@@ -20,6 +26,7 @@ using parallel12r::IkMethod;
 
 namespace {
 
+constexpr double kPi = std::numbers::pi;
 
 // Scales every decade from 1e-12 to 1e12: the sweep the kinematics must
 // pass unchanged (c(J) is scale-invariant, angles are).
@@ -99,6 +106,105 @@ pathos2::Model scaled_pathos2(double s) {
   return m;
 }
 
+pathos2::Pose scaled_pose(const pathos2::Pose& p, double s) {
+  pathos2::Pose q = p;
+  q.p_world_E *= s;
+  q.h0 *= s;
+  return q;
+}
+
+// ---- PATHOS-II end to end in long double ----------------------------------
+using LD = long double;
+using V3L = Eigen::Matrix<LD, 3, 1>;
+using M3L = Eigen::Matrix<LD, 3, 3>;
+
+// Eq. 3 and its Jacobian in long double: a = Rz(t1)(s2 w, -l3 s3, l1 + c2 w), w = l2 + l3 c3.
+void leg_chain_ld(LD l1, LD l2, LD l3, const V3L& t, V3L& a, M3L& J) {
+  const LD c1 = std::cos(t(0)), s1 = std::sin(t(0)), c2 = std::cos(t(1)), s2 = std::sin(t(1));
+  const LD c3 = std::cos(t(2)), s3 = std::sin(t(2));
+  const LD w = l2 + l3 * c3, bx = s2 * w, by = -l3 * s3, bz = l1 + c2 * w;
+  a = V3L(c1 * bx - s1 * by, s1 * bx + c1 * by, bz);
+  const LD d2x = c2 * w, d2z = -s2 * w, d3x = -s2 * l3 * s3, d3y = -l3 * c3, d3z = -c2 * l3 * s3;
+  J << -s1 * bx - c1 * by, c1 * d2x, c1 * d3x - s1 * d3y, c1 * bx - s1 * by, s1 * d2x, s1 * d3x + c1 * d3y, 0, d2z,
+      d3z;
+}
+
+struct Pathos2Reference {
+  std::array<LD, 2> cond{};  // cond(Jp), cond(Jo)
+  LD kappa = 0;              // 1-norm condition number of the dimensionless M (pathos2.h)
+};
+
+// From the pose to cond(Jp), cond(Jo) in long double: leg angles by Newton
+// on Eq. 3 from the double IK, M from them, J = M^-1, Jacobi SVD of its blocks.
+bool pathos2_reference(const pathos2::Geometry& g, const pathos2::Pose& pose, Pathos2Reference& out) {
+  const pathos2::Model& m = g.model;
+  const auto ik = pathos2::inverse(g, pose, pathos2::IkDetail::Full);
+  if (ik.status != Status::Ok) return false;
+  Eigen::Matrix<LD, 6, 6> M;
+  const V3L p = pose.p_world_E.cast<LD>();
+  const M3L R = pose.R_world_E.cast<LD>();
+  for (int i = 0; i < pathos2::kLegCount; ++i) {
+    V3L r_E = g.p_E_attach_plate[i].cast<LD>();
+    r_E.z() += LD(g.grip_side[i]) * LD(pose.h0);
+    const V3L pg = p + R * r_E;
+    const V3L a = g.R_world_B[i].cast<LD>().transpose() * (pg - g.p_world_B[i].cast<LD>());
+    V3L t(ik.legs[i].t1, ik.legs[i].t2, ik.legs[i].t3), at;
+    M3L Jl;
+    for (int k = 0; k < 6; ++k) {
+      leg_chain_ld(m.l1, m.l2, m.l3, t, at, Jl);
+      t += Jl.partialPivLu().solve(V3L(a - at));
+    }
+    leg_chain_ld(m.l1, m.l2, m.l3, t, at, Jl);
+    const V3L grad = g.R_world_B[i].cast<LD>() * Jl.transpose().partialPivLu().solve(V3L::UnitX());
+    M.block<1, 3>(i, 0) = grad.transpose();
+    M.block<1, 3>(i, 3) = (pg - p).cross(grad).transpose();
+  }
+  M.leftCols<3>() *= std::ldexp(1.0L, std::ilogb(m.l2 + m.l3));
+  const Eigen::Matrix<LD, 6, 6> J = M.fullPivLu().inverse();
+  out.kappa = M.cwiseAbs().colwise().sum().maxCoeff() * J.cwiseAbs().colwise().sum().maxCoeff();
+  for (int b = 0; b < 2; ++b) {
+    const Eigen::JacobiSVD<Eigen::Matrix<LD, 3, 6>> svd(J.middleRows<3>(3 * b));
+    out.cond[b] = svd.singularValues()(0) / svd.singularValues()(2);
+  }
+  return std::isfinite(out.kappa);
+}
+
+// Pose at s along d (1 cm : 0.1 rad) from `from`.
+pathos2::Pose along(const pathos2::Pose& from, const pathos2::Vector6d& d, double s) {
+  pathos2::Pose p = from;
+  p.p_world_E += s * d.head<3>();
+  const Vector3d w = s * d.tail<3>();
+  if (w.norm() > 0) p.R_world_E = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix() * from.R_world_E;
+  return p;
+}
+
+// First s along d where det M changes sign with every leg Ok (the J-singular
+// set), by marching and bisection; 0 if a leg fails first.
+double j_singular_crossing(const pathos2::Geometry& g, const pathos2::Pose& home, const pathos2::Vector6d& d) {
+  auto det_at = [&](double s, double& det) {
+    const pathos2::Pose p = along(home, d, s);
+    const auto ik = pathos2::inverse(g, p, pathos2::IkDetail::ActiveOnly);
+    if (ik.status != Status::Ok) return false;
+    det = pathos2::jacobian(g, p, ik).J_qdot_from_twist.determinant();
+    return std::isfinite(det);
+  };
+  double det0 = 0, det = 0, lo = 0, hi = 0;
+  if (!det_at(0, det0)) return 0;
+  for (double s = 0.25;; s += 0.25) {
+    if (s > 40 || !det_at(s, det)) return 0;
+    if (det * det0 < 0) {
+      hi = s;
+      break;
+    }
+    lo = s;
+  }
+  for (int k = 0; k < 200 && hi - lo > 4e-16 * hi; ++k) {
+    const double mid = 0.5 * (lo + hi);
+    const bool before = det_at(mid, det) && det * det0 > 0;
+    (before ? lo : hi) = mid;
+  }
+  return lo;
+}
 
 }  // namespace
 
@@ -191,5 +297,195 @@ TEST(NumericalSafety, Parallel12rIkJacobianAndCondAreScaleFree) {
           }
         }
     }
+  }
+}
+
+TEST(NumericalSafety, Pathos2IsScaleFreeAndNaNFree) {
+  // Every length parameter (l0, lb, l1, l2, l3, lp, h0, db, lx), pose
+  // position and grip scaled together: IK angles, cond(Jp) and cond(Jo)
+  // unchanged (to 1e-9), J's translation rows scaled, nine-sensor and
+  // numerical FK recover the scaled pose, and fields have no NaN and the
+  // unit-scale values.
+  const pathos2::Model unit;
+  const pathos2::Geometry g1 = pathos2::make_geometry(unit);
+  const std::vector<pathos2::Pose> poses = pathos2_methods::workspace_poses(g1, 60, 41);
+  std::vector<double> scales = decade_scales();
+  scales.push_back(2e-31);
+  scales.push_back(2e28);
+  pathos2::FieldRequest r1;
+  r1.grid = Grid::box({-12, -12, 10.5}, {12, 12, 34.5}, {10, 10, 10});
+  r1.rpy = Vector3d(0, 0, kPi / 6);
+  r1.h0 = unit.h0;
+  r1.threads = 1;
+  const Field f1 = *pathos2::compute_field(unit, r1);
+  for (double s : scales) {
+    const pathos2::Model m = scaled_pathos2(s);
+    const pathos2::Geometry gs = pathos2::make_geometry(m);
+    const double L = m.l2 + m.l3;
+    int compared = 0, fk_ok = 0;
+    for (const pathos2::Pose& P1 : poses) {
+      const pathos2::Pose Ps = scaled_pose(P1, s);
+      const auto ik1 = pathos2::inverse(g1, P1);
+      const auto iks = pathos2::inverse(gs, Ps);
+      ASSERT_EQ(iks.status, ik1.status) << s;
+      EXPECT_LE((iks.q_active - ik1.q_active).cwiseAbs().maxCoeff(), 1e-9) << s;
+      const auto j1 = pathos2::jacobian(g1, P1, ik1);
+      const auto js = pathos2::jacobian(gs, Ps, iks);
+      ASSERT_EQ(js.status, j1.status) << s;
+      if (j1.status != Status::Ok) continue;
+      ++compared;
+      EXPECT_TRUE(std::isfinite(js.cond_p) && std::isfinite(js.cond_o)) << s;
+      EXPECT_NEAR(js.cond_p, j1.cond_p, 1e-9 * j1.cond_p) << s;
+      EXPECT_NEAR(js.cond_o, j1.cond_o, 1e-9 * j1.cond_o) << s;
+      EXPECT_LE((js.J_twist_from_qdot.topRows<3>() / s - j1.J_twist_from_qdot.topRows<3>()).norm(),
+                1e-9 * j1.J_twist_from_qdot.topRows<3>().norm());
+      EXPECT_LE((js.J_twist_from_qdot.bottomRows<3>() - j1.J_twist_from_qdot.bottomRows<3>()).norm(),
+                1e-9 * j1.J_twist_from_qdot.bottomRows<3>().norm());
+      // FK round trips at scale.
+      const auto nine = pathos2::forward_nine_sensors(gs, pathos2::sensors_of(iks));
+      ASSERT_EQ(nine.status, Status::Ok) << s;
+      EXPECT_LE((nine.pose.p_world_E - Ps.p_world_E).norm(), 1e-9 * L) << s;
+      EXPECT_LE((nine.pose.R_world_E - Ps.R_world_E).norm(), 1e-9) << s;
+      pathos2::FkOptions o;  // the trust region is a length: scale it with the model
+      o.max_step_cm *= s;
+      const Vector3d offset(0.03, -0.02, 0.01);  // cm at unit scale
+      pathos2::Pose seed1 = P1, seed = Ps;
+      seed1.p_world_E += offset;
+      seed.p_world_E += offset * s;
+      const auto num1 = pathos2::forward_numeric(g1, ik1.q_active, P1.h0, seed1);
+      const auto num = pathos2::forward_numeric(gs, iks.q_active, Ps.h0, seed, o);
+      ASSERT_EQ(num.status, num1.status) << s;
+      if (num.status == Status::Ok) {
+        ++fk_ok;
+        EXPECT_LE((num.pose.p_world_E - Ps.p_world_E).norm(), 1e-8 * L) << s;
+      }
+    }
+    EXPECT_GT(compared, 50);
+    EXPECT_GT(fk_ok, 50);
+    pathos2::FieldRequest rs = r1;
+    rs.grid = Grid::box(Vector3d(-12, -12, 10.5) * s, Vector3d(12, 12, 34.5) * s, {10, 10, 10});
+    rs.h0 = unit.h0 * s;
+    const Field fs = *pathos2::compute_field(m, rs);
+    EXPECT_FALSE(any_nan(fs)) << s;
+    int ok = 0, mismatches = 0;
+    for (std::size_t i = 0; i < fs.grid.size(); ++i) {
+      if (fs.status[i] != f1.status[i]) {
+        ++mismatches;
+        continue;
+      }
+      if (fs.status[i] != std::uint8_t(Status::Ok)) continue;
+      ++ok;
+      if (!float_close(fs.cond[i], f1.cond[i]) || !float_close(fs.cond_orientation[i], f1.cond_orientation[i]))
+        ++mismatches;
+      if (!(std::abs(fs.reach_margin[i] - f1.reach_margin[i] * s) <= 1e-6 * L)) ++mismatches;
+    }
+    EXPECT_EQ(mismatches, 0) << s;
+    EXPECT_GT(ok, 50) << s;
+  }
+}
+
+// ---- Item: PATHOS-II condition numbers are computed, not guessed -------------
+
+TEST(NumericalSafety, Pathos2CondAtAPoseNearTheReachBoundaryIsFinite) {
+  // Default design, 5e-6 cm inside the reach boundary (leg 4 almost
+  // stretched): cond(Jp) ~ 3692, cond(Jo) ~ 4023, where a determinant
+  // threshold on B B^T used to answer +inf with status ok.
+  const pathos2::Geometry g = pathos2::make_geometry(pathos2::Model{});
+  const auto pose = pathos2::Pose::from_xyz_rpy(-5.233051233618914, 2.3077145753855683, 22.45402265035826,
+                                                -0.05058443175141523, -0.021291790722917644, 0.4966043687834863, 7);
+  const auto jr = pathos2::jacobian(g, pose, pathos2::inverse(g, pose));
+  ASSERT_EQ(jr.status, Status::Ok);
+  Pathos2Reference ref;
+  ASSERT_TRUE(pathos2_reference(g, pose, ref));
+  EXPECT_NEAR(jr.cond_p, double(ref.cond[0]), 1e-8 * double(ref.cond[0]));
+  EXPECT_NEAR(jr.cond_o, double(ref.cond[1]), 1e-8 * double(ref.cond[1]));
+  // Central differences of the IK (the step must stay inside the 5e-6 cm
+  // margin; at 3e-9 truncation and rounding are both below 1e-3).
+  pathos2::Matrix6d J_fd;
+  ASSERT_TRUE(pathos2_methods::jacobian_finite_difference(g, pose, 3e-9, true, J_fd));
+  const auto c_fd = pathos2_methods::condition_numbers_svd(J_fd);
+  EXPECT_NEAR(jr.cond_p, c_fd[0], 1e-2 * c_fd[0]);
+  EXPECT_NEAR(jr.cond_o, c_fd[1], 1e-2 * c_fd[1]);
+  EXPECT_GT(jr.cond_p, 3000);
+  EXPECT_LT(jr.cond_p, 4500);
+}
+
+TEST(NumericalSafety, Pathos2CondMeetsItsAccuracyAndSingularMeansTheDocumentedBand) {
+  // Random poses around home and poses 1e-14 .. 1e-1 (relative) from the
+  // J-singular set along seeded directions. Against the long-double end-to-end
+  // reference: an ok Jacobian has cond(Jp), cond(Jo) within 1e-6; `singular`
+  // only where the reference kappa of M is within a factor 3 of the
+  // documented 1e9 or above, and never below it by more.
+  const pathos2::Model model;
+  const pathos2::Geometry g = pathos2::make_geometry(model);
+  std::vector<pathos2::Pose> poses = pathos2_methods::workspace_poses(g, 3000, 43);
+  const pathos2::Pose home = pathos2::home_pose(model);
+  std::mt19937_64 rng(44);
+  std::normal_distribution<double> normal;
+  std::uniform_real_distribution<double> unit(0, 1);
+  for (int found = 0; found < 25;) {
+    pathos2::Vector6d d;
+    for (int k = 0; k < 6; ++k) d(k) = normal(rng);
+    d.tail<3>() *= 0.1;
+    d.normalize();
+    const double s_star = j_singular_crossing(g, home, d);
+    if (!(s_star > 0)) continue;
+    ++found;
+    for (int j = 0; j < 40; ++j) poses.push_back(along(home, d, s_star * (1 - std::pow(10.0, -14.0 + 13.0 * unit(rng)))));
+  }
+  int ok = 0, singular = 0, high_kappa_ok = 0;
+  double worst = 0;
+  for (const auto& pose : poses) {
+    Pathos2Reference ref;
+    if (!pathos2_reference(g, pose, ref)) continue;
+    const auto jr = pathos2::jacobian(g, pose, pathos2::inverse(g, pose));
+    if (jr.status == Status::Singular) {
+      ++singular;
+      EXPECT_GE(double(ref.kappa), 1e9 / 3) << "singular far from the documented band";
+      EXPECT_TRUE(std::isinf(jr.cond_p) && std::isinf(jr.cond_o));
+      continue;
+    }
+    ASSERT_EQ(jr.status, Status::Ok);
+    EXPECT_LE(double(ref.kappa), 3e9) << "ok far beyond the documented band";
+    ++ok;
+    high_kappa_ok += ref.kappa > 1e8;
+    for (int b = 0; b < 2; ++b) {
+      const double c = b == 0 ? jr.cond_p : jr.cond_o;
+      const double e = std::abs(c - double(ref.cond[b])) / double(ref.cond[b]);
+      worst = std::max(worst, e);
+      EXPECT_LE(e, 1e-6) << "kappa " << double(ref.kappa) << " cond " << double(ref.cond[b]);
+    }
+  }
+  std::printf("PATHOS-II cond: %d ok (%d with kappa > 1e8), %d singular, worst relative error %.2g\n", ok,
+              high_kappa_ok, singular, worst);
+  EXPECT_GT(singular, 100);
+  EXPECT_GT(high_kappa_ok, 20);
+}
+
+TEST(NumericalSafety, BlockConditionNumberIsAccurateUpTo1e12) {
+  // 3x6 blocks with prescribed singular values (random orthogonal factors),
+  // c from 1 to 1e12 and any scale: relative error <= 100 u c against the
+  // exact c; the previous test on det(B B^T) answered +inf from c ~ 3e6.
+  std::mt19937_64 rng(45);
+  std::normal_distribution<double> normal;
+  std::uniform_real_distribution<double> unit(0, 1);
+  for (int i = 0; i < 3000; ++i) {
+    const double c = std::pow(10.0, 12.0 * unit(rng));
+    const double mid = std::pow(c, unit(rng));  // sigma_mid anywhere in [1, c], incl. coinciding pairs
+    Eigen::Matrix<double, 3, 3> A;
+    Eigen::Matrix<double, 6, 6> B6;
+    for (int k = 0; k < 9; ++k) A(k / 3, k % 3) = normal(rng);
+    for (int k = 0; k < 36; ++k) B6(k / 6, k % 6) = normal(rng);
+    const Eigen::Matrix3d U = Eigen::HouseholderQR<Eigen::Matrix3d>(A).householderQ();
+    const Eigen::Matrix<double, 6, 6> V = Eigen::HouseholderQR<Eigen::Matrix<double, 6, 6>>(B6).householderQ();
+    const double scale = std::pow(10.0, -20.0 + 40.0 * unit(rng));
+    const Eigen::Vector3d sigma(c * scale, mid * scale, scale);
+    const Eigen::Matrix<double, 3, 6> block = U * sigma.asDiagonal() * V.leftCols<3>().transpose();
+    // The exact c of the double block, from a long-double SVD (the rounding of
+    // the product above moves it by ~u c).
+    const Eigen::JacobiSVD<Eigen::Matrix<LD, 3, 6>> svd(block.cast<LD>());
+    const double exact = double(svd.singularValues()(0) / svd.singularValues()(2));
+    EXPECT_NEAR(pathos2::block_condition_number(block), exact, 100 * 1.1e-16 * exact * exact + 1e-14 * exact)
+        << "c " << c;
   }
 }
