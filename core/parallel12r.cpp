@@ -82,6 +82,10 @@ void offer(const Model& m, const Vector3d& target, const Vector3d& q, int iterat
   s.iterations = iterations;
   if (!std::isfinite(s.residual)) return;
   if (s.residual > tolerance * m.reach()) {
+    // Within the singular band a candidate that misses the tolerance is no
+    // answer: drop it, and the result says singular (collect), never a wrong
+    // finite configuration.
+    if (geometric_status == Status::Singular) return;
     s.status = Status::NotConverged;
   } else if (geometric_status != Status::Ok) {
     s.status = geometric_status;
@@ -281,7 +285,7 @@ IkResult inverse_iterative(const Model& m, const Vector3d& p, const TargetGeomet
     singular = singular || out.singular;
     offer(m, p, out.q, out.iterations, options.tolerance, g.status, best, method);
   }
-  return collect(best, singular ? Status::Singular : Status::NotConverged);
+  return collect(best, singular || g.status == Status::Singular ? Status::Singular : Status::NotConverged);
 }
 
 // ---- Fallback policy --------------------------------------------------------

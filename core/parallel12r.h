@@ -131,7 +131,9 @@ int branch_of(const Eigen::Vector3d& q_actuated);
 // (0, pi/2, 0), branch 1 is (0, 0, pi/2).
 Eigen::Vector3d home_pose(int branch);
 
-// Relative distance below which a target counts as on a singular set.
+// Relative distance below which a target counts as on a singular set. Every
+// method reports such a target `singular`; a solution is given there only if
+// it meets the tolerance (with status Singular).
 inline constexpr double kSingularTolerance = 1e-12;
 
 // ---- Conditioning and singularities ---------------------------------------

@@ -489,3 +489,50 @@ TEST(NumericalSafety, BlockConditionNumberIsAccurateUpTo1e12) {
         << "c " << c;
   }
 }
+
+// ---- Item: the singular status within the documented band -----------------------
+
+TEST(NumericalSafety, TargetsWithinTheSingularBandAreSingularForEveryMethod) {
+  // kSingularTolerance (1e-12 of the reach) around each singular set: every
+  // method says `singular`, and any solution it gives meets the tolerance
+  // (before, (0.3, 1e-13, 0.3) with L1 = L2 = 1 was not-converged for all
+  // closed forms, planar's residual 8e-5).
+  const IkMethod all_methods[] = {IkMethod::Paper, IkMethod::Planar, IkMethod::Newton, IkMethod::DampedLeastSquares,
+                                  IkMethod::Fallback};
+  auto check = [&](const parallel12r::Model& m, const Vector3d& p, const std::string& where) {
+    for (IkMethod method : all_methods) {
+      const auto r = parallel12r::inverse(m, p, method);
+      EXPECT_EQ(r.status, Status::Singular) << where << " " << parallel12r::to_string(method);
+      for (const auto& s : r.solutions) {
+        EXPECT_EQ(s.status, Status::Singular) << where;
+        EXPECT_LE(s.residual, 1e-10 * m.reach()) << where << " " << parallel12r::to_string(method);
+        EXPECT_LE((parallel12r::forward(m, s.q_actuated) - p).norm(), 1e-10 * m.reach()) << where;
+      }
+      FieldRequest req;
+      req.method = method;
+      const FieldSample f = sample_point(m, p, req);
+      EXPECT_EQ(f.status, std::uint8_t(Status::Singular)) << where << " " << parallel12r::to_string(method);
+      EXPECT_TRUE(std::isinf(f.cond) && !f.reachable) << where;
+    }
+  };
+  check(model_12r(1.0, 1.0), Vector3d(0.3, 1e-13, 0.3), "the reported target");
+  std::mt19937_64 rng(51);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), band(0.0, 0.99e-12);
+  for (const auto& m : {model_12r(1.0, 1.0), model_12r(1.0, 0.7), model_12r(0.4, 1.3)}) {
+    const double reach = m.reach();
+    for (int i = 0; i < 30; ++i) {
+      // A generic direction and radius inside the workspace.
+      Vector3d dir(u(rng), std::abs(u(rng)) + 0.1, u(rng));
+      dir.normalize();
+      const double radius = m.inner_reach() + (0.2 + 0.6 * (u(rng) + 1) / 2) * (reach - m.inner_reach());
+      const double d = band(rng) * reach;
+      // |y| = d: the actuator plane, at the same radius.
+      const Eigen::Vector2d xz = Eigen::Vector2d(dir.x(), dir.z()).normalized() * std::sqrt(radius * radius - d * d);
+      check(m, Vector3d(xz.x(), i % 2 ? d : -d, xz.y()), "actuator plane");
+      const Vector3d axis(d * 0.6, d * 0.8, (i % 2 ? 1 : -1) * radius);  // sqrt(x^2 + y^2) = d: the z axis
+      check(m, axis, "z axis");
+      check(m, (reach - d) * dir, "outer sphere");
+      if (m.L1 != m.L2) check(m, (m.inner_reach() + d) * dir, "inner sphere");
+    }
+  }
+}
