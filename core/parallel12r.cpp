@@ -182,10 +182,18 @@ IkResult inverse_paper(const Model& m, const Vector3d& p, const TargetGeometry& 
   const double hh = (z * z - W * W) * y * y;
   const double P = f * f + gg * gg, Q = 2.0 * f * hh - gg * gg, R = hh * hh;
   if (P == 0.0) return collect(best, Status::Singular);
-  const double disc = std::max(0.0, Q * Q - 4.0 * P * R);
+  // Q^2 - 4PR factors (with f + h = rho^2 (rho^2 - W^2)) into
+  // 16 rho^6 y^4 z^2 W^2 (|D|^2 - W^2): no cancellation, where Q^2 - 4PR
+  // cancels terms of length^16 down to rounding as the roots meet.
+  const double radius = p.norm(), rho = std::sqrt(rho2), abs_W = std::abs(W);
+  const double sqrt_disc = 4.0 * rho2 * rho * y * y * std::abs(z * W) *
+                           std::sqrt(std::max(0.0, (radius - abs_W) * (radius + abs_W)));
+  // The roots without cancellation: q / P and R / q.
+  const double q_root = -0.5 * (Q + std::copysign(sqrt_disc, Q));
+  const double roots[2] = {q_root / P, q_root != 0.0 ? R / q_root : 0.0};
   const double sign_y = y > 0.0 ? 1.0 : -1.0;
-  for (double root_sign : {1.0, -1.0}) {
-    const double cos2_beta = std::clamp((-Q + root_sign * std::sqrt(disc)) / (2.0 * P), 0.0, 1.0);
+  for (double root : roots) {
+    const double cos2_beta = std::clamp(root, 0.0, 1.0);
     const double b0 = std::acos(std::sqrt(cos2_beta));
     for (double beta : {b0, -b0, kPi - b0, b0 - kPi}) {
       // Eq. 16 with the sign corrected and V = sign(y) - ... for y < 0.
@@ -198,6 +206,17 @@ IkResult inverse_paper(const Model& m, const Vector3d& p, const TargetGeometry& 
       for (double gamma : {g0, -g0, kPi - g0, g0 - kPi})
         offer(m, p, Vector3d(alpha, beta, gamma), 0, tolerance, g.status, best, IkMethod::Paper);
     }
+  }
+  // One Newton step on Eqs. 11-13 from each branch's best candidate, part of
+  // the method: Eqs. 15 and 16 give cos^2 of the angles, which is stationary
+  // at 0, pi/2 and pi, so a rounding error e there becomes sqrt(e) in the
+  // angle (7e-9 (L1 + L2) at the isotropic point (0, L, L)). The step squares
+  // that error away; a solution it improved has iterations = 1.
+  for (int branch = 0; branch < 2; ++branch) {
+    if (!best[branch]) continue;
+    const Vector3d q = best[branch]->q_actuated;
+    const Vector3d step = jacobian(m, q).partialPivLu().solve(p - forward(m, q));
+    if (step.allFinite()) offer(m, p, q + step, 1, tolerance, g.status, best, IkMethod::Paper);
   }
   return collect(best, g.status);
 }

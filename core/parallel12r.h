@@ -86,7 +86,7 @@ double jacobian_determinant_eq18(const Model& model, const Eigen::Vector3d& q_ac
 // ---- Inverse kinematics ---------------------------------------------------
 
 enum class IkMethod {
-  Paper,               // Eqs. 14-16, corrected
+  Paper,               // Eqs. 14-16, corrected, then one Newton step (docs)
   Planar,              // planar two-link reduction in the plane normal to n(alpha)
   Newton,              // Newton-Raphson with backtracking, from a seed
   DampedLeastSquares,  // Levenberg-Marquardt damping, from a seed
@@ -111,7 +111,7 @@ struct IkSolution {
   int branch = 0;
   Status status = Status::Ok;
   double residual = 0.0;  // |forward(q) - target|, length unit
-  int iterations = 0;     // 0 for closed forms
+  int iterations = 0;     // Newton steps: 0 for planar, 0 or 1 for paper
   // The method that produced this solution: the requested one, except under
   // Fallback, where it is Planar or Newton (seeded from the planar candidate).
   IkMethod method = IkMethod::Planar;

@@ -245,7 +245,7 @@ TEST(NumericalSafety, Parallel12rFieldsAreScaleFreeAndNaNFree) {
     double position;
   };
   for (const auto& unit : unit_models)
-    for (IkMethod method : {IkMethod::Planar, IkMethod::Fallback})
+    for (IkMethod method : {IkMethod::Planar, IkMethod::Paper, IkMethod::Fallback})
       for (Slice slice : {Slice{Axis::Z, 0.3}, Slice{Axis::Y, 1e-3}}) {
         const Field f1 = *compute_field(unit, slice_at_scale(unit, method, slice.normal, slice.position, 1.0));
         for (double s : decade_scales()) expect_12r_field_scales(unit, f1, s, method, slice.normal, slice.position);
@@ -534,5 +534,59 @@ TEST(NumericalSafety, TargetsWithinTheSingularBandAreSingularForEveryMethod) {
       check(m, (reach - d) * dir, "outer sphere");
       if (m.L1 != m.L2) check(m, (m.inner_reach() + d) * dir, "inner sphere");
     }
+  }
+}
+
+// ---- Item: the paper method meets its tolerance ------------------------------------
+
+TEST(NumericalSafety, PaperMethodMeetsItsToleranceAtTheIsotropicPointAndGenerally) {
+  // The README's example: (0, 15, 15) with L1 = L2 = 15, branch 0 is
+  // (0, pi/2, 0), where Eq. 16's cos^2(gamma) is stationary; it was
+  // not-converged with residual 7.45e-9 (L1 + L2).
+  const parallel12r::Model iso = model_12r(15.0, 15.0);
+  const auto r = parallel12r::inverse(iso, Vector3d(0, 15, 15), IkMethod::Paper);
+  ASSERT_EQ(r.status, Status::Ok);
+  ASSERT_EQ(r.solutions.size(), 2u);
+  for (const auto& s : r.solutions) {
+    EXPECT_EQ(s.status, Status::Ok) << "branch " << s.branch;
+    EXPECT_LE(s.residual, 1e-10 * iso.reach());
+    EXPECT_LE(s.iterations, 1);  // the polishing Newton step, counted
+  }
+  EXPECT_LE((r.solutions[0].q_actuated - parallel12r::home_pose(0)).norm(), 1e-12);
+
+  // Generally: uniform targets, and targets whose beta or gamma sits at or
+  // within 1e-9 rad of 0, pi/2 or pi (where the squared equations lose
+  // half the digits): every branch planar solves, paper solves too, within
+  // the tolerance.
+  std::mt19937_64 rng(61);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const double stationary[] = {0.0, kPi / 2, kPi, -kPi / 2};
+  for (const auto& m : {model_12r(1.0, 1.0), model_12r(1.0, 0.7), model_12r(0.3, 1.0)}) {
+    int compared = 0;
+    for (int i = 0; i < 20000; ++i) {
+      Vector3d p;
+      if (i % 2 == 0) {
+        p = m.reach() * Vector3d(u(rng), u(rng), u(rng));
+      } else {
+        Vector3d q(0.5 * kPi * u(rng), kPi * u(rng), kPi * u(rng));
+        const int which = 1 + (i / 2) % 2;
+        q(which) = stationary[(i / 4) % 4] + (i % 8 == 1 ? 0.0 : 1e-9 * u(rng));
+        p = parallel12r::forward(m, q);
+      }
+      const auto planar = parallel12r::inverse(m, p, IkMethod::Planar);
+      if (planar.status != Status::Ok) continue;
+      const auto paper = parallel12r::inverse(m, p, IkMethod::Paper);
+      for (const auto& ps : planar.solutions) {
+        if (ps.status != Status::Ok) continue;
+        ++compared;
+        const parallel12r::IkSolution* match = nullptr;
+        for (const auto& s : paper.solutions)
+          if (s.branch == ps.branch) match = &s;
+        ASSERT_NE(match, nullptr) << p.transpose();
+        EXPECT_EQ(match->status, Status::Ok) << p.transpose() << " residual " << match->residual;
+        EXPECT_LE(match->residual, 1e-10 * m.reach());
+      }
+    }
+    EXPECT_GT(compared, 15000);
   }
 }
