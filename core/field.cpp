@@ -41,6 +41,16 @@ double limits_margin(const Model& m, const Vector3d& q) {
   return margin * m.reach();
 }
 
+// A solved sample whose c(J) is beyond what double resolves
+// (parallel12r::kMaxTrustedCondition): singular, as the IK reports targets
+// within its singular band, never a wrong finite c(J).
+void mark_singular(FieldSample& s) {
+  s.status = std::uint8_t(Status::Singular);
+  s.reachable = 0;
+  s.cond = kInf;
+  s.method_used = Field::kNoMethod;
+}
+
 FieldSample unreachable_sample(double margin, Status status) {
   FieldSample s;
   s.cond = kInf;
@@ -119,7 +129,12 @@ FieldSample sample_planar_unit(const Model& m, const Vector3d& p, int branch, bo
   out.status = std::uint8_t(limit_margin < 0 ? Status::OutOfLimits : Status::Ok);
   out.reachable = limit_margin >= 0;
   out.method_used = std::uint8_t(parallel12r::IkMethod::Planar);
-  out.cond = out.reachable ? float(condition_number_fast(J)) : kInf;
+  out.cond = kInf;
+  if (out.reachable) {
+    const double cond = condition_number_fast(J);
+    if (cond <= parallel12r::kMaxTrustedCondition) out.cond = float(cond);
+    else mark_singular(out);
+  }
   return out;
 }
 
@@ -140,7 +155,12 @@ FieldSample sample_general(const Model& m, const Vector3d& p, const FieldRequest
   if (s->status == Status::Ok || s->status == Status::OutOfLimits) out.method_used = std::uint8_t(s->method);
   out.reach_margin = float(check_limits ? std::min(margin, limits_margin(m, s->q_actuated)) : margin);
   out.reachable = s->status == Status::Ok;
-  out.cond = out.reachable ? float(parallel12r::conditioning(m, s->q_actuated).cond) : kInf;
+  out.cond = kInf;
+  if (out.reachable) {
+    const parallel12r::Conditioning c = parallel12r::conditioning(m, s->q_actuated);
+    if (c.status == Status::Ok) out.cond = float(c.cond);
+    else mark_singular(out);
+  }
   return out;
 }
 

@@ -531,7 +531,10 @@ SingularityReport nearest_singularity(const Model& m, const Vector3d& q) {
 
 Conditioning conditioning(const Model& m, const Vector3d& q) {
   const Matrix3d J = jacobian(m, q);
-  return {condition_number_closed_form(J), J.determinant()};
+  const double cond = condition_number_closed_form(J);
+  if (!(cond <= kMaxTrustedCondition))
+    return {std::numeric_limits<double>::infinity(), 0.0, Status::Singular};
+  return {cond, J.determinant(), Status::Ok};
 }
 
 // ---- Skeleton -------------------------------------------------------------

@@ -155,9 +155,21 @@ struct SingularityReport {
 };
 SingularityReport nearest_singularity(const Model& model, const Eigen::Vector3d& q_actuated);
 
+// c(J) of a configuration, computed in double, has relative error up to
+// ~90 u c: J's entries are rounded, and near the actuator plane the z-axis
+// factor of det J cancels (measured against mpmath and long double, see
+// docs/mechanisms/parallel-12r.md). Up to this c it is within 1e-6 (5e-7
+// measured); beyond it double cannot resolve c(J) (at c ~ 1e26 it came out
+// half the true value, det J with the wrong sign), and the configuration is
+// reported singular.
+inline constexpr double kMaxTrustedCondition = 5e7;
+
 struct Conditioning {
-  double cond = 0.0;  // sigma_max / sigma_min, +inf when singular
-  double det = 0.0;   // det J
+  double cond = 0.0;  // sigma_max / sigma_min; +inf when singular
+  double det = 0.0;   // det J (length unit^3 / rad^3); 0 when singular
+  // Singular where J is singular to working precision: c(J) above
+  // kMaxTrustedCondition (cond = +inf, det = 0).
+  Status status = Status::Ok;
 };
 Conditioning conditioning(const Model& model, const Eigen::Vector3d& q_actuated);
 

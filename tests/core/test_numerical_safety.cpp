@@ -590,3 +590,127 @@ TEST(NumericalSafety, PaperMethodMeetsItsToleranceAtTheIsotropicPointAndGenerall
     EXPECT_GT(compared, 15000);
   }
 }
+
+// ---- Item: the range where the 12R c(J) is trustworthy ----------------------------
+
+namespace {
+
+// J of Eqs. 11-13 in long double from a configuration taken as exact.
+Eigen::Matrix<LD, 3, 3> jacobian_12r_ld(LD L1, LD L2, LD a, LD b, LD g) {
+  const LD sa = std::sin(a), ca = std::cos(a);
+  auto columns = [&](LD t, V3L& du_da, V3L& du_dt) {
+    const LD st = std::sin(t), ct = std::cos(t), d2 = ca * ca + sa * sa * ct * ct, d3 = d2 * std::sqrt(d2);
+    du_da = V3L(-ca * ct, -sa * ct * ct * ct, -sa * st * ct * ct) / d3;
+    du_dt = ca * V3L(sa * ca * st, -ca * ca * st, ct) / d3;
+  };
+  V3L b_da, b_dt, g_da, g_dt;
+  columns(b, b_da, b_dt);
+  columns(g, g_da, g_dt);
+  Eigen::Matrix<LD, 3, 3> J;
+  J.col(0) = L1 * b_da + L2 * g_da;
+  J.col(1) = L1 * b_dt;
+  J.col(2) = L2 * g_dt;
+  return J;
+}
+
+// Configurations approaching every singular set: the actuator plane
+// (alpha -> +-pi/2, also with beta -> +-pi/2), stretched (gamma -> beta),
+// folded (gamma -> beta - pi), both at once, and the z axis.
+Vector3d configuration_near_singular_sets(const parallel12r::Model& m, int mode, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(0, 1);
+  for (;;) {
+    double a = -1.5 + 3.0 * u(rng), b = -kPi + 2 * kPi * u(rng), g = -kPi + 2 * kPi * u(rng);
+    const double s = u(rng) < 0.5 ? -1 : 1;
+    const double e = std::pow(10.0, -10.0 * u(rng));
+    switch (mode % 6) {
+      case 0: a = s * (kPi / 2 - e); break;
+      case 1: a = s * (kPi / 2 - e), b = (u(rng) < 0.5 ? -1 : 1) * (kPi / 2 - std::pow(10.0, -9.0 * u(rng))); break;
+      case 2: g = b - s * e; break;
+      case 3: g = b - kPi + s * e; break;
+      case 4: a = s * (kPi / 2 - std::pow(10.0, -6.0 * u(rng))), g = b - s * std::pow(10.0, -6.0 * u(rng)); break;
+      default: {  // L1 cb/db + L2 cg/dg = 0
+        const double sa = std::sin(a), ca = std::cos(a), cb = std::cos(b);
+        const double t = -(m.L1 / m.L2) * cb / std::sqrt(ca * ca + sa * sa * cb * cb);
+        if (std::abs(t) >= 1) continue;
+        const double c2 = std::min(1.0, t * t * ca * ca / (1 - t * t * sa * sa));
+        g = std::acos((t >= 0 ? 1 : -1) * std::sqrt(c2)) * (u(rng) < 0.5 ? 1 : -1) + s * e;
+      }
+    }
+    return Vector3d(a, b, g);
+  }
+}
+
+}  // namespace
+
+TEST(NumericalSafety, Parallel12rCondIsTrustedUpToTheThresholdAndSingularBeyond) {
+  // Against c(J) and det J of the same configuration in long double: below
+  // kMaxTrustedCondition (with a 1.5x margin for the reference and the
+  // threshold test) conditioning() is ok and within 1e-6; above it, singular
+  // with cond = +inf and det = 0, never a wrong finite number. (Long double
+  // resolves c to ~90 u_ld c, 1e-5 at c = 1e14, the top of the check.)
+  const double c_max = parallel12r::kMaxTrustedCondition;
+  int below_near = 0, above_near = 0;
+  double worst = 0;
+  std::mt19937_64 rng(71);
+  for (const auto& m : {model_12r(1.0, 1.0), model_12r(1.0, 0.7), model_12r(0.3, 1.0)})
+    for (int i = 0; i < 30000; ++i) {
+      const Vector3d q = configuration_near_singular_sets(m, i, rng);
+      const Eigen::Matrix<LD, 3, 3> J_ref = jacobian_12r_ld(m.L1, m.L2, q.x(), q.y(), q.z());
+      const Eigen::JacobiSVD<Eigen::Matrix<LD, 3, 3>> svd(J_ref);
+      const double c_ref = double(svd.singularValues()(0) / svd.singularValues()(2));
+      const auto c = parallel12r::conditioning(m, q);
+      if (c_ref <= c_max / 1.5) {
+        ASSERT_EQ(c.status, Status::Ok) << "c " << c_ref;
+        const double e = std::abs(c.cond - c_ref) / c_ref;
+        worst = std::max(worst, e);
+        EXPECT_LE(e, 1e-6) << "c " << c_ref << " q " << q.transpose();
+        const double det_ref = double(J_ref.determinant());
+        EXPECT_LE(std::abs(c.det - det_ref), 1e-6 * std::abs(det_ref)) << "c " << c_ref;
+        below_near += c_ref > c_max / 10;
+      } else if (c_ref >= 1.5 * c_max && c_ref <= 1e14) {
+        EXPECT_EQ(c.status, Status::Singular) << "c " << c_ref;
+        EXPECT_TRUE(std::isinf(c.cond) && c.det == 0.0) << "c " << c_ref;
+        above_near += c_ref < 10 * c_max;
+      }
+      if (!std::isfinite(c.cond)) {
+        EXPECT_EQ(c.status, Status::Singular);
+      }
+    }
+  std::printf("12R c(J) below the threshold: worst relative error %.2g; %d samples within 10x below, %d within 10x above\n",
+              worst, below_near, above_near);
+  EXPECT_GT(below_near, 200);
+  EXPECT_GT(above_near, 200);
+  // At alpha = pi/2 - 1e-9, beta, gamma on opposite sides of +-pi/2
+  // (c ~ 1e26 by mpmath) double gave c half the true value and det J -2x:
+  // singular now.
+  const auto far = parallel12r::conditioning(model_12r(1.0, 1.0), Vector3d(kPi / 2 - 1e-9, -2.8, 1.05));
+  EXPECT_EQ(far.status, Status::Singular);
+  EXPECT_TRUE(std::isinf(far.cond));
+}
+
+TEST(NumericalSafety, Parallel12rFieldsReportUntrustedCondAsSingular) {
+  // Targets of configurations near the singular sets: a field sample is
+  // never ok with c(J) above the threshold; above it the sample is singular
+  // (cond +inf, not reachable, no method recorded).
+  std::mt19937_64 rng(72);
+  int singular = 0, ok = 0;
+  for (const auto& m : {model_12r(1.0, 1.0), model_12r(1.0, 0.7)})
+    for (IkMethod method : {IkMethod::Planar, IkMethod::Fallback, IkMethod::Paper})
+      for (int i = 0; i < 3000; ++i) {
+        const Vector3d q = configuration_near_singular_sets(m, i, rng);
+        FieldRequest req;
+        req.method = method;
+        req.branch = parallel12r::branch_of(q);
+        const FieldSample s = sample_point(m, parallel12r::forward(m, q), req);
+        if (s.status == std::uint8_t(Status::Ok)) {
+          ++ok;
+          EXPECT_LE(s.cond, parallel12r::kMaxTrustedCondition);
+          EXPECT_TRUE(s.reachable);
+        } else if (s.status == std::uint8_t(Status::Singular)) {
+          ++singular;
+          EXPECT_TRUE(std::isinf(s.cond) && !s.reachable && s.method_used == Field::kNoMethod);
+        }
+      }
+  EXPECT_GT(ok, 1000);
+  EXPECT_GT(singular, 1000);
+}
