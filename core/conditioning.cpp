@@ -23,9 +23,22 @@ double largest_eigenvalue(const Eigen::Matrix3d& A) {
   return q + 2.0 * p * std::cos(std::acos(r) / 3.0);
 }
 
+// J scaled by a power of two (exact) so its largest entry is in [1, 2):
+// c(J) does not depend on scale, and the products below (up to the sixth
+// power of J's entries) then neither overflow nor underflow. False for a
+// zero or non-finite J, which has no finite condition number.
+bool scale_to_unit(const Eigen::Matrix3d& J, Eigen::Matrix3d& unit) {
+  const double largest = J.cwiseAbs().maxCoeff();
+  if (!(largest > 0.0) || !std::isfinite(largest)) return false;
+  unit = J * std::ldexp(1.0, -std::ilogb(largest));
+  return true;
+}
+
 }  // namespace
 
-double condition_number_closed_form(const Eigen::Matrix3d& J) {
+double condition_number_closed_form(const Eigen::Matrix3d& J_any_scale) {
+  Eigen::Matrix3d J;
+  if (!scale_to_unit(J_any_scale, J)) return std::numeric_limits<double>::infinity();
   Eigen::Matrix3d K;
   K.col(0) = J.col(1).cross(J.col(2));
   K.col(1) = J.col(2).cross(J.col(0));
@@ -37,7 +50,9 @@ double condition_number_closed_form(const Eigen::Matrix3d& J) {
   return std::sqrt(s_max2 * s_max_mid2) / std::abs(det);
 }
 
-double condition_number_fast(const Eigen::Matrix3d& J) {
+double condition_number_fast(const Eigen::Matrix3d& J_any_scale) {
+  Eigen::Matrix3d J;
+  if (!scale_to_unit(J_any_scale, J)) return std::numeric_limits<double>::infinity();
   const Eigen::Vector3d k0 = J.col(1).cross(J.col(2)), k1 = J.col(2).cross(J.col(0)), k2 = J.col(0).cross(J.col(1));
   const double det = J.col(0).dot(k0);
   if (det == 0.0 || !std::isfinite(det)) return std::numeric_limits<double>::infinity();
@@ -48,7 +63,26 @@ double condition_number_fast(const Eigen::Matrix3d& J) {
   return std::sqrt(l1 * l2 / product);  // lambda_1 / lambda_3 with lambda_3 = product / lambda_2
 }
 
-double condition_number_svd(const Eigen::Matrix3d& J) {
+double condition_number_lower_triangular(const Eigen::Matrix3d& L) {
+  // L = [a 0 0; b c 0; d e f]; its cofactor matrix is [cf -bf be-cd; 0 af -ae; 0 0 ac].
+  const double a = L(0, 0), b = L(1, 0), c = L(1, 1), d = L(2, 0), e = L(2, 1), f = L(2, 2);
+  const double det = a * c * f;
+  if (det == 0.0 || !std::isfinite(det)) return std::numeric_limits<double>::infinity();
+  Eigen::Matrix3d S;  // L L^T
+  S << a * a, a * b, a * d,  //
+      a * b, b * b + c * c, b * d + c * e,  //
+      a * d, b * d + c * e, d * d + e * e + f * f;
+  const double k02 = b * e - c * d;
+  Eigen::Matrix3d T;  // K^T K for the cofactor matrix K above
+  T << c * c * f * f, -b * c * f * f, c * f * k02,  //
+      -b * c * f * f, b * b * f * f + a * a * f * f, -b * f * k02 - a * a * e * f,  //
+      c * f * k02, -b * f * k02 - a * a * e * f, k02 * k02 + a * a * e * e + a * a * c * c;
+  return std::sqrt(largest_eigenvalue(S) * largest_eigenvalue(T)) / std::abs(det);
+}
+
+double condition_number_svd(const Eigen::Matrix3d& J_any_scale) {
+  Eigen::Matrix3d J;
+  if (!scale_to_unit(J_any_scale, J)) return std::numeric_limits<double>::infinity();
   const Eigen::Vector3d s = J.jacobiSvd().singularValues();
   if (s(2) == 0.0) return std::numeric_limits<double>::infinity();
   return s(0) / s(2);

@@ -1,4 +1,7 @@
 // Condition number of a 3x3 Jacobian, c(J) = sigma_max / sigma_min.
+// Every form scales J by a power of two first (exact), so the result does not
+// depend on J's scale and holds for any finite J; +inf for a singular, zero or
+// non-finite J.
 #pragma once
 
 #include <Eigen/Core>
@@ -20,6 +23,15 @@ double condition_number_closed_form(const Eigen::Matrix3d& J);
 // double root), else as the closed form. The field engine uses it: fields
 // store c(J) as float (6e-8 relative).
 double condition_number_fast(const Eigen::Matrix3d& J);
+
+// The closed form for a lower-triangular L (entries above the diagonal are
+// ignored): det L is the product of the diagonal and the cofactor matrix is
+// triangular too, so no determinant is formed by cancellation and the
+// relative error stays ~u c (plus ~sqrt(u) where the top two singular values
+// coincide, from the trigonometric root). The reduction of a wide block B =
+// L Q (orthonormal Q) ends here. Unlike the forms above it does not rescale:
+// L's entries must be within ~1e+-70 of 1.
+double condition_number_lower_triangular(const Eigen::Matrix3d& L);
 
 // Reference: singular values from Eigen's Jacobi SVD.
 double condition_number_svd(const Eigen::Matrix3d& J);

@@ -41,6 +41,16 @@ double limits_margin(const Model& m, const Vector3d& q) {
   return margin * m.reach();
 }
 
+// A solved sample whose c(J) is beyond what double resolves
+// (parallel12r::kMaxTrustedCondition): singular, as the IK reports targets
+// within its singular band, never a wrong finite c(J).
+void mark_singular(FieldSample& s) {
+  s.status = std::uint8_t(Status::Singular);
+  s.reachable = 0;
+  s.cond = kInf;
+  s.method_used = Field::kNoMethod;
+}
+
 FieldSample unreachable_sample(double margin, Status status) {
   FieldSample s;
   s.cond = kInf;
@@ -50,10 +60,35 @@ FieldSample unreachable_sample(double margin, Status status) {
   return s;
 }
 
+// The model with lengths divided by a power of two near its reach (exact):
+// angles and c(J) do not depend on scale, and in these units no product in
+// the planar closed form (up to length^4) can overflow or underflow.
+struct UnitModel {
+  Model unit;
+  int exponent = 0;  // lengths of the model = unit lengths * 2^exponent
+};
+UnitModel unit_model(const Model& m) {
+  UnitModel u{m, std::ilogb(m.reach())};
+  u.unit.L1 = std::ldexp(m.L1, -u.exponent);
+  u.unit.L2 = std::ldexp(m.L2, -u.exponent);
+  return u;
+}
+
+FieldSample sample_planar_unit(const Model& m, const Vector3d& p, int branch, bool check_limits);
+
+// The planar sample in the model's units: solved in unit lengths, margin and
+// residual scaled back.
+FieldSample sample_planar(const UnitModel& u, const Vector3d& p, int branch, bool check_limits) {
+  FieldSample s = sample_planar_unit(u.unit, p * std::ldexp(1.0, -u.exponent), branch, check_limits);
+  s.reach_margin = float(std::ldexp(double(s.reach_margin), u.exponent));
+  s.residual = float(std::ldexp(double(s.residual), u.exponent));
+  return s;
+}
+
 // The planar closed form written without trigonometry: cos/sin of alpha,
 // beta, gamma come from the target by algebra, the Jacobian from them, and
 // c(J) from the closed form. Same equations as parallel12r::inverse(Planar).
-FieldSample sample_planar(const Model& m, const Vector3d& p, int branch, bool check_limits) {
+FieldSample sample_planar_unit(const Model& m, const Vector3d& p, int branch, bool check_limits) {
   const double x = p.x(), y = p.y(), z = p.z();
   const double rho2 = x * x + y * y, R2 = rho2 + z * z, R = std::sqrt(R2), rho = std::sqrt(rho2);
   const double margin = geometric_margin(m, R);
@@ -94,7 +129,12 @@ FieldSample sample_planar(const Model& m, const Vector3d& p, int branch, bool ch
   out.status = std::uint8_t(limit_margin < 0 ? Status::OutOfLimits : Status::Ok);
   out.reachable = limit_margin >= 0;
   out.method_used = std::uint8_t(parallel12r::IkMethod::Planar);
-  out.cond = out.reachable ? float(condition_number_fast(J)) : kInf;
+  out.cond = kInf;
+  if (out.reachable) {
+    const double cond = condition_number_fast(J);
+    if (cond <= parallel12r::kMaxTrustedCondition) out.cond = float(cond);
+    else mark_singular(out);
+  }
   return out;
 }
 
@@ -115,7 +155,12 @@ FieldSample sample_general(const Model& m, const Vector3d& p, const FieldRequest
   if (s->status == Status::Ok || s->status == Status::OutOfLimits) out.method_used = std::uint8_t(s->method);
   out.reach_margin = float(check_limits ? std::min(margin, limits_margin(m, s->q_actuated)) : margin);
   out.reachable = s->status == Status::Ok;
-  out.cond = out.reachable ? float(parallel12r::conditioning(m, s->q_actuated).cond) : kInf;
+  out.cond = kInf;
+  if (out.reachable) {
+    const parallel12r::Conditioning c = parallel12r::conditioning(m, s->q_actuated);
+    if (c.status == Status::Ok) out.cond = float(c.cond);
+    else mark_singular(out);
+  }
   return out;
 }
 
@@ -199,7 +244,7 @@ Grid Grid::box(const Vector3d& min, const Vector3d& max, std::array<int, 3> dims
 
 FieldSample sample_point(const Model& m, const Vector3d& p, const FieldRequest& req) {
   const bool check_limits = !full_ranges(m);
-  return req.method == parallel12r::IkMethod::Planar ? sample_planar(m, p, req.branch, check_limits)
+  return req.method == parallel12r::IkMethod::Planar ? sample_planar(unit_model(m), p, req.branch, check_limits)
                                                      : sample_general(m, p, req, check_limits);
 }
 
@@ -216,8 +261,9 @@ std::optional<Field> compute_field(const Model& m, const FieldRequest& req, cons
 
   const bool check_limits = !full_ranges(m);
   const bool planar = req.method == parallel12r::IkMethod::Planar;
+  const UnitModel unit = unit_model(m);
   const bool complete = detail::fill_field(f, false, req.threads, progress, [&](const Vector3d& p) {
-    return planar ? sample_planar(m, p, req.branch, check_limits) : sample_general(m, p, req, check_limits);
+    return planar ? sample_planar(unit, p, req.branch, check_limits) : sample_general(m, p, req, check_limits);
   });
   if (!complete) return std::nullopt;
   return f;

@@ -82,6 +82,10 @@ void offer(const Model& m, const Vector3d& target, const Vector3d& q, int iterat
   s.iterations = iterations;
   if (!std::isfinite(s.residual)) return;
   if (s.residual > tolerance * m.reach()) {
+    // Within the singular band a candidate that misses the tolerance is no
+    // answer: drop it, and the result says singular (collect), never a wrong
+    // finite configuration.
+    if (geometric_status == Status::Singular) return;
     s.status = Status::NotConverged;
   } else if (geometric_status != Status::Ok) {
     s.status = geometric_status;
@@ -178,10 +182,18 @@ IkResult inverse_paper(const Model& m, const Vector3d& p, const TargetGeometry& 
   const double hh = (z * z - W * W) * y * y;
   const double P = f * f + gg * gg, Q = 2.0 * f * hh - gg * gg, R = hh * hh;
   if (P == 0.0) return collect(best, Status::Singular);
-  const double disc = std::max(0.0, Q * Q - 4.0 * P * R);
+  // Q^2 - 4PR factors (with f + h = rho^2 (rho^2 - W^2)) into
+  // 16 rho^6 y^4 z^2 W^2 (|D|^2 - W^2): no cancellation, where Q^2 - 4PR
+  // cancels terms of length^16 down to rounding as the roots meet.
+  const double radius = p.norm(), rho = std::sqrt(rho2), abs_W = std::abs(W);
+  const double sqrt_disc = 4.0 * rho2 * rho * y * y * std::abs(z * W) *
+                           std::sqrt(std::max(0.0, (radius - abs_W) * (radius + abs_W)));
+  // The roots without cancellation: q / P and R / q.
+  const double q_root = -0.5 * (Q + std::copysign(sqrt_disc, Q));
+  const double roots[2] = {q_root / P, q_root != 0.0 ? R / q_root : 0.0};
   const double sign_y = y > 0.0 ? 1.0 : -1.0;
-  for (double root_sign : {1.0, -1.0}) {
-    const double cos2_beta = std::clamp((-Q + root_sign * std::sqrt(disc)) / (2.0 * P), 0.0, 1.0);
+  for (double root : roots) {
+    const double cos2_beta = std::clamp(root, 0.0, 1.0);
     const double b0 = std::acos(std::sqrt(cos2_beta));
     for (double beta : {b0, -b0, kPi - b0, b0 - kPi}) {
       // Eq. 16 with the sign corrected and V = sign(y) - ... for y < 0.
@@ -194,6 +206,17 @@ IkResult inverse_paper(const Model& m, const Vector3d& p, const TargetGeometry& 
       for (double gamma : {g0, -g0, kPi - g0, g0 - kPi})
         offer(m, p, Vector3d(alpha, beta, gamma), 0, tolerance, g.status, best, IkMethod::Paper);
     }
+  }
+  // One Newton step on Eqs. 11-13 from each branch's best candidate, part of
+  // the method: Eqs. 15 and 16 give cos^2 of the angles, which is stationary
+  // at 0, pi/2 and pi, so a rounding error e there becomes sqrt(e) in the
+  // angle (7e-9 (L1 + L2) at the isotropic point (0, L, L)). The step squares
+  // that error away; a solution it improved has iterations = 1.
+  for (int branch = 0; branch < 2; ++branch) {
+    if (!best[branch]) continue;
+    const Vector3d q = best[branch]->q_actuated;
+    const Vector3d step = jacobian(m, q).partialPivLu().solve(p - forward(m, q));
+    if (step.allFinite()) offer(m, p, q + step, 1, tolerance, g.status, best, IkMethod::Paper);
   }
   return collect(best, g.status);
 }
@@ -281,7 +304,7 @@ IkResult inverse_iterative(const Model& m, const Vector3d& p, const TargetGeomet
     singular = singular || out.singular;
     offer(m, p, out.q, out.iterations, options.tolerance, g.status, best, method);
   }
-  return collect(best, singular ? Status::Singular : Status::NotConverged);
+  return collect(best, singular || g.status == Status::Singular ? Status::Singular : Status::NotConverged);
 }
 
 // ---- Fallback policy --------------------------------------------------------
@@ -335,9 +358,10 @@ std::vector<Vector3d> arc(const Vector3d& from, const Vector3d& to, double radiu
 
 void Model::validate() const {
   auto check_length = [](const char* name, double v) {
-    if (!std::isfinite(v) || v <= 0.0) {
+    if (!(v >= kMinLength && v <= kMaxLength)) {
       std::ostringstream msg;
-      msg << "parallel-12r: " << name << " must be a positive finite length, got " << v;
+      msg << "parallel-12r: " << name << " must be a length in [" << kMinLength << ", " << kMaxLength
+          << "], got " << v;
       throw std::invalid_argument(msg.str());
     }
   };
@@ -456,15 +480,26 @@ IkResult inverse(const Model& m, const Vector3d& p, IkMethod method, const IkOpt
   require_finite(p, "IK target");
   if (!(options.tolerance > 0.0) || options.max_iterations < 0)
     throw std::invalid_argument("IK options: tolerance must be > 0 and max_iterations >= 0");
-  const TargetGeometry g = classify(m, p);
+  // The angles do not depend on scale: solve with lengths and target divided
+  // by a power of two near the reach (exact), so that no intermediate (the
+  // paper's quartic has terms of length^16) overflows or underflows, and
+  // scale the residuals back.
+  const int exponent = std::ilogb(m.reach());
+  Model unit = m;
+  unit.L1 = std::ldexp(m.L1, -exponent);
+  unit.L2 = std::ldexp(m.L2, -exponent);
+  const Vector3d p_unit = p * std::ldexp(1.0, -exponent);
+  const TargetGeometry g = classify(unit, p_unit);
+  IkResult result;
   switch (method) {
-    case IkMethod::Paper: return inverse_paper(m, p, g, options.tolerance);
-    case IkMethod::Planar: return inverse_planar(m, p, g, options.tolerance);
+    case IkMethod::Paper: result = inverse_paper(unit, p_unit, g, options.tolerance); break;
+    case IkMethod::Planar: result = inverse_planar(unit, p_unit, g, options.tolerance); break;
     case IkMethod::Newton:
-    case IkMethod::DampedLeastSquares: return inverse_iterative(m, p, g, method, options);
-    case IkMethod::Fallback: return inverse_fallback(m, p, g, options);
+    case IkMethod::DampedLeastSquares: result = inverse_iterative(unit, p_unit, g, method, options); break;
+    case IkMethod::Fallback: result = inverse_fallback(unit, p_unit, g, options); break;
   }
-  return {};
+  for (IkSolution& s : result.solutions) s.residual = std::ldexp(s.residual, exponent);
+  return result;
 }
 
 // ---- Conditioning and singularities ---------------------------------------
@@ -496,7 +531,10 @@ SingularityReport nearest_singularity(const Model& m, const Vector3d& q) {
 
 Conditioning conditioning(const Model& m, const Vector3d& q) {
   const Matrix3d J = jacobian(m, q);
-  return {condition_number_closed_form(J), J.determinant()};
+  const double cond = condition_number_closed_form(J);
+  if (!(cond <= kMaxTrustedCondition))
+    return {std::numeric_limits<double>::infinity(), 0.0, Status::Singular};
+  return {cond, J.determinant(), Status::Ok};
 }
 
 // ---- Skeleton -------------------------------------------------------------

@@ -35,6 +35,13 @@ struct Interval {
   bool contains(double v) const { return v >= lo && v <= hi; }
 };
 
+// Accepted link lengths, in the model's length unit. The kinematics work in
+// lengths divided by a power of two near the reach, so results do not depend
+// on scale; the bounds come from the fields, which store lengths (reach
+// margin, residual) as float (normal range 1.2e-38 .. 3.4e38).
+inline constexpr double kMinLength = 1e-30;
+inline constexpr double kMaxLength = 1e30;
+
 struct Model {
   double L1 = 1.0;  // link along u(alpha, beta), length unit
   double L2 = 1.0;  // link along u(alpha, gamma), length unit
@@ -46,8 +53,8 @@ struct Model {
 
   double reach() const { return L1 + L2; }
   double inner_reach() const { return L1 > L2 ? L1 - L2 : L2 - L1; }
-  // Throws std::invalid_argument for non-positive or non-finite lengths or
-  // empty ranges.
+  // Throws std::invalid_argument for a length outside [kMinLength,
+  // kMaxLength] (or not finite) or an empty range.
   void validate() const;
 
   // Builds a model from named parameters ("L1", "L2") and ranges
@@ -79,7 +86,7 @@ double jacobian_determinant_eq18(const Model& model, const Eigen::Vector3d& q_ac
 // ---- Inverse kinematics ---------------------------------------------------
 
 enum class IkMethod {
-  Paper,               // Eqs. 14-16, corrected
+  Paper,               // Eqs. 14-16, corrected, then one Newton step (docs)
   Planar,              // planar two-link reduction in the plane normal to n(alpha)
   Newton,              // Newton-Raphson with backtracking, from a seed
   DampedLeastSquares,  // Levenberg-Marquardt damping, from a seed
@@ -104,7 +111,7 @@ struct IkSolution {
   int branch = 0;
   Status status = Status::Ok;
   double residual = 0.0;  // |forward(q) - target|, length unit
-  int iterations = 0;     // 0 for closed forms
+  int iterations = 0;     // Newton steps: 0 for planar, 0 or 1 for paper
   // The method that produced this solution: the requested one, except under
   // Fallback, where it is Planar or Newton (seeded from the planar candidate).
   IkMethod method = IkMethod::Planar;
@@ -124,7 +131,9 @@ int branch_of(const Eigen::Vector3d& q_actuated);
 // (0, pi/2, 0), branch 1 is (0, 0, pi/2).
 Eigen::Vector3d home_pose(int branch);
 
-// Relative distance below which a target counts as on a singular set.
+// Relative distance below which a target counts as on a singular set. Every
+// method reports such a target `singular`; a solution is given there only if
+// it meets the tolerance (with status Singular).
 inline constexpr double kSingularTolerance = 1e-12;
 
 // ---- Conditioning and singularities ---------------------------------------
@@ -146,9 +155,21 @@ struct SingularityReport {
 };
 SingularityReport nearest_singularity(const Model& model, const Eigen::Vector3d& q_actuated);
 
+// c(J) of a configuration, computed in double, has relative error up to
+// ~90 u c: J's entries are rounded, and near the actuator plane the z-axis
+// factor of det J cancels (measured against mpmath and long double, see
+// docs/mechanisms/parallel-12r.md). Up to this c it is within 1e-6 (5e-7
+// measured); beyond it double cannot resolve c(J) (at c ~ 1e26 it came out
+// half the true value, det J with the wrong sign), and the configuration is
+// reported singular.
+inline constexpr double kMaxTrustedCondition = 5e7;
+
 struct Conditioning {
-  double cond = 0.0;  // sigma_max / sigma_min, +inf when singular
-  double det = 0.0;   // det J
+  double cond = 0.0;  // sigma_max / sigma_min; +inf when singular
+  double det = 0.0;   // det J (length unit^3 / rad^3); 0 when singular
+  // Singular where J is singular to working precision: c(J) above
+  // kMaxTrustedCondition (cond = +inf, det = 0).
+  Status status = Status::Ok;
 };
 Conditioning conditioning(const Model& model, const Eigen::Vector3d& q_actuated);
 

@@ -10,6 +10,8 @@
 #include <string_view>
 #include <stdexcept>
 
+#include "core/conditioning.h"
+
 namespace linkscape::pathos2 {
 namespace {
 
@@ -53,6 +55,22 @@ void require_positive(double v, std::string_view what) {
   }
 }
 
+void require_length(double v, std::string_view what) {
+  if (!(v >= kMinLength && v <= kMaxLength)) {
+    std::ostringstream msg;
+    msg << "pathos2: " << what << " must be a length in [" << kMinLength << ", " << kMaxLength << "] cm, got " << v;
+    throw std::invalid_argument(msg.str());
+  }
+}
+
+void require_offset(double v, std::string_view what) {
+  if (!(std::abs(v) <= kMaxLength)) {
+    std::ostringstream msg;
+    msg << "pathos2: " << what << " must be in [" << -kMaxLength << ", " << kMaxLength << "] cm, got " << v;
+    throw std::invalid_argument(msg.str());
+  }
+}
+
 void require_limit(double v, std::string_view what) {
   require_finite(v, what);
   if (v <= 0.0 || v > kPi + 1e-12) {
@@ -79,18 +97,18 @@ void require_pose(const Pose& pose) {
 // ---- Model ------------------------------------------------------------------
 
 void Model::validate() const {
-  require_positive(l0, "l0");
-  require_positive(lb, "lb");
-  require_positive(l1, "l1");
-  require_positive(l2, "l2");
-  require_positive(l3, "l3");
-  require_finite(lp, "lp");
+  require_length(l0, "l0");
+  require_length(lb, "lb");
+  require_length(l1, "l1");
+  require_length(l2, "l2");
+  require_length(l3, "l3");
+  require_offset(lp, "lp");
   if (lp < 0.0) throw std::invalid_argument("pathos2: lp must be >= 0, got " + std::to_string(lp));
-  require_positive(h0, "h0");
+  require_length(h0, "h0");
   require_finite(theta_t, "theta_t");
   require_finite(theta_g, "theta_g");
-  require_finite(db, "db");
-  require_finite(lx, "lx");
+  require_offset(db, "db");
+  require_offset(lx, "lx");
   require_finite(base_phase, "base_phase");
   require_finite(plate_phase, "plate_phase");
   if (tilt_sign != 1.0 && tilt_sign != -1.0)
@@ -353,39 +371,48 @@ PoseIkResult inverse(const Model& model, const Pose& pose) {
 
 namespace {
 
-// Largest eigenvalue of a symmetric 3x3 matrix, trigonometric form:
-// A = q I + p B, eig(B) = 2 cos(phi + 2 pi k / 3); k = 0 is the largest and
-// cos is flat there, so rounding in det(B) barely moves it (full relative
-// accuracy, unlike the smaller roots).
-double largest_eigenvalue(const Matrix3d& A) {
-  const double q = A.trace() / 3.0;
-  const double off = A(0, 1) * A(0, 1) + A(0, 2) * A(0, 2) + A(1, 2) * A(1, 2);
-  const double d0 = A(0, 0) - q, d1 = A(1, 1) - q, d2 = A(2, 2) - q;
-  const double p = std::sqrt((d0 * d0 + d1 * d1 + d2 * d2 + 2.0 * off) / 6.0);
-  if (p == 0.0) return q;
-  const Matrix3d B = (A - q * Matrix3d::Identity()) / p;
-  const double r = std::clamp(B.determinant() / 2.0, -1.0, 1.0);
-  return q + 2.0 * p * std::cos(std::acos(r) / 3.0);
+// c of a 6x3 matrix B (the transpose of a block of J) whose entries are
+// within ~1e+-70 of 1. B = Q R with Q's columns orthonormal, by modified
+// Gram-Schmidt: the triangle R is backward stable (exactly the factor of a
+// matrix within a few u |B| of B) and has B's singular values; its closed
+// form forms no determinant by cancellation, so the relative error stays
+// ~u c. (Forming B^T B squares c; a determinant of it is what used to decide
+// "singular".)
+template <class Columns>
+double three_column_condition_number(const Eigen::MatrixBase<Columns>& B) {
+  // Plain loops: Eigen's 6-vector updates were not inlined here.
+  double q0[6], q1[6], v2[6];
+  double r00 = 0.0;
+  for (int k = 0; k < 6; ++k) q0[k] = B(k, 0), r00 += q0[k] * q0[k];
+  r00 = std::sqrt(r00);
+  if (r00 == 0.0) return kInf;
+  double r01 = 0.0, r02 = 0.0;
+  for (int k = 0; k < 6; ++k) {
+    q0[k] /= r00;
+    r01 += q0[k] * B(k, 1);
+  }
+  double r11 = 0.0;
+  for (int k = 0; k < 6; ++k) q1[k] = B(k, 1) - r01 * q0[k], r11 += q1[k] * q1[k];
+  r11 = std::sqrt(r11);
+  if (r11 == 0.0) return kInf;
+  for (int k = 0; k < 6; ++k) q1[k] /= r11, r02 += q0[k] * B(k, 2);
+  double r12 = 0.0;
+  for (int k = 0; k < 6; ++k) v2[k] = B(k, 2) - r02 * q0[k], r12 += q1[k] * v2[k];
+  double r22 = 0.0;
+  for (int k = 0; k < 6; ++k) v2[k] -= r12 * q1[k], r22 += v2[k] * v2[k];
+  Matrix3d L;  // R^T
+  L << r00, 0.0, 0.0, r01, r11, 0.0, r02, r12, std::sqrt(r22);
+  return condition_number_lower_triangular(L);
 }
 
 }  // namespace
 
 double block_condition_number(const Eigen::Matrix<double, 3, 6>& block) {
-  // cond^2 = lambda_max(S) / lambda_min(S) = lambda_max(S) lambda_max(adj S) / det S
-  // for S = B B^T: only largest eigenvalues, each to full relative accuracy.
-  const Matrix3d S = block * block.transpose();
-  const double det = S.determinant();
-  const double lmax = largest_eigenvalue(S);
-  // A determinant below ~1e-13 lambda_max^3 is rounding: rank deficient.
-  if (!(det > 1e-13 * lmax * lmax * lmax) || !std::isfinite(det)) return kInf;
-  Matrix3d adj;
-  adj(0, 0) = S(1, 1) * S(2, 2) - S(1, 2) * S(1, 2);
-  adj(1, 1) = S(0, 0) * S(2, 2) - S(0, 2) * S(0, 2);
-  adj(2, 2) = S(0, 0) * S(1, 1) - S(0, 1) * S(0, 1);
-  adj(0, 1) = adj(1, 0) = S(0, 2) * S(1, 2) - S(0, 1) * S(2, 2);
-  adj(0, 2) = adj(2, 0) = S(0, 1) * S(1, 2) - S(0, 2) * S(1, 1);
-  adj(1, 2) = adj(2, 1) = S(0, 1) * S(0, 2) - S(0, 0) * S(1, 2);
-  return std::sqrt(lmax * largest_eigenvalue(adj) / det);
+  // Scaled by a power of two (exact) so the largest entry is in [1, 2).
+  const double largest = block.cwiseAbs().maxCoeff();
+  if (!(largest > 0.0) || !std::isfinite(largest)) return kInf;
+  const Eigen::Matrix<double, 6, 3> unit = block.transpose() * std::ldexp(1.0, -std::ilogb(largest));
+  return three_column_condition_number(unit);
 }
 
 JacobianResult jacobian(const Geometry& g, const Pose& pose, const PoseIkResult& ik) {
@@ -421,21 +448,33 @@ JacobianResult jacobian(const Geometry& g, const Pose& pose, const PoseIkResult&
     out.status = Status::Singular;
     return out;
   }
-  const Eigen::PartialPivLU<Matrix6d> lu(M);
-  // Hadamard bound: |det M| <= prod |row_i|; a ratio near zero is singular
-  // (compared squared: one square root fewer per row).
-  double hadamard2 = 1.0;
-  for (int i = 0; i < kLegCount; ++i) hadamard2 *= M.row(i).squaredNorm();
-  const double det = lu.determinant();
-  if (!(det * det > 1e-28 * hadamard2)) {
+  // M's translation columns scale like 1 / length, its rotation columns not
+  // at all. With the translation columns multiplied by a power of two near
+  // l2 + l3 (exact), M_unit = M diag(s I, I) is dimensionless and the tests
+  // below do not depend on the model's scale; J = diag(s I, I) M_unit^-1.
+  const double s = std::ldexp(1.0, std::ilogb(m.l2 + m.l3));
+  // Transposed: column c of (M_unit^T)^-1 is row c of J_unit, so the rows of
+  // J_unit the condition numbers need come out contiguous.
+  Matrix6d Mt_unit = M.transpose();
+  Mt_unit.topRows<3>() *= s;
+  const Eigen::PartialPivLU<Matrix6d> lu(Mt_unit);
+  // Column by column: Eigen's matrix right-hand side takes its blocked
+  // (GEMM) path, several times slower at 6x6 than six vector solves.
+  Matrix6d Jt_unit;
+  for (int c = 0; c < kLegCount; ++c) Jt_unit.col(c) = lu.solve(Vector6d::Unit(c));
+  // Condition number of M_unit in the 1-norm, exact from M_unit and its
+  // inverse: J's relative error is about u times it.
+  const double kappa =
+      Mt_unit.cwiseAbs().rowwise().sum().maxCoeff() * Jt_unit.cwiseAbs().rowwise().sum().maxCoeff();
+  if (!(kappa <= kMaxJacobianCondition)) {
     out.status = Status::Singular;
     return out;
   }
-  // Column by column: Eigen's matrix right-hand side takes its blocked
-  // (GEMM) path, several times slower at 6x6 than six vector solves.
-  for (int c = 0; c < kLegCount; ++c) out.J_twist_from_qdot.col(c) = lu.solve(Vector6d::Unit(c));
-  out.cond_p = block_condition_number(out.J_twist_from_qdot.topRows<3>());
-  out.cond_o = block_condition_number(out.J_twist_from_qdot.bottomRows<3>());
+  out.J_twist_from_qdot = Jt_unit.transpose();
+  out.J_twist_from_qdot.topRows<3>() *= s;
+  // J_unit is dimensionless and, with kappa bounded, of moderate size.
+  out.cond_p = three_column_condition_number(Jt_unit.leftCols<3>());
+  out.cond_o = three_column_condition_number(Jt_unit.rightCols<3>());
   out.status = ik.status;
   return out;
 }
@@ -606,15 +645,21 @@ FkResult forward_numeric(const Geometry& g, const Vector6d& q_active, double h0,
   Vector6d r;
   double err = max_wrapped_error(q_active, ik.q_active, r);
   out.residual = err;
+  const double length_scale = std::ldexp(1.0, std::ilogb(g.model.l2 + g.model.l3));
   for (int it = 0; it < options.max_iterations && err > options.tolerance; ++it) {
     const JacobianResult jr = jacobian(g, pose, ik);
-    const Matrix6d& M = jr.J_qdot_from_twist;  // qdot = M twist
+    // qdot = M twist. In the twist (translation / s, rotation), s a power of
+    // two near l2 + l3, M_unit = M diag(s I, I) is dimensionless: the damping
+    // then means the same for every design size and scale.
+    Matrix6d M = jr.J_qdot_from_twist;
     if (!M.allFinite()) break;
+    M.leftCols<3>() *= length_scale;
     // Levenberg-Marquardt step (M^T M + lambda I) dx = M^T r, lambda relative
-    // to |M|^2 so the damping means the same for every design size.
+    // to |M|^2.
     const double lambda = options.damping * M.squaredNorm() / 6.0;
     const Matrix6d A = M.transpose() * M + lambda * Matrix6d::Identity();
     Vector6d dx = A.ldlt().solve(M.transpose() * r);
+    dx.head<3>() *= length_scale;
     if (!dx.allFinite()) break;
     // Trust region: a tracking solver must not jump to another assembly.
     const double scale = std::min({1.0, options.max_step_cm / std::max(dx.head<3>().norm(), 1e-300),

@@ -41,6 +41,13 @@ inline constexpr int kLegCount = 6;
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 
+// Accepted lengths (cm): l0, lb, l1, l2, l3, h0 in [kMinLength, kMaxLength],
+// |lp|, |db|, |lx| <= kMaxLength. Results do not depend on scale (the
+// Jacobian is formed in lengths divided by a power of two near l2 + l3); the
+// bounds come from the fields, which store lengths as float.
+inline constexpr double kMinLength = 1e-30;
+inline constexpr double kMaxLength = 1e30;
+
 struct Model {
   // Table 1 / Table 3 values; lengths cm, angles rad.
   double l0 = 45.0;   // distance between base plates (Table 3; Table 1 has 50)
@@ -64,9 +71,10 @@ struct Model {
   double t2_limit = 3.141592653589793;
   double t3_limit = 3.141592653589793;
 
-  // Throws std::invalid_argument for non-finite values, non-positive l0, lb,
-  // l1, l2, l3, h0, negative lp, |tilt_sign| != 1, a branch not +-1, or a
-  // limit outside (0, pi].
+  // Throws std::invalid_argument for non-finite values, l0, lb, l1, l2, l3,
+  // h0 outside [kMinLength, kMaxLength], negative lp, |lp|, |db| or |lx|
+  // above kMaxLength, |tilt_sign| != 1, a branch not +-1, or a limit outside
+  // (0, pi].
   void validate() const;
 
   // Paper names: l0 lb l1 l2 l3 lp h0 db lx (cm); theta_t theta_g base_phase
@@ -155,8 +163,17 @@ PoseIkResult inverse(const Model& model, const Pose& pose);
 
 // ---- Jacobian and conditioning --------------------------------------------
 
+// The 6x6 J counts as singular where kappa, the 1-norm condition number of
+// the dimensionless M = J_qdot_from_twist diag(s I, I) (s the power of two
+// nearest below l2 + l3), exceeds this: cond_p and cond_o have relative error
+// ~11 u kappa, so beyond it double cannot give them to 1e-6
+// (docs/mechanisms/pathos2.md).
+inline constexpr double kMaxJacobianCondition = 1e9;
+
 struct JacobianResult {
-  Status status = Status::Singular;  // Ok, Singular, or the IK's status
+  // Ok, Singular (kappa > kMaxJacobianCondition), or the IK's status.
+  // J_qdot_from_twist is filled when singular too.
+  Status status = Status::Singular;
   // Platform twist [v_world_E (cm/s); omega_world (rad/s)] from actuator rates.
   Matrix6d J_twist_from_qdot = Matrix6d::Zero();
   // Its inverse: stacked rows qdot_i = g_i . v + (rho_i x g_i) . omega.
@@ -170,7 +187,9 @@ struct JacobianResult {
 JacobianResult jacobian(const Geometry& geometry, const Pose& pose, const PoseIkResult& ik);
 JacobianResult jacobian(const Model& model, const Pose& pose);
 
-// cond of a 3x6 block, sqrt(lambda_max / lambda_min) of B B^T; +inf if singular.
+// cond of a 3x6 block, sigma_max / sigma_min, at any scale: B^T reduced to a
+// triangle by modified Gram-Schmidt, then conditioning.h's triangular closed
+// form (relative error ~u c). +inf if rank deficient, zero or not finite.
 double block_condition_number(const Eigen::Matrix<double, 3, 6>& block);
 
 // ---- Forward kinematics ---------------------------------------------------
