@@ -125,7 +125,7 @@ TEST(Cli, BadArgumentsAndInputExitWithTwo) {
   const std::pair<std::string, std::string> cases[] = {
       {"eval --ik " + good.string() + " --mechanism nonsense", "unknown mechanism"},
       {"eval --ik " + good.string() + " --param L3=2", "unknown parameter"},
-      {"eval --ik " + good.string() + " --param L1=-1", "positive"},
+      {"eval --ik " + good.string() + " --param L1=-1", "L1 must be a length in"},
       {"eval --ik " + good.string() + " --param L1", "key=value"},
       {"eval --ik /no/such/file.csv", "cannot open"},
       {"eval --ik " + bad_number.string(), ":2:"},
