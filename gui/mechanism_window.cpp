@@ -63,7 +63,6 @@ constexpr int kPositionSteps = 400;
 // much; a larger jump means the same branch continues on the other side of
 // a singular set, which would make the device jump.
 constexpr double kMaxTrackingStep = 0.6;  // rad
-const char* const kDriveKey = "window/drive";
 
 QString qs(const std::string& s) { return QString::fromStdString(s); }
 QString number(double v, int precision = 4) { return QString::number(v, 'g', precision); }
@@ -299,9 +298,9 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   animation_timer_->setInterval(33);
   connect(animation_timer_, &QTimer::timeout, this, &MechanismWindow::animationStep);
 
-  // The drive mode is remembered; the layout is not, so screenshots are reproducible.
+  // Neither the drive nor the layout is remembered, so screenshots are reproducible.
   rebuildRecentMenu();
-  setDrive(QSettings().value(kDriveKey).toString() == "actuators" ? Drive::Actuators : Drive::Task);
+  setDrive(Drive::Task);
   accept(q_, x_, branch_);
   requestFields(true, true);
 }
@@ -809,7 +808,6 @@ void MechanismWindow::setDrive(Drive drive) {
   for (const auto& c : actuator_controls_) c->set_enabled(fk);
   task_group_->setVisible(any_task);
   actuator_group_->setVisible(fk);
-  QSettings().setValue(kDriveKey, fk ? "actuators" : "task");
 }
 
 void MechanismWindow::syncPanels() {

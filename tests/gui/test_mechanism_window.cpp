@@ -46,6 +46,17 @@ void show_fields(MechanismWindow& w, bool slice, bool surfaces) {
   w.findChild<QCheckBox*>("showWellBox")->setChecked(surfaces);
 }
 
+// Shows the window at 1200x800 and waits until its fields (on or off) are computed.
+bool show_settled(MechanismWindow& w, bool fields) {
+  w.resize(1200, 800);
+  w.show();
+  if (!QTest::qWaitForWindowExposed(&w)) return false;
+  if (!fields) show_fields(w, false, false);
+  QTest::qWaitFor([&] { return w.fieldsSettled(); }, 30000);
+  QTest::qWait(50);
+  return w.fieldsSettled();
+}
+
 // Pixels of the failing-part red (the devices use no other saturated red
 // but the handle, which is there before and after).
 int red_pixels(const QImage& image) {
@@ -124,11 +135,7 @@ class MechanismWindowTest : public QObject {
   void taskSlidersDriveByInverseKinematics() {
     for (const char* device : kDevices) {
       MechanismWindow w(load_preset(device));
-      w.resize(1200, 800);
-      w.show();
-      QVERIFY(QTest::qWaitForWindowExposed(&w));
-      show_fields(w, false, false);
-      wait_settled(w);
+      QVERIFY(show_settled(w, false));
       QCOMPARE(w.drive(), MechanismWindow::Drive::Task);
       const QImage before = frame(w);
       auto* actuators = w.findChild<QLabel*>("actuatorLabel");
@@ -159,11 +166,7 @@ class MechanismWindowTest : public QObject {
   void actuatorSlidersDriveByForwardKinematicsThatAgreesWithIk() {
     for (const char* device : kDevices) {
       MechanismWindow w(load_preset(device));
-      w.resize(1200, 800);
-      w.show();
-      QVERIFY(QTest::qWaitForWindowExposed(&w));
-      show_fields(w, false, false);
-      wait_settled(w);
+      QVERIFY(show_settled(w, false));
       w.setDrive(MechanismWindow::Drive::Actuators);
       const auto& info = w.mechanism().info();
       QVERIFY(box(w, info.actuators[0].name)->isEnabled());
@@ -203,10 +206,7 @@ class MechanismWindowTest : public QObject {
   void parameterChangeRecomputesFieldsCoarseThenFine() {
     for (const char* device : kDevices) {
       MechanismWindow w(load_preset(device));
-      w.resize(1200, 800);
-      w.show();
-      QVERIFY(QTest::qWaitForWindowExposed(&w));
-      wait_settled(w);
+      QVERIFY(show_settled(w, true));
       QVERIFY(w.fieldScene().slice_visible());
       const std::size_t faces_before = w.fieldScene().surface_faces(render::Surface::Reach);
       QVERIFY(faces_before > 0);
@@ -298,11 +298,7 @@ class MechanismWindowTest : public QObject {
   void mouseDragOfTheHandleMovesTheDrivenPoint() {
     for (const char* device : kDevices) {
       MechanismWindow w(load_preset(device));
-      w.resize(1200, 800);
-      w.show();
-      QVERIFY(QTest::qWaitForWindowExposed(&w));
-      show_fields(w, false, false);
-      wait_settled(w);
+      QVERIFY(show_settled(w, false));
       frame(w);
       vtkRenderer* renderer = w.view()->renderWindow()->GetRenderers()->GetFirstRenderer();
       const Eigen::Vector3d d = w.endpoint();
@@ -332,11 +328,7 @@ class MechanismWindowTest : public QObject {
 
   void failingPartIsNamedAndDrawnRed() {
     MechanismWindow w(load_preset("pathos2"));
-    w.resize(1200, 800);
-    w.show();
-    QVERIFY(QTest::qWaitForWindowExposed(&w));
-    show_fields(w, false, false);
-    wait_settled(w);
+    QVERIFY(show_settled(w, false));
     const Eigen::VectorXd valid = w.task();
     const int red_before = red_pixels(frame(w));
     Eigen::VectorXd far = valid;
@@ -579,10 +571,7 @@ class MechanismWindowTest : public QObject {
       compare_with_baseline(frame(w), "near_singular", 10.0);
     }
     MechanismWindow w(load_preset("pathos2"));
-    w.resize(1200, 800);
-    w.show();
-    QVERIFY(QTest::qWaitForWindowExposed(&w));
-    wait_settled(w);
+    QVERIFY(show_settled(w, true));
     compare_with_baseline(frame(w), "pathos2_home", 10.0);
   }
 };
