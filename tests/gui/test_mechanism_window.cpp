@@ -23,6 +23,7 @@
 #include <numbers>
 
 #include "core/mechanism.h"
+#include "core/pathos2.h"
 #include "core/preset.h"
 #include "gui/mechanism_window.h"
 #include "gui/methods_panel.h"
@@ -52,9 +53,9 @@ bool show_settled(MechanismWindow& w, bool fields) {
   w.show();
   if (!QTest::qWaitForWindowExposed(&w)) return false;
   if (!fields) show_fields(w, false, false);
-  QTest::qWaitFor([&] { return w.fieldsSettled(); }, 30000);
+  if (!QTest::qWaitFor([&] { return w.fieldsSettled(); }, 30000)) return false;
   QTest::qWait(50);
-  return w.fieldsSettled();
+  return true;
 }
 
 // Pixels of the failing-part red (the devices use no other saturated red
@@ -191,8 +192,13 @@ class MechanismWindowTest : public QObject {
   }
 
   void deviceReadoutsAreShown() {
-    // PATHOS-II lists its nine-sensor FK beside the numerical one.
+    // PATHOS-II lists its nine-sensor FK beside the numerical one the window drives by.
     MechanismWindow w(load_preset("pathos2"));
+    w.setDrive(MechanismWindow::Drive::Actuators);
+    Eigen::VectorXd q = w.actuators();
+    q(0) += 6 * kDeg;
+    q(4) -= 4 * kDeg;
+    QVERIFY2(w.setActuators(q), qPrintable(w.refusal()));
     const auto rows = w.mechanism().readouts(w.actuators(), w.task());
     QVERIFY(!rows.empty());
     QStringList texts;
@@ -201,6 +207,18 @@ class MechanismWindowTest : public QObject {
       QVERIFY(texts.contains(QString::fromStdString(label)));
       QVERIFY(texts.contains(QString::fromStdString(text)));
     }
+    // The nine-sensor closed form, at the sensors of the pose shown, gives that
+    // pose back far below anything visible.
+    const pathos2::Geometry g = pathos2::make_geometry(make_pathos2(w.preset()));
+    const Eigen::VectorXd& x = w.task();
+    const pathos2::Pose pose = pathos2::Pose::from_xyz_rpy(x(0), x(1), x(2), x(3), x(4), x(5), x(6));
+    const pathos2::PoseIkResult ik = pathos2::inverse(g, pose);
+    QCOMPARE(ik.status, Status::Ok);
+    QVERIFY(angle_distance(ik.q_active, w.actuators()) < 1e-9);
+    const pathos2::FkResult nine = pathos2::forward_nine_sensors(g, pathos2::sensors_of(ik));
+    QCOMPARE(nine.status, Status::Ok);
+    QVERIFY((nine.pose.p_world_E - pose.p_world_E).norm() < 1e-6);
+    QVERIFY((nine.pose.R_world_E - pose.R_world_E).norm() < 1e-8);
   }
 
   void parameterChangeRecomputesFieldsCoarseThenFine() {
