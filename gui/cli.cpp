@@ -14,7 +14,7 @@
 #include "core/preset.h"
 #include "gui/design.h"
 #include "gui/headless.h"
-#include "gui/main_window.h"
+#include "gui/mechanism_window.h"
 
 namespace linkscape::gui {
 namespace {

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "gui/main_window.h"
+#include "gui/mechanism_window.h"
 #include "gui/vtk_widget.h"
 
 namespace linkscape::gui {
@@ -31,9 +31,9 @@ bool wait_for(Sender* sender, Signal signal, int timeout_ms = 60000) {
   return loop.exec() == 0;
 }
 
-bool wait_settled(MainWindow& w) {
+bool wait_settled(MechanismWindow& w) {
   while (!w.fieldsSettled())
-    if (!wait_for(&w, &MainWindow::fieldsUpdated)) return false;
+    if (!wait_for(&w, &MechanismWindow::fieldsUpdated)) return false;
   return true;
 }
 
@@ -46,20 +46,22 @@ Stats stats(std::vector<double> v) {
   return {v[v.size() / 2], v[std::min(v.size() - 1, v.size() * 9 / 10)], v.back()};
 }
 
-void show_fields(MainWindow& w, bool on) {
+void show_fields(MechanismWindow& w, bool on) {
   for (QCheckBox* c : w.findChildren<QCheckBox*>())
     if (c->objectName() == "showReachBox" || c->objectName() == "showWellBox" || c->text() == "Slice")
       c->setChecked(on);
 }
 
-// Milliseconds from moving the beta slider to the end of the frame that shows it.
-std::vector<double> slider_to_frame(MainWindow& w, int moves) {
-  auto* beta = w.findChild<QSlider*>("betaSlider");
+// Milliseconds from moving an actuator slider (the second, or the only one)
+// to the end of the frame that shows it.
+std::vector<double> slider_to_frame(MechanismWindow& w, int moves) {
+  const auto& actuators = w.mechanism().info().actuators;
+  auto* slider = w.findChild<QSlider*>(QString::fromStdString(actuators.at(actuators.size() > 1 ? 1 : 0).name) + "Slider");
   std::vector<double> ms;
   for (int i = 0; i < moves; ++i) {
     QElapsedTimer t;
     t.start();
-    beta->setValue(beta->value() + (i % 2 ? -50 : 50));  // 5 degrees
+    slider->setValue(slider->value() + (i % 2 ? -15 : 15));  // 1.5 % of the travel
     if (!wait_for(w.view(), &VtkWidget::rendered)) break;
     ms.push_back(double(t.nsecsElapsed()) / 1e6);
   }
@@ -68,7 +70,7 @@ std::vector<double> slider_to_frame(MainWindow& w, int moves) {
 
 }  // namespace
 
-int run_latency_probe(MainWindow& w, std::ostream& out) {
+int run_latency_probe(MechanismWindow& w, std::ostream& out) {
   if (!wait_settled(w)) {
     out << "latency: the window did not settle within 60 s\n";
     return 1;
@@ -82,6 +84,7 @@ int run_latency_probe(MainWindow& w, std::ostream& out) {
   std::vector<Row> rows;
   auto add = [&](std::string what, const std::vector<double>& ms) { rows.push_back({what, stats(ms), ms.size()}); };
 
+  w.setDrive(MechanismWindow::Drive::Actuators);
   show_fields(w, false);
   wait_settled(w);
   add("actuator slider -> frame (linkage only)", slider_to_frame(w, kMoves));
@@ -89,18 +92,21 @@ int run_latency_probe(MainWindow& w, std::ostream& out) {
   if (!wait_settled(w)) return 1;
   add("actuator slider -> frame (slice + isosurfaces)", slider_to_frame(w, kMoves));
 
-  // Link length: coarse slice on screen, full slice on screen, full isosurfaces on screen.
+  // A design parameter: coarse slice on screen, full slice on screen, full isosurfaces on screen.
   std::vector<double> coarse, full, surfaces;
-  const double L1 = w.model().L1, L2 = w.model().L2;
+  std::string parameter;
+  for (const auto& q : w.mechanism().info().parameters)
+    if (q.in_panel && parameter.empty()) parameter = q.name;
+  const double value = w.mechanism().parameters().at(parameter);
   for (int i = 0; i < kLengthChanges; ++i) {
     double coarse_ms = -1, full_ms = -1, surfaces_ms = -1;
     QElapsedTimer t;
     // Stamps the time of the first frame rendered after `flag` was raised.
     bool coarse_pending = false, full_pending = false, surfaces_pending = false;
-    auto c1 = QObject::connect(&w, &MainWindow::sliceUpdated, &w, [&](bool fine) {
+    auto c1 = QObject::connect(&w, &MechanismWindow::sliceUpdated, &w, [&](bool fine) {
       (fine ? full_pending : coarse_pending) = true;
     });
-    auto c2 = QObject::connect(&w, &MainWindow::surfacesUpdated, &w, [&](bool fine) {
+    auto c2 = QObject::connect(&w, &MechanismWindow::surfacesUpdated, &w, [&](bool fine) {
       if (fine) surfaces_pending = true;
     });
     auto c3 = QObject::connect(w.view(), &VtkWidget::rendered, &w, [&](double) {
@@ -110,7 +116,7 @@ int run_latency_probe(MainWindow& w, std::ostream& out) {
       if (surfaces_pending && surfaces_ms < 0) surfaces_ms = now;
     });
     t.start();
-    w.setLinkLengths(L1 * (i % 2 ? 1.0 : 1.05), L2);
+    w.setParameters({{parameter, value * (i % 2 ? 1.0 : 1.05)}});
     while (!(full_ms >= 0 && surfaces_ms >= 0))
       if (!wait_for(w.view(), &VtkWidget::rendered)) break;
     QObject::disconnect(c1);
@@ -120,9 +126,9 @@ int run_latency_probe(MainWindow& w, std::ostream& out) {
     if (full_ms >= 0) full.push_back(full_ms);
     if (surfaces_ms >= 0) surfaces.push_back(surfaces_ms);
   }
-  add("link length -> coarse slice on screen", coarse);
-  add("link length -> full slice on screen", full);
-  add("link length -> full isosurfaces on screen", surfaces);
+  add(parameter + " -> coarse slice on screen", coarse);
+  add(parameter + " -> full slice on screen", full);
+  add(parameter + " -> full isosurfaces on screen", surfaces);
 
   out << "Linkscape window latency (" << w.width() << "x" << w.height() << " window, milliseconds)\n";
   out << std::left << std::setw(48) << "what" << std::right << std::setw(9) << "median" << std::setw(9) << "p90"

@@ -6,13 +6,13 @@
 
 namespace linkscape::gui {
 
-class MainWindow;
+class MechanismWindow;
 
 // Drives `window` (shown, event loop not yet running) through a fixed script
-// and prints a table to `out`: actuator slider to frame (linkage only, and
-// with slice and isosurfaces), link length to the coarse and to the full
-// slice on screen, link length to the full isosurfaces on screen. Returns
-// the process exit code.
-int run_latency_probe(MainWindow& window, std::ostream& out);
+// and prints a table to `out`: actuator slider to frame (device only, and
+// with slice and isosurfaces), a design parameter (the first in the design
+// panel) to the coarse and to the full slice on screen and to the full
+// isosurfaces on screen. Returns the process exit code.
+int run_latency_probe(MechanismWindow& window, std::ostream& out);
 
 }  // namespace linkscape::gui

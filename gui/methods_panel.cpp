@@ -12,7 +12,7 @@
 #include <exception>
 #include <stdexcept>
 
-#include "core/pathos2_methods.h"
+#include "core/mechanism.h"
 #include "gui/method_chart.h"
 
 namespace linkscape::gui {
@@ -47,7 +47,7 @@ class ChartView : public QWidget {
 };
 
 QString mechanism_title(const Preset& preset) {
-  return QString::fromStdString(preset.mechanism == pathos2::kMechanismName ? "PATHOS-II" : preset.mechanism);
+  return QString::fromStdString(preset.title.empty() ? preset.mechanism : preset.title);
 }
 
 }  // namespace
@@ -158,24 +158,16 @@ void MethodsPanel::run() {
     QString message;
     bool completed = false;
     try {
-      if (preset.mechanism == pathos2::kMechanismName) {
-        pathos2_methods::HarnessOptions o;
-        o.samples = samples;
-        o.repeats = repeats;
-        o.progress = report;
-        o.cancel = cancel.get();
-        rows = pathos2_methods::run_pathos2_harness(make_pathos2(preset), o);
-      } else {
-        methods::HarnessOptions o;
-        o.samples = samples;
-        o.repeats = repeats;
-        o.include_field = fields;
-        o.field_resolutions = {16, 32};
-        o.field_reference_resolution = 64;
-        o.progress = report;
-        o.cancel = cancel.get();
-        rows = methods::run_method_harness(make_parallel12r(preset), o);
-      }
+      // Every device measures its own methods (core/mechanism.h).
+      methods::HarnessOptions o;
+      o.samples = samples;
+      o.repeats = repeats;
+      o.include_field = fields;
+      o.field_resolutions = {16, 32};
+      o.field_reference_resolution = 64;
+      o.progress = report;
+      o.cancel = cancel.get();
+      rows = make_mechanism(preset)->measure_methods(o);
       completed = !cancel->load();
       message = completed ? QString("Measured %1 methods (%2 samples, median of %3 repeats).")
                                 .arg(rows.size())

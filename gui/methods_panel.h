@@ -28,9 +28,9 @@ class MethodsPanel : public QWidget {
   explicit MethodsPanel(QWidget* parent = nullptr);
   ~MethodsPanel() override;  // cancels and joins a running measurement
 
-  // The mechanism (12R or PATHOS-II preset, with the window's current
-  // parameters) that the next Run measures. Throws std::invalid_argument for
-  // an invalid preset. Does not start a run.
+  // The device (a preset with the window's current parameters) that the
+  // next Run measures through its Mechanism::measure_methods. Throws
+  // std::invalid_argument for an invalid preset. Does not start a run.
   void setMechanism(const linkscape::Preset& preset);
   // Workspace targets (12R) or poses (PATHOS-II) per run, and timed repeats;
   // fields are measured for 12R only when include_fields is set (they take

@@ -25,6 +25,23 @@ Eigen::Vector3d vec(const json& j) {
   return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()};
 }
 
+// The device a session describes: its preset with the session's parameters and actuator limits.
+std::shared_ptr<const Mechanism> session_mechanism(const Session& s) {
+  Preset preset = load_preset(s.mechanism);
+  for (const auto& [name, value] : s.parameters) preset.parameters[name] = value;
+  for (const auto& [name, range] : s.actuator_limits_deg) preset.limits_deg[name] = {range[0], range[1]};
+  return make_mechanism(preset);
+}
+
+json by_name(const Eigen::VectorXd& values, const std::vector<Quantity>& names, const std::string& what) {
+  if (values.size() != Eigen::Index(names.size()))
+    throw std::invalid_argument("session: " + what + " has " + std::to_string(values.size()) + " values, the device " +
+                                std::to_string(names.size()));
+  json j = json::object();
+  for (std::size_t k = 0; k < names.size(); ++k) j[names[k].name] = values(Eigen::Index(k));
+  return j;
+}
+
 }  // namespace
 
 void save_session(const Session& s, const std::filesystem::path& path) {
@@ -34,8 +51,11 @@ void save_session(const Session& s, const std::filesystem::path& path) {
   j["mechanism"] = s.mechanism;
   j["parameters"] = s.parameters;
   if (!s.actuator_limits_deg.empty()) j["actuator_limits_deg"] = s.actuator_limits_deg;
-  if (s.platform_pose) j["platform_pose"] = *s.platform_pose;
-  else j["pose_rad"] = vec(s.pose);
+  // By name, in the device's own terms (its description lists the order).
+  const auto mechanism = session_mechanism(s);  // kept alive while its description is read
+  const MechanismInfo& info = mechanism->info();
+  if (s.pose.size() > 0) j["actuators"] = by_name(s.pose, info.actuators, "actuators");
+  if (s.task.size() > 0) j["task"] = by_name(s.task, info.task, "task");
   if (s.camera)
     j["camera"] = {{"position", vec(s.camera->position)},
                    {"focal_point", vec(s.camera->focal_point)},
@@ -54,7 +74,8 @@ void save_session(const Session& s, const std::filesystem::path& path) {
                 {"show_well_conditioned", f.show_well_conditioned},
                 {"reach_opacity", f.reach_opacity},
                 {"well_conditioned_opacity", f.well_conditioned_opacity},
-                {"method", f.method}};
+                };
+  if (!f.method.empty()) j["field"]["method"] = f.method;
   if (f.range_min) j["field"]["range_min"] = *f.range_min;
   if (f.range_max) j["field"]["range_max"] = *f.range_max;
   const std::string text = j.dump(2) + "\n";
@@ -84,15 +105,24 @@ void apply_camera(vtkRenderer* renderer, const CameraState& cam) {
   renderer->ResetCameraClippingRange();
 }
 
-FieldChoices field_choices(const std::string& mechanism) {
-  if (mechanism == pathos2::kMechanismName)
-    return {{"cond", "cond_jo", "reach", "status"}, {}, {64, 128, 256, 512}, {24, 32, 48, 64}, 128, 48};
-  return {{"cond", "reach", "residual", "iterations", "status", "method"},
-          {"planar", "paper", "newton", "dls", "fallback"},
-          {96, 192, 384, 768},
-          {32, 48, 64, 96, 128},
-          192,
-          64};
+FieldChoices field_choices(const MechanismInfo& info) {
+  FieldChoices c;
+  c.fields = {"cond"};
+  if (info.measures.size() > 1) c.fields.push_back(info.measures[1].name);
+  c.fields.push_back("reach");
+  if (info.eval_columns.ik_diagnostics) c.fields.insert(c.fields.end(), {"residual", "iterations"});
+  c.fields.push_back("status");
+  if (info.ik_methods.size() > 1) {
+    c.fields.push_back("method");
+    for (const NamedItem& m : info.ik_methods) c.methods.push_back(m.name);
+  }
+  // Coarse choices for slow devices, fine ones for fast ones; sessions of
+  // every earlier per-device list stay valid.
+  c.slice_resolutions = {64, 96, 128, 192, 256, 384, 512, 768};
+  c.volume_resolutions = {24, 32, 48, 64, 96, 128};
+  c.default_slice_resolution = 192;
+  c.default_volume_resolution = 64;
+  return c;
 }
 
 namespace {
@@ -147,6 +177,30 @@ void check_offered(const T& value, const std::vector<T>& offered, const std::str
   }
 }
 
+Eigen::VectorXd read_named(const json& j, const std::vector<Quantity>& names, const std::string& key) {
+  std::vector<std::string> known;
+  for (const Quantity& q : names) known.push_back(q.name);
+  check_keys(j, key, known);
+  Eigen::VectorXd v(Eigen::Index(names.size()));
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    if (!j.contains(names[k].name))
+      throw std::invalid_argument(key + " needs every one of " + joined(known) + " (" + names[k].name + " is missing)");
+    v(Eigen::Index(k)) = finite(j[names[k].name], key + "." + names[k].name);
+  }
+  return v;
+}
+
+Eigen::VectorXd read_array(const json& j, const std::vector<Quantity>& names, const std::string& key) {
+  std::vector<std::string> known;
+  for (const Quantity& q : names) known.push_back(q.name);
+  if (!j.is_array() || j.size() != names.size())
+    throw std::invalid_argument(key + " expects " + std::to_string(names.size()) + " numbers (" + joined(known) +
+                                ") for this device");
+  Eigen::VectorXd v(Eigen::Index(names.size()));
+  for (std::size_t k = 0; k < names.size(); ++k) v(Eigen::Index(k)) = finite(j[k], key);
+  return v;
+}
+
 }  // namespace
 
 Session parse_session(const std::string& text, const std::string& origin) {
@@ -155,8 +209,8 @@ Session parse_session(const std::string& text, const std::string& origin) {
     const json j = json::parse(text);
     if (!j.is_object() || j.value("format", "") != "linkscape-session")
       throw std::invalid_argument("not a Linkscape session (no \"format\": \"linkscape-session\")");
-    check_keys(j, "", {"format", "version", "mechanism", "parameters", "actuator_limits_deg", "platform_pose",
-                       "pose_rad", "camera", "field"});
+    check_keys(j, "", {"format", "version", "mechanism", "parameters", "actuator_limits_deg", "actuators", "task",
+                       "pose_rad", "platform_pose", "camera", "field"});
     if (j.contains("version") && j["version"].get<int>() != 1)
       throw std::invalid_argument("version " + j["version"].dump() + " is not supported (this program reads 1)");
     s.mechanism = portable_mechanism(j.at("mechanism").get<std::string>());
@@ -173,33 +227,44 @@ Session parse_session(const std::string& text, const std::string& origin) {
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(std::string("parameters: ") + e.what());
     }
+    // Actuator limits by the device's actuator names; the device says whether it takes them.
+    const std::vector<Quantity> actuators = make_mechanism(preset)->info().actuators;
     s.actuator_limits_deg = j.value("actuator_limits_deg", std::map<std::string, std::array<double, 2>>{});
-    if (!s.actuator_limits_deg.empty() && preset.mechanism != parallel12r::kMechanismName)
-      throw std::invalid_argument("actuator_limits_deg applies to parallel-12r sessions");
     for (const auto& [name, range] : s.actuator_limits_deg) {
-      if (name != "alpha" && name != "beta" && name != "gamma")
-        throw std::invalid_argument("actuator_limits_deg." + name + ": unknown actuator (known: alpha, beta, gamma)");
+      const bool known = std::any_of(actuators.begin(), actuators.end(), [&](const Quantity& q) { return q.name == name; });
+      if (!known) {
+        std::vector<std::string> names;
+        for (const Quantity& q : actuators) names.push_back(q.name);
+        throw std::invalid_argument("actuator_limits_deg." + name + ": unknown actuator (known: " + joined(names) + ")");
+      }
       if (!(range[0] < range[1]) || !std::isfinite(range[0]) || !std::isfinite(range[1]))
         throw std::invalid_argument("actuator_limits_deg." + name + " must be [lo, hi] with lo < hi");
       preset.limits_deg[name] = {range[0], range[1]};
     }
+    std::shared_ptr<const Mechanism> mechanism;
     try {
-      validate(preset);
+      mechanism = make_mechanism(preset);
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(std::string("actuator_limits_deg: ") + e.what());
     }
-    const bool six_dof = preset.mechanism == pathos2::kMechanismName;
-    if (six_dof) {
-      if (!j.contains("platform_pose")) throw std::invalid_argument("a pathos2 session needs platform_pose");
-      if (j.contains("pose_rad")) throw std::invalid_argument("pose_rad applies to parallel-12r sessions");
-      s.platform_pose = j.at("platform_pose").get<std::array<double, 7>>();
-      for (double v : *s.platform_pose)
-        if (!std::isfinite(v)) throw std::invalid_argument("platform_pose must be finite");
-      if (!((*s.platform_pose)[6] > 0)) throw std::invalid_argument("platform_pose: the grip h0 must be > 0");
-    } else {
-      if (j.contains("platform_pose")) throw std::invalid_argument("platform_pose applies to pathos2 sessions");
-      s.pose = finite_vec(j.at("pose_rad"), "pose_rad");
-    }
+    const MechanismInfo& info = mechanism->info();
+    // The pose: by name, or as the arrays of older files.
+    if (j.contains("actuators") && j.contains("pose_rad"))
+      throw std::invalid_argument("actuators and pose_rad say the same; give one");
+    if (j.contains("task") && j.contains("platform_pose"))
+      throw std::invalid_argument("task and platform_pose say the same; give one");
+    if (j.contains("actuators")) s.pose = read_named(j["actuators"], info.actuators, "actuators");
+    if (j.contains("pose_rad")) s.pose = read_array(j["pose_rad"], info.actuators, "pose_rad");
+    if (j.contains("task")) s.task = read_named(j["task"], info.task, "task");
+    if (j.contains("platform_pose")) s.task = read_array(j["platform_pose"], info.task, "platform_pose");
+    if (s.pose.size() == 0 && s.task.size() == 0)
+      throw std::invalid_argument("the session has no pose (task or actuators)");
+    // Task coordinates the window's sliders cannot show are refused, not clamped.
+    for (std::size_t k = 0; k < info.task.size(); ++k)
+      if (s.task.size() > 0 && !info.task[k].range.contains(s.task(Eigen::Index(k))))
+        throw std::invalid_argument("task." + info.task[k].name + " = " + format_number(s.task(Eigen::Index(k))) +
+                                    " is outside the window's range [" + format_number(info.task[k].range.lo) + ", " +
+                                    format_number(info.task[k].range.hi) + "]");
     if (j.contains("camera")) {
       const json& c = j["camera"];
       check_keys(c, "camera", {"position", "focal_point", "view_up", "view_angle_deg"});
@@ -212,11 +277,10 @@ Session parse_session(const std::string& text, const std::string& origin) {
       if (s.camera->view_up.norm() == 0 || (s.camera->position - s.camera->focal_point).norm() == 0)
         throw std::invalid_argument("camera: view_up must be non-zero and position differ from focal_point");
     }
-    const FieldChoices choices = field_choices(preset.mechanism);
+    const FieldChoices choices = field_choices(info);
     FieldSettings& d = s.field;
     d.slice_resolution = choices.default_slice_resolution;
     d.volume_resolution = choices.default_volume_resolution;
-    if (six_dof) d.threshold = 5.0;
     if (j.contains("field")) {
       const json& f = j["field"];
       check_keys(f, "field", {"field", "normal", "position", "follow_endpoint", "threshold", "slice_resolution",
@@ -240,8 +304,16 @@ Session parse_session(const std::string& text, const std::string& origin) {
       if (f.contains("range_max")) d.range_max = finite(f["range_max"], "field.range_max");
     }
     check_offered(d.field, choices.fields, "field.field");
-    if (!choices.methods.empty()) check_offered(d.method, choices.methods, "field.method");
-    else if (d.method != FieldSettings{}.method) throw std::invalid_argument("field.method applies to parallel-12r");
+    if (!choices.methods.empty() && !d.method.empty()) {
+      check_offered(d.method, choices.methods, "field.method");
+    } else if (choices.methods.empty()) {
+      // One method: nothing to choose. Files written before the one window
+      // carried "planar" for every device.
+      if (!d.method.empty() && d.method != info.ik_methods.front().name && d.method != "planar")
+        throw std::invalid_argument("field.method '" + d.method + "': the device has one IK method (" +
+                                    info.ik_methods.front().name + ")");
+      d.method.clear();
+    }
     check_offered(d.normal, std::vector<std::string>{"x", "y", "z"}, "field.normal");
     check_offered(d.slice_resolution, choices.slice_resolutions, "field.slice_resolution");
     check_offered(d.volume_resolution, choices.volume_resolutions, "field.volume_resolution");

@@ -1,5 +1,8 @@
 // A saved exploration: mechanism, parameters, pose, camera and field
 // settings, as JSON. Everything the window needs to come back as it was.
+// Generic over devices: the pose is saved as the device's task coordinates
+// and actuator values by name (core/mechanism.h); older files with pose_rad
+// (parallel-12r actuators) or platform_pose (PATHOS-II task) still open.
 #pragma once
 
 #include <Eigen/Core>
@@ -9,6 +12,8 @@
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "core/mechanism.h"
 
 class vtkRenderer;
 
@@ -22,7 +27,7 @@ struct CameraState {
 };
 
 struct FieldSettings {
-  std::string field = "cond";  // cond, reach, residual, iterations, status
+  std::string field = "cond";  // one of field_choices(...).fields
   std::string normal = "x";    // slice plane normal
   double position = 0.0;       // plane position, length unit
   bool follow_endpoint = false;
@@ -32,16 +37,17 @@ struct FieldSettings {
   int volume_resolution = 64;  // samples per axis
   bool show_slice = true, show_reach = true, show_well_conditioned = true;
   double reach_opacity = 0.10, well_conditioned_opacity = 0.22;
-  std::string method = "planar";
+  std::string method;  // IK method per sample; empty: the device's default
 };
 
 struct Session {
   std::string mechanism = "parallel-12r";    // preset name or path
   std::map<std::string, double> parameters;  // overrides, e.g. L1, L2
-  std::map<std::string, std::array<double, 2>> actuator_limits_deg;  // alpha, beta, gamma: [lo, hi]
-  Eigen::Vector3d pose = Eigen::Vector3d::Zero();  // parallel-12r: actuator angles, rad
-  // pathos2: top-plate pose x, y, z (cm), rx, ry, rz (rad, R = Rz Ry Rx), grip h0 (cm).
-  std::optional<std::array<double, 7>> platform_pose;
+  std::map<std::string, std::array<double, 2>> actuator_limits_deg;  // per actuator name: [lo, hi]
+  // The pose in the device's order (info().actuators, info().task; rad and
+  // length unit). Either may be empty: the window solves for the other.
+  Eigen::VectorXd pose;  // actuator values
+  Eigen::VectorXd task;  // task coordinates
   std::optional<CameraState> camera;
   FieldSettings field;
 };
@@ -50,15 +56,19 @@ struct Session {
 CameraState camera_state(vtkRenderer* renderer);
 void apply_camera(vtkRenderer* renderer, const CameraState& camera);
 
-// What the window offers for a mechanism's fields (preset mechanism name):
-// its combo boxes are filled from here and sessions are checked against it.
+// What the window offers for a device's fields, from its description: its
+// combo boxes are filled from here and sessions are checked against it.
+// Fields: "cond" (the first measure), the second measure's name where there
+// is one, "reach", "residual" and "iterations" where the IK reports them,
+// "status", and "method" where there is more than one IK method. The
+// resolutions are the same for every device.
 struct FieldChoices {
   std::vector<std::string> fields;   // values of FieldSettings::field
   std::vector<std::string> methods;  // IK methods per sample (empty: the device has one)
   std::vector<int> slice_resolutions, volume_resolutions;
   int default_slice_resolution = 0, default_volume_resolution = 0;
 };
-FieldChoices field_choices(const std::string& mechanism);
+FieldChoices field_choices(const MechanismInfo& info);
 
 // Atomic write. Throws std::runtime_error if the file cannot be written.
 // The mechanism is written as a preset name wherever the preset was found on

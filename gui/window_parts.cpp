@@ -20,9 +20,8 @@
 
 #include "core/atomic_file.h"
 #include "gui/field_job.h"
-#include "gui/main_window.h"
+#include "gui/mechanism_window.h"
 #include "gui/methods_panel.h"
-#include "gui/pathos2_window.h"
 #include "gui/slice_figure.h"
 #include "gui/vtk_widget.h"
 #include "render/field_vtk.h"
@@ -84,19 +83,13 @@ MethodsPanel* add_methods_dock(QMainWindow* window, const Preset& preset, QDockW
 
 namespace {
 
-// The window of `preset`'s mechanism, in the place of `window` (same geometry),
-// with `session` applied; the old window closes. Throws std::invalid_argument.
+// A window of `preset`'s device in the place of `window` (same geometry),
+// with `session` applied, else with the old window's field settings; the old
+// window closes. Throws std::invalid_argument.
 void replace_window(QWidget* window, const Preset& preset, const std::optional<Session>& session) {
-  std::unique_ptr<QMainWindow> next;
-  if (preset.mechanism == pathos2::kMechanismName) {
-    auto w = std::make_unique<Pathos2Window>(preset);
-    if (session) w->applySession(*session);
-    next = std::move(w);
-  } else {
-    auto w = std::make_unique<MainWindow>(preset);
-    if (session) w->applySession(*session);
-    next = std::move(w);
-  }
+  auto next = std::make_unique<MechanismWindow>(preset);
+  if (session) next->applySession(*session);
+  else if (auto* old = qobject_cast<MechanismWindow*>(window)) next->applyFieldSettings(old->fieldSettings());
   next->setAttribute(Qt::WA_DeleteOnClose);
   next->setGeometry(window->geometry());
   next.release()->show();
@@ -109,9 +102,9 @@ bool open_session_file(QMainWindow* window, const Preset& current, const QString
   try {
     const Session s = load_session(path.toStdString());
     const Preset preset = load_preset(s.mechanism);
-    if (preset.mechanism == current.mechanism) {
-      if (auto* w = qobject_cast<MainWindow*>(window)) w->applySession(s);
-      else if (auto* p = qobject_cast<Pathos2Window*>(window)) p->applySession(s);
+    auto* w = qobject_cast<MechanismWindow*>(window);
+    if (w && preset.mechanism == current.mechanism) {
+      w->applySession(s);
     } else {
       replace_window(window, preset, s);
     }

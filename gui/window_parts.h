@@ -1,6 +1,7 @@
-// Pieces both mechanism windows are built from: docks, the preset chooser
-// (picking another preset opens that mechanism's window in place) and the
-// methods dock (speed against accuracy for the window's parameters).
+// Pieces of the device window (gui/mechanism_window.h): docks, the preset
+// chooser (picking another preset opens a window of that device in place,
+// keeping the field settings) and the methods dock (speed against accuracy
+// for the window's parameters).
 #pragma once
 
 #include <QObject>
@@ -44,21 +45,22 @@ FieldStatus add_field_status(QMainWindow* window, VtkWidget* view, std::initiali
 QDockWidget* add_dock(QMainWindow* window, const QString& title, const QString& name, QWidget* content);
 
 // A combo box of every preset on the search path, showing `current`. Picking
-// another one opens its window (same size and place) and closes `window`; a
-// preset that fails to load leaves everything as it was and says why.
+// another one opens a window of it (same size and place, same field settings
+// where the device offers them) and closes `window`; a preset that fails to
+// load leaves everything as it was and says why.
 QComboBox* make_preset_chooser(QWidget* window, const Preset& current);
 
 // A "Methods" dock tabbed behind `tab_with`, measuring `preset`'s methods
 // when the user presses Run (keep it current with MethodsPanel::setMechanism).
 MethodsPanel* add_methods_dock(QMainWindow* window, const Preset& preset, QDockWidget* tab_with);
 
-// Sessions from either window's File menu. A session of the window's own
-// mechanism is applied there; one of the other mechanism opens that
-// mechanism's window in its place. Failures are shown in a message box.
+// Sessions from the window's File menu. A session of the window's own
+// device is applied there; one of another device opens a window of it in
+// its place. Failures are shown in a message box.
 bool open_session_file(QMainWindow* window, const Preset& current, const QString& path);
 bool save_session_file(QMainWindow* window, const Session& session, const QString& path);
 
-// File menu exports of both windows, through the headless commands' writers
+// File menu exports of the window, through the headless commands' writers
 // (atomic); a failure is shown in a message box. Without data, nothing happens.
 void export_slice_image(QWidget* parent, const Field* slice, const render::SliceStyle& style);
 void export_surface_mesh(QWidget* parent, const Field* volume, vtkPolyData* reach, vtkPolyData* well,
@@ -71,7 +73,7 @@ int save_screenshot_when(QWidget& window, const std::string& path, const std::fu
                          const std::function<void(std::function<void()>)>& on_update);
 }  // namespace detail
 
-// Screenshot mode of either window: runs the event loop until the fields
+// Screenshot mode of the window: runs the event loop until the fields
 // are computed in full (window.fieldsSettled() after fieldsUpdated) and a
 // frame shows them, then writes a PNG of the window atomically. Returns the
 // exit code: 0, or 1 if the file cannot be written or after 60 s.

@@ -2,6 +2,7 @@
 // honour is an error naming its key, never a silent clamp.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -104,4 +105,75 @@ TEST(Session, APresetRecordedByAVanishedPathOpensByItsName) {
   EXPECT_EQ(opened.mechanism, "parallel-12r");
   // A shipped preset is saved by name, so the session is portable.
   EXPECT_EQ(preset_reference(load_preset("parallel-12r")), "parallel-12r");
+}
+
+TEST(Session, ThePoseIsSavedByNameAndOlderArraysStillOpen) {
+  // A saved session names the device's actuators and task coordinates.
+  Session s = parse_session(good_12r().dump(), "s.json");
+  s.task = Eigen::Vector3d(3, 4, 12);
+  const auto file = std::filesystem::temp_directory_path() / "linkscape_session_by_name.json";
+  save_session(s, file);
+  std::ifstream in(file);
+  const json saved = json::parse(in);
+  EXPECT_FALSE(saved.contains("pose_rad"));
+  EXPECT_DOUBLE_EQ(saved["actuators"]["beta"].get<double>(), 1.2);
+  EXPECT_DOUBLE_EQ(saved["task"]["z"].get<double>(), 12.0);
+  const Session back = load_session(file);
+  EXPECT_EQ(back.pose, s.pose);
+  EXPECT_EQ(back.task, s.task);
+  std::filesystem::remove(file);
+  // PATHOS-II's platform_pose is its task, in order.
+  const Session p = parse_session(R"({"format": "linkscape-session", "mechanism": "pathos2",
+    "platform_pose": [0, 0, 22.5, 0, 0, 0.52, 7]})", "p.json");
+  ASSERT_EQ(p.task.size(), 7);
+  EXPECT_DOUBLE_EQ(p.task(6), 7.0);
+  EXPECT_EQ(p.pose.size(), 0);
+}
+
+TEST(Session, APoseByNameIsCheckedAgainstTheDevice) {
+  struct Case {
+    json pose;  // merged into a 12R session without pose_rad
+    const char* expected;
+  };
+  const Case cases[] = {
+      {json::parse(R"({"actuators": {"alpha": 0.1, "beta": 1.2}})"), "gamma"},                  // incomplete
+      {json::parse(R"({"actuators": {"alpha": 0.1, "beta": 1.2, "gamma": 0, "q4": 1}})"), "q4"},  // unknown name
+      {json::parse(R"({"task": {"x": 1, "y": 2, "z": 1e9}})"), "task.z"},                        // outside the sliders
+      {json::parse(R"({"task": {"x": 1, "y": 2, "z": "3"}})"), "number"},                         // not a number
+      {json::parse(R"({"pose_rad": [0.1, 0.2]})"), "pose_rad"},                                   // wrong length
+      {json::parse(R"({"pose_rad": [0.1, 0.2, 0.3], "actuators": {"alpha": 0, "beta": 0, "gamma": 0}})"), "pose_rad"},
+      {json::object(), "no pose"},
+  };
+  for (const Case& c : cases) {
+    json s = good_12r();
+    s.erase("pose_rad");
+    for (const auto& [key, value] : c.pose.items()) s[key] = value;
+    const std::string message = error_of(s);
+    EXPECT_NE(message.find(c.expected), std::string::npos) << c.pose.dump() << " gave: '" << message << "'";
+  }
+}
+
+TEST(Session, FieldChoicesComeFromTheDescription) {
+  const auto twelve = make_mechanism(load_preset("parallel-12r"));
+  const auto six = make_mechanism(load_preset("pathos2"));
+  const FieldChoices a = field_choices(twelve->info()), b = field_choices(six->info());
+  // One IK method: no method field and nothing to choose; a second measure: its own field.
+  EXPECT_EQ(std::count(a.fields.begin(), a.fields.end(), "method"), 1);
+  EXPECT_EQ(a.methods.size(), twelve->info().ik_methods.size());
+  EXPECT_EQ(std::count(b.fields.begin(), b.fields.end(), "method"), 0);
+  EXPECT_TRUE(b.methods.empty());
+  EXPECT_EQ(std::count(b.fields.begin(), b.fields.end(), six->info().measures[1].name), 1);
+  // The same resolutions for every device, holding both earlier per-device lists.
+  EXPECT_EQ(a.slice_resolutions, b.slice_resolutions);
+  EXPECT_EQ(a.volume_resolutions, b.volume_resolutions);
+  for (int n : {96, 192, 384, 768, 64, 128, 256, 512})
+    EXPECT_EQ(std::count(a.slice_resolutions.begin(), a.slice_resolutions.end(), n), 1) << n;
+  for (int n : {32, 48, 64, 96, 128, 24})
+    EXPECT_EQ(std::count(a.volume_resolutions.begin(), a.volume_resolutions.end(), n), 1) << n;
+  // A one-method device accepts the "planar" older files carry, and nothing else.
+  json p = json::parse(R"({"format": "linkscape-session", "mechanism": "pathos2",
+    "platform_pose": [0, 0, 22.5, 0, 0, 0.52, 7], "field": {"method": "planar"}})");
+  EXPECT_EQ(error_of(p), "");
+  p["field"]["method"] = "newton";
+  EXPECT_NE(error_of(p).find("field.method"), std::string::npos);
 }

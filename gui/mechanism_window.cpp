@@ -1,0 +1,1306 @@
+#include "gui/mechanism_window.h"
+
+#include <QAction>
+#include <QApplication>
+#include <QCheckBox>
+#include <QCloseEvent>
+#include <QComboBox>
+#include <QDockWidget>
+#include <QDoubleSpinBox>
+#include <QFileDialog>
+#include <QFileInfo>
+#include <QFormLayout>
+#include <QGridLayout>
+#include <QGroupBox>
+#include <QHBoxLayout>
+#include <QLabel>
+#include <QMenuBar>
+#include <QPushButton>
+#include <QScrollArea>
+#include <QSettings>
+#include <QSignalBlocker>
+#include <QSlider>
+#include <QStatusBar>
+#include <QSurfaceFormat>
+#include <QTimer>
+#include <QVBoxLayout>
+#include <vtkCallbackCommand.h>
+#include <vtkGenericOpenGLRenderWindow.h>
+#include <vtkHandleWidget.h>
+#include <vtkNew.h>
+#include <vtkPointHandleRepresentation3D.h>
+#include <vtkPolyData.h>
+#include <vtkProperty.h>
+#include <vtkRenderWindowInteractor.h>
+#include <vtkRenderer.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <iostream>
+#include <numbers>
+#include <stdexcept>
+
+#include "core/csv.h"
+#include "gui/latency_probe.h"
+#include "gui/methods_panel.h"
+#include "gui/vtk_widget.h"
+#include "gui/window_parts.h"
+#include "render/field_scene.h"
+#include "render/skeleton_scene.h"
+#include "render/slice_image.h"
+
+namespace linkscape::gui {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kDeg = kPi / 180.0;
+constexpr int kMaxWindowSide = 8192;
+constexpr int kSliderSteps = 1000;
+constexpr int kPositionSteps = 400;
+// While dragging or animating, one step may move an actuator at most this
+// much; a larger jump means the same branch continues on the other side of
+// a singular set, which would make the device jump.
+constexpr double kMaxTrackingStep = 0.6;  // rad
+
+QString qs(const std::string& s) { return QString::fromStdString(s); }
+QString number(double v, int precision = 4) { return QString::number(v, 'g', precision); }
+// Fixed-point text; values that round to zero print as 0, never -0.
+QString fixed(double v, int decimals = 2) {
+  if (std::abs(v) < 0.5 * std::pow(10.0, -decimals)) v = 0.0;
+  return QString::number(v, 'f', decimals);
+}
+
+// Angles are shown in degrees; everything else in its own unit.
+double display_scale(const Quantity& q) { return q.unit == "rad" ? 1.0 / kDeg : 1.0; }
+QString display_suffix(const Quantity& q) {
+  if (q.unit == "rad" || q.unit == "deg") return QString::fromUtf8(" °");
+  return q.unit.empty() ? QString() : " " + qs(q.unit);
+}
+QString value_text(const Quantity& q, double v) {
+  return QString("%1 = %2%3").arg(qs(q.name), fixed(v * display_scale(q), q.unit == "rad" || q.unit == "deg" ? 1 : 3),
+                                  display_suffix(q));
+}
+
+double angle_distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  double d = 0;
+  for (Eigen::Index k = 0; k < a.size(); ++k) d = std::max(d, std::abs(std::remainder(a(k) - b(k), 2 * kPi)));
+  return d;
+}
+
+QString status_text(Status s, const std::string& text = {}) { return qs(text.empty() ? std::string(to_string(s)) : text); }
+
+}  // namespace
+
+// A slider and a spin box showing one quantity (the spin box carries the
+// unit; angles in degrees); `changed` runs when the user moves either.
+struct QuantityControl {
+  Quantity quantity;
+  double scale = 1.0;  // display units per model unit
+  QSlider* slider = nullptr;
+  QDoubleSpinBox* box = nullptr;
+  QLabel* label = nullptr;
+  QFormLayout* form = nullptr;  // its row
+
+  double value() const { return box->value() / scale; }
+  int step_of(double display) const {
+    const double lo = box->minimum(), hi = box->maximum();
+    return hi > lo ? int(std::lround((display - lo) / (hi - lo) * kSliderSteps)) : 0;
+  }
+  void set(double v) {
+    const QSignalBlocker b1(slider), b2(box);
+    // Angles with a full turn of travel are shown in (-180, 180].
+    if (quantity.unit == "rad" && quantity.range.hi - quantity.range.lo >= 2 * kPi - 1e-9)
+      v = std::remainder(v, 2 * kPi);
+    box->setValue(v * scale);
+    slider->setValue(step_of(box->value()));
+  }
+  void set_range(const Range& r) {
+    const double v = value();
+    quantity.range = r;
+    {
+      const QSignalBlocker b(box);
+      box->setRange(r.lo * scale, r.hi * scale);
+    }
+    set(v);
+  }
+  void set_enabled(bool on) {
+    slider->setEnabled(on);
+    box->setEnabled(on);
+    form->setRowVisible(label, on);
+  }
+};
+
+namespace {
+
+std::unique_ptr<QuantityControl> make_control(QWidget* parent, QFormLayout* form, const Quantity& q,
+                                              std::function<void()> changed) {
+  auto c = std::make_unique<QuantityControl>();
+  c->quantity = q;
+  c->scale = display_scale(q);
+  c->slider = new QSlider(Qt::Horizontal, parent);
+  c->slider->setObjectName(qs(q.name) + "Slider");
+  c->slider->setRange(0, kSliderSteps);
+  c->box = new QDoubleSpinBox(parent);
+  c->box->setObjectName(qs(q.name) + "Box");
+  c->box->setDecimals(q.unit == "rad" || q.unit == "deg" ? 1 : 3);
+  c->box->setRange(q.range.lo * c->scale, q.range.hi * c->scale);
+  c->box->setSingleStep(q.unit == "rad" || q.unit == "deg" ? 1.0 : 0.1);
+  c->box->setSuffix(display_suffix(q));
+  c->box->setKeyboardTracking(false);
+  c->box->setMinimumWidth(96);
+  const QString tip = qs(q.description);
+  c->slider->setToolTip(tip);
+  c->box->setToolTip(tip);
+  auto* row = new QHBoxLayout;
+  row->addWidget(c->slider, 1);
+  row->addWidget(c->box);
+  c->form = form;
+  c->label = new QLabel(qs(q.name), parent);
+  c->label->setToolTip(tip);
+  form->addRow(c->label, row);
+  c->set(q.value);
+  QuantityControl* raw = c.get();
+  QObject::connect(c->slider, &QSlider::valueChanged, c->box, [raw](int v) {
+    const double lo = raw->box->minimum(), hi = raw->box->maximum();
+    raw->box->setValue(lo + (hi - lo) * v / kSliderSteps);
+  });
+  QObject::connect(c->box, &QDoubleSpinBox::valueChanged, c->slider, [raw, changed](double v) {
+    {
+      const QSignalBlocker block(raw->slider);
+      raw->slider->setValue(raw->step_of(v));
+    }
+    changed();
+  });
+  return c;
+}
+
+QDoubleSpinBox* spin(QWidget* parent, double lo, double hi, double value, int decimals, const QString& suffix = {}) {
+  auto* s = new QDoubleSpinBox(parent);
+  s->setRange(lo, hi);
+  s->setDecimals(decimals);
+  s->setValue(value);
+  s->setSuffix(suffix);
+  s->setKeyboardTracking(false);
+  return s;
+}
+
+// The camera frames the middle of the sampling box: the box's corners hold
+// no workspace, and framing them would make the device small.
+Eigen::AlignedBox3d view_box(const Mechanism& m) {
+  const Eigen::AlignedBox3d box = m.default_box();
+  const Eigen::Vector3d half = 0.5 * 0.7 * box.sizes();
+  return {box.center() - half, box.center() + half};
+}
+
+// The branch of actuators q at task x: the IK solution nearest to q, or `fallback`.
+int branch_of(const Mechanism& m, const Eigen::VectorXd& q, const Eigen::VectorXd& x, int fallback) {
+  if (m.info().branches.size() <= 1) return 0;
+  IkOptions o;
+  o.seed = q;
+  IkResult r;
+  try {
+    r = m.inverse(x, o);
+  } catch (const std::invalid_argument&) {
+    return fallback;
+  }
+  int best = fallback;
+  double nearest = INFINITY;
+  for (const IkSolution& s : r.solutions)
+    if (s.status == Status::Ok && angle_distance(s.q, q) < nearest) {
+      nearest = angle_distance(s.q, q);
+      best = s.branch;
+    }
+  return best;
+}
+
+// What the device calls a failing part ("leg" from the column "failing_leg").
+QString part_name(const MechanismInfo& info) {
+  std::string column = info.eval_columns.ik_failing_part;
+  const std::string prefix = "failing_";
+  if (column.rfind(prefix, 0) == 0) column = column.substr(prefix.size());
+  return column.empty() ? QObject::tr("part") : qs(column);
+}
+
+}  // namespace
+
+// ---- Construction ------------------------------------------------------------
+
+MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
+    : QMainWindow(parent),
+      preset_(preset),
+      mechanism_(make_mechanism(preset)),
+      scene_(std::make_unique<render::SkeletonScene>()),
+      field_scene_(std::make_unique<render::FieldScene>()) {
+  const MechanismInfo& info = mechanism_->info();
+  setWindowTitle(QString("Linkscape — %1").arg(qs(preset.title.empty() ? info.title : preset.title)));
+  q_ = mechanism_->home_actuators();
+  x_ = mechanism_->home_task();
+  branch_ = branch_of(*mechanism_, q_, x_, 0);
+
+  view_ = new VtkWidget(this);
+  setCentralWidget(view_);
+  vtkNew<vtkRenderer> renderer;
+  renderer->GradientBackgroundOn();
+  renderer->SetBackground(0.97, 0.97, 0.98);
+  renderer->SetBackground2(0.80, 0.84, 0.90);
+  view_->renderWindow()->AddRenderer(renderer);
+  renderer_ = renderer;
+  scene_->set_model(mechanism_->skeleton_model());
+  scene_->add_to(renderer_);
+  field_scene_->add_to(renderer_);
+  renderer_->SetUseDepthPeeling(false);  // plain alpha blending: interactive under software GL
+  scene_->reset_camera(renderer_, view_box(*mechanism_));
+
+  // Drag the driven point: a handle on it, solved by IK as it moves.
+  handle_rep_ = vtkSmartPointer<vtkPointHandleRepresentation3D>::New();
+  handle_rep_->SetHandleSize(18);
+  handle_rep_->AllOff();
+  handle_rep_->GetProperty()->SetColor(0.95, 0.1, 0.1);
+  handle_rep_->GetSelectedProperty()->SetColor(1.0, 0.6, 0.0);
+  handle_ = vtkSmartPointer<vtkHandleWidget>::New();
+  handle_->SetInteractor(view_->interactor());
+  handle_->SetRepresentation(handle_rep_);
+  handle_callback_ = vtkSmartPointer<vtkCallbackCommand>::New();
+  handle_callback_->SetClientData(this);
+  handle_callback_->SetCallback([](vtkObject*, unsigned long event, void* client, void*) {
+    auto* self = static_cast<MechanismWindow*>(client);
+    double p[3];
+    self->handle_rep_->GetWorldPosition(p);
+    self->moveEndpointTo(Eigen::Vector3d(p[0], p[1], p[2]));
+    if (event == vtkCommand::EndInteractionEvent) self->placeHandle();
+  });
+  handle_->AddObserver(vtkCommand::InteractionEvent, handle_callback_);
+  handle_->AddObserver(vtkCommand::EndInteractionEvent, handle_callback_);
+  handle_->EnabledOn();
+
+  QDockWidget* drive = add_dock(this, tr("Drive"), "driveDock", buildDrivePanel());
+  QDockWidget* design = add_dock(this, tr("Design"), "designDock", buildDesignPanel());
+  QDockWidget* field = add_dock(this, tr("Field"), "fieldDock", buildFieldPanel());
+  QDockWidget* animation = add_dock(this, tr("Animation"), "animationDock", buildAnimationPanel());
+  // One column of tabs: the drive (with every read-out) in front.
+  tabifyDockWidget(drive, design);
+  tabifyDockWidget(drive, field);
+  tabifyDockWidget(drive, animation);
+  methods_ = add_methods_dock(this, preset_, drive);
+  drive->raise();
+  QTimer::singleShot(0, this, [this, drive] { resizeDocks({drive}, {std::max(drive->width(), 440)}, Qt::Horizontal); });
+  buildMenus();
+
+  compute_label_ = add_field_status(this, view_, {&slice_runner_, &volume_runner_}, [this] {
+                     slice_settled_ = surfaces_settled_ = true;  // nothing more is coming
+                   }).compute;
+  connect(&slice_runner_, &FieldJobRunner::sliceReady, this, &MechanismWindow::onSlice);
+  connect(&volume_runner_, &FieldJobRunner::surfacesReady, this, &MechanismWindow::onSurfaces);
+
+  animation_timer_ = new QTimer(this);
+  animation_timer_->setInterval(33);
+  connect(animation_timer_, &QTimer::timeout, this, &MechanismWindow::animationStep);
+
+  // Neither the drive nor the layout is remembered, so screenshots are reproducible.
+  rebuildRecentMenu();
+  setDrive(Drive::Task);
+  accept(q_, x_, branch_);
+  requestFields(true, true);
+}
+
+MechanismWindow::~MechanismWindow() {
+  slice_runner_.cancel();
+  volume_runner_.cancel();
+  handle_->EnabledOff();
+}
+
+bool MechanismWindow::takesLimits() const {
+  // A device takes actuator limits where its factory accepts them.
+  Preset p = preset_;
+  for (const Quantity& a : mechanism_->info().actuators)
+    if (!p.limits_deg.count(a.name)) p.limits_deg[a.name] = {a.range.lo / kDeg, a.range.hi / kDeg};
+  try {
+    make_mechanism(p);
+    return true;
+  } catch (const std::invalid_argument&) {
+    return false;
+  }
+}
+
+// ---- Panels -----------------------------------------------------------------
+
+QWidget* MechanismWindow::buildDesignPanel() {
+  auto* w = new QWidget;
+  auto* form = new QFormLayout(w);
+  form->addRow(tr("Preset"), make_preset_chooser(this, preset_));
+  auto* title = new QLabel(qs(mechanism_->info().title), w);
+  title->setWordWrap(true);
+  form->addRow(title);
+  // Ranges come from the preset's device and stay while the design changes.
+  for (const Quantity& q : mechanism_->info().parameters) {
+    if (!q.in_panel) continue;
+    const std::string name = q.name;
+    parameter_controls_.push_back(make_control(w, form, q, [this, name] {
+      for (const auto& c : parameter_controls_)
+        if (c->quantity.name == name) setParameters({{name, c->value()}});
+    }));
+  }
+  if (takesLimits()) {
+    auto* grid = new QGridLayout;
+    int row = 0;
+    for (const Quantity& a : mechanism_->info().actuators) {
+      grid->addWidget(new QLabel(qs(a.name), w), row, 0);
+      for (int k = 0; k < 2; ++k) {
+        auto* box = spin(w, -360, 360, (k == 0 ? a.range.lo : a.range.hi) / kDeg, 1, QString::fromUtf8(" °"));
+        box->setObjectName(qs(a.name) + (k == 0 ? "MinBox" : "MaxBox"));
+        box->setToolTip(k == 0 ? tr("Lower end of the actuator's travel") : tr("Upper end of the actuator's travel"));
+        limit_boxes_[a.name][k] = box;
+        grid->addWidget(box, row, 1 + k);
+        connect(box, &QDoubleSpinBox::editingFinished, this, [this] {
+          std::map<std::string, std::array<double, 2>> limits;
+          for (const auto& [name, boxes] : limit_boxes_) limits[name] = {boxes[0]->value(), boxes[1]->value()};
+          setActuatorLimits(limits);
+        });
+      }
+      ++row;
+    }
+    form->addRow(tr("Actuator travel"), grid);
+  }
+  return w;
+}
+
+QWidget* MechanismWindow::buildDrivePanel() {
+  const MechanismInfo& info = mechanism_->info();
+  auto* w = new QWidget;
+  auto* column = new QVBoxLayout(w);
+  auto* top = new QFormLayout;
+  drive_box_ = new QComboBox(w);
+  drive_box_->setObjectName("driveBox");
+  drive_box_->addItems({tr("Task coordinates (inverse kinematics)"), tr("Actuators (forward kinematics)")});
+  drive_box_->setToolTip(tr("Which sliders move the device; the others follow."));
+  top->addRow(tr("Drive"), drive_box_);
+  // Both modes where the device has both kinds of kinematics.
+  if (info.ik_methods.empty() || info.fk_methods.empty()) drive_box_->setEnabled(false);
+  connect(drive_box_, &QComboBox::activated, this, [this](int i) { setDrive(i == 1 ? Drive::Actuators : Drive::Task); });
+  branch_box_ = new QComboBox(w);
+  branch_box_->setObjectName("branchBox");
+  for (const auto& b : info.branches) branch_box_->addItem(qs(b));
+  branch_box_->setToolTip(tr("Assembly branch of inverse kinematics. Dragging and the sliders keep the current one."));
+  connect(branch_box_, &QComboBox::activated, this, [this](int b) { moveEndpointTo(endpoint(), b); });
+  if (info.branches.size() > 1) top->addRow(tr("Branch"), branch_box_);
+  else branch_box_->hide();
+  column->addLayout(top);
+
+  task_group_ = new QGroupBox(tr("Task"), w);
+  auto* task_form = new QFormLayout(task_group_);
+  for (std::size_t k = 0; k < info.task.size(); ++k)
+    task_controls_.push_back(make_control(task_group_, task_form, info.task[k], [this, k] {
+      Eigen::VectorXd x = x_;
+      x(Eigen::Index(k)) = task_controls_[k]->value();
+      if (drive_ == Drive::Task) setTask(x);
+      else setActuators(q_, x);  // an FK input (e.g. a grip) changed
+    }));
+  column->addWidget(task_group_);
+  actuator_group_ = new QGroupBox(tr("Actuators"), w);
+  auto* actuator_form = new QFormLayout(actuator_group_);
+  for (std::size_t k = 0; k < info.actuators.size(); ++k)
+    actuator_controls_.push_back(make_control(actuator_group_, actuator_form, info.actuators[k], [this, k] {
+      Eigen::VectorXd q = q_;
+      q(Eigen::Index(k)) = actuator_controls_[k]->value();
+      setActuators(q);
+    }));
+  column->addWidget(actuator_group_);
+
+  auto* state = new QGroupBox(tr("State"), w);
+  auto* form = new QFormLayout(state);
+  status_label_ = new QLabel(state);
+  status_label_->setObjectName("statusLabel");
+  status_label_->setWordWrap(true);
+  status_label_->setToolTip(tr("Whether the last requested pose was taken; if not, why and which part fails "
+                               "(drawn red). The device stays at the last valid pose."));
+  form->addRow(tr("Status"), status_label_);
+  task_label_ = new QLabel(state);
+  task_label_->setObjectName("taskLabel");
+  actuator_label_ = new QLabel(state);
+  actuator_label_->setObjectName("actuatorLabel");
+  form->addRow(tr("Task"), task_label_);
+  form->addRow(tr("Actuators"), actuator_label_);
+  for (const NamedItem& m : info.measures) {
+    auto* label = new QLabel(state);
+    label->setObjectName(qs(m.name) + "Label");
+    label->setToolTip(qs(m.description));
+    auto* name = new QLabel(qs(m.title), state);
+    name->setToolTip(qs(m.description));
+    form->addRow(name, label);
+    measure_labels_.push_back(label);
+  }
+  det_label_ = new QLabel(state);
+  det_label_->setObjectName("detLabel");
+  det_label_->setToolTip(tr("Determinant of the Jacobian dx/dq where it is square (0 otherwise)"));
+  form->addRow(tr("det J"), det_label_);
+  singular_label_ = new QLabel(state);
+  singular_label_->setObjectName("singularLabel");
+  QString sets;
+  for (const NamedItem& s : info.singular_sets) sets += "\n" + qs(s.title) + ": " + qs(s.description);
+  singular_label_->setToolTip(tr("The nearest singular set and the distance to it (task, %1):").arg(qs(info.length_unit)) + sets);
+  form->addRow(tr("Nearest singular"), singular_label_);
+  branch_label_ = new QLabel(state);
+  branch_label_->setObjectName("branchLabel");
+  form->addRow(tr("Branch"), branch_label_);
+  for (QLabel* l : {task_label_, actuator_label_, det_label_, singular_label_, branch_label_})
+    l->setTextInteractionFlags(Qt::TextSelectableByMouse);
+  column->addWidget(state);
+  auto* extra = new QWidget(w);
+  extra_form_ = new QFormLayout(extra);
+  extra_form_->setContentsMargins(0, 0, 0, 0);
+  column->addWidget(extra);
+  column->addWidget(new QLabel(tr("Or drag the red handle on the driven point in the view."), w));
+  column->addStretch(1);
+  return w;
+}
+
+QWidget* MechanismWindow::buildFieldPanel() {
+  const MechanismInfo& info = mechanism_->info();
+  const FieldChoices choices = field_choices(info);
+  auto* w = new QWidget;
+  auto* form = new QFormLayout(w);
+  field_box_ = new QComboBox(w);
+  field_box_->setObjectName("fieldBox");
+  for (const auto& name : choices.fields) {
+    QString text = qs(name);
+    if (name == "cond") text = qs(info.measures.front().title);
+    else if (info.measures.size() > 1 && name == info.measures[1].name) text = qs(info.measures[1].title);
+    field_box_->addItem(text, qs(name));
+  }
+  field_box_->setToolTip(tr("method: which IK method served each sample (categorical colours)"));
+  form->addRow(tr("Field"), field_box_);
+  method_box_ = new QComboBox(w);
+  method_box_->setObjectName("methodBox");
+  for (const auto& m : info.ik_methods) {
+    method_box_->addItem(qs(m.name));
+    method_box_->setItemData(method_box_->count() - 1, qs(m.description), Qt::ToolTipRole);
+  }
+  if (choices.methods.empty()) method_box_->hide();
+  else form->addRow(tr("IK method"), method_box_);
+  field_branch_box_ = new QComboBox(w);
+  field_branch_box_->setObjectName("fieldBranchBox");
+  for (const auto& b : info.branches) field_branch_box_->addItem(qs(b));
+  field_branch_box_->setToolTip(tr("The branch the fields are sampled in; follows the device's branch."));
+  if (info.branches.size() > 1) form->addRow(tr("Branch"), field_branch_box_);
+  else field_branch_box_->hide();
+  normal_box_ = new QComboBox(w);
+  normal_box_->setObjectName("normalBox");
+  normal_box_->addItems({"x", "y", "z"});
+  form->addRow(tr("Slice normal"), normal_box_);
+  position_slider_ = new QSlider(Qt::Horizontal, w);
+  position_slider_->setObjectName("positionSlider");
+  position_slider_->setRange(-kPositionSteps, kPositionSteps);
+  position_slider_->setValue(kPositionSteps / 8);
+  position_label_ = new QLabel(w);
+  position_label_->setMinimumWidth(80);
+  auto* row = new QHBoxLayout;
+  row->addWidget(position_slider_, 1);
+  row->addWidget(position_label_);
+  form->addRow(tr("Position"), row);
+  follow_box_ = new QCheckBox(tr("Through the driven point"), w);
+  follow_box_->setObjectName("followBox");
+  form->addRow(follow_box_);
+  const QString main_measure = qs(info.measures.front().title);
+  threshold_box_ = spin(w, 1.05, 100.0, 3.0, 2);
+  threshold_box_->setObjectName("thresholdBox");
+  threshold_box_->setToolTip(tr("%1 contour on the slice and the well-conditioned surface").arg(main_measure));
+  form->addRow(tr("%1 threshold").arg(main_measure), threshold_box_);
+  auto_range_box_ = new QCheckBox(tr("Automatic colour range"), w);
+  auto_range_box_->setChecked(true);
+  range_min_box_ = spin(w, -1e6, 1e6, 1.0, 3);
+  range_max_box_ = spin(w, -1e6, 1e6, 10.0, 3);
+  auto* range_row = new QHBoxLayout;
+  range_row->addWidget(range_min_box_);
+  range_row->addWidget(range_max_box_);
+  form->addRow(auto_range_box_);
+  form->addRow(tr("Colour range"), range_row);
+  slice_resolution_box_ = new QComboBox(w);
+  slice_resolution_box_->setObjectName("sliceResolutionBox");
+  for (int n : choices.slice_resolutions) slice_resolution_box_->addItem(QString::number(n));
+  slice_resolution_box_->setCurrentText(QString::number(choices.default_slice_resolution));
+  volume_resolution_box_ = new QComboBox(w);
+  volume_resolution_box_->setObjectName("volumeResolutionBox");
+  for (int n : choices.volume_resolutions) volume_resolution_box_->addItem(QString::number(n));
+  volume_resolution_box_->setCurrentText(QString::number(choices.default_volume_resolution));
+  form->addRow(tr("Slice samples"), slice_resolution_box_);
+  form->addRow(tr("Volume samples"), volume_resolution_box_);
+  show_slice_box_ = new QCheckBox(tr("Slice"), w);
+  show_slice_box_->setObjectName("showSliceBox");
+  show_reach_box_ = new QCheckBox(tr("Reachable workspace"), w);
+  show_reach_box_->setObjectName("showReachBox");
+  show_well_box_ = new QCheckBox(tr("Well-conditioned workspace"), w);
+  show_well_box_->setObjectName("showWellBox");
+  reach_opacity_slider_ = new QSlider(Qt::Horizontal, w);
+  well_opacity_slider_ = new QSlider(Qt::Horizontal, w);
+  for (QSlider* s : {reach_opacity_slider_, well_opacity_slider_}) s->setRange(0, 100);
+  reach_opacity_slider_->setValue(10);
+  well_opacity_slider_->setValue(22);
+  for (QCheckBox* c : {show_slice_box_, show_reach_box_, show_well_box_}) c->setChecked(true);
+  form->addRow(show_slice_box_);
+  form->addRow(show_reach_box_, reach_opacity_slider_);
+  form->addRow(show_well_box_, well_opacity_slider_);
+  if (info.task.size() > 3)
+    form->addRow(new QLabel(tr("Fields are sampled with the other task coordinates as they are now."), w));
+
+  auto slice_changed = [this] { requestFields(true, false); };
+  connect(normal_box_, &QComboBox::currentIndexChanged, this, slice_changed);
+  connect(position_slider_, &QSlider::valueChanged, this, [this] {
+    if (!follow_box_->isChecked()) requestFields(true, false);
+  });
+  connect(slice_resolution_box_, &QComboBox::currentIndexChanged, this, slice_changed);
+  connect(follow_box_, &QCheckBox::toggled, this, slice_changed);
+  connect(method_box_, &QComboBox::currentIndexChanged, this, [this] { requestFields(true, true); });
+  connect(field_branch_box_, &QComboBox::currentIndexChanged, this, [this] { requestFields(true, true); });
+  connect(volume_resolution_box_, &QComboBox::currentIndexChanged, this, [this] { requestFields(false, true); });
+  connect(threshold_box_, &QDoubleSpinBox::valueChanged, this, [this] {
+    restyleSlice();
+    requestFields(false, true);
+  });
+  connect(field_box_, &QComboBox::currentIndexChanged, this, [this] { restyleSlice(); });
+  connect(auto_range_box_, &QCheckBox::toggled, this, [this] { restyleSlice(); });
+  connect(range_min_box_, &QDoubleSpinBox::valueChanged, this, [this] { restyleSlice(); });
+  connect(range_max_box_, &QDoubleSpinBox::valueChanged, this, [this] { restyleSlice(); });
+  // Fields are computed only while shown.
+  connect(show_slice_box_, &QCheckBox::toggled, this, [this] {
+    applyFieldVisibility();
+    requestFields(true, false);
+  });
+  for (QCheckBox* c : {show_reach_box_, show_well_box_})
+    connect(c, &QCheckBox::toggled, this, [this] {
+      applyFieldVisibility();
+      requestFields(false, true);
+    });
+  for (QSlider* s : {reach_opacity_slider_, well_opacity_slider_})
+    connect(s, &QSlider::valueChanged, this, [this] { applyFieldVisibility(); });
+  return w;
+}
+
+QWidget* MechanismWindow::buildAnimationPanel() {
+  auto* w = new QWidget;
+  auto* form = new QFormLayout(w);
+  path_box_ = new QComboBox(w);
+  path_box_->setObjectName("pathBox");
+  path_box_->addItems({tr("Circle around the driven point (slice plane)"),
+                       tr("Line through the driven point (slice's first axis)")});
+  form->addRow(tr("Path"), path_box_);
+  amplitude_box_ = spin(w, 0.0, 1e4, 0.15 * mechanism_->size(), 2, " " + qs(mechanism_->info().length_unit));
+  amplitude_box_->setObjectName("amplitudeBox");
+  amplitude_box_->setToolTip(tr("Radius of the circle or half-length of the line"));
+  form->addRow(tr("Size"), amplitude_box_);
+  speed_box_ = spin(w, 0.01, 100.0, 0.5, 2, tr(" cycles/s"));
+  form->addRow(tr("Speed"), speed_box_);
+  loop_box_ = new QCheckBox(tr("Loop"), w);
+  loop_box_->setChecked(true);
+  form->addRow(loop_box_);
+  play_button_ = new QPushButton(tr("Play"), w);
+  play_button_->setObjectName("playButton");
+  play_button_->setCheckable(true);
+  form->addRow(play_button_);
+  form->addRow(new QLabel(tr("The path is followed by inverse kinematics in the current branch;\n"
+                             "points the device cannot reach are skipped."), w));
+  connect(play_button_, &QPushButton::toggled, this, [this](bool on) {
+    play_button_->setText(on ? tr("Pause") : tr("Play"));
+    if (on) {
+      if (animation_phase_ == 0.0) animation_centre_ = endpoint();
+      animation_timer_->start();
+    } else {
+      animation_timer_->stop();
+    }
+  });
+  connect(path_box_, &QComboBox::currentIndexChanged, this, [this] { animation_phase_ = 0.0; });
+  return w;
+}
+
+void MechanismWindow::buildMenus() {
+  QMenu* file = menuBar()->addMenu(tr("&File"));
+  file->addAction(tr("&Open session…"), QKeySequence::Open, this, [this] {
+    const QString path = QFileDialog::getOpenFileName(this, tr("Open session"), QString(), tr("Linkscape session (*.json)"));
+    if (!path.isEmpty()) openSession(path);
+  });
+  file->addAction(tr("&Save session…"), QKeySequence::Save, this, [this] {
+    const QString path = QFileDialog::getSaveFileName(this, tr("Save session"), "session.json", tr("Linkscape session (*.json)"));
+    if (!path.isEmpty()) saveSession(path);
+  });
+  recent_menu_ = file->addMenu(tr("Recent sessions"));
+  file->addSeparator();
+  file->addAction(tr("Export slice &image…"), this, [this] { export_slice_image(this, slice_field_.get(), sliceStyle()); });
+  file->addAction(tr("Export workspace &mesh…"), this, [this] {
+    export_surface_mesh(this, surfaces_.volume.get(), surfaces_.reach, surfaces_.well_conditioned,
+                        threshold_box_->value());
+  });
+  file->addAction(tr("Export &field (VTI)…"), this, [this] { export_volume(this, surfaces_.volume.get()); });
+  file->addAction(tr("Save screens&hot…"), this, [this] { export_screenshot(this); });
+  file->addSeparator();
+  file->addAction(tr("&Quit"), QKeySequence::Quit, this, &QWidget::close);
+  QMenu* view = menuBar()->addMenu(tr("&View"));
+  view->addAction(tr("&Reset camera"), this, [this] {
+    scene_->reset_camera(renderer_, view_box(*mechanism_));
+    view_->update();
+  });
+  // Depth peeling composites the translucent surfaces exactly but costs
+  // several full-screen passes per frame (docs/performance.md), so
+  // interaction uses plain alpha blending unless the user asks.
+  QAction* exact = view->addAction(tr("&Exact transparency (slower)"));
+  exact->setObjectName("exactTransparencyAction");
+  exact->setCheckable(true);
+  connect(exact, &QAction::toggled, this, [this](bool on) {
+    renderer_->SetUseDepthPeeling(on);
+    view_->update();
+  });
+}
+
+// ---- Pose ---------------------------------------------------------------------
+
+bool MechanismWindow::setTask(const Eigen::VectorXd& x, bool tracking) {
+  const MechanismInfo& info = mechanism_->info();
+  if (x.size() != Eigen::Index(info.task.size()) || !x.allFinite())
+    return refuse(tr("The target is not %1 finite task coordinates.").arg(info.task.size()));
+  IkOptions o;
+  o.seed = q_;
+  if (info.branches.size() > 1) o.branch = branch_;
+  IkResult r;
+  try {
+    r = mechanism_->inverse(x, o);
+  } catch (const std::invalid_argument& e) {
+    return refuse(qs(e.what()));
+  }
+  const IkSolution* s = nullptr;
+  for (const IkSolution& c : r.solutions)
+    if (c.branch == branch_) s = &c;
+  if (!s || s->status != Status::Ok) {
+    QString why = status_text(s ? s->status : r.status, s ? std::string() : r.status_text);
+    if (!r.failing_part.empty()) why = QString("%1 %2: %3").arg(part_name(info), qs(r.failing_part), why);
+    if ((s ? s->status : r.status) == Status::Singular && s) {
+      const SingularityReport near = mechanism_->nearest_singularity(s->q, x);
+      why += tr(" (on the %1)").arg(qs(info.singular_sets.at(near.nearest).title));
+    }
+    if (info.branches.size() > 1) why += tr(" in branch %1").arg(branch_);
+    return refuse(why + tr("; the device stays at the last valid pose"), &r);
+  }
+  if (tracking && angle_distance(s->q, q_) > kMaxTrackingStep)
+    return refuse(tr("jump: reaching this target would make the device jump (it lies across a singular set); "
+                     "move through the workspace instead"));
+  accept(s->q, x, branch_);
+  return true;
+}
+
+bool MechanismWindow::moveEndpointTo(const Eigen::Vector3d& target, int branch) {
+  Eigen::VectorXd x = x_;
+  x.head<3>() = target;
+  if (branch < 0) return setTask(x, true);
+  if (branch >= int(mechanism_->info().branches.size())) return refuse(tr("There is no branch %1.").arg(branch));
+  const int kept = branch_;
+  branch_ = branch;
+  if (setTask(x, false)) return true;
+  branch_ = kept;
+  syncPanels();
+  return false;
+}
+
+bool MechanismWindow::setActuators(const Eigen::VectorXd& q, const std::optional<Eigen::VectorXd>& task_inputs) {
+  const MechanismInfo& info = mechanism_->info();
+  if (q.size() != Eigen::Index(info.actuators.size()) || !q.allFinite())
+    return refuse(tr("The actuators need %1 finite values.").arg(info.actuators.size()));
+  FkOptions o;
+  Eigen::VectorXd seed = x_;
+  if (task_inputs)
+    for (const std::string& name : info.fk_inputs)
+      for (std::size_t k = 0; k < info.task.size(); ++k)
+        if (info.task[k].name == name) seed(Eigen::Index(k)) = (*task_inputs)(Eigen::Index(k));
+  o.seed = seed;
+  FkResult r;
+  try {
+    r = mechanism_->forward(q, o);
+  } catch (const std::invalid_argument& e) {
+    return refuse(qs(e.what()));
+  }
+  if (r.status != Status::Ok)
+    return refuse(tr("FK %1 after %2 iterations (residual %3); the device stays at the last valid pose")
+                      .arg(status_text(r.status, r.status_text))
+                      .arg(r.iterations)
+                      .arg(number(r.residual, 2)));
+  // The pose FK found must assemble: its IK names a failing part if not.
+  IkOptions check;
+  check.seed = q;
+  IkResult ik;
+  try {
+    ik = mechanism_->inverse(r.x, check);
+  } catch (const std::invalid_argument& e) {
+    return refuse(qs(e.what()));
+  }
+  if (ik.status != Status::Ok && !ik.failing_part.empty())
+    return refuse(QString("%1 %2: %3 at the FK pose; the device stays at the last valid pose")
+                      .arg(part_name(info), qs(ik.failing_part), status_text(ik.status, ik.status_text)),
+                  &ik);
+  accept(q, r.x, branch_of(*mechanism_, q, r.x, branch_));
+  return true;
+}
+
+bool MechanismWindow::refuse(const QString& why, const IkResult* failed) {
+  refusal_ = why;
+  failing_part_ = failed ? qs(failed->failing_part) : QString();
+  status_label_->setText(why);
+  status_label_->setStyleSheet("color: #b00020");
+  drawPose(failed);
+  view_->update();
+  return false;
+}
+
+void MechanismWindow::accept(const Eigen::VectorXd& q, const Eigen::VectorXd& x, int branch) {
+  const bool fixed_changed = x_.size() != x.size() || (x_.tail(x.size() - 3) - x.tail(x.size() - 3)).norm() > 1e-12;
+  const bool moved = x_.size() != x.size() || (x_.head<3>() - x.head<3>()).norm() > 1e-12;
+  const bool branch_changed = branch != branch_;
+  q_ = q;
+  x_ = x;
+  branch_ = branch;
+  refusal_.clear();
+  failing_part_.clear();
+  status_label_->setText(tr("ok"));
+  status_label_->setStyleSheet("color: #1b5e20");
+  drawPose();
+  syncPanels();
+  updateReadouts();
+  placeHandle();
+  // Fields depend on the fixed task coordinates and the branch; the slice
+  // also on the driven point while it follows it.
+  if (branch_changed) {
+    const QSignalBlocker block(field_branch_box_);
+    field_branch_box_->setCurrentIndex(branch_);
+  }
+  if (fixed_changed || branch_changed) requestFields(true, true);
+  else if (moved && follow_box_ && follow_box_->isChecked()) requestFields(true, false);
+  view_->update();
+  emit poseChanged();
+}
+
+void MechanismWindow::drawPose(const IkResult* failed) {
+  try {
+    scene_->set_pose(mechanism_->skeleton_pose(q_, x_, failed));
+  } catch (const std::invalid_argument& e) {
+    statusBar()->showMessage(qs(e.what()), 8000);
+  }
+}
+
+void MechanismWindow::placeHandle() {
+  if (!handle_rep_) return;
+  Eigen::Vector3d p = endpoint();
+  handle_rep_->SetWorldPosition(p.data());
+}
+
+void MechanismWindow::setDrive(Drive drive) {
+  drive_ = drive;
+  const bool fk = drive == Drive::Actuators && drive_box_->isEnabled();
+  if (!fk) drive_ = Drive::Task;
+  {
+    const QSignalBlocker block(drive_box_);
+    drive_box_->setCurrentIndex(fk ? 1 : 0);
+  }
+  const auto& inputs = mechanism_->info().fk_inputs;
+  // The panel that drives is shown; the other one's values are in the read-outs.
+  bool any_task = false;
+  for (const auto& c : task_controls_) {
+    const bool input = !fk || std::find(inputs.begin(), inputs.end(), c->quantity.name) != inputs.end();
+    c->set_enabled(input);
+    any_task = any_task || input;
+  }
+  for (const auto& c : actuator_controls_) c->set_enabled(fk);
+  task_group_->setVisible(any_task);
+  actuator_group_->setVisible(fk);
+}
+
+void MechanismWindow::syncPanels() {
+  for (std::size_t k = 0; k < task_controls_.size(); ++k) task_controls_[k]->set(x_(Eigen::Index(k)));
+  for (std::size_t k = 0; k < actuator_controls_.size(); ++k) actuator_controls_[k]->set(q_(Eigen::Index(k)));
+  const QSignalBlocker block(branch_box_);
+  branch_box_->setCurrentIndex(branch_);
+}
+
+void MechanismWindow::syncRanges() {
+  const MechanismInfo& info = mechanism_->info();
+  for (std::size_t k = 0; k < task_controls_.size(); ++k) task_controls_[k]->set_range(info.task[k].range);
+  for (std::size_t k = 0; k < actuator_controls_.size(); ++k) actuator_controls_[k]->set_range(info.actuators[k].range);
+  for (const auto& c : parameter_controls_) {
+    const auto p = mechanism_->parameters();
+    if (p.count(c->quantity.name)) c->set(p.at(c->quantity.name));
+  }
+  for (const Quantity& a : info.actuators) {
+    const auto it = limit_boxes_.find(a.name);
+    if (it == limit_boxes_.end()) continue;
+    for (int k = 0; k < 2; ++k) {
+      const QSignalBlocker block(it->second[k]);
+      it->second[k]->setValue((k == 0 ? a.range.lo : a.range.hi) / kDeg);
+    }
+  }
+}
+
+void MechanismWindow::updateReadouts() {
+  const MechanismInfo& info = mechanism_->info();
+  QStringList task, actuators;
+  for (std::size_t k = 0; k < info.task.size(); ++k) task << value_text(info.task[k], x_(Eigen::Index(k)));
+  for (std::size_t k = 0; k < info.actuators.size(); ++k) {
+    double v = q_(Eigen::Index(k));
+    if (info.actuators[k].unit == "rad") v = std::remainder(v, 2 * kPi);
+    actuators << value_text(info.actuators[k], v);
+  }
+  auto lines = [](const QStringList& items) {
+    QString text;
+    for (int i = 0; i < items.size(); ++i) text += (i == 0 ? "" : i % 3 == 0 ? "\n" : ", ") + items[i];
+    return text;
+  };
+  task_label_->setText(lines(task));
+  actuator_label_->setText(lines(actuators));
+  try {
+    const Measures m = mechanism_->measures(q_, x_);
+    for (std::size_t k = 0; k < measure_labels_.size(); ++k) {
+      const double v = k < m.values.size() ? m.values[k] : NAN;
+      measure_labels_[k]->setText(std::isfinite(v) ? number(v) : QString::fromUtf8("∞ (singular)"));
+    }
+    det_label_->setText(number(m.det));
+    const SingularityReport s = mechanism_->nearest_singularity(q_, x_);
+    singular_label_->setText(QString("%1, %2 %3")
+                                 .arg(qs(info.singular_sets.at(s.nearest).title), number(s.distance, 3),
+                                      qs(info.length_unit)));
+  } catch (const std::exception& e) {
+    statusBar()->showMessage(qs(e.what()), 8000);
+  }
+  branch_label_->setText(qs(info.branches.at(branch_)));
+  while (extra_form_->rowCount() > 0) extra_form_->removeRow(0);
+  for (const auto& [label, text] : mechanism_->readouts(q_, x_)) {
+    auto* value = new QLabel(qs(text));
+    value->setTextInteractionFlags(Qt::TextSelectableByMouse);
+    extra_form_->addRow(qs(label), value);
+  }
+}
+
+// ---- Design ---------------------------------------------------------------------
+
+bool MechanismWindow::setParameters(const std::map<std::string, double>& parameters) {
+  Preset next = preset_;
+  for (const auto& [name, value] : parameters) next.parameters[name] = value;
+  std::shared_ptr<const Mechanism> m;
+  SkeletonModel skeleton;
+  try {
+    m = make_mechanism(next);
+    skeleton = m->skeleton_model();
+  } catch (const std::invalid_argument& e) {
+    syncRanges();  // the panel shows the design in force
+    statusBar()->showMessage(qs(e.what()), 8000);
+    return false;
+  }
+  // Keep the pose where the new design reaches it; else the actuators; else home.
+  Eigen::VectorXd q, x;
+  int branch = branch_;
+  IkOptions o;
+  o.seed = q_;
+  if (m->info().branches.size() > 1) o.branch = branch_;
+  const IkResult ik = m->inverse(x_, o);
+  if (ik.status == Status::Ok && !ik.solutions.empty() && ik.solutions.front().status == Status::Ok) {
+    q = ik.solutions.front().q;
+    x = x_;
+  } else {
+    FkOptions fo;
+    fo.seed = x_;
+    const FkResult fk = m->forward(q_, fo);
+    IkOptions check;
+    check.seed = q_;
+    if (fk.status == Status::Ok && m->inverse(fk.x, check).status == Status::Ok) {
+      q = q_;
+      x = fk.x;
+      branch = branch_of(*m, q, x, branch_);
+    } else {
+      q = m->home_actuators();
+      x = m->home_task();
+      if (m->inverse(x, check).status != Status::Ok) {
+        syncRanges();
+        statusBar()->showMessage(tr("This design cannot reach its home pose; design unchanged."), 8000);
+        return false;
+      }
+      branch = branch_of(*m, q, x, 0);
+    }
+  }
+  try {
+    scene_->set_model(skeleton);
+  } catch (const std::invalid_argument& e) {
+    statusBar()->showMessage(qs(e.what()), 8000);
+    return false;
+  }
+  preset_ = next;
+  mechanism_ = m;
+  syncRanges();
+  methods_->setMechanism(preset_);  // the next Run measures the new design
+  accept(q, x, branch);
+  requestFields(true, true);
+  return true;
+}
+
+bool MechanismWindow::setActuatorLimits(const std::map<std::string, std::array<double, 2>>& limits_deg) {
+  Preset next = preset_;
+  for (const auto& [name, range] : limits_deg) next.limits_deg[name] = {range[0], range[1]};
+  std::shared_ptr<const Mechanism> m;
+  try {
+    m = make_mechanism(next);
+  } catch (const std::invalid_argument& e) {
+    syncRanges();  // back to the limits in force
+    statusBar()->showMessage(qs(e.what()), 8000);
+    return false;
+  }
+  preset_ = next;
+  mechanism_ = m;
+  syncRanges();
+  methods_->setMechanism(preset_);
+  // The pose is clamped into the new travel.
+  Eigen::VectorXd q = q_;
+  const auto& actuators = m->info().actuators;
+  for (std::size_t k = 0; k < actuators.size(); ++k)
+    q(Eigen::Index(k)) = std::clamp(q(Eigen::Index(k)), actuators[k].range.lo, actuators[k].range.hi);
+  if (!setActuators(q)) accept(q_, x_, branch_);
+  requestFields(true, true);
+  return true;
+}
+
+// ---- Fields -------------------------------------------------------------------
+
+FieldSettings MechanismWindow::fieldSettings() const {
+  FieldSettings f;
+  f.field = field_box_->currentData().toString().toStdString();
+  if (!field_choices(mechanism_->info()).methods.empty()) f.method = method_box_->currentText().toStdString();
+  f.normal = normal_box_->currentText().toStdString();
+  f.position = slicePosition();
+  f.follow_endpoint = follow_box_->isChecked();
+  f.threshold = threshold_box_->value();
+  if (!auto_range_box_->isChecked()) {
+    f.range_min = range_min_box_->value();
+    f.range_max = range_max_box_->value();
+  }
+  f.slice_resolution = slice_resolution_box_->currentText().toInt();
+  f.volume_resolution = volume_resolution_box_->currentText().toInt();
+  f.show_slice = show_slice_box_->isChecked();
+  f.show_reach = show_reach_box_->isChecked();
+  f.show_well_conditioned = show_well_box_->isChecked();
+  f.reach_opacity = reach_opacity_slider_->value() / 100.0;
+  f.well_conditioned_opacity = well_opacity_slider_->value() / 100.0;
+  return f;
+}
+
+void MechanismWindow::applyFieldSettings(const FieldSettings& f) {
+  {
+    const QSignalBlocker b1(field_box_), b2(normal_box_), b3(position_slider_), b4(follow_box_), b5(threshold_box_),
+        b6(auto_range_box_), b7(slice_resolution_box_), b8(volume_resolution_box_), b9(show_slice_box_),
+        b10(show_reach_box_), b11(show_well_box_), b12(reach_opacity_slider_), b13(well_opacity_slider_),
+        b14(method_box_), b15(range_min_box_), b16(range_max_box_);
+    auto choose = [](QComboBox* box, int index) {
+      if (index >= 0) box->setCurrentIndex(index);
+    };
+    choose(field_box_, field_box_->findData(qs(f.field)));
+    choose(method_box_, method_box_->findText(qs(f.method)));
+    choose(normal_box_, normal_box_->findText(qs(f.normal)));
+    choose(slice_resolution_box_, slice_resolution_box_->findText(QString::number(f.slice_resolution)));
+    choose(volume_resolution_box_, volume_resolution_box_->findText(QString::number(f.volume_resolution)));
+    follow_box_->setChecked(f.follow_endpoint);
+    threshold_box_->setValue(f.threshold);
+    auto_range_box_->setChecked(!(f.range_min && f.range_max));
+    if (f.range_min) range_min_box_->setValue(*f.range_min);
+    if (f.range_max) range_max_box_->setValue(*f.range_max);
+    show_slice_box_->setChecked(f.show_slice);
+    show_reach_box_->setChecked(f.show_reach);
+    show_well_box_->setChecked(f.show_well_conditioned);
+    reach_opacity_slider_->setValue(int(std::lround(f.reach_opacity * 100)));
+    well_opacity_slider_->setValue(int(std::lround(f.well_conditioned_opacity * 100)));
+    const Eigen::AlignedBox3d box = mechanism_->default_box();
+    const int n = normal_box_->currentIndex();
+    const double half = 0.5 * (box.max()(n) - box.min()(n));
+    position_slider_->setValue(int(std::lround((f.position - box.center()(n)) / half * kPositionSteps)));
+  }
+  applyFieldVisibility();
+  restyleSlice();
+  requestFields(true, true);
+}
+
+double MechanismWindow::slicePosition() const {
+  const int n = normal_box_->currentIndex();
+  const Eigen::AlignedBox3d box = mechanism_->default_box();
+  if (follow_box_->isChecked()) return x_(n);
+  return box.center()(n) + 0.5 * (box.max()(n) - box.min()(n)) * position_slider_->value() / kPositionSteps;
+}
+
+// Fields are computed only when shown, coarse first, on worker threads; a
+// new request cancels the one in flight.
+void MechanismWindow::requestFields(bool slice, bool volume) {
+  if (!field_box_) return;  // panels not built yet
+  const MechanismInfo& info = mechanism_->info();
+  IkOptions options;
+  if (!field_choices(info).methods.empty()) options.method = method_box_->currentText().toStdString();
+  if (info.branches.size() > 1) options.branch = field_branch_box_->currentIndex();
+  FieldJob job;
+  job.sampler = [m = mechanism_, fixed = x_, options](const Grid& grid, const FieldProgress& progress) {
+    return m->compute_field(grid, fixed, options, 0, progress);
+  };
+  job.cond_threshold = threshold_box_->value();
+  const Eigen::AlignedBox3d box = mechanism_->default_box();
+  const Eigen::Vector3d lo = box.min(), hi = box.max();
+  if (slice && show_slice_box_->isChecked()) {
+    const Axis normal = parse_axis(normal_box_->currentText().toStdString());
+    const int n = int(normal);
+    const double position = std::clamp(slicePosition(), lo(n), hi(n));
+    if (follow_box_->isChecked()) {
+      const QSignalBlocker block(position_slider_);
+      position_slider_->setValue(
+          int(std::lround((position - 0.5 * (lo(n) + hi(n))) / (0.5 * (hi(n) - lo(n))) * kPositionSteps)));
+    }
+    position_label_->setText(QString("%1 = %2 %3").arg(normal_box_->currentText(), fixed(position, 2), qs(info.length_unit)));
+    const auto [u, v] = Grid::slice_axes(normal);
+    const int res = slice_resolution_box_->currentText().toInt();
+    FieldJob slice_job = job;
+    slice_job.slice = Grid::slice(normal, position, lo(int(u)), hi(int(u)), lo(int(v)), hi(int(v)), res, res);
+    slice_settled_ = false;
+    slice_runner_.submit(slice_job);
+  } else if (slice) {
+    slice_runner_.cancel();
+    slice_settled_ = true;
+  }
+  if (volume && (show_reach_box_->isChecked() || show_well_box_->isChecked())) {
+    const int n = volume_resolution_box_->currentText().toInt();
+    FieldJob volume_job = job;
+    volume_job.volume = Grid::box(lo, hi, {n, n, n});
+    volume_job.coarse_divisor = 2;
+    surfaces_settled_ = false;
+    volume_runner_.submit(volume_job);
+  } else if (volume) {
+    volume_runner_.cancel();
+    surfaces_settled_ = true;
+  }
+}
+
+void MechanismWindow::onSlice(const SliceResult& result) {
+  slice_field_ = result.field;
+  restyleSlice();
+  compute_label_->setText(tr("slice %1 ms, %2 M points/s")
+                              .arg(result.seconds * 1e3, 0, 'f', 1)
+                              .arg(result.points_per_second / 1e6, 0, 'f', 2));
+  if (result.fine) slice_settled_ = true;
+  emit sliceUpdated(result.fine);
+  emit fieldsUpdated(result.fine);
+}
+
+void MechanismWindow::onSurfaces(const SurfaceResult& result) {
+  surfaces_ = result;  // kept for export
+  field_scene_->set_surface(render::Surface::Reach, result.reach);
+  field_scene_->set_surface(render::Surface::WellConditioned, result.well_conditioned);
+  applyFieldVisibility();
+  statusBar()->showMessage(tr("isosurfaces (%1) in %2 ms")
+                               .arg(result.fine ? tr("full") : tr("coarse"))
+                               .arg(result.seconds * 1e3, 0, 'f', 0),
+                           4000);
+  if (result.fine) surfaces_settled_ = true;
+  emit surfacesUpdated(result.fine);
+  emit fieldsUpdated(result.fine);
+}
+
+render::SliceStyle MechanismWindow::sliceStyle() const {
+  const FieldSettings f = fieldSettings();
+  render::SliceStyle style;
+  style.field = f.field;
+  style.contour_levels = {f.threshold};
+  style.min = f.range_min;
+  style.max = f.range_max;
+  return style;
+}
+
+void MechanismWindow::restyleSlice() {
+  if (!slice_field_) return;
+  render::SliceStyle style = sliceStyle();
+  style.scale = std::max(1, 768 / slice_resolution_box_->currentText().toInt());
+  style.unreachable_alpha = 50;
+  try {
+    field_scene_->set_slice(*slice_field_, style);
+  } catch (const std::invalid_argument& e) {
+    statusBar()->showMessage(qs(e.what()), 8000);
+  }
+  applyFieldVisibility();
+}
+
+void MechanismWindow::applyFieldVisibility() {
+  const bool slice = show_slice_box_->isChecked() && slice_field_ != nullptr;
+  field_scene_->set_slice_visible(slice);
+  // The method field is categorical: its colours are not on a scale.
+  field_scene_->set_colour_bar_visible(slice && field_box_->currentData().toString() != "method");
+  field_scene_->set_surface_visible(render::Surface::Reach, show_reach_box_->isChecked());
+  field_scene_->set_surface_visible(render::Surface::WellConditioned, show_well_box_->isChecked());
+  field_scene_->set_surface_opacity(render::Surface::Reach, reach_opacity_slider_->value() / 100.0);
+  field_scene_->set_surface_opacity(render::Surface::WellConditioned, well_opacity_slider_->value() / 100.0);
+  view_->update();
+}
+
+// ---- Animation ------------------------------------------------------------------
+
+void MechanismWindow::animationStep() {
+  const double dt = animation_timer_->interval() / 1000.0;
+  animation_phase_ += speed_box_->value() * dt;
+  if (animation_phase_ >= 1.0) {
+    if (!loop_box_->isChecked()) {
+      play_button_->setChecked(false);
+      animation_phase_ = 0.0;
+      return;
+    }
+    animation_phase_ -= 1.0;
+  }
+  const double angle = 2 * kPi * animation_phase_;
+  const auto [u, v] = Grid::slice_axes(parse_axis(normal_box_->currentText().toStdString()));
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();
+  const double a = amplitude_box_->value();
+  if (path_box_->currentIndex() == 0) {
+    offset(int(u)) = a * std::cos(angle) - a;  // starts at the driven point
+    offset(int(v)) = a * std::sin(angle);
+  } else {
+    offset(int(u)) = a * std::sin(angle);
+  }
+  moveEndpointTo(animation_centre_ + offset);  // an unreachable point is skipped, the panel says why
+}
+
+// ---- Sessions, files ---------------------------------------------------------------
+
+Session MechanismWindow::session() const {
+  Session s;
+  s.mechanism = preset_reference(preset_);
+  s.parameters = mechanism_->parameters();
+  if (!limit_boxes_.empty())
+    for (const Quantity& a : mechanism_->info().actuators)
+      s.actuator_limits_deg[a.name] = {a.range.lo / kDeg, a.range.hi / kDeg};
+  s.pose = q_;
+  s.task = x_;
+  s.camera = camera_state(renderer_);
+  s.field = fieldSettings();
+  return s;
+}
+
+void MechanismWindow::applySession(const Session& s) {
+  // Refuse before changing anything: a value outside a slider's range would be clamped.
+  for (const auto& c : parameter_controls_) {
+    const auto it = s.parameters.find(c->quantity.name);
+    if (it != s.parameters.end() && (it->second * c->scale < c->box->minimum() || it->second * c->scale > c->box->maximum()))
+      throw std::invalid_argument("session: " + c->quantity.name + " = " + format_number(it->second) +
+                                  " is outside the window's range [" + format_number(c->box->minimum() / c->scale) +
+                                  ", " + format_number(c->box->maximum() / c->scale) + "] for this preset");
+  }
+  Preset next = preset_;
+  for (const auto& [name, value] : s.parameters) next.parameters[name] = value;
+  for (const auto& [name, range] : s.actuator_limits_deg) next.limits_deg[name] = {range[0], range[1]};
+  const std::shared_ptr<const Mechanism> m = make_mechanism(next);  // throws: nothing changed
+  const MechanismInfo& info = m->info();
+  if (s.pose.size() > 0 && s.pose.size() != Eigen::Index(info.actuators.size()))
+    throw std::invalid_argument("session: the pose has " + std::to_string(s.pose.size()) + " actuator values, the device " +
+                                std::to_string(info.actuators.size()));
+  if (s.task.size() > 0 && s.task.size() != Eigen::Index(info.task.size()))
+    throw std::invalid_argument("session: the task has " + std::to_string(s.task.size()) + " coordinates, the device " +
+                                std::to_string(info.task.size()));
+  // The pose: saved actuators and task where they agree; else IK of the task
+  // (the solution nearest the saved actuators); else FK of the actuators.
+  std::optional<Eigen::VectorXd> q, x;
+  if (s.task.size() > 0) {
+    IkOptions o;
+    if (s.pose.size() > 0) o.seed = s.pose;
+    const IkResult r = m->inverse(s.task, o);
+    double nearest = INFINITY;
+    for (const IkSolution& sol : r.solutions) {
+      const double d = s.pose.size() > 0 ? angle_distance(sol.q, s.pose) : sol.branch == branch_ ? 0.0 : 1.0;
+      if (sol.status == Status::Ok && d < nearest) {
+        nearest = d;
+        q = sol.q;
+        x = s.task;
+      }
+    }
+    // The saved actuators themselves where they are that solution (no rounding).
+    if (q && s.pose.size() > 0 && angle_distance(*q, s.pose) < 1e-9) q = s.pose;
+  } else {
+    FkOptions o;
+    const FkResult r = m->forward(s.pose, o);
+    if (r.status == Status::Ok) {
+      q = s.pose;
+      x = r.x;
+    }
+  }
+  preset_ = next;
+  mechanism_ = m;
+  scene_->set_model(m->skeleton_model());
+  syncRanges();
+  methods_->setMechanism(preset_);
+  applyFieldSettings(s.field);
+  if (s.camera) apply_camera(renderer_, *s.camera);
+  if (q && x) {
+    accept(*q, *x, branch_of(*m, *q, *x, branch_));
+  } else {
+    accept(m->home_actuators(), m->home_task(), branch_of(*m, m->home_actuators(), m->home_task(), 0));
+    statusBar()->showMessage(tr("The session's pose is not reachable; the device is at its home pose."), 8000);
+  }
+  restyleSlice();
+  requestFields(true, true);
+}
+
+bool MechanismWindow::openSession(const QString& path) {
+  if (!open_session_file(this, preset_, path)) return false;
+  addRecent(path);
+  return true;
+}
+
+bool MechanismWindow::saveSession(const QString& path) {
+  if (!save_session_file(this, session(), path)) return false;
+  addRecent(path);
+  return true;
+}
+
+void MechanismWindow::addRecent(const QString& path) {
+  QSettings settings;
+  QStringList recent = settings.value("recentSessions").toStringList();
+  const QString absolute = QFileInfo(path).absoluteFilePath();
+  recent.removeAll(absolute);
+  recent.prepend(absolute);
+  while (recent.size() > 8) recent.removeLast();
+  settings.setValue("recentSessions", recent);
+  rebuildRecentMenu();
+}
+
+void MechanismWindow::rebuildRecentMenu() {
+  if (!recent_menu_) return;
+  recent_menu_->clear();
+  const QStringList recent = QSettings().value("recentSessions").toStringList();
+  for (const QString& path : recent) recent_menu_->addAction(path, this, [this, path] { openSession(path); });
+  recent_menu_->setEnabled(!recent.isEmpty());
+}
+
+void MechanismWindow::closeEvent(QCloseEvent* event) {
+  animation_timer_->stop();
+  QMainWindow::closeEvent(event);
+}
+
+// ---- Entry ------------------------------------------------------------------------
+
+int run_window(const WindowOptions& options, int argc, char** argv) {
+  std::optional<Session> session;
+  if (!options.session.empty()) session = load_session(options.session);  // bad file: exit code 2
+  // A session brings its own mechanism.
+  Preset preset = load_preset(session ? session->mechanism : options.mechanism.mechanism);
+  apply_overrides(preset, options.mechanism.params);
+  // Off-screen framebuffers beyond 8192 pixels a side fail inside the
+  // OpenGL driver (a crash, not an error), so the size is bounded here.
+  int width = 0, height = 0;
+  char x = 0, rest = 0;
+  if (std::sscanf(options.size.c_str(), "%d%c%d%c", &width, &x, &height, &rest) != 3 || x != 'x' || width < 200 ||
+      height < 150 || width > kMaxWindowSide || height > kMaxWindowSide)
+    throw std::invalid_argument("--size expects WIDTHxHEIGHT from 200x150 to " + std::to_string(kMaxWindowSide) + "x" +
+                                std::to_string(kMaxWindowSide) + ", got '" + options.size + "'");
+  QSurfaceFormat::setDefaultFormat(VtkWidget::defaultFormat());
+  QApplication app(argc, argv);
+  QApplication::setApplicationName("Linkscape");
+  QApplication::setOrganizationName("Linkscape");
+  MechanismWindow window(preset);
+  if (session) window.applySession(*session);
+  window.resize(width, height);
+  window.show();
+  if (options.latency) return run_latency_probe(window, std::cout);
+  if (options.screenshot.empty()) return QApplication::exec();
+  return save_screenshot_when_settled(window, options.screenshot);
+}
+
+}  // namespace linkscape::gui

@@ -1,0 +1,215 @@
+// The window of any device: the 3-D view of its skeleton and fields, with
+// docked panels built from the device's description (core/mechanism.h), as
+// a physics viewer builds its sliders from the model: one slider per design
+// parameter, per actuator and per task coordinate, read-outs of every
+// measure and singular set, field choices from the measures and methods.
+// The window works through the Mechanism interface only; it never asks
+// which device it has. Field work runs on FieldJobRunner threads.
+#pragma once
+
+#include <QMainWindow>
+#include <QString>
+#include <array>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <vtkSmartPointer.h>
+
+#include "core/mechanism.h"
+#include "core/preset.h"
+#include "gui/field_job.h"
+#include "gui/headless.h"
+#include "gui/session.h"
+#include "render/slice_image.h"
+
+class QCheckBox;
+class QComboBox;
+class QDoubleSpinBox;
+class QFormLayout;
+class QGridLayout;
+class QGroupBox;
+class QLabel;
+class QMenu;
+class QPushButton;
+class QSlider;
+class QTimer;
+class vtkCallbackCommand;
+class vtkHandleWidget;
+class vtkPointHandleRepresentation3D;
+class vtkRenderer;
+
+namespace linkscape::render {
+class FieldScene;
+class SkeletonScene;
+}  // namespace linkscape::render
+
+namespace linkscape::gui {
+
+class MethodsPanel;
+class VtkWidget;
+
+struct WindowOptions {
+  MechanismChoice mechanism;
+  std::string session;         // open this session file at start
+  std::string screenshot;      // save a PNG of the window and exit
+  bool latency = false;        // measure interaction latencies, print them and exit
+  std::string size = "1280x800";
+};
+
+// Opens the window (QApplication lives here). Returns the exit code.
+int run_window(const WindowOptions& options, int argc, char** argv);
+
+// A slider with a spin box for one named quantity (see mechanism_window.cpp).
+struct QuantityControl;
+
+class MechanismWindow : public QMainWindow {
+  Q_OBJECT
+
+ public:
+  // Task: the task sliders drive by inverse kinematics. Actuators: the
+  // actuator sliders drive by forward kinematics (task coordinates listed in
+  // info().fk_inputs stay editable: FK reads them).
+  enum class Drive { Task, Actuators };
+
+  explicit MechanismWindow(const Preset& preset, QWidget* parent = nullptr);
+  ~MechanismWindow() override;
+
+  const Mechanism& mechanism() const { return *mechanism_; }
+  const Preset& preset() const { return preset_; }  // with the window's parameters and limits
+  const Eigen::VectorXd& actuators() const { return q_; }
+  const Eigen::VectorXd& task() const { return x_; }
+  Eigen::Vector3d endpoint() const { return x_.head<3>(); }
+  int branch() const { return branch_; }
+  Drive drive() const { return drive_; }
+  VtkWidget* view() const { return view_; }
+  const render::FieldScene& fieldScene() const { return *field_scene_; }
+  const render::SkeletonScene& scene() const { return *scene_; }
+  // True once the latest field request has been answered at full resolution.
+  bool fieldsSettled() const { return slice_settled_ && surfaces_settled_; }
+  // Why the last requested pose was refused, empty when it was taken.
+  QString refusal() const { return refusal_; }
+  // The failing part named by the last refused IK ("3": leg 3), else empty.
+  QString failingPart() const { return failing_part_; }
+  FieldSettings fieldSettings() const;
+  Session session() const;
+
+ public slots:
+  // Inverse kinematics to the task coordinates x in the current branch,
+  // seeded with the current actuators. `tracking` (drags, animation) also
+  // refuses a step that would make the device jump (across a singular set).
+  // A refused target leaves the pose, says why and draws the failing part red.
+  bool setTask(const Eigen::VectorXd& x, bool tracking = false);
+  // The driven point to `target` with the other task coordinates kept. Without
+  // `branch` the current branch is tracked (as a drag); with it, any pose of
+  // that branch is taken.
+  bool moveEndpointTo(const Eigen::Vector3d& target, int branch = -1);
+  // Forward kinematics from the current task (the seed; fk_inputs are read
+  // from `task_inputs` where given). Refuses when it does not converge.
+  bool setActuators(const Eigen::VectorXd& q, const std::optional<Eigen::VectorXd>& task_inputs = std::nullopt);
+  void setDrive(Drive drive);
+  // A new design: the device is made again from the preset with these
+  // parameters; the pose is kept where the new design reaches it, else the
+  // actuators, else its home. An invalid design is refused (false, message).
+  bool setParameters(const std::map<std::string, double>& parameters);
+  // Actuator limits in degrees by actuator name (devices that take them);
+  // the pose is clamped into them. Refused (false) when the device rejects them.
+  bool setActuatorLimits(const std::map<std::string, std::array<double, 2>>& limits_deg);
+  // Field settings the window offers are taken; the others stay.
+  void applyFieldSettings(const FieldSettings& settings);
+  // Throws std::invalid_argument (nothing changed) for a session the window
+  // cannot honour, e.g. a parameter outside its slider's range.
+  void applySession(const Session& session);
+  bool openSession(const QString& path);
+  bool saveSession(const QString& path);
+
+ signals:
+  void poseChanged();
+  void fieldsUpdated(bool fine);
+  void sliceUpdated(bool fine);
+  void surfacesUpdated(bool fine);
+
+ protected:
+  void closeEvent(QCloseEvent* event) override;
+
+ private:
+  QWidget* buildDesignPanel();
+  QWidget* buildDrivePanel();
+  QWidget* buildFieldPanel();
+  QWidget* buildAnimationPanel();
+  void buildMenus();
+  // Takes a solved pose: panels, picture, read-outs, fields that depend on it.
+  void accept(const Eigen::VectorXd& q, const Eigen::VectorXd& x, int branch);
+  bool refuse(const QString& why, const IkResult* failed = nullptr);
+  void syncPanels();
+  void syncRanges();
+  void updateReadouts();
+  void drawPose(const IkResult* failed = nullptr);
+  void placeHandle();
+  bool takesLimits() const;
+  void requestFields(bool slice, bool volume);
+  void restyleSlice();
+  render::SliceStyle sliceStyle() const;
+  void applyFieldVisibility();
+  void onSlice(const SliceResult& result);
+  void onSurfaces(const SurfaceResult& result);
+  double slicePosition() const;
+  void animationStep();
+  void addRecent(const QString& path);
+  void rebuildRecentMenu();
+
+  Preset preset_;
+  std::shared_ptr<const Mechanism> mechanism_;
+  std::unique_ptr<render::SkeletonScene> scene_;
+  std::unique_ptr<render::FieldScene> field_scene_;
+  vtkRenderer* renderer_ = nullptr;  // owned by the view's render window
+  VtkWidget* view_ = nullptr;
+  Eigen::VectorXd q_, x_;
+  int branch_ = 0;
+  Drive drive_ = Drive::Task;
+  QString refusal_, failing_part_;
+  FieldJobRunner slice_runner_, volume_runner_;
+  std::shared_ptr<const Field> slice_field_;
+  SurfaceResult surfaces_;  // the last isosurfaces and their volume, for export
+  bool slice_settled_ = false, surfaces_settled_ = false;
+
+  // Endpoint dragging in the view.
+  vtkSmartPointer<vtkHandleWidget> handle_;
+  vtkSmartPointer<vtkPointHandleRepresentation3D> handle_rep_;
+  vtkSmartPointer<vtkCallbackCommand> handle_callback_;
+
+  // Panels: one control per parameter shown, per actuator, per task coordinate.
+  std::vector<std::unique_ptr<QuantityControl>> parameter_controls_, actuator_controls_, task_controls_;
+  std::map<std::string, std::array<QDoubleSpinBox*, 2>> limit_boxes_;  // per actuator: min, max (degrees)
+  QComboBox *drive_box_ = nullptr, *branch_box_ = nullptr;
+  QGroupBox *task_group_ = nullptr, *actuator_group_ = nullptr;
+  QLabel *status_label_ = nullptr, *task_label_ = nullptr, *actuator_label_ = nullptr, *det_label_ = nullptr,
+         *singular_label_ = nullptr, *branch_label_ = nullptr;
+  std::vector<QLabel*> measure_labels_;
+  QFormLayout* extra_form_ = nullptr;  // the device's own read-outs
+  // Field panel.
+  QComboBox *field_box_ = nullptr, *method_box_ = nullptr, *normal_box_ = nullptr, *slice_resolution_box_ = nullptr,
+            *volume_resolution_box_ = nullptr, *field_branch_box_ = nullptr;
+  QSlider* position_slider_ = nullptr;
+  QLabel* position_label_ = nullptr;
+  QCheckBox *follow_box_ = nullptr, *auto_range_box_ = nullptr, *show_slice_box_ = nullptr, *show_reach_box_ = nullptr,
+            *show_well_box_ = nullptr;
+  QDoubleSpinBox *threshold_box_ = nullptr, *range_min_box_ = nullptr, *range_max_box_ = nullptr;
+  QSlider *reach_opacity_slider_ = nullptr, *well_opacity_slider_ = nullptr;
+  // Animation.
+  QComboBox* path_box_ = nullptr;
+  QDoubleSpinBox *speed_box_ = nullptr, *amplitude_box_ = nullptr;
+  QCheckBox* loop_box_ = nullptr;
+  QPushButton* play_button_ = nullptr;
+  QTimer* animation_timer_ = nullptr;
+  double animation_phase_ = 0.0;
+  Eigen::Vector3d animation_centre_ = Eigen::Vector3d::Zero();
+  QMenu* recent_menu_ = nullptr;
+  QLabel* compute_label_ = nullptr;  // in the status bar (window_parts.h)
+  MethodsPanel* methods_ = nullptr;
+};
+
+}  // namespace linkscape::gui
