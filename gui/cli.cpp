@@ -149,7 +149,7 @@ int run(int argc, char** argv) {
       ->capture_default_str();
   eval_cmd->add_option("--branch", eval.branch, "Only this assembly branch: 0 (sin(beta-gamma) > 0) or 1");
   eval_cmd->add_option("--seed", seed_text,
-                       "Start for iterative IK methods: the actuator values in rad, e.g. alpha,beta,gamma (default: each branch's home pose)");
+                       "Start for iterative IK methods (closed forms do not use it): the actuator values in rad, e.g. alpha,beta,gamma (default: each branch's home pose)");
   eval_cmd->add_option("--tolerance", eval.tolerance, "Accept a solution when residual <= tolerance * (L1 + L2)")
       ->capture_default_str();
   eval_cmd->add_option("--max-iterations", eval.max_iterations, "Iteration limit for newton/dls")

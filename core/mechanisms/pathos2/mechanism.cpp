@@ -99,7 +99,6 @@ class Pathos2Mechanism final : public Mechanism {
       throw std::invalid_argument("pathos2: unknown IK method '" + o.method + "' (known: closed)");
     if (o.branch && *o.branch != 0) throw std::invalid_argument("pathos2 has one branch (its legs' are in the preset)");
     if (x.size() != 7) throw std::invalid_argument("pathos2: the task needs x, y, z, rx, ry, rz, h0");
-    if (o.seed) throw std::invalid_argument("pathos2: its IK is closed-form and takes no seed");
     linkscape::IkResult out;
     if (!(x(6) > 0)) {
       out.status = Status::Unreachable;
