@@ -148,6 +148,8 @@ class Pathos2Mechanism final : public Mechanism {
     Measures m;
     m.status = J.status;
     m.values = {J.cond_p, J.cond_o};
+    // Of the 6x6 twist-from-rates map (cm^3 rad^3 per rad^6); 0 where singular.
+    m.det = J.status == Status::Ok ? J.J_twist_from_qdot.determinant() : 0.0;
     return m;
   }
 
