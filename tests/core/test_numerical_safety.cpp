@@ -6,7 +6,10 @@
 #include <Eigen/LU>
 #include <Eigen/QR>
 #include <Eigen/SVD>
+#include <array>
 #include <cmath>
+#include <cstdio>
+#include <map>
 #include <limits>
 #include <numbers>
 #include <random>
@@ -14,11 +17,14 @@
 #include <string>
 #include <vector>
 
+#include "core/conditioning.h"
 #include "core/field.h"
+#include "core/method_harness.h"
 #include "core/parallel12r.h"
 #include "core/pathos2.h"
 #include "core/pathos2_field.h"
 #include "core/pathos2_methods.h"
+#include "reference_12r.h"
 
 using namespace linkscape;
 using Eigen::Vector3d;
@@ -713,4 +719,85 @@ TEST(NumericalSafety, Parallel12rFieldsReportUntrustedCondAsSingular) {
       }
   EXPECT_GT(ok, 1000);
   EXPECT_GT(singular, 1000);
+}
+
+// ---- Item: the conditioning error table of docs/mechanisms/parallel-12r.md ----------
+
+TEST(NumericalSafety, Parallel12rConditioningErrorEndToEnd) {
+  // Prints the table of docs/mechanisms/parallel-12r.md (run this test alone
+  // to see it). 200,000 configurations uniform over the workspace
+  // (ConfigurationSampler(13, 0)); the target is forward(q). End to end: the
+  // planar IK of the target (its branch), J, c in double; reference: the
+  // long-double IK of the same target (methods::reference_inverse), J and a
+  // Jacobi SVD in long double. "Same J": the c forms on the double J of the
+  // end-to-end chain against a long-double SVD of that J (the algorithm
+  // alone, what the table showed before). Bounds per sample: end to end
+  // 100 u c^2 (the target fixes the distance to the outer sphere only to
+  // ~u (L1 + L2), and c ~ 1 / sqrt(distance) there), same J 100 u c.
+  const parallel12r::Model m;
+  constexpr double kU = 1.1102230246251565e-16;
+  constexpr int kSamples = 200000;
+  std::vector<Vector3d> configurations;
+  linkscape::testing::ConfigurationSampler sample(13, 0.0);
+  for (int i = 0; i < kSamples; ++i) configurations.push_back(sample());
+  struct Decade {
+    int samples = 0;
+    std::array<double, 4> worst{};  // end to end closed form, end to end SVD, same J closed form, same J SVD
+  };
+  std::map<int, Decade> decades;
+  int violations = 0, no_reference = 0;
+#pragma omp parallel
+  {
+    std::map<int, Decade> local;
+    int local_violations = 0, local_no_reference = 0;
+#pragma omp for schedule(dynamic, 1024)
+    for (int i = 0; i < kSamples; ++i) {
+      const Vector3d& q = configurations[std::size_t(i)];
+      const Vector3d p = parallel12r::forward(m, q);
+      const auto ref = methods::reference_inverse(m, p, q);
+      if (!ref.converged) {
+        ++local_no_reference;
+        continue;
+      }
+      const Eigen::JacobiSVD<Eigen::Matrix<LD, 3, 3>> ref_svd(jacobian_12r_ld(m.L1, m.L2, ref.q[0], ref.q[1], ref.q[2]));
+      const double c_ref = double(ref_svd.singularValues()(0) / ref_svd.singularValues()(2));
+      if (!(c_ref < 1e7)) continue;
+      const auto planar = parallel12r::inverse(m, p, IkMethod::Planar);
+      const parallel12r::IkSolution* s = nullptr;
+      for (const auto& candidate : planar.solutions)
+        if (candidate.branch == ref.branch && candidate.status == Status::Ok) s = &candidate;
+      if (!s) {
+        ++local_violations;  // planar serves every target of the open workspace
+        continue;
+      }
+      const Eigen::Matrix3d J = parallel12r::jacobian(m, s->q_actuated);
+      const Eigen::JacobiSVD<Eigen::Matrix<LD, 3, 3>> same_svd(J.cast<LD>());
+      const double c_same = double(same_svd.singularValues()(0) / same_svd.singularValues()(2));
+      const double closed = condition_number_closed_form(J), svd = condition_number_svd(J);
+      const std::array<double, 4> e{std::abs(closed - c_ref) / c_ref, std::abs(svd - c_ref) / c_ref,
+                                    std::abs(closed - c_same) / c_same, std::abs(svd - c_same) / c_same};
+      Decade& d = local[int(std::floor(std::log10(c_ref)))];
+      ++d.samples;
+      for (int k = 0; k < 4; ++k) d.worst[k] = std::max(d.worst[k], e[k]);
+      if (!(e[0] <= 100 * kU * c_ref * c_ref) || !(e[2] <= 100 * kU * c_ref)) ++local_violations;
+    }
+#pragma omp critical
+    {
+      for (const auto& [k, d] : local) {
+        Decade& total = decades[k];
+        total.samples += d.samples;
+        for (int j = 0; j < 4; ++j) total.worst[j] = std::max(total.worst[j], d.worst[j]);
+      }
+      violations += local_violations;
+      no_reference += local_no_reference;
+    }
+  }
+  std::printf("| c(J) | samples | end to end, closed form | end to end, double Jacobi SVD | same J, closed form | same J, double Jacobi SVD |\n|---|---|---|---|---|---|\n");
+  for (const auto& [k, d] : decades)
+    std::printf("| 1e%d–1e%d | %d | %.2g | %.2g | %.2g | %.2g |\n", k, k + 1, d.samples, d.worst[0], d.worst[1], d.worst[2],
+                d.worst[3]);
+  std::printf("(%d targets without a long-double reference)\n", no_reference);
+  EXPECT_EQ(violations, 0);
+  EXPECT_LT(no_reference, kSamples / 1000);
+  EXPECT_GE(decades.size(), 7u);  // 1 .. 1e7
 }
