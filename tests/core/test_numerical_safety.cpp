@@ -439,12 +439,23 @@ TEST(NumericalSafety, Pathos2CondMeetsItsAccuracyAndSingularMeansTheDocumentedBa
     ++found;
     for (int j = 0; j < 40; ++j) poses.push_back(along(home, d, s_star * (1 - std::pow(10.0, -14.0 + 13.0 * unit(rng)))));
   }
-  int ok = 0, singular = 0, high_kappa_ok = 0;
+  int ok = 0, singular = 0, high_kappa_ok = 0, field_singular = 0;
   double worst = 0;
   for (const auto& pose : poses) {
     Pathos2Reference ref;
     if (!pathos2_reference(g, pose, ref)) continue;
     const auto jr = pathos2::jacobian(g, pose, pathos2::inverse(g, pose));
+    // The field sample at this pose agrees: ok means finite conds.
+    pathos2::FieldRequest req;
+    req.rpy = pose.rpy();
+    req.h0 = pose.h0;
+    const FieldSample fs = pathos2::sample_position(g, pose.p_world_E, req);
+    if (fs.status == std::uint8_t(Status::Ok)) {
+      EXPECT_TRUE(std::isfinite(fs.cond) && std::isfinite(fs.cond_orientation));
+    } else if (fs.status == std::uint8_t(Status::Singular)) {
+      ++field_singular;
+      EXPECT_TRUE(std::isinf(fs.cond) && std::isinf(fs.cond_orientation) && !fs.reachable);
+    }
     if (jr.status == Status::Singular) {
       ++singular;
       EXPECT_GE(double(ref.kappa), 1e9 / 3) << "singular far from the documented band";
@@ -466,6 +477,7 @@ TEST(NumericalSafety, Pathos2CondMeetsItsAccuracyAndSingularMeansTheDocumentedBa
               high_kappa_ok, singular, worst);
   EXPECT_GT(singular, 100);
   EXPECT_GT(high_kappa_ok, 20);
+  EXPECT_GT(field_singular, 100);
 }
 
 TEST(NumericalSafety, BlockConditionNumberIsAccurateUpTo1e12) {
