@@ -9,8 +9,8 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
-#include <map>
 #include <limits>
+#include <map>
 #include <numbers>
 #include <random>
 #include <sstream>
@@ -42,8 +42,8 @@ std::vector<double> decade_scales() {
   return s;
 }
 
-// Two floats that round the same double-precision value to within a few
-// 1e-9 relative: equal to one unit in the last place of a float.
+// Float roundings of two doubles that agree to ~1e-9: equal, or a unit in
+// the last place apart where the doubles straddle a rounding boundary.
 bool float_close(float a, float b) {
   if (std::isinf(a) || std::isinf(b)) return a == b;
   return std::abs(a - b) <= 2.4e-7f * std::max(std::abs(a), std::abs(b));
@@ -214,7 +214,7 @@ double j_singular_crossing(const pathos2::Geometry& g, const pathos2::Pose& home
 
 }  // namespace
 
-// ---- Item: accepted scales ----------------------------------------------------
+// ---- Accepted scales ----------------------------------------------------
 
 TEST(NumericalSafety, ModelsRejectLengthsOutsideTheAcceptedRangeNamingIt) {
   auto message = [](auto&& build) -> std::string {
@@ -237,7 +237,7 @@ TEST(NumericalSafety, ModelsRejectLengthsOutsideTheAcceptedRangeNamingIt) {
     EXPECT_NE(mp.find("1e-30"), std::string::npos) << mp;
   }
   EXPECT_NO_THROW(model_12r(1e-30, 1e30));
-  EXPECT_NO_THROW(scaled_pathos2(2e-31));  // smallest length lp = 2 cm -> 4e-31 is allowed (an offset)
+  EXPECT_NO_THROW(scaled_pathos2(2e-31));  // l1 = h0 = 7 cm -> 1.4e-30; lp, an offset, may be smaller
   EXPECT_NO_THROW(scaled_pathos2(2e28));   // largest length l0 = 45 cm -> 9e29
 }
 
@@ -390,7 +390,7 @@ TEST(NumericalSafety, Pathos2IsScaleFreeAndNaNFree) {
   }
 }
 
-// ---- Item: PATHOS-II condition numbers are computed, not guessed -------------
+// ---- PATHOS-II condition numbers are computed, not guessed -------------
 
 TEST(NumericalSafety, Pathos2CondAtAPoseNearTheReachBoundaryIsFinite) {
   // Default design, 5e-6 cm inside the reach boundary (leg 4 almost
@@ -508,7 +508,7 @@ TEST(NumericalSafety, BlockConditionNumberIsAccurateUpTo1e12) {
   }
 }
 
-// ---- Item: the singular status within the documented band -----------------------
+// ---- The singular status within the documented band -----------------------
 
 TEST(NumericalSafety, TargetsWithinTheSingularBandAreSingularForEveryMethod) {
   // kSingularTolerance (1e-12 of the reach) around each singular set: every
@@ -555,7 +555,7 @@ TEST(NumericalSafety, TargetsWithinTheSingularBandAreSingularForEveryMethod) {
   }
 }
 
-// ---- Item: the paper method meets its tolerance ------------------------------------
+// ---- The paper method meets its tolerance ------------------------------------
 
 TEST(NumericalSafety, PaperMethodMeetsItsToleranceAtTheIsotropicPointAndGenerally) {
   // The README's example: (0, 15, 15) with L1 = L2 = 15, branch 0 is
@@ -609,7 +609,7 @@ TEST(NumericalSafety, PaperMethodMeetsItsToleranceAtTheIsotropicPointAndGenerall
   }
 }
 
-// ---- Item: the range where the 12R c(J) is trustworthy ----------------------------
+// ---- The range where the 12R c(J) is trustworthy ----------------------------
 
 namespace {
 
@@ -733,7 +733,7 @@ TEST(NumericalSafety, Parallel12rFieldsReportUntrustedCondAsSingular) {
   EXPECT_GT(singular, 1000);
 }
 
-// ---- Item: the conditioning error table of docs/mechanisms/parallel-12r.md ----------
+// ---- The conditioning error table of docs/mechanisms/parallel-12r.md ----------
 
 TEST(NumericalSafety, Parallel12rConditioningErrorEndToEnd) {
   // Prints the table of docs/mechanisms/parallel-12r.md (run this test alone
