@@ -3,6 +3,8 @@
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 
@@ -23,22 +25,25 @@ double largest_eigenvalue(const Eigen::Matrix3d& A) {
   return q + 2.0 * p * std::cos(std::acos(r) / 3.0);
 }
 
-// J scaled by a power of two (exact) so its largest entry is in [1, 2):
-// c(J) does not depend on scale, and the products below (up to the sixth
-// power of J's entries) then neither overflow nor underflow. False for a
+// The power of two that scales J (exactly) so its largest entry is in
+// [1, 2): c(J) does not depend on scale, and the products below (up to the
+// sixth power of J's entries) then neither overflow nor underflow. 0 for a
 // zero or non-finite J, which has no finite condition number.
-bool scale_to_unit(const Eigen::Matrix3d& J, Eigen::Matrix3d& unit) {
+inline double unit_scale(const Eigen::Matrix3d& J) {
   const double largest = J.cwiseAbs().maxCoeff();
-  if (!(largest > 0.0) || !std::isfinite(largest)) return false;
-  unit = J * std::ldexp(1.0, -std::ilogb(largest));
-  return true;
+  if (!(largest > 0.0) || !std::isfinite(largest)) return 0.0;
+  // The power of two at or below `largest` is its exponent bits alone (a
+  // subnormal `largest` has none: the library call); its reciprocal is exact.
+  const double power = std::bit_cast<double>(std::bit_cast<std::uint64_t>(largest) & 0x7ff0000000000000ull);
+  return power > 0.0 ? 1.0 / power : std::ldexp(1.0, -std::ilogb(largest));
 }
 
 }  // namespace
 
 double condition_number_closed_form(const Eigen::Matrix3d& J_any_scale) {
-  Eigen::Matrix3d J;
-  if (!scale_to_unit(J_any_scale, J)) return std::numeric_limits<double>::infinity();
+  const double scale = unit_scale(J_any_scale);
+  if (scale == 0.0) return std::numeric_limits<double>::infinity();
+  const Eigen::Matrix3d J = J_any_scale * scale;
   Eigen::Matrix3d K;
   K.col(0) = J.col(1).cross(J.col(2));
   K.col(1) = J.col(2).cross(J.col(0));
@@ -51,8 +56,9 @@ double condition_number_closed_form(const Eigen::Matrix3d& J_any_scale) {
 }
 
 double condition_number_fast(const Eigen::Matrix3d& J_any_scale) {
-  Eigen::Matrix3d J;
-  if (!scale_to_unit(J_any_scale, J)) return std::numeric_limits<double>::infinity();
+  const double scale = unit_scale(J_any_scale);
+  if (scale == 0.0) return std::numeric_limits<double>::infinity();
+  const Eigen::Matrix3d J = J_any_scale * scale;
   const Eigen::Vector3d k0 = J.col(1).cross(J.col(2)), k1 = J.col(2).cross(J.col(0)), k2 = J.col(0).cross(J.col(1));
   const double det = J.col(0).dot(k0);
   if (det == 0.0 || !std::isfinite(det)) return std::numeric_limits<double>::infinity();
@@ -81,8 +87,9 @@ double condition_number_lower_triangular(const Eigen::Matrix3d& L) {
 }
 
 double condition_number_svd(const Eigen::Matrix3d& J_any_scale) {
-  Eigen::Matrix3d J;
-  if (!scale_to_unit(J_any_scale, J)) return std::numeric_limits<double>::infinity();
+  const double scale = unit_scale(J_any_scale);
+  if (scale == 0.0) return std::numeric_limits<double>::infinity();
+  const Eigen::Matrix3d J = J_any_scale * scale;
   const Eigen::Vector3d s = J.jacobiSvd().singularValues();
   if (s(2) == 0.0) return std::numeric_limits<double>::infinity();
   return s(0) / s(2);

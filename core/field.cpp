@@ -65,12 +65,13 @@ FieldSample unreachable_sample(double margin, Status status) {
 // the planar closed form (up to length^4) can overflow or underflow.
 struct UnitModel {
   Model unit;
-  int exponent = 0;  // lengths of the model = unit lengths * 2^exponent
+  double to_unit = 1.0, from_unit = 1.0;  // 2^-e and 2^e: lengths of the model = unit lengths * 2^e
 };
 UnitModel unit_model(const Model& m) {
-  UnitModel u{m, std::ilogb(m.reach())};
-  u.unit.L1 = std::ldexp(m.L1, -u.exponent);
-  u.unit.L2 = std::ldexp(m.L2, -u.exponent);
+  const int exponent = std::ilogb(m.reach());
+  UnitModel u{m, std::ldexp(1.0, -exponent), std::ldexp(1.0, exponent)};
+  u.unit.L1 = m.L1 * u.to_unit;
+  u.unit.L2 = m.L2 * u.to_unit;
   return u;
 }
 
@@ -79,9 +80,9 @@ FieldSample sample_planar_unit(const Model& m, const Vector3d& p, int branch, bo
 // The planar sample in the model's units: solved in unit lengths, margin and
 // residual scaled back.
 FieldSample sample_planar(const UnitModel& u, const Vector3d& p, int branch, bool check_limits) {
-  FieldSample s = sample_planar_unit(u.unit, p * std::ldexp(1.0, -u.exponent), branch, check_limits);
-  s.reach_margin = float(std::ldexp(double(s.reach_margin), u.exponent));
-  s.residual = float(std::ldexp(double(s.residual), u.exponent));
+  FieldSample s = sample_planar_unit(u.unit, p * u.to_unit, branch, check_limits);
+  s.reach_margin = float(double(s.reach_margin) * u.from_unit);
+  s.residual = float(double(s.residual) * u.from_unit);
   return s;
 }
 

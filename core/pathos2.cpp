@@ -376,8 +376,8 @@ namespace {
 // Gram-Schmidt: the triangle R is backward stable (exactly the factor of a
 // matrix within a few u |B| of B) and has B's singular values; its closed
 // form forms no determinant by cancellation, so the relative error stays
-// ~u c. (Forming B^T B squares c; a determinant of it is what used to decide
-// "singular".)
+// ~u c. (Forming B^T B would square c, and a threshold on its determinant
+// cannot tell rank deficiency from rounding.)
 template <class Columns>
 double three_column_condition_number(const Eigen::MatrixBase<Columns>& B) {
   // Plain loops: Eigen's 6-vector updates were not inlined here.

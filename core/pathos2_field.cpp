@@ -61,8 +61,15 @@ FieldSample sample_position(const Geometry& g, const Eigen::Vector3d& p, const F
   }
   if (s.reachable) {
     const JacobianResult J = jacobian(g, pose, ik);
-    s.cond = float(J.cond_p);
-    s.cond_orientation = float(J.cond_o);
+    if (J.status == Status::Ok) {
+      s.cond = float(J.cond_p);
+      s.cond_orientation = float(J.cond_o);
+    } else {
+      // The pose is solved but J is singular to working precision
+      // (kMaxJacobianCondition): singular, cond +inf, as the 12R field does.
+      s.status = std::uint8_t(J.status);
+      s.reachable = 0;
+    }
   }
   return s;
 }

@@ -33,7 +33,8 @@ FieldSample sample_position(const Geometry& geometry, const Eigen::Vector3d& p_w
 
 // Field with cond = cond(Jp), cond_orientation = cond(Jo), reach_margin as
 // above, residual = the largest leg-closure error of the solved angles (cm),
-// status = the pose IK's status, reachable = status Ok. Metadata: mechanism
+// status = the pose IK's status, or Singular where the pose is solved but the
+// Jacobian is singular (pathos2::kMaxJacobianCondition), reachable = status Ok. Metadata: mechanism
 // "pathos2", the model's parameters plus rx, ry, rz (deg), with h0 the grip sampled.
 // Throws std::invalid_argument for a bad model, grid or pose, or a request
 // over the memory limit; returns nullopt when cancelled.

@@ -6,19 +6,25 @@
 #include <Eigen/LU>
 #include <Eigen/QR>
 #include <Eigen/SVD>
+#include <array>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <map>
 #include <numbers>
 #include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "core/conditioning.h"
 #include "core/field.h"
+#include "core/method_harness.h"
 #include "core/parallel12r.h"
 #include "core/pathos2.h"
 #include "core/pathos2_field.h"
 #include "core/pathos2_methods.h"
+#include "reference_12r.h"
 
 using namespace linkscape;
 using Eigen::Vector3d;
@@ -36,8 +42,8 @@ std::vector<double> decade_scales() {
   return s;
 }
 
-// Two floats that round the same double-precision value to within a few
-// 1e-9 relative: equal to one unit in the last place of a float.
+// Float roundings of two doubles that agree to ~1e-9: equal, or a unit in
+// the last place apart where the doubles straddle a rounding boundary.
 bool float_close(float a, float b) {
   if (std::isinf(a) || std::isinf(b)) return a == b;
   return std::abs(a - b) <= 2.4e-7f * std::max(std::abs(a), std::abs(b));
@@ -208,7 +214,7 @@ double j_singular_crossing(const pathos2::Geometry& g, const pathos2::Pose& home
 
 }  // namespace
 
-// ---- Item: accepted scales ----------------------------------------------------
+// ---- Accepted scales ----------------------------------------------------
 
 TEST(NumericalSafety, ModelsRejectLengthsOutsideTheAcceptedRangeNamingIt) {
   auto message = [](auto&& build) -> std::string {
@@ -231,7 +237,7 @@ TEST(NumericalSafety, ModelsRejectLengthsOutsideTheAcceptedRangeNamingIt) {
     EXPECT_NE(mp.find("1e-30"), std::string::npos) << mp;
   }
   EXPECT_NO_THROW(model_12r(1e-30, 1e30));
-  EXPECT_NO_THROW(scaled_pathos2(2e-31));  // smallest length lp = 2 cm -> 4e-31 is allowed (an offset)
+  EXPECT_NO_THROW(scaled_pathos2(2e-31));  // l1 = h0 = 7 cm -> 1.4e-30; lp, an offset, may be smaller
   EXPECT_NO_THROW(scaled_pathos2(2e28));   // largest length l0 = 45 cm -> 9e29
 }
 
@@ -384,7 +390,7 @@ TEST(NumericalSafety, Pathos2IsScaleFreeAndNaNFree) {
   }
 }
 
-// ---- Item: PATHOS-II condition numbers are computed, not guessed -------------
+// ---- PATHOS-II condition numbers are computed, not guessed -------------
 
 TEST(NumericalSafety, Pathos2CondAtAPoseNearTheReachBoundaryIsFinite) {
   // Default design, 5e-6 cm inside the reach boundary (leg 4 almost
@@ -433,12 +439,23 @@ TEST(NumericalSafety, Pathos2CondMeetsItsAccuracyAndSingularMeansTheDocumentedBa
     ++found;
     for (int j = 0; j < 40; ++j) poses.push_back(along(home, d, s_star * (1 - std::pow(10.0, -14.0 + 13.0 * unit(rng)))));
   }
-  int ok = 0, singular = 0, high_kappa_ok = 0;
+  int ok = 0, singular = 0, high_kappa_ok = 0, field_singular = 0;
   double worst = 0;
   for (const auto& pose : poses) {
     Pathos2Reference ref;
     if (!pathos2_reference(g, pose, ref)) continue;
     const auto jr = pathos2::jacobian(g, pose, pathos2::inverse(g, pose));
+    // The field sample at this pose agrees: ok means finite conds.
+    pathos2::FieldRequest req;
+    req.rpy = pose.rpy();
+    req.h0 = pose.h0;
+    const FieldSample fs = pathos2::sample_position(g, pose.p_world_E, req);
+    if (fs.status == std::uint8_t(Status::Ok)) {
+      EXPECT_TRUE(std::isfinite(fs.cond) && std::isfinite(fs.cond_orientation));
+    } else if (fs.status == std::uint8_t(Status::Singular)) {
+      ++field_singular;
+      EXPECT_TRUE(std::isinf(fs.cond) && std::isinf(fs.cond_orientation) && !fs.reachable);
+    }
     if (jr.status == Status::Singular) {
       ++singular;
       EXPECT_GE(double(ref.kappa), 1e9 / 3) << "singular far from the documented band";
@@ -460,6 +477,7 @@ TEST(NumericalSafety, Pathos2CondMeetsItsAccuracyAndSingularMeansTheDocumentedBa
               high_kappa_ok, singular, worst);
   EXPECT_GT(singular, 100);
   EXPECT_GT(high_kappa_ok, 20);
+  EXPECT_GT(field_singular, 100);
 }
 
 TEST(NumericalSafety, BlockConditionNumberIsAccurateUpTo1e12) {
@@ -490,7 +508,7 @@ TEST(NumericalSafety, BlockConditionNumberIsAccurateUpTo1e12) {
   }
 }
 
-// ---- Item: the singular status within the documented band -----------------------
+// ---- The singular status within the documented band -----------------------
 
 TEST(NumericalSafety, TargetsWithinTheSingularBandAreSingularForEveryMethod) {
   // kSingularTolerance (1e-12 of the reach) around each singular set: every
@@ -537,7 +555,7 @@ TEST(NumericalSafety, TargetsWithinTheSingularBandAreSingularForEveryMethod) {
   }
 }
 
-// ---- Item: the paper method meets its tolerance ------------------------------------
+// ---- The paper method meets its tolerance ------------------------------------
 
 TEST(NumericalSafety, PaperMethodMeetsItsToleranceAtTheIsotropicPointAndGenerally) {
   // The README's example: (0, 15, 15) with L1 = L2 = 15, branch 0 is
@@ -591,7 +609,7 @@ TEST(NumericalSafety, PaperMethodMeetsItsToleranceAtTheIsotropicPointAndGenerall
   }
 }
 
-// ---- Item: the range where the 12R c(J) is trustworthy ----------------------------
+// ---- The range where the 12R c(J) is trustworthy ----------------------------
 
 namespace {
 
@@ -713,4 +731,85 @@ TEST(NumericalSafety, Parallel12rFieldsReportUntrustedCondAsSingular) {
       }
   EXPECT_GT(ok, 1000);
   EXPECT_GT(singular, 1000);
+}
+
+// ---- The conditioning error table of docs/mechanisms/parallel-12r.md ----------
+
+TEST(NumericalSafety, Parallel12rConditioningErrorEndToEnd) {
+  // Prints the table of docs/mechanisms/parallel-12r.md (run this test alone
+  // to see it). 200,000 configurations uniform over the workspace
+  // (ConfigurationSampler(13, 0)); the target is forward(q). End to end: the
+  // planar IK of the target (its branch), J, c in double; reference: the
+  // long-double IK of the same target (methods::reference_inverse), J and a
+  // Jacobi SVD in long double. "Same J": the c forms on the double J of the
+  // end-to-end chain against a long-double SVD of that J (the algorithm
+  // alone, what the table showed before). Bounds per sample: end to end
+  // 100 u c^2 (the target fixes the distance to the outer sphere only to
+  // ~u (L1 + L2), and c ~ 1 / sqrt(distance) there), same J 100 u c.
+  const parallel12r::Model m;
+  constexpr double kU = 1.1102230246251565e-16;
+  constexpr int kSamples = 200000;
+  std::vector<Vector3d> configurations;
+  linkscape::testing::ConfigurationSampler sample(13, 0.0);
+  for (int i = 0; i < kSamples; ++i) configurations.push_back(sample());
+  struct Decade {
+    int samples = 0;
+    std::array<double, 4> worst{};  // end to end closed form, end to end SVD, same J closed form, same J SVD
+  };
+  std::map<int, Decade> decades;
+  int violations = 0, no_reference = 0;
+#pragma omp parallel
+  {
+    std::map<int, Decade> local;
+    int local_violations = 0, local_no_reference = 0;
+#pragma omp for schedule(dynamic, 1024)
+    for (int i = 0; i < kSamples; ++i) {
+      const Vector3d& q = configurations[std::size_t(i)];
+      const Vector3d p = parallel12r::forward(m, q);
+      const auto ref = methods::reference_inverse(m, p, q);
+      if (!ref.converged) {
+        ++local_no_reference;
+        continue;
+      }
+      const Eigen::JacobiSVD<Eigen::Matrix<LD, 3, 3>> ref_svd(jacobian_12r_ld(m.L1, m.L2, ref.q[0], ref.q[1], ref.q[2]));
+      const double c_ref = double(ref_svd.singularValues()(0) / ref_svd.singularValues()(2));
+      if (!(c_ref < 1e7)) continue;
+      const auto planar = parallel12r::inverse(m, p, IkMethod::Planar);
+      const parallel12r::IkSolution* s = nullptr;
+      for (const auto& candidate : planar.solutions)
+        if (candidate.branch == ref.branch && candidate.status == Status::Ok) s = &candidate;
+      if (!s) {
+        ++local_violations;  // planar serves every target of the open workspace
+        continue;
+      }
+      const Eigen::Matrix3d J = parallel12r::jacobian(m, s->q_actuated);
+      const Eigen::JacobiSVD<Eigen::Matrix<LD, 3, 3>> same_svd(J.cast<LD>());
+      const double c_same = double(same_svd.singularValues()(0) / same_svd.singularValues()(2));
+      const double closed = condition_number_closed_form(J), svd = condition_number_svd(J);
+      const std::array<double, 4> e{std::abs(closed - c_ref) / c_ref, std::abs(svd - c_ref) / c_ref,
+                                    std::abs(closed - c_same) / c_same, std::abs(svd - c_same) / c_same};
+      Decade& d = local[int(std::floor(std::log10(c_ref)))];
+      ++d.samples;
+      for (int k = 0; k < 4; ++k) d.worst[k] = std::max(d.worst[k], e[k]);
+      if (!(e[0] <= 100 * kU * c_ref * c_ref) || !(e[2] <= 100 * kU * c_ref)) ++local_violations;
+    }
+#pragma omp critical
+    {
+      for (const auto& [k, d] : local) {
+        Decade& total = decades[k];
+        total.samples += d.samples;
+        for (int j = 0; j < 4; ++j) total.worst[j] = std::max(total.worst[j], d.worst[j]);
+      }
+      violations += local_violations;
+      no_reference += local_no_reference;
+    }
+  }
+  std::printf("| c(J) | samples | end to end, closed form | end to end, double Jacobi SVD | same J, closed form | same J, double Jacobi SVD |\n|---|---|---|---|---|---|\n");
+  for (const auto& [k, d] : decades)
+    std::printf("| 1e%d–1e%d | %d | %.2g | %.2g | %.2g | %.2g |\n", k, k + 1, d.samples, d.worst[0], d.worst[1], d.worst[2],
+                d.worst[3]);
+  std::printf("(%d targets without a long-double reference)\n", no_reference);
+  EXPECT_EQ(violations, 0);
+  EXPECT_LT(no_reference, kSamples / 1000);
+  EXPECT_GE(decades.size(), 7u);  // 1 .. 1e7
 }
