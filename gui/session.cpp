@@ -146,6 +146,14 @@ void check_keys(const json& object, const std::string& where, const std::vector<
                                   joined(known) + ")");
 }
 
+// An integer the file gives as an integer within int's range: 1e300 or 100.7
+// is an error, never converted (out of range it would be undefined).
+int whole_number(const json& j, const std::string& key) {
+  if (!j.is_number_integer() || j.get<long long>() < -2147483647LL || j.get<long long>() > 2147483647LL)
+    throw std::invalid_argument(key + " must be a whole number, got " + j.dump());
+  return j.get<int>();
+}
+
 double finite(const json& j, const std::string& key) {
   const double v = j.get<double>();
   if (!std::isfinite(v)) throw std::invalid_argument(key + " must be a finite number");
@@ -211,7 +219,7 @@ Session parse_session(const std::string& text, const std::string& origin) {
       throw std::invalid_argument("not a Linkscape session (no \"format\": \"linkscape-session\")");
     check_keys(j, "", {"format", "version", "mechanism", "parameters", "actuator_limits_deg", "actuators", "task",
                        "pose_rad", "platform_pose", "camera", "field"});
-    if (j.contains("version") && j["version"].get<int>() != 1)
+    if (j.contains("version") && whole_number(j["version"], "version") != 1)
       throw std::invalid_argument("version " + j["version"].dump() + " is not supported (this program reads 1)");
     s.mechanism = portable_mechanism(j.at("mechanism").get<std::string>());
     s.parameters = j.value("parameters", std::map<std::string, double>{});
@@ -291,8 +299,9 @@ Session parse_session(const std::string& text, const std::string& origin) {
       if (f.contains("position")) d.position = finite(f["position"], "field.position");
       d.follow_endpoint = f.value("follow_endpoint", d.follow_endpoint);
       if (f.contains("threshold")) d.threshold = finite(f["threshold"], "field.threshold");
-      d.slice_resolution = f.value("slice_resolution", d.slice_resolution);
-      d.volume_resolution = f.value("volume_resolution", d.volume_resolution);
+      if (f.contains("slice_resolution")) d.slice_resolution = whole_number(f["slice_resolution"], "field.slice_resolution");
+      if (f.contains("volume_resolution"))
+        d.volume_resolution = whole_number(f["volume_resolution"], "field.volume_resolution");
       d.show_slice = f.value("show_slice", d.show_slice);
       d.show_reach = f.value("show_reach", d.show_reach);
       d.show_well_conditioned = f.value("show_well_conditioned", d.show_well_conditioned);
