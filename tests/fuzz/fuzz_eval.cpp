@@ -278,9 +278,11 @@ std::optional<p2::Model> pathos2_model(const Table& t, const std::vector<double>
   }
 }
 
+// Size of the whole device (tolerances) and of a leg (steps that move the plate).
 double length_scale(const p2::Model& m) {
   return m.l0 + m.lb + m.l1 + m.l2 + m.l3 + m.lp + m.h0 + std::abs(m.db) + std::abs(m.lx);
 }
+double leg_scale(const p2::Model& m) { return m.l1 + m.l2 + m.l3; }
 
 double max_wrapped(const p2::Vector6d& a, const p2::Vector6d& b) {
   double worst = 0.0;
@@ -374,7 +376,7 @@ void check_pose(const p2::Model& m, const p2::Geometry& g, const p2::Pose& pose,
   const double scale = length_scale(m) + pose.p_world_E.norm();
   if (J.cond_p < 1e4 && J.cond_o < 1e4 && leg_measure > 1e-4) {
     for (int k = 0; k < 6; ++k) {
-      const double h = k < 3 ? 1e-5 * scale : 1e-5;
+      const double h = k < 3 ? 1e-5 * leg_scale(m) : 1e-5;
       const p2::Vector6d step = p2::Vector6d::Unit(k) * h;
       const p2::PoseIkResult plus = p2::inverse(g, p2::step_pose(pose, step), p2::IkDetail::ActiveOnly);
       const p2::PoseIkResult minus = p2::inverse(g, p2::step_pose(pose, -step), p2::IkDetail::ActiveOnly);
@@ -389,15 +391,16 @@ void check_pose(const p2::Model& m, const p2::Geometry& g, const p2::Pose& pose,
   }
   if (J.cond_p < 100 && J.cond_o < 100 && leg_measure > 1e-2) {
     p2::Vector6d nudge;
-    nudge << 1e-4 * scale, -1e-4 * scale, 1e-4 * scale, 1e-4, 1e-4, -1e-4;
+    const double step = 1e-4 * leg_scale(m);
+    nudge << step, -step, step, 1e-4, 1e-4, -1e-4;
     const p2::Pose seed = p2::step_pose(pose, nudge);
     const p2::PoseIkResult seed_ik = p2::inverse(g, seed, p2::IkDetail::ActiveOnly);
     if (seed_ik.status != Status::Unreachable && seed_ik.status != Status::Singular) {
       const p2::FkResult fk = p2::forward_numeric(g, ik.q_active, pose.h0, seed);
-      FUZZ_CHECK(fk.status == Status::Ok, where << ": numerical FK from a seed 1e-4 away: " << linkscape::to_string(fk.status)
+      FUZZ_CHECK(fk.status == Status::Ok, where << ": numerical FK from a nearby seed: " << linkscape::to_string(fk.status)
                                                 << " after " << fk.iterations << " iterations, residual " << fk.residual);
       FUZZ_CHECK((fk.pose.p_world_E - pose.p_world_E).norm() <= 1e-6 * scale && rotation_distance(fk.pose.R_world_E, pose.R_world_E) <= 1e-6,
-                 where << ": numerical FK from a seed 1e-4 away found another pose, p " << fk.pose.p_world_E.transpose());
+                 where << ": numerical FK from a nearby seed found another pose, p " << fk.pose.p_world_E.transpose());
     }
   }
   if (m.lp > 1e-3 * scale && pose.h0 > 1e-3 * scale) {
