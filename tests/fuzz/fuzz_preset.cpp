@@ -18,6 +18,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/mechanism.h"
 #include "core/preset.h"
 #include "fuzz_check.h"
 
@@ -33,8 +34,8 @@ bool close(double a, double b) { return std::abs(a - b) <= 1e-12 * std::max({1.0
 
 // The model a preset builds is valid, and the preset is of its mechanism only.
 void check_builds(const Preset& p) {
-  FUZZ_CHECK(p.mechanism == parallel12r::kMechanismName || p.mechanism == pathos2::kMechanismName,
-             "mechanism '" << p.mechanism << "'");
+  const std::vector<std::string> known = linkscape::registered_mechanisms();
+  FUZZ_CHECK(std::find(known.begin(), known.end(), p.mechanism) != known.end(), "mechanism '" << p.mechanism << "'");
   linkscape::validate(p);
   const std::vector<std::string> names = linkscape::parameter_names(p);
   for (const auto& [key, value] : p.parameters)
@@ -52,7 +53,7 @@ void check_builds(const Preset& p) {
     } catch (const std::invalid_argument&) {
       other_refused = true;
     }
-  } else {
+  } else if (p.mechanism == pathos2::kMechanismName) {
     const pathos2::Model m = linkscape::make_pathos2(p);
     // to_parameters is the inverse of from_parameters (degrees round trip to 1e-12).
     const pathos2::Model back = pathos2::Model::from_parameters(m.to_parameters());
@@ -69,6 +70,12 @@ void check_builds(const Preset& p) {
     } catch (const std::invalid_argument&) {
       other_refused = true;
     }
+  } else {
+    // Any other registered device: its description names every parameter it was given.
+    const auto m = linkscape::make_mechanism(p);
+    for (const auto& [key, value] : p.parameters)
+      FUZZ_CHECK(m->parameters().count(key) && close(m->parameters().at(key), value), "parameter '" << key << "'");
+    other_refused = true;
   }
   FUZZ_CHECK(other_refused, "a " << p.mechanism << " preset also built the other mechanism's model");
 }

@@ -67,13 +67,12 @@ std::string difference(const Session& a, const Session& b) {
   for (auto i = a.actuator_limits_deg.begin(), j = b.actuator_limits_deg.begin(); i != a.actuator_limits_deg.end(); ++i, ++j)
     if (i->first != j->first || !same(i->second[0], j->second[0]) || !same(i->second[1], j->second[1]))
       return "actuator_limits_deg." + i->first;
-  if (a.platform_pose.has_value() != b.platform_pose.has_value()) return "platform_pose present";
-  if (a.platform_pose) {
-    for (int k = 0; k < 7; ++k)
-      if (!same((*a.platform_pose)[k], (*b.platform_pose)[k])) return "platform_pose[" + std::to_string(k) + "]";
-  } else if (!same(a.pose, b.pose)) {
-    return "pose_rad";
-  }
+  if (a.pose.size() != b.pose.size()) return "actuators";
+  for (Eigen::Index k = 0; k < a.pose.size(); ++k)
+    if (!same(a.pose(k), b.pose(k))) return "actuators[" + std::to_string(k) + "]";
+  if (a.task.size() != b.task.size()) return "task";
+  for (Eigen::Index k = 0; k < a.task.size(); ++k)
+    if (!same(a.task(k), b.task(k))) return "task[" + std::to_string(k) + "]";
   if (a.camera.has_value() != b.camera.has_value()) return "camera present";
   if (a.camera) {
     if (!same(a.camera->position, b.camera->position)) return "camera.position";
