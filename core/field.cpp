@@ -257,6 +257,7 @@ std::optional<Field> compute_field(const Model& m, const FieldRequest& req, cons
   f.mechanism = std::string(parallel12r::kMechanismName);
   f.length_unit = m.length_unit;
   f.parameters = {{"L1", m.L1}, {"L2", m.L2}};
+  f.measure_titles = {"c(J)"};
   f.method = std::string(parallel12r::to_string(req.method));
   f.branch = req.branch;
 

@@ -109,6 +109,9 @@ struct Field {
   std::map<std::string, double> parameters;
   std::string method;
   int branch = 0;
+  // Titles of cond and cond_orientation, from the device's description
+  // (e.g. "c(J)"; "cond(Jp)", "cond(Jo)"); empty: the array names.
+  std::vector<std::string> measure_titles;
 
   // Bytes of storage per sample, for the memory limit (cond_orientation adds
   // sizeof(float) where present).

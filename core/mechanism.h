@@ -265,6 +265,9 @@ std::vector<std::string> registered_mechanisms();
 // Throws std::invalid_argument listing the registered names.
 std::shared_ptr<const Mechanism> make_mechanism(const Preset& preset);
 
+// The device the program starts with: the registry's first.
+std::string default_mechanism();
+
 // Convenience: the index of a named item (method, measure), or
 // std::invalid_argument listing the names.
 int index_of(const std::vector<NamedItem>& items, const std::string& name, const std::string& what);

@@ -89,6 +89,7 @@ std::optional<Field> compute_field(const Model& model, const FieldRequest& req, 
   f.parameters["rz"] = req.rpy.z() / kDeg;
   f.parameters["h0"] = req.h0;  // the grip sampled, which may differ from the model default
   f.method = "closed-form";
+  f.measure_titles = {"cond(Jp)", "cond(Jo)"};
   f.branch = 0;
   if (!detail::fill_field(f, true, req.threads, progress,
                           [&](const Eigen::Vector3d& p) { return sample_position(g, p, req); }))

@@ -12,7 +12,7 @@
 
 #include "core/csv.h"
 #include "core/preset.h"
-#include "gui/design.h"
+#include "gui/mechanisms/commands.h"
 #include "gui/headless.h"
 #include "gui/mechanism_window.h"
 
@@ -36,6 +36,8 @@ constexpr const char* kHeadlessHint =
     "  linkscape bench --chart m.png --sweeps s.png --csv b.csv   speed and accuracy of every method\n"
     "Run 'linkscape --help' or 'linkscape eval --help' for every option.\n";
 
+}  // namespace
+
 void add_mechanism_options(CLI::App& app, MechanismChoice& choice) {
   std::string presets;
   for (const auto& n : available_presets()) presets += (presets.empty() ? "" : ", ") + n;
@@ -45,6 +47,8 @@ void add_mechanism_options(CLI::App& app, MechanismChoice& choice) {
   app.add_option("-p,--param", choice.params,
                  "Override a model parameter, key=value in the preset's unit (repeatable), e.g. L1=1");
 }
+
+namespace {
 
 void add_sampling_options(CLI::App& app, SamplingOptions& s) {
   add_mechanism_options(app, s.mechanism);
@@ -212,16 +216,7 @@ int run(int argc, char** argv) {
       ->capture_default_str();
   mesh_cmd->add_option("-o,--output", mesh.output, "Output: .stl, .obj, .ply, .off or .vtp")->required();
 
-  DesignOptions design;
-  CLI::App* design_cmd = app.add_subcommand(
-      "design", "PATHOS-II design study: the Table 2 grid search (cost G of Eq. 21 over l2, l3, lp, Rz) and the "
-                "l0 sweep of Fig. 6; writes CSV tables and a chart, prints the best design");
-  add_mechanism_options(*design_cmd, design.mechanism);
-  design_cmd->add_option("--table", design.table, "The search, one row per design (.csv)");
-  design_cmd->add_option("--sweep", design.sweep, "Movable ranges against l0 from 40 to 55 cm (.csv)");
-  design_cmd->add_option("--chart", design.chart, "Both as a chart (.png, .svg, .pdf)");
-  design_cmd->add_flag("--quick", design.quick, "A coarse grid (a smoke test, not the paper's Table 2)");
-  design_cmd->add_flag("-q,--quiet", design.quiet, "No progress line on stderr");
+  const std::vector<DeviceCommand> device_commands = add_device_commands(app);
 
   BenchOptions bench;
   CLI::App* bench_cmd = app.add_subcommand(
@@ -276,10 +271,11 @@ int run(int argc, char** argv) {
     run_mesh(mesh, std::cout);
     return 0;
   }
-  if (design_cmd->parsed()) {
-    prepare_offscreen_painting();  // the chart draws text with QPainter
+  for (const DeviceCommand& command : device_commands) {
+    if (!command.command->parsed()) continue;
+    prepare_offscreen_painting();  // device commands may draw charts with QPainter
     QGuiApplication qt(argc, argv);
-    run_design(design, std::cout);
+    command.run(std::cout);
     return 0;
   }
   if (bench_cmd->parsed()) {

@@ -8,10 +8,12 @@
 
 #include <Eigen/Core>
 
+#include "core/mechanism.h"
+
 namespace linkscape::gui {
 
 struct MechanismChoice {
-  std::string mechanism = "parallel-12r";  // preset name or path
+  std::string mechanism = default_mechanism();  // preset name or path
   std::vector<std::string> params;         // "key=value" overrides
 };
 
@@ -44,7 +46,7 @@ struct SamplingOptions {
 
 struct SliceOptions {
   SamplingOptions sampling;
-  std::string plane;             // axis=position, length unit; default x=0.25 (12R), z through the pose (pathos2)
+  std::string plane;             // axis=position, length unit; default: the device's first plane
   std::vector<double> extent;    // u_min,u_max,v_min,v_max; default +-reach
   std::string size = "512x512";  // samples along u x v
   std::string field = "cond";    // cond, reach, residual, iterations, status, method

@@ -146,7 +146,7 @@ QString family_title(const std::string& f, const std::string& mechanism, bool la
   else if (f == "leg-ik") t = "Leg IK: joint error (rad)";
   else if (f == "fk") t = "Forward kinematics: pose error";
   else if (f == "jacobian") t = "Jacobian: |J - J*| / |J*|";
-  else if (f == "conditioning") t = mechanism == "pathos2" ? "cond(Jp), cond(Jo): |c - c*| / c*" : "Condition number: |c - c*| / c*";
+  else if (f == "conditioning") t = "Condition numbers: |c - c*| / c*";
   else t = "Workspace fields: volume and extent errors";
   if (!label_mechanism) return t;
   // Two mechanisms: four narrow columns, short titles.
@@ -154,11 +154,9 @@ QString family_title(const std::string& f, const std::string& mechanism, bool la
   else if (f == "leg-ik") t = "leg IK: joint error (rad)";
   else if (f == "fk") t = "FK: pose error";
   else if (f == "jacobian") t = "Jacobian: |J - J*| / |J*|";
-  else if (f == "conditioning") t = mechanism == "pathos2" ? "cond(Jp), cond(Jo)" : "c(J): |c - c*| / c*";
+  else if (f == "conditioning") t = "conditioning: |c - c*| / c*";
   else t = "fields: volume, extents";
-  return (mechanism == "pathos2" ? QString("PATHOS-II ") : mechanism == "parallel-12r" ? QString("12R ")
-                                                                                      : QString::fromStdString(mechanism) + " ") +
-         t;
+  return QString::fromStdString(mechanism) + " " + t;
 }
 
 // (mechanism, family) panels in the order the rows first name them.

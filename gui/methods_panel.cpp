@@ -53,7 +53,7 @@ QString mechanism_title(const Preset& preset) {
 }  // namespace
 
 MethodsPanel::MethodsPanel(QWidget* parent) : QWidget(parent) {
-  preset_ = load_preset("parallel-12r");
+  preset_ = load_preset(default_mechanism());
   auto* layout = new QVBoxLayout(this);
   auto* bar = new QHBoxLayout;
   run_button_ = new QPushButton("Run", this);

@@ -2,7 +2,7 @@
 // settings, as JSON. Everything the window needs to come back as it was.
 // Generic over devices: the pose is saved as the device's task coordinates
 // and actuator values by name (core/mechanism.h); older files with pose_rad
-// (parallel-12r actuators) or platform_pose (PATHOS-II task) still open.
+// (the actuator values) or platform_pose (the task coordinates) still open.
 #pragma once
 
 #include <Eigen/Core>
@@ -41,7 +41,7 @@ struct FieldSettings {
 };
 
 struct Session {
-  std::string mechanism = "parallel-12r";    // preset name or path
+  std::string mechanism = default_mechanism();  // preset name or path
   std::map<std::string, double> parameters;  // overrides, e.g. L1, L2
   std::map<std::string, std::array<double, 2>> actuator_limits_deg;  // per actuator name: [lo, hi]
   // The pose in the device's order (info().actuators, info().task; rad and

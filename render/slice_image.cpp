@@ -62,9 +62,9 @@ bool is_log(const SliceStyle& style, Quantity q) {
 
 std::string field_title(const Field& field, const std::string& name) {
   const std::string unit = field.length_unit.empty() ? "" : " (" + field.length_unit + ")";
-  const bool six_dof = !field.cond_orientation.empty();
-  if (name == "cond") return six_dof ? "cond(Jp)" : "c(J)";
-  if (name == "cond_jo") return "cond(Jo)";
+  const auto& titles = field.measure_titles;
+  if (name == "cond") return titles.size() > 0 ? titles[0] : "cond";
+  if (name == "cond_jo") return titles.size() > 1 ? titles[1] : "cond_jo";
   if (name == "reach") return "reach margin" + unit;
   if (name == "residual") return "residual" + unit;
   return name;  // iterations, status, method
@@ -181,11 +181,11 @@ unsigned char to_byte(double c) { return static_cast<unsigned char>(std::lround(
 
 std::array<double, 3> method_colour(std::uint8_t method) {
   switch (method) {
-    case 0: return {0.58, 0.40, 0.74};  // paper
-    case 1: return {0.12, 0.47, 0.71};  // planar
-    case 2: return {1.00, 0.50, 0.05};  // newton
-    case 3: return {0.17, 0.63, 0.17};  // dls
-    case 4: return {0.50, 0.50, 0.50};  // fallback (never recorded: it records planar or newton)
+    case 0: return {0.58, 0.40, 0.74};  // purple
+    case 1: return {0.12, 0.47, 0.71};  // blue
+    case 2: return {1.00, 0.50, 0.05};  // orange
+    case 3: return {0.17, 0.63, 0.17};  // green
+    case 4: return {0.50, 0.50, 0.50};  // grey
     default: return {kUnreachableGrey, kUnreachableGrey, kUnreachableGrey};
   }
 }
@@ -220,7 +220,7 @@ std::pair<double, double> colour_range(const Field& field, const SliceStyle& sty
   const bool log = is_log(style, q);
   double lo = 1, hi = 10;
   if (q == Quantity::CondOrientation && field.cond_orientation.size() != field.grid.size())
-    throw std::invalid_argument("slice style: field 'cond_jo' needs a six-DOF mechanism's field (pathos2)");
+    throw std::invalid_argument("slice style: field 'cond_jo' needs a field with a second condition array");
   if (!is_cond(q) && !(style.min && style.max)) {
     lo = std::numeric_limits<double>::infinity();
     hi = -lo;

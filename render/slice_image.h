@@ -44,8 +44,9 @@ struct SliceStyle {
   unsigned char unreachable_alpha = 255;
 };
 
-// Display name of a slice field: "c(J)" (12R), "cond(Jp)" and "cond(Jo)"
-// (six-DOF mechanisms), "reach margin (cm)", "residual (cm)", else the name.
+// Display name of a slice field: the device's measure titles for "cond" and
+// "cond_jo" (Field::measure_titles), "reach margin (cm)", "residual (cm)",
+// else the name.
 std::string field_title(const Field& field, const std::string& name);
 // The quantity whose contours style.contour_levels draws: "cond_jo" when
 // that is shown, else "cond".
@@ -55,9 +56,9 @@ bool uses_log_scale(const SliceStyle& style);
 
 // Viridis at value01 in [0, 1] (clamped; NaN gives the value at 1), RGB 0..1.
 std::array<double, 3> colour_of(double value01);
-// Categorical colour of an IK method (std::uint8_t(parallel12r::IkMethod)) in
-// the "method" slice, RGB 0..1: paper purple, planar blue, newton orange, dls
-// green, fallback grey; anything else (no method) the unreachable grey.
+// Categorical colour of the IK method index stored per sample (Field::
+// method_used) in the "method" slice, RGB 0..1: indices 0..4 purple, blue,
+// orange, green, grey; anything else (no method) the unreachable grey.
 std::array<double, 3> method_colour(std::uint8_t method);
 // Viridis as an n-entry lookup table over [0, 1], for colour bars.
 vtkSmartPointer<vtkLookupTable> viridis_lookup_table(int entries = 256);

@@ -40,6 +40,8 @@ std::shared_ptr<const Mechanism> make_mechanism(const Preset& preset) {
   throw std::invalid_argument("unsupported mechanism '" + preset.mechanism + "' (supported: " + known + ")");
 }
 
+std::string default_mechanism() { return registry().front().first; }
+
 int index_of(const std::vector<NamedItem>& items, const std::string& name, const std::string& what) {
   for (std::size_t k = 0; k < items.size(); ++k)
     if (items[k].name == name) return int(k);

@@ -18,6 +18,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "offscreen_view.h"
 #include "render/field_scene.h"
 #include "render/image_io.h"
 #include "render/slice_image.h"
@@ -36,6 +37,7 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 // cond = 1 + 4|p| inside and +inf outside.
 Field ball_field(const Grid& g) {
   Field f;
+  f.measure_titles = {"c(J)"};  // as a device's sampler names its measure
   f.grid = g;
   f.length_unit = "cm";
   const std::size_t n = g.size();
@@ -64,7 +66,7 @@ Field ball_field(const Grid& g) {
 // 64 x 48 samples over [-1.6, 1.6] x [-1.2, 1.2] (spacing 0.05) at z = 0.
 Grid ball_slice_grid() { return Grid::slice(Axis::Z, 0.0, -1.6, 1.6, -1.2, 1.2, 64, 48); }
 
-using Rgb = std::array<int, 3>;
+using offscreen_view::Rgb;
 
 int distance(const Rgb& a, const Rgb& b) {
   return std::max({std::abs(a[0] - b[0]), std::abs(a[1] - b[1]), std::abs(a[2] - b[2])});
@@ -98,26 +100,9 @@ struct View {
     camera->SetClippingRange(1, 20);
   }
 
-  // Renders and reads the colour buffer; (x, y) in pixels, y up.
-  vtkSmartPointer<vtkImageData> grab() {
-    window->Render();
-    vtkNew<vtkWindowToImageFilter> filter;
-    filter->SetInput(window);
-    filter->ReadFrontBufferOff();
-    filter->SetInputBufferTypeToRGB();
-    filter->Update();
-    auto image = vtkSmartPointer<vtkImageData>::New();
-    image->DeepCopy(filter->GetOutput());
-    return image;
-  }
-  static Rgb pixel(vtkImageData* image, int x, int y) {
-    const auto* p = static_cast<const unsigned char*>(image->GetScalarPointer(x, y, 0));
-    return {p[0], p[1], p[2]};
-  }
-  // The pixel showing world point (a, b) in the view's (right, up) coordinates.
-  static Rgb at(vtkImageData* image, double a, double b) {
-    return pixel(image, int(std::floor(200 + 100 * a)), int(std::floor(150 + 100 * b)));
-  }
+  vtkSmartPointer<vtkImageData> grab() { return offscreen_view::grab(window); }
+  static Rgb pixel(vtkImageData* image, int x, int y) { return offscreen_view::pixel(image, x, y); }
+  static Rgb at(vtkImageData* image, double a, double b) { return offscreen_view::at(image, a, b); }
 };
 
 bool have_display() { return std::getenv("DISPLAY") != nullptr; }

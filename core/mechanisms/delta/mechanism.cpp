@@ -205,6 +205,7 @@ class DeltaMechanism final : public Mechanism {
     f.parameters = parameters();
     f.method = std::string(to_string(method));
     f.branch = branch;
+    f.measure_titles = {info_.measures.front().title};
     delta::IkOptions io;
     io.branch = branch;
     io.tolerance = o.tolerance;

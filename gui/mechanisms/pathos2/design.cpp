@@ -1,5 +1,6 @@
-#include "gui/design.h"
+#include "gui/mechanisms/pathos2/design.h"
 
+#include <memory>
 #include <unistd.h>
 
 #include <QFontMetricsF>
@@ -262,6 +263,20 @@ void run_design(const DesignOptions& o, std::ostream& out) {
   for (const auto& r : sweep)
     out << "l0 " << r.l0 << ": dLx " << r.ranges.delta(0) << ", dLy " << r.ranges.delta(1) << ", dLz "
         << r.ranges.delta(2) << " cm\n";
+}
+
+DeviceCommand add_design_command(CLI::App& app) {
+  auto options = std::make_shared<DesignOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "design", "PATHOS-II design study: the Table 2 grid search (cost G of Eq. 21 over l2, l3, lp, Rz) and the "
+                "l0 sweep of Fig. 6; writes CSV tables and a chart, prints the best design");
+  add_mechanism_options(*cmd, options->mechanism);
+  cmd->add_option("--table", options->table, "The search, one row per design (.csv)");
+  cmd->add_option("--sweep", options->sweep, "Movable ranges against l0 from 40 to 55 cm (.csv)");
+  cmd->add_option("--chart", options->chart, "Both as a chart (.png, .svg, .pdf)");
+  cmd->add_flag("--quick", options->quick, "A coarse grid (a smoke test, not the paper's Table 2)");
+  cmd->add_flag("-q,--quiet", options->quiet, "No progress line on stderr");
+  return {cmd, [options](std::ostream& out) { run_design(*options, out); }};
 }
 
 }  // namespace linkscape::gui

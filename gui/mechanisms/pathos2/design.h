@@ -7,6 +7,7 @@
 #include <string>
 
 #include "gui/headless.h"
+#include "gui/mechanisms/commands.h"
 
 namespace linkscape::gui {
 
@@ -23,5 +24,8 @@ struct DesignOptions {
 // summary (best design, the paper's design and its rank) to `out`. Throws
 // std::invalid_argument for bad options (nothing written).
 void run_design(const DesignOptions& options, std::ostream& out);
+
+// `linkscape design`, added to the command line.
+DeviceCommand add_design_command(CLI::App& app);
 
 }  // namespace linkscape::gui
