@@ -8,6 +8,8 @@
 // solution on q*'s branch, the nearest of those returned), and the FK error
 // is the task distance to the target, relative to size().
 #include <cmath>
+#include <functional>
+#include <optional>
 #include <numbers>
 #include <random>
 
@@ -61,59 +63,53 @@ std::vector<methods::MethodRow> Mechanism::measure_methods(const methods::Harnes
   const std::vector<Sample> samples = reachable_samples(*this, options.samples, options.seed);
   std::vector<methods::MethodRow> rows;
   const double stages = double(info.ik_methods.size() + info.fk_methods.size());
-  int stage = 0;
-  auto cancelled = [&] { return options.cancel && options.cancel->load(); };
+  // One row: `error` gives a sample's error, or nothing where the method is not ok.
+  auto measure = [&](const std::string& family, const std::string& method, const std::string& unit,
+                     const std::function<std::optional<double>(const Sample&)>& error) {
+    if (options.cancel && options.cancel->load()) return false;
+    if (options.progress) options.progress(double(rows.size()) / stages, family + " " + method);
+    methods::MethodRow row;
+    row.mechanism = info.name;
+    row.family = family;
+    row.method = method;
+    row.error_unit = unit;
+    std::vector<double> errors;
+    row.seconds_per_evaluation = methods::median_pass_seconds(options.repeats, [&] {
+      errors.clear();
+      row.failures = 0;
+      for (const Sample& s : samples) {
+        if (const std::optional<double> e = error(s)) errors.push_back(*e);
+        else ++row.failures;
+      }
+    }) / double(std::max<std::size_t>(samples.size(), 1));
+    methods::fill_statistics(row, errors);
+    rows.push_back(row);
+    return true;
+  };
   for (const NamedItem& method : info.ik_methods) {
-    if (cancelled()) return rows;
-    if (options.progress) options.progress(stage++ / stages, "IK " + method.name);
     IkOptions io;
     io.method = method.name;
     io.tolerance = options.ik.tolerance;
     io.max_iterations = options.ik.max_iterations;
-    methods::MethodRow row;
-    row.mechanism = info.name;
-    row.family = "ik";
-    row.method = method.name;
-    row.error_unit = "rad";
-    std::vector<double> errors;
-    row.seconds_per_evaluation = methods::median_pass_seconds(options.repeats, [&] {
-      errors.clear();
-      row.failures = 0;
-      for (const Sample& s : samples) {
-        const IkResult r = inverse(s.x, io);
-        double best = INFINITY;
-        for (const IkSolution& sol : r.solutions)
-          if (sol.status == Status::Ok) best = std::min(best, joint_distance(sol.q, s.q));
-        if (std::isfinite(best)) errors.push_back(best);
-        else ++row.failures;
-      }
-    }) / double(std::max<std::size_t>(samples.size(), 1));
-    methods::fill_statistics(row, errors);
-    rows.push_back(row);
+    const bool going = measure("ik", method.name, "rad", [&](const Sample& s) -> std::optional<double> {
+      double best = INFINITY;
+      for (const IkSolution& sol : inverse(s.x, io).solutions)
+        if (sol.status == Status::Ok) best = std::min(best, joint_distance(sol.q, s.q));
+      if (!std::isfinite(best)) return std::nullopt;
+      return best;
+    });
+    if (!going) return rows;
   }
   for (const NamedItem& method : info.fk_methods) {
-    if (cancelled()) return rows;
-    if (options.progress) options.progress(stage++ / stages, "FK " + method.name);
     FkOptions fo;
     fo.method = method.name;
     fo.seed = home_task();
-    methods::MethodRow row;
-    row.mechanism = info.name;
-    row.family = "fk";
-    row.method = method.name;
-    row.error_unit = "relative";
-    std::vector<double> errors;
-    row.seconds_per_evaluation = methods::median_pass_seconds(options.repeats, [&] {
-      errors.clear();
-      row.failures = 0;
-      for (const Sample& s : samples) {
-        const FkResult r = forward(s.q, fo);
-        if (r.status == Status::Ok) errors.push_back((r.x - s.x).head<3>().norm() / size());
-        else ++row.failures;
-      }
-    }) / double(std::max<std::size_t>(samples.size(), 1));
-    methods::fill_statistics(row, errors);
-    rows.push_back(row);
+    const bool going = measure("fk", method.name, "relative", [&](const Sample& s) -> std::optional<double> {
+      const FkResult r = forward(s.q, fo);
+      if (r.status != Status::Ok) return std::nullopt;
+      return (r.x - s.x).head<3>().norm() / size();
+    });
+    if (!going) return rows;
   }
   if (options.progress) options.progress(1.0, "done");
   return rows;

@@ -123,12 +123,12 @@ std::string preset_reference(const Preset& preset) {
 }
 
 void apply_overrides(Preset& preset, const std::vector<std::string>& overrides) {
+  const std::vector<std::string> names = overrides.empty() ? std::vector<std::string>{} : parameter_names(preset);
   for (const std::string& pair : overrides) {
     const auto eq = pair.find('=');
     if (eq == std::string::npos || eq == 0)
       throw std::invalid_argument("--param expects key=value, got '" + pair + "'");
     const std::string key = pair.substr(0, eq), text = pair.substr(eq + 1);
-    const std::vector<std::string> names = parameter_names(preset);
     if (std::find(names.begin(), names.end(), key) == names.end()) {
       std::string known;
       for (const auto& k : names) known += (known.empty() ? "" : ", ") + k;

@@ -30,6 +30,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "offscreen_view.h"
 #include "render/image_io.h"
 #include "render/skeleton_scene.h"
 
@@ -101,7 +102,7 @@ std::array<double, 6> bounds_of(vtkActor* actor) {
 
 bool have_display() { return std::getenv("DISPLAY") != nullptr; }
 
-using Rgb = std::array<int, 3>;
+using offscreen_view::Rgb;
 
 // An offscreen 400 x 300 view looking down -z at the origin with parallel
 // projection: 100 pixels per length unit, world (0, 0) at pixel (200, 150),
@@ -124,24 +125,9 @@ struct TopView {
     camera->SetParallelScale(1.5);
     camera->SetClippingRange(1, 20);
   }
-  vtkSmartPointer<vtkImageData> grab() {
-    window->Render();
-    vtkNew<vtkWindowToImageFilter> filter;
-    filter->SetInput(window);
-    filter->ReadFrontBufferOff();
-    filter->SetInputBufferTypeToRGB();
-    filter->Update();
-    auto image = vtkSmartPointer<vtkImageData>::New();
-    image->DeepCopy(filter->GetOutput());
-    return image;
-  }
-  static Rgb pixel(vtkImageData* image, int x, int y) {
-    const auto* p = static_cast<const unsigned char*>(image->GetScalarPointer(x, y, 0));
-    return {p[0], p[1], p[2]};
-  }
-  static Rgb at(vtkImageData* image, double x, double y) {
-    return pixel(image, int(std::floor(200 + 100 * x)), int(std::floor(150 + 100 * y)));
-  }
+  vtkSmartPointer<vtkImageData> grab() { return offscreen_view::grab(window); }
+  static Rgb pixel(vtkImageData* image, int x, int y) { return offscreen_view::pixel(image, x, y); }
+  static Rgb at(vtkImageData* image, double a, double b) { return offscreen_view::at(image, a, b); }
 };
 
 bool is_background(const Rgb& c) { return c[0] == 255 && c[1] == 255 && c[2] == 255; }
