@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <stdexcept>
 
 #include "core/field_sampling.h"
@@ -13,6 +14,12 @@ namespace {
 using Eigen::Vector3d;
 using Eigen::VectorXd;
 constexpr float kInf = std::numeric_limits<float>::infinity();
+
+// The same device with every motor free over a full turn.
+Model without_ranges(Model m) {
+  for (Interval& r : m.q_limits) r = {-std::numbers::pi, std::numbers::pi};
+  return m;
+}
 
 Vector3d three(const VectorXd& v, const char* what) {
   if (v.size() != 3) throw std::invalid_argument(std::string("delta: ") + what + " needs 3 values");
@@ -126,29 +133,36 @@ class DeltaMechanism final : public Mechanism {
     return {int(r.nearest), r.distance, {r.distances.begin(), r.distances.end()}};
   }
 
-  // Leg k's serial set: along the ray from home out through leg k's side,
-  // the last reachable point (bisection on the IK status), approached by a
-  // fraction eps of the way. The parallel set: the same towards the base.
+  // The sets are those of the geometry, so approaches ignore the actuator
+  // ranges (they would cut the rays first). Leg k's serial set: along a ray
+  // from home out past leg k, the last point a leg reaches (bisection on the
+  // IK status); eps is the remaining fraction of the way. No sweep
+  // approaches the parallel (type II) set yet: tests/core/mechanisms/delta
+  // checks the statuses there.
   std::vector<SingularApproach> singular_approaches() const override {
     std::vector<SingularApproach> out;
-    const Model m = model_;
-    for (int set = 0; set < 4; ++set) {
+    const Model m = without_ranges(model_);
+    for (int set = 0; set < kLegCount; ++set) {
       out.push_back({set, [m, set](double eps, int k) -> VectorXd {
                        const Vector3d home = home_position(m);
                        const double tilt = 0.2 * k;
-                       Vector3d dir = set < 3 ? Vector3d(leg_radial(set).x(), leg_radial(set).y(), -tilt)
-                                              : Vector3d(0.1 * tilt, 0, 1);
+                       Vector3d dir(leg_radial(set).x(), leg_radial(set).y(), -tilt);
                        dir.normalize();
                        double lo = 0, hi = 2 * m.size();
                        for (int it = 0; it < 80; ++it) {
                          const double mid = 0.5 * (lo + hi);
-                         const bool ok = delta::inverse(m, home + mid * dir).status != Status::Unreachable;
-                         (ok ? lo : hi) = mid;
+                         (delta::inverse(m, home + mid * dir).status != Status::Unreachable ? lo : hi) = mid;
                        }
                        return home + lo * (1 - eps) * dir;
                      }});
     }
     return out;
+  }
+
+  // Sweeps towards the geometry's singular sets, on the device without
+  // actuator ranges (the default sweeps of core/generic_methods.cpp).
+  std::vector<stability::SweepRow> stability_sweeps(const stability::SweepOptions& options) const override {
+    return make_mechanism(without_ranges(model_))->Mechanism::stability_sweeps(options);
   }
 
   SkeletonModel skeleton_model() const override {
