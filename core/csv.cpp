@@ -79,6 +79,9 @@ Table read_csv(std::istream& in, const std::string& origin) {
     ++number;
     // Spreadsheets save UTF-8 with a byte-order mark before the header.
     if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
+    // Anywhere else one is an invisible character inside a name or number.
+    if (line.find("\xEF\xBB\xBF") != std::string::npos)
+      throw std::invalid_argument(at(number) + "byte-order mark (U+FEFF) inside the text; only the file's first bytes may hold one");
     const std::string content = trim(line);
     if (content.empty() || content[0] == '#') continue;
     const auto fields = split(content);

@@ -417,7 +417,8 @@ void conditioning_rows(const std::vector<Sample>& samples, const HarnessOptions&
     const Vector3d sv = reference_singular_values(s.J);
     reference.push_back(sv(0) / sv(2));
   }
-  for (const auto& [name, fn] : methods) {
+  for (const auto& [name, condition_number] : methods) {
+    const auto& fn = condition_number;  // lambdas below cannot capture a structured binding under clang 14
     MethodRow row;
     row.family = "conditioning";
     row.method = name;

@@ -676,7 +676,8 @@ std::vector<methods::MethodRow> run_pathos2_harness(const pathos2::Model& model,
          }},
         {"svd", &condition_numbers_svd},
     };
-    for (const auto& [name, fn] : conds) {
+    for (const auto& [name, condition_numbers] : conds) {
+      const auto& fn = condition_numbers;  // lambdas below cannot capture a structured binding under clang 14
       methods::MethodRow row = new_row("conditioning", name, "relative");
       std::vector<double> errors;
       for (std::size_t k = 0; k < samples.size(); ++k) {

@@ -239,7 +239,7 @@ Session parse_session(const std::string& text, const std::string& origin) {
     const std::vector<Quantity> actuators = make_mechanism(preset)->info().actuators;
     s.actuator_limits_deg = j.value("actuator_limits_deg", std::map<std::string, std::array<double, 2>>{});
     for (const auto& [name, range] : s.actuator_limits_deg) {
-      const bool known = std::any_of(actuators.begin(), actuators.end(), [&](const Quantity& q) { return q.name == name; });
+      const bool known = std::any_of(actuators.begin(), actuators.end(), [&name = name](const Quantity& q) { return q.name == name; });
       if (!known) {
         std::vector<std::string> names;
         for (const Quantity& q : actuators) names.push_back(q.name);

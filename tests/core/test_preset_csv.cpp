@@ -91,6 +91,21 @@ TEST(Csv, AcceptsAByteOrderMarkAndAPlusSignAndKeepsLineNumbers) {
     EXPECT_FALSE(parse_number(not_numbers).has_value()) << not_numbers;
 }
 
+TEST(Csv, RefusesAByteOrderMarkAnywhereButTheStart) {
+  // A second mark would become an invisible column name (or part of one) that
+  // no header written back can reproduce.
+  for (const char* text : {"\xEF\xBB\xBF\xEF\xBB\xBF\n", "x,\xEF\xBB\xBFy\n1,2\n", "x\n\xEF\xBB\xBF" "1\n"}) {
+    std::istringstream in(text);
+    try {
+      read_csv(in, "marks.csv");
+      FAIL() << "accepted a byte-order mark inside the text";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("marks.csv:"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("byte-order mark"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(Csv, RefusesRepeatedAndUnnamedColumns) {
   std::istringstream repeated("x,y,x\n1,2,3\n");
   try {
