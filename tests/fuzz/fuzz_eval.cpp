@@ -640,7 +640,13 @@ void run_interface(const Table& t) {
         if (fk.status != Status::Ok) continue;
         FUZZ_CHECK(fk.x.size() == Eigen::Index(info.task.size()) && fk.x.allFinite(), where.str() << ": Ok pose not finite");
         check_measures(*m, *q, fk.x, where.str());
-        // The pose found gives the actuator values back: some IK branch lands on q.
+        // The pose found gives the actuator values back: some IK branch lands
+        // on q. Only for q within the travel: outside it a device may have
+        // several actuator values per configuration (the 12R's (a + pi, b + pi,
+        // g + pi) is (a, b, g)) and IK reports the one in the travel.
+        bool in_travel = true;
+        for (std::size_t k = 0; k < info.actuators.size(); ++k) in_travel = in_travel && info.actuators[k].range.contains((*q)(Eigen::Index(k)));
+        if (!in_travel) continue;
         const linkscape::IkResult ik = m->inverse(fk.x);
         const linkscape::Measures measures = m->measures(*q, fk.x);
         if (measures.status != Status::Ok || measures.values.front() > 1e6) continue;  // IK of near-singular poses may pick a twin
