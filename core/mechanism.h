@@ -207,6 +207,7 @@ class Mechanism {
   // Every branch, by a named method. Throws std::invalid_argument for an
   // unknown method, a wrong-sized or non-finite x.
   virtual IkResult inverse(const Eigen::VectorXd& x, const IkOptions& options = {}) const = 0;
+  // Throws std::invalid_argument for an unknown method, a wrong-sized or non-finite q.
   virtual FkResult forward(const Eigen::VectorXd& q, const FkOptions& options = {}) const = 0;
   // J = dx/dq of the task coordinates it drives (rows) w.r.t. the actuators,
   // at a consistent pair (q, x).

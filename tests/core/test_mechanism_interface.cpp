@@ -68,6 +68,30 @@ TEST_P(EveryDevice, HomeIsReachableAndForwardInvertsInverse) {
   }
 }
 
+TEST_P(EveryDevice, RefusesNonFiniteCoordinatesByEveryMethod) {
+  const auto m = shipped(GetParam());
+  for (const double bad : {INFINITY, -INFINITY, NAN}) {
+    for (Eigen::Index k = 0; k < m->home_actuators().size(); ++k) {
+      VectorXd q = m->home_actuators();
+      q(k) = bad;
+      for (const NamedItem& method : m->info().fk_methods) {
+        FkOptions fo;
+        fo.method = method.name;
+        EXPECT_THROW(m->forward(q, fo), std::invalid_argument) << method.name << " q" << k + 1 << " = " << bad;
+      }
+    }
+    for (Eigen::Index k = 0; k < m->home_task().size(); ++k) {
+      VectorXd x = m->home_task();
+      x(k) = bad;
+      for (const NamedItem& method : m->info().ik_methods) {
+        IkOptions io;
+        io.method = method.name;
+        EXPECT_THROW(m->inverse(x, io), std::invalid_argument) << method.name << " " << m->info().task[std::size_t(k)].name << " = " << bad;
+      }
+    }
+  }
+}
+
 TEST_P(EveryDevice, RandomPosesRoundTripAndJacobianMatchesFiniteDifferences) {
   const auto m = shipped(GetParam());
   const MechanismInfo& info = m->info();

@@ -99,6 +99,7 @@ class Pathos2Mechanism final : public Mechanism {
       throw std::invalid_argument("pathos2: unknown IK method '" + o.method + "' (known: closed)");
     if (o.branch && *o.branch != 0) throw std::invalid_argument("pathos2 has one branch (its legs' are in the preset)");
     if (x.size() != 7) throw std::invalid_argument("pathos2: the task needs x, y, z, rx, ry, rz, h0");
+    if (!x.allFinite()) throw std::invalid_argument("pathos2: the pose must be finite numbers");
     linkscape::IkResult out;
     if (!(x(6) > 0)) {
       out.status = Status::Unreachable;
@@ -119,8 +120,9 @@ class Pathos2Mechanism final : public Mechanism {
     const VectorXd seed_x = o.seed ? *o.seed : home_task();
     linkscape::FkResult r;
     if (seed_x.size() != 7) throw std::invalid_argument("pathos2: the FK seed needs x, y, z, rx, ry, rz, h0");
+    if (!qa.allFinite()) throw std::invalid_argument("pathos2: the actuator values must be finite numbers");
     const double h0 = seed_x(6);
-    if (!(h0 > 0) || !qa.allFinite()) {
+    if (!(h0 > 0)) {
       r.status = Status::Unreachable;
       r.status_text = "invalid-input";
       return r;
