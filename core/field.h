@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "core/parallel12r.h"
+#include "core/mechanisms/parallel12r/parallel12r.h"
 
 namespace linkscape {
 

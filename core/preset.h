@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "core/parallel12r.h"
-#include "core/pathos2.h"
+#include "core/mechanisms/parallel12r/parallel12r.h"
+#include "core/mechanisms/pathos2/pathos2.h"
 
 namespace linkscape {
 

@@ -12,7 +12,7 @@
 
 #include "core/conditioning.h"
 #include "core/method_harness.h"
-#include "core/pathos2_methods.h"
+#include "core/mechanisms/pathos2/methods.h"
 
 namespace linkscape::stability {
 namespace {

@@ -13,8 +13,8 @@
 #include <string_view>
 #include <vector>
 
-#include "core/parallel12r.h"
-#include "core/pathos2.h"
+#include "core/mechanisms/parallel12r/parallel12r.h"
+#include "core/mechanisms/pathos2/pathos2.h"
 #include "core/status.h"
 
 namespace linkscape::stability {

@@ -3,8 +3,8 @@
 #include <random>
 
 #include "core/conditioning.h"
-#include "core/parallel12r.h"
-#include "reference_12r.h"
+#include "core/mechanisms/parallel12r/parallel12r.h"
+#include "tests/core/mechanisms/parallel12r/reference_12r.h"
 
 #include <Eigen/SVD>
 

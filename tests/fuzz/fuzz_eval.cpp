@@ -33,8 +33,8 @@
 
 #include "core/conditioning.h"
 #include "core/csv.h"
-#include "core/parallel12r.h"
-#include "core/pathos2.h"
+#include "core/mechanisms/parallel12r/parallel12r.h"
+#include "core/mechanisms/pathos2/pathos2.h"
 #include "core/preset.h"
 #include "fuzz_check.h"
 

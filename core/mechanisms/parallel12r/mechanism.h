@@ -4,7 +4,7 @@
 #include <memory>
 
 #include "core/mechanism.h"
-#include "core/parallel12r.h"
+#include "core/mechanisms/parallel12r/parallel12r.h"
 
 namespace linkscape::parallel12r {
 

@@ -6,8 +6,8 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "core/pathos2_field.h"
-#include "core/pathos2_methods.h"
+#include "core/mechanisms/pathos2/field.h"
+#include "core/mechanisms/pathos2/methods.h"
 #include "core/preset.h"
 #include "core/stability.h"
 

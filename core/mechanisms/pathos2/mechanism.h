@@ -4,7 +4,7 @@
 #include <memory>
 
 #include "core/mechanism.h"
-#include "core/pathos2.h"
+#include "core/mechanisms/pathos2/pathos2.h"
 
 namespace linkscape::pathos2 {
 

@@ -8,7 +8,7 @@
 #include <optional>
 
 #include "core/field.h"
-#include "core/pathos2.h"
+#include "core/mechanisms/pathos2/pathos2.h"
 
 namespace linkscape::pathos2 {
 

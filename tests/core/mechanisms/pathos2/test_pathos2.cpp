@@ -10,8 +10,8 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "core/pathos2.h"
-#include "core/pathos2_design.h"
+#include "core/mechanisms/pathos2/pathos2.h"
+#include "core/mechanisms/pathos2/design.h"
 #include "core/preset.h"
 
 namespace {

@@ -25,7 +25,7 @@
 #include <vector>
 
 #include "core/method_harness.h"
-#include "core/pathos2.h"
+#include "core/mechanisms/pathos2/pathos2.h"
 #include "core/status.h"
 
 namespace linkscape::pathos2_methods {

@@ -17,7 +17,7 @@
 #include <Eigen/SVD>
 
 #include "core/method_harness.h"
-#include "core/pathos2_methods.h"
+#include "core/mechanisms/pathos2/methods.h"
 #include "core/stability.h"
 
 namespace {
