@@ -14,7 +14,7 @@
 #include <stdexcept>
 
 #include "core/conditioning.h"
-#include "core/field.h"
+#include "core/mechanisms/parallel12r/field.h"
 
 namespace linkscape::methods {
 namespace {

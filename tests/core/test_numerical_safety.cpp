@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "core/conditioning.h"
-#include "core/field.h"
+#include "core/mechanisms/parallel12r/field.h"
 #include "core/method_harness.h"
 #include "core/mechanisms/parallel12r/parallel12r.h"
 #include "core/mechanisms/pathos2/pathos2.h"

@@ -5,7 +5,7 @@
 
 #include <numbers>
 
-#include "core/field.h"
+#include "core/mechanisms/parallel12r/field.h"
 #include "render/workspace_mesh.h"
 
 using namespace linkscape;

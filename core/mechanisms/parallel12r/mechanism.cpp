@@ -4,7 +4,7 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "core/field.h"
+#include "core/mechanisms/parallel12r/field.h"
 #include "core/preset.h"
 #include "core/stability.h"
 

@@ -11,7 +11,7 @@
 #include <random>
 #include <set>
 
-#include "core/field.h"
+#include "core/mechanisms/parallel12r/field.h"
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <Eigen/SVD>
