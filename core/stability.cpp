@@ -11,7 +11,7 @@
 #include <stdexcept>
 
 #include "core/conditioning.h"
-#include "core/method_harness.h"
+#include "core/mechanisms/parallel12r/methods.h"
 #include "core/mechanisms/pathos2/methods.h"
 
 namespace linkscape::stability {

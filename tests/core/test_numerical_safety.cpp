@@ -19,7 +19,7 @@
 
 #include "core/conditioning.h"
 #include "core/mechanisms/parallel12r/field.h"
-#include "core/method_harness.h"
+#include "core/mechanisms/parallel12r/methods.h"
 #include "core/mechanisms/parallel12r/parallel12r.h"
 #include "core/mechanisms/pathos2/pathos2.h"
 #include "core/mechanisms/pathos2/field.h"

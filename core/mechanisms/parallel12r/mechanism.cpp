@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "core/mechanisms/parallel12r/field.h"
+#include "core/mechanisms/parallel12r/methods.h"
 #include "core/preset.h"
 #include "core/stability.h"
 

@@ -16,7 +16,7 @@
 #include <Eigen/LU>
 #include <Eigen/SVD>
 
-#include "core/method_harness.h"
+#include "core/mechanisms/parallel12r/methods.h"
 #include "core/mechanisms/pathos2/methods.h"
 #include "core/stability.h"
 
