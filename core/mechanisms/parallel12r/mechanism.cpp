@@ -6,8 +6,8 @@
 
 #include "core/mechanisms/parallel12r/field.h"
 #include "core/mechanisms/parallel12r/methods.h"
+#include "core/mechanisms/parallel12r/stability.h"
 #include "core/preset.h"
-#include "core/stability.h"
 
 namespace linkscape::parallel12r {
 namespace {

@@ -8,8 +8,8 @@
 
 #include "core/mechanisms/pathos2/field.h"
 #include "core/mechanisms/pathos2/methods.h"
+#include "core/mechanisms/pathos2/stability.h"
 #include "core/preset.h"
-#include "core/stability.h"
 
 namespace linkscape::pathos2 {
 namespace {

@@ -17,8 +17,9 @@
 #include <Eigen/SVD>
 
 #include "core/mechanisms/parallel12r/methods.h"
+#include "core/mechanisms/parallel12r/stability.h"
 #include "core/mechanisms/pathos2/methods.h"
-#include "core/stability.h"
+#include "core/mechanisms/pathos2/stability.h"
 
 namespace {
 
