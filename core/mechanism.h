@@ -21,6 +21,7 @@
 
 #include "core/field.h"
 #include "core/method_harness.h"
+#include "core/range.h"
 #include "core/stability.h"
 #include "core/status.h"
 
@@ -29,12 +30,6 @@ namespace linkscape {
 struct Preset;
 
 // ---- The description ----------------------------------------------------------
-
-struct Range {
-  double lo = 0.0;
-  double hi = 0.0;
-  bool contains(double v) const { return v >= lo && v <= hi; }
-};
 
 // A named scalar: a design parameter, an actuated or a task coordinate.
 struct Quantity {

@@ -33,7 +33,7 @@
 
 #include "core/conditioning.h"
 #include "core/csv.h"
-#include "core/mechanisms/parallel12r/parallel12r.h"
+#include "core/mechanisms/parallel12r/mechanism.h"
 #include "core/mechanisms/pathos2/pathos2.h"
 #include "core/preset.h"
 #include "fuzz_check.h"

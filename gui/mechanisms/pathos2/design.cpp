@@ -19,6 +19,7 @@
 #include "core/atomic_file.h"
 #include "core/csv.h"
 #include "core/mechanisms/pathos2/design.h"
+#include "core/mechanisms/pathos2/mechanism.h"
 #include "core/preset.h"
 #include "gui/painted_file.h"
 #include "render/slice_image.h"
