@@ -240,7 +240,7 @@ class Mechanism {
 
   // Speed against accuracy of every method the device has, and sweeps
   // towards each singular set (rows as in core/method_harness.h and
-  // core/stability.h). The defaults (core/generic_methods.h) time each IK and
+  // core/stability.h). The defaults (core/generic_methods.cpp) time each IK and
   // FK method on targets made by the device's own forward kinematics from
   // random actuator values, and approach each singular set along
   // singular_approaches(); devices with higher-precision references override.
