@@ -16,8 +16,6 @@
 #include <string>
 #include <vector>
 
-#include "core/parallel12r.h"
-
 namespace linkscape {
 
 enum class Axis { X = 0, Y = 1, Z = 2 };
@@ -45,16 +43,9 @@ struct Grid {
   static Grid box(const Eigen::Vector3d& min, const Eigen::Vector3d& max, std::array<int, 3> dims);
 };
 
-struct FieldRequest {
-  Grid grid;
-  parallel12r::IkMethod method = parallel12r::IkMethod::Planar;
-  int branch = 0;  // assembly branch whose configuration is evaluated (0 or 1)
-  parallel12r::IkOptions ik;
-  // Requests needing more memory than this are refused before any work.
-  std::size_t memory_limit_bytes = std::size_t(6) << 30;
-  // Threads for the parallel loop; 0 = all cores (OpenMP default).
-  int threads = 0;
-};
+// The field engine refuses a request whose arrays would need more than this
+// (every device's default; the headless commands compare their peak with it).
+inline constexpr std::size_t kFieldMemoryLimitBytes = std::size_t(6) << 30;
 
 namespace detail {
 // Large blocks aligned to 2 MiB and marked for transparent huge pages: first
@@ -93,15 +84,17 @@ struct Field {
   SampleArray<std::uint8_t> reachable;  // 1 if the branch's solution exists and is within limits
   SampleArray<std::uint8_t> status;     // linkscape::Status of the branch's solution
   SampleArray<std::uint16_t> iterations;
-  // The IK method that produced the sample's solution, as
-  // std::uint8_t(parallel12r::IkMethod): the requested method, or under
-  // IkMethod::Fallback Planar or Newton. kNoMethod where no solution exists
-  // (unreachable, singular, not converged). compute_field always fills it;
-  // a Field assembled by hand may leave it empty ("not recorded").
+  // The IK method that produced the sample's solution, as the device's own
+  // method code (its IK method index or enum value): the requested method,
+  // or under a method that falls back to another, the one that served.
+  // kNoMethod where no solution exists (unreachable, singular, not
+  // converged). Every device's compute_field fills it; a Field assembled by
+  // hand may leave it empty ("not recorded").
   SampleArray<std::uint8_t> method_used;
   static constexpr std::uint8_t kNoMethod = 255;
-  // Six-DOF mechanisms (pathos2) only, else empty: cond holds cond(Jp) and
-  // this cond(Jo), the orientation block; +inf where singular or unreachable.
+  // Devices with a second measure only (a six-DOF device's orientation
+  // block), else empty: cond holds the first measure and this the second;
+  // +inf where singular or unreachable.
   SampleArray<float> cond_orientation;
   // What was computed, for the metadata of exported files.
   std::string mechanism;
@@ -127,19 +120,14 @@ struct FieldProgress {
   const std::atomic<bool>* cancel = nullptr;
 };
 
-// Samples the 12R mechanism on request.grid. Throws std::invalid_argument for
-// a bad request or one over the memory limit (the message gives both sizes).
-std::optional<Field> compute_field(const parallel12r::Model& model, const FieldRequest& request,
-                                   const FieldProgress& progress = {});
-
-// The same per-sample evaluation compute_field uses, for a single point.
+// One sample of a field, as a device's kernel computes it
+// (detail::fill_field in core/field_sampling.h stores it at its index).
 struct FieldSample {
   float cond = 0, reach_margin = 0, residual = 0;
   std::uint8_t reachable = 0, status = 0;
   std::uint16_t iterations = 0;
   std::uint8_t method_used = Field::kNoMethod;
-  float cond_orientation = 0;  // six-DOF mechanisms only
+  float cond_orientation = 0;  // the second measure, where the device has one
 };
-FieldSample sample_point(const parallel12r::Model& model, const Eigen::Vector3d& p, const FieldRequest& request);
 
 }  // namespace linkscape

@@ -21,6 +21,7 @@
 
 #include "core/field.h"
 #include "core/method_harness.h"
+#include "core/range.h"
 #include "core/stability.h"
 #include "core/status.h"
 
@@ -29,12 +30,6 @@ namespace linkscape {
 struct Preset;
 
 // ---- The description ----------------------------------------------------------
-
-struct Range {
-  double lo = 0.0;
-  double hi = 0.0;
-  bool contains(double v) const { return v >= lo && v <= hi; }
-};
 
 // A named scalar: a design parameter, an actuated or a task coordinate.
 struct Quantity {
@@ -246,7 +241,7 @@ class Mechanism {
 
   // Speed against accuracy of every method the device has, and sweeps
   // towards each singular set (rows as in core/method_harness.h and
-  // core/stability.h). The defaults (core/generic_methods.h) time each IK and
+  // core/stability.h). The defaults (core/generic_methods.cpp) time each IK and
   // FK method on targets made by the device's own forward kinematics from
   // random actuator values, and approach each singular set along
   // singular_approaches(); devices with higher-precision references override.

@@ -149,20 +149,4 @@ std::vector<std::string> parameter_names(const Preset& preset) {
 
 void validate(const Preset& preset) { make_mechanism(preset); }
 
-parallel12r::Model make_parallel12r(const Preset& preset) {
-  if (preset.mechanism != parallel12r::kMechanismName)
-    throw std::invalid_argument("expected a parallel-12r preset, got '" + preset.mechanism + "'");
-  return parallel12r::Model::from_parameters(preset.parameters, preset.limits_deg, preset.length_unit);
-}
-
-pathos2::Model make_pathos2(const Preset& preset) {
-  if (preset.mechanism != pathos2::kMechanismName)
-    throw std::invalid_argument("expected a pathos2 preset, got '" + preset.mechanism + "'");
-  // Its joint limits are the parameters t2_limit, t3_limit and cone_limit.
-  if (!preset.limits_deg.empty())
-    throw std::invalid_argument("pathos2 takes no actuator_limits_deg; its joint limits are the parameters "
-                                "t2_limit, t3_limit and cone_limit (degrees)");
-  return pathos2::Model::from_parameters(preset.parameters);
-}
-
 }  // namespace linkscape

@@ -7,18 +7,17 @@
 #include <string>
 #include <vector>
 
-#include "core/parallel12r.h"
-#include "core/pathos2.h"
+#include "core/range.h"
 
 namespace linkscape {
 
 struct Preset {
-  std::string mechanism;    // model family, e.g. "parallel-12r"
+  std::string mechanism;    // the registered device it describes (core/mechanisms/registry.cpp)
   std::string title;        // human-readable description
   std::string length_unit;  // e.g. "cm"
   std::map<std::string, double> parameters;
-  std::map<std::string, parallel12r::Interval> limits_deg;  // actuator ranges, degrees
-  std::filesystem::path source;                             // file it was read from
+  std::map<std::string, Range> limits_deg;  // actuator ranges, degrees
+  std::filesystem::path source;             // file it was read from
 };
 
 // Folders searched for preset names, in order: $LINKSCAPE_ASSETS/mechanisms,
@@ -27,7 +26,8 @@ std::vector<std::filesystem::path> preset_search_path();
 // Names of all presets found on the search path.
 std::vector<std::string> available_presets();
 
-// `name_or_path` is a preset name ("parallel-12r") or a path to a .json file.
+// `name_or_path` is a preset name (a file stem on the search path) or a path
+// to a .json file.
 // Throws std::invalid_argument naming the file and the problem.
 Preset load_preset(const std::string& name_or_path);
 Preset parse_preset(const std::string& json_text, const std::string& origin);
@@ -46,10 +46,5 @@ void apply_overrides(Preset& preset, const std::vector<std::string>& overrides);
 std::vector<std::string> parameter_names(const Preset& preset);
 // Builds the preset's model; throws std::invalid_argument if it is invalid.
 void validate(const Preset& preset);
-
-// The model described by a preset; throws std::invalid_argument if the
-// preset is of another mechanism or its values are invalid.
-parallel12r::Model make_parallel12r(const Preset& preset);
-pathos2::Model make_pathos2(const Preset& preset);
 
 }  // namespace linkscape

@@ -1,24 +1,22 @@
-// Stability sweeps for the 12R mechanism: approach each singular set along a
-// path, eps = 1e-1 down to 1e-12, and record for every method the error
-// against a long-double reference, the residual, the iterations and the
-// status. The prediction each IK error is compared with is the first-order
-// error of a backward-stable solver, u B(q) / sigma_min(J) with u = 2^-53 and
-// B = methods::backward_error_scale (the rounding of target, angles and
-// Eqs. 11-13 in double), about u c(J) for unit-scale lengths away from the
-// actuator plane.
+// Stability sweeps: approach each singular set of a device along a path, eps
+// = 1e-1 down to 1e-12, and record for every method the error, the residual,
+// the iterations and the status, beside the error a first-order analysis
+// predicts (Mechanism::stability_sweeps). The default sweeps of any device
+// are in core/generic_methods.cpp; devices with higher-precision references
+// run their own (core/mechanisms/<name>/stability.h).
 #pragma once
 
-#include <Eigen/Core>
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include "core/parallel12r.h"
-#include "core/pathos2.h"
+#include "core/method_harness.h"
 #include "core/status.h"
 
 namespace linkscape::stability {
 
+// The paths of the devices' own sweeps. The 12R's
+// (core/mechanisms/parallel12r/stability.h):
 enum class SweepPath {
   CosAlpha,     // joint path alpha = pi/2 - eps: cos(alpha) -> 0, endpoint -> actuator plane y = 0
   BetaGamma,    // joint path gamma = beta - eps: fully stretched (outer sphere, at distance ~ eps^2)
@@ -26,7 +24,7 @@ enum class SweepPath {
   ZAxis,        // Cartesian: distance eps (L1 + L2) from the z axis, y > 0
   OuterSphere,  // Cartesian: |D| = (1 - eps) (L1 + L2)
   InnerSphere,  // Cartesian: |D| = |L1 - L2| + eps (L1 + L2)
-  // PATHOS-II (run_pathos2_sweeps). Leg joint paths, eps an angle (rad):
+  // PATHOS-II (core/mechanisms/pathos2/stability.h). Leg joint paths, eps an angle (rad):
   LegStretched,  // t3 = -eps: l2 and l3 in line, |a - l1 z| -> l2 + l3 (sin t3 -> 0)
   LegFolded,     // t3 = -(pi - eps): folded, |a - l1 z| -> |l2 - l3| (sin t3 -> 0)
   LegElbow,      // t2 = eps: c1x = w sin t2 -> 0 (sin t2 -> 0)
@@ -35,10 +33,6 @@ enum class SweepPath {
   Reach,          // s*: the first leg becomes unreachable (the workspace boundary)
   ActuatedSingular,  // s*: det J_qdot_from_twist changes sign (the 6x6 J singular)
 };
-inline constexpr SweepPath kAllPaths[] = {SweepPath::CosAlpha, SweepPath::BetaGamma,   SweepPath::BetaGammaPi,
-                                          SweepPath::ZAxis,    SweepPath::OuterSphere, SweepPath::InnerSphere};
-inline constexpr SweepPath kPathos2Paths[] = {SweepPath::LegStretched, SweepPath::LegFolded, SweepPath::LegElbow,
-                                              SweepPath::Reach, SweepPath::ActuatedSingular};
 // "cos-alpha", "beta=gamma", "beta=gamma+pi", "z-axis", "outer-sphere", "inner-sphere";
 // "leg-stretched", "leg-folded", "leg-elbow", "reach-boundary", "J-singular".
 std::string_view to_string(SweepPath path);
@@ -51,11 +45,11 @@ struct SweepOptions {
   int steps_per_decade = 1;
   int base_points = 3;  // generic starting points per path (seeded)
   unsigned seed = 7;
-  parallel12r::IkOptions ik;
+  methods::SolverLimits ik;  // of the iterative IK methods (default seeds)
 };
 
 struct SweepRow {
-  std::string mechanism = "parallel-12r";  // or "pathos2"
+  std::string mechanism;  // the device's preset mechanism name
   SweepPath path = SweepPath::CosAlpha;
   std::string path_name;  // the singular set's name where `path` does not apply (devices' own sweeps)
   int base_point = 0;
@@ -74,37 +68,8 @@ struct SweepRow {
 // The row's path_name, else to_string(path).
 std::string path_label(const SweepRow& row);
 
-
-// Runs every path. Methods: ik paper, planar, newton, dls, fallback (default
-// seeds) and newton-near (seeded 1e-3 rad from the reference: Newton's own
-// accuracy, apart from its basin); jacobian analytic, central-difference,
-// forward-difference, complex-step; conditioning closed-form,
-// closed-form-fast, svd, normal-equations. Throws std::invalid_argument for
-// bad options.
-std::vector<SweepRow> run_stability_sweeps(const parallel12r::Model& model, const SweepOptions& options = {});
-
-// PATHOS-II paths (kPathos2Paths). Leg paths: family "ik", methods
-// closed-form (pathos2::leg_inverse), newton (home-pose seed), newton-near
-// (seeded 1e-3 rad from the reference); cond and sigma_min of the 3x3 leg
-// Jacobian; predicted u (l1 + l2 + l3 + pi |J|_F) / sigma_min. Pose paths:
-// family "fk" nine-sensor, numeric (home seed), numeric-near (seed 1e-3 cm,
-// rad off), error the pose error of pathos2_methods::pose_error against the
-// nearest exact solution; cond = cond(J_twist_from_qdot), sigma_min =
-// 1 / |S J|_2 with S = diag(1 / (l2 + l3) I, I), predicted
-// u sqrt(6) (pi + (l0 + l2 + l3) |M|_F) |S J|_2 (the rounding of the six
-// angles and of their evaluation mapped through J); jacobian analytic,
-// central-difference, forward-difference (predicted u cond(J)); conditioning
-// closed-form, svd (predicted u max(cond Jp, cond Jo)). Throws
-// std::invalid_argument for bad options.
-std::vector<SweepRow> run_pathos2_sweeps(const pathos2::Model& model, const SweepOptions& options = {});
-
-// The target, and the configuration on the path (joint paths) or nearest to
-// it (Cartesian paths, from the planar closed form), of one sweep point.
-struct SweepPoint {
-  Eigen::Vector3d target;
-  Eigen::Vector3d q_path;
-  double distance = 0;
-};
-SweepPoint sweep_point(const parallel12r::Model& model, SweepPath path, double eps, int base_point, unsigned seed);
+// The eps of a sweep: eps_max down to eps_min, steps_per_decade per decade.
+// Throws std::invalid_argument for bad options.
+std::vector<double> sweep_eps(const SweepOptions& options);
 
 }  // namespace linkscape::stability

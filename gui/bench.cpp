@@ -76,8 +76,7 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
   out << "linkscape bench: " << info.name << " (" << design << " " << unit << "), " << threads
       << " threads available\n\n";
 
-  // Throughput of the main measure's field over the default box (for the
-  // 12R about 52 % of its samples are inside the reach sphere).
+  // Throughput of the main measure's field over the device's default box.
   const std::string method = info.ik_methods.front().name;
   const int n_tp = o.quick ? 64 : 160;
   for (int t : {1, threads}) {

@@ -6,11 +6,17 @@
 #include <vtkObject.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
 
 #include "core/csv.h"
+#include "core/mechanism.h"
 #include "core/preset.h"
 #include "gui/mechanisms/commands.h"
 #include "gui/headless.h"
@@ -23,18 +29,77 @@ constexpr const char* kDescription =
     "Linkscape: kinematic design of parallel haptic-device mechanisms.\n"
     "Without a command it opens the window; with one it runs headless.";
 
-constexpr const char* kHeadlessHint =
-    "Headless commands (no display needed):\n"
-    "  linkscape eval --mechanism parallel-12r --ik points.csv   inverse kinematics (x,y,z)\n"
-    "  linkscape eval --mechanism parallel-12r --fk angles.csv   forward kinematics (alpha,beta,gamma)\n"
-    "  linkscape slice --plane x=0.25 --output slice.png          condition-number slice image\n"
-    "  linkscape field --resolution 128 --output volume.vti       sampled volume for ParaView\n"
-    "  linkscape mesh --surface cond<3 --output ws.stl            workspace isosurface mesh\n"
-    "  linkscape eval --mechanism pathos2 --ik poses.csv         PATHOS-II pose IK (x,y,z,rx,ry,rz,h0)\n"
-    "  linkscape slice --mechanism pathos2 --field cond_jo -o s.png   PATHOS-II cond(Jo) through the home pose\n"
-    "  linkscape design --table t2.csv --sweep l0.csv --chart d.png   PATHOS-II Table 2 search and l0 sweep\n"
-    "  linkscape bench --chart m.png --sweeps s.png --csv b.csv   speed and accuracy of every method\n"
-    "Run 'linkscape --help' or 'linkscape eval --help' for every option.\n";
+// What the help says each device accepts comes from the devices themselves:
+// every registered device, made from its shipped preset.
+struct DeviceHelp {
+  std::vector<std::shared_ptr<const Mechanism>> devices;
+
+  // "name: text; name: text" over the devices (those for which `text` says something).
+  std::string per_device(const std::function<std::string(const MechanismInfo&)>& text) const {
+    std::string out;
+    for (const auto& device : devices)
+      if (const std::string t = text(device->info()); !t.empty())
+        out += (out.empty() ? "" : "; ") + device->info().name + ": " + t;
+    return out;
+  }
+};
+
+DeviceHelp device_help() {
+  DeviceHelp help;
+  for (const std::string& name : registered_mechanisms()) {
+    try {
+      help.devices.push_back(make_mechanism(load_preset(name)));
+    } catch (const std::exception&) {
+      // No usable shipped preset of that name: the help leaves the device out.
+    }
+  }
+  return help;
+}
+
+// Item names joined by `separator`, each followed by " (description)" if `described`.
+template <class Items>
+std::string names(const Items& items, const char* separator, bool described = false) {
+  std::string out;
+  for (const auto& item : items)
+    out += (out.empty() ? "" : separator) + item.name + (described ? " (" + item.description + ")" : "");
+  return out;
+}
+
+// "x,y,z (cm), rx,ry,rz (rad)": the names, each run of one unit followed by it.
+std::string with_units(const std::vector<Quantity>& items) {
+  std::string out;
+  for (std::size_t k = 0; k < items.size(); ++k) {
+    out += items[k].name;
+    const bool last = k + 1 == items.size();
+    const bool unit = !items[k].unit.empty() && (last || items[k + 1].unit != items[k].unit);
+    if (unit) out += " (" + items[k].unit + ")";
+    if (!last) out += unit ? ", " : ",";
+  }
+  return out;
+}
+
+std::string headless_hint(const DeviceHelp& help, const std::vector<DeviceCommand>& device_commands) {
+  std::string hint =
+      "Headless commands (no display needed):\n"
+      "  linkscape eval --mechanism NAME --ik targets.csv     inverse kinematics of each row's task coordinates\n"
+      "  linkscape eval --mechanism NAME --fk actuators.csv   forward kinematics of each row's actuator values\n"
+      "  linkscape slice --plane x=0.25 --output slice.png    condition-number slice image\n"
+      "  linkscape field --resolution 128 --output volume.vti sampled volume for ParaView\n"
+      "  linkscape mesh --surface cond<3 --output ws.stl      workspace isosurface mesh\n"
+      "  linkscape bench --chart m.png --sweeps s.png --csv b.csv   speed and accuracy of every method\n";
+  for (const DeviceCommand& command : device_commands)
+    hint += "  linkscape " + command.command->get_name() + "   " + command.command->get_description() + "\n";
+  hint += "Devices (--mechanism NAME): " + help.per_device([](const MechanismInfo& i) { return i.title; }) + "\n";
+  return hint + "Run 'linkscape --help' or 'linkscape eval --help' for every option.\n";
+}
+
+std::string branches_help(const DeviceHelp& help) {
+  return help.per_device([](const MechanismInfo& i) {
+    std::string out;
+    for (const std::string& branch : i.branches) out += (out.empty() ? "" : ", ") + branch;
+    return out;
+  });
+}
 
 }  // namespace
 
@@ -50,22 +115,24 @@ void add_mechanism_options(CLI::App& app, MechanismChoice& choice) {
 
 namespace {
 
-void add_sampling_options(CLI::App& app, SamplingOptions& s) {
+void add_sampling_options(CLI::App& app, SamplingOptions& s, const DeviceHelp& help) {
   add_mechanism_options(app, s.mechanism);
   app.add_option("--method", s.method,
-                 "IK method per sample, one of the device's (default: its first). parallel-12r: planar, paper, newton, "
-                 "dls, fallback (planar, then Newton from its candidate where planar misses the tolerance; the "
-                 "choice is recorded per sample); pathos2: closed")
+                 "IK method per sample, one of the device's (default: its first; " +
+                     help.per_device([](const MechanismInfo& i) { return names(i.ik_methods, ", "); }) +
+                     "); where a method falls back to another, the one that served is recorded per sample")
       ->capture_default_str();
-  app.add_option("--branch", s.branch, "Assembly branch evaluated: 0 or 1")->capture_default_str();
+  app.add_option("--branch", s.branch, "Assembly branch evaluated, an index of the device's (" + branches_help(help) + ")")
+      ->capture_default_str();
   app.add_option("--tolerance", s.tolerance,
-                 "Accept a sample's IK solution when its residual <= tolerance * (L1 + L2); a tighter value shows "
-                 "where each method gives up")
+                 "Accept a sample's IK solution when its residual <= tolerance * the device's size; a tighter value "
+                 "shows where each method gives up")
       ->capture_default_str();
   app.add_option("--pose", s.pose,
-                 "pathos2: x,y,z (cm), rx,ry,rz (rad, R = Rz Ry Rx), h0 (cm); orientation and grip are held fixed "
-                 "over the grid, the default slice passes through the position (default: Table 3 home pose "
-                 "0,0,l0/2,0,0,pi/6,h0)");
+                 "The task pose, all of the device's task coordinates comma separated (" +
+                     help.per_device([](const MechanismInfo& i) { return i.task.size() > 3 ? with_units(i.task) : ""; }) +
+                     "): the coordinates after x, y, z are held fixed over the grid, the default slice passes "
+                     "through the position (default: the device's home pose)");
   app.add_flag("-q,--quiet", s.quiet, "No progress line on stderr");
 }
 
@@ -119,7 +186,7 @@ bool has_display() {
 int run(int argc, char** argv) {
   CLI::App app(kDescription, "linkscape");
   app.set_version_flag("--version", std::string("linkscape ") + LINKSCAPE_VERSION);
-  app.footer(kHeadlessHint);
+  const DeviceHelp help = device_help();
 
   WindowOptions window;
   add_mechanism_options(app, window.mechanism);
@@ -135,26 +202,34 @@ int run(int argc, char** argv) {
   CLI::App* eval_cmd = app.add_subcommand(
       "eval", "Evaluate kinematics for each CSV row; writes CSV (stdout by default)");
   add_mechanism_options(*eval_cmd, eval.mechanism);
-  auto* ik = eval_cmd->add_option("--ik", eval.ik_file,
-                                  "Inverse kinematics of targets in a CSV with header x,y,z ('-' = stdin). "
-                                  "Writes x,y,z,branch,status,alpha,beta,gamma,cond,det,residual,iterations, "
-                                  "one row per branch found. pathos2: header x,y,z,rx,ry,rz,h0 (cm, rad); writes "
-                                  "the pose, status, failing_leg, q1..q6 (rad), cond_jp, cond_jo");
-  auto* fk = eval_cmd->add_option("--fk", eval.fk_file,
-                                  "Forward kinematics of a CSV with header alpha,beta,gamma (rad). "
-                                  "Writes alpha,beta,gamma,x,y,z,cond,det. pathos2: header q1..q6,h0; numerical "
-                                  "FK from the home pose, or from the row's seed_x,seed_y,seed_z,seed_rx,seed_ry,seed_rz when given, so each "
-                                  "row's answer depends on that row alone; writes the pose, status, iterations");
+  auto* ik = eval_cmd->add_option(
+      "--ik", eval.ik_file,
+      "Inverse kinematics of the targets in a CSV whose header names the device's task coordinates (" +
+          help.per_device([](const MechanismInfo& i) { return with_units(i.task); }) +
+          "; '-' = stdin). Writes one row per branch found: the target, branch, status, actuators, measures and "
+          "diagnostics, as far as the device reports them");
+  auto* fk = eval_cmd->add_option(
+      "--fk", eval.fk_file,
+      "Forward kinematics of a CSV whose header names the device's actuators and FK inputs (" +
+          help.per_device([](const MechanismInfo& i) {
+            std::vector<Quantity> header = i.actuators;
+            for (const Quantity& q : i.task)
+              if (std::count(i.fk_inputs.begin(), i.fk_inputs.end(), q.name)) header.push_back(q);
+            return with_units(header);
+          }) +
+          "). Iterative FK starts from the home pose, or from the row's seed_<coordinate> columns when given, so "
+          "each row's answer depends on that row alone; writes the actuators, the task coordinates, and the "
+          "status, measures and diagnostics as far as the device reports them");
   ik->excludes(fk);
   eval_cmd->add_option("--method", eval.method,
-                       "IK method, one of the device's (default: its first). parallel-12r: paper (Eqs. 14-16, corrected), planar (planar reduction), "
-                       "newton (Newton-Raphson from a seed), dls (damped least squares from a seed), "
-                       "fallback (planar, then Newton from its candidate)")
+                       "IK method, one of the device's (default: its first). " +
+                           help.per_device([](const MechanismInfo& i) { return names(i.ik_methods, ", ", true); }))
       ->capture_default_str();
-  eval_cmd->add_option("--branch", eval.branch, "Only this assembly branch: 0 (sin(beta-gamma) > 0) or 1");
+  eval_cmd->add_option("--branch", eval.branch, "Only this assembly branch, an index of the device's (" + branches_help(help) + ")");
   eval_cmd->add_option("--seed", seed_text,
-                       "Start for iterative IK methods (closed forms do not use it): the actuator values in rad, e.g. alpha,beta,gamma (default: each branch's home pose)");
-  eval_cmd->add_option("--tolerance", eval.tolerance, "Accept a solution when residual <= tolerance * (L1 + L2)")
+                       "Start for iterative IK methods (closed forms do not use it): the device's actuator values, "
+                       "comma separated (default: each branch's home pose)");
+  eval_cmd->add_option("--tolerance", eval.tolerance, "Accept a solution when residual <= tolerance * the device's size")
       ->capture_default_str();
   eval_cmd->add_option("--max-iterations", eval.max_iterations, "Iteration limit for newton/dls")
       ->capture_default_str();
@@ -164,19 +239,26 @@ int run(int argc, char** argv) {
   SliceOptions slice;
   CLI::App* slice_cmd = app.add_subcommand(
       "slice", "Sample a field on a plane and write a colour-mapped image or CSV (no display needed)");
-  add_sampling_options(*slice_cmd, slice.sampling);
+  add_sampling_options(*slice_cmd, slice.sampling, help);
   slice_cmd->add_option("--plane", slice.plane,
-                        "Plane as axis=position in the length unit, e.g. x=0.25 (default: x = (L1+L2)/8 for "
-                        "parallel-12r, z through the pose for pathos2)");
+                        "Plane as axis=position in the length unit, e.g. x=0.25 (default: the device's first slice "
+                        "plane for the pose)");
   slice_cmd->add_option("--extent", slice.extent,
                         "u_min,u_max,v_min,v_max of the plane's axes (x: y,z; y: x,z; z: x,y); default the "
-                        "mechanism's box (+-(L1+L2); pathos2: +-0.6(l2+l3) around the mid-plane)")
+                        "device's sampling box")
       ->delimiter(',')
       ->expected(4);
   slice_cmd->add_option("--size", slice.size, "Samples along u and v, WIDTHxHEIGHT")->capture_default_str();
-  slice_cmd->add_option("--field", slice.field,
-                        "Field to colour: cond (c(J); pathos2: cond(Jp)), cond_jo (pathos2: cond(Jo)), reach, residual, "
-                        "iterations, status, method (IK method used per sample)")
+  slice_cmd->add_option(
+                "--field", slice.field,
+                "Field to colour: cond (the device's main measure: " +
+                    help.per_device([](const MechanismInfo& i) { return i.measures.front().title; }) +
+                    "), the second measure by its name where the device has one (" +
+                    help.per_device([](const MechanismInfo& i) {
+                      return i.measures.size() > 1 ? i.measures[1].name + " = " + i.measures[1].title : "";
+                    }) +
+                    "), reach, residual, iterations, status, method (IK method used per sample, where the device "
+                    "has several)")
       ->capture_default_str();
   slice_cmd->add_option("--contour", slice.contours,
                         "Condition-number levels drawn as contour lines (comma list; of cond_jo when that is shown)")
@@ -193,9 +275,9 @@ int run(int argc, char** argv) {
   FieldCommandOptions field;
   CLI::App* field_cmd = app.add_subcommand(
       "field", "Sample c(J), reach margin and diagnostics on a 3-D grid; write VTK .vti or CSV");
-  add_sampling_options(*field_cmd, field.sampling);
+  add_sampling_options(*field_cmd, field.sampling, help);
   field_cmd->add_option("--resolution", field.resolution, "Samples per axis: N or NXxNYxNZ")->capture_default_str();
-  field_cmd->add_option("--box", field.box, "x_min,x_max,y_min,y_max,z_min,z_max; default the mechanism's box (+-(L1+L2); pathos2: +-0.6(l2+l3) around (0,0,l0/2))")
+  field_cmd->add_option("--box", field.box, "x_min,x_max,y_min,y_max,z_min,z_max; default the device's sampling box")
       ->delimiter(',')
       ->expected(6);
   field_cmd->add_option("-o,--output", field.output, "Output: .vti (ParaView) or .csv")->required();
@@ -203,12 +285,12 @@ int run(int argc, char** argv) {
   MeshOptions mesh;
   CLI::App* mesh_cmd = app.add_subcommand(
       "mesh", "Extract a workspace isosurface and write a mesh (STL, OBJ, PLY, OFF, VTP); prints its statistics");
-  add_sampling_options(*mesh_cmd, mesh.sampling);
+  add_sampling_options(*mesh_cmd, mesh.sampling, help);
   mesh_cmd->add_option("--surface", mesh.surface,
                        "reach (boundary of the reachable set) or cond<T (well-conditioned region, e.g. cond<3)")
       ->capture_default_str();
   mesh_cmd->add_option("--resolution", mesh.resolution, "Samples per axis: N or NXxNYxNZ")->capture_default_str();
-  mesh_cmd->add_option("--box", mesh.box, "x_min,x_max,y_min,y_max,z_min,z_max; default the mechanism's box (+-(L1+L2); pathos2: +-0.6(l2+l3) around (0,0,l0/2))")
+  mesh_cmd->add_option("--box", mesh.box, "x_min,x_max,y_min,y_max,z_min,z_max; default the device's sampling box")
       ->delimiter(',')
       ->expected(6);
   mesh_cmd->add_option("--decimate", mesh.decimate,
@@ -217,6 +299,8 @@ int run(int argc, char** argv) {
   mesh_cmd->add_option("-o,--output", mesh.output, "Output: .stl, .obj, .ply, .off or .vtp")->required();
 
   const std::vector<DeviceCommand> device_commands = add_device_commands(app);
+  const std::string hint = headless_hint(help, device_commands);
+  app.footer(hint);
 
   BenchOptions bench;
   CLI::App* bench_cmd = app.add_subcommand(
@@ -293,7 +377,7 @@ int run(int argc, char** argv) {
   if (!has_display()) {
     std::cerr << "linkscape: no display found (DISPLAY is not set), so the window cannot open.\n"
               << "Start it on a desktop, or under Xvfb: xvfb-run -a linkscape\n\n"
-              << kHeadlessHint;
+              << hint;
     return 1;
   }
   ensure_runtime_dir();

@@ -18,9 +18,9 @@ class vtkPolyData;
 
 namespace linkscape::gui {
 
-// Samples one mechanism on a grid (core's compute_field for 12R, or its
-// PATHOS-II counterpart). Called on a worker thread; returns nullopt when
-// cancelled and throws std::invalid_argument for a request it refuses.
+// Samples one mechanism on a grid (its Mechanism::compute_field). Called on a
+// worker thread; returns nullopt when cancelled and throws
+// std::invalid_argument for a request it refuses.
 using FieldSampler = std::function<std::optional<Field>(const Grid&, const FieldProgress&)>;
 
 // A slice, a volume with its isosurfaces, or both. Each is computed twice:

@@ -262,7 +262,7 @@ constexpr double kProgramBytes = 96.0 * (1 << 20);
 void check_peak_memory(const Grid& grid, std::size_t bytes_per_sample, double factor, const std::string& what) {
   const double arrays = double(grid.size()) * double(bytes_per_sample);
   const double peak = arrays * factor + kProgramBytes;
-  double limit = double(FieldRequest{}.memory_limit_bytes);
+  double limit = double(kFieldMemoryLimitBytes);
   std::string limit_source = "the field engine's limit";
   std::ifstream meminfo("/proc/meminfo");
   std::string key;

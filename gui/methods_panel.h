@@ -32,9 +32,10 @@ class MethodsPanel : public QWidget {
   // next Run measures through its Mechanism::measure_methods. Throws
   // std::invalid_argument for an invalid preset. Does not start a run.
   void setMechanism(const linkscape::Preset& preset);
-  // Workspace targets (12R) or poses (PATHOS-II) per run, and timed repeats;
-  // fields are measured for 12R only when include_fields is set (they take
-  // seconds). Defaults: 2000 samples, 3 repeats, no fields.
+  // Samples (workspace targets or poses) per run, and timed repeats; fields
+  // are measured, by the devices whose harness times them, only when
+  // include_fields is set (they take seconds). Defaults: 2000 samples,
+  // 3 repeats, no fields.
   void setHarnessSize(std::size_t samples, int repeats, bool include_fields = false);
 
   const std::vector<methods::MethodRow>& rows() const { return rows_; }

@@ -22,8 +22,8 @@ void check_field(const Field& field);
 
 // The field as image data with point arrays "cond", "reach_margin",
 // "residual" (float), "reachable", "status" (unsigned char) and "iterations"
-// (unsigned short), "method_used" (unsigned char: parallel12r::IkMethod, 255 =
-// none; only when the field records it), active scalars "cond", and the metadata of
+// (unsigned short), "method_used" (unsigned char: the device's method code,
+// 255 = none; only when the field records it), active scalars "cond", and the metadata of
 // add_metadata(). The arrays are COPIED (about 2x the field's memory for a
 // moment), so the image is independent of the Field's lifetime.
 // Throws std::invalid_argument as check_field.

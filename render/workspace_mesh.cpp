@@ -15,6 +15,8 @@
 #include <vtkStringArray.h>
 #include <vtkXMLPolyDataWriter.h>
 
+#include <Eigen/Geometry>
+
 // MeshIO first: it registers OpenMesh's readers and writers.
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>

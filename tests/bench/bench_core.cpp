@@ -5,9 +5,9 @@
 #include <random>
 #include <vector>
 
-#include "core/pathos2.h"
-#include "core/pathos2_design.h"
-#include "core/pathos2_field.h"
+#include "core/mechanisms/pathos2/pathos2.h"
+#include "core/mechanisms/pathos2/design.h"
+#include "core/mechanisms/pathos2/field.h"
 
 namespace {
 

@@ -18,13 +18,13 @@
 #include <vector>
 
 #include "core/conditioning.h"
-#include "core/field.h"
-#include "core/method_harness.h"
-#include "core/parallel12r.h"
-#include "core/pathos2.h"
-#include "core/pathos2_field.h"
-#include "core/pathos2_methods.h"
-#include "reference_12r.h"
+#include "core/mechanisms/parallel12r/field.h"
+#include "core/mechanisms/parallel12r/methods.h"
+#include "core/mechanisms/parallel12r/parallel12r.h"
+#include "core/mechanisms/pathos2/pathos2.h"
+#include "core/mechanisms/pathos2/field.h"
+#include "core/mechanisms/pathos2/methods.h"
+#include "tests/core/mechanisms/parallel12r/reference_12r.h"
 
 using namespace linkscape;
 using Eigen::Vector3d;

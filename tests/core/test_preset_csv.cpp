@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "core/csv.h"
+#include "core/mechanisms/parallel12r/mechanism.h"
 #include "core/preset.h"
 
 using namespace linkscape;

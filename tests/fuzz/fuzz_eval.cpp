@@ -18,7 +18,7 @@
 //
 // What a user relies on, checked against independent computations (long
 // double 12R forward, the PATHOS-II frames rebuilt from the conventions in
-// core/pathos2.h, finite differences): no crash; std::invalid_argument exactly
+// core/mechanisms/pathos2/pathos2.h, finite differences): no crash; std::invalid_argument exactly
 // for the inputs the headers name; statuses valid; an Ok IK solution's forward
 // is within the tolerance of the target and inside the actuator limits; no
 // NaN in a result with status Ok.
@@ -41,8 +41,8 @@
 #include "core/conditioning.h"
 #include "core/csv.h"
 #include "core/mechanism.h"
-#include "core/parallel12r.h"
-#include "core/pathos2.h"
+#include "core/mechanisms/parallel12r/mechanism.h"
+#include "core/mechanisms/pathos2/pathos2.h"
 #include "core/preset.h"
 #include "fuzz_check.h"
 
@@ -101,7 +101,7 @@ const Presets& presets() {
 
 // ---- 12R ---------------------------------------------------------------------
 
-// Endpoint D = L1 u(a, b) + L2 u(a, g) of core/parallel12r.h in long double,
+// Endpoint D = L1 u(a, b) + L2 u(a, g) of core/mechanisms/parallel12r/parallel12r.h in long double,
 // u = (-sin a cos t, cos a cos t, cos a sin t) / sqrt(cos^2 a + sin^2 a cos^2 t).
 Eigen::Matrix<long double, 3, 1> forward_long(const p12::Model& m, const Vector3d& q) {
   const long double sa = std::sin(static_cast<long double>(q.x())), ca = std::cos(static_cast<long double>(q.x()));
@@ -316,7 +316,7 @@ double max_angle_between(const p2::Vector6d& a, const p2::Vector6d& b) {
 
 double rotation_distance(const Matrix3d& a, const Matrix3d& b) { return (a - b).cwiseAbs().maxCoeff(); }
 
-// Each Ok leg, rebuilt from the conventions in core/pathos2.h: the chain
+// Each Ok leg, rebuilt from the conventions in core/mechanisms/pathos2/pathos2.h: the chain
 // B_i Rz(t1) Tz(l1) Ry(t2) Tz(l2) Rx(t3) Tz(l3) Rz(t4) Ry(t5) Rz(t6) ends at
 // the attachment A_i of the pose, in position and orientation, within the
 // joint limits.

@@ -19,6 +19,8 @@
 #include <vector>
 
 #include "core/mechanism.h"
+#include "core/mechanisms/parallel12r/mechanism.h"
+#include "core/mechanisms/pathos2/mechanism.h"
 #include "core/preset.h"
 #include "fuzz_check.h"
 

@@ -12,8 +12,8 @@
 #include <sstream>
 
 #include "core/csv.h"
-#include "core/parallel12r.h"
-#include "core/reference_12r.h"
+#include "core/mechanisms/parallel12r/parallel12r.h"
+#include "tests/core/mechanisms/parallel12r/reference_12r.h"
 #include "cli_runner.h"
 
 using linkscape::testing::ConfigurationSampler;

@@ -7,7 +7,7 @@
 #include <random>
 
 #include "cli_runner.h"
-#include "core/pathos2.h"
+#include "core/mechanisms/pathos2/pathos2.h"
 
 using namespace linkscape;
 

@@ -23,7 +23,7 @@
 #include <numbers>
 
 #include "core/mechanism.h"
-#include "core/pathos2.h"
+#include "core/mechanisms/pathos2/mechanism.h"
 #include "core/preset.h"
 #include "gui/mechanism_window.h"
 #include "gui/methods_panel.h"

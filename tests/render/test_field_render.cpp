@@ -29,6 +29,7 @@
 #include <set>
 #include <sstream>
 
+#include "core/mechanisms/parallel12r/field.h"
 #include "render/field_vtk.h"
 #include "render/slice_image.h"
 #include "render/workspace_mesh.h"

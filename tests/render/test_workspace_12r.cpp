@@ -5,7 +5,7 @@
 
 #include <numbers>
 
-#include "core/field.h"
+#include "core/mechanisms/parallel12r/field.h"
 #include "render/workspace_mesh.h"
 
 using namespace linkscape;
@@ -53,7 +53,7 @@ TEST(Workspace12R, HollowShellForUnequalLinks) {
 TEST(Workspace12R, WellConditionedRegionHasTheExtentsOfFigure5) {
   // Two components (y > 0 and y < 0, split by the singular actuator plane),
   // spanning 2.93 in x and 3.67 in z for L = 1 (cf. the grid measurement in
-  // tests/core/test_paper_claims.cpp).
+  // tests/core/mechanisms/parallel12r/test_paper_claims.cpp).
   const parallel12r::Model m;
   render::SurfaceRequest request;
   request.surface = render::Surface::WellConditioned;

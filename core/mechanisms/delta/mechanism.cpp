@@ -211,7 +211,7 @@ class DeltaMechanism final : public Mechanism {
     const IkMethod method = parse_ik_method(o.method.empty() ? "closed" : o.method);
     const int branch = o.branch.value_or(0);
     if (branch < 0 || branch >= kBranchCount) throw std::invalid_argument("delta: branch must be 0..7");
-    detail::check_grid(grid, Field::bytes_per_sample(), std::size_t(6) << 30);
+    detail::check_grid(grid, Field::bytes_per_sample(), kFieldMemoryLimitBytes);
     Field f;
     f.grid = grid;
     f.mechanism = std::string(kMechanismName);

@@ -4,9 +4,10 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "core/field.h"
+#include "core/mechanisms/parallel12r/field.h"
+#include "core/mechanisms/parallel12r/methods.h"
+#include "core/mechanisms/parallel12r/stability.h"
 #include "core/preset.h"
-#include "core/stability.h"
 
 namespace linkscape::parallel12r {
 namespace {
@@ -217,8 +218,18 @@ std::shared_ptr<const Mechanism> make_mechanism(const Model& model) {
   return std::make_shared<Parallel12rMechanism>(model);
 }
 
-std::shared_ptr<const Mechanism> make_mechanism(const Preset& preset) {
-  return make_mechanism(Model::from_parameters(preset.parameters, preset.limits_deg, preset.length_unit));
-}
+std::shared_ptr<const Mechanism> make_mechanism(const Preset& preset) { return make_mechanism(make_parallel12r(preset)); }
 
 }  // namespace linkscape::parallel12r
+
+namespace linkscape {
+
+parallel12r::Model make_parallel12r(const Preset& preset) {
+  if (preset.mechanism != parallel12r::kMechanismName)
+    throw std::invalid_argument("expected a parallel-12r preset, got '" + preset.mechanism + "'");
+  std::map<std::string, parallel12r::Interval> limits_deg;
+  for (const auto& [name, range] : preset.limits_deg) limits_deg[name] = {range.lo, range.hi};
+  return parallel12r::Model::from_parameters(preset.parameters, limits_deg, preset.length_unit);
+}
+
+}  // namespace linkscape

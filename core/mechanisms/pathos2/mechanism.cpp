@@ -6,10 +6,10 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "core/pathos2_field.h"
-#include "core/pathos2_methods.h"
+#include "core/mechanisms/pathos2/field.h"
+#include "core/mechanisms/pathos2/methods.h"
+#include "core/mechanisms/pathos2/stability.h"
 #include "core/preset.h"
-#include "core/stability.h"
 
 namespace linkscape::pathos2 {
 namespace {
@@ -349,11 +349,20 @@ std::shared_ptr<const Mechanism> make_mechanism(const Model& model) {
   return std::make_shared<Pathos2Mechanism>(model);
 }
 
-std::shared_ptr<const Mechanism> make_mechanism(const Preset& preset) {
+std::shared_ptr<const Mechanism> make_mechanism(const Preset& preset) { return make_mechanism(make_pathos2(preset)); }
+
+}  // namespace linkscape::pathos2
+
+namespace linkscape {
+
+pathos2::Model make_pathos2(const Preset& preset) {
+  if (preset.mechanism != pathos2::kMechanismName)
+    throw std::invalid_argument("expected a pathos2 preset, got '" + preset.mechanism + "'");
+  // Its joint limits are the parameters t2_limit, t3_limit and cone_limit.
   if (!preset.limits_deg.empty())
     throw std::invalid_argument("pathos2 takes no actuator_limits_deg; its joint limits are the parameters "
                                 "t2_limit, t3_limit and cone_limit (degrees)");
-  return make_mechanism(Model::from_parameters(preset.parameters));
+  return pathos2::Model::from_parameters(preset.parameters);
 }
 
-}  // namespace linkscape::pathos2
+}  // namespace linkscape

@@ -18,7 +18,8 @@
 
 #include "core/atomic_file.h"
 #include "core/csv.h"
-#include "core/pathos2_design.h"
+#include "core/mechanisms/pathos2/design.h"
+#include "core/mechanisms/pathos2/mechanism.h"
 #include "core/preset.h"
 #include "gui/painted_file.h"
 #include "render/slice_image.h"

@@ -1,4 +1,4 @@
-#include "core/pathos2_field.h"
+#include "core/mechanisms/pathos2/field.h"
 
 #include <cmath>
 #include <limits>

@@ -7,7 +7,7 @@
 #include <numbers>
 #include <random>
 
-#include "core/pathos2_field.h"
+#include "core/mechanisms/pathos2/field.h"
 
 using namespace linkscape;
 using namespace linkscape::pathos2;

@@ -2,8 +2,8 @@
 
 #include <vector>
 
-#include "core/parallel12r.h"
-#include "reference_12r.h"
+#include "core/mechanisms/parallel12r/parallel12r.h"
+#include "tests/core/mechanisms/parallel12r/reference_12r.h"
 
 using namespace linkscape;
 using namespace linkscape::parallel12r;

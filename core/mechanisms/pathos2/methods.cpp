@@ -1,4 +1,4 @@
-#include "core/pathos2_methods.h"
+#include "core/mechanisms/pathos2/methods.h"
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>

@@ -1,9 +1,9 @@
-// Speed against accuracy of the PATHOS-II methods (core/pathos2.h), measured
-// like the 12R ones (core/method_harness.h): time per evaluation is the
-// median over repeated passes on a warm cache, error is measured against a
-// reference computed in long double (x87 extended, u_ld = 5.4e-20) from the
-// same equations, treating the model's precomputed leg frames (Geometry) as
-// exact.
+// Speed against accuracy of the PATHOS-II methods (pathos2.h beside this
+// file), measured as every harness is (core/method_harness.h): time per
+// evaluation is the median over repeated passes on a warm cache, error is
+// measured against a reference computed in long double (x87 extended,
+// u_ld = 5.4e-20) from the same equations, treating the model's precomputed
+// leg frames (Geometry) as exact.
 //
 // Families (MethodRow::mechanism = "pathos2") and what "error" means:
 //   leg-ik        joint error max_k |t_k - t*_k| (rad) of (t1, t2, t3) against
@@ -25,7 +25,7 @@
 #include <vector>
 
 #include "core/method_harness.h"
-#include "core/pathos2.h"
+#include "core/mechanisms/pathos2/pathos2.h"
 #include "core/status.h"
 
 namespace linkscape::pathos2_methods {

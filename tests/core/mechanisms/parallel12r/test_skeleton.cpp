@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 
-#include "core/parallel12r.h"
-#include "reference_12r.h"
+#include "core/mechanisms/parallel12r/parallel12r.h"
+#include "tests/core/mechanisms/parallel12r/reference_12r.h"
 
 using namespace linkscape::parallel12r;
 using linkscape::testing::ConfigurationSampler;

@@ -9,7 +9,7 @@
 #include <functional>
 #include <vector>
 
-#include "core/pathos2.h"
+#include "core/mechanisms/pathos2/pathos2.h"
 
 namespace linkscape::pathos2 {
 

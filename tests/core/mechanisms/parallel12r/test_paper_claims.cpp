@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <random>
 
-#include "core/parallel12r.h"
+#include "core/mechanisms/parallel12r/parallel12r.h"
 
 using namespace linkscape;
 using namespace linkscape::parallel12r;

@@ -10,8 +10,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "core/pathos2.h"
-#include "core/pathos2_design.h"
+#include "core/mechanisms/pathos2/design.h"
+#include "core/mechanisms/pathos2/mechanism.h"
+#include "core/mechanisms/pathos2/pathos2.h"
 #include "core/preset.h"
 
 namespace {
@@ -294,7 +295,7 @@ TEST(Pathos2Fk, NineSensorsRecoverThePose) {
       const Pose pose = random_pose(rng, m);
       const PoseIkResult ik = inverse(g, pose);
       ASSERT_EQ(ik.status, Status::Ok);
-      const FkResult fk = forward_nine_sensors(g, sensors_of(ik));
+      const pathos2::FkResult fk = forward_nine_sensors(g, sensors_of(ik));
       ASSERT_EQ(fk.status, Status::Ok) << n;
       EXPECT_LT(pose_distance(fk.pose, pose), 1e-9) << n;
     }
@@ -316,7 +317,7 @@ TEST(Pathos2Fk, NumericRoundTripFromNearbySeeds) {
     Pose seed = pose;
     seed.p_world_E += Vector3d(u(rng), u(rng), u(rng)).normalized() * 0.5;
     seed.R_world_E = rot(2 * kDeg, Vector3d(u(rng), u(rng), u(rng)).normalized()) * pose.R_world_E;
-    const FkResult fk = forward_numeric(g, ik.q_active, pose.h0, seed);
+    const pathos2::FkResult fk = forward_numeric(g, ik.q_active, pose.h0, seed);
     if (inverse(g, seed).status != Status::Ok) {
       // Near the boundary the seed itself may not assemble: say so, no guess.
       EXPECT_EQ(fk.status, Status::NotConverged) << n;
@@ -343,7 +344,7 @@ TEST(Pathos2Fk, NumericReportsFarSeedsInsteadOfGuessing) {
   EXPECT_NE(forward_numeric(g, q, pose.h0, far).status, Status::Ok);
   Pose flipped = pose;
   flipped.R_world_E = rot(std::numbers::pi, Vector3d::UnitX()) * pose.R_world_E;
-  const FkResult fk = forward_numeric(g, q, pose.h0, flipped);
+  const pathos2::FkResult fk = forward_numeric(g, q, pose.h0, flipped);
   if (fk.status == Status::Ok) {
     // If it converged, the answer must reproduce the actuator angles.
     EXPECT_LE((inverse(g, fk.pose).q_active - q).cwiseAbs().maxCoeff(), 1e-10);

@@ -1,4 +1,4 @@
-#include "core/pathos2.h"
+#include "core/mechanisms/pathos2/pathos2.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>

@@ -1,4 +1,4 @@
-#include "core/parallel12r.h"
+#include "core/mechanisms/parallel12r/parallel12r.h"
 
 #include <Eigen/LU>
 #include <algorithm>

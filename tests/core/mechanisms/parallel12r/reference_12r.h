@@ -7,7 +7,7 @@
 #include <numbers>
 #include <random>
 
-#include "core/parallel12r.h"
+#include "core/mechanisms/parallel12r/parallel12r.h"
 
 namespace linkscape::testing {
 

@@ -1,4 +1,4 @@
-#include "core/pathos2_design.h"
+#include "core/mechanisms/pathos2/design.h"
 
 #include <omp.h>
 

@@ -8,7 +8,7 @@
 #include <optional>
 
 #include "core/field.h"
-#include "core/pathos2.h"
+#include "core/mechanisms/pathos2/pathos2.h"
 
 namespace linkscape::pathos2 {
 
@@ -16,7 +16,7 @@ struct FieldRequest {
   Grid grid;                                        // positions of E in the world frame, cm
   Eigen::Vector3d rpy = Eigen::Vector3d::Zero();    // orientation (rx, ry, rz), R = Rz Ry Rx, rad
   double h0 = 7.0;                                  // grip, cm
-  std::size_t memory_limit_bytes = std::size_t(6) << 30;
+  std::size_t memory_limit_bytes = kFieldMemoryLimitBytes;
   int threads = 0;                                  // 0 = all cores
 };
 
