@@ -224,7 +224,7 @@ Pose step_pose(const Pose& pose, const Vector6d& twist);
 struct FkOptions {
   int max_iterations = 30;
   double tolerance = 1e-12;      // on max |q(x) - q_active| (rad)
-  double damping = 1e-6;         // Levenberg-Marquardt lambda (scaled by |M|^2)
+  double damping = 1e-6;         // Levenberg-Marquardt lambda (scaled by |M|^2; fades below a 1e-6 rad residual)
   double max_step_cm = 2.0;      // trust region per iteration, translation
   double max_step_rad = 0.2;     //   and rotation
 };

@@ -332,6 +332,25 @@ TEST(Pathos2Fk, NumericRoundTripFromNearbySeeds) {
   EXPECT_GE(converged, trials * 9 / 10);
 }
 
+// Where M is ill-conditioned as a whole (cond(Jp), cond(Jo) < 100, the 6x6
+// about 1e3) a fixed Levenberg-Marquardt damping made the last steps linear:
+// 40 iterations, and NotConverged at the default 30 (found by fuzzing).
+TEST(Pathos2Fk, NumericConvergesWhereTheSixBySixIsIllConditioned) {
+  const Model m;
+  const Geometry g = make_geometry(m);
+  const Pose pose = Pose::from_xyz_rpy(-5.2330512336189141, 2.3177145753855681, 22.454022650358262, -0.050540431751415232,
+                                       -0.021291790722917644, 0.49330218439174311, 7);
+  const PoseIkResult ik = inverse(g, pose);
+  ASSERT_EQ(ik.status, Status::Ok);
+  const double step = 1e-4 * (m.l1 + m.l2 + m.l3);
+  Vector6d nudge;
+  nudge << step, -step, step, 1e-4, 1e-4, -1e-4;
+  const pathos2::FkResult fk = forward_numeric(g, ik.q_active, pose.h0, step_pose(pose, nudge));
+  ASSERT_EQ(fk.status, Status::Ok) << fk.iterations << " iterations, residual " << fk.residual;
+  EXPECT_LE(fk.iterations, 20);  // 15 here: damped until 1e-6 rad, then Newton
+  EXPECT_LT(pose_distance(fk.pose, pose), 1e-9);
+}
+
 TEST(Pathos2Fk, NumericReportsFarSeedsInsteadOfGuessing) {
   const Model m;
   const Geometry g = make_geometry(m);
