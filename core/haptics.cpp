@@ -4,7 +4,6 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
-#include <Eigen/SVD>
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -24,21 +23,27 @@ using Eigen::Vector3d;
 using Eigen::VectorXd;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// J_p counts as rank deficient where sigma_3 / sigma_1 is below this: the
-// vertices of the force polytope then lie beyond 1e12 times the forces the
-// torques give along J_p's columns, and double cannot place them.
+// Three columns of J_p count as dependent where |det| is below this times the
+// product of their lengths (the sine of the angle the third makes with the
+// plane of the other two, times the sine between those two): the vertex they
+// define then lies beyond 1e12 times the forces along the columns, and
+// double cannot place it.
 constexpr double kRankTolerance = 1e-12;
+// J_p M^-1 J_p^T counts as singular where its smallest eigenvalue is below
+// this times its largest: the solver places that eigenvalue to about 1e4
+// times less than itself, and the inertia would exceed 1e12 times the
+// lightest direction's.
+constexpr double kInertiaRankTolerance = 1e-12;
 
 // The largest |F| over the polytope {F : |a_i . F| <= 1 for every column a_i
 // of A}: a bounded convex polytope attains it at a vertex, where three
 // independent constraints are active, so every triple of columns and every
-// sign pattern is tried and the feasible points kept. +inf if A has rank < 3
-// (the polytope is then unbounded along A's null space).
+// sign pattern is tried and the feasible points kept. +inf where no triple
+// is independent: A has rank < 3 and the polytope is unbounded along its
+// null space.
 double largest_vertex(const Matrix3Xd& A) {
-  const Eigen::JacobiSVD<Matrix3Xd> svd(A);
-  const Vector3d s = svd.singularValues();
-  if (!(s(0) > 0) || s(2) <= kRankTolerance * s(0)) return kInf;
   const Eigen::Index n = A.cols();
+  bool bounded = false;
   static constexpr std::array<std::array<double, 3>, 4> kSigns = {{{1, 1, 1}, {1, 1, -1}, {1, -1, 1}, {1, -1, -1}}};
   double best = 0;
   for (Eigen::Index i = 0; i < n; ++i)
@@ -48,13 +53,14 @@ double largest_vertex(const Matrix3Xd& A) {
         M << A.col(i).transpose(), A.col(j).transpose(), A.col(k).transpose();
         const double scale = A.col(i).norm() * A.col(j).norm() * A.col(k).norm();
         if (!(std::abs(M.determinant()) > kRankTolerance * scale)) continue;
+        bounded = true;
         const Eigen::PartialPivLU<Matrix3d> lu(M);
         for (const auto& sign : kSigns) {  // -F is the same vertex mirrored
           const Vector3d F = lu.solve(Vector3d(sign[0], sign[1], sign[2]));
           if ((A.transpose() * F).cwiseAbs().maxCoeff() <= 1 + 1e-9) best = std::max(best, F.norm());
         }
       }
-  return best;
+  return bounded ? best : kInf;
 }
 
 std::string number_text(double v) {
@@ -182,21 +188,29 @@ Measures measures(const Eigen::MatrixXd& J, const DeviceData& data, TorqueRating
     for (Eigen::Index i = 0; i < n; ++i)
       inverse_mass += Jp.col(i) * Jp.col(i).transpose() / *data.actuators[std::size_t(i)].rotor_inertia_kgm2;
     const Vector3d lambda = Eigen::SelfAdjointEigenSolver<Matrix3d>(inverse_mass, Eigen::EigenvaluesOnly).eigenvalues();
-    m.inertia_kg = lambda(0) > kRankTolerance * lambda(2) ? 1.0 / lambda(0) : kInf;
+    m.inertia_kg = lambda(0) > kInertiaRankTolerance * lambda(2) ? 1.0 / lambda(0) : kInf;
   }
   return m;
 }
 
+const std::vector<FieldInfo>& all_field_infos() {
+  static const std::vector<FieldInfo> infos = {{"force_iso", "isotropic force", "N", true},
+                                               {"force_max", "largest force", "N", true},
+                                               {"resolution", "resolution", "mm", false},
+                                               {"inertia", "reflected inertia", "kg", false}};
+  return infos;
+}
+
 std::vector<FieldInfo> field_infos(const DeviceData& data) {
-  std::vector<FieldInfo> out = {{"force_iso", "isotropic force", "N", true},
-                                {"force_max", "largest force", "N", true},
-                                {"resolution", "resolution", "mm", false}};
-  if (data.has_inertia()) out.push_back({"inertia", "reflected inertia", "kg", false});
+  std::vector<FieldInfo> out = all_field_infos();
+  if (!data.has_inertia()) out.pop_back();
   return out;
 }
 
 bool is_haptic_field(const std::string& name) {
-  return name == "force_iso" || name == "force_max" || name == "resolution" || name == "inertia";
+  for (const FieldInfo& f : all_field_infos())
+    if (f.name == name) return true;
+  return false;
 }
 
 bool add_fields(Field& f, const Mechanism& mechanism, const DeviceData& data, TorqueRating rating,

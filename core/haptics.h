@@ -82,6 +82,8 @@ struct FieldInfo {
   bool larger_is_better;
 };
 std::vector<FieldInfo> field_infos(const DeviceData& data);
+// All four, inertia included.
+const std::vector<FieldInfo>& all_field_infos();
 // Whether `name` is one of the haptic field names (inertia included).
 bool is_haptic_field(const std::string& name);
 

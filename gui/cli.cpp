@@ -66,6 +66,10 @@ void add_sampling_options(CLI::App& app, SamplingOptions& s) {
                  "pathos2: x,y,z (cm), rx,ry,rz (rad, R = Rz Ry Rx), h0 (cm); orientation and grip are held fixed "
                  "over the grid, the default slice passes through the position (default: Table 3 home pose "
                  "0,0,l0/2,0,0,pi/6,h0)");
+  app.add_option("--torque", s.torque,
+                 "Torque limit of the haptic fields (force_iso, force_max): continuous or peak, from the preset's "
+                 "actuator_data (docs/haptic-measures.md)")
+      ->capture_default_str();
   app.add_flag("-q,--quiet", s.quiet, "No progress line on stderr");
 }
 
@@ -176,7 +180,9 @@ int run(int argc, char** argv) {
   slice_cmd->add_option("--size", slice.size, "Samples along u and v, WIDTHxHEIGHT")->capture_default_str();
   slice_cmd->add_option("--field", slice.field,
                         "Field to colour: cond (c(J); pathos2: cond(Jp)), cond_jo (pathos2: cond(Jo)), reach, residual, "
-                        "iterations, status, method (IK method used per sample)")
+                        "iterations, status, method (IK method used per sample), or a haptic measure: force_iso "
+                        "(N, in every direction), force_max (N, in some direction), resolution (mm per encoder "
+                        "count), inertia (kg, reflected rotor inertia)")
       ->capture_default_str();
   slice_cmd->add_option("--contour", slice.contours,
                         "Condition-number levels drawn as contour lines (comma list; of cond_jo when that is shown)")
@@ -198,6 +204,10 @@ int run(int argc, char** argv) {
   field_cmd->add_option("--box", field.box, "x_min,x_max,y_min,y_max,z_min,z_max; default the mechanism's box (+-(L1+L2); pathos2: +-0.6(l2+l3) around (0,0,l0/2))")
       ->delimiter(',')
       ->expected(6);
+  field_cmd->add_option("--field", field.fields,
+                        "Also write these haptic arrays (comma list): force_iso, force_max (N), resolution (mm), "
+                        "inertia (kg); the kinematic arrays are always written")
+      ->delimiter(',');
   field_cmd->add_option("-o,--output", field.output, "Output: .vti (ParaView) or .csv")->required();
 
   MeshOptions mesh;
@@ -205,7 +215,9 @@ int run(int argc, char** argv) {
       "mesh", "Extract a workspace isosurface and write a mesh (STL, OBJ, PLY, OFF, VTP); prints its statistics");
   add_sampling_options(*mesh_cmd, mesh.sampling);
   mesh_cmd->add_option("--surface", mesh.surface,
-                       "reach (boundary of the reachable set) or cond<T (well-conditioned region, e.g. cond<3)")
+                       "reach (boundary of the reachable set), cond<T (well-conditioned region, e.g. cond<3), or the "
+                       "region meeting a haptic criterion: force_iso>F, force_max>F (N), resolution<R (mm), "
+                       "inertia<M (kg)")
       ->capture_default_str();
   mesh_cmd->add_option("--resolution", mesh.resolution, "Samples per axis: N or NXxNYxNZ")->capture_default_str();
   mesh_cmd->add_option("--box", mesh.box, "x_min,x_max,y_min,y_max,z_min,z_max; default the mechanism's box (+-(L1+L2); pathos2: +-0.6(l2+l3) around (0,0,l0/2))")

@@ -42,6 +42,7 @@
 #include <stdexcept>
 
 #include "core/csv.h"
+#include "core/haptics.h"
 #include "gui/latency_probe.h"
 #include "gui/methods_panel.h"
 #include "gui/vtk_widget.h"
@@ -467,6 +468,8 @@ QWidget* MechanismWindow::buildFieldPanel() {
     QString text = qs(name);
     if (name == "cond") text = qs(info.measures.front().title);
     else if (info.measures.size() > 1 && name == info.measures[1].name) text = qs(info.measures[1].title);
+    for (const haptics::FieldInfo& f : haptics::all_field_infos())
+      if (f.name == name) text = qs(f.title + " (" + f.unit + ")");
     field_box_->addItem(text, qs(name));
   }
   field_box_->setToolTip(tr("method: which IK method served each sample (categorical colours)"));
@@ -558,7 +561,13 @@ QWidget* MechanismWindow::buildFieldPanel() {
     restyleSlice();
     requestFields(false, true);
   });
-  connect(field_box_, &QComboBox::currentIndexChanged, this, [this] { restyleSlice(); });
+  // A haptic field needs its own pass over the slice (core/haptics.h): the
+  // slice is sampled again when the choice moves to or from one.
+  connect(field_box_, &QComboBox::currentIndexChanged, this, [this] {
+    const bool haptic = haptics::is_haptic_field(field_box_->currentData().toString().toStdString());
+    if (haptic || (slice_field_ && !slice_field_->extras.empty())) requestFields(true, false);
+    else restyleSlice();
+  });
   connect(auto_range_box_, &QCheckBox::toggled, this, [this] { restyleSlice(); });
   connect(range_min_box_, &QDoubleSpinBox::valueChanged, this, [this] { restyleSlice(); });
   connect(range_max_box_, &QDoubleSpinBox::valueChanged, this, [this] { restyleSlice(); });
@@ -1037,6 +1046,14 @@ void MechanismWindow::requestFields(bool slice, bool volume) {
   job.sampler = [m = mechanism_, fixed = x_, options](const Grid& grid, const FieldProgress& progress) {
     return m->compute_field(grid, fixed, options, 0, progress);
   };
+  std::optional<haptics::DeviceData> haptic_data;
+  if (haptics::is_haptic_field(field_box_->currentData().toString().toStdString())) {
+    try {
+      haptic_data = haptics::device_data(preset_, info);
+    } catch (const std::invalid_argument& e) {
+      statusBar()->showMessage(qs(e.what()), 8000);
+    }
+  }
   job.cond_threshold = threshold_box_->value();
   const Eigen::AlignedBox3d box = mechanism_->default_box();
   const Eigen::Vector3d lo = box.min(), hi = box.max();
@@ -1053,6 +1070,11 @@ void MechanismWindow::requestFields(bool slice, bool volume) {
     const auto [u, v] = Grid::slice_axes(normal);
     const int res = slice_resolution_box_->currentText().toInt();
     FieldJob slice_job = job;
+    if (haptic_data)
+      slice_job.sampler = [m = mechanism_, fixed = x_, options, data = *haptic_data](const Grid& grid,
+                                                                                    const FieldProgress& progress) {
+        return haptics::sample_field(*m, grid, fixed, options, 0, progress, &data);
+      };
     slice_job.slice = Grid::slice(normal, position, lo(int(u)), hi(int(u)), lo(int(v)), hi(int(v)), res, res);
     slice_settled_ = false;
     slice_runner_.submit(slice_job);
