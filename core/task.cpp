@@ -17,6 +17,24 @@ namespace linkscape::task {
 
 using Eigen::Vector3d;
 
+namespace {
+
+// Conditioning measures are bounded from above by a number > 1, forces from
+// below and resolution and inertia from above by a positive number.
+void check_bound(const Criterion& c) {
+  const bool larger_is_better = c.measure == "force_iso" || c.measure == "force_max";
+  if (c.above != larger_is_better)
+    throw std::invalid_argument("criterion '" + c.text + "': " + c.measure + " is bounded " +
+                                (larger_is_better ? "from below (" + c.measure + ">VALUE)"
+                                                  : "from above (" + c.measure + "<VALUE)"));
+  if (!c.haptic() && !(c.threshold > 1))
+    throw std::invalid_argument("criterion '" + c.text + "': no pose meets it (condition numbers are at least 1)");
+  if (!(c.threshold > 0))
+    throw std::invalid_argument("criterion '" + c.text + "': no pose meets it (the threshold must be positive)");
+}
+
+}  // namespace
+
 Criterion parse_criterion(const std::string& text) {
   Criterion c;
   c.text = text;
@@ -37,15 +55,8 @@ Criterion parse_criterion(const std::string& text) {
   if (!v || !std::isfinite(*v))
     throw std::invalid_argument("criterion '" + text + "': the threshold must be a finite number");
   c.threshold = *v;
-  const bool larger_is_better = c.measure == "force_iso" || c.measure == "force_max";
-  if (c.above != larger_is_better)
-    throw std::invalid_argument("criterion '" + text + "': " + c.measure + " is bounded " +
-                                (larger_is_better ? "from below (" + c.measure + ">VALUE)"
-                                                  : "from above (" + c.measure + "<VALUE)"));
-  if (!haptics::is_haptic_field(c.measure) && !(c.threshold > 1))
-    throw std::invalid_argument("criterion '" + text + "': no pose meets it (condition numbers are at least 1)");
-  if (!(c.threshold > 0))
-    throw std::invalid_argument("criterion '" + text + "': no pose meets it (the threshold must be positive)");
+  // A device's other measures are checked when it is known (resolve).
+  if (c.measure == "cond" || c.haptic()) check_bound(c);
   return c;
 }
 
@@ -55,6 +66,7 @@ Criterion resolve(const Criterion& c, const MechanismInfo& info, const haptics::
   std::string known = "reach, cond";
   for (std::size_t k = 0; k < info.measures.size(); ++k) {
     if (info.measures[k].name == c.measure) {
+      check_bound(c);
       if (k > 1)
         throw std::invalid_argument("criterion '" + c.text + "': fields hold the first two measures of a device only");
       out.measure_index = int(k);

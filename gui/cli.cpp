@@ -12,6 +12,7 @@
 
 #include "core/csv.h"
 #include "core/preset.h"
+#include "gui/fit_command.h"
 #include "gui/mechanisms/commands.h"
 #include "gui/headless.h"
 #include "gui/mechanism_window.h"
@@ -33,6 +34,7 @@ constexpr const char* kHeadlessHint =
     "  linkscape eval --mechanism pathos2 --ik poses.csv         PATHOS-II pose IK (x,y,z,rx,ry,rz,h0)\n"
     "  linkscape slice --mechanism pathos2 --field cond_jo -o s.png   PATHOS-II cond(Jo) through the home pose\n"
     "  linkscape design --table t2.csv --sweep l0.csv --chart d.png   PATHOS-II Table 2 search and l0 sweep\n"
+    "  linkscape fit --task sphere:diameter=15 --criterion 'cond<3' --equal L1,L2 -o fit.csv   size to a task\n"
     "  linkscape bench --chart m.png --sweeps s.png --csv b.csv   speed and accuracy of every method\n"
     "Run 'linkscape --help' or 'linkscape eval --help' for every option.\n";
 
@@ -228,6 +230,7 @@ int run(int argc, char** argv) {
       ->capture_default_str();
   mesh_cmd->add_option("-o,--output", mesh.output, "Output: .stl, .obj, .ply, .off or .vtp")->required();
 
+  const FitCommand fit_cmd = add_fit_command(app);
   const std::vector<DeviceCommand> device_commands = add_device_commands(app);
 
   BenchOptions bench;
@@ -281,6 +284,12 @@ int run(int argc, char** argv) {
   if (mesh_cmd->parsed()) {
     QCoreApplication qt(argc, argv);
     run_mesh(mesh, std::cout);
+    return 0;
+  }
+  if (fit_cmd.command->parsed()) {
+    prepare_offscreen_painting();  // the Pareto chart draws with QPainter
+    QGuiApplication qt(argc, argv);
+    run_fit(*fit_cmd.options, std::cout);
     return 0;
   }
   for (const DeviceCommand& command : device_commands) {

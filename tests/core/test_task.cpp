@@ -4,6 +4,8 @@
 // against the task evaluated where it was placed.
 #include <gtest/gtest.h>
 
+#include "expect_error.h"
+
 #include <random>
 
 #include "core/preset.h"
@@ -14,15 +16,6 @@ using namespace linkscape::task;
 using Eigen::Vector3d;
 
 namespace {
-
-void expect_error(const std::function<void()>& f, const std::string& expected) {
-  try {
-    f();
-    ADD_FAILURE() << "no error, expected one containing '" << expected << "'";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
-  }
-}
 
 Device device_of(const std::string& name, const std::vector<std::string>& params = {}) {
   Preset preset = load_preset(name);
