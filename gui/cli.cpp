@@ -133,6 +133,10 @@ int run(int argc, char** argv) {
   app.add_option("--screenshot", window.screenshot,
                  "Open the window, wait until the fields are computed, save it as PNG to this file and exit");
   app.add_option("--size", window.size, "Window size for --screenshot and --latency, WIDTHxHEIGHT")->capture_default_str();
+  app.add_option("--task", window.task,
+                 "Show a task volume in the Task tab: sphere:diameter=D or box:size=X,Y,Z, optionally ,centre=x,y,z "
+                 "(else placed in the largest sphere or box where the criteria hold)");
+  app.add_option("--criterion", window.criteria, "Criteria of --task (repeatable), e.g. cond<3, force_iso>1");
   app.add_flag("--latency", window.latency,
                "Open the window, measure slider-to-frame, link-length-to-slice and isosurface latencies, print them and exit");
 

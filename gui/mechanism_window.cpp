@@ -45,10 +45,12 @@
 #include "core/haptics.h"
 #include "gui/latency_probe.h"
 #include "gui/methods_panel.h"
+#include "gui/task_panel.h"
 #include "gui/vtk_widget.h"
 #include "gui/window_parts.h"
 #include "render/field_scene.h"
 #include "render/skeleton_scene.h"
+#include "render/task_scene.h"
 #include "render/slice_image.h"
 
 namespace linkscape::gui {
@@ -233,7 +235,8 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
       preset_(preset),
       mechanism_(make_mechanism(preset)),
       scene_(std::make_unique<render::SkeletonScene>()),
-      field_scene_(std::make_unique<render::FieldScene>()) {
+      field_scene_(std::make_unique<render::FieldScene>()),
+      task_scene_(std::make_unique<render::TaskScene>()) {
   const MechanismInfo& info = mechanism_->info();
   setWindowTitle(QString("Linkscape — %1").arg(qs(preset.title.empty() ? info.title : preset.title)));
   q_ = mechanism_->home_actuators();
@@ -251,6 +254,7 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   scene_->set_model(mechanism_->skeleton_model());
   scene_->add_to(renderer_);
   field_scene_->add_to(renderer_);
+  task_scene_->add_to(renderer_);
   renderer_->SetUseDepthPeeling(false);  // plain alpha blending: interactive under software GL
   scene_->reset_camera(renderer_, view_box(*mechanism_));
 
@@ -280,10 +284,14 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   QDockWidget* design = add_dock(this, tr("Design"), "designDock", buildDesignPanel());
   QDockWidget* field = add_dock(this, tr("Field"), "fieldDock", buildFieldPanel());
   QDockWidget* animation = add_dock(this, tr("Animation"), "animationDock", buildAnimationPanel());
+  task_panel_ = new TaskPanel(task_scene_.get());
+  QDockWidget* task = add_dock(this, tr("Task"), "taskDock", task_panel_);
+  connect(task_panel_, &TaskPanel::changed, view_, [this] { view_->update(); });
   // One column of tabs: the drive (with every read-out) in front.
   tabifyDockWidget(drive, design);
   tabifyDockWidget(drive, field);
   tabifyDockWidget(drive, animation);
+  tabifyDockWidget(drive, task);
   methods_ = add_methods_dock(this, preset_, drive);
   drive->raise();
   QTimer::singleShot(0, this, [this, drive] { resizeDocks({drive}, {std::max(drive->width(), 440)}, Qt::Horizontal); });
@@ -772,6 +780,7 @@ void MechanismWindow::accept(const Eigen::VectorXd& q, const Eigen::VectorXd& x,
   syncPanels();
   updateReadouts();
   placeHandle();
+  task_panel_->setDevice(mechanism_, preset_, x_);  // its read-outs follow the design and the held pose
   // Fields depend on the fixed task coordinates and the branch; the slice
   // also on the driven point while it follows it.
   if (branch_changed) {
@@ -1304,6 +1313,8 @@ int run_window(const WindowOptions& options, int argc, char** argv) {
   // A session brings its own mechanism.
   Preset preset = load_preset(session ? session->mechanism : options.mechanism.mechanism);
   apply_overrides(preset, options.mechanism.params);
+  if (!options.task.empty()) task::parse_task(options.task);  // bad text: exit code 2 before any window
+  for (const std::string& c : options.criteria) task::parse_criterion(c);
   // Off-screen framebuffers beyond 8192 pixels a side fail inside the
   // OpenGL driver (a crash, not an error), so the size is bounded here.
   int width = 0, height = 0;
@@ -1318,6 +1329,10 @@ int run_window(const WindowOptions& options, int argc, char** argv) {
   QApplication::setOrganizationName("Linkscape");
   MechanismWindow window(preset);
   if (session) window.applySession(*session);
+  if (!options.task.empty()) {
+    window.taskPanel()->setTask(options.task, options.criteria);
+    if (auto* dock = window.findChild<QDockWidget*>("taskDock")) dock->raise();
+  }
   window.resize(width, height);
   window.show();
   if (options.latency) return run_latency_probe(window, std::cout);
