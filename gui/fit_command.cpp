@@ -370,7 +370,7 @@ void run_fit(const FitOptions& o, std::ostream& out) {
   if (r.at_lower_bounds) out << "the design sits on a lower bound: lower it (--bounds) to look for smaller ones\n";
   std::size_t invalid = 0;
   for (const fit::Row& row : r.rows) invalid += !row.invalid.empty();
-  out << "evaluated " << r.rows.size() << " designs";
+  out << "evaluated " << r.rows.size() << (r.rows.size() == 1 ? " design" : " designs");
   if (invalid) out << " (" << invalid << " could not be built)";
   out << " in " << short_number(r.seconds) << " s\n";
 
