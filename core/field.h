@@ -96,6 +96,19 @@ struct Field {
   // block), else empty: cond holds the first measure and this the second;
   // +inf where singular or unreachable.
   SampleArray<float> cond_orientation;
+  // Further per-sample arrays computed over the field by generic code (the
+  // haptic measures, core/haptics.h), each named, titled and with its unit.
+  struct NamedArray {
+    std::string name, title, unit;
+    std::string description;  // how it was computed (e.g. the torque rating and the data's source)
+    SampleArray<float> values;
+  };
+  std::vector<NamedArray> extras;
+  const NamedArray* extra(const std::string& name) const {
+    for (const NamedArray& a : extras)
+      if (a.name == name) return &a;
+    return nullptr;
+  }
   // What was computed, for the metadata of exported files.
   std::string mechanism;
   std::string length_unit;

@@ -53,6 +53,7 @@ struct MechanismInfo {
   std::string name;         // preset mechanism name, e.g. "delta"
   std::string title;        // "Delta parallel haptic device"
   std::string length_unit;  // of the model's lengths, from the preset
+  std::string size_description;  // what Mechanism::size() measures, e.g. "L1 + L2" (fit's size)
   std::vector<Quantity> parameters;  // design parameters, as the preset names them
   std::vector<Quantity> actuators;   // q, as eval --fk reads them
   // x: the first three are the position x, y, z of the driven point; any

@@ -59,6 +59,41 @@ fs::path resolve_preset(const std::string& name_or_path) {
                               "; or give a path to a .json preset)");
 }
 
+// "actuator_data": {"source": text, "all": rating, "<actuator>": rating}, a
+// rating being {"peak_torque_Nm", "continuous_torque_Nm",
+// "encoder_counts_per_rev", "rotor_inertia_kgm2"}, each a positive number.
+// Actuator names are checked against the device in core/haptics.cpp.
+ActuatorDataSpec parse_actuator_data(const nlohmann::json& doc) {
+  if (!doc.is_object()) throw std::invalid_argument("actuator_data must be an object");
+  ActuatorDataSpec spec;
+  spec.given = true;
+  for (const auto& [key, value] : doc.items()) {
+    if (key == "source") {
+      spec.source = value.get<std::string>();
+      continue;
+    }
+    const std::string where = "actuator_data." + key;
+    if (!value.is_object()) throw std::invalid_argument(where + " must be an object of ratings");
+    ActuatorRating& r = key == "all" ? spec.all : spec.per_actuator[key];
+    for (const auto& [name, number] : value.items()) {
+      std::optional<double>* field = name == "peak_torque_Nm"           ? &r.peak_torque_Nm
+                                     : name == "continuous_torque_Nm"   ? &r.continuous_torque_Nm
+                                     : name == "encoder_counts_per_rev" ? &r.encoder_counts_per_rev
+                                     : name == "rotor_inertia_kgm2"     ? &r.rotor_inertia_kgm2
+                                                                        : nullptr;
+      if (!field)
+        throw std::invalid_argument("unknown key " + where + "." + name +
+                                    " (known: peak_torque_Nm, continuous_torque_Nm, encoder_counts_per_rev, "
+                                    "rotor_inertia_kgm2)");
+      const double v = number.get<double>();
+      if (!std::isfinite(v) || !(v > 0))
+        throw std::invalid_argument(where + "." + name + " must be a positive finite number, got " + number.dump());
+      *field = v;
+    }
+  }
+  return spec;
+}
+
 }  // namespace
 
 Preset parse_preset(const std::string& text, const std::string& origin) {
@@ -69,9 +104,10 @@ Preset parse_preset(const std::string& text, const std::string& origin) {
     if (!doc.is_object()) throw std::invalid_argument("top level must be a JSON object");
     for (const auto& [key, value] : doc.items())
       if (key != "mechanism" && key != "title" && key != "length_unit" && key != "parameters" &&
-          key != "actuator_limits_deg")
-        throw std::invalid_argument("unknown key '" + key +
-                                    "' (known: mechanism, title, length_unit, parameters, actuator_limits_deg)");
+          key != "actuator_limits_deg" && key != "actuator_data")
+        throw std::invalid_argument(
+            "unknown key '" + key +
+            "' (known: mechanism, title, length_unit, parameters, actuator_limits_deg, actuator_data)");
     p.mechanism = doc.at("mechanism").get<std::string>();
     p.title = doc.value("title", p.mechanism);
     p.length_unit = doc.value("length_unit", "unit");
@@ -85,6 +121,7 @@ Preset parse_preset(const std::string& text, const std::string& origin) {
           throw std::invalid_argument("actuator_limits_deg." + key + " must be finite");
       }
     }
+    if (doc.contains("actuator_data")) p.actuator_data = parse_actuator_data(doc.at("actuator_data"));
   } catch (const nlohmann::json::exception& e) {
     throw std::invalid_argument("preset " + origin + ": " + e.what());
   } catch (const std::invalid_argument& e) {

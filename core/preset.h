@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/actuator_data.h"
 #include "core/range.h"
 
 namespace linkscape {
@@ -17,6 +18,7 @@ struct Preset {
   std::string length_unit;  // e.g. "cm"
   std::map<std::string, double> parameters;
   std::map<std::string, Range> limits_deg;  // actuator ranges, degrees
+  ActuatorDataSpec actuator_data;           // torques, encoders, inertias (core/haptics.h)
   std::filesystem::path source;             // file it was read from
 };
 

@@ -18,6 +18,7 @@
 #include "core/csv.h"
 #include "core/mechanism.h"
 #include "core/preset.h"
+#include "gui/fit_command.h"
 #include "gui/mechanisms/commands.h"
 #include "gui/headless.h"
 #include "gui/mechanism_window.h"
@@ -86,6 +87,7 @@ std::string headless_hint(const DeviceHelp& help, const std::vector<DeviceComman
       "  linkscape slice --plane x=0.25 --output slice.png    condition-number slice image\n"
       "  linkscape field --resolution 128 --output volume.vti sampled volume for ParaView\n"
       "  linkscape mesh --surface cond<3 --output ws.stl      workspace isosurface mesh\n"
+      "  linkscape fit --task sphere:diameter=15 --criterion 'cond<3' -o fit.csv   the smallest design that serves a task\n"
       "  linkscape bench --chart m.png --sweeps s.png --csv b.csv   speed and accuracy of every method\n";
   for (const DeviceCommand& command : device_commands)
     hint += "  linkscape " + command.command->get_name() + "   " + command.command->get_description() + "\n";
@@ -133,6 +135,10 @@ void add_sampling_options(CLI::App& app, SamplingOptions& s, const DeviceHelp& h
                      help.per_device([](const MechanismInfo& i) { return i.task.size() > 3 ? with_units(i.task) : ""; }) +
                      "): the coordinates after x, y, z are held fixed over the grid, the default slice passes "
                      "through the position (default: the device's home pose)");
+  app.add_option("--torque", s.torque,
+                 "Torque limit of the haptic fields (force_iso, force_max): continuous or peak, from the preset's "
+                 "actuator_data (docs/haptic-measures.md)")
+      ->capture_default_str();
   app.add_flag("-q,--quiet", s.quiet, "No progress line on stderr");
 }
 
@@ -194,6 +200,10 @@ int run(int argc, char** argv) {
   app.add_option("--screenshot", window.screenshot,
                  "Open the window, wait until the fields are computed, save it as PNG to this file and exit");
   app.add_option("--size", window.size, "Window size for --screenshot and --latency, WIDTHxHEIGHT")->capture_default_str();
+  app.add_option("--task", window.task,
+                 "Show a task volume in the Task tab: sphere:diameter=D or box:size=X,Y,Z, optionally ,centre=x,y,z "
+                 "(else placed in the largest sphere or box where the criteria hold)");
+  app.add_option("--criterion", window.criteria, "Criteria of --task (repeatable), e.g. cond<3, force_iso>1");
   app.add_flag("--latency", window.latency,
                "Open the window, measure slider-to-frame, link-length-to-slice and isosurface latencies, print them and exit");
 
@@ -258,7 +268,8 @@ int run(int argc, char** argv) {
                       return i.measures.size() > 1 ? i.measures[1].name + " = " + i.measures[1].title : "";
                     }) +
                     "), reach, residual, iterations, status, method (IK method used per sample, where the device "
-                    "has several)")
+                    "has several), or a haptic measure: force_iso (N, in every direction), force_max (N, in some "
+                    "direction), resolution (mm per encoder count), inertia (kg, reflected rotor inertia)")
       ->capture_default_str();
   slice_cmd->add_option("--contour", slice.contours,
                         "Condition-number levels drawn as contour lines (comma list; of cond_jo when that is shown)")
@@ -280,6 +291,10 @@ int run(int argc, char** argv) {
   field_cmd->add_option("--box", field.box, "x_min,x_max,y_min,y_max,z_min,z_max; default the device's sampling box")
       ->delimiter(',')
       ->expected(6);
+  field_cmd->add_option("--field", field.fields,
+                        "Also write these haptic arrays (comma list): force_iso, force_max (N), resolution (mm), "
+                        "inertia (kg); the kinematic arrays are always written")
+      ->delimiter(',');
   field_cmd->add_option("-o,--output", field.output, "Output: .vti (ParaView) or .csv")->required();
 
   MeshOptions mesh;
@@ -287,7 +302,9 @@ int run(int argc, char** argv) {
       "mesh", "Extract a workspace isosurface and write a mesh (STL, OBJ, PLY, OFF, VTP); prints its statistics");
   add_sampling_options(*mesh_cmd, mesh.sampling, help);
   mesh_cmd->add_option("--surface", mesh.surface,
-                       "reach (boundary of the reachable set) or cond<T (well-conditioned region, e.g. cond<3)")
+                       "reach (boundary of the reachable set), cond<T (well-conditioned region, e.g. cond<3), or the "
+                       "region meeting a haptic criterion: force_iso>F, force_max>F (N), resolution<R (mm), "
+                       "inertia<M (kg)")
       ->capture_default_str();
   mesh_cmd->add_option("--resolution", mesh.resolution, "Samples per axis: N or NXxNYxNZ")->capture_default_str();
   mesh_cmd->add_option("--box", mesh.box, "x_min,x_max,y_min,y_max,z_min,z_max; default the device's sampling box")
@@ -298,6 +315,7 @@ int run(int argc, char** argv) {
       ->capture_default_str();
   mesh_cmd->add_option("-o,--output", mesh.output, "Output: .stl, .obj, .ply, .off or .vtp")->required();
 
+  const FitCommand fit_cmd = add_fit_command(app);
   const std::vector<DeviceCommand> device_commands = add_device_commands(app);
   const std::string hint = headless_hint(help, device_commands);
   app.footer(hint);
@@ -353,6 +371,12 @@ int run(int argc, char** argv) {
   if (mesh_cmd->parsed()) {
     QCoreApplication qt(argc, argv);
     run_mesh(mesh, std::cout);
+    return 0;
+  }
+  if (fit_cmd.command->parsed()) {
+    prepare_offscreen_painting();  // the Pareto chart draws with QPainter
+    QGuiApplication qt(argc, argv);
+    run_fit(*fit_cmd.options, std::cout);
     return 0;
   }
   for (const DeviceCommand& command : device_commands) {

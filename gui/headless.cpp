@@ -15,7 +15,9 @@
 #include "core/atomic_file.h"
 #include "core/csv.h"
 #include "core/field.h"
+#include "core/haptics.h"
 #include "core/mechanism.h"
+#include "core/task.h"
 #include "core/preset.h"
 #include "gui/slice_figure.h"
 #include "render/field_vtk.h"
@@ -182,10 +184,14 @@ void write_fk(const Mechanism& m, const Table& table, std::ostream& out) {
   });
 }
 
-std::shared_ptr<const Mechanism> chosen_mechanism(const MechanismChoice& choice) {
+Preset chosen_preset(const MechanismChoice& choice) {
   Preset preset = load_preset(choice.mechanism);
   apply_overrides(preset, choice.params);
-  return make_mechanism(preset);
+  return preset;
+}
+
+std::shared_ptr<const Mechanism> chosen_mechanism(const MechanismChoice& choice) {
+  return make_mechanism(chosen_preset(choice));
 }
 
 }  // namespace
@@ -237,15 +243,27 @@ namespace {
 
 // What the sampling commands need of the chosen mechanism.
 struct Sampling {
+  Preset preset;
   std::shared_ptr<const Mechanism> mechanism;
   Eigen::VectorXd task;  // fields hold its non-position coordinates; the default slice passes through it
   IkOptions ik;
+  haptics::TorqueRating torque = haptics::TorqueRating::Continuous;
+  bool haptic = false;  // also the haptic fields (core/haptics.h)
   std::size_t bytes_per_sample = Field::bytes_per_sample();  // the field arrays
   std::string length_unit() const { return mechanism->info().length_unit; }
   Eigen::Vector3d box_min() const { return mechanism->default_box().min(); }
   Eigen::Vector3d box_max() const { return mechanism->default_box().max(); }
+  haptics::DeviceData device_data() const { return haptics::device_data(preset, mechanism->info()); }
+  // Asks for the haptic fields; checks the preset's actuator data at once.
+  void with_haptics() {
+    device_data();
+    haptic = true;
+    bytes_per_sample += 4 * sizeof(float);
+  }
   std::optional<Field> sample(const Grid& grid, const FieldProgress& progress) const {
-    return mechanism->compute_field(grid, task, ik, 0, progress);
+    if (!haptic) return mechanism->compute_field(grid, task, ik, 0, progress);
+    const haptics::DeviceData data = device_data();
+    return haptics::sample_field(*mechanism, grid, task, ik, 0, progress, &data, torque);
   }
 };
 
@@ -298,7 +316,9 @@ std::vector<double> parse_numbers(const std::string& text, std::size_t count, co
 
 Sampling make_sampling(const SamplingOptions& s) {
   Sampling out;
-  out.mechanism = chosen_mechanism(s.mechanism);
+  out.preset = chosen_preset(s.mechanism);
+  out.mechanism = make_mechanism(out.preset);
+  out.torque = haptics::parse_torque_rating(s.torque);
   const MechanismInfo& info = out.mechanism->info();
   out.task = out.mechanism->home_task();
   if (!s.pose.empty()) {
@@ -380,7 +400,7 @@ void run_slice(const SliceOptions& o) {
   if (!ok_ext)
     throw std::invalid_argument("slice: --output must end in " + std::string(o.figure ? ".png, .svg or .pdf" : ".png or .csv") +
                                 ", got '" + o.output + "'");
-  const Sampling sampling = make_sampling(o.sampling);
+  Sampling sampling = make_sampling(o.sampling);
   const MechanismInfo& info = sampling.mechanism->info();
   const auto [default_normal, default_position] = sampling.mechanism->default_slice_plane(sampling.task);
   const std::string plane =
@@ -415,6 +435,7 @@ void run_slice(const SliceOptions& o) {
   if (info.measures.size() > 1) fields.push_back(info.measures[1].name);
   for (const char* f : {"reach", "residual", "iterations", "status"}) fields.push_back(f);
   if (info.ik_methods.size() > 1) fields.push_back("method");
+  for (const haptics::FieldInfo& f : haptics::all_field_infos()) fields.push_back(f.name);
   if (std::find(fields.begin(), fields.end(), style.field) == fields.end()) {
     std::string known;
     for (const auto& f : fields) known += (known.empty() ? "" : ", ") + f;
@@ -426,6 +447,11 @@ void run_slice(const SliceOptions& o) {
   if (style.field == "method" && o.figure)
     throw std::invalid_argument("--field method is written without --figure (.png image or .csv)");
   if (style.field == "method") style.log_scale = false;
+  if (haptics::is_haptic_field(style.field)) {
+    sampling.with_haptics();
+    if (style.field == "inertia" && !sampling.device_data().has_inertia())
+      throw std::invalid_argument("--field inertia: the preset gives no rotor_inertia_kgm2 for every actuator");
+  }
 
   const Field field = sample(sampling, grid, o.sampling.quiet);
   if (ext == ".csv") render::write_field_csv(field, o.output);
@@ -438,10 +464,20 @@ void run_field(const FieldCommandOptions& o) {
   const std::string ext = extension_of(o.output);
   if (ext != ".vti" && ext != ".csv")
     throw std::invalid_argument("field: --output must end in .vti or .csv, got '" + o.output + "'");
-  const Sampling sampling = make_sampling(o.sampling);
+  Sampling sampling = make_sampling(o.sampling);
+  for (const std::string& name : o.fields)
+    if (!haptics::is_haptic_field(name))
+      throw std::invalid_argument("field: --field adds force_iso, force_max, resolution or inertia (the other arrays "
+                                  "are always written), got '" + name + "'");
+  if (!o.fields.empty()) sampling.with_haptics();
+  if (std::count(o.fields.begin(), o.fields.end(), "inertia") && !sampling.device_data().has_inertia())
+    throw std::invalid_argument("--field inertia: the preset gives no rotor_inertia_kgm2 for every actuator");
   const Grid grid = box_grid(sampling, o.box, o.resolution);
   check_peak_memory(grid, sampling.bytes_per_sample, ext == ".vti" ? kPeakVti : kPeakCsv, "field");
-  const Field field = sample(sampling, grid, o.sampling.quiet);
+  Field field = sample(sampling, grid, o.sampling.quiet);
+  std::erase_if(field.extras, [&](const Field::NamedArray& a) {
+    return std::find(o.fields.begin(), o.fields.end(), a.name) == o.fields.end();
+  });
   if (ext == ".vti") render::write_vti(field, o.output);
   else render::write_field_csv(field, o.output);
 }
@@ -450,18 +486,29 @@ void run_field(const FieldCommandOptions& o) {
 
 namespace {
 
-render::SurfaceRequest parse_surface(const std::string& text) {
+// reach, cond<T (the device's first measure; both measures for six-DOF
+// devices), or a haptic criterion such as force_iso>2 (core/task.h).
+render::SurfaceRequest parse_surface(const std::string& text, const MechanismInfo& info) {
   render::SurfaceRequest r;
-  if (text == "reach") return r;
-  if (text.rfind("cond<", 0) == 0) {
-    r.surface = render::Surface::WellConditioned;
-    const std::optional<double> t = parse_number(text.substr(5));
-    if (t && std::isfinite(*t) && *t > 1) {
-      r.cond_threshold = *t;
-      return r;
-    }
+  task::Criterion c;
+  try {
+    c = task::parse_criterion(text);
+    if (c.measure != "reach" && c.measure != "cond" && !c.haptic()) throw std::invalid_argument("not a surface");
+  } catch (const std::invalid_argument&) {
+    throw std::invalid_argument("--surface expects reach, cond<T with T > 1 (e.g. cond<3) or a haptic criterion "
+                                "(force_iso>F, force_max>F in N, resolution<R in mm, inertia<M in kg) for " +
+                                info.name + ", got '" + text + "'");
   }
-  throw std::invalid_argument("--surface expects reach or cond<T with T > 1 (e.g. cond<3), got '" + text + "'");
+  if (c.measure == "cond") {
+    r.surface = render::Surface::WellConditioned;
+    r.cond_threshold = c.threshold;
+  } else if (c.haptic()) {
+    r.surface = render::Surface::Threshold;
+    r.field = c.measure;
+    r.above = c.above;
+    r.threshold = c.threshold;
+  }
+  return r;
 }
 
 }  // namespace
@@ -471,11 +518,16 @@ void run_mesh(const MeshOptions& o, std::ostream& out) {
   const std::string ext = extension_of(o.output);
   if (ext != ".stl" && ext != ".obj" && ext != ".ply" && ext != ".off" && ext != ".vtp")
     throw std::invalid_argument("mesh: --output must end in .stl, .obj, .ply, .off or .vtp, got '" + o.output + "'");
-  render::SurfaceRequest request = parse_surface(o.surface);
   if (!(o.decimate >= 0) || !std::isfinite(o.decimate))
     throw std::invalid_argument("--decimate must be a finite number >= 0, got " + format_number(o.decimate));
+  Sampling sampling = make_sampling(o.sampling);
+  render::SurfaceRequest request = parse_surface(o.surface, sampling.mechanism->info());
   request.decimate_error = o.decimate;
-  const Sampling sampling = make_sampling(o.sampling);
+  if (request.surface == render::Surface::Threshold) {
+    sampling.with_haptics();
+    if (request.field == "inertia" && !sampling.device_data().has_inertia())
+      throw std::invalid_argument("--surface inertia<M: the preset gives no rotor_inertia_kgm2 for every actuator");
+  }
   const Grid grid = box_grid(sampling, o.box, o.resolution);
   check_peak_memory(grid, sampling.bytes_per_sample, kPeakMesh, "mesh");
   const Field field = sample(sampling, grid, o.sampling.quiet);

@@ -41,6 +41,8 @@ struct SamplingOptions {
   // The task pose, every coordinate: all but x, y, z are held fixed over
   // the grid; the position places the default slice plane. Empty: home.
   std::string pose;
+  // Torque limit of the haptic fields: "continuous" or "peak" (core/haptics.h).
+  std::string torque = "continuous";
   bool quiet = false;  // no progress on stderr
 };
 
@@ -49,7 +51,7 @@ struct SliceOptions {
   std::string plane;             // axis=position, length unit; default: the device's first plane
   std::vector<double> extent;    // u_min,u_max,v_min,v_max; default +-reach
   std::string size = "512x512";  // samples along u x v
-  std::string field = "cond";    // cond, reach, residual, iterations, status, method
+  std::string field = "cond";    // cond, reach, residual, iterations, status, method, force_iso, force_max, resolution, inertia
   std::vector<double> contours{3.0};
   std::vector<double> range;     // colour range min,max
   bool linear = false;           // linear colour scale for cond/residual
@@ -62,13 +64,14 @@ struct FieldCommandOptions {
   SamplingOptions sampling;
   std::string resolution = "128";  // N or NXxNYxNZ
   std::vector<double> box;         // x_min,x_max,y_min,y_max,z_min,z_max; default +-reach
+  std::vector<std::string> fields; // haptic arrays to add: force_iso, force_max, resolution, inertia
   std::string output;              // .vti or .csv
 };
 void run_field(const FieldCommandOptions& options);
 
 struct MeshOptions {
   SamplingOptions sampling;
-  std::string surface = "reach";   // "reach" or "cond<T"
+  std::string surface = "reach";   // "reach", "cond<T" or a haptic criterion ("force_iso>2")
   std::string resolution = "128";
   std::vector<double> box;
   double decimate = 0;             // max decimation error, length unit; 0 = off

@@ -42,12 +42,15 @@
 #include <stdexcept>
 
 #include "core/csv.h"
+#include "core/haptics.h"
 #include "gui/latency_probe.h"
 #include "gui/methods_panel.h"
+#include "gui/task_panel.h"
 #include "gui/vtk_widget.h"
 #include "gui/window_parts.h"
 #include "render/field_scene.h"
 #include "render/skeleton_scene.h"
+#include "render/task_scene.h"
 #include "render/slice_image.h"
 
 namespace linkscape::gui {
@@ -232,7 +235,8 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
       preset_(preset),
       mechanism_(make_mechanism(preset)),
       scene_(std::make_unique<render::SkeletonScene>()),
-      field_scene_(std::make_unique<render::FieldScene>()) {
+      field_scene_(std::make_unique<render::FieldScene>()),
+      task_scene_(std::make_unique<render::TaskScene>()) {
   const MechanismInfo& info = mechanism_->info();
   setWindowTitle(QString("Linkscape — %1").arg(qs(preset.title.empty() ? info.title : preset.title)));
   q_ = mechanism_->home_actuators();
@@ -250,6 +254,7 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   scene_->set_model(mechanism_->skeleton_model());
   scene_->add_to(renderer_);
   field_scene_->add_to(renderer_);
+  task_scene_->add_to(renderer_);
   renderer_->SetUseDepthPeeling(false);  // plain alpha blending: interactive under software GL
   scene_->reset_camera(renderer_, view_box(*mechanism_));
 
@@ -279,10 +284,14 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   QDockWidget* design = add_dock(this, tr("Design"), "designDock", buildDesignPanel());
   QDockWidget* field = add_dock(this, tr("Field"), "fieldDock", buildFieldPanel());
   QDockWidget* animation = add_dock(this, tr("Animation"), "animationDock", buildAnimationPanel());
+  task_panel_ = new TaskPanel(task_scene_.get());
+  QDockWidget* task = add_dock(this, tr("Task"), "taskDock", task_panel_);
+  connect(task_panel_, &TaskPanel::changed, view_, [this] { view_->update(); });
   // One column of tabs: the drive (with every read-out) in front.
   tabifyDockWidget(drive, design);
   tabifyDockWidget(drive, field);
   tabifyDockWidget(drive, animation);
+  tabifyDockWidget(drive, task);
   methods_ = add_methods_dock(this, preset_, drive);
   drive->raise();
   QTimer::singleShot(0, this, [this, drive] { resizeDocks({drive}, {std::max(drive->width(), 440)}, Qt::Horizontal); });
@@ -467,6 +476,8 @@ QWidget* MechanismWindow::buildFieldPanel() {
     QString text = qs(name);
     if (name == "cond") text = qs(info.measures.front().title);
     else if (info.measures.size() > 1 && name == info.measures[1].name) text = qs(info.measures[1].title);
+    for (const haptics::FieldInfo& f : haptics::all_field_infos())
+      if (f.name == name) text = qs(f.title + " (" + f.unit + ")");
     field_box_->addItem(text, qs(name));
   }
   field_box_->setToolTip(tr("method: which IK method served each sample (categorical colours)"));
@@ -558,7 +569,13 @@ QWidget* MechanismWindow::buildFieldPanel() {
     restyleSlice();
     requestFields(false, true);
   });
-  connect(field_box_, &QComboBox::currentIndexChanged, this, [this] { restyleSlice(); });
+  // A haptic field needs its own pass over the slice (core/haptics.h): the
+  // slice is sampled again when the choice moves to or from one.
+  connect(field_box_, &QComboBox::currentIndexChanged, this, [this] {
+    const bool haptic = haptics::is_haptic_field(field_box_->currentData().toString().toStdString());
+    if (haptic || (slice_field_ && !slice_field_->extras.empty())) requestFields(true, false);
+    else restyleSlice();
+  });
   connect(auto_range_box_, &QCheckBox::toggled, this, [this] { restyleSlice(); });
   connect(range_min_box_, &QDoubleSpinBox::valueChanged, this, [this] { restyleSlice(); });
   connect(range_max_box_, &QDoubleSpinBox::valueChanged, this, [this] { restyleSlice(); });
@@ -763,6 +780,7 @@ void MechanismWindow::accept(const Eigen::VectorXd& q, const Eigen::VectorXd& x,
   syncPanels();
   updateReadouts();
   placeHandle();
+  task_panel_->setDevice(mechanism_, preset_, x_);  // its read-outs follow the design and the held pose
   // Fields depend on the fixed task coordinates and the branch; the slice
   // also on the driven point while it follows it.
   if (branch_changed) {
@@ -1037,6 +1055,14 @@ void MechanismWindow::requestFields(bool slice, bool volume) {
   job.sampler = [m = mechanism_, fixed = x_, options](const Grid& grid, const FieldProgress& progress) {
     return m->compute_field(grid, fixed, options, 0, progress);
   };
+  std::optional<haptics::DeviceData> haptic_data;
+  if (haptics::is_haptic_field(field_box_->currentData().toString().toStdString())) {
+    try {
+      haptic_data = haptics::device_data(preset_, info);
+    } catch (const std::invalid_argument& e) {
+      statusBar()->showMessage(qs(e.what()), 8000);
+    }
+  }
   job.cond_threshold = threshold_box_->value();
   const Eigen::AlignedBox3d box = mechanism_->default_box();
   const Eigen::Vector3d lo = box.min(), hi = box.max();
@@ -1053,6 +1079,11 @@ void MechanismWindow::requestFields(bool slice, bool volume) {
     const auto [u, v] = Grid::slice_axes(normal);
     const int res = slice_resolution_box_->currentText().toInt();
     FieldJob slice_job = job;
+    if (haptic_data)
+      slice_job.sampler = [m = mechanism_, fixed = x_, options, data = *haptic_data](const Grid& grid,
+                                                                                    const FieldProgress& progress) {
+        return haptics::sample_field(*m, grid, fixed, options, 0, progress, &data);
+      };
     slice_job.slice = Grid::slice(normal, position, lo(int(u)), hi(int(u)), lo(int(v)), hi(int(v)), res, res);
     slice_settled_ = false;
     slice_runner_.submit(slice_job);
@@ -1282,6 +1313,8 @@ int run_window(const WindowOptions& options, int argc, char** argv) {
   // A session brings its own mechanism.
   Preset preset = load_preset(session ? session->mechanism : options.mechanism.mechanism);
   apply_overrides(preset, options.mechanism.params);
+  if (!options.task.empty()) task::parse_task(options.task);  // bad text: exit code 2 before any window
+  for (const std::string& c : options.criteria) task::parse_criterion(c);
   // Off-screen framebuffers beyond 8192 pixels a side fail inside the
   // OpenGL driver (a crash, not an error), so the size is bounded here.
   int width = 0, height = 0;
@@ -1296,6 +1329,10 @@ int run_window(const WindowOptions& options, int argc, char** argv) {
   QApplication::setOrganizationName("Linkscape");
   MechanismWindow window(preset);
   if (session) window.applySession(*session);
+  if (!options.task.empty()) {
+    window.taskPanel()->setTask(options.task, options.criteria);
+    if (auto* dock = window.findChild<QDockWidget*>("taskDock")) dock->raise();
+  }
   window.resize(width, height);
   window.show();
   if (options.latency) return run_latency_probe(window, std::cout);

@@ -45,11 +45,13 @@ class vtkRenderer;
 namespace linkscape::render {
 class FieldScene;
 class SkeletonScene;
+class TaskScene;
 }  // namespace linkscape::render
 
 namespace linkscape::gui {
 
 class MethodsPanel;
+class TaskPanel;
 class VtkWidget;
 
 struct WindowOptions {
@@ -58,6 +60,10 @@ struct WindowOptions {
   std::string screenshot;      // save a PNG of the window and exit
   bool latency = false;        // measure interaction latencies, print them and exit
   std::string size = "1280x800";
+  // A task volume shown at start (Task tab): "sphere:diameter=15[,centre=x,y,z]"
+  // and its criteria; without a centre it is placed in the largest sphere.
+  std::string task;
+  std::vector<std::string> criteria;
 };
 
 // Opens the window (QApplication lives here). Returns the exit code.
@@ -88,6 +94,8 @@ class MechanismWindow : public QMainWindow {
   VtkWidget* view() const { return view_; }
   const render::FieldScene& fieldScene() const { return *field_scene_; }
   const render::SkeletonScene& scene() const { return *scene_; }
+  const render::TaskScene& taskScene() const { return *task_scene_; }
+  TaskPanel* taskPanel() const { return task_panel_; }
   // True once the latest field request has been answered at full resolution.
   bool fieldsSettled() const { return slice_settled_ && surfaces_settled_; }
   // Why the last requested pose was refused, empty when it was taken.
@@ -165,6 +173,8 @@ class MechanismWindow : public QMainWindow {
   std::shared_ptr<const Mechanism> mechanism_;
   std::unique_ptr<render::SkeletonScene> scene_;
   std::unique_ptr<render::FieldScene> field_scene_;
+  std::unique_ptr<render::TaskScene> task_scene_;
+  TaskPanel* task_panel_ = nullptr;
   vtkRenderer* renderer_ = nullptr;  // owned by the view's render window
   VtkWidget* view_ = nullptr;
   Eigen::VectorXd q_, x_;

@@ -1,5 +1,7 @@
 #include "gui/session.h"
 
+#include "core/haptics.h"
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -116,6 +118,9 @@ FieldChoices field_choices(const MechanismInfo& info) {
     c.fields.push_back("method");
     for (const NamedItem& m : info.ik_methods) c.methods.push_back(m.name);
   }
+  // Haptic measures (core/haptics.h); inertia shows only where the preset
+  // gives every rotor inertia (the window says so otherwise).
+  for (const haptics::FieldInfo& f : haptics::all_field_infos()) c.fields.push_back(f.name);
   // Coarse choices for slow devices, fine ones for fast ones; sessions of
   // every earlier per-device list stay valid.
   c.slice_resolutions = {64, 96, 128, 192, 256, 384, 512, 768};

@@ -60,7 +60,8 @@ void apply_camera(vtkRenderer* renderer, const CameraState& camera);
 // combo boxes are filled from here and sessions are checked against it.
 // Fields: "cond" (the first measure), the second measure's name where there
 // is one, "reach", "residual" and "iterations" where the IK reports them,
-// "status", and "method" where there is more than one IK method. The
+// "status", "method" where there is more than one IK method, and the haptic
+// measures force_iso, force_max, resolution, inertia (core/haptics.h). The
 // resolutions are the same for every device.
 struct FieldChoices {
   std::vector<std::string> fields;   // values of FieldSettings::field

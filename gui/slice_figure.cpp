@@ -101,11 +101,22 @@ void draw(QPainter& p, const QSize& page, const Field& field, const render::Slic
                  .arg(position)
                  .arg(unit));
   p.setFont(font);
+  // A haptic field says how it was computed (torque rating, data source).
+  const Field::NamedArray* extra = field.extra(style.field);
   p.drawText(QRectF(0, 2.0 * fh, page.width(), 1.2 * fh), Qt::AlignCenter,
-             QString("%1, %2 x %3 samples")
+             QString("%1, %2 x %3 samples%4")
                  .arg(how)
                  .arg(g.dims[iu])
-                 .arg(g.dims[iv]));
+                 .arg(g.dims[iv])
+                 .arg(extra ? "; " + QString::fromStdString(extra->description).section(';', 0, 0) : QString()));
+  if (extra && !extra->description.empty()) {
+    QFont small = font;
+    small.setPixelSize(std::max(9, font.pixelSize() * 3 / 4));
+    p.setFont(small);
+    p.drawText(QRectF(0, page.height() - 1.3 * fh, page.width(), fh), Qt::AlignCenter,
+               QString::fromStdString(extra->description).section(';', 1).trimmed());
+    p.setFont(font);
+  }
 
   // Axes with ticks in the model's unit.
   for (double t : nice_ticks(u0, u1, 6)) {
@@ -142,7 +153,8 @@ void draw(QPainter& p, const QSize& page, const Field& field, const render::Slic
     p.drawLine(QPointF(bar.right(), y), QPointF(bar.right() + 0.4 * fh, y));
     p.drawText(QRectF(bar.right() + 0.6 * fh, y - fh / 2.0, 4 * fh, fh), Qt::AlignLeft | Qt::AlignVCenter, QString::number(t));
   }
-  p.drawText(QRectF(bar.left() - fh, bar.top() - 1.5 * fh, 6 * fh, fh), Qt::AlignLeft,
+  // To the page's edge: haptic titles ("reflected inertia (kg)") are long.
+  p.drawText(QRectF(bar.left() - fh, bar.top() - 1.5 * fh, page.width() - bar.left(), fh), Qt::AlignLeft,
              QString::fromStdString(render::field_title(field, style.field)) + (log ? " (log)" : ""));
 
   // Legend under the bar; line swatches sit on a mid-tone so white shows.

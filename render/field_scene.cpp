@@ -161,7 +161,11 @@ void FieldScene::update_colour_bar(const Field& slice, const SliceStyle& resolve
   if (log) lut_->SetScaleToLog10();
   else lut_->SetScaleToLinear();
   lut_->SetTableRange(range[0], range[1]);
-  colour_bar_->SetTitle(title.c_str());
+  // Long titles ("isotropic force (N)") put their unit on a second line,
+  // within the bar's narrow strip at the view's edge.
+  std::string shown = title;
+  if (const auto unit = shown.rfind(" ("); shown.size() > 12 && unit != std::string::npos) shown[unit] = '\n';
+  colour_bar_->SetTitle(shown.c_str());
   colour_bar_->Modified();
   bar_range_ = range;
   bar_log_ = log;

@@ -78,6 +78,7 @@ void check_field(const Field& field) {
   check("iterations", field.iterations.size());
   if (!field.method_used.empty()) check("method_used", field.method_used.size());  // empty: not recorded
   if (!field.cond_orientation.empty()) check("cond_orientation", field.cond_orientation.size());  // six-DOF only
+  for (const Field::NamedArray& a : field.extras) check(a.name.c_str(), a.values.size());
   if (!(field.grid.spacing.array() > 0).all() || !field.grid.spacing.allFinite() || !field.grid.origin.allFinite())
     throw std::invalid_argument("field: expected finite origin and positive finite spacing");
 }
@@ -90,6 +91,11 @@ void add_metadata(vtkFieldData* out, const Field& field) {
   for (const auto& [name, value] : field.parameters) add_numbers(out, "param_" + name, {value});
   const auto& d = field.grid.dims;
   add_numbers(out, "resolution", {double(d[0]), double(d[1]), double(d[2])});
+  for (const Field::NamedArray& a : field.extras) {
+    add_string(out, (a.name + "_unit").c_str(), a.unit);
+    add_string(out, (a.name + "_title").c_str(), a.title);
+    if (!a.description.empty()) add_string(out, (a.name + "_description").c_str(), a.description);
+  }
 }
 
 vtkSmartPointer<vtkImageData> to_image_data(const Field& field) {
@@ -110,6 +116,11 @@ vtkSmartPointer<vtkImageData> to_image_data(const Field& field) {
   pd->AddArray(copy_array<vtkUnsignedCharArray>("status", field.status));
   pd->AddArray(copy_array<vtkUnsignedShortArray>("iterations", field.iterations));
   if (!field.method_used.empty()) pd->AddArray(copy_array<vtkUnsignedCharArray>("method_used", field.method_used));
+  for (const Field::NamedArray& a : field.extras) {
+    pd->AddArray(copy_array<vtkFloatArray>(a.name.c_str(), a.values));
+    // The unit also as the component name, which ParaView shows beside the array.
+    pd->GetArray(a.name.c_str())->SetComponentName(0, a.unit.c_str());
+  }
   pd->SetActiveScalars("cond");
   add_metadata(image->GetFieldData(), field);
   return image;
@@ -140,7 +151,9 @@ void write_field_csv(const Field& field, const std::filesystem::path& path) {
     std::string chunk = "x,y,z,cond,";
     chunk += with_orientation ? "cond_orientation," : "";
     chunk += "reach_margin,residual,reachable,status,iterations";
-    chunk += with_method ? ",method_used\n" : "\n";
+    chunk += with_method ? ",method_used" : "";
+    for (const Field::NamedArray& a : field.extras) chunk += "," + a.name;
+    chunk += '\n';
     for (int k = 0; k < g.dims[2]; ++k)
       for (int j = 0; j < g.dims[1]; ++j)
         for (int i = 0; i < g.dims[0]; ++i) {
@@ -170,6 +183,10 @@ void write_field_csv(const Field& field, const std::filesystem::path& path) {
           if (with_method) {
             chunk += ',';
             append_number(chunk, unsigned(field.method_used[s]));
+          }
+          for (const Field::NamedArray& a : field.extras) {
+            chunk += ',';
+            append_number(chunk, a.values[s]);
           }
           chunk += '\n';
           if (chunk.size() > (1u << 20)) {

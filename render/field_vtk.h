@@ -23,15 +23,17 @@ void check_field(const Field& field);
 // The field as image data with point arrays "cond", "reach_margin",
 // "residual" (float), "reachable", "status" (unsigned char) and "iterations"
 // (unsigned short), "method_used" (unsigned char: the device's method code,
-// 255 = none; only when the field records it), active scalars "cond", and the metadata of
-// add_metadata(). The arrays are COPIED (about 2x the field's memory for a
+// 255 = none; only when the field records it), each named array of
+// Field::extras (float, its unit as the component name), active scalars
+// "cond", and the metadata of add_metadata(). The arrays are COPIED (about 2x the field's memory for a
 // moment), so the image is independent of the Field's lifetime.
 // Throws std::invalid_argument as check_field.
 vtkSmartPointer<vtkImageData> to_image_data(const Field& field);
 
 // Adds the field's provenance to `out`: "mechanism", "length_unit",
 // "method" (string arrays), "branch", "param_<name>" for every parameter
-// (one-value double arrays) and "resolution" (three doubles: grid.dims).
+// (one-value double arrays), "resolution" (three doubles: grid.dims), and
+// per named array "<name>_unit", "<name>_title", "<name>_description".
 void add_metadata(vtkFieldData* out, const Field& field);
 
 // Writes to_image_data(field) as binary, zlib-compressed VTK XML image data,
@@ -40,8 +42,9 @@ void add_metadata(vtkFieldData* out, const Field& field);
 void write_vti(const Field& field, const std::filesystem::path& path);
 
 // Writes one CSV row per sample, x fastest:
-//   x,y,z,cond,reach_margin,residual,reachable,status,iterations[,method_used]
-// (method_used when the field records it: every field from compute_field).
+//   x,y,z,cond,reach_margin,residual,reachable,status,iterations[,method_used][,<named arrays>]
+// (method_used when the field records it: every field from compute_field;
+// the named arrays of Field::extras, e.g. force_iso, in their units).
 // x, y, z are the sample's cell centre (length unit); numbers use the
 // shortest text that reads back to the same value (floats as floats),
 // infinities as "inf"/"-inf". Atomic; throws as write_vti.

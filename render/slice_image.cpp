@@ -38,7 +38,8 @@ constexpr std::array<unsigned char, 3> kContourColour = {255, 255, 255};
 constexpr std::array<unsigned char, 3> kBoundaryColour = {64, 64, 64};
 constexpr double kCondCap = 1e6;  // cond beyond this (and +inf) is treated as this for contours
 
-enum class Quantity { Cond, CondOrientation, Reach, Residual, Iterations, Status, Method };
+// Extra: one of the field's named arrays (Field::extras, e.g. force_iso).
+enum class Quantity { Cond, CondOrientation, Reach, Residual, Iterations, Status, Method, Extra };
 
 Quantity parse_quantity(const std::string& name) {
   if (name == "cond") return Quantity::Cond;
@@ -48,14 +49,27 @@ Quantity parse_quantity(const std::string& name) {
   if (name == "iterations") return Quantity::Iterations;
   if (name == "status") return Quantity::Status;
   if (name == "method") return Quantity::Method;
-  throw std::invalid_argument(
-      "slice style: expected field cond, cond_jo, reach, residual, iterations, status or method, got '" + name + "'");
+  if (name.empty())
+    throw std::invalid_argument("slice style: expected a field name (cond, cond_jo, reach, residual, iterations, "
+                                "status, method or one of the field's named arrays), got none");
+  return Quantity::Extra;
+}
+
+// The named array a style shows. Throws std::invalid_argument listing the
+// field's arrays when it has none of that name.
+const Field::NamedArray& extra_array(const Field& field, const std::string& name) {
+  if (const Field::NamedArray* a = field.extra(name)) return *a;
+  std::string known = "cond, cond_jo, reach, residual, iterations, status, method";
+  for (const auto& a : field.extras) known += ", " + a.name;
+  throw std::invalid_argument("slice style: expected field " + known + ", got '" + name + "'");
 }
 
 bool is_cond(Quantity q) { return q == Quantity::Cond || q == Quantity::CondOrientation; }
 
+// Condition numbers, residuals and the named arrays (forces, resolutions,
+// inertias) spread over decades.
 bool is_log(const SliceStyle& style, Quantity q) {
-  return style.log_scale && (is_cond(q) || q == Quantity::Residual);
+  return style.log_scale && (is_cond(q) || q == Quantity::Residual || q == Quantity::Extra);
 }
 
 }  // namespace
@@ -67,6 +81,7 @@ std::string field_title(const Field& field, const std::string& name) {
   if (name == "cond_jo") return titles.size() > 1 ? titles[1] : "cond_jo";
   if (name == "reach") return "reach margin" + unit;
   if (name == "residual") return "residual" + unit;
+  if (const Field::NamedArray* a = field.extra(name)) return a->title + (a->unit.empty() ? "" : " (" + a->unit + ")");
   return name;  // iterations, status, method
 }
 
@@ -76,7 +91,7 @@ bool uses_log_scale(const SliceStyle& style) { return is_log(style, parse_quanti
 
 namespace {
 
-double value_at(const Field& f, Quantity q, std::size_t s) {
+double value_at(const Field& f, Quantity q, std::size_t s, const Field::NamedArray* extra = nullptr) {
   switch (q) {
     case Quantity::Cond: return f.cond[s];
     case Quantity::CondOrientation: return f.cond_orientation[s];
@@ -85,6 +100,7 @@ double value_at(const Field& f, Quantity q, std::size_t s) {
     case Quantity::Iterations: return f.iterations[s];
     case Quantity::Status: return f.status[s];
     case Quantity::Method: return f.method_used.empty() ? 255.0 : double(f.method_used[s]);
+    case Quantity::Extra: return extra->values[s];
   }
   return 0;
 }
@@ -221,12 +237,15 @@ std::pair<double, double> colour_range(const Field& field, const SliceStyle& sty
   double lo = 1, hi = 10;
   if (q == Quantity::CondOrientation && field.cond_orientation.size() != field.grid.size())
     throw std::invalid_argument("slice style: field 'cond_jo' needs a field with a second condition array");
+  const Field::NamedArray* extra = q == Quantity::Extra ? &extra_array(field, style.field) : nullptr;
+  if (extra && extra->values.size() != field.grid.size())
+    throw std::invalid_argument("slice style: array '" + style.field + "' does not cover the grid");
   if (!is_cond(q) && !(style.min && style.max)) {
     lo = std::numeric_limits<double>::infinity();
     hi = -lo;
     for (std::size_t s = 0; s < field.grid.size(); ++s) {
       if (!field.reachable[s]) continue;
-      const double v = value_at(field, q, s);
+      const double v = value_at(field, q, s, extra);
       if (!std::isfinite(v) || (log && v <= 0)) continue;
       lo = std::min(lo, v);
       hi = std::max(hi, v);
@@ -287,6 +306,7 @@ vtkSmartPointer<vtkImageData> render_slice_rgba(const Field& field, const SliceS
       throw std::invalid_argument("slice style: expected positive finite contour levels, got " +
                                   std::to_string(level));
   const Quantity q = parse_quantity(style.field);
+  const Field::NamedArray* extra = q == Quantity::Extra ? &extra_array(field, style.field) : nullptr;
   const Grid& g = field.grid;
   const Axis normal = slice_normal(g);
   const auto [au, av] = Grid::slice_axes(normal);
@@ -316,7 +336,7 @@ vtkSmartPointer<vtkImageData> render_slice_rgba(const Field& field, const SliceS
         const auto rgb = method_colour(std::uint8_t(value_at(field, q, s)));
         c = {to_byte(rgb[0]), to_byte(rgb[1]), to_byte(rgb[2]), 255};
       } else if (field.reachable[s]) {
-        const auto rgb = colour_of(normalised_value(value_at(field, q, s), style));
+        const auto rgb = colour_of(normalised_value(value_at(field, q, s, extra), style));
         c = {to_byte(rgb[0]), to_byte(rgb[1]), to_byte(rgb[2]), 255};
       }
       for (int y = iv * scale; y < (iv + 1) * scale; ++y)

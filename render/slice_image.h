@@ -27,9 +27,11 @@ namespace linkscape::render {
 struct SliceStyle {
   // Which per-sample value is colour-mapped: "cond", "reach" (reach_margin),
   // "residual", "iterations", "status" or "method" (method_used, drawn in
-  // categorical colours, method_colour(); min/max and log_scale are ignored).
+  // categorical colours, method_colour(); min/max and log_scale are ignored),
+  // or the name of one of the field's named arrays (Field::extras: force_iso,
+  // force_max, resolution, inertia).
   std::string field = "cond";
-  // Logarithmic colour scale; applies to cond and residual only.
+  // Logarithmic colour scale; applies to cond, residual and named arrays.
   bool log_scale = true;
   // Colour range in the value's own unit. Defaults: cond 1..10; otherwise
   // the range of the finite values over reachable samples.
@@ -46,12 +48,13 @@ struct SliceStyle {
 
 // Display name of a slice field: the device's measure titles for "cond" and
 // "cond_jo" (Field::measure_titles), "reach margin (cm)", "residual (cm)",
-// else the name.
+// a named array's title and unit ("isotropic force (N)"), else the name.
 std::string field_title(const Field& field, const std::string& name);
 // The quantity whose contours style.contour_levels draws: "cond_jo" when
 // that is shown, else "cond".
 std::string contour_field(const std::string& name);
-// Whether style.field is drawn on a log10 scale (cond, cond_jo, residual).
+// Whether style.field is drawn on a log10 scale (cond, cond_jo, residual,
+// named arrays) rather than linearly.
 bool uses_log_scale(const SliceStyle& style);
 
 // Viridis at value01 in [0, 1] (clamped; NaN gives the value at 1), RGB 0..1.

@@ -31,6 +31,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <functional>
 #include <limits>
 #include <stdexcept>
 #include <unordered_map>
@@ -45,6 +46,7 @@ namespace {
 using Mesh = OpenMesh::TriMesh_ArrayKernelT<>;
 
 constexpr double kCondCap = 1e6;  // cond above this (and +inf, NaN) counts as this
+constexpr double kDecadesCap = 6;  // a named array's log10 distance to its threshold is clamped to this
 
 // The scalar whose zero level set is the requested surface, > 0 inside.
 std::vector<float> surface_scalar(const Field& field, const SurfaceRequest& request) {
@@ -62,14 +64,30 @@ std::vector<float> surface_scalar(const Field& field, const SurfaceRequest& requ
     // stays inside the reachable set, whatever cond does outside it.
     // Unreachable samples (also those with m > 0, e.g. at joint limits) get
     // at most -1, one decade worse than the threshold.
-    const double k = 1.0 / h, top = std::log10(request.cond_threshold);
+    const double k = 1.0 / h;
+    // Decades by which sample i meets the criterion (> 0 inside).
+    std::function<double(std::size_t)> decades;
+    if (request.surface == Surface::WellConditioned) {
+      const double top = std::log10(request.cond_threshold);
+      decades = [&field, top](std::size_t i) {
+        // Six-DOF mechanisms: well conditioned in position and orientation.
+        const double c = field.cond_orientation.empty() ? field.cond[i] : std::max(field.cond[i], field.cond_orientation[i]);
+        return top - std::log10(std::isnan(c) ? kCondCap : std::clamp(c, 1.0, kCondCap));
+      };
+    } else {
+      const Field::NamedArray* array = field.extra(request.field);
+      if (!array) throw std::invalid_argument("surface: the field has no array '" + request.field + "'");
+      const double level = std::log10(request.threshold), sign = request.above ? 1.0 : -1.0;
+      decades = [array, level, sign](std::size_t i) {
+        const double v = array->values[i];
+        const double d = v > 0 ? std::log10(v) - level : -kDecadesCap;  // 0 and NaN: nothing
+        return sign * std::clamp(std::isnan(d) ? -kDecadesCap : d, -kDecadesCap, kDecadesCap);
+      };
+    }
     for (std::size_t i = 0; i < n; ++i) {
       const double m = std::isnan(field.reach_margin[i]) ? -h : double(field.reach_margin[i]);
-      // Six-DOF mechanisms: well conditioned in position and orientation.
-      const double c = field.cond_orientation.empty() ? field.cond[i] : std::max(field.cond[i], field.cond_orientation[i]);
       if (field.reachable[i]) {
-        const double cond = std::isnan(c) ? kCondCap : std::clamp(c, 1.0, kCondCap);
-        s[i] = float(std::min(top - std::log10(cond), k * m));
+        s[i] = float(std::min(decades(i), k * m));
       } else {
         s[i] = float(std::min(k * m, -1.0));
       }
@@ -234,7 +252,9 @@ void decimate(Mesh& mesh, double max_error) {
 void add_surface_metadata(vtkFieldData* out, const SurfaceRequest& request) {
   vtkNew<vtkStringArray> surface;
   surface->SetName("surface");
-  surface->InsertNextValue(to_string(request.surface));
+  surface->InsertNextValue(request.surface == Surface::Threshold
+                               ? request.field + (request.above ? ">" : "<") + std::to_string(request.threshold)
+                               : to_string(request.surface));
   out->AddArray(surface);
   for (auto [name, value] : {std::pair<const char*, double>{"cond_threshold", request.cond_threshold},
                              std::pair<const char*, double>{"decimate_error", request.decimate_error}}) {
@@ -253,7 +273,12 @@ std::string lower(std::string s) {
 }  // namespace
 
 std::string to_string(Surface surface) {
-  return surface == Surface::Reach ? "reach" : "well_conditioned";
+  switch (surface) {
+    case Surface::Reach: return "reach";
+    case Surface::WellConditioned: return "well_conditioned";
+    case Surface::Threshold: return "threshold";
+  }
+  return "?";
 }
 
 vtkSmartPointer<vtkPolyData> extract_surface(const Field& field, const SurfaceRequest& request) {
@@ -262,6 +287,9 @@ vtkSmartPointer<vtkPolyData> extract_surface(const Field& field, const SurfaceRe
   if (d[0] < 2 || d[1] < 2 || d[2] < 2)
     throw std::invalid_argument("surface: expected a volume with at least 2 samples per axis, got " +
                                 std::to_string(d[0]) + "x" + std::to_string(d[1]) + "x" + std::to_string(d[2]));
+  if (request.surface == Surface::Threshold && !(request.threshold > 0 && std::isfinite(request.threshold)))
+    throw std::invalid_argument("surface: expected a positive finite threshold for '" + request.field + "', got " +
+                                std::to_string(request.threshold));
   if (request.surface == Surface::WellConditioned && !(request.cond_threshold > 1 && std::isfinite(request.cond_threshold)))
     throw std::invalid_argument("surface: expected a finite cond_threshold > 1, got " +
                                 std::to_string(request.cond_threshold));

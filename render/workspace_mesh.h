@@ -23,8 +23,9 @@ namespace linkscape::render {
 enum class Surface {
   Reach,            // reach_margin = 0: the boundary of the reachable set
   WellConditioned,  // cond = cond_threshold, kept inside the reachable set
+  Threshold,        // a named array (Field::extras) = threshold, kept inside the reachable set
 };
-// "reach" / "well_conditioned".
+// "reach" / "well_conditioned" / "threshold".
 std::string to_string(Surface surface);
 
 struct SurfaceRequest {
@@ -34,13 +35,19 @@ struct SurfaceRequest {
   // vertex may lie from the original surface (OpenMesh quadric decimation
   // bounded by a Hausdorff-distance module).
   double decimate_error = 0;
+  // For Threshold: the region where the array `field` is above (or below)
+  // `threshold` (> 0, in the array's unit), e.g. force_iso above 2 N.
+  std::string field;
+  bool above = true;
+  double threshold = 1.0;
 };
 
 // The requested isosurface as triangles with point normals ("Normals"), the
 // field's metadata (see add_metadata) plus "surface" and "cond_threshold" as
 // field data. Empty (no points) if the surface does not occur. Throws
 // std::invalid_argument for a bad field (fewer than 2 samples along an axis)
-// or request (cond_threshold <= 1, negative decimate_error).
+// or request (cond_threshold <= 1, a threshold <= 0 or an array the field
+// lacks, negative decimate_error).
 vtkSmartPointer<vtkPolyData> extract_surface(const Field& field, const SurfaceRequest& request);
 
 struct MeshStats {

@@ -35,6 +35,7 @@ class DeltaMechanism final : public Mechanism {
     i.name = std::string(kMechanismName);
     i.title = "Delta parallel haptic device (rotary actuators, parallelogram forearms)";
     i.length_unit = u;
+    i.size_description = "La + Lb";
     auto length = [&](const char* n, const char* d, double v) { return Quantity{n, u, d, v, {0.3 * v, 2.0 * v}}; };
     i.parameters = {length("R", "Radius of the motor-axis circle", model_.R),
                     length("r", "Radius of the platform joints' circle", model_.r),

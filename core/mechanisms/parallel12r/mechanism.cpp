@@ -35,6 +35,7 @@ class Parallel12rMechanism final : public Mechanism {
     i.name = std::string(kMechanismName);
     i.title = "10-link 12R parallel hand controller";
     i.length_unit = u;
+    i.size_description = "L1 + L2";
     i.parameters = {{"L1", u, "Link along u(alpha, beta) (Eqs. 11-13)", model_.L1, {0.1 * model_.L1, 3 * model_.L1}},
                     {"L2", u, "Link along u(alpha, gamma)", model_.L2, {0.1 * model_.L2, 3 * model_.L2}}};
     const Vector3d home = home_pose(0);

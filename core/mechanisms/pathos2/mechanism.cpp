@@ -49,6 +49,7 @@ class Pathos2Mechanism final : public Mechanism {
     i.name = std::string(kMechanismName);
     i.title = "PATHOS-II 7-DOF parallel haptic device";
     i.length_unit = "cm";
+    i.size_description = "l2 + l3";
     auto length = [](const char* n, const char* d, double v) { return Quantity{n, "cm", d, v, {0.5 * v, 1.5 * v}}; };
     i.parameters = {length("l0", "Distance between the base plates", m.l0),
                     length("l2", "Second link, R2 to R3", m.l2),

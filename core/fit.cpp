@@ -1,0 +1,363 @@
+#include "core/fit.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/csv.h"
+
+namespace linkscape::fit {
+namespace {
+
+using Eigen::VectorXd;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// The i-th point of the Halton sequence in `base` (low discrepancy in [0, 1)).
+double halton(int i, int base) {
+  double f = 1, r = 0;
+  for (int n = i + 1; n > 0; n /= base) {
+    f /= base;
+    r += f * (n % base);
+  }
+  return r;
+}
+
+class Search {
+ public:
+  Search(const Problem& problem, const Progress& progress) : problem_(problem), progress_(progress) {
+    const std::size_t k = problem.variables.size();
+    lo_.resize(Eigen::Index(k));
+    hi_.resize(Eigen::Index(k));
+    for (std::size_t i = 0; i < k; ++i) {
+      lo_(Eigen::Index(i)) = problem.variables[i].lo;
+      hi_(Eigen::Index(i)) = problem.variables[i].hi;
+    }
+  }
+
+  bool cancelled() const { return progress_.cancel && progress_.cancel->load(); }
+  const VectorXd& lo() const { return lo_; }
+  const VectorXd& hi() const { return hi_; }
+  Result& result() { return result_; }
+
+  // Evaluates the design at `v` (per variable); returns its row's index (an
+  // earlier row where the same design was evaluated).
+  std::size_t evaluate(const VectorXd& v) {
+    for (std::size_t i = 0; i < result_.rows.size(); ++i)
+      if (Eigen::Map<const VectorXd>(result_.rows[i].values.data(), v.size()) == v) return i;
+    Row row;
+    row.values.assign(v.data(), v.data() + v.size());
+    Preset preset = problem_.preset;
+    for (std::size_t i = 0; i < problem_.variables.size(); ++i)
+      for (const std::string& name : problem_.variables[i].parameters) preset.parameters[name] = v(Eigen::Index(i));
+    std::shared_ptr<const Mechanism> mechanism;
+    try {
+      mechanism = make_mechanism(preset);
+    } catch (const std::invalid_argument& e) {
+      row.invalid = e.what();
+      return add(std::move(row));
+    }
+    row.parameters = mechanism->parameters();
+    row.size = mechanism->size();
+    task::Device device;
+    device.mechanism = mechanism;
+    device.fixed_task = problem_.pose.size() ? problem_.pose : mechanism->home_task();
+    if (device.fixed_task.size() != Eigen::Index(mechanism->info().task.size()))
+      throw std::invalid_argument("fit: the pose needs " + std::to_string(mechanism->info().task.size()) +
+                                  " task coordinates");
+    device.ik = problem_.ik;
+    device.torque = problem_.torque;
+    device.threads = problem_.threads;
+    const bool haptic = std::any_of(problem_.criteria.begin(), problem_.criteria.end(),
+                                    [](const task::Criterion& c) { return c.haptic(); });
+    if (haptic) device.data = haptics::device_data(preset, mechanism->info());
+    const std::vector<task::Criterion> criteria = task::resolve(device, problem_.criteria);
+    const task::TaskVolume& t = problem_.task;
+    if (t.centre) {
+      row.centre = *t.centre;
+      row.report = task::evaluate(device, criteria, t, row.centre, problem_.task_resolution);
+      row.meets = row.report.meets();
+      row.fit = row.report.fraction;
+    } else {
+      FieldProgress fp;
+      fp.cancel = progress_.cancel;
+      const auto found = task::largest_inscribed(device, criteria, t, mechanism->default_box(), problem_.inscribed, fp);
+      if (!found) return result_.rows.size();  // cancelled: nothing added
+      row.centre = found->found ? found->centre : mechanism->default_box().center();
+      row.fit = !found->found ? 0.0 : t.shape == task::Shape::Sphere ? found->size / t.diameter() : found->size;
+      row.meets = found->found && row.fit >= 1;
+      row.report = task::evaluate(device, criteria, t, row.centre, problem_.task_resolution);
+    }
+    return add(std::move(row));
+  }
+
+  const Row& row(std::size_t i) const { return result_.rows[i]; }
+
+  // The design on the ray lo + t w.
+  VectorXd on_ray(const VectorXd& w, double t) const { return lo_ + t * w; }
+
+  // The smallest t in (t_fail, t_meet] where the ray's design meets the
+  // task, by bisection until the sizes at both ends agree to the tolerance.
+  // Returns the meeting row, or nullopt if cancelled.
+  std::optional<std::size_t> bisect(const VectorXd& w, double t_fail, double t_meet, std::size_t meet_row) {
+    std::optional<double> size_fail;
+    for (int it = 0; it < 60 && !cancelled(); ++it) {
+      const double size_meet = row(meet_row).size;
+      if (size_fail && size_meet - *size_fail <= problem_.tolerance * size_meet) break;
+      if (t_meet - t_fail <= 1e-12) break;
+      const double mid = 0.5 * (t_fail + t_meet);
+      const std::size_t r = evaluate(on_ray(w, mid));
+      if (r >= result_.rows.size()) return std::nullopt;
+      if (row(r).meets) {
+        t_meet = mid;
+        meet_row = r;
+      } else {
+        t_fail = mid;
+        if (row(r).invalid.empty()) size_fail = row(r).size;
+      }
+    }
+    return meet_row;
+  }
+
+ private:
+  std::size_t add(Row row) {
+    result_.rows.push_back(std::move(row));
+    if (progress_.design) progress_.design(result_.rows.back(), result_.rows.size());
+    return result_.rows.size() - 1;
+  }
+
+  const Problem& problem_;
+  const Progress& progress_;
+  VectorXd lo_, hi_;
+  Result result_;
+};
+
+// The first designs: a line (one variable), a 5 x 5 grid (two) or Halton
+// points and the upper corner (more).
+std::vector<VectorXd> scan_points(const VectorXd& lo, const VectorXd& hi) {
+  const Eigen::Index k = lo.size();
+  std::vector<VectorXd> out;
+  if (k == 1) {
+    for (int i = 0; i < 7; ++i) out.push_back(lo + (hi - lo) * (i / 6.0));
+  } else if (k == 2) {
+    for (int j = 0; j < 5; ++j)
+      for (int i = 0; i < 5; ++i) out.push_back(lo + (hi - lo).cwiseProduct(Eigen::Vector2d(i / 4.0, j / 4.0)));
+  } else {
+    static constexpr int kPrimes[] = {2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37};
+    if (k > 12) throw std::invalid_argument("fit: at most 12 free variables");
+    for (int i = 0; i < 12 * int(k); ++i) {
+      VectorXd u(k);
+      for (Eigen::Index d = 0; d < k; ++d) u(d) = halton(i, kPrimes[d]);
+      out.push_back(lo + (hi - lo).cwiseProduct(u));
+    }
+    out.push_back(hi);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string Variable::name() const {
+  std::string out;
+  for (const std::string& p : parameters) out += (out.empty() ? "" : "=") + p;
+  return out;
+}
+
+std::vector<Variable> variables(const Mechanism& mechanism, const std::vector<std::string>& free,
+                                const std::vector<std::string>& equal, const std::vector<std::string>& bounds) {
+  const auto& described = mechanism.info().parameters;
+  auto find = [&](const std::string& name) -> const Quantity& {
+    for (const Quantity& q : described)
+      if (q.name == name) return q;
+    std::string known;
+    for (const Quantity& q : described)
+      if (q.in_panel) known += (known.empty() ? "" : ", ") + q.name;
+    throw std::invalid_argument("fit: unknown parameter '" + name + "' for " + mechanism.info().name +
+                                " (design parameters: " + known + ")");
+  };
+  auto split = [](const std::string& text) {
+    std::vector<std::string> out;
+    std::stringstream ss(text);
+    for (std::string part; std::getline(ss, part, ',');) out.push_back(part);
+    return out;
+  };
+  std::vector<std::string> names;
+  for (const std::string& f : free)
+    for (const std::string& n : split(f)) names.push_back(find(n).name);
+  if (free.empty())
+    for (const Quantity& q : described)
+      if (q.in_panel) names.push_back(q.name);
+  std::vector<Variable> out;
+  std::set<std::string> taken;
+  for (const std::string& group : equal) {
+    Variable v;
+    for (const std::string& n : split(group)) {
+      find(n);
+      if (!taken.insert(n).second) throw std::invalid_argument("fit: parameter '" + n + "' is in two --equal groups");
+      v.parameters.push_back(n);
+    }
+    if (v.parameters.size() < 2) throw std::invalid_argument("fit: --equal expects two or more parameters, got '" + group + "'");
+    out.push_back(v);
+  }
+  for (const std::string& n : names)
+    if (taken.insert(n).second) out.push_back({{n}, 0, 0});
+  for (Variable& v : out) {
+    v.lo = -kInf;
+    v.hi = kInf;
+    for (const std::string& n : v.parameters) {
+      const Quantity& q = find(n);
+      v.lo = std::max(v.lo, q.range.lo);
+      v.hi = std::min(v.hi, q.range.hi);
+    }
+  }
+  for (const std::string& b : bounds) {
+    const auto eq = b.find('='), colon = b.find(':');
+    if (eq == std::string::npos || colon == std::string::npos || colon < eq)
+      throw std::invalid_argument("fit: --bounds expects NAME=lo:hi, got '" + b + "'");
+    const std::string name = b.substr(0, eq);
+    const double lo = parse_number_or_throw(b.substr(eq + 1, colon - eq - 1), "--bounds " + name + " lower bound");
+    const double hi = parse_number_or_throw(b.substr(colon + 1), "--bounds " + name + " upper bound");
+    find(name);
+    auto it = std::find_if(out.begin(), out.end(), [&](const Variable& v) {
+      return std::count(v.parameters.begin(), v.parameters.end(), name) > 0;
+    });
+    if (it == out.end()) throw std::invalid_argument("fit: --bounds names '" + name + "', which is not free");
+    it->lo = lo;
+    it->hi = hi;
+  }
+  return out;
+}
+
+Result solve(const Problem& problem, const Progress& progress) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (problem.variables.empty()) throw std::invalid_argument("fit: no free design parameter");
+  for (const Variable& v : problem.variables)
+    if (!std::isfinite(v.lo) || !std::isfinite(v.hi) || !(v.lo <= v.hi))
+      throw std::invalid_argument("fit: the bounds of " + v.name() + " must be finite with lo <= hi, got " +
+                                  format_number(v.lo) + ":" + format_number(v.hi));
+  if (!(problem.tolerance > 0 && problem.tolerance < 1))
+    throw std::invalid_argument("fit: the tolerance must lie in (0, 1)");
+  Search search(problem, progress);
+  const VectorXd lo = search.lo(), hi = search.hi();
+  Result& r = search.result();
+  std::vector<std::size_t> scanned;
+  for (const VectorXd& v : scan_points(lo, hi)) {
+    if (search.cancelled()) break;
+    scanned.push_back(search.evaluate(v));
+  }
+  const bool any_valid = std::any_of(r.rows.begin(), r.rows.end(), [](const Row& row) { return row.invalid.empty(); });
+  if (!any_valid && !r.rows.empty())
+    throw std::invalid_argument("fit: the bounds exclude every design (" + r.rows.front().invalid + ")");
+
+  // The smallest meeting scanned designs.
+  std::vector<std::size_t> meeting;
+  for (std::size_t i : scanned)
+    if (i < r.rows.size() && r.rows[i].meets) meeting.push_back(i);
+  std::sort(meeting.begin(), meeting.end(), [&](std::size_t a, std::size_t b) { return r.rows[a].size < r.rows[b].size; });
+
+  const Eigen::Index k = lo.size();
+  if (!meeting.empty() && !search.cancelled()) {
+    // The lower corner, once: the ray searches end there.
+    const std::size_t corner = search.evaluate(lo);
+    if (corner < r.rows.size() && !r.rows[corner].meets) {
+      if (k == 1) {
+        // Between the smallest meeting scan point and the one before it.
+        const VectorXd w = hi - lo;
+        const double span = w(0) > 0 ? w(0) : 1;
+        const double t_meet = (r.rows[meeting.front()].values[0] - lo(0)) / span;
+        search.bisect(w, std::max(0.0, t_meet - 1.0 / 6), t_meet, meeting.front());
+      } else if (k == 2) {
+        // The boundary along rays from the lower corner at angle theta (in
+        // the bounds' normalised square); its size is minimised over theta
+        // by golden section around the best scanned design's angle.
+        const VectorXd span = (hi - lo).cwiseMax(1e-300);
+        auto ray = [&](double theta) {
+          const Eigen::Vector2d d(std::cos(theta), std::sin(theta));
+          return VectorXd(span.cwiseProduct(d / d.maxCoeff()));
+        };
+        std::vector<std::pair<double, double>> known;  // theta, boundary t
+        auto boundary_size = [&](double theta) -> double {
+          const VectorXd w = ray(theta);
+          double guess = 1;
+          double nearest = kInf;
+          for (const auto& [th, t] : known)
+            if (std::abs(th - theta) < nearest) nearest = std::abs(th - theta), guess = t;
+          // Bracket the boundary around the guess, then bisect.
+          double t_meet = std::min(1.0, guess * 1.05), t_fail = 0;
+          std::size_t at = search.evaluate(search.on_ray(w, t_meet));
+          if (at >= r.rows.size()) return kInf;
+          while (!r.rows[at].meets && t_meet < 1) {
+            t_fail = t_meet;
+            t_meet = std::min(1.0, t_meet * 1.25);
+            at = search.evaluate(search.on_ray(w, t_meet));
+            if (at >= r.rows.size()) return kInf;
+          }
+          if (!r.rows[at].meets) return kInf;  // the whole ray fails
+          if (t_fail == 0) {
+            double t = guess * 0.95;
+            for (int it = 0; it < 20 && t > 1e-3; ++it, t *= 0.8) {
+              const std::size_t below = search.evaluate(search.on_ray(w, t));
+              if (below >= r.rows.size()) return kInf;
+              if (!r.rows[below].meets) {
+                t_fail = t;
+                break;
+              }
+              t_meet = t;
+              at = below;
+            }
+          }
+          const auto found = search.bisect(w, t_fail, t_meet, at);
+          if (!found) return kInf;
+          // The ray's parameter of the design found, along w's longer component.
+          Eigen::Index along = 0;
+          w.cwiseAbs().maxCoeff(&along);
+          known.push_back({theta, (r.rows[*found].values[std::size_t(along)] - lo(along)) / w(along)});
+          return r.rows[*found].size;
+        };
+        const Row& b = r.rows[meeting.front()];
+        const double theta_best = std::atan2((b.values[1] - lo(1)) / span(1), (b.values[0] - lo(0)) / span(0));
+        known.push_back({theta_best, std::max((b.values[0] - lo(0)) / span(0), (b.values[1] - lo(1)) / span(1))});
+        double a = std::max(0.0, theta_best - std::numbers::pi / 8), c = std::min(std::numbers::pi / 2, theta_best + std::numbers::pi / 8);
+        const double g = (std::sqrt(5.0) - 1) / 2;
+        double x1 = c - g * (c - a), x2 = a + g * (c - a);
+        double f1 = boundary_size(x1), f2 = boundary_size(x2);
+        while (c - a > 5e-3 && !search.cancelled()) {
+          if (f1 <= f2) {
+            c = x2, x2 = x1, f2 = f1;
+            x1 = c - g * (c - a);
+            f1 = boundary_size(x1);
+          } else {
+            a = x1, x1 = x2, f1 = f2;
+            x2 = a + g * (c - a);
+            f2 = boundary_size(x2);
+          }
+        }
+      } else {
+        // Each of the three smallest meeting designs shortened along the ray
+        // from the lower corner.
+        for (std::size_t i = 0; i < std::min<std::size_t>(3, meeting.size()) && !search.cancelled(); ++i) {
+          const VectorXd w = Eigen::Map<const VectorXd>(r.rows[meeting[i]].values.data(), k) - lo;
+          search.bisect(w, 0.0, 1.0, meeting[i]);
+        }
+      }
+    }
+  }
+
+  for (std::size_t i = 0; i < r.rows.size(); ++i) {
+    const Row& row = r.rows[i];
+    if (row.meets && (!r.best || row.size < r.rows[*r.best].size)) r.best = i;
+    if (row.invalid.empty() && (!r.closest || row.fit > r.rows[*r.closest].fit)) r.closest = i;
+  }
+  if (r.best) {
+    r.closest.reset();
+    for (Eigen::Index d = 0; d < k; ++d)
+      r.at_lower_bounds = r.at_lower_bounds || r.rows[*r.best].values[std::size_t(d)] <= lo(d) + 1e-12 * std::abs(lo(d));
+  }
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+}  // namespace linkscape::fit

@@ -1,0 +1,86 @@
+// Sizing a device to a task (`linkscape fit`): the smallest design, within
+// bounds on its free parameters, whose task volume meets every criterion.
+// The size is Mechanism::size() of the design (12R: L1 + L2; Delta:
+// La + Lb; PATHOS-II: l2 + l3). docs/task-volumes.md describes the search.
+#pragma once
+
+#include <Eigen/Core>
+#include <atomic>
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/preset.h"
+#include "core/task.h"
+
+namespace linkscape::fit {
+
+// A free variable: one parameter, or several held equal (--equal), with bounds.
+struct Variable {
+  std::vector<std::string> parameters;
+  double lo = 0, hi = 0;
+  std::string name() const;  // "L1" or "L1=L2"
+};
+
+struct Problem {
+  Preset preset;                     // the design the free variables start from; the rest is held
+  std::vector<Variable> variables;
+  task::TaskVolume task;
+  std::vector<task::Criterion> criteria;  // parsed; resolved on each design
+  // The task coordinates beyond x, y, z (orientation, grip), in the
+  // device's order with x, y, z ignored; empty: each design's home.
+  Eigen::VectorXd pose;
+  IkOptions ik;
+  haptics::TorqueRating torque = haptics::TorqueRating::Continuous;
+  task::InscribedOptions inscribed;  // where the centre is free
+  int task_resolution = 24;          // task::evaluate at the placed or given centre
+  double tolerance = 1e-3;           // relative, on the size along each ray
+  int threads = 0;
+};
+
+// One design evaluated.
+struct Row {
+  std::vector<double> values;                // per variable
+  std::map<std::string, double> parameters;  // the whole design
+  double size = 0;                           // Mechanism::size()
+  std::string invalid;                       // why the design cannot be built (then nothing else is set)
+  bool meets = false;
+  // Centre free: the largest shape's size over the task's (sphere:
+  // diameter ratio; box: scale), >= 1 where it fits. Centre fixed: the
+  // fraction of the task meeting every criterion.
+  double fit = 0;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // placed or given
+  task::TaskReport report;                            // the task at the centre
+};
+
+struct Result {
+  std::vector<Row> rows;             // every design, in the order evaluated
+  std::optional<std::size_t> best;   // the smallest design meeting the task
+  std::optional<std::size_t> closest;  // where none does: the valid design closest to meeting it (largest fit)
+  bool at_lower_bounds = false;      // the best design sits on the lower bounds (lower them to go smaller)
+  double seconds = 0;
+};
+
+struct Progress {
+  std::function<void(const Row& row, std::size_t evaluated)> design;  // after each design
+  const std::atomic<bool>* cancel = nullptr;
+};
+
+// Throws std::invalid_argument for a problem no search can run: no free
+// variable, lo > hi or non-finite bounds, criteria the device does not know,
+// bounds where no design can be built (naming the device's reason).
+// Otherwise a task no design meets is a result (best empty, closest set).
+Result solve(const Problem& problem, const Progress& progress = {});
+
+// Variables from command-line lists: `free` parameters (empty: every
+// parameter the device shows in its design panel), groups from `equal`
+// ("L1,L2", each a comma list held equal; its parameters are free),
+// bounds "NAME=lo:hi" (default: the parameter's range in the device's
+// description; a group takes the intersection). Throws
+// std::invalid_argument naming an unknown parameter or a malformed bound.
+std::vector<Variable> variables(const Mechanism& mechanism, const std::vector<std::string>& free,
+                                const std::vector<std::string>& equal, const std::vector<std::string>& bounds);
+
+}  // namespace linkscape::fit

@@ -1,0 +1,583 @@
+#include "core/task.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/csv.h"
+
+namespace linkscape::task {
+
+using Eigen::Vector3d;
+
+namespace {
+
+// Conditioning measures are bounded from above by a number > 1, forces from
+// below and resolution and inertia from above by a positive number.
+void check_bound(const Criterion& c) {
+  const bool larger_is_better = c.measure == "force_iso" || c.measure == "force_max";
+  if (c.above != larger_is_better)
+    throw std::invalid_argument("criterion '" + c.text + "': " + c.measure + " is bounded " +
+                                (larger_is_better ? "from below (" + c.measure + ">VALUE)"
+                                                  : "from above (" + c.measure + "<VALUE)"));
+  if (!c.haptic() && !(c.threshold > 1))
+    throw std::invalid_argument("criterion '" + c.text + "': no pose meets it (condition numbers are at least 1)");
+  if (!(c.threshold > 0))
+    throw std::invalid_argument("criterion '" + c.text + "': no pose meets it (the threshold must be positive)");
+}
+
+}  // namespace
+
+Criterion parse_criterion(const std::string& text) {
+  Criterion c;
+  c.text = text;
+  if (text == "reach" || text == "reachable") {
+    c.measure = "reach";
+    return c;
+  }
+  const auto op = text.find_first_of("<>");
+  if (op == std::string::npos || op == 0)
+    throw std::invalid_argument("criterion '" + text +
+                                "': expected reach or NAME<VALUE / NAME>VALUE, e.g. cond<3, force_iso>2, "
+                                "resolution<0.5, inertia<0.2");
+  c.measure = text.substr(0, op);
+  c.above = text[op] == '>';
+  std::size_t number = op + 1;
+  if (number < text.size() && text[number] == '=') ++number;  // <= and >= read as < and >
+  const std::optional<double> v = parse_number(text.substr(number));
+  if (!v || !std::isfinite(*v))
+    throw std::invalid_argument("criterion '" + text + "': the threshold must be a finite number");
+  c.threshold = *v;
+  // A device's other measures are checked when it is known (resolve).
+  if (c.measure == "cond" || c.haptic()) check_bound(c);
+  return c;
+}
+
+Criterion resolve(const Criterion& c, const MechanismInfo& info, const haptics::DeviceData* data) {
+  Criterion out = c;
+  if (c.reach() || c.measure == "cond") return out;
+  std::string known = "reach, cond";
+  for (std::size_t k = 0; k < info.measures.size(); ++k) {
+    if (info.measures[k].name == c.measure) {
+      check_bound(c);
+      if (k > 1)
+        throw std::invalid_argument("criterion '" + c.text + "': fields hold the first two measures of a device only");
+      out.measure_index = int(k);
+      return out;
+    }
+    if (info.measures[k].name != "cond") known += ", " + info.measures[k].name;
+  }
+  if (c.haptic()) {
+    if (!data) throw std::invalid_argument("criterion '" + c.text + "': haptic measures need the preset's actuator data");
+    if (c.measure == "inertia" && !data->has_inertia())
+      throw std::invalid_argument("criterion '" + c.text + "': the preset gives no rotor_inertia_kgm2 for every actuator");
+    return out;
+  }
+  for (const haptics::FieldInfo& f : haptics::all_field_infos()) known += ", " + f.name;
+  throw std::invalid_argument("criterion '" + c.text + "': unknown measure '" + c.measure + "' for " + info.name +
+                              " (known: " + known + ")");
+}
+
+// ---- Task volumes -------------------------------------------------------------------
+
+Eigen::AlignedBox3d TaskVolume::bounds(const Vector3d& c) const { return {c - size / 2, c + size / 2}; }
+
+bool TaskVolume::contains(const Vector3d& p, const Vector3d& c) const {
+  if (shape == Shape::Sphere) return (p - c).norm() <= diameter() / 2;
+  return ((p - c).cwiseAbs().array() <= size.array() / 2).all();
+}
+
+double TaskVolume::volume() const {
+  return shape == Shape::Sphere ? std::numbers::pi / 6 * std::pow(diameter(), 3) : size.prod();
+}
+
+TaskVolume parse_task(const std::string& text) {
+  const std::string usage = "task '" + text + "': expected sphere:diameter=D, sphere:radius=R or box:size=X,Y,Z (or "
+                            "box:size=S), optionally followed by ,centre=x,y,z";
+  const auto colon = text.find(':');
+  if (colon == std::string::npos) throw std::invalid_argument(usage);
+  TaskVolume t;
+  t.text = text;
+  const std::string shape = text.substr(0, colon);
+  if (shape == "sphere") t.shape = Shape::Sphere;
+  else if (shape == "box") t.shape = Shape::Box;
+  else throw std::invalid_argument(usage + " (unknown shape '" + shape + "')");
+  // key=v[,v...] pairs: a part without '=' continues the previous key's list.
+  std::map<std::string, std::vector<double>> keys;
+  std::string key, part;
+  std::stringstream parts(text.substr(colon + 1));
+  while (std::getline(parts, part, ',')) {
+    std::string value = part;
+    if (const auto eq = part.find('='); eq != std::string::npos) {
+      key = part.substr(0, eq);
+      value = part.substr(eq + 1);
+      if (keys.count(key)) throw std::invalid_argument(usage + " ('" + key + "' given twice)");
+      keys[key];
+    }
+    if (key.empty()) throw std::invalid_argument(usage);
+    const std::optional<double> v = parse_number(value);
+    if (!v || !std::isfinite(*v))
+      throw std::invalid_argument("task '" + text + "': " + key + " expects finite numbers, got '" + value + "'");
+    keys[key].push_back(*v);
+  }
+  auto take = [&](const std::string& name, std::size_t min_count, std::size_t max_count) -> std::optional<std::vector<double>> {
+    const auto it = keys.find(name);
+    if (it == keys.end()) return std::nullopt;
+    if (it->second.size() < min_count || it->second.size() > max_count)
+      throw std::invalid_argument("task '" + text + "': " + name + " expects " +
+                                  (min_count == max_count ? std::to_string(min_count) : "1 or 3") + " values");
+    std::vector<double> v = it->second;
+    keys.erase(it);
+    return v;
+  };
+  if (const auto c = take("centre", 3, 3)) t.centre = Vector3d((*c)[0], (*c)[1], (*c)[2]);
+  if (t.shape == Shape::Sphere) {
+    const auto d = take("diameter", 1, 1), r = take("radius", 1, 1);
+    if (d.has_value() == r.has_value()) throw std::invalid_argument(usage + " (give the diameter or the radius)");
+    t.size = Vector3d::Constant(d ? (*d)[0] : 2 * (*r)[0]);
+  } else {
+    const auto v = take("size", 1, 3);
+    if (!v || v->size() == 2) throw std::invalid_argument(usage + " (give size=S or size=X,Y,Z)");
+    t.size = v->size() == 1 ? Vector3d::Constant((*v)[0]) : Vector3d((*v)[0], (*v)[1], (*v)[2]);
+  }
+  if (!keys.empty()) throw std::invalid_argument(usage + " (unknown key '" + keys.begin()->first + "')");
+  if (!(t.size.array() > 0).all())
+    throw std::invalid_argument("task '" + text + "' is empty: its size must be positive");
+  return t;
+}
+
+// ---- What is sampled -------------------------------------------------------------------
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Whether `value` of the criterion's measure meets it.
+bool meets(const Criterion& c, double value) { return c.above ? value > c.threshold : value < c.threshold; }
+
+// The value of a resolved criterion's measure at sample s of a field.
+double value_of(const Field& f, const Criterion& c, std::size_t s) {
+  if (c.reach()) return f.reach_margin[s];
+  if (c.haptic()) return f.extra(c.measure)->values[s];
+  return c.measure_index == 0 ? f.cond[s] : f.cond_orientation[s];
+}
+
+bool needs_haptics(const std::vector<Criterion>& criteria) {
+  return std::any_of(criteria.begin(), criteria.end(), [](const Criterion& c) { return c.haptic(); });
+}
+
+}  // namespace
+
+std::vector<Criterion> resolve(const Device& device, const std::vector<Criterion>& criteria) {
+  std::vector<Criterion> out;
+  for (const Criterion& c : criteria)
+    out.push_back(resolve(c, device.mechanism->info(), device.data ? &*device.data : nullptr));
+  return out;
+}
+
+PointValues evaluate_point(const Device& device, const std::vector<Criterion>& criteria, const Vector3d& p) {
+  const Mechanism& m = *device.mechanism;
+  Eigen::VectorXd x = device.fixed_task;
+  x.head<3>() = p;
+  const int branch = device.ik.branch.value_or(0);
+  const IkResult ik = m.inverse(x, device.ik);
+  const IkSolution* solution = nullptr;
+  for (const IkSolution& s : ik.solutions)
+    if (s.branch == branch && s.status == Status::Ok) solution = &s;
+  Measures measures;
+  std::optional<haptics::Measures> h;
+  if (solution) {
+    measures = m.measures(solution->q, x);
+    if (needs_haptics(criteria)) h = haptics::measures(m.jacobian(solution->q, x), *device.data, device.torque);
+  }
+  PointValues out;
+  out.reachable = solution != nullptr;
+  out.meets = out.reachable;
+  for (const Criterion& c : criteria) {
+    double v;
+    if (c.reach()) v = m.reach_margin(x, branch);
+    else if (!solution) v = c.above ? 0.0 : kInf;
+    else if (c.haptic())
+      v = c.measure == "force_iso"    ? h->force_iso_N
+          : c.measure == "force_max"  ? h->force_max_N
+          : c.measure == "resolution" ? h->resolution_mm
+                                      : *h->inertia_kg;
+    else v = std::size_t(c.measure_index) < measures.values.size() ? measures.values[std::size_t(c.measure_index)] : kInf;
+    out.values.push_back(v);
+    if (!c.reach()) out.meets = out.meets && meets(c, v);
+  }
+  return out;
+}
+
+std::vector<std::uint8_t> good_mask(const Field& field, const std::vector<Criterion>& criteria) {
+  for (const Criterion& c : criteria) {
+    if (c.haptic() && !field.extra(c.measure))
+      throw std::invalid_argument("criterion '" + c.text + "': the field has no " + c.measure + " array");
+    if (!c.reach() && !c.haptic() && c.measure_index == 1 && field.cond_orientation.size() != field.grid.size())
+      throw std::invalid_argument("criterion '" + c.text + "': the field has no second condition array");
+  }
+  std::vector<std::uint8_t> good(field.grid.size());
+  for (std::size_t s = 0; s < good.size(); ++s) {
+    bool ok = field.reachable[s] != 0;
+    for (const Criterion& c : criteria)
+      if (ok && !c.reach()) ok = meets(c, value_of(field, c, s));
+    good[s] = ok;
+  }
+  return good;
+}
+
+std::optional<Field> sample(const Device& device, const std::vector<Criterion>& criteria, const Grid& grid,
+                            const FieldProgress& progress) {
+  const bool haptic = needs_haptics(criteria);
+  if (haptic && !device.data) throw std::invalid_argument("haptic criteria need the preset's actuator data");
+  return haptics::sample_field(*device.mechanism, grid, device.fixed_task, device.ik, device.threads, progress,
+                               haptic ? &*device.data : nullptr, device.torque);
+}
+
+// ---- A task at a place ----------------------------------------------------------------
+
+double CriterionReport::margin() const {
+  if (criterion.reach()) return worst;
+  return criterion.above ? worst - criterion.threshold : criterion.threshold - worst;
+}
+
+TaskReport evaluate(const Device& device, const std::vector<Criterion>& criteria, const TaskVolume& task,
+                    const Vector3d& centre, int resolution) {
+  if (resolution < 2) throw std::invalid_argument("task evaluation: resolution must be at least 2");
+  const Eigen::AlignedBox3d bounds = task.bounds(centre);
+  const Vector3d extent = bounds.sizes();
+  std::array<int, 3> dims{};
+  for (int k = 0; k < 3; ++k) dims[k] = std::max(2, int(std::lround(resolution * extent(k) / extent.maxCoeff())));
+  const Grid grid = Grid::box(bounds.min(), bounds.max(), dims);
+  std::vector<Vector3d> points;
+  for (int k = 0; k < dims[2]; ++k)
+    for (int j = 0; j < dims[1]; ++j)
+      for (int i = 0; i < dims[0]; ++i)
+        if (task.contains(grid.point(i, j, k), centre)) points.push_back(grid.point(i, j, k));
+  const std::size_t interior = points.size();
+  if (task.shape == Shape::Sphere) {
+    // Fibonacci points: nearly even spacing, no clustering at poles.
+    const int n = std::max(64, resolution * resolution);
+    const double r = task.diameter() / 2;
+    for (int k = 0; k < n; ++k) {
+      const double z = 1 - (2 * k + 1.0) / n, rho = std::sqrt(1 - z * z), phi = k * 2.399963229728653;
+      points.push_back(centre + r * Vector3d(rho * std::cos(phi), rho * std::sin(phi), z));
+    }
+  } else {
+    // Each face: its cell centres of the grid, on the face.
+    for (int axis = 0; axis < 3; ++axis)
+      for (double side : {-0.5, 0.5}) {
+        const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+        for (int j = 0; j < dims[b]; ++j)
+          for (int i = 0; i < dims[a]; ++i) {
+            Vector3d p = centre;
+            p(axis) += side * extent(axis);
+            p(a) = bounds.min()(a) + (i + 0.5) * grid.spacing(a);
+            p(b) = bounds.min()(b) + (j + 0.5) * grid.spacing(b);
+            points.push_back(p);
+          }
+      }
+  }
+  std::vector<PointValues> values(points.size());
+  std::atomic<bool> failed{false};
+  std::string failure;
+#pragma omp parallel for schedule(dynamic, 16) num_threads(device.threads > 0 ? device.threads : omp_get_max_threads())
+  for (std::int64_t i = 0; i < std::int64_t(points.size()); ++i) {
+    if (failed) continue;
+    try {
+      values[std::size_t(i)] = evaluate_point(device, criteria, points[std::size_t(i)]);
+    } catch (const std::exception& e) {
+#pragma omp critical(task_failure)
+      if (!failed.exchange(true)) failure = e.what();
+    }
+  }
+  if (failed) throw std::invalid_argument("task evaluation: " + failure);
+
+  TaskReport r;
+  r.centre = centre;
+  r.samples = int(points.size());
+  std::size_t meeting = 0;
+  Vector3d failing_sum = Vector3d::Zero();
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (values[i].meets) {
+      meeting += i < interior;
+      continue;
+    }
+    ++r.failing;
+    failing_sum += points[i];
+    r.failing_bounds.extend(points[i]);
+  }
+  r.fraction = interior ? double(meeting) / double(interior) : 0.0;
+  if (r.failing) r.failing_centroid = failing_sum / r.failing;
+  for (std::size_t c = 0; c < criteria.size(); ++c) {
+    CriterionReport cr;
+    cr.criterion = criteria[c];
+    const bool larger_is_worse = !criteria[c].reach() && !criteria[c].above;
+    cr.worst = larger_is_worse ? -kInf : kInf;
+    std::size_t meeting_c = 0;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const double v = values[i].values[c];
+      if (larger_is_worse ? v > cr.worst : v < cr.worst) cr.worst = v, cr.worst_point = points[i];
+      if (i < interior)
+        meeting_c += criteria[c].reach() ? values[i].reachable : values[i].reachable && meets(criteria[c], v);
+    }
+    cr.fraction = interior ? double(meeting_c) / double(interior) : 0.0;
+    r.criteria.push_back(cr);
+  }
+  return r;
+}
+
+// ---- The largest sphere and box in the good region -------------------------------------
+
+namespace {
+
+// The grid with a ring of failing samples around it, so that shapes stay
+// inside the sampled box.
+struct Padded {
+  std::array<int, 3> dims;
+  std::vector<std::uint8_t> good;
+  std::size_t index(int i, int j, int k) const { return i + std::size_t(dims[0]) * (j + std::size_t(dims[1]) * k); }
+  std::array<int, 3> ijk(std::size_t s) const {
+    return {int(s % std::size_t(dims[0])), int((s / std::size_t(dims[0])) % std::size_t(dims[1])),
+            int(s / (std::size_t(dims[0]) * dims[1]))};
+  }
+};
+
+Padded padded(const Grid& g, const std::vector<std::uint8_t>& good) {
+  if (good.size() != g.size())
+    throw std::invalid_argument("inscribed shape: the mask has " + std::to_string(good.size()) + " samples, the grid " +
+                                std::to_string(g.size()));
+  Padded p{{g.dims[0] + 2, g.dims[1] + 2, g.dims[2] + 2}, {}};
+  p.good.assign(std::size_t(p.dims[0]) * p.dims[1] * p.dims[2], 0);
+  for (int k = 0; k < g.dims[2]; ++k)
+    for (int j = 0; j < g.dims[1]; ++j)
+      for (int i = 0; i < g.dims[0]; ++i) p.good[p.index(i + 1, j + 1, k + 1)] = good[g.index(i, j, k)];
+  return p;
+}
+
+Vector3d point_of(const Grid& g, const Padded& p, std::size_t s) {
+  const auto [i, j, k] = p.ijk(s);
+  return g.point(i - 1, j - 1, k - 1);
+}
+
+// One line of the exact squared Euclidean distance transform (Felzenszwalb
+// and Huttenlocher, "Distance transforms of sampled functions", 2012):
+// f[q] <- min_p h^2 (q - p)^2 + f[p], the lower envelope of parabolas.
+void distance_line(std::vector<double>& f, int n, double h, std::vector<int>& v, std::vector<double>& z,
+                   std::vector<double>& d) {
+  const double h2 = h * h;
+  int k = -1;
+  for (int q = 0; q < n; ++q) {
+    if (f[std::size_t(q)] == kInf) continue;
+    double crossing = -kInf;
+    while (k >= 0) {
+      const int p = v[std::size_t(k)];
+      crossing = ((f[std::size_t(q)] + h2 * q * q) - (f[std::size_t(p)] + h2 * p * p)) / (2 * h2 * (q - p));
+      if (crossing > z[std::size_t(k)]) break;
+      --k;
+      crossing = -kInf;
+    }
+    ++k;
+    v[std::size_t(k)] = q;
+    z[std::size_t(k)] = crossing;
+    z[std::size_t(k) + 1] = kInf;
+  }
+  for (int q = 0, j = 0; q < n; ++q) {
+    if (k < 0) {
+      d[std::size_t(q)] = kInf;
+      continue;
+    }
+    while (z[std::size_t(j) + 1] < q) ++j;
+    const int p = v[std::size_t(j)];
+    d[std::size_t(q)] = h2 * double(q - p) * double(q - p) + f[std::size_t(p)];
+  }
+  for (int q = 0; q < n; ++q) f[std::size_t(q)] = d[std::size_t(q)];
+}
+
+// Per padded sample, the diameter of the largest sphere centred on it that
+// holds no failing sample: twice the distance to the nearest one.
+std::vector<double> sphere_sizes(const Padded& p, const Vector3d& spacing) {
+  std::vector<double> dist(p.good.size());
+  for (std::size_t s = 0; s < dist.size(); ++s) dist[s] = p.good[s] ? kInf : 0.0;
+  const auto n_max = static_cast<std::size_t>(*std::max_element(p.dims.begin(), p.dims.end()));
+  std::vector<double> line(n_max), z(n_max + 1), out(n_max);
+  std::vector<int> v(n_max);
+  for (int axis = 0; axis < 3; ++axis) {
+    const int a = (axis + 1) % 3, b = (axis + 2) % 3, n = p.dims[axis];
+    for (int jb = 0; jb < p.dims[b]; ++jb)
+      for (int ja = 0; ja < p.dims[a]; ++ja) {
+        std::array<int, 3> ijk{};
+        ijk[a] = ja;
+        ijk[b] = jb;
+        for (int q = 0; q < n; ++q) {
+          ijk[axis] = q;
+          line[std::size_t(q)] = dist[p.index(ijk[0], ijk[1], ijk[2])];
+        }
+        distance_line(line, n, spacing(axis), v, z, out);
+        for (int q = 0; q < n; ++q) {
+          ijk[axis] = q;
+          dist[p.index(ijk[0], ijk[1], ijk[2])] = line[std::size_t(q)];
+        }
+      }
+  }
+  for (double& d : dist) d = 2 * std::sqrt(d);
+  return dist;
+}
+
+// Per padded sample, the largest scale s such that the box s * shape centred
+// on it holds no failing sample strictly inside: counts of failing samples
+// in any box come from a summed-volume table, the scale by bisection.
+std::vector<double> box_sizes(const Padded& p, const Vector3d& spacing, const Vector3d& shape) {
+  const int nx = p.dims[0] + 1, ny = p.dims[1] + 1, nz = p.dims[2] + 1;
+  std::vector<int> table(std::size_t(nx) * ny * nz, 0);  // failing samples with indices < (i, j, k)
+  auto at = [&](int i, int j, int k) -> int& { return table[i + std::size_t(nx) * (j + std::size_t(ny) * k)]; };
+  for (int k = 1; k < nz; ++k)
+    for (int j = 1; j < ny; ++j)
+      for (int i = 1; i < nx; ++i)
+        at(i, j, k) = !p.good[p.index(i - 1, j - 1, k - 1)] + at(i - 1, j, k) + at(i, j - 1, k) + at(i, j, k - 1) -
+                      at(i - 1, j - 1, k) - at(i - 1, j, k - 1) - at(i, j - 1, k - 1) + at(i - 1, j - 1, k - 1);
+  // Failing samples with |offset_k| <= w_k around (i, j, k).
+  auto failing_within = [&](const std::array<int, 3>& c, const std::array<int, 3>& w) {
+    std::array<int, 3> lo{}, hi{};
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::max(0, c[a] - w[a]);
+      hi[a] = std::min(p.dims[a], c[a] + w[a] + 1);
+    }
+    return at(hi[0], hi[1], hi[2]) - at(lo[0], hi[1], hi[2]) - at(hi[0], lo[1], hi[2]) - at(hi[0], hi[1], lo[2]) +
+           at(lo[0], lo[1], hi[2]) + at(lo[0], hi[1], lo[2]) + at(hi[0], lo[1], lo[2]) - at(lo[0], lo[1], lo[2]);
+  };
+  // A failing sample at offset d is strictly inside iff |d_k| h_k < s shape_k / 2 for every k.
+  auto windows = [&](double scale) {
+    std::array<int, 3> w{};
+    for (int a = 0; a < 3; ++a) w[a] = int(std::ceil(scale * shape(a) / (2 * spacing(a)))) - 1;
+    return w;
+  };
+  double top = 0;
+  for (int a = 0; a < 3; ++a) top = std::max(top, 2 * p.dims[a] * spacing(a) / shape(a));
+  std::vector<double> sizes(p.good.size(), 0.0);
+  for (std::size_t s = 0; s < sizes.size(); ++s) {
+    if (!p.good[s]) continue;
+    const std::array<int, 3> c = p.ijk(s);
+    double lo = 0, hi = top;
+    for (int it = 0; it < 60 && hi - lo > 1e-10 * top; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (failing_within(c, windows(mid)) == 0 ? lo : hi) = mid;
+    }
+    sizes[s] = lo;
+  }
+  return sizes;
+}
+
+// The best shapes of well-separated places: samples within `slack` of the
+// largest size, taken best first, each starting a cluster unless it lies
+// within `separation` of a cluster's first sample. At most `count`.
+std::vector<Inscribed> best_places(const Grid& grid, const Padded& p, const std::vector<double>& sizes, double slack,
+                                   double separation, std::size_t count) {
+  std::vector<std::size_t> order;
+  double best = -1;
+  for (std::size_t s = 0; s < sizes.size(); ++s)
+    if (p.good[s]) best = std::max(best, sizes[s]);
+  if (best < 0) return {};
+  for (std::size_t s = 0; s < sizes.size(); ++s)
+    if (p.good[s] && sizes[s] >= best - slack) order.push_back(s);
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return sizes[a] > sizes[b]; });
+  std::vector<Inscribed> out;
+  for (std::size_t s : order) {
+    const Vector3d c = point_of(grid, p, s);
+    bool near = false;
+    for (const Inscribed& o : out) near = near || (o.centre - c).norm() < separation;
+    if (near) continue;
+    out.push_back({true, sizes[s], c, grid.spacing.maxCoeff()});
+    if (out.size() == count) break;
+  }
+  return out;
+}
+
+// Candidate places for the largest shape of `task`'s kind on a sampled mask.
+std::vector<Inscribed> candidates(const Grid& grid, const std::vector<std::uint8_t>& good, const TaskVolume& task,
+                                  std::size_t count) {
+  const Padded p = padded(grid, good);
+  const double h = grid.spacing.maxCoeff();
+  if (task.shape == Shape::Sphere) {
+    const std::vector<double> sizes = sphere_sizes(p, grid.spacing);
+    const double best = *std::max_element(sizes.begin(), sizes.end());
+    return best_places(grid, p, sizes, 4 * h, std::max(best / 4, 3 * h), count);
+  }
+  if (!(task.size.array() > 0).all()) throw std::invalid_argument("inscribed box: the shape must have positive edges");
+  const std::vector<double> sizes = box_sizes(p, grid.spacing, task.size);
+  const double best = *std::max_element(sizes.begin(), sizes.end());
+  const double smallest = task.size.minCoeff();
+  return best_places(grid, p, sizes, 4 * h / smallest, std::max(best * smallest / 4, 3 * h), count);
+}
+
+}  // namespace
+
+Inscribed inscribed_sphere(const Grid& grid, const std::vector<std::uint8_t>& good) {
+  TaskVolume sphere;
+  const auto c = candidates(grid, good, sphere, 1);
+  return c.empty() ? Inscribed{false, 0, Vector3d::Zero(), grid.spacing.maxCoeff()} : c.front();
+}
+
+Inscribed inscribed_box(const Grid& grid, const std::vector<std::uint8_t>& good, const Vector3d& shape) {
+  TaskVolume box;
+  box.shape = Shape::Box;
+  box.size = shape;
+  const auto c = candidates(grid, good, box, 1);
+  return c.empty() ? Inscribed{false, 0, Vector3d::Zero(), grid.spacing.maxCoeff()} : c.front();
+}
+
+std::optional<Inscribed> largest_inscribed(const Device& device, const std::vector<Criterion>& criteria,
+                                           const TaskVolume& task, const Eigen::AlignedBox3d& box,
+                                           const InscribedOptions& options, const FieldProgress& progress) {
+  if (options.resolution < 4 || options.refinements < 0 || options.places < 1)
+    throw std::invalid_argument("inscribed shape: resolution must be at least 4, refinements at least 0, places at least 1");
+  // Samples `region` at the resolution; nullopt if cancelled.
+  auto sample_region = [&](const Eigen::AlignedBox3d& region, double done, double share)
+      -> std::optional<std::pair<Grid, std::vector<std::uint8_t>>> {
+    const Vector3d extent = region.sizes();
+    std::array<int, 3> dims{};
+    for (int k = 0; k < 3; ++k)
+      dims[k] = std::max(4, int(std::lround(options.resolution * extent(k) / extent.maxCoeff())));
+    const Grid grid = Grid::box(region.min(), region.max(), dims);
+    FieldProgress part = progress;
+    if (progress.report) part.report = [&](double f) { progress.report(done + share * f); };
+    const std::optional<Field> field = sample(device, criteria, grid, part);
+    if (!field) return std::nullopt;
+    return std::pair{grid, good_mask(*field, criteria)};
+  };
+  const double steps = 1.0 + double(options.places) * options.refinements;
+  const auto coarse = sample_region(box, 0, 1 / steps);
+  if (!coarse) return std::nullopt;
+  std::vector<Inscribed> places = candidates(coarse->first, coarse->second, task, std::size_t(options.places));
+  if (places.empty()) return Inscribed{false, 0, Vector3d::Zero(), coarse->first.spacing.maxCoeff()};
+  // Zoom onto each place in turn: a box around the shape found, three cells
+  // of the grid that found it wider, sampled at the same resolution.
+  Inscribed best = places.front();
+  for (std::size_t k = 0; k < places.size(); ++k) {
+    Inscribed current = places[k];
+    double spacing = coarse->first.spacing.maxCoeff();
+    for (int level = 0; level < options.refinements; ++level) {
+      const Vector3d half =
+          (task.shape == Shape::Sphere ? Vector3d::Constant(current.size / 2) : Vector3d(current.size * task.size / 2)) +
+          Vector3d::Constant(3 * spacing);
+      const Eigen::AlignedBox3d region = Eigen::AlignedBox3d(current.centre - half, current.centre + half).intersection(box);
+      const auto fine = sample_region(region, (1 + k * options.refinements + level) / steps, 1 / steps);
+      if (!fine) return std::nullopt;
+      const auto found = candidates(fine->first, fine->second, task, 1);
+      if (found.empty()) break;  // the zoom missed what the coarser grid saw: keep that
+      current = found.front();
+      spacing = fine->first.spacing.maxCoeff();
+    }
+    if (current.size > best.size || k == 0) best = current;
+  }
+  return best;
+}
+
+}  // namespace linkscape::task

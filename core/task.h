@@ -1,0 +1,174 @@
+// Task volumes and criteria: what a designer asks of a device. A task is a
+// sphere or an axis-aligned box of the driven point's position (the other
+// task coordinates held fixed), and criteria are bounds on the measures
+// every point of it must meet. docs/task-volumes.md describes the
+// evaluation, the inscribed sphere and cube, and their convergence.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/haptics.h"
+#include "core/mechanism.h"
+
+namespace linkscape::task {
+
+// ---- Criteria ---------------------------------------------------------------------
+
+// "reach" (the point is reachable in the sampled branch), or a bound on a
+// measure: "cond<3" (the device's first measure, also by its name, e.g.
+// cond_jp; its other measures by name, e.g. "cond_jo<5"), "force_iso>2" (N), "force_max>5" (N),
+// "resolution<0.5" (mm), "inertia<0.2" (kg). Every criterion includes reach.
+struct Criterion {
+  std::string text;      // as given
+  std::string measure;   // "reach", "cond", a measure name or a haptic field name
+  bool above = false;    // the value must exceed the threshold (forces) rather than stay below it
+  double threshold = 0;  // in the measure's unit
+  int measure_index = 0; // into info().measures, for a conditioning measure (set by resolve)
+  bool reach() const { return measure == "reach"; }
+  bool haptic() const { return haptics::is_haptic_field(measure); }
+};
+
+// Parses one criterion. Throws std::invalid_argument for a malformed text,
+// a threshold no pose can meet (cond below 1, a force or threshold <= 0), or
+// a bound on a measure's wrong side (cond>3).
+Criterion parse_criterion(const std::string& text);
+// The criterion with its measure found on the device (its measures, and the
+// haptic fields `data` provides). Throws std::invalid_argument listing the
+// names it knows, or where the measure needs actuator data not given.
+Criterion resolve(const Criterion& c, const MechanismInfo& info, const haptics::DeviceData* data);
+
+// ---- Task volumes -----------------------------------------------------------------
+
+enum class Shape { Sphere, Box };
+
+// A sphere (diameter) or an axis-aligned box (edge lengths) of the driven
+// point's position, in the device's length unit, with its centre fixed or
+// left free for a search to place.
+struct TaskVolume {
+  Shape shape = Shape::Sphere;
+  Eigen::Vector3d size = Eigen::Vector3d::Constant(1);  // sphere: the diameter thrice; box: x, y, z edges
+  std::optional<Eigen::Vector3d> centre;
+  std::string text;  // as given
+  double diameter() const { return size.x(); }
+  // The box around the volume at `centre`.
+  Eigen::AlignedBox3d bounds(const Eigen::Vector3d& centre) const;
+  bool contains(const Eigen::Vector3d& p, const Eigen::Vector3d& centre) const;
+  double volume() const;
+};
+
+// "sphere:diameter=15", "sphere:radius=7.5", "box:size=10,8,6", "box:size=10"
+// (a cube), each optionally followed by ",centre=x,y,z". Throws
+// std::invalid_argument for an unknown shape or key, a missing size, or an
+// empty task (a size that is not positive and finite).
+TaskVolume parse_task(const std::string& text);
+
+// ---- What is sampled ----------------------------------------------------------------
+
+// A device with the settings every evaluation shares.
+struct Device {
+  std::shared_ptr<const Mechanism> mechanism;
+  Eigen::VectorXd fixed_task;  // the task coordinates beyond x, y, z (its x, y, z are ignored)
+  IkOptions ik;                // method and branch
+  std::optional<haptics::DeviceData> data;  // needed by haptic criteria
+  haptics::TorqueRating torque = haptics::TorqueRating::Continuous;
+  int threads = 0;  // 0: all
+};
+
+// Every criterion resolved on the device (see resolve). The
+// functions below expect resolved criteria.
+std::vector<Criterion> resolve(const Device& device, const std::vector<Criterion>& criteria);
+
+// Values of every criterion's measure at one position (point-wise, through
+// the interface): reach is the reach margin; measures are +inf (forces 0)
+// where the branch has no solution. `meets` is whether all criteria hold.
+struct PointValues {
+  bool reachable = false;
+  std::vector<double> values;  // per criterion
+  bool meets = false;
+};
+PointValues evaluate_point(const Device& device, const std::vector<Criterion>& criteria, const Eigen::Vector3d& p);
+
+// Whether every criterion holds at each sample of a sampled field (the
+// device's kernel plus, where a criterion needs them, the haptic arrays).
+std::vector<std::uint8_t> good_mask(const Field& field, const std::vector<Criterion>& criteria);
+// The field over `grid` a mask of these criteria needs; nullopt if cancelled.
+std::optional<Field> sample(const Device& device, const std::vector<Criterion>& criteria, const Grid& grid,
+                            const FieldProgress& progress = {});
+
+// ---- A task at a place --------------------------------------------------------------
+
+struct CriterionReport {
+  Criterion criterion;
+  // The worst value over the task's samples (reach: the smallest reach
+  // margin), where it occurs, and the share of the volume meeting it.
+  double worst = 0;
+  Eigen::Vector3d worst_point = Eigen::Vector3d::Zero();
+  double fraction = 0;
+  // How far the worst value is inside the bound, in the measure's unit
+  // (< 0: the task leaves the good region by that much).
+  double margin() const;
+};
+
+struct TaskReport {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  double fraction = 0;  // of the volume where every criterion holds
+  std::vector<CriterionReport> criteria;
+  int samples = 0;           // interior and surface samples evaluated
+  int failing = 0;           // of them, failing some criterion
+  Eigen::Vector3d failing_centroid = Eigen::Vector3d::Zero();  // where it fails (when failing > 0)
+  Eigen::AlignedBox3d failing_bounds;
+  bool meets() const { return failing == 0; }
+};
+
+// Samples the task at `centre`: cell centres of a grid with `resolution`
+// samples across its largest extent, and about resolution^2 points on its
+// surface (where the worst values usually are). `fraction` is over the
+// interior samples (each stands for an equal volume); `worst`, `failing` and
+// where it fails count the surface too. Point-wise through the interface,
+// in parallel.
+TaskReport evaluate(const Device& device, const std::vector<Criterion>& criteria, const TaskVolume& task,
+                    const Eigen::Vector3d& centre, int resolution = 24);
+
+// ---- The largest sphere and box in the good region -------------------------------
+
+struct Inscribed {
+  bool found = false;  // some sample meets every criterion
+  // Sphere: the diameter; box: the scale s of the task's box (s * size fits).
+  double size = 0;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  double spacing = 0;  // of the finest grid used, length unit (the result's resolution)
+};
+
+// On a sampled mask (outside the grid counts as failing): the largest
+// sphere centred on a sample that holds no failing sample (diameter twice
+// the distance to the nearest one), and the largest scale s such that the
+// box s * shape centred on a sample holds no failing sample strictly inside.
+// A smooth boundary passes close beyond some failing sample, so these
+// converge to the continuous answer at about the spacing; their convergence
+// is in docs/task-volumes.md.
+Inscribed inscribed_sphere(const Grid& grid, const std::vector<std::uint8_t>& good);
+Inscribed inscribed_box(const Grid& grid, const std::vector<std::uint8_t>& good, const Eigen::Vector3d& shape);
+
+struct InscribedOptions {
+  int resolution = 64;   // samples along the longest side of the box
+  int refinements = 2;   // zooms onto each place found (docs/task-volumes.md)
+  int places = 3;        // well-separated places refined (the region may have several near-best)
+};
+// The largest sphere (task.shape Sphere) or scaled task box (Box) inside the
+// good region within `box` (e.g. the device's default box): sampled at
+// options.resolution; then, for each of the best `places` well-separated
+// places, each refinement samples again a box around the shape found, three
+// cells wider, at the same resolution. The best after refinement wins.
+// nullopt if cancelled.
+std::optional<Inscribed> largest_inscribed(const Device& device, const std::vector<Criterion>& criteria,
+                                           const TaskVolume& task, const Eigen::AlignedBox3d& box,
+                                           const InscribedOptions& options = {}, const FieldProgress& progress = {});
+
+}  // namespace linkscape::task

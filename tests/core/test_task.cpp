@@ -1,0 +1,211 @@
+// Task volumes and criteria (core/task.h): parsing and its errors, the
+// distance transform and box erosion against brute force, the sampled
+// field's verdicts against point-wise evaluation, and the inscribed sphere
+// against the task evaluated where it was placed.
+#include <gtest/gtest.h>
+
+#include "expect_error.h"
+
+#include <random>
+
+#include "core/preset.h"
+#include "core/task.h"
+
+using namespace linkscape;
+using namespace linkscape::task;
+using Eigen::Vector3d;
+
+namespace {
+
+Device device_of(const std::string& name, const std::vector<std::string>& params = {}) {
+  Preset preset = load_preset(name);
+  apply_overrides(preset, params);
+  Device s;
+  s.mechanism = make_mechanism(preset);
+  s.fixed_task = s.mechanism->home_task();
+  s.data = haptics::device_data(preset, s.mechanism->info());
+  s.threads = 2;
+  return s;
+}
+
+}  // namespace
+
+TEST(TaskVolume, ParsesSpheresAndBoxesWithOrWithoutCentre) {
+  const TaskVolume a = parse_task("sphere:diameter=15");
+  EXPECT_EQ(a.shape, Shape::Sphere);
+  EXPECT_EQ(a.diameter(), 15);
+  EXPECT_FALSE(a.centre);
+  const TaskVolume b = parse_task("sphere:radius=2,centre=1,-2,3.5");
+  EXPECT_EQ(b.diameter(), 4);
+  ASSERT_TRUE(b.centre);
+  EXPECT_EQ(*b.centre, Vector3d(1, -2, 3.5));
+  const TaskVolume c = parse_task("box:size=10,8,6,centre=0,20,0");
+  EXPECT_EQ(c.shape, Shape::Box);
+  EXPECT_EQ(c.size, Vector3d(10, 8, 6));
+  EXPECT_NEAR(c.volume(), 480, 1e-12);
+  EXPECT_TRUE(c.contains(Vector3d(4.9, 23.9, -2.9), *c.centre));
+  EXPECT_FALSE(c.contains(Vector3d(4.9, 24.1, 0), *c.centre));
+  EXPECT_EQ(parse_task("box:size=5").size, Vector3d::Constant(5));
+
+  expect_error([] { parse_task("sphere:diameter=0"); }, "is empty");
+  expect_error([] { parse_task("box:size=1,-1,1"); }, "is empty");
+  expect_error([] { parse_task("sphere:diameter=2,radius=1"); }, "give the diameter or the radius");
+  expect_error([] { parse_task("cylinder:diameter=2"); }, "unknown shape 'cylinder'");
+  expect_error([] { parse_task("sphere:diameter=2,center=1,2,3"); }, "unknown key 'center'");
+  expect_error([] { parse_task("sphere:diameter=2,centre=1,2"); }, "centre expects 3 values");
+  expect_error([] { parse_task("box:size=1,2"); }, "size=S or size=X,Y,Z");
+  expect_error([] { parse_task("sphere:diameter=nan"); }, "finite numbers");
+  expect_error([] { parse_task("sphere"); }, "expected sphere:diameter=D");
+}
+
+TEST(TaskCriteria, ParseBoundsOnTheGoodSideAndRefuseImpossibleOnes) {
+  const Criterion c = parse_criterion("cond<3");
+  EXPECT_EQ(c.measure, "cond");
+  EXPECT_FALSE(c.above);
+  EXPECT_EQ(c.threshold, 3);
+  const Criterion f = parse_criterion("force_iso>=2.5");
+  EXPECT_TRUE(f.above);
+  EXPECT_EQ(f.threshold, 2.5);
+  EXPECT_TRUE(parse_criterion("reach").reach());
+  expect_error([] { parse_criterion("cond<1"); }, "no pose meets it");
+  expect_error([] { parse_criterion("cond>3"); }, "bounded from above");
+  expect_error([] { parse_criterion("force_iso<3"); }, "bounded from below");
+  expect_error([] { parse_criterion("force_iso>0"); }, "no pose meets it");
+  expect_error([] { parse_criterion("resolution<x"); }, "finite number");
+  expect_error([] { parse_criterion("comfort"); }, "expected reach or NAME<VALUE");
+
+  const auto m = make_mechanism(load_preset("pathos2"));
+  EXPECT_EQ(resolve(parse_criterion("cond_jo<5"), m->info(), nullptr).measure_index, 1);
+  EXPECT_EQ(resolve(parse_criterion("cond_jp<5"), m->info(), nullptr).measure_index, 0);
+  expect_error([&] { resolve(parse_criterion("stiffness<5"), m->info(), nullptr); }, "known: reach, cond, cond_jp, cond_jo");
+  expect_error([&] { resolve(parse_criterion("force_iso>1"), m->info(), nullptr); }, "actuator data");
+}
+
+// The exact distance transform and the box scales against brute force on
+// random masks: the best over good samples of the distance to the nearest
+// failing sample (or the ring just outside the grid), and of the smallest
+// weighted Chebyshev distance max_k |d_k| / (shape_k / 2) to one.
+TEST(InscribedShapes, AgreeWithBruteForceOnRandomMasks) {
+  std::mt19937_64 rng(7);
+  const Vector3d shape(1.0, 0.5, 0.7);
+  for (int trial = 0; trial < 20; ++trial) {
+    const Grid g = Grid::box({0, 0, 0}, {1.0, 1.3, 0.8}, {10, 13, 8});
+    std::vector<std::uint8_t> good(g.size());
+    for (auto& v : good) v = std::bernoulli_distribution(0.93)(rng);
+    double sphere = -1, box = -1;
+    Vector3d sphere_at, box_at;
+    for (int k = 0; k < g.dims[2]; ++k)
+      for (int j = 0; j < g.dims[1]; ++j)
+        for (int i = 0; i < g.dims[0]; ++i) {
+          if (!good[g.index(i, j, k)]) continue;
+          double d = INFINITY, scale = INFINITY;
+          for (int c = -1; c <= g.dims[2]; ++c)
+            for (int b = -1; b <= g.dims[1]; ++b)
+              for (int a = -1; a <= g.dims[0]; ++a) {
+                const bool outside = a < 0 || b < 0 || c < 0 || a >= g.dims[0] || b >= g.dims[1] || c >= g.dims[2];
+                if (!outside && good[g.index(a, b, c)]) continue;
+                const Vector3d off = g.point(a, b, c) - g.point(i, j, k);
+                d = std::min(d, off.norm());
+                scale = std::min(scale, off.cwiseAbs().cwiseQuotient(shape / 2).maxCoeff());
+              }
+          if (d > sphere) sphere = d, sphere_at = g.point(i, j, k);
+          if (scale > box) box = scale, box_at = g.point(i, j, k);
+        }
+    const Inscribed s = inscribed_sphere(g, good);
+    ASSERT_TRUE(s.found);
+    EXPECT_NEAR(s.size, 2 * sphere, 1e-12) << "trial " << trial;
+    const Inscribed b = inscribed_box(g, good, shape);
+    ASSERT_TRUE(b.found);
+    EXPECT_NEAR(b.size, box, 1e-8 * box) << "trial " << trial;
+  }
+  // A mask with no good sample has no shape.
+  const Grid g = Grid::box({0, 0, 0}, {1, 1, 1}, {4, 4, 4});
+  EXPECT_FALSE(inscribed_sphere(g, std::vector<std::uint8_t>(g.size(), 0)).found);
+  EXPECT_FALSE(inscribed_box(g, std::vector<std::uint8_t>(g.size(), 0), Vector3d::Ones()).found);
+}
+
+// A ball-shaped good region: the inscribed sphere is the ball, to the
+// sampling's resolution; the cube is the ball's inscribed cube.
+TEST(InscribedShapes, BallRegionGivesTheBallAndItsCube) {
+  const Grid g = Grid::box({-1, -1, -1}, {1, 1, 1}, {64, 64, 64});
+  const Vector3d c(0.1, -0.2, 0.05);
+  const double R = 0.6;
+  std::vector<std::uint8_t> good(g.size());
+  for (int k = 0; k < 64; ++k)
+    for (int j = 0; j < 64; ++j)
+      for (int i = 0; i < 64; ++i) good[g.index(i, j, k)] = (g.point(i, j, k) - c).norm() < R;
+  const Inscribed s = inscribed_sphere(g, good);
+  EXPECT_NEAR(s.size, 2 * R, 2 * s.spacing);
+  EXPECT_LT((s.centre - c).norm(), 2 * s.spacing);
+  const Inscribed cube = inscribed_box(g, good, Vector3d::Ones());
+  EXPECT_NEAR(cube.size, 2 * R / std::sqrt(3.0), 2 * cube.spacing);
+}
+
+// The device's sampled verdicts and the point-wise ones agree at the same
+// points (both go through the interface; the field uses the device's kernel).
+TEST(TaskEvaluation, FieldVerdictsAgreeWithPointwiseEvaluation) {
+  for (const std::string name : {"parallel-12r", "pathos2", "delta"}) {
+    Device s = device_of(name);
+    const std::vector<Criterion> criteria =
+        resolve(s, {parse_criterion("cond<3"), parse_criterion("force_iso>0.3"), parse_criterion("resolution<0.5")});
+    const Eigen::AlignedBox3d box = s.mechanism->default_box();
+    const Grid grid = Grid::box(box.min(), box.max(), {14, 14, 14});
+    const auto field = sample(s, criteria, grid);
+    ASSERT_TRUE(field);
+    const auto good = good_mask(*field, criteria);
+    int agree = 0, good_count = 0;
+    for (int k = 0; k < 14; ++k)
+      for (int j = 0; j < 14; ++j)
+        for (int i = 0; i < 14; ++i) {
+          const PointValues v = evaluate_point(s, criteria, grid.point(i, j, k));
+          agree += v.meets == bool(good[grid.index(i, j, k)]);
+          good_count += v.meets;
+        }
+    EXPECT_EQ(agree, 14 * 14 * 14) << name;
+    EXPECT_GT(good_count, 5) << name;
+  }
+}
+
+// 12R, L1 = L2 = 1: the isotropic point (0, 1, 1) has c(J) = 1; a small
+// sphere there meets c < 3 everywhere; one across the actuator plane y = 0
+// fails there, and says so.
+TEST(TaskEvaluation, ReportsFractionWorstValuesAndWhereItFails) {
+  Device s = device_of("parallel-12r", {"L1=1", "L2=1"});
+  const std::vector<Criterion> criteria = resolve(s, {parse_criterion("cond<3"), parse_criterion("reach")});
+  const TaskVolume small = parse_task("sphere:diameter=0.2");
+  const TaskReport good = evaluate(s, criteria, small, Vector3d(0, 1, 1), 12);
+  EXPECT_TRUE(good.meets());
+  EXPECT_EQ(good.fraction, 1.0);
+  EXPECT_GT(good.criteria[0].worst, 1.0);
+  EXPECT_LT(good.criteria[0].worst, 3.0);
+  EXPECT_NEAR(good.criteria[0].margin(), 3.0 - good.criteria[0].worst, 1e-15);
+  EXPECT_LT((good.criteria[0].worst_point - Vector3d(0, 1, 1)).norm(), 0.1 + 1e-9);  // on the surface
+  EXPECT_GT(good.criteria[1].worst, 0.0);  // reach margin
+
+  // y from -0.6 to 0.6: c(J) < 3 holds only for |y| beyond about 0.35.
+  const TaskReport across = evaluate(s, criteria, parse_task("box:size=0.2,1.2,0.2"), Vector3d(0.2, 0.0, 1.0), 24);
+  EXPECT_FALSE(across.meets());
+  EXPECT_GT(across.fraction, 0.2);
+  EXPECT_LT(across.fraction, 0.7);
+  EXPECT_NEAR(across.failing_centroid.y(), 0.0, 0.01);  // the failing slab straddles y = 0
+  EXPECT_GT(across.failing_bounds.sizes().y(), 0.4);
+  EXPECT_LT(across.failing_bounds.sizes().y(), 1.0);
+  EXPECT_GT(across.criteria[0].worst, 100.0);  // towards the singular plane y = 0
+  EXPECT_NEAR(across.criteria[0].worst_point.y(), 0.0, 0.05);
+}
+
+// The largest sphere in c(J) < 3 (12R, L1 = L2 = 1; about 1.22 across,
+// docs/task-volumes.md) fits where it was placed, evaluated point-wise,
+// when shrunk by 2 %, and fails when grown by 5 %.
+TEST(TaskEvaluation, InscribedSphereFitsWhereItIsPlaced) {
+  Device s = device_of("parallel-12r", {"L1=1", "L2=1"});
+  const std::vector<Criterion> criteria = resolve(s, {parse_criterion("cond<3")});
+  TaskVolume probe = parse_task("sphere:diameter=1");
+  const auto found = largest_inscribed(s, criteria, probe, s.mechanism->default_box());
+  ASSERT_TRUE(found && found->found);
+  EXPECT_NEAR(found->size, 1.22, 0.02);
+  probe.size = Vector3d::Constant(0.98 * found->size);
+  EXPECT_TRUE(evaluate(s, criteria, probe, found->centre, 16).meets());
+  probe.size = Vector3d::Constant(1.05 * found->size);
+  EXPECT_FALSE(evaluate(s, criteria, probe, found->centre, 16).meets());
+}

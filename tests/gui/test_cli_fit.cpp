@@ -1,0 +1,89 @@
+// linkscape fit through the real binary: the CSV's header and first row,
+// equal and independent links, the chart, a task no design meets, and the
+// bad inputs that exit with 2. Coarse sampling keeps it quick; the search's
+// accuracy is tested in tests/core/test_fit.cpp, the defaults' in
+// docs/task-volumes.md.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "tests/gui/cli_runner.h"
+
+namespace {
+
+const fs::path kOut = fs::temp_directory_path() / "linkscape_cli_fit";
+const std::string kCoarse = " --resolution 16 --refinements 1 --places 1 --task-resolution 6 --tolerance 0.01 -q";
+
+std::string out(const std::string& name) {
+  fs::create_directories(kOut);
+  fs::remove(kOut / name);
+  return (kOut / name).string();
+}
+
+std::vector<std::map<std::string, std::string>> rows_of(const std::string& file) {
+  std::ifstream in(file);
+  std::stringstream text;
+  text << in.rdbuf();
+  return parse_cells(text.str());
+}
+
+}  // namespace
+
+TEST(CliFit, EqualLinksFirstRowIsTheSmallestMeetingDesign) {
+  const std::string csv = out("equal.csv"), chart = out("equal.svg");
+  const CommandResult r = run_linkscape("fit --mechanism parallel-12r --task sphere:diameter=15 --criterion 'cond<3' "
+                                        "--equal L1,L2 --output " + csv + " --chart " + chart + kCoarse);
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.out.find("smallest design meeting it: L1 = "), std::string::npos) << r.out;
+  std::ifstream in(csv);
+  std::string header;
+  std::getline(in, header);
+  EXPECT_EQ(header.rfind("L1,L2,cx,cy,cz,size,meets,inscribed_diameter,fraction,", 0), 0u) << header;
+  const auto rows = rows_of(csv);
+  ASSERT_GT(rows.size(), 5u);
+  EXPECT_EQ(rows[0].at("meets"), "1");
+  const double smallest = std::stod(rows[0].at("size"));
+  for (const auto& row : rows) {
+    EXPECT_EQ(row.at("L1"), row.at("L2"));
+    if (row.at("meets") == "1") EXPECT_GE(std::stod(row.at("size")), smallest);
+  }
+  EXPECT_GE(std::stod(rows[0].at("inscribed_diameter")), 15.0);
+  EXPECT_TRUE(fs::exists(chart));
+}
+
+TEST(CliFit, WithoutEqualTheLinksVaryIndependently) {
+  const std::string csv = out("free.csv");
+  const CommandResult r = run_linkscape("fit --task sphere:diameter=15 --criterion 'cond<3' --output " + csv + kCoarse);
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  int different = 0;
+  for (const auto& row : rows_of(csv)) different += row.at("L1") != row.at("L2");
+  EXPECT_GT(different, 10);
+}
+
+TEST(CliFit, ATaskNoDesignMeetsIsAResult) {
+  const CommandResult r = run_linkscape("fit --task sphere:diameter=15 --criterion 'cond<3' --equal L1,L2 "
+                                        "--bounds L1=2:5" + kCoarse);
+  EXPECT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.out.find("no design in the bounds meets it; closest: L1 = 5"), std::string::npos) << r.out;
+}
+
+TEST(CliFit, BadInputsExitWithTwoAndWriteNothing) {
+  const std::string csv = out("never.csv");
+  for (const auto& [args, expected] : std::vector<std::pair<std::string, std::string>>{
+           {"--task sphere:diameter=0 --criterion 'cond<3'", "is empty"},
+           {"--task box:size=10,0,5 --criterion 'cond<3'", "is empty"},
+           {"--task sphere:diameter=15 --criterion 'cond<0.5'", "no pose meets it"},
+           {"--task sphere:diameter=15 --criterion 'force_iso<2'", "bounded from below"},
+           {"--task sphere:diameter=15 --criterion 'stiffness>2'", "unknown measure 'stiffness'"},
+           {"--task sphere:diameter=15 --criterion 'cond<3' --equal L1,L2 --bounds L1=-5:-1", "bounds exclude every design"},
+           {"--task sphere:diameter=15 --criterion 'cond<3' --bounds L1=9:3", "lo <= hi"},
+           {"--task sphere:diameter=15 --criterion 'cond<3' --free L3", "unknown parameter 'L3'"},
+           {"--task cone:diameter=15", "unknown shape"},
+           {"--task sphere:diameter=15 --chart pareto.gif", "--chart must end in"},
+       }) {
+    const CommandResult r = run_linkscape("fit " + args + " --output " + csv + kCoarse);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.out;
+    EXPECT_NE(r.out.find(expected), std::string::npos) << args << "\n" << r.out;
+    EXPECT_FALSE(fs::exists(csv)) << args;
+  }
+}
