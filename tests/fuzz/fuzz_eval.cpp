@@ -548,7 +548,13 @@ std::shared_ptr<const linkscape::Mechanism> interface_device(const Table& t, con
   const std::vector<std::string> names = linkscape::registered_mechanisms();
   const double pick = row[device_col];
   if (!std::isfinite(pick) || pick < 0.0 || pick > 1e6) return nullptr;
-  linkscape::Preset preset = linkscape::load_preset(names[std::size_t(pick) % names.size()]);
+  // The shipped presets, read once (a copy per row, as overrides change it).
+  static const std::vector<linkscape::Preset> shipped = [&] {
+    std::vector<linkscape::Preset> out;
+    for (const std::string& name : names) out.push_back(linkscape::load_preset(name));
+    return out;
+  }();
+  linkscape::Preset preset = shipped[std::size_t(pick) % shipped.size()];
   std::vector<std::string> overrides;
   for (const std::string& name : linkscape::parameter_names(preset))
     if (const auto c = find_column(t, name)) overrides.push_back(name + "=" + linkscape::format_number(row[*c]));
