@@ -1,0 +1,39 @@
+// The 12R planar field kernel, internal to core (field.cpp; tests).
+#pragma once
+
+#include <Eigen/Core>
+
+#include "core/field_sampling.h"
+#include "core/mechanisms/parallel12r/parallel12r.h"
+#include "core/status.h"
+
+namespace linkscape::parallel12r::planar {
+
+// The model with lengths divided by a power of two near its reach (exact):
+// angles and c(J) do not depend on scale, and in these units no product in
+// the planar closed form (up to length^4) can overflow or underflow.
+struct UnitModel {
+  Model unit;
+  double to_unit = 1.0, from_unit = 1.0;  // 2^-e and 2^e: lengths of the model = unit lengths * 2^e
+};
+UnitModel unit_model(const Model& m);
+
+// One sample as the kernel computes it, in double and in the model's units
+// (the Field stores float). The status decides the rest: reachable where Ok,
+// method_used Planar where Ok or OutOfLimits (else none), no iterations;
+// cond is +inf unless Ok, residual +inf where there is no solution.
+struct Sample {
+  double cond = 0, reach_margin = 0, residual = 0;
+  Status status = Status::Ok;
+};
+
+// Both ends of a limits check need the angles only when a range is not full.
+bool full_ranges(const Model& m);
+
+// The scalar reference at one point p (model units).
+Sample sample(const UnitModel& u, const Eigen::Vector3d& p, int branch, bool check_limits);
+
+// Sample s as the Field stores it.
+FieldSample to_field_sample(const Sample& s);
+
+}  // namespace linkscape::parallel12r::planar
