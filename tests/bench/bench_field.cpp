@@ -1,27 +1,60 @@
 // Field engine throughput: the 12R c(J) field over its default box
-// (+-(L1 + L2) on every axis) at 256^3, on 1 and 2 threads.
+// (+-(L1 + L2) on every axis) at 256^3, per planar kernel (scalar reference,
+// vector, vector with the x mirror), SIMD target (core/simd.h; "best" = what
+// dispatch picks on this CPU) and thread count.
+// The CPU column is the process's CPU time (every thread, page faults
+// included), the rate is per wall-clock second.
 // Run: build/tests/bench/bench_field --benchmark_repetitions=5
+//      (--benchmark_filter=AVX2 etc. for one target)
 #include <benchmark/benchmark.h>
 
+#include <string>
+
 #include "core/mechanisms/parallel12r/field.h"
+#include "core/simd.h"
 
 namespace {
 
 using linkscape::FieldRequest;
 using linkscape::Grid;
+using linkscape::PlanarKernel;
 
-void BM_Parallel12rField256(benchmark::State& state) {
+void field_256(benchmark::State& state, PlanarKernel kernel, const std::string& target, int threads) {
   linkscape::parallel12r::Model model;
   model.L1 = model.L2 = 15.0;
   FieldRequest r;
   const double reach = model.reach();
   r.grid = Grid::box({-reach, -reach, -reach}, {reach, reach, reach}, {256, 256, 256});
-  r.threads = int(state.range(0));
+  r.threads = threads;
+  r.kernel = kernel;
+  linkscape::simd::limit_targets(target == "best" ? "" : target);
   for (auto _ : state) benchmark::DoNotOptimize(linkscape::compute_field(model, r));
   state.SetItemsProcessed(state.iterations() * std::int64_t(r.grid.size()));
+  state.SetLabel(linkscape::simd::current_target());
+  linkscape::simd::limit_targets("");
 }
-BENCHMARK(BM_Parallel12rField256)->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void add(const std::string& kernel_name, PlanarKernel kernel, const std::string& target) {
+  for (int threads : {1, 2})
+    benchmark::RegisterBenchmark(("BM_Parallel12rField256/" + kernel_name + "/" + target + "/threads:" +
+                                  std::to_string(threads)).c_str(),
+                                 field_256, kernel, target, threads)
+        ->Unit(benchmark::kMillisecond)
+        ->MeasureProcessCPUTime()  // CPU: all threads' time, the cost on a shared machine
+        ->UseRealTime();           // items_per_second: samples per wall-clock second
+}
 
 }  // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  add("scalar", PlanarKernel::Scalar, "best");
+  for (const std::string& target : linkscape::simd::available_targets()) {
+    add("vector", PlanarKernel::Vector, target);
+    add("vector-mirrored", PlanarKernel::VectorMirrored, target);
+  }
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
@@ -9,6 +10,7 @@
 #include "core/conditioning.h"
 #include "core/field_sampling.h"
 #include "core/mechanisms/parallel12r/planar_kernel.h"
+#include "core/simd.h"
 
 namespace linkscape {
 
@@ -200,6 +202,30 @@ void check_request(const FieldRequest& req) {
   detail::check_grid(req.grid, Field::bytes_per_sample(), req.memory_limit_bytes);
 }
 
+PlanarKernel kernel_of(const FieldRequest& req) {
+  if (req.kernel) return *req.kernel;
+  const char* value = std::getenv("LINKSCAPE_FIELD_KERNEL");
+  if (!value || !*value) return PlanarKernel::VectorMirrored;
+  const std::string name = value;
+  if (name == "scalar") return PlanarKernel::Scalar;
+  if (name == "vector") return PlanarKernel::Vector;
+  if (name == "vector-mirrored") return PlanarKernel::VectorMirrored;
+  throw std::invalid_argument("LINKSCAPE_FIELD_KERNEL must be scalar, vector or vector-mirrored, got '" + name + "'");
+}
+
+// The planar kernel is odd in x with alpha -> -alpha (sa changes sign, every
+// other quantity keeps its value or changes sign exactly), so the sample at
+// (-x, y, z) equals the one at (x, y, z) bit for bit where the alpha range is
+// symmetric (or unchecked). A row can then be computed for one half and
+// mirrored, if the grid's x coordinates are themselves exact mirrors.
+bool mirror_is_exact(const Model& m, bool check_limits, const Grid& g) {
+  if (check_limits && m.alpha_limits.lo != -m.alpha_limits.hi) return false;
+  const int n = g.dims[0];
+  for (int i = 0; i < n; ++i)
+    if (g.point(i, 0, 0).x() != -g.point(n - 1 - i, 0, 0).x()) return false;
+  return true;
+}
+
 }  // namespace
 
 FieldSample sample_point(const Model& m, const Vector3d& p, const FieldRequest& req) {
@@ -221,13 +247,29 @@ std::optional<Field> compute_field(const Model& m, const FieldRequest& req, cons
   f.method = std::string(parallel12r::to_string(req.method));
   f.branch = req.branch;
 
+  const Grid& g = req.grid;
   const bool check_limits = !planar::full_ranges(m);
   const bool planar_method = req.method == parallel12r::IkMethod::Planar;
+  const PlanarKernel kernel = planar_method ? kernel_of(req) : PlanarKernel::Scalar;
+  if (kernel != PlanarKernel::Scalar) simd::apply_environment();
+  const bool mirrored = kernel == PlanarKernel::VectorMirrored && mirror_is_exact(m, check_limits, g);
   const planar::UnitModel unit = planar::unit_model(m);
-  const bool complete = detail::fill_field(f, false, req.threads, progress, [&](const Vector3d& p) {
-    return planar_method ? planar::to_field_sample(planar::sample(unit, p, req.branch, check_limits))
-                         : sample_general(m, p, req, check_limits);
-  });
+  const bool complete =
+      detail::fill_field_rows(f, false, req.threads, progress, [&](const detail::GridRow& row, const detail::FieldRowOut& out) {
+        const int n = row.count;
+        if (!planar_method) {
+          for (int t = 0; t < n; ++t) out.store(t, sample_general(m, row.point(g, t), req, check_limits));
+        } else if (kernel == PlanarKernel::Scalar) {
+          for (int t = 0; t < n; ++t)
+            out.store(t, planar::to_field_sample(planar::sample(unit, row.point(g, t), req.branch, check_limits)));
+        } else if (mirrored && row.axis == 0) {
+          const int half = n / 2;  // samples n - half .. n - 1 mirror to half - 1 .. 0
+          planar::sample_row_vector(unit, req.branch, check_limits, g, row, half, n - half, out);
+          for (int t = n - half; t < n; ++t) out.copy(t, n - 1 - t);
+        } else {
+          planar::sample_row_vector(unit, req.branch, check_limits, g, row, 0, n, out);
+        }
+      });
   if (!complete) return std::nullopt;
   return f;
 }

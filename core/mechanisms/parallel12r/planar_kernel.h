@@ -1,4 +1,8 @@
-// The 12R planar field kernel, internal to core (field.cpp; tests).
+// The 12R planar field kernel, internal to core: the scalar reference
+// (field.cpp) and the same computation on rows of samples with SIMD vectors
+// (field_simd.cpp, Highway with run-time dispatch). The two agree as
+// tests/core/mechanisms/parallel12r/test_field_simd.cpp states: the same
+// statuses and infinities, finite values within the tolerance given there.
 #pragma once
 
 #include <Eigen/Core>
@@ -35,5 +39,11 @@ Sample sample(const UnitModel& u, const Eigen::Vector3d& p, int branch, bool che
 
 // Sample s as the Field stores it.
 FieldSample to_field_sample(const Sample& s);
+
+// The same kernel on samples [first, first + count) of a grid row, with SIMD
+// vectors of the best instruction set this CPU has (simd::current_target()),
+// written into out at t = first .. first + count - 1.
+void sample_row_vector(const UnitModel& u, int branch, bool check_limits, const Grid& g, const detail::GridRow& row,
+                       int first, int count, const detail::FieldRowOut& out);
 
 }  // namespace linkscape::parallel12r::planar
