@@ -11,11 +11,14 @@
 //   1e-14 of the reach of the scalar ones (the range check's arctangents are
 //   Highway's, a few ulps from libm's);
 // - c(J) is stored as the rounding of a value within kCondTolerance of the
-//   scalar double: 1e-12 relative, plus where the two smaller eigenvalues of
-//   J^T J nearly coincide, 64 ulps times (l2 + l3) / (l2 - l3), because
-//   condition_number_fast takes l2 from a quadratic with a double root there
-//   (docs/performance.md). In practice the floats are identical on all but a
-//   few samples.
+//   scalar double: 1e-12 relative, plus where two eigenvalues l_i > l_j of
+//   J^T J nearly coincide, 64 ulps times (l_i + l_j) / (l_i - l_j), capped at
+//   1e-7: condition_number_fast takes l1 from acos(r) / 3, flat in r where
+//   l1 = l2, and l2 from a quadratic with a double root where l2 = l3, so the
+//   last bits of their inputs (Highway's acos and cos, products by
+//   reciprocals) move c(J) by that much there (docs/performance.md). In
+//   practice the floats are identical except within ~1e-4 of those sets,
+//   where they may differ by one float ulp.
 #include <gtest/gtest.h>
 
 #include <Eigen/SVD>
@@ -117,6 +120,16 @@ std::vector<Case> cases() {
     out.push_back({"around c = 1, extent " + std::to_string(extent), lengths(1, 1),
                    Grid::box(Vector3d(-extent, 1 - extent, 1 - extent), Vector3d(extent, 1 + extent, 1 + extent), {16, 9, 9})});
   }
+  // Where the two largest and the two smallest singular values of J coincide
+  // (L1 = L2 = 1, branch 0; found by minimising the gap over a random
+  // search): c(J) takes the last bits of Highway's arccosine and the
+  // quadratic's double root there.
+  out.push_back({"sigma_1 = sigma_2", lengths(1, 1),
+                 Grid::box(Vector3d(9.772797e-9, 0.318628177816464, 1.377851982) - Vector3d::Constant(1e-7),
+                           Vector3d(9.772797e-9, 0.318628177816464, 1.377851982) + Vector3d::Constant(1e-7), {24, 24, 24})});
+  out.push_back({"sigma_2 = sigma_3", lengths(1, 1),
+                 Grid::box(Vector3d(-6.2581653504e-5, -1.410815544, -0.097977017290829) - Vector3d::Constant(1e-7),
+                           Vector3d(-6.2581653504e-5, -1.410815544, -0.097977017290829) + Vector3d::Constant(1e-7), {24, 24, 24})});
   // Actuator ranges: symmetric alpha (the mirror holds), asymmetric alpha (it
   // does not), a range end at alpha = 0 that the x = 0 samples hit exactly,
   // and tight beta / gamma ranges.
@@ -173,15 +186,15 @@ bool rounds_within(float v, double d, double absolute) {
   return float(d - absolute) <= v && v <= float(d + absolute);
 }
 
-// The c(J) tolerance at p: 1e-12, widened where l2 and l3 of J^T J nearly
-// coincide (from the planar IK's J at p).
+// The c(J) tolerance at p: 1e-12, widened where two eigenvalues of J^T J
+// nearly coincide (from the planar IK's J at p).
 double cond_tolerance(const parallel12r::Model& m, const Vector3d& p, int branch) {
   const parallel12r::IkResult ik = parallel12r::inverse(m, p, parallel12r::IkMethod::Planar);
   for (const auto& s : ik.solutions) {
     if (s.branch != branch) continue;
     const Vector3d sv = parallel12r::jacobian(m, s.q_actuated).jacobiSvd().singularValues();
-    const double l2 = sv(1) * sv(1), l3 = sv(2) * sv(2);
-    return 1e-12 + std::min(1e-7, 64 * kUlp * (l2 + l3) / (l2 - l3));
+    const double l1 = sv(0) * sv(0), l2 = sv(1) * sv(1), l3 = sv(2) * sv(2);
+    return 1e-12 + std::min(1e-7, 64 * kUlp * std::max((l1 + l2) / (l1 - l2), (l2 + l3) / (l2 - l3)));
   }
   return 1e-12;
 }
@@ -270,7 +283,7 @@ TEST(FieldSimd, EveryTargetAgreesWithTheScalarKernel) {
     // needs more than 1e-12.
     for (Status s : {Status::Ok, Status::Unreachable, Status::Singular, Status::OutOfLimits})
       EXPECT_GT(tally.by_status[int(s)], 100) << target << " " << to_string(s);
-    EXPECT_LT(tally.wide_cond, tally.samples / 10000) << target;
+    EXPECT_LT(tally.wide_cond, tally.samples / 1000) << target;
   }
 }
 
