@@ -74,17 +74,6 @@ struct FieldRowOut {
     method_used[t] = s.method_used;
     if (cond_orientation) cond_orientation[t] = s.cond_orientation;
   }
-  // Sample `to` becomes a copy of sample `from`.
-  void copy(int from, int to) const {
-    cond[to] = cond[from];
-    reach_margin[to] = reach_margin[from];
-    residual[to] = residual[from];
-    reachable[to] = reachable[from];
-    status[to] = status[from];
-    iterations[to] = iterations[from];
-    method_used[to] = method_used[from];
-    if (cond_orientation) cond_orientation[to] = cond_orientation[from];
-  }
 };
 
 // Sizes f's arrays to f.grid (cond_orientation only if with_orientation) and

@@ -263,11 +263,9 @@ std::optional<Field> compute_field(const Model& m, const FieldRequest& req, cons
           for (int t = 0; t < n; ++t)
             out.store(t, planar::to_field_sample(planar::sample(unit, row.point(g, t), req.branch, check_limits)));
         } else if (mirrored && row.axis == 0) {
-          const int half = n / 2;  // samples n - half .. n - 1 mirror to half - 1 .. 0
-          planar::sample_row_vector(unit, req.branch, check_limits, g, row, half, n - half, out);
-          for (int t = n - half; t < n; ++t) out.copy(t, n - 1 - t);
+          planar::sample_row_vector(unit, req.branch, check_limits, g, row, n / 2, n - n / 2, true, out);
         } else {
-          planar::sample_row_vector(unit, req.branch, check_limits, g, row, 0, n, out);
+          planar::sample_row_vector(unit, req.branch, check_limits, g, row, 0, n, false, out);
         }
       });
   if (!complete) return std::nullopt;

@@ -102,6 +102,10 @@ HWY_INLINE V ConditionNumber(D d, const V* c0, const V* c1, const V* c2) {
 HWY_INLINE V StatusCode(D d, Status s) { return hn::Set(d, double(s)); }
 HWY_INLINE V Flag(D d, M m) { return hn::IfThenElseZero(m, hn::Set(d, 1.0)); }
 HWY_INLINE M IsSet(D d, V flag) { return flag != hn::Zero(d); }
+// Small whole numbers (0..255) held as doubles, as bytes.
+HWY_INLINE hn::Vec<hn::Rebind<std::uint8_t, D>> ToBytes(D /*d*/, V v) {
+  return hn::DemoteTo(hn::Rebind<std::uint8_t, D>(), hn::DemoteTo(hn::Rebind<std::int32_t, D>(), v));
+}
 
 // A row is computed in blocks of samples, each in passes: the geometry up to
 // J, then c(J), then the stores into the Field. Each pass is short enough for
@@ -233,44 +237,68 @@ void Conditioning(int count, Block& b) {
   }
 }
 
+// Where a sample goes: at its own index, and with `mirror` also at its
+// mirror image in the row (n - 1 - i), written from the same registers.
+struct RowStore {
+  const detail::FieldRowOut& out;
+  bool mirror;
+  int n;  // samples in the row
+
+  void put(int i, const FieldSample& s) const {
+    out.store(i, s);
+    if (mirror) out.store(n - 1 - i, s);
+  }
+};
+
 void SampleRow(const UnitModel& u, int branch, bool check_limits, const Grid& g, const detail::GridRow& row,
-               int first, int count, const detail::FieldRowOut& out) {
+               int first, int count, bool mirror, const detail::FieldRowOut& out) {
   const D d;
   const int lanes = int(hn::Lanes(d));
   const hn::Rebind<float, D> df;
+  const hn::Rebind<std::uint8_t, D> du8;
+  const hn::Rebind<std::uint16_t, D> du16;
   // The portable targets' DemoteTo saturates infinities to the largest float.
   constexpr bool kDemoteKeepsInfinity = HWY_TARGET != HWY_SCALAR && HWY_TARGET != HWY_EMU128;
+  const RowStore to{out, mirror, row.count};
+  const int last = row.count - 1;
   Block b;
   for (int block = 0; block < count; block += kBlock) {
     const int n = std::min(kBlock, count - block), full = kDemoteKeepsInfinity ? n / lanes * lanes : 0;
     Geometry(u, branch, check_limits, g, row, first + block, n, b);
     Conditioning(n, b);
     const int i0 = first + block;
+    const auto store_floats = [&](const double* from, float* into) {
+      for (int t = 0; t < full; t += lanes) {
+        const auto v = hn::DemoteTo(df, hn::Load(d, from + t));
+        hn::StoreU(v, df, into + i0 + t);
+        if (mirror) hn::StoreU(hn::Reverse(df, v), df, into + last - (i0 + t + lanes - 1));
+      }
+    };
+    store_floats(b.cond, out.cond);
+    store_floats(b.reach_margin, out.reach_margin);
+    store_floats(b.residual, out.residual);
+    // The byte arrays follow from the status: reachable where Ok, the planar
+    // method where Ok or OutOfLimits, no iterations.
+    const auto store_bytes = [&](V status, int i) {
+      const V ok = hn::IfThenElseZero(status == StatusCode(d, Status::Ok), hn::Set(d, 1.0));
+      const M solved = hn::Or(status == StatusCode(d, Status::Ok), status == StatusCode(d, Status::OutOfLimits));
+      const V method = hn::IfThenElse(solved, hn::Set(d, double(IkMethod::Planar)), hn::Set(d, double(Field::kNoMethod)));
+      hn::StoreU(ToBytes(d, status), du8, out.status + i);
+      hn::StoreU(ToBytes(d, ok), du8, out.reachable + i);
+      hn::StoreU(ToBytes(d, method), du8, out.method_used + i);
+      hn::StoreU(hn::Zero(du16), du16, out.iterations + i);
+    };
     for (int t = 0; t < full; t += lanes) {
-      hn::StoreU(hn::DemoteTo(df, hn::Load(d, b.cond + t)), df, out.cond + i0 + t);
-      hn::StoreU(hn::DemoteTo(df, hn::Load(d, b.reach_margin + t)), df, out.reach_margin + i0 + t);
-      hn::StoreU(hn::DemoteTo(df, hn::Load(d, b.residual + t)), df, out.residual + i0 + t);
+      const V status = hn::Load(d, b.status + t);
+      store_bytes(status, i0 + t);
+      if (mirror) store_bytes(hn::Reverse(d, status), last - (i0 + t + lanes - 1));
     }
-    for (int t = full; t < n; ++t) {
-      out.cond[i0 + t] = float(b.cond[t]);
-      out.reach_margin[i0 + t] = float(b.reach_margin[t]);
-      out.residual[i0 + t] = float(b.residual[t]);
-    }
-    // Through local pointers: a byte store could alias `out` itself.
-    std::uint8_t *status = out.status + i0, *reachable = out.reachable + i0, *method_used = out.method_used + i0;
-    std::uint16_t* iterations = out.iterations + i0;
-    for (int t = 0; t < n; ++t) {
-      const auto s = std::uint8_t(b.status[t]);
-      status[t] = s;
-      reachable[t] = s == std::uint8_t(Status::Ok);
-      iterations[t] = 0;
-      const bool solved = s == std::uint8_t(Status::Ok) || s == std::uint8_t(Status::OutOfLimits);
-      method_used[t] = solved ? std::uint8_t(IkMethod::Planar) : Field::kNoMethod;
-    }
+    for (int t = full; t < n; ++t)  // the last partial vector, one sample at a time
+      to.put(i0 + t, to_field_sample({b.cond[t], b.reach_margin[t], b.residual[t], Status(int(b.status[t]))}));
     for (int t = 0; t < n; t += lanes) {
       if (hn::AllFalse(d, IsSet(d, hn::Load(d, b.to_scalar + t)))) continue;
       for (int l = t; l < std::min(n, t + lanes); ++l)
-        if (b.to_scalar[l] != 0.0) out.store(i0 + l, to_field_sample(sample(u, row.point(g, i0 + l), branch, check_limits)));
+        if (b.to_scalar[l] != 0.0) to.put(i0 + l, to_field_sample(sample(u, row.point(g, i0 + l), branch, check_limits)));
     }
   }
 }
@@ -284,8 +312,8 @@ namespace linkscape::parallel12r::planar {
 HWY_EXPORT(SampleRow);
 
 void sample_row_vector(const UnitModel& u, int branch, bool check_limits, const Grid& g, const detail::GridRow& row,
-                       int first, int count, const detail::FieldRowOut& out) {
-  HWY_DYNAMIC_DISPATCH(SampleRow)(u, branch, check_limits, g, row, first, count, out);
+                       int first, int count, bool mirror, const detail::FieldRowOut& out) {
+  HWY_DYNAMIC_DISPATCH(SampleRow)(u, branch, check_limits, g, row, first, count, mirror, out);
 }
 
 }  // namespace linkscape::parallel12r::planar

@@ -42,8 +42,9 @@ FieldSample to_field_sample(const Sample& s);
 
 // The same kernel on samples [first, first + count) of a grid row, with SIMD
 // vectors of the best instruction set this CPU has (simd::current_target()),
-// written into out at t = first .. first + count - 1.
+// written into out at t = first .. first + count - 1; with `mirror` also at
+// row.count - 1 - t (the caller has checked that the mirror is exact).
 void sample_row_vector(const UnitModel& u, int branch, bool check_limits, const Grid& g, const detail::GridRow& row,
-                       int first, int count, const detail::FieldRowOut& out);
+                       int first, int count, bool mirror, const detail::FieldRowOut& out);
 
 }  // namespace linkscape::parallel12r::planar
