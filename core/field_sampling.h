@@ -1,16 +1,18 @@
 // The parallel sampling loop shared by every mechanism's field: cell-centre
-// points, fixed chunks over OpenMP, progress and cancellation. Internal to
+// points, grid rows in chunks over OpenMP, progress and cancellation. Internal to
 // core (included by the mechanism field sources, not by users).
 #pragma once
 
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include "core/field.h"
 
@@ -32,10 +34,56 @@ inline void check_grid(const Grid& g, std::size_t bytes_per_sample, std::size_t 
   }
 }
 
+// A run of consecutive samples along the grid's row axis: the first axis
+// with more than one sample (x, or y for an x-slice), so a row is contiguous
+// in the Field's arrays. Sample t (0 <= t < count) is
+// g.point(start + t * unit(axis)), stored at index + t.
+struct GridRow {
+  int axis = 0;
+  std::array<int, 3> start{0, 0, 0};
+  int count = 0;
+  std::size_t index = 0;
+
+  // The coordinates of sample t, computed as Grid::point does (bit for bit).
+  Eigen::Vector3d point(const Grid& g, int t) const {
+    std::array<int, 3> ijk = start;
+    ijk[axis] += t;
+    return g.point(ijk[0], ijk[1], ijk[2]);
+  }
+};
+
+// Where a row's samples go: each of the Field's arrays from the row's first
+// index. cond_orientation is null for a field without the second measure.
+struct FieldRowOut {
+  float* cond;
+  float* reach_margin;
+  float* residual;
+  std::uint8_t* reachable;
+  std::uint8_t* status;
+  std::uint16_t* iterations;
+  std::uint8_t* method_used;
+  float* cond_orientation;
+
+  void store(int t, const FieldSample& s) const {
+    cond[t] = s.cond;
+    reach_margin[t] = s.reach_margin;
+    residual[t] = s.residual;
+    reachable[t] = s.reachable;
+    status[t] = s.status;
+    iterations[t] = s.iterations;
+    method_used[t] = s.method_used;
+    if (cond_orientation) cond_orientation[t] = s.cond_orientation;
+  }
+};
+
 // Sizes f's arrays to f.grid (cond_orientation only if with_orientation) and
-// fills sample i with sample_at(point i). Returns false if cancelled.
-template <class SampleAt>
-bool fill_field(Field& f, bool with_orientation, int threads, const FieldProgress& progress, SampleAt&& sample_at) {
+// calls sample_row(const GridRow&, const FieldRowOut&) once for every grid
+// row, which must fill all the row's samples. Rows go to the threads in
+// chunks of about 512 samples (at least one row); the cancel flag is checked
+// before each chunk. Returns false if cancelled.
+template <class SampleRow>
+bool fill_field_rows(Field& f, bool with_orientation, int threads, const FieldProgress& progress,
+                     SampleRow&& sample_row) {
   const Grid& g = f.grid;
   const std::size_t n = g.size();
   f.cond.resize(n);
@@ -47,30 +95,34 @@ bool fill_field(Field& f, bool with_orientation, int threads, const FieldProgres
   f.method_used.resize(n);
   if (with_orientation) f.cond_orientation.resize(n);
 
-  // Fixed chunks of consecutive samples: balanced whatever the slice
-  // orientation, and the cancel flag is checked before each chunk (<0.1 ms).
-  constexpr std::int64_t kChunk = 512;
-  const std::int64_t chunks = (std::int64_t(n) + kChunk - 1) / kChunk;
+  const int axis = g.dims[0] > 1 ? 0 : g.dims[1] > 1 ? 1 : 2;
+  const std::int64_t row_length = g.dims[axis];
+  const std::int64_t rows = std::int64_t(n) / row_length;
+  constexpr std::int64_t kChunkSamples = 512;
+  const std::int64_t rows_per_chunk = std::max<std::int64_t>(1, kChunkSamples / row_length);
+  const std::int64_t chunks = (rows + rows_per_chunk - 1) / rows_per_chunk;
   const std::int64_t report_every = std::max<std::int64_t>(1, chunks / 200);
   std::atomic<std::int64_t> chunks_done{0};
   const int team = threads > 0 ? threads : omp_get_max_threads();
-  const std::int64_t nx = g.dims[0], nxy = nx * g.dims[1];
+  const std::int64_t nx = g.dims[0], ny = g.dims[1];
 
 #pragma omp parallel for schedule(dynamic, 4) num_threads(team)
   for (std::int64_t c = 0; c < chunks; ++c) {
     if (progress.cancel && progress.cancel->load(std::memory_order_relaxed)) continue;
-    const std::int64_t end = std::min<std::int64_t>(std::int64_t(n), (c + 1) * kChunk);
-    for (std::int64_t idx = c * kChunk; idx < end; ++idx) {
-      const int i = int(idx % nx), j = int((idx / nx) % g.dims[1]), k = int(idx / nxy);
-      const FieldSample s = sample_at(g.point(i, j, k));
-      f.cond[idx] = s.cond;
-      f.reach_margin[idx] = s.reach_margin;
-      f.residual[idx] = s.residual;
-      f.reachable[idx] = s.reachable;
-      f.status[idx] = s.status;
-      f.iterations[idx] = s.iterations;
-      f.method_used[idx] = s.method_used;
-      if (with_orientation) f.cond_orientation[idx] = s.cond_orientation;
+    const std::int64_t last = std::min(rows, (c + 1) * rows_per_chunk);
+    for (std::int64_t r = c * rows_per_chunk; r < last; ++r) {
+      // The axes before `axis` have one sample, so the row starts at index r * row_length.
+      const std::int64_t index = r * row_length;
+      GridRow row;
+      row.axis = axis;
+      row.start = {int(index % nx), int(index / nx % ny), int(index / (nx * ny))};
+      row.count = int(row_length);
+      row.index = std::size_t(index);
+      const FieldRowOut out{f.cond.data() + index,       f.reach_margin.data() + index, f.residual.data() + index,
+                            f.reachable.data() + index,  f.status.data() + index,       f.iterations.data() + index,
+                            f.method_used.data() + index,
+                            with_orientation ? f.cond_orientation.data() + index : nullptr};
+      sample_row(std::as_const(row), out);
     }
     const std::int64_t done = chunks_done.fetch_add(1, std::memory_order_relaxed) + 1;
     if (progress.report && done % report_every == 0) progress.report(double(done) / double(chunks));
@@ -78,6 +130,14 @@ bool fill_field(Field& f, bool with_orientation, int threads, const FieldProgres
   if (progress.cancel && progress.cancel->load()) return false;
   if (progress.report) progress.report(1.0);
   return true;
+}
+
+// The same for a kernel of one point: fills sample i with sample_at(point i).
+template <class SampleAt>
+bool fill_field(Field& f, bool with_orientation, int threads, const FieldProgress& progress, SampleAt&& sample_at) {
+  return fill_field_rows(f, with_orientation, threads, progress, [&](const GridRow& row, const FieldRowOut& out) {
+    for (int t = 0; t < row.count; ++t) out.store(t, sample_at(row.point(f.grid, t)));
+  });
 }
 
 }  // namespace linkscape::detail

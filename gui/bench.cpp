@@ -20,6 +20,7 @@
 #include "core/method_harness.h"
 #include "core/mechanism.h"
 #include "core/preset.h"
+#include "core/simd.h"
 #include "core/stability.h"
 #include "gui/headless.h"
 #include "gui/method_chart.h"
@@ -73,8 +74,9 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
   std::string design;
   for (const Quantity& q : info.parameters)
     if (q.in_panel) design += (design.empty() ? "" : ", ") + q.name + " = " + format_number(m->parameters().at(q.name));
+  simd::apply_environment();
   out << "linkscape bench: " << info.name << " (" << design << " " << unit << "), " << threads
-      << " threads available\n\n";
+      << " threads available, SIMD target " << simd::current_target() << "\n\n";
 
   // Throughput of the main measure's field over the device's default box.
   const std::string method = info.ik_methods.front().name;

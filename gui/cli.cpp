@@ -335,6 +335,10 @@ int run(int argc, char** argv) {
   bench_cmd->add_option("--sweeps", bench.sweeps,
                         "Write the error-against-distance chart of the sweeps towards each singular set "
                         "(.png, .svg, .pdf)");
+  bench_cmd->footer(
+      "Fields use SIMD kernels with the best instruction set of the CPU. Environment, for every command:\n"
+      "  LINKSCAPE_SIMD_TARGET=AVX2|SSE4|...|baseline   use at most this instruction set\n"
+      "  LINKSCAPE_FIELD_KERNEL=scalar|vector|vector-mirrored   parallel-12r planar kernel (default vector-mirrored)");
 
   try {
     app.parse(argc, argv);

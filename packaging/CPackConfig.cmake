@@ -3,7 +3,8 @@
 # CMakeLists.txt, so every install() rule of the project is known here.
 #
 # Depends is computed by dpkg-shlibdeps (package dpkg-dev) from the shared
-# libraries the installed binary really links (Qt6, VTK 9.1, OpenMP, ...).
+# libraries the installed binary really links (Qt6, VTK 9.1, OpenMP, Highway
+# (libhwy1, the SIMD dispatch of the field kernels), ...).
 # On Debian 12 the Qt xcb platform plugin ships in libqt6gui6, which
 # shlibdeps already pulls in, so nothing is dlopen()ed from another package.
 # check-deb.sh builds and inspects the package without installing it.

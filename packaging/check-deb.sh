@@ -5,8 +5,9 @@
 # BUILD_DIR) and checks it WITHOUT installing it: control fields and Depends
 # (dpkg-deb -I), the file list, then runs the binary extracted with
 # dpkg-deb -x -- --help, a forward-kinematics eval that must find the
-# packaged preset through <exe>/../share/linkscape/mechanisms, and, when
-# DISPLAY is set, --screenshot. Prints one PASS/FAIL/SKIP line per check and
+# packaged preset through <exe>/../share/linkscape/mechanisms, a field on the
+# baseline SIMD target against the scalar kernel, and, when DISPLAY is set,
+# --screenshot. Prints one PASS/FAIL/SKIP line per check and
 # exits non-zero if any check failed. On success the package is also copied
 # to BUILD_DIR/linkscape_<version>_<arch>.deb.
 #
@@ -86,10 +87,10 @@ echo "Depends: $depends"
 # Package names in Depends, one a line, without versions or alternatives.
 dep_names=$(sed 's/([^)]*)//g; s/[|,]/\n/g' <<<"$depends" | tr -d ' ' | sed '/^$/d')
 missing=()
-for lib in libc6 libstdc++6 libgomp1 libqt6core6 libqt6gui6 libqt6widgets6 libqt6openglwidgets6 libvtk9.1; do
+for lib in libc6 libstdc++6 libgomp1 libhwy1 libqt6core6 libqt6gui6 libqt6widgets6 libqt6openglwidgets6 libvtk9.1; do
   grep -qxF "$lib" <<<"$dep_names" || missing+=("$lib")
 done
-if [ ${#missing[@]} -eq 0 ]; then pass "Depends names libc6, libstdc++6, libgomp1, Qt6 and VTK 9.1"
+if [ ${#missing[@]} -eq 0 ]; then pass "Depends names libc6, libstdc++6, libgomp1, Highway, Qt6 and VTK 9.1"
 else fail "Depends lacks: ${missing[*]}"; fi
 # Every dependency must be installable here (the build machine has them all).
 unresolved=()
@@ -192,6 +193,31 @@ if [ -f "$preset" ] && sed -i 's/"L1": *15\.0/"L1": 21.0/; s/"L2": *15\.0/"L2": 
   fi
 else
   fail "cannot edit the packaged preset's L1/L2 (format changed?)"
+fi
+
+# 4c. As on a CPU with only the baseline instruction set (SSE2): the
+# vectorised field forced to Highway's portable target must give the scalar
+# reference's statuses, reach and method, and c(J) within a float rounding.
+field_csv() {  # name file [VAR=value]: a 12R field at 21^3 as CSV
+  local name=$1 file=$2; shift 2
+  (cd "$work" && run "$name" env -u LINKSCAPE_ASSETS "$@" "$exe" field --mechanism parallel-12r \
+     --resolution 21 --output "$file")
+}
+if field_csv field-baseline "$work/baseline.csv" LINKSCAPE_SIMD_TARGET=baseline &&
+   field_csv field-scalar "$work/scalar.csv" LINKSCAPE_FIELD_KERNEL=scalar; then
+  # Columns: x,y,z,cond,reach_margin,residual,reachable,status,iterations,method_used
+  if paste -d, "$work/baseline.csv" "$work/scalar.csv" | awk -F, '
+       NR == 1 { next }
+       { n++; for (i = 7; i <= 10; i++) if ($i != $(i + 10)) bad++
+         a = $4; b = $14; d = a - b; if (d < 0) d = -d; m = (a < 0 ? -a : a)
+         if (a != b && !(d <= 2.4e-7 * m)) bad++ }
+       END { exit !(n == 9261 && bad == 0) }'; then
+    pass "field on the baseline SIMD target agrees with the scalar kernel (9261 samples)"
+  else
+    fail "field on the baseline SIMD target differs from the scalar kernel"
+  fi
+else
+  fail "linkscape field with LINKSCAPE_SIMD_TARGET=baseline / LINKSCAPE_FIELD_KERNEL=scalar"
 fi
 
 if [ -n "${DISPLAY:-}" ]; then

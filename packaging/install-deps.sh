@@ -5,7 +5,7 @@ set -euo pipefail
 
 packages=(
   cmake ninja-build g++ dpkg-dev pkg-config
-  libeigen3-dev nlohmann-json3-dev libcli11-dev
+  libeigen3-dev nlohmann-json3-dev libcli11-dev libhwy-dev
   libvtk9-dev libopenmesh-dev
   qt6-base-dev libqt6opengl6-dev qt6-svg-dev
   libgtest-dev libbenchmark-dev

@@ -1,9 +1,13 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <random>
 #include <thread>
 
+#include "core/conditioning.h"
 #include "core/mechanisms/parallel12r/field.h"
+#include "core/mechanisms/parallel12r/planar_kernel.h"
+#include "tests/core/mechanisms/parallel12r/reference_12r.h"
 
 using namespace linkscape;
 using parallel12r::IkMethod;
@@ -145,4 +149,37 @@ TEST(Field, RefusesRequestsOverTheMemoryLimit) {
   r.grid = Grid::box({-2, -2, -2}, {2, 2, 2}, {4, 4, 4});
   r.branch = 2;
   EXPECT_THROW(compute_field(unit_model(), r), std::invalid_argument);
+}
+
+// The planar kernel's closed forms (J written in the links' components, forward
+// kinematics to first order in their length errors) against parallel12r's
+// Jacobian at random configurations q, whose endpoints come from the paper's
+// forward kinematics in long double; alpha reaches within 1e-6 rad of
+// +-pi/2 (targets near the y = 0 plane, where the paper's d = sqrt(1 -
+// sin^2 a sin^2 t) cancels and the kernel's form does not).
+TEST(Field, PlanarKernelMatchesTheJacobianAtRandomConfigurations) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> length(0.2, 1.8);
+  linkscape::testing::ConfigurationSampler configurations(9, 1e-6);
+  int compared = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    parallel12r::Model m;
+    m.L1 = length(rng);
+    m.L2 = length(rng);
+    const Eigen::Vector3d q = configurations();
+    const Eigen::Vector3d p = linkscape::testing::paper_forward_in<long double>(m.L1, m.L2, q(0), q(1), q(2));
+    const parallel12r::planar::Sample s =
+        parallel12r::planar::sample(parallel12r::planar::unit_model(m), p, parallel12r::branch_of(q), false);
+    const double c = condition_number_closed_form(parallel12r::jacobian(m, q));
+    if (c > parallel12r::kMaxTrustedCondition) continue;
+    ASSERT_EQ(s.status, Status::Ok) << q.transpose();
+    // Near a singular set (c large) the IK is ill-conditioned: rounding p to
+    // double moves the configuration by ~u c and c(J) by ~u c^2 relative, in
+    // both the kernel and the reference at q (a long-double evaluation of the
+    // kernel's formulas at the same p shows both errors of that size).
+    EXPECT_NEAR(s.cond, c, (1e-12 + 4 * 0x1p-53 * c * c) * c) << q.transpose();
+    EXPECT_LT(s.residual, 1e-14 * m.reach());
+    ++compared;
+  }
+  EXPECT_GT(compared, 15000);
 }
