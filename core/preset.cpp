@@ -43,14 +43,19 @@ namespace {
 
 fs::path resolve_preset(const std::string& name_or_path) {
   const fs::path given(name_or_path);
+  // The error_code forms: a name the file system refuses (too long, say) is
+  // a name that names no preset, not an exception of another kind.
+  std::error_code ec;
   if (given.extension() == ".json" || given.has_parent_path()) {
-    if (!fs::is_regular_file(given))
-      throw std::invalid_argument("preset file '" + name_or_path + "' does not exist");
+    if (!fs::is_regular_file(given, ec))
+      throw std::invalid_argument("preset file '" + name_or_path + "' " +
+                                  (ec && ec != std::errc::no_such_file_or_directory ? "cannot be read: " + ec.message()
+                                                                                    : std::string("does not exist")));
     return given;
   }
   for (const fs::path& dir : preset_search_path()) {
     const fs::path candidate = dir / (name_or_path + ".json");
-    if (fs::is_regular_file(candidate)) return candidate;
+    if (fs::is_regular_file(candidate, ec)) return candidate;
   }
   std::string known;
   for (const auto& n : available_presets()) known += (known.empty() ? "" : ", ") + n;

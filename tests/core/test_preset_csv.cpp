@@ -92,6 +92,15 @@ TEST(Csv, AcceptsAByteOrderMarkAndAPlusSignAndKeepsLineNumbers) {
     EXPECT_FALSE(parse_number(not_numbers).has_value()) << not_numbers;
 }
 
+// A name the file system refuses (longer than NAME_MAX) is an unknown preset,
+// not a std::filesystem::filesystem_error (found by fuzzing sessions).
+TEST(Preset, AnOverlongNameIsAnUnknownPreset) {
+  const std::string name(5000, 'a');
+  EXPECT_THROW(load_preset(name), std::invalid_argument);
+  EXPECT_THROW(load_preset(name + ".json"), std::invalid_argument);
+  EXPECT_THROW(load_preset("dir/" + name), std::invalid_argument);
+}
+
 TEST(Csv, RefusesAByteOrderMarkAnywhereButTheStart) {
   // A second mark would become an invisible column name (or part of one) that
   // no header written back can reproduce.
