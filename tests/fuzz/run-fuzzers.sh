@@ -64,7 +64,8 @@ for target in "${targets[@]}"; do
   [ -n "$execs" ] || execs=$(grep -o '^#[0-9]*' "$log" | tail -n1 | tr -d '#' || true)
   crashes=$(find "$work" -maxdepth 1 -name 'crash-*' -o -maxdepth 1 -name 'timeout-*' -o -maxdepth 1 -name 'oom-*' | wc -l)
   rm -rf "$work/merged" && mkdir -p "$work/merged"
-  "$build/tests/fuzz/fuzz_$target" -merge=1 "$work/merged" "tests/fuzz/corpus/$target" "$work/corpus" >"$work/merge.log" 2>&1 || true
+  # The merge runs every input again: any that crashes is written under $work, not the current folder.
+  "$build/tests/fuzz/fuzz_$target" -merge=1 -artifact_prefix="$work/merge-" "$work/merged" "tests/fuzz/corpus/$target" "$work/corpus" >"$work/merge.log" 2>&1 || true
   merged=$(find "$work/merged" -type f | wc -l)
   summary+=("$target: ${execs:-?} inputs, exit $rc, $crashes crash/timeout/oom files in $work, merged corpus $merged files")
   if [ "$rc" -ne 0 ] || [ "$crashes" -gt 0 ]; then
