@@ -60,6 +60,8 @@ UnitModel unit_model(const Model& m) {
   return u;
 }
 
+namespace {
+
 // The planar closed form without trigonometry, in unit lengths. The target
 // fixes alpha (cos a, sin a from x, y) and the plane of the links, in which
 // the two-link IK gives each link's components l_i = (l_ir, l_iz); the
@@ -126,24 +128,14 @@ Sample sample_unit(const Model& m, const Vector3d& p, int branch, bool check_lim
   return out;
 }
 
+}  // namespace
+
 // In the model's units: solved in unit lengths, margin and residual scaled back.
 Sample sample(const UnitModel& u, const Vector3d& p, int branch, bool check_limits) {
   Sample s = sample_unit(u.unit, p * u.to_unit, branch, check_limits);
   s.reach_margin *= u.from_unit;
   s.residual *= u.from_unit;
   return s;
-}
-
-FieldSample to_field_sample(const Sample& s) {
-  FieldSample f;
-  f.cond = float(s.cond);
-  f.reach_margin = float(s.reach_margin);
-  f.residual = float(s.residual);
-  f.status = std::uint8_t(s.status);
-  f.reachable = s.status == Status::Ok;
-  const bool solved = s.status == Status::Ok || s.status == Status::OutOfLimits;
-  f.method_used = solved ? std::uint8_t(IkMethod::Planar) : Field::kNoMethod;
-  return f;
 }
 
 }  // namespace parallel12r::planar

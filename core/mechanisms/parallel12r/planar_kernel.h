@@ -38,7 +38,17 @@ bool full_ranges(const Model& m);
 Sample sample(const UnitModel& u, const Eigen::Vector3d& p, int branch, bool check_limits);
 
 // Sample s as the Field stores it.
-FieldSample to_field_sample(const Sample& s);
+inline FieldSample to_field_sample(const Sample& s) {
+  FieldSample f;
+  f.cond = float(s.cond);
+  f.reach_margin = float(s.reach_margin);
+  f.residual = float(s.residual);
+  f.status = std::uint8_t(s.status);
+  f.reachable = s.status == Status::Ok;
+  const bool solved = s.status == Status::Ok || s.status == Status::OutOfLimits;
+  f.method_used = solved ? std::uint8_t(IkMethod::Planar) : Field::kNoMethod;
+  return f;
+}
 
 // The same kernel on samples [first, first + count) of a grid row, with SIMD
 // vectors of the best instruction set this CPU has (simd::current_target()),
