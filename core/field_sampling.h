@@ -15,6 +15,7 @@
 #include <utility>
 
 #include "core/field.h"
+#include "core/simd.h"
 
 namespace linkscape::detail {
 
@@ -109,6 +110,7 @@ bool fill_field_rows(Field& f, bool with_orientation, int threads, const FieldPr
 #pragma omp parallel for schedule(dynamic, 4) num_threads(team)
   for (std::int64_t c = 0; c < chunks; ++c) {
     if (progress.cancel && progress.cancel->load(std::memory_order_relaxed)) continue;
+    simd::clear_upper_registers();
     const std::int64_t last = std::min(rows, (c + 1) * rows_per_chunk);
     for (std::int64_t r = c * rows_per_chunk; r < last; ++r) {
       // The axes before `axis` have one sample, so the row starts at index r * row_length.

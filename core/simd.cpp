@@ -82,6 +82,13 @@ void apply_environment() {
   });
 }
 
+void clear_upper_registers() {
+#if HWY_ARCH_X86_64 && (defined(__GNUC__) || defined(__clang__))
+  static const bool has_avx = __builtin_cpu_supports("avx");
+  if (has_avx) asm volatile("vzeroupper");
+#endif
+}
+
 }  // namespace linkscape::simd
 
 #endif  // HWY_ONCE

@@ -29,4 +29,12 @@ void limit_targets(const std::string& name);
 // call it before they dispatch. Throws as limit_targets, naming the variable.
 void apply_environment();
 
+// Marks the upper halves of the AVX registers unused (vzeroupper) on CPUs
+// that have them; no-op elsewhere. While they are marked in use, code built
+// for baseline x86-64 (SSE: every scalar kernel) waits on them on Intel
+// CPUs, and libraries in the application leave them so: the scalar 12R
+// kernel ran at half speed in `linkscape` until the field loop called this
+// before each chunk of rows.
+void clear_upper_registers();
+
 }  // namespace linkscape::simd

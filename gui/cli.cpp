@@ -336,7 +336,8 @@ int run(int argc, char** argv) {
                         "Write the error-against-distance chart of the sweeps towards each singular set "
                         "(.png, .svg, .pdf)");
   bench_cmd->footer(
-      "Fields use SIMD kernels with the best instruction set of the CPU. Environment, for every command:\n"
+      "parallel-12r planar fields use SIMD kernels with the best instruction set of the CPU. Environment, for\n"
+      "every command:\n"
       "  LINKSCAPE_SIMD_TARGET=AVX2|SSE4|...|baseline   use at most this instruction set\n"
       "  LINKSCAPE_FIELD_KERNEL=scalar|vector|vector-mirrored   parallel-12r planar kernel (default vector-mirrored)");
 

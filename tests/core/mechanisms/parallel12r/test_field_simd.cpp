@@ -17,7 +17,7 @@
 //   l1 = l2, and l2 from a quadratic with a double root where l2 = l3, so the
 //   last bits of their inputs (Highway's acos and cos, products by
 //   reciprocals) move c(J) by that much there (docs/performance.md). In
-//   practice the floats are identical except within ~1e-4 of those sets,
+//   practice the stored floats are identical except very near those sets,
 //   where they may differ by one float ulp.
 #include <gtest/gtest.h>
 
