@@ -1,10 +1,11 @@
 // linkscape fit: the smallest design of a device whose task volume meets the
-// criteria (core/fit.h), as a report, a CSV of every design evaluated and a
+// criteria, or the largest margin at a given size (core/fit.h), as a report, a CSV of every design evaluated and a
 // Pareto chart of size against the worst measure.
 #pragma once
 
 #include <CLI/CLI.hpp>
 #include <iosfwd>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,7 +26,8 @@ struct FitOptions {
   std::string torque = "continuous";
   int resolution = 64, refinements = 2, places = 3;  // the largest inscribed shape (docs/task-volumes.md)
   int task_resolution = 24;            // the task evaluated at its centre
-  double tolerance = 1e-3;             // relative, on the size
+  double tolerance = 1e-3;             // relative, on the size (or the margin search's step)
+  std::optional<double> size;          // set: the largest margin at this size
   std::string output;                  // CSV: the smallest design first, then every design by size
   std::string chart;                   // size against the worst measure (.png, .svg, .pdf)
   bool quiet = false;                  // no progress on stderr
