@@ -229,4 +229,38 @@ TEST(FitMargin, SizesNoDesignHasAreErrors) {
   p.size = 30;
   p.variables = fit::variables(*make_mechanism(p.preset), {}, {}, {"L1=20:25", "L2=20:25"});
   expect_error([&] { fit::solve(p); }, "they span 40 to 50");
+  // The Delta's R is not in its size (La + Lb): holding the size leaves nothing to choose.
+  p.preset = load_preset("delta");
+  p.variables = fit::variables(*make_mechanism(p.preset), {"R"}, {}, {});
+  p.size = 20;
+  expect_error([&] { fit::solve(p); }, "needs a free parameter the size counts (La + Lb)");
+}
+
+// Three free parameters (PATHOS-II's l0, l2, l3; the size is l2 + l3): the
+// answer is the best of the shortened scan designs, not a full
+// optimisation, so check it is sensible: a two-variable search (the finer
+// search over l2, l3) with l0 held where the three-variable answer put it
+// finds no design clearly smaller. "Clearly": the bisection's 1 % tolerance
+// and the coarse sampling's noise, 3 % in all.
+TEST(FitSearch, ThreeFreeParametersGiveADesignTheTwoVariableSearchCannotClearlyBeat) {
+  fit::Problem p;
+  p.preset = load_preset("pathos2");
+  p.variables = fit::variables(*make_mechanism(p.preset), {"l0", "l2", "l3"}, {}, {});
+  p.task = task::parse_task("sphere:diameter=4");
+  p.criteria = {task::parse_criterion("reach"), task::parse_criterion("cond<5")};
+  p.inscribed = {24, 1, 1};
+  p.task_resolution = 8;
+  p.tolerance = 1e-2;
+  const fit::Result three = fit::solve(p);
+  ASSERT_TRUE(three.best);
+  const fit::Row& best = three.rows[*three.best];
+  EXPECT_LE(three.rows.size(), 80u) << "cost: 12 scan designs per variable, the corners and three bisections";
+
+  fit::Problem held = p;
+  held.preset.parameters["l0"] = best.parameters.at("l0");
+  held.variables = fit::variables(*make_mechanism(held.preset), {"l2", "l3"}, {}, {});
+  const fit::Result two = fit::solve(held);
+  ASSERT_TRUE(two.best);
+  EXPECT_GE(two.rows[*two.best].size, best.size * (1 - 0.03))
+      << "three free: " << best.size << ", l0 held at " << best.parameters.at("l0");
 }

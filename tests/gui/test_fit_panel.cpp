@@ -148,7 +148,18 @@ class FitPanelTest : public QObject {
     QVERIFY2(panel->statusText().contains("no design within the bounds has size"), qPrintable(panel->statusText()));
     QVERIFY(!panel->result());
 
+    // Links too short for the task: a result, the closest design, not an error.
     panel->setMode(FitPanel::Mode::SmallestSize);
+    coarse(panel);
+    panel->setEqual("L1,L2");
+    panel->setBounds("L1", 2, 5);
+    panel->setBounds("L2", 2, 5);
+    QVERIFY(run_and_wait(panel));
+    QVERIFY(panel->result() && !panel->result()->best && panel->result()->closest);
+    QVERIFY2(panel->statusText().startsWith("no design in the bounds meets it; closest: L1 = 5"),
+             qPrintable(panel->statusText()));
+    QCOMPARE(panel->chosenDesign().at("L2"), 5.0);
+
     panel->setSearchSettings({96, 2, 3}, 24, 1e-3);  // long enough to cancel
     QSignalSpy finished(panel, &FitPanel::runFinished);
     panel->run();
