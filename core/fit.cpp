@@ -175,6 +175,92 @@ std::vector<VectorXd> scan_points(const VectorXd& lo, const VectorXd& hi) {
   return out;
 }
 
+}  // namespace
+
+std::vector<std::string> size_terms(const MechanismInfo& info) {
+  std::vector<std::string> out;
+  std::stringstream terms(info.size_description);
+  for (std::string term; std::getline(terms, term, '+');) {
+    term.erase(0, term.find_first_not_of(' '));
+    term.erase(term.find_last_not_of(' ') + 1);
+    out.push_back(term);
+  }
+  return out;
+}
+
+std::string Variable::name() const {
+  std::string out;
+  for (const std::string& p : parameters) out += (out.empty() ? "" : "=") + p;
+  return out;
+}
+
+std::vector<Variable> variables(const Mechanism& mechanism, const std::vector<std::string>& free,
+                                const std::vector<std::string>& equal, const std::vector<std::string>& bounds) {
+  const auto& described = mechanism.info().parameters;
+  auto find = [&](const std::string& name) -> const Quantity& {
+    for (const Quantity& q : described)
+      if (q.name == name) return q;
+    std::string known;
+    for (const Quantity& q : described)
+      if (q.in_panel) known += (known.empty() ? "" : ", ") + q.name;
+    throw std::invalid_argument("fit: unknown parameter '" + name + "' for " + mechanism.info().name +
+                                " (design parameters: " + known + ")");
+  };
+  auto split = [](const std::string& text) {
+    std::vector<std::string> out;
+    std::stringstream ss(text);
+    for (std::string part; std::getline(ss, part, ',');) out.push_back(part);
+    return out;
+  };
+  std::vector<std::string> names;
+  for (const std::string& f : free)
+    for (const std::string& n : split(f)) names.push_back(find(n).name);
+  if (free.empty())
+    for (const Quantity& q : described)
+      if (q.in_panel) names.push_back(q.name);
+  std::vector<Variable> out;
+  std::set<std::string> taken;
+  for (const std::string& group : equal) {
+    Variable v;
+    for (const std::string& n : split(group)) {
+      find(n);
+      if (!taken.insert(n).second) throw std::invalid_argument("fit: parameter '" + n + "' is in two --equal groups");
+      v.parameters.push_back(n);
+    }
+    if (v.parameters.size() < 2) throw std::invalid_argument("fit: --equal expects two or more parameters, got '" + group + "'");
+    out.push_back(v);
+  }
+  for (const std::string& n : names)
+    if (taken.insert(n).second) out.push_back({{n}, 0, 0});
+  for (Variable& v : out) {
+    v.lo = -kInf;
+    v.hi = kInf;
+    for (const std::string& n : v.parameters) {
+      const Quantity& q = find(n);
+      v.lo = std::max(v.lo, q.range.lo);
+      v.hi = std::min(v.hi, q.range.hi);
+    }
+  }
+  for (const std::string& b : bounds) {
+    const auto eq = b.find('='), colon = b.find(':');
+    if (eq == std::string::npos || colon == std::string::npos || colon < eq)
+      throw std::invalid_argument("fit: --bounds expects NAME=lo:hi, got '" + b + "'");
+    const std::string name = b.substr(0, eq);
+    const double lo = parse_number_or_throw(b.substr(eq + 1, colon - eq - 1), "--bounds " + name + " lower bound");
+    const double hi = parse_number_or_throw(b.substr(colon + 1), "--bounds " + name + " upper bound");
+    find(name);
+    auto it = std::find_if(out.begin(), out.end(), [&](const Variable& v) {
+      return std::count(v.parameters.begin(), v.parameters.end(), name) > 0;
+    });
+    if (it == out.end()) throw std::invalid_argument("fit: --bounds names '" + name + "', which is not free");
+    it->lo = lo;
+    it->hi = hi;
+  }
+  return out;
+}
+
+namespace {
+
 void require_a_valid_design(const Result& r) {
   const bool any_valid = std::any_of(r.rows.begin(), r.rows.end(), [](const Row& row) { return row.invalid.empty(); });
   if (!any_valid && !r.rows.empty())
@@ -387,88 +473,6 @@ void largest_margin_at_size(const Problem& problem, Search& search) {
 }
 
 }  // namespace
-
-std::vector<std::string> size_terms(const MechanismInfo& info) {
-  std::vector<std::string> out;
-  std::stringstream terms(info.size_description);
-  for (std::string term; std::getline(terms, term, '+');) {
-    term.erase(0, term.find_first_not_of(' '));
-    term.erase(term.find_last_not_of(' ') + 1);
-    out.push_back(term);
-  }
-  return out;
-}
-
-std::string Variable::name() const {
-  std::string out;
-  for (const std::string& p : parameters) out += (out.empty() ? "" : "=") + p;
-  return out;
-}
-
-std::vector<Variable> variables(const Mechanism& mechanism, const std::vector<std::string>& free,
-                                const std::vector<std::string>& equal, const std::vector<std::string>& bounds) {
-  const auto& described = mechanism.info().parameters;
-  auto find = [&](const std::string& name) -> const Quantity& {
-    for (const Quantity& q : described)
-      if (q.name == name) return q;
-    std::string known;
-    for (const Quantity& q : described)
-      if (q.in_panel) known += (known.empty() ? "" : ", ") + q.name;
-    throw std::invalid_argument("fit: unknown parameter '" + name + "' for " + mechanism.info().name +
-                                " (design parameters: " + known + ")");
-  };
-  auto split = [](const std::string& text) {
-    std::vector<std::string> out;
-    std::stringstream ss(text);
-    for (std::string part; std::getline(ss, part, ',');) out.push_back(part);
-    return out;
-  };
-  std::vector<std::string> names;
-  for (const std::string& f : free)
-    for (const std::string& n : split(f)) names.push_back(find(n).name);
-  if (free.empty())
-    for (const Quantity& q : described)
-      if (q.in_panel) names.push_back(q.name);
-  std::vector<Variable> out;
-  std::set<std::string> taken;
-  for (const std::string& group : equal) {
-    Variable v;
-    for (const std::string& n : split(group)) {
-      find(n);
-      if (!taken.insert(n).second) throw std::invalid_argument("fit: parameter '" + n + "' is in two --equal groups");
-      v.parameters.push_back(n);
-    }
-    if (v.parameters.size() < 2) throw std::invalid_argument("fit: --equal expects two or more parameters, got '" + group + "'");
-    out.push_back(v);
-  }
-  for (const std::string& n : names)
-    if (taken.insert(n).second) out.push_back({{n}, 0, 0});
-  for (Variable& v : out) {
-    v.lo = -kInf;
-    v.hi = kInf;
-    for (const std::string& n : v.parameters) {
-      const Quantity& q = find(n);
-      v.lo = std::max(v.lo, q.range.lo);
-      v.hi = std::min(v.hi, q.range.hi);
-    }
-  }
-  for (const std::string& b : bounds) {
-    const auto eq = b.find('='), colon = b.find(':');
-    if (eq == std::string::npos || colon == std::string::npos || colon < eq)
-      throw std::invalid_argument("fit: --bounds expects NAME=lo:hi, got '" + b + "'");
-    const std::string name = b.substr(0, eq);
-    const double lo = parse_number_or_throw(b.substr(eq + 1, colon - eq - 1), "--bounds " + name + " lower bound");
-    const double hi = parse_number_or_throw(b.substr(colon + 1), "--bounds " + name + " upper bound");
-    find(name);
-    auto it = std::find_if(out.begin(), out.end(), [&](const Variable& v) {
-      return std::count(v.parameters.begin(), v.parameters.end(), name) > 0;
-    });
-    if (it == out.end()) throw std::invalid_argument("fit: --bounds names '" + name + "', which is not free");
-    it->lo = lo;
-    it->hi = hi;
-  }
-  return out;
-}
 
 Result solve(const Problem& problem, const Progress& progress) {
   const auto t0 = std::chrono::steady_clock::now();
