@@ -121,7 +121,8 @@ void draw_pareto(QPainter& p, const QRectF& area, const fit::Problem& problem, c
   QFont bold = font;
   bold.setBold(true);
   p.setFont(bold);
-  p.drawText(QRectF(area.left(), area.top() + 0.5 * fh, area.width(), 1.4 * fh), Qt::AlignCenter, title);
+  p.drawText(QRectF(area.left(), area.top() + 0.5 * fh, area.width(), 1.4 * fh), Qt::AlignCenter,
+             QFontMetricsF(bold).elidedText(title, Qt::ElideRight, area.width() - 2 * fh));  // a dock may be narrow
   p.setFont(font);
   const QRectF plot(area.left() + 8.5 * fh, area.top() + 3.5 * fh, area.width() - 11.5 * fh, area.height() - 8 * fh);
   double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;

@@ -4,6 +4,7 @@
 // a size keeps every design at that size, Cancel stops a run, and the chart
 // and CSV export. With LINKSCAPE_SCREENSHOTS=<folder> it also saves a
 // picture of each window with its Fit tab in front.
+#include <QCheckBox>
 #include <QDockWidget>
 #include <QDoubleSpinBox>
 #include <QPushButton>
@@ -130,6 +131,38 @@ class FitPanelTest : public QObject {
     panel->applyDesign();
     QCOMPARE(w.mechanism().parameters().at("La"), r.rows[*chosen].parameters.at("La"));
     screenshot(w, "delta");
+  }
+
+  // Every device: the tab is built from its description (a row per design
+  // parameter, the size's terms ticked), and a small fit at the device's
+  // own size runs through the interface.
+  void everyDeviceBuildsItsTabAndRuns() {
+    for (const std::string& name : registered_mechanisms()) {
+      MechanismWindow w(load_preset(name));
+      w.resize(1280, 800);
+      w.show();
+      QVERIFY(QTest::qWaitForWindowExposed(&w));
+      const std::vector<std::string> sized = fit::size_terms(w.mechanism().info());
+      for (const Quantity& q : w.mechanism().info().parameters) {
+        auto* box = w.findChild<QCheckBox*>(QString::fromStdString("fitFree_" + q.name));
+        QCOMPARE(box != nullptr, q.in_panel);
+        if (box) QCOMPARE(box->isChecked(), std::find(sized.begin(), sized.end(), q.name) != sized.end());
+      }
+      const double size = w.mechanism().size();
+      const Eigen::Vector3d home = w.mechanism().home_task().head<3>();
+      w.taskPanel()->setTask("sphere:diameter=" + std::to_string(0.1 * size) + ",centre=" + std::to_string(home.x()) +
+                                 "," + std::to_string(home.y()) + "," + std::to_string(home.z()),
+                             {"cond<20"});
+      FitPanel* panel = w.fitPanel();
+      coarse(panel);
+      panel->setCentreFree(false);
+      panel->setMode(FitPanel::Mode::LargestMarginAtSize, size);
+      QVERIFY2(run_and_wait(panel), name.c_str());
+      const fit::Result& r = *panel->result();
+      QVERIFY2(r.best, qPrintable(panel->reportText()));  // the device's own design meets a small task at home
+      QVERIFY(r.rows[*r.best].margin >= 1);
+      if (name == "pathos2") screenshot(w, name);
+    }
   }
 
   // Bad input is said in the status; Cancel stops a run and keeps the GUI alive.
