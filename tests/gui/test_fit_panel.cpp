@@ -35,6 +35,13 @@ bool run_and_wait(FitPanel* panel, int timeout_ms = 120000) {
   return finished.front().front().toBool();
 }
 
+// A sphere `fraction` of the device's size across, at its home point.
+std::string sphere_at_home(const MechanismWindow& w, double fraction) {
+  const Eigen::Vector3d home = w.mechanism().home_task().head<3>();
+  return "sphere:diameter=" + std::to_string(fraction * w.mechanism().size()) + ",centre=" + std::to_string(home.x()) +
+         "," + std::to_string(home.y()) + "," + std::to_string(home.z());
+}
+
 void screenshot(MechanismWindow& w, const std::string& name) {
   const char* folder = std::getenv("LINKSCAPE_SCREENSHOTS");
   if (!folder) return;
@@ -111,10 +118,7 @@ class FitPanelTest : public QObject {
     w.show();
     QVERIFY(QTest::qWaitForWindowExposed(&w));
     const double size = w.mechanism().size();
-    const Eigen::Vector3d home = w.mechanism().home_task().head<3>();
-    w.taskPanel()->setTask("sphere:diameter=" + std::to_string(0.3 * size) + ",centre=" + std::to_string(home.x()) +
-                               "," + std::to_string(home.y()) + "," + std::to_string(home.z()),
-                           {"cond<4"});
+    w.taskPanel()->setTask(sphere_at_home(w, 0.3), {"cond<4"});
     FitPanel* panel = w.fitPanel();
     coarse(panel);
     panel->setMode(FitPanel::Mode::LargestMarginAtSize, size);
@@ -149,10 +153,7 @@ class FitPanelTest : public QObject {
         if (box) QCOMPARE(box->isChecked(), std::find(sized.begin(), sized.end(), q.name) != sized.end());
       }
       const double size = w.mechanism().size();
-      const Eigen::Vector3d home = w.mechanism().home_task().head<3>();
-      w.taskPanel()->setTask("sphere:diameter=" + std::to_string(0.1 * size) + ",centre=" + std::to_string(home.x()) +
-                                 "," + std::to_string(home.y()) + "," + std::to_string(home.z()),
-                             {"cond<20"});
+      w.taskPanel()->setTask(sphere_at_home(w, 0.1), {"cond<20"});
       FitPanel* panel = w.fitPanel();
       coarse(panel);
       panel->setCentreFree(false);
