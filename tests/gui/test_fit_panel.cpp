@@ -1,6 +1,6 @@
-// The window's Fit tab: a small fit run off the GUI thread sizes the device
-// to the Task tab's task (the answer is core's, and the GUI stays
-// responsive), Apply sets the design's sliders to it, the largest margin at
+// The window's Fit tab: a small fit run off the GUI thread (Run returns at
+// once) sizes the device to the Task tab's task (the answer is core's for
+// the same problem), Apply sets the design's sliders to it, the largest margin at
 // a size keeps every design at that size, Cancel stops a run, and the chart
 // and CSV export. With LINKSCAPE_SCREENSHOTS=<folder> it also saves a
 // picture of each window with its Fit tab in front.
@@ -70,9 +70,23 @@ class FitPanelTest : public QObject {
     coarse(panel);
     panel->setEqual("L1,L2");
     panel->setBounds("L1", 5, 40);
-    QVERIFY(run_and_wait(panel));
+    QSignalSpy finished(panel, &FitPanel::runFinished);
+    panel->run();
+    QVERIFY(panel->isRunning());  // off the GUI thread: the call returned before the search ended
+    QVERIFY(finished.wait(120000));
+    QVERIFY(finished.front().front().toBool());
     QVERIFY(panel->result() && panel->result()->best);
     const fit::Row& best = panel->result()->rows[*panel->result()->best];
+    // The Task tab's task and criteria, the tab's variables, core's answer.
+    QCOMPARE(panel->problem()->task.diameter(), 15.0);
+    QVERIFY(!panel->problem()->task.centre);
+    QCOMPARE(panel->problem()->criteria.back().text, std::string("cond<3"));
+    QCOMPARE(panel->problem()->variables.size(), std::size_t(1));
+    QCOMPARE(panel->problem()->variables[0].lo, 5.0);  // the intersection of the group's rows
+    QCOMPARE(panel->problem()->variables[0].hi, 40.0);
+    const fit::Result direct = fit::solve(*panel->problem());
+    QVERIFY(direct.best);
+    QCOMPARE(direct.rows[*direct.best].size, best.size);
     QCOMPARE(best.parameters.at("L1"), best.parameters.at("L2"));
     QVERIFY(best.meets && best.margin >= 1);
     QVERIFY(panel->reportText().contains("smallest design meeting it: L1 = "));
