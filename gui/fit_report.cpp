@@ -29,7 +29,9 @@ std::string short_number(double v) {
 }
 
 std::string point_text(const Eigen::Vector3d& p, const std::string& unit) {
-  return "(" + short_number(p.x()) + ", " + short_number(p.y()) + ", " + short_number(p.z()) + ") " + unit;
+  std::string s = "(";  // appended: GCC 12 warns (-Wrestrict) on "literal" + temporary here, wrongly
+  s += short_number(p.x()) + ", " + short_number(p.y()) + ", " + short_number(p.z()) + ") " + unit;
+  return s;
 }
 
 // The unit a criterion's values are in.
