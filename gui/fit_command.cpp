@@ -16,6 +16,7 @@
 #include "gui/mechanisms/commands.h"
 
 namespace linkscape::gui {
+
 void run_fit(const FitOptions& o, std::ostream& out) {
   if (o.task.empty()) throw std::invalid_argument("fit: --task is required, e.g. sphere:diameter=15");
   for (const std::string* file : {&o.chart}) {
