@@ -27,6 +27,7 @@ struct EvalOptions {
   double tolerance = 1e-10;
   int max_iterations = 100;
   std::string output = "-";  // file, or "-" for stdout
+  bool quiet = false;        // no summary on stderr
 };
 
 // Writes the evaluation as CSV. Throws std::invalid_argument for bad input.
@@ -43,7 +44,7 @@ struct SamplingOptions {
   std::string pose;
   // Torque limit of the haptic fields: "continuous" or "peak" (core/haptics.h).
   std::string torque = "continuous";
-  bool quiet = false;  // no progress on stderr
+  bool quiet = false;  // no progress or summary on stderr
 };
 
 struct SliceOptions {

@@ -57,6 +57,7 @@ class VtkWidget;
 struct WindowOptions {
   MechanismChoice mechanism;
   std::string session;         // open this session file at start
+  std::string file;            // a session or a preset given as the argument (resolved into the two above)
   std::string screenshot;      // save a PNG of the window and exit
   bool latency = false;        // measure interaction latencies, print them and exit
   std::string size = "1280x800";

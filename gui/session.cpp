@@ -216,6 +216,12 @@ Eigen::VectorXd read_array(const json& j, const std::vector<Quantity>& names, co
 
 }  // namespace
 
+bool is_session_file(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  const json j = json::parse(in, nullptr, /*allow_exceptions=*/false);
+  return j.is_object() && j.value("format", "") == "linkscape-session";
+}
+
 Session parse_session(const std::string& text, const std::string& origin) {
   Session s;
   try {

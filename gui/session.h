@@ -82,5 +82,8 @@ void save_session(const Session& session, const std::filesystem::path& path);
 // naming the file, the key and the problem; never clamps.
 Session load_session(const std::filesystem::path& path);
 Session parse_session(const std::string& json_text, const std::string& origin);
+// Whether a file is JSON that says it is a session ("format":
+// "linkscape-session"); false for anything else, including unreadable files.
+bool is_session_file(const std::filesystem::path& path);
 
 }  // namespace linkscape::gui
