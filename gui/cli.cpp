@@ -478,6 +478,7 @@ int run(int argc, char** argv) {
 
   open_file_argument(app, window);
   check_window_inputs(window);
+  window.size_given = app.get_option("--size")->count() > 0;
   if (!has_display()) {
     std::cerr << "linkscape: no display found (DISPLAY is not set), so the window cannot open.\n"
               << "Start it on a desktop, or under Xvfb: xvfb-run -a linkscape\n\n"

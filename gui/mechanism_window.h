@@ -51,6 +51,7 @@ class TaskScene;
 namespace linkscape::gui {
 
 class MethodsPanel;
+class SessionHistory;
 class TaskPanel;
 class VtkWidget;
 
@@ -61,6 +62,7 @@ struct WindowOptions {
   std::string screenshot;      // save a PNG of the window and exit
   bool latency = false;        // measure interaction latencies, print them and exit
   std::string size = "1280x800";
+  bool size_given = false;     // --size was on the command line (else the remembered size is used)
   // A task volume shown at start (Task tab): "sphere:diameter=15[,centre=x,y,z]"
   // and its criteria; without a centre it is placed in the largest sphere.
   std::string task;
@@ -134,6 +136,19 @@ class MechanismWindow : public QMainWindow {
   void applySession(const Session& session);
   bool openSession(const QString& path);
   bool saveSession(const QString& path);
+  // The document: its file (empty: not saved yet), undo/redo, the modified mark.
+  SessionHistory* history() const { return history_; }
+  // Asks to save unsaved changes (only when interactive); false: the user cancelled.
+  bool maybeSave();
+  // Interactive: asks before unsaved work is discarded, and remembers the
+  // window's size and panel layout when it closes. Off in tests,
+  // screenshots and latency runs, which never wait for a dialog and must be
+  // reproducible.
+  void setInteractive(bool on) { interactive_ = on; }
+  bool interactive() const { return interactive_; }
+  // The camera frames the device; it does so again after a change of size
+  // unless the user has moved it since.
+  void fitCamera();
 
  signals:
   void poseChanged();
@@ -169,6 +184,10 @@ class MechanismWindow : public QMainWindow {
   void animationStep();
   void addRecent(const QString& path);
   void rebuildRecentMenu();
+  bool save();
+  bool saveAs();
+  void updateTitle();
+  void noteChange();
 
   Preset preset_;
   std::shared_ptr<const Mechanism> mechanism_;
@@ -221,6 +240,10 @@ class MechanismWindow : public QMainWindow {
   QMenu* recent_menu_ = nullptr;
   QLabel* compute_label_ = nullptr;  // in the status bar (window_parts.h)
   MethodsPanel* methods_ = nullptr;
+  SessionHistory* history_ = nullptr;
+  bool interactive_ = false;
+  std::optional<CameraState> fitted_camera_;  // where fitCamera() put it
+  QByteArray initial_layout_;                 // for View > Reset layout
 };
 
 }  // namespace linkscape::gui

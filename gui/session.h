@@ -38,6 +38,7 @@ struct FieldSettings {
   bool show_slice = true, show_reach = true, show_well_conditioned = true;
   double reach_opacity = 0.10, well_conditioned_opacity = 0.22;
   std::string method;  // IK method per sample; empty: the device's default
+  bool operator==(const FieldSettings&) const = default;
 };
 
 struct Session {

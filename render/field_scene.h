@@ -80,6 +80,8 @@ class FieldScene {
   std::size_t surface_faces(Surface which) const;
   bool colour_bar_visible() const;
   std::string colour_bar_title() const;
+  // The colour range the bar was last built for (the data's units, not log10), if any.
+  std::optional<std::array<double, 2>> colour_bar_range() const { return bar_range_; }
   // World bounds of the slice rectangle (xmin, xmax, ymin, ymax, zmin, zmax);
   // all zero without a slice.
   std::array<double, 6> slice_bounds() const;

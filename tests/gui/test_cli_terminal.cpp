@@ -102,7 +102,8 @@ TEST(CliTerminal, AFileArgumentOpensASessionOrAMechanism) {
   EXPECT_EQ(both.exit_code, 2) << both.out;
   if (!std::getenv("DISPLAY")) GTEST_SKIP() << "opening a good session needs an X server";
   const fs::path good = temp_file("terminal_session.json",
-                                  R"({"format": "linkscape-session", "version": 1, "mechanism": "delta"})");
+                                  R"({"format": "linkscape-session", "version": 1, "mechanism": "parallel-12r",
+                                      "parameters": {"L1": 13, "L2": 16}, "pose_rad": [0.1, 1.2, 0.3]})");
   const fs::path png = kDir / "session.png";
   fs::remove(png);
   const CommandResult opened = run_linkscape(good.string() + " --screenshot " + png.string() + " --size 900x600");
