@@ -351,6 +351,10 @@ int run(int argc, char** argv) {
       ->delimiter(',')
       ->expected(2);
   slice_cmd->add_flag("--linear", slice.linear, "Linear colour scale for cond and residual (default: log)");
+  slice_cmd->add_option("--colour-map", slice.colour_map,
+                        "viridis, cividis (also for colour vision deficiency) or diverging (blue-grey-red; a signed "
+                        "field's automatic range is symmetric about 0, e.g. --field reach)")
+      ->capture_default_str();
   slice_cmd->add_flag("--figure", slice.figure, "Add axes with units, colour bar, legend and title (PNG, SVG or PDF)");
   slice_cmd->add_option("-o,--output", slice.output, "Output: .png or .csv; with --figure .png, .svg or .pdf")
       ->required();

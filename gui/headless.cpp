@@ -434,6 +434,7 @@ void run_slice(const SliceOptions& o) {
   render::SliceStyle style;
   style.field = o.field;
   style.log_scale = !o.linear;
+  style.colour_map = o.colour_map;
   style.contour_levels = o.contours;
   if (!o.range.empty()) {
     if (o.range.size() != 2) throw std::invalid_argument("--range expects min,max");

@@ -53,6 +53,7 @@ struct SliceOptions {
   std::vector<double> extent;    // u_min,u_max,v_min,v_max; default +-reach
   std::string size = "512x512";  // samples along u x v
   std::string field = "cond";    // cond, reach, residual, iterations, status, method, force_iso, force_max, resolution, inertia
+  std::string colour_map = "viridis";  // render::colour_maps()
   std::vector<double> contours{3.0};
   std::vector<double> range;     // colour range min,max
   bool linear = false;           // linear colour scale for cond/residual

@@ -6,6 +6,7 @@
 #include <QCloseEvent>
 #include <QComboBox>
 #include <QDockWidget>
+#include <QEvent>
 #include <QDoubleSpinBox>
 #include <QFileDialog>
 #include <QFileInfo>
@@ -257,9 +258,19 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   renderer->SetBackground2(0.80, 0.84, 0.90);
   view_->renderWindow()->AddRenderer(renderer);
   renderer_ = renderer;
+  // The colour bar has a strip of its own at the right, so it never covers the data.
+  vtkNew<vtkRenderer> legend;
+  legend->GradientBackgroundOn();
+  legend->SetBackground(renderer->GetBackground());
+  legend->SetBackground2(renderer->GetBackground2());
+  legend->InteractiveOff();
+  view_->renderWindow()->AddRenderer(legend);
+  legend_ = legend;
+  placeLegend();
+  view_->installEventFilter(this);
   scene_->set_model(mechanism_->skeleton_model());
   scene_->add_to(renderer_);
-  field_scene_->add_to(renderer_);
+  field_scene_->add_to(renderer_, legend_);
   task_scene_->add_to(renderer_);
   renderer_->SetUseDepthPeeling(false);  // plain alpha blending: interactive under software GL
   fitCamera();
@@ -336,6 +347,21 @@ void MechanismWindow::updateTitle() {
   // [*] is where Qt shows the modified mark.
   setWindowTitle(QString("%1[*] — %2 — Linkscape").arg(document, device));
   setWindowModified(history_ && history_->modified());
+}
+
+void MechanismWindow::placeLegend() {
+  // About 120 pixels wide, at most a quarter of the view; the whole view is
+  // the scene's while no colour bar is shown.
+  const bool shown = field_scene_->colour_bar_visible();
+  const double width = shown ? std::min(0.25, 120.0 / std::max(1, view_->width())) : 0.0;
+  renderer_->SetViewport(0, 0, 1 - width, 1);
+  legend_->SetDraw(shown);
+  if (shown) legend_->SetViewport(1 - width, 0, 1, 1);
+}
+
+bool MechanismWindow::eventFilter(QObject* watched, QEvent* event) {
+  if (watched == view_ && event->type() == QEvent::Resize) placeLegend();  // docks resize the view too
+  return QMainWindow::eventFilter(watched, event);
 }
 
 void MechanismWindow::fitCamera() {
@@ -561,6 +587,21 @@ QWidget* MechanismWindow::buildFieldPanel() {
   range_row->addWidget(range_max_box_);
   form->addRow(auto_range_box_);
   form->addRow(tr("Colour range"), range_row);
+  colour_map_box_ = new QComboBox(w);
+  colour_map_box_->setObjectName("colourMapBox");
+  for (const std::string& map : render::colour_maps()) colour_map_box_->addItem(qs(map));
+  colour_map_box_->setToolTip(tr("viridis: perceptually uniform; cividis: also for colour vision deficiency; "
+                                 "diverging: blue below, red above the middle (the range is symmetric about 0 "
+                                 "for signed fields such as the reach margin)"));
+  log_scale_box_ = new QCheckBox(tr("Logarithmic"), w);
+  log_scale_box_->setObjectName("logScaleBox");
+  log_scale_box_->setChecked(true);
+  log_scale_box_->setToolTip(tr("A log10 colour scale for c(J), the residual and the haptic measures "
+                                "(the other fields are always linear)"));
+  auto* map_row = new QHBoxLayout;
+  map_row->addWidget(colour_map_box_, 1);
+  map_row->addWidget(log_scale_box_);
+  form->addRow(tr("Colour map"), map_row);
   slice_resolution_box_ = new QComboBox(w);
   slice_resolution_box_->setObjectName("sliceResolutionBox");
   for (int n : choices.slice_resolutions) slice_resolution_box_->addItem(QString::number(n));
@@ -622,6 +663,8 @@ QWidget* MechanismWindow::buildFieldPanel() {
   auto_range_box_->setObjectName("autoRangeBox");
   auto_range_box_->setToolTip(tr("Colour range from the slice's data (the boxes show it); off: type the range"));
   connect(range_min_box_, &QDoubleSpinBox::valueChanged, this, [this] { restyleSlice(); });
+  connect(colour_map_box_, &QComboBox::currentIndexChanged, this, [this] { restyleSlice(); });
+  connect(log_scale_box_, &QCheckBox::toggled, this, [this] { restyleSlice(); });
   connect(range_max_box_, &QDoubleSpinBox::valueChanged, this, [this] { restyleSlice(); });
   // Fields are computed only while shown.
   connect(show_slice_box_, &QCheckBox::toggled, this, [this] {
@@ -1077,6 +1120,8 @@ FieldSettings MechanismWindow::fieldSettings() const {
     f.range_min = range_min_box_->value();
     f.range_max = range_max_box_->value();
   }
+  f.colour_map = colour_map_box_->currentText().toStdString();
+  f.log_scale = log_scale_box_->isChecked();
   f.slice_resolution = slice_resolution_box_->currentText().toInt();
   f.volume_resolution = volume_resolution_box_->currentText().toInt();
   f.show_slice = show_slice_box_->isChecked();
@@ -1092,7 +1137,7 @@ void MechanismWindow::applyFieldSettings(const FieldSettings& f) {
     const QSignalBlocker b1(field_box_), b2(normal_box_), b3(position_slider_), b4(follow_box_), b5(threshold_box_),
         b6(auto_range_box_), b7(slice_resolution_box_), b8(volume_resolution_box_), b9(show_slice_box_),
         b10(show_reach_box_), b11(show_well_box_), b12(reach_opacity_slider_), b13(well_opacity_slider_),
-        b14(method_box_), b15(range_min_box_), b16(range_max_box_);
+        b14(method_box_), b15(range_min_box_), b16(range_max_box_), b17(colour_map_box_), b18(log_scale_box_);
     auto choose = [](QComboBox* box, int index) {
       if (index >= 0) box->setCurrentIndex(index);
     };
@@ -1103,6 +1148,8 @@ void MechanismWindow::applyFieldSettings(const FieldSettings& f) {
     choose(volume_resolution_box_, volume_resolution_box_->findText(QString::number(f.volume_resolution)));
     follow_box_->setChecked(f.follow_endpoint);
     threshold_box_->setValue(f.threshold);
+    choose(colour_map_box_, colour_map_box_->findText(qs(f.colour_map)));
+    log_scale_box_->setChecked(f.log_scale);
     auto_range_box_->setChecked(!(f.range_min && f.range_max));
     if (f.range_min) range_min_box_->setValue(*f.range_min);
     if (f.range_max) range_max_box_->setValue(*f.range_max);
@@ -1224,6 +1271,8 @@ render::SliceStyle MechanismWindow::sliceStyle() const {
   style.contour_levels = {f.threshold};
   style.min = f.range_min;
   style.max = f.range_max;
+  style.colour_map = f.colour_map;
+  style.log_scale = f.log_scale;
   return style;
 }
 
@@ -1232,6 +1281,8 @@ void MechanismWindow::restyleSlice() {
   if (!slice_field_) return;
   render::SliceStyle style = sliceStyle();
   // The range boxes show the range in use: typed, or the automatic one.
+  range_min_box_->setEnabled(!auto_range_box_->isChecked());
+  range_max_box_->setEnabled(!auto_range_box_->isChecked());
   if (auto_range_box_->isChecked()) {
     try {
       const auto [lo, hi] = render::colour_range(*slice_field_, style);
@@ -1258,6 +1309,7 @@ void MechanismWindow::applyFieldVisibility() {
   field_scene_->set_slice_visible(slice);
   // The method field is categorical: its colours are not on a scale.
   field_scene_->set_colour_bar_visible(slice && field_box_->currentData().toString() != "method");
+  placeLegend();
   field_scene_->set_surface_visible(render::Surface::Reach, show_reach_box_->isChecked());
   field_scene_->set_surface_visible(render::Surface::WellConditioned, show_well_box_->isChecked());
   field_scene_->set_surface_opacity(render::Surface::Reach, reach_opacity_slider_->value() / 100.0);

@@ -158,6 +158,7 @@ class MechanismWindow : public QMainWindow {
 
  protected:
   void closeEvent(QCloseEvent* event) override;
+  bool eventFilter(QObject* watched, QEvent* event) override;
 
  private:
   QWidget* buildDesignPanel();
@@ -188,6 +189,7 @@ class MechanismWindow : public QMainWindow {
   bool saveAs();
   void updateTitle();
   void noteChange();
+  void placeLegend();
 
   Preset preset_;
   std::shared_ptr<const Mechanism> mechanism_;
@@ -196,6 +198,7 @@ class MechanismWindow : public QMainWindow {
   std::unique_ptr<render::TaskScene> task_scene_;
   TaskPanel* task_panel_ = nullptr;
   vtkRenderer* renderer_ = nullptr;  // owned by the view's render window
+  vtkRenderer* legend_ = nullptr;    // the colour bar's strip, likewise
   VtkWidget* view_ = nullptr;
   Eigen::VectorXd q_, x_;
   int branch_ = 0;
@@ -225,6 +228,8 @@ class MechanismWindow : public QMainWindow {
             *volume_resolution_box_ = nullptr, *field_branch_box_ = nullptr;
   QSlider* position_slider_ = nullptr;
   QLabel* position_label_ = nullptr;
+  QComboBox* colour_map_box_ = nullptr;
+  QCheckBox* log_scale_box_ = nullptr;
   QCheckBox *follow_box_ = nullptr, *auto_range_box_ = nullptr, *show_slice_box_ = nullptr, *show_reach_box_ = nullptr,
             *show_well_box_ = nullptr;
   QDoubleSpinBox *threshold_box_ = nullptr, *range_min_box_ = nullptr, *range_max_box_ = nullptr;

@@ -38,6 +38,8 @@ struct FieldSettings {
   bool show_slice = true, show_reach = true, show_well_conditioned = true;
   double reach_opacity = 0.10, well_conditioned_opacity = 0.22;
   std::string method;  // IK method per sample; empty: the device's default
+  std::string colour_map = "viridis";  // render::colour_maps()
+  bool log_scale = true;               // for the fields drawn on a log scale by default (c(J), residual, haptic)
   bool operator==(const FieldSettings&) const = default;
 };
 

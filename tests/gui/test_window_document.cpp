@@ -3,6 +3,7 @@
 // the colour range shown, the slice position kept relative, and the View
 // menu's panels. Numbers come from the window's own state, not literals.
 #include <QAction>
+#include <QCheckBox>
 #include <QComboBox>
 #include <QDockWidget>
 #include <QDoubleSpinBox>
@@ -166,6 +167,22 @@ class WindowDocumentTest : public QObject {
     QVERIFY(!lo->isEnabled() && !hi->isEnabled());
     QVERIFY(std::abs(lo->value() - (*range)[0]) <= 0.5e-3 + 1e-12);
     QVERIFY(std::abs(hi->value() - (*range)[1]) <= 0.5e-3 + 1e-12);
+  }
+
+  void theColourMapIsSavedAndUndone() {
+    QTemporaryDir dir;
+    MechanismWindow w(load_preset("parallel-12r"));
+    QVERIFY(show_settled(w));
+    w.findChild<QComboBox*>("colourMapBox")->setCurrentText("cividis");
+    w.findChild<QCheckBox*>("logScaleBox")->setChecked(false);
+    QCOMPARE(w.fieldSettings().colour_map, std::string("cividis"));
+    QVERIFY(w.saveSession(dir.filePath("s.json")));
+    const gui::Session saved = gui::load_session(dir.filePath("s.json").toStdString());
+    QCOMPARE(saved.field.colour_map, std::string("cividis"));
+    QCOMPARE(saved.field.log_scale, false);
+    w.history()->stack()->undo();
+    QCOMPARE(w.fieldSettings().colour_map, std::string("viridis"));
+    QCOMPARE(w.fieldSettings().log_scale, true);
   }
 
   void theSlicePositionIsKeptRelative() {
