@@ -10,6 +10,7 @@ packages=(
   qt6-base-dev libqt6opengl6-dev qt6-svg-dev
   libgtest-dev libbenchmark-dev
   xvfb xauth libgl1-mesa-dri
+  lintian desktop-file-utils bash-completion
 )
 
 missing=()
