@@ -9,7 +9,6 @@
 #include <QHeaderView>
 #include <QLabel>
 #include <QLegend>
-#include <QLegendMarker>
 #include <QLineSeries>
 #include <QCategoryAxis>
 #include <QMouseEvent>
@@ -160,13 +159,18 @@ MethodsView::MethodsView(QWidget* parent) : QWidget(parent) {
   chart->setBackgroundRoundness(0);
   // Room on the right for half of the last time label, centred on its tick.
   chart->setMargins(QMargins(2, 2, 2 + QFontMetrics(font()).horizontalAdvance("100 ms") / 2, 2));
-  chart->legend()->setAlignment(Qt::AlignBottom);
-  chart->legend()->setShowToolTips(true);
+  // Qt Charts' legend is one line that elides long method names at panel
+  // width: a wrapped label under the chart instead.
+  chart->legend()->hide();
   view_ = new ChartView(chart, this);
   view_->setObjectName("chart");
   view_->setRenderHint(QPainter::Antialiasing);
   view_->setRubberBand(QChartView::RectangleRubberBand);
   view_->setMinimumSize(260, 200);
+  legend_ = new QLabel(this);
+  legend_->setObjectName("legend");
+  legend_->setWordWrap(true);
+  legend_->setTextFormat(Qt::RichText);
   note_ = new QLabel(this);
   note_->setObjectName("chartNote");
   note_->setWordWrap(true);
@@ -176,6 +180,7 @@ MethodsView::MethodsView(QWidget* parent) : QWidget(parent) {
   chart_layout->setContentsMargins(0, 0, 0, 0);
   chart_layout->setSpacing(2);
   chart_layout->addWidget(view_, 1);
+  chart_layout->addWidget(legend_);
   chart_layout->addWidget(note_);
 
   table_ = new QTableWidget(0, int(kColumns.size()), this);
@@ -257,6 +262,7 @@ void MethodsView::show_family() {
     }
   }
   QStringList notes;
+  legend_->clear();
   if (rows_.empty()) chart->setTitle("Run measures every method's time and error.");
   else chart->setTitle({});
   if (!shown.empty()) {
@@ -290,13 +296,13 @@ void MethodsView::show_family() {
     chart->addSeries(stairs);
     stairs->attachAxis(x);
     stairs->attachAxis(y);
-    chart->legend()->markers(stairs).front()->setVisible(false);  // the note names it: room for the methods
 
     // One series per method, in table order.
-    static const QScatterSeries::MarkerShape shapes[] = {
-        QScatterSeries::MarkerShapeCircle, QScatterSeries::MarkerShapeRectangle,
-        QScatterSeries::MarkerShapeTriangle, QScatterSeries::MarkerShapeRotatedRectangle,
-        QScatterSeries::MarkerShapePentagon, QScatterSeries::MarkerShapeStar};
+    static const std::pair<QScatterSeries::MarkerShape, const char*> shapes[] = {
+        {QScatterSeries::MarkerShapeCircle, "●"},          {QScatterSeries::MarkerShapeRectangle, "■"},
+        {QScatterSeries::MarkerShapeTriangle, "▲"},        {QScatterSeries::MarkerShapeRotatedRectangle, "◆"},
+        {QScatterSeries::MarkerShapePentagon, "⬟"},        {QScatterSeries::MarkerShapeStar, "★"}};
+    QStringList entries;
     std::vector<QScatterSeries*> series;
     for (std::size_t i : shown) {
       const QString name = QString::fromStdString(rows_[i].method);
@@ -305,7 +311,11 @@ void MethodsView::show_family() {
         const int k = int(series.size());
         auto* s = new QScatterSeries;
         s->setName(name);
-        s->setMarkerShape(shapes[k % 6]);
+        s->setMarkerShape(shapes[k % 6].first);
+        // Non-breaking hyphens: an entry wraps as a whole ("complex-step").
+        entries << QString("<span style=\"color:%1\">%2</span>&nbsp;%3")
+                       .arg(method_colour(k).name(), shapes[k % 6].second,
+                            name.toHtmlEscaped().replace('-', QChar(0x2011)));
         s->setMarkerSize(11);
         s->setColor(method_colour(k));
         s->setBorderColor(method_colour(k).darker(140));
@@ -319,6 +329,7 @@ void MethodsView::show_family() {
       }
       (*it)->append(chart_point(rows_[i]));
     }
+    legend_->setText(entries.join("&nbsp;&nbsp; "));
     if (exact > 0)
       notes << QString("%1 exact result%2 (error 0) drawn at %3.")
                    .arg(exact)
@@ -330,6 +341,7 @@ void MethodsView::show_family() {
     notes << QString("%1 row%2 with a non-finite value only in the table.").arg(unplotted).arg(unplotted > 1 ? "s" : "");
   note_->setText(notes.join(' '));
   note_->setVisible(!notes.isEmpty());
+  legend_->setVisible(!legend_->text().isEmpty());
   fit_ticks();
 }
 
@@ -387,7 +399,7 @@ void MethodsView::fill_table() {
     for (const std::string& s : {r.family, r.method, r.parameter})
       table_->setItem(i, c++, new QTableWidgetItem(QString::fromStdString(s)));
     for (double v : {r.seconds_per_evaluation, r.error_median, r.error_p99, r.error_max})
-      table_->setItem(i, c++, new NumberItem(v, number(v)));
+      table_->setItem(i, c++, new NumberItem(v, QString::number(v, 'e', 2)));  // aligned mantissas
     table_->setItem(i, c++, new QTableWidgetItem(QString::fromStdString(r.error_unit)));
     table_->setItem(i, c++, new NumberItem(double(r.samples), QString::number(r.samples)));
     table_->setItem(i, c++, new NumberItem(double(r.failures), QString::number(r.failures)));

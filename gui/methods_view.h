@@ -1,10 +1,11 @@
 // The interactive speed-against-accuracy view of the method harness (Qt
 // Charts), used by the Methods panel and by its enlarged window: one family
 // at a time (a chooser), log10 of time per evaluation against log10 of the
-// median error (axes labelled in decades), one scatter series per method, the family's Pareto front as a dashed
-// staircase, rubber-band zoom (double-click or Reset zooms out), a tooltip
-// with method, time and error on hover; beside it a table of every row,
-// sortable by every column (numbers numerically).
+// median error (axes labelled in decades), one scatter series per method, the
+// family's Pareto front as a dashed staircase, a legend that wraps under the
+// chart, rubber-band zoom (double-click or Reset zooms out), a tooltip with
+// method, time and error on hover; with it a table of every row, sortable by
+// every column (numbers numerically).
 //
 // Exact results (error 0) are drawn at kExactErrorFloor (gui/method_chart.h)
 // and their tooltip says so; rows with a non-finite or non-positive time or a
@@ -68,6 +69,7 @@ class MethodsView : public QWidget {
   std::vector<methods::MethodRow> rows_;
   QComboBox* family_ = nullptr;
   QChartView* view_ = nullptr;
+  QLabel* legend_ = nullptr;
   QLabel* note_ = nullptr;
   QSplitter* split_ = nullptr;
   QTableWidget* table_ = nullptr;

@@ -121,6 +121,9 @@ class TestMethodsPanel : public QObject {
         points += std::size_t(p.size());
       }
       QCOMPARE(points, expected.size());  // every row of the family, once
+      const QString legend = view.findChild<QLabel*>("legend")->text();
+      for (QScatterSeries* s : series)
+        QVERIFY2(legend.contains(QString(s->name()).replace('-', QChar(0x2011))), qPrintable(legend));
       charted += points;
       // The Pareto front is drawn.
       bool front = false;
