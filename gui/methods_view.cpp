@@ -194,8 +194,7 @@ MethodsView::MethodsView(QWidget* parent) : QWidget(parent) {
   table_->setMinimumHeight(90);
   table_->horizontalHeader()->setSortIndicator(-1, Qt::AscendingOrder);  // the harness' order until a click
 
-  split_ = new QSplitter(Qt::Vertical, this);
-  auto* split = split_;
+  auto* split = new QSplitter(Qt::Vertical, this);  // below, not beside: every column in view
   split->setObjectName("chartTableSplit");
   split->setChildrenCollapsible(false);
   split->addWidget(chart_box);
@@ -211,8 +210,6 @@ MethodsView::MethodsView(QWidget* parent) : QWidget(parent) {
 }
 
 QChart* MethodsView::chart() const { return view_->chart(); }
-
-void MethodsView::setSideBySide(bool beside) { split_->setOrientation(beside ? Qt::Horizontal : Qt::Vertical); }
 QString MethodsView::note() const { return note_->text(); }
 
 void MethodsView::setRows(const std::vector<MethodRow>& rows) {
@@ -338,7 +335,9 @@ void MethodsView::show_family() {
     notes << "Dashed: the Pareto front. Drag to zoom; double-click to see all.";
   }
   if (unplotted > 0)
-    notes << QString("%1 row%2 with a non-finite value only in the table.").arg(unplotted).arg(unplotted > 1 ? "s" : "");
+    notes << QString("%1 row%2 with a non-finite value or a zero time: only in the table.")
+                 .arg(unplotted)
+                 .arg(unplotted > 1 ? "s" : "");
   note_->setText(notes.join(' '));
   note_->setVisible(!notes.isEmpty());
   legend_->setVisible(!legend_->text().isEmpty());
@@ -412,7 +411,6 @@ MethodsWindow::MethodsWindow(QWidget* parent) : QDialog(parent, Qt::Window) {
   setWindowTitle("Linkscape: speed against accuracy");
   auto* layout = new QVBoxLayout(this);
   view_ = new MethodsView(this);
-  view_->setSideBySide(true);
   layout->addWidget(view_);
   // Esc closes a dialog already; Ctrl+W (and the platform's other Close keys) too.
   auto* close_key = new QShortcut(QKeySequence::Close, this);

@@ -4,11 +4,11 @@
 // median error (axes labelled in decades), one scatter series per method, the
 // family's Pareto front as a dashed staircase, a legend that wraps under the
 // chart, rubber-band zoom (double-click or Reset zooms out), a tooltip with
-// method, time and error on hover; with it a table of every row, sortable by
+// method, time and error on hover; below it a table of every row, sortable by
 // every column (numbers numerically).
 //
 // Exact results (error 0) are drawn at kExactErrorFloor (gui/method_chart.h)
-// and their tooltip says so; rows with a non-finite or non-positive time or a
+// and their tooltip says so; rows with a non-finite or zero time or a
 // non-finite error are not plotted, and a note under the chart counts them.
 #pragma once
 
@@ -25,7 +25,6 @@ class QChart;
 class QChartView;
 class QComboBox;
 class QLabel;
-class QSplitter;
 class QTableWidget;
 
 namespace linkscape::gui {
@@ -44,9 +43,6 @@ class MethodsView : public QWidget {
   QStringList families() const;
   QString family() const;
   void setFamily(const QString& family);
-
-  // The table beside the chart rather than below it (wide windows).
-  void setSideBySide(bool beside);
 
   QChart* chart() const;
   QTableWidget* table() const { return table_; }
@@ -71,7 +67,6 @@ class MethodsView : public QWidget {
   QChartView* view_ = nullptr;
   QLabel* legend_ = nullptr;
   QLabel* note_ = nullptr;
-  QSplitter* split_ = nullptr;
   QTableWidget* table_ = nullptr;
 };
 
