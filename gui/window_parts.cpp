@@ -177,13 +177,19 @@ QComboBox* make_preset_chooser(QWidget* window, const Preset& current) {
 
 void export_slice_image(QWidget* parent, const Field* slice, const render::SliceStyle& style) {
   if (!slice) return;
-  const QString path = QFileDialog::getSaveFileName(parent, QObject::tr("Export slice image"), "slice.png",
-                                                    QObject::tr("Image (*.png);;Figure (*.svg *.pdf)"));
+  // A figure (axes, colour bar, legend, title; lines as vector paths) unless
+  // the user asks for the bare samples; the method field's colours are
+  // categories, so it has no colour bar and goes out bare.
+  const QString figure_filter = QObject::tr("Figure (*.png *.svg *.pdf)");
+  const QString bare_filter = QObject::tr("Samples only, one pixel each (*.png)");
+  QString selected = style.field == "method" ? bare_filter : figure_filter;
+  const QString path = QFileDialog::getSaveFileName(parent, QObject::tr("Export slice"), "slice.png",
+                                                    figure_filter + ";;" + bare_filter, &selected);
   if (path.isEmpty()) return;
   try {
-    const bool figure = path.endsWith(".svg") || path.endsWith(".pdf");
+    const bool figure = selected == figure_filter || !path.endsWith(".png");
     if (figure && style.field == "method")
-      throw std::invalid_argument("the method field is exported as a PNG image (its colours are categories)");
+      throw std::invalid_argument("the method field is exported as a PNG of its samples (its colours are categories)");
     if (figure) write_slice_figure(*slice, style, path.toStdString());
     else render::write_slice_png(*slice, style, path.toStdString());
   } catch (const std::exception& e) {
