@@ -271,6 +271,10 @@ int run(int argc, char** argv) {
   app.add_option("--screenshot", window.screenshot,
                  "Open the window, wait until the fields are computed, save it as PNG to this file and exit");
   app.add_option("--size", window.size, "Window size for --screenshot and --latency, WIDTHxHEIGHT")->capture_default_str();
+  app.add_option("--view-image", window.view_image,
+                 "Open the window, wait until the fields are computed, save the 3-D view alone as PNG, drawn at "
+                 "--view-size (not scaled), and exit");
+  app.add_option("--view-size", window.view_size, "Pixel size of --view-image, WIDTHxHEIGHT")->capture_default_str();
   app.add_option("--task", window.task,
                  "Show a task volume in the Task tab: sphere:diameter=D or box:size=X,Y,Z, optionally ,centre=x,y,z "
                  "(else placed in the largest sphere or box where the criteria hold)");

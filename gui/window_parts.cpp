@@ -232,6 +232,12 @@ void export_volume(QWidget* parent, const Field* volume) {
   }
 }
 
+void save_png(const QImage& image, const std::string& path) {
+  write_atomically(path, [&](const std::filesystem::path& tmp) {
+    if (!image.save(QString::fromStdString(tmp.string()), "PNG")) throw std::runtime_error("cannot write PNG '" + path + "'");
+  });
+}
+
 void export_screenshot(QWidget* window) {
   const QString path =
       QFileDialog::getSaveFileName(window, QObject::tr("Save screenshot"), "linkscape.png", QObject::tr("PNG (*.png)"));
@@ -249,7 +255,8 @@ void export_screenshot(QWidget* window) {
 namespace detail {
 
 int save_screenshot_when(QWidget& window, const std::string& path, const std::function<bool()>& ready,
-                         const std::function<void(std::function<void()>)>& on_update) {
+                         const std::function<void(std::function<void()>)>& on_update,
+                         const std::function<std::string()>& write) {
   int status = 1;
   bool grabbing = false;
   const std::function<void()> grab_when_ready = [&] {
@@ -257,13 +264,13 @@ int save_screenshot_when(QWidget& window, const std::string& path, const std::fu
     grabbing = true;
     // One more frame so the picture shows the last fields.
     QTimer::singleShot(100, &window, [&] {
-      const QImage image = window.grab().toImage();
       try {  // exceptions must not cross Qt's event loop
-        write_atomically(path, [&](const std::filesystem::path& tmp) {
-          if (!image.save(QString::fromStdString(tmp.string()), "PNG"))
-            throw std::runtime_error("cannot write PNG '" + path + "'");
-        });
-        std::cout << "wrote " << path << " (" << image.width() << "x" << image.height() << ")\n";
+        const std::string size = write ? write() : [&] {
+          const QImage image = window.grab().toImage();
+          save_png(image, path);
+          return std::to_string(image.width()) + "x" + std::to_string(image.height());
+        }();
+        std::cout << "wrote " << path << " (" << size << ")\n";
         status = 0;
       } catch (const std::exception& e) {
         std::cerr << "linkscape: error: " << e.what() << "\n";
