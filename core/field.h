@@ -48,9 +48,10 @@ struct Grid {
 inline constexpr std::size_t kFieldMemoryLimitBytes = std::size_t(6) << 30;
 
 namespace detail {
-// Large blocks aligned to 2 MiB and marked for transparent huge pages: first
-// touching a 4 KiB page costs a fault, and a field of millions of samples
-// otherwise spends about 40 % of its time in them (docs/performance.md).
+// Sample blocks. Large ones (4 MiB and up) are kept when freed, up to 1 GiB
+// in all, and handed out again for a request of the same size, so a field
+// re-sampled on the same grid writes into pages already mapped instead of
+// faulting in freshly zeroed ones (docs/performance.md).
 void* allocate_samples(std::size_t bytes);
 void free_samples(void* p, std::size_t bytes) noexcept;
 }  // namespace detail
