@@ -84,6 +84,16 @@ void free_samples(void* p, std::size_t bytes) noexcept {
 
 }  // namespace detail
 
+FieldKernel field_kernel_from_environment() {
+  const char* value = std::getenv("LINKSCAPE_FIELD_KERNEL");
+  if (!value || !*value) return FieldKernel::VectorMirrored;
+  const std::string name = value;
+  if (name == "scalar") return FieldKernel::Scalar;
+  if (name == "vector") return FieldKernel::Vector;
+  if (name == "vector-mirrored") return FieldKernel::VectorMirrored;
+  throw std::invalid_argument("LINKSCAPE_FIELD_KERNEL must be scalar, vector or vector-mirrored, got '" + name + "'");
+}
+
 Axis parse_axis(const std::string& name) {
   if (name == "x" || name == "X") return Axis::X;
   if (name == "y" || name == "Y") return Axis::Y;

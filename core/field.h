@@ -43,6 +43,17 @@ struct Grid {
   static Grid box(const Eigen::Vector3d& min, const Eigen::Vector3d& max, std::array<int, 3> dims);
 };
 
+// How a device's field kernel computes its samples (the environment
+// variable LINKSCAPE_FIELD_KERNEL chooses it where a request does not):
+enum class FieldKernel {
+  Scalar,          // the reference: one sample at a time through the device's IK and Jacobian
+  Vector,          // the fast kernel (rows of samples, SIMD vectors where the device has them)
+  VectorMirrored,  // the same, using the device's exact symmetries where they hold (the default)
+};
+// LINKSCAPE_FIELD_KERNEL: scalar, vector or vector-mirrored; unset or empty:
+// VectorMirrored. Throws std::invalid_argument naming the variable otherwise.
+FieldKernel field_kernel_from_environment();
+
 // The field engine refuses a request whose arrays would need more than this
 // (every device's default; the headless commands compare their peak with it).
 inline constexpr std::size_t kFieldMemoryLimitBytes = std::size_t(6) << 30;
