@@ -43,10 +43,12 @@ double reach_margin(const Geometry& g, const PoseIkResult& ik) {
   return margin;
 }
 
-FieldSample sample_position(const Geometry& g, const Eigen::Vector3d& p, const FieldRequest& req) {
-  const Pose pose = Pose::from_xyz_rpy(p.x(), p.y(), p.z(), req.rpy.x(), req.rpy.y(), req.rpy.z(), req.h0);
+namespace {
+
+// The sample at `pose` with the IK at `detail` (Full or Field: the same bits).
+FieldSample sample_pose(const Geometry& g, const Pose& pose, IkDetail detail) {
   const Model& m = g.model;
-  const PoseIkResult ik = inverse(g, pose, IkDetail::Full);
+  const PoseIkResult ik = inverse(g, pose, detail);
   FieldSample s;
   s.reach_margin = float(reach_margin(g, ik));
   s.status = std::uint8_t(ik.status);
@@ -74,6 +76,13 @@ FieldSample sample_position(const Geometry& g, const Eigen::Vector3d& p, const F
   return s;
 }
 
+}  // namespace
+
+FieldSample sample_position(const Geometry& g, const Eigen::Vector3d& p, const FieldRequest& req) {
+  const Pose pose = Pose::from_xyz_rpy(p.x(), p.y(), p.z(), req.rpy.x(), req.rpy.y(), req.rpy.z(), req.h0);
+  return sample_pose(g, pose, IkDetail::Full);
+}
+
 std::optional<Field> compute_field(const Model& model, const FieldRequest& req, const FieldProgress& progress) {
   if (!req.rpy.allFinite() || !std::isfinite(req.h0) || !(req.h0 > 0))
     throw std::invalid_argument("pathos2 field: orientation must be finite and the grip h0 > 0");
@@ -91,8 +100,15 @@ std::optional<Field> compute_field(const Model& model, const FieldRequest& req, 
   f.method = "closed-form";
   f.measure_titles = {"cond(Jp)", "cond(Jo)"};
   f.branch = 0;
-  if (!detail::fill_field(f, true, req.threads, progress,
-                          [&](const Eigen::Vector3d& p) { return sample_position(g, p, req); }))
+  const FieldKernel kernel = req.kernel ? *req.kernel : field_kernel_from_environment();
+  // from_xyz_rpy sets the position alone from x, y, z: the rotation is the grid's.
+  const Pose oriented = Pose::from_xyz_rpy(0.0, 0.0, 0.0, req.rpy.x(), req.rpy.y(), req.rpy.z(), req.h0);
+  if (!detail::fill_field(f, true, req.threads, progress, [&](const Eigen::Vector3d& p) {
+        if (kernel == FieldKernel::Scalar) return sample_position(g, p, req);
+        Pose pose = oriented;
+        pose.p_world_E = p;
+        return sample_pose(g, pose, IkDetail::Field);
+      }))
     return std::nullopt;
   return f;
 }

@@ -342,14 +342,18 @@ PoseIkResult inverse(const Geometry& g, const Pose& pose, IkDetail detail) {
         // Eq. 11 with c2x = 0; atan2 keeps the quadrant when w < 0 (l3 > l2).
         leg.t2 = std::atan2(w * c.c1x, w * (a.z() - m.l1));
         leg.t3 = std::atan2(-c.c1y, w - m.l2);  // Eq. 13
-        // Globular joint (Eqs. 15-18): Rz(t4) Ry(t5) Rz(t6) = B, the rotation
-        // left between the end of l3 and the attachment frame A_i.
-        const Matrix3d B = R_world_end.transpose() * R_world_A;
-        const double rho = std::sqrt(B(0, 2) * B(0, 2) + B(1, 2) * B(1, 2));
-        const double c4 = rho > 0.0 ? B(0, 2) / rho : 1.0, s4 = rho > 0.0 ? B(1, 2) / rho : 0.0;
-        leg.t4 = std::atan2(s4, c4);                                                      // Eq. 16
-        leg.t5 = std::atan2(rho, B(2, 2));                                                // Eq. 17
-        leg.t6 = std::atan2(-B(0, 0) * s4 + B(1, 0) * c4, -B(0, 1) * s4 + B(1, 1) * c4);  // Eq. 18
+        if (detail == IkDetail::Full || check_cone) {
+          // Globular joint (Eqs. 15-18): Rz(t4) Ry(t5) Rz(t6) = B, the rotation
+          // left between the end of l3 and the attachment frame A_i.
+          const Matrix3d B = R_world_end.transpose() * R_world_A;
+          const double rho = std::sqrt(B(0, 2) * B(0, 2) + B(1, 2) * B(1, 2));
+          leg.t5 = std::atan2(rho, B(2, 2));  // Eq. 17
+          if (detail == IkDetail::Full) {
+            const double c4 = rho > 0.0 ? B(0, 2) / rho : 1.0, s4 = rho > 0.0 ? B(1, 2) / rho : 0.0;
+            leg.t4 = std::atan2(s4, c4);                                                      // Eq. 16
+            leg.t6 = std::atan2(-B(0, 0) * s4 + B(1, 0) * c4, -B(0, 1) * s4 + B(1, 1) * c4);  // Eq. 18
+          }
+        }
       }
       if (leg.status == Status::Ok && ((check_cone && cos_t5 < cos_cone) || c2 < cos_t2 || c3 < cos_t3))
         leg.status = Status::OutOfLimits;

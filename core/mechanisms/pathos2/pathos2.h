@@ -152,8 +152,10 @@ struct PoseIkResult {
 
 // Full: every angle. ActiveOnly: t1 (and the cos/sin fields) only, the
 // passive angles stay 0; statuses and limit checks are the same (limits are
-// tested on cosines). Maps and searches use ActiveOnly.
-enum class IkDetail { Full, ActiveOnly };
+// tested on cosines). Maps and searches use ActiveOnly. Field: what a field
+// sample needs, t1..t3 (the closure residual) and t5 where a cone limit is
+// set (its margin), bit for bit as Full; t4, t6 stay 0.
+enum class IkDetail { Full, ActiveOnly, Field };
 
 // Full pose IK: every leg's active and passive angles (Eqs. 2-18) and joint
 // limits (OutOfLimits). Throws std::invalid_argument on a non-finite pose or a

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <random>
 
@@ -124,4 +125,45 @@ TEST(Pathos2Field, BadRequestsAreRefused) {
   std::atomic<bool> cancel{true};
   r.memory_limit_bytes = std::size_t(1) << 30;
   EXPECT_FALSE(pathos2::compute_field(m, r, FieldProgress{{}, &cancel}).has_value());
+}
+
+// The fast path (rotation built once, IkDetail::Field) against the reference
+// (sample_position per point): every array bit for bit, with and without
+// joint limits, at random orientations and grips, over boxes that cross the
+// reach boundary.
+TEST(Pathos2Field, FastPathEqualsTheReferenceBitForBit) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> unit(0, 1);
+  const auto same_bits = [](const auto& a, const auto& b) {
+    if (a.size() != b.size()) return false;
+    return std::memcmp(a.data(), b.data(), a.size() * sizeof a[0]) == 0;
+  };
+  std::size_t ok = 0, limited = 0;
+  for (int c = 0; c < 8; ++c) {
+    Model m;
+    if (c % 2 == 1) {  // limits that bind inside the workspace
+      m.cone_limit = (30 + 40 * unit(rng)) * kDeg;
+      m.t2_limit = (60 + 60 * unit(rng)) * kDeg;
+      m.t3_limit = (60 + 60 * unit(rng)) * kDeg;
+    }
+    pathos2::FieldRequest r = home_request(m, Grid::box({-12, -12, 10}, {12, 12, 35}, {13, 12, 11}));
+    r.rpy = Vector3d(0.4 * (unit(rng) - 0.5), 0.4 * (unit(rng) - 0.5), unit(rng));
+    r.h0 = m.h0 * (0.8 + 0.4 * unit(rng));
+    r.kernel = FieldKernel::Scalar;
+    const Field reference = *pathos2::compute_field(m, r);
+    r.kernel = FieldKernel::VectorMirrored;
+    const Field fast = *pathos2::compute_field(m, r);
+    EXPECT_TRUE(same_bits(fast.cond, reference.cond)) << c;
+    EXPECT_TRUE(same_bits(fast.cond_orientation, reference.cond_orientation)) << c;
+    EXPECT_TRUE(same_bits(fast.reach_margin, reference.reach_margin)) << c;
+    EXPECT_TRUE(same_bits(fast.residual, reference.residual)) << c;
+    EXPECT_TRUE(same_bits(fast.status, reference.status)) << c;
+    EXPECT_TRUE(same_bits(fast.reachable, reference.reachable)) << c;
+    for (std::uint8_t s : fast.status) {
+      ok += s == std::uint8_t(Status::Ok);
+      limited += s == std::uint8_t(Status::OutOfLimits);
+    }
+  }
+  EXPECT_GT(ok, 100u);
+  EXPECT_GT(limited, 10u);
 }
