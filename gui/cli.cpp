@@ -419,7 +419,8 @@ int run(int argc, char** argv) {
       "parallel-12r planar fields use SIMD kernels with the best instruction set of the CPU. Environment, for\n"
       "every command:\n"
       "  LINKSCAPE_SIMD_TARGET=AVX2|SSE4|...|baseline   use at most this instruction set\n"
-      "  LINKSCAPE_FIELD_KERNEL=scalar|vector|vector-mirrored   parallel-12r planar kernel (default vector-mirrored)");
+      "  LINKSCAPE_FIELD_KERNEL=scalar|vector|vector-mirrored   parallel-12r planar and delta closed kernels: scalar =\n"
+      "    the reference, one sample at a time (default vector-mirrored)");
 
   app.failure_message([&](const CLI::App*, const CLI::Error& e) { return parse_error_message(app, e); });
   try {
