@@ -19,6 +19,7 @@
 #include "core/csv.h"
 #include "core/fit.h"
 #include "core/preset.h"
+#include "core/sweep.h"
 #include "gui/mechanisms/commands.h"
 #include "gui/painted_file.h"
 
@@ -45,17 +46,6 @@ std::string unit_of(const task::Criterion& c, const std::string& length_unit) {
   for (const haptics::FieldInfo& f : haptics::all_field_infos())
     if (f.name == c.measure) return f.unit;
   return "";
-}
-
-// The parameters the CSV names: those the design panel shows and the free ones.
-std::vector<std::string> design_columns(const Mechanism& m, const std::vector<fit::Variable>& variables) {
-  std::vector<std::string> out;
-  for (const Quantity& q : m.info().parameters)
-    if (q.in_panel) out.push_back(q.name);
-  for (const fit::Variable& v : variables)
-    for (const std::string& p : v.parameters)
-      if (std::find(out.begin(), out.end(), p) == out.end()) out.push_back(p);
-  return out;
 }
 
 // The best or closest row first, then every valid design by size.
@@ -190,13 +180,12 @@ void draw_pareto(QPainter& p, const QRectF& area, const fit::Problem& problem, c
     p.drawLine(at(x0, measured->threshold), at(x1, measured->threshold));
   }
   // The non-dominated designs: none both smaller and better.
+  std::vector<double> xs, ys;
+  for (const Point& q : pts) xs.push_back(q.x), ys.push_back(q.y);
+  const std::vector<bool> on_front = sweep::non_dominated(xs, ys, above);
   std::vector<Point> front;
-  for (const Point& a : pts) {
-    bool dominated = false;
-    for (const Point& b : pts)
-      dominated = dominated || (b.x <= a.x && (above ? b.y >= a.y : b.y <= a.y) && (b.x < a.x || b.y != a.y));
-    if (!dominated) front.push_back(a);
-  }
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    if (on_front[i]) front.push_back(pts[i]);
   std::sort(front.begin(), front.end(), [](const Point& a, const Point& b) { return a.x < b.x; });
   if (front.size() > 1) {
     QPainterPath path(at(front.front().x, front.front().y));
@@ -250,15 +239,6 @@ void draw_pareto(QPainter& p, const QRectF& area, const fit::Problem& problem, c
   }
 }
 
-void write_text(const std::string& path, const std::string& text) {
-  write_atomically(path, [&](const std::filesystem::path& tmp) {
-    std::ofstream out(tmp);
-    out << text;
-    out.close();
-    if (!out) throw std::runtime_error("cannot write '" + path + "'");
-  });
-}
-
 std::string design_text(const fit::Row& row, const std::vector<std::string>& columns, const std::string& unit) {
   std::string s;
   for (const std::string& c : columns) s += (s.empty() ? "" : ", ") + c + " = " + short_number(row.parameters.at(c));
@@ -268,17 +248,36 @@ std::string design_text(const fit::Row& row, const std::vector<std::string>& col
 
 }  // namespace
 
-void run_fit(const FitOptions& o, std::ostream& out) {
-  if (o.task.empty()) throw std::invalid_argument("fit: --task is required, e.g. sphere:diameter=15");
-  for (const std::string* file : {&o.chart}) {
-    const std::string ext = std::filesystem::path(*file).extension().string();
-    if (!file->empty() && ext != ".png" && ext != ".svg" && ext != ".pdf")
-      throw std::invalid_argument("fit: --chart must end in .png, .svg or .pdf, got '" + *file + "'");
-  }
-  if (!o.output.empty() && std::filesystem::path(o.output).extension() != ".csv")
-    throw std::invalid_argument("fit: --output must end in .csv, got '" + o.output + "'");
+void write_text_file(const std::string& path, const std::string& text) {
+  write_atomically(path, [&](const std::filesystem::path& tmp) {
+    std::ofstream out(tmp);
+    out << text;
+    out.close();
+    if (!out) throw std::runtime_error("cannot write '" + path + "'");
+  });
+}
+
+std::vector<std::string> design_columns(const Mechanism& m, const std::vector<fit::Variable>& variables) {
+  std::vector<std::string> out;
+  for (const Quantity& q : m.info().parameters)
+    if (q.in_panel) out.push_back(q.name);
+  for (const fit::Variable& v : variables)
+    for (const std::string& p : v.parameters)
+      if (std::find(out.begin(), out.end(), p) == out.end()) out.push_back(p);
+  return out;
+}
+
+void write_pareto_chart(const std::string& path, const fit::Problem& problem, const fit::Result& result,
+                        const MechanismInfo& info, const std::string& title) {
+  write_painted(path, QSize(1200, 800), "Linkscape fit", [&](QPainter& p, const QRectF& area) {
+    draw_pareto(p, area, problem, result, info.length_unit, info.size_description, QString::fromStdString(title));
+  });
+}
+
+fit::Problem make_problem(const FitOptions& o, const std::string& command) {
+  if (o.task.empty()) throw std::invalid_argument(command + ": --task is required, e.g. sphere:diameter=15");
   if (o.resolution < 8 || o.refinements < 0 || o.places < 1 || o.task_resolution < 2)
-    throw std::invalid_argument("fit: --resolution must be at least 8, --refinements at least 0, --places at least 1 "
+    throw std::invalid_argument(command + ": --resolution must be at least 8, --refinements at least 0, --places at least 1 "
                                 "and --task-resolution at least 2");
   fit::Problem problem;
   problem.preset = load_preset(o.mechanism.mechanism);
@@ -295,14 +294,14 @@ void run_fit(const FitOptions& o, std::ostream& out) {
     std::stringstream ss(o.pose);
     for (std::string part; std::getline(ss, part, ',');) v.push_back(parse_number_or_throw(part, "--pose"));
     if (v.size() != info.task.size())
-      throw std::invalid_argument("fit: --pose expects " + std::to_string(info.task.size()) + " task coordinates for " +
+      throw std::invalid_argument(command + ": --pose expects " + std::to_string(info.task.size()) + " task coordinates for " +
                                   info.name);
     problem.pose = Eigen::Map<const Eigen::VectorXd>(v.data(), Eigen::Index(v.size()));
   }
   if (!o.method.empty()) index_of(info.ik_methods, o.method, "IK method for " + info.name);
   problem.ik.method = o.method;
   if (o.branch < 0 || o.branch >= int(info.branches.size()))
-    throw std::invalid_argument("fit: --branch must be 0.." + std::to_string(info.branches.size() - 1) + " for " + info.name);
+    throw std::invalid_argument(command + ": --branch must be 0.." + std::to_string(info.branches.size() - 1) + " for " + info.name);
   if (o.branch != 0) problem.ik.branch = o.branch;
   problem.torque = haptics::parse_torque_rating(o.torque);
   problem.inscribed = {o.resolution, o.refinements, o.places};
@@ -318,6 +317,21 @@ void run_fit(const FitOptions& o, std::ostream& out) {
     task::resolve(d, problem.criteria);
   }
 
+  return problem;
+}
+
+void run_fit(const FitOptions& o, std::ostream& out) {
+  for (const std::string* file : {&o.chart}) {
+    const std::string ext = std::filesystem::path(*file).extension().string();
+    if (!file->empty() && ext != ".png" && ext != ".svg" && ext != ".pdf")
+      throw std::invalid_argument("fit: --chart must end in .png, .svg or .pdf, got '" + *file + "'");
+  }
+  if (!o.output.empty() && std::filesystem::path(o.output).extension() != ".csv")
+    throw std::invalid_argument("fit: --output must end in .csv, got '" + o.output + "'");
+  fit::Problem problem = make_problem(o, "fit");
+  problem.tolerance = o.tolerance;
+  const std::shared_ptr<const Mechanism> base = make_mechanism(problem.preset);
+  const MechanismInfo& info = base->info();
   fit::Progress progress;
   const bool show = !o.quiet && ::isatty(STDERR_FILENO);
   std::optional<double> smallest;
@@ -374,12 +388,37 @@ void run_fit(const FitOptions& o, std::ostream& out) {
   if (invalid) out << " (" << invalid << " could not be built)";
   out << " in " << short_number(r.seconds) << " s\n";
 
-  if (!o.output.empty()) write_text(o.output, csv_text(problem, r, columns));
+  if (!o.output.empty()) write_text_file(o.output, csv_text(problem, r, columns));
   if (!o.chart.empty())
-    write_painted(o.chart, QSize(1200, 800), "Linkscape fit", [&](QPainter& p, const QRectF& area) {
-      draw_pareto(p, area, problem, r, unit, info.size_description,
-                  QString::fromStdString(info.name + ": " + problem.task.text + " meeting " + criteria_text));
-    });
+    write_pareto_chart(o.chart, problem, r, info, info.name + ": " + problem.task.text + " meeting " + criteria_text);
+}
+
+void add_problem_options(CLI::App& cmd, FitOptions& o) {
+  add_mechanism_options(cmd, o.mechanism);
+  cmd.add_option("--task", o.task,
+                 "sphere:diameter=D (or radius=R) or box:size=X,Y,Z (or size=S), in the device's length unit; "
+                 "append ,centre=x,y,z to fix the centre, else the search places it")
+      ->required();
+  cmd.add_option("--criterion", o.criteria,
+                 "Repeatable: cond<T (the first measure; others by name, e.g. cond_jo<T), force_iso>F, force_max>F "
+                 "(N), resolution<R (mm), inertia<M (kg); reach is always implied");
+  cmd.add_option("--free", o.free, "Free design parameters, comma list (default: every parameter of the design panel)")
+      ->delimiter(',');
+  cmd.add_option("--equal", o.equal, "Parameters held equal, comma list (repeatable), e.g. L1,L2");
+  cmd.add_option("--bounds", o.bounds,
+                 "NAME=lo:hi (repeatable; a group held equal by any of its names); default the parameter's range in "
+                 "the design panel");
+  cmd.add_option("--pose", o.pose,
+                 "Every task coordinate; those beyond x, y, z (orientation, grip) are held (default: each design's home)");
+  cmd.add_option("--method", o.method, "IK method per sample (default: the device's first)");
+  cmd.add_option("--branch", o.branch, "Assembly branch")->capture_default_str();
+  cmd.add_option("--torque", o.torque, "Torque limit of force criteria: continuous or peak")->capture_default_str();
+  cmd.add_option("--resolution", o.resolution, "Samples along the box for the largest inscribed shape")
+      ->capture_default_str();
+  cmd.add_option("--refinements", o.refinements, "Zooms onto each place found")->capture_default_str();
+  cmd.add_option("--places", o.places, "Well-separated places refined")->capture_default_str();
+  cmd.add_option("--task-resolution", o.task_resolution, "Samples across the task where it is evaluated")
+      ->capture_default_str();
 }
 
 FitCommand add_fit_command(CLI::App& app) {
@@ -388,31 +427,7 @@ FitCommand add_fit_command(CLI::App& app) {
       "fit", "Size a device to a task: the smallest design (within bounds on its free parameters) whose task volume "
              "meets every criterion; prints it with each criterion's margin, writes every design as CSV and a "
              "Pareto chart of size against the worst measure (docs/task-volumes.md)");
-  add_mechanism_options(*cmd, o->mechanism);
-  cmd->add_option("--task", o->task,
-                  "sphere:diameter=D (or radius=R) or box:size=X,Y,Z (or size=S), in the device's length unit; "
-                  "append ,centre=x,y,z to fix the centre, else the search places it")
-      ->required();
-  cmd->add_option("--criterion", o->criteria,
-                  "Repeatable: cond<T (the first measure; others by name, e.g. cond_jo<T), force_iso>F, force_max>F "
-                  "(N), resolution<R (mm), inertia<M (kg); reach is always implied");
-  cmd->add_option("--free", o->free, "Free design parameters, comma list (default: every parameter of the design panel)")
-      ->delimiter(',');
-  cmd->add_option("--equal", o->equal, "Parameters held equal, comma list (repeatable), e.g. L1,L2");
-  cmd->add_option("--bounds", o->bounds,
-                  "NAME=lo:hi (repeatable; a group held equal by any of its names); default the parameter's range in "
-                  "the design panel");
-  cmd->add_option("--pose", o->pose,
-                  "Every task coordinate; those beyond x, y, z (orientation, grip) are held (default: each design's home)");
-  cmd->add_option("--method", o->method, "IK method per sample (default: the device's first)");
-  cmd->add_option("--branch", o->branch, "Assembly branch")->capture_default_str();
-  cmd->add_option("--torque", o->torque, "Torque limit of force criteria: continuous or peak")->capture_default_str();
-  cmd->add_option("--resolution", o->resolution, "Samples along the box for the largest inscribed shape")
-      ->capture_default_str();
-  cmd->add_option("--refinements", o->refinements, "Zooms onto each place found")->capture_default_str();
-  cmd->add_option("--places", o->places, "Well-separated places refined")->capture_default_str();
-  cmd->add_option("--task-resolution", o->task_resolution, "Samples across the task where it is evaluated")
-      ->capture_default_str();
+  add_problem_options(*cmd, *o);
   cmd->add_option("--tolerance", o->tolerance, "Relative tolerance on the size")->capture_default_str();
   cmd->add_option("-o,--output", o->output,
                   "CSV: the design parameters, cx,cy,cz, size, meets, the largest shape, the fraction, each "

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/fit.h"
 #include "gui/headless.h"
 
 namespace linkscape::gui {
@@ -37,6 +38,22 @@ struct FitOptions {
 // ..."), not an error. Throws std::invalid_argument for bad options (exit 2,
 // nothing written). The chart needs a QGuiApplication.
 void run_fit(const FitOptions& options, std::ostream& out);
+
+// The parts `fit` shares with `sweep`:
+// the device, task, criteria, free parameters and sampling options (every
+// FitOptions field but tolerance, output, chart and quiet);
+void add_problem_options(CLI::App& command, FitOptions& options);
+// the problem they describe, checked (messages start with `command`; throws
+// std::invalid_argument);
+fit::Problem make_problem(const FitOptions& options, const std::string& command);
+// the parameters a table names: those the design panel shows and the free ones;
+std::vector<std::string> design_columns(const Mechanism& mechanism, const std::vector<fit::Variable>& variables);
+// the Pareto chart of size against the worst measure (.png, .svg, .pdf;
+// needs a QGuiApplication).
+void write_pareto_chart(const std::string& path, const fit::Problem& problem, const fit::Result& result,
+                        const MechanismInfo& info, const std::string& title);
+// A text file, written through a temporary (core/atomic_file.h).
+void write_text_file(const std::string& path, const std::string& text);
 
 struct FitCommand {
   CLI::App* command = nullptr;

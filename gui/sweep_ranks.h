@@ -1,0 +1,48 @@
+// Where a sweep's designs are evaluated: in this process, or over the ranks
+// of an MPI job (gui/sweep_mpi.cpp, built with LINKSCAPE_MPI). Rank 0 hands
+// out chunks of design indices as ranks ask for them (guided: about the
+// remaining designs over twice the ranks, at most `max_chunk`), evaluates
+// chunks itself on a second thread, and receives every row; the other ranks
+// only evaluate. Rows are delivered to rank 0's main thread, which alone
+// writes the checkpoint and the table.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace linkscape::gui::sweep_ranks {
+
+using Rows = std::vector<std::pair<std::size_t, std::string>>;
+
+struct Job {
+  std::vector<std::size_t> todo;                     // rank 0: the designs left, in table order
+  std::function<std::string(std::size_t)> evaluate;  // one design's row (every rank)
+  std::function<void(const Rows&)> finished;         // rank 0's main thread, per chunk received
+  std::size_t max_chunk = 16;
+};
+
+struct Place {
+  int rank = 0, ranks = 1;
+};
+
+// The ranks of the MPI job that started this process, from its launcher's
+// environment (Open MPI's mpirun, Slurm's srun with PMI or PMIx); 0 where
+// none did. The single-process path never touches MPI.
+int launched_ranks();
+// This process's rank in that job (0 where none started it).
+int launched_rank();
+
+// Whether this binary can join an MPI job.
+bool mpi_built();
+
+// In this process: every design of job.todo in order.
+void run_here(const Job& job);
+
+// Over the MPI job (MPI_Init to MPI_Finalize); returns this process's place.
+// Only where mpi_built().
+Place run_over_ranks(const Job& job);
+
+}  // namespace linkscape::gui::sweep_ranks
