@@ -95,7 +95,7 @@ void run_sweep(const SweepOptions& o, std::ostream& out) {
 
   sweep::Plan plan;
   plan.problem = make_problem(o.problem, "sweep");
-  plan.problem.threads = o.threads;
+  plan.problem.threads = 1;  // designs run in parallel, each on one thread (gui/sweep_ranks.h)
   plan.sampling = o.grid > 0 ? sweep::Sampling::Grid : sweep::Sampling::Random;
   plan.levels = o.grid;
   plan.count = o.random;
@@ -108,6 +108,7 @@ void run_sweep(const SweepOptions& o, std::ostream& out) {
   sweep_ranks::Job job;
   job.evaluate = [&](std::size_t i) { return sweep::evaluate_row(plan, i, designs[i]); };
   job.max_chunk = o.chunk;
+  job.threads = o.threads > 0 ? o.threads : omp_get_max_threads();
   // Under a launcher the ranks share the work even when there is one (so
   // that mpirun -np 1 runs the MPI path); otherwise MPI is never touched.
   const bool distributed = ranks >= 1 && sweep_ranks::mpi_built();
@@ -142,7 +143,7 @@ void run_sweep(const SweepOptions& o, std::ostream& out) {
     checkpoint.flush();
     progress.update(checkpoint.rows().size(), failed);
   };
-  const int threads = o.threads > 0 ? o.threads : omp_get_max_threads();
+  const int threads = job.threads;
   sweep_ranks::Place place;
   if (distributed) place = sweep_ranks::run_over_ranks(job);
   else sweep_ranks::run_here(job);
@@ -194,9 +195,12 @@ SweepCommand add_sweep_command(CLI::App& app) {
                   "none): reach_volume, gci (mean of 1/c over the reachable samples), and inside the task at its "
                   "centre task_reach, task_worst_cond, task_mean_cond")
       ->capture_default_str();
-  cmd->add_option("--threads", o->threads, "OpenMP threads per process (0: OMP_NUM_THREADS or every core)")
+  cmd->add_option("--threads", o->threads,
+                  "OpenMP threads per process, each evaluating whole designs (0: OMP_NUM_THREADS or every core)")
       ->capture_default_str();
-  cmd->add_option("--chunk", o->chunk, "Most designs handed to one rank at a time under mpirun")->capture_default_str();
+  cmd->add_option("--chunk", o->chunk,
+                  "Most designs handed to a process at a time (at least one per thread), and between checkpoint writes")
+      ->capture_default_str();
   cmd->add_option("-o,--output", o->output,
                   "The table (.csv): design, every design parameter, cx,cy,cz, size, meets, the largest shape (centre "
                   "free), fraction, each criterion's worst value and margin, the field measures, pareto, error; one "

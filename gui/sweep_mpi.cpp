@@ -40,20 +40,20 @@ Rows unpack(const std::string& text, const std::vector<std::size_t>& indices) {
 // The designs not yet handed out, shared by rank 0's two threads.
 class Queue {
  public:
-  Queue(const std::vector<std::size_t>& todo, int ranks, std::size_t max_chunk)
-      : left_(todo.begin(), todo.end()), ranks_(std::size_t(ranks)), max_chunk_(std::max<std::size_t>(1, max_chunk)) {}
+  Queue(const Job& job, int ranks) : job_(job), left_(job.todo.begin(), job.todo.end()), ranks_(ranks) {}
   std::vector<std::size_t> take() {
     std::lock_guard lock(mutex_);
-    const std::size_t n = std::clamp<std::size_t>(left_.size() / (2 * ranks_), 1, max_chunk_);
-    std::vector<std::size_t> chunk;
-    while (chunk.size() < n && !left_.empty()) chunk.push_back(left_.front()), left_.pop_front();
+    const std::size_t n = std::min(left_.size(), chunk_size(job_, left_.size(), ranks_));
+    std::vector<std::size_t> chunk(left_.begin(), left_.begin() + std::ptrdiff_t(n));
+    left_.erase(left_.begin(), left_.begin() + std::ptrdiff_t(n));
     return chunk;
   }
 
  private:
+  const Job& job_;
   std::mutex mutex_;
   std::deque<std::size_t> left_;
-  std::size_t ranks_, max_chunk_;
+  int ranks_;
 };
 
 void work(const Job& job) {
@@ -68,12 +68,13 @@ void work(const Job& job) {
     check(MPI_Recv(chunk.data(), count, MPI_UINT64_T, 0, kWork, MPI_COMM_WORLD, MPI_STATUS_IGNORE), "receive");
     if (chunk.empty()) return;
     rows.clear();
-    for (std::uint64_t i : chunk) rows += job.evaluate(std::size_t(i)) + "\n";
+    for (const auto& [index, row] : evaluate_chunk(job, std::vector<std::size_t>(chunk.begin(), chunk.end())))
+      rows += row + "\n";
   }
 }
 
 void lead(const Job& job, int ranks) {
-  Queue queue(job.todo, ranks, job.max_chunk);
+  Queue queue(job, ranks);
   std::mutex mutex;
   Rows local;                 // finished by this rank's own thread
   bool local_done = false;
@@ -81,8 +82,7 @@ void lead(const Job& job, int ranks) {
   std::thread own([&] {
     try {
       for (std::vector<std::size_t> chunk; !(chunk = queue.take()).empty();) {
-        Rows rows;
-        for (std::size_t i : chunk) rows.emplace_back(i, job.evaluate(i));
+        const Rows rows = evaluate_chunk(job, chunk);
         std::lock_guard lock(mutex);
         local.insert(local.end(), rows.begin(), rows.end());
       }

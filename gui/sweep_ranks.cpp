@@ -1,6 +1,7 @@
 #include "gui/sweep_ranks.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdlib>
 #include <stdexcept>
 
@@ -23,8 +24,27 @@ int launched_rank() {
   return 0;
 }
 
+Rows evaluate_chunk(const Job& job, const std::vector<std::size_t>& chunk) {
+  Rows rows(chunk.size());
+#pragma omp parallel for schedule(dynamic, 1) num_threads(std::max(1, job.threads))
+  for (std::int64_t k = 0; k < std::int64_t(chunk.size()); ++k)
+    rows[std::size_t(k)] = {chunk[std::size_t(k)], job.evaluate(chunk[std::size_t(k)])};
+  return rows;
+}
+
+std::size_t chunk_size(const Job& job, std::size_t left, int ranks) {
+  const std::size_t threads = std::size_t(std::max(1, job.threads));
+  const std::size_t most = std::max(job.max_chunk, threads), fewest = std::min(threads, most);
+  return std::clamp(left / (2 * std::size_t(std::max(1, ranks))), fewest, most);
+}
+
 void run_here(const Job& job) {
-  for (std::size_t i : job.todo) job.finished({{i, job.evaluate(i)}});
+  for (std::size_t start = 0; start < job.todo.size();) {
+    const std::size_t n = std::min(job.todo.size() - start, chunk_size(job, job.todo.size() - start, 1));
+    job.finished(evaluate_chunk(job, std::vector<std::size_t>(job.todo.begin() + std::ptrdiff_t(start),
+                                                              job.todo.begin() + std::ptrdiff_t(start + n))));
+    start += n;
+  }
 }
 
 #ifndef LINKSCAPE_WITH_MPI

@@ -1,10 +1,13 @@
 // Where a sweep's designs are evaluated: in this process, or over the ranks
 // of an MPI job (gui/sweep_mpi.cpp, built with LINKSCAPE_MPI). Rank 0 hands
 // out chunks of design indices as ranks ask for them (guided: about the
-// remaining designs over twice the ranks, at most `max_chunk`), evaluates
-// chunks itself on a second thread, and receives every row; the other ranks
-// only evaluate. Rows are delivered to rank 0's main thread, which alone
-// writes the checkpoint and the table.
+// remaining designs over twice the ranks, at least one design per thread and
+// at most `max_chunk` or four per thread), evaluates chunks itself on a
+// second thread, and receives every row; the other ranks only evaluate.
+// Within a process, the designs of a chunk run in parallel, one per OpenMP
+// thread (a design's own loops then run on its thread alone). Rows are
+// delivered to rank 0's main thread, which alone writes the checkpoint and
+// the table.
 #pragma once
 
 #include <cstddef>
@@ -22,7 +25,14 @@ struct Job {
   std::function<std::string(std::size_t)> evaluate;  // one design's row (every rank)
   std::function<void(const Rows&)> finished;         // rank 0's main thread, per chunk received
   std::size_t max_chunk = 16;
+  int threads = 1;                                   // designs evaluated at once in each process
 };
+
+// The rows of `chunk`, its designs spread over job.threads OpenMP threads, in
+// the chunk's order.
+Rows evaluate_chunk(const Job& job, const std::vector<std::size_t>& chunk);
+// How many designs to hand out next with `left` not yet handed out.
+std::size_t chunk_size(const Job& job, std::size_t left, int ranks);
 
 struct Place {
   int rank = 0, ranks = 1;

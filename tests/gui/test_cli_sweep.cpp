@@ -1,6 +1,6 @@
 // linkscape sweep through the real binary, on one process and under mpirun
-// (1, 2 and 4 ranks, oversubscribed on this machine): the same table byte for
-// byte, a design that cannot be built reported in its row, a rank killed
+// (1, 2 and 4 ranks, oversubscribed on this machine) and on 1 or 2 threads:
+// the same table byte for byte, a design that cannot be built reported in its row, a rank killed
 // mid-run reported as a failed run whose checkpoint --resume completes to the
 // same table, and the bad inputs that exit with 2.
 #include <gtest/gtest.h>
@@ -21,7 +21,7 @@ const std::string kMpiEnvironment = "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_
 // A small sweep with one design that cannot be built (L1 = -5).
 const std::string kSmall =
     "sweep --task sphere:diameter=15 --criterion 'cond<3' --bounds L1=-5:20 --bounds L2=10:20 --grid 4 "
-    "--resolution 16 --refinements 1 --places 1 --task-resolution 6 --field-resolution 16 --threads 1 --chunk 2 -q";
+    "--resolution 16 --refinements 1 --places 1 --task-resolution 6 --field-resolution 16 --chunk 2 -q";
 
 std::string out(const std::string& name) {
   fs::create_directories(kOut);
@@ -37,15 +37,8 @@ std::string read(const fs::path& p) {
 }
 
 CommandResult mpirun(int ranks, const std::string& args) {
-  CommandResult r;
-  const std::string command = kMpiEnvironment + " mpirun --oversubscribe -np " + std::to_string(ranks) + " " +
-                              LINKSCAPE_BINARY + " " + args + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  char buffer[4096];
-  while (std::size_t n = fread(buffer, 1, sizeof buffer, pipe)) r.out.append(buffer, n);
-  const int status = pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+  return run_shell(kMpiEnvironment + " mpirun --oversubscribe -np " + std::to_string(ranks) + " " + LINKSCAPE_BINARY +
+                   " " + args + " 2>&1");
 }
 
 // The process whose command line holds `marker` and whose environment says
@@ -68,7 +61,7 @@ pid_t find_rank(const std::string& marker, int rank) {
 
 TEST(CliSweep, OneTwoAndFourRanksWriteTheSingleProcessTableByteForByte) {
   const std::string single = out("single.csv");
-  const CommandResult r = run_linkscape(kSmall + " -o " + single);
+  const CommandResult r = run_linkscape(kSmall + " --threads 1 -o " + single);
   ASSERT_EQ(r.exit_code, 0) << r.out;
   EXPECT_NE(r.out.find("16 designs (4 with an error) on 1 process x 1 thread"), std::string::npos) << r.out;
   const std::string table = read(single);
@@ -84,11 +77,16 @@ TEST(CliSweep, OneTwoAndFourRanksWriteTheSingleProcessTableByteForByte) {
   int on_front = 0;
   for (const auto& row : rows) on_front += row.at("pareto") == "1";
   EXPECT_GT(on_front, 0);
+  // Two threads, each evaluating whole designs: the same bytes.
+  const std::string threads = out("threads.csv");
+  ASSERT_EQ(run_linkscape(kSmall + " --threads 2 -o " + threads).exit_code, 0);
+  EXPECT_EQ(read(threads), table);
   for (int ranks : {1, 2, 4}) {
     const std::string file = out("ranks" + std::to_string(ranks) + ".csv");
-    const CommandResult m = mpirun(ranks, kSmall + " -o " + file);
+    const CommandResult m = mpirun(ranks, kSmall + " --threads " + (ranks == 2 ? "2" : "1") + " -o " + file);
     ASSERT_EQ(m.exit_code, 0) << m.out;
-    EXPECT_NE(m.out.find("on " + std::string(ranks == 1 ? "1 process" : std::to_string(ranks) + " ranks")),
+    EXPECT_NE(m.out.find("on " + std::string(ranks == 1 ? "1 process" : std::to_string(ranks) + " ranks") + " x " +
+                         (ranks == 2 ? "2 threads" : "1 thread")),
               std::string::npos)
         << m.out;
     EXPECT_EQ(std::count(m.out.begin(), m.out.end(), '\n'), 1) << "one summary, from rank 0 only:\n" << m.out;
