@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "core/csv.h"
+#include "core/simd.h"
 
 namespace linkscape::fit {
 namespace {
@@ -323,6 +324,9 @@ std::optional<Row> evaluate(const Problem& problem, const std::vector<double>& v
   if (values.size() != problem.variables.size())
     throw std::invalid_argument("fit: a design needs " + std::to_string(problem.variables.size()) + " values, got " +
                                 std::to_string(values.size()));
+  // Scalar code waits on upper register halves other libraries leave in use
+  // (core/simd.h): 4x on the 12R's point-wise task evaluation.
+  simd::clear_upper_registers();
   Row row;
   row.values = values;
   Preset preset = problem.preset;
