@@ -2,7 +2,7 @@
 // finished rows (tag kRows; empty at first, so a message is also a request
 // for work); rank 0 answers with a chunk of design indices (tag kWork; empty:
 // stop). All of rank 0's MPI calls are on its main thread, which polls for
-// rows while a second thread evaluates rank 0's own chunks.
+// rows while a second thread's OpenMP team evaluates rank 0's own designs.
 #include <mpi.h>
 
 #include <algorithm>
@@ -41,9 +41,11 @@ Rows unpack(const std::string& text, const std::vector<std::size_t>& indices) {
 class Queue {
  public:
   Queue(const Job& job, int ranks) : job_(job), left_(job.todo.begin(), job.todo.end()), ranks_(ranks) {}
-  std::vector<std::size_t> take() {
+  // A chunk for another rank.
+  std::vector<std::size_t> take() { return take(chunk_size(job_, left_.size(), ranks_)); }
+  std::vector<std::size_t> take(std::size_t most) {
     std::lock_guard lock(mutex_);
-    const std::size_t n = std::min(left_.size(), chunk_size(job_, left_.size(), ranks_));
+    const std::size_t n = std::min(left_.size(), most);
     std::vector<std::size_t> chunk(left_.begin(), left_.begin() + std::ptrdiff_t(n));
     left_.erase(left_.begin(), left_.begin() + std::ptrdiff_t(n));
     return chunk;
@@ -79,16 +81,20 @@ void lead(const Job& job, int ranks) {
   Rows local;                 // finished by this rank's own thread
   bool local_done = false;
   std::string local_error;
+  // Rank 0's own threads take one design at a time: none waits for another.
   std::thread own([&] {
-    try {
-      for (std::vector<std::size_t> chunk; !(chunk = queue.take()).empty();) {
-        const Rows rows = evaluate_chunk(job, chunk);
+#pragma omp parallel num_threads(std::max(1, job.threads))
+    for (std::vector<std::size_t> one; !(one = queue.take(1)).empty();) {
+      std::string row;
+      try {
+        row = job.evaluate(one.front());
+      } catch (const std::exception& e) {
         std::lock_guard lock(mutex);
-        local.insert(local.end(), rows.begin(), rows.end());
+        local_error = e.what();
+        continue;
       }
-    } catch (const std::exception& e) {
       std::lock_guard lock(mutex);
-      local_error = e.what();
+      local.emplace_back(one.front(), std::move(row));
     }
     std::lock_guard lock(mutex);
     local_done = true;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdlib>
+#include <mutex>
 #include <stdexcept>
 
 namespace linkscape::gui::sweep_ranks {
@@ -39,11 +40,15 @@ std::size_t chunk_size(const Job& job, std::size_t left, int ranks) {
 }
 
 void run_here(const Job& job) {
-  for (std::size_t start = 0; start < job.todo.size();) {
-    const std::size_t n = std::min(job.todo.size() - start, chunk_size(job, job.todo.size() - start, 1));
-    job.finished(evaluate_chunk(job, std::vector<std::size_t>(job.todo.begin() + std::ptrdiff_t(start),
-                                                              job.todo.begin() + std::ptrdiff_t(start + n))));
-    start += n;
+  // One design at a time per thread, rows handed over as they finish: no
+  // thread waits for another.
+  std::mutex handing_over;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(std::max(1, job.threads))
+  for (std::int64_t k = 0; k < std::int64_t(job.todo.size()); ++k) {
+    const std::size_t i = job.todo[std::size_t(k)];
+    Rows row{{i, job.evaluate(i)}};
+    std::lock_guard lock(handing_over);
+    job.finished(row);
   }
 }
 

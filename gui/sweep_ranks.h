@@ -2,11 +2,13 @@
 // of an MPI job (gui/sweep_mpi.cpp, built with LINKSCAPE_MPI). Rank 0 hands
 // out chunks of design indices as ranks ask for them (guided: about the
 // remaining designs over twice the ranks, at least one design per thread and
-// at most `max_chunk` or four per thread), evaluates chunks itself on a
+// at most `max_chunk` or four per thread), evaluates designs itself on a
 // second thread, and receives every row; the other ranks only evaluate.
-// Within a process, the designs of a chunk run in parallel, one per OpenMP
-// thread (a design's own loops then run on its thread alone). Rows are
-// delivered to rank 0's main thread, which alone writes the checkpoint and
+// Within a process, designs run in parallel, one per OpenMP thread (a
+// design's own loops then run on its thread alone); on one process and on
+// rank 0 each thread takes the next design as it finishes one, on the other
+// ranks the threads share a chunk. Rows are delivered one batch at a time:
+// under MPI on rank 0's main thread, which alone writes the checkpoint and
 // the table.
 #pragma once
 
@@ -23,7 +25,7 @@ using Rows = std::vector<std::pair<std::size_t, std::string>>;
 struct Job {
   std::vector<std::size_t> todo;                     // rank 0: the designs left, in table order
   std::function<std::string(std::size_t)> evaluate;  // one design's row (every rank)
-  std::function<void(const Rows&)> finished;         // rank 0's main thread, per chunk received
+  std::function<void(const Rows&)> finished;         // rank 0, one call at a time, as rows arrive
   std::size_t max_chunk = 16;
   int threads = 1;                                   // designs evaluated at once in each process
 };
@@ -48,7 +50,7 @@ int launched_rank();
 // Whether this binary can join an MPI job.
 bool mpi_built();
 
-// In this process: every design of job.todo in order.
+// In this process: every design of job.todo.
 void run_here(const Job& job);
 
 // Over the MPI job (MPI_Init to MPI_Finalize); returns this process's place.
