@@ -365,6 +365,10 @@ Checkpoint::Checkpoint(const std::filesystem::path& path, const Plan& plan, std:
     std::filesystem::resize_file(path, complete);
     out_.open(path, std::ios::binary | std::ios::app);
   } else {
+    // A journal left by a stopped run holds finished work: never replaced silently.
+    if (std::filesystem::exists(path))
+      throw std::invalid_argument("sweep: a stopped sweep's checkpoint '" + path.string() +
+                                  "' exists: add --resume to finish it, or remove it to start again");
     out_.open(path, std::ios::binary | std::ios::trunc);
     out_ << first << "\n";
   }

@@ -78,10 +78,10 @@ std::string fingerprint(const Plan& plan);
 // line, which resuming drops.
 class Checkpoint {
  public:
-  // Starts a new journal (replacing any), or with `resume` reads the rows of
-  // an existing one and appends to it. Throws std::invalid_argument where
-  // `resume` finds no journal, a journal of another plan, or a malformed
-  // line (naming file and line).
+  // Starts a new journal, or with `resume` reads the rows of an existing one
+  // and appends to it. Throws std::invalid_argument where a new journal
+  // would replace one (a stopped run's work), or `resume` finds no journal,
+  // a journal of another plan, or a malformed line (naming file and line).
   Checkpoint(const std::filesystem::path& path, const Plan& plan, std::size_t designs, bool resume);
   const std::map<std::size_t, std::string>& rows() const { return rows_; }
   void add(std::size_t index, const std::string& row);  // appended; flush() writes it through

@@ -50,6 +50,10 @@ class Queue {
     left_.erase(left_.begin(), left_.begin() + std::ptrdiff_t(n));
     return chunk;
   }
+  void clear() {
+    std::lock_guard lock(mutex_);
+    left_.clear();
+  }
 
  private:
   const Job& job_;
@@ -102,32 +106,38 @@ void lead(const Job& job, int ranks) {
   std::vector<std::vector<std::size_t>> given(static_cast<std::size_t>(ranks));  // the chunk each rank works on
   int working = ranks - 1;
   bool done = false;
-  while (!done) {
-    int waiting = 0;
-    MPI_Status status;
-    check(MPI_Iprobe(MPI_ANY_SOURCE, kRows, MPI_COMM_WORLD, &waiting, &status), "probe");
-    if (waiting) {
-      int count = 0;
-      MPI_Get_count(&status, MPI_CHAR, &count);
-      std::string text(std::size_t(count), '\0');
-      const int from = status.MPI_SOURCE;
-      check(MPI_Recv(text.data(), count, MPI_CHAR, from, kRows, MPI_COMM_WORLD, MPI_STATUS_IGNORE), "receive");
-      const Rows rows = unpack(text, given[std::size_t(from)]);
+  try {
+    while (!done) {
+      int waiting = 0;
+      MPI_Status status;
+      check(MPI_Iprobe(MPI_ANY_SOURCE, kRows, MPI_COMM_WORLD, &waiting, &status), "probe");
+      if (waiting) {
+        int count = 0;
+        MPI_Get_count(&status, MPI_CHAR, &count);
+        std::string text(std::size_t(count), '\0');
+        const int from = status.MPI_SOURCE;
+        check(MPI_Recv(text.data(), count, MPI_CHAR, from, kRows, MPI_COMM_WORLD, MPI_STATUS_IGNORE), "receive");
+        const Rows rows = unpack(text, given[std::size_t(from)]);
+        if (!rows.empty()) job.finished(rows);
+        given[std::size_t(from)] = queue.take();
+        const std::vector<std::uint64_t> chunk(given[std::size_t(from)].begin(), given[std::size_t(from)].end());
+        check(MPI_Send(chunk.data(), int(chunk.size()), MPI_UINT64_T, from, kWork, MPI_COMM_WORLD), "send");
+        if (chunk.empty()) --working;
+        continue;
+      }
+      Rows rows;
+      {
+        std::lock_guard lock(mutex);
+        rows.swap(local);
+        done = local_done && working == 0;
+      }
       if (!rows.empty()) job.finished(rows);
-      given[std::size_t(from)] = queue.take();
-      const std::vector<std::uint64_t> chunk(given[std::size_t(from)].begin(), given[std::size_t(from)].end());
-      check(MPI_Send(chunk.data(), int(chunk.size()), MPI_UINT64_T, from, kWork, MPI_COMM_WORLD), "send");
-      if (chunk.empty()) --working;
-      continue;
+      if (!done) std::this_thread::sleep_for(std::chrono::milliseconds(2));
     }
-    Rows rows;
-    {
-      std::lock_guard lock(mutex);
-      rows.swap(local);
-      done = local_done && working == 0;
-    }
-    if (!rows.empty()) job.finished(rows);
-    if (!done) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  } catch (...) {
+    queue.clear();  // rank 0's own threads stop after their current design
+    own.join();
+    throw;
   }
   own.join();
   if (!local_error.empty()) throw std::runtime_error(local_error);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdlib>
+#include <exception>
 #include <mutex>
 #include <stdexcept>
 
@@ -41,15 +42,28 @@ std::size_t chunk_size(const Job& job, std::size_t left, int ranks) {
 
 void run_here(const Job& job) {
   // One design at a time per thread, rows handed over as they finish: no
-  // thread waits for another.
+  // thread waits for another. An exception cannot leave an OpenMP loop: the
+  // first one (a checkpoint that cannot be written) stops the others and is
+  // thrown after it.
   std::mutex handing_over;
+  std::exception_ptr failure;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(std::max(1, job.threads))
   for (std::int64_t k = 0; k < std::int64_t(job.todo.size()); ++k) {
+    {
+      std::lock_guard lock(handing_over);
+      if (failure) continue;
+    }
     const std::size_t i = job.todo[std::size_t(k)];
-    Rows row{{i, job.evaluate(i)}};
-    std::lock_guard lock(handing_over);
-    job.finished(row);
+    try {
+      Rows row{{i, job.evaluate(i)}};
+      std::lock_guard lock(handing_over);
+      if (!failure) job.finished(row);
+    } catch (...) {
+      std::lock_guard lock(handing_over);
+      if (!failure) failure = std::current_exception();
+    }
   }
+  if (failure) std::rethrow_exception(failure);
 }
 
 #ifndef LINKSCAPE_WITH_MPI

@@ -196,6 +196,7 @@ TEST(SweepCheckpoint, AResumedJournalGivesTheSameTableAsOneRunStraightThrough) {
   const auto designs = sweep::designs(plan);
   const std::string straight = sweep::table(plan, every_row(plan));
   const fs::path path = temp("resume.checkpoint");
+  fs::remove(path);
   {
     sweep::Checkpoint journal(path, plan, designs.size(), false);
     for (std::size_t i : {5u, 0u, 2u}) journal.add(i, sweep::evaluate_row(plan, i, designs[i]));
@@ -225,6 +226,7 @@ TEST(SweepCheckpoint, AnotherPlanOrAMalformedJournalIsRefused) {
   fs::remove(path);
   expect_error([&] { sweep::Checkpoint(path, plan, 9, true); }, "finds no checkpoint");
   { sweep::Checkpoint(path, plan, 9, false); }
+  expect_error([&] { sweep::Checkpoint(path, plan, 9, false); }, "add --resume to finish it, or remove it");
   sweep::Plan other = plan_12r();
   other.levels = 4;
   expect_error([&] { sweep::Checkpoint(path, other, 16, true); }, "is of another sweep");

@@ -23,9 +23,11 @@ const std::string kSmall =
     "sweep --task sphere:diameter=15 --criterion 'cond<3' --bounds L1=-5:20 --bounds L2=10:20 --grid 4 "
     "--resolution 16 --refinements 1 --places 1 --task-resolution 6 --field-resolution 16 --chunk 2 -q";
 
+// A fresh output path: no table or checkpoint of an earlier run.
 std::string out(const std::string& name) {
   fs::create_directories(kOut);
   fs::remove(kOut / name);
+  fs::remove(kOut / (name + ".checkpoint"));
   return (kOut / name).string();
 }
 
@@ -160,7 +162,13 @@ TEST(CliSweep, BadInputsExitWithTwoAndWriteNothing) {
     EXPECT_NE(r.out.find(expected), std::string::npos) << args << "\n" << r.out;
     EXPECT_FALSE(fs::exists(file)) << args;
   }
-  // A checkpoint of another sweep is not resumed.
+  // A stopped sweep's checkpoint is neither replaced by a new run nor
+  // resumed by another sweep.
+  std::ofstream(file + ".checkpoint") << "# linkscape sweep 1; another plan\n";
+  const CommandResult fresh = run_linkscape(kSmall + " -o " + file);
+  EXPECT_EQ(fresh.exit_code, 2) << fresh.out;
+  EXPECT_NE(fresh.out.find("add --resume to finish it"), std::string::npos) << fresh.out;
+  fs::remove(file + ".checkpoint");
   ASSERT_EQ(run_linkscape(kSmall + " -o " + file).exit_code, 0);
   fs::remove(file);
   std::ofstream(file + ".checkpoint") << "# linkscape sweep 1; another plan\n";
