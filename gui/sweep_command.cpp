@@ -2,6 +2,12 @@
 
 #include <omp.h>
 #include <unistd.h>
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkStringArray.h>
 
 #include <chrono>
 #include <csignal>
@@ -15,6 +21,7 @@
 #include "core/csv.h"
 #include "core/sweep.h"
 #include "gui/sweep_ranks.h"
+#include "render/field_vtk.h"
 
 namespace linkscape::gui {
 namespace {
@@ -73,6 +80,64 @@ class ProgressLine {
 
 bool has_error(const std::string& row) { return row.back() != ','; }
 
+std::vector<std::string> cells_of(const std::string& line) {
+  std::vector<std::string> cells;
+  std::size_t start = 0;
+  for (std::size_t comma; (comma = line.find(',', start)) != std::string::npos; start = comma + 1)
+    cells.push_back(line.substr(start, comma - start));
+  cells.push_back(line.substr(start));
+  return cells;
+}
+
+// A grid sweep of one to three variables as VTK image data: a point per
+// design at its variables' values (the first variable along x), a double
+// array per numeric column of the table (NaN where a design has an error),
+// and the variables' names as field data ("axis_x", ...), for ParaView.
+void write_sweep_vti(const sweep::Plan& plan, const std::string& table, const std::string& path) {
+  const auto& vars = plan.problem.variables;
+  const int n = plan.levels;
+  vtkNew<vtkImageData> image;
+  int dims[3] = {1, 1, 1};
+  double origin[3] = {0, 0, 0}, spacing[3] = {1, 1, 1};
+  for (std::size_t a = 0; a < vars.size(); ++a) {
+    dims[a] = n;
+    origin[a] = vars[a].lo;
+    spacing[a] = vars[a].hi > vars[a].lo ? (vars[a].hi - vars[a].lo) / (n - 1) : 1;
+  }
+  image->SetDimensions(dims);
+  image->SetOrigin(origin);
+  image->SetSpacing(spacing);
+  std::istringstream lines(table);
+  std::string line;
+  std::getline(lines, line);
+  const std::vector<std::string> head = cells_of(line);
+  const std::size_t first = std::size_t(std::find(head.begin(), head.end(), "cx") - head.begin());
+  std::vector<vtkSmartPointer<vtkDoubleArray>> arrays;
+  for (std::size_t c = first; c + 1 < head.size(); ++c) {  // every score, the error column aside
+    arrays.push_back(vtkSmartPointer<vtkDoubleArray>::New());
+    arrays.back()->SetName(head[c].c_str());
+    arrays.back()->SetNumberOfTuples(vtkIdType(image->GetNumberOfPoints()));
+    image->GetPointData()->AddArray(arrays.back());
+  }
+  for (std::size_t design = 0; std::getline(lines, line); ++design) {
+    const std::vector<std::string> cells = cells_of(line);
+    // The design's grid indices (the last variable fastest in the table).
+    int at[3] = {0, 0, 0};
+    std::size_t rest = design;
+    for (std::size_t a = vars.size(); a-- > 0;) at[a] = int(rest % std::size_t(n)), rest /= std::size_t(n);
+    const vtkIdType point = at[0] + vtkIdType(dims[0]) * (at[1] + vtkIdType(dims[1]) * at[2]);
+    for (std::size_t k = 0; k < arrays.size(); ++k)
+      arrays[k]->SetValue(point, parse_number(cells[first + k]).value_or(std::nan("")));
+  }
+  for (std::size_t a = 0; a < vars.size(); ++a) {
+    vtkNew<vtkStringArray> name;
+    name->SetName((std::string("axis_") + "xyz"[a]).c_str());
+    name->InsertNextValue(vars[a].name());
+    image->GetFieldData()->AddArray(name);
+  }
+  render::write_image_data(image, path);
+}
+
 }  // namespace
 
 void run_sweep(const SweepOptions& o, std::ostream& out) {
@@ -84,6 +149,8 @@ void run_sweep(const SweepOptions& o, std::ostream& out) {
   const std::string chart_ext = std::filesystem::path(o.chart).extension().string();
   if (!o.chart.empty() && chart_ext != ".png" && chart_ext != ".svg" && chart_ext != ".pdf")
     throw std::invalid_argument("sweep: --chart must end in .png, .svg or .pdf, got '" + o.chart + "'");
+  if (!o.vti.empty() && std::filesystem::path(o.vti).extension() != ".vti")
+    throw std::invalid_argument("sweep: --vti must end in .vti, got '" + o.vti + "'");
   if (o.field_resolution < 0 || (o.field_resolution > 0 && o.field_resolution < 4))
     throw std::invalid_argument("sweep: --field-resolution must be 0 (none) or at least 4");
   if (o.threads < 0) throw std::invalid_argument("sweep: --threads must be 0 (OpenMP's default) or more");
@@ -104,6 +171,10 @@ void run_sweep(const SweepOptions& o, std::ostream& out) {
   const std::shared_ptr<const Mechanism> base = make_mechanism(plan.problem.preset);
   plan.columns = design_columns(*base, plan.problem.variables);
   const std::vector<std::vector<double>> designs = sweep::designs(plan);
+  if (!o.vti.empty() && (plan.sampling != sweep::Sampling::Grid || plan.problem.variables.size() > 3))
+    throw std::invalid_argument("sweep: --vti needs --grid over at most 3 free variables, got " +
+                                std::to_string(plan.problem.variables.size()) +
+                                (plan.sampling == sweep::Sampling::Grid ? "" : " and --random"));
 
   sweep_ranks::Job job;
   job.evaluate = [&](std::size_t i) { return sweep::evaluate_row(plan, i, designs[i]); };
@@ -160,6 +231,7 @@ void run_sweep(const SweepOptions& o, std::ostream& out) {
     write_pareto_chart(o.chart, plan.problem, result, info,
                        info.name + " sweep: " + plan.problem.task.text + " meeting " + criteria_text);
   }
+  if (!o.vti.empty()) write_sweep_vti(plan, table, o.vti);
   checkpoint.remove();
 
   std::size_t on_front = 0;
@@ -210,6 +282,9 @@ SweepCommand add_sweep_command(CLI::App& app) {
                   "Journal of the finished designs, removed once the table is written (default: OUTPUT.checkpoint)");
   cmd->add_flag("--resume", o->resume, "Continue a stopped sweep from its checkpoint (the same command otherwise)");
   cmd->add_option("--chart", o->chart, "Pareto chart, size against the worst measure (.png, .svg, .pdf)");
+  cmd->add_option("--vti", o->vti,
+                  "A --grid sweep of 1 to 3 variables as VTK image data (.vti): a point per design at its values, "
+                  "an array per score (NaN where a design has an error), for ParaView");
   cmd->add_flag("-q,--quiet", o->quiet, "No progress on stderr");
   cmd->footer(
       "Examples:\n"

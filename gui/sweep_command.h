@@ -26,6 +26,7 @@ struct SweepOptions {
   std::string checkpoint;        // default: <output>.checkpoint
   bool resume = false;
   std::string chart;             // Pareto chart (.png, .svg, .pdf)
+  std::string vti;               // a grid sweep of 1 to 3 variables as image data
   bool quiet = false;
 };
 

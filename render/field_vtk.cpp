@@ -126,8 +126,9 @@ vtkSmartPointer<vtkImageData> to_image_data(const Field& field) {
   return image;
 }
 
-void write_vti(const Field& field, const std::filesystem::path& path) {
-  vtkSmartPointer<vtkImageData> image = to_image_data(field);
+void write_vti(const Field& field, const std::filesystem::path& path) { write_image_data(to_image_data(field), path); }
+
+void write_image_data(vtkImageData* image, const std::filesystem::path& path) {
   write_atomically(path, [&](const std::filesystem::path& tmp) {
     vtkNew<vtkXMLImageDataWriter> writer;
     writer->SetFileName(tmp.c_str());

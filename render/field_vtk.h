@@ -40,6 +40,8 @@ void add_metadata(vtkFieldData* out, const Field& field);
 // atomically. Throws std::invalid_argument as check_field, std::runtime_error
 // if the file cannot be written (the target is then untouched).
 void write_vti(const Field& field, const std::filesystem::path& path);
+// Writes any image data the same way (binary, zlib, atomically).
+void write_image_data(vtkImageData* image, const std::filesystem::path& path);
 
 // Writes one CSV row per sample, x fastest:
 //   x,y,z,cond,reach_margin,residual,reachable,status,iterations[,method_used][,<named arrays>]

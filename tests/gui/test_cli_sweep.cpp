@@ -63,7 +63,8 @@ pid_t find_rank(const std::string& marker, int rank) {
 
 TEST(CliSweep, OneTwoAndFourRanksWriteTheSingleProcessTableByteForByte) {
   const std::string single = out("single.csv");
-  const CommandResult r = run_linkscape(kSmall + " --threads 1 -o " + single);
+  const std::string vti = out("single.vti");
+  const CommandResult r = run_linkscape(kSmall + " --threads 1 -o " + single + " --vti " + vti);
   ASSERT_EQ(r.exit_code, 0) << r.out;
   EXPECT_NE(r.out.find("16 designs (4 with an error) on 1 process x 1 thread"), std::string::npos) << r.out;
   const std::string table = read(single);
@@ -76,6 +77,12 @@ TEST(CliSweep, OneTwoAndFourRanksWriteTheSingleProcessTableByteForByte) {
   EXPECT_EQ(rows[0].at("size"), "");
   EXPECT_EQ(rows[15].at("error"), "");
   EXPECT_NE(rows[15].at("gci"), "");
+  // The grid as image data: 4 x 4 points, an array per score.
+  const std::string image = read(vti);
+  EXPECT_NE(image.find("WholeExtent=\"0 3 0 3 0 0\""), std::string::npos) << image.substr(0, 400);
+  EXPECT_NE(image.find("Origin=\"-5 10 0\""), std::string::npos) << image.substr(0, 400);
+  for (const char* name : {"Name=\"size\"", "Name=\"worst_cond\"", "Name=\"gci\"", "Name=\"pareto\"", "Name=\"axis_x\""})
+    EXPECT_NE(image.find(name), std::string::npos) << name;
   int on_front = 0;
   for (const auto& row : rows) on_front += row.at("pareto") == "1";
   EXPECT_GT(on_front, 0);
@@ -155,6 +162,7 @@ TEST(CliSweep, BadInputsExitWithTwoAndWriteNothing) {
       {base + " --grid 3 --bounds L1=5", "NAME=lo:hi"},
       {base + " --grid 3 --criterion 'speed<3'", "speed"},
       {base + " --grid 3 --resume", "--resume finds no checkpoint"},
+      {base + " --random 5 --vti " + (kOut / "bad.vti").string(), "--vti needs --grid"},
   };
   for (const auto& [args, expected] : cases) {
     const CommandResult r = run_linkscape(args);
@@ -182,6 +190,6 @@ TEST(CliSweep, HelpExplainsEveryOptionWithAnExample) {
   const CommandResult r = run_linkscape("sweep --help");
   ASSERT_EQ(r.exit_code, 0) << r.out;
   for (const char* option : {"--grid", "--random", "--seed", "--field-resolution", "--threads", "--chunk", "--output",
-                             "--checkpoint", "--resume", "--chart", "mpirun -np 4 linkscape sweep"})
+                             "--checkpoint", "--resume", "--chart", "--vti", "mpirun -np 4 linkscape sweep"})
     EXPECT_NE(r.out.find(option), std::string::npos) << option;
 }
