@@ -26,15 +26,6 @@ double number_of(const std::string& text) {
   return parse_number(text).value_or(std::nan(""));
 }
 
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> cells;
-  std::size_t start = 0;
-  for (std::size_t comma; (comma = line.find(',', start)) != std::string::npos; start = comma + 1)
-    cells.push_back(line.substr(start, comma - start));
-  cells.push_back(line.substr(start));
-  return cells;
-}
-
 // One line, no commas: an error message fit for a CSV cell.
 std::string error_cell(std::string text) {
   std::replace(text.begin(), text.end(), ',', ';');
@@ -108,6 +99,15 @@ std::size_t column_of(const std::vector<std::string>& header, const std::string&
 }
 
 }  // namespace
+
+std::vector<std::string> cells(const std::string& line) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  for (std::size_t comma; (comma = line.find(',', start)) != std::string::npos; start = comma + 1)
+    out.push_back(line.substr(start, comma - start));
+  out.push_back(line.substr(start));
+  return out;
+}
 
 std::vector<std::vector<double>> designs(const Plan& plan) {
   const auto& vars = plan.problem.variables;
@@ -246,7 +246,7 @@ std::vector<bool> non_dominated(const std::vector<double>& x, const std::vector<
 }
 
 fit::Result as_fit_result(const Plan& plan, const std::map<std::size_t, std::string>& rows) {
-  const std::vector<std::string> head = split(header(plan));
+  const std::vector<std::string> head = cells(header(plan));
   const bool free = free_centre(plan);
   const std::size_t size_col = column_of(head, "size"), meets_col = column_of(head, "meets"),
                     fraction_col = column_of(head, "fraction"), error_col = column_of(head, "error");
@@ -254,19 +254,19 @@ fit::Result as_fit_result(const Plan& plan, const std::map<std::size_t, std::str
   const task::TaskVolume& t = plan.problem.task;
   fit::Result r;
   for (const auto& [index, text] : rows) {
-    const std::vector<std::string> cells = split(text);
-    if (cells.size() != head.size() || !cells[error_col].empty()) continue;
+    const std::vector<std::string> row_cells = cells(text);
+    if (row_cells.size() != head.size() || !row_cells[error_col].empty()) continue;
     fit::Row row;
-    for (std::size_t k = 0; k < plan.columns.size(); ++k) row.parameters[plan.columns[k]] = number_of(cells[k + 1]);
-    row.size = number_of(cells[size_col]);
-    row.meets = cells[meets_col] == "1";
-    row.fit = number_of(cells[fit_col]);
+    for (std::size_t k = 0; k < plan.columns.size(); ++k) row.parameters[plan.columns[k]] = number_of(row_cells[k + 1]);
+    row.size = number_of(row_cells[size_col]);
+    row.meets = row_cells[meets_col] == "1";
+    row.fit = number_of(row_cells[fit_col]);
     if (free && t.shape == task::Shape::Sphere) row.fit /= t.diameter();
-    row.report.fraction = number_of(cells[fraction_col]);
+    row.report.fraction = number_of(row_cells[fraction_col]);
     for (std::size_t c = 0; c < plan.problem.criteria.size(); ++c) {
       task::CriterionReport report;
       report.criterion = plan.problem.criteria[c];
-      report.worst = number_of(cells[fraction_col + 1 + 2 * c]);
+      report.worst = number_of(row_cells[fraction_col + 1 + 2 * c]);
       row.report.criteria.push_back(report);
     }
     if (row.meets && (!r.best || row.size < r.rows[*r.best].size)) r.best = r.rows.size();
@@ -278,21 +278,21 @@ fit::Result as_fit_result(const Plan& plan, const std::map<std::size_t, std::str
 }
 
 std::string table(const Plan& plan, const std::map<std::size_t, std::string>& rows) {
-  const std::vector<std::string> head = split(header(plan));
+  const std::vector<std::string> head = cells(header(plan));
   const std::size_t size_col = column_of(head, "size"), pareto_col = column_of(head, "pareto"),
                     error_col = column_of(head, "error");
   const std::optional<std::size_t> measured = measured_criterion(plan);
   const std::size_t fraction_col = column_of(head, "fraction");
   const std::size_t y_col = measured ? fraction_col + 1 + 2 * *measured : free_centre(plan) ? fraction_col - 1 : fraction_col;
   const bool larger_is_better = !measured || plan.problem.criteria[*measured].above;
-  std::vector<std::vector<std::string>> cells;
+  std::vector<std::vector<std::string>> lines;
   std::vector<double> x, y;
   std::vector<std::size_t> candidates;
   std::size_t expected = 0;
   for (const auto& [index, text] : rows) {
     if (index != expected++) throw std::invalid_argument("sweep: the table misses design " + std::to_string(index - 1));
-    cells.push_back(split(text));
-    const auto& c = cells.back();
+    lines.push_back(cells(text));
+    const auto& c = lines.back();
     if (c.size() != head.size())
       throw std::invalid_argument("sweep: design " + std::to_string(index) + " has " + std::to_string(c.size()) +
                                   " cells, the header " + std::to_string(head.size()));
@@ -300,13 +300,13 @@ std::string table(const Plan& plan, const std::map<std::size_t, std::string>& ro
     if (c[error_col].empty() && std::isfinite(size) && std::isfinite(value)) {
       x.push_back(size);
       y.push_back(value);
-      candidates.push_back(cells.size() - 1);
+      candidates.push_back(lines.size() - 1);
     }
   }
   const std::vector<bool> front = non_dominated(x, y, larger_is_better);
-  for (std::size_t k = 0; k < candidates.size(); ++k) cells[candidates[k]][pareto_col] = front[k] ? "1" : "0";
+  for (std::size_t k = 0; k < candidates.size(); ++k) lines[candidates[k]][pareto_col] = front[k] ? "1" : "0";
   std::string out = header(plan) + "\n";
-  for (const auto& c : cells) {
+  for (const auto& c : lines) {
     for (std::size_t k = 0; k < c.size(); ++k) out += (k ? "," : "") + c[k];
     out += "\n";
   }
@@ -336,7 +336,7 @@ std::string fingerprint(const Plan& plan) {
 Checkpoint::Checkpoint(const std::filesystem::path& path, const Plan& plan, std::size_t designs, bool resume)
     : path_(path) {
   const std::string first = "# " + fingerprint(plan);
-  const std::size_t cells = split(header(plan)).size();
+  const std::size_t width = cells(header(plan)).size();
   if (resume) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw std::invalid_argument("sweep: --resume finds no checkpoint '" + path.string() + "'");
@@ -357,9 +357,9 @@ Checkpoint::Checkpoint(const std::filesystem::path& path, const Plan& plan, std:
       if (!index || *index < 0 || *index >= double(designs) || *index != std::floor(*index))
         throw std::invalid_argument("sweep: " + where + ": a checkpoint row starts with a design index below " +
                                     std::to_string(designs));
-      if (split(line).size() != cells)
-        throw std::invalid_argument("sweep: " + where + ": " + std::to_string(split(line).size()) + " cells, expected " +
-                                    std::to_string(cells));
+      if (cells(line).size() != width)
+        throw std::invalid_argument("sweep: " + where + ": " + std::to_string(cells(line).size()) + " cells, expected " +
+                                    std::to_string(width));
       rows_[std::size_t(*index)] = line;
     }
     std::filesystem::resize_file(path, complete);

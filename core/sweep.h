@@ -62,6 +62,9 @@ std::string table(const Plan& plan, const std::map<std::size_t, std::string>& ro
 // left out. Also returns the index of the smallest meeting design, if any.
 fit::Result as_fit_result(const Plan& plan, const std::map<std::size_t, std::string>& rows);
 
+// The cells of a table line (no quoting: rows hold no commas in a cell).
+std::vector<std::string> cells(const std::string& line);
+
 // Which of the points (x smaller is better; y larger is better where
 // `larger_is_better`, else smaller) no other point beats on both.
 std::vector<bool> non_dominated(const std::vector<double>& x, const std::vector<double>& y, bool larger_is_better);

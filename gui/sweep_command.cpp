@@ -80,15 +80,6 @@ class ProgressLine {
 
 bool has_error(const std::string& row) { return row.back() != ','; }
 
-std::vector<std::string> cells_of(const std::string& line) {
-  std::vector<std::string> cells;
-  std::size_t start = 0;
-  for (std::size_t comma; (comma = line.find(',', start)) != std::string::npos; start = comma + 1)
-    cells.push_back(line.substr(start, comma - start));
-  cells.push_back(line.substr(start));
-  return cells;
-}
-
 // A grid sweep of one to three variables as VTK image data: a point per
 // design at its variables' values (the first variable along x), a double
 // array per numeric column of the table (NaN where a design has an error),
@@ -110,7 +101,7 @@ void write_sweep_vti(const sweep::Plan& plan, const std::string& table, const st
   std::istringstream lines(table);
   std::string line;
   std::getline(lines, line);
-  const std::vector<std::string> head = cells_of(line);
+  const std::vector<std::string> head = sweep::cells(line);
   const std::size_t first = std::size_t(std::find(head.begin(), head.end(), "cx") - head.begin());
   std::vector<vtkSmartPointer<vtkDoubleArray>> arrays;
   for (std::size_t c = first; c + 1 < head.size(); ++c) {  // every score, the error column aside
@@ -120,14 +111,14 @@ void write_sweep_vti(const sweep::Plan& plan, const std::string& table, const st
     image->GetPointData()->AddArray(arrays.back());
   }
   for (std::size_t design = 0; std::getline(lines, line); ++design) {
-    const std::vector<std::string> cells = cells_of(line);
+    const std::vector<std::string> row = sweep::cells(line);
     // The design's grid indices (the last variable fastest in the table).
     int at[3] = {0, 0, 0};
     std::size_t rest = design;
     for (std::size_t a = vars.size(); a-- > 0;) at[a] = int(rest % std::size_t(n)), rest /= std::size_t(n);
     const vtkIdType point = at[0] + vtkIdType(dims[0]) * (at[1] + vtkIdType(dims[1]) * at[2]);
     for (std::size_t k = 0; k < arrays.size(); ++k)
-      arrays[k]->SetValue(point, parse_number(cells[first + k]).value_or(std::nan("")));
+      arrays[k]->SetValue(point, parse_number(row[first + k]).value_or(std::nan("")));
   }
   for (std::size_t a = 0; a < vars.size(); ++a) {
     vtkNew<vtkStringArray> name;
