@@ -262,7 +262,7 @@ SweepCommand add_sweep_command(CLI::App& app) {
                   "OpenMP threads per process, each evaluating whole designs (0: OMP_NUM_THREADS or every core)")
       ->capture_default_str();
   cmd->add_option("--chunk", o->chunk,
-                  "Most designs handed to a process at a time (at least one per thread), and between checkpoint writes")
+                  "Most designs handed to a rank at a time under mpirun (never fewer than its threads)")
       ->capture_default_str();
   cmd->add_option("-o,--output", o->output,
                   "The table (.csv): design, every design parameter, cx,cy,cz, size, meets, the largest shape (centre "

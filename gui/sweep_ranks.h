@@ -2,7 +2,7 @@
 // of an MPI job (gui/sweep_mpi.cpp, built with LINKSCAPE_MPI). Rank 0 hands
 // out chunks of design indices as ranks ask for them (guided: about the
 // remaining designs over twice the ranks, at least one design per thread and
-// at most `max_chunk` or four per thread), evaluates designs itself on a
+// at most `max_chunk` or one per thread if more), evaluates designs itself on a
 // second thread, and receives every row; the other ranks only evaluate.
 // Within a process, designs run in parallel, one per OpenMP thread (a
 // design's own loops then run on its thread alone); on one process and on
