@@ -27,6 +27,19 @@ double halton(int i, int base) {
   return r;
 }
 
+// Centre fixed: the smallest ratio of bound and worst value over the
+// criteria on a measure (>= 1 where every one holds; an unreachable sample
+// makes it 0), or the fraction covered where reach is the only criterion.
+double fixed_centre_margin(const task::TaskReport& report) {
+  double margin = kInf;
+  for (const task::CriterionReport& c : report.criteria) {
+    if (c.criterion.reach()) continue;
+    const double ratio = c.criterion.above ? c.worst / c.criterion.threshold : c.criterion.threshold / c.worst;
+    margin = std::min(margin, std::isfinite(ratio) ? std::max(ratio, 0.0) : 0.0);
+  }
+  return std::isinf(margin) ? report.fraction : margin;
+}
+
 class Search {
  public:
   Search(const Problem& problem, const Progress& progress) : problem_(problem), progress_(progress) {
@@ -45,10 +58,13 @@ class Search {
   Result& result() { return result_; }
 
   // Evaluates the design at `v` (per variable); returns its row's index (an
-  // earlier row where the same design was evaluated).
+  // earlier row where the same design, to rounding, was evaluated).
   std::size_t evaluate(const VectorXd& v) {
     for (std::size_t i = 0; i < result_.rows.size(); ++i)
-      if (Eigen::Map<const VectorXd>(result_.rows[i].values.data(), v.size()) == v) return i;
+      if (((Eigen::Map<const VectorXd>(result_.rows[i].values.data(), v.size()) - v).array().abs() <=
+           1e-12 * (1 + v.array().abs()))
+              .all())
+        return i;
     std::optional<Row> row = fit::evaluate(problem_, std::vector<double>(v.data(), v.data() + v.size()), progress_.cancel);
     if (!row) return result_.rows.size();  // cancelled: nothing added
     return add(std::move(*row));
@@ -119,6 +135,17 @@ std::vector<VectorXd> scan_points(const VectorXd& lo, const VectorXd& hi) {
 }
 
 }  // namespace
+
+std::vector<std::string> size_terms(const MechanismInfo& info) {
+  std::vector<std::string> out;
+  std::stringstream terms(info.size_description);
+  for (std::string term; std::getline(terms, term, '+');) {
+    term.erase(0, term.find_first_not_of(' '));
+    term.erase(term.find_last_not_of(' ') + 1);
+    out.push_back(term);
+  }
+  return out;
+}
 
 std::string Variable::name() const {
   std::string out;
@@ -191,16 +218,17 @@ std::vector<Variable> variables(const Mechanism& mechanism, const std::vector<st
   return out;
 }
 
-Result solve(const Problem& problem, const Progress& progress) {
-  const auto t0 = std::chrono::steady_clock::now();
-  if (problem.variables.empty()) throw std::invalid_argument("fit: no free design parameter");
-  for (const Variable& v : problem.variables)
-    if (!std::isfinite(v.lo) || !std::isfinite(v.hi) || !(v.lo <= v.hi))
-      throw std::invalid_argument("fit: the bounds of " + v.name() + " must be finite with lo <= hi, got " +
-                                  format_number(v.lo) + ":" + format_number(v.hi));
-  if (!(problem.tolerance > 0 && problem.tolerance < 1))
-    throw std::invalid_argument("fit: the tolerance must lie in (0, 1)");
-  Search search(problem, progress);
+namespace {
+
+void require_a_valid_design(const Result& r) {
+  const bool any_valid = std::any_of(r.rows.begin(), r.rows.end(), [](const Row& row) { return row.invalid.empty(); });
+  if (!any_valid && !r.rows.empty())
+    throw std::invalid_argument("fit: the bounds exclude every design (" + r.rows.front().invalid + ")");
+}
+
+// The smallest design meeting the task: a scan, then rays from the lower
+// corner (docs/task-volumes.md).
+void smallest_size(Search& search) {
   const VectorXd lo = search.lo(), hi = search.hi();
   Result& r = search.result();
   std::vector<std::size_t> scanned;
@@ -208,9 +236,7 @@ Result solve(const Problem& problem, const Progress& progress) {
     if (search.cancelled()) break;
     scanned.push_back(search.evaluate(v));
   }
-  const bool any_valid = std::any_of(r.rows.begin(), r.rows.end(), [](const Row& row) { return row.invalid.empty(); });
-  if (!any_valid && !r.rows.empty())
-    throw std::invalid_argument("fit: the bounds exclude every design (" + r.rows.front().invalid + ")");
+  require_a_valid_design(r);
 
   // The smallest meeting scanned designs.
   std::vector<std::size_t> meeting;
@@ -316,6 +342,110 @@ Result solve(const Problem& problem, const Progress& progress) {
     for (Eigen::Index d = 0; d < k; ++d)
       r.at_lower_bounds = r.at_lower_bounds || r.rows[*r.best].values[std::size_t(d)] <= lo(d) + 1e-12 * std::abs(lo(d));
   }
+}
+
+// The size as an affine function of the variables, size = held + c . v:
+// Mechanism::size() is the sum of the parameters its size_description names
+// (tested for every device: FitVariables.EverySizeIsTheSumItDescribes).
+struct SizeLine {
+  VectorXd c;
+  double held = 0;
+  double at(const VectorXd& v) const { return held + c.dot(v); }
+};
+
+SizeLine size_line(const Problem& problem) {
+  const std::shared_ptr<const Mechanism> base = make_mechanism(problem.preset);
+  const std::map<std::string, double> parameters = base->parameters();
+  SizeLine line;
+  line.c = VectorXd::Zero(Eigen::Index(problem.variables.size()));
+  for (const std::string& term : size_terms(base->info())) {
+    bool free = false;
+    for (std::size_t i = 0; i < problem.variables.size(); ++i)
+      if (std::count(problem.variables[i].parameters.begin(), problem.variables[i].parameters.end(), term)) {
+        line.c(Eigen::Index(i)) += 1;
+        free = true;
+      }
+    if (!free) line.held += parameters.at(term);
+  }
+  return line;
+}
+
+// The design of size `size` nearest to u within the bounds (Euclidean, in
+// the variables' units): clip(u + lambda c) with lambda found by bisection,
+// the size being monotone in lambda.
+VectorXd onto_size(const SizeLine& line, double size, const VectorXd& u, const VectorXd& lo, const VectorXd& hi) {
+  auto at = [&](double lambda) { return VectorXd((u + lambda * line.c).cwiseMax(lo).cwiseMin(hi)); };
+  double a = -1, b = 1;
+  while (line.at(at(a)) > size && a > -1e12) a *= 2;
+  while (line.at(at(b)) < size && b < 1e12) b *= 2;
+  for (int it = 0; it < 200 && b - a > 1e-15 * std::max(1.0, std::abs(a) + std::abs(b)); ++it) {
+    const double mid = 0.5 * (a + b);
+    (line.at(at(mid)) < size ? a : b) = mid;
+  }
+  return at(0.5 * (a + b));
+}
+
+// The largest margin among designs of the given size: the scan's designs
+// moved onto the size, then a compass search from the best along each
+// variable (each step moved onto the size), halving the step (from a
+// quarter of the bounds) until it falls below the tolerance.
+void largest_margin_at_size(const Problem& problem, Search& search) {
+  const double size = *problem.size;
+  if (!std::isfinite(size) || size <= 0)
+    throw std::invalid_argument("fit: the size must be positive and finite, got " + format_number(size));
+  const SizeLine line = size_line(problem);
+  const VectorXd lo = search.lo(), hi = search.hi();
+  const std::string described = make_mechanism(problem.preset)->info().size_description;
+  if (line.c.isZero())
+    throw std::invalid_argument("fit: --size needs a free parameter the size counts (" + described + ")");
+  const double smallest = line.held + line.c.cwiseProduct(lo).sum(), largest = line.held + line.c.cwiseProduct(hi).sum();
+  if (size < smallest * (1 - 1e-12) || size > largest * (1 + 1e-12))
+    throw std::invalid_argument("fit: no design within the bounds has size " + described + " = " + format_number(size) +
+                                " (they span " + format_number(smallest) + " to " + format_number(largest) + ")");
+  Result& r = search.result();
+  auto margin_of = [&](std::size_t i) { return i < r.rows.size() && r.rows[i].invalid.empty() ? r.rows[i].margin : -kInf; };
+  std::optional<std::size_t> best;
+  for (const VectorXd& v : scan_points(lo, hi)) {
+    if (search.cancelled()) break;
+    const std::size_t i = search.evaluate(onto_size(line, size, v, lo, hi));
+    if (i < r.rows.size() && (!best || margin_of(i) > margin_of(*best))) best = i;
+  }
+  require_a_valid_design(r);
+  const VectorXd span = hi - lo;
+  for (double step = 0.25; best && step >= problem.tolerance && !search.cancelled();) {
+    bool moved = false;
+    const VectorXd from = Eigen::Map<const VectorXd>(r.rows[*best].values.data(), lo.size());
+    for (Eigen::Index d = 0; d < lo.size() && !moved && !search.cancelled(); ++d)
+      for (const double sign : {1.0, -1.0}) {
+        VectorXd next = from;
+        next(d) += sign * step * span(d);
+        const std::size_t i = search.evaluate(onto_size(line, size, next, lo, hi));
+        if (margin_of(i) > margin_of(*best)) {
+          best = i;
+          moved = true;
+          break;
+        }
+      }
+    if (!moved) step /= 2;
+  }
+  if (best && r.rows[*best].invalid.empty()) (r.rows[*best].meets ? r.best : r.closest) = best;
+}
+
+}  // namespace
+
+Result solve(const Problem& problem, const Progress& progress) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (problem.variables.empty()) throw std::invalid_argument("fit: no free design parameter");
+  for (const Variable& v : problem.variables)
+    if (!std::isfinite(v.lo) || !std::isfinite(v.hi) || !(v.lo <= v.hi))
+      throw std::invalid_argument("fit: the bounds of " + v.name() + " must be finite with lo <= hi, got " +
+                                  format_number(v.lo) + ":" + format_number(v.hi));
+  if (!(problem.tolerance > 0 && problem.tolerance < 1))
+    throw std::invalid_argument("fit: the tolerance must lie in (0, 1)");
+  Search search(problem, progress);
+  Result& r = search.result();
+  if (problem.size) largest_margin_at_size(problem, search);
+  else smallest_size(search);
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
 }
@@ -370,6 +500,7 @@ std::optional<Row> evaluate(const Problem& problem, const std::vector<double>& v
     row.meets = found->found && row.fit >= 1;
     row.report = task::evaluate(device, criteria, t, row.centre, problem.task_resolution);
   }
+  row.margin = t.centre ? fixed_centre_margin(row.report) : row.fit;
   return row;
 }
 

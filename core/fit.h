@@ -1,7 +1,8 @@
 // Sizing a device to a task (`linkscape fit`): the smallest design, within
-// bounds on its free parameters, whose task volume meets every criterion.
-// The size is Mechanism::size() of the design (12R: L1 + L2; Delta:
-// La + Lb; PATHOS-II: l2 + l3). docs/task-volumes.md describes the search.
+// bounds on its free parameters, whose task volume meets every criterion,
+// or the design with the largest margin at a given size. The size is
+// Mechanism::size() of the design (12R: L1 + L2; Delta: La + Lb;
+// PATHOS-II: l2 + l3). docs/task-volumes.md describes both searches.
 #pragma once
 
 #include <Eigen/Core>
@@ -36,8 +37,11 @@ struct Problem {
   haptics::TorqueRating torque = haptics::TorqueRating::Continuous;
   task::InscribedOptions inscribed;  // where the centre is free
   int task_resolution = 24;          // task::evaluate at the placed or given centre
-  double tolerance = 1e-3;           // relative, on the size along each ray
+  double tolerance = 1e-3;           // relative: on the size along each ray; on the step of the margin search
   int threads = 0;
+  // Set: the largest margin among designs of this size (Mechanism::size(),
+  // the device's length unit); unset: the smallest design meeting the task.
+  std::optional<double> size;
 };
 
 // One design evaluated.
@@ -51,14 +55,22 @@ struct Row {
   // diameter ratio; box: scale), >= 1 where it fits. Centre fixed: the
   // fraction of the task meeting every criterion.
   double fit = 0;
+  // How far inside the criteria the task is, as a ratio (>= 1 where it
+  // meets them). Centre free: `fit`. Centre fixed: the smallest over the
+  // criteria on a measure of bound / worst (bounds from above, e.g. cond)
+  // or worst / bound (from below, e.g. force_iso); with reach alone, the
+  // fraction covered.
+  double margin = 0;
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // placed or given
   task::TaskReport report;                            // the task at the centre
 };
 
 struct Result {
   std::vector<Row> rows;             // every design, in the order evaluated
-  std::optional<std::size_t> best;   // the smallest design meeting the task
-  std::optional<std::size_t> closest;  // where none does: the valid design closest to meeting it (largest fit)
+  // The smallest design meeting the task; at a given size, the one with the
+  // largest margin (when it meets the task).
+  std::optional<std::size_t> best;
+  std::optional<std::size_t> closest;  // where none does: the valid design closest to meeting it
   bool at_lower_bounds = false;      // the best design sits on the lower bounds (lower them to go smaller)
   double seconds = 0;
 };
@@ -70,7 +82,9 @@ struct Progress {
 
 // Throws std::invalid_argument for a problem no search can run: no free
 // variable, lo > hi or non-finite bounds, criteria the device does not know,
-// bounds where no design can be built (naming the device's reason).
+// bounds where no design can be built (naming the device's reason); with a
+// size, one that is not positive, that no design within the bounds has, or
+// that no free variable changes.
 // Otherwise a task no design meets is a result (best empty, closest set).
 Result solve(const Problem& problem, const Progress& progress = {});
 
@@ -81,6 +95,10 @@ Result solve(const Problem& problem, const Progress& progress = {});
 // fit the device.
 std::optional<Row> evaluate(const Problem& problem, const std::vector<double>& values,
                             const std::atomic<bool>* cancel = nullptr);
+
+// The parameters Mechanism::size() sums, as its size_description names them
+// ("L1 + L2": L1, L2).
+std::vector<std::string> size_terms(const MechanismInfo& info);
 
 // Variables from command-line lists: `free` parameters (empty: every
 // parameter the device shows in its design panel), groups from `equal`

@@ -161,7 +161,7 @@ std::string header(const Plan& plan) {
   for (const std::string& c : plan.columns) s << "," << c;
   s << ",cx,cy,cz,size,meets";
   if (free_centre(plan)) s << (plan.problem.task.shape == task::Shape::Sphere ? ",inscribed_diameter" : ",inscribed_scale");
-  s << ",fraction";
+  s << ",fraction,margin";
   for (const task::Criterion& c : plan.problem.criteria) s << ",worst_" << c.measure << ",margin_" << c.measure;
   if (plan.field_resolution > 0)
     for (const char* c : kFieldColumns) s << "," << c;
@@ -200,7 +200,7 @@ std::string evaluate_row(const Plan& plan, std::size_t index, const std::vector<
     const auto it = parameters.find(c);
     s << "," << (it == parameters.end() ? "" : cell(it->second));
   }
-  const std::size_t score_cells = 5 + free_centre(plan) + 1 + 2 * plan.problem.criteria.size() +
+  const std::size_t score_cells = 5 + free_centre(plan) + 2 + 2 * plan.problem.criteria.size() +
                                   (plan.field_resolution > 0 ? std::size(kFieldColumns) : 0);
   if (!scored) {
     for (std::size_t i = 0; i < score_cells; ++i) s << ",";
@@ -211,7 +211,7 @@ std::string evaluate_row(const Plan& plan, std::size_t index, const std::vector<
   s << "," << cell(row->centre.x()) << "," << cell(row->centre.y()) << "," << cell(row->centre.z()) << ","
     << cell(row->size) << "," << (row->meets ? 1 : 0);
   if (free_centre(plan)) s << "," << cell(t.shape == task::Shape::Sphere ? row->fit * t.diameter() : row->fit);
-  s << "," << cell(row->report.fraction);
+  s << "," << cell(row->report.fraction) << "," << cell(row->margin);
   for (const task::CriterionReport& c : row->report.criteria) s << "," << cell(c.worst) << "," << cell(c.margin());
   if (field)
     s << "," << cell(field->reach_volume) << "," << cell(field->gci) << "," << cell(field->task_reach) << ","
@@ -250,7 +250,7 @@ fit::Result as_fit_result(const Plan& plan, const std::map<std::size_t, std::str
   const bool free = free_centre(plan);
   const std::size_t size_col = column_of(head, "size"), meets_col = column_of(head, "meets"),
                     fraction_col = column_of(head, "fraction"), error_col = column_of(head, "error");
-  const std::size_t fit_col = free ? fraction_col - 1 : fraction_col;
+  const std::size_t fit_col = free ? fraction_col - 1 : fraction_col, margin_col = fraction_col + 1;
   const task::TaskVolume& t = plan.problem.task;
   fit::Result r;
   for (const auto& [index, text] : rows) {
@@ -263,10 +263,11 @@ fit::Result as_fit_result(const Plan& plan, const std::map<std::size_t, std::str
     row.fit = number_of(row_cells[fit_col]);
     if (free && t.shape == task::Shape::Sphere) row.fit /= t.diameter();
     row.report.fraction = number_of(row_cells[fraction_col]);
+    row.margin = number_of(row_cells[margin_col]);
     for (std::size_t c = 0; c < plan.problem.criteria.size(); ++c) {
       task::CriterionReport report;
       report.criterion = plan.problem.criteria[c];
-      report.worst = number_of(row_cells[fraction_col + 1 + 2 * c]);
+      report.worst = number_of(row_cells[margin_col + 1 + 2 * c]);
       row.report.criteria.push_back(report);
     }
     if (row.meets && (!r.best || row.size < r.rows[*r.best].size)) r.best = r.rows.size();
@@ -282,8 +283,8 @@ std::string table(const Plan& plan, const std::map<std::size_t, std::string>& ro
   const std::size_t size_col = column_of(head, "size"), pareto_col = column_of(head, "pareto"),
                     error_col = column_of(head, "error");
   const std::optional<std::size_t> measured = measured_criterion(plan);
-  const std::size_t fraction_col = column_of(head, "fraction");
-  const std::size_t y_col = measured ? fraction_col + 1 + 2 * *measured : free_centre(plan) ? fraction_col - 1 : fraction_col;
+  const std::size_t margin_col = column_of(head, "margin");
+  const std::size_t y_col = measured ? margin_col + 1 + 2 * *measured : margin_col;
   const bool larger_is_better = !measured || plan.problem.criteria[*measured].above;
   std::vector<std::vector<std::string>> lines;
   std::vector<double> x, y;

@@ -52,13 +52,13 @@ std::string evaluate_row(const Plan& plan, std::size_t index, const std::vector<
 
 // The whole table, header first, rows in index order, with the pareto column
 // set: 1 for each valid design that no other valid design beats on both size
-// (smaller) and the first measure criterion's worst value (better; the fit
-// column where no criterion has a measure), as fit's chart draws its front.
+// (smaller) and the first measure criterion's worst value (better; the margin
+// where no criterion has a measure), as fit's chart draws its front.
 // `rows` must hold every index 0..n-1.
 std::string table(const Plan& plan, const std::map<std::size_t, std::string>& rows);
 
-// The rows of a finished table as fit::Result rows (size, meets, fit and each
-// criterion's worst value), for fit's Pareto chart; rows with an error are
+// The rows of a finished table as fit::Result rows (size, meets, fit, margin
+// and each criterion's worst value), for fit's Pareto chart; rows with an error are
 // left out. Also returns the index of the smallest meeting design, if any.
 fit::Result as_fit_result(const Plan& plan, const std::map<std::size_t, std::string>& rows);
 

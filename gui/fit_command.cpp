@@ -2,283 +2,26 @@
 
 #include <unistd.h>
 
-#include <QFontMetricsF>
-#include <QPainter>
-#include <QPainterPath>
 #include <algorithm>
-#include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
-#include <numeric>
 #include <sstream>
 #include <stdexcept>
 
-#include "core/atomic_file.h"
 #include "core/csv.h"
 #include "core/fit.h"
 #include "core/preset.h"
-#include "core/sweep.h"
+#include "gui/fit_report.h"
 #include "gui/mechanisms/commands.h"
-#include "gui/painted_file.h"
 
 namespace linkscape::gui {
-namespace {
-
-std::string number(double v) { return std::isfinite(v) ? format_number(v) : (std::isinf(v) ? (v > 0 ? "inf" : "-inf") : ""); }
-
-// 3 significant digits for the report.
-std::string short_number(double v) {
-  if (!std::isfinite(v)) return std::isinf(v) ? (v > 0 ? "inf" : "-inf") : "?";
-  std::ostringstream s;
-  s << std::setprecision(4) << v;
-  return s.str();
-}
-
-std::string point_text(const Eigen::Vector3d& p, const std::string& unit) {
-  return "(" + short_number(p.x()) + ", " + short_number(p.y()) + ", " + short_number(p.z()) + ") " + unit;
-}
-
-// The unit a criterion's values are in.
-std::string unit_of(const task::Criterion& c, const std::string& length_unit) {
-  if (c.reach()) return length_unit;
-  for (const haptics::FieldInfo& f : haptics::all_field_infos())
-    if (f.name == c.measure) return f.unit;
-  return "";
-}
-
-// The best or closest row first, then every valid design by size.
-std::vector<std::size_t> csv_order(const fit::Result& r) {
-  std::vector<std::size_t> rest;
-  const std::optional<std::size_t> first = r.best ? r.best : r.closest;
-  for (std::size_t i = 0; i < r.rows.size(); ++i)
-    if (r.rows[i].invalid.empty() && i != first) rest.push_back(i);
-  std::stable_sort(rest.begin(), rest.end(), [&](std::size_t a, std::size_t b) { return r.rows[a].size < r.rows[b].size; });
-  if (first) rest.insert(rest.begin(), *first);
-  return rest;
-}
-
-std::string csv_text(const fit::Problem& p, const fit::Result& r, const std::vector<std::string>& columns) {
-  std::ostringstream s;
-  for (const std::string& c : columns) s << c << ",";
-  s << "cx,cy,cz,size,meets";
-  const bool free_centre = !p.task.centre;
-  if (free_centre) s << (p.task.shape == task::Shape::Sphere ? ",inscribed_diameter" : ",inscribed_scale");
-  s << ",fraction";
-  for (const task::Criterion& c : p.criteria) s << ",worst_" << c.measure << ",margin_" << c.measure;
-  s << "\n";
-  for (std::size_t i : csv_order(r)) {
-    const fit::Row& row = r.rows[i];
-    for (const std::string& c : columns) s << number(row.parameters.at(c)) << ",";
-    s << number(row.centre.x()) << "," << number(row.centre.y()) << "," << number(row.centre.z()) << ","
-      << number(row.size) << "," << (row.meets ? 1 : 0);
-    if (free_centre) s << "," << number(p.task.shape == task::Shape::Sphere ? row.fit * p.task.diameter() : row.fit);
-    s << "," << number(row.report.fraction);
-    for (const task::CriterionReport& c : row.report.criteria) s << "," << number(c.worst) << "," << number(c.margin());
-    s << "\n";
-  }
-  return s.str();
-}
-
-// ---- The Pareto chart ----------------------------------------------------------------
-
-// Size against the worst value of the first criterion on a measure (the
-// fit where there is none): every design, meeting ones filled, the
-// non-dominated ones joined, the chosen one ringed, the bound dashed.
-void draw_pareto(QPainter& p, const QRectF& area, const fit::Problem& problem, const fit::Result& r,
-                 const std::string& length_unit, const std::string& size_description, const QString& title) {
-  const auto measured = std::find_if(problem.criteria.begin(), problem.criteria.end(),
-                                     [](const task::Criterion& c) { return !c.reach(); });
-  const std::size_t ci = std::size_t(measured - problem.criteria.begin());
-  const bool use_fit = measured == problem.criteria.end();
-  const bool above = use_fit || measured->above;  // larger is better
-  const bool log = !use_fit && !measured->above;  // conditioning, resolution, inertia span decades
-  auto y_of = [&](const fit::Row& row) { return use_fit ? row.fit : row.report.criteria[ci].worst; };
-  struct Point {
-    double x, y;
-    bool meets;
-    std::size_t row;
-  };
-  std::vector<Point> pts;
-  for (std::size_t i = 0; i < r.rows.size(); ++i) {
-    const fit::Row& row = r.rows[i];
-    const double y = y_of(row);
-    if (row.invalid.empty() && std::isfinite(y) && (!log || y > 0)) pts.push_back({row.size, y, row.meets, i});
-  }
-  QFont font("DejaVu Sans");
-  font.setPixelSize(int(area.height() / 45));
-  p.setFont(font);
-  const double fh = QFontMetricsF(font).height();
-  p.fillRect(area, Qt::white);
-  QFont bold = font;
-  bold.setBold(true);
-  p.setFont(bold);
-  p.drawText(QRectF(area.left(), area.top() + 0.5 * fh, area.width(), 1.4 * fh), Qt::AlignCenter, title);
-  p.setFont(font);
-  const QRectF plot(area.left() + 8.5 * fh, area.top() + 3.5 * fh, area.width() - 11.5 * fh, area.height() - 8 * fh);
-  double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
-  for (const Point& q : pts) x0 = std::min(x0, q.x), x1 = std::max(x1, q.x), y0 = std::min(y0, q.y), y1 = std::max(y1, q.y);
-  if (!use_fit) y0 = std::min(y0, measured->threshold), y1 = std::max(y1, measured->threshold);
-  if (pts.empty()) x0 = 0, x1 = 1, y0 = log ? 1 : 0, y1 = log ? 10 : 1;
-  if (x1 <= x0) x0 -= 1, x1 += 1;
-  auto ty = [&](double y) { return log ? std::log10(y) : y; };
-  double ly0 = ty(y0), ly1 = ty(y1);
-  if (ly1 <= ly0) ly0 -= 0.5, ly1 += 0.5;
-  const double pad_x = 0.05 * (x1 - x0), pad_y = 0.08 * (ly1 - ly0);
-  x0 -= pad_x, x1 += pad_x, ly0 -= pad_y, ly1 += pad_y;
-  auto at = [&](double x, double y) {
-    return QPointF(plot.left() + (x - x0) / (x1 - x0) * plot.width(), plot.bottom() - (ty(y) - ly0) / (ly1 - ly0) * plot.height());
-  };
-  p.setPen(QPen(Qt::black, 1));
-  p.drawRect(plot);
-  // Ticks at round numbers: steps of 1, 2 or 5 times a power of ten; on a
-  // log axis the decades' 1, 2, 5 (or every digit over less than a decade).
-  auto round_ticks = [](double a, double b) {
-    const double raw = (b - a) / 5, decade = std::pow(10.0, std::floor(std::log10(raw)));
-    const double step = raw / decade < 1.5 ? decade : raw / decade < 3.5 ? 2 * decade : raw / decade < 7.5 ? 5 * decade : 10 * decade;
-    std::vector<double> t;
-    for (double v = std::ceil(a / step) * step; v <= b + 1e-9 * step; v += step) t.push_back(std::abs(v) < 1e-12 * step ? 0.0 : v);
-    return t;
-  };
-  for (double x : round_ticks(x0, x1)) {
-    const QPointF a(plot.left() + (x - x0) / (x1 - x0) * plot.width(), plot.bottom());
-    p.drawLine(a, a + QPointF(0, 0.3 * fh));
-    p.drawText(QRectF(a.x() - 3 * fh, a.y() + 0.4 * fh, 6 * fh, fh), Qt::AlignCenter, QString::fromStdString(short_number(x)));
-  }
-  std::vector<double> yticks;
-  if (log) {
-    const bool digits = ly1 - ly0 < 1.2;
-    for (int d = int(std::floor(ly0)); d <= int(std::ceil(ly1)); ++d)
-      for (double m = 1; m < 10; ++m)
-        if (const double v = m * std::pow(10.0, d); (digits || m == 1 || m == 2 || m == 5) && ty(v) >= ly0 && ty(v) <= ly1)
-          yticks.push_back(v);
-  } else {
-    yticks = round_ticks(ly0, ly1);
-  }
-  for (double v : yticks) {
-    const QPointF a = at(x0, v);
-    p.drawLine(a, a - QPointF(0.3 * fh, 0));
-    p.drawText(QRectF(a.x() - 6.4 * fh, a.y() - fh / 2, 6 * fh, fh), Qt::AlignRight | Qt::AlignVCenter,
-               QString::fromStdString(short_number(v)));
-  }
-  p.drawText(QRectF(plot.left(), plot.bottom() + 1.6 * fh, plot.width(), fh), Qt::AlignCenter,
-             QString::fromStdString("size " + size_description + " (" + length_unit + ")"));
-  p.save();
-  p.translate(area.left() + 1.2 * fh, plot.center().y());
-  p.rotate(-90);
-  const std::string ylabel = use_fit ? std::string(problem.task.centre ? "fraction of the task meeting the criteria"
-                                                                       : "largest shape / task size")
-                                     : "worst " + measured->measure + " over the task" +
-                                           (unit_of(*measured, length_unit).empty() ? "" : " (" + unit_of(*measured, length_unit) + ")");
-  p.drawText(QRectF(-plot.height() / 2, -fh / 2, plot.height(), fh), Qt::AlignCenter, QString::fromStdString(ylabel));
-  p.restore();
-  p.setClipRect(plot);
-  // The bound.
-  if (!use_fit) {
-    p.setPen(QPen(QColor(200, 60, 60), 1.5, Qt::DashLine));
-    p.drawLine(at(x0, measured->threshold), at(x1, measured->threshold));
-  }
-  // The non-dominated designs: none both smaller and better.
-  std::vector<double> xs, ys;
-  for (const Point& q : pts) xs.push_back(q.x), ys.push_back(q.y);
-  const std::vector<bool> on_front = sweep::non_dominated(xs, ys, above);
-  std::vector<Point> front;
-  for (std::size_t i = 0; i < pts.size(); ++i)
-    if (on_front[i]) front.push_back(pts[i]);
-  std::sort(front.begin(), front.end(), [](const Point& a, const Point& b) { return a.x < b.x; });
-  if (front.size() > 1) {
-    QPainterPath path(at(front.front().x, front.front().y));
-    for (std::size_t i = 1; i < front.size(); ++i) {
-      path.lineTo(at(front[i].x, front[i - 1].y));
-      path.lineTo(at(front[i].x, front[i].y));
-    }
-    p.setPen(QPen(QColor(90, 90, 90), 1.2, Qt::DashLine));
-    p.setBrush(Qt::NoBrush);
-    p.drawPath(path);
-  }
-  const QColor meets(44, 160, 44), fails(150, 150, 150);
-  for (const Point& q : pts) {
-    p.setPen(QPen(q.meets ? meets.darker() : fails, 1.2));
-    p.setBrush(q.meets ? QBrush(meets) : Qt::NoBrush);
-    p.drawEllipse(at(q.x, q.y), 0.25 * fh, 0.25 * fh);
-  }
-  const std::optional<std::size_t> chosen = r.best ? r.best : r.closest;
-  for (const Point& q : pts)
-    if (chosen && q.row == *chosen) {
-      p.setPen(QPen(QColor(214, 39, 40), 2.5));
-      p.setBrush(Qt::NoBrush);
-      p.drawEllipse(at(q.x, q.y), 0.6 * fh, 0.6 * fh);
-    }
-  p.setClipping(false);
-  // Legend.
-  double ly = plot.top() + 0.8 * fh;
-  const double lx = plot.right() - 15 * fh;
-  auto key = [&](const QColor& pen, const QBrush& brush, double radius, const QString& text) {
-    p.setPen(QPen(pen, radius > 0.5 * fh ? 2.5 : 1.2));
-    p.setBrush(brush);
-    p.drawEllipse(QPointF(lx, ly), radius, radius);
-    p.setPen(Qt::black);
-    p.drawText(QRectF(lx + fh, ly - fh / 2, 14 * fh, fh), Qt::AlignLeft | Qt::AlignVCenter, text);
-    ly += 1.3 * fh;
-  };
-  key(meets.darker(), QBrush(meets), 0.25 * fh, "design meeting the task");
-  key(fails, Qt::NoBrush, 0.25 * fh, "design failing it");
-  key(QColor(214, 39, 40), Qt::NoBrush, 0.6 * fh, r.best ? "smallest meeting design" : "closest design");
-  p.setPen(QPen(QColor(90, 90, 90), 1.2, Qt::DashLine));
-  p.drawLine(QPointF(lx - 0.6 * fh, ly), QPointF(lx + 0.6 * fh, ly));
-  p.setPen(Qt::black);
-  p.drawText(QRectF(lx + fh, ly - fh / 2, 14 * fh, fh), Qt::AlignLeft | Qt::AlignVCenter, "non-dominated designs");
-  if (!use_fit) {
-    ly += 1.3 * fh;
-    p.setPen(QPen(QColor(200, 60, 60), 1.5, Qt::DashLine));
-    p.drawLine(QPointF(lx - 0.6 * fh, ly), QPointF(lx + 0.6 * fh, ly));
-    p.setPen(Qt::black);
-    p.drawText(QRectF(lx + fh, ly - fh / 2, 14 * fh, fh), Qt::AlignLeft | Qt::AlignVCenter,
-               QString::fromStdString("bound " + measured->text));
-  }
-}
-
-std::string design_text(const fit::Row& row, const std::vector<std::string>& columns, const std::string& unit) {
-  std::string s;
-  for (const std::string& c : columns) s += (s.empty() ? "" : ", ") + c + " = " + short_number(row.parameters.at(c));
-  (void)unit;
-  return s;
-}
-
-}  // namespace
-
-void write_text_file(const std::string& path, const std::string& text) {
-  write_atomically(path, [&](const std::filesystem::path& tmp) {
-    std::ofstream out(tmp);
-    out << text;
-    out.close();
-    if (!out) throw std::runtime_error("cannot write '" + path + "'");
-  });
-}
-
-std::vector<std::string> design_columns(const Mechanism& m, const std::vector<fit::Variable>& variables) {
-  std::vector<std::string> out;
-  for (const Quantity& q : m.info().parameters)
-    if (q.in_panel) out.push_back(q.name);
-  for (const fit::Variable& v : variables)
-    for (const std::string& p : v.parameters)
-      if (std::find(out.begin(), out.end(), p) == out.end()) out.push_back(p);
-  return out;
-}
-
-void write_pareto_chart(const std::string& path, const fit::Problem& problem, const fit::Result& result,
-                        const MechanismInfo& info, const std::string& title) {
-  write_painted(path, QSize(1200, 800), "Linkscape fit", [&](QPainter& p, const QRectF& area) {
-    draw_pareto(p, area, problem, result, info.length_unit, info.size_description, QString::fromStdString(title));
-  });
-}
 
 fit::Problem make_problem(const FitOptions& o, const std::string& command) {
   if (o.task.empty()) throw std::invalid_argument(command + ": --task is required, e.g. sphere:diameter=15");
   if (o.resolution < 8 || o.refinements < 0 || o.places < 1 || o.task_resolution < 2)
-    throw std::invalid_argument(command + ": --resolution must be at least 8, --refinements at least 0, --places at least 1 "
-                                "and --task-resolution at least 2");
+    throw std::invalid_argument(command + ": --resolution must be at least 8, --refinements at least 0, --places at "
+                                "least 1 and --task-resolution at least 2");
   fit::Problem problem;
   problem.preset = load_preset(o.mechanism.mechanism);
   apply_overrides(problem.preset, o.mechanism.params);
@@ -294,19 +37,19 @@ fit::Problem make_problem(const FitOptions& o, const std::string& command) {
     std::stringstream ss(o.pose);
     for (std::string part; std::getline(ss, part, ',');) v.push_back(parse_number_or_throw(part, "--pose"));
     if (v.size() != info.task.size())
-      throw std::invalid_argument(command + ": --pose expects " + std::to_string(info.task.size()) + " task coordinates for " +
-                                  info.name);
+      throw std::invalid_argument(command + ": --pose expects " + std::to_string(info.task.size()) +
+                                  " task coordinates for " + info.name);
     problem.pose = Eigen::Map<const Eigen::VectorXd>(v.data(), Eigen::Index(v.size()));
   }
   if (!o.method.empty()) index_of(info.ik_methods, o.method, "IK method for " + info.name);
   problem.ik.method = o.method;
   if (o.branch < 0 || o.branch >= int(info.branches.size()))
-    throw std::invalid_argument(command + ": --branch must be 0.." + std::to_string(info.branches.size() - 1) + " for " + info.name);
+    throw std::invalid_argument(command + ": --branch must be 0.." + std::to_string(info.branches.size() - 1) +
+                                " for " + info.name);
   if (o.branch != 0) problem.ik.branch = o.branch;
   problem.torque = haptics::parse_torque_rating(o.torque);
   problem.inscribed = {o.resolution, o.refinements, o.places};
   problem.task_resolution = o.task_resolution;
-  problem.tolerance = o.tolerance;
   // The criteria on the base design: an unknown measure is an input error.
   {
     task::Device d;
@@ -330,67 +73,28 @@ void run_fit(const FitOptions& o, std::ostream& out) {
     throw std::invalid_argument("fit: --output must end in .csv, got '" + o.output + "'");
   fit::Problem problem = make_problem(o, "fit");
   problem.tolerance = o.tolerance;
+  problem.size = o.size;
   const std::shared_ptr<const Mechanism> base = make_mechanism(problem.preset);
   const MechanismInfo& info = base->info();
   fit::Progress progress;
   const bool show = !o.quiet && ::isatty(STDERR_FILENO);
-  std::optional<double> smallest;
+  std::optional<double> smallest, largest_margin;
   if (!o.quiet)
     progress.design = [&](const fit::Row& row, std::size_t n) {
       if (row.meets && (!smallest || row.size < *smallest)) smallest = row.size;
+      if (row.invalid.empty() && (!largest_margin || row.margin > *largest_margin)) largest_margin = row.margin;
       std::ostringstream line;
-      line << "fit: " << n << " designs evaluated";
-      if (smallest) line << ", smallest meeting so far " << info.size_description << " = " << short_number(*smallest) << " " << info.length_unit;
+      line << std::setprecision(4) << "fit: " << n << " designs evaluated";
+      if (o.size && largest_margin) line << ", largest margin so far " << *largest_margin;
+      else if (smallest) line << ", smallest meeting so far " << info.size_description << " = " << *smallest << " " << info.length_unit;
       if (show) std::cerr << "\r" << line.str() << "    " << std::flush;
     };
   const fit::Result r = fit::solve(problem, progress);
   if (show) std::cerr << "\r" << std::string(90, ' ') << "\r";
 
-  const std::vector<std::string> columns = design_columns(*base, problem.variables);
-  std::string criteria_text;
-  for (const task::Criterion& c : problem.criteria) criteria_text += (criteria_text.empty() ? "" : ", ") + c.text;
-  std::string free_text;
-  for (const fit::Variable& v : problem.variables)
-    free_text += (free_text.empty() ? "" : "; ") + v.name() + " in [" + short_number(v.lo) + ", " + short_number(v.hi) + "]";
-  const std::string& unit = info.length_unit;
-  out << "fit " << info.name << ": " << problem.task.text << " (" << (problem.task.centre ? "centre fixed" : "centre free")
-      << ") meeting " << criteria_text << "\n"
-      << "free: " << free_text << "; size = " << info.size_description << " (" << unit << ")\n";
-  const std::optional<std::size_t> shown = r.best ? r.best : r.closest;
-  if (r.best) out << "smallest design meeting it: ";
-  else out << "no design in the bounds meets it; closest: ";
-  if (shown) {
-    const fit::Row& row = r.rows[*shown];
-    out << design_text(row, columns, unit) << " (size " << short_number(row.size) << " " << unit << ")\n"
-        << "  centre " << point_text(row.centre, unit);
-    if (!problem.task.centre)
-      out << (problem.task.shape == task::Shape::Sphere
-                  ? "; the largest sphere there is " + short_number(row.fit * problem.task.diameter()) + " " + unit +
-                        " across (the task's " + short_number(problem.task.diameter()) + ")"
-                  : "; the largest box there is " + short_number(row.fit) + " times the task's");
-    out << "\n  the task there: " << short_number(100 * row.report.fraction) << " % meets every criterion\n";
-    for (const task::CriterionReport& c : row.report.criteria) {
-      const std::string u = unit_of(c.criterion, unit);
-      out << "  " << c.criterion.text << ": worst " << short_number(c.worst) << (u.empty() ? "" : " " + u) << " at "
-          << point_text(c.worst_point, unit) << ", margin " << short_number(c.margin()) << (u.empty() ? "" : " " + u)
-          << ", " << short_number(100 * c.fraction) << " % of the task\n";
-    }
-    if (row.report.failing > 0)
-      out << "  fails at " << row.report.failing << " of " << row.report.samples << " samples, around "
-          << point_text(row.report.failing_centroid, unit) << "\n";
-  } else {
-    out << "none could be evaluated\n";
-  }
-  if (r.at_lower_bounds) out << "the design sits on a lower bound: lower it (--bounds) to look for smaller ones\n";
-  std::size_t invalid = 0;
-  for (const fit::Row& row : r.rows) invalid += !row.invalid.empty();
-  out << "evaluated " << r.rows.size() << (r.rows.size() == 1 ? " design" : " designs");
-  if (invalid) out << " (" << invalid << " could not be built)";
-  out << " in " << short_number(r.seconds) << " s\n";
-
-  if (!o.output.empty()) write_text_file(o.output, csv_text(problem, r, columns));
-  if (!o.chart.empty())
-    write_pareto_chart(o.chart, problem, r, info, info.name + ": " + problem.task.text + " meeting " + criteria_text);
+  out << fit_report(problem, r, info);
+  if (!o.output.empty()) write_fit_csv(o.output, problem, r, info);
+  if (!o.chart.empty()) write_fit_chart(o.chart, problem, r, info);
 }
 
 void add_problem_options(CLI::App& cmd, FitOptions& o) {
@@ -425,10 +129,18 @@ FitCommand add_fit_command(CLI::App& app) {
   auto o = std::make_shared<FitOptions>();
   CLI::App* cmd = app.add_subcommand(
       "fit", "Size a device to a task: the smallest design (within bounds on its free parameters) whose task volume "
-             "meets every criterion; prints it with each criterion's margin, writes every design as CSV and a "
-             "Pareto chart of size against the worst measure (docs/task-volumes.md)");
+             "meets every criterion, or with --size the design of that size with the largest margin; prints it with "
+             "each criterion's margin, writes every design as CSV and a Pareto chart of size against the worst "
+             "measure (docs/task-volumes.md)");
   add_problem_options(*cmd, *o);
-  cmd->add_option("--tolerance", o->tolerance, "Relative tolerance on the size")->capture_default_str();
+  cmd->add_option("--size", o->size,
+                  "Largest margin at this size instead of the smallest size: among designs of this size (the "
+                  "device's size measure, e.g. L1 + L2 for the 12R; length unit) within the bounds, the one whose "
+                  "task is furthest inside the criteria (centre free: largest shape / task size; centre fixed: "
+                  "smallest bound / worst ratio; >= 1 meets)");
+  cmd->add_option("--tolerance", o->tolerance,
+                  "Relative tolerance: on the size (smallest size), on the search's step over the bounds (--size)")
+      ->capture_default_str();
   cmd->add_option("-o,--output", o->output,
                   "CSV: the design parameters, cx,cy,cz, size, meets, the largest shape, the fraction, each "
                   "criterion's worst value and margin; the smallest design first, then every design by size");

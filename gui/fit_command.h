@@ -1,10 +1,11 @@
 // linkscape fit: the smallest design of a device whose task volume meets the
-// criteria (core/fit.h), as a report, a CSV of every design evaluated and a
+// criteria, or the largest margin at a given size (core/fit.h), as a report, a CSV of every design evaluated and a
 // Pareto chart of size against the worst measure.
 #pragma once
 
 #include <CLI/CLI.hpp>
 #include <iosfwd>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,7 +27,8 @@ struct FitOptions {
   std::string torque = "continuous";
   int resolution = 64, refinements = 2, places = 3;  // the largest inscribed shape (docs/task-volumes.md)
   int task_resolution = 24;            // the task evaluated at its centre
-  double tolerance = 1e-3;             // relative, on the size
+  double tolerance = 1e-3;             // relative, on the size (or the margin search's step)
+  std::optional<double> size;          // set: the largest margin at this size
   std::string output;                  // CSV: the smallest design first, then every design by size
   std::string chart;                   // size against the worst measure (.png, .svg, .pdf)
   bool quiet = false;                  // no progress on stderr
@@ -39,21 +41,12 @@ struct FitOptions {
 // nothing written). The chart needs a QGuiApplication.
 void run_fit(const FitOptions& options, std::ostream& out);
 
-// The parts `fit` shares with `sweep`:
-// the device, task, criteria, free parameters and sampling options (every
-// FitOptions field but tolerance, output, chart and quiet);
+// The parts `fit` shares with `sweep`: the device, task, criteria, free
+// parameters and sampling options (every FitOptions field but size,
+// tolerance, output, chart and quiet), and the problem they describe,
+// checked (messages start with `command`; throws std::invalid_argument).
 void add_problem_options(CLI::App& command, FitOptions& options);
-// the problem they describe, checked (messages start with `command`; throws
-// std::invalid_argument);
 fit::Problem make_problem(const FitOptions& options, const std::string& command);
-// the parameters a table names: those the design panel shows and the free ones;
-std::vector<std::string> design_columns(const Mechanism& mechanism, const std::vector<fit::Variable>& variables);
-// the Pareto chart of size against the worst measure (.png, .svg, .pdf;
-// needs a QGuiApplication).
-void write_pareto_chart(const std::string& path, const fit::Problem& problem, const fit::Result& result,
-                        const MechanismInfo& info, const std::string& title);
-// A text file, written through a temporary (core/atomic_file.h).
-void write_text_file(const std::string& path, const std::string& text);
 
 struct FitCommand {
   CLI::App* command = nullptr;

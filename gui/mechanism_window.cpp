@@ -44,6 +44,7 @@
 #include "core/csv.h"
 #include "core/haptics.h"
 #include "gui/latency_probe.h"
+#include "gui/fit_panel.h"
 #include "gui/methods_panel.h"
 #include "gui/task_panel.h"
 #include "gui/vtk_widget.h"
@@ -287,11 +288,18 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   task_panel_ = new TaskPanel(task_scene_.get());
   QDockWidget* task = add_dock(this, tr("Task"), "taskDock", task_panel_);
   connect(task_panel_, &TaskPanel::changed, view_, [this] { view_->update(); });
+  fit_panel_ = new FitPanel(task_panel_);
+  QDockWidget* fit = add_dock(this, tr("Fit"), "fitDock", fit_panel_);
+  connect(fit_panel_, &FitPanel::applyRequested, this, [this](const std::map<std::string, double>& design) {
+    if (!setParameters(design)) return;
+    if (const auto centre = fit_panel_->chosenCentre()) task_panel_->setCentre(*centre);  // where it fits
+  });
   // One column of tabs: the drive (with every read-out) in front.
   tabifyDockWidget(drive, design);
   tabifyDockWidget(drive, field);
   tabifyDockWidget(drive, animation);
   tabifyDockWidget(drive, task);
+  tabifyDockWidget(drive, fit);
   methods_ = add_methods_dock(this, preset_, drive);
   drive->raise();
   QTimer::singleShot(0, this, [this, drive] { resizeDocks({drive}, {std::max(drive->width(), 440)}, Qt::Horizontal); });
@@ -781,6 +789,7 @@ void MechanismWindow::accept(const Eigen::VectorXd& q, const Eigen::VectorXd& x,
   updateReadouts();
   placeHandle();
   task_panel_->setDevice(mechanism_, preset_, x_);  // its read-outs follow the design and the held pose
+  fit_panel_->setDevice(preset_, x_);                 // the next Run holds this design's other parameters
   // Fields depend on the fixed task coordinates and the branch; the slice
   // also on the driven point while it follows it.
   if (branch_changed) {

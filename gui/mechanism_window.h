@@ -50,6 +50,7 @@ class TaskScene;
 
 namespace linkscape::gui {
 
+class FitPanel;
 class MethodsPanel;
 class TaskPanel;
 class VtkWidget;
@@ -96,6 +97,7 @@ class MechanismWindow : public QMainWindow {
   const render::SkeletonScene& scene() const { return *scene_; }
   const render::TaskScene& taskScene() const { return *task_scene_; }
   TaskPanel* taskPanel() const { return task_panel_; }
+  FitPanel* fitPanel() const { return fit_panel_; }
   // True once the latest field request has been answered at full resolution.
   bool fieldsSettled() const { return slice_settled_ && surfaces_settled_; }
   // Why the last requested pose was refused, empty when it was taken.
@@ -175,6 +177,7 @@ class MechanismWindow : public QMainWindow {
   std::unique_ptr<render::FieldScene> field_scene_;
   std::unique_ptr<render::TaskScene> task_scene_;
   TaskPanel* task_panel_ = nullptr;
+  FitPanel* fit_panel_ = nullptr;
   vtkRenderer* renderer_ = nullptr;  // owned by the view's render window
   VtkWidget* view_ = nullptr;
   Eigen::VectorXd q_, x_;

@@ -18,8 +18,10 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/atomic_file.h"
 #include "core/csv.h"
 #include "core/sweep.h"
+#include "gui/fit_report.h"
 #include "gui/sweep_ranks.h"
 #include "render/field_vtk.h"
 
@@ -160,7 +162,7 @@ void run_sweep(const SweepOptions& o, std::ostream& out) {
   plan.seed = o.seed;
   plan.field_resolution = o.field_resolution;
   const std::shared_ptr<const Mechanism> base = make_mechanism(plan.problem.preset);
-  plan.columns = design_columns(*base, plan.problem.variables);
+  plan.columns = design_columns(base->info(), plan.problem.variables);
   const std::vector<std::vector<double>> designs = sweep::designs(plan);
   if (!o.vti.empty() && (plan.sampling != sweep::Sampling::Grid || plan.problem.variables.size() > 3))
     throw std::invalid_argument("sweep: --vti needs --grid over at most 3 free variables, got " +
@@ -213,15 +215,10 @@ void run_sweep(const SweepOptions& o, std::ostream& out) {
   for (int sig : {SIGTERM, SIGINT, SIGHUP}) std::signal(sig, SIG_DFL);
 
   const std::string table = sweep::table(plan, checkpoint.rows());
-  write_text_file(o.output, table);
+  write_text_atomically(o.output, table);
   const fit::Result result = sweep::as_fit_result(plan, checkpoint.rows());
   const MechanismInfo& info = base->info();
-  if (!o.chart.empty()) {
-    std::string criteria_text;
-    for (const task::Criterion& c : plan.problem.criteria) criteria_text += (criteria_text.empty() ? "" : ", ") + c.text;
-    write_pareto_chart(o.chart, plan.problem, result, info,
-                       info.name + " sweep: " + plan.problem.task.text + " meeting " + criteria_text);
-  }
+  if (!o.chart.empty()) write_fit_chart(o.chart, plan.problem, result, info);
   if (!o.vti.empty()) write_sweep_vti(plan, table, o.vti);
   checkpoint.remove();
 

@@ -146,6 +146,10 @@ void TaskPanel::setDevice(std::shared_ptr<const Mechanism> mechanism, const Pres
   if (new_device || held_changed) schedule();
 }
 
+void TaskPanel::setCentre(const Eigen::Vector3d& centre) {
+  for (int k = 0; k < 3; ++k) centre_[k]->setValue(centre(k));
+}
+
 void TaskPanel::setTask(const std::string& text, const std::vector<std::string>& criteria_texts) {
   const task::TaskVolume t = task::parse_task(text);
   std::string joined;

@@ -45,8 +45,16 @@ class TaskPanel : public QWidget {
   // at once; without a centre the task is placed at the largest shape of
   // the good region. Throws std::invalid_argument for bad text.
   void setTask(const std::string& task, const std::vector<std::string>& criteria);
+  // The task's centre (the read-outs follow shortly, debounced).
+  void setCentre(const Eigen::Vector3d& centre);
   // The read-outs now, without waiting for the debounce.
   void evaluateNow();
+
+  // The task as the panel holds it (with its centre), and its criteria with
+  // reach first, resolved on the device (throws std::invalid_argument for
+  // bad text).
+  task::TaskVolume volume() const;
+  std::vector<task::Criterion> criteria() const;
 
   const std::optional<task::TaskReport>& report() const { return report_; }
   const std::optional<task::Inscribed>& largest() const { return largest_; }
@@ -56,8 +64,6 @@ class TaskPanel : public QWidget {
   void changed();  // the scene changed: render the view
 
  private:
-  task::TaskVolume volume() const;
-  std::vector<task::Criterion> criteria() const;  // throws std::invalid_argument
   task::Device device() const;                    // throws std::invalid_argument
   void schedule();
   void placeAtLargest();

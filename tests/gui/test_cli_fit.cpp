@@ -80,10 +80,40 @@ TEST(CliFit, BadInputsExitWithTwoAndWriteNothing) {
            {"--task sphere:diameter=15 --criterion 'cond<3' --free L3", "unknown parameter 'L3'"},
            {"--task cone:diameter=15", "unknown shape"},
            {"--task sphere:diameter=15 --chart pareto.gif", "--chart must end in"},
+           {"--task sphere:diameter=15 --criterion 'cond<3' --size 0", "positive and finite"},
+           {"--task sphere:diameter=15 --criterion 'cond<3' --size 200", "no design within the bounds has size L1 + L2 = 200"},
+           {"--task sphere:diameter=15 --criterion 'cond<3' --size 30 --bounds L1=20:25 --bounds L2=20:25", "they span 40 to 50"},
+           {"--task sphere:diameter=15 --criterion 'cond<3' --size thirty", "--size"},
        }) {
     const CommandResult r = run_linkscape("fit " + args + " --output " + csv + kCoarse);
     EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.out;
     EXPECT_NE(r.out.find(expected), std::string::npos) << args << "\n" << r.out;
     EXPECT_FALSE(fs::exists(csv)) << args;
   }
+}
+
+// --size: every design evaluated has the size asked for, the first row has
+// the largest margin of them and the report says which it is.
+TEST(CliFit, AtASizeTheFirstRowHasTheLargestMargin) {
+  const std::string csv = out("margin.csv"), chart = out("margin.pdf");
+  const CommandResult r = run_linkscape("fit --task sphere:diameter=15 --criterion 'cond<3' --size 30 --output " + csv +
+                                        " --chart " + chart + kCoarse);
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.out.find("held at 30 cm"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("largest margin at that size: L1 = "), std::string::npos) << r.out;
+  const auto rows = rows_of(csv);
+  ASSERT_GT(rows.size(), 5u);
+  const double best = std::stod(rows[0].at("margin"));
+  EXPECT_GE(best, 1.0);
+  for (const auto& row : rows) {
+    EXPECT_NEAR(std::stod(row.at("size")), 30, 1e-9);
+    EXPECT_LE(std::stod(row.at("margin")), best);
+  }
+  EXPECT_TRUE(fs::exists(chart));
+}
+
+TEST(CliFit, AtASizeTooSmallTheClosestIsReported) {
+  const CommandResult r = run_linkscape("fit --task sphere:diameter=15 --criterion 'cond<3' --size 12" + kCoarse);
+  EXPECT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.out.find("no design in the bounds meets it; closest: L1 = "), std::string::npos) << r.out;
 }
