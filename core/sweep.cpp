@@ -170,9 +170,10 @@ std::string header(const Plan& plan) {
 }
 
 std::string evaluate_row(const Plan& plan, std::size_t index, const std::vector<double>& values) {
-  std::map<std::string, double> parameters = plan.problem.preset.parameters;
+  Preset preset = plan.problem.preset;
   for (std::size_t i = 0; i < plan.problem.variables.size() && i < values.size(); ++i)
-    for (const std::string& name : plan.problem.variables[i].parameters) parameters[name] = values[i];
+    for (const std::string& name : plan.problem.variables[i].parameters) preset.parameters[name] = values[i];
+  std::map<std::string, double> parameters = preset.parameters;  // the whole design, once built
   std::optional<fit::Row> row;
   std::optional<FieldMeasures> field;
   std::string error;
@@ -183,12 +184,7 @@ std::string evaluate_row(const Plan& plan, std::size_t index, const std::vector<
       error = "invalid design: " + row->invalid;
     } else {
       parameters = row->parameters;
-      if (plan.field_resolution > 0) {
-        Preset preset = plan.problem.preset;
-        for (std::size_t i = 0; i < plan.problem.variables.size(); ++i)
-          for (const std::string& name : plan.problem.variables[i].parameters) preset.parameters[name] = values[i];
-        field = field_measures(plan, *make_mechanism(preset), row->centre);
-      }
+      if (plan.field_resolution > 0) field = field_measures(plan, *make_mechanism(preset), row->centre);
     }
   } catch (const std::exception& e) {
     error = std::string("evaluation failed: ") + e.what();
@@ -200,9 +196,9 @@ std::string evaluate_row(const Plan& plan, std::size_t index, const std::vector<
     const auto it = parameters.find(c);
     s << "," << (it == parameters.end() ? "" : cell(it->second));
   }
-  const std::size_t score_cells = 5 + free_centre(plan) + 2 + 2 * plan.problem.criteria.size() +
-                                  (plan.field_resolution > 0 ? std::size(kFieldColumns) : 0);
   if (!scored) {
+    // Empty scores: every column but design, the parameters, pareto and error.
+    const std::size_t score_cells = cells(header(plan)).size() - plan.columns.size() - 3;
     for (std::size_t i = 0; i < score_cells; ++i) s << ",";
     s << ",0," << error_cell(error);
     return s.str();
