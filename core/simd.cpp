@@ -49,6 +49,10 @@ std::vector<std::string> available_targets() {
 
 std::string current_target() { return hwy::TargetName(HWY_DYNAMIC_DISPATCH(TargetBit)()); }
 
+std::string highway_version() {
+  return std::to_string(HWY_MAJOR) + "." + std::to_string(HWY_MINOR) + "." + std::to_string(HWY_PATCH);
+}
+
 void limit_targets(const std::string& name) {
   const std::vector<std::int64_t>& bits = target_bits();
   if (name.empty()) {

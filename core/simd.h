@@ -18,6 +18,9 @@ std::vector<std::string> available_targets();
 // The target the kernels use now.
 std::string current_target();
 
+// "1.0.3": the Highway library the kernels were built with.
+std::string highway_version();
+
 // Makes `name` (one of available_targets(), any case, or "baseline" for the
 // last of them) the best target the kernels may use; "" lifts the limit.
 // Throws std::invalid_argument naming the available targets for any other

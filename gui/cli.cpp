@@ -23,6 +23,8 @@
 #include "gui/sweep_command.h"
 #include "gui/headless.h"
 #include "gui/mechanism_window.h"
+#include "gui/session.h"
+#include "gui/terminal.h"
 
 namespace linkscape::gui {
 namespace {
@@ -87,7 +89,7 @@ std::string headless_hint(const DeviceHelp& help, const std::vector<DeviceComman
       "  linkscape eval --mechanism NAME --fk actuators.csv   forward kinematics of each row's actuator values\n"
       "  linkscape slice --plane x=0.25 --output slice.png    condition-number slice image\n"
       "  linkscape field --resolution 128 --output volume.vti sampled volume for ParaView\n"
-      "  linkscape mesh --surface cond<3 --output ws.stl      workspace isosurface mesh\n"
+      "  linkscape mesh --surface 'cond<3' --output ws.stl    workspace isosurface mesh\n"
       "  linkscape fit --task sphere:diameter=15 --criterion 'cond<3' -o fit.csv   the smallest design that serves a task\n"
       "  linkscape sweep --task sphere:diameter=15 --grid 5 -o sweep.csv   score a grid of designs (also under mpirun)\n"
       "  linkscape bench --chart m.png --sweeps s.png --csv b.csv   speed and accuracy of every method\n";
@@ -189,6 +191,72 @@ bool has_display() {
   return false;
 }
 
+// The names a mistyped word in `command` may have meant: its options (and,
+// at the top, the commands).
+std::vector<std::string> known_words(const CLI::App& command) {
+  std::vector<std::string> words;
+  for (const CLI::Option* option : command.get_options()) {
+    for (const std::string& name : option->get_lnames()) words.push_back("--" + name);
+    for (const std::string& name : option->get_snames()) words.push_back("-" + name);
+  }
+  for (const CLI::App* sub : command.get_subcommands({})) words.push_back(sub->get_name());
+  return words;
+}
+
+// One style for every error: "linkscape: error: ...", a suggestion for a
+// mistyped word, and where to read more.
+std::string parse_error_message(const CLI::App& app, const CLI::Error& e) {
+  const std::vector<CLI::App*> parsed = app.get_subcommands();
+  const CLI::App& command = parsed.empty() ? app : *parsed.back();
+  // The words to check: those nobody took, and a file argument that is no
+  // file (`linkscape evl --fk a.csv` takes "evl" as the file to open).
+  std::vector<std::string> words = app.remaining(true);
+  std::error_code ec;
+  for (const std::string& file : app.get_option("file")->as<std::vector<std::string>>())
+    if (!std::filesystem::exists(file, ec)) words.insert(words.begin(), file);
+  std::string message = std::string("linkscape: error: ") + e.what() + "\n";
+  for (const std::string& word : words) {
+    if (const auto meant = closest_name(word.substr(0, word.find('=')), known_words(command))) {
+      const bool is_command = meant->front() != '-';
+      message += "Did you mean '" + (is_command ? "linkscape " + *meant : *meant) + "'?\n";
+      break;
+    }
+  }
+  const std::string name = parsed.empty() ? "linkscape" : "linkscape " + command.get_name();
+  return message + "Run '" + name + " --help' for every option.\n";
+}
+
+// `linkscape FILE` (the desktop entry's %F): a saved session opens as one,
+// any other .json as a mechanism preset. A word that is no file is most
+// likely a mistyped command.
+void open_file_argument(const CLI::App& app, WindowOptions& window) {
+  if (window.file.empty()) return;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(window.file, ec)) {
+    std::string commands;
+    std::vector<std::string> names;
+    for (const CLI::App* sub : app.get_subcommands({})) names.push_back(sub->get_name());
+    const auto meant = closest_name(window.file, names);
+    throw std::invalid_argument("'" + window.file + "' is neither a command nor a file" +
+                                (meant ? "; did you mean 'linkscape " + *meant + "'?" : std::string()));
+  }
+  if (!window.session.empty() || app.get_option("--mechanism")->count() > 0)
+    throw std::invalid_argument("give a file to open, --session or --mechanism, not two of them");
+  if (is_session_file(window.file)) window.session = window.file;
+  else window.mechanism.mechanism = window.file;
+}
+
+// Bad files and parameters are input errors (exit 2), with a display or without.
+void check_window_inputs(const WindowOptions& window) {
+  if (!window.session.empty()) {
+    load_session(window.session);
+    return;
+  }
+  Preset preset = load_preset(window.mechanism.mechanism);
+  apply_overrides(preset, window.mechanism.params);
+  make_mechanism(preset);
+}
+
 }  // namespace
 
 int run(int argc, char** argv) {
@@ -199,6 +267,9 @@ int run(int argc, char** argv) {
   WindowOptions window;
   add_mechanism_options(app, window.mechanism);
   app.add_option("--session", window.session, "Open a saved session (.json) at start, with its mechanism");
+  app.add_option("file", window.file,
+                 "A session (.json saved by File > Save) or a mechanism preset (.json) to open, as the desktop entry "
+                 "passes it");
   app.add_option("--screenshot", window.screenshot,
                  "Open the window, wait until the fields are computed, save it as PNG to this file and exit");
   app.add_option("--size", window.size, "Window size for --screenshot and --latency, WIDTHxHEIGHT")->capture_default_str();
@@ -247,6 +318,7 @@ int run(int argc, char** argv) {
       ->capture_default_str();
   eval_cmd->add_option("-o,--output", eval.output, "Output CSV file (written atomically); '-' = stdout")
       ->capture_default_str();
+  eval_cmd->add_flag("-q,--quiet", eval.quiet, "No summary on stderr (there is none when the rows go to stdout)");
 
   SliceOptions slice;
   CLI::App* slice_cmd = app.add_subcommand(
@@ -281,6 +353,10 @@ int run(int argc, char** argv) {
       ->delimiter(',')
       ->expected(2);
   slice_cmd->add_flag("--linear", slice.linear, "Linear colour scale for cond and residual (default: log)");
+  slice_cmd->add_option("--colour-map", slice.colour_map,
+                        "viridis, cividis (also for colour vision deficiency) or diverging (blue-grey-red; a signed "
+                        "field's automatic range is symmetric about 0, e.g. --field reach)")
+      ->capture_default_str();
   slice_cmd->add_flag("--figure", slice.figure, "Add axes with units, colour bar, legend and title (PNG, SVG or PDF)");
   slice_cmd->add_option("-o,--output", slice.output, "Output: .png or .csv; with --figure .png, .svg or .pdf")
       ->required();
@@ -344,6 +420,7 @@ int run(int argc, char** argv) {
       "  LINKSCAPE_SIMD_TARGET=AVX2|SSE4|...|baseline   use at most this instruction set\n"
       "  LINKSCAPE_FIELD_KERNEL=scalar|vector|vector-mirrored   parallel-12r planar kernel (default vector-mirrored)");
 
+  app.failure_message([&](const CLI::App*, const CLI::Error& e) { return parse_error_message(app, e); });
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -412,6 +489,9 @@ int run(int argc, char** argv) {
     return 0;
   }
 
+  open_file_argument(app, window);
+  check_window_inputs(window);
+  window.size_given = app.get_option("--size")->count() > 0;
   if (!has_display()) {
     std::cerr << "linkscape: no display found (DISPLAY is not set), so the window cannot open.\n"
               << "Start it on a desktop, or under Xvfb: xvfb-run -a linkscape\n\n"

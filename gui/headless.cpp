@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
+#include <filesystem>
 #include <functional>
 #include <iomanip>
 #include <fstream>
@@ -20,6 +22,7 @@
 #include "core/task.h"
 #include "core/preset.h"
 #include "gui/slice_figure.h"
+#include "gui/terminal.h"
 #include "render/field_vtk.h"
 #include "render/slice_image.h"
 #include <vtkPolyData.h>
@@ -65,11 +68,6 @@ std::string cell(double v) { return std::isfinite(v) ? format_number(v) : (std::
 std::string joined_names(const std::vector<Quantity>& items, const std::string& prefix = "") {
   std::string out;
   for (const Quantity& q : items) out += (out.empty() ? "" : ",") + prefix + q.name;
-  return out;
-}
-std::string joined_names(const std::vector<NamedItem>& items) {
-  std::string out;
-  for (const NamedItem& q : items) out += (out.empty() ? "" : ",") + q.name;
   return out;
 }
 std::string empties(std::size_t n) { return std::string(n, ','); }
@@ -220,6 +218,7 @@ void run_eval(const EvalOptions& o, std::istream& stdin_stream, std::ostream& st
   }
   ik.tolerance = o.tolerance;
   ik.max_iterations = o.max_iterations;
+  const auto start = std::chrono::steady_clock::now();
   const Table table = read_input(o.ik_file.empty() ? o.fk_file : o.ik_file, stdin_stream);
   std::ostringstream result;
   if (!o.ik_file.empty()) write_ik(*m, table, ik, result);
@@ -235,6 +234,11 @@ void run_eval(const EvalOptions& o, std::istream& stdin_stream, std::ostream& st
       if (!out) throw std::runtime_error("cannot write '" + o.output + "'");
     });
   }
+  // Written to stdout, the rows themselves say it worked; a summary there would only get in a pipe's way.
+  if (o.output != "-")
+    summary(o.quiet, std::string("eval: ") + (o.ik_file.empty() ? "forward" : "inverse") + " kinematics of " +
+                       std::to_string(table.rows.size()) + (table.rows.size() == 1 ? " row (" : " rows (") + info.name + ") written to " +
+                       o.output + " in " + seconds_since(start));
 }
 
 // ---- Commands that sample a field -------------------------------------------
@@ -367,19 +371,28 @@ std::array<int, 3> parse_resolution(const std::string& text) {
   throw std::invalid_argument("--resolution expects N or NXxNYxNZ (each >= 2), got '" + text + "'");
 }
 
-// Samples the field, with a progress line on an interactive stderr.
-Field sample(const Sampling& sampling, const Grid& grid, bool quiet) {
+// Samples the field, showing its progress on the terminal.
+Field sample(const Sampling& sampling, const Grid& grid, ProgressLine& line) {
   FieldProgress progress;
-  const bool show = !quiet && ::isatty(STDERR_FILENO);
-  std::atomic<int> shown{-1};
-  if (show)
-    progress.report = [&](double f) {
-      const int percent = int(f * 100);
-      if (percent != shown.exchange(percent)) std::cerr << "\rsampling " << percent << " %" << std::flush;
-    };
+  line.step("sampling");
+  if (line.shown()) progress.report = [&](double f) { line.report(f); };
   std::optional<Field> field = sampling.sample(grid, progress);
-  if (show) std::cerr << "\r               \r";
+  line.clear();
   return std::move(*field);
+}
+
+std::string megabytes(std::uintmax_t bytes) {
+  std::ostringstream out;
+  out << std::fixed << std::setprecision(1) << double(bytes) / 1e6 << " MB";
+  return out.str();
+}
+
+// "192x192x192" or "512x512".
+std::string dimensions_text(const Grid& grid) {
+  std::string out;
+  for (int n : grid.dims)
+    if (n > 1) out += (out.empty() ? "" : "x") + std::to_string(n);
+  return out.empty() ? "1" : out;
 }
 
 Grid box_grid(const Sampling& sampling, const std::vector<double>& box_option, const std::string& resolution) {
@@ -421,6 +434,7 @@ void run_slice(const SliceOptions& o) {
   render::SliceStyle style;
   style.field = o.field;
   style.log_scale = !o.linear;
+  style.colour_map = o.colour_map;
   style.contour_levels = o.contours;
   if (!o.range.empty()) {
     if (o.range.size() != 2) throw std::invalid_argument("--range expects min,max");
@@ -453,10 +467,16 @@ void run_slice(const SliceOptions& o) {
       throw std::invalid_argument("--field inertia: the preset gives no rotor_inertia_kgm2 for every actuator");
   }
 
-  const Field field = sample(sampling, grid, o.sampling.quiet);
+  const auto start = std::chrono::steady_clock::now();
+  ProgressLine line(o.sampling.quiet);
+  const Field field = sample(sampling, grid, line);
+  line.step("writing " + o.output);
   if (ext == ".csv") render::write_field_csv(field, o.output);
   else if (o.figure) write_slice_figure(field, style, o.output);
   else render::write_slice_png(field, style, o.output);
+  line.clear();
+  summary(o.sampling.quiet, "slice: wrote " + o.output + " (" + o.field + " of " + info.name + " on " + plane + ", " +
+                                dimensions_text(grid) + " samples) in " + seconds_since(start));
 }
 
 void run_field(const FieldCommandOptions& o) {
@@ -474,12 +494,22 @@ void run_field(const FieldCommandOptions& o) {
     throw std::invalid_argument("--field inertia: the preset gives no rotor_inertia_kgm2 for every actuator");
   const Grid grid = box_grid(sampling, o.box, o.resolution);
   check_peak_memory(grid, sampling.bytes_per_sample, ext == ".vti" ? kPeakVti : kPeakCsv, "field");
-  Field field = sample(sampling, grid, o.sampling.quiet);
+  const auto start = std::chrono::steady_clock::now();
+  ProgressLine line(o.sampling.quiet);
+  Field field = sample(sampling, grid, line);
   std::erase_if(field.extras, [&](const Field::NamedArray& a) {
     return std::find(o.fields.begin(), o.fields.end(), a.name) == o.fields.end();
   });
+  line.step("writing " + o.output);
   if (ext == ".vti") render::write_vti(field, o.output);
   else render::write_field_csv(field, o.output);
+  line.clear();
+  std::error_code ec;
+  const auto bytes = std::filesystem::file_size(o.output, ec);
+  summary(o.sampling.quiet, "field: wrote " + o.output + " (" + sampling.mechanism->info().name + ", " +
+                                dimensions_text(grid) + " samples" +
+                                (ec ? std::string() : ", " + megabytes(bytes)) + ") in " +
+                                seconds_since(start));
 }
 
 // ---- mesh ---------------------------------------------------------------------
@@ -530,11 +560,15 @@ void run_mesh(const MeshOptions& o, std::ostream& out) {
   }
   const Grid grid = box_grid(sampling, o.box, o.resolution);
   check_peak_memory(grid, sampling.bytes_per_sample, kPeakMesh, "mesh");
-  const Field field = sample(sampling, grid, o.sampling.quiet);
+  ProgressLine line(o.sampling.quiet);
+  const Field field = sample(sampling, grid, line);
+  line.step("extracting the surface");
   const vtkSmartPointer<vtkPolyData> mesh = render::extract_surface(field, request);
   const render::MeshStats s = render::mesh_stats(mesh);
   if (s.faces == 0) throw std::invalid_argument("mesh: the surface does not occur in the box (nothing written)");
+  line.step("writing " + o.output);
   render::write_mesh(mesh, o.output, field, request);
+  line.clear();
   out << "wrote " << o.output << ": " << s.vertices << " vertices, " << s.faces << " triangles, "
       << (s.boundary_edges == 0 && s.non_manifold_edges == 0 ? "watertight" : "NOT watertight")
       << ", Euler characteristic " << s.euler_characteristic << "\n"

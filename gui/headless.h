@@ -27,6 +27,7 @@ struct EvalOptions {
   double tolerance = 1e-10;
   int max_iterations = 100;
   std::string output = "-";  // file, or "-" for stdout
+  bool quiet = false;        // no summary on stderr
 };
 
 // Writes the evaluation as CSV. Throws std::invalid_argument for bad input.
@@ -43,7 +44,7 @@ struct SamplingOptions {
   std::string pose;
   // Torque limit of the haptic fields: "continuous" or "peak" (core/haptics.h).
   std::string torque = "continuous";
-  bool quiet = false;  // no progress on stderr
+  bool quiet = false;  // no progress or summary on stderr
 };
 
 struct SliceOptions {
@@ -52,6 +53,7 @@ struct SliceOptions {
   std::vector<double> extent;    // u_min,u_max,v_min,v_max; default +-reach
   std::string size = "512x512";  // samples along u x v
   std::string field = "cond";    // cond, reach, residual, iterations, status, method, force_iso, force_max, resolution, inertia
+  std::string colour_map = "viridis";  // render::colour_maps()
   std::vector<double> contours{3.0};
   std::vector<double> range;     // colour range min,max
   bool linear = false;           // linear colour scale for cond/residual

@@ -12,7 +12,7 @@ int main(int argc, char** argv) {
     linkscape::check_stdout();  // output lost to a full disk or a closed pipe is an error
     return code;
   } catch (const std::invalid_argument& e) {
-    std::cerr << "linkscape: " << e.what() << "\n";
+    std::cerr << "linkscape: error: " << e.what() << "\n";
     return 2;
   } catch (const std::exception& e) {
     std::cerr << "linkscape: error: " << e.what() << "\n";

@@ -6,6 +6,7 @@
 #include <QCloseEvent>
 #include <QComboBox>
 #include <QDockWidget>
+#include <QEvent>
 #include <QDoubleSpinBox>
 #include <QFileDialog>
 #include <QFileInfo>
@@ -15,6 +16,7 @@
 #include <QHBoxLayout>
 #include <QLabel>
 #include <QMenuBar>
+#include <QMessageBox>
 #include <QPushButton>
 #include <QScrollArea>
 #include <QSettings>
@@ -46,6 +48,7 @@
 #include "gui/latency_probe.h"
 #include "gui/fit_panel.h"
 #include "gui/methods_panel.h"
+#include "gui/session_history.h"
 #include "gui/task_panel.h"
 #include "gui/vtk_widget.h"
 #include "gui/window_parts.h"
@@ -198,6 +201,12 @@ Eigen::AlignedBox3d view_box(const Mechanism& m) {
   return {box.center() - half, box.center() + half};
 }
 
+bool same_camera(const CameraState& a, const CameraState& b) {
+  const double scale = std::max(1.0, (a.position - a.focal_point).norm());
+  return (a.position - b.position).norm() <= 1e-9 * scale && (a.focal_point - b.focal_point).norm() <= 1e-9 * scale &&
+         (a.view_up - b.view_up).norm() <= 1e-9 && std::abs(a.view_angle - b.view_angle) <= 1e-9;
+}
+
 // The branch of actuators q at task x: the IK solution nearest to q, or `fallback`.
 int branch_of(const Mechanism& m, const Eigen::VectorXd& q, const Eigen::VectorXd& x, int fallback) {
   if (m.info().branches.size() <= 1) return 0;
@@ -238,8 +247,6 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
       scene_(std::make_unique<render::SkeletonScene>()),
       field_scene_(std::make_unique<render::FieldScene>()),
       task_scene_(std::make_unique<render::TaskScene>()) {
-  const MechanismInfo& info = mechanism_->info();
-  setWindowTitle(QString("Linkscape — %1").arg(qs(preset.title.empty() ? info.title : preset.title)));
   q_ = mechanism_->home_actuators();
   x_ = mechanism_->home_task();
   branch_ = branch_of(*mechanism_, q_, x_, 0);
@@ -252,12 +259,22 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   renderer->SetBackground2(0.80, 0.84, 0.90);
   view_->renderWindow()->AddRenderer(renderer);
   renderer_ = renderer;
+  // The colour bar has a strip of its own at the right, so it never covers the data.
+  vtkNew<vtkRenderer> legend;
+  legend->GradientBackgroundOn();
+  legend->SetBackground(renderer->GetBackground());
+  legend->SetBackground2(renderer->GetBackground2());
+  legend->InteractiveOff();
+  view_->renderWindow()->AddRenderer(legend);
+  legend_ = legend;
+  placeLegend();
+  view_->installEventFilter(this);
   scene_->set_model(mechanism_->skeleton_model());
   scene_->add_to(renderer_);
-  field_scene_->add_to(renderer_);
+  field_scene_->add_to(renderer_, legend_);
   task_scene_->add_to(renderer_);
   renderer_->SetUseDepthPeeling(false);  // plain alpha blending: interactive under software GL
-  scene_->reset_camera(renderer_, view_box(*mechanism_));
+  fitCamera();
 
   // Drag the driven point: a handle on it, solved by IK as it moves.
   handle_rep_ = vtkSmartPointer<vtkPointHandleRepresentation3D>::New();
@@ -303,6 +320,7 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   methods_ = add_methods_dock(this, preset_, drive);
   drive->raise();
   QTimer::singleShot(0, this, [this, drive] { resizeDocks({drive}, {std::max(drive->width(), 440)}, Qt::Horizontal); });
+  history_ = new SessionHistory([this] { return session(); }, [this](const Session& s) { applySession(s); }, this);
   buildMenus();
 
   compute_label_ = add_field_status(this, view_, {&slice_runner_, &volume_runner_}, [this] {
@@ -320,6 +338,43 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   setDrive(Drive::Task);
   accept(q_, x_, branch_);
   requestFields(true, true);
+  history_->reset({});
+  connect(history_, &SessionHistory::modifiedChanged, this, &MechanismWindow::updateTitle);
+  connect(history_, &SessionHistory::pathChanged, this, &MechanismWindow::updateTitle);
+  updateTitle();
+  initial_layout_ = saveState();
+}
+
+void MechanismWindow::noteChange() {
+  if (history_ && !animation_timer_->isActive()) history_->noteChange();
+}
+
+void MechanismWindow::updateTitle() {
+  const QString device = qs(preset_.title.empty() ? mechanism_->info().title : preset_.title);
+  const QString document = history_ && !history_->path().isEmpty() ? QFileInfo(history_->path()).fileName() : tr("Untitled");
+  // [*] is where Qt shows the modified mark.
+  setWindowTitle(QString("%1[*] — %2 — Linkscape").arg(document, device));
+  setWindowModified(history_ && history_->modified());
+}
+
+void MechanismWindow::placeLegend() {
+  // About 120 pixels wide, at most a quarter of the view; the whole view is
+  // the scene's while no colour bar is shown.
+  const bool shown = field_scene_->colour_bar_visible();
+  const double width = shown ? std::min(0.25, 120.0 / std::max(1, view_->width())) : 0.0;
+  renderer_->SetViewport(0, 0, 1 - width, 1);
+  legend_->SetDraw(shown);
+  if (shown) legend_->SetViewport(1 - width, 0, 1, 1);
+}
+
+bool MechanismWindow::eventFilter(QObject* watched, QEvent* event) {
+  if (watched == view_ && event->type() == QEvent::Resize) placeLegend();  // docks resize the view too
+  return QMainWindow::eventFilter(watched, event);
+}
+
+void MechanismWindow::fitCamera() {
+  scene_->reset_camera(renderer_, view_box(*mechanism_));
+  fitted_camera_ = camera_state(renderer_);
 }
 
 MechanismWindow::~MechanismWindow() {
@@ -513,7 +568,12 @@ QWidget* MechanismWindow::buildFieldPanel() {
   position_slider_->setRange(-kPositionSteps, kPositionSteps);
   position_slider_->setValue(kPositionSteps / 8);
   position_label_ = new QLabel(w);
+  position_label_->setObjectName("positionLabel");
   position_label_->setMinimumWidth(80);
+  const QString position_tip = tr("Where the slice cuts the sampling box, and how far across it (0 %: its low side). "
+                                  "The fraction stays when the design changes size.");
+  position_slider_->setToolTip(position_tip);
+  position_label_->setToolTip(position_tip);
   auto* row = new QHBoxLayout;
   row->addWidget(position_slider_, 1);
   row->addWidget(position_label_);
@@ -535,6 +595,21 @@ QWidget* MechanismWindow::buildFieldPanel() {
   range_row->addWidget(range_max_box_);
   form->addRow(auto_range_box_);
   form->addRow(tr("Colour range"), range_row);
+  colour_map_box_ = new QComboBox(w);
+  colour_map_box_->setObjectName("colourMapBox");
+  for (const std::string& map : render::colour_maps()) colour_map_box_->addItem(qs(map));
+  colour_map_box_->setToolTip(tr("viridis: perceptually uniform; cividis: also for colour vision deficiency; "
+                                 "diverging: blue below, red above the middle (the range is symmetric about 0 "
+                                 "for signed fields such as the reach margin)"));
+  log_scale_box_ = new QCheckBox(tr("Logarithmic"), w);
+  log_scale_box_->setObjectName("logScaleBox");
+  log_scale_box_->setChecked(true);
+  log_scale_box_->setToolTip(tr("A log10 colour scale for c(J), the residual and the haptic measures "
+                                "(the other fields are always linear)"));
+  auto* map_row = new QHBoxLayout;
+  map_row->addWidget(colour_map_box_, 1);
+  map_row->addWidget(log_scale_box_);
+  form->addRow(tr("Colour map"), map_row);
   slice_resolution_box_ = new QComboBox(w);
   slice_resolution_box_->setObjectName("sliceResolutionBox");
   for (int n : choices.slice_resolutions) slice_resolution_box_->addItem(QString::number(n));
@@ -584,8 +659,20 @@ QWidget* MechanismWindow::buildFieldPanel() {
     if (haptic || (slice_field_ && !slice_field_->extras.empty())) requestFields(true, false);
     else restyleSlice();
   });
-  connect(auto_range_box_, &QCheckBox::toggled, this, [this] { restyleSlice(); });
+  connect(auto_range_box_, &QCheckBox::toggled, this, [this](bool automatic) {
+    range_min_box_->setEnabled(!automatic);
+    range_max_box_->setEnabled(!automatic);
+    restyleSlice();
+  });
+  range_min_box_->setEnabled(false);
+  range_max_box_->setEnabled(false);
+  range_min_box_->setObjectName("rangeMinBox");
+  range_max_box_->setObjectName("rangeMaxBox");
+  auto_range_box_->setObjectName("autoRangeBox");
+  auto_range_box_->setToolTip(tr("Colour range from the slice's data (the boxes show it); off: type the range"));
   connect(range_min_box_, &QDoubleSpinBox::valueChanged, this, [this] { restyleSlice(); });
+  connect(colour_map_box_, &QComboBox::currentIndexChanged, this, [this] { restyleSlice(); });
+  connect(log_scale_box_, &QCheckBox::toggled, this, [this] { restyleSlice(); });
   connect(range_max_box_, &QDoubleSpinBox::valueChanged, this, [this] { restyleSlice(); });
   // Fields are computed only while shown.
   connect(show_slice_box_, &QCheckBox::toggled, this, [this] {
@@ -641,13 +728,12 @@ QWidget* MechanismWindow::buildAnimationPanel() {
 void MechanismWindow::buildMenus() {
   QMenu* file = menuBar()->addMenu(tr("&File"));
   file->addAction(tr("&Open session…"), QKeySequence::Open, this, [this] {
+    if (!maybeSave()) return;
     const QString path = QFileDialog::getOpenFileName(this, tr("Open session"), QString(), tr("Linkscape session (*.json)"));
     if (!path.isEmpty()) openSession(path);
   });
-  file->addAction(tr("&Save session…"), QKeySequence::Save, this, [this] {
-    const QString path = QFileDialog::getSaveFileName(this, tr("Save session"), "session.json", tr("Linkscape session (*.json)"));
-    if (!path.isEmpty()) saveSession(path);
-  });
+  file->addAction(tr("&Save session"), QKeySequence::Save, this, &MechanismWindow::save);
+  file->addAction(tr("Save session &as…"), QKeySequence::SaveAs, this, &MechanismWindow::saveAs);
   recent_menu_ = file->addMenu(tr("Recent sessions"));
   file->addSeparator();
   file->addAction(tr("Export slice &image…"), this, [this] { export_slice_image(this, slice_field_.get(), sliceStyle()); });
@@ -659,11 +745,25 @@ void MechanismWindow::buildMenus() {
   file->addAction(tr("Save screens&hot…"), this, [this] { export_screenshot(this); });
   file->addSeparator();
   file->addAction(tr("&Quit"), QKeySequence::Quit, this, &QWidget::close);
+  QMenu* edit = menuBar()->addMenu(tr("&Edit"));
+  QAction* undo = history_->stack()->createUndoAction(this, tr("&Undo"));
+  undo->setShortcut(QKeySequence::Undo);
+  QAction* redo = history_->stack()->createRedoAction(this, tr("&Redo"));
+  redo->setShortcut(QKeySequence::Redo);
+  edit->addAction(undo);
+  edit->addAction(redo);
   QMenu* view = menuBar()->addMenu(tr("&View"));
   view->addAction(tr("&Reset camera"), this, [this] {
-    scene_->reset_camera(renderer_, view_box(*mechanism_));
+    fitCamera();
     view_->update();
   });
+  view->addAction(tr("Reset &layout"), this, [this] {
+    restoreState(initial_layout_);
+    for (QDockWidget* dock : findChildren<QDockWidget*>()) dock->show();
+  });
+  view->addSeparator();
+  for (QDockWidget* dock : findChildren<QDockWidget*>()) view->addAction(dock->toggleViewAction());
+  view->addSeparator();
   // Depth peeling composites the translucent surfaces exactly but costs
   // several full-screen passes per frame (docs/performance.md), so
   // interaction uses plain alpha blending unless the user asks.
@@ -674,6 +774,30 @@ void MechanismWindow::buildMenus() {
     renderer_->SetUseDepthPeeling(on);
     view_->update();
   });
+  QMenu* help = menuBar()->addMenu(tr("&Help"));
+  help->addAction(tr("&Documentation"), this, [this] { show_documentation(this); });
+  help->addAction(tr("&About Linkscape"), this, [this] { show_about(this); });
+}
+
+bool MechanismWindow::save() {
+  if (history_->path().isEmpty()) return saveAs();
+  return saveSession(history_->path());
+}
+
+bool MechanismWindow::saveAs() {
+  const QString suggested = history_->path().isEmpty() ? QStringLiteral("session.json") : history_->path();
+  const QString path = QFileDialog::getSaveFileName(this, tr("Save session as"), suggested, tr("Linkscape session (*.json)"));
+  return !path.isEmpty() && saveSession(path);
+}
+
+bool MechanismWindow::maybeSave() {
+  history_->flush();
+  if (!interactive_ || !history_->modified()) return true;
+  const auto answer = QMessageBox::warning(
+      this, tr("Unsaved changes"), tr("The session has changes that are not saved. Save them first?"),
+      QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel, QMessageBox::Save);
+  if (answer == QMessageBox::Save) return save();
+  return answer == QMessageBox::Discard;
 }
 
 // ---- Pose ---------------------------------------------------------------------
@@ -799,6 +923,7 @@ void MechanismWindow::accept(const Eigen::VectorXd& q, const Eigen::VectorXd& x,
   if (fixed_changed || branch_changed) requestFields(true, true);
   else if (moved && follow_box_ && follow_box_->isChecked()) requestFields(true, false);
   view_->update();
+  noteChange();
   emit poseChanged();
 }
 
@@ -953,10 +1078,13 @@ bool MechanismWindow::setParameters(const std::map<std::string, double>& paramet
     statusBar()->showMessage(qs(e.what()), 8000);
     return false;
   }
+  // The camera follows the device's size unless the user moved it since it was fitted.
+  const bool refit = fitted_camera_ && same_camera(*fitted_camera_, camera_state(renderer_));
   preset_ = next;
   mechanism_ = m;
   syncRanges();
   methods_->setMechanism(preset_);  // the next Run measures the new design
+  if (refit) fitCamera();
   accept(q, x, branch);
   requestFields(true, true);
   return true;
@@ -1001,6 +1129,8 @@ FieldSettings MechanismWindow::fieldSettings() const {
     f.range_min = range_min_box_->value();
     f.range_max = range_max_box_->value();
   }
+  f.colour_map = colour_map_box_->currentText().toStdString();
+  f.log_scale = log_scale_box_->isChecked();
   f.slice_resolution = slice_resolution_box_->currentText().toInt();
   f.volume_resolution = volume_resolution_box_->currentText().toInt();
   f.show_slice = show_slice_box_->isChecked();
@@ -1016,7 +1146,7 @@ void MechanismWindow::applyFieldSettings(const FieldSettings& f) {
     const QSignalBlocker b1(field_box_), b2(normal_box_), b3(position_slider_), b4(follow_box_), b5(threshold_box_),
         b6(auto_range_box_), b7(slice_resolution_box_), b8(volume_resolution_box_), b9(show_slice_box_),
         b10(show_reach_box_), b11(show_well_box_), b12(reach_opacity_slider_), b13(well_opacity_slider_),
-        b14(method_box_), b15(range_min_box_), b16(range_max_box_);
+        b14(method_box_), b15(range_min_box_), b16(range_max_box_), b17(colour_map_box_), b18(log_scale_box_);
     auto choose = [](QComboBox* box, int index) {
       if (index >= 0) box->setCurrentIndex(index);
     };
@@ -1027,6 +1157,8 @@ void MechanismWindow::applyFieldSettings(const FieldSettings& f) {
     choose(volume_resolution_box_, volume_resolution_box_->findText(QString::number(f.volume_resolution)));
     follow_box_->setChecked(f.follow_endpoint);
     threshold_box_->setValue(f.threshold);
+    choose(colour_map_box_, colour_map_box_->findText(qs(f.colour_map)));
+    log_scale_box_->setChecked(f.log_scale);
     auto_range_box_->setChecked(!(f.range_min && f.range_max));
     if (f.range_min) range_min_box_->setValue(*f.range_min);
     if (f.range_max) range_max_box_->setValue(*f.range_max);
@@ -1056,6 +1188,7 @@ double MechanismWindow::slicePosition() const {
 // new request cancels the one in flight.
 void MechanismWindow::requestFields(bool slice, bool volume) {
   if (!field_box_) return;  // panels not built yet
+  noteChange();
   const MechanismInfo& info = mechanism_->info();
   IkOptions options;
   if (!field_choices(info).methods.empty()) options.method = method_box_->currentText().toStdString();
@@ -1084,7 +1217,9 @@ void MechanismWindow::requestFields(bool slice, bool volume) {
       position_slider_->setValue(
           int(std::lround((position - 0.5 * (lo(n) + hi(n))) / (0.5 * (hi(n) - lo(n))) * kPositionSteps)));
     }
-    position_label_->setText(QString("%1 = %2 %3").arg(normal_box_->currentText(), fixed(position, 2), qs(info.length_unit)));
+    position_label_->setText(QString("%1 = %2 %3 (%4 %)")
+                                 .arg(normal_box_->currentText(), fixed(position, 2), qs(info.length_unit))
+                                 .arg(std::lround(100.0 * (position - lo(n)) / (hi(n) - lo(n)))));
     const auto [u, v] = Grid::slice_axes(normal);
     const int res = slice_resolution_box_->currentText().toInt();
     FieldJob slice_job = job;
@@ -1145,12 +1280,28 @@ render::SliceStyle MechanismWindow::sliceStyle() const {
   style.contour_levels = {f.threshold};
   style.min = f.range_min;
   style.max = f.range_max;
+  style.colour_map = f.colour_map;
+  style.log_scale = f.log_scale;
   return style;
 }
 
 void MechanismWindow::restyleSlice() {
+  noteChange();
   if (!slice_field_) return;
   render::SliceStyle style = sliceStyle();
+  // The range boxes show the range in use: typed, or the automatic one.
+  range_min_box_->setEnabled(!auto_range_box_->isChecked());
+  range_max_box_->setEnabled(!auto_range_box_->isChecked());
+  if (auto_range_box_->isChecked()) {
+    try {
+      const auto [lo, hi] = render::colour_range(*slice_field_, style);
+      const QSignalBlocker b1(range_min_box_), b2(range_max_box_);
+      range_min_box_->setValue(lo);
+      range_max_box_->setValue(hi);
+    } catch (const std::invalid_argument&) {
+      // categorical fields have no range; the error is shown below
+    }
+  }
   style.scale = std::max(1, 768 / slice_resolution_box_->currentText().toInt());
   style.unreachable_alpha = 50;
   try {
@@ -1162,10 +1313,12 @@ void MechanismWindow::restyleSlice() {
 }
 
 void MechanismWindow::applyFieldVisibility() {
+  noteChange();
   const bool slice = show_slice_box_->isChecked() && slice_field_ != nullptr;
   field_scene_->set_slice_visible(slice);
   // The method field is categorical: its colours are not on a scale.
   field_scene_->set_colour_bar_visible(slice && field_box_->currentData().toString() != "method");
+  placeLegend();
   field_scene_->set_surface_visible(render::Surface::Reach, show_reach_box_->isChecked());
   field_scene_->set_surface_visible(render::Surface::WellConditioned, show_well_box_->isChecked());
   field_scene_->set_surface_opacity(render::Surface::Reach, reach_opacity_slider_->value() / 100.0);
@@ -1285,7 +1438,9 @@ bool MechanismWindow::openSession(const QString& path) {
 }
 
 bool MechanismWindow::saveSession(const QString& path) {
+  history_->flush();
   if (!save_session_file(this, session(), path)) return false;
+  history_->markSaved(path);
   addRecent(path);
   return true;
 }
@@ -1310,7 +1465,16 @@ void MechanismWindow::rebuildRecentMenu() {
 }
 
 void MechanismWindow::closeEvent(QCloseEvent* event) {
+  if (!maybeSave()) {
+    event->ignore();
+    return;
+  }
   animation_timer_->stop();
+  if (interactive_) {
+    QSettings settings;
+    settings.setValue("windowGeometry", saveGeometry());
+    settings.setValue("windowState", saveState());
+  }
   QMainWindow::closeEvent(event);
 }
 
@@ -1342,7 +1506,17 @@ int run_window(const WindowOptions& options, int argc, char** argv) {
     window.taskPanel()->setTask(options.task, options.criteria);
     if (auto* dock = window.findChild<QDockWidget*>("taskDock")) dock->raise();
   }
-  window.resize(width, height);
+  // Interactive use remembers the window's size and layout; an explicit
+  // --size, screenshots and latency runs start from the defaults.
+  const bool interactive = options.screenshot.empty() && !options.latency;
+  window.setInteractive(interactive);
+  const QSettings settings;
+  if (interactive && !options.size_given && settings.contains("windowGeometry")) {
+    window.restoreGeometry(settings.value("windowGeometry").toByteArray());
+    window.restoreState(settings.value("windowState").toByteArray());
+  } else {
+    window.resize(width, height);
+  }
   window.show();
   if (options.latency) return run_latency_probe(window, std::cout);
   if (options.screenshot.empty()) return QApplication::exec();

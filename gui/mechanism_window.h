@@ -52,15 +52,18 @@ namespace linkscape::gui {
 
 class FitPanel;
 class MethodsPanel;
+class SessionHistory;
 class TaskPanel;
 class VtkWidget;
 
 struct WindowOptions {
   MechanismChoice mechanism;
   std::string session;         // open this session file at start
+  std::string file;            // a session or a preset given as the argument (resolved into the two above)
   std::string screenshot;      // save a PNG of the window and exit
   bool latency = false;        // measure interaction latencies, print them and exit
   std::string size = "1280x800";
+  bool size_given = false;     // --size was on the command line (else the remembered size is used)
   // A task volume shown at start (Task tab): "sphere:diameter=15[,centre=x,y,z]"
   // and its criteria; without a centre it is placed in the largest sphere.
   std::string task;
@@ -135,6 +138,19 @@ class MechanismWindow : public QMainWindow {
   void applySession(const Session& session);
   bool openSession(const QString& path);
   bool saveSession(const QString& path);
+  // The document: its file (empty: not saved yet), undo/redo, the modified mark.
+  SessionHistory* history() const { return history_; }
+  // Asks to save unsaved changes (only when interactive); false: the user cancelled.
+  bool maybeSave();
+  // Interactive: asks before unsaved work is discarded, and remembers the
+  // window's size and panel layout when it closes. Off in tests,
+  // screenshots and latency runs, which never wait for a dialog and must be
+  // reproducible.
+  void setInteractive(bool on) { interactive_ = on; }
+  bool interactive() const { return interactive_; }
+  // The camera frames the device; it does so again after a change of size
+  // unless the user has moved it since.
+  void fitCamera();
 
  signals:
   void poseChanged();
@@ -144,6 +160,7 @@ class MechanismWindow : public QMainWindow {
 
  protected:
   void closeEvent(QCloseEvent* event) override;
+  bool eventFilter(QObject* watched, QEvent* event) override;
 
  private:
   QWidget* buildDesignPanel();
@@ -170,6 +187,11 @@ class MechanismWindow : public QMainWindow {
   void animationStep();
   void addRecent(const QString& path);
   void rebuildRecentMenu();
+  bool save();
+  bool saveAs();
+  void updateTitle();
+  void noteChange();
+  void placeLegend();
 
   Preset preset_;
   std::shared_ptr<const Mechanism> mechanism_;
@@ -179,6 +201,7 @@ class MechanismWindow : public QMainWindow {
   TaskPanel* task_panel_ = nullptr;
   FitPanel* fit_panel_ = nullptr;
   vtkRenderer* renderer_ = nullptr;  // owned by the view's render window
+  vtkRenderer* legend_ = nullptr;    // the colour bar's strip, likewise
   VtkWidget* view_ = nullptr;
   Eigen::VectorXd q_, x_;
   int branch_ = 0;
@@ -208,6 +231,8 @@ class MechanismWindow : public QMainWindow {
             *volume_resolution_box_ = nullptr, *field_branch_box_ = nullptr;
   QSlider* position_slider_ = nullptr;
   QLabel* position_label_ = nullptr;
+  QComboBox* colour_map_box_ = nullptr;
+  QCheckBox* log_scale_box_ = nullptr;
   QCheckBox *follow_box_ = nullptr, *auto_range_box_ = nullptr, *show_slice_box_ = nullptr, *show_reach_box_ = nullptr,
             *show_well_box_ = nullptr;
   QDoubleSpinBox *threshold_box_ = nullptr, *range_min_box_ = nullptr, *range_max_box_ = nullptr;
@@ -223,6 +248,10 @@ class MechanismWindow : public QMainWindow {
   QMenu* recent_menu_ = nullptr;
   QLabel* compute_label_ = nullptr;  // in the status bar (window_parts.h)
   MethodsPanel* methods_ = nullptr;
+  SessionHistory* history_ = nullptr;
+  bool interactive_ = false;
+  std::optional<CameraState> fitted_camera_;  // where fitCamera() put it
+  QByteArray initial_layout_;                 // for View > Reset layout
 };
 
 }  // namespace linkscape::gui

@@ -15,6 +15,7 @@
 #include "core/atomic_file.h"
 #include "core/csv.h"
 #include "core/preset.h"
+#include "render/slice_image.h"
 
 namespace linkscape::gui {
 namespace {
@@ -76,6 +77,8 @@ void save_session(const Session& s, const std::filesystem::path& path) {
                 {"show_well_conditioned", f.show_well_conditioned},
                 {"reach_opacity", f.reach_opacity},
                 {"well_conditioned_opacity", f.well_conditioned_opacity},
+                {"colour_map", f.colour_map},
+                {"log_scale", f.log_scale},
                 };
   if (!f.method.empty()) j["field"]["method"] = f.method;
   if (f.range_min) j["field"]["range_min"] = *f.range_min;
@@ -216,6 +219,12 @@ Eigen::VectorXd read_array(const json& j, const std::vector<Quantity>& names, co
 
 }  // namespace
 
+bool is_session_file(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  const json j = json::parse(in, nullptr, /*allow_exceptions=*/false);
+  return j.is_object() && j.value("format", "") == "linkscape-session";
+}
+
 Session parse_session(const std::string& text, const std::string& origin) {
   Session s;
   try {
@@ -298,7 +307,8 @@ Session parse_session(const std::string& text, const std::string& origin) {
       const json& f = j["field"];
       check_keys(f, "field", {"field", "normal", "position", "follow_endpoint", "threshold", "slice_resolution",
                               "volume_resolution", "show_slice", "show_reach", "show_well_conditioned",
-                              "reach_opacity", "well_conditioned_opacity", "method", "range_min", "range_max"});
+                              "reach_opacity", "well_conditioned_opacity", "method", "range_min", "range_max",
+                              "colour_map", "log_scale"});
       d.field = f.value("field", d.field);
       d.normal = f.value("normal", d.normal);
       if (f.contains("position")) d.position = finite(f["position"], "field.position");
@@ -316,7 +326,10 @@ Session parse_session(const std::string& text, const std::string& origin) {
       d.method = f.value("method", d.method);
       if (f.contains("range_min")) d.range_min = finite(f["range_min"], "field.range_min");
       if (f.contains("range_max")) d.range_max = finite(f["range_max"], "field.range_max");
+      d.colour_map = f.value("colour_map", d.colour_map);
+      d.log_scale = f.value("log_scale", d.log_scale);
     }
+    check_offered(d.colour_map, render::colour_maps(), "field.colour_map");
     check_offered(d.field, choices.fields, "field.field");
     if (!choices.methods.empty() && !d.method.empty()) {
       check_offered(d.method, choices.methods, "field.method");

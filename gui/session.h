@@ -38,6 +38,9 @@ struct FieldSettings {
   bool show_slice = true, show_reach = true, show_well_conditioned = true;
   double reach_opacity = 0.10, well_conditioned_opacity = 0.22;
   std::string method;  // IK method per sample; empty: the device's default
+  std::string colour_map = "viridis";  // render::colour_maps()
+  bool log_scale = true;               // for the fields drawn on a log scale by default (c(J), residual, haptic)
+  bool operator==(const FieldSettings&) const = default;
 };
 
 struct Session {
@@ -82,5 +85,8 @@ void save_session(const Session& session, const std::filesystem::path& path);
 // naming the file, the key and the problem; never clamps.
 Session load_session(const std::filesystem::path& path);
 Session parse_session(const std::string& json_text, const std::string& origin);
+// Whether a file is JSON that says it is a session ("format":
+// "linkscape-session"); false for anything else, including unreadable files.
+bool is_session_file(const std::filesystem::path& path);
 
 }  // namespace linkscape::gui

@@ -17,26 +17,6 @@ namespace {
 
 const char* axis_name(Axis a) { return a == Axis::X ? "x" : a == Axis::Y ? "y" : "z"; }
 
-// Tick values: "nice" steps of 1, 2 or 5 times a power of ten, about n of them.
-std::vector<double> nice_ticks(double lo, double hi, int n) {
-  const double raw = (hi - lo) / std::max(1, n);
-  const double mag = std::pow(10.0, std::floor(std::log10(raw)));
-  const double step = raw / mag < 1.5 ? mag : raw / mag < 3.5 ? 2 * mag : raw / mag < 7.5 ? 5 * mag : 10 * mag;
-  std::vector<double> ticks;
-  for (double t = std::ceil(lo / step) * step; t <= hi + 1e-9 * step; t += step) ticks.push_back(std::abs(t) < 1e-12 * step ? 0.0 : t);
-  return ticks;
-}
-
-// Colour-bar ticks: 1-2-5 decades on a log scale, nice ticks otherwise.
-std::vector<double> bar_ticks(double lo, double hi, bool log) {
-  if (!log) return nice_ticks(lo, hi, 5);
-  std::vector<double> ticks;
-  for (double decade = std::pow(10.0, std::floor(std::log10(lo))); decade <= hi; decade *= 10)
-    for (double m : {1.0, 2.0, 3.0, 5.0})
-      if (m * decade >= lo * (1 - 1e-9) && m * decade <= hi * (1 + 1e-9)) ticks.push_back(m * decade);
-  return ticks;
-}
-
 QImage slice_qimage(const Field& field, const render::SliceStyle& style) {
   vtkSmartPointer<vtkImageData> rgba = render::render_slice_rgba(field, style);
   int dims[3];
@@ -119,12 +99,12 @@ void draw(QPainter& p, const QSize& page, const Field& field, const render::Slic
   }
 
   // Axes with ticks in the model's unit.
-  for (double t : nice_ticks(u0, u1, 6)) {
+  for (double t : render::nice_ticks(u0, u1, 6)) {
     const double x = plot.left() + (t - u0) / (u1 - u0) * plot.width();
     p.drawLine(QPointF(x, plot.bottom()), QPointF(x, plot.bottom() + 0.4 * fh));
     p.drawText(QRectF(x - 3 * fh, plot.bottom() + 0.5 * fh, 6 * fh, fh), Qt::AlignHCenter, QString::number(t));
   }
-  for (double t : nice_ticks(v0, v1, 6)) {
+  for (double t : render::nice_ticks(v0, v1, 6)) {
     const double y = plot.bottom() - (t - v0) / (v1 - v0) * plot.height();
     p.drawLine(QPointF(plot.left() - 0.4 * fh, y), QPointF(plot.left(), y));
     p.drawText(QRectF(plot.left() - 4.5 * fh, y - fh / 2.0, 4 * fh, fh), Qt::AlignRight | Qt::AlignVCenter, QString::number(t));
@@ -142,13 +122,13 @@ void draw(QPainter& p, const QSize& page, const Field& field, const render::Slic
   const QRectF bar(plot.right() + 1.5 * fh, plot.top(), 1.2 * fh, 0.7 * plot.height());
   const int steps = 256;
   for (int i = 0; i < steps; ++i) {
-    const auto c = render::colour_of((i + 0.5) / steps);
+    const auto c = render::colour_of((i + 0.5) / steps, style.colour_map);
     const QRectF cell(bar.left(), bar.bottom() - (i + 1) * bar.height() / steps, bar.width(), bar.height() / steps + 0.5);
     p.fillRect(cell, QColor::fromRgbF(c[0], c[1], c[2]));
   }
   p.drawRect(bar);
   const bool log = render::uses_log_scale(style);
-  for (double t : bar_ticks(*style.min, *style.max, log)) {
+  for (double t : render::colour_bar_ticks(*style.min, *style.max, log)) {
     const double y = bar.bottom() - render::normalised_value(t, style) * bar.height();
     p.drawLine(QPointF(bar.right(), y), QPointF(bar.right() + 0.4 * fh, y));
     p.drawText(QRectF(bar.right() + 0.6 * fh, y - fh / 2.0, 4 * fh, fh), Qt::AlignLeft | Qt::AlignVCenter, QString::number(t));

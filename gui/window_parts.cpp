@@ -18,10 +18,17 @@
 #include <iostream>
 #include <stdexcept>
 
+#include <QDesktopServices>
+#include <QUrl>
+#include <vtkVersion.h>
+#include <Eigen/Core>
+
 #include "core/atomic_file.h"
+#include "core/simd.h"
 #include "gui/field_job.h"
 #include "gui/mechanism_window.h"
 #include "gui/methods_panel.h"
+#include "gui/session_history.h"
 #include "gui/slice_figure.h"
 #include "gui/vtk_widget.h"
 #include "render/field_vtk.h"
@@ -86,14 +93,28 @@ namespace {
 // A window of `preset`'s device in the place of `window` (same geometry),
 // with `session` applied, else with the old window's field settings; the old
 // window closes. Throws std::invalid_argument.
-void replace_window(QWidget* window, const Preset& preset, const std::optional<Session>& session) {
+void replace_window(QWidget* window, const Preset& preset, const std::optional<Session>& session,
+                    const QString& session_path = {}) {
   auto next = std::make_unique<MechanismWindow>(preset);
+  auto* old = qobject_cast<MechanismWindow*>(window);
   if (session) next->applySession(*session);
-  else if (auto* old = qobject_cast<MechanismWindow*>(window)) next->applyFieldSettings(old->fieldSettings());
+  else if (old) next->applyFieldSettings(old->fieldSettings());
+  next->history()->reset(session ? session_path : QString());
+  if (old) {
+    next->restoreState(old->saveState());  // the same panels where the user put them
+    next->setInteractive(old->interactive());
+    old->setInteractive(false);  // it asked already
+  }
   next->setAttribute(Qt::WA_DeleteOnClose);
   next->setGeometry(window->geometry());
   next.release()->show();
   window->close();
+}
+
+// Unsaved work in `window` may go: asks where the window asks.
+bool may_discard(QWidget* window) {
+  auto* w = qobject_cast<MechanismWindow*>(window);
+  return !w || w->maybeSave();
 }
 
 }  // namespace
@@ -105,8 +126,9 @@ bool open_session_file(QMainWindow* window, const Preset& current, const QString
     auto* w = qobject_cast<MechanismWindow*>(window);
     if (w && preset.mechanism == current.mechanism) {
       w->applySession(s);
+      w->history()->reset(path);
     } else {
-      replace_window(window, preset, s);
+      replace_window(window, preset, s, path);
     }
   } catch (const std::exception& e) {
     QMessageBox::warning(window, QObject::tr("Cannot open session"), QString::fromStdString(e.what()));
@@ -137,6 +159,11 @@ QComboBox* make_preset_chooser(QWidget* window, const Preset& current) {
   QObject::connect(box, &QComboBox::activated, window, [window, box, current_name] {
     const QString chosen = box->currentText();
     if (chosen == current_name) return;
+    if (!may_discard(window)) {
+      const QSignalBlocker block(box);
+      box->setCurrentText(current_name);
+      return;
+    }
     try {
       replace_window(window, load_preset(chosen.toStdString()), std::nullopt);
     } catch (const std::invalid_argument& e) {
@@ -249,5 +276,32 @@ int save_screenshot_when(QWidget& window, const std::string& path, const std::fu
 }
 
 }  // namespace detail
+
+void show_about(QWidget* parent) {
+  const QString text =
+      QObject::tr("<h3>Linkscape %1</h3>"
+                  "<p>Kinematic design of parallel haptic-device mechanisms.</p>"
+                  "<p>Built with Qt %2 (running %3), VTK %4, Eigen %5.%6.%7, OpenMesh %8 and Highway %9; "
+                  "field kernels on the %10 instruction set.</p>")
+          .arg(LINKSCAPE_VERSION, QT_VERSION_STR, qVersion(), vtkVersion::GetVTKVersion())
+          .arg(EIGEN_WORLD_VERSION)
+          .arg(EIGEN_MAJOR_VERSION)
+          .arg(EIGEN_MINOR_VERSION)
+          .arg(QString::fromStdString(render::openmesh_version()), QString::fromStdString(simd::highway_version()),
+               QString::fromStdString(simd::current_target()));
+  QMessageBox::about(parent, QObject::tr("About Linkscape"), text);
+}
+
+void show_documentation(QWidget* parent) {
+  // A build's source tree has the docs; an installed copy elsewhere has the manual page.
+  const std::filesystem::path docs = LINKSCAPE_SOURCE_DOCS;
+  std::error_code ec;
+  if (std::filesystem::is_directory(docs, ec) &&
+      QDesktopServices::openUrl(QUrl::fromLocalFile(QString::fromStdString(docs.string()))))
+    return;
+  QMessageBox::information(parent, QObject::tr("Documentation"),
+                           QObject::tr("Run 'man linkscape' for every command and option, and "
+                                       "'linkscape --help' for a summary."));
+}
 
 }  // namespace linkscape::gui

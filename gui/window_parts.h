@@ -68,6 +68,12 @@ void export_surface_mesh(QWidget* parent, const Field* volume, vtkPolyData* reac
 void export_volume(QWidget* parent, const Field* volume);
 void export_screenshot(QWidget* window);
 
+// Help menu: the versions of the program and its libraries; where the
+// documentation is (the docs folder of the source tree when there is one,
+// else the manual page).
+void show_about(QWidget* parent);
+void show_documentation(QWidget* parent);
+
 namespace detail {
 int save_screenshot_when(QWidget& window, const std::string& path, const std::function<bool()>& ready,
                          const std::function<void(std::function<void()>)>& on_update);

@@ -11,18 +11,23 @@
 
 set(CPACK_PACKAGE_NAME "linkscape")
 set(CPACK_PACKAGE_VENDOR "Linkscape developers")
-set(CPACK_PACKAGE_CONTACT "Linkscape developers")
+# Whoever ships the package puts their address here (-DLINKSCAPE_PACKAGE_CONTACT=...);
+# the default's reserved .invalid domain (RFC 2606) says plainly that it reaches nobody.
+set(LINKSCAPE_PACKAGE_CONTACT "Linkscape developers <linkscape@packages.invalid>" CACHE STRING
+    "Maintainer of the .deb, Name <address>")
+set(CPACK_PACKAGE_CONTACT "${LINKSCAPE_PACKAGE_CONTACT}")
 set(CPACK_PACKAGE_VERSION "${PROJECT_VERSION}")
 set(CPACK_PACKAGE_DESCRIPTION_SUMMARY
     "Kinematic design of parallel haptic-device mechanisms")
 set(CPACK_PACKAGE_DESCRIPTION
     "Pick a mechanism, drag its actuator angles and link lengths, and see the
 linkage move, its Jacobian condition number and its workspace. The same
-engine runs headless (linkscape eval, slice, field, mesh) to evaluate
-kinematics in bulk and export condition-number slices, sampled volumes for
-ParaView and workspace meshes.
+engine runs headless (linkscape eval, slice, field, mesh, fit) to evaluate
+kinematics in bulk, export condition-number slices, sampled volumes for
+ParaView and workspace meshes, and size a device to a task.
 
-Includes the 3-DOF parallel-12r hand controller preset.")
+Includes the 3-DOF 12R parallel hand controller, the 7-DOF PATHOS-II
+device and a rotary Delta.")
 # No project homepage: keep CPack from inventing one.
 unset(CPACK_PACKAGE_HOMEPAGE_URL)
 set(CPACK_PACKAGE_HOMEPAGE_URL "")
@@ -35,7 +40,7 @@ set(CPACK_STRIP_FILES ON)
 
 # DEB generator
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)         # linkscape_<version>_<arch>.deb
-set(CPACK_DEBIAN_PACKAGE_MAINTAINER "Linkscape developers")
+set(CPACK_DEBIAN_PACKAGE_MAINTAINER "${LINKSCAPE_PACKAGE_CONTACT}")
 set(CPACK_DEBIAN_PACKAGE_SECTION "science")
 set(CPACK_DEBIAN_PACKAGE_PRIORITY "optional")
 # Description: CPack puts CPACK_PACKAGE_DESCRIPTION_SUMMARY on the first line

@@ -78,7 +78,9 @@ check_field() {  # name expected
 check_field Package linkscape
 check_field Version "$version"
 check_field Architecture "$arch"
-check_field Maintainer "Linkscape developers"
+maintainer=$(field Maintainer)
+if [[ $maintainer =~ ^[^\<]+\ \<[^@\>]+@[^\>]+\>$ ]]; then pass "Maintainer: $maintainer"
+else fail "Maintainer is '$maintainer', expected 'Name <address>'"; fi
 check_field Section science
 if [ -z "$(field Homepage)" ]; then pass "no Homepage field"; else fail "unexpected Homepage: $(field Homepage)"; fi
 if [ -n "$(field Description)" ]; then pass "Description: $(field Description | head -n1)"; else fail "no Description"; fi
@@ -110,6 +112,10 @@ else fail "Depends names packages not installed here: ${unresolved[*]}"; fi
 dpkg-deb -c "$deb" | awk '{print $NF}' >"$work/contents.txt"
 for f in ./usr/bin/linkscape \
          ./usr/share/linkscape/mechanisms/parallel-12r.json \
+         ./usr/share/man/man1/linkscape.1.gz \
+         ./usr/share/bash-completion/completions/linkscape \
+         ./usr/share/doc/linkscape/copyright \
+         ./usr/share/doc/linkscape/changelog.gz \
          ./usr/share/applications/linkscape.desktop \
          ./usr/share/icons/hicolor/scalable/apps/linkscape.svg \
          ./usr/share/icons/hicolor/256x256/apps/linkscape.png; do
@@ -122,20 +128,43 @@ if dpkg-deb -x "$deb" "$root"; then pass "dpkg-deb -x"; else fail "dpkg-deb -x";
 
 desktop="$root/usr/share/applications/linkscape.desktop"
 if [ -f "$desktop" ]; then
-  for kv in "Name=Linkscape" "Exec=linkscape %F" "Icon=linkscape" "Terminal=false" \
-            "Categories=Science;Engineering;Education;"; do
+  for kv in "Name=Linkscape" "Exec=linkscape %f" "Icon=linkscape" "Terminal=false" \
+            "Categories=Science;Engineering;"; do
     grep -qxF "$kv" "$desktop" || fail "desktop entry lacks '$kv'"
   done
   if command -v desktop-file-validate >/dev/null; then
-    # Hints (e.g. more than one main category) are not errors.
-    if desktop-file-validate "$desktop" >"$work/dfv.log" 2>&1; then
+    # Nothing at all may be reported, not even a hint.
+    if desktop-file-validate "$desktop" >"$work/dfv.log" 2>&1 && [ ! -s "$work/dfv.log" ]; then
       pass "desktop-file-validate linkscape.desktop"
     else
       fail "desktop-file-validate: $(cat "$work/dfv.log")"
     fi
   else
-    skip "desktop-file-validate not installed (apt package desktop-file-utils)"
+    fail "desktop-file-validate is not installed (packaging/install-deps.sh installs it)"
   fi
+fi
+man="$root/usr/share/man/man1/linkscape.1.gz"
+if [ -f "$man" ] && zcat "$man" | head -n1 | grep -q '^\.TH LINKSCAPE 1' &&
+   [ "$(zcat "$man" | grep -c '^\.SS ')" -ge 5 ]; then
+  pass "manual page has a title and a section per command ($(zcat "$man" | grep -c '^\.SS '))"
+else
+  fail "manual page is missing its title or its command sections"
+fi
+completion="$root/usr/share/bash-completion/completions/linkscape"
+if [ -f "$completion" ] && bash -n "$completion" && grep -q 'complete -F _linkscape linkscape' "$completion"; then
+  pass "bash completion parses and registers _linkscape"
+else
+  fail "bash completion does not parse or register"
+fi
+if command -v lintian >/dev/null; then
+  # lintian warns when run as root; that is about the checker, not the package.
+  if lintian --fail-on error,warning "$deb" >"$work/lintian.log" 2>&1; then
+    pass "lintian: no errors or warnings"
+  else
+    fail "lintian: $(grep -E '^[EW]:' "$work/lintian.log" | head -n 10)"
+  fi
+else
+  fail "lintian is not installed (packaging/install-deps.sh installs it)"
 fi
 png="$root/usr/share/icons/hicolor/256x256/apps/linkscape.png"
 if [ -f "$png" ]; then

@@ -11,6 +11,7 @@ packages=(
   libgtest-dev libbenchmark-dev
   libopenmpi-dev openmpi-bin
   xvfb xauth libgl1-mesa-dri
+  lintian desktop-file-utils bash-completion
 )
 
 missing=()

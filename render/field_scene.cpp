@@ -1,6 +1,7 @@
 #include "render/field_scene.h"
 
 #include <vtkActor.h>
+#include <vtkDoubleArray.h>
 #include <vtkAlgorithm.h>
 #include <vtkCoordinate.h>
 #include <vtkImageData.h>
@@ -77,7 +78,8 @@ FieldScene::FieldScene() {
   }
 
   // Colour bar: vertical, at the right edge of the viewport.
-  lut_ = viridis_lookup_table(256);
+  lut_ = colour_lookup_table("viridis", 256);
+  bar_map_ = "viridis";
   colour_bar_->SetLookupTable(lut_);
   colour_bar_->SetOrientationToVertical();
   colour_bar_->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
@@ -85,8 +87,8 @@ FieldScene::FieldScene() {
   colour_bar_->SetWidth(0.10);
   colour_bar_->SetHeight(0.80);
   colour_bar_->SetMaximumWidthInPixels(110);
-  colour_bar_->SetNumberOfLabels(5);
-  colour_bar_->SetLabelFormat("%-#.3g");
+  colour_bar_->SetLabelFormat("%g");
+  colour_bar_->SetUseCustomLabels(true);
   colour_bar_->SetBarRatio(0.3);
   colour_bar_->UnconstrainedFontSizeOn();
   colour_bar_->SetVerticalTitleSeparation(10);  // pixels between the title and the top label
@@ -111,12 +113,21 @@ std::size_t FieldScene::index(Surface which) {
   throw std::invalid_argument("field scene: unknown surface " + std::to_string(int(which)));
 }
 
-void FieldScene::add_to(vtkRenderer* renderer) {
+void FieldScene::add_to(vtkRenderer* renderer, vtkRenderer* legend) {
   if (!renderer) throw std::invalid_argument("field scene: expected a renderer, got null");
   // AddViewProp ignores props already present, so this is idempotent.
   renderer->AddViewProp(slice_actor_);
   for (auto& a : surface_actors_) renderer->AddViewProp(a);
-  renderer->AddViewProp(colour_bar_);
+  if (legend) {
+    // The whole legend viewport is the bar's.
+    colour_bar_->SetPosition(0.08, 0.06);
+    colour_bar_->SetWidth(0.9);
+    colour_bar_->SetHeight(0.86);
+    colour_bar_->SetBarRatio(0.28);
+    legend->AddViewProp(colour_bar_);
+  } else {
+    renderer->AddViewProp(colour_bar_);
+  }
   // Order-independent transparency for the translucent surfaces against the
   // opaque linkage and slice. Needs a render window with AlphaBitPlanes on
   // and MultiSamples 0 (set by whoever owns the window); otherwise VTK falls
@@ -155,12 +166,20 @@ void FieldScene::update_colour_bar(const Field& slice, const SliceStyle& resolve
   const std::array<double, 2> range = {*resolved.min, *resolved.max};
   const bool log = uses_log_scale(resolved);
   const std::string title = field_title(slice, resolved.field);
-  if (bar_range_ && *bar_range_ == range && bar_log_ == log && bar_title_ == title) return;
+  if (bar_range_ && *bar_range_ == range && bar_log_ == log && bar_title_ == title && bar_map_ == resolved.colour_map)
+    return;
+  if (bar_map_ != resolved.colour_map) {
+    lut_->DeepCopy(colour_lookup_table(resolved.colour_map, 256));
+    bar_map_ = resolved.colour_map;
+  }
   // The table's own range and scale make the bar's colours and tick labels
   // match normalised_value(): log10 spacing for cond and residual.
   if (log) lut_->SetScaleToLog10();
   else lut_->SetScaleToLinear();
   lut_->SetTableRange(range[0], range[1]);
+  vtkNew<vtkDoubleArray> ticks;
+  for (double t : colour_bar_ticks(range[0], range[1], log)) ticks->InsertNextValue(t);
+  colour_bar_->SetCustomLabels(ticks);
   // Long titles ("isotropic force (N)") put their unit on a second line,
   // within the bar's narrow strip at the view's edge.
   std::string shown = title;

@@ -41,8 +41,10 @@ class FieldScene {
   // once, and turns on depth peeling there so the translucent surfaces
   // composite correctly with the opaque linkage. Depth peeling also needs a
   // render window with alpha bit planes and 0 multisamples (the window's
-  // owner sets those). Throws std::invalid_argument for a null renderer.
-  void add_to(vtkRenderer* renderer);
+  // owner sets those). The colour bar goes to `legend` where given (a
+  // renderer of its own beside the scene's, so it never covers the data),
+  // else to `renderer`. Throws std::invalid_argument for a null renderer.
+  void add_to(vtkRenderer* renderer, vtkRenderer* legend = nullptr);
 
   // Shows a one-sample-thick field as a rectangle at its plane, textured
   // exactly as render_slice_rgba(slice, style) (nearest-neighbour, unlit).
@@ -64,8 +66,9 @@ class FieldScene {
   // (green-teal). Throws std::invalid_argument outside [0, 1].
   void set_surface_opacity(Surface which, double opacity);
 
-  // Colour bar for the slice at the right of the view: viridis over
-  // colour_range(), log10 for cond/residual on a log scale, titled by the
+  // Colour bar for the slice at the right of the view: the style's colour
+  // map over colour_range(), log10 for cond/residual on a log scale, with
+  // the round ticks of colour_bar_ticks() (as the figures), titled by the
   // quantity and unit. Shown only while the slice is shown. Default on.
   void set_colour_bar_visible(bool visible);
 
@@ -80,6 +83,8 @@ class FieldScene {
   std::size_t surface_faces(Surface which) const;
   bool colour_bar_visible() const;
   std::string colour_bar_title() const;
+  // The colour range the bar was last built for (the data's units, not log10), if any.
+  std::optional<std::array<double, 2>> colour_bar_range() const { return bar_range_; }
   // World bounds of the slice rectangle (xmin, xmax, ymin, ymax, zmin, zmax);
   // all zero without a slice.
   std::array<double, 6> slice_bounds() const;
@@ -108,7 +113,7 @@ class FieldScene {
   bool colour_bar_flag_ = true;
   std::optional<std::array<double, 2>> bar_range_;
   bool bar_log_ = false;
-  std::string bar_title_;
+  std::string bar_title_, bar_map_;
 };
 
 }  // namespace linkscape::render

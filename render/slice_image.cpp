@@ -33,6 +33,31 @@ constexpr std::array<std::array<double, 4>, 17> kViridis = {{
     {255 / 255.0, 0.993248, 0.906157, 0.143936},
 }};
 
+// cividis (Nuñez, Anderton and Renslow 2018) and Moreland's cool-to-warm
+// diverging map, at the same 17 points as viridis above, from matplotlib's tables.
+constexpr std::array<std::array<double, 4>, 17> kCividis = {{
+    {0 / 255.0, 0.000000, 0.135112, 0.304751},   {16 / 255.0, 0.000000, 0.178802, 0.414764},
+    {32 / 255.0, 0.103401, 0.220406, 0.435790},  {48 / 255.0, 0.195057, 0.264372, 0.425924},
+    {64 / 255.0, 0.263738, 0.307831, 0.422789},  {80 / 255.0, 0.324250, 0.351289, 0.426250},
+    {96 / 255.0, 0.380830, 0.395164, 0.435653},  {112 / 255.0, 0.435168, 0.439763, 0.451134},
+    {128 / 255.0, 0.488697, 0.485318, 0.471008}, {143 / 255.0, 0.544069, 0.528948, 0.471947},
+    {159 / 255.0, 0.605211, 0.576777, 0.464441}, {175 / 255.0, 0.668008, 0.626171, 0.449270},
+    {191 / 255.0, 0.732422, 0.677364, 0.425717}, {207 / 255.0, 0.798480, 0.730580, 0.392597},
+    {223 / 255.0, 0.866421, 0.786028, 0.346571}, {239 / 255.0, 0.936660, 0.843841, 0.280876},
+    {255 / 255.0, 0.995737, 0.909344, 0.217772},
+}};
+constexpr std::array<std::array<double, 4>, 17> kCoolWarm = {{
+    {0 / 255.0, 0.229806, 0.298718, 0.753683},   {16 / 255.0, 0.304174, 0.406945, 0.845263},
+    {32 / 255.0, 0.383662, 0.510183, 0.917831},  {48 / 255.0, 0.467678, 0.605591, 0.968546},
+    {64 / 255.0, 0.554312, 0.690097, 0.995516},  {80 / 255.0, 0.640828, 0.760752, 0.997846},
+    {96 / 255.0, 0.724041, 0.814910, 0.975651},  {112 / 255.0, 0.800601, 0.850358, 0.930008},
+    {128 / 255.0, 0.867428, 0.864377, 0.862602}, {143 / 255.0, 0.922681, 0.828568, 0.777054},
+    {159 / 255.0, 0.958176, 0.771234, 0.680301}, {175 / 255.0, 0.969851, 0.695830, 0.581312},
+    {191 / 255.0, 0.958279, 0.604335, 0.483297}, {207 / 255.0, 0.924409, 0.498590, 0.389059},
+    {223 / 255.0, 0.869655, 0.379274, 0.300941}, {239 / 255.0, 0.795938, 0.241845, 0.220830},
+    {255 / 255.0, 0.705673, 0.015556, 0.150233},
+}};
+
 constexpr double kUnreachableGrey = 0.85;
 constexpr std::array<unsigned char, 3> kContourColour = {255, 255, 255};
 constexpr std::array<unsigned char, 3> kBoundaryColour = {64, 64, 64};
@@ -206,24 +231,64 @@ std::array<double, 3> method_colour(std::uint8_t method) {
   }
 }
 
-std::array<double, 3> colour_of(double value01) {
+const std::vector<std::string>& colour_maps() {
+  static const std::vector<std::string> maps = {"viridis", "cividis", "diverging"};
+  return maps;
+}
+
+std::array<double, 3> colour_of(double value01, const std::string& map) {
+  const auto& table = map == "viridis" ? kViridis : map == "cividis" ? kCividis : map == "diverging" ? kCoolWarm
+      : throw std::invalid_argument("unknown colour map '" + map + "' (viridis, cividis or diverging)");
   const double t = std::isnan(value01) ? 1.0 : std::clamp(value01, 0.0, 1.0);
   std::size_t k = 1;
-  while (k + 1 < kViridis.size() && kViridis[k][0] < t) ++k;
-  const auto& a = kViridis[k - 1];
-  const auto& b = kViridis[k];
+  while (k + 1 < table.size() && table[k][0] < t) ++k;
+  const auto& a = table[k - 1];
+  const auto& b = table[k];
   const double w = (t - a[0]) / (b[0] - a[0]);
   return {a[1] + w * (b[1] - a[1]), a[2] + w * (b[2] - a[2]), a[3] + w * (b[3] - a[3])};
 }
 
-vtkSmartPointer<vtkLookupTable> viridis_lookup_table(int entries) {
-  if (entries < 2) throw std::invalid_argument("viridis table: expected at least 2 entries, got " +
+std::vector<double> nice_ticks(double lo, double hi, int count) {
+  const double raw = (hi - lo) / std::max(1, count);
+  if (!(raw > 0) || !std::isfinite(raw)) return {lo};
+  const double mag = std::pow(10.0, std::floor(std::log10(raw)));
+  const double step = raw / mag < 1.5 ? mag : raw / mag < 3.5 ? 2 * mag : raw / mag < 7.5 ? 5 * mag : 10 * mag;
+  std::vector<double> ticks;
+  for (double t = std::ceil(lo / step) * step; t <= hi + 1e-9 * step; t += step)
+    ticks.push_back(std::abs(t) < 1e-12 * step ? 0.0 : t);
+  return ticks;
+}
+
+std::vector<double> colour_bar_ticks(double lo, double hi, bool log, int count) {
+  if (!log || !(lo > 0)) return nice_ticks(lo, hi, count);
+  // 1-2-3-5 in each decade; fewer mantissas, then every n-th decade, while there are too many.
+  const int first = int(std::floor(std::log10(lo))), last = int(std::ceil(std::log10(hi)));
+  std::vector<double> ticks;
+  for (const std::vector<int>& mantissas : {std::vector<int>{1, 2, 3, 5}, {1, 3}, {1}}) {
+    for (int every = 1; every <= std::max(1, last - first); ++every) {
+      ticks.clear();
+      for (int e = first; e <= last; ++e) {
+        if ((e - first) % every != 0) continue;
+        for (int m : mantissas) {
+          const double t = std::stod(std::to_string(m) + "e" + std::to_string(e));  // the double nearest 3e-2, not 3 * 1e-2
+          if (t >= lo * (1 - 1e-9) && t <= hi * (1 + 1e-9)) ticks.push_back(t);
+        }
+      }
+      if (int(ticks.size()) <= 2 * count) return ticks;
+      if (mantissas.size() > 1) break;  // try fewer mantissas before skipping decades
+    }
+  }
+  return ticks;
+}
+
+vtkSmartPointer<vtkLookupTable> colour_lookup_table(const std::string& map, int entries) {
+  if (entries < 2) throw std::invalid_argument("colour table: expected at least 2 entries, got " +
                                                std::to_string(entries));
   auto lut = vtkSmartPointer<vtkLookupTable>::New();
   lut->SetNumberOfTableValues(entries);
   lut->SetTableRange(0, 1);
   for (int i = 0; i < entries; ++i) {
-    const auto c = colour_of(double(i) / (entries - 1));
+    const auto c = colour_of(double(i) / (entries - 1), map);
     lut->SetTableValue(i, c[0], c[1], c[2], 1.0);
   }
   lut->SetNanColor(kUnreachableGrey, kUnreachableGrey, kUnreachableGrey, 1.0);
@@ -233,6 +298,7 @@ vtkSmartPointer<vtkLookupTable> viridis_lookup_table(int entries) {
 std::pair<double, double> colour_range(const Field& field, const SliceStyle& style) {
   const Quantity q = parse_quantity(style.field);
   check_field(field);
+  colour_of(0, style.colour_map);  // an unknown map is a bad style
   const bool log = is_log(style, q);
   double lo = 1, hi = 10;
   if (q == Quantity::CondOrientation && field.cond_orientation.size() != field.grid.size())
@@ -257,6 +323,8 @@ std::pair<double, double> colour_range(const Field& field, const SliceStyle& sty
       lo = log ? lo / 2 : lo - 0.5;
       hi = log ? hi * 2 : hi + 0.5;
     }
+    // A diverging map centres 0 where the data has both signs.
+    if (style.colour_map == "diverging" && !log && lo < 0 && hi > 0) hi = -(lo = -std::max(-lo, hi));
   }
   if (style.min) lo = *style.min;
   if (style.max) hi = *style.max;
@@ -336,7 +404,7 @@ vtkSmartPointer<vtkImageData> render_slice_rgba(const Field& field, const SliceS
         const auto rgb = method_colour(std::uint8_t(value_at(field, q, s)));
         c = {to_byte(rgb[0]), to_byte(rgb[1]), to_byte(rgb[2]), 255};
       } else if (field.reachable[s]) {
-        const auto rgb = colour_of(normalised_value(value_at(field, q, s, extra), style));
+        const auto rgb = colour_of(normalised_value(value_at(field, q, s, extra), style), style.colour_map);
         c = {to_byte(rgb[0]), to_byte(rgb[1]), to_byte(rgb[2]), 255};
       }
       for (int y = iv * scale; y < (iv + 1) * scale; ++y)

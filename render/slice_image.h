@@ -33,6 +33,11 @@ struct SliceStyle {
   std::string field = "cond";
   // Logarithmic colour scale; applies to cond, residual and named arrays.
   bool log_scale = true;
+  // One of colour_maps(): "viridis" (default), "cividis" (also for colour
+  // vision deficiency), "diverging" (blue-grey-red around the middle of the
+  // range; for signed quantities such as the reach margin its automatic
+  // range is symmetric about 0).
+  std::string colour_map = "viridis";
   // Colour range in the value's own unit. Defaults: cond 1..10; otherwise
   // the range of the finite values over reachable samples.
   std::optional<double> min, max;
@@ -57,14 +62,23 @@ std::string contour_field(const std::string& name);
 // named arrays) rather than linearly.
 bool uses_log_scale(const SliceStyle& style);
 
-// Viridis at value01 in [0, 1] (clamped; NaN gives the value at 1), RGB 0..1.
-std::array<double, 3> colour_of(double value01);
+// The colour maps a slice can use (SliceStyle::colour_map).
+const std::vector<std::string>& colour_maps();
+// The colour of `map` at value01 in [0, 1] (clamped; NaN gives the value at
+// 1), RGB 0..1. Throws std::invalid_argument for an unknown map.
+std::array<double, 3> colour_of(double value01, const std::string& map = "viridis");
 // Categorical colour of the IK method index stored per sample (Field::
 // method_used) in the "method" slice, RGB 0..1: indices 0..4 purple, blue,
 // orange, green, grey; anything else (no method) the unreachable grey.
 std::array<double, 3> method_colour(std::uint8_t method);
-// Viridis as an n-entry lookup table over [0, 1], for colour bars.
-vtkSmartPointer<vtkLookupTable> viridis_lookup_table(int entries = 256);
+// `map` as an n-entry lookup table over [0, 1], for colour bars.
+vtkSmartPointer<vtkLookupTable> colour_lookup_table(const std::string& map = "viridis", int entries = 256);
+// Round tick values for a colour bar over [lo, hi]: 1, 2, 3, 5 times the
+// powers of ten on a log scale, steps of 1, 2 or 5 times a power of ten
+// otherwise (about `count`). The window's bar and the figures use these.
+std::vector<double> colour_bar_ticks(double lo, double hi, bool log, int count = 5);
+// Round steps of 1, 2 or 5 times a power of ten over [lo, hi], about `count` of them.
+std::vector<double> nice_ticks(double lo, double hi, int count);
 
 // The colour range used for `field`: style.min/max where given, else the
 // defaults described in SliceStyle. Throws std::invalid_argument for an

@@ -272,6 +272,10 @@ std::string lower(std::string s) {
 
 }  // namespace
 
+std::string openmesh_version() {
+  return std::to_string(OM_GET_VER) + "." + std::to_string(OM_GET_MAJ) + "." + std::to_string(OM_GET_MIN);
+}
+
 std::string to_string(Surface surface) {
   switch (surface) {
     case Surface::Reach: return "reach";

@@ -28,6 +28,9 @@ enum class Surface {
 // "reach" / "well_conditioned" / "threshold".
 std::string to_string(Surface surface);
 
+// "9.0.0": the OpenMesh this program was built with (Help > About).
+std::string openmesh_version();
+
 struct SurfaceRequest {
   Surface surface = Surface::Reach;
   double cond_threshold = 3.0;  // for WellConditioned, > 1

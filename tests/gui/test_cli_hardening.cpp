@@ -26,7 +26,7 @@ TEST(CliHardening, OutputLostToAFullDeviceOrAClosedStdoutIsAnError) {
 
 TEST(CliHardening, OptionsBeforeTheCommandAreRefusedNotIgnored) {
   const fs::path in = temp_file("hard_targets.csv", kTargets);
-  for (const std::string before : std::vector<std::string>{"--param L1=12", "--mechanism pathos2", "--mechanism foo", "--size 800x600"}) {
+  for (const std::string& before : std::vector<std::string>{"--param L1=12", "--mechanism pathos2", "--mechanism foo", "--size 800x600"}) {
     const auto r = run_linkscape(before + " eval --ik " + in.string());
     EXPECT_EQ(r.exit_code, 2) << before << ": " << r.out;
     EXPECT_TRUE(contains(r.out, "belongs after the command")) << r.out;
@@ -49,7 +49,7 @@ TEST(CliHardening, BadRowsNameTheirFileLineAndColumn) {
   EXPECT_EQ(b.exit_code, 2) << b.out;
   EXPECT_TRUE(contains(b.out, "hard_inf.csv:2: column 'gamma'")) << b.out;
 
-  for (const std::string bad : std::vector<std::string>{"nan", "inf", "-inf"}) {
+  for (const std::string& bad : std::vector<std::string>{"nan", "inf", "-inf"}) {
     const fs::path poses = temp_file("hard_pose.csv", "x,y,z,rx,ry,rz,h0\n0,0,22.5,0,0,0.5,7\n0,0,22.5,0,0,0.5," + bad + "\n");
     const auto c = run_linkscape("eval -m pathos2 --ik " + poses.string());
     EXPECT_EQ(c.exit_code, 2) << bad << ": " << c.out;
@@ -71,7 +71,7 @@ TEST(CliHardening, NonFiniteAndOutOfRangeOptionValuesAreRefused) {
 
 TEST(CliHardening, WindowSizeIsBoundedBeforeAnyWindowOpens) {
   // A size the OpenGL driver cannot allocate used to crash it.
-  for (const std::string size : std::vector<std::string>{"100000x100000", "9000x600", "800x600junk", "100x100"}) {
+  for (const std::string& size : std::vector<std::string>{"100000x100000", "9000x600", "800x600junk", "100x100"}) {
     const auto r = run_linkscape("--size " + size + " --screenshot never.png", "DISPLAY=:0");
     EXPECT_EQ(r.exit_code, 2) << size << ": " << r.out;
     EXPECT_TRUE(contains(r.out, "--size")) << r.out;
@@ -83,7 +83,7 @@ TEST(CliHardening, OutputPathsThatCannotBeWrittenGiveOneLineWithTheReason) {
   const auto empty = run_linkscape("eval --ik " + in.string() + " -o ''");
   EXPECT_EQ(empty.exit_code, 2) << empty.out;
   EXPECT_TRUE(contains(empty.out, "output path is empty")) << empty.out;
-  for (const std::string cmd : std::vector<std::string>{"slice --size 16x16 -o /proc/linkscape.png", "field --resolution 8 -o /proc/l.vti",
+  for (const std::string& cmd : std::vector<std::string>{"slice --size 16x16 -o /proc/linkscape.png", "field --resolution 8 -o /proc/l.vti",
                                  "mesh --resolution 16 -o /proc/l.stl"}) {
     const auto r = run_linkscape(cmd);
     EXPECT_EQ(r.exit_code, 1) << cmd << ": " << r.out;

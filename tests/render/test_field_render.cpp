@@ -219,7 +219,63 @@ TEST(SliceImage, ColourMapIsViridis) {
   EXPECT_NEAR(render::normalised_value(std::sqrt(10.0), cond), 0.5, 1e-12);
   EXPECT_EQ(render::normalised_value(std::numeric_limits<double>::infinity(), cond), 1);
   EXPECT_EQ(render::normalised_value(std::nan(""), cond), 1);
-  EXPECT_EQ(render::viridis_lookup_table(32)->GetNumberOfTableValues(), 32);
+  EXPECT_EQ(render::colour_lookup_table("viridis", 32)->GetNumberOfTableValues(), 32);
+}
+
+namespace {
+
+// CIELAB lightness L* of an sRGB colour (D65), the measure a perceptual map keeps monotonic.
+double lightness(const std::array<double, 3>& rgb) {
+  auto linear = [](double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); };
+  const double y = 0.2126 * linear(rgb[0]) + 0.7152 * linear(rgb[1]) + 0.0722 * linear(rgb[2]);
+  return y > 216.0 / 24389 ? 116 * std::cbrt(y) - 16 : y * 24389.0 / 27;
+}
+
+}  // namespace
+
+TEST(SliceImage, SequentialMapsGetLighterAndTheDivergingMapIsSymmetric) {
+  for (const char* map : {"viridis", "cividis"}) {
+    double previous = -1;
+    for (int i = 0; i <= 100; ++i) {
+      const double l = lightness(render::colour_of(i / 100.0, map));
+      EXPECT_GT(l, previous) << map << " at " << i;
+      previous = l;
+    }
+  }
+  // Diverging: lightest near the middle, equal lightness at equal distances from it, blue below and red above.
+  for (int i = 0; i < 50; ++i) {
+    const double lo = lightness(render::colour_of(i / 100.0, "diverging"));
+    const double hi = lightness(render::colour_of(1 - i / 100.0, "diverging"));
+    EXPECT_NEAR(lo, hi, 3.0) << i;  // L* units; Moreland's map is symmetric to within a few
+    EXPECT_LT(lo, lightness(render::colour_of(0.5, "diverging")) + 1e-9);
+  }
+  EXPECT_GT(render::colour_of(0, "diverging")[2], render::colour_of(0, "diverging")[0]);
+  EXPECT_GT(render::colour_of(1, "diverging")[0], render::colour_of(1, "diverging")[2]);
+  EXPECT_THROW(render::colour_of(0.5, "jet"), std::invalid_argument);
+  EXPECT_EQ(render::colour_maps().size(), 3u);
+}
+
+TEST(SliceImage, ColourBarTicksAreRoundNumbers) {
+  EXPECT_EQ(render::colour_bar_ticks(1, 10, true), (std::vector<double>{1, 2, 3, 5, 10}));
+  // Too many for 1-2-3-5 (11 over 2.6 decades): 1-3.
+  EXPECT_EQ(render::colour_bar_ticks(0.00895, 3.76, true), (std::vector<double>{0.01, 0.03, 0.1, 0.3, 1, 3}));
+  // Twelve decades: every second one.
+  EXPECT_EQ(render::colour_bar_ticks(1e-12, 1, true), (std::vector<double>{1e-12, 1e-10, 1e-8, 1e-6, 1e-4, 1e-2, 1}));
+  const std::vector<double> linear = render::colour_bar_ticks(-0.37, 14.6, false);
+  EXPECT_EQ(linear, (std::vector<double>{0, 2, 4, 6, 8, 10, 12, 14}));
+}
+
+TEST(SliceImage, TheDivergingMapCentresZeroForSignedData) {
+  Field f = cube_ball(8);
+  std::fill(f.reachable.begin(), f.reachable.end(), true);  // margins of both signs count
+  render::SliceStyle style;
+  style.field = "reach";
+  style.colour_map = "diverging";
+  style.log_scale = false;
+  const auto [lo, hi] = render::colour_range(f, style);
+  EXPECT_DOUBLE_EQ(lo, -hi);
+  style.colour_map = "nope";
+  EXPECT_THROW(render::colour_range(f, style), std::invalid_argument);
 }
 
 TEST(SliceImage, RangesDefaultToReachableData) {

@@ -22,6 +22,7 @@
 #include "core/mechanisms/pathos2/mechanism.h"
 #include "core/preset.h"
 #include "gui/painted_file.h"
+#include "gui/terminal.h"
 #include "render/slice_image.h"
 
 namespace linkscape::gui {
@@ -226,15 +227,13 @@ void run_design(const DesignOptions& o, std::ostream& out) {
 
   pathos2::DesignGrid grid;
   if (o.quick) grid = {{2, 20, 3}, {2, 20, 3}, {0, 8, 2}, {0, 120, 30}};
-  const bool show = !o.quiet && ::isatty(STDERR_FILENO);
-  std::atomic<int> shown{-1};
+  ProgressLine line(o.quiet);
+  line.step("Table 2 search");
   auto progress = [&](std::size_t done, std::size_t total) {
-    if (!show) return;
-    const int percent = int(100.0 * double(done) / double(std::max<std::size_t>(total, 1)));
-    if (percent != shown.exchange(percent)) std::cerr << "\rTable 2 search " << percent << " %" << std::flush;
+    line.report(double(done) / double(std::max<std::size_t>(total, 1)));
   };
   const pathos2::DesignSearchResult search = pathos2::design_search(base, grid, {}, progress);
-  if (show) std::cerr << "\r                      \r";
+  line.clear();
   const std::vector<pathos2::L0Row> sweep =
       pathos2::l0_sweep(base, 40.0, 55.0, o.quick ? 5.0 : 1.0);
 

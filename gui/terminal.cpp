@@ -1,0 +1,127 @@
+#include "gui/terminal.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+
+namespace linkscape::gui {
+
+namespace {
+
+std::string seconds_text(double s) {
+  std::ostringstream out;
+  out.setf(std::ios::fixed);
+  if (s < 10) out.precision(1);
+  else out.precision(0);
+  if (s < 120) out << s << " s";
+  else out << int(s / 60) << " min " << int(std::fmod(s, 60.0)) << " s";
+  return out.str();
+}
+
+// Optimal string alignment distance: insertions, deletions, substitutions
+// and swaps of neighbours ("--plnae" is one step from "--plane").
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i)
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t cost = a[i - 1] == b[j - 1] ? 0 : 1;
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  return d[a.size()][b.size()];
+}
+
+}  // namespace
+
+std::string progress_text(const std::string& step, std::optional<double> fraction, double seconds) {
+  if (!fraction) return step + ", " + seconds_text(seconds);
+  const double f = std::clamp(*fraction, 0.0, 1.0);
+  std::string text = step + " " + std::to_string(int(f * 100)) + " %";
+  if (seconds >= 0.5 && f >= 0.02 && f < 1) text += ", " + seconds_text(seconds * (1 - f) / f) + " left";
+  return text;
+}
+
+ProgressLine::ProgressLine(bool quiet) : shown_(!quiet && ::isatty(STDERR_FILENO)) {
+  if (!shown_) return;
+  ticker_ = std::thread([this] {
+    std::unique_lock lock(mutex_);
+    while (!stop_) {
+      if (!step_.empty()) draw();
+      wake_.wait_for(lock, std::chrono::milliseconds(250));
+    }
+  });
+}
+
+ProgressLine::~ProgressLine() {
+  if (!shown_) return;
+  {
+    std::lock_guard lock(mutex_);
+    stop_ = true;
+  }
+  wake_.notify_all();
+  ticker_.join();
+  clear();
+}
+
+void ProgressLine::step(const std::string& name) {
+  if (!shown_) return;
+  std::lock_guard lock(mutex_);
+  step_ = name;
+  fraction_.reset();
+  start_ = std::chrono::steady_clock::now();
+  draw();
+}
+
+void ProgressLine::report(double fraction) {
+  if (!shown_) return;
+  std::lock_guard lock(mutex_);
+  fraction_ = fraction;
+}
+
+void ProgressLine::clear() {
+  if (!shown_) return;
+  std::lock_guard lock(mutex_);
+  if (width_ > 0) std::cerr << "\r" << std::string(width_, ' ') << "\r" << std::flush;
+  width_ = 0;
+  step_.clear();
+}
+
+void ProgressLine::draw() {
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  const std::string text = progress_text(step_, fraction_, seconds);
+  // Pad over the previous line's tail.
+  std::cerr << "\r" << text << std::string(width_ > text.size() ? width_ - text.size() : 0, ' ') << std::flush;
+  width_ = std::max(width_, text.size());
+}
+
+void summary(bool quiet, const std::string& text) {
+  if (!quiet) std::cerr << "linkscape: " << text << "\n";
+}
+
+std::string seconds_since(std::chrono::steady_clock::time_point start) {
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::ostringstream out;
+  out.setf(std::ios::fixed);
+  out.precision(s < 10 ? 2 : 1);
+  out << s << " s";
+  return out.str();
+}
+
+std::optional<std::string> closest_name(const std::string& word, const std::vector<std::string>& candidates) {
+  std::optional<std::string> best;
+  std::size_t best_distance = std::max<std::size_t>(1, word.size() / 3) + 1;
+  for (const std::string& c : candidates)
+    if (const std::size_t d = edit_distance(word, c); d < best_distance) {
+      best_distance = d;
+      best = c;
+    }
+  return best;
+}
+
+}  // namespace linkscape::gui
