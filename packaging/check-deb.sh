@@ -95,6 +95,12 @@ for lib in libc6 libstdc++6 libgomp1 libhwy1 libqt6core6 libqt6gui6 libqt6widget
 done
 if [ ${#missing[@]} -eq 0 ]; then pass "Depends names libc6, libstdc++6, libgomp1, Highway, Qt6 and VTK 9.1"
 else fail "Depends lacks: ${missing[*]}"; fi
+# The binary links libmpi (linkscape sweep over MPI ranks, and Debian's VTK):
+# its package must be named.
+if [ -n "$(objdump -p "$build/gui/linkscape" 2>/dev/null | grep 'NEEDED *libmpi')" ]; then
+  if grep -qxF libopenmpi3 <<<"$dep_names"; then pass "Depends names libopenmpi3 (the binary links libmpi)"
+  else fail "the binary links libmpi but Depends lacks libopenmpi3"; fi
+fi
 # Every dependency must be installable here (the build machine has them all).
 unresolved=()
 for pkg in $dep_names; do

@@ -141,9 +141,13 @@ vtkSmartPointer<vtkImageData> image_data(const Field& field, bool copy) {
 vtkSmartPointer<vtkImageData> to_image_data(const Field& field) { return image_data(field, true); }
 
 void write_vti(const Field& field, const std::filesystem::path& path, const VtiCompression& compression) {
+  // `field` outlives the writer, so its arrays are read in place.
+  write_image_data(image_data(field, false), path, compression);
+}
+
+void write_image_data(vtkImageData* image, const std::filesystem::path& path, const VtiCompression& compression) {
   if (compression.level < 1 || compression.level > 9)
     throw std::invalid_argument("write_vti: compression level must be 1..9, got " + std::to_string(compression.level));
-  vtkSmartPointer<vtkImageData> image = image_data(field, false);  // `field` outlives the writer
   write_atomically(path, [&](const std::filesystem::path& tmp) {
     vtkNew<vtkXMLImageDataWriter> writer;
     writer->SetFileName(tmp.c_str());

@@ -52,6 +52,8 @@ struct VtiCompression {
 // std::runtime_error if the file cannot be written (the target is then
 // untouched).
 void write_vti(const Field& field, const std::filesystem::path& path, const VtiCompression& compression = {});
+// Writes any image data the same way (binary, compressed, atomically).
+void write_image_data(vtkImageData* image, const std::filesystem::path& path, const VtiCompression& compression = {});
 
 // Writes one CSV row per sample, x fastest:
 //   x,y,z,cond,reach_margin,residual,reachable,status,iterations[,method_used][,<named arrays>]
