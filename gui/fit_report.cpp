@@ -29,6 +29,11 @@ std::string short_number(double v) {
   return s.str();
 }
 
+// A share as a percentage that never rounds a shortfall up to 100.
+std::string percent_text(double fraction) {
+  return short_number(fraction < 1 ? std::min(100 * fraction, 99.99) : 100 * fraction);
+}
+
 std::string point_text(const Eigen::Vector3d& p, const std::string& unit) {
   std::string s = "(";  // appended: GCC 12 warns (-Wrestrict) on "literal" + temporary here, wrongly
   s += short_number(p.x()) + ", " + short_number(p.y()) + ", " + short_number(p.z()) + ") " + unit;
@@ -307,12 +312,12 @@ std::string fit_report(const fit::Problem& problem, const fit::Result& r, const 
                   ? "; the largest sphere there is " + short_number(row.fit * problem.task.diameter()) + " " + unit +
                         " across (the task's " + short_number(problem.task.diameter()) + ")"
                   : "; the largest box there is " + short_number(row.fit) + " times the task's");
-    out << "\n  the task there: " << short_number(100 * row.report.fraction) << " % meets every criterion\n";
+    out << "\n  the task there: " << percent_text(row.report.fraction) << " % meets every criterion\n";
     for (const task::CriterionReport& c : row.report.criteria) {
       const std::string u = unit_of(c.criterion, unit);
       out << "  " << c.criterion.text << ": worst " << short_number(c.worst) << (u.empty() ? "" : " " + u) << " at "
           << point_text(c.worst_point, unit) << ", margin " << short_number(c.margin()) << (u.empty() ? "" : " " + u)
-          << ", " << short_number(100 * c.fraction) << " % of the task\n";
+          << ", " << percent_text(c.fraction) << " % of the task\n";
     }
     if (row.report.failing > 0)
       out << "  fails at " << row.report.failing << " of " << row.report.samples << " samples, around "
