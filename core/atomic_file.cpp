@@ -208,6 +208,15 @@ void write_atomically(const fs::path& target, const std::function<void(const fs:
   if (::rename(temporary.c_str(), destination.c_str()) != 0) fail(target, reason(errno));
 }
 
+void write_text_atomically(const std::filesystem::path& target, const std::string& text) {
+  write_atomically(target, [&](const std::filesystem::path& tmp) {
+    std::ofstream out(tmp, std::ios::binary);
+    out << text;
+    out.close();
+    if (!out) throw std::runtime_error("cannot write '" + target.string() + "'");
+  });
+}
+
 void check_stdout() {
   std::cout.flush();
   const bool stream_failed = !std::cout;

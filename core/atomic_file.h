@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <string>
 
 namespace linkscape {
 
@@ -22,6 +23,10 @@ namespace linkscape {
 // folder is missing or not writable or the final step fails.
 void write_atomically(const std::filesystem::path& target,
                       const std::function<void(const std::filesystem::path&)>& write);
+
+// Writes `text` to `target` through write_atomically. Throws as it, and
+// std::runtime_error naming the path when the text cannot be written.
+void write_text_atomically(const std::filesystem::path& target, const std::string& text);
 
 // Flushes standard output and throws std::runtime_error with the system's
 // reason if anything written to it was lost (disk full, closed stream).

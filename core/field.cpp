@@ -1,12 +1,12 @@
 #include "core/field.h"
 
-#include <sys/mman.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <mutex>
 #include <new>
 #include <stdexcept>
+#include <vector>
 
 namespace linkscape {
 
@@ -15,27 +15,84 @@ using Eigen::Vector3d;
 namespace detail {
 
 namespace {
-constexpr std::size_t kHugePage = std::size_t(2) << 20;
-constexpr std::size_t kHugeThreshold = std::size_t(4) << 20;  // smaller blocks use the heap
-std::size_t round_up(std::size_t bytes) { return (bytes + kHugePage - 1) / kHugePage * kHugePage; }
+
+constexpr std::size_t kLargeBlock = std::size_t(4) << 20;  // smaller blocks come and go through the heap
+
+// Freed large blocks, kept for the next request of the same size: the window
+// re-samples the same grids over and over, and fresh pages cost a fault and
+// a zero fill each (on this project's VM, 0.2-0.9 s for a 256^3 field;
+// docs/performance.md). At most kMaxBytes are kept; the oldest go first.
+class BlockCache {
+ public:
+  static constexpr std::size_t kMaxBytes = std::size_t(1) << 30;
+
+  void* take(std::size_t bytes) {
+    const std::lock_guard lock(mutex_);
+    const auto it = std::find_if(blocks_.begin(), blocks_.end(), [&](const Block& b) { return b.bytes == bytes; });
+    if (it == blocks_.end()) return nullptr;
+    void* p = it->p;
+    kept_ -= bytes;
+    blocks_.erase(it);
+    return p;
+  }
+  void keep(void* p, std::size_t bytes) noexcept {
+    if (bytes > kMaxBytes) return std::free(p);
+    const std::lock_guard lock(mutex_);
+    while (kept_ + bytes > kMaxBytes) {
+      std::free(blocks_.front().p);
+      kept_ -= blocks_.front().bytes;
+      blocks_.erase(blocks_.begin());
+    }
+    try {
+      blocks_.push_back({p, bytes});
+      kept_ += bytes;
+    } catch (...) {
+      std::free(p);
+    }
+  }
+
+ private:
+  struct Block {
+    void* p;
+    std::size_t bytes;
+  };
+  std::mutex mutex_;
+  std::vector<Block> blocks_;  // oldest first
+  std::size_t kept_ = 0;
+};
+
+// Never destroyed: Fields in static storage may be freed after it would be.
+BlockCache& block_cache() {
+  static BlockCache* cache = new BlockCache;
+  return *cache;
+}
+
 }  // namespace
 
 void* allocate_samples(std::size_t bytes) {
-  if (bytes < kHugeThreshold) return ::operator new(bytes);
-  void* p = std::aligned_alloc(kHugePage, round_up(bytes));
+  if (bytes < kLargeBlock) return ::operator new(bytes);
+  if (void* p = block_cache().take(bytes)) return p;
+  void* p = std::malloc(bytes);
   if (!p) throw std::bad_alloc();
-#ifdef MADV_HUGEPAGE
-  ::madvise(p, round_up(bytes), MADV_HUGEPAGE);  // a hint: without THP it is ignored
-#endif
   return p;
 }
 
 void free_samples(void* p, std::size_t bytes) noexcept {
-  if (bytes < kHugeThreshold) ::operator delete(p);
-  else std::free(p);
+  if (bytes < kLargeBlock) ::operator delete(p);
+  else block_cache().keep(p, bytes);
 }
 
 }  // namespace detail
+
+FieldKernel field_kernel_from_environment() {
+  const char* value = std::getenv("LINKSCAPE_FIELD_KERNEL");
+  if (!value || !*value) return FieldKernel::VectorMirrored;
+  const std::string name = value;
+  if (name == "scalar") return FieldKernel::Scalar;
+  if (name == "vector") return FieldKernel::Vector;
+  if (name == "vector-mirrored") return FieldKernel::VectorMirrored;
+  throw std::invalid_argument("LINKSCAPE_FIELD_KERNEL must be scalar, vector or vector-mirrored, got '" + name + "'");
+}
 
 Axis parse_axis(const std::string& name) {
   if (name == "x" || name == "X") return Axis::X;

@@ -43,14 +43,26 @@ struct Grid {
   static Grid box(const Eigen::Vector3d& min, const Eigen::Vector3d& max, std::array<int, 3> dims);
 };
 
+// How a device's field kernel computes its samples (the environment
+// variable LINKSCAPE_FIELD_KERNEL chooses it where a request does not):
+enum class FieldKernel {
+  Scalar,          // the reference: one sample at a time through the device's IK and Jacobian
+  Vector,          // the fast kernel (rows of samples, SIMD vectors where the device has them)
+  VectorMirrored,  // the same, using the device's exact symmetries where they hold (the default)
+};
+// LINKSCAPE_FIELD_KERNEL: scalar, vector or vector-mirrored; unset or empty:
+// VectorMirrored. Throws std::invalid_argument naming the variable otherwise.
+FieldKernel field_kernel_from_environment();
+
 // The field engine refuses a request whose arrays would need more than this
 // (every device's default; the headless commands compare their peak with it).
 inline constexpr std::size_t kFieldMemoryLimitBytes = std::size_t(6) << 30;
 
 namespace detail {
-// Large blocks aligned to 2 MiB and marked for transparent huge pages: first
-// touching a 4 KiB page costs a fault, and a field of millions of samples
-// otherwise spends about 40 % of its time in them (docs/performance.md).
+// Sample blocks. Large ones (4 MiB and up) are kept when freed, up to 1 GiB
+// in all, and handed out again for a request of the same size, so a field
+// re-sampled on the same grid writes into pages already mapped instead of
+// faulting in freshly zeroed ones (docs/performance.md).
 void* allocate_samples(std::size_t bytes);
 void free_samples(void* p, std::size_t bytes) noexcept;
 }  // namespace detail

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "core/csv.h"
+#include "core/simd.h"
 
 namespace linkscape::fit {
 namespace {
@@ -64,51 +65,9 @@ class Search {
            1e-12 * (1 + v.array().abs()))
               .all())
         return i;
-    Row row;
-    row.values.assign(v.data(), v.data() + v.size());
-    Preset preset = problem_.preset;
-    for (std::size_t i = 0; i < problem_.variables.size(); ++i)
-      for (const std::string& name : problem_.variables[i].parameters) preset.parameters[name] = v(Eigen::Index(i));
-    std::shared_ptr<const Mechanism> mechanism;
-    try {
-      mechanism = make_mechanism(preset);
-    } catch (const std::invalid_argument& e) {
-      row.invalid = e.what();
-      return add(std::move(row));
-    }
-    row.parameters = mechanism->parameters();
-    row.size = mechanism->size();
-    task::Device device;
-    device.mechanism = mechanism;
-    device.fixed_task = problem_.pose.size() ? problem_.pose : mechanism->home_task();
-    if (device.fixed_task.size() != Eigen::Index(mechanism->info().task.size()))
-      throw std::invalid_argument("fit: the pose needs " + std::to_string(mechanism->info().task.size()) +
-                                  " task coordinates");
-    device.ik = problem_.ik;
-    device.torque = problem_.torque;
-    device.threads = problem_.threads;
-    const bool haptic = std::any_of(problem_.criteria.begin(), problem_.criteria.end(),
-                                    [](const task::Criterion& c) { return c.haptic(); });
-    if (haptic) device.data = haptics::device_data(preset, mechanism->info());
-    const std::vector<task::Criterion> criteria = task::resolve(device, problem_.criteria);
-    const task::TaskVolume& t = problem_.task;
-    if (t.centre) {
-      row.centre = *t.centre;
-      row.report = task::evaluate(device, criteria, t, row.centre, problem_.task_resolution);
-      row.meets = row.report.meets();
-      row.fit = row.report.fraction;
-    } else {
-      FieldProgress fp;
-      fp.cancel = progress_.cancel;
-      const auto found = task::largest_inscribed(device, criteria, t, mechanism->default_box(), problem_.inscribed, fp);
-      if (!found) return result_.rows.size();  // cancelled: nothing added
-      row.centre = found->found ? found->centre : mechanism->default_box().center();
-      row.fit = !found->found ? 0.0 : t.shape == task::Shape::Sphere ? found->size / t.diameter() : found->size;
-      row.meets = found->found && row.fit >= 1;
-      row.report = task::evaluate(device, criteria, t, row.centre, problem_.task_resolution);
-    }
-    row.margin = t.centre ? fixed_centre_margin(row.report) : row.fit;
-    return add(std::move(row));
+    std::optional<Row> row = fit::evaluate(problem_, std::vector<double>(v.data(), v.data() + v.size()), progress_.cancel);
+    if (!row) return result_.rows.size();  // cancelled: nothing added
+    return add(std::move(*row));
   }
 
   const Row& row(std::size_t i) const { return result_.rows[i]; }
@@ -489,6 +448,60 @@ Result solve(const Problem& problem, const Progress& progress) {
   else smallest_size(search);
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
+}
+
+std::optional<Row> evaluate(const Problem& problem, const std::vector<double>& values, const std::atomic<bool>* cancel) {
+  if (values.size() != problem.variables.size())
+    throw std::invalid_argument("fit: a design needs " + std::to_string(problem.variables.size()) + " values, got " +
+                                std::to_string(values.size()));
+  // Scalar code waits on upper register halves other libraries leave in use
+  // (core/simd.h): 4x on the 12R's point-wise task evaluation.
+  simd::clear_upper_registers();
+  Row row;
+  row.values = values;
+  Preset preset = problem.preset;
+  for (std::size_t i = 0; i < problem.variables.size(); ++i)
+    for (const std::string& name : problem.variables[i].parameters) preset.parameters[name] = values[i];
+  std::shared_ptr<const Mechanism> mechanism;
+  try {
+    mechanism = make_mechanism(preset);
+  } catch (const std::invalid_argument& e) {
+    row.invalid = e.what();
+    return row;
+  }
+  row.parameters = mechanism->parameters();
+  row.size = mechanism->size();
+  task::Device device;
+  device.mechanism = mechanism;
+  device.fixed_task = problem.pose.size() ? problem.pose : mechanism->home_task();
+  if (device.fixed_task.size() != Eigen::Index(mechanism->info().task.size()))
+    throw std::invalid_argument("fit: the pose needs " + std::to_string(mechanism->info().task.size()) +
+                                " task coordinates");
+  device.ik = problem.ik;
+  device.torque = problem.torque;
+  device.threads = problem.threads;
+  const bool haptic = std::any_of(problem.criteria.begin(), problem.criteria.end(),
+                                  [](const task::Criterion& c) { return c.haptic(); });
+  if (haptic) device.data = haptics::device_data(preset, mechanism->info());
+  const std::vector<task::Criterion> criteria = task::resolve(device, problem.criteria);
+  const task::TaskVolume& t = problem.task;
+  if (t.centre) {
+    row.centre = *t.centre;
+    row.report = task::evaluate(device, criteria, t, row.centre, problem.task_resolution);
+    row.meets = row.report.meets();
+    row.fit = row.report.fraction;
+  } else {
+    FieldProgress fp;
+    fp.cancel = cancel;
+    const auto found = task::largest_inscribed(device, criteria, t, mechanism->default_box(), problem.inscribed, fp);
+    if (!found) return std::nullopt;  // cancelled
+    row.centre = found->found ? found->centre : mechanism->default_box().center();
+    row.fit = !found->found ? 0.0 : t.shape == task::Shape::Sphere ? found->size / t.diameter() : found->size;
+    row.meets = found->found && row.fit >= 1;
+    row.report = task::evaluate(device, criteria, t, row.centre, problem.task_resolution);
+  }
+  row.margin = t.centre ? fixed_centre_margin(row.report) : row.fit;
+  return row;
 }
 
 }  // namespace linkscape::fit

@@ -88,6 +88,14 @@ struct Progress {
 // Otherwise a task no design meets is a result (best empty, closest set).
 Result solve(const Problem& problem, const Progress& progress = {});
 
+// One design: the problem's preset with each variable's parameters set to
+// `values` (one per variable), evaluated as solve evaluates each design. A
+// design that cannot be built is a row with `invalid` set. nullopt if
+// cancelled. Throws std::invalid_argument where the problem's pose does not
+// fit the device.
+std::optional<Row> evaluate(const Problem& problem, const std::vector<double>& values,
+                            const std::atomic<bool>* cancel = nullptr);
+
 // The parameters Mechanism::size() sums, as its size_description names them
 // ("L1 + L2": L1, L2).
 std::vector<std::string> size_terms(const MechanismInfo& info);

@@ -20,6 +20,7 @@
 #include "core/preset.h"
 #include "gui/fit_command.h"
 #include "gui/mechanisms/commands.h"
+#include "gui/sweep_command.h"
 #include "gui/headless.h"
 #include "gui/mechanism_window.h"
 #include "gui/session.h"
@@ -90,6 +91,7 @@ std::string headless_hint(const DeviceHelp& help, const std::vector<DeviceComman
       "  linkscape field --resolution 128 --output volume.vti sampled volume for ParaView\n"
       "  linkscape mesh --surface 'cond<3' --output ws.stl    workspace isosurface mesh\n"
       "  linkscape fit --task sphere:diameter=15 --criterion 'cond<3' -o fit.csv   the smallest design that serves a task\n"
+      "  linkscape sweep --task sphere:diameter=15 --grid 5 -o sweep.csv   score a grid of designs (also under mpirun)\n"
       "  linkscape bench --chart m.png --sweeps s.png --csv b.csv   speed and accuracy of every method\n";
   for (const DeviceCommand& command : device_commands)
     hint += "  linkscape " + command.command->get_name() + "   " + command.command->get_description() + "\n";
@@ -271,6 +273,10 @@ int run(int argc, char** argv) {
   app.add_option("--screenshot", window.screenshot,
                  "Open the window, wait until the fields are computed, save it as PNG to this file and exit");
   app.add_option("--size", window.size, "Window size for --screenshot and --latency, WIDTHxHEIGHT")->capture_default_str();
+  app.add_option("--view-image", window.view_image,
+                 "Open the window, wait until the fields are computed, save the 3-D view alone as PNG, drawn at "
+                 "--view-size (not scaled), and exit");
+  app.add_option("--view-size", window.view_size, "Pixel size of --view-image, WIDTHxHEIGHT")->capture_default_str();
   app.add_option("--task", window.task,
                  "Show a task volume in the Task tab: sphere:diameter=D or box:size=X,Y,Z, optionally ,centre=x,y,z "
                  "(else placed in the largest sphere or box where the criteria hold)");
@@ -392,6 +398,7 @@ int run(int argc, char** argv) {
   mesh_cmd->add_option("-o,--output", mesh.output, "Output: .stl, .obj, .ply, .off or .vtp")->required();
 
   const FitCommand fit_cmd = add_fit_command(app);
+  const SweepCommand sweep_cmd = add_sweep_command(app);
   const std::vector<DeviceCommand> device_commands = add_device_commands(app);
   const std::string hint = headless_hint(help, device_commands);
   app.footer(hint);
@@ -415,7 +422,8 @@ int run(int argc, char** argv) {
       "parallel-12r planar fields use SIMD kernels with the best instruction set of the CPU. Environment, for\n"
       "every command:\n"
       "  LINKSCAPE_SIMD_TARGET=AVX2|SSE4|...|baseline   use at most this instruction set\n"
-      "  LINKSCAPE_FIELD_KERNEL=scalar|vector|vector-mirrored   parallel-12r planar kernel (default vector-mirrored)");
+      "  LINKSCAPE_FIELD_KERNEL=scalar|vector|vector-mirrored   parallel-12r planar and delta closed kernels: scalar =\n"
+      "    the reference, one sample at a time (default vector-mirrored)");
 
   app.failure_message([&](const CLI::App*, const CLI::Error& e) { return parse_error_message(app, e); });
   try {
@@ -459,6 +467,12 @@ int run(int argc, char** argv) {
     prepare_offscreen_painting();  // the Pareto chart draws with QPainter
     QGuiApplication qt(argc, argv);
     run_fit(*fit_cmd.options, std::cout);
+    return 0;
+  }
+  if (sweep_cmd.command->parsed()) {
+    prepare_offscreen_painting();  // the Pareto chart draws with QPainter
+    QGuiApplication qt(argc, argv);
+    run_sweep(*sweep_cmd.options, std::cout);
     return 0;
   }
   for (const DeviceCommand& command : device_commands) {

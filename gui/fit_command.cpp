@@ -17,18 +17,11 @@
 
 namespace linkscape::gui {
 
-void run_fit(const FitOptions& o, std::ostream& out) {
-  if (o.task.empty()) throw std::invalid_argument("fit: --task is required, e.g. sphere:diameter=15");
-  for (const std::string* file : {&o.chart}) {
-    const std::string ext = std::filesystem::path(*file).extension().string();
-    if (!file->empty() && ext != ".png" && ext != ".svg" && ext != ".pdf")
-      throw std::invalid_argument("fit: --chart must end in .png, .svg or .pdf, got '" + *file + "'");
-  }
-  if (!o.output.empty() && std::filesystem::path(o.output).extension() != ".csv")
-    throw std::invalid_argument("fit: --output must end in .csv, got '" + o.output + "'");
+fit::Problem make_problem(const FitOptions& o, const std::string& command) {
+  if (o.task.empty()) throw std::invalid_argument(command + ": --task is required, e.g. sphere:diameter=15");
   if (o.resolution < 8 || o.refinements < 0 || o.places < 1 || o.task_resolution < 2)
-    throw std::invalid_argument("fit: --resolution must be at least 8, --refinements at least 0, --places at least 1 "
-                                "and --task-resolution at least 2");
+    throw std::invalid_argument(command + ": --resolution must be at least 8, --refinements at least 0, --places at "
+                                "least 1 and --task-resolution at least 2");
   fit::Problem problem;
   problem.preset = load_preset(o.mechanism.mechanism);
   apply_overrides(problem.preset, o.mechanism.params);
@@ -44,20 +37,19 @@ void run_fit(const FitOptions& o, std::ostream& out) {
     std::stringstream ss(o.pose);
     for (std::string part; std::getline(ss, part, ',');) v.push_back(parse_number_or_throw(part, "--pose"));
     if (v.size() != info.task.size())
-      throw std::invalid_argument("fit: --pose expects " + std::to_string(info.task.size()) + " task coordinates for " +
-                                  info.name);
+      throw std::invalid_argument(command + ": --pose expects " + std::to_string(info.task.size()) +
+                                  " task coordinates for " + info.name);
     problem.pose = Eigen::Map<const Eigen::VectorXd>(v.data(), Eigen::Index(v.size()));
   }
   if (!o.method.empty()) index_of(info.ik_methods, o.method, "IK method for " + info.name);
   problem.ik.method = o.method;
   if (o.branch < 0 || o.branch >= int(info.branches.size()))
-    throw std::invalid_argument("fit: --branch must be 0.." + std::to_string(info.branches.size() - 1) + " for " + info.name);
+    throw std::invalid_argument(command + ": --branch must be 0.." + std::to_string(info.branches.size() - 1) +
+                                " for " + info.name);
   if (o.branch != 0) problem.ik.branch = o.branch;
   problem.torque = haptics::parse_torque_rating(o.torque);
   problem.inscribed = {o.resolution, o.refinements, o.places};
   problem.task_resolution = o.task_resolution;
-  problem.tolerance = o.tolerance;
-  problem.size = o.size;
   // The criteria on the base design: an unknown measure is an input error.
   {
     task::Device d;
@@ -68,6 +60,22 @@ void run_fit(const FitOptions& o, std::ostream& out) {
     task::resolve(d, problem.criteria);
   }
 
+  return problem;
+}
+
+void run_fit(const FitOptions& o, std::ostream& out) {
+  for (const std::string* file : {&o.chart}) {
+    const std::string ext = std::filesystem::path(*file).extension().string();
+    if (!file->empty() && ext != ".png" && ext != ".svg" && ext != ".pdf")
+      throw std::invalid_argument("fit: --chart must end in .png, .svg or .pdf, got '" + *file + "'");
+  }
+  if (!o.output.empty() && std::filesystem::path(o.output).extension() != ".csv")
+    throw std::invalid_argument("fit: --output must end in .csv, got '" + o.output + "'");
+  fit::Problem problem = make_problem(o, "fit");
+  problem.tolerance = o.tolerance;
+  problem.size = o.size;
+  const std::shared_ptr<const Mechanism> base = make_mechanism(problem.preset);
+  const MechanismInfo& info = base->info();
   fit::Progress progress;
   const bool show = !o.quiet && ::isatty(STDERR_FILENO);
   std::optional<double> smallest, largest_margin;
@@ -89,6 +97,34 @@ void run_fit(const FitOptions& o, std::ostream& out) {
   if (!o.chart.empty()) write_fit_chart(o.chart, problem, r, info);
 }
 
+void add_problem_options(CLI::App& cmd, FitOptions& o) {
+  add_mechanism_options(cmd, o.mechanism);
+  cmd.add_option("--task", o.task,
+                 "sphere:diameter=D (or radius=R) or box:size=X,Y,Z (or size=S), in the device's length unit; "
+                 "append ,centre=x,y,z to fix the centre, else the search places it")
+      ->required();
+  cmd.add_option("--criterion", o.criteria,
+                 "Repeatable: cond<T (the first measure; others by name, e.g. cond_jo<T), force_iso>F, force_max>F "
+                 "(N), resolution<R (mm), inertia<M (kg); reach is always implied");
+  cmd.add_option("--free", o.free, "Free design parameters, comma list (default: every parameter of the design panel)")
+      ->delimiter(',');
+  cmd.add_option("--equal", o.equal, "Parameters held equal, comma list (repeatable), e.g. L1,L2");
+  cmd.add_option("--bounds", o.bounds,
+                 "NAME=lo:hi (repeatable; a group held equal by any of its names); default the parameter's range in "
+                 "the design panel");
+  cmd.add_option("--pose", o.pose,
+                 "Every task coordinate; those beyond x, y, z (orientation, grip) are held (default: each design's home)");
+  cmd.add_option("--method", o.method, "IK method per sample (default: the device's first)");
+  cmd.add_option("--branch", o.branch, "Assembly branch")->capture_default_str();
+  cmd.add_option("--torque", o.torque, "Torque limit of force criteria: continuous or peak")->capture_default_str();
+  cmd.add_option("--resolution", o.resolution, "Samples along the box for the largest inscribed shape")
+      ->capture_default_str();
+  cmd.add_option("--refinements", o.refinements, "Zooms onto each place found")->capture_default_str();
+  cmd.add_option("--places", o.places, "Well-separated places refined")->capture_default_str();
+  cmd.add_option("--task-resolution", o.task_resolution, "Samples across the task where it is evaluated")
+      ->capture_default_str();
+}
+
 FitCommand add_fit_command(CLI::App& app) {
   auto o = std::make_shared<FitOptions>();
   CLI::App* cmd = app.add_subcommand(
@@ -96,31 +132,7 @@ FitCommand add_fit_command(CLI::App& app) {
              "meets every criterion, or with --size the design of that size with the largest margin; prints it with "
              "each criterion's margin, writes every design as CSV and a Pareto chart of size against the worst "
              "measure (docs/task-volumes.md)");
-  add_mechanism_options(*cmd, o->mechanism);
-  cmd->add_option("--task", o->task,
-                  "sphere:diameter=D (or radius=R) or box:size=X,Y,Z (or size=S), in the device's length unit; "
-                  "append ,centre=x,y,z to fix the centre, else the search places it")
-      ->required();
-  cmd->add_option("--criterion", o->criteria,
-                  "Repeatable: cond<T (the first measure; others by name, e.g. cond_jo<T), force_iso>F, force_max>F "
-                  "(N), resolution<R (mm), inertia<M (kg); reach is always implied");
-  cmd->add_option("--free", o->free, "Free design parameters, comma list (default: every parameter of the design panel)")
-      ->delimiter(',');
-  cmd->add_option("--equal", o->equal, "Parameters held equal, comma list (repeatable), e.g. L1,L2");
-  cmd->add_option("--bounds", o->bounds,
-                  "NAME=lo:hi (repeatable; a group held equal by any of its names); default the parameter's range in "
-                  "the design panel");
-  cmd->add_option("--pose", o->pose,
-                  "Every task coordinate; those beyond x, y, z (orientation, grip) are held (default: each design's home)");
-  cmd->add_option("--method", o->method, "IK method per sample (default: the device's first)");
-  cmd->add_option("--branch", o->branch, "Assembly branch")->capture_default_str();
-  cmd->add_option("--torque", o->torque, "Torque limit of force criteria: continuous or peak")->capture_default_str();
-  cmd->add_option("--resolution", o->resolution, "Samples along the box for the largest inscribed shape")
-      ->capture_default_str();
-  cmd->add_option("--refinements", o->refinements, "Zooms onto each place found")->capture_default_str();
-  cmd->add_option("--places", o->places, "Well-separated places refined")->capture_default_str();
-  cmd->add_option("--task-resolution", o->task_resolution, "Samples across the task where it is evaluated")
-      ->capture_default_str();
+  add_problem_options(*cmd, *o);
   cmd->add_option("--size", o->size,
                   "Largest margin at this size instead of the smallest size: among designs of this size (the "
                   "device's size measure, e.g. L1 + L2 for the 12R; length unit) within the bounds, the one whose "

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/fit.h"
 #include "gui/headless.h"
 
 namespace linkscape::gui {
@@ -39,6 +40,13 @@ struct FitOptions {
 // ..."), not an error. Throws std::invalid_argument for bad options (exit 2,
 // nothing written). The chart needs a QGuiApplication.
 void run_fit(const FitOptions& options, std::ostream& out);
+
+// The parts `fit` shares with `sweep`: the device, task, criteria, free
+// parameters and sampling options (every FitOptions field but size,
+// tolerance, output, chart and quiet), and the problem they describe,
+// checked (messages start with `command`; throws std::invalid_argument).
+void add_problem_options(CLI::App& command, FitOptions& options);
+fit::Problem make_problem(const FitOptions& options, const std::string& command);
 
 struct FitCommand {
   CLI::App* command = nullptr;

@@ -13,6 +13,7 @@
 
 #include "core/atomic_file.h"
 #include "core/csv.h"
+#include "core/sweep.h"
 #include "gui/painted_file.h"
 
 namespace linkscape::gui {
@@ -28,6 +29,11 @@ std::string short_number(double v) {
   return s.str();
 }
 
+// A share as a percentage that never rounds a shortfall up to 100.
+std::string percent_text(double fraction) {
+  return short_number(fraction < 1 ? std::min(100 * fraction, 99.99) : 100 * fraction);
+}
+
 std::string point_text(const Eigen::Vector3d& p, const std::string& unit) {
   std::string s = "(";  // appended: GCC 12 warns (-Wrestrict) on "literal" + temporary here, wrongly
   s += short_number(p.x()) + ", " + short_number(p.y()) + ", " + short_number(p.z()) + ") " + unit;
@@ -40,17 +46,6 @@ std::string unit_of(const task::Criterion& c, const std::string& length_unit) {
   for (const haptics::FieldInfo& f : haptics::all_field_infos())
     if (f.name == c.measure) return f.unit;
   return "";
-}
-
-// The parameters the CSV names: those the design panel shows and the free ones.
-std::vector<std::string> design_columns(const MechanismInfo& info, const std::vector<fit::Variable>& variables) {
-  std::vector<std::string> out;
-  for (const Quantity& q : info.parameters)
-    if (q.in_panel) out.push_back(q.name);
-  for (const fit::Variable& v : variables)
-    for (const std::string& p : v.parameters)
-      if (std::find(out.begin(), out.end(), p) == out.end()) out.push_back(p);
-  return out;
 }
 
 // The best or closest row first, then every valid design by size.
@@ -192,12 +187,12 @@ void draw_pareto(QPainter& p, const QRectF& area, const fit::Problem& problem, c
   p.drawLine(at(x0, bound), at(x1, bound));
   // The non-dominated designs: none both smaller and better.
   std::vector<Point> front;
-  for (const Point& a : pts) {
-    if (at_size) break;
-    bool dominated = false;
-    for (const Point& b : pts)
-      dominated = dominated || (b.x <= a.x && (above ? b.y >= a.y : b.y <= a.y) && (b.x < a.x || b.y != a.y));
-    if (!dominated) front.push_back(a);
+  if (!at_size) {
+    std::vector<double> xs, ys;
+    for (const Point& q : pts) xs.push_back(q.x), ys.push_back(q.y);
+    const std::vector<bool> on_front = sweep::non_dominated(xs, ys, above);
+    for (std::size_t i = 0; i < pts.size(); ++i)
+      if (on_front[i]) front.push_back(pts[i]);
   }
   std::sort(front.begin(), front.end(), [](const Point& a, const Point& b) { return a.x < b.x; });
   if (front.size() > 1) {
@@ -273,17 +268,20 @@ std::string design_text(const fit::Row& row, const std::vector<std::string>& col
   return s;
 }
 
-void write_text(const std::filesystem::path& path, const std::string& text) {
-  write_atomically(path, [&](const std::filesystem::path& tmp) {
-    std::ofstream out(tmp);
-    out << text;
-    out.close();
-    if (!out) throw std::runtime_error("cannot write '" + path.string() + "'");
-  });
-}
 
 
 }  // namespace
+
+std::vector<std::string> design_columns(const MechanismInfo& info, const std::vector<fit::Variable>& variables) {
+  std::vector<std::string> out;
+  for (const Quantity& q : info.parameters)
+    if (q.in_panel) out.push_back(q.name);
+  for (const fit::Variable& v : variables)
+    for (const std::string& p : v.parameters)
+      if (std::find(out.begin(), out.end(), p) == out.end()) out.push_back(p);
+  return out;
+}
+
 
 std::string fit_report(const fit::Problem& problem, const fit::Result& r, const MechanismInfo& info) {
   const std::vector<std::string> columns = design_columns(info, problem.variables);
@@ -314,12 +312,12 @@ std::string fit_report(const fit::Problem& problem, const fit::Result& r, const 
                   ? "; the largest sphere there is " + short_number(row.fit * problem.task.diameter()) + " " + unit +
                         " across (the task's " + short_number(problem.task.diameter()) + ")"
                   : "; the largest box there is " + short_number(row.fit) + " times the task's");
-    out << "\n  the task there: " << short_number(100 * row.report.fraction) << " % meets every criterion\n";
+    out << "\n  the task there: " << percent_text(row.report.fraction) << " % meets every criterion\n";
     for (const task::CriterionReport& c : row.report.criteria) {
       const std::string u = unit_of(c.criterion, unit);
       out << "  " << c.criterion.text << ": worst " << short_number(c.worst) << (u.empty() ? "" : " " + u) << " at "
           << point_text(c.worst_point, unit) << ", margin " << short_number(c.margin()) << (u.empty() ? "" : " " + u)
-          << ", " << short_number(100 * c.fraction) << " % of the task\n";
+          << ", " << percent_text(c.fraction) << " % of the task\n";
     }
     if (row.report.failing > 0)
       out << "  fails at " << row.report.failing << " of " << row.report.samples << " samples, around "
@@ -357,7 +355,7 @@ void write_fit_chart(const std::filesystem::path& path, const fit::Problem& prob
 
 void write_fit_csv(const std::filesystem::path& path, const fit::Problem& problem, const fit::Result& result,
                    const MechanismInfo& info) {
-  write_text(path, fit_csv(problem, result, info));
+  write_text_atomically(path, fit_csv(problem, result, info));
 }
 
 }  // namespace linkscape::gui

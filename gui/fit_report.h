@@ -16,6 +16,9 @@ class QPainter;
 
 namespace linkscape::gui {
 
+// The parameters a table names: those the design panel shows and the free ones.
+std::vector<std::string> design_columns(const MechanismInfo& info, const std::vector<fit::Variable>& variables);
+
 // The chosen design (or the closest), its size, centre, margin, every
 // criterion's worst value and margin, where the task fails, the number of
 // designs and the time.

@@ -15,6 +15,8 @@
 #include <QGroupBox>
 #include <QHBoxLayout>
 #include <QLabel>
+#include <QInputDialog>
+#include <QLineEdit>
 #include <QMenuBar>
 #include <QMessageBox>
 #include <QPushButton>
@@ -370,6 +372,19 @@ void MechanismWindow::placeLegend() {
 bool MechanismWindow::eventFilter(QObject* watched, QEvent* event) {
   if (watched == view_ && event->type() == QEvent::Resize) placeLegend();  // docks resize the view too
   return QMainWindow::eventFilter(watched, event);
+}
+
+QImage MechanismWindow::viewImage(int width, int height) {
+  if (width < 16 || height < 16 || width > kMaxWindowSide || height > kMaxWindowSide)
+    throw std::invalid_argument("the view image must be 16..8192 pixels a side, got " + std::to_string(width) + "x" +
+                                std::to_string(height));
+  const QSize min = view_->minimumSize(), max = view_->maximumSize();
+  view_->setFixedSize(width, height);  // the window grows or shrinks around it for this frame
+  QCoreApplication::processEvents();
+  const QImage image = view_->grabFramebuffer();
+  view_->setMinimumSize(min);
+  view_->setMaximumSize(max);
+  return image.size() == QSize(width, height) ? image : image.scaled(width, height);
 }
 
 void MechanismWindow::fitCamera() {
@@ -743,6 +758,23 @@ void MechanismWindow::buildMenus() {
   });
   file->addAction(tr("Export &field (VTI)…"), this, [this] { export_volume(this, surfaces_.volume.get()); });
   file->addAction(tr("Save screens&hot…"), this, [this] { export_screenshot(this); });
+  file->addAction(tr("Save &view image…"), this, [this] {
+    bool ok = false;
+    const QString size = QInputDialog::getText(this, tr("Save view image"),
+                                               tr("The 3-D view alone, drawn at this size in pixels (WIDTHxHEIGHT):"),
+                                               QLineEdit::Normal, QString("%1x%2").arg(2 * view_->width()).arg(2 * view_->height()), &ok);
+    if (!ok) return;
+    const QString path = QFileDialog::getSaveFileName(this, tr("Save view image"), "view.png", tr("PNG (*.png)"));
+    if (path.isEmpty()) return;
+    const QStringList wh = size.split('x');
+    try {
+      if (wh.size() != 2) throw std::invalid_argument("the size is WIDTHxHEIGHT, e.g. 1920x1080");
+      save_png(viewImage(wh[0].toInt(), wh[1].toInt()), path.toStdString());
+      statusBar()->showMessage(tr("Saved %1 (%2)").arg(path, size), 4000);
+    } catch (const std::exception& e) {
+      QMessageBox::warning(this, tr("Save view image"), qs(e.what()));
+    }
+  });
   file->addSeparator();
   file->addAction(tr("&Quit"), QKeySequence::Quit, this, &QWidget::close);
   QMenu* edit = menuBar()->addMenu(tr("&Edit"));
@@ -1496,6 +1528,14 @@ int run_window(const WindowOptions& options, int argc, char** argv) {
       height < 150 || width > kMaxWindowSide || height > kMaxWindowSide)
     throw std::invalid_argument("--size expects WIDTHxHEIGHT from 200x150 to " + std::to_string(kMaxWindowSide) + "x" +
                                 std::to_string(kMaxWindowSide) + ", got '" + options.size + "'");
+  int view_width = 0, view_height = 0;
+  if (!options.view_image.empty() &&
+      (std::sscanf(options.view_size.c_str(), "%d%c%d%c", &view_width, &x, &view_height, &rest) != 3 || x != 'x' ||
+       view_width < 16 || view_height < 16 || view_width > kMaxWindowSide || view_height > kMaxWindowSide))
+    throw std::invalid_argument("--view-size expects WIDTHxHEIGHT from 16x16 to " + std::to_string(kMaxWindowSide) +
+                                "x" + std::to_string(kMaxWindowSide) + ", got '" + options.view_size + "'");
+  if (!options.view_image.empty() && std::filesystem::path(options.view_image).extension() != ".png")
+    throw std::invalid_argument("--view-image writes PNG: the file must end in .png, got '" + options.view_image + "'");
   QSurfaceFormat::setDefaultFormat(VtkWidget::defaultFormat());
   QApplication app(argc, argv);
   QApplication::setApplicationName("Linkscape");
@@ -1508,7 +1548,7 @@ int run_window(const WindowOptions& options, int argc, char** argv) {
   }
   // Interactive use remembers the window's size and layout; an explicit
   // --size, screenshots and latency runs start from the defaults.
-  const bool interactive = options.screenshot.empty() && !options.latency;
+  const bool interactive = options.screenshot.empty() && options.view_image.empty() && !options.latency;
   window.setInteractive(interactive);
   const QSettings settings;
   if (interactive && !options.size_given && settings.contains("windowGeometry")) {
@@ -1519,6 +1559,11 @@ int run_window(const WindowOptions& options, int argc, char** argv) {
   }
   window.show();
   if (options.latency) return run_latency_probe(window, std::cout);
+  if (!options.view_image.empty())
+    return save_screenshot_when_settled(window, options.view_image, [&] {
+      save_png(window.viewImage(view_width, view_height), options.view_image);
+      return std::to_string(view_width) + "x" + std::to_string(view_height);
+    });
   if (options.screenshot.empty()) return QApplication::exec();
   return save_screenshot_when_settled(window, options.screenshot);
 }

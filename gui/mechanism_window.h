@@ -7,6 +7,7 @@
 // which device it has. Field work runs on FieldJobRunner threads.
 #pragma once
 
+#include <QImage>
 #include <QMainWindow>
 #include <QString>
 #include <array>
@@ -63,6 +64,8 @@ struct WindowOptions {
   std::string screenshot;      // save a PNG of the window and exit
   bool latency = false;        // measure interaction latencies, print them and exit
   std::string size = "1280x800";
+  std::string view_image;      // save the 3-D view alone as PNG at view_size and exit
+  std::string view_size = "1920x1080";
   bool size_given = false;     // --size was on the command line (else the remembered size is used)
   // A task volume shown at start (Task tab): "sphere:diameter=15[,centre=x,y,z]"
   // and its criteria; without a centre it is placed in the largest sphere.
@@ -151,6 +154,10 @@ class MechanismWindow : public QMainWindow {
   // The camera frames the device; it does so again after a change of size
   // unless the user has moved it since.
   void fitCamera();
+  // The 3-D view alone drawn at width x height pixels (the view is resized
+  // for one frame, so the picture is rendered at that size, not scaled).
+  // Throws std::invalid_argument outside 16..8192 pixels a side.
+  QImage viewImage(int width, int height);
 
  signals:
   void poseChanged();

@@ -3,6 +3,7 @@
 #include <QFont>
 #include <QImage>
 #include <QPainter>
+#include <QPainterPath>
 #include <vtkImageData.h>
 
 #include <cmath>
@@ -26,6 +27,33 @@ QImage slice_qimage(const Field& field, const render::SliceStyle& style) {
   for (int row = 0; row < dims[1]; ++row)  // VTK row 0 is the bottom
     std::memcpy(image.scanLine(dims[1] - 1 - row), src + std::size_t(row) * dims[0] * 4, std::size_t(dims[0]) * 4);
   return image;
+}
+
+// The slice's contours and reach boundary as vector paths over the plot:
+// smooth at any zoom, in PNG, SVG and PDF alike. Sample (i, j) sits at the
+// centre of the image's pixel (i, j).
+void draw_lines(QPainter& p, const QRectF& plot, int nu, int nv, const render::SliceLines& lines) {
+  auto to_plot = [&](double u, double v) {
+    return QPointF(plot.left() + (u + 0.5) / nu * plot.width(), plot.bottom() - (v + 0.5) / nv * plot.height());
+  };
+  auto path_of = [&](const std::vector<render::SliceSegment>& segments) {
+    QPainterPath path;
+    for (const render::SliceSegment& s : segments) {
+      path.moveTo(to_plot(s.u0, s.v0));
+      path.lineTo(to_plot(s.u1, s.v1));
+    }
+    return path;
+  };
+  p.save();
+  p.setClipRect(plot);
+  p.setBrush(Qt::NoBrush);
+  for (const auto& [level, segments] : lines.contours) {
+    p.setPen(QPen(Qt::white, 1.6, Qt::SolidLine, Qt::RoundCap, Qt::RoundJoin));
+    p.drawPath(path_of(segments));
+  }
+  p.setPen(QPen(QColor(60, 60, 60), 2.2, Qt::SolidLine, Qt::RoundCap, Qt::RoundJoin));
+  p.drawPath(path_of(lines.boundary));
+  p.restore();
 }
 
 void draw(QPainter& p, const QSize& page, const Field& field, const render::SliceStyle& style, const QImage& image) {
@@ -52,6 +80,8 @@ void draw(QPainter& p, const QSize& page, const Field& field, const render::Slic
   const double w = std::min(avail_w, avail_h * aspect), h = w / aspect;
   const QRectF plot(left + (avail_w - w) / 2, top + (avail_h - h) / 2, w, h);
   p.drawImage(plot, image);
+  const render::SliceLines lines = render::slice_lines(field, style);
+  draw_lines(p, plot, g.dims[iu], g.dims[iv], lines);
   p.setPen(QPen(Qt::black, 1));
   p.drawRect(plot);
 
@@ -147,12 +177,14 @@ void draw(QPainter& p, const QSize& page, const Field& field, const render::Slic
     p.drawText(QRectF(bar.left() + 2 * fh, y - fh / 2.0, 8 * fh, fh), Qt::AlignLeft | Qt::AlignVCenter, text);
     y += 1.2 * fh;
   };
+  // The legend names only the lines the plot has.
   QStringList levels;
-  for (double l : style.contour_levels) levels << QString::number(l);
+  for (const auto& [level, segments] : lines.contours)
+    if (!segments.empty()) levels << QString::number(level);
   if (!levels.isEmpty()) legend_line(QColor(255, 255, 255), 3,
                 QString::fromStdString(render::field_title(field, render::contour_field(style.field))) + " = " +
                     levels.join(", "));
-  if (style.draw_reach_boundary) legend_line(QColor(60, 60, 60), 3, "reach boundary");
+  if (!lines.boundary.empty()) legend_line(QColor(60, 60, 60), 3, "reach boundary");
   p.fillRect(QRectF(bar.left(), y - 0.4 * fh, 1.5 * fh, 0.8 * fh), QColor::fromRgbF(0.85, 0.85, 0.85));
   p.drawText(QRectF(bar.left() + 2 * fh, y - fh / 2.0, 8 * fh, fh), Qt::AlignLeft | Qt::AlignVCenter, "unreachable");
 }
@@ -161,7 +193,11 @@ void draw(QPainter& p, const QSize& page, const Field& field, const render::Slic
 
 void write_slice_figure(const Field& field, const render::SliceStyle& style_in, const std::filesystem::path& path) {
   const render::SliceStyle style = render::resolved_style(field, style_in);
-  const QImage image = slice_qimage(field, style);
+  // The image carries the colours; the lines are drawn over it as paths.
+  render::SliceStyle colours_only = style;
+  colours_only.contour_levels.clear();
+  colours_only.draw_reach_boundary = false;
+  const QImage image = slice_qimage(field, colours_only);
   write_painted(path, QSize(1400, 1050), "Linkscape slice", [&](QPainter& p, const QRectF& area) {
     draw(p, area.size().toSize(), field, style, image);
   });

@@ -177,13 +177,19 @@ QComboBox* make_preset_chooser(QWidget* window, const Preset& current) {
 
 void export_slice_image(QWidget* parent, const Field* slice, const render::SliceStyle& style) {
   if (!slice) return;
-  const QString path = QFileDialog::getSaveFileName(parent, QObject::tr("Export slice image"), "slice.png",
-                                                    QObject::tr("Image (*.png);;Figure (*.svg *.pdf)"));
+  // A figure (axes, colour bar, legend, title; lines as vector paths) unless
+  // the user asks for the bare samples; the method field's colours are
+  // categories, so it has no colour bar and goes out bare.
+  const QString figure_filter = QObject::tr("Figure (*.png *.svg *.pdf)");
+  const QString bare_filter = QObject::tr("Samples only, one pixel each (*.png)");
+  QString selected = style.field == "method" ? bare_filter : figure_filter;
+  const QString path = QFileDialog::getSaveFileName(parent, QObject::tr("Export slice"), "slice.png",
+                                                    figure_filter + ";;" + bare_filter, &selected);
   if (path.isEmpty()) return;
   try {
-    const bool figure = path.endsWith(".svg") || path.endsWith(".pdf");
+    const bool figure = selected == figure_filter || !path.endsWith(".png");
     if (figure && style.field == "method")
-      throw std::invalid_argument("the method field is exported as a PNG image (its colours are categories)");
+      throw std::invalid_argument("the method field is exported as a PNG of its samples (its colours are categories)");
     if (figure) write_slice_figure(*slice, style, path.toStdString());
     else render::write_slice_png(*slice, style, path.toStdString());
   } catch (const std::exception& e) {
@@ -226,6 +232,12 @@ void export_volume(QWidget* parent, const Field* volume) {
   }
 }
 
+void save_png(const QImage& image, const std::string& path) {
+  write_atomically(path, [&](const std::filesystem::path& tmp) {
+    if (!image.save(QString::fromStdString(tmp.string()), "PNG")) throw std::runtime_error("cannot write PNG '" + path + "'");
+  });
+}
+
 void export_screenshot(QWidget* window) {
   const QString path =
       QFileDialog::getSaveFileName(window, QObject::tr("Save screenshot"), "linkscape.png", QObject::tr("PNG (*.png)"));
@@ -243,7 +255,8 @@ void export_screenshot(QWidget* window) {
 namespace detail {
 
 int save_screenshot_when(QWidget& window, const std::string& path, const std::function<bool()>& ready,
-                         const std::function<void(std::function<void()>)>& on_update) {
+                         const std::function<void(std::function<void()>)>& on_update,
+                         const std::function<std::string()>& write) {
   int status = 1;
   bool grabbing = false;
   const std::function<void()> grab_when_ready = [&] {
@@ -251,13 +264,13 @@ int save_screenshot_when(QWidget& window, const std::string& path, const std::fu
     grabbing = true;
     // One more frame so the picture shows the last fields.
     QTimer::singleShot(100, &window, [&] {
-      const QImage image = window.grab().toImage();
       try {  // exceptions must not cross Qt's event loop
-        write_atomically(path, [&](const std::filesystem::path& tmp) {
-          if (!image.save(QString::fromStdString(tmp.string()), "PNG"))
-            throw std::runtime_error("cannot write PNG '" + path + "'");
-        });
-        std::cout << "wrote " << path << " (" << image.width() << "x" << image.height() << ")\n";
+        const std::string size = write ? write() : [&] {
+          const QImage image = window.grab().toImage();
+          save_png(image, path);
+          return std::to_string(image.width()) + "x" + std::to_string(image.height());
+        }();
+        std::cout << "wrote " << path << " (" << size << ")\n";
         status = 0;
       } catch (const std::exception& e) {
         std::cerr << "linkscape: error: " << e.what() << "\n";

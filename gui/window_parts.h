@@ -16,6 +16,7 @@
 #include "render/slice_image.h"
 
 class QComboBox;
+class QImage;
 class QDockWidget;
 class QLabel;
 class QProgressBar;
@@ -67,6 +68,8 @@ void export_surface_mesh(QWidget* parent, const Field* volume, vtkPolyData* reac
                          double cond_threshold);
 void export_volume(QWidget* parent, const Field* volume);
 void export_screenshot(QWidget* window);
+// An image as PNG, atomically. Throws std::runtime_error if it cannot be written.
+void save_png(const QImage& image, const std::string& path);
 
 // Help menu: the versions of the program and its libraries; where the
 // documentation is (the docs folder of the source tree when there is one,
@@ -75,8 +78,12 @@ void show_about(QWidget* parent);
 void show_documentation(QWidget* parent);
 
 namespace detail {
+// Runs the event loop until ready() after an update, then saves `path`:
+// write() where given (it returns the size written, "WxH"), else the whole
+// window. Returns the exit code.
 int save_screenshot_when(QWidget& window, const std::string& path, const std::function<bool()>& ready,
-                         const std::function<void(std::function<void()>)>& on_update);
+                         const std::function<void(std::function<void()>)>& on_update,
+                         const std::function<std::string()>& write = {});
 }  // namespace detail
 
 // Screenshot mode of the window: runs the event loop until the fields
@@ -84,12 +91,13 @@ int save_screenshot_when(QWidget& window, const std::string& path, const std::fu
 // frame shows them, then writes a PNG of the window atomically. Returns the
 // exit code: 0, or 1 if the file cannot be written or after 60 s.
 template <class Window>
-int save_screenshot_when_settled(Window& window, const std::string& path) {
+int save_screenshot_when_settled(Window& window, const std::string& path, std::function<std::string()> write = {}) {
   return detail::save_screenshot_when(
       window, path, [&window] { return window.fieldsSettled(); },
       [&window](std::function<void()> check) {
         QObject::connect(&window, &Window::fieldsUpdated, &window, [check](bool) { check(); });
-      });
+      },
+      write);
 }
 
 }  // namespace linkscape::gui

@@ -49,6 +49,9 @@ set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 # Rendering needs a working OpenGL driver; Mesa's is the usual one, but a
 # vendor driver will do, so it is only recommended.
 set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "libgl1-mesa-dri")
+# libmpi comes in through SHLIBDEPS where the binary links it; mpirun, to run
+# linkscape sweep over several processes, is only suggested.
+set(CPACK_DEBIAN_PACKAGE_SUGGESTS "openmpi-bin")
 
 # Source tarball (cpack --config CPackSourceConfig.cmake): leave out build
 # trees and VCS data.

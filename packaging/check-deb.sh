@@ -5,8 +5,9 @@
 # BUILD_DIR) and checks it WITHOUT installing it: control fields and Depends
 # (dpkg-deb -I), the file list, then runs the binary extracted with
 # dpkg-deb -x -- --help, a forward-kinematics eval that must find the
-# packaged preset through <exe>/../share/linkscape/mechanisms, a field on the
-# baseline SIMD target against the scalar kernel, and, when DISPLAY is set,
+# packaged preset through <exe>/../share/linkscape/mechanisms, fields of the
+# 12R, the Delta and PATHOS-II on the baseline SIMD target against each
+# device's reference kernel, and, when DISPLAY is set,
 # --screenshot. Prints one PASS/FAIL/SKIP line per check and
 # exits non-zero if any check failed. On success the package is also copied
 # to BUILD_DIR/linkscape_<version>_<arch>.deb.
@@ -94,6 +95,12 @@ for lib in libc6 libstdc++6 libgomp1 libhwy1 libqt6core6 libqt6gui6 libqt6widget
 done
 if [ ${#missing[@]} -eq 0 ]; then pass "Depends names libc6, libstdc++6, libgomp1, Highway, Qt6 (with Charts) and VTK 9.1"
 else fail "Depends lacks: ${missing[*]}"; fi
+# The binary links libmpi (linkscape sweep over MPI ranks, and Debian's VTK):
+# its package must be named.
+if [ -n "$(objdump -p "$build/gui/linkscape" 2>/dev/null | grep 'NEEDED *libmpi')" ]; then
+  if grep -qxF libopenmpi3 <<<"$dep_names"; then pass "Depends names libopenmpi3 (the binary links libmpi)"
+  else fail "the binary links libmpi but Depends lacks libopenmpi3"; fi
+fi
 # Every dependency must be installable here (the build machine has them all).
 unresolved=()
 for pkg in $dep_names; do
@@ -227,13 +234,13 @@ fi
 # 4c. As on a CPU with only the baseline instruction set (SSE2): the
 # vectorised field forced to Highway's portable target must give the scalar
 # reference's statuses, reach and method, and c(J) within a float rounding.
-field_csv() {  # name file [VAR=value]: a 12R field at 21^3 as CSV
-  local name=$1 file=$2; shift 2
-  (cd "$work" && run "$name" env -u LINKSCAPE_ASSETS "$@" "$exe" field --mechanism parallel-12r \
+field_csv() {  # name file mechanism [VAR=value]: a field at 21^3 as CSV
+  local name=$1 file=$2 mechanism=$3; shift 3
+  (cd "$work" && run "$name" env -u LINKSCAPE_ASSETS "$@" "$exe" field --mechanism "$mechanism" \
      --resolution 21 --output "$file")
 }
-if field_csv field-baseline "$work/baseline.csv" LINKSCAPE_SIMD_TARGET=baseline &&
-   field_csv field-scalar "$work/scalar.csv" LINKSCAPE_FIELD_KERNEL=scalar; then
+if field_csv field-baseline "$work/baseline.csv" parallel-12r LINKSCAPE_SIMD_TARGET=baseline &&
+   field_csv field-scalar "$work/scalar.csv" parallel-12r LINKSCAPE_FIELD_KERNEL=scalar; then
   # Columns: x,y,z,cond,reach_margin,residual,reachable,status,iterations,method_used
   if paste -d, "$work/baseline.csv" "$work/scalar.csv" | awk -F, '
        NR == 1 { next }
@@ -248,6 +255,19 @@ if field_csv field-baseline "$work/baseline.csv" LINKSCAPE_SIMD_TARGET=baseline 
 else
   fail "linkscape field with LINKSCAPE_SIMD_TARGET=baseline / LINKSCAPE_FIELD_KERNEL=scalar"
 fi
+# The Delta's and PATHOS-II's fast kernels are plain C++: on the baseline
+# target they write the reference's file, the Delta's byte for byte,
+# PATHOS-II's but for the closure residual (column 7, rounding noise).
+for device in delta:1- pathos2:1-6,8-; do
+  name=${device%%:*} columns=${device#*:}
+  if field_csv "$name-baseline" "$work/$name-baseline.csv" "$name" LINKSCAPE_SIMD_TARGET=baseline &&
+     field_csv "$name-scalar" "$work/$name-scalar.csv" "$name" LINKSCAPE_FIELD_KERNEL=scalar &&
+     cmp -s <(cut -d, -f"$columns" "$work/$name-baseline.csv") <(cut -d, -f"$columns" "$work/$name-scalar.csv"); then
+    pass "$name field on the baseline SIMD target equals the reference kernel's (columns $columns)"
+  else
+    fail "$name field on the baseline SIMD target differs from the reference kernel's"
+  fi
+done
 
 if [ -n "${DISPLAY:-}" ]; then
   if run_exe screenshot --screenshot "$work/out.png" && [ -s "$work/out.png" ]; then

@@ -9,6 +9,7 @@ packages=(
   libvtk9-dev libopenmesh-dev
   qt6-base-dev libqt6opengl6-dev qt6-svg-dev qt6-charts-dev
   libgtest-dev libbenchmark-dev
+  libopenmpi-dev openmpi-bin
   xvfb xauth libgl1-mesa-dri
   lintian desktop-file-utils bash-completion
 )

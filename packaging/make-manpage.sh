@@ -15,7 +15,9 @@ export QT_QPA_PLATFORM=offscreen
 roff() { sed -e 's/\\/\\e/g' -e "s/^\([.']\)/\\\\\&\1/"; }
 
 version=$("$exe" --version | awk '{print $2}')
-commands=$("$exe" --help | awk '/^Subcommands:/ {on = 1; next} on && /^  [a-z]/ {print $1} on && /^$/ {exit}')
+# The whole help first: awk stopping early must not break the pipe under pipefail.
+help=$("$exe" --help)
+commands=$(awk '/^Subcommands:/ {on = 1; next} on && /^  [a-z]/ {print $1} on && /^$/ {exit}' <<<"$help")
 
 tmp=$(mktemp "${out}.XXXXXX")
 trap 'rm -f "$tmp"' EXIT
@@ -34,7 +36,7 @@ trap 'rm -f "$tmp"' EXIT
   echo "\\fIFILE\\fR, a saved session or a preset. With a command it runs headless."
   echo ".PP"
   echo ".nf"
-  "$exe" --help | roff
+  roff <<<"$help"
   echo ".fi"
   echo ".SH COMMANDS"
   for c in $commands; do

@@ -23,13 +23,20 @@
 namespace linkscape::render {
 namespace {
 
+// A VTK array with the values of `values`: a copy, or a view of them (VTK
+// neither writes nor frees them; they must outlive the array).
 template <class Array, class Values>
-vtkSmartPointer<Array> copy_array(const char* name, const Values& values) {
+vtkSmartPointer<Array> vtk_array(const char* name, const Values& values, bool copy) {
   auto array = vtkSmartPointer<Array>::New();
   array->SetName(name);
   array->SetNumberOfComponents(1);
-  array->SetNumberOfTuples(vtkIdType(values.size()));
-  std::copy(values.begin(), values.end(), array->GetPointer(0));
+  if (copy) {
+    array->SetNumberOfTuples(vtkIdType(values.size()));
+    std::copy(values.begin(), values.end(), array->GetPointer(0));
+  } else {
+    using Value = typename Values::value_type;
+    array->SetArray(const_cast<Value*>(values.data()), vtkIdType(values.size()), /*save=*/1);
+  }
   return array;
 }
 
@@ -98,7 +105,9 @@ void add_metadata(vtkFieldData* out, const Field& field) {
   }
 }
 
-vtkSmartPointer<vtkImageData> to_image_data(const Field& field) {
+namespace {
+
+vtkSmartPointer<vtkImageData> image_data(const Field& field, bool copy) {
   check_field(field);
   const Grid& g = field.grid;
   auto image = vtkSmartPointer<vtkImageData>::New();
@@ -107,17 +116,18 @@ vtkSmartPointer<vtkImageData> to_image_data(const Field& field) {
   const Eigen::Vector3d first = g.origin + 0.5 * g.spacing;
   image->SetOrigin(first.x(), first.y(), first.z());
   vtkPointData* pd = image->GetPointData();
-  pd->AddArray(copy_array<vtkFloatArray>("cond", field.cond));
+  pd->AddArray(vtk_array<vtkFloatArray>("cond", field.cond, copy));
   if (!field.cond_orientation.empty())
-    pd->AddArray(copy_array<vtkFloatArray>("cond_orientation", field.cond_orientation));
-  pd->AddArray(copy_array<vtkFloatArray>("reach_margin", field.reach_margin));
-  pd->AddArray(copy_array<vtkFloatArray>("residual", field.residual));
-  pd->AddArray(copy_array<vtkUnsignedCharArray>("reachable", field.reachable));
-  pd->AddArray(copy_array<vtkUnsignedCharArray>("status", field.status));
-  pd->AddArray(copy_array<vtkUnsignedShortArray>("iterations", field.iterations));
-  if (!field.method_used.empty()) pd->AddArray(copy_array<vtkUnsignedCharArray>("method_used", field.method_used));
+    pd->AddArray(vtk_array<vtkFloatArray>("cond_orientation", field.cond_orientation, copy));
+  pd->AddArray(vtk_array<vtkFloatArray>("reach_margin", field.reach_margin, copy));
+  pd->AddArray(vtk_array<vtkFloatArray>("residual", field.residual, copy));
+  pd->AddArray(vtk_array<vtkUnsignedCharArray>("reachable", field.reachable, copy));
+  pd->AddArray(vtk_array<vtkUnsignedCharArray>("status", field.status, copy));
+  pd->AddArray(vtk_array<vtkUnsignedShortArray>("iterations", field.iterations, copy));
+  if (!field.method_used.empty())
+    pd->AddArray(vtk_array<vtkUnsignedCharArray>("method_used", field.method_used, copy));
   for (const Field::NamedArray& a : field.extras) {
-    pd->AddArray(copy_array<vtkFloatArray>(a.name.c_str(), a.values));
+    pd->AddArray(vtk_array<vtkFloatArray>(a.name.c_str(), a.values, copy));
     // The unit also as the component name, which ParaView shows beside the array.
     pd->GetArray(a.name.c_str())->SetComponentName(0, a.unit.c_str());
   }
@@ -126,15 +136,31 @@ vtkSmartPointer<vtkImageData> to_image_data(const Field& field) {
   return image;
 }
 
-void write_vti(const Field& field, const std::filesystem::path& path) {
-  vtkSmartPointer<vtkImageData> image = to_image_data(field);
+}  // namespace
+
+vtkSmartPointer<vtkImageData> to_image_data(const Field& field) { return image_data(field, true); }
+
+void write_vti(const Field& field, const std::filesystem::path& path, const VtiCompression& compression) {
+  // `field` outlives the writer, so its arrays are read in place.
+  write_image_data(image_data(field, false), path, compression);
+}
+
+void write_image_data(vtkImageData* image, const std::filesystem::path& path, const VtiCompression& compression) {
+  if (compression.level < 1 || compression.level > 9)
+    throw std::invalid_argument("write_vti: compression level must be 1..9, got " + std::to_string(compression.level));
   write_atomically(path, [&](const std::filesystem::path& tmp) {
     vtkNew<vtkXMLImageDataWriter> writer;
     writer->SetFileName(tmp.c_str());
     writer->SetInputData(image);
     writer->SetDataModeToAppended();
     writer->EncodeAppendedDataOff();  // raw binary
-    writer->SetCompressorTypeToZLib();
+    switch (compression.type) {
+      case VtiCompression::Type::None: writer->SetCompressorTypeToNone(); break;
+      case VtiCompression::Type::ZLib: writer->SetCompressorTypeToZLib(); break;
+      case VtiCompression::Type::LZ4: writer->SetCompressorTypeToLZ4(); break;
+      case VtiCompression::Type::LZMA: writer->SetCompressorTypeToLZMA(); break;
+    }
+    writer->SetCompressionLevel(compression.level);
     if (writer->Write() != 1 || writer->GetErrorCode() != 0)
       throw std::runtime_error("cannot write VTK image data '" + path.string() + "': " +
                                vtkErrorCode::GetStringFromErrorCode(writer->GetErrorCode()));

@@ -36,10 +36,24 @@ vtkSmartPointer<vtkImageData> to_image_data(const Field& field);
 // per named array "<name>_unit", "<name>_title", "<name>_description".
 void add_metadata(vtkFieldData* out, const Field& field);
 
-// Writes to_image_data(field) as binary, zlib-compressed VTK XML image data,
-// atomically. Throws std::invalid_argument as check_field, std::runtime_error
-// if the file cannot be written (the target is then untouched).
-void write_vti(const Field& field, const std::filesystem::path& path);
+// How a .vti's appended arrays are compressed: VTK's XML compressors, level
+// 1 (fastest) .. 9 (smallest). The default comes from the size and time
+// table in docs/performance.md (LZ4 at level 1: at 192^3 about 5x faster to
+// write than zlib at its default level, the file about a quarter larger).
+struct VtiCompression {
+  enum class Type { None, ZLib, LZ4, LZMA };
+  Type type = Type::LZ4;
+  int level = 1;
+};
+
+// Writes the image of to_image_data(field) as binary, compressed VTK XML
+// image data, atomically, reading the Field's arrays in place (no copy).
+// Throws std::invalid_argument as check_field or for a level outside 1..9,
+// std::runtime_error if the file cannot be written (the target is then
+// untouched).
+void write_vti(const Field& field, const std::filesystem::path& path, const VtiCompression& compression = {});
+// Writes any image data the same way (binary, compressed, atomically).
+void write_image_data(vtkImageData* image, const std::filesystem::path& path, const VtiCompression& compression = {});
 
 // Writes one CSV row per sample, x fastest:
 //   x,y,z,cond,reach_margin,residual,reachable,status,iterations[,method_used][,<named arrays>]

@@ -138,15 +138,18 @@ void check_range(double lo, double hi, bool log) {
     throw std::invalid_argument("slice style: a logarithmic colour scale needs min > 0, got " + std::to_string(lo));
 }
 
-// A line segment in sample coordinates (fractional sample indices u, v).
-struct Segment {
-  double u0, v0, u1, v1;
-};
+// The grid index of sample (iu, iv) of a slice with axes u, v.
+std::size_t slice_index(const Grid& g, Axis u, Axis v, int iu, int iv) {
+  int ijk[3] = {0, 0, 0};
+  ijk[int(u)] = iu;
+  ijk[int(v)] = iv;
+  return g.index(ijk[0], ijk[1], ijk[2]);
+}
 
 // Marching squares: the segments where `f` (nu x nv, u fastest) crosses
 // `level`; saddles are resolved by the cell-centre average.
-std::vector<Segment> contour(const std::vector<double>& f, int nu, int nv, double level) {
-  std::vector<Segment> out;
+std::vector<SliceSegment> contour(const std::vector<double>& f, int nu, int nv, double level) {
+  std::vector<SliceSegment> out;
   static constexpr int kCorner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
   for (int j = 0; j + 1 < nv; ++j)
     for (int i = 0; i + 1 < nu; ++i) {
@@ -191,7 +194,7 @@ std::vector<Segment> contour(const std::vector<double>& f, int nu, int nv, doubl
 }
 
 // Draws `segments` into the RGBA buffer with a square brush `width` pixels wide.
-void draw(unsigned char* rgba, int width_px, int height_px, int scale, const std::vector<Segment>& segments,
+void draw(unsigned char* rgba, int width_px, int height_px, int scale, const std::vector<SliceSegment>& segments,
           std::array<unsigned char, 3> colour, int width) {
   auto paint = [&](double x, double y) {
     const int x0 = int(std::floor(x - width / 2.0 + 0.5)), y0 = int(std::floor(y - width / 2.0 + 0.5));
@@ -205,7 +208,7 @@ void draw(unsigned char* rgba, int width_px, int height_px, int scale, const std
         p[3] = 255;
       }
   };
-  for (const Segment& s : segments) {
+  for (const SliceSegment& s : segments) {
     const double x0 = (s.u0 + 0.5) * scale, y0 = (s.v0 + 0.5) * scale;
     const double x1 = (s.u1 + 0.5) * scale, y1 = (s.v1 + 0.5) * scale;
     const int steps = 1 + int(std::ceil(4 * std::max(std::abs(x1 - x0), std::abs(y1 - y0))));
@@ -379,12 +382,7 @@ vtkSmartPointer<vtkImageData> render_slice_rgba(const Field& field, const SliceS
   const Axis normal = slice_normal(g);
   const auto [au, av] = Grid::slice_axes(normal);
   const int nu = g.dims[int(au)], nv = g.dims[int(av)];
-  auto sample = [&](int iu, int iv) {
-    int ijk[3] = {0, 0, 0};
-    ijk[int(au)] = iu;
-    ijk[int(av)] = iv;
-    return g.index(ijk[0], ijk[1], ijk[2]);
-  };
+  auto sample = [&](int iu, int iv) { return slice_index(g, au, av, iu, iv); };
 
   const int scale = style.scale;
   const int width = nu * scale, height = nv * scale;
@@ -417,18 +415,29 @@ vtkSmartPointer<vtkImageData> render_slice_rgba(const Field& field, const SliceS
         }
     }
 
-  // Lines: cond contours in log10 (cond is spread over decades), then the
-  // reachable boundary on top.
+  // Lines: cond contours, then the reachable boundary on top.
+  const SliceLines lines = slice_lines(field, style);
+  for (const auto& [level, segments] : lines.contours) draw(rgba, width, height, scale, segments, kContourColour, scale == 1 ? 1 : 2);
+  draw(rgba, width, height, scale, lines.boundary, kBoundaryColour, 2);
+  return image;
+}
+
+SliceLines slice_lines(const Field& field, const SliceStyle& style) {
+  const Grid& g = field.grid;
+  const auto [au, av] = Grid::slice_axes(slice_normal(g));
+  const int nu = g.dims[int(au)], nv = g.dims[int(av)];
+  auto sample = [&](int iu, int iv) { return slice_index(g, au, av, iu, iv); };
+  SliceLines lines;
   std::vector<double> values(std::size_t(nu) * nv);
+  // cond in log10: it is spread over decades.
   if (!style.contour_levels.empty()) {
+    const Quantity q = parse_quantity(contour_field(style.field));
     for (int iv = 0; iv < nv; ++iv)
       for (int iu = 0; iu < nu; ++iu) {
-        const double c = value_at(field, parse_quantity(contour_field(style.field)), sample(iu, iv));
+        const double c = value_at(field, q, sample(iu, iv));
         values[iu + std::size_t(nu) * iv] = std::log10(std::isnan(c) ? kCondCap : std::clamp(c, 1e-30, kCondCap));
       }
-    const int line = scale == 1 ? 1 : 2;
-    for (double level : style.contour_levels)
-      draw(rgba, width, height, scale, contour(values, nu, nv, std::log10(level)), kContourColour, line);
+    for (double level : style.contour_levels) lines.contours.emplace_back(level, contour(values, nu, nv, std::log10(level)));
   }
   if (style.draw_reach_boundary) {
     for (int iv = 0; iv < nv; ++iv)
@@ -436,9 +445,9 @@ vtkSmartPointer<vtkImageData> render_slice_rgba(const Field& field, const SliceS
         const double m = field.reach_margin[sample(iu, iv)];
         values[iu + std::size_t(nu) * iv] = std::isnan(m) ? -1e30 : std::clamp(m, -1e30, 1e30);
       }
-    draw(rgba, width, height, scale, contour(values, nu, nv, 0.0), kBoundaryColour, 2);
+    lines.boundary = contour(values, nu, nv, 0.0);
   }
-  return image;
+  return lines;
 }
 
 void write_slice_png(const Field& field, const SliceStyle& style, const std::filesystem::path& path) {

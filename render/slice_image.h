@@ -103,6 +103,21 @@ Axis slice_normal(const Grid& grid);
 // std::invalid_argument for a bad field or style (see colour_range, scale < 1).
 vtkSmartPointer<vtkImageData> render_slice_rgba(const Field& field, const SliceStyle& style);
 
+// A line segment in sample coordinates: fractional sample indices along the
+// slice's u and v axes (sample (i, j) sits at (i, j)).
+struct SliceSegment {
+  double u0, v0, u1, v1;
+};
+// The lines a slice image draws, by marching squares over the samples: each
+// of style.contour_levels' segments (of contour_field(style.field), in
+// log10) and the reach boundary's (reach margin 0) where
+// style.draw_reach_boundary. Figures draw them as vector paths.
+struct SliceLines {
+  std::vector<std::pair<double, std::vector<SliceSegment>>> contours;  // level, segments
+  std::vector<SliceSegment> boundary;
+};
+SliceLines slice_lines(const Field& field, const SliceStyle& style);
+
 // render_slice_rgba() written as a PNG (top row = max v), atomically.
 // Throws as render_slice_rgba and std::runtime_error on I/O failure.
 void write_slice_png(const Field& field, const SliceStyle& style, const std::filesystem::path& path);

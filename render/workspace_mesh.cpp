@@ -12,6 +12,7 @@
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
+#include <vtkSTLWriter.h>
 #include <vtkStringArray.h>
 #include <vtkXMLPolyDataWriter.h>
 
@@ -33,6 +34,7 @@
 #include <cstring>
 #include <functional>
 #include <limits>
+#include <numeric>
 #include <stdexcept>
 #include <unordered_map>
 #include <vector>
@@ -48,61 +50,59 @@ using Mesh = OpenMesh::TriMesh_ArrayKernelT<>;
 constexpr double kCondCap = 1e6;  // cond above this (and +inf, NaN) counts as this
 constexpr double kDecadesCap = 6;  // a named array's log10 distance to its threshold is clamped to this
 
-// The scalar whose zero level set is the requested surface, > 0 inside.
-std::vector<float> surface_scalar(const Field& field, const SurfaceRequest& request) {
-  const std::size_t n = field.grid.size();
+// The scalar whose zero level set is the requested surface, > 0 inside:
+// fills out[0 .. count) with the values of samples first .. first + count.
+using SurfaceScalar = std::function<void(std::size_t first, int count, float* out)>;
+SurfaceScalar surface_scalar(const Field& field, const SurfaceRequest& request) {
   const double h = field.grid.spacing.minCoeff();
-  std::vector<float> s(n);
-  if (request.surface == Surface::Reach) {
-    for (std::size_t i = 0; i < n; ++i) s[i] = std::isnan(field.reach_margin[i]) ? float(-h) : field.reach_margin[i];
+  if (request.surface == Surface::Reach)
+    return [&field, h](std::size_t first, int count, float* out) {
+      const float* margin = field.reach_margin.data() + first;
+      for (int t = 0; t < count; ++t) out[t] = std::isnan(margin[t]) ? float(-h) : margin[t];
+    };
+  // s = log10(threshold) - log10(cond) in decades, combined by min() with
+  // the reach margin in cells (k*m). On every grid edge where the reach
+  // surface crosses (m_a > 0 > m_b), s_a <= k*m_a and s_b <= k*m_b give
+  // s_a/(s_a - s_b) <= m_a/(m_a - m_b): the interpolated crossing of s is no
+  // farther out than the reach surface's, so the well-conditioned surface
+  // stays inside the reachable set, whatever cond does outside it.
+  // Unreachable samples (also those with m > 0, e.g. at joint limits) get
+  // at most -1, one decade worse than the threshold.
+  const double k = 1.0 / h;
+  // Decades by which sample i meets the criterion (> 0 inside).
+  std::function<double(std::size_t)> decades;
+  if (request.surface == Surface::WellConditioned) {
+    const double top = std::log10(request.cond_threshold);
+    decades = [&field, top](std::size_t i) {
+      // Six-DOF mechanisms: well conditioned in position and orientation.
+      const double c = field.cond_orientation.empty() ? field.cond[i] : std::max(field.cond[i], field.cond_orientation[i]);
+      return top - std::log10(std::isnan(c) ? kCondCap : std::clamp(c, 1.0, kCondCap));
+    };
   } else {
-    // s = log10(threshold) - log10(cond) in decades, combined by min() with
-    // the reach margin in cells (k*m). On every grid edge where the reach
-    // surface crosses (m_a > 0 > m_b), s_a <= k*m_a and s_b <= k*m_b give
-    // s_a/(s_a - s_b) <= m_a/(m_a - m_b): the interpolated crossing of s is no
-    // farther out than the reach surface's, so the well-conditioned surface
-    // stays inside the reachable set, whatever cond does outside it.
-    // Unreachable samples (also those with m > 0, e.g. at joint limits) get
-    // at most -1, one decade worse than the threshold.
-    const double k = 1.0 / h;
-    // Decades by which sample i meets the criterion (> 0 inside).
-    std::function<double(std::size_t)> decades;
-    if (request.surface == Surface::WellConditioned) {
-      const double top = std::log10(request.cond_threshold);
-      decades = [&field, top](std::size_t i) {
-        // Six-DOF mechanisms: well conditioned in position and orientation.
-        const double c = field.cond_orientation.empty() ? field.cond[i] : std::max(field.cond[i], field.cond_orientation[i]);
-        return top - std::log10(std::isnan(c) ? kCondCap : std::clamp(c, 1.0, kCondCap));
-      };
-    } else {
-      const Field::NamedArray* array = field.extra(request.field);
-      if (!array) throw std::invalid_argument("surface: the field has no array '" + request.field + "'");
-      const double level = std::log10(request.threshold), sign = request.above ? 1.0 : -1.0;
-      decades = [array, level, sign](std::size_t i) {
-        const double v = array->values[i];
-        const double d = v > 0 ? std::log10(v) - level : -kDecadesCap;  // 0 and NaN: nothing
-        return sign * std::clamp(std::isnan(d) ? -kDecadesCap : d, -kDecadesCap, kDecadesCap);
-      };
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-      const double m = std::isnan(field.reach_margin[i]) ? -h : double(field.reach_margin[i]);
-      if (field.reachable[i]) {
-        s[i] = float(std::min(decades(i), k * m));
-      } else {
-        s[i] = float(std::min(k * m, -1.0));
-      }
-    }
+    const Field::NamedArray* array = field.extra(request.field);
+    if (!array) throw std::invalid_argument("surface: the field has no array '" + request.field + "'");
+    const double level = std::log10(request.threshold), sign = request.above ? 1.0 : -1.0;
+    decades = [array, level, sign](std::size_t i) {
+      const double v = array->values[i];
+      const double d = v > 0 ? std::log10(v) - level : -kDecadesCap;  // 0 and NaN: nothing
+      return sign * std::clamp(std::isnan(d) ? -kDecadesCap : d, -kDecadesCap, kDecadesCap);
+    };
   }
-  return s;
+  return [&field, h, k, decades](std::size_t first, int count, float* out) {
+    for (int t = 0; t < count; ++t) {
+      const std::size_t i = first + std::size_t(t);
+      const double m = std::isnan(field.reach_margin[i]) ? -h : double(field.reach_margin[i]);
+      out[t] = float(field.reachable[i] ? std::min(decades(i), k * m) : std::min(k * m, -1.0));
+    }
+  };
 }
 
-// The scalar padded by one sample on every side. A pad sample takes minus
-// its nearest real sample's value (or a small negative value), so a surface
+// The surface scalar on the grid padded by one sample on every side, each
+// row written straight into the image's array. A pad sample takes minus its
+// nearest real sample's value (or a small negative value), so a surface
 // leaving the box crosses exactly half-way, on the box face, and is closed.
 // Values of exactly 0 are nudged outside so that no triangle degenerates.
-vtkSmartPointer<vtkImageData> padded_image(const Grid& g, std::vector<float> s, float eps) {
-  for (float& v : s)
-    if (std::abs(v) < eps) v = -eps;
+vtkSmartPointer<vtkImageData> padded_image(const Grid& g, const SurfaceScalar& scalar, float eps) {
   const int nx = g.dims[0] + 2, ny = g.dims[1] + 2, nz = g.dims[2] + 2;
   auto image = vtkSmartPointer<vtkImageData>::New();
   image->SetDimensions(nx, ny, nz);
@@ -113,14 +113,24 @@ vtkSmartPointer<vtkImageData> padded_image(const Grid& g, std::vector<float> s, 
   scalars->SetName("surface_scalar");
   scalars->SetNumberOfTuples(vtkIdType(nx) * ny * nz);
   float* out = scalars->GetPointer(0);
+  const auto at = [&](int i, int j, int k) -> float& { return out[i + std::size_t(nx) * (j + std::size_t(ny) * k)]; };
+  for (int k = 0; k < g.dims[2]; ++k)
+    for (int j = 0; j < g.dims[1]; ++j) {
+      float* row = &at(1, j + 1, k + 1);
+      scalar(g.index(0, j, k), g.dims[0], row);
+      for (int i = 0; i < g.dims[0]; ++i)
+        if (std::abs(row[i]) < eps) row[i] = -eps;
+    }
+  const auto pad = [&](int i, int j, int k) {
+    at(i, j, k) = std::min(-eps, -at(std::clamp(i, 1, nx - 2), std::clamp(j, 1, ny - 2), std::clamp(k, 1, nz - 2)));
+  };
   for (int k = 0; k < nz; ++k)
     for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i) {
-        const int ci = std::clamp(i - 1, 0, g.dims[0] - 1), cj = std::clamp(j - 1, 0, g.dims[1] - 1),
-                  ck = std::clamp(k - 1, 0, g.dims[2] - 1);
-        const float v = s[g.index(ci, cj, ck)];
-        const bool pad = i == 0 || j == 0 || k == 0 || i == nx - 1 || j == ny - 1 || k == nz - 1;
-        out[i + std::size_t(nx) * (j + std::size_t(ny) * k)] = pad ? std::min(-eps, -v) : v;
+      if (k == 0 || j == 0 || k == nz - 1 || j == ny - 1) {
+        for (int i = 0; i < nx; ++i) pad(i, j, k);
+      } else {
+        pad(0, j, k);
+        pad(nx - 1, j, k);
       }
   image->GetPointData()->SetScalars(scalars);
   return image;
@@ -141,6 +151,39 @@ std::vector<std::array<vtkIdType, 3>> triangles_of(vtkPolyData* mesh) {
   return out;
 }
 
+struct EdgeCounts {
+  std::size_t edges = 0, boundary = 0, non_manifold = 0;  // all, of one triangle, of three or more
+};
+
+// The edges of `triangles` (point ids below `points`) and how many triangles
+// share each: the edges are bucketed by their smaller end (a counting sort),
+// so each bucket holds the few larger ends of one point's edges.
+EdgeCounts count_edges(const std::vector<std::array<vtkIdType, 3>>& triangles, std::size_t points) {
+  std::vector<std::size_t> start(points + 1, 0);
+  const auto for_each_edge = [&](auto&& visit) {
+    for (const auto& t : triangles)
+      for (int k = 0; k < 3; ++k) visit(std::minmax(t[k], t[(k + 1) % 3]));
+  };
+  for_each_edge([&](auto e) { ++start[std::size_t(e.first) + 1]; });
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  std::vector<vtkIdType> larger_end(start.back());
+  std::vector<std::size_t> next(start.begin(), start.end() - 1);
+  for_each_edge([&](auto e) { larger_end[next[std::size_t(e.first)]++] = e.second; });
+  EdgeCounts counts;
+  for (std::size_t v = 0; v < points; ++v) {
+    const auto first = larger_end.begin() + std::ptrdiff_t(start[v]), last = larger_end.begin() + std::ptrdiff_t(start[v + 1]);
+    std::sort(first, last);
+    for (auto run = first; run != last;) {
+      const auto end = std::find_if(run, last, [&](vtkIdType w) { return w != *run; });
+      ++counts.edges;
+      counts.boundary += end - run == 1;
+      counts.non_manifold += end - run > 2;
+      run = end;
+    }
+  }
+  return counts;
+}
+
 struct FloatKey {
   std::array<float, 3> p;
   bool operator==(const FloatKey& o) const { return p == o.p; }
@@ -157,8 +200,11 @@ struct FloatKeyHash {
 // coordinates, degenerate triangles dropped, every face reversed if `flip`.
 Mesh to_openmesh(vtkPolyData* poly, bool flip) {
   Mesh mesh;
+  const std::size_t points = std::size_t(poly->GetNumberOfPoints()), faces = std::size_t(poly->GetNumberOfPolys());
+  mesh.reserve(points, 3 * faces / 2, faces);  // a closed triangle mesh: E = 3F/2
   std::unordered_map<FloatKey, Mesh::VertexHandle, FloatKeyHash> merged;
-  std::vector<Mesh::VertexHandle> handle(std::size_t(poly->GetNumberOfPoints()));
+  merged.reserve(points);
+  std::vector<Mesh::VertexHandle> handle(points);
   for (vtkIdType i = 0; i < poly->GetNumberOfPoints(); ++i) {
     double p[3];
     poly->GetPoint(i, p);
@@ -177,9 +223,13 @@ Mesh to_openmesh(vtkPolyData* poly, bool flip) {
   mesh.request_vertex_status();
   mesh.request_edge_status();
   mesh.request_face_status();
+  bool isolated = false;
   for (auto v : mesh.vertices())
-    if (mesh.is_isolated(v)) mesh.delete_vertex(v, false);
-  mesh.garbage_collection();
+    if (mesh.is_isolated(v)) {
+      mesh.delete_vertex(v, false);
+      isolated = true;
+    }
+  if (isolated) mesh.garbage_collection();
   return mesh;
 }
 
@@ -265,6 +315,14 @@ void add_surface_metadata(vtkFieldData* out, const SurfaceRequest& request) {
   }
 }
 
+// Runs a VTK writer; throws std::runtime_error naming `path` if it fails.
+template <class Writer>
+void check_written(Writer* writer, const std::filesystem::path& path, const std::string& what) {
+  if (writer->Write() != 1 || writer->GetErrorCode() != 0)
+    throw std::runtime_error("cannot write " + what + " '" + path.string() + "': " +
+                             vtkErrorCode::GetStringFromErrorCode(writer->GetErrorCode()));
+}
+
 std::string lower(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   return s;
@@ -326,7 +384,7 @@ MeshStats mesh_stats(vtkPolyData* mesh) {
   if (!mesh) throw std::invalid_argument("mesh_stats: expected a mesh, got null");
   MeshStats stats;
   const auto triangles = triangles_of(mesh);
-  std::unordered_map<std::uint64_t, int> edges;
+  const EdgeCounts edges = count_edges(triangles, std::size_t(mesh->GetNumberOfPoints()));
   std::vector<char> used(std::size_t(mesh->GetNumberOfPoints()), 0);
   stats.min = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
   stats.max = -stats.min;
@@ -340,19 +398,15 @@ MeshStats mesh_stats(vtkPolyData* mesh) {
         stats.min = stats.min.cwiseMin(p[k]);
         stats.max = stats.max.cwiseMax(p[k]);
       }
-      const std::uint64_t a = std::uint64_t(t[k]), b = std::uint64_t(t[(k + 1) % 3]);
-      ++edges[std::min(a, b) << 32 | std::max(a, b)];
     }
     stats.volume += p[0].dot(p[1].cross(p[2])) / 6;
     stats.area += (p[1] - p[0]).cross(p[2] - p[0]).norm() / 2;
   }
   stats.faces = triangles.size();
-  for (const auto& [key, count] : edges) {
-    if (count == 1) ++stats.boundary_edges;
-    if (count > 2) ++stats.non_manifold_edges;
-  }
+  stats.boundary_edges = edges.boundary;
+  stats.non_manifold_edges = edges.non_manifold;
   if (stats.vertices == 0) stats.min = stats.max = Eigen::Vector3d::Zero();
-  stats.euler_characteristic = int(stats.vertices) - int(edges.size()) + int(stats.faces);
+  stats.euler_characteristic = int(stats.vertices) - int(edges.edges) + int(stats.faces);
   return stats;
 }
 
@@ -363,6 +417,18 @@ void write_mesh(vtkPolyData* mesh, const std::filesystem::path& path, const Fiel
   if (ext != ".stl" && ext != ".obj" && ext != ".ply" && ext != ".off" && ext != ".vtp")
     throw std::invalid_argument("write_mesh: expected a path ending in .stl, .obj, .ply, .off or .vtp, got '" +
                                 path.string() + "'");
+  if (ext == ".stl") {
+    // An STL file holds bare triangles: VTK writes them straight from `mesh`,
+    // without building OpenMesh's connectivity first.
+    write_atomically(path, [&](const std::filesystem::path& tmp) {
+      vtkNew<vtkSTLWriter> writer;
+      writer->SetFileName(tmp.c_str());
+      writer->SetInputData(mesh);
+      writer->SetFileTypeToBinary();
+      check_written(writer.Get(), path, "STL");
+    });
+    return;
+  }
   if (ext == ".vtp") {
     vtkNew<vtkPolyData> copy;
     copy->ShallowCopy(mesh);
@@ -377,9 +443,7 @@ void write_mesh(vtkPolyData* mesh, const std::filesystem::path& path, const Fiel
       writer->SetDataModeToAppended();
       writer->EncodeAppendedDataOff();
       writer->SetCompressorTypeToZLib();
-      if (writer->Write() != 1 || writer->GetErrorCode() != 0)
-        throw std::runtime_error("cannot write VTK poly data '" + path.string() + "': " +
-                                 vtkErrorCode::GetStringFromErrorCode(writer->GetErrorCode()));
+      check_written(writer.Get(), path, "VTK poly data");
     });
     return;
   }

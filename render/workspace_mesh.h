@@ -66,8 +66,8 @@ struct MeshStats {
 // Throws std::invalid_argument for a null mesh.
 MeshStats mesh_stats(vtkPolyData* mesh);
 
-// Writes `mesh` by the extension of `path`: .stl (binary), .ply (binary),
-// .obj, .off through OpenMesh; .vtp (binary, compressed) through VTK with
+// Writes `mesh` by the extension of `path`: .stl (binary) through VTK,
+// .ply (binary), .obj, .off through OpenMesh; .vtp (binary, compressed) through VTK with
 // the field's metadata and the request's "surface" and "cond_threshold" as
 // field data. Atomic. Throws std::invalid_argument for an unknown extension
 // (the message lists the supported ones) or a null mesh, std::runtime_error

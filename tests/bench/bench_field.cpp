@@ -1,7 +1,9 @@
 // Field engine throughput: the 12R c(J) field over its default box
 // (+-(L1 + L2) on every axis) at 256^3, per planar kernel (scalar reference,
 // vector, vector with the x mirror), SIMD target (core/simd.h; "best" = what
-// dispatch picks on this CPU) and thread count; and the row kernel alone.
+// dispatch picks on this CPU) and thread count; the row kernel alone; and
+// the PATHOS-II and Delta fields over their default boxes through the
+// mechanism interface (what the window and the headless commands call).
 // The CPU column is the process's CPU time (every thread, page faults
 // included), the rate is per wall-clock second.
 // Run: build/tests/bench/bench_field --benchmark_repetitions=5
@@ -11,8 +13,10 @@
 #include <string>
 #include <vector>
 
+#include "core/mechanism.h"
 #include "core/mechanisms/parallel12r/field.h"
 #include "core/mechanisms/parallel12r/planar_kernel.h"
+#include "core/preset.h"
 #include "core/simd.h"
 
 namespace {
@@ -73,6 +77,31 @@ void rows_256(benchmark::State& state, PlanarKernel kernel, const std::string& t
   linkscape::simd::limit_targets("");
 }
 
+// A device's field (its preset's home task, default IK) over its default box
+// at n^3, per thread count; LINKSCAPE_FIELD_KERNEL=scalar for the reference.
+void device_field(benchmark::State& state, const std::string& preset, int n, const std::string& target,
+                  int threads) {
+  const auto mechanism = linkscape::make_mechanism(linkscape::load_preset(preset));
+  const Eigen::AlignedBox3d box = mechanism->default_box();
+  const Grid g = Grid::box(box.min(), box.max(), {n, n, n});
+  const Eigen::VectorXd task = mechanism->home_task();
+  linkscape::simd::limit_targets(target == "best" ? "" : target);
+  for (auto _ : state) benchmark::DoNotOptimize(mechanism->compute_field(g, task, {}, threads, {}));
+  state.SetItemsProcessed(state.iterations() * std::int64_t(g.size()));
+  state.SetLabel(linkscape::simd::current_target());
+  linkscape::simd::limit_targets("");
+}
+
+void add_device(const std::string& name, const std::string& preset, int n, const std::string& target) {
+  for (int threads : {1, 2})
+    benchmark::RegisterBenchmark(("BM_" + name + "Field" + std::to_string(n) + "/" + target + "/threads:" +
+                                  std::to_string(threads)).c_str(),
+                                 device_field, preset, n, target, threads)
+        ->Unit(benchmark::kMillisecond)
+        ->MeasureProcessCPUTime()
+        ->UseRealTime();
+}
+
 void add(const std::string& kernel_name, PlanarKernel kernel, const std::string& target) {
   for (int threads : {1, 2})
     benchmark::RegisterBenchmark(("BM_Parallel12rField256/" + kernel_name + "/" + target + "/threads:" +
@@ -94,6 +123,9 @@ int main(int argc, char** argv) {
     add("vector", PlanarKernel::Vector, target);
     add("vector-mirrored", PlanarKernel::VectorMirrored, target);
   }
+  // Their kernels are plain C++ (no SIMD dispatch): one target is enough.
+  add_device("Pathos2", "pathos2", 96, "best");
+  add_device("Delta", "delta", 160, "best");
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();

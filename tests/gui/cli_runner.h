@@ -22,20 +22,23 @@ struct CommandResult {
   std::string out;  // stdout and stderr
 };
 
-// Runs the binary with `args`; `environment` is prefixed as in a shell;
-// `stdout_redirect` (e.g. ">/dev/full") sends stdout elsewhere, so that `out`
-// holds stderr alone.
-inline CommandResult run_linkscape(const std::string& args, const std::string& environment = "",
-                                   const std::string& stdout_redirect = "") {
+// Runs a shell command line, capturing what it prints (add 2>&1 for stderr).
+inline CommandResult run_shell(const std::string& command) {
   CommandResult r;
-  const std::string command =
-      environment + " " + std::string(LINKSCAPE_BINARY) + " " + args + " 2>&1 " + stdout_redirect;
   FILE* pipe = popen(command.c_str(), "r");
   char buffer[4096];
   while (std::size_t n = fread(buffer, 1, sizeof buffer, pipe)) r.out.append(buffer, n);
   const int status = pclose(pipe);
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return r;
+}
+
+// Runs the binary with `args`; `environment` is prefixed as in a shell;
+// `stdout_redirect` (e.g. ">/dev/full") sends stdout elsewhere, so that `out`
+// holds stderr alone.
+inline CommandResult run_linkscape(const std::string& args, const std::string& environment = "",
+                                   const std::string& stdout_redirect = "") {
+  return run_shell(environment + " " + std::string(LINKSCAPE_BINARY) + " " + args + " 2>&1 " + stdout_redirect);
 }
 
 inline fs::path temp_file(const std::string& name, const std::string& content) {

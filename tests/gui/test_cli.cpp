@@ -210,6 +210,28 @@ TEST(CliSlice, WritesPngAndFiguresWithoutADisplay) {
   }
 }
 
+TEST(CliSlice, FigureLinesAreVectorPathsAndTheLegendNamesOnlyDrawnOnes) {
+  fs::create_directories(kOut);
+  const fs::path svg = kOut / "lines.svg";
+  // c(J) >= 1 everywhere: a contour at 0.5 has no line, so the legend must not list it.
+  const CommandResult r = run_linkscape("slice --size 60x60 --contour 0.5,3 --figure -q --output " + svg.string(), kNoDisplay);
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  std::ifstream in(svg);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // The reach boundary of a 60 x 60 slice crosses well over a hundred cells: one path of that many lines.
+  std::size_t longest = 0;
+  for (std::size_t at = text.find(" d=\""); at != std::string::npos; at = text.find(" d=\"", at + 1)) {
+    const std::size_t end = text.find('"', at + 4);
+    const std::string d = text.substr(at + 4, end - at - 4);
+    longest = std::max<std::size_t>(longest, std::count(d.begin(), d.end(), 'L'));
+  }
+  EXPECT_GT(longest, 100u) << "contours and the reach boundary are drawn as vector paths";
+  EXPECT_NE(text.find("= 3<"), std::string::npos) << "the c(J) = 3 contour is drawn and listed";
+  EXPECT_EQ(text.find("0.5<"), std::string::npos) << "no line at 0.5, so no legend entry";
+  EXPECT_EQ(text.find("0.5, 3<"), std::string::npos);
+  EXPECT_NE(text.find("reach boundary"), std::string::npos);
+}
+
 TEST(CliSlice, CsvHasOneRowPerSampleAndAgreesWithEval) {
   const fs::path csv = kOut / "slice.csv";
   const CommandResult r = run_linkscape("slice --param L1=1 --param L2=1 --plane x=0.25 --extent 0.2,1.8,-1,1 "

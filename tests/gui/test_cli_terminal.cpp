@@ -110,3 +110,23 @@ TEST(CliTerminal, AFileArgumentOpensASessionOrAMechanism) {
   EXPECT_EQ(opened.exit_code, 0) << opened.out;
   EXPECT_TRUE(fs::exists(png));
 }
+
+TEST(CliTerminal, TheViewAloneIsDrawnAtTheAskedSize) {
+  fs::create_directories(kDir);
+  const CommandResult bad_size = run_linkscape("--view-image v.png --view-size 10x10");
+  EXPECT_EQ(bad_size.exit_code, 2) << bad_size.out;
+  const CommandResult bad_type = run_linkscape("--view-image v.jpg");
+  EXPECT_EQ(bad_type.exit_code, 2) << bad_type.out;
+  if (!std::getenv("DISPLAY")) GTEST_SKIP() << "drawing the view needs an X server";
+  const fs::path png = kDir / "view.png";
+  fs::remove(png);
+  const CommandResult r = run_linkscape("--view-image " + png.string() + " --view-size 1500x400 --size 900x600");
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  // Width and height from the PNG header: the asked size, larger than the window itself.
+  std::ifstream in(png, std::ios::binary);
+  unsigned char h[24] = {};
+  in.read(reinterpret_cast<char*>(h), 24);
+  auto be32 = [&](int o) { return (h[o] << 24) | (h[o + 1] << 16) | (h[o + 2] << 8) | h[o + 3]; };
+  EXPECT_EQ(be32(16), 1500);
+  EXPECT_EQ(be32(20), 400);
+}

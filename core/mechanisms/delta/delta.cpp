@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "core/conditioning.h"
+#include "core/mechanisms/delta/field.h"
 
 namespace linkscape::delta {
 namespace {
@@ -161,9 +162,9 @@ struct Spheres {
   bool degenerate = false;  // collinear or coincident centres
 };
 
-Spheres spheres_of(const Model& m, const Vector3d& q) {
+Spheres spheres_from_centres(const Model& m, const std::array<Vector3d, kLegCount>& centres) {
   Spheres s;
-  for (int i = 0; i < kLegCount; ++i) s.c[i] = sphere_centre(m, i, q(i));
+  s.c = centres;
   const Vector3d a = s.c[0] - s.c[2], b = s.c[1] - s.c[2];
   const Vector3d n = a.cross(b);  // = (c1 - c0) x (c2 - c0)
   const double n2 = n.squaredNorm(), a2 = a.squaredNorm(), b2 = b.squaredNorm();
@@ -179,6 +180,12 @@ Spheres spheres_of(const Model& m, const Vector3d& q) {
   const double circumradius = std::sqrt(a2 * b2 * (a - b).squaredNorm()) / (2.0 * std::sqrt(n2));
   s.gap = m.Lb - circumradius;
   return s;
+}
+
+Spheres spheres_of(const Model& m, const Vector3d& q) {
+  std::array<Vector3d, kLegCount> c;
+  for (int i = 0; i < kLegCount; ++i) c[i] = sphere_centre(m, i, q(i));
+  return spheres_from_centres(m, c);
 }
 
 double closure_error(const Model& m, const Vector3d& q, const Vector3d& p) {
@@ -696,6 +703,107 @@ Skeleton skeleton(const Model& m, const Vector3d& q) {
   if (fk.status == Status::Unreachable || fk.status == Status::NotConverged)
     throw std::invalid_argument("delta: skeleton: no platform position for q = " + format_vector(q));
   return skeleton(m, q, fk.p_base_platform);
+}
+
+// ---- Field kernel -------------------------------------------------------------
+
+FieldLegs field_legs(const Model& m) {
+  m.validate();
+  FieldLegs legs;
+  for (int i = 0; i < kLegCount; ++i) {
+    legs.cos_phi[i] = std::cos(leg_angle(i));
+    legs.sin_phi[i] = std::sin(leg_angle(i));
+    legs.radial[i] = leg_radial(i);
+    legs.motor[i] = motor_position(m, i);
+  }
+  return legs;
+}
+
+// inverse (Closed), reach_margin and jacobian as the reference sample calls
+// them, each quantity computed once with the same operations: the leg
+// angles' sines and cosines come from `legs`, cos q_i and sin q_i are taken
+// once per leg, the sphere centres serve the closure error and the
+// Jacobian's circumcircle alike.
+std::optional<FieldSample> sample_closed(const Model& m, const FieldLegs& legs, const Vector3d& p, int branch,
+                                         double tolerance) {
+  if (!p.allFinite()) return std::nullopt;
+  const double tol = kSingularTolerance * m.size();
+  Vector3d q;
+  std::array<LegCoordinates, kLegCount> coords;
+  std::array<LegSolution, kLegCount> legs_solved;
+  bool unreachable = false, singular = false;
+  double limits = kInf, geometric = kInf;
+  std::array<double, kLegCount> to_range;  // range_margin of q_i
+  for (int i = 0; i < kLegCount; ++i) {
+    const double c = legs.cos_phi[i], s = legs.sin_phi[i];
+    const double px = p.x() - (m.R - m.r) * c, py = p.y() - (m.R - m.r) * s;  // leg_coordinates
+    coords[i] = {c * px + s * py, -s * px + c * py, p.z()};
+    const bool elbow_in = (branch >> i) & 1;
+    const LegSolution& leg = legs_solved[i] = solve_leg(m, coords[i], elbow_in, tol);
+    q(i) = leg.q;
+    unreachable = unreachable || leg.status == Status::Unreachable;
+    singular = singular || leg.status == Status::Singular;
+    to_range[i] = range_margin(m.q_limits[i], leg.q);
+    // reach_margin solves with tol = 0, which differs only for -tol <= margin < 0.
+    const bool resolve = leg.margin < 0.0 && leg.margin >= -tol;
+    geometric = std::min(geometric, leg.margin);
+    limits = std::min(limits, m.La * (resolve ? range_margin(m.q_limits[i], solve_leg(m, coords[i], elbow_in, 0.0).q)
+                                              : to_range[i]));
+  }
+  std::array<double, kLegCount> cos_q, sin_q;
+  std::array<Vector3d, kLegCount> centre;
+  double residual = 0.0;
+  for (int i = 0; i < kLegCount; ++i) {
+    cos_q[i] = std::cos(q(i));
+    sin_q[i] = std::sin(q(i));
+    const Vector3d elbow = legs.motor[i] + m.La * (cos_q[i] * legs.radial[i] - sin_q[i] * Vector3d::UnitZ());
+    centre[i] = elbow - m.r * legs.radial[i];
+    residual = std::max(residual, std::abs((p - centre[i]).norm() - m.Lb));
+  }
+  if (!q.allFinite() || !std::isfinite(residual)) return std::nullopt;  // inverse() resets q to zero first
+
+  FieldSample out;
+  out.reach_margin = float(std::min(geometric, limits));
+  out.iterations = 0;
+  out.residual = unreachable ? float(kInf) : float(residual);
+  out.cond = float(kInf);
+  Status status;
+  if (unreachable) status = Status::Unreachable;
+  else if (singular) status = Status::Singular;
+  else if (!(residual <= tolerance * m.size())) status = Status::NotConverged;
+  else {
+    bool within = true;
+    for (int i = 0; i < kLegCount; ++i) within = within && !(to_range[i] < 0.0);
+    status = within ? Status::Ok : Status::OutOfLimits;
+  }
+  out.status = std::uint8_t(status);
+  out.reachable = status == Status::Ok;
+  if (!out.reachable) return out;
+  // A tolerance so loose that jacobian() refuses the configuration: left to it.
+  if (!(residual <= kClosureCheck * m.size())) return std::nullopt;
+
+  // jacobian(m, q, p)
+  Matrix3d J_actuated_from_task;
+  std::array<Vector3d, kLegCount> s;
+  Vector3d Jq_diagonal;
+  bool serial = false;
+  for (int i = 0; i < kLegCount; ++i) {
+    const Vector3d elbow = legs.motor[i] + m.La * (cos_q[i] * legs.radial[i] - sin_q[i] * Vector3d::UnitZ());
+    s[i] = p + m.r * legs.radial[i] - elbow;
+    const Vector3d motion = -(sin_q[i] * legs.radial[i] + cos_q[i] * Vector3d::UnitZ());
+    Jq_diagonal(i) = -m.La * s[i].dot(motion);
+    serial = serial || Jq_diagonal(i) == 0.0 || std::abs(legs_solved[i].margin) <= tol;
+  }
+  const double det_Jx = s[0].dot(s[1].cross(s[2]));
+  const Spheres sp = spheres_from_centres(m, centre);
+  const bool parallel = det_Jx == 0.0 || sp.degenerate || sp.gap <= tol;
+  if (!serial && !parallel) {
+    if (Jq_diagonal.prod() == 0.0) return std::nullopt;  // underflow: jacobian() leaves J^-1 unset
+    for (int i = 0; i < kLegCount; ++i) J_actuated_from_task.row(i) = -s[i].transpose() / Jq_diagonal(i);
+    out.cond = float(condition_number_closed_form(J_actuated_from_task));
+  }
+  out.method_used = 0;  // IkMethod::Closed
+  return out;
 }
 
 }  // namespace linkscape::delta

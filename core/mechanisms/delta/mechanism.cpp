@@ -5,7 +5,7 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "core/field_sampling.h"
+#include "core/mechanisms/delta/field.h"
 #include "core/preset.h"
 
 namespace linkscape::delta {
@@ -13,7 +13,6 @@ namespace {
 
 using Eigen::Vector3d;
 using Eigen::VectorXd;
-constexpr float kInf = std::numeric_limits<float>::infinity();
 
 // The same device with every motor free over a full turn.
 Model without_ranges(Model m) {
@@ -209,39 +208,18 @@ class DeltaMechanism final : public Mechanism {
 
   std::optional<Field> compute_field(const Grid& grid, const VectorXd&, const linkscape::IkOptions& o, int threads,
                                      const FieldProgress& progress) const override {
-    const IkMethod method = parse_ik_method(o.method.empty() ? "closed" : o.method);
-    const int branch = o.branch.value_or(0);
-    if (branch < 0 || branch >= kBranchCount) throw std::invalid_argument("delta: branch must be 0..7");
-    detail::check_grid(grid, Field::bytes_per_sample(), kFieldMemoryLimitBytes);
-    Field f;
-    f.grid = grid;
-    f.mechanism = std::string(kMechanismName);
-    f.length_unit = model_.length_unit;
-    f.parameters = parameters();
-    f.method = std::string(to_string(method));
-    f.branch = branch;
-    f.measure_titles = {info_.measures.front().title};
-    delta::IkOptions io;
-    io.branch = branch;
-    io.tolerance = o.tolerance;
-    io.max_iterations = o.max_iterations;
-    const std::uint8_t method_index = method == IkMethod::Closed ? 0 : 1;
-    const bool ok = detail::fill_field(f, false, threads, progress, [&](const Vector3d& p) {
-      FieldSample s;
-      const delta::IkResult r = delta::inverse(model_, p, method, io);
-      s.reach_margin = float(delta::reach_margin(model_, p, branch).value);
-      s.status = std::uint8_t(r.status);
-      s.iterations = std::uint16_t(std::min(r.iterations, 65535));
-      s.reachable = r.status == Status::Ok && r.branch == branch;
-      s.residual = r.status == Status::Unreachable ? kInf : float(r.residual);
-      s.cond = kInf;
-      if (s.reachable) {
-        s.cond = float(delta::jacobian(model_, r.q_actuated, p).cond);
-        s.method_used = method_index;
-      }
-      return s;
-    });
-    if (!ok) return std::nullopt;
+    FieldRequest request;
+    request.grid = grid;
+    request.method = parse_ik_method(o.method.empty() ? "closed" : o.method);
+    request.ik.branch = o.branch.value_or(0);
+    request.ik.tolerance = o.tolerance;
+    request.ik.max_iterations = o.max_iterations;
+    request.threads = threads;
+    std::optional<Field> f = delta::compute_field(model_, request, progress);
+    if (f) {
+      f->parameters = parameters();
+      f->measure_titles = {info_.measures.front().title};
+    }
     return f;
   }
 

@@ -194,16 +194,7 @@ void check_request(const FieldRequest& req) {
   detail::check_grid(req.grid, Field::bytes_per_sample(), req.memory_limit_bytes);
 }
 
-PlanarKernel kernel_of(const FieldRequest& req) {
-  if (req.kernel) return *req.kernel;
-  const char* value = std::getenv("LINKSCAPE_FIELD_KERNEL");
-  if (!value || !*value) return PlanarKernel::VectorMirrored;
-  const std::string name = value;
-  if (name == "scalar") return PlanarKernel::Scalar;
-  if (name == "vector") return PlanarKernel::Vector;
-  if (name == "vector-mirrored") return PlanarKernel::VectorMirrored;
-  throw std::invalid_argument("LINKSCAPE_FIELD_KERNEL must be scalar, vector or vector-mirrored, got '" + name + "'");
-}
+PlanarKernel kernel_of(const FieldRequest& req) { return req.kernel ? *req.kernel : field_kernel_from_environment(); }
 
 // The planar kernel is odd in x with alpha -> -alpha (sa changes sign, every
 // other quantity keeps its value or changes sign exactly), so the sample at

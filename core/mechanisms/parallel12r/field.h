@@ -14,16 +14,14 @@
 
 namespace linkscape {
 
-// How the planar method's samples are computed. The vectorised kernels use
-// the best SIMD instruction set of the CPU (core/simd.h) and agree with the
-// scalar reference as tests/core/mechanisms/parallel12r/test_field_simd.cpp
-// states.
-enum class PlanarKernel {
-  Scalar,          // one sample at a time: the reference
-  Vector,          // rows of samples in SIMD vectors
-  VectorMirrored,  // the same, computing half of each x row and mirroring it where
-                   // that is exact (alpha range symmetric, grid x coordinates mirrored)
-};
+// How the planar method's samples are computed (core/field.h): Scalar, one
+// sample at a time, the reference; Vector, rows of samples in SIMD vectors;
+// VectorMirrored, the same, computing half of each x row and mirroring it
+// where that is exact (alpha range symmetric, grid x coordinates mirrored).
+// The vectorised kernels use the best SIMD instruction set of the CPU
+// (core/simd.h) and agree with the scalar reference as
+// tests/core/mechanisms/parallel12r/test_field_simd.cpp states.
+using PlanarKernel = FieldKernel;
 
 struct FieldRequest {
   Grid grid;

@@ -43,10 +43,23 @@ double reach_margin(const Geometry& g, const PoseIkResult& ik) {
   return margin;
 }
 
-FieldSample sample_position(const Geometry& g, const Eigen::Vector3d& p, const FieldRequest& req) {
-  const Pose pose = Pose::from_xyz_rpy(p.x(), p.y(), p.z(), req.rpy.x(), req.rpy.y(), req.rpy.z(), req.h0);
+namespace {
+
+// Eq. 3 as leg_forward computes it, Rz(t1)[Tz(l1) + Ry(t2){Tz(l2) + Rx(t3)
+// Tz(l3)}], from the cosines and sines the IK found instead of the angles.
+Eigen::Vector3d leg_end(const Model& m, const LegSolution& leg) {
+  const double y = -m.l3 * leg.sin_t3, z = m.l2 + m.l3 * leg.cos_t3;  // Rx(t3) Tz(l3) + Tz(l2)
+  const double x1 = leg.sin_t2 * z, z1 = m.l1 + leg.cos_t2 * z;        // Tz(l1) + Ry(t2) (0, y, z)
+  return {leg.cos_t1 * x1 - leg.sin_t1 * y, leg.sin_t1 * x1 + leg.cos_t1 * y, z1};
+}
+
+// The sample at `pose` with the IK at `detail`: Full, the reference, or
+// Field, where the closure residual comes from the legs' cosines and sines
+// (leg_end) instead of their angles: the same to rounding (the residual is
+// itself rounding noise, about 1e-15 cm), every other array bit for bit.
+FieldSample sample_pose(const Geometry& g, const Pose& pose, IkDetail detail) {
   const Model& m = g.model;
-  const PoseIkResult ik = inverse(g, pose, IkDetail::Full);
+  const PoseIkResult ik = inverse(g, pose, detail);
   FieldSample s;
   s.reach_margin = float(reach_margin(g, ik));
   s.status = std::uint8_t(ik.status);
@@ -56,7 +69,10 @@ FieldSample sample_position(const Geometry& g, const Eigen::Vector3d& p, const F
   if (ik.status == Status::Ok || ik.status == Status::OutOfLimits) {
     double closure = 0.0;
     for (const LegSolution& leg : ik.legs)
-      closure = std::max(closure, (leg_forward(m.l1, m.l2, m.l3, leg.t1, leg.t2, leg.t3) - leg.p_B_globular).norm());
+      closure = std::max(closure, ((detail == IkDetail::Field ? leg_end(m, leg)
+                                                               : leg_forward(m.l1, m.l2, m.l3, leg.t1, leg.t2, leg.t3)) -
+                                   leg.p_B_globular)
+                                      .norm());
     s.residual = float(closure);
   }
   if (s.reachable) {
@@ -72,6 +88,13 @@ FieldSample sample_position(const Geometry& g, const Eigen::Vector3d& p, const F
     }
   }
   return s;
+}
+
+}  // namespace
+
+FieldSample sample_position(const Geometry& g, const Eigen::Vector3d& p, const FieldRequest& req) {
+  const Pose pose = Pose::from_xyz_rpy(p.x(), p.y(), p.z(), req.rpy.x(), req.rpy.y(), req.rpy.z(), req.h0);
+  return sample_pose(g, pose, IkDetail::Full);
 }
 
 std::optional<Field> compute_field(const Model& model, const FieldRequest& req, const FieldProgress& progress) {
@@ -91,8 +114,16 @@ std::optional<Field> compute_field(const Model& model, const FieldRequest& req, 
   f.method = "closed-form";
   f.measure_titles = {"cond(Jp)", "cond(Jo)"};
   f.branch = 0;
-  if (!detail::fill_field(f, true, req.threads, progress,
-                          [&](const Eigen::Vector3d& p) { return sample_position(g, p, req); }))
+  const FieldKernel kernel = req.kernel ? *req.kernel : field_kernel_from_environment();
+  // from_xyz_rpy sets the position alone from x, y, z: the rotation is the grid's.
+  const Pose oriented = Pose::from_xyz_rpy(0.0, 0.0, 0.0, req.rpy.x(), req.rpy.y(), req.rpy.z(), req.h0);
+  inverse(g, oriented, IkDetail::ActiveOnly);  // checks the rotation and grip once: IkDetail::Field does not
+  if (!detail::fill_field(f, true, req.threads, progress, [&](const Eigen::Vector3d& p) {
+        if (kernel == FieldKernel::Scalar) return sample_position(g, p, req);
+        Pose pose = oriented;
+        pose.p_world_E = p;
+        return sample_pose(g, pose, IkDetail::Field);
+      }))
     return std::nullopt;
   return f;
 }

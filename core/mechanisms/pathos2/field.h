@@ -18,6 +18,11 @@ struct FieldRequest {
   double h0 = 7.0;                                  // grip, cm
   std::size_t memory_limit_bytes = kFieldMemoryLimitBytes;
   int threads = 0;                                  // 0 = all cores
+  // Unset: the environment (field_kernel_from_environment). Scalar: every
+  // sample through sample_position, the reference. The others: the pose's
+  // rotation built once and the IK without the angles a sample does not use
+  // (IkDetail::Field), bit for bit the same.
+  std::optional<FieldKernel> kernel;
 };
 
 // Signed distance-like margin of a pose to the edge of the workspace, cm:

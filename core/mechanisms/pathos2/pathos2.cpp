@@ -292,14 +292,18 @@ LegSolution leg_inverse(double l1, double l2, double l3, const Vector3d& a, int 
 // ---- Pose IK -----------------------------------------------------------------
 
 PoseIkResult inverse(const Geometry& g, const Pose& pose, IkDetail detail) {
-  require_pose(pose);
+  // Field: the caller checked the rotation and grip once (compute_field).
+  if (detail != IkDetail::Field) require_pose(pose);
+  else if (!pose.p_world_E.allFinite()) throw std::invalid_argument("pathos2: pose must be finite");
   const Model& m = g.model;
   PoseIkResult out;
   out.status = Status::Ok;
   const Matrix3d& R = pose.R_world_E;
   // Limits compare cosines: |t| <= lim  <=>  cos t >= cos lim for t in [-pi, pi].
-  const double cos_cone = std::cos(m.cone_limit), cos_t2 = std::cos(m.t2_limit),
-               cos_t3 = std::cos(m.t3_limit);
+  // The default limits (pi: none) take their cosine from one call.
+  static const double cos_pi = std::cos(kPi);
+  const auto cos_limit = [](double limit) { return limit == kPi ? cos_pi : std::cos(limit); };
+  const double cos_cone = cos_limit(m.cone_limit), cos_t2 = cos_limit(m.t2_limit), cos_t3 = cos_limit(m.t3_limit);
   // A cone limit of pi (the default) excludes nothing: t5 is in [0, pi].
   const bool check_cone = m.cone_limit < kPi;
   for (int i = 0; i < kLegCount; ++i) {
@@ -318,8 +322,8 @@ PoseIkResult inverse(const Geometry& g, const Pose& pose, IkDetail detail) {
       const double w = c.c2z;
       const double s2 = w != 0.0 ? c.c1x / w : 1.0, c2 = w != 0.0 ? (a.z() - m.l1) / w : 0.0;
       const double s3 = -c.c1y / m.l3, c3 = (w - m.l2) / m.l3;
-      leg.cos_t1 = c.cos1, leg.sin_t1 = c.sin1, leg.cos_t2 = c2, leg.sin_t2 = s2;
-      leg.t1 = std::atan2(c.sin1, c.cos1);  // Eq. 9
+      leg.cos_t1 = c.cos1, leg.sin_t1 = c.sin1, leg.cos_t2 = c2, leg.sin_t2 = s2, leg.cos_t3 = c3, leg.sin_t3 = s3;
+      if (detail != IkDetail::Field) leg.t1 = std::atan2(c.sin1, c.cos1);  // Eq. 9
       leg.det = -m.l2 * c.c1x * c.c1y;
       const double c1 = c.cos1, s1 = c.sin1;
       // cos t5 = z of the end of l3 (Rz(t1) Ry(t2) Rx(t3) e_z, from the
@@ -331,25 +335,31 @@ PoseIkResult inverse(const Geometry& g, const Pose& pose, IkDetail detail) {
           cos_t5 = (g.R_world_B[i] * z_B_end).dot(R * g.R_E_A[i].col(2));
         }
       } else {
-        // End of l3: Rz(t1) Ry(t2) Rx(t3), built from the cosines.
-        Matrix3d R_B_end;
-        R_B_end << c1 * c2, c1 * s2 * s3 - s1 * c3, c1 * s2 * c3 + s1 * s3,
-                   s1 * c2, s1 * s2 * s3 + c1 * c3, s1 * s2 * c3 - c1 * s3,
-                   -s2,     c2 * s3,                c2 * c3;
-        const Matrix3d R_world_end = g.R_world_B[i] * R_B_end;
-        const Matrix3d R_world_A = R * g.R_E_A[i];
-        cos_t5 = R_world_end.col(2).dot(R_world_A.col(2));
+        // Field: the globular joint only for a cone limit, t2 and t3 only for theirs.
+        const bool full = detail == IkDetail::Full;
+        if (full || check_cone) {
+          // End of l3: Rz(t1) Ry(t2) Rx(t3), built from the cosines.
+          Matrix3d R_B_end;
+          R_B_end << c1 * c2, c1 * s2 * s3 - s1 * c3, c1 * s2 * c3 + s1 * s3,
+                     s1 * c2, s1 * s2 * s3 + c1 * c3, s1 * s2 * c3 - c1 * s3,
+                     -s2,     c2 * s3,                c2 * c3;
+          const Matrix3d R_world_end = g.R_world_B[i] * R_B_end;
+          const Matrix3d R_world_A = R * g.R_E_A[i];
+          cos_t5 = R_world_end.col(2).dot(R_world_A.col(2));
+          // Globular joint (Eqs. 15-18): Rz(t4) Ry(t5) Rz(t6) = B, the rotation
+          // left between the end of l3 and the attachment frame A_i.
+          const Matrix3d B = R_world_end.transpose() * R_world_A;
+          const double rho = std::sqrt(B(0, 2) * B(0, 2) + B(1, 2) * B(1, 2));
+          leg.t5 = std::atan2(rho, B(2, 2));  // Eq. 17
+          if (full) {
+            const double c4 = rho > 0.0 ? B(0, 2) / rho : 1.0, s4 = rho > 0.0 ? B(1, 2) / rho : 0.0;
+            leg.t4 = std::atan2(s4, c4);                                                      // Eq. 16
+            leg.t6 = std::atan2(-B(0, 0) * s4 + B(1, 0) * c4, -B(0, 1) * s4 + B(1, 1) * c4);  // Eq. 18
+          }
+        }
         // Eq. 11 with c2x = 0; atan2 keeps the quadrant when w < 0 (l3 > l2).
-        leg.t2 = std::atan2(w * c.c1x, w * (a.z() - m.l1));
-        leg.t3 = std::atan2(-c.c1y, w - m.l2);  // Eq. 13
-        // Globular joint (Eqs. 15-18): Rz(t4) Ry(t5) Rz(t6) = B, the rotation
-        // left between the end of l3 and the attachment frame A_i.
-        const Matrix3d B = R_world_end.transpose() * R_world_A;
-        const double rho = std::sqrt(B(0, 2) * B(0, 2) + B(1, 2) * B(1, 2));
-        const double c4 = rho > 0.0 ? B(0, 2) / rho : 1.0, s4 = rho > 0.0 ? B(1, 2) / rho : 0.0;
-        leg.t4 = std::atan2(s4, c4);                                                      // Eq. 16
-        leg.t5 = std::atan2(rho, B(2, 2));                                                // Eq. 17
-        leg.t6 = std::atan2(-B(0, 0) * s4 + B(1, 0) * c4, -B(0, 1) * s4 + B(1, 1) * c4);  // Eq. 18
+        if (full || m.t2_limit < kPi) leg.t2 = std::atan2(w * c.c1x, w * (a.z() - m.l1));
+        if (full || m.t3_limit < kPi) leg.t3 = std::atan2(-c.c1y, w - m.l2);  // Eq. 13
       }
       if (leg.status == Status::Ok && ((check_cone && cos_t5 < cos_cone) || c2 < cos_t2 || c3 < cos_t3))
         leg.status = Status::OutOfLimits;

@@ -129,8 +129,8 @@ struct LegSolution {
   Eigen::Vector3d p_B_globular = Eigen::Vector3d::Zero();  // a of Eq. 2, leg frame
   // Leg-only Jacobian determinant da/d(t1,t2,t3) = l2 l3 w sin t2 sin t3 (cm^3).
   double det = 0.0;
-  // cos and sin of t1 and t2, kept so the Jacobian needs no trigonometry.
-  double cos_t1 = 1.0, sin_t1 = 0.0, cos_t2 = 1.0, sin_t2 = 0.0;
+  // cos and sin of t1..t3, kept so the Jacobian needs no trigonometry.
+  double cos_t1 = 1.0, sin_t1 = 0.0, cos_t2 = 1.0, sin_t2 = 0.0, cos_t3 = 1.0, sin_t3 = 0.0;
 };
 
 // Closed-form leg IK (Eqs. 8-14 corrected): a = Rz(t1)[Tz(l1) + Ry(t2){Tz(l2)
@@ -152,8 +152,11 @@ struct PoseIkResult {
 
 // Full: every angle. ActiveOnly: t1 (and the cos/sin fields) only, the
 // passive angles stay 0; statuses and limit checks are the same (limits are
-// tested on cosines). Maps and searches use ActiveOnly.
-enum class IkDetail { Full, ActiveOnly };
+// tested on cosines). Maps and searches use ActiveOnly. Field: what a field
+// sample needs, the cos/sin fields, and t2, t3, t5 only where a limit on
+// them is set (for its margin), bit for bit as Full; the other angles stay 0;
+// it checks only that the position is finite (the caller checks the rest).
+enum class IkDetail { Full, ActiveOnly, Field };
 
 // Full pose IK: every leg's active and passive angles (Eqs. 2-18) and joint
 // limits (OutOfLimits). Throws std::invalid_argument on a non-finite pose or a

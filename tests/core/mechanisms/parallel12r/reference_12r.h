@@ -11,6 +11,14 @@
 
 namespace linkscape::testing {
 
+// The 12R model with link lengths L1, L2 and every other parameter at its default.
+inline parallel12r::Model make_12r(double L1, double L2) {
+  parallel12r::Model m;
+  m.L1 = L1;
+  m.L2 = L2;
+  return m;
+}
+
 // Eqs. 11-13 exactly as printed (x, y, z of endpoint D).
 // Evaluated in T (long double gives a reference for the double code).
 template <class T>

@@ -9,21 +9,13 @@ using namespace linkscape;
 using namespace linkscape::parallel12r;
 using linkscape::testing::ConfigurationSampler;
 using linkscape::testing::paper_forward;
-
-namespace {
-Model make(double L1, double L2) {
-  Model m;
-  m.L1 = L1;
-  m.L2 = L2;
-  return m;
-}
-}  // namespace
+using linkscape::testing::make_12r;
 
 TEST(Forward, MatchesPrintedEquations11To13) {
   // Against the printed equations in long double: 1 - sin^2 a sin^2 t as
   // printed cancels near the actuator plane in double, the code's form does not.
   ConfigurationSampler sample(1, 0.0);
-  for (const Model& m : {make(1, 1), make(15, 15), make(0.7, 1.9)}) {
+  for (const Model& m : {make_12r(1, 1), make_12r(15, 15), make_12r(0.7, 1.9)}) {
     for (int i = 0; i < 2000; ++i) {
       const Eigen::Vector3d q = sample();
       const Eigen::Vector3d expected = linkscape::testing::paper_forward_in<long double>(m.L1, m.L2, q.x(), q.y(), q.z());
@@ -33,7 +25,7 @@ TEST(Forward, MatchesPrintedEquations11To13) {
 }
 
 TEST(Forward, BatchEqualsSingle) {
-  const Model m = make(1.3, 0.8);
+  const Model m = make_12r(1.3, 0.8);
   ConfigurationSampler sample(2);
   std::vector<Eigen::Vector3d> q(500), p(500);
   for (auto& v : q) v = sample();
@@ -45,7 +37,7 @@ TEST(Forward, BatchEqualsSingle) {
 
 TEST(Forward, EndpointLiesInThePlaneNormalToN) {
   // Both link directions are perpendicular to n = (cos a, sin a, 0).
-  const Model m = make(1, 2);
+  const Model m = make_12r(1, 2);
   ConfigurationSampler sample(3, 0.0);
   for (int i = 0; i < 1000; ++i) {
     const Eigen::Vector3d q = sample();
@@ -55,8 +47,8 @@ TEST(Forward, EndpointLiesInThePlaneNormalToN) {
 }
 
 TEST(Forward, NonFiniteAnglesThrow) {
-  EXPECT_THROW(forward(make(1, 1), Eigen::Vector3d(0, NAN, 0)), std::invalid_argument);
-  EXPECT_THROW(jacobian(make(1, 1), Eigen::Vector3d(INFINITY, 0, 0)), std::invalid_argument);
+  EXPECT_THROW(forward(make_12r(1, 1), Eigen::Vector3d(0, NAN, 0)), std::invalid_argument);
+  EXPECT_THROW(jacobian(make_12r(1, 1), Eigen::Vector3d(INFINITY, 0, 0)), std::invalid_argument);
 }
 
 TEST(Jacobian, AnalyticMatchesCentralDifferences) {
@@ -64,7 +56,7 @@ TEST(Jacobian, AnalyticMatchesCentralDifferences) {
   // round-off ~eps/h, about 1e-10 relative here; 1e-7 leaves margin for
   // configurations with larger third derivatives.
   ConfigurationSampler sample(4, 0.1);
-  for (const Model& m : {make(1, 1), make(15, 15), make(0.6, 1.4)}) {
+  for (const Model& m : {make_12r(1, 1), make_12r(15, 15), make_12r(0.6, 1.4)}) {
     for (int i = 0; i < 3000; ++i) {
       const Eigen::Vector3d q = sample();
       const Eigen::Matrix3d J = jacobian(m, q);
@@ -76,7 +68,7 @@ TEST(Jacobian, AnalyticMatchesCentralDifferences) {
 
 TEST(Jacobian, DeterminantMatchesEquation18) {
   ConfigurationSampler sample(5, 0.0);
-  for (const Model& m : {make(1, 1), make(2, 0.5)}) {
+  for (const Model& m : {make_12r(1, 1), make_12r(2, 0.5)}) {
     for (int i = 0; i < 5000; ++i) {
       const Eigen::Vector3d q = sample();
       const double det = jacobian(m, q).determinant();
@@ -90,7 +82,7 @@ TEST(Jacobian, PrintedEquation17IsWrongAndOursIsNot) {
   // Eq. 17 as printed: common factor 1/(d_b^3 d_g^3) with entries carrying
   // single powers d_g, d_b. Entries differ from the true derivatives by the
   // factors d^2, so the printed matrix is off wherever sin(alpha) != 0.
-  const Model m = make(1, 1);
+  const Model m = make_12r(1, 1);
   const Eigen::Vector3d q(0.6, 0.9, -0.4);
   const double sa = std::sin(q.x()), ca = std::cos(q.x());
   const double sb = std::sin(q.y()), cb = std::cos(q.y()), sg = std::sin(q.z()), cg = std::cos(q.z());

@@ -9,15 +9,10 @@ using namespace linkscape;
 using namespace linkscape::parallel12r;
 using linkscape::testing::ConfigurationSampler;
 using linkscape::testing::paper_forward;
+using linkscape::testing::make_12r;
 
 namespace {
 
-Model make(double L1, double L2) {
-  Model m;
-  m.L1 = L1;
-  m.L2 = L2;
-  return m;
-}
 
 const IkMethod kAllMethods[] = {IkMethod::Paper, IkMethod::Planar, IkMethod::Newton,
                                 IkMethod::DampedLeastSquares};
@@ -60,15 +55,15 @@ void check_closed_form_round_trip(const Model& m, IkMethod method, unsigned seed
 }  // namespace
 
 TEST(Inverse, PlanarRoundTripsTenThousandConfigurations) {
-  check_closed_form_round_trip(make(1, 1), IkMethod::Planar, 21, 10000);
-  check_closed_form_round_trip(make(15, 15), IkMethod::Planar, 22, 10000);
-  check_closed_form_round_trip(make(1.0, 1.7), IkMethod::Planar, 23, 10000);
+  check_closed_form_round_trip(make_12r(1, 1), IkMethod::Planar, 21, 10000);
+  check_closed_form_round_trip(make_12r(15, 15), IkMethod::Planar, 22, 10000);
+  check_closed_form_round_trip(make_12r(1.0, 1.7), IkMethod::Planar, 23, 10000);
 }
 
 TEST(Inverse, PaperRoundTripsTenThousandConfigurations) {
-  check_closed_form_round_trip(make(1, 1), IkMethod::Paper, 31, 10000);
-  check_closed_form_round_trip(make(15, 15), IkMethod::Paper, 32, 10000);
-  check_closed_form_round_trip(make(1.0, 1.7), IkMethod::Paper, 33, 10000);
+  check_closed_form_round_trip(make_12r(1, 1), IkMethod::Paper, 31, 10000);
+  check_closed_form_round_trip(make_12r(15, 15), IkMethod::Paper, 32, 10000);
+  check_closed_form_round_trip(make_12r(1.0, 1.7), IkMethod::Paper, 33, 10000);
 }
 
 TEST(Inverse, NumericalMethodsRoundTripFromNearbySeeds) {
@@ -77,7 +72,7 @@ TEST(Inverse, NumericalMethodsRoundTripFromNearbySeeds) {
   // shrinks with the condition number, so this covers target and seed both
   // with c(J) <= 50 (the singular neighbourhoods are swept separately).
   for (IkMethod method : {IkMethod::Newton, IkMethod::DampedLeastSquares}) {
-    for (const Model& m : {make(1, 1), make(1.0, 1.7)}) {
+    for (const Model& m : {make_12r(1, 1), make_12r(1.0, 1.7)}) {
       ConfigurationSampler sample(41, 0.15);
       std::mt19937_64 rng(42);
       std::uniform_real_distribution<double> jitter(-0.1 / std::sqrt(3.0), 0.1 / std::sqrt(3.0));
@@ -109,7 +104,7 @@ TEST(Inverse, NumericalMethodsRoundTripFromNearbySeeds) {
 TEST(Inverse, NumericalMethodsFromDefaultSeedsAgreeWithPlanar) {
   // Without a seed they start from each branch's home pose; whatever they
   // return must be a true solution and match the planar solution of its branch.
-  const Model m = make(1, 1);
+  const Model m = make_12r(1, 1);
   ConfigurationSampler sample(51, 0.2);
   for (IkMethod method : {IkMethod::Newton, IkMethod::DampedLeastSquares}) {
     int ok = 0;
@@ -128,7 +123,7 @@ TEST(Inverse, NumericalMethodsFromDefaultSeedsAgreeWithPlanar) {
 }
 
 TEST(Inverse, AllMethodsAgreeOnTheFigure5Optimum) {
-  const Model m = make(1, 1);
+  const Model m = make_12r(1, 1);
   for (IkMethod method : kAllMethods) {
     const IkResult r = inverse(m, {0.0, 1.0, 1.0}, method);
     ASSERT_EQ(r.status, Status::Ok) << to_string(method);
@@ -140,7 +135,7 @@ TEST(Inverse, AllMethodsAgreeOnTheFigure5Optimum) {
 }
 
 TEST(Inverse, UnreachableTargetsAreReportedNotNaN) {
-  const Model m = make(1, 0.6);
+  const Model m = make_12r(1, 0.6);
   for (IkMethod method : kAllMethods) {
     for (const Eigen::Vector3d& p : {Eigen::Vector3d(0, 1.7, 0.1), Eigen::Vector3d(0.1, 0.2, 0.05),
                                      Eigen::Vector3d(5, 5, 5)}) {
@@ -152,7 +147,7 @@ TEST(Inverse, UnreachableTargetsAreReportedNotNaN) {
 }
 
 TEST(Inverse, SingularTargetsAreReported) {
-  const Model m = make(1, 1);
+  const Model m = make_12r(1, 1);
   for (IkMethod method : {IkMethod::Paper, IkMethod::Planar}) {
     // Actuator plane y = 0, z axis, outer sphere.
     EXPECT_EQ(inverse(m, {0.5, 0.0, 0.5}, method).status, Status::Singular) << to_string(method);
@@ -172,7 +167,7 @@ TEST(Inverse, SingularTargetsAreReported) {
 TEST(Inverse, NearSingularTargetsStillSolveAccurately) {
   // 1e-9 away from each singular set the closed forms still return exact
   // positions (accuracy in angles degrades with the condition number).
-  const Model m = make(1, 1);
+  const Model m = make_12r(1, 1);
   const Eigen::Vector3d targets[] = {{0.5, 1e-9, 0.5}, {1e-9, 1e-9, 1.0},
                                      Eigen::Vector3d(0.3, 1.0, 0.4).normalized() * (2.0 - 1e-9)};
   for (IkMethod method : {IkMethod::Paper, IkMethod::Planar}) {
@@ -189,7 +184,7 @@ TEST(Inverse, NearSingularTargetsStillSolveAccurately) {
 }
 
 TEST(Inverse, JointLimitsGiveOutOfLimits) {
-  Model m = make(1, 1);
+  Model m = make_12r(1, 1);
   m.beta_limits = {-0.1, 0.1};
   const IkResult r = inverse(m, {0.0, 1.0, 1.0}, IkMethod::Planar);
   ASSERT_EQ(r.solutions.size(), 2u);
@@ -200,19 +195,19 @@ TEST(Inverse, JointLimitsGiveOutOfLimits) {
 }
 
 TEST(Inverse, BadInputThrows) {
-  EXPECT_THROW(inverse(make(1, 1), {NAN, 0, 0}, IkMethod::Planar), std::invalid_argument);
-  EXPECT_THROW(inverse(make(-1, 1), {0, 1, 0}, IkMethod::Planar), std::invalid_argument);
-  EXPECT_THROW(inverse(make(1, 0), {0, 1, 0}, IkMethod::Paper), std::invalid_argument);
-  EXPECT_THROW(inverse(make(1, INFINITY), {0, 1, 0}, IkMethod::Paper), std::invalid_argument);
+  EXPECT_THROW(inverse(make_12r(1, 1), {NAN, 0, 0}, IkMethod::Planar), std::invalid_argument);
+  EXPECT_THROW(inverse(make_12r(-1, 1), {0, 1, 0}, IkMethod::Planar), std::invalid_argument);
+  EXPECT_THROW(inverse(make_12r(1, 0), {0, 1, 0}, IkMethod::Paper), std::invalid_argument);
+  EXPECT_THROW(inverse(make_12r(1, INFINITY), {0, 1, 0}, IkMethod::Paper), std::invalid_argument);
   IkOptions bad;
   bad.tolerance = 0;
-  EXPECT_THROW(inverse(make(1, 1), {0, 1, 1}, IkMethod::Newton, bad), std::invalid_argument);
+  EXPECT_THROW(inverse(make_12r(1, 1), {0, 1, 1}, IkMethod::Newton, bad), std::invalid_argument);
   EXPECT_THROW(parse_ik_method("bogus"), std::invalid_argument);
   EXPECT_EQ(parse_ik_method("dls"), IkMethod::DampedLeastSquares);
 }
 
 TEST(Singularities, NearestSetAndDistance) {
-  const Model m = make(1, 1);
+  const Model m = make_12r(1, 1);
   // Near the actuator plane: 0.01 above it, far from the other sets.
   const Eigen::Vector3d q_plane = inverse(m, {0.5, 0.01, 0.6}, IkMethod::Planar).solutions[0].q_actuated;
   auto r = nearest_singularity(m, q_plane);
@@ -228,7 +223,7 @@ TEST(Singularities, NearestSetAndDistance) {
   EXPECT_EQ(r.nearest, SingularSet::Stretched);
   EXPECT_LT(r.distance, 1e-7);
   // Almost folded, with unequal links so the inner sphere is not the centre.
-  r = nearest_singularity(make(1, 0.6), {0.1, 0.5, 0.5 + std::numbers::pi - 1e-4});
+  r = nearest_singularity(make_12r(1, 0.6), {0.1, 0.5, 0.5 + std::numbers::pi - 1e-4});
   EXPECT_EQ(r.nearest, SingularSet::Folded);
   EXPECT_LT(r.distance, 1e-7);
   // At the optimum every distance is order one.

@@ -3,9 +3,12 @@
 // the device's three-fold symmetry shows in the field.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <random>
+#include <sstream>
 
 #include "core/mechanisms/pathos2/field.h"
 
@@ -124,4 +127,59 @@ TEST(Pathos2Field, BadRequestsAreRefused) {
   std::atomic<bool> cancel{true};
   r.memory_limit_bytes = std::size_t(1) << 30;
   EXPECT_FALSE(pathos2::compute_field(m, r, FieldProgress{{}, &cancel}).has_value());
+}
+
+// The fast path (rotation built once, IkDetail::Field: no angles but those a
+// limit needs) against the reference (sample_position per point), with and
+// without joint limits, at random orientations and grips, over boxes that
+// cross the reach boundary: every array bit for bit but the closure
+// residual, which the fast path takes from the legs' cosines and sines
+// rather than their angles. The residual is rounding noise (about 1e-15 cm),
+// so it is compared absolutely: within 1e-12 (l2 + l3), with the same
+// infinities.
+TEST(Pathos2Field, FastPathEqualsTheReferenceBitForBit) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> unit(0, 1);
+  const auto same_bits = [](const auto& a, const auto& b) {
+    if (a.size() != b.size()) return false;
+    return std::memcmp(a.data(), b.data(), a.size() * sizeof a[0]) == 0;
+  };
+  std::size_t ok = 0, limited = 0;
+  double worst_residual = 0;
+  for (int c = 0; c < 8; ++c) {
+    Model m;
+    if (c % 2 == 1) {  // limits that bind inside the workspace
+      m.cone_limit = (30 + 40 * unit(rng)) * kDeg;
+      m.t2_limit = (60 + 60 * unit(rng)) * kDeg;
+      m.t3_limit = (60 + 60 * unit(rng)) * kDeg;
+    }
+    pathos2::FieldRequest r = home_request(m, Grid::box({-12, -12, 10}, {12, 12, 35}, {13, 12, 11}));
+    r.rpy = Vector3d(0.4 * (unit(rng) - 0.5), 0.4 * (unit(rng) - 0.5), unit(rng));
+    r.h0 = m.h0 * (0.8 + 0.4 * unit(rng));
+    r.kernel = FieldKernel::Scalar;
+    const Field reference = *pathos2::compute_field(m, r);
+    r.kernel = FieldKernel::VectorMirrored;
+    const Field fast = *pathos2::compute_field(m, r);
+    EXPECT_TRUE(same_bits(fast.cond, reference.cond)) << c;
+    EXPECT_TRUE(same_bits(fast.cond_orientation, reference.cond_orientation)) << c;
+    EXPECT_TRUE(same_bits(fast.reach_margin, reference.reach_margin)) << c;
+    ASSERT_EQ(fast.residual.size(), reference.residual.size());
+    for (std::size_t i = 0; i < fast.residual.size(); ++i) {
+      ASSERT_EQ(std::isinf(fast.residual[i]), std::isinf(reference.residual[i])) << c << " " << i;
+      if (std::isinf(fast.residual[i])) continue;
+      worst_residual = std::max(worst_residual, double(std::abs(fast.residual[i] - reference.residual[i])));
+      ASSERT_LE(std::abs(fast.residual[i] - reference.residual[i]), 1e-12 * (m.l2 + m.l3)) << c << " " << i;
+    }
+    EXPECT_TRUE(same_bits(fast.status, reference.status)) << c;
+    EXPECT_TRUE(same_bits(fast.reachable, reference.reachable)) << c;
+    for (std::uint8_t s : fast.status) {
+      ok += s == std::uint8_t(Status::Ok);
+      limited += s == std::uint8_t(Status::OutOfLimits);
+    }
+  }
+  EXPECT_GT(ok, 100u);
+  EXPECT_GT(limited, 10u);
+  std::ostringstream worst;
+  worst << std::scientific << worst_residual;
+  RecordProperty("largest_residual_difference_cm", worst.str());
 }

@@ -1,0 +1,56 @@
+#include "core/mechanisms/delta/field.h"
+
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+
+#include "core/field_sampling.h"
+
+namespace linkscape::delta {
+
+FieldSample sample_point(const Model& m, const Eigen::Vector3d& p, const FieldRequest& req) {
+  const int branch = req.ik.branch;
+  FieldSample s;
+  const IkResult r = inverse(m, p, req.method, req.ik);
+  s.reach_margin = float(reach_margin(m, p, branch).value);
+  s.status = std::uint8_t(r.status);
+  s.iterations = std::uint16_t(std::min(r.iterations, 65535));
+  s.reachable = r.status == Status::Ok && r.branch == branch;
+  s.residual = r.status == Status::Unreachable ? std::numeric_limits<float>::infinity() : float(r.residual);
+  s.cond = std::numeric_limits<float>::infinity();
+  if (s.reachable) {
+    s.cond = float(jacobian(m, r.q_actuated, p).cond);
+    s.method_used = req.method == IkMethod::Closed ? 0 : 1;
+  }
+  return s;
+}
+
+std::optional<Field> compute_field(const Model& m, const FieldRequest& req, const FieldProgress& progress) {
+  m.validate();
+  if (req.ik.branch < 0 || req.ik.branch >= kBranchCount) throw std::invalid_argument("delta: branch must be 0..7");
+  detail::check_grid(req.grid, Field::bytes_per_sample(), req.memory_limit_bytes);
+  const FieldKernel kernel = req.kernel ? *req.kernel : field_kernel_from_environment();
+  Field f;
+  f.grid = req.grid;
+  f.mechanism = std::string(kMechanismName);
+  f.length_unit = m.length_unit;
+  f.parameters = m.to_parameters();
+  f.method = std::string(to_string(req.method));
+  f.branch = req.ik.branch;
+  const Grid& g = req.grid;
+  const bool fast = kernel != FieldKernel::Scalar && req.method == IkMethod::Closed;
+  const FieldLegs legs = field_legs(m);
+  const bool complete =
+      detail::fill_field_rows(f, false, req.threads, progress, [&](const detail::GridRow& row, const detail::FieldRowOut& out) {
+        for (int t = 0; t < row.count; ++t) {
+          const Eigen::Vector3d p = row.point(g, t);
+          std::optional<FieldSample> s;
+          if (fast) s = sample_closed(m, legs, p, req.ik.branch, req.ik.tolerance);
+          out.store(t, s ? *s : sample_point(m, p, req));
+        }
+      });
+  if (!complete) return std::nullopt;
+  return f;
+}
+
+}  // namespace linkscape::delta

@@ -1,0 +1,66 @@
+// The Delta's field kernel: c(J), the reach margin and the IK diagnostics at
+// every sample of a grid (core/field.h), through the shared parallel loop
+// (core/field_sampling.h).
+//
+// The reference sample calls inverse, reach_margin and jacobian per point,
+// which between them take the sine and cosine of every leg angle and actuator
+// angle many times over and solve each leg twice. The fast kernel
+// (FieldKernel::Vector and VectorMirrored, the default; the closed IK only)
+// computes each quantity once with the same operations, so every array is
+// bit for bit the reference's (tests/core/mechanisms/delta/test_field.cpp).
+// It has no mirror: reflecting y maps leg 1 onto leg 2, but cos and sin of
+// 120 and 240 degrees are not exact mirrors in double, so the field is
+// symmetric only to rounding.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <optional>
+
+#include "core/field.h"
+#include "core/mechanisms/delta/delta.h"
+
+namespace linkscape::delta {
+
+struct FieldRequest {
+  Grid grid;
+  IkMethod method = IkMethod::Closed;
+  IkOptions ik;  // ik.branch: the elbow choice evaluated
+  std::size_t memory_limit_bytes = kFieldMemoryLimitBytes;
+  int threads = 0;  // 0 = all cores
+  // Unset: the environment (field_kernel_from_environment). Scalar is the
+  // reference; the Newton method always uses it.
+  std::optional<FieldKernel> kernel;
+};
+
+// Field with cond = c(J) of the requested branch's configuration where its
+// IK is Ok (+inf elsewhere and where J is singular), reach_margin =
+// reach_margin(...).value, the IK status, residual (+inf where unreachable),
+// iterations, method_used (0 closed, 1 newton). Metadata: mechanism "delta",
+// the model's parameters. Throws std::invalid_argument for a bad model,
+// branch, grid or LINKSCAPE_FIELD_KERNEL, or a request over the memory
+// limit; returns nullopt when cancelled.
+std::optional<Field> compute_field(const Model& model, const FieldRequest& request,
+                                   const FieldProgress& progress = {});
+
+// The reference: one sample through inverse, reach_margin and jacobian.
+FieldSample sample_point(const Model& model, const Eigen::Vector3d& p_base_platform, const FieldRequest& request);
+
+// ---- The fast kernel's parts (delta.cpp) ------------------------------------
+
+// The legs' constant geometry: cos and sin of phi_i, e_i and A_i, as
+// leg_radial and motor_position compute them. Validates the model.
+struct FieldLegs {
+  std::array<double, kLegCount> cos_phi{}, sin_phi{};
+  std::array<Eigen::Vector3d, kLegCount> radial, motor;
+};
+FieldLegs field_legs(const Model& model);
+
+// The closed-IK sample at p for `branch` with the IK tolerance `tolerance`
+// (relative to size()), equal to sample_point's; nullopt where the
+// reference takes a path of its own (non-finite angles or residual, a
+// tolerance looser than the Jacobian's closure check, an underflowing Jq).
+std::optional<FieldSample> sample_closed(const Model& model, const FieldLegs& legs,
+                                         const Eigen::Vector3d& p_base_platform, int branch, double tolerance);
+
+}  // namespace linkscape::delta

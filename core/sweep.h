@@ -1,0 +1,101 @@
+// Design sweeps (`linkscape sweep`): a grid or a seeded random sample of a
+// device's free design parameters, each design scored as `fit` scores it
+// (core/fit.h) plus, on request, conditioning measures over a sampled field,
+// written as one CSV table in design order with its Pareto front marked.
+// Rows are text from the start, so a table assembled from a checkpoint, from
+// one process or from many is the same bytes. No MPI here: gui/sweep_mpi.*
+// hands designs to ranks. docs/sweeps.md describes the measures and the runs.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/fit.h"
+
+namespace linkscape::sweep {
+
+enum class Sampling { Grid, Random };
+
+struct Plan {
+  fit::Problem problem;              // the device, the free variables with their bounds, the task and criteria
+  Sampling sampling = Sampling::Grid;
+  int levels = 5;                    // grid: values per variable, bounds included
+  std::size_t count = 100;           // random: designs
+  std::uint64_t seed = 1;            // random: the designs are a function of the seed alone
+  // Field measures: samples along the longest side of the device's default
+  // box (0: none). Over the reachable samples: the reachable volume and the
+  // GCI; over the samples inside the task at the design's centre: the
+  // reachable share and the worst and mean first measure.
+  int field_resolution = 0;
+  std::vector<std::string> columns;  // design parameters named in the table (every free one among them)
+};
+
+// Every design of the plan, as one value per variable, in table order: the
+// grid with the first variable slowest, or `count` uniform draws from a
+// 64-bit Mersenne twister seeded with `seed`. Throws std::invalid_argument
+// for fewer than 1 design, a grid of one level, or more than 10^9 designs.
+std::vector<std::vector<double>> designs(const Plan& plan);
+
+// The table's header line (no newline), pareto and error columns included.
+std::string header(const Plan& plan);
+
+// The table row of one design (no newline, the pareto cell left as "0"):
+// never throws for the design itself; a design that cannot be built or whose
+// evaluation throws has its reason in the error column (commas and line
+// breaks replaced) and empty scores.
+std::string evaluate_row(const Plan& plan, std::size_t index, const std::vector<double>& values);
+
+// The whole table, header first, rows in index order, with the pareto column
+// set: 1 for each valid design that no other valid design beats on both size
+// (smaller) and the first measure criterion's worst value (better; the margin
+// where no criterion has a measure), as fit's chart draws its front.
+// `rows` must hold every index 0..n-1.
+std::string table(const Plan& plan, const std::map<std::size_t, std::string>& rows);
+
+// The rows of a finished table as fit::Result rows (size, meets, fit, margin
+// and each criterion's worst value), for fit's Pareto chart; rows with an error are
+// left out. Also returns the index of the smallest meeting design, if any.
+fit::Result as_fit_result(const Plan& plan, const std::map<std::size_t, std::string>& rows);
+
+// The cells of a table line (no quoting: rows hold no commas in a cell).
+std::vector<std::string> cells(const std::string& line);
+
+// Which of the points (x smaller is better; y larger is better where
+// `larger_is_better`, else smaller) no other point beats on both.
+std::vector<bool> non_dominated(const std::vector<double>& x, const std::vector<double>& y, bool larger_is_better);
+
+// A text that changes whenever anything that decides the table's bytes does
+// (device, variables, task, criteria, sampling, resolutions); a checkpoint
+// is resumed only under the same text.
+std::string fingerprint(const Plan& plan);
+
+// The checkpoint: a journal beside the table, its first line the plan's
+// fingerprint, then each finished design's table row (its first cell the
+// design index), appended and
+// flushed as designs finish. A process killed mid-line leaves a partial last
+// line, which resuming drops.
+class Checkpoint {
+ public:
+  // Starts a new journal, or with `resume` reads the rows of an existing one
+  // and appends to it. Throws std::invalid_argument where a new journal
+  // would replace one (a stopped run's work), or `resume` finds no journal,
+  // a journal of another plan, or a malformed line (naming file and line).
+  Checkpoint(const std::filesystem::path& path, const Plan& plan, std::size_t designs, bool resume);
+  const std::map<std::size_t, std::string>& rows() const { return rows_; }
+  void add(std::size_t index, const std::string& row);  // appended; flush() writes it through
+  void flush();
+  void remove();  // once the table is written
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+  std::ofstream out_;
+  std::map<std::size_t, std::string> rows_;
+};
+
+}  // namespace linkscape::sweep
