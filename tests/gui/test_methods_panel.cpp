@@ -5,6 +5,7 @@
 // close; Cancel stops a run; the panel stays usable in the window at
 // 1280x800 and 1024x700.
 #include <QChart>
+#include <QChartView>
 #include <QComboBox>
 #include <QDockWidget>
 #include <QLabel>
@@ -188,6 +189,21 @@ class TestMethodsPanel : public QObject {
     for (QScatterSeries* s : method_series(view))
       if (s->name() == "planar") emit s->hovered(s->at(0), true);
     QTRY_COMPARE(QToolTip::text(), tip);
+    QToolTip::hideText();
+    QTRY_VERIFY(!QToolTip::isVisible());
+
+    // The mouse over the "paper" marker shows its text.
+    auto* chart_view = view.findChild<QChartView*>("chart");
+    for (QScatterSeries* s : method_series(view))
+      if (s->name() == "paper") {
+        const QPointF in_chart = view.chart()->mapToPosition(s->at(0), s);
+        const QPoint at = chart_view->mapFromScene(view.chart()->mapToScene(in_chart));
+        QTest::mouseMove(chart_view->viewport(), at + QPoint(0, 8));
+        QTest::mouseMove(chart_view->viewport(), at);
+      }
+    QTRY_VERIFY(QToolTip::isVisible());
+    QVERIFY2(QToolTip::text().startsWith("paper") && QToolTip::text().contains("90 ns per evaluation"),
+             qPrintable(QToolTip::text()));
   }
 
   void zoomAndReset() {
