@@ -13,6 +13,7 @@
 #include "core/fit.h"
 #include "core/preset.h"
 #include "gui/fit_report.h"
+#include "gui/terminal.h"
 #include "gui/mechanisms/commands.h"
 
 namespace linkscape::gui {
@@ -77,20 +78,22 @@ void run_fit(const FitOptions& o, std::ostream& out) {
   const std::shared_ptr<const Mechanism> base = make_mechanism(problem.preset);
   const MechanismInfo& info = base->info();
   fit::Progress progress;
-  const bool show = !o.quiet && ::isatty(STDERR_FILENO);
+  // The search's length is not known ahead: the line shows the designs so
+  // far, the best of them and the time spent.
+  ProgressLine line(o.quiet);
+  line.step("fit");
   std::optional<double> smallest, largest_margin;
-  if (!o.quiet)
-    progress.design = [&](const fit::Row& row, std::size_t n) {
-      if (row.meets && (!smallest || row.size < *smallest)) smallest = row.size;
-      if (row.invalid.empty() && (!largest_margin || row.margin > *largest_margin)) largest_margin = row.margin;
-      std::ostringstream line;
-      line << std::setprecision(4) << "fit: " << n << " designs evaluated";
-      if (o.size && largest_margin) line << ", largest margin so far " << *largest_margin;
-      else if (smallest) line << ", smallest meeting so far " << info.size_description << " = " << *smallest << " " << info.length_unit;
-      if (show) std::cerr << "\r" << line.str() << "    " << std::flush;
-    };
+  progress.design = [&](const fit::Row& row, std::size_t n) {
+    if (row.meets && (!smallest || row.size < *smallest)) smallest = row.size;
+    if (row.invalid.empty() && (!largest_margin || row.margin > *largest_margin)) largest_margin = row.margin;
+    std::ostringstream text;
+    text << std::setprecision(4) << "fit: " << n << " designs evaluated";
+    if (o.size && largest_margin) text << ", largest margin so far " << *largest_margin;
+    else if (smallest) text << ", smallest meeting so far " << info.size_description << " = " << *smallest << " " << info.length_unit;
+    line.describe(text.str());
+  };
   const fit::Result r = fit::solve(problem, progress);
-  if (show) std::cerr << "\r" << std::string(90, ' ') << "\r";
+  line.clear();
 
   out << fit_report(problem, r, info);
   if (!o.output.empty()) write_fit_csv(o.output, problem, r, info);

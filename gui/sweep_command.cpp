@@ -23,18 +23,11 @@
 #include "core/sweep.h"
 #include "gui/fit_report.h"
 #include "gui/sweep_ranks.h"
+#include "gui/terminal.h"
 #include "render/field_vtk.h"
 
 namespace linkscape::gui {
 namespace {
-
-std::string seconds_text(double s) {
-  std::ostringstream out;
-  if (s < 120) out << std::fixed << std::setprecision(s < 10 ? 1 : 0) << s << " s";
-  else if (s < 7200) out << std::fixed << std::setprecision(0) << s / 60 << " min";
-  else out << std::fixed << std::setprecision(1) << s / 3600 << " h";
-  return out.str();
-}
 
 // What rank 0 prints when the job is stopped by a signal (mpirun sends
 // SIGTERM to the surviving ranks when one dies): the rows finished are in
@@ -48,37 +41,6 @@ extern "C" void report_stop(int signal_number) {
   std::signal(signal_number, SIG_DFL);
   std::raise(signal_number);
 }
-
-// Designs done out of the total, the failed ones and the time left, on
-// stderr: rewritten in place on a terminal, else a line every 10 s.
-class ProgressLine {
- public:
-  ProgressLine(std::size_t total, std::size_t already, bool quiet)
-      : total_(total), already_(already), quiet_(quiet), tty_(::isatty(STDERR_FILENO)) {}
-  void update(std::size_t done, std::size_t failed) {
-    if (quiet_) return;
-    const auto now = std::chrono::steady_clock::now();
-    if (now - last_ < (tty_ ? std::chrono::milliseconds(200) : std::chrono::seconds(10)) && done < total_) return;
-    last_ = now;
-    const double elapsed = std::chrono::duration<double>(now - start_).count();
-    const std::size_t new_done = done - already_;
-    std::ostringstream line;
-    line << "sweep: " << done << "/" << total_ << " designs";
-    if (failed) line << " (" << failed << " with an error)";
-    if (new_done > 0 && done < total_)
-      line << ", about " << seconds_text(elapsed / double(new_done) * double(total_ - done)) << " left";
-    if (tty_) std::cerr << "\r" << line.str() << "      " << std::flush;
-    else std::cerr << line.str() << std::endl;
-  }
-  void clear() {
-    if (!quiet_ && tty_) std::cerr << "\r" << std::string(80, ' ') << "\r" << std::flush;
-  }
-
- private:
-  std::size_t total_, already_;
-  bool quiet_, tty_;
-  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now(), last_{};
-};
 
 bool has_error(const std::string& row) { return row.back() != ','; }
 
@@ -198,14 +160,19 @@ void run_sweep(const SweepOptions& o, std::ostream& out) {
                 checkpoint_path.c_str());
   for (int sig : {SIGTERM, SIGINT, SIGHUP}) std::signal(sig, report_stop);
 
-  ProgressLine progress(designs.size(), already, o.quiet);
+  // Designs done out of the total, the failed ones and the time left.
+  ProgressLine progress(o.quiet);
+  progress.step("sweep");
   job.finished = [&](const sweep_ranks::Rows& rows) {
     for (const auto& [index, row] : rows) {
       checkpoint.add(index, row);
       failed += has_error(row);
     }
     checkpoint.flush();
-    progress.update(checkpoint.rows().size(), failed);
+    const std::size_t done = checkpoint.rows().size();
+    progress.describe("sweep: " + std::to_string(done) + "/" + std::to_string(designs.size()) + " designs" +
+                      (failed ? " (" + std::to_string(failed) + " with an error)" : std::string()));
+    progress.report(double(done) / double(std::max<std::size_t>(designs.size(), 1)));
   };
   const int threads = job.threads;
   sweep_ranks::Place place;
@@ -232,7 +199,7 @@ void run_sweep(const SweepOptions& o, std::ostream& out) {
   out << "sweep " << info.name << ": " << designs.size() << " designs (" << failed << " with an error";
   if (already) out << ", " << already << " from the checkpoint";
   out << ") on " << place.ranks << (place.ranks == 1 ? " process" : " ranks") << " x " << threads
-      << (threads == 1 ? " thread" : " threads") << " in " << seconds_text(seconds) << "; " << on_front
+      << (threads == 1 ? " thread" : " threads") << " in " << duration_text(seconds) << "; " << on_front
       << " on the Pareto front";
   if (result.best)
     out << "; smallest meeting the task: size " << format_number(result.rows[*result.best].size) << " "

@@ -12,15 +12,6 @@ namespace linkscape::gui {
 
 namespace {
 
-std::string seconds_text(double s) {
-  std::ostringstream out;
-  out.setf(std::ios::fixed);
-  if (s < 10) out.precision(1);
-  else out.precision(0);
-  if (s < 120) out << s << " s";
-  else out << int(s / 60) << " min " << int(std::fmod(s, 60.0)) << " s";
-  return out.str();
-}
 
 // Optimal string alignment distance: insertions, deletions, substitutions
 // and swaps of neighbours ("--plnae" is one step from "--plane").
@@ -39,15 +30,26 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
 
 }  // namespace
 
-std::string progress_text(const std::string& step, std::optional<double> fraction, double seconds) {
-  if (!fraction) return step + ", " + seconds_text(seconds);
-  const double f = std::clamp(*fraction, 0.0, 1.0);
+std::string duration_text(double s) {
+  std::ostringstream out;
+  out.setf(std::ios::fixed);
+  if (s < 10) out.precision(1);
+  else out.precision(0);
+  if (s < 120) out << s << " s";
+  else out << int(s / 60) << " min " << int(std::fmod(s, 60.0)) << " s";
+  return out.str();
+}
+
+std::string progress_text(const std::string& step, std::optional<double> fraction, double seconds, double first) {
+  if (!fraction) return step + ", " + duration_text(seconds);
+  const double f = std::clamp(*fraction, 0.0, 1.0), done = f - std::clamp(first, 0.0, f);
   std::string text = step + " " + std::to_string(int(f * 100)) + " %";
-  if (seconds >= 0.5 && f >= 0.02 && f < 1) text += ", " + seconds_text(seconds * (1 - f) / f) + " left";
+  if (seconds >= 0.5 && done >= 0.02 && f < 1) text += ", " + duration_text(seconds * (1 - f) / done) + " left";
   return text;
 }
 
-ProgressLine::ProgressLine(bool quiet) : shown_(!quiet && ::isatty(STDERR_FILENO)) {
+ProgressLine::ProgressLine(bool quiet)
+    : shown_(!quiet && ::isatty(STDERR_FILENO)), logged_(!quiet && !::isatty(STDERR_FILENO)) {
   if (!shown_) return;
   ticker_ = std::thread([this] {
     std::unique_lock lock(mutex_);
@@ -70,18 +72,37 @@ ProgressLine::~ProgressLine() {
 }
 
 void ProgressLine::step(const std::string& name) {
-  if (!shown_) return;
+  if (!shown()) return;
   std::lock_guard lock(mutex_);
   step_ = name;
   fraction_.reset();
-  start_ = std::chrono::steady_clock::now();
-  draw();
+  first_fraction_.reset();
+  start_ = logged_at_ = std::chrono::steady_clock::now();
+  if (shown_) draw();
+}
+
+void ProgressLine::describe(const std::string& text) {
+  if (!shown()) return;
+  std::lock_guard lock(mutex_);
+  step_ = text;
+  if (logged_) log();
 }
 
 void ProgressLine::report(double fraction) {
-  if (!shown_) return;
+  if (!shown()) return;
   std::lock_guard lock(mutex_);
+  if (!first_fraction_) first_fraction_ = fraction;
   fraction_ = fraction;
+  if (logged_) log();
+}
+
+void ProgressLine::log() {
+  const auto now = std::chrono::steady_clock::now();
+  if (now - logged_at_ < std::chrono::seconds(10)) return;
+  logged_at_ = now;
+  std::cerr << progress_text(step_, fraction_, std::chrono::duration<double>(now - start_).count(),
+                             first_fraction_.value_or(0))
+            << std::endl;
 }
 
 void ProgressLine::clear() {
@@ -94,7 +115,7 @@ void ProgressLine::clear() {
 
 void ProgressLine::draw() {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  const std::string text = progress_text(step_, fraction_, seconds);
+  const std::string text = progress_text(step_, fraction_, seconds, first_fraction_.value_or(0));
   // Pad over the previous line's tail.
   std::cerr << "\r" << text << std::string(width_ > text.size() ? width_ - text.size() : 0, ' ') << std::flush;
   width_ = std::max(width_, text.size());
