@@ -20,7 +20,7 @@ namespace {
 const QColor kPalette[] = {QColor(31, 119, 180), QColor(255, 127, 14), QColor(44, 160, 44),
                            QColor(214, 39, 40),  QColor(148, 103, 189), QColor(140, 86, 75),
                            QColor(227, 119, 194), QColor(127, 127, 127)};
-constexpr double kErrorFloor = 1e-18;  // exact results are drawn on this floor
+constexpr double kErrorFloor = kExactErrorFloor;
 
 QString superscript(int k) {
   static const QString digits[] = {"⁰", "¹", "²", "³", "⁴", "⁵", "⁶", "⁷", "⁸", "⁹"};
@@ -28,11 +28,16 @@ QString superscript(int k) {
   for (QChar c : QString::number(std::abs(k))) s += digits[c.digitValue()];
   return s;
 }
-QString power_label(int k) { return k == 0 ? "1" : k == 1 ? "10" : "10" + superscript(k); }
+
+}  // namespace
+
+QString decade_label(int k) { return k == 0 ? "1" : k == 1 ? "10" : "10" + superscript(k); }
+
+namespace {
 
 QString time_label(int k) {  // 10^k seconds
   static const char* units[] = {"ns", "µs", "ms", "s"};
-  if (k < -9 || k > 1) return power_label(k) + " s";
+  if (k < -9 || k > 1) return decade_label(k) + " s";
   const int group = (k + 9) / 3, within = (k + 9) % 3;
   return QString::number(int(std::pow(10, within))) + " " + units[std::min(group, 3)];
 }
@@ -73,7 +78,7 @@ struct LogPanel {
       p.drawLine(QPointF(plot.left() - 0.35 * fh, y), QPointF(plot.left(), y));
       if ((k - int(std::ceil(y0))) % ystep == 0)
         p.drawText(QRectF(plot.left() - 3.6 * fh, y - fh / 2, 3.1 * fh, fh), Qt::AlignRight | Qt::AlignVCenter,
-                   power_label(k));
+                   decade_label(k));
     }
     p.drawText(QRectF(plot.left(), plot.bottom() + 1.4 * fh, plot.width(), fh), Qt::AlignHCenter, x_label);
     p.save();
@@ -141,15 +146,9 @@ double font_height(QPainter& p, const QRectF& area) {
 }
 
 QString family_title(const std::string& f, const std::string& mechanism, bool label_mechanism) {
-  QString t;
-  if (f == "ik") t = "Inverse kinematics: joint error (rad)";
-  else if (f == "leg-ik") t = "Leg IK: joint error (rad)";
-  else if (f == "fk") t = "Forward kinematics: pose error";
-  else if (f == "jacobian") t = "Jacobian: |J - J*| / |J*|";
-  else if (f == "conditioning") t = "Condition numbers: |c - c*| / c*";
-  else t = "Workspace fields: volume and extent errors";
-  if (!label_mechanism) return t;
+  if (!label_mechanism) return method_family_title(f);
   // Two mechanisms: four narrow columns, short titles.
+  QString t;
   if (f == "ik") t = "IK: joint error (rad)";
   else if (f == "leg-ik") t = "leg IK: joint error (rad)";
   else if (f == "fk") t = "FK: pose error";
@@ -211,10 +210,7 @@ void draw_family(QPainter& p, const QRectF& cell, double fh, const std::vector<m
   const double top = std::log10(emax) + 0.3;
   panel.y1 = std::ceil((top - f * panel.y0) / (1 - f));
   panel.draw_axes(p, fh, family_title(family, mechanism, label_mechanism), field ? "time per field, all threads" : "time per evaluation, one thread",
-                  field ? "relative error"
-                        : (family == "ik" || family == "leg-ik") ? "joint error (rad)"
-                        : family == "fk"                         ? "max(|dp| / (l2 + l3), angle)"
-                                                                 : "relative error",
+                  method_error_label(family),
                   time_label);
   p.save();
   p.setClipRect(panel.plot.adjusted(-fh, -fh, fh, fh));
@@ -285,6 +281,23 @@ double draw_header(QPainter& p, const QRectF& area, const QString& title, const 
 }
 
 }  // namespace
+
+QString method_family_title(const std::string& f) {
+  if (f == "ik") return "Inverse kinematics: joint error (rad)";
+  if (f == "leg-ik") return "Leg IK: joint error (rad)";
+  if (f == "fk") return "Forward kinematics: pose error";
+  if (f == "jacobian") return "Jacobian: |J - J*| / |J*|";
+  if (f == "conditioning") return "Condition numbers: |c - c*| / c*";
+  return "Workspace fields: volume and extent errors";
+}
+
+QColor method_colour(int k) { return kPalette[k % 8]; }
+
+QString method_error_label(const std::string& family) {
+  if (family == "ik" || family == "leg-ik") return "joint error (rad)";
+  if (family == "fk") return "max(|dp| / (l2 + l3), angle)";
+  return "relative error";
+}
 
 void draw_method_chart(QPainter& p, const QRectF& area, const std::vector<methods::MethodRow>& rows,
                        const QString& title) {
@@ -365,7 +378,7 @@ void draw_sweep_chart(QPainter& p, const QRectF& area, const std::vector<stabili
     panel.draw_axes(p, pfh, name + (joint ? " (joint path)" : pose ? " (pose path)" : " (Cartesian path)"),
                     joint ? "eps: angle from the set (rad)" : pose ? "eps: s = s* (1 - eps)" : "eps: distance / size",
                     fk ? "FK pose error" : own ? "residual / size" : "joint error (rad)",
-                    [](int k) { return power_label(k); });
+                    [](int k) { return decade_label(k); });
     // "not ok" band at the top.
     const double band = panel.plot.top() + 0.55 * pfh;
     p.setPen(QColor(120, 120, 120));

@@ -11,9 +11,11 @@
 // sigma_min dashed, non-ok results as crosses on the "not ok" band.
 #pragma once
 
+#include <QColor>
 #include <QRectF>
 #include <QString>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "core/method_harness.h"
@@ -22,6 +24,20 @@
 class QPainter;
 
 namespace linkscape::gui {
+
+// Exact results (error 0) are drawn on this floor of the log error axis, by
+// the painted chart and the window's interactive one alike.
+inline constexpr double kExactErrorFloor = 1e-18;
+
+// A family's panel title ("Inverse kinematics: joint error (rad)") and the
+// label of its error axis ("joint error (rad)"), shared by both charts.
+QString method_family_title(const std::string& family);
+QString method_error_label(const std::string& family);
+// The label of the decade 10^k: "10⁻⁶".
+QString decade_label(int k);
+// The colour of the k-th method of a family (Tableau 10: distinct under
+// common colour-vision deficiencies).
+QColor method_colour(int k);
 
 void draw_method_chart(QPainter& painter, const QRectF& area, const std::vector<methods::MethodRow>& rows,
                        const QString& title);

@@ -1,50 +1,18 @@
 #include "gui/methods_panel.h"
 
 #include <QHBoxLayout>
-#include <QHeaderView>
 #include <QLabel>
-#include <QPainter>
 #include <QPushButton>
-#include <QSplitter>
-#include <QTableWidget>
 #include <QVBoxLayout>
 
 #include <exception>
 #include <stdexcept>
 
 #include "core/mechanism.h"
-#include "gui/method_chart.h"
+#include "gui/methods_view.h"
 
 namespace linkscape::gui {
 namespace {
-
-// The chart, drawn into whatever rectangle the widget has.
-class ChartView : public QWidget {
- public:
-  ChartView(const std::vector<methods::MethodRow>& rows, const QString& title, QWidget* parent)
-      : QWidget(parent), rows_(rows), title_(title) {
-    setMinimumSize(320, 240);
-  }
-  void set_title(const QString& t) { title_ = t; }
-  const QString& title() const { return title_; }
-
- protected:
-  void paintEvent(QPaintEvent*) override {
-    QPainter p(this);
-    p.setRenderHint(QPainter::Antialiasing);
-    if (rows_.empty()) {
-      p.fillRect(rect(), Qt::white);
-      p.setPen(QColor(110, 110, 110));
-      p.drawText(rect(), Qt::AlignCenter, "Run measures every method's time and error.");
-      return;
-    }
-    draw_method_chart(p, QRectF(rect()), rows_, title_);
-  }
-
- private:
-  const std::vector<methods::MethodRow>& rows_;
-  QString title_;
-};
 
 QString mechanism_title(const Preset& preset) {
   return QString::fromStdString(preset.title.empty() ? preset.mechanism : preset.title);
@@ -64,42 +32,19 @@ MethodsPanel::MethodsPanel(QWidget* parent) : QWidget(parent) {
   cancel_button_->setEnabled(false);
   status_ = new QLabel("Not measured yet.", this);
   status_->setObjectName("status");
-  // The chart has a panel per mechanism and family: a dock is too small to
-  // read it, so it also opens in a window of its own (kept current).
+  status_->setWordWrap(true);  // the whole message, on as many lines as it needs
   auto* enlarge = new QPushButton("Enlarge", this);
   enlarge->setObjectName("enlarge");
-  enlarge->setToolTip("Open the chart in its own window, large enough to read");
+  enlarge->setToolTip("Open the chart and the table in a window of their own");
   bar->addWidget(run_button_);
   bar->addWidget(cancel_button_);
+  bar->addStretch(1);
   bar->addWidget(enlarge);
-  bar->addWidget(status_, 1);
   layout->addLayout(bar);
-  auto* split = new QSplitter(Qt::Vertical, this);
-  chart_ = new ChartView(rows_, "", split);
-  chart_->setObjectName("chart");
-  table_ = new QTableWidget(0, 8, split);
-  table_->setObjectName("table");
-  table_->setHorizontalHeaderLabels(
-      {"family", "method", "parameter", "time / eval", "median error", "p99", "max", "not ok"});
-  table_->horizontalHeader()->setSectionResizeMode(QHeaderView::ResizeToContents);
-  table_->setEditTriggers(QAbstractItemView::NoEditTriggers);
-  split->addWidget(chart_);
-  split->addWidget(table_);
-  split->setStretchFactor(0, 3);
-  split->setStretchFactor(1, 1);
-  layout->addWidget(split, 1);
-  connect(enlarge, &QPushButton::clicked, this, [this] {
-    auto* big = new ChartView(rows_, static_cast<ChartView*>(chart_)->title(), this);
-    big->setWindowFlags(Qt::Window);
-    big->setAttribute(Qt::WA_DeleteOnClose);
-    big->setWindowTitle("Linkscape: speed against accuracy");
-    big->resize(1400, 1000);
-    connect(this, &MethodsPanel::runFinished, big, [this, big] {
-      big->set_title(static_cast<ChartView*>(chart_)->title());
-      big->update();
-    });
-    big->show();
-  });
+  layout->addWidget(status_);
+  view_ = new MethodsView(this);
+  layout->addWidget(view_, 1);
+  connect(enlarge, &QPushButton::clicked, this, &MethodsPanel::enlarge);
   connect(run_button_, &QPushButton::clicked, this, &MethodsPanel::run);
   connect(cancel_button_, &QPushButton::clicked, this, &MethodsPanel::cancel);
 }
@@ -111,6 +56,19 @@ MethodsPanel::~MethodsPanel() {
 
 void MethodsPanel::join_worker() {
   if (worker_.joinable()) worker_.join();
+}
+
+const std::vector<methods::MethodRow>& MethodsPanel::rows() const { return view_->rows(); }
+
+void MethodsPanel::enlarge() {
+  if (!enlarged_) {
+    enlarged_ = new MethodsWindow(this);
+    enlarged_->setRows(view_->rows(), measured_title_);
+    enlarged_->view()->setFamily(view_->family());
+  }
+  enlarged_->show();
+  enlarged_->raise();
+  enlarged_->activateWindow();
 }
 
 void MethodsPanel::setMechanism(const Preset& preset) {
@@ -201,29 +159,11 @@ void MethodsPanel::finish(unsigned generation, std::vector<methods::MethodRow> r
   cancel_button_->setEnabled(false);
   status_->setText(message);
   if (completed) {
-    rows_ = std::move(rows);
-    static_cast<ChartView*>(chart_)->set_title("Speed against accuracy: " + mechanism_title(preset_));
-    fill_table();
-    chart_->update();
+    measured_title_ = mechanism_title(preset_);
+    view_->setRows(rows);
+    if (enlarged_) enlarged_->setRows(rows, measured_title_);
   }
   emit runFinished(completed);
-}
-
-void MethodsPanel::fill_table() {
-  table_->setRowCount(int(rows_.size()));
-  auto number = [](double v) { return QString::number(v, 'g', 3); };
-  for (int i = 0; i < int(rows_.size()); ++i) {
-    const methods::MethodRow& r = rows_[std::size_t(i)];
-    const QString cells[] = {QString::fromStdString(r.family),
-                             QString::fromStdString(r.method),
-                             QString::fromStdString(r.parameter),
-                             number(r.seconds_per_evaluation) + " s",
-                             number(r.error_median) + " " + QString::fromStdString(r.error_unit),
-                             number(r.error_p99),
-                             number(r.error_max),
-                             QString::number(r.failures)};
-    for (int c = 0; c < 8; ++c) table_->setItem(i, c, new QTableWidgetItem(cells[c]));
-  }
 }
 
 }  // namespace linkscape::gui

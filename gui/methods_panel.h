@@ -1,6 +1,7 @@
-// A window panel (QDockWidget content) with the speed-against-accuracy chart
-// of the numerical methods (gui/method_chart.h) and their table, for the
-// mechanism parameters the main window passes in. "Run" measures them again
+// A window panel (QDockWidget content) with the interactive speed-against-
+// accuracy chart of the numerical methods and their table (gui/methods_view.h),
+// for the mechanism parameters the main window passes in; Enlarge shows them
+// in a window of its own. "Run" measures them again
 // on a worker thread (the GUI stays responsive), with progress text and
 // Cancel; results come back to the GUI thread through a queued call.
 #pragma once
@@ -17,9 +18,11 @@
 
 class QLabel;
 class QPushButton;
-class QTableWidget;
 
 namespace linkscape::gui {
+
+class MethodsView;
+class MethodsWindow;
 
 class MethodsPanel : public QWidget {
   Q_OBJECT
@@ -38,13 +41,16 @@ class MethodsPanel : public QWidget {
   // 3 repeats, no fields.
   void setHarnessSize(std::size_t samples, int repeats, bool include_fields = false);
 
-  const std::vector<methods::MethodRow>& rows() const { return rows_; }
+  const std::vector<methods::MethodRow>& rows() const;
+  MethodsView* view() const { return view_; }
+  MethodsWindow* enlargedWindow() const { return enlarged_; }  // null until Enlarge
   const linkscape::Preset& mechanism() const { return preset_; }
   bool isRunning() const { return running_; }
   QString statusText() const;
 
  public slots:
   void run();     // no-op while running
+  void enlarge();  // shows (and raises) the chart and table in a window of their own
   void cancel();  // the running measurement stops at its next stage
 
  signals:
@@ -52,23 +58,22 @@ class MethodsPanel : public QWidget {
 
  private:
   void finish(unsigned generation, std::vector<methods::MethodRow> rows, bool completed, const QString& message);
-  void fill_table();
   void join_worker();
 
   linkscape::Preset preset_;
+  QString measured_title_;  // the device the shown rows measured
   std::size_t samples_ = 2000;
   int repeats_ = 3;
   bool include_fields_ = false;
-  std::vector<methods::MethodRow> rows_;
   bool running_ = false;
   unsigned generation_ = 0;
   std::shared_ptr<std::atomic<bool>> cancel_;
   std::thread worker_;
-  QWidget* chart_ = nullptr;
+  MethodsView* view_ = nullptr;
+  MethodsWindow* enlarged_ = nullptr;  // a child: lives as long as the panel
   QLabel* status_ = nullptr;
   QPushButton* run_button_ = nullptr;
   QPushButton* cancel_button_ = nullptr;
-  QTableWidget* table_ = nullptr;
 };
 
 }  // namespace linkscape::gui

@@ -7,7 +7,7 @@ packages=(
   cmake ninja-build g++ dpkg-dev pkg-config
   libeigen3-dev nlohmann-json3-dev libcli11-dev libhwy-dev
   libvtk9-dev libopenmesh-dev
-  qt6-base-dev libqt6opengl6-dev qt6-svg-dev
+  qt6-base-dev libqt6opengl6-dev qt6-svg-dev qt6-charts-dev
   libgtest-dev libbenchmark-dev
   libopenmpi-dev openmpi-bin
   xvfb xauth libgl1-mesa-dri
