@@ -45,6 +45,22 @@ bool FieldJobRunner::busy() const { return pool_.activeThreadCount() > 0; }
 
 void FieldJobRunner::submit(const FieldJob& job) {
   cancel();
+  if (job.slice && !job.volume && last_slice_seconds_.load() < kAnswerNowWhenFasterThan) {
+    try {
+      const auto t0 = std::chrono::steady_clock::now();
+      std::optional<Field> field = job.sampler(*job.slice, {});
+      if (field) {
+        SliceResult sr{std::make_shared<const Field>(std::move(*field)), true, seconds_since(t0), 0.0};
+        sr.points_per_second = job.slice->size() / std::max(sr.seconds, 1e-9);
+        last_slice_seconds_.store(sr.seconds);
+        emit sliceReady(sr);
+        return;
+      }
+    } catch (const std::exception& e) {
+      emit failed(QString::fromStdString(e.what()));
+      return;
+    }
+  }
   auto cancel_flag = std::make_shared<std::atomic<bool>>(false);
   cancel_ = cancel_flag;
   const std::uint64_t generation = generation_.load();
@@ -56,20 +72,23 @@ void FieldJobRunner::submit(const FieldJob& job) {
       if (current()) QMetaObject::invokeMethod(this, [this, f] { emit this->progress(f); }, Qt::QueuedConnection);
     };
     try {
+      const bool coarse_slice = last_slice_seconds_.load() >= kCoarseWhenSlowerThan;
+      const bool coarse_volume = last_volume_seconds_.load() >= kCoarseWhenSlowerThan;
       for (bool fine : {false, true}) {
         // Slice first: it is what the user is looking at.
-        if (job.slice) {
+        if (job.slice && (fine || coarse_slice)) {
           const Grid grid = fine ? *job.slice : coarsen(*job.slice, job.coarse_divisor);
           const auto t0 = std::chrono::steady_clock::now();
           std::optional<Field> field = job.sampler(grid, progress);
           if (!field || !current()) return;
           SliceResult sr{std::make_shared<const Field>(std::move(*field)), fine, seconds_since(t0), 0.0};
+          if (fine) last_slice_seconds_.store(sr.seconds);
           sr.points_per_second = grid.size() / std::max(sr.seconds, 1e-9);
           QMetaObject::invokeMethod(this, [this, sr, generation] {
             if (generation_.load() == generation) emit sliceReady(sr);
           }, Qt::QueuedConnection);
         }
-        if (!job.volume) continue;
+        if (!job.volume || (!fine && !coarse_volume)) continue;
         const Grid volume = fine ? *job.volume : coarsen(*job.volume, job.coarse_divisor);
         const auto t1 = std::chrono::steady_clock::now();
         std::optional<Field> vol = job.sampler(volume, progress);
@@ -84,6 +103,7 @@ void FieldJobRunner::submit(const FieldJob& job) {
         su.well_conditioned = render::extract_surface(*su.volume, cond_request);
         su.fine = fine;
         su.seconds = seconds_since(t1);
+        if (fine) last_volume_seconds_.store(su.seconds);
         if (!current()) return;
         QMetaObject::invokeMethod(this, [this, su, generation] {
           if (generation_.load() == generation) emit surfacesReady(su);

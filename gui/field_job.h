@@ -6,6 +6,7 @@
 #include <QObject>
 #include <QThreadPool>
 #include <atomic>
+#include <limits>
 #include <functional>
 #include <memory>
 
@@ -24,7 +25,10 @@ namespace linkscape::gui {
 using FieldSampler = std::function<std::optional<Field>(const Grid&, const FieldProgress&)>;
 
 // A slice, a volume with its isosurfaces, or both. Each is computed twice:
-// at resolution / coarse_divisor (at least 16 samples per axis), then in full.
+// at resolution / coarse_divisor (at least 16 samples per axis), then in
+// full; the coarse pass is left out while the last full one of its kind
+// took less than FieldJobRunner::kCoarseWhenSlowerThan (it would only cost
+// a frame more before the full picture).
 struct FieldJob {
   FieldSampler sampler;
   std::optional<Grid> slice;   // a one-sample-thick grid
@@ -55,7 +59,13 @@ class FieldJobRunner : public QObject {
   explicit FieldJobRunner(QObject* parent = nullptr);
   ~FieldJobRunner() override;  // cancels and waits
 
-  // Starts `job`, cancelling any earlier one.
+  static constexpr double kCoarseWhenSlowerThan = 0.03;  // seconds: about one software-rendered frame
+  // A slice-only job whose last full pass took less than this is answered
+  // at once, on the calling thread: the next frame then shows it, instead
+  // of the frame after (seconds).
+  static constexpr double kAnswerNowWhenFasterThan = 0.005;
+
+  // Starts `job`, cancelling any earlier one (or answers it at once, above).
   void submit(const FieldJob& job);
   void cancel();
   bool busy() const;
@@ -70,6 +80,9 @@ class FieldJobRunner : public QObject {
   QThreadPool pool_;
   std::shared_ptr<std::atomic<bool>> cancel_;
   std::atomic<std::uint64_t> generation_{0};
+  // The last full passes' times; a first request (infinity) goes coarse first.
+  std::atomic<double> last_slice_seconds_{std::numeric_limits<double>::infinity()};
+  std::atomic<double> last_volume_seconds_{std::numeric_limits<double>::infinity()};
 };
 
 }  // namespace linkscape::gui

@@ -69,8 +69,8 @@ FieldScene::FieldScene() {
     vtkProperty* p = surface_actors_[k]->GetProperty();
     p->SetColor(colours[k][0], colours[k][1], colours[k][2]);
     p->SetOpacity(opacities[k]);
-    p->SetInterpolationToPhong();
-    p->BackfaceCullingOff();
+    p->SetInterpolationToGouraud();
+    p->BackfaceCullingOn();
     p->SetSpecular(0.1);
     p->SetSpecularPower(20);
     surface_actors_[k]->PickableOff();
