@@ -121,6 +121,8 @@ FitPanel::FitPanel(const TaskPanel* task, QWidget* parent) : QWidget(parent), ta
   run_button_->setObjectName("fitRun");
   cancel_button_ = new QPushButton("Cancel", this);
   cancel_button_->setObjectName("fitCancel");
+  run_button_->setToolTip("Search the designs in the bounds (off the window's thread; the window stays usable)");
+  cancel_button_->setToolTip("Stop the search; the designs evaluated so far are kept in the chart");
   cancel_button_->setEnabled(false);
   progress_ = new QProgressBar(this);
   progress_->setRange(0, 1);
@@ -157,6 +159,8 @@ FitPanel::FitPanel(const TaskPanel* task, QWidget* parent) : QWidget(parent), ta
   export_chart_button_->setObjectName("fitExportChart");
   export_csv_button_ = new QPushButton("Export CSV...", this);
   export_csv_button_->setObjectName("fitExportCsv");
+  export_chart_button_->setToolTip("Save the chart of size against margin as PNG, SVG or PDF");
+  export_csv_button_->setToolTip("Save every design evaluated, with its margins, as CSV (as linkscape fit -o)");
   for (QPushButton* b : {apply_button_, export_chart_button_, export_csv_button_}) {
     b->setEnabled(false);
     actions->addWidget(b);
@@ -220,6 +224,9 @@ void FitPanel::setDevice(const Preset& preset, const Eigen::VectorXd& pose) {
       (*box)->setDecimals(3);
       (*box)->setRange(-1e4, 1e4);
       (*box)->setValue(value);
+      if (!q.unit.empty()) (*box)->setSuffix(qs(" " + q.unit));
+      (*box)->setToolTip(qs((suffix[0] == 'L' ? "Lower" : "Upper") + std::string(" bound of ") + q.name +
+                            " in the search (default: its range in the Design tab)"));
       grid->addWidget(*box, r, suffix[0] == 'L' ? 1 : 2);
     }
     rows_.push_back(row);

@@ -159,7 +159,9 @@ std::unique_ptr<QuantityControl> make_control(QWidget* parent, QFormLayout* form
   c->box->setSuffix(display_suffix(q));
   c->box->setKeyboardTracking(false);
   c->box->setMinimumWidth(96);
-  const QString tip = qs(q.description);
+  // What it is, and in which unit (the spin box shows the unit too).
+  const std::string unit = q.unit == "rad" ? "degrees" : q.unit;
+  const QString tip = qs((q.description.empty() ? q.name : q.description) + (unit.empty() ? "" : " (" + unit + ")"));
   c->slider->setToolTip(tip);
   c->box->setToolTip(tip);
   auto* row = new QHBoxLayout;
@@ -568,6 +570,7 @@ QWidget* MechanismWindow::buildFieldPanel() {
   }
   if (choices.methods.empty()) method_box_->hide();
   else form->addRow(tr("IK method"), method_box_);
+  method_box_->setToolTip(tr("The inverse kinematics method that solves each sample of the fields"));
   field_branch_box_ = new QComboBox(w);
   field_branch_box_->setObjectName("fieldBranchBox");
   for (const auto& b : info.branches) field_branch_box_->addItem(qs(b));
@@ -577,6 +580,7 @@ QWidget* MechanismWindow::buildFieldPanel() {
   normal_box_ = new QComboBox(w);
   normal_box_->setObjectName("normalBox");
   normal_box_->addItems({"x", "y", "z"});
+  normal_box_->setToolTip(tr("The axis the slice plane is normal to"));
   form->addRow(tr("Slice normal"), normal_box_);
   position_slider_ = new QSlider(Qt::Horizontal, w);
   position_slider_->setObjectName("positionSlider");
@@ -595,6 +599,7 @@ QWidget* MechanismWindow::buildFieldPanel() {
   form->addRow(tr("Position"), row);
   follow_box_ = new QCheckBox(tr("Through the driven point"), w);
   follow_box_->setObjectName("followBox");
+  follow_box_->setToolTip(tr("The slice moves with the driven point (the position slider follows it)"));
   form->addRow(follow_box_);
   const QString main_measure = qs(info.measures.front().title);
   threshold_box_ = spin(w, 1.05, 100.0, 3.0, 2);
@@ -633,6 +638,8 @@ QWidget* MechanismWindow::buildFieldPanel() {
   volume_resolution_box_->setObjectName("volumeResolutionBox");
   for (int n : choices.volume_resolutions) volume_resolution_box_->addItem(QString::number(n));
   volume_resolution_box_->setCurrentText(QString::number(choices.default_volume_resolution));
+  slice_resolution_box_->setToolTip(tr("Samples along each side of the slice"));
+  volume_resolution_box_->setToolTip(tr("Samples along each side of the volume the workspace surfaces come from"));
   form->addRow(tr("Slice samples"), slice_resolution_box_);
   form->addRow(tr("Volume samples"), volume_resolution_box_);
   show_slice_box_ = new QCheckBox(tr("Slice"), w);
@@ -647,6 +654,11 @@ QWidget* MechanismWindow::buildFieldPanel() {
   reach_opacity_slider_->setValue(10);
   well_opacity_slider_->setValue(22);
   for (QCheckBox* c : {show_slice_box_, show_reach_box_, show_well_box_}) c->setChecked(true);
+  show_slice_box_->setToolTip(tr("Show the slice (it is computed only while shown)"));
+  show_reach_box_->setToolTip(tr("The boundary of the reachable set, translucent; the slider sets its opacity"));
+  show_well_box_->setToolTip(tr("The region where the main measure is below the threshold; the slider sets its opacity"));
+  reach_opacity_slider_->setToolTip(tr("Opacity of the reachable workspace"));
+  well_opacity_slider_->setToolTip(tr("Opacity of the well-conditioned workspace"));
   form->addRow(show_slice_box_);
   form->addRow(show_reach_box_, reach_opacity_slider_);
   form->addRow(show_well_box_, well_opacity_slider_);
@@ -682,6 +694,8 @@ QWidget* MechanismWindow::buildFieldPanel() {
   range_min_box_->setEnabled(false);
   range_max_box_->setEnabled(false);
   range_min_box_->setObjectName("rangeMinBox");
+  range_min_box_->setToolTip(tr("Lower end of the colour range (the value's unit); shows the automatic one when that is on"));
+  range_max_box_->setToolTip(tr("Upper end of the colour range (the value's unit); shows the automatic one when that is on"));
   range_max_box_->setObjectName("rangeMaxBox");
   auto_range_box_->setObjectName("autoRangeBox");
   auto_range_box_->setToolTip(tr("Colour range from the slice's data (the boxes show it); off: type the range"));
@@ -711,18 +725,22 @@ QWidget* MechanismWindow::buildAnimationPanel() {
   path_box_->setObjectName("pathBox");
   path_box_->addItems({tr("Circle around the driven point (slice plane)"),
                        tr("Line through the driven point (slice's first axis)")});
+  path_box_->setToolTip(tr("The path the driven point follows while playing"));
   form->addRow(tr("Path"), path_box_);
   amplitude_box_ = spin(w, 0.0, 1e4, 0.15 * mechanism_->size(), 2, " " + qs(mechanism_->info().length_unit));
   amplitude_box_->setObjectName("amplitudeBox");
   amplitude_box_->setToolTip(tr("Radius of the circle or half-length of the line"));
   form->addRow(tr("Size"), amplitude_box_);
   speed_box_ = spin(w, 0.01, 100.0, 0.5, 2, tr(" cycles/s"));
+  speed_box_->setToolTip(tr("Turns of the circle, or back-and-forth sweeps of the line, per second"));
   form->addRow(tr("Speed"), speed_box_);
   loop_box_ = new QCheckBox(tr("Loop"), w);
+  loop_box_->setToolTip(tr("Play again from the start at the end of the path"));
   loop_box_->setChecked(true);
   form->addRow(loop_box_);
   play_button_ = new QPushButton(tr("Play"), w);
   play_button_->setObjectName("playButton");
+  play_button_->setToolTip(tr("Move the driven point along the path (again to stop)"));
   play_button_->setCheckable(true);
   form->addRow(play_button_);
   form->addRow(new QLabel(tr("The path is followed by inverse kinematics in the current branch;\n"

@@ -29,6 +29,7 @@ MethodsPanel::MethodsPanel(QWidget* parent) : QWidget(parent) {
   run_button_->setToolTip("Measure time per evaluation and error of every method for the current parameters");
   cancel_button_ = new QPushButton("Cancel", this);
   cancel_button_->setObjectName("cancel");
+  cancel_button_->setToolTip(tr("Stop the measurement at its next stage"));
   cancel_button_->setEnabled(false);
   status_ = new QLabel("Not measured yet.", this);
   status_->setObjectName("status");

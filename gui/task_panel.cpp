@@ -49,9 +49,11 @@ TaskPanel::TaskPanel(render::TaskScene* scene, QWidget* parent) : QWidget(parent
   column->addLayout(form);
   show_box_ = new QCheckBox(tr("Show the task volume"), this);
   show_box_->setObjectName("taskShowBox");
+  show_box_->setToolTip(tr("Draw the task volume in the view, coloured where it leaves the good region"));
   form->addRow(show_box_);
   shape_box_ = new QComboBox(this);
   shape_box_->setObjectName("taskShapeBox");
+  shape_box_->setToolTip(tr("A sphere (its diameter) or an axis-aligned box (its sides)"));
   shape_box_->addItems({"sphere", "box"});
   form->addRow(tr("Shape"), shape_box_);
   auto* sizes = new QHBoxLayout;
@@ -60,6 +62,7 @@ TaskPanel::TaskPanel(render::TaskScene* scene, QWidget* parent) : QWidget(parent
     size_[k] = length_box(this);
     size_[k]->setMinimum(0.01);
     size_[k]->setObjectName(QString("taskSize%1").arg("XYZ"[k]));
+    size_[k]->setToolTip(k == 0 ? tr("Diameter of the sphere, or the box's side along x") : tr("The box's side along %1").arg(QChar("xyz"[k])));
     sizes->addWidget(size_[k]);
     centre_[k] = length_box(this);
     centre_[k]->setObjectName(QString("taskCentre%1").arg("XYZ"[k]));

@@ -1,8 +1,13 @@
 // The window's layout at the sizes users run it at (1024x700 to 1600x1000):
 // the colour bar beside the scene, never over it; the state read-outs in
-// view; one scroll area per panel, never one inside another; the panels
-// reachable from the View menu. LINKSCAPE_SCREENSHOTS=<folder> also saves
+// view; one scroll area per panel, never one inside another; and a tooltip
+// on every control of every panel, for every device. LINKSCAPE_SCREENSHOTS=<folder> also saves
 // each size with the Drive and the Field tab in front, to look at.
+#include <QAbstractButton>
+#include <QAbstractSlider>
+#include <QAbstractSpinBox>
+#include <QApplication>
+#include <QComboBox>
 #include <QDir>
 #include <QDockWidget>
 #include <QGroupBox>
@@ -84,5 +89,41 @@ class WindowLayoutTest : public QObject {
   }
 };
 
-QTEST_MAIN(WindowLayoutTest)
+// Lists every control in the window's panels without a tooltip: each slider,
+// spin box, combo box, check box and button says what it does.
+class WindowTooltipTest : public QObject {
+  Q_OBJECT
+ private slots:
+  void everyControlExplainsItself() {
+    for (const char* device : {"parallel-12r", "pathos2", "delta"}) {
+      MechanismWindow w(load_preset(device));
+      w.resize(1280, 800);
+      w.show();
+      QVERIFY(QTest::qWaitForWindowExposed(&w));
+      QStringList missing;
+      for (QDockWidget* dock : w.findChildren<QDockWidget*>())
+        for (QWidget* c : dock->findChildren<QWidget*>()) {
+          const bool control = qobject_cast<QAbstractSlider*>(c) && !c->inherits("QScrollBar");
+          const bool input = control || qobject_cast<QAbstractSpinBox*>(c) || qobject_cast<QComboBox*>(c) ||
+                             qobject_cast<QAbstractButton*>(c);
+          if (!input || c->toolTip().isEmpty() == false) continue;
+          if (c->parentWidget() && c->parentWidget()->inherits("QAbstractSpinBox")) continue;  // its arrows
+          if (c->inherits("QDockWidgetTitleButton") || c->inherits("QTableCornerButton") ||
+              c->objectName().startsWith("qt_"))
+            continue;  // Qt's own
+          missing << dock->objectName() + ": " + c->metaObject()->className() + " '" + c->objectName() + "' " +
+                         (qobject_cast<QAbstractButton*>(c) ? qobject_cast<QAbstractButton*>(c)->text() : QString());
+        }
+      for (const QString& m : missing) qWarning("%s: no tooltip: %s", device, qPrintable(m));
+      QVERIFY2(missing.isEmpty(), qPrintable(QString("%1 controls of %2 have no tooltip").arg(missing.size()).arg(device)));
+    }
+  }
+};
+
+int main(int argc, char** argv) {
+  QApplication app(argc, argv);
+  WindowLayoutTest layout;
+  WindowTooltipTest tooltips;
+  return QTest::qExec(&layout, argc, argv) | QTest::qExec(&tooltips, argc, argv);
+}
 #include "test_window_layout.moc"
