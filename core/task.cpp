@@ -98,6 +98,17 @@ double TaskVolume::volume() const {
   return shape == Shape::Sphere ? std::numbers::pi / 6 * std::pow(diameter(), 3) : size.prod();
 }
 
+std::string to_text(const TaskVolume& t) {
+  std::string text = t.shape == Shape::Sphere
+                         ? "sphere:diameter=" + format_number(t.diameter())
+                         : "box:size=" + format_number(t.size.x()) + "," + format_number(t.size.y()) + "," +
+                               format_number(t.size.z());
+  if (t.centre)
+    text += ",centre=" + format_number(t.centre->x()) + "," + format_number(t.centre->y()) + "," +
+            format_number(t.centre->z());
+  return text;
+}
+
 TaskVolume parse_task(const std::string& text) {
   const std::string usage = "task '" + text + "': expected sphere:diameter=D, sphere:radius=R or box:size=X,Y,Z (or "
                             "box:size=S), optionally followed by ,centre=x,y,z";

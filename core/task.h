@@ -68,6 +68,9 @@ struct TaskVolume {
 // std::invalid_argument for an unknown shape or key, a missing size, or an
 // empty task (a size that is not positive and finite).
 TaskVolume parse_task(const std::string& text);
+// The text parse_task reads back to the same volume (shortest round-trip
+// numbers): "sphere:diameter=15,centre=0,12.5,-3".
+std::string to_text(const TaskVolume& task);
 
 // ---- What is sampled ----------------------------------------------------------------
 

@@ -308,7 +308,10 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   QDockWidget* animation = add_dock(this, tr("Animation"), "animationDock", buildAnimationPanel());
   task_panel_ = new TaskPanel(task_scene_.get());
   QDockWidget* task = add_dock(this, tr("Task"), "taskDock", task_panel_);
-  connect(task_panel_, &TaskPanel::changed, view_, [this] { view_->update(); });
+  connect(task_panel_, &TaskPanel::changed, view_, [this] {
+    view_->update();
+    noteChange();  // the task volume is part of the document
+  });
   fit_panel_ = new FitPanel(task_panel_);
   QDockWidget* fit = add_dock(this, tr("Fit"), "fitDock", fit_panel_);
   connect(fit_panel_, &FitPanel::applyRequested, this, [this](const std::map<std::string, double>& design) {
@@ -1415,6 +1418,7 @@ Session MechanismWindow::session() const {
   s.task = x_;
   s.camera = camera_state(renderer_);
   s.field = fieldSettings();
+  s.task_volume = task_panel_->setting();
   return s;
 }
 
@@ -1476,6 +1480,13 @@ void MechanismWindow::applySession(const Session& s) {
   } else {
     accept(m->home_actuators(), m->home_task(), branch_of(*m, m->home_actuators(), m->home_task(), 0));
     statusBar()->showMessage(tr("The session's pose is not reachable; the device is at its home pose."), 8000);
+  }
+  if (s.task_volume) {
+    try {
+      task_panel_->applySetting(*s.task_volume);
+    } catch (const std::invalid_argument& e) {  // e.g. a criterion this device has no measure for
+      statusBar()->showMessage(tr("The session's task volume was not applied: %1").arg(qs(e.what())), 8000);
+    }
   }
   restyleSlice();
   requestFields(true, true);

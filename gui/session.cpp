@@ -15,6 +15,7 @@
 #include "core/atomic_file.h"
 #include "core/csv.h"
 #include "core/preset.h"
+#include "core/task.h"
 #include "render/slice_image.h"
 
 namespace linkscape::gui {
@@ -83,6 +84,8 @@ void save_session(const Session& s, const std::filesystem::path& path) {
   if (!f.method.empty()) j["field"]["method"] = f.method;
   if (f.range_min) j["field"]["range_min"] = *f.range_min;
   if (f.range_max) j["field"]["range_max"] = *f.range_max;
+  if (s.task_volume)
+    j["task_volume"] = {{"volume", s.task_volume->volume}, {"criteria", s.task_volume->criteria}, {"shown", s.task_volume->shown}};
   const std::string text = j.dump(2) + "\n";
   write_atomically(path, [&](const std::filesystem::path& tmp) {
     std::ofstream out(tmp);
@@ -232,7 +235,7 @@ Session parse_session(const std::string& text, const std::string& origin) {
     if (!j.is_object() || j.value("format", "") != "linkscape-session")
       throw std::invalid_argument("not a Linkscape session (no \"format\": \"linkscape-session\")");
     check_keys(j, "", {"format", "version", "mechanism", "parameters", "actuator_limits_deg", "actuators", "task",
-                       "pose_rad", "platform_pose", "camera", "field"});
+                       "pose_rad", "platform_pose", "camera", "field", "task_volume"});
     if (j.contains("version") && whole_number(j["version"], "version") != 1)
       throw std::invalid_argument("version " + j["version"].dump() + " is not supported (this program reads 1)");
     s.mechanism = portable_mechanism(j.at("mechanism").get<std::string>());
@@ -351,6 +354,21 @@ Session parse_session(const std::string& text, const std::string& origin) {
       throw std::invalid_argument("field.range_min and field.range_max come together");
     if (d.range_min && !(*d.range_min < *d.range_max))
       throw std::invalid_argument("field.range_min must be below field.range_max");
+    if (j.contains("task_volume")) {
+      const json& t = j["task_volume"];
+      check_keys(t, "task_volume", {"volume", "criteria", "shown"});
+      TaskSetting setting;
+      setting.volume = t.at("volume").get<std::string>();
+      setting.criteria = t.value("criteria", std::vector<std::string>{});
+      setting.shown = t.value("shown", true);
+      try {  // the texts --task and --criterion take, checked the same way
+        task::parse_task(setting.volume);
+        for (const std::string& c : setting.criteria) task::parse_criterion(c);
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(std::string("task_volume: ") + e.what());
+      }
+      s.task_volume = setting;
+    }
   } catch (const json::exception& e) {
     throw std::invalid_argument("session '" + origin + "': " + e.what());
   } catch (const std::invalid_argument& e) {

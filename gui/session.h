@@ -43,6 +43,15 @@ struct FieldSettings {
   bool operator==(const FieldSettings&) const = default;
 };
 
+// The Task tab: the task volume (as --task takes it, centre included), its
+// criteria (as --criterion takes them) and whether it is drawn.
+struct TaskSetting {
+  std::string volume;
+  std::vector<std::string> criteria;
+  bool shown = true;
+  bool operator==(const TaskSetting&) const = default;
+};
+
 struct Session {
   std::string mechanism = default_mechanism();  // preset name or path
   std::map<std::string, double> parameters;  // overrides, e.g. L1, L2
@@ -53,6 +62,7 @@ struct Session {
   Eigen::VectorXd task;  // task coordinates
   std::optional<CameraState> camera;
   FieldSettings field;
+  std::optional<TaskSetting> task_volume;  // none: the Task tab as it starts
 };
 
 // The camera of a renderer, and back.

@@ -31,7 +31,8 @@ class SnapshotCommand : public QUndoCommand {
 
 bool same_document(const Session& a, const Session& b) {
   return a.mechanism == b.mechanism && a.parameters == b.parameters && a.actuator_limits_deg == b.actuator_limits_deg &&
-         same_vector(a.pose, b.pose) && same_vector(a.task, b.task) && a.field == b.field;
+         same_vector(a.pose, b.pose) && same_vector(a.task, b.task) && a.field == b.field &&
+         a.task_volume == b.task_volume;
 }
 
 QString change_text(const Session& before, const Session& after) {
@@ -48,6 +49,7 @@ QString change_text(const Session& before, const Session& after) {
   FieldSettings field_before = before.field;
   if (!parts.isEmpty()) field_before.position = after.field.position;
   if (!(field_before == after.field)) parts << QObject::tr("field settings");
+  if (!(before.task_volume == after.task_volume)) parts << QObject::tr("task volume");
   return parts.isEmpty() ? QObject::tr("change") : parts.join(", ");
 }
 

@@ -181,6 +181,21 @@ void TaskPanel::setTask(const std::string& text, const std::vector<std::string>&
   evaluateNow();
 }
 
+TaskSetting TaskPanel::setting() const {
+  TaskSetting s;
+  s.volume = task::to_text(volume());
+  std::stringstream words(criteria_edit_->text().toStdString());
+  for (std::string word; words >> word;) s.criteria.push_back(word);
+  s.shown = show_box_->isChecked();
+  return s;
+}
+
+void TaskPanel::applySetting(const TaskSetting& s) {
+  setTask(s.volume, s.criteria);  // the centre is in the text: no search
+  if (s.criteria.empty()) criteria_edit_->clear();
+  show_box_->setChecked(s.shown);
+}
+
 task::TaskVolume TaskPanel::volume() const {
   task::TaskVolume t;
   t.shape = shape_box_->currentIndex() == 0 ? task::Shape::Sphere : task::Shape::Box;

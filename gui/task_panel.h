@@ -16,6 +16,7 @@
 
 #include "core/preset.h"
 #include "core/task.h"
+#include "gui/session.h"
 
 class QCheckBox;
 class QComboBox;
@@ -49,6 +50,10 @@ class TaskPanel : public QWidget {
   void setCentre(const Eigen::Vector3d& centre);
   // The read-outs now, without waiting for the debounce.
   void evaluateNow();
+  // What a session keeps of the tab, and back (throws std::invalid_argument
+  // for bad text, nothing changed then).
+  TaskSetting setting() const;
+  void applySetting(const TaskSetting& setting);
 
   // The task as the panel holds it (with its centre), and its criteria with
   // reach first, resolved on the device (throws std::invalid_argument for

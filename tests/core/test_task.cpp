@@ -58,6 +58,23 @@ TEST(TaskVolume, ParsesSpheresAndBoxesWithOrWithoutCentre) {
   expect_error([] { parse_task("sphere"); }, "expected sphere:diameter=D");
 }
 
+TEST(TaskVolume, TextReadsBackToTheSameVolume) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> size(0.01, 50), at(-40, 40);
+  for (int i = 0; i < 1000; ++i) {
+    task::TaskVolume t;
+    t.shape = i % 2 ? task::Shape::Sphere : task::Shape::Box;
+    t.size = t.shape == task::Shape::Sphere ? Eigen::Vector3d::Constant(size(rng))
+                                            : Eigen::Vector3d(size(rng), size(rng), size(rng));
+    if (i % 3) t.centre = Eigen::Vector3d(at(rng), at(rng), at(rng));
+    const task::TaskVolume back = task::parse_task(task::to_text(t));
+    EXPECT_EQ(back.shape, t.shape);
+    EXPECT_EQ(back.size, t.size) << task::to_text(t);  // bit for bit: shortest round-trip numbers
+    ASSERT_EQ(back.centre.has_value(), t.centre.has_value());
+    if (t.centre) EXPECT_EQ(*back.centre, *t.centre);
+  }
+}
+
 TEST(TaskCriteria, ParseBoundsOnTheGoodSideAndRefuseImpossibleOnes) {
   const Criterion c = parse_criterion("cond<3");
   EXPECT_EQ(c.measure, "cond");

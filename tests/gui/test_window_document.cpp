@@ -22,6 +22,7 @@
 #include "gui/mechanism_window.h"
 #include "gui/session.h"
 #include "gui/session_history.h"
+#include "gui/task_panel.h"
 #include "gui/vtk_widget.h"
 #include "render/field_scene.h"
 
@@ -183,6 +184,26 @@ class WindowDocumentTest : public QObject {
     w.history()->stack()->undo();
     QCOMPARE(w.fieldSettings().colour_map, std::string("viridis"));
     QCOMPARE(w.fieldSettings().log_scale, true);
+  }
+
+  void theTaskVolumeIsPartOfTheDocument() {
+    QTemporaryDir dir;
+    const QString path = dir.filePath("task.json");
+    MechanismWindow w(load_preset("parallel-12r"));
+    QVERIFY(show_settled(w));
+    w.taskPanel()->setTask("sphere:diameter=10,centre=0,15,15", {"cond<3"});
+    w.history()->flush();
+    QCOMPARE(w.history()->stack()->undoText(), QString("task volume"));
+    QVERIFY(w.saveSession(path));
+    const gui::Session saved = gui::load_session(path.toStdString());
+    QVERIFY(saved.task_volume);
+    QCOMPARE(saved.task_volume->volume, std::string("sphere:diameter=10,centre=0,15,15"));
+    QCOMPARE(saved.task_volume->criteria, std::vector<std::string>{"cond<3"});
+    MechanismWindow other(load_preset("parallel-12r"));
+    QVERIFY(other.openSession(path));
+    QCOMPARE(other.taskPanel()->setting(), *saved.task_volume);
+    w.history()->stack()->undo();
+    QVERIFY(!(w.taskPanel()->setting() == *saved.task_volume));
   }
 
   void theSlicePositionIsKeptRelative() {
