@@ -86,6 +86,22 @@ TEST(Session, ValuesTheWindowCannotHonourAreErrorsNamingTheKey) {
   }
 }
 
+TEST(Session, TheTaskVolumeIsCheckedAsTheCommandLineChecksIt) {
+  json s = good_12r();
+  s["task_volume"] = {{"volume", "sphere:diameter=12,centre=0,15,15"}, {"criteria", {"cond<3"}}, {"shown", true}};
+  EXPECT_EQ(error_of(s), "");
+  EXPECT_EQ(parse_session(s.dump(), "s.json").task_volume->criteria, std::vector<std::string>{"cond<3"});
+  for (const auto& [key, bad] : std::vector<std::pair<std::string, json>>{
+           {"volume", "cube:1"}, {"volume", "sphere:diameter=-2"}, {"criteria", json::array({"cond<0.5"})}}) {
+    json b = s;
+    b["task_volume"][key] = bad;
+    EXPECT_NE(error_of(b).find("task_volume"), std::string::npos) << key << ": " << error_of(b);
+  }
+  json unknown = s;
+  unknown["task_volume"]["colour"] = "red";
+  EXPECT_NE(error_of(unknown).find("task_volume.colour"), std::string::npos) << error_of(unknown);
+}
+
 TEST(Session, Pathos2SessionsAreCheckedAgainstTheirOwnChoices) {
   json s = json::parse(R"({"format": "linkscape-session", "version": 1, "mechanism": "pathos2",
     "parameters": {"l2": 14}, "platform_pose": [0, 0, 22.5, 0, 0, 0.52, 7],
