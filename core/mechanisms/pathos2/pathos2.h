@@ -162,6 +162,14 @@ enum class IkDetail { Full, ActiveOnly, Field };
 // limits (OutOfLimits). Throws std::invalid_argument on a non-finite pose or a
 // non-positive grip.
 PoseIkResult inverse(const Geometry& geometry, const Pose& pose, IkDetail detail = IkDetail::Full);
+// Where the globular centres sit relative to E at one orientation and grip:
+// R_world_E (p_E_attach_plate + grip_side h0 z), per leg (cm). A field's
+// samples share them (inverse_field_sample).
+using GlobularOffsets = std::array<Eigen::Vector3d, kLegCount>;
+GlobularOffsets globular_offsets(const Geometry& geometry, const Pose& pose);
+// inverse(geometry, pose, IkDetail::Field) for a pose whose orientation and
+// grip gave `offsets`, bit for bit the same.
+PoseIkResult inverse_field_sample(const Geometry& geometry, const Pose& pose, const GlobularOffsets& offsets);
 PoseIkResult inverse(const Model& model, const Pose& pose);
 
 // ---- Jacobian and conditioning --------------------------------------------
