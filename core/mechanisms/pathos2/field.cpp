@@ -26,31 +26,31 @@ double leg_reach_margin(const Model& m, const Eigen::Vector3d& a) {
   return std::min(shell, rxy - c1y);
 }
 
-// The same with sqrt(x^2 + y^2) for hypot, which costs a call and a third of
-// the field's time: the two differ by an ulp or two of rxy and rho, well
-// within the float the field stores but where the margin is
-// rounding-sensitive itself (see compute_field). Out of the range where the
-// squares neither overflow nor underflow, hypot.
-double leg_reach_margin_sqrt(const Model& m, const Eigen::Vector3d& a) {
+// The same from the leg's IK (its c1y is the one above to rounding: there
+// from |a - l1 z|^2, here from hypot's rho squared) with sqrt(x^2 + y^2) for
+// hypot, which cost a call and a third of the field's time. They differ by
+// an ulp or two of rxy and rho, and where e is near +-l3 by up to sqrt(u) l3
+// in c1y (the reference is as far from the exact value there). Out of the
+// range where the squares neither overflow nor underflow, hypot.
+double leg_reach_margin_from_ik(const Model& m, const LegSolution& leg) {
+  const Eigen::Vector3d& a = leg.p_B_globular;
   const double dz = a.z() - m.l1;
   const double rxy2 = a.x() * a.x() + a.y() * a.y();
   const double rho2 = rxy2 + dz * dz;
   if (!(rho2 <= 1e300 && rxy2 >= 1e-290)) return leg_reach_margin(m, a);
   const double rxy = std::sqrt(rxy2), rho = std::sqrt(rho2);
   const double shell = std::min(m.l2 + m.l3 - rho, rho - std::abs(m.l2 - m.l3));
-  const double e = (m.l2 * m.l2 - m.l3 * m.l3 + rho2) / (2.0 * m.l2) - m.l2;
-  const double c1y = std::sqrt(std::max(0.0, m.l3 * m.l3 - e * e));
-  return std::min(shell, rxy - c1y);
+  return std::min(shell, rxy - std::abs(leg.c1y));
 }
 
-// reach_margin with the leg margin `leg_margin`.
+// reach_margin with the leg margin `leg_margin(model, leg)`.
 template <class LegMargin>
 double reach_margin_with(const Geometry& g, const PoseIkResult& ik, LegMargin leg_margin) {
   const Model& m = g.model;
   constexpr double pi = std::numbers::pi;
   double margin = std::numeric_limits<double>::infinity();
   for (const LegSolution& leg : ik.legs) {
-    margin = std::min(margin, leg_margin(m, leg.p_B_globular));
+    margin = std::min(margin, leg_margin(m, leg));
     if (leg.status == Status::Unreachable) continue;  // the angles below are not set
     // Joint limits, where set: angle margin times the radius it swings.
     if (m.t2_limit < pi) margin = std::min(margin, (m.t2_limit - std::abs(leg.t2)) * (m.l2 + m.l3));
@@ -62,7 +62,9 @@ double reach_margin_with(const Geometry& g, const PoseIkResult& ik, LegMargin le
 
 }  // namespace
 
-double reach_margin(const Geometry& g, const PoseIkResult& ik) { return reach_margin_with(g, ik, leg_reach_margin); }
+double reach_margin(const Geometry& g, const PoseIkResult& ik) {
+  return reach_margin_with(g, ik, [](const Model& m, const LegSolution& leg) { return leg_reach_margin(m, leg.p_B_globular); });
+}
 
 namespace {
 
@@ -84,7 +86,7 @@ FieldSample sample_pose(const Geometry& g, const Pose& pose, const GlobularOffse
   const IkDetail detail = offsets ? IkDetail::Field : IkDetail::Full;
   const PoseIkResult ik = offsets ? inverse_field_sample(g, pose, *offsets) : inverse(g, pose);
   FieldSample s;
-  s.reach_margin = float(detail == IkDetail::Field ? reach_margin_with(g, ik, leg_reach_margin_sqrt)
+  s.reach_margin = float(detail == IkDetail::Field ? reach_margin_with(g, ik, leg_reach_margin_from_ik)
                                                     : reach_margin(g, ik));
   s.status = std::uint8_t(ik.status);
   s.reachable = ik.status == Status::Ok;

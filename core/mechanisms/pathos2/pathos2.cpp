@@ -324,6 +324,7 @@ PoseIkResult inverse_with(const Geometry& g, const Pose& pose, IkDetail detail, 
     const Vector3d& a = leg.p_B_globular;
     const LegCore c = leg_core(m.l1, m.l2, m.l3, a, m.branch[i]);
     leg.status = c.status;
+    leg.c1y = c.c1y;
     if (c.status != Status::Unreachable) {
       // Sines and cosines straight from Eq. 14's coefficients (w = c2z != 0
       // whenever the leg is reachable and not singular).

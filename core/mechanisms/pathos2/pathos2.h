@@ -129,6 +129,9 @@ struct LegSolution {
   Eigen::Vector3d p_B_globular = Eigen::Vector3d::Zero();  // a of Eq. 2, leg frame
   // Leg-only Jacobian determinant da/d(t1,t2,t3) = l2 l3 w sin t2 sin t3 (cm^3).
   double det = 0.0;
+  // Eq. 14's c1y = +-sqrt(l3^2 - (c2z - l2)^2) (cm), 0 where |a - l1 z| is
+  // out of reach; set by the pose IK, which the reach margin reuses.
+  double c1y = 0.0;
   // cos and sin of t1..t3, kept so the Jacobian needs no trigonometry.
   double cos_t1 = 1.0, sin_t1 = 0.0, cos_t2 = 1.0, sin_t2 = 0.0, cos_t3 = 1.0, sin_t3 = 0.0;
 };
