@@ -28,7 +28,7 @@ double leg_reach_margin(const Model& m, const Eigen::Vector3d& a) {
 
 // The same from the leg's IK (its c1y is the one above to rounding: there
 // from |a - l1 z|^2, here from hypot's rho squared) with sqrt(x^2 + y^2) for
-// hypot, which cost a call and a third of the field's time. They differ by
+// hypot, which cost a call and a quarter of the field's time. They differ by
 // an ulp or two of rxy and rho, and where e is near +-l3 by up to sqrt(u) l3
 // in c1y (the reference is as far from the exact value there). Out of the
 // range where the squares neither overflow nor underflow, hypot.
@@ -76,11 +76,12 @@ Eigen::Vector3d leg_end(const Model& m, const LegSolution& leg) {
   return {leg.cos_t1 * x1 - leg.sin_t1 * y, leg.sin_t1 * x1 + leg.cos_t1 * y, z1};
 }
 
-// The sample at `pose` with the IK at `detail`: Full, the reference, or
-// Field, where the closure residual comes from the legs' cosines and sines
-// (leg_end) instead of their angles: the same to rounding (the residual is
-// itself rounding noise, about 1e-15 cm), every other array bit for bit.
-// `offsets` are the pose's globular offsets for Field, null for Full.
+// The sample at `pose`: without `offsets` the reference (the Full IK); with
+// the pose's globular offsets the Field IK, where the closure residual comes
+// from the legs' cosines and sines (leg_end) instead of their angles and the
+// reach margin from leg_reach_margin_from_ik, both within rounding of the
+// reference (the residual is itself rounding noise, about 1e-15 cm), every
+// other array bit for bit.
 FieldSample sample_pose(const Geometry& g, const Pose& pose, const GlobularOffsets* offsets) {
   const Model& m = g.model;
   const IkDetail detail = offsets ? IkDetail::Field : IkDetail::Full;
