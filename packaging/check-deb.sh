@@ -257,12 +257,18 @@ else
 fi
 # The Delta's and PATHOS-II's fast kernels are plain C++: on the baseline
 # target they write the reference's file, the Delta's byte for byte,
-# PATHOS-II's but for the closure residual (column 7, rounding noise).
-for device in delta:1- pathos2:1-6,8-; do
+# PATHOS-II's but for the reach margin (column 6: sqrt for hypot, within
+# 1e-7 (l2 + l3) = 2e-6 cm of the default model) and the closure residual
+# (column 7, rounding noise).
+for device in delta:1- pathos2:1-5,8-; do
   name=${device%%:*} columns=${device#*:}
   if field_csv "$name-baseline" "$work/$name-baseline.csv" "$name" LINKSCAPE_SIMD_TARGET=baseline &&
      field_csv "$name-scalar" "$work/$name-scalar.csv" "$name" LINKSCAPE_FIELD_KERNEL=scalar &&
-     cmp -s <(cut -d, -f"$columns" "$work/$name-baseline.csv") <(cut -d, -f"$columns" "$work/$name-scalar.csv"); then
+     cmp -s <(cut -d, -f"$columns" "$work/$name-baseline.csv") <(cut -d, -f"$columns" "$work/$name-scalar.csv") &&
+     { [ "$name" != pathos2 ] ||
+       paste -d, <(cut -d, -f6 "$work/$name-baseline.csv") <(cut -d, -f6 "$work/$name-scalar.csv") | awk -F, '
+         NR > 1 { d = $1 - $2; if (d < 0) d = -d; if ($1 != $2 && !(d <= 2e-6)) bad++ }
+         END { exit bad > 0 }'; }; then
     pass "$name field on the baseline SIMD target equals the reference kernel's (columns $columns)"
   else
     fail "$name field on the baseline SIMD target differs from the reference kernel's"

@@ -26,14 +26,31 @@ double leg_reach_margin(const Model& m, const Eigen::Vector3d& a) {
   return std::min(shell, rxy - c1y);
 }
 
-}  // namespace
+// The same from the leg's IK (its c1y is the one above to rounding: there
+// from |a - l1 z|^2, here from hypot's rho squared) with sqrt(x^2 + y^2) for
+// hypot, which cost a call and a quarter of the field's time. They differ by
+// an ulp or two of rxy and rho, and where e is near +-l3 by up to sqrt(u) l3
+// in c1y (the reference is as far from the exact value there). Out of the
+// range where the squares neither overflow nor underflow, hypot.
+double leg_reach_margin_from_ik(const Model& m, const LegSolution& leg) {
+  const Eigen::Vector3d& a = leg.p_B_globular;
+  const double dz = a.z() - m.l1;
+  const double rxy2 = a.x() * a.x() + a.y() * a.y();
+  const double rho2 = rxy2 + dz * dz;
+  if (!(rho2 <= 1e300 && rxy2 >= 1e-290)) return leg_reach_margin(m, a);
+  const double rxy = std::sqrt(rxy2), rho = std::sqrt(rho2);
+  const double shell = std::min(m.l2 + m.l3 - rho, rho - std::abs(m.l2 - m.l3));
+  return std::min(shell, rxy - std::abs(leg.c1y));
+}
 
-double reach_margin(const Geometry& g, const PoseIkResult& ik) {
+// reach_margin with the leg margin `leg_margin(model, leg)`.
+template <class LegMargin>
+double reach_margin_with(const Geometry& g, const PoseIkResult& ik, LegMargin leg_margin) {
   const Model& m = g.model;
   constexpr double pi = std::numbers::pi;
   double margin = std::numeric_limits<double>::infinity();
   for (const LegSolution& leg : ik.legs) {
-    margin = std::min(margin, leg_reach_margin(m, leg.p_B_globular));
+    margin = std::min(margin, leg_margin(m, leg));
     if (leg.status == Status::Unreachable) continue;  // the angles below are not set
     // Joint limits, where set: angle margin times the radius it swings.
     if (m.t2_limit < pi) margin = std::min(margin, (m.t2_limit - std::abs(leg.t2)) * (m.l2 + m.l3));
@@ -41,6 +58,12 @@ double reach_margin(const Geometry& g, const PoseIkResult& ik) {
     if (m.cone_limit < pi) margin = std::min(margin, (m.cone_limit - leg.t5) * m.l3);
   }
   return margin;
+}
+
+}  // namespace
+
+double reach_margin(const Geometry& g, const PoseIkResult& ik) {
+  return reach_margin_with(g, ik, [](const Model& m, const LegSolution& leg) { return leg_reach_margin(m, leg.p_B_globular); });
 }
 
 namespace {
@@ -53,15 +76,19 @@ Eigen::Vector3d leg_end(const Model& m, const LegSolution& leg) {
   return {leg.cos_t1 * x1 - leg.sin_t1 * y, leg.sin_t1 * x1 + leg.cos_t1 * y, z1};
 }
 
-// The sample at `pose` with the IK at `detail`: Full, the reference, or
-// Field, where the closure residual comes from the legs' cosines and sines
-// (leg_end) instead of their angles: the same to rounding (the residual is
-// itself rounding noise, about 1e-15 cm), every other array bit for bit.
-FieldSample sample_pose(const Geometry& g, const Pose& pose, IkDetail detail) {
+// The sample at `pose`: without `offsets` the reference (the Full IK); with
+// the pose's globular offsets the Field IK, where the closure residual comes
+// from the legs' cosines and sines (leg_end) instead of their angles and the
+// reach margin from leg_reach_margin_from_ik, both within rounding of the
+// reference (the residual is itself rounding noise, about 1e-15 cm), every
+// other array bit for bit.
+FieldSample sample_pose(const Geometry& g, const Pose& pose, const GlobularOffsets* offsets) {
   const Model& m = g.model;
-  const PoseIkResult ik = inverse(g, pose, detail);
+  const IkDetail detail = offsets ? IkDetail::Field : IkDetail::Full;
+  const PoseIkResult ik = offsets ? inverse_field_sample(g, pose, *offsets) : inverse(g, pose);
   FieldSample s;
-  s.reach_margin = float(reach_margin(g, ik));
+  s.reach_margin = float(detail == IkDetail::Field ? reach_margin_with(g, ik, leg_reach_margin_from_ik)
+                                                    : reach_margin(g, ik));
   s.status = std::uint8_t(ik.status);
   s.reachable = ik.status == Status::Ok;
   s.cond = s.cond_orientation = kInf;
@@ -94,7 +121,7 @@ FieldSample sample_pose(const Geometry& g, const Pose& pose, IkDetail detail) {
 
 FieldSample sample_position(const Geometry& g, const Eigen::Vector3d& p, const FieldRequest& req) {
   const Pose pose = Pose::from_xyz_rpy(p.x(), p.y(), p.z(), req.rpy.x(), req.rpy.y(), req.rpy.z(), req.h0);
-  return sample_pose(g, pose, IkDetail::Full);
+  return sample_pose(g, pose, nullptr);
 }
 
 std::optional<Field> compute_field(const Model& model, const FieldRequest& req, const FieldProgress& progress) {
@@ -118,11 +145,12 @@ std::optional<Field> compute_field(const Model& model, const FieldRequest& req, 
   // from_xyz_rpy sets the position alone from x, y, z: the rotation is the grid's.
   const Pose oriented = Pose::from_xyz_rpy(0.0, 0.0, 0.0, req.rpy.x(), req.rpy.y(), req.rpy.z(), req.h0);
   inverse(g, oriented, IkDetail::ActiveOnly);  // checks the rotation and grip once: IkDetail::Field does not
+  const GlobularOffsets offsets = globular_offsets(g, oriented);
   if (!detail::fill_field(f, true, req.threads, progress, [&](const Eigen::Vector3d& p) {
         if (kernel == FieldKernel::Scalar) return sample_position(g, p, req);
         Pose pose = oriented;
         pose.p_world_E = p;
-        return sample_pose(g, pose, IkDetail::Field);
+        return sample_pose(g, pose, &offsets);
       }))
     return std::nullopt;
   return f;

@@ -291,10 +291,19 @@ LegSolution leg_inverse(double l1, double l2, double l3, const Vector3d& a, int 
 
 // ---- Pose IK -----------------------------------------------------------------
 
-PoseIkResult inverse(const Geometry& g, const Pose& pose, IkDetail detail) {
-  // Field: the caller checked the rotation and grip once (compute_field).
-  if (detail != IkDetail::Field) require_pose(pose);
-  else if (!pose.p_world_E.allFinite()) throw std::invalid_argument("pathos2: pose must be finite");
+GlobularOffsets globular_offsets(const Geometry& g, const Pose& pose) {
+  GlobularOffsets offsets;
+  for (int i = 0; i < kLegCount; ++i) {
+    Vector3d r_E = g.p_E_attach_plate[i];
+    r_E.z() += g.grip_side[i] * pose.h0;
+    offsets[i] = pose.R_world_E * r_E;
+  }
+  return offsets;
+}
+
+namespace {
+
+PoseIkResult inverse_with(const Geometry& g, const Pose& pose, IkDetail detail, const GlobularOffsets& offsets) {
   const Model& m = g.model;
   PoseIkResult out;
   out.status = Status::Ok;
@@ -308,14 +317,14 @@ PoseIkResult inverse(const Geometry& g, const Pose& pose, IkDetail detail) {
   const bool check_cone = m.cone_limit < kPi;
   for (int i = 0; i < kLegCount; ++i) {
     LegSolution& leg = out.legs[i];
-    Vector3d r_E = g.p_E_attach_plate[i];
-    r_E.z() += g.grip_side[i] * pose.h0;
-    const Vector3d p_glob = pose.p_world_E + R * r_E;
+    const Vector3d p_glob = pose.p_world_E + offsets[i];
     out.p_world_globular[i] = p_glob;
-    const Vector3d a = g.R_world_B[i].transpose() * (p_glob - g.p_world_B[i]);
-    leg.p_B_globular = a;
+    // Written in place: a copy from a temporary stalled on store forwarding.
+    leg.p_B_globular.noalias() = g.R_world_B[i].transpose() * (p_glob - g.p_world_B[i]);
+    const Vector3d& a = leg.p_B_globular;
     const LegCore c = leg_core(m.l1, m.l2, m.l3, a, m.branch[i]);
     leg.status = c.status;
+    leg.c1y = c.c1y;
     if (c.status != Status::Unreachable) {
       // Sines and cosines straight from Eq. 14's coefficients (w = c2z != 0
       // whenever the leg is reachable and not singular).
@@ -371,6 +380,20 @@ PoseIkResult inverse(const Geometry& g, const Pose& pose, IkDetail detail) {
     }
   }
   return out;
+}
+
+}  // namespace
+
+PoseIkResult inverse(const Geometry& g, const Pose& pose, IkDetail detail) {
+  // Field: the caller checked the rotation and grip once (compute_field).
+  if (detail != IkDetail::Field) require_pose(pose);
+  else if (!pose.p_world_E.allFinite()) throw std::invalid_argument("pathos2: pose must be finite");
+  return inverse_with(g, pose, detail, globular_offsets(g, pose));
+}
+
+PoseIkResult inverse_field_sample(const Geometry& g, const Pose& pose, const GlobularOffsets& offsets) {
+  if (!pose.p_world_E.allFinite()) throw std::invalid_argument("pathos2: pose must be finite");
+  return inverse_with(g, pose, IkDetail::Field, offsets);
 }
 
 PoseIkResult inverse(const Model& model, const Pose& pose) {

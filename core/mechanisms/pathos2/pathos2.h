@@ -129,6 +129,9 @@ struct LegSolution {
   Eigen::Vector3d p_B_globular = Eigen::Vector3d::Zero();  // a of Eq. 2, leg frame
   // Leg-only Jacobian determinant da/d(t1,t2,t3) = l2 l3 w sin t2 sin t3 (cm^3).
   double det = 0.0;
+  // Eq. 14's c1y = +-sqrt(l3^2 - (c2z - l2)^2) (cm), 0 where |a - l1 z| is
+  // out of reach; set by the pose IK, which the reach margin reuses.
+  double c1y = 0.0;
   // cos and sin of t1..t3, kept so the Jacobian needs no trigonometry.
   double cos_t1 = 1.0, sin_t1 = 0.0, cos_t2 = 1.0, sin_t2 = 0.0, cos_t3 = 1.0, sin_t3 = 0.0;
 };
@@ -162,6 +165,14 @@ enum class IkDetail { Full, ActiveOnly, Field };
 // limits (OutOfLimits). Throws std::invalid_argument on a non-finite pose or a
 // non-positive grip.
 PoseIkResult inverse(const Geometry& geometry, const Pose& pose, IkDetail detail = IkDetail::Full);
+// Where the globular centres sit relative to E at one orientation and grip:
+// R_world_E (p_E_attach_plate + grip_side h0 z), per leg (cm). A field's
+// samples share them (inverse_field_sample).
+using GlobularOffsets = std::array<Eigen::Vector3d, kLegCount>;
+GlobularOffsets globular_offsets(const Geometry& geometry, const Pose& pose);
+// inverse(geometry, pose, IkDetail::Field) for a pose whose orientation and
+// grip gave `offsets`, bit for bit the same.
+PoseIkResult inverse_field_sample(const Geometry& geometry, const Pose& pose, const GlobularOffsets& offsets);
 PoseIkResult inverse(const Model& model, const Pose& pose);
 
 // ---- Jacobian and conditioning --------------------------------------------
