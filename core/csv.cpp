@@ -59,7 +59,9 @@ std::optional<double> parse_number(std::string_view text, bool* out_of_range) {
 double parse_number_or_throw(std::string_view text, const std::string& what, bool allow_non_finite) {
   bool out_of_range = false;
   const std::optional<double> v = parse_number(text, &out_of_range);
-  const std::string quoted = "'" + std::string(text) + "'";
+  std::string quoted = "'";  // appended: GCC 12 warns (-Wrestrict) on "'" + string here, wrongly
+  quoted += text;
+  quoted += '\'';
   if (out_of_range)
     throw std::invalid_argument(what + ": " + quoted +
                                 " is out of the range of double precision (magnitudes 2.2e-308 to 1.8e308, or 0)");

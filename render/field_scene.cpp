@@ -109,6 +109,7 @@ std::size_t FieldScene::index(Surface which) {
   switch (which) {
     case Surface::Reach: return 0;
     case Surface::WellConditioned: return 1;
+    case Surface::Threshold: break;  // exported, never shown in the scene
   }
   throw std::invalid_argument("field scene: unknown surface " + std::to_string(int(which)));
 }

@@ -91,8 +91,12 @@ TEST(FitSearch, EqualLinksGiveTheDiameterOverTheUnitSphere) {
   // Every meeting design is at least as large; every smaller one fails.
   for (const fit::Row& row : r.rows) {
     if (!row.invalid.empty()) continue;
-    if (row.meets) EXPECT_GE(row.size, best.size);
-    if (row.size < best.size * (1 - 1e-12)) EXPECT_FALSE(row.meets) << row.size;
+    if (row.meets) {
+      EXPECT_GE(row.size, best.size);
+    }
+    if (row.size < best.size * (1 - 1e-12)) {
+      EXPECT_FALSE(row.meets) << row.size;
+    }
   }
   EXPECT_FALSE(r.at_lower_bounds);
 }

@@ -71,7 +71,9 @@ TEST(TaskVolume, TextReadsBackToTheSameVolume) {
     EXPECT_EQ(back.shape, t.shape);
     EXPECT_EQ(back.size, t.size) << task::to_text(t);  // bit for bit: shortest round-trip numbers
     ASSERT_EQ(back.centre.has_value(), t.centre.has_value());
-    if (t.centre) EXPECT_EQ(*back.centre, *t.centre);
+    if (t.centre) {
+      EXPECT_EQ(*back.centre, *t.centre);
+    }
   }
 }
 

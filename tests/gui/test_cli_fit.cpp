@@ -45,7 +45,9 @@ TEST(CliFit, EqualLinksFirstRowIsTheSmallestMeetingDesign) {
   const double smallest = std::stod(rows[0].at("size"));
   for (const auto& row : rows) {
     EXPECT_EQ(row.at("L1"), row.at("L2"));
-    if (row.at("meets") == "1") EXPECT_GE(std::stod(row.at("size")), smallest);
+    if (row.at("meets") == "1") {
+      EXPECT_GE(std::stod(row.at("size")), smallest);
+    }
   }
   EXPECT_GE(std::stod(rows[0].at("inscribed_diameter")), 15.0);
   EXPECT_TRUE(fs::exists(chart));

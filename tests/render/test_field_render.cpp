@@ -39,6 +39,14 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// A request for one of the two workspace surfaces (the other members at their defaults).
+render::SurfaceRequest surface_request(render::Surface surface, double cond_threshold = 3.0) {
+  render::SurfaceRequest r;
+  r.surface = surface;
+  r.cond_threshold = cond_threshold;
+  return r;
+}
+
 // A field of `dims` samples on the box [lo, hi] (cell-centred), filled from
 // the distance d of each sample to `centre`: reachable inside radius `radius`.
 Field ball_field(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, std::array<int, 3> dims,
@@ -420,7 +428,7 @@ TEST(WorkspaceMesh, ReachBallIsClosedAndConverges) {
   double previous_error = 1;
   for (int n : {32, 64}) {
     const Field f = cube_ball(n);
-    auto mesh = render::extract_surface(f, {render::Surface::Reach});
+    auto mesh = render::extract_surface(f, surface_request(render::Surface::Reach));
     const auto s = render::mesh_stats(mesh);
     const double error = std::abs(s.volume - kBallVolume) / kBallVolume;
     std::cout << "reach ball " << n << "^3: " << s.vertices << " vertices, " << s.faces << " faces, volume "
@@ -449,7 +457,7 @@ TEST(WorkspaceMesh, ReachBallIsClosedAndConverges) {
 
 TEST(WorkspaceMesh, WellConditionedBallOfHalfRadius) {
   const Field f = cube_ball(64);
-  render::SurfaceRequest request{render::Surface::WellConditioned, 3.0};
+  const render::SurfaceRequest request = surface_request(render::Surface::WellConditioned, 3.0);
   const auto s = render::mesh_stats(render::extract_surface(f, request));
   const double expected = kBallVolume / 8;
   std::cout << "cond < 3 ball 64^3: " << s.faces << " faces, volume " << s.volume << " (error "
@@ -465,8 +473,8 @@ TEST(WorkspaceMesh, WellConditionedStaysInsideReach) {
   // cond < 3 out to |p| = 0.5 but reach only to 0.4: the surface is the reach ball.
   const Field f = ball_field(Eigen::Vector3d::Constant(-1), Eigen::Vector3d::Constant(1), {40, 40, 40}, {0, 0, 0},
                              0.4);
-  const auto wc = render::mesh_stats(render::extract_surface(f, {render::Surface::WellConditioned, 3.0}));
-  const auto reach = render::mesh_stats(render::extract_surface(f, {render::Surface::Reach}));
+  const auto wc = render::mesh_stats(render::extract_surface(f, surface_request(render::Surface::WellConditioned, 3.0)));
+  const auto reach = render::mesh_stats(render::extract_surface(f, surface_request(render::Surface::Reach)));
   EXPECT_EQ(wc.boundary_edges, 0u);
   EXPECT_LE(wc.volume, reach.volume * (1 + 1e-6));
   EXPECT_LE(wc.max.x(), reach.max.x() + 1e-6);
@@ -474,7 +482,7 @@ TEST(WorkspaceMesh, WellConditionedStaysInsideReach) {
 
 TEST(WorkspaceMesh, BallCutByTheBoxIsClosedOnTheBoxFaces) {
   const Field f = cube_ball(40, 0.8);
-  const auto s = render::mesh_stats(render::extract_surface(f, {render::Surface::Reach}));
+  const auto s = render::mesh_stats(render::extract_surface(f, surface_request(render::Surface::Reach)));
   std::cout << "ball cut by [-0.8, 0.8]^3: " << s.faces << " faces, volume " << s.volume << "\n";
   EXPECT_EQ(s.boundary_edges, 0u);
   EXPECT_EQ(s.non_manifold_edges, 0u);
@@ -488,7 +496,7 @@ TEST(WorkspaceMesh, HollowShellKeepsItsCavityInward) {
   // Reachable for 0.4 < |p| < 1: two spheres, the inner one facing the cavity.
   const Field f = ball_field(Eigen::Vector3d::Constant(-1.2), Eigen::Vector3d::Constant(1.2), {48, 48, 48},
                              {0, 0, 0}, 1.0, [](double d) { return 0.3 - std::abs(d - 0.7); });
-  const auto s = render::mesh_stats(render::extract_surface(f, {render::Surface::Reach}));
+  const auto s = render::mesh_stats(render::extract_surface(f, surface_request(render::Surface::Reach)));
   const double expected = kBallVolume * (1 - 0.4 * 0.4 * 0.4);
   EXPECT_EQ(s.boundary_edges, 0u);
   EXPECT_EQ(s.euler_characteristic, 4);
@@ -497,8 +505,8 @@ TEST(WorkspaceMesh, HollowShellKeepsItsCavityInward) {
 
 TEST(WorkspaceMesh, DecimationKeepsTheBallClosed) {
   const Field f = cube_ball(64);
-  const auto full = render::mesh_stats(render::extract_surface(f, {render::Surface::Reach}));
-  render::SurfaceRequest request{render::Surface::Reach};
+  const auto full = render::mesh_stats(render::extract_surface(f, surface_request(render::Surface::Reach)));
+  render::SurfaceRequest request = surface_request(render::Surface::Reach);
   request.decimate_error = 0.005;  // an eighth of the sample spacing
   const auto s = render::mesh_stats(render::extract_surface(f, request));
   const double change = std::abs(s.volume - full.volume) / full.volume;
@@ -531,7 +539,7 @@ TEST(WorkspaceMesh, DecimationKeepsTheBallClosed) {
 TEST(WorkspaceMesh, ExportsReadBackWithVtkReaders) {
   Folder dir;
   const Field f = cube_ball(32);
-  render::SurfaceRequest request{render::Surface::Reach};
+  render::SurfaceRequest request = surface_request(render::Surface::Reach);
   auto mesh = render::extract_surface(f, request);
   const auto s = render::mesh_stats(mesh);
   const vtkIdType points = mesh->GetNumberOfPoints(), faces = vtkIdType(s.faces);
@@ -617,7 +625,7 @@ TEST(FieldRenderErrors, BadArgumentsThrowInvalidArgument) {
   EXPECT_THROW(render::render_slice_rgba(slice, zero_scale), std::invalid_argument);
   EXPECT_THROW(render::render_slice_rgba(cube_ball(4), {}), std::invalid_argument);  // not a slice
   EXPECT_THROW(render::extract_surface(slice, {}), std::invalid_argument);           // not a volume
-  EXPECT_THROW(render::extract_surface(cube_ball(4), {render::Surface::WellConditioned, 0.5}),
+  EXPECT_THROW(render::extract_surface(cube_ball(4), surface_request(render::Surface::WellConditioned, 0.5)),
                std::invalid_argument);
 
   const Field volume = cube_ball(8);

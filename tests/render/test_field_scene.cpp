@@ -31,6 +31,14 @@ using render::Surface;
 
 namespace {
 
+// A request for one of the two workspace surfaces (the other members at their defaults).
+render::SurfaceRequest surface_request(render::Surface surface, double cond_threshold = 3.0) {
+  render::SurfaceRequest r;
+  r.surface = surface;
+  r.cond_threshold = cond_threshold;
+  return r;
+}
+
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
 // A ball of radius 1 at the origin sampled on `g`: reach_margin = 1 - |p|,
@@ -180,7 +188,7 @@ TEST(FieldScene, SliceGeometryTitleAndPropBookkeeping) {
 
   // Surfaces: a mesh shows, nullptr or an empty mesh clears.
   const Field volume = ball_field(Grid::box({-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2}, {16, 16, 16}));
-  auto mesh = render::extract_surface(volume, {Surface::Reach, 3.0, 0});
+  auto mesh = render::extract_surface(volume, surface_request(Surface::Reach, 3.0));
   ASSERT_GT(mesh->GetNumberOfCells(), 0);
   scene.set_surface(Surface::Reach, mesh);
   EXPECT_EQ(scene.surface_faces(Surface::Reach), std::size_t(mesh->GetNumberOfCells()));
@@ -282,7 +290,7 @@ TEST(FieldScene, TranslucentSurfacesChangeOnlyTheirPixels) {
   const auto before = view.grab();
 
   const Field volume = ball_field(Grid::box({-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2}, {32, 32, 32}));
-  auto reach = render::extract_surface(volume, {Surface::Reach, 3.0, 0});
+  auto reach = render::extract_surface(volume, surface_request(Surface::Reach, 3.0));
   scene.set_surface(Surface::Reach, reach);
   auto with = view.grab();
   EXPECT_TRUE(view.renderer->GetLastRenderingUsedDepthPeeling());
@@ -294,7 +302,7 @@ TEST(FieldScene, TranslucentSurfacesChangeOnlyTheirPixels) {
   // The well-conditioned sphere (radius 0.5) alone over the slice tints the
   // centre only.
   scene.set_surface_visible(Surface::Reach, false);
-  scene.set_surface(Surface::WellConditioned, render::extract_surface(volume, {Surface::WellConditioned, 3.0, 0}));
+  scene.set_surface(Surface::WellConditioned, render::extract_surface(volume, surface_request(Surface::WellConditioned, 3.0)));
   const auto inner = view.grab();
   EXPECT_GE(distance(View::at(inner, 0.1, 0.1), View::at(before, 0.1, 0.1)), 6);
   EXPECT_LE(distance(View::at(inner, 0.8, 0.1), View::at(before, 0.8, 0.1)), 1);
@@ -373,8 +381,8 @@ TEST(FieldScene, CombinedSceneScreenshot) {
   style.contour_levels = {2.0, 3.0};
   scene.set_slice(slice, style);
   const Field volume = ball_field(Grid::box({-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2}, {32, 32, 32}));
-  scene.set_surface(Surface::Reach, render::extract_surface(volume, {Surface::Reach, 3.0, 0}));
-  scene.set_surface(Surface::WellConditioned, render::extract_surface(volume, {Surface::WellConditioned, 3.0, 0}));
+  scene.set_surface(Surface::Reach, render::extract_surface(volume, surface_request(Surface::Reach, 3.0)));
+  scene.set_surface(Surface::WellConditioned, render::extract_surface(volume, surface_request(Surface::WellConditioned, 3.0)));
   EXPECT_TRUE(scene.surface_visible(Surface::Reach));
   EXPECT_TRUE(scene.surface_visible(Surface::WellConditioned));
   EXPECT_TRUE(scene.colour_bar_visible());

@@ -177,7 +177,7 @@ class DeltaMechanism final : public Mechanism {
       j.point_in_body = d.point_in_a;
       j.axis_in_body = d.axis_in_a;
       j.actuated = d.name.rfind("motor", 0) == 0;
-      if (j.actuated) j.label = "q" + d.name.substr(d.name.size() - 1);
+      if (j.actuated) j.label = std::string(1, 'q') + d.name.back();  // "q1" from "motor1"
       sk.joints.push_back(std::move(j));
     }
     sk.scale = model_.La;
