@@ -380,7 +380,8 @@ vtkSmartPointer<vtkImageData> render_slice_rgba(const Field& field, const SliceS
   const Field::NamedArray* extra = q == Quantity::Extra ? &extra_array(field, style.field) : nullptr;
   const Grid& g = field.grid;
   const Axis normal = slice_normal(g);
-  const auto [au, av] = Grid::slice_axes(normal);
+  const std::array<Axis, 2> axes = Grid::slice_axes(normal);
+  const Axis au = axes[0], av = axes[1];  // not a structured binding: clang 14 cannot capture those
   const int nu = g.dims[int(au)], nv = g.dims[int(av)];
   auto sample = [&](int iu, int iv) { return slice_index(g, au, av, iu, iv); };
 
@@ -424,7 +425,8 @@ vtkSmartPointer<vtkImageData> render_slice_rgba(const Field& field, const SliceS
 
 SliceLines slice_lines(const Field& field, const SliceStyle& style) {
   const Grid& g = field.grid;
-  const auto [au, av] = Grid::slice_axes(slice_normal(g));
+  const std::array<Axis, 2> axes = Grid::slice_axes(slice_normal(g));
+  const Axis au = axes[0], av = axes[1];  // not a structured binding: clang 14 cannot capture those
   const int nu = g.dims[int(au)], nv = g.dims[int(av)];
   auto sample = [&](int iu, int iv) { return slice_index(g, au, av, iu, iv); };
   SliceLines lines;
