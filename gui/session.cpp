@@ -181,7 +181,8 @@ Eigen::Vector3d finite_vec(const json& j, const std::string& key) {
 // installed copy) still opens when its name is a preset on the search path.
 std::string portable_mechanism(const std::string& recorded) {
   const std::filesystem::path p(recorded);
-  if (!p.has_parent_path() || std::filesystem::exists(p)) return recorded;
+  std::error_code ec;  // a path the system cannot even look up (a name over NAME_MAX) is simply not there
+  if (!p.has_parent_path() || std::filesystem::exists(p, ec)) return recorded;
   const std::string name = p.stem().string();
   const auto known = available_presets();
   return std::find(known.begin(), known.end(), name) != known.end() ? name : recorded;

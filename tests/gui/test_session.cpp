@@ -86,6 +86,14 @@ TEST(Session, ValuesTheWindowCannotHonourAreErrorsNamingTheKey) {
   }
 }
 
+TEST(Session, AMechanismPathTooLongToLookUpIsAnUnknownMechanism) {
+  json s = good_12r();
+  s["mechanism"] = "presets/" + std::string(300, 'x') + ".json";  // one name over NAME_MAX
+  const std::string error = error_of(s);  // not a std::filesystem::filesystem_error out of the loader
+  EXPECT_NE(error.find("s.json"), std::string::npos) << error;
+  EXPECT_NE(error.find(std::string(300, 'x')), std::string::npos) << error;
+}
+
 TEST(Session, TheTaskVolumeIsCheckedAsTheCommandLineChecksIt) {
   json s = good_12r();
   s["task_volume"] = {{"volume", "sphere:diameter=12,centre=0,15,15"}, {"criteria", {"cond<3"}}, {"shown", true}};
