@@ -675,8 +675,13 @@ FkResult forward_numeric(const Geometry& g, const Vector6d& q_active, double h0,
     out.residual = kInf;
     return out;  // the seed itself is not an assembly of this model
   }
+  // The targets in [-pi, pi] once, so every error below is a difference of
+  // small angles: at 8e4 rad a difference would round by 7e-12 rad, several
+  // times the tolerance (found by the eval fuzzer).
+  Vector6d target;
+  for (int i = 0; i < kLegCount; ++i) target[i] = wrap_angle(q_active[i]);
   Vector6d r;
-  double err = max_wrapped_error(q_active, ik.q_active, r);
+  double err = max_wrapped_error(target, ik.q_active, r);
   out.residual = err;
   const double length_scale = std::ldexp(1.0, std::ilogb(g.model.l2 + g.model.l3));
   for (int it = 0; it < options.max_iterations && err > options.tolerance; ++it) {
@@ -711,7 +716,7 @@ FkResult forward_numeric(const Geometry& g, const Vector6d& q_active, double h0,
       const PoseIkResult trial_ik = inverse(g, trial, IkDetail::ActiveOnly);
       if (trial_ik.status != Status::Unreachable && trial_ik.status != Status::Singular) {
         Vector6d trial_r;
-        const double trial_err = max_wrapped_error(q_active, trial_ik.q_active, trial_r);
+        const double trial_err = max_wrapped_error(target, trial_ik.q_active, trial_r);
         if (trial_r.norm() < r.norm()) {
           pose = trial, ik = trial_ik, r = trial_r, err = trial_err;
           accepted = true;

@@ -351,6 +351,28 @@ TEST(Pathos2Fk, NumericConvergesWhereTheSixBySixIsIllConditioned) {
   EXPECT_LT(pose_distance(fk.pose, pose), 1e-9);
 }
 
+TEST(Pathos2Fk, AnOkPoseMeetsTheToleranceEvenForAnglesOfManyTurns) {
+  // q3 = 81250 rad (12931 turns): an error taken as a difference at that
+  // magnitude rounds by 7e-12 rad, so "Ok" once meant a 1e-11 miss.
+  const Model m;
+  const Geometry g = make_geometry(m);
+  Vector6d q;
+  q << 2.7216855268046416, 2.70847739629439, 81250.38358054890688, -2.8453849548859025, -2.5184326161,
+      -2.8494026224063562;
+  Pose seed = home_pose(m);
+  seed.h0 = 6;
+  const pathos2::FkResult fk = forward_numeric(g, q, 6, seed);
+  ASSERT_EQ(fk.status, Status::Ok);
+  const PoseIkResult ik = inverse(g, fk.pose);
+  ASSERT_EQ(ik.status, Status::Ok);
+  // Against q reduced as the model reduces angles (remainder by fl(2 pi), 3e-12 rad from the true turn).
+  const pathos2::FkOptions options;
+  for (int i = 0; i < 6; ++i)
+    EXPECT_LE(std::abs(std::remainder(ik.q_active[i] - std::remainder(q[i], 2 * std::numbers::pi), 2 * std::numbers::pi)),
+              options.tolerance)
+        << "leg " << i + 1;
+}
+
 TEST(Pathos2Fk, NumericReportsFarSeedsInsteadOfGuessing) {
   const Model m;
   const Geometry g = make_geometry(m);
