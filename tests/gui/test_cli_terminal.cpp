@@ -70,15 +70,16 @@ TEST(CliTerminal, EveryCommandSaysWhatItWroteUnlessQuiet) {
   }
 }
 
-TEST(CliTerminal, ProgressShowsTheTimeLeftOnATerminalOnly) {
-  // script(1) gives the command a terminal; the field is large enough to take over half a second.
+TEST(CliTerminal, ProgressIsShownOnATerminalOnly) {
+  // script(1) gives the command a terminal. The time left itself is checked
+  // without timing in TerminalProgress.* (it needs a step longer than 0.5 s).
   fs::create_directories(kDir);
-  const std::string field = std::string(LINKSCAPE_BINARY) + " field --mechanism pathos2 --resolution 170 -o " +
+  const std::string field = std::string(LINKSCAPE_BINARY) + " field --mechanism pathos2 --resolution 120 -o " +
                             (kDir / "p.vti").string();
   const CommandResult tty = run_linkscape("", "script -qec '" + field + "' /dev/null; true ||");
-  EXPECT_TRUE(contains(tty.out, "sampling ")) << tty.out;
-  EXPECT_TRUE(contains(tty.out, " s left")) << tty.out;
+  EXPECT_TRUE(contains(tty.out, "sampling")) << tty.out;
   EXPECT_TRUE(contains(tty.out, "writing " + (kDir / "p.vti").string())) << tty.out;
+  EXPECT_TRUE(contains(tty.out, "\r")) << "the line is redrawn in place";
   const CommandResult pipe = run_linkscape("field --mechanism pathos2 --resolution 40 -o " + (kDir / "p.vti").string());
   EXPECT_EQ(pipe.exit_code, 0) << pipe.out;
   EXPECT_FALSE(contains(pipe.out, "\r")) << "no progress line when stderr is not a terminal";

@@ -1,0 +1,29 @@
+// The progress line's words and the suggestion for a mistyped name, without
+// timing anything: progress_text and closest_name are pure functions.
+#include <gtest/gtest.h>
+
+#include "gui/terminal.h"
+
+using linkscape::gui::closest_name;
+using linkscape::gui::progress_text;
+
+TEST(TerminalProgress, TheTimeLeftFollowsTheShareDone) {
+  // 40 % in 2 s: 3 s to go.
+  EXPECT_EQ(progress_text("sampling", 0.4, 2.0), "sampling 40 %, 3.0 s left");
+  // Too early to tell (under half a second, or under 2 % done): no estimate.
+  EXPECT_EQ(progress_text("sampling", 0.4, 0.3), "sampling 40 %");
+  EXPECT_EQ(progress_text("sampling", 0.01, 5.0), "sampling 1 %");
+  // A step resumed at 50 %: 60 % after 1 s means 10 % a second, 4 s to go.
+  EXPECT_EQ(progress_text("sweep", 0.6, 1.0, 0.5), "sweep 60 %, 4.0 s left");
+  // Without a share, the time spent.
+  EXPECT_EQ(progress_text("writing f.vti", std::nullopt, 1.25), "writing f.vti, 1.2 s");
+  EXPECT_EQ(progress_text("fit", std::nullopt, 150), "fit, 2 min 30 s");
+}
+
+TEST(TerminalSuggestion, AMistypedWordGetsTheNearestName) {
+  const std::vector<std::string> commands = {"eval", "slice", "field", "mesh", "fit", "sweep"};
+  EXPECT_EQ(closest_name("evl", commands), "eval");
+  EXPECT_EQ(closest_name("silce", commands), "slice");  // two letters swapped: one step
+  EXPECT_EQ(closest_name("--plnae", {"--plane", "--pose"}), "--plane");
+  EXPECT_FALSE(closest_name("frobnicate", commands));
+}
