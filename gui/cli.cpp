@@ -233,7 +233,6 @@ void open_file_argument(const CLI::App& app, WindowOptions& window) {
   if (window.file.empty()) return;
   std::error_code ec;
   if (!std::filesystem::is_regular_file(window.file, ec)) {
-    std::string commands;
     std::vector<std::string> names;
     for (const CLI::App* sub : app.get_subcommands({})) names.push_back(sub->get_name());
     const auto meant = closest_name(window.file, names);

@@ -23,6 +23,13 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// A slice computed from t0 on, with its rate.
+SliceResult slice_result(Field&& field, bool fine, std::chrono::steady_clock::time_point t0) {
+  SliceResult r{std::make_shared<const Field>(std::move(field)), fine, seconds_since(t0), 0.0};
+  r.points_per_second = r.field->grid.size() / std::max(r.seconds, 1e-9);
+  return r;
+}
+
 }  // namespace
 
 FieldJobRunner::FieldJobRunner(QObject* parent) : QObject(parent) {
@@ -50,8 +57,7 @@ void FieldJobRunner::submit(const FieldJob& job) {
       const auto t0 = std::chrono::steady_clock::now();
       std::optional<Field> field = job.sampler(*job.slice, {});
       if (field) {
-        SliceResult sr{std::make_shared<const Field>(std::move(*field)), true, seconds_since(t0), 0.0};
-        sr.points_per_second = job.slice->size() / std::max(sr.seconds, 1e-9);
+        const SliceResult sr = slice_result(std::move(*field), true, t0);
         last_slice_seconds_.store(sr.seconds);
         emit sliceReady(sr);
         return;
@@ -81,9 +87,8 @@ void FieldJobRunner::submit(const FieldJob& job) {
           const auto t0 = std::chrono::steady_clock::now();
           std::optional<Field> field = job.sampler(grid, progress);
           if (!field || !current()) return;
-          SliceResult sr{std::make_shared<const Field>(std::move(*field)), fine, seconds_since(t0), 0.0};
+          const SliceResult sr = slice_result(std::move(*field), fine, t0);
           if (fine) last_slice_seconds_.store(sr.seconds);
-          sr.points_per_second = grid.size() / std::max(sr.seconds, 1e-9);
           QMetaObject::invokeMethod(this, [this, sr, generation] {
             if (generation_.load() == generation) emit sliceReady(sr);
           }, Qt::QueuedConnection);

@@ -689,13 +689,7 @@ QWidget* MechanismWindow::buildFieldPanel() {
     if (haptic || (slice_field_ && !slice_field_->extras.empty())) requestFields(true, false);
     else restyleSlice();
   });
-  connect(auto_range_box_, &QCheckBox::toggled, this, [this](bool automatic) {
-    range_min_box_->setEnabled(!automatic);
-    range_max_box_->setEnabled(!automatic);
-    restyleSlice();
-  });
-  range_min_box_->setEnabled(false);
-  range_max_box_->setEnabled(false);
+  connect(auto_range_box_, &QCheckBox::toggled, this, [this] { restyleSlice(); });
   range_min_box_->setObjectName("rangeMinBox");
   range_min_box_->setToolTip(tr("Lower end of the colour range (the value's unit); shows the automatic one when that is on"));
   range_max_box_->setToolTip(tr("Upper end of the colour range (the value's unit); shows the automatic one when that is on"));
@@ -1340,11 +1334,11 @@ render::SliceStyle MechanismWindow::sliceStyle() const {
 
 void MechanismWindow::restyleSlice() {
   noteChange();
-  if (!slice_field_) return;
-  render::SliceStyle style = sliceStyle();
   // The range boxes show the range in use: typed, or the automatic one.
   range_min_box_->setEnabled(!auto_range_box_->isChecked());
   range_max_box_->setEnabled(!auto_range_box_->isChecked());
+  if (!slice_field_) return;
+  render::SliceStyle style = sliceStyle();
   if (auto_range_box_->isChecked()) {
     try {
       const auto [lo, hi] = render::colour_range(*slice_field_, style);
@@ -1541,6 +1535,24 @@ void MechanismWindow::closeEvent(QCloseEvent* event) {
 
 // ---- Entry ------------------------------------------------------------------------
 
+namespace {
+
+// WIDTHxHEIGHT from min_w x min_h to kMaxWindowSide a side: off-screen
+// framebuffers beyond that fail inside the OpenGL driver (a crash, not an
+// error). Throws std::invalid_argument naming `option`.
+std::array<int, 2> pixel_size(const std::string& text, const char* option, int min_w, int min_h) {
+  int w = 0, h = 0;
+  char x = 0, rest = 0;
+  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &rest) != 3 || x != 'x' || w < min_w || h < min_h ||
+      w > kMaxWindowSide || h > kMaxWindowSide)
+    throw std::invalid_argument(std::string(option) + " expects WIDTHxHEIGHT from " + std::to_string(min_w) + "x" +
+                                std::to_string(min_h) + " to " + std::to_string(kMaxWindowSide) + "x" +
+                                std::to_string(kMaxWindowSide) + ", got '" + text + "'");
+  return {w, h};
+}
+
+}  // namespace
+
 int run_window(const WindowOptions& options, int argc, char** argv) {
   std::optional<Session> session;
   if (!options.session.empty()) session = load_session(options.session);  // bad file: exit code 2
@@ -1549,20 +1561,9 @@ int run_window(const WindowOptions& options, int argc, char** argv) {
   apply_overrides(preset, options.mechanism.params);
   if (!options.task.empty()) task::parse_task(options.task);  // bad text: exit code 2 before any window
   for (const std::string& c : options.criteria) task::parse_criterion(c);
-  // Off-screen framebuffers beyond 8192 pixels a side fail inside the
-  // OpenGL driver (a crash, not an error), so the size is bounded here.
-  int width = 0, height = 0;
-  char x = 0, rest = 0;
-  if (std::sscanf(options.size.c_str(), "%d%c%d%c", &width, &x, &height, &rest) != 3 || x != 'x' || width < 200 ||
-      height < 150 || width > kMaxWindowSide || height > kMaxWindowSide)
-    throw std::invalid_argument("--size expects WIDTHxHEIGHT from 200x150 to " + std::to_string(kMaxWindowSide) + "x" +
-                                std::to_string(kMaxWindowSide) + ", got '" + options.size + "'");
-  int view_width = 0, view_height = 0;
-  if (!options.view_image.empty() &&
-      (std::sscanf(options.view_size.c_str(), "%d%c%d%c", &view_width, &x, &view_height, &rest) != 3 || x != 'x' ||
-       view_width < 16 || view_height < 16 || view_width > kMaxWindowSide || view_height > kMaxWindowSide))
-    throw std::invalid_argument("--view-size expects WIDTHxHEIGHT from 16x16 to " + std::to_string(kMaxWindowSide) +
-                                "x" + std::to_string(kMaxWindowSide) + ", got '" + options.view_size + "'");
+  const auto [width, height] = pixel_size(options.size, "--size", 200, 150);
+  const auto [view_width, view_height] =
+      options.view_image.empty() ? std::array<int, 2>{} : pixel_size(options.view_size, "--view-size", 16, 16);
   if (!options.view_image.empty() && std::filesystem::path(options.view_image).extension() != ".png")
     throw std::invalid_argument("--view-image writes PNG: the file must end in .png, got '" + options.view_image + "'");
   QSurfaceFormat::setDefaultFormat(VtkWidget::defaultFormat());

@@ -242,11 +242,8 @@ void export_screenshot(QWidget* window) {
   const QString path =
       QFileDialog::getSaveFileName(window, QObject::tr("Save screenshot"), "linkscape.png", QObject::tr("PNG (*.png)"));
   if (path.isEmpty()) return;
-  const QImage image = window->grab().toImage();
   try {
-    write_atomically(path.toStdString(), [&](const std::filesystem::path& tmp) {
-      if (!image.save(QString::fromStdString(tmp.string()), "PNG")) throw std::runtime_error("cannot write PNG");
-    });
+    save_png(window->grab().toImage(), path.toStdString());
   } catch (const std::exception& e) {
     QMessageBox::warning(window, QObject::tr("Screenshot failed"), QString::fromStdString(e.what()));
   }
