@@ -37,8 +37,8 @@ using linkscape::gui::MechanismWindow;
 
 namespace {
 
-std::string shipped_delta() {
-  std::ifstream in(load_preset("delta").source);
+std::string shipped(const std::string& preset) {
+  std::ifstream in(load_preset(preset).source);
   std::stringstream text;
   text << in.rdbuf();
   return text.str();
@@ -46,7 +46,7 @@ std::string shipped_delta() {
 
 // The Delta preset with its "La": 8.0 replaced by `la` (any text, to break it).
 std::string delta_with_la(const std::string& la) {
-  std::string text = shipped_delta();
+  std::string text = shipped("delta");
   const std::string key = "\"La\": 8.0";
   const auto at = text.find(key);
   if (at == std::string::npos) throw std::runtime_error("the shipped delta.json has no \"La\": 8.0");
@@ -267,6 +267,24 @@ class WindowOpenTest : public QObject {
     QVERIFY((next->actuators() - actuators).norm() > 1e-6);  // the same point, reached by another design
     QVERIFY(next->isWindowModified());                      // the design changed
     QCOMPARE(next->history()->stack()->count(), 0);          // history starts again, as with a change of device
+    QVERIFY(!next->errorPanel()->isVisible());
+  }
+
+  void anotherDeviceInTheFileStartsAtItsHome() {
+    QTemporaryDir dir;
+    const QString path = dir.filePath("delta.json");
+    QPointer<MechanismWindow> w = delta_window(path);
+    QVERIFY(w);
+    Eigen::VectorXd moved = w->task();
+    moved(2) += 1.0;
+    QVERIFY(w->setTask(moved));
+    const Eigen::Vector3d seen_from = camera_position(w);
+    write_file(path, shipped("pathos2"));  // other task coordinates (a pose with a grip)
+    MechanismWindow* next = w->reloadMechanism();
+    QVERIFY(settled(next));
+    QCOMPARE(next->preset().mechanism, std::string("pathos2"));
+    QVERIFY((next->task() - next->mechanism().home_task()).norm() < 1e-9);
+    QVERIFY((camera_position(next) - seen_from).norm() < 1e-9);  // the view stays, as with any reload
     QVERIFY(!next->errorPanel()->isVisible());
   }
 
