@@ -824,7 +824,8 @@ void MechanismWindow::buildMenus() {
   file->addAction(tr("Save session &as…"), QKeySequence::SaveAs, this, &MechanismWindow::saveAs);
   recent_menu_ = file->addMenu(tr("Recent sessions"));
   file->addSeparator();
-  QAction* open_mechanism = file->addAction(tr("Open &mechanism…"), QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_O), this, [this] {
+  const QKeySequence open_mechanism_key(Qt::CTRL | Qt::SHIFT | Qt::Key_O);
+  QAction* open_mechanism = file->addAction(tr("Open &mechanism…"), open_mechanism_key, this, [this] {
     const QString folder = preset_.source.empty()
                                ? QStandardPaths::writableLocation(QStandardPaths::DocumentsLocation)
                                : QFileInfo(preset_file(preset_)).absolutePath();
@@ -833,8 +834,10 @@ void MechanismWindow::buildMenus() {
     if (!path.isEmpty()) openMechanismFile(path);
   });
   open_mechanism->setObjectName("openMechanismAction");
-  open_mechanism->setStatusTip(tr("Open a device from its preset file (.json), a shipped one or a described mechanism"));
-  QAction* reload = file->addAction(tr("&Reload mechanism"), QKeySequence(Qt::Key_F5), this, [this] { reloadMechanism(); });
+  open_mechanism->setStatusTip(
+      tr("Open a device from its preset file (.json), a shipped one or a described mechanism"));
+  QAction* reload =
+      file->addAction(tr("&Reload mechanism"), QKeySequence(Qt::Key_F5), this, [this] { reloadMechanism(); });
   reload->setObjectName("reloadMechanismAction");
   reload->setStatusTip(tr("Read the preset file again (done by itself when the file changes): the design is the "
                           "file's; the camera, the pose, the field and task settings stay"));
