@@ -147,10 +147,12 @@ void apply(const Leg& leg, LegState& s, const VectorXd& delta, int offset = 0) {
 // A damped Gauss-Newton step for J d = e (J m x n): d = J^T (J J^T + mu I)^-1 e,
 // the least-norm step, damped by mu = |e|^2 (Levenberg-Marquardt in the
 // Yamashita-Fukushima form: quadratic convergence where a solution exists,
-// also at singular ones).
-VectorXd damped_step(const MatrixXd& J, const VectorXd& e) {
+// also at singular ones). A leg's IK caps mu: at a least-squares minimum off
+// the target (an unreachable pose) light damping converges to the minimum,
+// whose distance is the reach margin outside.
+VectorXd damped_step(const MatrixXd& J, const VectorXd& e, double cap = kInf) {
   MatrixXd A = J * J.transpose();
-  const double mu = e.squaredNorm() + 1e-30;
+  const double mu = std::min(e.squaredNorm(), cap) + 1e-30;
   A.diagonal().array() += mu;
   return J.transpose() * A.ldlt().solve(e);
 }
@@ -274,7 +276,7 @@ Kinematics::LegSolveResult Kinematics::solve_leg(int leg, const Isometry3d& anch
   int it = 0;
   for (; it < max_iterations && norm > 1e-15; ++it) {
     for (int v = 0; v < l.variables; ++v) J.col(v) = rows_of(twist(c, v, c.end.translation(), size), model_.planar);
-    VectorXd d = damped_step(J, e);
+    VectorXd d = damped_step(J, e, 1e-6);
     limit_step(d);
     bool accepted = false;
     for (int halving = 0; halving < 30 && !accepted; ++halving, d *= 0.5) {
@@ -287,7 +289,7 @@ Kinematics::LegSolveResult Kinematics::solve_leg(int leg, const Isometry3d& anch
         // At the rounding floor, or crawling towards a least-squares minimum
         // off the target (an unreachable pose): either way, done.
         const bool floor = te.norm() > 0.5 * norm && norm < 1e-11;
-        const bool crawling = te.norm() > (1 - 1e-4) * norm && norm > 1e-9;
+        const bool crawling = te.norm() > (1 - 1e-9) * norm && norm > 1e-9;
         if (crawling) it = max_iterations;
         s = std::move(trial);
         c = tc;
@@ -315,42 +317,49 @@ LegSolution Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int bran
     for (std::size_t i = 0; i < model_.legs.size(); ++i)
       tls.legs[i].assign(std::size_t(1) << free_rules_of(model_.legs[i]), std::nullopt);
   }
-  std::vector<const LegState*> seeds;
-  if (tls.legs[std::size_t(leg)][std::size_t(combo)]) seeds.push_back(&*tls.legs[std::size_t(leg)][std::size_t(combo)]);
-  if (extra_seed) seeds.push_back(extra_seed);
-  if (home_states_[std::size_t(leg)][std::size_t(combo)]) seeds.push_back(&*home_states_[std::size_t(leg)][std::size_t(combo)]);
+  // Fast seeds first: the thread's last solution on this branch (a field's
+  // neighbouring sample) and the caller's. Where they do not serve, fixed
+  // seeds decide, so that an unreachable pose's miss distance does not depend
+  // on what the thread solved before.
+  std::vector<const LegState*> fast, fixed;
+  if (tls.legs[std::size_t(leg)][std::size_t(combo)]) fast.push_back(&*tls.legs[std::size_t(leg)][std::size_t(combo)]);
+  if (extra_seed) fast.push_back(extra_seed);
+  if (home_states_[std::size_t(leg)][std::size_t(combo)]) fixed.push_back(&*home_states_[std::size_t(leg)][std::size_t(combo)]);
   for (const auto& other : home_states_[std::size_t(leg)])
-    if (other) seeds.push_back(&*other);
-  for (const LegState& s : spread_seeds_[std::size_t(leg)]) seeds.push_back(&s);
+    if (other) fixed.push_back(&*other);
+  for (const LegState& s : spread_seeds_[std::size_t(leg)]) fixed.push_back(&s);
 
   LegSolution best;
   best.residual = kInf;
   bool found_other_branch = false;
   int stationary_misses = 0;
   int iterations = 0;
-  for (const LegState* seed : seeds) {
-    LegSolveResult r = solve_leg(leg, anchor, *seed, 40);
-    iterations += r.iterations;
-    const double residual = r.error * model_.size;
-    if (residual <= tolerance * model_.size) {
-      if (signs_match(leg, r.state, anchor, branch)) {
-        best.state = std::move(r.state);
-        best.status = Status::Ok;
-        best.residual = residual;
-        best.iterations = iterations;
-        tls.legs[std::size_t(leg)][std::size_t(combo)] = best.state;
-        return best;
+  for (const auto* seeds : {&fast, &fixed}) {
+    for (const LegState* seed : *seeds) {
+      LegSolveResult r = solve_leg(leg, anchor, *seed, 40);
+      iterations += r.iterations;
+      const double residual = r.error * model_.size;
+      if (residual <= tolerance * model_.size) {
+        if (signs_match(leg, r.state, anchor, branch)) {
+          best.state = std::move(r.state);
+          best.status = Status::Ok;
+          best.residual = residual;
+          best.iterations = iterations;
+          tls.legs[std::size_t(leg)][std::size_t(combo)] = best.state;
+          return best;
+        }
+        found_other_branch = true;
+        continue;
       }
-      found_other_branch = true;
-      continue;
+      if (seeds == &fast) continue;
+      if (residual < best.residual) {
+        best.state = std::move(r.state);
+        best.residual = residual;
+      }
+      // Three fixed seeds that all end at a least-squares minimum off the
+      // target: the leg cannot reach it (more seeds would repeat the verdict).
+      if (++stationary_misses >= 3 && !found_other_branch) break;
     }
-    if (residual < best.residual) {
-      best.state = std::move(r.state);
-      best.residual = residual;
-    }
-    // Three seeds that all end at a least-squares minimum off the target: the
-    // leg cannot reach it (spread seeds would only repeat the verdict).
-    if (++stationary_misses >= 2 && !found_other_branch) break;
   }
   best.status = found_other_branch ? Status::NotConverged : Status::Unreachable;
   best.iterations = iterations;
