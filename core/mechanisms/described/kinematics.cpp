@@ -175,11 +175,14 @@ auto damped_step(const Jacobian& J, const Error& e, double cap = kInf) {
   return d;
 }
 
-// Limits a step to half a radian (or half a size) in any variable.
+// Limits a step to half a radian in any angle and half the device's size in
+// any length (`lengths` marks the length variables).
 template <class Vector>
-void limit_step(Vector& d) {
-  const double largest = d.cwiseAbs().maxCoeff();
-  if (largest > 0.5) d *= 0.5 / largest;
+void limit_step(Vector& d, const std::vector<bool>& lengths, double size) {
+  double ratio = 0;
+  for (Index i = 0; i < d.size(); ++i)
+    ratio = std::max(ratio, std::abs(d(i)) / (lengths[std::size_t(i)] ? 0.5 * size : 0.5));
+  if (ratio > 1) d /= ratio;
 }
 
 double golden(int i, int j) {
@@ -299,7 +302,7 @@ Kinematics::LegSolveResult Kinematics::solve_leg(int leg, const Isometry3d& anch
   for (; it < max_iterations && norm > 1e-15; ++it) {
     for (int v = 0; v < l.variables; ++v) J.col(v) = rows_of(twist(c, v, c.end.translation(), size), model_.planar);
     auto d = damped_step(J, e, 1e-6);
-    limit_step(d);
+    limit_step(d, c.sliding, size);
     bool accepted = false;
     for (int halving = 0; halving < 30 && !accepted; ++halving, d *= 0.5) {
       trial = s;
@@ -580,6 +583,16 @@ ForwardSolution Kinematics::forward(const VectorXd& q, const VectorXd& seed, dou
   }
   const int m = model_.planar ? 3 : 6;
   const int rows = m * int(model_.legs.size());
+  std::vector<bool> length_unknowns;  // translations and slides, for the step limit
+  for (const TaskCoordinate& t : model_.task)
+    if (t.extra < 0) length_unknowns.push_back(t.platform_coordinate < 3);
+  for (const Leg& l : model_.legs) {
+    const int act_var = l.steps[std::size_t(model_.actuators[std::size_t(l.actuators.front())].step)].variable;
+    for (const Step& step : l.steps) {
+      if (step.kind == Kind::Fixed || step.variable == act_var) continue;
+      for (int k = 0; k < (step.kind == Kind::Spherical ? 3 : 1); ++k) length_unknowns.push_back(step.kind == Kind::Prismatic);
+    }
+  }
   VectorXd x = seed;
   auto errors = [&](const VectorXd& xx, const std::vector<LegState>& ls, PlatformPose& p) {
     p = pose(xx);
@@ -630,7 +643,7 @@ ForwardSolution Kinematics::forward(const VectorXd& q, const VectorXd& seed, dou
           J.block(Index(leg) * m, offset[leg] + col++, m, 1) = rows_of(twist(c, v, r, model_.size), model_.planar);
     }
     VectorXd d = damped_step(J, e);
-    limit_step(d);
+    limit_step(d, length_unknowns, model_.size);
     bool accepted = false;
     for (int halving = 0; halving < 30 && !accepted; ++halving, d *= 0.5) {
       const VectorXd tx = step_pose(x, d);

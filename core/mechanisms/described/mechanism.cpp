@@ -140,6 +140,8 @@ class DescribedMechanism final : public Mechanism {
     const ForwardSolution f = kin_.forward(q, sm, o.tolerance, std::max(o.max_iterations, 1));
     FkResult out;
     out.status = f.status;
+    // As the compiled devices: an assembly with an actuator outside its travel.
+    if (out.status == Status::Ok && kin_.limits_margin(q) < 0) out.status = Status::OutOfLimits;
     out.x = to_interface(f.x, kin_.model().planar ? seed(2) : 0.0);
     out.residual = f.residual;
     out.iterations = f.iterations;
