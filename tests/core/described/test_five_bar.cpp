@@ -1,0 +1,465 @@
+// The planar five-bar of assets/mechanisms/five-bar.json, solved by the
+// generic solver for described devices, against the five-bar's closed forms
+// written here from the geometry alone (none of it calls the solver):
+//
+//   base joints A1 = (-d/2, 0), A2 = (d/2, 0); elbows E_i = A_i + a (cos q_i, sin q_i);
+//   the end point P at distance b from both elbows.
+//   IK: per leg, P on the circle of radius b about E_i: with D = |P - A_i|,
+//       phi = atan2(P - A_i), g = acos((a^2 + D^2 - b^2) / (2 a D)),
+//       q_i = phi +- g (left elbow out: +, right elbow out: -).
+//   FK: the two intersections of the circles of radius b about E1 and E2.
+//   J:  |P - E_i|^2 = b^2 differentiated: (P - E_i).dP - (P - E_i).(dE_i/dq_i) dq_i = 0,
+//       so Jx = [(P - E_1)^T; (P - E_2)^T], Jq = diag(-(P - E_i).a(-sin q_i, cos q_i)),
+//       J = dP/dq = -Jx^-1 Jq.
+//   Reach: leg i reaches P iff |a - b| <= |P - A_i| <= a + b.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <array>
+#include <cmath>
+#include <optional>
+#include <random>
+
+#include "described_devices_support.h"
+
+using namespace linkscape;
+using namespace linkscape::described_test;
+using Eigen::Matrix2d;
+using Eigen::Vector2d;
+using Eigen::VectorXd;
+
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+// The design as the file gives it, read without the preset loader.
+struct FiveBar {
+  double d = 0, a = 0, b = 0;
+  std::array<Range, 2> limits{};  // rad
+
+  static FiveBar from_file() {
+    const auto j = read_asset("five-bar.json");
+    FiveBar f;
+    f.d = j.at("parameters").at("d").get<double>();
+    f.a = j.at("parameters").at("a").get<double>();
+    f.b = j.at("parameters").at("b").get<double>();
+    const auto& lim = j.at("actuator_limits_deg");
+    for (int i = 0; i < 2; ++i) {
+      const auto& r = lim.at(i == 0 ? "q1" : "q2");
+      f.limits[std::size_t(i)] = {r.at(0).get<double>() * kDeg, r.at(1).get<double>() * kDeg};
+    }
+    return f;
+  }
+
+  Vector2d base(int i) const { return {i == 0 ? -d / 2 : d / 2, 0.0}; }
+  Vector2d elbow(int i, double q) const { return base(i) + a * Vector2d(std::cos(q), std::sin(q)); }
+
+  // Distance of P to the edge of leg i's annulus |a - b| <= |P - A_i| <= a + b:
+  // > 0 inside, < 0 outside.
+  double annulus_margin(int i, const Vector2d& p) const {
+    const double dist = (p - base(i)).norm();
+    return std::min(a + b - dist, dist - std::abs(a - b));
+  }
+  bool reaches(const Vector2d& p) const { return annulus_margin(0, p) > 0 && annulus_margin(1, p) > 0; }
+
+  // Leg i's actuator angle with the elbow out (away from the other leg) or in.
+  std::optional<double> leg_ik(int i, const Vector2d& p, bool elbow_out) const {
+    const Vector2d v = p - base(i);
+    const double dist = v.norm();
+    if (annulus_margin(i, p) < 0) return std::nullopt;
+    const double c = std::clamp((a * a + dist * dist - b * b) / (2 * a * dist), -1.0, 1.0);
+    const double phi = std::atan2(v.y(), v.x()), g = std::acos(c);
+    const bool plus = (i == 0) == elbow_out;
+    return plus ? phi + g : phi - g;
+  }
+  // The file's branch numbering: bit 0 set = the left leg's rule negative
+  // (elbow in), bit 1 = the right leg's.
+  std::optional<Vector2d> ik(const Vector2d& p, int branch) const {
+    const auto q1 = leg_ik(0, p, (branch & 1) == 0), q2 = leg_ik(1, p, (branch & 2) == 0);
+    if (!q1 || !q2) return std::nullopt;
+    return Vector2d(*q1, *q2);
+  }
+
+  // Both assemblies: first the end point to the left of E1 -> E2 (above the
+  // elbows, the working mode), then the mirror below.
+  std::optional<std::array<Vector2d, 2>> fk(const Vector2d& q) const {
+    const Vector2d e1 = elbow(0, q(0)), e2 = elbow(1, q(1));
+    const double c = (e2 - e1).norm();
+    if (c >= 2 * b || c == 0) return std::nullopt;
+    const Vector2d u = (e2 - e1) / c, n(-u.y(), u.x());
+    const double h = std::sqrt(b * b - c * c / 4);
+    const Vector2d mid = (e1 + e2) / 2;
+    return std::array<Vector2d, 2>{mid + h * n, mid - h * n};
+  }
+  double fk_height(const Vector2d& q) const {
+    const double c = (elbow(1, q(1)) - elbow(0, q(0))).norm();
+    return std::sqrt(std::max(0.0, b * b - c * c / 4));
+  }
+
+  Matrix2d jacobian(const Vector2d& q, const Vector2d& p) const {
+    Matrix2d jx, jq = Matrix2d::Zero();
+    for (int i = 0; i < 2; ++i) {
+      const Vector2d w = p - elbow(i, q(i));
+      jx.row(i) = w.transpose();
+      jq(i, i) = -w.dot(a * Vector2d(-std::sin(q(i)), std::cos(q(i))));
+    }
+    return -jx.inverse() * jq;
+  }
+
+  // The documented reach margin inside: the smallest moment arm, about a base
+  // joint, of the force a distal link carries (distance of A_i to line E_i P).
+  double moment_arm(int i, double q, const Vector2d& p) const {
+    const Vector2d e = elbow(i, q), u = (p - e).normalized(), r = e - base(i);
+    return std::abs(r.x() * u.y() - r.y() * u.x());
+  }
+
+  // Which way A_i -> E_i -> P turns (z of the cross product of the two links).
+  double turn(int i, double q, const Vector2d& p) const {
+    const Vector2d e = elbow(i, q), r1 = e - base(i), r2 = p - e;
+    return r1.x() * r2.y() - r1.y() * r2.x();
+  }
+
+  // The representative of leg i's angle q in [lo, lo + 2 pi).
+  double from_lower_limit(int i, double q) const {
+    const double lo = limits[std::size_t(i)].lo, turn = 2 * std::numbers::pi;
+    return lo + std::fmod(std::fmod(q - lo, turn) + turn, turn);
+  }
+  bool within_limits(int i, double q, double margin) const {
+    const double w = from_lower_limit(i, q);
+    return w >= limits[std::size_t(i)].lo + margin && w <= limits[std::size_t(i)].hi - margin;
+  }
+  bool outside_limits(int i, double q, double margin) const {
+    const double w = from_lower_limit(i, q);
+    return w > limits[std::size_t(i)].hi + margin && w < limits[std::size_t(i)].lo + 2 * std::numbers::pi - margin;
+  }
+};
+
+class FiveBarDevice : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    geometry = FiveBar::from_file();
+    m = load_device("five-bar.json");
+    ix = index_of_name(m->info().task, "x");
+    iy = index_of_name(m->info().task, "y");
+    ASSERT_GE(ix, 0);
+    ASSERT_GE(iy, 0);
+  }
+  VectorXd task(const Vector2d& p) const {
+    VectorXd x = m->home_task();
+    x(ix) = p.x();
+    x(iy) = p.y();
+    return x;
+  }
+  Vector2d point(const VectorXd& x) const { return {x(ix), x(iy)}; }
+
+  FiveBar geometry;
+  std::shared_ptr<const Mechanism> m;
+  int ix = -1, iy = -1;
+};
+
+}  // namespace
+
+// The description as the interface shows it: actuators q1, q2 in rad with
+// the file's travel, the task x, y (and the unmodelled z), c(J), the four
+// elbow branches, home at (0, 17) with both elbows out.
+TEST_F(FiveBarDevice, DescriptionHomeAndTravel) {
+  const MechanismInfo& info = m->info();
+  ASSERT_EQ(info.actuators.size(), 2u);
+  EXPECT_EQ(info.actuators[0].name, "q1");
+  EXPECT_EQ(info.actuators[1].name, "q2");
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_EQ(info.actuators[std::size_t(i)].unit, "rad");
+    EXPECT_NEAR(info.actuators[std::size_t(i)].range.lo, geometry.limits[std::size_t(i)].lo, 1e-12);
+    EXPECT_NEAR(info.actuators[std::size_t(i)].range.hi, geometry.limits[std::size_t(i)].hi, 1e-12);
+  }
+  EXPECT_EQ(info.branches.size(), 4u);
+  ASSERT_FALSE(info.measures.empty());
+  EXPECT_EQ(info.measures.front().name, "cond");
+  EXPECT_EQ(info.length_unit, "cm");
+
+  const VectorXd home = m->home_task();
+  EXPECT_DOUBLE_EQ(home(ix), 0.0);
+  EXPECT_DOUBLE_EQ(home(iy), 17.0);
+  const Vector2d q = *geometry.ik(point(home), 0);
+  const VectorXd qh = m->home_actuators();
+  ASSERT_EQ(qh.size(), 2);
+  EXPECT_NEAR(angle_difference(qh(0), q(0)), 0.0, 1e-9);
+  EXPECT_NEAR(angle_difference(qh(1), q(1)), 0.0, 1e-9);
+  // Elbows out at home: q1 = 134.18 deg, q2 = 45.82 deg (symmetric).
+  EXPECT_NEAR(q(0) / kDeg, 134.18, 0.01);
+  EXPECT_NEAR(q(0) + q(1), std::numbers::pi, 1e-12);
+  // Nearly isotropic there: c(J) = 1.0143.
+  const double c = svd_condition(geometry.jacobian(q, point(home)));
+  EXPECT_NEAR(c, 1.0143, 1e-4);
+  const Measures mh = m->measures(qh, home);
+  ASSERT_EQ(mh.status, Status::Ok);
+  EXPECT_NEAR(mh.values.at(0), c, 1e-9 * c);
+}
+
+// 2 x 10^4 points over the whole reach, every branch: outside either leg's
+// annulus the status is unreachable; inside, away from the annuli's edges
+// (every elbow bent by more than asin 0.05) and from the travel's ends, the
+// status is ok with the circle-intersection angles (1e-9 rad), or
+// out-of-limits where an angle lies outside the travel.
+TEST_F(FiveBarDevice, InverseMatchesCircleIntersectionOnEveryBranch) {
+  std::mt19937_64 rng(15001);
+  std::uniform_real_distribution<double> ux(-27, 27), uy(-8, 27);
+  const double edge = 1e-6 * m->size();
+  int ok = 0, unreachable = 0, out_of_limits = 0;
+  double worst = 0;
+  std::array<int, 4> ok_per_branch{};
+  for (int n = 0; n < 20000; ++n) {
+    const Vector2d p(ux(rng), uy(rng));
+    const VectorXd x = task(p);
+    const double margin = std::min(geometry.annulus_margin(0, p), geometry.annulus_margin(1, p));
+    for (int branch = 0; branch < 4; ++branch) {
+      IkOptions options;
+      options.branch = branch;
+      const IkResult r = m->inverse(x, options);
+      if (margin < -edge) {
+        EXPECT_EQ(r.status, Status::Unreachable) << "branch " << branch << " at " << p.transpose();
+        if (r.status == Status::Unreachable) ++unreachable;
+        continue;
+      }
+      if (margin < edge) continue;  // on the edge: either answer
+      const Vector2d q = *geometry.ik(p, branch);
+      const double arm = std::min(geometry.moment_arm(0, q(0), p), geometry.moment_arm(1, q(1), p));
+      if (arm < 0.05 * geometry.a) continue;  // near a serial singularity
+      if (!(svd_condition(geometry.jacobian(q, p)) < 1e4)) continue;  // near a parallel one (elbows meet)
+      // The branch rules as the file states them: left (tip1, elbow1, q1)
+      // and right (q2, elbow2, tip2) both positive on branch 0.
+      EXPECT_EQ(-geometry.turn(0, q(0), p) > 0, (branch & 1) == 0);
+      EXPECT_EQ(geometry.turn(1, q(1), p) > 0, (branch & 2) == 0);
+      const double lim = 1e-6;
+      const bool inside = geometry.within_limits(0, q(0), lim) && geometry.within_limits(1, q(1), lim);
+      const bool outside = geometry.outside_limits(0, q(0), lim) || geometry.outside_limits(1, q(1), lim);
+      if (inside) {
+        ASSERT_EQ(r.status, Status::Ok) << "branch " << branch << " at " << p.transpose();
+        ASSERT_EQ(r.solutions.size(), 1u);
+        EXPECT_EQ(r.solutions[0].branch, branch);
+        const VectorXd& qs = r.solutions[0].q;
+        const double e = std::max(std::abs(angle_difference(qs(0), q(0))), std::abs(angle_difference(qs(1), q(1))));
+        EXPECT_LT(e, 1e-9) << "branch " << branch << " at " << p.transpose() << ": q " << qs.transpose()
+                           << " against " << q.transpose();
+        worst = std::max(worst, e);
+        ++ok;
+        ++ok_per_branch[std::size_t(branch)];
+      } else if (outside) {
+        EXPECT_EQ(r.status, Status::OutOfLimits) << "branch " << branch << " at " << p.transpose();
+        if (r.status == Status::OutOfLimits) ++out_of_limits;
+      }
+    }
+  }
+  RecordProperty("ok", ok);
+  RecordProperty("unreachable", unreachable);
+  RecordProperty("out_of_limits", out_of_limits);
+  RecordProperty("worst_angle_rad", scientific(worst));
+  EXPECT_GT(ok, 20000);
+  EXPECT_GT(unreachable, 10000);
+  for (int branch = 0; branch < 4; ++branch) EXPECT_GT(ok_per_branch[std::size_t(branch)], 1000) << branch;
+  std::printf("five-bar IK: %d ok (per branch %d %d %d %d), %d unreachable, %d out of limits, worst %.3g rad\n", ok,
+              ok_per_branch[0], ok_per_branch[1], ok_per_branch[2], ok_per_branch[3], unreachable, out_of_limits, worst);
+}
+
+// z is not modelled: the device reaches (x, y) at any z with the same angles.
+TEST_F(FiveBarDevice, PlanarDeviceIgnoresZ) {
+  const int iz = index_of_name(m->info().task, "z");
+  if (iz < 0) GTEST_SKIP() << "no z in the task";
+  std::mt19937_64 rng(15002);
+  std::uniform_real_distribution<double> ux(-6, 6), uy(12, 21), uz(-100, 100);
+  for (int n = 0; n < 200; ++n) {
+    const Vector2d p(ux(rng), uy(rng));
+    VectorXd x = task(p);
+    x(iz) = uz(rng);
+    const IkResult r = m->inverse(x);
+    ASSERT_EQ(r.status, Status::Ok) << x.transpose();
+    const Vector2d q = *geometry.ik(p, r.solutions[0].branch);
+    EXPECT_LT(std::abs(angle_difference(r.solutions[0].q(0), q(0))), 1e-9);
+    EXPECT_LT(std::abs(angle_difference(r.solutions[0].q(1), q(1))), 1e-9);
+    EXPECT_GT(m->reach_margin(x), 0.0);
+  }
+}
+
+// 2 x 10^4 actuator pairs over the travel: where the elbows are closer than
+// 2b apart the two circle intersections are the two assemblies, and FK seeded
+// near either (within 2% of the size) lands on it to 1e-9 of the size; where
+// they are farther apart FK does not report ok.
+TEST_F(FiveBarDevice, ForwardMatchesCircleIntersectionInBothAssemblies) {
+  std::mt19937_64 rng(15003);
+  std::uniform_real_distribution<double> u1(geometry.limits[0].lo, geometry.limits[0].hi),
+      u2(geometry.limits[1].lo, geometry.limits[1].hi), noise(-1, 1);
+  const double size = m->size();
+  int solved = 0, refused = 0;
+  double worst = 0;
+  long iterations = 0;
+  for (int n = 0; n < 20000; ++n) {
+    const Vector2d q(u1(rng), u2(rng));
+    const auto points = geometry.fk(q);
+    const double height = geometry.fk_height(q);
+    const double gap = (geometry.elbow(1, q(1)) - geometry.elbow(0, q(0))).norm() - 2 * geometry.b;
+    if (!points) {
+      if (gap > 1e-3 * size) {
+        const FkResult r = m->forward(q);
+        EXPECT_NE(r.status, Status::Ok) << q.transpose();
+        ++refused;
+      }
+      continue;
+    }
+    if (height < 0.05 * geometry.b) continue;  // near the parallel singularity (P on E1 E2)
+    for (int mode = 0; mode < 2; ++mode) {
+      const Vector2d p = (*points)[std::size_t(mode)];
+      if (!(svd_condition(geometry.jacobian(q, p)) < 1e3)) continue;  // distal links nearly aligned
+      // Leave out assemblies where a leg is nearly stretched or folded: its
+      // angle there is ill-defined.
+      if (std::min(geometry.moment_arm(0, q(0), p), geometry.moment_arm(1, q(1), p)) < 0.05 * geometry.a) continue;
+      FkOptions options;
+      options.seed = task(p + 0.02 * size * Vector2d(noise(rng), noise(rng)).normalized() * std::abs(noise(rng)));
+      const FkResult r = m->forward(q, options);
+      ASSERT_EQ(r.status, Status::Ok) << "q " << q.transpose() << " mode " << mode;
+      const double e = (point(r.x) - p).norm();
+      EXPECT_LT(e, 1e-9 * size) << "q " << q.transpose() << " mode " << mode << ": " << point(r.x).transpose()
+                                << " against " << p.transpose();
+      worst = std::max(worst, e);
+      iterations += r.iterations;
+      ++solved;
+    }
+  }
+  RecordProperty("solved", solved);
+  RecordProperty("refused", refused);
+  RecordProperty("worst_over_size", scientific(worst / size));
+  EXPECT_GT(solved, 10000);
+  EXPECT_GT(refused, 500);
+  std::printf("five-bar FK: %d solved, %d refused, worst %.3g of the size, mean %.2f iterations\n", solved, refused,
+              worst / size, double(iterations) / std::max(solved, 1));
+}
+
+// FK from its default seed (home) finds the working assembly (end point above
+// the elbows) near home.
+TEST_F(FiveBarDevice, ForwardFromHomeFindsTheWorkingAssembly) {
+  std::mt19937_64 rng(15004);
+  std::uniform_real_distribution<double> ux(-5, 5), uy(12, 21);
+  for (int n = 0; n < 500; ++n) {
+    const Vector2d p(ux(rng), uy(rng));
+    const Vector2d q = *geometry.ik(p, 0);
+    const FkResult r = m->forward(q);
+    ASSERT_EQ(r.status, Status::Ok) << p.transpose();
+    EXPECT_LT((point(r.x) - (*geometry.fk(q))[0]).norm(), 1e-9 * m->size()) << p.transpose();
+  }
+}
+
+// J = -Jx^-1 Jq and c(J) at 2 x 10^4 points on branch 0 (c(J) < 100), to
+// 1e-9 relative; det J too.
+TEST_F(FiveBarDevice, JacobianAndConditionMatchTheClosedForm) {
+  std::mt19937_64 rng(15005);
+  std::uniform_real_distribution<double> ux(-22, 22), uy(-2, 24);
+  const int icond = measure_index(*m, "cond");
+  ASSERT_GE(icond, 0);
+  int compared = 0;
+  double worst_j = 0, worst_c = 0, worst_det = 0;
+  while (compared < 20000) {
+    const Vector2d p(ux(rng), uy(rng));
+    if (std::min(geometry.annulus_margin(0, p), geometry.annulus_margin(1, p)) < 1e-3) continue;
+    const Vector2d q = *geometry.ik(p, 0);
+    const Matrix2d j = geometry.jacobian(q, p);
+    const double c = svd_condition(j);
+    if (!(c < 100)) continue;
+    const VectorXd x = task(p);
+    const VectorXd qv = q;
+    const Eigen::MatrixXd js = m->jacobian(qv, x);
+    ASSERT_EQ(js.rows(), 2);
+    ASSERT_EQ(js.cols(), 2);
+    const double ej = (js - j).norm() / j.norm();
+    EXPECT_LT(ej, 1e-9) << p.transpose() << "\n" << js << "\nagainst\n" << j;
+    const Measures ms = m->measures(qv, x);
+    ASSERT_EQ(ms.status, Status::Ok) << p.transpose();
+    const double ec = std::abs(ms.values.at(std::size_t(icond)) - c) / c;
+    EXPECT_LT(ec, 1e-9) << p.transpose() << ": " << ms.values.at(std::size_t(icond)) << " against " << c;
+    const double edet = std::abs(ms.det - j.determinant()) / std::abs(j.determinant());
+    EXPECT_LT(edet, 1e-9) << p.transpose() << ": det " << ms.det << " against " << j.determinant();
+    worst_j = std::max(worst_j, ej);
+    worst_c = std::max(worst_c, ec);
+    worst_det = std::max(worst_det, edet);
+    ++compared;
+  }
+  RecordProperty("worst_jacobian_relative", scientific(worst_j));
+  RecordProperty("worst_cond_relative", scientific(worst_c));
+  RecordProperty("worst_det_relative", scientific(worst_det));
+  std::printf("five-bar J: %d points, worst J %.3g, c(J) %.3g, det %.3g (relative)\n", compared, worst_j, worst_c,
+              worst_det);
+}
+
+// The reach boundary: reach_margin > 0 exactly where both annuli
+// |a - b| <= |P - A_i| <= a + b hold (2 x 10^4 points, 1e-6 of the size off
+// the edges), and inside it equals the documented serial margin, the
+// smallest moment arm of a distal link's force about its base joint.
+TEST_F(FiveBarDevice, ReachMarginSignIsTheAnnulusTest) {
+  std::mt19937_64 rng(15006);
+  std::uniform_real_distribution<double> ux(-30, 30), uy(-30, 30);
+  const double edge = 1e-6 * m->size();
+  int inside = 0, outside = 0, wrong = 0;
+  double worst_value = 0;
+  for (int n = 0; n < 20000; ++n) {
+    const Vector2d p(ux(rng), uy(rng));
+    const double margin = std::min(geometry.annulus_margin(0, p), geometry.annulus_margin(1, p));
+    if (std::abs(margin) < edge) continue;
+    const double r = m->reach_margin(task(p), 0);
+    ASSERT_TRUE(std::isfinite(r)) << p.transpose();
+    if (margin > 0) {
+      ++inside;
+      if (!(r > 0)) ++wrong;
+      EXPECT_GT(r, 0.0) << p.transpose();
+      const Vector2d q = *geometry.ik(p, 0);
+      const double arm = std::min(geometry.moment_arm(0, q(0), p), geometry.moment_arm(1, q(1), p));
+      EXPECT_NEAR(r, arm, 1e-9 * m->size()) << p.transpose();
+      worst_value = std::max(worst_value, std::abs(r - arm));
+    } else {
+      ++outside;
+      if (!(r < 0)) ++wrong;
+      EXPECT_LT(r, 0.0) << p.transpose();
+    }
+  }
+  RecordProperty("inside", inside);
+  RecordProperty("outside", outside);
+  RecordProperty("worst_inside_value", scientific(worst_value));
+  EXPECT_GT(inside, 5000);
+  EXPECT_GT(outside, 5000);
+  std::printf("five-bar reach: %d inside, %d outside, %d wrong sign, worst inside value %.3g cm\n", inside, outside,
+              wrong, worst_value);
+}
+
+// The reference itself, without the solver: circle-intersection FK undoes
+// the circle-intersection IK on every branch, and the closed-form J matches
+// central differences of that FK.
+TEST(FiveBarReference, ClosedFormsAreConsistent) {
+  const FiveBar g = FiveBar::from_file();
+  std::mt19937_64 rng(15000);
+  std::uniform_real_distribution<double> ux(-20, 20), uy(-5, 22);
+  int checked = 0;
+  while (checked < 2000) {
+    const Vector2d p(ux(rng), uy(rng));
+    if (std::min(g.annulus_margin(0, p), g.annulus_margin(1, p)) < 0.5) continue;
+    for (int branch = 0; branch < 4; ++branch) {
+      const Vector2d q = *g.ik(p, branch);
+      for (int i = 0; i < 2; ++i) {
+        EXPECT_NEAR((g.elbow(i, q(i)) - g.base(i)).norm(), g.a, 1e-12);
+        EXPECT_NEAR((p - g.elbow(i, q(i))).norm(), g.b, 1e-12);
+      }
+      const auto points = g.fk(q);
+      ASSERT_TRUE(points.has_value());
+      const int mode = ((*points)[0] - p).norm() < ((*points)[1] - p).norm() ? 0 : 1;
+      const Matrix2d j = g.jacobian(q, p);
+      if (!(svd_condition(j) < 100)) continue;  // FK and differences lose digits near singularities
+      EXPECT_LT(((*points)[std::size_t(mode)] - p).norm(), 1e-11);
+      Matrix2d fd;
+      const double h = 1e-6;
+      for (int k = 0; k < 2; ++k) {
+        Vector2d qp = q, qm = q;
+        qp(k) += h;
+        qm(k) -= h;
+        fd.col(k) = ((*g.fk(qp))[std::size_t(mode)] - (*g.fk(qm))[std::size_t(mode)]) / (2 * h);
+      }
+      EXPECT_LT((fd - j).norm() / j.norm(), 1e-6) << fd << "\nagainst\n" << j;
+    }
+    ++checked;
+  }
+}
