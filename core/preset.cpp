@@ -109,10 +109,10 @@ Preset parse_preset(const std::string& text, const std::string& origin) {
     if (!doc.is_object()) throw std::invalid_argument("top level must be a JSON object");
     for (const auto& [key, value] : doc.items())
       if (key != "mechanism" && key != "title" && key != "length_unit" && key != "parameters" &&
-          key != "actuator_limits_deg" && key != "actuator_data")
+          key != "actuator_limits_deg" && key != "actuator_data" && key != "description")
         throw std::invalid_argument(
             "unknown key '" + key +
-            "' (known: mechanism, title, length_unit, parameters, actuator_limits_deg, actuator_data)");
+            "' (known: mechanism, title, length_unit, parameters, actuator_limits_deg, actuator_data, description)");
     p.mechanism = doc.at("mechanism").get<std::string>();
     p.title = doc.value("title", p.mechanism);
     p.length_unit = doc.value("length_unit", "unit");
@@ -127,6 +127,11 @@ Preset parse_preset(const std::string& text, const std::string& origin) {
       }
     }
     if (doc.contains("actuator_data")) p.actuator_data = parse_actuator_data(doc.at("actuator_data"));
+    if (doc.contains("description")) {
+      if (p.mechanism != "described")
+        throw std::invalid_argument("a \"description\" belongs to a preset whose mechanism is \"described\"");
+      p.description = doc.at("description").dump();
+    }
   } catch (const nlohmann::json::exception& e) {
     throw std::invalid_argument("preset " + origin + ": " + e.what());
   } catch (const std::invalid_argument& e) {

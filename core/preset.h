@@ -19,6 +19,9 @@ struct Preset {
   std::map<std::string, double> parameters;
   std::map<std::string, Range> limits_deg;  // actuator ranges, degrees
   ActuatorDataSpec actuator_data;           // torques, encoders, inertias (core/haptics.h)
+  // A described mechanism's "description" as JSON text (docs/described-mechanisms.md);
+  // empty for the compiled devices.
+  std::string description;
   std::filesystem::path source;             // file it was read from
 };
 

@@ -5,7 +5,7 @@ set -euo pipefail
 
 packages=(
   cmake ninja-build g++ dpkg-dev pkg-config
-  libeigen3-dev nlohmann-json3-dev libcli11-dev libhwy-dev
+  libeigen3-dev nlohmann-json3-dev libcli11-dev libhwy-dev libmuparser-dev
   libvtk9-dev libopenmesh-dev
   qt6-base-dev libqt6opengl6-dev qt6-svg-dev qt6-charts-dev
   libgtest-dev libbenchmark-dev

@@ -6,6 +6,7 @@
 
 #include "core/mechanism.h"
 #include "core/mechanisms/delta/mechanism.h"
+#include "core/mechanisms/described/mechanism.h"
 #include "core/mechanisms/parallel12r/mechanism.h"
 #include "core/mechanisms/pathos2/mechanism.h"
 #include "core/preset.h"
@@ -33,11 +34,14 @@ std::vector<std::string> registered_mechanisms() {
 }
 
 std::shared_ptr<const Mechanism> make_mechanism(const Preset& preset) {
+  // Described devices are files, not entries of the list (docs/described-mechanisms.md).
+  if (preset.mechanism == described::kMechanismName) return described::make_mechanism(preset);
   for (const auto& [name, factory] : registry())
     if (name == preset.mechanism) return factory(preset);
   std::string known;
   for (const auto& n : registered_mechanisms()) known += (known.empty() ? "" : ", ") + n;
-  throw std::invalid_argument("unsupported mechanism '" + preset.mechanism + "' (supported: " + known + ")");
+  throw std::invalid_argument("unsupported mechanism '" + preset.mechanism + "' (supported: " + known +
+                              ", or \"described\" with a description)");
 }
 
 std::string default_mechanism() { return registry().front().first; }

@@ -1,0 +1,791 @@
+#include "core/mechanisms/described/kinematics.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <Eigen/SVD>
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+namespace linkscape::described {
+namespace {
+
+using Eigen::Index;
+using Eigen::Isometry3d;
+using Eigen::Matrix3d;
+using Eigen::MatrixXd;
+using Eigen::Vector3d;
+using Eigen::VectorXd;
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+using Kind = Step::Kind;
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+std::atomic<std::uint64_t> next_id{1};
+
+// The rows a device's closure keeps: spatial all six, planar (rz, x, y).
+constexpr int kPlanarRows[3] = {2, 3, 4};
+
+Matrix3d rotation_of(const Vector3d& v) {
+  const double angle = v.norm();
+  if (angle == 0) return Matrix3d::Identity();
+  return Eigen::AngleAxisd(angle, v / angle).toRotationMatrix();
+}
+
+Vector3d rotation_vector(const Matrix3d& R) {
+  const Eigen::AngleAxisd aa(R);
+  return aa.angle() * aa.axis();
+}
+
+Matrix3d euler_zyx(double rx, double ry, double rz) {
+  return (Eigen::AngleAxisd(rz, Vector3d::UnitZ()) * Eigen::AngleAxisd(ry, Vector3d::UnitY()) *
+          Eigen::AngleAxisd(rx, Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+Vector3d euler_of(const Matrix3d& R) {
+  const double ry = std::asin(std::clamp(-R(2, 0), -1.0, 1.0));
+  return {std::atan2(R(2, 1), R(2, 2)), ry, std::atan2(R(1, 0), R(0, 0))};
+}
+
+// A leg's chain at one state: the end frame and, per variable, the twist's
+// axis and centre (base frame).
+struct Chain {
+  Isometry3d end = Isometry3d::Identity();
+  std::vector<Vector3d> axis, centre;  // per variable
+  std::vector<bool> sliding;           // per variable: prismatic
+  std::vector<Vector3d> step_centre, step_axis;  // per step, for branch rules and drawing
+  std::vector<Isometry3d> step_frame;            // per step: the frame after it
+};
+
+Chain walk(const Leg& leg, const LegState& s) {
+  Chain c;
+  c.axis.resize(std::size_t(leg.variables));
+  c.centre.resize(std::size_t(leg.variables));
+  c.sliding.assign(std::size_t(leg.variables), false);
+  Isometry3d T = leg.base;
+  int sphere = 0;
+  for (const Step& step : leg.steps) {
+    const Vector3d here = T.translation();
+    c.step_centre.push_back(here);
+    c.step_axis.push_back(T.linear() * step.axis);
+    switch (step.kind) {
+      case Kind::Fixed:
+        T = T * step.transform;
+        break;
+      case Kind::Revolute: {
+        c.axis[std::size_t(step.variable)] = T.linear() * step.axis;
+        c.centre[std::size_t(step.variable)] = here;
+        T.linear() = T.linear() * Eigen::AngleAxisd(s.values(step.variable), step.axis).toRotationMatrix();
+        break;
+      }
+      case Kind::Prismatic: {
+        const Vector3d a = T.linear() * step.axis;
+        c.axis[std::size_t(step.variable)] = a;
+        c.centre[std::size_t(step.variable)] = here;
+        c.sliding[std::size_t(step.variable)] = true;
+        T.translation() += a * s.values(step.variable);
+        break;
+      }
+      case Kind::Spherical: {
+        T.linear() = T.linear() * s.spheres[std::size_t(sphere++)];
+        for (int k = 0; k < 3; ++k) {
+          c.axis[std::size_t(step.variable + k)] = T.linear().col(k);
+          c.centre[std::size_t(step.variable + k)] = here;
+        }
+        break;
+      }
+    }
+    c.step_frame.push_back(T);
+  }
+  c.end = T;
+  return c;
+}
+
+// The twist of variable v about point r: [axis; axis x (r - centre)] (or
+// [0; axis] for a slide), position rows divided by size.
+Vector6d twist(const Chain& c, int v, const Vector3d& r, double size) {
+  Vector6d t;
+  const Vector3d& a = c.axis[std::size_t(v)];
+  if (c.sliding[std::size_t(v)]) t << Vector3d::Zero(), a / size;
+  else t << a, a.cross(r - c.centre[std::size_t(v)]) / size;
+  return t;
+}
+
+Vector6d closure_error(const Chain& c, const Isometry3d& anchor, double size) {
+  Vector6d e;
+  e << rotation_vector(anchor.linear() * c.end.linear().transpose()),
+      (anchor.translation() - c.end.translation()) / size;
+  return e;
+}
+
+// Keeps the rows the device closes (planar: rz, x, y).
+VectorXd rows_of(const Vector6d& v, bool planar) {
+  if (!planar) return v;
+  VectorXd out(3);
+  for (int i = 0; i < 3; ++i) out(i) = v(kPlanarRows[i]);
+  return out;
+}
+
+void apply(const Leg& leg, LegState& s, const VectorXd& delta, int offset = 0) {
+  int sphere = 0;
+  for (const Step& step : leg.steps) {
+    if (step.kind == Kind::Revolute || step.kind == Kind::Prismatic) s.values(step.variable) += delta(offset + step.variable);
+    if (step.kind == Kind::Spherical) {
+      Matrix3d& R = s.spheres[std::size_t(sphere++)];
+      R = R * rotation_of(delta.segment<3>(offset + step.variable));
+      // Re-orthonormalise now and then would be needed only over thousands of steps.
+    }
+  }
+}
+
+// A damped Gauss-Newton step for J d = e (J m x n): d = J^T (J J^T + mu I)^-1 e,
+// the least-norm step, damped by mu = |e|^2 (Levenberg-Marquardt in the
+// Yamashita-Fukushima form: quadratic convergence where a solution exists,
+// also at singular ones).
+VectorXd damped_step(const MatrixXd& J, const VectorXd& e) {
+  MatrixXd A = J * J.transpose();
+  const double mu = e.squaredNorm() + 1e-30;
+  A.diagonal().array() += mu;
+  return J.transpose() * A.ldlt().solve(e);
+}
+
+// Limits a step to half a radian (or half a size) in any variable.
+void limit_step(VectorXd& d) {
+  const double largest = d.cwiseAbs().maxCoeff();
+  if (largest > 0.5) d *= 0.5 / largest;
+}
+
+double golden(int i, int j) {
+  const double v = std::fmod(0.6180339887498949 * (i + 1) + 0.4142135623730951 * (j + 1) * (i + 3), 1.0);
+  return 2 * v - 1;
+}
+
+struct ThreadSeeds {
+  std::uint64_t id = 0;
+  std::vector<std::vector<std::optional<LegState>>> legs;  // per leg, per combination
+};
+thread_local ThreadSeeds thread_seeds;
+
+}  // namespace
+
+struct Kinematics::LegSolveResult {
+  LegState state;
+  double error = kInf;  // |e|, dimensionless
+  int iterations = 0;
+};
+
+// ---- Poses -------------------------------------------------------------------
+
+PlatformPose Kinematics::pose(const VectorXd& x) const {
+  PlatformPose p;
+  std::array<double, 6> c = model_.fixed;
+  p.extras = VectorXd::Zero(Index(model_.extras.size()));
+  for (std::size_t i = 0; i < model_.task.size(); ++i) {
+    const TaskCoordinate& t = model_.task[i];
+    if (t.platform_coordinate >= 0) c[std::size_t(t.platform_coordinate)] = x(Index(i));
+    else p.extras(t.extra) = x(Index(i));
+  }
+  p.p = {c[0], c[1], c[2]};
+  p.R = euler_zyx(c[3], c[4], c[5]);
+  const Isometry3d platform = Eigen::Translation3d(p.p) * Isometry3d(p.R);
+  for (const Isometry3d& body : model_.platform_frames(p.extras)) p.bodies.push_back(platform * body);
+  return p;
+}
+
+Isometry3d Kinematics::anchor(int leg, const PlatformPose& pose) const {
+  const Leg& l = model_.legs[std::size_t(leg)];
+  return pose.bodies[std::size_t(l.platform)] * l.anchor;
+}
+
+double Kinematics::wrap(double a) const {
+  a = std::remainder(a, 2 * kPi);
+  return a <= -kPi ? a + 2 * kPi : a;
+}
+
+// ---- Branch rules ------------------------------------------------------------
+
+std::vector<int> Kinematics::rule_signs(int leg, const LegState& state, const Isometry3d& anchor) const {
+  const Leg& l = model_.legs[std::size_t(leg)];
+  const Chain c = walk(l, state);
+  std::vector<int> signs;
+  for (const BranchRule& r : l.rules) {
+    double v = 0;
+    if (r.kind == BranchRule::Kind::Angle) {
+      v = std::sin(state.values(l.steps[std::size_t(r.steps[0])].variable));
+    } else {
+      const Vector3d a = c.step_centre[std::size_t(r.steps[0])], b = c.step_centre[std::size_t(r.steps[1])];
+      const Vector3d cc = r.steps[2] == -2 ? anchor.translation() : c.step_centre[std::size_t(r.steps[2])];
+      v = (b - a).cross(cc - b).dot(c.step_axis[std::size_t(r.steps[0])]);
+    }
+    signs.push_back(v > 0 ? 1 : v < 0 ? -1 : 0);
+  }
+  return signs;
+}
+
+bool Kinematics::signs_match(int leg, const LegState& state, const Isometry3d& anchor, int branch) const {
+  const Leg& l = model_.legs[std::size_t(leg)];
+  const std::vector<int> signs = rule_signs(leg, state, anchor);
+  for (std::size_t i = 0; i < l.rules.size(); ++i) {
+    const BranchRule& r = l.rules[i];
+    const int wanted = r.fixed_sign != 0 ? r.fixed_sign : ((branch >> r.free_index) & 1) ? -1 : 1;
+    if (signs[i] * wanted < 0) return false;
+  }
+  return true;
+}
+
+namespace {
+// The combination index of a leg's own free rules for a device branch.
+int leg_combination(const Leg& l, int branch) {
+  int combo = 0, bit = 0;
+  for (const BranchRule& r : l.rules)
+    if (r.free_index >= 0) combo |= ((branch >> r.free_index) & 1) << bit++;
+  return combo;
+}
+int device_branch(const Leg& l, int combo) {
+  int branch = 0, bit = 0;
+  for (const BranchRule& r : l.rules)
+    if (r.free_index >= 0) branch |= ((combo >> bit++) & 1) << r.free_index;
+  return branch;
+}
+int free_rules_of(const Leg& l) {
+  int n = 0;
+  for (const BranchRule& r : l.rules) n += r.free_index >= 0;
+  return n;
+}
+}  // namespace
+
+// ---- Leg inverse kinematics ----------------------------------------------------
+
+Kinematics::LegSolveResult Kinematics::solve_leg(int leg, const Isometry3d& anchor, LegState s,
+                                                 int max_iterations) const {
+  const Leg& l = model_.legs[std::size_t(leg)];
+  const double size = model_.size;
+  LegSolveResult out;
+  Chain c = walk(l, s);
+  VectorXd e = rows_of(closure_error(c, anchor, size), model_.planar);
+  double norm = e.norm();
+  MatrixXd J(e.size(), l.variables);
+  int it = 0;
+  for (; it < max_iterations && norm > 1e-15; ++it) {
+    for (int v = 0; v < l.variables; ++v) J.col(v) = rows_of(twist(c, v, c.end.translation(), size), model_.planar);
+    VectorXd d = damped_step(J, e);
+    limit_step(d);
+    bool accepted = false;
+    for (int halving = 0; halving < 30 && !accepted; ++halving, d *= 0.5) {
+      LegState trial = s;
+      apply(l, trial, d);
+      const Chain tc = walk(l, trial);
+      const VectorXd te = rows_of(closure_error(tc, anchor, size), model_.planar);
+      if (te.norm() < norm) {
+        accepted = true;
+        // At the rounding floor, or crawling towards a least-squares minimum
+        // off the target (an unreachable pose): either way, done.
+        const bool floor = te.norm() > 0.5 * norm && norm < 1e-11;
+        const bool crawling = te.norm() > (1 - 1e-4) * norm && norm > 1e-9;
+        if (crawling) it = max_iterations;
+        s = std::move(trial);
+        c = tc;
+        e = te;
+        norm = te.norm();
+        if (floor) it = max_iterations;
+      }
+    }
+    if (!accepted) break;  // stationary: a least-squares minimum
+  }
+  out.state = std::move(s);
+  out.error = norm;
+  out.iterations = std::min(it, max_iterations);
+  return out;
+}
+
+LegSolution Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int branch, double tolerance,
+                                     const LegState* extra_seed) const {
+  const Leg& l = model_.legs[std::size_t(leg)];
+  const int combo = leg_combination(l, branch);
+  ThreadSeeds& tls = thread_seeds;
+  if (tls.id != id_) {
+    tls.id = id_;
+    tls.legs.assign(model_.legs.size(), {});
+    for (std::size_t i = 0; i < model_.legs.size(); ++i)
+      tls.legs[i].assign(std::size_t(1) << free_rules_of(model_.legs[i]), std::nullopt);
+  }
+  std::vector<const LegState*> seeds;
+  if (tls.legs[std::size_t(leg)][std::size_t(combo)]) seeds.push_back(&*tls.legs[std::size_t(leg)][std::size_t(combo)]);
+  if (extra_seed) seeds.push_back(extra_seed);
+  if (home_states_[std::size_t(leg)][std::size_t(combo)]) seeds.push_back(&*home_states_[std::size_t(leg)][std::size_t(combo)]);
+  for (const auto& other : home_states_[std::size_t(leg)])
+    if (other) seeds.push_back(&*other);
+  for (const LegState& s : spread_seeds_[std::size_t(leg)]) seeds.push_back(&s);
+
+  LegSolution best;
+  best.residual = kInf;
+  bool found_other_branch = false;
+  int stationary_misses = 0;
+  int iterations = 0;
+  for (const LegState* seed : seeds) {
+    LegSolveResult r = solve_leg(leg, anchor, *seed, 40);
+    iterations += r.iterations;
+    const double residual = r.error * model_.size;
+    if (residual <= tolerance * model_.size) {
+      if (signs_match(leg, r.state, anchor, branch)) {
+        best.state = std::move(r.state);
+        best.status = Status::Ok;
+        best.residual = residual;
+        best.iterations = iterations;
+        tls.legs[std::size_t(leg)][std::size_t(combo)] = best.state;
+        return best;
+      }
+      found_other_branch = true;
+      continue;
+    }
+    if (residual < best.residual) {
+      best.state = std::move(r.state);
+      best.residual = residual;
+    }
+    // Three seeds that all end at a least-squares minimum off the target: the
+    // leg cannot reach it (spread seeds would only repeat the verdict).
+    if (++stationary_misses >= 2 && !found_other_branch) break;
+  }
+  best.status = found_other_branch ? Status::NotConverged : Status::Unreachable;
+  best.iterations = iterations;
+  return best;
+}
+
+PoseSolution Kinematics::inverse(const VectorXd& x, int branch, double tolerance) const {
+  const PlatformPose p = pose(x);
+  PoseSolution out;
+  out.q = VectorXd::Zero(Index(model_.actuators.size()));
+  auto rank = [](Status s) {
+    switch (s) {
+      case Status::Unreachable: return 4;
+      case Status::NotConverged: return 3;
+      case Status::Singular: return 2;
+      case Status::OutOfLimits: return 1;
+      default: return 0;
+    }
+  };
+  for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
+    LegSolution s = solve_leg_on(int(leg), anchor(int(leg), p), branch, tolerance, nullptr);
+    out.iterations += s.iterations;
+    out.residual = std::max(out.residual, s.residual);
+    const Leg& l = model_.legs[leg];
+    for (int a : l.actuators) {
+      const Actuator& act = model_.actuators[std::size_t(a)];
+      const double v = s.state.values(l.steps[std::size_t(act.step)].variable);
+      out.q(a) = act.prismatic ? v : wrap(v);
+      if (s.status == Status::Ok && act.limited) {
+        const double d = act.prismatic ? v : out.q(a);
+        const bool inside = act.prismatic ? act.range.contains(d)
+                                          : act.range.contains(d) || act.range.contains(d + 2 * kPi) ||
+                                                act.range.contains(d - 2 * kPi);
+        if (!inside) s.status = Status::OutOfLimits;
+      }
+    }
+    if (rank(s.status) > rank(out.status)) {
+      out.status = s.status;
+      out.failing_leg = int(leg);
+    }
+    out.legs.push_back(std::move(s));
+  }
+  return out;
+}
+
+PoseSolution Kinematics::inverse_near(const VectorXd& x, const VectorXd& q) const {
+  const PlatformPose p = pose(x);
+  PoseSolution out;
+  out.q = VectorXd::Zero(Index(model_.actuators.size()));
+  for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
+    const Leg& l = model_.legs[leg];
+    const Actuator& act = model_.actuators[std::size_t(l.actuators.front())];
+    const int var = l.steps[std::size_t(act.step)].variable;
+    LegSolution best;
+    double best_distance = kInf;
+    for (int combo = 0; combo < (1 << free_rules_of(l)); ++combo) {
+      LegSolution s = solve_leg_on(int(leg), anchor(int(leg), p), device_branch(l, combo), 1e-10, nullptr);
+      if (s.status != Status::Ok) continue;
+      const double v = s.state.values(var);
+      const double distance = act.prismatic ? std::abs(v - q(l.actuators.front()))
+                                            : std::abs(wrap(v - q(l.actuators.front())));
+      if (distance < best_distance) {
+        best_distance = distance;
+        best = std::move(s);
+      }
+    }
+    if (best.status != Status::Ok && out.status == Status::Ok) {
+      out.status = Status::Unreachable;
+      out.failing_leg = int(leg);
+    }
+    out.residual = std::max(out.residual, best.residual);
+    out.q(l.actuators.front()) = act.prismatic ? best.state.values.size() ? best.state.values(var) : 0.0
+                                               : best.state.values.size() ? wrap(best.state.values(var)) : 0.0;
+    out.legs.push_back(std::move(best));
+  }
+  return out;
+}
+
+// ---- The Jacobian by reciprocal screws ----------------------------------------------
+
+namespace {
+// The platform's twists about r for each driven coordinate (translation:
+// [0; e]; rotation: [w; w x (r - p)], w the angular velocity of a unit rate:
+// the base axes where all three rotations are free, else the Euler rates).
+MatrixXd platform_columns(const Model& m, const PlatformPose& pose, const Vector3d& r) {
+  const bool all_rotations = m.free[3] && m.free[4] && m.free[5];
+  std::array<double, 3> e = {0, 0, 0};
+  const Vector3d euler = euler_of(pose.R);
+  e = {euler.x(), euler.y(), euler.z()};
+  MatrixXd cols(6, m.driven());
+  int col = 0;
+  for (const TaskCoordinate& t : m.task) {
+    if (t.extra >= 0) continue;
+    Vector6d tw;
+    const int c = t.platform_coordinate;
+    if (c < 3) {
+      tw << Vector3d::Zero(), Vector3d::Unit(c) / m.size;
+    } else {
+      Vector3d w = Vector3d::Unit(c - 3);
+      if (!all_rotations) {
+        const Matrix3d Rz = Eigen::AngleAxisd(e[2], Vector3d::UnitZ()).toRotationMatrix();
+        const Matrix3d Ry = Eigen::AngleAxisd(e[1], Vector3d::UnitY()).toRotationMatrix();
+        w = c == 3 ? Vector3d(Rz * Ry * Vector3d::UnitX()) : c == 4 ? Vector3d(Rz * Vector3d::UnitY()) : Vector3d::UnitZ();
+      }
+      tw << w, w.cross(r - pose.p) / m.size;
+    }
+    cols.col(col++) = tw;
+  }
+  return cols;
+}
+}  // namespace
+
+JacobianParts Kinematics::jacobian(const VectorXd& x, const std::vector<LegState>& legs) const {
+  const PlatformPose p = pose(x);
+  const int n = model_.driven();
+  const int a_count = int(model_.actuators.size());
+  JacobianParts out;
+  out.Jx = MatrixXd::Zero(a_count, n);
+  out.Jq = MatrixXd::Zero(a_count, a_count);
+  out.serial_margin.assign(model_.legs.size(), kInf);
+  int row = 0;
+  for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
+    const Leg& l = model_.legs[leg];
+    const Chain c = walk(l, legs[leg]);
+    const Vector3d r = c.end.translation();
+    const int actuator = l.actuators.front();
+    const int act_var = l.steps[std::size_t(model_.actuators[std::size_t(actuator)].step)].variable;
+    const int m = model_.planar ? 3 : 6;
+    MatrixXd passive(m, l.variables - 1);
+    for (int v = 0, col = 0; v < l.variables; ++v)
+      if (v != act_var) passive.col(col++) = rows_of(twist(c, v, r, model_.size), model_.planar);
+    // The wrench reciprocal to every passive twist: the last left singular vector.
+    Eigen::JacobiSVD<MatrixXd> svd(passive, Eigen::ComputeFullU);
+    const VectorXd w = svd.matrixU().col(m - 1);
+    const auto& sv = svd.singularValues();
+    // A second vanishing singular value (beyond the leg's idle freedoms): the
+    // passive joints lose a freedom, the leg is singular.
+    const int expected_rank = m - 1;
+    int rank = 0;
+    for (Index i = 0; i < sv.size(); ++i) rank += sv(i) > 1e-10 * sv(0);
+    const VectorXd platform = [&] {
+      const MatrixXd cols = platform_columns(model_, p, r);
+      MatrixXd kept(m, cols.cols());
+      for (Index j = 0; j < cols.cols(); ++j) kept.col(j) = rows_of(cols.col(j), model_.planar);
+      return VectorXd(w.transpose() * kept);
+    }();
+    out.Jx.row(row) = platform.transpose();
+    const double jq = w.dot(rows_of(twist(c, act_var, r, model_.size), model_.planar));
+    out.Jq(row, actuator) = jq;
+    const bool prismatic = model_.actuators[std::size_t(actuator)].prismatic;
+    out.serial_margin[leg] = model_.size * std::abs(jq) * (prismatic ? model_.size : 1.0);
+    if (rank < expected_rank || std::abs(jq) <= 1e-12) {
+      if (out.status == Status::Ok) out.singular_leg = int(leg);
+      out.status = Status::Singular;
+      out.serial_margin[leg] = rank < expected_rank ? 0.0 : out.serial_margin[leg];
+    }
+    ++row;
+  }
+  if (n != a_count) throw std::logic_error("described: driven coordinates and actuators differ");
+  Eigen::JacobiSVD<MatrixXd> svd(out.Jx);
+  const auto& sv = svd.singularValues();
+  out.jx_condition = sv(sv.size() - 1) > 0 ? sv(0) / sv(sv.size() - 1) : kInf;
+  if (!(out.jx_condition <= 1e12)) out.status = Status::Singular;
+  out.J = out.Jx.partialPivLu().solve(out.Jq);
+  return out;
+}
+
+// ---- Forward kinematics -------------------------------------------------------------
+
+ForwardSolution Kinematics::forward(const VectorXd& q, const VectorXd& seed, double tolerance,
+                                    int max_iterations) const {
+  ForwardSolution out;
+  out.x = seed;
+  const int n = model_.driven();
+  const bool all_rotations = model_.free[3] && model_.free[4] && model_.free[5];
+  // Leg states at the seed: each leg's solution with its actuator nearest q,
+  // its actuator then set to q.
+  PoseSolution start = inverse_near(seed, q);
+  std::vector<LegState> legs;
+  for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
+    const Leg& l = model_.legs[leg];
+    LegState s = start.legs[leg].status == Status::Ok ? start.legs[leg].state : *home_states_[leg][0];
+    const int a = l.actuators.front();
+    const int var = l.steps[std::size_t(model_.actuators[std::size_t(a)].step)].variable;
+    s.values(var) = model_.actuators[std::size_t(a)].prismatic ? q(a) : s.values(var) + wrap(q(a) - s.values(var));
+    legs.push_back(std::move(s));
+  }
+  // Unknowns: the driven coordinates, then every leg's passive variables.
+  std::vector<int> offset;
+  int unknowns = n;
+  for (const Leg& l : model_.legs) {
+    offset.push_back(unknowns);
+    unknowns += l.variables - 1;
+  }
+  const int m = model_.planar ? 3 : 6;
+  const int rows = m * int(model_.legs.size());
+  VectorXd x = seed;
+  auto errors = [&](const VectorXd& xx, const std::vector<LegState>& ls, PlatformPose& p) {
+    p = pose(xx);
+    VectorXd e(rows);
+    for (std::size_t leg = 0; leg < model_.legs.size(); ++leg)
+      e.segment(Index(leg) * m, m) =
+          rows_of(closure_error(walk(model_.legs[leg], ls[leg]), anchor(int(leg), p), model_.size), model_.planar);
+    return e;
+  };
+  auto step_pose = [&](const VectorXd& xx, const VectorXd& d) {
+    VectorXd nx = xx;
+    int col = 0;
+    Vector3d dw = Vector3d::Zero();
+    std::vector<int> rot_index(3, -1);
+    for (std::size_t i = 0; i < model_.task.size(); ++i) {
+      const TaskCoordinate& t = model_.task[i];
+      if (t.extra >= 0) continue;
+      if (t.platform_coordinate < 3 || !all_rotations) nx(Index(i)) += d(col);
+      else {
+        dw(t.platform_coordinate - 3) = d(col);
+        rot_index[std::size_t(t.platform_coordinate - 3)] = int(i);
+      }
+      ++col;
+    }
+    if (all_rotations) {
+      const PlatformPose p = pose(xx);
+      const Vector3d e = euler_of(rotation_of(dw) * p.R);
+      for (int k = 0; k < 3; ++k) nx(rot_index[std::size_t(k)]) = e(k);
+    }
+    return nx;
+  };
+  PlatformPose p;
+  VectorXd e = errors(x, legs, p);
+  double norm = e.norm();
+  int it = 0;
+  for (; it < max_iterations && norm > 1e-15; ++it) {
+    MatrixXd J = MatrixXd::Zero(rows, unknowns);
+    for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
+      const Leg& l = model_.legs[leg];
+      const Chain c = walk(l, legs[leg]);
+      const Vector3d r = c.end.translation();
+      const MatrixXd cols = platform_columns(model_, p, r);
+      for (Index j = 0; j < cols.cols(); ++j)
+        J.block(Index(leg) * m, j, m, 1) = -rows_of(cols.col(j), model_.planar);
+      const int act_var = l.steps[std::size_t(model_.actuators[std::size_t(l.actuators.front())].step)].variable;
+      for (int v = 0, col = 0; v < l.variables; ++v)
+        if (v != act_var)
+          J.block(Index(leg) * m, offset[leg] + col++, m, 1) = rows_of(twist(c, v, r, model_.size), model_.planar);
+    }
+    VectorXd d = damped_step(J, e);
+    limit_step(d);
+    bool accepted = false;
+    for (int halving = 0; halving < 30 && !accepted; ++halving, d *= 0.5) {
+      const VectorXd tx = step_pose(x, d);
+      std::vector<LegState> tl = legs;
+      for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
+        const Leg& l = model_.legs[leg];
+        const int act_var = l.steps[std::size_t(model_.actuators[std::size_t(l.actuators.front())].step)].variable;
+        VectorXd full = VectorXd::Zero(l.variables);
+        for (int v = 0, col = 0; v < l.variables; ++v)
+          if (v != act_var) full(v) = d(offset[leg] + col++);
+        apply(l, tl[leg], full);
+      }
+      PlatformPose tp;
+      const VectorXd te = errors(tx, tl, tp);
+      if (te.norm() < norm) {
+        accepted = true;
+        const bool floor = te.norm() > 0.5 * norm && norm < 1e-11;
+        x = tx;
+        legs = std::move(tl);
+        p = tp;
+        e = te;
+        norm = te.norm();
+        if (floor) it = max_iterations;
+      }
+    }
+    if (!accepted) break;
+  }
+  out.x = x;
+  out.legs = std::move(legs);
+  out.residual = norm * model_.size;
+  out.iterations = std::min(it, max_iterations);
+  out.status = norm <= tolerance ? Status::Ok : Status::NotConverged;
+  return out;
+}
+
+// ---- Margins -------------------------------------------------------------------------
+
+double Kinematics::limits_margin(const VectorXd& q) const {
+  double margin = kInf;
+  for (std::size_t a = 0; a < model_.actuators.size(); ++a) {
+    const Actuator& act = model_.actuators[a];
+    if (!act.limited) continue;
+    double v = q(Index(a));
+    if (!act.prismatic) {
+      // The representative of the angle nearest the range's middle.
+      const double mid = 0.5 * (act.range.lo + act.range.hi);
+      v = mid + wrap(v - mid);
+    }
+    const double d = std::min(v - act.range.lo, act.range.hi - v);
+    margin = std::min(margin, act.prismatic ? d : d * model_.size);
+  }
+  return margin;
+}
+
+double Kinematics::reach_margin(const VectorXd& x, int branch) const {
+  const PoseSolution s = inverse(x, branch, 1e-10);
+  double geometric = kInf;
+  bool all_ok = true;
+  for (const LegSolution& l : s.legs) {
+    if (l.status == Status::Ok || l.status == Status::OutOfLimits) continue;
+    all_ok = false;
+    geometric = std::min(geometric, -l.residual);
+  }
+  if (!all_ok) return geometric;
+  std::vector<LegState> states;
+  for (const LegSolution& l : s.legs) states.push_back(l.state);
+  const JacobianParts parts = jacobian(x, states);
+  for (double m : parts.serial_margin) geometric = std::min(geometric, m);
+  return std::min(geometric, limits_margin(s.q));
+}
+
+// ---- Drawing ---------------------------------------------------------------------------
+
+Kinematics::LegDrawing Kinematics::draw_leg(int leg, const LegState& state) const {
+  const Chain c = walk(model_.legs[std::size_t(leg)], state);
+  return {c.step_frame, c.step_centre};
+}
+
+// ---- Construction: home on every branch, mobility ---------------------------------------------
+
+Kinematics::Kinematics(Model model) : model_(std::move(model)), id_(next_id++) {
+  // Spread seeds: the chain as written, then joint values spread over a turn.
+  for (const Leg& l : model_.legs) {
+    std::vector<LegState> seeds;
+    for (int j = 0; j < 12; ++j) {
+      LegState s;
+      s.values = VectorXd::Zero(l.variables);
+      for (const Step& step : l.steps) {
+        if (step.kind == Kind::Revolute) s.values(step.variable) = j == 0 ? 0.0 : kPi * golden(j, step.variable);
+        if (step.kind == Kind::Prismatic) {
+          const bool actuated = step.actuator >= 0;
+          const Range r = actuated ? model_.actuators[std::size_t(step.actuator)].range : Range{0, 0};
+          s.values(step.variable) = actuated ? 0.5 * (r.lo + r.hi) + 0.25 * (r.hi - r.lo) * golden(j, 0) : 0.0;
+        }
+        if (step.kind == Kind::Spherical)
+          s.spheres.push_back(j == 0 ? Matrix3d::Identity()
+                                     : rotation_of(kPi * Vector3d(golden(j, step.variable), golden(j, step.variable + 1),
+                                                                   golden(j, step.variable + 2)) /
+                                                   std::sqrt(3.0)));
+      }
+      seeds.push_back(std::move(s));
+    }
+    spread_seeds_.push_back(std::move(seeds));
+  }
+  // Home on every combination of each leg's free rules.
+  const PlatformPose home = pose(model_.home);
+  home_states_.resize(model_.legs.size());
+  for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
+    const Leg& l = model_.legs[leg];
+    home_states_[leg].assign(std::size_t(1) << free_rules_of(l), std::nullopt);
+    const Isometry3d a = anchor(int(leg), home);
+    double best = kInf;
+    for (const LegState& seed : spread_seeds_[leg]) {
+      LegSolveResult r = solve_leg(int(leg), a, seed, 100);
+      best = std::min(best, r.error * model_.size);
+      if (r.error * model_.size > 1e-10 * model_.size) continue;
+      for (int combo = 0; combo < int(home_states_[leg].size()); ++combo)
+        if (!home_states_[leg][std::size_t(combo)] && signs_match(int(leg), r.state, a, device_branch(l, combo)))
+          home_states_[leg][std::size_t(combo)] = r.state;
+    }
+    std::ostringstream msg;
+    if (!home_states_[leg][0]) {
+      msg << "description.legs \"" << l.name << "\": the leg does not reach its anchor at home";
+      if (best < kInf && best > 1e-10 * model_.size) msg << " (misses by " << best << " " << model_.length_unit << ")";
+      else msg << " on branch 0 (every branch rule positive or as its sign says)";
+      throw std::invalid_argument(msg.str());
+    }
+  }
+
+  // Mobility: the joint graph against the closure's rank at home.
+  const int lambda = model_.planar ? 3 : 6;
+  int bodies = 1 + int(model_.platform_names.size()), joints = int(model_.platform_names.size()) - 1, freedom = int(model_.extras.size());
+  for (const Leg& l : model_.legs) {
+    std::set<std::string> names;
+    for (const Step& s : l.steps)
+      if (s.kind != Kind::Fixed) names.insert(s.joint);
+    joints += int(names.size());
+    bodies += int(names.size()) - 1;
+    freedom += l.variables;
+  }
+  mobility_.gruebler = lambda * (bodies - 1 - joints) + freedom;
+  int free_coordinates = 0;
+  for (int c = 0; c < 6; ++c) free_coordinates += model_.free[std::size_t(c)] && (!model_.planar || c == 0 || c == 1 || c == 5);
+  mobility_.fixed = lambda - free_coordinates;
+  {
+    const int m = model_.planar ? 3 : 6;
+    int columns = model_.driven();
+    for (const Leg& l : model_.legs) columns += l.variables;
+    MatrixXd C = MatrixXd::Zero(m * Index(model_.legs.size()), columns);
+    int col = model_.driven();
+    for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
+      const Leg& l = model_.legs[leg];
+      const Chain c = walk(l, *home_states_[leg][0]);
+      const Vector3d r = c.end.translation();
+      const MatrixXd pc = platform_columns(model_, home, r);
+      for (Index j = 0; j < pc.cols(); ++j) C.block(Index(leg) * m, j, m, 1) = -rows_of(pc.col(j), model_.planar);
+      MatrixXd passive(m, l.variables);
+      for (int v = 0; v < l.variables; ++v) {
+        passive.col(v) = rows_of(twist(c, v, r, model_.size), model_.planar);
+        C.block(Index(leg) * m, col++, m, 1) = passive.col(v);
+      }
+      const int act_var = l.steps[std::size_t(model_.actuators[std::size_t(l.actuators.front())].step)].variable;
+      MatrixXd without(m, l.variables - 1);
+      for (int v = 0, k = 0; v < l.variables; ++v)
+        if (v != act_var) without.col(k++) = passive.col(v);
+      Eigen::FullPivLU<MatrixXd> lu(without);
+      lu.setThreshold(1e-9);
+      mobility_.idle += int(without.cols()) - int(lu.rank());
+    }
+    Eigen::FullPivLU<MatrixXd> lu(C);
+    lu.setThreshold(1e-9);
+    mobility_.closure_rank = columns - int(lu.rank());
+  }
+  mobility_.freedoms = mobility_.closure_rank - mobility_.idle;
+  if (mobility_.freedoms != int(model_.actuators.size())) {
+    std::ostringstream msg;
+    msg << "description: the mechanism has " << mobility_.freedoms << " freedom(s) at home (closure "
+        << mobility_.closure_rank << ", idle " << mobility_.idle << ") but " << model_.actuators.size()
+        << " actuator(s); each freedom of the task needs one actuator (Gruebler-Kutzbach count "
+        << mobility_.gruebler << ", " << mobility_.fixed << " platform coordinate(s) held by the description)";
+    throw std::invalid_argument(msg.str());
+  }
+  if (model_.driven() != int(model_.actuators.size())) {
+    std::ostringstream msg;
+    msg << "description.task: " << model_.driven() << " driven coordinate(s) but " << model_.actuators.size()
+        << " actuator(s)";
+    throw std::invalid_argument(msg.str());
+  }
+}
+
+}  // namespace linkscape::described

@@ -1,0 +1,133 @@
+// Kinematics of a described mechanism, all numerical: per-leg inverse
+// kinematics by damped Gauss-Newton on the leg's closure, forward kinematics
+// by Gauss-Newton on every loop closure at once, the Jacobian by reciprocal
+// screws, conditioning, reach margin and mobility
+// (docs/described-mechanisms.md, "What Linkscape computes from it").
+//
+// Closure of a leg: the frame at the end of its chain equals its anchor frame.
+// The error is e = [rotation vector of R_anchor R_end^T; (p_anchor - p_end) / size]
+// (dimensionless; planar devices keep the rows of rz, x, y). Joint twists are
+// taken about the anchor point, so a leg's equations do not depend on where
+// the base frame's origin is.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/mechanisms/described/model.h"
+#include "core/status.h"
+
+namespace linkscape::described {
+
+// A leg's joint values: one per revolute/prismatic step (spherical steps'
+// slots unused) and a rotation per spherical joint.
+struct LegState {
+  Eigen::VectorXd values;
+  std::vector<Eigen::Matrix3d> spheres;
+};
+
+// The platform's pose for a task vector (the model's task order).
+struct PlatformPose {
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  Eigen::VectorXd extras;
+  std::vector<Eigen::Isometry3d> bodies;  // base <- platform body
+};
+
+struct LegSolution {
+  LegState state;
+  Status status = Status::Unreachable;
+  double residual = 0.0;  // length unit
+  int iterations = 0;
+};
+
+struct PoseSolution {
+  std::vector<LegSolution> legs;
+  Status status = Status::Ok;
+  int failing_leg = -1;
+  double residual = 0.0;  // largest leg residual
+  int iterations = 0;     // summed over the legs
+  Eigen::VectorXd q;      // actuators (revolute angles wrapped to (-pi, pi])
+};
+
+struct JacobianParts {
+  Eigen::MatrixXd Jx, Jq, J;  // J = -Jx^-1 Jq (driven task rows x actuators), physical units
+  std::vector<double> serial_margin;  // per leg: size * |Jq_ii| for the unit wrench (length)
+  double jx_condition = 0.0;  // of the dimensionless Jx; +inf if singular
+  Status status = Status::Ok;  // Singular at a type I or type II singularity
+  int singular_leg = -1;       // type I: the leg
+};
+
+struct ForwardSolution {
+  Status status = Status::NotConverged;
+  Eigen::VectorXd x;  // task (model order)
+  std::vector<LegState> legs;
+  double residual = 0.0;
+  int iterations = 0;
+};
+
+struct Mobility {
+  int gruebler = 0;      // Gruebler-Kutzbach count of the joint graph
+  int fixed = 0;         // platform coordinates held by the description
+  int idle = 0;          // idle freedoms at home (rank of the passive joints' null space)
+  int closure_rank = 0;  // numerical mobility of the closure at home (held extras)
+  int freedoms = 0;      // device freedoms: closure_rank - idle (+ extras)
+};
+
+class Kinematics {
+ public:
+  // Solves home on every branch; throws std::invalid_argument naming the leg
+  // that does not reach or the mobility that does not match.
+  explicit Kinematics(Model model);
+
+  const Model& model() const { return model_; }
+  const Mobility& mobility() const { return mobility_; }
+  int branches() const { return 1 << model_.free_rules; }
+
+  PlatformPose pose(const Eigen::VectorXd& x) const;
+  // The leg's anchor frame in the base frame at this pose.
+  Eigen::Isometry3d anchor(int leg, const PlatformPose& pose) const;
+
+  // Every leg on `branch` (bits of the free rules). Seeds: the thread's last
+  // solution, the leg at home on the branch, spread seeds.
+  PoseSolution inverse(const Eigen::VectorXd& x, int branch, double tolerance) const;
+  // Each leg on the solution whose actuator is nearest q (q, x consistent).
+  PoseSolution inverse_near(const Eigen::VectorXd& x, const Eigen::VectorXd& q) const;
+  JacobianParts jacobian(const Eigen::VectorXd& x, const std::vector<LegState>& legs) const;
+  ForwardSolution forward(const Eigen::VectorXd& q, const Eigen::VectorXd& seed, double tolerance,
+                          int max_iterations) const;
+
+  // Reach margin on a branch (length unit), see the format page.
+  double reach_margin(const Eigen::VectorXd& x, int branch) const;
+  double limits_margin(const Eigen::VectorXd& q) const;
+
+  // Joint centres (per step, base frame) and the chain's end, for drawing.
+  struct LegDrawing {
+    std::vector<Eigen::Isometry3d> frames;  // per step: the frame after it
+    std::vector<Eigen::Vector3d> centres;   // per step: joint centre (Fixed: its start)
+  };
+  LegDrawing draw_leg(int leg, const LegState& state) const;
+
+  double wrap(double angle) const;
+
+ private:
+  struct LegSolveResult;
+  LegSolveResult solve_leg(int leg, const Eigen::Isometry3d& anchor, LegState state, int max_iterations) const;
+  LegSolution solve_leg_on(int leg, const Eigen::Isometry3d& anchor, int branch, double tolerance,
+                           const LegState* extra_seed) const;
+  bool signs_match(int leg, const LegState& state, const Eigen::Isometry3d& anchor, int branch) const;
+  std::vector<int> rule_signs(int leg, const LegState& state, const Eigen::Isometry3d& anchor) const;
+
+  Model model_;
+  Mobility mobility_;
+  std::uint64_t id_ = 0;
+  // Per leg, per combination of its free rules' signs: the leg at home.
+  std::vector<std::vector<std::optional<LegState>>> home_states_;
+  std::vector<std::vector<LegState>> spread_seeds_;
+};
+
+}  // namespace linkscape::described

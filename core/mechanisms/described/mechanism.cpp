@@ -1,0 +1,509 @@
+#include "core/mechanisms/described/mechanism.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/field_sampling.h"
+#include "core/mechanisms/described/kinematics.h"
+#include "core/preset.h"
+
+namespace linkscape::described {
+namespace {
+
+using Eigen::Vector3d;
+using Eigen::VectorXd;
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+const char* const kCoordinateNames[6] = {"x", "y", "z", "rx", "ry", "rz"};
+
+class DescribedMechanism final : public Mechanism {
+ public:
+  DescribedMechanism(const Preset& preset, Model model) : kin_(std::move(model)) {
+    const Model& m = kin_.model();
+    MechanismInfo& i = info_;
+    i.name = kMechanismName;
+    i.title = preset.title;
+    i.length_unit = m.length_unit;
+    i.size_description = "the description's size";
+    for (const auto& [name, value] : m.parameters) {
+      Quantity q{name, m.length_unit, "", value, value != 0 ? Range{std::min(0.5 * value, 2 * value), std::max(0.5 * value, 2 * value)} : Range{-1, 1}};
+      if (auto it = m.parameter_info.find(name); it != m.parameter_info.end()) {
+        if (it->second.range.hi > it->second.range.lo) q.range = it->second.range;
+        q.unit = it->second.unit;
+        q.description = it->second.description;
+        q.in_panel = it->second.in_panel;
+      }
+      i.parameters.push_back(q);
+    }
+    const VectorXd home = kin_.inverse(m.home, 0, 1e-10).q;
+    for (std::size_t a = 0; a < m.actuators.size(); ++a) {
+      const Actuator& act = m.actuators[a];
+      i.actuators.push_back({act.name, act.prismatic ? m.length_unit : "rad",
+                             (act.prismatic ? "Prismatic actuator of leg " : "Revolute actuator of leg ") +
+                                 m.legs[std::size_t(act.leg)].name,
+                             home(Eigen::Index(a)), act.range});
+    }
+    // The task, with z inserted for a planar device (not modelled: see the format page).
+    for (std::size_t t = 0; t < m.task.size(); ++t) {
+      const TaskCoordinate& c = m.task[t];
+      const double h = m.home(Eigen::Index(t));
+      if (c.extra >= 0) {
+        const Extra& e = m.extras[std::size_t(c.extra)];
+        i.task.push_back({e.name, e.unit, e.description, h, e.range});
+      } else if (c.platform_coordinate < 3) {
+        i.task.push_back({c.name, m.length_unit, c.platform_coordinate == 0 ? "Platform frame origin, base frame" : "",
+                          h, {h - m.size, h + m.size}});
+      } else {
+        i.task.push_back({c.name, "rad", "Platform rotation (R = Rz Ry Rx)", h, {h - 0.6, h + 0.6}});
+      }
+      if (m.planar && t == 1)
+        i.task.push_back({"z", m.length_unit, "Not modelled: a planar device moves in its xy plane", 0.0,
+                          {-0.1 * m.size, 0.1 * m.size}});
+    }
+    i.ik_methods = {{"newton", "newton", "Damped Gauss-Newton per leg from seeds, branch by the leg's rules"}};
+    i.fk_methods = {{"newton", "newton", "Gauss-Newton on every loop closure from a seed pose"}};
+    rotations_ = 0;
+    for (const TaskCoordinate& c : m.task) rotations_ += c.platform_coordinate >= 3;
+    if (rotations_ >= 2)
+      i.measures = {{"cond_jp", "cond(Jp)", "Condition number of the translational rows of J"},
+                    {"cond_jo", "cond(Jo)", "Condition number of the rotational rows of J"}};
+    else
+      i.measures = {{"cond", "c(J)", "sigma_max / sigma_min of J = dx/dq"}};
+    for (const Leg& l : m.legs)
+      i.singular_sets.push_back({"leg-" + l.name + "-serial", "leg " + l.name + " (type I)",
+                                 "Leg " + l.name + "'s actuator loses its hold: Jq entry zero"});
+    i.singular_sets.push_back({"parallel", "parallel (type II)", "Jx singular"});
+    for (int b = 0; b < kin_.branches(); ++b) {
+      if (m.free_rules == 0) {
+        i.branches.push_back("as described");
+        break;
+      }
+      std::string name = std::to_string(b) + ":";
+      for (const Leg& l : m.legs)
+        for (const BranchRule& r : l.rules)
+          if (r.free_index >= 0) name += std::string(" ") + l.name + ((b >> r.free_index) & 1 ? "-" : "+");
+      i.branches.push_back(name);
+    }
+    for (const Extra& e : m.extras) i.fk_inputs.push_back(e.name);
+    i.eval_columns = {kin_.branches() > 1, "failing_leg", true, true, true, true, true};
+    skeleton_ = build_skeleton();
+  }
+
+  const MechanismInfo& info() const override { return info_; }
+  std::map<std::string, double> parameters() const override { return kin_.model().parameters; }
+  double size() const override { return kin_.model().size; }
+  VectorXd home_task() const override { return to_interface(kin_.model().home, 0.0); }
+  VectorXd home_actuators() const override { return kin_.inverse(kin_.model().home, 0, 1e-10).q; }
+
+  IkResult inverse(const VectorXd& x, const IkOptions& o) const override {
+    check_method(o.method, "IK");
+    const VectorXd xm = to_model(x, "x");
+    if (o.branch && (*o.branch < 0 || *o.branch >= kin_.branches()))
+      throw std::invalid_argument("described: branch must be 0.." + std::to_string(kin_.branches() - 1) + ", got " +
+                                  std::to_string(*o.branch));
+    IkResult out;
+    const int first = o.branch.value_or(0), last = o.branch ? *o.branch : kin_.branches() - 1;
+    for (int b = first; b <= last; ++b) {
+      PoseSolution s = kin_.inverse(xm, b, o.tolerance);
+      if (s.status == Status::Ok) {
+        const JacobianParts parts = kin_.jacobian(xm, states_of(s));
+        if (parts.singular_leg >= 0) {
+          s.status = Status::Singular;
+          s.failing_leg = parts.singular_leg;
+        }
+      }
+      if (b == first || (s.status == Status::Ok && out.status != Status::Ok)) {
+        if (out.status != Status::Ok) {
+          out.status = s.status;
+          out.failing_part = s.failing_leg >= 0 ? kin_.model().legs[std::size_t(s.failing_leg)].name : "";
+        }
+      }
+      if (s.status == Status::Ok || s.status == Status::OutOfLimits)
+        out.solutions.push_back({s.q, b, s.status, s.residual, s.iterations, "newton"});
+    }
+    if (out.status == Status::Ok) out.failing_part.clear();
+    return out;
+  }
+
+  FkResult forward(const VectorXd& q, const FkOptions& o) const override {
+    check_method(o.method, "FK");
+    if (q.size() != Eigen::Index(kin_.model().actuators.size()))
+      throw std::invalid_argument("described: q needs " + std::to_string(kin_.model().actuators.size()) + " values");
+    if (!q.allFinite()) throw std::invalid_argument("described: the actuator values must be finite numbers");
+    const VectorXd seed = o.seed ? *o.seed : home_task();
+    const VectorXd sm = to_model(seed, "FK seed");
+    const ForwardSolution f = kin_.forward(q, sm, o.tolerance, std::max(o.max_iterations, 1));
+    FkResult out;
+    out.status = f.status;
+    out.x = to_interface(f.x, kin_.model().planar ? seed(2) : 0.0);
+    out.residual = f.residual;
+    out.iterations = f.iterations;
+    return out;
+  }
+
+  Eigen::MatrixXd jacobian(const VectorXd& q, const VectorXd& x) const override {
+    const VectorXd xm = to_model(x, "x");
+    return kin_.jacobian(xm, states_of(kin_.inverse_near(xm, q))).J;
+  }
+
+  Measures measures(const VectorXd& q, const VectorXd& x) const override {
+    const VectorXd xm = to_model(x, "x");
+    const PoseSolution s = kin_.inverse_near(xm, q);
+    Measures out;
+    if (s.status != Status::Ok) {
+      out.status = Status::Singular;
+      out.values.assign(info_.measures.size(), kInf);
+      return out;
+    }
+    const JacobianParts parts = kin_.jacobian(xm, states_of(s));
+    out.status = parts.status;
+    out.values = measure_values(parts);
+    out.det = parts.status == Status::Ok ? parts.J.determinant() : 0.0;
+    return out;
+  }
+
+  double reach_margin(const VectorXd& x, int branch) const override {
+    return kin_.reach_margin(to_model(x, "x"), branch);
+  }
+
+  SingularityReport nearest_singularity(const VectorXd& q, const VectorXd& x) const override {
+    const VectorXd xm = to_model(x, "x");
+    const PoseSolution s = kin_.inverse_near(xm, q);
+    SingularityReport r;
+    const int legs = int(kin_.model().legs.size());
+    r.distances.assign(std::size_t(legs + 1), kInf);
+    if (s.status != Status::Ok) return r;
+    const JacobianParts parts = kin_.jacobian(xm, states_of(s));
+    for (int l = 0; l < legs; ++l) r.distances[std::size_t(l)] = parts.serial_margin[std::size_t(l)];
+    r.distances[std::size_t(legs)] = parallel_distance(xm, s);
+    r.nearest = int(std::min_element(r.distances.begin(), r.distances.end()) - r.distances.begin());
+    r.distance = r.distances[std::size_t(r.nearest)];
+    return r;
+  }
+
+  // Towards each leg's serial set: rays from home along the base axes to the
+  // last reachable point (bisection on the IK status); each ray's end is
+  // assigned to the leg with the smallest serial margin there.
+  std::vector<SingularApproach> singular_approaches() const override {
+    std::vector<SingularApproach> out;
+    const Model& m = kin_.model();
+    std::vector<std::vector<VectorXd>> ends(m.legs.size());
+    for (int dir = 0; dir < 6; ++dir) {
+      VectorXd d = VectorXd::Zero(m.home.size());
+      if (m.planar && dir / 2 == 2) continue;
+      d(dir / 2 == 2 ? 2 : dir / 2) = dir % 2 ? -1.0 : 1.0;
+      double lo = 0, hi = 2 * m.size;
+      if (kin_.inverse(m.home + hi * d, 0, 1e-10).status == Status::Ok) continue;
+      for (int it = 0; it < 60; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        const Status st = kin_.inverse(m.home + mid * d, 0, 1e-10).status;
+        (st == Status::Ok || st == Status::OutOfLimits ? lo : hi) = mid;
+      }
+      const VectorXd end = m.home + lo * d;
+      const PoseSolution s = kin_.inverse(end, 0, 1e-10);
+      if (s.status != Status::Ok && s.status != Status::OutOfLimits) continue;
+      const JacobianParts parts = kin_.jacobian(end, states_of(s));
+      const int leg = int(std::min_element(parts.serial_margin.begin(), parts.serial_margin.end()) -
+                          parts.serial_margin.begin());
+      ends[std::size_t(leg)].push_back(end);
+    }
+    for (std::size_t leg = 0; leg < ends.size(); ++leg) {
+      if (ends[leg].empty()) continue;
+      const std::vector<VectorXd> points = ends[leg];
+      const VectorXd home = m.home;
+      const bool planar = m.planar;
+      out.push_back({int(leg), [points, home, planar](double eps, int k) -> VectorXd {
+                       const VectorXd& end = points[std::size_t(k) % points.size()];
+                       const VectorXd xm = home + (1 - eps) * (end - home);
+                       if (!planar) return xm;
+                       VectorXd x(xm.size() + 1);
+                       x << xm.head(2), 0.0, xm.tail(xm.size() - 2);
+                       return x;
+                     }});
+    }
+    return out;
+  }
+
+  std::vector<std::pair<std::string, std::string>> readouts(const VectorXd&, const VectorXd&) const override {
+    const Mobility& mb = kin_.mobility();
+    std::ostringstream s;
+    s << mb.freedoms << " (Gruebler-Kutzbach " << mb.gruebler << ", " << mb.fixed << " held, " << mb.idle << " idle";
+    if (!kin_.model().extras.empty()) s << ", " << kin_.model().extras.size() << " extra";
+    s << ")";
+    return {{"mobility", s.str()}};
+  }
+
+  SkeletonModel skeleton_model() const override { return skeleton_; }
+
+  SkeletonModel build_skeleton() {
+    const Model& m = kin_.model();
+    SkeletonModel sk;
+    sk.scale = m.size / 3;
+    Body ground{"base", {}, {}, true};
+    std::vector<Vector3d> base_points;
+    for (const Leg& l : m.legs) base_points.push_back(l.base.translation());
+    if (base_points.size() >= 2) {
+      std::vector<Vector3d> ring = base_points;
+      if (ring.size() >= 3) ring.push_back(ring.front());
+      ground.polylines.push_back(ring);
+    }
+    sk.bodies.push_back(ground);
+    for (std::size_t leg = 0; leg < m.legs.size(); ++leg) {
+      const Leg& l = m.legs[leg];
+      // Zero-state frames give each link's geometry in its own frame.
+      LegState zero;
+      zero.values = VectorXd::Zero(l.variables);
+      zero.spheres.assign(std::size_t(l.spheres), Eigen::Matrix3d::Identity());
+      const Kinematics::LegDrawing d = kin_.draw_leg(int(leg), zero);
+      int body = 0;  // the ground until the first joint
+      std::vector<Vector3d> line{l.base.translation()};
+      Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();
+      for (std::size_t s = 0; s < l.steps.size(); ++s) {
+        const Step& step = l.steps[s];
+        if (step.kind == Step::Kind::Fixed) {
+          line.push_back(frame.inverse() * d.frames[s].translation());
+          continue;
+        }
+        const bool second_half = s > 0 && l.steps[s - 1].kind != Step::Kind::Fixed && l.steps[s - 1].joint == step.joint;
+        if (second_half) {
+          link_bodies_.back().step = int(s);
+          continue;
+        }
+        if (line.size() >= 2) sk.bodies[std::size_t(body)].polylines.push_back(line);
+        // The joint, drawn with the body before it.
+        Joint j;
+        j.name = step.joint;
+        j.type = step.kind == Step::Kind::Revolute
+                     ? (s + 1 < l.steps.size() && l.steps[s + 1].joint == step.joint ? JointType::Universal
+                                                                                       : JointType::Revolute)
+                 : step.kind == Step::Kind::Prismatic ? JointType::Prismatic
+                                                      : JointType::Spherical;
+        j.body = body;
+        const Eigen::Isometry3d before = s == 0 ? l.base : d.frames[s - 1];
+        j.point_in_body = frame.inverse() * before.translation();
+        j.axis_in_body = frame.linear().transpose() * before.linear() * step.axis;
+        j.actuated = step.actuator >= 0;
+        if (j.actuated) j.label = step.name;
+        sk.joints.push_back(j);
+        // A new link after the joint.
+        sk.bodies.push_back({l.name + ":" + step.joint, {}, {}, false});
+        body = int(sk.bodies.size()) - 1;
+        link_bodies_.push_back({int(leg), int(s), body});
+        frame = d.frames[s];
+        line = {Vector3d::Zero()};
+      }
+      if (line.size() >= 2) sk.bodies[std::size_t(body)].polylines.push_back(line);
+    }
+    platform_body_ = int(sk.bodies.size());
+    for (std::size_t b = 0; b < m.platform_names.size(); ++b) {
+      Body plate{m.platform_names[b], {}, {}, false};
+      std::vector<Vector3d> corners;
+      for (const Leg& l : m.legs)
+        if (l.platform == int(b)) corners.push_back(l.anchor.translation());
+      if (corners.size() >= 3) plate.faces.push_back(corners);
+      else if (corners.size() == 2) plate.polylines.push_back(corners);
+      sk.bodies.push_back(plate);
+    }
+    return sk;
+  }
+
+  SkeletonPose skeleton_pose(const VectorXd& q, const VectorXd& x, const IkResult* ik) const override {
+    const VectorXd xm = to_model(x, "x");
+    const PoseSolution s = kin_.inverse_near(xm, q);
+    if (s.status != Status::Ok)
+      throw std::invalid_argument("described: the pose does not assemble (leg " +
+                                  kin_.model().legs[std::size_t(std::max(0, s.failing_leg))].name + ")");
+    SkeletonPose p;
+    const std::size_t bodies = std::size_t(platform_body_) + kin_.model().platform_names.size();
+    p.body_frames.assign(bodies, Eigen::Isometry3d::Identity());
+    p.states.assign(bodies, BodyState::Normal);
+    std::vector<Kinematics::LegDrawing> drawings;
+    for (std::size_t leg = 0; leg < kin_.model().legs.size(); ++leg)
+      drawings.push_back(kin_.draw_leg(int(leg), s.legs[leg].state));
+    for (const LinkBody& lb : link_bodies_) {
+      p.body_frames[std::size_t(lb.body)] = drawings[std::size_t(lb.leg)].frames[std::size_t(lb.step)];
+      if (ik && ik->failing_part == kin_.model().legs[std::size_t(lb.leg)].name)
+        p.states[std::size_t(lb.body)] = BodyState::Failing;
+    }
+    const PlatformPose pose = kin_.pose(xm);
+    for (std::size_t b = 0; b < pose.bodies.size(); ++b) p.body_frames[std::size_t(platform_body_) + b] = pose.bodies[b];
+    p.endpoint = pose.p;
+    return p;
+  }
+
+  Eigen::AlignedBox3d default_box() const override {
+    const Model& m = kin_.model();
+    const Vector3d c(m.home(0), m.home(1), m.planar ? 0.0 : m.home(2));
+    const Vector3d half(m.size, m.size, m.planar ? 0.1 * m.size : m.size);
+    return {c - half, c + half};
+  }
+  std::pair<Axis, double> default_slice_plane(const VectorXd& x) const override {
+    return kin_.model().planar ? std::pair{Axis::Z, x(2)} : std::pair{Axis::Y, x(1)};
+  }
+
+  std::optional<Field> compute_field(const Grid& grid, const VectorXd& fixed_task, const IkOptions& o, int threads,
+                                     const FieldProgress& progress) const override {
+    check_method(o.method, "IK");
+    const int branch = o.branch.value_or(0);
+    if (branch < 0 || branch >= kin_.branches())
+      throw std::invalid_argument("described: branch must be 0.." + std::to_string(kin_.branches() - 1));
+    const bool second = info_.measures.size() > 1;
+    detail::check_grid(grid, Field::bytes_per_sample() + (second ? sizeof(float) : 0), kFieldMemoryLimitBytes);
+    const VectorXd base = to_model(fixed_task.size() == Eigen::Index(info_.task.size()) ? fixed_task : home_task(), "fixed task");
+    Field f;
+    f.grid = grid;
+    f.mechanism = kMechanismName;
+    f.length_unit = kin_.model().length_unit;
+    f.parameters = parameters();
+    f.method = "newton";
+    f.branch = branch;
+    for (const NamedItem& n : info_.measures) f.measure_titles.push_back(n.title);
+    const double tolerance = o.tolerance;
+    const bool complete = detail::fill_field_rows(
+        f, second, threads, progress, [&](const detail::GridRow& row, const detail::FieldRowOut& out) {
+          VectorXd x = base;
+          for (int t = 0; t < row.count; ++t) {
+            const Vector3d p = row.point(grid, t);
+            x(0) = p.x();
+            x(1) = p.y();
+            if (!kin_.model().planar) x(2) = p.z();
+            out.store(t, sample(x, branch, tolerance));
+          }
+        });
+    if (!complete) return std::nullopt;
+    return f;
+  }
+
+ private:
+  struct LinkBody {
+    int leg, step, body;
+  };
+
+  FieldSample sample(const VectorXd& xm, int branch, double tolerance) const {
+    FieldSample s;
+    const float inf = std::numeric_limits<float>::infinity();
+    s.cond = s.cond_orientation = inf;
+    const PoseSolution ik = kin_.inverse(xm, branch, tolerance);
+    s.iterations = std::uint16_t(std::min(ik.iterations, 65535));
+    double margin = kInf;
+    bool assembled = true;
+    for (const LegSolution& l : ik.legs)
+      if (l.status != Status::Ok && l.status != Status::OutOfLimits) {
+        assembled = false;
+        margin = std::min(margin, -l.residual);
+      }
+    Status status = ik.status;
+    s.residual = assembled ? float(ik.residual) : inf;
+    if (assembled) {
+      const JacobianParts parts = kin_.jacobian(xm, states_of(ik));
+      for (double m : parts.serial_margin) margin = std::min(margin, m);
+      margin = std::min(margin, kin_.limits_margin(ik.q));
+      if (status == Status::Ok && parts.status != Status::Ok) status = Status::Singular;
+      if (status == Status::Ok) {
+        const std::vector<double> v = measure_values(parts);
+        s.cond = float(v[0]);
+        if (v.size() > 1) s.cond_orientation = float(v[1]);
+        s.method_used = 0;
+      }
+    }
+    s.reach_margin = float(margin);
+    s.status = std::uint8_t(status);
+    s.reachable = status == Status::Ok;
+    return s;
+  }
+
+  std::vector<double> measure_values(const JacobianParts& parts) const {
+    if (parts.status != Status::Ok) return std::vector<double>(info_.measures.size(), kInf);
+    auto cond = [](const Eigen::MatrixXd& M) {
+      Eigen::JacobiSVD<Eigen::MatrixXd> svd(M);
+      const auto& sv = svd.singularValues();
+      return sv(sv.size() - 1) > 0 ? sv(0) / sv(sv.size() - 1) : kInf;
+    };
+    if (info_.measures.size() == 1) return {cond(parts.J)};
+    // Rows of J in task order: translations first (x, y, z), then rotations.
+    const Model& m = kin_.model();
+    Eigen::MatrixXd Jp(3, parts.J.cols()), Jo(rotations_, parts.J.cols());
+    int row = 0, p = 0, o = 0;
+    for (const TaskCoordinate& c : m.task) {
+      if (c.extra >= 0) continue;
+      if (c.platform_coordinate < 3) Jp.row(p++) = parts.J.row(row);
+      else Jo.row(o++) = parts.J.row(row);
+      ++row;
+    }
+    return {cond(Jp.topRows(p)), cond(Jo)};
+  }
+
+  // First-order distance to the type II set: |Jx|'s smallest singular value
+  // over its gradient in the task (central differences).
+  double parallel_distance(const VectorXd& xm, const PoseSolution& s) const {
+    auto smallest = [&](const VectorXd& x) {
+      const PoseSolution near = kin_.inverse_near(x, s.q);
+      if (near.status != Status::Ok) return kInf;
+      const JacobianParts parts = kin_.jacobian(x, states_of(near));
+      Eigen::JacobiSVD<Eigen::MatrixXd> svd(parts.Jx);
+      return svd.singularValues()(svd.singularValues().size() - 1);
+    };
+    const double f0 = smallest(xm);
+    const double h = 1e-6 * kin_.model().size;
+    double g2 = 0;
+    for (int k = 0; k < (kin_.model().planar ? 2 : 3); ++k) {
+      VectorXd a = xm, b = xm;
+      a(k) += h;
+      b(k) -= h;
+      const double g = (smallest(a) - smallest(b)) / (2 * h);
+      if (!std::isfinite(g)) return kInf;
+      g2 += g * g;
+    }
+    return g2 > 0 ? f0 / std::sqrt(g2) : kInf;
+  }
+
+  static std::vector<LegState> states_of(const PoseSolution& s) {
+    std::vector<LegState> out;
+    for (const LegSolution& l : s.legs) out.push_back(l.state);
+    return out;
+  }
+
+  void check_method(const std::string& method, const char* what) const {
+    if (!method.empty() && method != "newton")
+      throw std::invalid_argument(std::string("described: unknown ") + what + " method '" + method + "' (known: newton)");
+  }
+
+  // Interface task (x, y, z, ... with z inserted for planar devices) <-> model task.
+  VectorXd to_model(const VectorXd& x, const char* what) const {
+    const Eigen::Index n = Eigen::Index(info_.task.size());
+    if (x.size() != n) throw std::invalid_argument(std::string("described: ") + what + " needs " + std::to_string(n) + " values");
+    if (!x.allFinite()) throw std::invalid_argument(std::string("described: ") + what + " must be finite numbers");
+    if (!kin_.model().planar) return x;
+    VectorXd out(n - 1);
+    out << x.head(2), x.tail(n - 3);
+    return out;
+  }
+  VectorXd to_interface(const VectorXd& xm, double z) const {
+    if (!kin_.model().planar) return xm;
+    VectorXd out(xm.size() + 1);
+    out << xm.head(2), z, xm.tail(xm.size() - 2);
+    return out;
+  }
+
+  Kinematics kin_;
+  MechanismInfo info_;
+  int rotations_ = 0;
+  // The drawing: which link body follows which leg step, where the platform bodies start.
+  std::vector<LinkBody> link_bodies_;
+  int platform_body_ = 0;
+  SkeletonModel skeleton_;
+};
+
+}  // namespace
+
+std::shared_ptr<const Mechanism> make_mechanism(const Preset& preset) {
+  if (preset.description.empty())
+    throw std::invalid_argument("a described mechanism needs a \"description\" (docs/described-mechanisms.md)");
+  return std::make_shared<DescribedMechanism>(
+      preset, build_model(preset.description, preset.parameters, preset.limits_deg, preset.length_unit));
+}
+
+}  // namespace linkscape::described

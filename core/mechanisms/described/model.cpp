@@ -1,0 +1,534 @@
+#include "core/mechanisms/described/model.h"
+
+#include <muParser.h>
+
+#include <cmath>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+namespace linkscape::described {
+namespace {
+
+using nlohmann::json;
+using Eigen::Isometry3d;
+using Eigen::Vector3d;
+
+constexpr double kPi = 3.14159265358979323846;
+const char* const kPlatformCoordinates[6] = {"x", "y", "z", "rx", "ry", "rz"};
+
+[[noreturn]] void fail(const std::string& where, const std::string& what) {
+  throw std::invalid_argument(where + ": " + what);
+}
+
+std::string replace_hash(std::string text, int copy) {
+  for (std::size_t at = text.find('#'); at != std::string::npos; at = text.find('#', at))
+    text.replace(at, 1, std::to_string(copy + 1));
+  return text;
+}
+
+// Evaluates the numbers of a description: JSON numbers, or muparser
+// expressions over the parameters, pi, deg, the copy index k and (platform
+// frames only) the extras.
+class Evaluator {
+ public:
+  Evaluator(const std::map<std::string, double>& parameters, const std::vector<Extra>* extras)
+      : parameters_(parameters) {
+    if (extras)
+      for (const Extra& e : *extras) extra_values_[e.name] = e.home;
+  }
+  int copy = 0;  // the leg copy being read (k, and '#' in strings)
+
+  double number(const json& value, const std::string& where) {
+    if (value.is_number()) {
+      const double v = value.get<double>();
+      if (!std::isfinite(v)) fail(where, "must be finite");
+      return v;
+    }
+    if (!value.is_string()) fail(where, "must be a number or an expression string, got " + value.dump());
+    const std::string text = replace_hash(value.get<std::string>(), copy);
+    double k = copy;
+    mu::Parser p;
+    try {
+      p.DefineConst("pi", kPi);
+      p.DefineConst("deg", kPi / 180);
+      p.DefineVar("k", &k);
+      for (auto& [name, v] : parameters_) p.DefineVar(name, &v);
+      for (auto& [name, v] : extra_values_) p.DefineVar(name, &v);
+      p.SetExpr(text);
+      const double v = p.Eval();
+      if (!std::isfinite(v)) fail(where, "'" + text + "' evaluates to " + std::to_string(v));
+      return v;
+    } catch (const mu::Parser::exception_type& e) {
+      fail(where, "cannot evaluate '" + text + "': " + e.GetMsg() + known_names());
+    }
+  }
+
+  Vector3d vector(const json& value, const std::string& where) {
+    if (!value.is_array() || value.size() != 3) fail(where, "must be [x, y, z], got " + value.dump());
+    return {number(value[0], where + "[0]"), number(value[1], where + "[1]"), number(value[2], where + "[2]")};
+  }
+
+  Vector3d unit_axis(const json& value, const std::string& where) {
+    const Vector3d a = vector(value, where);
+    const double n = a.norm();
+    if (std::abs(n - 1) > 1e-9) {
+      std::ostringstream s;
+      s << "axis [" << a.x() << ", " << a.y() << ", " << a.z() << "] is not a unit vector (norm " << n << ")";
+      fail(where, s.str());
+    }
+    return a / n;
+  }
+
+  void set_extra(const std::string& name, double value) { extra_values_[name] = value; }
+
+ private:
+  std::string known_names() const {
+    std::string s = " (variables: pi, deg, k";
+    for (const auto& [name, v] : parameters_) s += ", " + name;
+    for (const auto& [name, v] : extra_values_) s += ", " + name;
+    return s + ")";
+  }
+  std::map<std::string, double> parameters_;
+  std::map<std::string, double> extra_values_;
+};
+
+void check_keys(const json& object, const std::set<std::string>& known, const std::string& where) {
+  if (!object.is_object()) fail(where, "must be an object, got " + object.dump());
+  for (const auto& [key, value] : object.items())
+    if (!known.count(key)) {
+      std::string list;
+      for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+      fail(where, "unknown key '" + key + "' (known: " + list + ")");
+    }
+}
+
+const json& require(const json& object, const std::string& key, const std::string& where) {
+  if (!object.contains(key)) fail(where, "missing key '" + key + "'");
+  return object.at(key);
+}
+
+// A fixed transform step; returns false if `step` is not one.
+bool transform_step(const json& step, Evaluator& eval, const std::string& where, Isometry3d& out) {
+  out = Isometry3d::Identity();
+  if (step.contains("translate")) {
+    check_keys(step, {"translate"}, where);
+    out.translation() = eval.vector(step.at("translate"), where + ".translate");
+    return true;
+  }
+  for (int a = 0; a < 3; ++a) {
+    const std::string key = std::string("r") + "xyz"[a];
+    if (step.contains(key)) {
+      check_keys(step, {key}, where);
+      out.linear() = Eigen::AngleAxisd(eval.number(step.at(key), where + "." + key), Vector3d::Unit(a)).matrix();
+      return true;
+    }
+  }
+  if (step.contains("rotate")) {
+    check_keys(step, {"rotate"}, where);
+    const json& r = step.at("rotate");
+    check_keys(r, {"axis", "angle"}, where + ".rotate");
+    const Vector3d axis = eval.unit_axis(require(r, "axis", where + ".rotate"), where + ".rotate.axis");
+    out.linear() =
+        Eigen::AngleAxisd(eval.number(require(r, "angle", where + ".rotate"), where + ".rotate.angle"), axis).matrix();
+    return true;
+  }
+  return false;
+}
+
+Isometry3d transform_steps(const json& steps, Evaluator& eval, const std::string& where) {
+  if (!steps.is_array()) fail(where, "must be a list of steps, got " + steps.dump());
+  Isometry3d t = Isometry3d::Identity();
+  for (std::size_t i = 0; i < steps.size(); ++i) {
+    const std::string at = where + "[" + std::to_string(i) + "]";
+    Isometry3d s;
+    if (!transform_step(steps[i], eval, at, s))
+      fail(at, "expected a transform (translate, rx, ry, rz, rotate), got " + steps[i].dump());
+    t = t * s;
+  }
+  return t;
+}
+
+bool valid_name(const std::string& name) {
+  static const std::regex pattern("[A-Za-z_][A-Za-z0-9_.]*");
+  return std::regex_match(name, pattern);
+}
+
+}  // namespace
+
+// The platform bodies' frames as functions of the extras: the JSON steps are
+// kept and evaluated again per pose (they are few and short).
+class ExpressionSet {
+ public:
+  ExpressionSet(std::map<std::string, double> parameters, std::vector<Extra> extras, std::vector<json> frames)
+      : parameters_(std::move(parameters)), extras_(std::move(extras)), frames_(std::move(frames)) {}
+
+  std::vector<Isometry3d> evaluate(const Eigen::VectorXd& extra_values) const {
+    Evaluator eval(parameters_, &extras_);
+    for (std::size_t e = 0; e < extras_.size(); ++e) eval.set_extra(extras_[e].name, extra_values(Eigen::Index(e)));
+    std::vector<Isometry3d> out;
+    for (std::size_t b = 0; b < frames_.size(); ++b)
+      out.push_back(transform_steps(frames_[b], eval, "description.platforms[" + std::to_string(b) + "].frame"));
+    return out;
+  }
+
+ private:
+  std::map<std::string, double> parameters_;
+  std::vector<Extra> extras_;
+  std::vector<json> frames_;
+};
+
+std::vector<Isometry3d> Model::platform_frames(const Eigen::VectorXd& extra_values) const {
+  return frames->evaluate(extra_values);
+}
+
+int Model::driven() const {
+  int n = 0;
+  for (const TaskCoordinate& t : task) n += t.extra < 0;
+  return n;
+}
+
+Model build_model(const std::string& description_json, const std::map<std::string, double>& parameters,
+                  const std::map<std::string, Range>& limits_deg, const std::string& length_unit) {
+  json doc;
+  try {
+    doc = json::parse(description_json);
+  } catch (const json::exception& e) {
+    fail("description", e.what());
+  }
+  const std::string top = "description";
+  check_keys(doc,
+             {"space", "task", "fixed", "extras", "home", "platforms", "legs", "parameter_info", "size"}, top);
+  for (const auto& [name, v] : parameters)
+    if (!valid_name(name) || name.find('.') != std::string::npos)
+      fail("parameters." + name, "a parameter name must be an identifier ([A-Za-z_][A-Za-z0-9_]*)");
+
+  Model m;
+  m.length_unit = length_unit;
+  m.parameters = parameters;
+  Evaluator eval(parameters, nullptr);
+
+  const std::string space = doc.value("space", std::string("spatial"));
+  if (space != "spatial" && space != "planar")
+    fail(top + ".space", "must be \"spatial\" or \"planar\", got \"" + space + "\"");
+  m.planar = space == "planar";
+
+  // Extras first: the task may name them.
+  if (doc.contains("extras")) {
+    const json& extras = doc.at("extras");
+    if (!extras.is_object()) fail(top + ".extras", "must be an object {name: {...}}");
+    for (const auto& [name, spec] : extras.items()) {
+      const std::string where = top + ".extras." + name;
+      if (!valid_name(name) || parameters.count(name)) fail(where, "must be an identifier that is not a parameter");
+      check_keys(spec, {"home", "range", "unit", "description"}, where);
+      Extra e;
+      e.name = name;
+      e.home = eval.number(require(spec, "home", where), where + ".home");
+      const json& r = require(spec, "range", where);
+      if (!r.is_array() || r.size() != 2) fail(where + ".range", "must be [lo, hi]");
+      e.range = {eval.number(r[0], where + ".range[0]"), eval.number(r[1], where + ".range[1]")};
+      if (!(e.range.lo < e.range.hi)) fail(where + ".range", "needs lo < hi");
+      e.unit = spec.value("unit", length_unit);
+      e.description = spec.value("description", "");
+      m.extras.push_back(e);
+    }
+  }
+
+  // The task.
+  const json& task = require(doc, "task", top);
+  if (!task.is_array() || task.empty()) fail(top + ".task", "must be a non-empty list of coordinate names");
+  std::set<std::string> seen;
+  for (std::size_t i = 0; i < task.size(); ++i) {
+    const std::string where = top + ".task[" + std::to_string(i) + "]";
+    if (!task[i].is_string()) fail(where, "must be a name");
+    const std::string name = task[i].get<std::string>();
+    if (!seen.insert(name).second) fail(where, "'" + name + "' is listed twice");
+    TaskCoordinate t;
+    t.name = name;
+    for (int c = 0; c < 6; ++c)
+      if (name == kPlatformCoordinates[c]) t.platform_coordinate = c;
+    for (std::size_t e = 0; e < m.extras.size(); ++e)
+      if (m.extras[e].name == name) t.extra = int(e);
+    if (t.platform_coordinate < 0 && t.extra < 0)
+      fail(where, "unknown coordinate '" + name + "' (known: x, y, z, rx, ry, rz and the extras)");
+    if (t.platform_coordinate >= 0) m.free[t.platform_coordinate] = true;
+    m.task.push_back(t);
+  }
+  for (const Extra& e : m.extras)
+    if (!seen.count(e.name)) fail(top + ".extras." + e.name, "is not listed in the task");
+  if (!m.free[0] || !m.free[1] || (!m.planar && !m.free[2]))
+    fail(top + ".task", m.planar ? "a planar task needs x and y" : "a spatial task needs x, y and z");
+  if (m.planar && (m.free[2] || m.free[3] || m.free[4]))
+    fail(top + ".task", "a planar device moves in the xy plane: its task may list x, y, rz (and extras)");
+  // Position first: generic code reads the task's x, y, z at indices 0..2.
+  if (m.task[0].name != "x" || m.task[1].name != "y" || (!m.planar && m.task[2].name != "z"))
+    fail(top + ".task", "must start with x, y" + std::string(m.planar ? "" : ", z"));
+
+  if (doc.contains("fixed")) {
+    const json& fixed = doc.at("fixed");
+    if (!fixed.is_object()) fail(top + ".fixed", "must be an object {coordinate: value}");
+    for (const auto& [name, value] : fixed.items()) {
+      int c = -1;
+      for (int k = 0; k < 6; ++k)
+        if (name == kPlatformCoordinates[k]) c = k;
+      if (c < 0) fail(top + ".fixed." + name, "unknown platform coordinate (known: x, y, z, rx, ry, rz)");
+      if (m.free[c]) fail(top + ".fixed." + name, "is a task coordinate, so it cannot be fixed");
+      m.fixed[c] = eval.number(value, top + ".fixed." + name);
+    }
+  }
+
+  // Home.
+  const json& home = require(doc, "home", top);
+  if (!home.is_object()) fail(top + ".home", "must be an object {coordinate: value}");
+  for (const auto& [name, v] : home.items())
+    if (!seen.count(name)) fail(top + ".home." + name, "is not a task coordinate");
+  m.home.resize(Eigen::Index(m.task.size()));
+  for (std::size_t i = 0; i < m.task.size(); ++i) {
+    const TaskCoordinate& t = m.task[i];
+    if (home.contains(t.name)) m.home(Eigen::Index(i)) = eval.number(home.at(t.name), top + ".home." + t.name);
+    else if (t.extra >= 0) m.home(Eigen::Index(i)) = m.extras[std::size_t(t.extra)].home;
+    else fail(top + ".home", "missing a value for '" + t.name + "'");
+  }
+
+  // Platform bodies: their frames stay as JSON (they may depend on the extras).
+  std::vector<json> frames;
+  if (doc.contains("platforms")) {
+    const json& platforms = doc.at("platforms");
+    if (!platforms.is_array() || platforms.empty()) fail(top + ".platforms", "must be a non-empty list");
+    for (std::size_t b = 0; b < platforms.size(); ++b) {
+      const std::string where = top + ".platforms[" + std::to_string(b) + "]";
+      check_keys(platforms[b], {"name", "frame"}, where);
+      const std::string name = require(platforms[b], "name", where).get<std::string>();
+      for (const std::string& other : m.platform_names)
+        if (other == name) fail(where, "platform '" + name + "' is listed twice");
+      m.platform_names.push_back(name);
+      frames.push_back(platforms[b].value("frame", json::array()));
+    }
+  } else {
+    m.platform_names = {"platform"};
+    frames = {json::array()};
+  }
+  m.frames = std::make_shared<ExpressionSet>(parameters, m.extras, frames);
+  {
+    Eigen::VectorXd extra_home(Eigen::Index(m.extras.size()));
+    for (std::size_t e = 0; e < m.extras.size(); ++e) extra_home(Eigen::Index(e)) = m.extras[e].home;
+    m.platform_frames(extra_home);  // throws naming the step if a frame is malformed
+  }
+
+  // Legs.
+  const json& legs = require(doc, "legs", top);
+  if (!legs.is_array() || legs.empty()) fail(top + ".legs", "must be a non-empty list of legs");
+  std::set<std::string> joint_names, leg_names;
+  for (std::size_t l = 0; l < legs.size(); ++l) {
+    const json& spec = legs[l];
+    const std::string leg_where = top + ".legs[" + std::to_string(l) + "]";
+    check_keys(spec, {"name", "copies", "base", "chain", "platform", "anchor", "branch"}, leg_where);
+    int copies = 1;
+    if (spec.contains("copies")) {
+      if (!spec.at("copies").is_number_integer() || spec.at("copies").get<int>() < 1 ||
+          spec.at("copies").get<int>() > 64)
+        fail(leg_where + ".copies", "must be a whole number from 1 to 64");
+      copies = spec.at("copies").get<int>();
+    }
+    for (int copy = 0; copy < copies; ++copy) {
+      eval.copy = copy;
+      Leg leg;
+      leg.name = replace_hash(spec.value("name", std::to_string(m.legs.size() + 1)), copy);
+      const std::string where = leg_where + " \"" + leg.name + "\"";
+      if (!leg_names.insert(leg.name).second) fail(where, "leg name '" + leg.name + "' is used twice");
+      leg.base = transform_steps(spec.value("base", json::array()), eval, where + ": base");
+      leg.anchor = transform_steps(spec.value("anchor", json::array()), eval, where + ": anchor");
+      if (spec.contains("platform")) {
+        const std::string body = spec.at("platform").get<std::string>();
+        leg.platform = -1;
+        for (std::size_t b = 0; b < m.platform_names.size(); ++b)
+          if (m.platform_names[b] == body) leg.platform = int(b);
+        if (leg.platform < 0) fail(where + ": platform", "unknown platform body '" + body + "'");
+      }
+      const json& chain = require(spec, "chain", where);
+      if (!chain.is_array() || chain.empty()) fail(where + ": chain", "must be a non-empty list of steps");
+      Isometry3d pending = Isometry3d::Identity();
+      bool have_pending = false;
+      auto flush = [&] {
+        if (!have_pending) return;
+        Step s;
+        s.transform = pending;
+        leg.steps.push_back(s);
+        pending = Isometry3d::Identity();
+        have_pending = false;
+      };
+      for (std::size_t i = 0; i < chain.size(); ++i) {
+        const json& step = chain[i];
+        std::string at = where + ": chain[" + std::to_string(i) + "]";
+        Isometry3d t;
+        if (transform_step(step, eval, at, t)) {
+          pending = pending * t;
+          have_pending = true;
+          continue;
+        }
+        if (!step.is_object() || !step.contains("joint"))
+          fail(at, "expected a joint or a transform (translate, rx, ry, rz, rotate), got " + step.dump());
+        const std::string type = step.at("joint").get<std::string>();
+        const std::string name = replace_hash(require(step, "name", at).get<std::string>(), copy);
+        at += " (joint \"" + name + "\")";
+        if (!valid_name(name)) fail(at, "a joint name must be an identifier");
+        if (!joint_names.insert(name).second) fail(at, "joint name '" + name + "' is used twice");
+        const bool actuated = step.value("actuated", false);
+        flush();
+        auto add = [&](Step::Kind kind, const Vector3d& axis, const std::string& step_name) {
+          Step s;
+          s.kind = kind;
+          s.axis = axis;
+          s.name = step_name;
+          s.joint = name;
+          s.variable = leg.variables;
+          leg.variables += kind == Step::Kind::Spherical ? 3 : 1;
+          leg.spheres += kind == Step::Kind::Spherical;
+          leg.steps.push_back(s);
+        };
+        if (type == "revolute" || type == "prismatic") {
+          check_keys(step, {"joint", "name", "axis", "actuated", "range_deg", "range"}, at);
+          const Vector3d axis = eval.unit_axis(require(step, "axis", at), at + ".axis");
+          const bool prismatic = type == "prismatic";
+          if (m.planar && !prismatic && std::abs(std::abs(axis.z()) - 1) > 1e-12)
+            fail(at + ".axis", "a planar device's revolute axes must be [0, 0, 1] or [0, 0, -1]");
+          if (m.planar && prismatic && std::abs(axis.z()) > 1e-12)
+            fail(at + ".axis", "a planar device's prismatic axes must lie in the xy plane");
+          add(prismatic ? Step::Kind::Prismatic : Step::Kind::Revolute, axis, name);
+          Range range{-kPi, kPi};
+          bool limited = false;
+          const std::string range_key = prismatic ? "range" : "range_deg";
+          if (step.contains(prismatic ? "range_deg" : "range"))
+            fail(at, prismatic ? "a prismatic joint's travel is \"range\" (length unit)"
+                               : "a revolute joint's travel is \"range_deg\" (degrees)");
+          if (step.contains(range_key)) {
+            const json& r = step.at(range_key);
+            if (!r.is_array() || r.size() != 2) fail(at + "." + range_key, "must be [lo, hi]");
+            const double scale = prismatic ? 1.0 : kPi / 180;
+            range = {scale * eval.number(r[0], at + "." + range_key + "[0]"),
+                     scale * eval.number(r[1], at + "." + range_key + "[1]")};
+            if (!(range.lo < range.hi)) fail(at + "." + range_key, "needs lo < hi");
+            limited = true;
+          } else if (actuated && prismatic) {
+            fail(at, "an actuated prismatic joint needs its travel, \"range\": [lo, hi] (length unit)");
+          }
+          if (actuated) {
+            if (!prismatic && limits_deg.count(name)) {
+              range = {limits_deg.at(name).lo * kPi / 180, limits_deg.at(name).hi * kPi / 180};
+              limited = true;
+            }
+            leg.steps.back().actuator = int(m.actuators.size());
+            leg.actuators.push_back(int(m.actuators.size()));
+            m.actuators.push_back({name, int(m.legs.size()), int(leg.steps.size()) - 1, prismatic, range, limited});
+          }
+        } else if (type == "universal") {
+          check_keys(step, {"joint", "name", "axes"}, at);
+          if (actuated) fail(at, "only revolute and prismatic joints can be actuated");
+          const json& axes = require(step, "axes", at);
+          if (!axes.is_array() || axes.size() != 2) fail(at + ".axes", "must be two axes [[x, y, z], [x, y, z]]");
+          const Vector3d a1 = eval.unit_axis(axes[0], at + ".axes[0]"), a2 = eval.unit_axis(axes[1], at + ".axes[1]");
+          if (a1.cross(a2).norm() < 1e-6) fail(at + ".axes", "the two axes of a universal joint must not be parallel");
+          if (m.planar) fail(at, "a planar device has no universal joints");
+          add(Step::Kind::Revolute, a1, name + ".1");
+          add(Step::Kind::Revolute, a2, name + ".2");
+        } else if (type == "spherical") {
+          check_keys(step, {"joint", "name"}, at);
+          if (actuated) fail(at, "only revolute and prismatic joints can be actuated");
+          if (m.planar) fail(at, "a planar device has no spherical joints");
+          add(Step::Kind::Spherical, Vector3d::UnitZ(), name);
+        } else {
+          fail(at + ".joint", "unknown joint type '" + type + "' (known: revolute, prismatic, universal, spherical)");
+        }
+      }
+      flush();
+      if (leg.variables == 0) fail(where + ": chain", "has no joints");
+      if (leg.actuators.size() != 1)
+        fail(where + ": chain", leg.actuators.empty() ? "has no actuated joint (mark one \"actuated\": true)"
+                                                      : "has more than one actuated joint (one per leg is supported)");
+
+      // Branch rules.
+      if (spec.contains("branch")) {
+        const json rules = spec.at("branch").is_array() ? spec.at("branch") : json::array({spec.at("branch")});
+        for (std::size_t r = 0; r < rules.size(); ++r) {
+          const std::string at = where + ": branch" + (spec.at("branch").is_array() ? "[" + std::to_string(r) + "]" : "");
+          check_keys(rules[r], {"triple", "angle", "sign"}, at);
+          BranchRule rule;
+          auto step_of = [&](const json& n, bool allow_anchor) {
+            const std::string name = replace_hash(n.get<std::string>(), copy);
+            if (allow_anchor && name == "anchor") return -2;
+            for (std::size_t s = 0; s < leg.steps.size(); ++s)
+              if (leg.steps[s].kind != Step::Kind::Fixed && (leg.steps[s].name == name || leg.steps[s].joint == name))
+                return int(s);
+            fail(at, "names no joint of this leg: '" + name + "'");
+          };
+          if (rules[r].contains("triple")) {
+            const json& t = rules[r].at("triple");
+            if (!t.is_array() || t.size() != 3) fail(at + ".triple", "must name three joints [A, B, C]");
+            rule.kind = BranchRule::Kind::Triple;
+            for (int i = 0; i < 3; ++i) rule.steps[std::size_t(i)] = step_of(t[std::size_t(i)], i == 2);
+            if (leg.steps[std::size_t(rule.steps[0])].kind != Step::Kind::Revolute)
+              fail(at + ".triple", "joint A must be revolute (its axis orients the turn)");
+            rule.text = "triple(" + t.dump() + ")";
+          } else if (rules[r].contains("angle")) {
+            rule.kind = BranchRule::Kind::Angle;
+            rule.steps[0] = step_of(rules[r].at("angle"), false);
+            if (leg.steps[std::size_t(rule.steps[0])].kind != Step::Kind::Revolute)
+              fail(at + ".angle", "must name a revolute joint");
+            rule.text = "angle(" + rules[r].at("angle").dump() + ")";
+          } else {
+            fail(at, "needs \"triple\" or \"angle\"");
+          }
+          if (rules[r].contains("sign")) {
+            const double s = eval.number(rules[r].at("sign"), at + ".sign");
+            if (s == 0) fail(at + ".sign", "must be positive or negative, not 0");
+            rule.fixed_sign = s > 0 ? 1 : -1;
+          } else {
+            rule.free_index = m.free_rules++;
+          }
+          leg.rules.push_back(rule);
+        }
+      }
+      m.legs.push_back(std::move(leg));
+    }
+  }
+  eval.copy = 0;
+  if (m.free_rules > 12) fail(top + ".legs", "more than 12 free branch rules (4096 branches)");
+
+  // The device's typical size.
+  if (doc.contains("size")) {
+    m.size = eval.number(doc.at("size"), top + ".size");
+  } else {
+    m.size = 0;
+    for (const Step& s : m.legs.front().steps)
+      if (s.kind == Step::Kind::Fixed) m.size += s.transform.translation().norm();
+  }
+  if (!(m.size > 0)) fail(top + ".size", "the device's size must be positive (give \"size\" explicitly)");
+
+  // Parameter spans.
+  if (doc.contains("parameter_info")) {
+    const json& info = doc.at("parameter_info");
+    if (!info.is_object()) fail(top + ".parameter_info", "must be an object {parameter: {...}}");
+    for (const auto& [name, spec] : info.items()) {
+      const std::string where = top + ".parameter_info." + name;
+      if (!parameters.count(name)) fail(where, "is not a parameter");
+      check_keys(spec, {"range", "unit", "description", "in_panel"}, where);
+      Model::ParameterInfo p;
+      if (spec.contains("range")) {
+        const json& r = spec.at("range");
+        if (!r.is_array() || r.size() != 2) fail(where + ".range", "must be [lo, hi]");
+        p.range = {eval.number(r[0], where + ".range[0]"), eval.number(r[1], where + ".range[1]")};
+        if (!(p.range.lo < p.range.hi)) fail(where + ".range", "needs lo < hi");
+      }
+      p.unit = spec.value("unit", "");
+      p.description = spec.value("description", "");
+      p.in_panel = spec.value("in_panel", true);
+      m.parameter_info[name] = p;
+    }
+  }
+  return m;
+}
+
+}  // namespace linkscape::described

@@ -1,0 +1,113 @@
+// A described mechanism: a parallel device read from a preset's
+// "description" (docs/described-mechanisms.md). The model is the description
+// with every expression evaluated for one set of parameters; only the
+// platform bodies' frames may depend on the extras (a grip), and they are
+// evaluated per pose.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <array>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/range.h"
+
+namespace linkscape::described {
+
+// One step of a chain: a fixed transform or a joint about/along `axis`
+// through the current origin (local frame).
+struct Step {
+  enum class Kind { Fixed, Revolute, Prismatic, Spherical };
+  Kind kind = Kind::Fixed;
+  Eigen::Isometry3d transform = Eigen::Isometry3d::Identity();  // Fixed only
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();              // unit; Revolute, Prismatic
+  std::string name;       // joint name (a universal's halves are "u.1", "u.2")
+  std::string joint;      // the joint it belongs to as written ("u" for both halves)
+  int actuator = -1;      // index into Model::actuators, -1 if passive
+  int variable = 0;       // first tangent slot in the leg's variables
+};
+
+// Which inverse-kinematics solution a leg takes: the sign of a quantity of
+// its joint centres and axes.
+struct BranchRule {
+  enum class Kind { Triple, Angle };
+  Kind kind = Kind::Triple;
+  std::array<int, 3> steps{-1, -1, -1};  // step indices (Triple: A, B, C; C = -2: the anchor), Angle: A
+  int fixed_sign = 0;                    // +1/-1 fixed by the design, 0: a free assembly branch
+  int free_index = -1;                   // bit in the device's branch number (free rules)
+  std::string text;                      // for messages: "triple(q1, elbow1, anchor)"
+};
+
+struct Leg {
+  std::string name;
+  Eigen::Isometry3d base = Eigen::Isometry3d::Identity();  // base frame <- leg base anchor
+  std::vector<Step> steps;
+  int platform = 0;                                        // platform body index
+  Eigen::Isometry3d anchor = Eigen::Isometry3d::Identity();  // body frame <- anchor
+  int variables = 0;  // tangent dimension: 1 per revolute/prismatic, 3 per spherical
+  int spheres = 0;    // spherical joints (their rotations are stored apart)
+  std::vector<BranchRule> rules;
+  std::vector<int> actuators;  // indices into Model::actuators, in chain order
+};
+
+struct Actuator {
+  std::string name;
+  int leg = 0, step = 0;
+  bool prismatic = false;
+  Range range;             // radians or the length unit
+  bool limited = false;    // false: a full turn, no limit
+};
+
+// A task coordinate: a platform coordinate (x, y, z, rx, ry, rz) or an extra.
+struct TaskCoordinate {
+  std::string name;
+  int platform_coordinate = -1;  // 0..5 for x..rz, -1 for an extra
+  int extra = -1;                // index into Model::extras
+};
+
+struct Extra {
+  std::string name, unit, description;
+  double home = 0.0;
+  Range range;
+};
+
+class ExpressionSet;  // the compiled expressions of the platform frames (model.cpp)
+
+struct Model {
+  std::string length_unit;
+  bool planar = false;
+  std::vector<TaskCoordinate> task;
+  std::array<bool, 6> free{};        // platform coordinates in the task
+  std::array<double, 6> fixed{};     // values of the others
+  std::vector<Extra> extras;
+  Eigen::VectorXd home;              // task values
+  std::vector<std::string> platform_names;
+  std::vector<Leg> legs;
+  std::vector<Actuator> actuators;
+  int free_rules = 0;                // assembly branches: 2^free_rules
+  double size = 1.0;
+  std::map<std::string, double> parameters;
+  struct ParameterInfo {
+    Range range;
+    std::string unit, description;
+    bool in_panel = true;
+  };
+  std::map<std::string, ParameterInfo> parameter_info;
+  // The platform bodies' frames (platform frame <- body) for the extras' values.
+  std::shared_ptr<const ExpressionSet> frames;
+  std::vector<Eigen::Isometry3d> platform_frames(const Eigen::VectorXd& extras) const;
+
+  int driven() const;  // task coordinates that are not extras
+};
+
+// Reads and evaluates a description. `description_json` is the preset's
+// "description" value as JSON text; `limits_deg` the preset's
+// actuator_limits_deg. Throws std::invalid_argument naming the place
+// ("description.legs[2] \"3\": chain[4] (joint \"s3\"): ...").
+Model build_model(const std::string& description_json, const std::map<std::string, double>& parameters,
+                  const std::map<std::string, Range>& limits_deg, const std::string& length_unit);
+
+}  // namespace linkscape::described
