@@ -24,18 +24,22 @@ bool contains(const std::string& text, const std::string& part) { return text.fi
 
 }  // namespace
 
-// 10^4 points near home, branch 0: the angles eval writes are the
+// 10^4 points near home (inside the reach), branch 0: the angles eval writes are the
 // circle-intersection angles with both elbows out (d = 6, a = 10, b = 14,
-// base joints at (-+3, 0)), and eval --fk of them gives the points back
-// to 1e-9 of the size.
+// base joints at (-+3, 0)), and eval --fk of them, seeded 1 cm off, gives
+// the points back to 1e-9 of the size.
 TEST(CliDescribed, FiveBarEvalMatchesCircleIntersectionAndRoundTrips) {
   const double d = 6, a = 10, b = 14;
   std::mt19937_64 rng(15201);
   std::uniform_real_distribution<double> ux(-8, 8), uy(10, 22);
-  std::string targets = "x,y\n";
+  // A planar device's task is x, y, z; z is not modelled (any value).
+  std::string targets = "x,y,z\n";
   std::vector<Eigen::Vector2d> points, angles;
-  for (int n = 0; n < 10000; ++n) {
+  while (points.size() < 10000) {
     const Eigen::Vector2d p(ux(rng), uy(rng));
+    // Both legs reach, 0.5 cm inside a + b (the box's corners do not).
+    if ((p - Eigen::Vector2d(-d / 2, 0)).norm() > a + b - 0.5 || (p - Eigen::Vector2d(d / 2, 0)).norm() > a + b - 0.5)
+      continue;
     Eigen::Vector2d q;
     for (int i = 0; i < 2; ++i) {
       const Eigen::Vector2d v = p - Eigen::Vector2d(i == 0 ? -d / 2 : d / 2, 0);
@@ -44,14 +48,16 @@ TEST(CliDescribed, FiveBarEvalMatchesCircleIntersectionAndRoundTrips) {
     }
     points.push_back(p);
     angles.push_back(q);
-    targets += linkscape::format_number(p.x()) + "," + linkscape::format_number(p.y()) + "\n";
+    targets += linkscape::format_number(p.x()) + "," + linkscape::format_number(p.y()) + ",0\n";
   }
   const auto ik = run_linkscape("eval -m " + kFiveBar + " --branch 0 --ik " +
                                 temp_file("five_bar_x.csv", targets).string());
   ASSERT_EQ(ik.exit_code, 0) << ik.out.substr(0, 400);
   const auto rows = parse_cells(ik.out);
   ASSERT_EQ(rows.size(), points.size());
-  std::string back = "q1,q2\n";
+  // FK seeded 1 cm off each point (seed_ columns), as a device tracking its
+  // handle would be.
+  std::string back = "q1,q2,seed_x,seed_y,seed_z\n";
   double worst_angle = 0;
   for (std::size_t i = 0; i < rows.size(); ++i) {
     ASSERT_EQ(rows[i].at("status"), "ok") << points[i].transpose();
@@ -59,7 +65,8 @@ TEST(CliDescribed, FiveBarEvalMatchesCircleIntersectionAndRoundTrips) {
       const double q = std::stod(rows[i].at(k == 0 ? "q1" : "q2"));
       worst_angle = std::max(worst_angle, std::abs(std::remainder(q - angles[i](k), 2 * std::numbers::pi)));
     }
-    back += rows[i].at("q1") + "," + rows[i].at("q2") + "\n";
+    back += rows[i].at("q1") + "," + rows[i].at("q2") + "," + linkscape::format_number(points[i].x() + 0.7) + "," +
+            linkscape::format_number(points[i].y() - 0.7) + ",0\n";
   }
   EXPECT_LT(worst_angle, 1e-9);
   const auto fk = run_linkscape("eval -m " + kFiveBar + " --fk " + temp_file("five_bar_q.csv", back).string());
@@ -78,7 +85,8 @@ TEST(CliDescribed, FiveBarEvalMatchesCircleIntersectionAndRoundTrips) {
   RecordProperty("worst_round_trip_over_size", std::to_string(worst / size));
 }
 
-// 10^3 poses near home: the leg lengths eval writes are |p + R a_i - b_i|;
+// 10^3 poses near home inside the travel: the leg lengths eval writes are
+// |p + R a_i - b_i|;
 // eval --fk seeded at each pose (seed_ columns) gives it back.
 TEST(CliDescribed, StewartEvalIsTheLegLengthsAndForwardFindsThePose) {
   const double rb = 15, rp = 10, sb = 20, sp = 20, deg = std::numbers::pi / 180;
@@ -93,7 +101,7 @@ TEST(CliDescribed, StewartEvalIsTheLegLengthsAndForwardFindsThePose) {
   std::uniform_real_distribution<double> across(-2, 2), angle(-0.15, 0.15);
   std::string poses = "x,y,z,rx,ry,rz\n", lengths = "l1,l2,l3,l4,l5,l6,seed_x,seed_y,seed_z,seed_rx,seed_ry,seed_rz\n";
   std::vector<Eigen::Matrix<double, 6, 1>> pose_list, length_list;
-  for (int n = 0; n < 1000; ++n) {
+  while (pose_list.size() < 1000) {
     Eigen::Matrix<double, 6, 1> x;
     x << across(rng), across(rng), 10.04 + across(rng), angle(rng), angle(rng), angle(rng);
     const Eigen::Matrix3d r = (Eigen::AngleAxisd(x(5), Eigen::Vector3d::UnitZ()) *
@@ -102,6 +110,7 @@ TEST(CliDescribed, StewartEvalIsTheLegLengthsAndForwardFindsThePose) {
                                   .toRotationMatrix();
     Eigen::Matrix<double, 6, 1> l;
     for (int i = 0; i < 6; ++i) l(i) = (x.head<3>() + r * platform[std::size_t(i)] - base[std::size_t(i)]).norm();
+    if (l.minCoeff() < 10.01 || l.maxCoeff() > 17.99) continue;  // inside the travel [10, 18] only
     pose_list.push_back(x);
     length_list.push_back(l);
     std::string row;
@@ -159,6 +168,6 @@ TEST(CliDescribed, SliceAndMeshRunAndABadBranchIsRefused) {
     EXPECT_TRUE(contains(mesh.out, "watertight")) << mesh.out;
   }
   const auto branch = run_linkscape("eval -m " + kFiveBar + " --branch 4 --ik " +
-                                    temp_file("five_bar_one.csv", "x,y\n0,17\n").string());
+                                    temp_file("five_bar_one.csv", "x,y,z\n0,17,0\n").string());
   EXPECT_EQ(branch.exit_code, 2) << branch.out;
 }
