@@ -22,6 +22,12 @@ const std::string kStewart = std::string(LINKSCAPE_SOURCE_DIR) + "/assets/mechan
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
+std::string scientific(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", value);
+  return text;
+}
+
 }  // namespace
 
 // 10^4 points near home (inside the reach), branch 0: the angles eval writes are the
@@ -81,8 +87,8 @@ TEST(CliDescribed, FiveBarEvalMatchesCircleIntersectionAndRoundTrips) {
     worst = std::max(worst, (p - points[i]).norm());
   }
   EXPECT_LT(worst, 1e-9 * size);
-  RecordProperty("worst_angle_rad", std::to_string(worst_angle));
-  RecordProperty("worst_round_trip_over_size", std::to_string(worst / size));
+  RecordProperty("worst_angle_rad", scientific(worst_angle));
+  RecordProperty("worst_round_trip_over_size", scientific(worst / size));
 }
 
 // 10^3 poses near home inside the travel: the leg lengths eval writes are
@@ -146,8 +152,8 @@ TEST(CliDescribed, StewartEvalIsTheLegLengthsAndForwardFindsThePose) {
       worst_pose = std::max(worst_pose, std::abs(std::stod(found[i].at(names[k])) - pose_list[i](k)));
   }
   EXPECT_LT(worst_pose, 1e-9 * 25);
-  RecordProperty("worst_length_relative", std::to_string(worst_length));
-  RecordProperty("worst_pose", std::to_string(worst_pose));
+  RecordProperty("worst_length_relative", scientific(worst_length));
+  RecordProperty("worst_pose", scientific(worst_pose));
 }
 
 TEST(CliDescribed, SliceAndMeshRunAndABadBranchIsRefused) {
