@@ -50,7 +50,7 @@ struct NamedItem {
 };
 
 struct MechanismInfo {
-  std::string name;         // preset mechanism name, e.g. "delta"
+  std::string name;         // preset mechanism name, e.g. "delta"; a described device: its preset's name
   std::string title;        // "Delta parallel haptic device"
   std::string length_unit;  // of the model's lengths, from the preset
   std::string size_description;  // what Mechanism::size() measures, e.g. "L1 + L2" (fit's size)

@@ -39,6 +39,18 @@ std::vector<std::string> available_presets() {
   return names;
 }
 
+std::vector<std::string> described_presets() {
+  std::vector<std::string> names;
+  for (const std::string& name : available_presets()) {
+    try {
+      if (load_preset(name).mechanism == "described") names.push_back(name);
+    } catch (const std::invalid_argument&) {
+      // A broken file is reported where it is opened, not here.
+    }
+  }
+  return names;
+}
+
 namespace {
 
 fs::path resolve_preset(const std::string& name_or_path) {

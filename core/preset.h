@@ -30,6 +30,9 @@ struct Preset {
 std::vector<std::filesystem::path> preset_search_path();
 // Names of all presets found on the search path.
 std::vector<std::string> available_presets();
+// The presets among them that describe their mechanism in the file
+// ("mechanism": "described"; docs/described-mechanisms.md) and load.
+std::vector<std::string> described_presets();
 
 // `name_or_path` is a preset name (a file stem on the search path) or a path
 // to a .json file.

@@ -268,7 +268,7 @@ int run(int argc, char** argv) {
   app.add_option("--session", window.session, "Open a saved session (.json) at start, with its mechanism");
   app.add_option("file", window.file,
                  "A session (.json saved by File > Save) or a mechanism preset (.json) to open, as the desktop entry "
-                 "passes it");
+                 "passes it; the window reads the preset again when its file changes (File > Reload mechanism, F5)");
   app.add_option("--screenshot", window.screenshot,
                  "Open the window, wait until the fields are computed, save it as PNG to this file and exit");
   app.add_option("--size", window.size, "Window size for --screenshot and --latency, WIDTHxHEIGHT")->capture_default_str();

@@ -10,6 +10,7 @@
 #include <QDoubleSpinBox>
 #include <QFileDialog>
 #include <QFileInfo>
+#include <QFileSystemWatcher>
 #include <QFormLayout>
 #include <QGridLayout>
 #include <QGroupBox>
@@ -24,6 +25,7 @@
 #include <QSettings>
 #include <QSignalBlocker>
 #include <QSlider>
+#include <QStandardPaths>
 #include <QStatusBar>
 #include <QSurfaceFormat>
 #include <QTimer>
@@ -47,6 +49,7 @@
 
 #include "core/csv.h"
 #include "core/haptics.h"
+#include "gui/error_panel.h"
 #include "gui/latency_probe.h"
 #include "gui/fit_panel.h"
 #include "gui/methods_panel.h"
@@ -99,6 +102,18 @@ double angle_distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
 }
 
 QString status_text(Status s, const std::string& text = {}) { return qs(text.empty() ? std::string(to_string(s)) : text); }
+
+// The preset's file as the watcher and the error panel name it; empty for a
+// preset not read from a file.
+QString preset_file(const Preset& preset) {
+  return preset.source.empty() ? QString() : QFileInfo(qs(preset.source.string())).absoluteFilePath();
+}
+
+std::vector<std::string> names_of(const std::vector<Quantity>& quantities) {
+  std::vector<std::string> names;
+  for (const Quantity& q : quantities) names.push_back(q.name);
+  return names;
+}
 
 }  // namespace
 
@@ -256,7 +271,20 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   branch_ = branch_of(*mechanism_, q_, x_, 0);
 
   view_ = new VtkWidget(this);
-  setCentralWidget(view_);
+  // A preset that fails to load is reported above the view, where it is seen.
+  auto* centre = new QWidget(this);
+  auto* column = new QVBoxLayout(centre);
+  column->setContentsMargins(0, 0, 0, 0);
+  column->setSpacing(0);
+  error_panel_ = new ErrorPanel(centre);
+  column->addWidget(error_panel_);
+  column->addWidget(view_, 1);
+  setCentralWidget(centre);
+  connect(error_panel_, &ErrorPanel::reloadRequested, this, [this](const QString& path) {
+    // The file that failed: this device's own preset is reloaded, another one opened.
+    if (path == preset_file(preset_)) reloadMechanism();
+    else openMechanismFile(path);
+  });
   vtkNew<vtkRenderer> renderer;
   renderer->GradientBackgroundOn();
   renderer->SetBackground(0.97, 0.97, 0.98);
@@ -350,6 +378,36 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   connect(history_, &SessionHistory::pathChanged, this, &MechanismWindow::updateTitle);
   updateTitle();
   initial_layout_ = saveState();
+
+  // The preset file is watched: a change on disk reloads the device. Its
+  // folder too, since editors save by writing a new file over the old one,
+  // which ends the watch on it.
+  preset_watcher_ = new QFileSystemWatcher(this);
+  reload_timer_ = new QTimer(this);
+  reload_timer_->setSingleShot(true);
+  reload_timer_->setInterval(200);  // an editor's save is several changes
+  connect(preset_watcher_, &QFileSystemWatcher::fileChanged, reload_timer_, qOverload<>(&QTimer::start));
+  connect(preset_watcher_, &QFileSystemWatcher::directoryChanged, this, [this] {
+    const QString file = preset_file(preset_);
+    if (!preset_watcher_->files().contains(file) && QFileInfo::exists(file)) reload_timer_->start();
+  });
+  connect(reload_timer_, &QTimer::timeout, this, [this] {
+    if (QApplication::activeModalWidget()) {  // not under an open dialog: later
+      reload_timer_->start();
+      return;
+    }
+    watchPresetFile();
+    reloadMechanism();
+  });
+  watchPresetFile();
+}
+
+void MechanismWindow::watchPresetFile() {
+  const QString file = preset_file(preset_);
+  if (file.isEmpty()) return;
+  if (QFileInfo::exists(file) && !preset_watcher_->files().contains(file)) preset_watcher_->addPath(file);
+  const QString folder = QFileInfo(file).absolutePath();
+  if (!preset_watcher_->directories().contains(folder)) preset_watcher_->addPath(folder);
 }
 
 void MechanismWindow::noteChange() {
@@ -765,6 +823,24 @@ void MechanismWindow::buildMenus() {
   file->addAction(tr("&Save session"), QKeySequence::Save, this, &MechanismWindow::save);
   file->addAction(tr("Save session &as…"), QKeySequence::SaveAs, this, &MechanismWindow::saveAs);
   recent_menu_ = file->addMenu(tr("Recent sessions"));
+  file->addSeparator();
+  const QKeySequence open_mechanism_key(Qt::CTRL | Qt::SHIFT | Qt::Key_O);
+  QAction* open_mechanism = file->addAction(tr("Open &mechanism…"), open_mechanism_key, this, [this] {
+    const QString folder = preset_.source.empty()
+                               ? QStandardPaths::writableLocation(QStandardPaths::DocumentsLocation)
+                               : QFileInfo(preset_file(preset_)).absolutePath();
+    const QString path =
+        QFileDialog::getOpenFileName(this, tr("Open mechanism"), folder, tr("Mechanism preset (*.json)"));
+    if (!path.isEmpty()) openMechanismFile(path);
+  });
+  open_mechanism->setObjectName("openMechanismAction");
+  open_mechanism->setStatusTip(
+      tr("Open a device from its preset file (.json), a shipped one or a described mechanism"));
+  QAction* reload =
+      file->addAction(tr("&Reload mechanism"), QKeySequence(Qt::Key_F5), this, [this] { reloadMechanism(); });
+  reload->setObjectName("reloadMechanismAction");
+  reload->setStatusTip(tr("Read the preset file again (done by itself when the file changes): the design is the "
+                          "file's; the camera, the pose, the field and task settings stay"));
   file->addSeparator();
   file->addAction(tr("Export slice &image…"), this, [this] { export_slice_image(this, slice_field_.get(), sliceStyle()); });
   file->addAction(tr("Export workspace &mesh…"), this, [this] {
@@ -1500,6 +1576,79 @@ bool MechanismWindow::saveSession(const QString& path) {
   return true;
 }
 
+MechanismWindow* MechanismWindow::openMechanismFile(const QString& path) {
+  const QString file = QFileInfo(path).absoluteFilePath();
+  Preset next;
+  try {
+    next = load_preset(file.toStdString());
+  } catch (const std::exception& e) {
+    showLoadError(tr("Cannot open the mechanism"), file, qs(e.what()));
+    return nullptr;
+  }
+  if (!maybeSave()) return nullptr;  // the user keeps this document
+  try {
+    MechanismWindow* shown = replace_window(this, next, std::nullopt);
+    shown->statusBar()->showMessage(tr("Opened %1").arg(file), 4000);
+    return shown;
+  } catch (const std::exception& e) {
+    showLoadError(tr("Cannot open the mechanism"), file, qs(e.what()));
+    return nullptr;
+  }
+}
+
+MechanismWindow* MechanismWindow::reloadMechanism() {
+  const QString file = preset_file(preset_);
+  if (file.isEmpty()) {
+    showLoadError(tr("Cannot reload the mechanism"), QString(), tr("This device was not read from a file."));
+    return nullptr;
+  }
+  try {
+    const Preset next = load_preset(file.toStdString());
+    const std::shared_ptr<const Mechanism> m = make_mechanism(next);
+    const MechanismInfo& info = m->info();
+    history_->flush();
+    const Session before = session();
+    // What stays: the view, the settings and the pose where the device still
+    // has it. Design parameters and travel are left out: the file's stand.
+    Session kept;
+    kept.mechanism = preset_reference(next);
+    kept.camera = camera_state(renderer_);
+    kept.field = fieldSettings();
+    kept.task_volume = task_panel_->setting();
+    const bool same_task = names_of(info.task) == names_of(mechanism_->info().task);
+    if (same_task) {
+      kept.task = x_;
+      for (std::size_t k = 0; k < info.task.size(); ++k)
+        kept.task(Eigen::Index(k)) = std::clamp(x_(Eigen::Index(k)), info.task[k].range.lo, info.task[k].range.hi);
+      // The actuators seed the solve, so the device stays in its assembly branch.
+      if (names_of(info.actuators) == names_of(mechanism_->info().actuators)) kept.pose = q_;
+    } else {
+      kept.task = m->home_task();
+      kept.pose = m->home_actuators();
+    }
+    MechanismWindow* shown = replace_window(this, next, kept, history_->path());
+    shown->setDrive(drive_);
+    // A camera nobody moved still follows the device's size.
+    if (fitted_camera_ && same_camera(*fitted_camera_, *kept.camera)) shown->fitted_camera_ = kept.camera;
+    if (history_->modified() || !same_document(before, shown->session())) shown->history()->markModified();
+    const bool pose_kept = same_task && (shown->task() - kept.task).norm() <= 1e-9;
+    shown->statusBar()->showMessage(
+        pose_kept || !same_task ? tr("Reloaded %1").arg(file)
+                                : tr("Reloaded %1; the new design does not reach the pose: the device is at its home pose")
+                                      .arg(file),
+        8000);
+    return shown;
+  } catch (const std::exception& e) {
+    showLoadError(tr("Cannot reload the mechanism"), file, qs(e.what()));
+    return nullptr;
+  }
+}
+
+void MechanismWindow::showLoadError(const QString& title, const QString& path, const QString& message) {
+  error_panel_->showError(title, path, message);
+  statusBar()->showMessage(title + ": " + message, 15000);
+}
+
 void MechanismWindow::addRecent(const QString& path) {
   QSettings settings;
   QStringList recent = settings.value("recentSessions").toStringList();
@@ -1525,6 +1674,10 @@ void MechanismWindow::closeEvent(QCloseEvent* event) {
     return;
   }
   animation_timer_->stop();
+  // A closed window no longer follows its file (the window in its place does).
+  reload_timer_->stop();
+  const QStringList watched = preset_watcher_->files() + preset_watcher_->directories();
+  if (!watched.isEmpty()) preset_watcher_->removePaths(watched);
   if (interactive_) {
     QSettings settings;
     settings.setValue("windowGeometry", saveGeometry());

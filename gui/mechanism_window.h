@@ -30,6 +30,7 @@
 class QCheckBox;
 class QComboBox;
 class QDoubleSpinBox;
+class QFileSystemWatcher;
 class QFormLayout;
 class QGridLayout;
 class QGroupBox;
@@ -51,6 +52,7 @@ class TaskScene;
 
 namespace linkscape::gui {
 
+class ErrorPanel;
 class FitPanel;
 class MethodsPanel;
 class SessionHistory;
@@ -141,6 +143,25 @@ class MechanismWindow : public QMainWindow {
   void applySession(const Session& session);
   bool openSession(const QString& path);
   bool saveSession(const QString& path);
+  // File > Open mechanism: the preset file at `path` in a window of its
+  // device that takes this one's place, as picking a preset does (a new
+  // document; the field settings and panel layout stay). Returns that
+  // window, or nullptr when the file does not load: then this window and its
+  // device stay as they were and the error panel says why.
+  MechanismWindow* openMechanismFile(const QString& path);
+  // File > Reload mechanism (F5), and by itself when the preset file changes
+  // on disk: the file is read again and the device made anew in a window
+  // that takes this one's place. The file is the truth for the design (its
+  // parameters and actuator travel); the camera, the field settings, the
+  // task volume, the document (its file; modified if it was or if the design
+  // changed) and the pose stay: the same task coordinates, clamped into the
+  // new ranges, where the device has the same ones and reaches them, else
+  // its home pose. The undo history starts again, as with a change of device.
+  // Returns the new window, or nullptr when the file does not load (this
+  // window stays, the error panel says why).
+  MechanismWindow* reloadMechanism();
+  // The panel above the view that says why a preset did not load (hidden when none failed).
+  ErrorPanel* errorPanel() const { return error_panel_; }
   // The document: its file (empty: not saved yet), undo/redo, the modified mark.
   SessionHistory* history() const { return history_; }
   // Asks to save unsaved changes (only when interactive); false: the user cancelled.
@@ -164,6 +185,9 @@ class MechanismWindow : public QMainWindow {
   void fieldsUpdated(bool fine);
   void sliceUpdated(bool fine);
   void surfacesUpdated(bool fine);
+  // Another window took this one's place (a new device, or its preset
+  // reloaded); this one closes.
+  void replacedBy(MechanismWindow* next);
 
  protected:
   void closeEvent(QCloseEvent* event) override;
@@ -197,6 +221,8 @@ class MechanismWindow : public QMainWindow {
   bool save();
   bool saveAs();
   void updateTitle();
+  void showLoadError(const QString& title, const QString& path, const QString& message);
+  void watchPresetFile();
   void noteChange();
   void placeLegend();
 
@@ -259,6 +285,9 @@ class MechanismWindow : public QMainWindow {
   bool interactive_ = false;
   std::optional<CameraState> fitted_camera_;  // where fitCamera() put it
   QByteArray initial_layout_;                 // for View > Reset layout
+  ErrorPanel* error_panel_ = nullptr;
+  QFileSystemWatcher* preset_watcher_ = nullptr;  // the preset file, and its folder (editors replace files)
+  QTimer* reload_timer_ = nullptr;                // one reload for a burst of changes
 };
 
 }  // namespace linkscape::gui

@@ -98,6 +98,11 @@ void SessionHistory::markSaved(const QString& path) {
   }
 }
 
+void SessionHistory::markModified() {
+  flush();
+  stack_.resetClean();  // emits cleanChanged, hence modifiedChanged, if it was clean
+}
+
 void SessionHistory::restore(const Session& s) {
   settle_.stop();
   restoring_ = true;

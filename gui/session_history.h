@@ -35,6 +35,9 @@ class SessionHistory : public QObject {
   void reset(const QString& path);
   // The state as it is now was saved to `path`.
   void markSaved(const QString& path);
+  // The state as it is now differs from the document's file, though no step
+  // led here (a reloaded preset changed the design).
+  void markModified();
   const QString& path() const { return path_; }
   bool modified() const { return !stack_.isClean(); }
   static constexpr int kSettleMs = 350;  // a change is a step once nothing moved this long

@@ -88,13 +88,8 @@ MethodsPanel* add_methods_dock(QMainWindow* window, const Preset& preset, QDockW
   return panel;
 }
 
-namespace {
-
-// A window of `preset`'s device in the place of `window` (same geometry),
-// with `session` applied, else with the old window's field settings; the old
-// window closes. Throws std::invalid_argument.
-void replace_window(QWidget* window, const Preset& preset, const std::optional<Session>& session,
-                    const QString& session_path = {}) {
+MechanismWindow* replace_window(QWidget* window, const Preset& preset, const std::optional<Session>& session,
+                                const QString& session_path) {
   auto next = std::make_unique<MechanismWindow>(preset);
   auto* old = qobject_cast<MechanismWindow*>(window);
   if (session) next->applySession(*session);
@@ -107,9 +102,14 @@ void replace_window(QWidget* window, const Preset& preset, const std::optional<S
   }
   next->setAttribute(Qt::WA_DeleteOnClose);
   next->setGeometry(window->geometry());
-  next.release()->show();
+  MechanismWindow* shown = next.release();
+  shown->show();
+  if (old) emit old->replacedBy(shown);
   window->close();
+  return shown;
 }
+
+namespace {
 
 // Unsaved work in `window` may go: asks where the window asks.
 bool may_discard(QWidget* window) {

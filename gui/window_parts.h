@@ -8,6 +8,7 @@
 #include <QString>
 #include <functional>
 #include <initializer_list>
+#include <optional>
 #include <string>
 
 #include "core/field.h"
@@ -27,6 +28,7 @@ class vtkPolyData;
 namespace linkscape::gui {
 
 class FieldJobRunner;
+class MechanismWindow;
 class MethodsPanel;
 class VtkWidget;
 
@@ -50,6 +52,14 @@ QDockWidget* add_dock(QMainWindow* window, const QString& title, const QString& 
 // where the device offers them) and closes `window`; a preset that fails to
 // load leaves everything as it was and says why.
 QComboBox* make_preset_chooser(QWidget* window, const Preset& current);
+
+// A window of `preset`'s device in the place of `window` (same geometry and
+// panel layout), with `session` applied, else with the old window's field
+// settings; its document is `session_path` (empty: a new one). The old
+// window says so (MechanismWindow::replacedBy) and closes. Throws
+// std::invalid_argument with nothing changed.
+MechanismWindow* replace_window(QWidget* window, const Preset& preset, const std::optional<Session>& session,
+                                const QString& session_path = {});
 
 // A "Methods" dock tabbed behind `tab_with`, measuring `preset`'s methods
 // when the user presses Run (keep it current with MethodsPanel::setMechanism).

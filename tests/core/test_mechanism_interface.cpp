@@ -182,6 +182,16 @@ INSTANTIATE_TEST_SUITE_P(Registered, EveryDevice, ::testing::ValuesIn(registered
                            return n;
                          });
 
+// The described devices shipped as files (assets/mechanisms/*.json with
+// "mechanism": "described") keep the same promises.
+INSTANTIATE_TEST_SUITE_P(Described, EveryDevice, ::testing::ValuesIn(described_presets()),
+                         [](const auto& info) {
+                           std::string n = info.param;
+                           for (char& c : n)
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           return n;
+                         });
+
 TEST(Registry, UnknownMechanismsListTheKnownOnes) {
   Preset p;
   p.mechanism = "stewart";

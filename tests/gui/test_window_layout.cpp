@@ -101,7 +101,12 @@ class WindowTooltipTest : public QObject {
       w.show();
       QVERIFY(QTest::qWaitForWindowExposed(&w));
       QStringList missing;
-      for (QDockWidget* dock : w.findChildren<QDockWidget*>())
+      // The docks, and the error panel above the view (hidden until a preset fails to load).
+      QList<QWidget*> panels;
+      for (QDockWidget* dock : w.findChildren<QDockWidget*>()) panels << dock;
+      panels << w.findChild<QWidget*>("errorPanel");
+      QVERIFY(panels.back());
+      for (QWidget* dock : panels)
         for (QWidget* c : dock->findChildren<QWidget*>()) {
           const bool control = qobject_cast<QAbstractSlider*>(c) && !c->inherits("QScrollBar");
           const bool input = control || qobject_cast<QAbstractSpinBox*>(c) || qobject_cast<QComboBox*>(c) ||

@@ -630,6 +630,17 @@ ForwardSolution Kinematics::forward(const VectorXd& q, const VectorXd& seed, dou
   out.residual = norm * model_.size;
   out.iterations = std::min(it, max_iterations);
   out.status = norm <= tolerance ? Status::Ok : Status::NotConverged;
+  // An assembly whose legs break the design's own branch rules (a "sign" in
+  // the description) is not this device: report it as not converged.
+  if (out.status == Status::Ok) {
+    const PlatformPose fp = pose(x);
+    for (std::size_t leg = 0; leg < model_.legs.size() && out.status == Status::Ok; ++leg) {
+      const Leg& l = model_.legs[leg];
+      const std::vector<int> signs = rule_signs(int(leg), out.legs[leg], anchor(int(leg), fp));
+      for (std::size_t r = 0; r < l.rules.size(); ++r)
+        if (l.rules[r].fixed_sign != 0 && signs[r] * l.rules[r].fixed_sign < 0) out.status = Status::NotConverged;
+    }
+  }
   return out;
 }
 

@@ -24,7 +24,9 @@ class DescribedMechanism final : public Mechanism {
   DescribedMechanism(const Preset& preset, Model model) : kin_(std::move(model)) {
     const Model& m = kin_.model();
     MechanismInfo& i = info_;
-    i.name = kMechanismName;
+    // Named by its file, so two described devices (and a described device
+    // beside the compiled one it copies) keep apart in reports and charts.
+    i.name = preset.source.empty() ? std::string(kMechanismName) : preset.source.stem().string();
     i.title = preset.title;
     i.length_unit = m.length_unit;
     i.size_description = "the description's size";
@@ -355,7 +357,7 @@ class DescribedMechanism final : public Mechanism {
     const VectorXd base = to_model(fixed_task.size() == Eigen::Index(info_.task.size()) ? fixed_task : home_task(), "fixed task");
     Field f;
     f.grid = grid;
-    f.mechanism = kMechanismName;
+    f.mechanism = info_.name;
     f.length_unit = kin_.model().length_unit;
     f.parameters = parameters();
     f.method = "newton";

@@ -24,9 +24,9 @@ const char* const kPlatformCoordinates[6] = {"x", "y", "z", "rx", "ry", "rz"};
   throw std::invalid_argument(where + ": " + what);
 }
 
-std::string replace_hash(std::string text, int copy) {
+std::string replace_hash(std::string text, int number) {
   for (std::size_t at = text.find('#'); at != std::string::npos; at = text.find('#', at))
-    text.replace(at, 1, std::to_string(copy + 1));
+    text.replace(at, 1, std::to_string(number));
   return text;
 }
 
@@ -40,7 +40,8 @@ class Evaluator {
     if (extras)
       for (const Extra& e : *extras) extra_values_[e.name] = e.home;
   }
-  int copy = 0;  // the leg copy being read (k, and '#' in strings)
+  int copy = 0;   // the leg copy being read (k)
+  int first = 1;  // '#' in strings stands for first + copy
 
   double number(const json& value, const std::string& where) {
     if (value.is_number()) {
@@ -49,7 +50,7 @@ class Evaluator {
       return v;
     }
     if (!value.is_string()) fail(where, "must be a number or an expression string, got " + value.dump());
-    const std::string text = replace_hash(value.get<std::string>(), copy);
+    const std::string text = replace_hash(value.get<std::string>(), first + copy);
     double k = copy;
     mu::Parser p;
     try {
@@ -325,7 +326,7 @@ Model build_model(const std::string& description_json, const std::map<std::strin
   for (std::size_t l = 0; l < legs.size(); ++l) {
     const json& spec = legs[l];
     const std::string leg_where = top + ".legs[" + std::to_string(l) + "]";
-    check_keys(spec, {"name", "copies", "base", "chain", "platform", "anchor", "branch"}, leg_where);
+    check_keys(spec, {"name", "copies", "first", "base", "chain", "platform", "anchor", "branch"}, leg_where);
     int copies = 1;
     if (spec.contains("copies")) {
       if (!spec.at("copies").is_number_integer() || spec.at("copies").get<int>() < 1 ||
@@ -333,10 +334,16 @@ Model build_model(const std::string& description_json, const std::map<std::strin
         fail(leg_where + ".copies", "must be a whole number from 1 to 64");
       copies = spec.at("copies").get<int>();
     }
+    int first = 1;  // the number '#' stands for in the first copy
+    if (spec.contains("first")) {
+      if (!spec.at("first").is_number_integer()) fail(leg_where + ".first", "must be a whole number");
+      first = spec.at("first").get<int>();
+    }
     for (int copy = 0; copy < copies; ++copy) {
       eval.copy = copy;
+      eval.first = first;
       Leg leg;
-      leg.name = replace_hash(spec.value("name", std::to_string(m.legs.size() + 1)), copy);
+      leg.name = replace_hash(spec.value("name", std::to_string(m.legs.size() + 1)), first + copy);
       const std::string where = leg_where + " \"" + leg.name + "\"";
       if (!leg_names.insert(leg.name).second) fail(where, "leg name '" + leg.name + "' is used twice");
       leg.base = transform_steps(spec.value("base", json::array()), eval, where + ": base");
@@ -372,11 +379,13 @@ Model build_model(const std::string& description_json, const std::map<std::strin
         if (!step.is_object() || !step.contains("joint"))
           fail(at, "expected a joint or a transform (translate, rx, ry, rz, rotate), got " + step.dump());
         const std::string type = step.at("joint").get<std::string>();
-        const std::string name = replace_hash(require(step, "name", at).get<std::string>(), copy);
+        const std::string name = replace_hash(require(step, "name", at).get<std::string>(), first + copy);
         at += " (joint \"" + name + "\")";
         if (!valid_name(name)) fail(at, "a joint name must be an identifier");
         if (!joint_names.insert(name).second) fail(at, "joint name '" + name + "' is used twice");
         const bool actuated = step.value("actuated", false);
+        if (actuated && type != "revolute" && type != "prismatic")
+          fail(at, "only revolute and prismatic joints can be actuated");
         flush();
         auto add = [&](Step::Kind kind, const Vector3d& axis, const std::string& step_name) {
           Step s;
@@ -426,7 +435,6 @@ Model build_model(const std::string& description_json, const std::map<std::strin
           }
         } else if (type == "universal") {
           check_keys(step, {"joint", "name", "axes"}, at);
-          if (actuated) fail(at, "only revolute and prismatic joints can be actuated");
           const json& axes = require(step, "axes", at);
           if (!axes.is_array() || axes.size() != 2) fail(at + ".axes", "must be two axes [[x, y, z], [x, y, z]]");
           const Vector3d a1 = eval.unit_axis(axes[0], at + ".axes[0]"), a2 = eval.unit_axis(axes[1], at + ".axes[1]");
@@ -436,7 +444,6 @@ Model build_model(const std::string& description_json, const std::map<std::strin
           add(Step::Kind::Revolute, a2, name + ".2");
         } else if (type == "spherical") {
           check_keys(step, {"joint", "name"}, at);
-          if (actuated) fail(at, "only revolute and prismatic joints can be actuated");
           if (m.planar) fail(at, "a planar device has no spherical joints");
           add(Step::Kind::Spherical, Vector3d::UnitZ(), name);
         } else {
@@ -457,7 +464,7 @@ Model build_model(const std::string& description_json, const std::map<std::strin
           check_keys(rules[r], {"triple", "angle", "sign"}, at);
           BranchRule rule;
           auto step_of = [&](const json& n, bool allow_anchor) {
-            const std::string name = replace_hash(n.get<std::string>(), copy);
+            const std::string name = replace_hash(n.get<std::string>(), first + copy);
             if (allow_anchor && name == "anchor") return -2;
             for (std::size_t s = 0; s < leg.steps.size(); ++s)
               if (leg.steps[s].kind != Step::Kind::Fixed && (leg.steps[s].name == name || leg.steps[s].joint == name))
@@ -495,6 +502,7 @@ Model build_model(const std::string& description_json, const std::map<std::strin
     }
   }
   eval.copy = 0;
+  eval.first = 1;
   if (m.free_rules > 12) fail(top + ".legs", "more than 12 free branch rules (4096 branches)");
 
   // The device's typical size.

@@ -1,0 +1,103 @@
+// Malformed descriptions are refused with a message that names the place in
+// the file (docs/described-mechanisms.md, "Errors").
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "core/mechanism.h"
+#include "core/preset.h"
+
+namespace linkscape {
+namespace {
+
+using nlohmann::json;
+
+json delta_description() {
+  std::ifstream in(std::string(LINKSCAPE_TEST_ASSETS) + "/mechanisms/delta-described.json");
+  return json::parse(in);
+}
+
+// The message parse_preset gives for the Delta's description after `edit`.
+std::string error_after(const std::function<void(json&)>& edit) {
+  json doc = delta_description();
+  edit(doc);
+  try {
+    parse_preset(doc.dump(), "broken.json");
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+void expect_contains(const std::string& message, const std::vector<std::string>& parts) {
+  for (const std::string& p : parts) EXPECT_NE(message.find(p), std::string::npos) << "'" << p << "' not in: " << message;
+}
+
+TEST(DescriptionErrors, TheShippedDescriptionIsValid) {
+  EXPECT_EQ(error_after([](json&) {}), "no error");
+}
+
+TEST(DescriptionErrors, UnknownJointTypeNamesLegStepAndJoint) {
+  const std::string m = error_after([](json& d) { d["description"]["legs"][0]["chain"][2]["joint"] = "ball"; });
+  expect_contains(m, {"broken.json", "description.legs[0] \"1\"", "chain[2]", "elbow1", "unknown joint type 'ball'",
+                      "revolute, prismatic, universal, spherical"});
+}
+
+TEST(DescriptionErrors, NonUnitAxisNamesTheAxis) {
+  const std::string m = error_after([](json& d) { d["description"]["legs"][0]["chain"][0]["axis"] = {0, 1, 1}; });
+  expect_contains(m, {"description.legs[0] \"1\"", "chain[0] (joint \"q1\").axis", "not a unit vector", "1.41"});
+}
+
+TEST(DescriptionErrors, MissingActuatorNamesTheLeg) {
+  const std::string m = error_after([](json& d) { d["description"]["legs"][0]["chain"][0].erase("actuated"); });
+  expect_contains(m, {"description.legs[0] \"1\": chain", "no actuated joint"});
+}
+
+TEST(DescriptionErrors, ALegThatDoesNotReachItsAnchorAtHome) {
+  // Forearms too short for the home pose: the legs miss their anchors.
+  const std::string m = error_after([](json& d) { d["description"]["home"]["z"] = -40; });
+  expect_contains(m, {"broken.json", "leg", "does not reach its anchor at home", "misses by"});
+}
+
+TEST(DescriptionErrors, WrongDegreeOfFreedomCount) {
+  // A fourth freedom of the platform (rz) with three actuators.
+  const std::string m = error_after([](json& d) { d["description"]["task"] = {"x", "y", "z", "rz"};
+                                                    d["description"]["home"]["rz"] = 0; });
+  expect_contains(m, {"broken.json", "freedom", "3 actuator"});
+}
+
+TEST(DescriptionErrors, UnknownKeyIsNamedWithTheKnownOnes) {
+  const std::string m = error_after([](json& d) { d["description"]["legs"][0]["anchors"] = json::array(); });
+  expect_contains(m, {"description.legs[0]", "unknown key 'anchors'", "anchor"});
+}
+
+TEST(DescriptionErrors, ExpressionWithAnUnknownVariable) {
+  const std::string m = error_after([](json& d) { d["description"]["legs"][0]["chain"][1]["translate"][0] = "Lc"; });
+  expect_contains(m, {"description.legs[0] \"1\": chain[1].translate[0]", "cannot evaluate 'Lc'", "La"});
+}
+
+TEST(DescriptionErrors, ActuatedSphericalJointIsRefused) {
+  const std::string m = error_after([](json& d) { d["description"]["legs"][0]["chain"][2]["actuated"] = true; });
+  expect_contains(m, {"chain[2] (joint \"elbow1\")", "only revolute and prismatic joints can be actuated"});
+}
+
+TEST(DescriptionErrors, ALegOnAnUnknownPlatform) {
+  const std::string m = error_after([](json& d) { d["description"]["legs"][0]["platform"] = "plate"; });
+  expect_contains(m, {"description.legs[0] \"1\": platform", "unknown platform body 'plate'"});
+}
+
+TEST(DescriptionErrors, ADescriptionOnACompiledDeviceIsRefused) {
+  const std::string m = error_after([](json& d) { d["mechanism"] = "delta"; });
+  expect_contains(m, {"broken.json", "\"description\" belongs to a preset whose mechanism is \"described\""});
+}
+
+TEST(DescriptionErrors, ABranchRuleNamingAnotherLegsJoint) {
+  const std::string m = error_after([](json& d) { d["description"]["legs"][0]["branch"]["triple"][1] = "elbow9"; });
+  expect_contains(m, {"description.legs[0] \"1\": branch", "names no joint of this leg: 'elbow9'"});
+}
+
+}  // namespace
+}  // namespace linkscape
