@@ -52,9 +52,9 @@ struct Row {
 }  // namespace
 
 void run_bench(const BenchOptions& o, std::ostream& out) {
-  // Fields are measured for the chosen device; methods and sweeps for every
-  // registered device (its shipped preset; --mechanism/--param set the
-  // parameters of the one they name).
+  // Fields are measured for the chosen device; methods and sweeps for it and
+  // every registered device (its shipped preset; --mechanism/--param set the
+  // parameters of the one they name), or for it and the --compare presets.
   Preset chosen = load_preset(o.mechanism.mechanism);
   apply_overrides(chosen, o.mechanism.params);
   const std::shared_ptr<const Mechanism> m = make_mechanism(chosen);
@@ -133,8 +133,15 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
   // Every device's numerical methods, time per evaluation against error,
   // and its sweeps towards each singular set.
   std::vector<std::shared_ptr<const Mechanism>> devices;
-  for (const std::string& name : registered_mechanisms())
-    devices.push_back(name == info.name ? m : make_mechanism(load_preset(name)));
+  if (!o.compare.empty()) {
+    devices.push_back(m);
+    for (const std::string& name : o.compare) devices.push_back(make_mechanism(load_preset(name)));
+  } else {
+    const std::vector<std::string> registered = registered_mechanisms();
+    if (std::find(registered.begin(), registered.end(), info.name) == registered.end()) devices.push_back(m);
+    for (const std::string& name : registered)
+      devices.push_back(name == info.name ? m : make_mechanism(load_preset(name)));
+  }
   methods::HarnessOptions h;
   h.samples = o.quick ? 2000 : 20000;
   h.repeats = repeats;

@@ -417,6 +417,11 @@ int run(int argc, char** argv) {
   bench_cmd->add_option("--sweeps", bench.sweeps,
                         "Write the error-against-distance chart of the sweeps towards each singular set "
                         "(.png, .svg, .pdf)");
+  bench_cmd->add_option("--compare", bench.compare,
+                        "Measure the methods and sweeps of these presets beside the chosen device (side by side in "
+                        "--chart and --sweeps), e.g. -m delta-described --compare delta; default: every registered "
+                        "device")
+      ->delimiter(',');
   bench_cmd->footer(
       "parallel-12r planar fields use SIMD kernels with the best instruction set of the CPU. Environment, for\n"
       "every command:\n"

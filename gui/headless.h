@@ -88,6 +88,9 @@ struct BenchOptions {
   std::string csv;      // also write the figures as CSV (plus <stem>.methods.csv, <stem>.sweeps.csv)
   std::string chart;    // error-against-time chart of every method (.png, .svg, .pdf)
   std::string sweeps;   // error-against-eps chart of the stability sweeps (.png, .svg, .pdf)
+  // Methods and sweeps of the chosen device and these presets only (side by
+  // side); empty: the chosen device and every registered one.
+  std::vector<std::string> compare;
 };
 // Measures field throughput, slice and volume times, isosurfaces, peak
 // memory and accuracy against resolution, then every numerical method's time

@@ -1,5 +1,6 @@
 #include "gui/methods_panel.h"
 
+#include <QComboBox>
 #include <QHBoxLayout>
 #include <QLabel>
 #include <QPushButton>
@@ -37,8 +38,17 @@ MethodsPanel::MethodsPanel(QWidget* parent) : QWidget(parent) {
   auto* enlarge = new QPushButton("Enlarge", this);
   enlarge->setObjectName("enlarge");
   enlarge->setToolTip("Open the chart and the table in a window of their own");
+  // A second device measured beside this one: a described device against the
+  // compiled one it copies (docs/described-mechanisms.md), or any two presets.
+  compare_ = new QComboBox(this);
+  compare_->setObjectName("compare");
+  compare_->setToolTip("Measure a second preset beside this device; the chart shows both side by side");
+  compare_->addItem("compare with: none", QString());
+  for (const std::string& name : available_presets())
+    compare_->addItem("compare with: " + QString::fromStdString(name), QString::fromStdString(name));
   bar->addWidget(run_button_);
   bar->addWidget(cancel_button_);
+  bar->addWidget(compare_);
   bar->addStretch(1);
   bar->addWidget(enlarge);
   layout->addLayout(bar);
@@ -97,6 +107,7 @@ void MethodsPanel::run() {
   cancel_button_->setEnabled(true);
   status_->setText("Measuring " + mechanism_title(preset_) + "...");
   const Preset preset = preset_;
+  const std::string compare = compare_->currentData().toString().toStdString();
   const std::size_t samples = samples_;
   const int repeats = repeats_;
   const bool fields = include_fields_;
@@ -112,7 +123,7 @@ void MethodsPanel::run() {
         },
         Qt::QueuedConnection);
   };
-  worker_ = std::thread([this, generation, preset, samples, repeats, fields, cancel, report] {
+  worker_ = std::thread([this, generation, preset, compare, samples, repeats, fields, cancel, report] {
     std::vector<methods::MethodRow> rows;
     QString message;
     bool completed = false;
@@ -127,6 +138,10 @@ void MethodsPanel::run() {
       o.progress = report;
       o.cancel = cancel.get();
       rows = make_mechanism(preset)->measure_methods(o);
+      if (!compare.empty() && !cancel->load()) {
+        const std::vector<methods::MethodRow> second = make_mechanism(load_preset(compare))->measure_methods(o);
+        rows.insert(rows.end(), second.begin(), second.end());
+      }
       completed = !cancel->load();
       message = completed ? QString("Measured %1 methods (%2 samples, median of %3 repeats).")
                                 .arg(rows.size())

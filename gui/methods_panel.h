@@ -16,6 +16,7 @@
 #include "core/method_harness.h"
 #include "core/preset.h"
 
+class QComboBox;
 class QLabel;
 class QPushButton;
 
@@ -72,6 +73,7 @@ class MethodsPanel : public QWidget {
   MethodsView* view_ = nullptr;
   MethodsWindow* enlarged_ = nullptr;  // a child: lives as long as the panel
   QLabel* status_ = nullptr;
+  QComboBox* compare_ = nullptr;  // a second preset measured beside this device
   QPushButton* run_button_ = nullptr;
   QPushButton* cancel_button_ = nullptr;
 };

@@ -63,11 +63,14 @@ struct Chain {
   std::vector<Isometry3d> step_frame;            // per step: the frame after it
 };
 
-Chain walk(const Leg& leg, const LegState& s) {
-  Chain c;
+// Fills `c` (its vectors keep their capacity: no allocation in a solver's loop).
+void walk_into(const Leg& leg, const LegState& s, Chain& c) {
   c.axis.resize(std::size_t(leg.variables));
   c.centre.resize(std::size_t(leg.variables));
   c.sliding.assign(std::size_t(leg.variables), false);
+  c.step_centre.clear();
+  c.step_axis.clear();
+  c.step_frame.clear();
   Isometry3d T = leg.base;
   int sphere = 0;
   for (const Step& step : leg.steps) {
@@ -104,6 +107,11 @@ Chain walk(const Leg& leg, const LegState& s) {
     c.step_frame.push_back(T);
   }
   c.end = T;
+}
+
+Chain walk(const Leg& leg, const LegState& s) {
+  Chain c;
+  walk_into(leg, s, c);
   return c;
 }
 
@@ -125,20 +133,25 @@ Vector6d closure_error(const Chain& c, const Isometry3d& anchor, double size) {
 }
 
 // Keeps the rows the device closes (planar: rz, x, y).
-VectorXd rows_of(const Vector6d& v, bool planar) {
+// Closure rows: at most six, kept on the stack.
+using Rows = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
+using LegMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 48>;
+
+Rows rows_of(const Vector6d& v, bool planar) {
   if (!planar) return v;
-  VectorXd out(3);
+  Rows out(3);
   for (int i = 0; i < 3; ++i) out(i) = v(kPlanarRows[i]);
   return out;
 }
 
-void apply(const Leg& leg, LegState& s, const VectorXd& delta, int offset = 0) {
+template <class Vector>
+void apply(const Leg& leg, LegState& s, const Vector& delta, int offset = 0) {
   int sphere = 0;
   for (const Step& step : leg.steps) {
     if (step.kind == Kind::Revolute || step.kind == Kind::Prismatic) s.values(step.variable) += delta(offset + step.variable);
     if (step.kind == Kind::Spherical) {
       Matrix3d& R = s.spheres[std::size_t(sphere++)];
-      R = R * rotation_of(delta.segment<3>(offset + step.variable));
+      R = R * rotation_of(delta.template segment<3>(offset + step.variable));
       // Re-orthonormalise now and then would be needed only over thousands of steps.
     }
   }
@@ -147,16 +160,24 @@ void apply(const Leg& leg, LegState& s, const VectorXd& delta, int offset = 0) {
 // A damped Gauss-Newton step for J d = e (J m x n): d = J^T (J J^T + mu I)^-1 e,
 // the least-norm step, damped by mu = |e|^2 (Levenberg-Marquardt in the
 // Yamashita-Fukushima form: quadratic convergence where a solution exists,
-// also at singular ones).
-VectorXd damped_step(const MatrixXd& J, const VectorXd& e) {
-  MatrixXd A = J * J.transpose();
-  const double mu = e.squaredNorm() + 1e-30;
+// also at singular ones). A leg's IK caps mu: at a least-squares minimum off
+// the target (an unreachable pose) light damping converges to the minimum,
+// whose distance is the reach margin outside.
+template <class Jacobian, class Error>
+auto damped_step(const Jacobian& J, const Error& e, double cap = kInf) {
+  using Square = Eigen::Matrix<double, Jacobian::RowsAtCompileTime, Jacobian::RowsAtCompileTime, 0,
+                               Jacobian::MaxRowsAtCompileTime, Jacobian::MaxRowsAtCompileTime>;
+  using Step = Eigen::Matrix<double, Jacobian::ColsAtCompileTime, 1, 0, Jacobian::MaxColsAtCompileTime, 1>;
+  Square A = J * J.transpose();
+  const double mu = std::min(e.squaredNorm(), cap) + 1e-30;
   A.diagonal().array() += mu;
-  return J.transpose() * A.ldlt().solve(e);
+  Step d = J.transpose() * A.ldlt().solve(e);
+  return d;
 }
 
 // Limits a step to half a radian (or half a size) in any variable.
-void limit_step(VectorXd& d) {
+template <class Vector>
+void limit_step(Vector& d) {
   const double largest = d.cwiseAbs().maxCoeff();
   if (largest > 0.5) d *= 0.5 / largest;
 }
@@ -262,38 +283,40 @@ int free_rules_of(const Leg& l) {
 
 // ---- Leg inverse kinematics ----------------------------------------------------
 
-Kinematics::LegSolveResult Kinematics::solve_leg(int leg, const Isometry3d& anchor, LegState s,
-                                                 int max_iterations) const {
+Kinematics::LegSolveResult Kinematics::solve_leg(int leg, const Isometry3d& anchor, LegState s, int max_iterations,
+                                                 double crawl) const {
   const Leg& l = model_.legs[std::size_t(leg)];
   const double size = model_.size;
+  // Scratch chains and states reused across iterations (no allocation in the loop).
+  thread_local Chain c, tc;
+  thread_local LegState trial;
   LegSolveResult out;
-  Chain c = walk(l, s);
-  VectorXd e = rows_of(closure_error(c, anchor, size), model_.planar);
+  walk_into(l, s, c);
+  Rows e = rows_of(closure_error(c, anchor, size), model_.planar);
   double norm = e.norm();
-  MatrixXd J(e.size(), l.variables);
+  LegMatrix J(e.size(), l.variables);
   int it = 0;
   for (; it < max_iterations && norm > 1e-15; ++it) {
     for (int v = 0; v < l.variables; ++v) J.col(v) = rows_of(twist(c, v, c.end.translation(), size), model_.planar);
-    VectorXd d = damped_step(J, e);
+    auto d = damped_step(J, e, 1e-6);
     limit_step(d);
     bool accepted = false;
     for (int halving = 0; halving < 30 && !accepted; ++halving, d *= 0.5) {
-      LegState trial = s;
+      trial = s;
       apply(l, trial, d);
-      const Chain tc = walk(l, trial);
-      const VectorXd te = rows_of(closure_error(tc, anchor, size), model_.planar);
+      walk_into(l, trial, tc);
+      const Rows te = rows_of(closure_error(tc, anchor, size), model_.planar);
       if (te.norm() < norm) {
         accepted = true;
         // At the rounding floor, or crawling towards a least-squares minimum
         // off the target (an unreachable pose): either way, done.
         const bool floor = te.norm() > 0.5 * norm && norm < 1e-11;
-        const bool crawling = te.norm() > (1 - 1e-4) * norm && norm > 1e-9;
-        if (crawling) it = max_iterations;
-        s = std::move(trial);
-        c = tc;
+        const bool crawling = te.norm() > (1 - crawl) * norm && norm > 1e-9;
+        std::swap(s, trial);
+        std::swap(c, tc);
         e = te;
         norm = te.norm();
-        if (floor) it = max_iterations;
+        if (floor || crawling) it = max_iterations;
       }
     }
     if (!accepted) break;  // stationary: a least-squares minimum
@@ -315,42 +338,52 @@ LegSolution Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int bran
     for (std::size_t i = 0; i < model_.legs.size(); ++i)
       tls.legs[i].assign(std::size_t(1) << free_rules_of(model_.legs[i]), std::nullopt);
   }
-  std::vector<const LegState*> seeds;
-  if (tls.legs[std::size_t(leg)][std::size_t(combo)]) seeds.push_back(&*tls.legs[std::size_t(leg)][std::size_t(combo)]);
-  if (extra_seed) seeds.push_back(extra_seed);
-  if (home_states_[std::size_t(leg)][std::size_t(combo)]) seeds.push_back(&*home_states_[std::size_t(leg)][std::size_t(combo)]);
+  // Fast seeds first: the thread's last solution on this branch (a field's
+  // neighbouring sample) and the caller's. Where they do not serve, fixed
+  // seeds decide, so that an unreachable pose's miss distance does not depend
+  // on what the thread solved before.
+  std::vector<const LegState*> fast, fixed;
+  if (tls.legs[std::size_t(leg)][std::size_t(combo)]) fast.push_back(&*tls.legs[std::size_t(leg)][std::size_t(combo)]);
+  if (extra_seed) fast.push_back(extra_seed);
+  if (home_states_[std::size_t(leg)][std::size_t(combo)]) fixed.push_back(&*home_states_[std::size_t(leg)][std::size_t(combo)]);
   for (const auto& other : home_states_[std::size_t(leg)])
-    if (other) seeds.push_back(&*other);
-  for (const LegState& s : spread_seeds_[std::size_t(leg)]) seeds.push_back(&s);
+    if (other) fixed.push_back(&*other);
+  for (const LegState& s : spread_seeds_[std::size_t(leg)]) fixed.push_back(&s);
 
   LegSolution best;
   best.residual = kInf;
   bool found_other_branch = false;
   int stationary_misses = 0;
   int iterations = 0;
-  for (const LegState* seed : seeds) {
-    LegSolveResult r = solve_leg(leg, anchor, *seed, 40);
-    iterations += r.iterations;
-    const double residual = r.error * model_.size;
-    if (residual <= tolerance * model_.size) {
-      if (signs_match(leg, r.state, anchor, branch)) {
-        best.state = std::move(r.state);
-        best.status = Status::Ok;
-        best.residual = residual;
-        best.iterations = iterations;
-        tls.legs[std::size_t(leg)][std::size_t(combo)] = best.state;
-        return best;
+  for (const auto* seeds : {&fast, &fixed}) {
+    for (const LegState* seed : *seeds) {
+      // Towards a least-squares minimum only while it gains 0.1 % per step:
+      // enough for the verdict and for the miss distance near the boundary,
+      // where the residual is small and Gauss-Newton converges fast.
+      LegSolveResult r = solve_leg(leg, anchor, *seed, 25, 1e-3);
+      iterations += r.iterations;
+      const double residual = r.error * model_.size;
+      if (residual <= tolerance * model_.size) {
+        if (signs_match(leg, r.state, anchor, branch)) {
+          best.state = std::move(r.state);
+          best.status = Status::Ok;
+          best.residual = residual;
+          best.iterations = iterations;
+          tls.legs[std::size_t(leg)][std::size_t(combo)] = best.state;
+          return best;
+        }
+        found_other_branch = true;
+        continue;
       }
-      found_other_branch = true;
-      continue;
+      if (seeds == &fast) continue;
+      if (residual < best.residual) {
+        best.state = std::move(r.state);
+        best.residual = residual;
+      }
+      // Two fixed seeds that both end at a least-squares minimum off the
+      // target: the leg cannot reach it (more seeds would repeat the verdict).
+      if (++stationary_misses >= 2 && !found_other_branch) break;
     }
-    if (residual < best.residual) {
-      best.state = std::move(r.state);
-      best.residual = residual;
-    }
-    // Three seeds that all end at a least-squares minimum off the target: the
-    // leg cannot reach it (spread seeds would only repeat the verdict).
-    if (++stationary_misses >= 2 && !found_other_branch) break;
   }
   best.status = found_other_branch ? Status::NotConverged : Status::Unreachable;
   best.iterations = iterations;
@@ -722,7 +755,7 @@ Kinematics::Kinematics(Model model) : model_(std::move(model)), id_(next_id++) {
     const Isometry3d a = anchor(int(leg), home);
     double best = kInf;
     for (const LegState& seed : spread_seeds_[leg]) {
-      LegSolveResult r = solve_leg(int(leg), a, seed, 100);
+      LegSolveResult r = solve_leg(int(leg), a, seed, 100, 1e-9);
       best = std::min(best, r.error * model_.size);
       if (r.error * model_.size > 1e-10 * model_.size) continue;
       for (int combo = 0; combo < int(home_states_[leg].size()); ++combo)

@@ -116,7 +116,10 @@ class Kinematics {
 
  private:
   struct LegSolveResult;
-  LegSolveResult solve_leg(int leg, const Eigen::Isometry3d& anchor, LegState state, int max_iterations) const;
+  // Damped Gauss-Newton on one leg; stops when an iteration gains less than
+  // `crawl` (relative) away from a solution.
+  LegSolveResult solve_leg(int leg, const Eigen::Isometry3d& anchor, LegState state, int max_iterations,
+                           double crawl) const;
   LegSolution solve_leg_on(int leg, const Eigen::Isometry3d& anchor, int branch, double tolerance,
                            const LegState* extra_seed) const;
   bool signs_match(int leg, const LegState& state, const Eigen::Isometry3d& anchor, int branch) const;
