@@ -295,7 +295,7 @@ QColor method_colour(int k) { return kPalette[k % 8]; }
 
 QString method_error_label(const std::string& family) {
   if (family == "ik" || family == "leg-ik") return "joint error (rad)";
-  if (family == "fk") return "max(|dp| / (l2 + l3), angle)";
+  if (family == "fk") return "max(|dp| / size, angle)";
   return "relative error";
 }
 

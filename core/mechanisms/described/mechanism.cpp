@@ -21,7 +21,7 @@ const char* const kCoordinateNames[6] = {"x", "y", "z", "rx", "ry", "rz"};
 
 class DescribedMechanism final : public Mechanism {
  public:
-  DescribedMechanism(const Preset& preset, Model model) : kin_(std::move(model)) {
+  DescribedMechanism(const Preset& preset, Model model) : preset_(preset), kin_(std::move(model)) {
     const Model& m = kin_.model();
     MechanismInfo& i = info_;
     // Named by its file, so two described devices (and a described device
@@ -201,12 +201,12 @@ class DescribedMechanism final : public Mechanism {
       if (kin_.inverse(m.home + hi * d, 0, 1e-10).status == Status::Ok) continue;
       for (int it = 0; it < 60; ++it) {
         const double mid = 0.5 * (lo + hi);
-        const Status st = kin_.inverse(m.home + mid * d, 0, 1e-10).status;
-        (st == Status::Ok || st == Status::OutOfLimits ? lo : hi) = mid;
+        // Ok only: beyond an actuator's range the sweep would test the range, not the set.
+        (kin_.inverse(m.home + mid * d, 0, 1e-10).status == Status::Ok ? lo : hi) = mid;
       }
       const VectorXd end = m.home + lo * d;
       const PoseSolution s = kin_.inverse(end, 0, 1e-10);
-      if (s.status != Status::Ok && s.status != Status::OutOfLimits) continue;
+      if (s.status != Status::Ok) continue;
       const JacobianParts parts = kin_.jacobian(end, states_of(s));
       const int leg = int(std::min_element(parts.serial_margin.begin(), parts.serial_margin.end()) -
                           parts.serial_margin.begin());
@@ -227,6 +227,17 @@ class DescribedMechanism final : public Mechanism {
                      }});
     }
     return out;
+  }
+
+  // Sweeps towards the geometry's singular sets, on the device without
+  // actuator ranges (they would cut the rays first), as for the compiled Delta.
+  std::vector<stability::SweepRow> stability_sweeps(const stability::SweepOptions& options) const override {
+    Model free = kin_.model();
+    for (Actuator& a : free.actuators) {
+      a.limited = false;
+      if (!a.prismatic) a.range = {-M_PI, M_PI};
+    }
+    return DescribedMechanism(preset_, std::move(free)).Mechanism::stability_sweeps(options);
   }
 
   std::vector<std::pair<std::string, std::string>> readouts(const VectorXd&, const VectorXd&) const override {
@@ -490,6 +501,7 @@ class DescribedMechanism final : public Mechanism {
     return out;
   }
 
+  Preset preset_;
   Kinematics kin_;
   MechanismInfo info_;
   int rotations_ = 0;
