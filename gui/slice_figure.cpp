@@ -6,6 +6,7 @@
 #include <QPainterPath>
 #include <vtkImageData.h>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <cstring>
@@ -91,16 +92,25 @@ void draw(QPainter& p, const QSize& page, const Field& field, const render::Slic
   // CSV exports keep them all.
   const bool six_dof = !field.cond_orientation.empty();
   auto value = [&](const char* key) { return field.parameters.contains(key) ? field.parameters.at(key) : 0.0; };
+  // PATHOS-II's design lengths where the model has them; other six-DOF
+  // models (described ones) name all of their own, without a unit (their
+  // parameters may be angles).
+  static const std::set<std::string> design = {"l0", "l2", "l3", "lp"};
+  const bool pathos_design = std::any_of(design.begin(), design.end(), [&](const std::string& k) {
+    return field.parameters.contains(k);
+  });
+  static const std::set<std::string> held = {"rx", "ry", "rz", "h0"};
   QString params;
   for (const auto& [k, val] : field.parameters) {
-    static const std::set<std::string> design = {"l0", "l2", "l3", "lp"};
-    if (six_dof && !design.contains(k)) continue;
-    params += QString("%1 = %2 %3, ").arg(QString::fromStdString(k)).arg(val).arg(unit);
+    if (six_dof && (pathos_design ? !design.contains(k) : held.contains(k))) continue;
+    params += six_dof && !pathos_design ? QString("%1 = %2, ").arg(QString::fromStdString(k)).arg(val)
+                                        : QString("%1 = %2 %3, ").arg(QString::fromStdString(k)).arg(val).arg(unit);
   }
   params.chop(2);
   const auto g4 = [](double v) { return QString::number(v, 'g', 4); };
-  const QString how = six_dof ? QString("IK at (rx, ry, rz) = (%1, %2, %3) deg, grip %4 %5")
-                                    .arg(g4(value("rx")), g4(value("ry")), g4(value("rz")), g4(value("h0")), unit)
+  const QString grip = field.parameters.contains("h0") ? QString(", grip %1 %2").arg(g4(value("h0")), unit) : QString();
+  const QString how = six_dof ? QString("IK at (rx, ry, rz) = (%1, %2, %3) deg%4")
+                                    .arg(g4(value("rx")), g4(value("ry")), g4(value("rz")), grip)
                               : QString("%1 IK, branch %2").arg(QString::fromStdString(field.method)).arg(field.branch);
   QFont title_font = font;
   title_font.setBold(true);

@@ -4,6 +4,8 @@
 // evaluation, and a skeleton that fits its model.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+#include <array>
 #include <random>
 #include <set>
 
@@ -113,8 +115,22 @@ TEST_P(EveryDevice, RandomPosesRoundTripAndJacobianMatchesFiniteDifferences) {
     double best = INFINITY;
     for (const IkSolution& s : ik.solutions) best = std::min(best, (s.q - q).cwiseAbs().maxCoeff());
     EXPECT_LT(best, 1e-8) << "trial " << trial;
-    // J = dx/dq where the task is the position alone (3-DOF devices).
+    // J = dx/dq where every task coordinate is driven (3-DOF devices, and
+    // 6-DOF ones whose rotation rows are the angular velocity in the base
+    // frame: the differences of R = Rz(rz) Ry(ry) Rx(rx) give it as the
+    // axial vector of dR R^T).
     if (info.task.size() != info.actuators.size()) continue;
+    std::array<int, 3> rotation = {-1, -1, -1};
+    for (std::size_t t = 0; t < info.task.size(); ++t)
+      for (int a = 0; a < 3; ++a)
+        if (info.task[t].name == std::string("r") + "xyz"[a]) rotation[std::size_t(a)] = int(t);
+    const bool turns = rotation[0] >= 0 && rotation[1] >= 0 && rotation[2] >= 0;
+    auto rotation_of = [&](const VectorXd& x) {
+      return (Eigen::AngleAxisd(x(rotation[2]), Eigen::Vector3d::UnitZ()) *
+              Eigen::AngleAxisd(x(rotation[1]), Eigen::Vector3d::UnitY()) *
+              Eigen::AngleAxisd(x(rotation[0]), Eigen::Vector3d::UnitX()))
+          .toRotationMatrix();
+    };
     const Eigen::MatrixXd J = m->jacobian(q, fk.x);
     const double h = 1e-6;
     for (Eigen::Index k = 0; k < q.size(); ++k) {
@@ -122,7 +138,13 @@ TEST_P(EveryDevice, RandomPosesRoundTripAndJacobianMatchesFiniteDifferences) {
       qp(k) += h;
       qm(k) -= h;
       fo.seed = fk.x;
-      const VectorXd column = (m->forward(qp, fo).x - m->forward(qm, fo).x) / (2 * h);
+      const VectorXd xp = m->forward(qp, fo).x, xm = m->forward(qm, fo).x;
+      VectorXd column = (xp - xm) / (2 * h);
+      if (turns) {
+        const Eigen::Matrix3d w = (rotation_of(xp) - rotation_of(xm)) / (2 * h) * rotation_of(fk.x).transpose();
+        const Eigen::Vector3d omega(w(2, 1), w(0, 2), w(1, 0));
+        for (int a = 0; a < 3; ++a) column(rotation[std::size_t(a)]) = omega(a);
+      }
       EXPECT_LT((J.col(k) - column).norm(), 1e-6 * J.norm()) << "column " << k;
     }
   }

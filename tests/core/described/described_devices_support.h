@@ -1,0 +1,72 @@
+// Shared pieces of the tests of the described five-bar and Stewart platform:
+// the shipped files read with a JSON reader of their own (the design values
+// and travels, independently of the preset loader), the device made through
+// the registry, task vectors by coordinate name, and error measures.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "core/mechanism.h"
+#include "core/preset.h"
+
+namespace linkscape::described_test {
+
+inline std::string asset_path(const std::string& file) {
+  return std::string(LINKSCAPE_TEST_ASSETS) + "/mechanisms/" + file;
+}
+
+inline nlohmann::json read_asset(const std::string& file) {
+  std::ifstream in(asset_path(file));
+  if (!in) throw std::runtime_error("cannot read " + asset_path(file));
+  return nlohmann::json::parse(in);
+}
+
+inline std::shared_ptr<const Mechanism> load_device(const std::string& file) {
+  return make_mechanism(load_preset(asset_path(file)));
+}
+
+inline int index_of_name(const std::vector<Quantity>& list, const std::string& name) {
+  for (std::size_t i = 0; i < list.size(); ++i)
+    if (list[i].name == name) return int(i);
+  return -1;
+}
+
+inline int measure_index(const Mechanism& m, const std::string& name) {
+  const auto& items = m.info().measures;
+  for (std::size_t i = 0; i < items.size(); ++i)
+    if (items[i].name == name) return int(i);
+  return -1;
+}
+
+// Wraps an angle difference into (-pi, pi].
+inline double angle_difference(double a, double b) { return std::remainder(a - b, 2 * std::numbers::pi); }
+
+// 2-norm condition number from an SVD.
+template <typename Matrix>
+double svd_condition(const Matrix& j) {
+  const Eigen::MatrixXd matrix = j;
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(matrix);
+  const auto s = svd.singularValues();
+  return s(0) / s(s.size() - 1);
+}
+
+// A measured number for RecordProperty, in scientific notation.
+inline std::string scientific(double value) {
+  std::ostringstream out;
+  out.precision(3);
+  out << std::scientific << value;
+  return out.str();
+}
+
+}  // namespace linkscape::described_test
