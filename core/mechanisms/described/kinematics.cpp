@@ -202,6 +202,9 @@ struct Kinematics::LegSolveResult {
   LegState state;
   double error = kInf;  // |e|, dimensionless
   int iterations = 0;
+  // At a least-squares minimum: the gradient J^T e vanishes against |J| |e|
+  // (a pose the leg cannot reach from here), rather than merely slow.
+  bool stationary = false;
 };
 
 // ---- Poses -------------------------------------------------------------------
@@ -322,8 +325,11 @@ Kinematics::LegSolveResult Kinematics::solve_leg(int leg, const Isometry3d& anch
         if (floor || crawling) it = max_iterations;
       }
     }
-    if (!accepted) break;  // stationary: a least-squares minimum
+    if (!accepted) break;  // no decrease along the step: a least-squares minimum
   }
+  for (int v = 0; v < l.variables; ++v) J.col(v) = rows_of(twist(c, v, c.end.translation(), size), model_.planar);
+  const VectorXd gradient = MatrixXd(J).transpose() * VectorXd(e);
+  out.stationary = gradient.norm() <= 1e-6 * J.norm() * norm;
   out.state = std::move(s);
   out.error = norm;
   out.iterations = std::min(it, max_iterations);
@@ -363,7 +369,7 @@ LegSolution Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int bran
       // Towards a least-squares minimum only while it gains 0.1 % per step:
       // enough for the verdict and for the miss distance near the boundary,
       // where the residual is small and Gauss-Newton converges fast.
-      LegSolveResult r = solve_leg(leg, anchor, *seed, 25, 1e-3);
+      LegSolveResult r = solve_leg(leg, anchor, *seed, 40, 1e-3);
       iterations += r.iterations;
       const double residual = r.error * model_.size;
       if (residual <= tolerance * model_.size) {
@@ -384,8 +390,9 @@ LegSolution Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int bran
         best.residual = residual;
       }
       // Two fixed seeds that both end at a least-squares minimum off the
-      // target: the leg cannot reach it (more seeds would repeat the verdict).
-      if (++stationary_misses >= 2 && !found_other_branch) break;
+      // target (not merely slow): the leg cannot reach it (more seeds would
+      // repeat the verdict).
+      if (r.stationary && ++stationary_misses >= 2 && !found_other_branch) break;
     }
   }
   best.status = found_other_branch ? Status::NotConverged : Status::Unreachable;
