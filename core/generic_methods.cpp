@@ -33,25 +33,45 @@ struct Sample {
 };
 
 // Seeded actuator values in their ranges whose FK succeeds and whose main
-// measure is finite and below 1e3 (away from singular sets).
+// measure is finite and below 1e3 (away from singular sets); where too few
+// assemble, seeded task poses (below).
 std::vector<Sample> reachable_samples(const Mechanism& m, std::size_t count, unsigned seed) {
   const MechanismInfo& info = m.info();
   std::mt19937_64 rng(seed);
   std::vector<Sample> out;
   const VectorXd home_x = m.home_task();
-  for (std::size_t tries = 0; out.size() < count && tries < 50 * count; ++tries) {
+  // Keeps (q, FK(q) from the seed) where FK succeeds away from singular sets.
+  auto keep = [&](const VectorXd& q, const VectorXd& seed_x) {
+    FkOptions fo;
+    fo.seed = seed_x;
+    const FkResult fk = m.forward(q, fo);
+    if (fk.status != Status::Ok) return;
+    const Measures meas = m.measures(q, fk.x);
+    if (meas.status != Status::Ok || meas.values.empty() || !(meas.values[0] < 1e3)) return;
+    out.push_back({q, fk.x});
+  };
+  for (std::size_t tries = 0; out.size() < count && tries < 20 * count; ++tries) {
     VectorXd q(info.actuators.size());
     for (std::size_t k = 0; k < info.actuators.size(); ++k) {
       const Range r = info.actuators[k].range;
       q(Eigen::Index(k)) = std::uniform_real_distribution<double>(r.lo, r.hi)(rng);
     }
-    FkOptions fo;
-    fo.seed = home_x;
-    const FkResult fk = m.forward(q, fo);
-    if (fk.status != Status::Ok) continue;
-    const Measures meas = m.measures(q, fk.x);
-    if (meas.status != Status::Ok || meas.values.empty() || !(meas.values[0] < 1e3)) continue;
-    out.push_back({q, fk.x});
+    keep(q, home_x);
+  }
+  // Devices whose random actuator values seldom assemble (six legs): poses
+  // drawn in the middle half of each task coordinate's span instead, their
+  // IK giving q* and FK from the drawn pose the target made from q*.
+  for (std::size_t tries = 0; out.size() < count && tries < 50 * count; ++tries) {
+    VectorXd x = home_x;
+    for (std::size_t k = 0; k < info.task.size(); ++k) {
+      const Range r = info.task[k].range;
+      const double mid = 0.5 * (r.lo + r.hi), half = 0.25 * (r.hi - r.lo);
+      x(Eigen::Index(k)) = std::uniform_real_distribution<double>(mid - half, mid + half)(rng);
+    }
+    IkOptions io;
+    io.branch = 0;
+    const IkResult ik = m.inverse(x, io);
+    if (ik.status == Status::Ok && !ik.solutions.empty()) keep(ik.solutions.front().q, x);
   }
   return out;
 }

@@ -43,6 +43,8 @@ MethodsPanel::MethodsPanel(QWidget* parent) : QWidget(parent) {
   compare_ = new QComboBox(this);
   compare_->setObjectName("compare");
   compare_->setToolTip("Measure a second preset beside this device; the chart shows both side by side");
+  compare_->setSizeAdjustPolicy(QComboBox::AdjustToMinimumContentsLengthWithIcon);
+  compare_->setMinimumContentsLength(8);  // narrow panels keep every control in view
   compare_->addItem("compare with: none", QString());
   for (const std::string& name : available_presets())
     compare_->addItem("compare with: " + QString::fromStdString(name), QString::fromStdString(name));

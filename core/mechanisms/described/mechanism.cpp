@@ -288,7 +288,8 @@ class DescribedMechanism final : public Mechanism {
           continue;
         }
         if (line.size() >= 2) sk.bodies[std::size_t(body)].polylines.push_back(line);
-        // The joint, drawn with the body before it.
+        const Eigen::Isometry3d before_frame = s == 0 ? l.base : d.frames[s - 1];
+        const Vector3d joint_point = frame.inverse() * before_frame.translation();
         Joint j;
         j.name = step.joint;
         j.type = step.kind == Step::Kind::Revolute
@@ -296,19 +297,29 @@ class DescribedMechanism final : public Mechanism {
                                                                                        : JointType::Revolute)
                  : step.kind == Step::Kind::Prismatic ? JointType::Prismatic
                                                       : JointType::Spherical;
+        // The joint, drawn with the body before it.
         j.body = body;
-        const Eigen::Isometry3d before = s == 0 ? l.base : d.frames[s - 1];
-        j.point_in_body = frame.inverse() * before.translation();
-        j.axis_in_body = frame.linear().transpose() * before.linear() * step.axis;
+        j.point_in_body = joint_point;
+        j.axis_in_body = frame.linear().transpose() * before_frame.linear() * step.axis;
         j.actuated = step.actuator >= 0;
         if (j.actuated) j.label = step.name;
         sk.joints.push_back(j);
         // A new link after the joint.
         sk.bodies.push_back({l.name + ":" + step.joint, {}, {}, false});
+        const int previous = body;
         body = int(sk.bodies.size()) - 1;
         link_bodies_.push_back({int(leg), int(s), body});
         frame = d.frames[s];
         line = {Vector3d::Zero()};
+        if (step.kind == Step::Kind::Prismatic) {
+          // A slide drawn telescopic: a sleeve on the body before it, a rod on
+          // the body after, each as long as the shortest travel, so the leg
+          // shows whole at any extension.
+          const Actuator* act = step.actuator >= 0 ? &m.actuators[std::size_t(step.actuator)] : nullptr;
+          const double length = act && act->range.lo > 0 ? act->range.lo : 0.5 * m.size;
+          sk.bodies[std::size_t(previous)].polylines.push_back({joint_point, joint_point + length * j.axis_in_body});
+          sk.bodies[std::size_t(body)].polylines.push_back({Vector3d::Zero(), -length * step.axis});
+        }
       }
       if (line.size() >= 2) sk.bodies[std::size_t(body)].polylines.push_back(line);
     }
@@ -351,6 +362,7 @@ class DescribedMechanism final : public Mechanism {
 
   Eigen::AlignedBox3d default_box() const override {
     const Model& m = kin_.model();
+    if (m.box) return *m.box;
     const Vector3d c(m.home(0), m.home(1), m.planar ? 0.0 : m.home(2));
     const Vector3d half(m.size, m.size, m.planar ? 0.1 * m.size : m.size);
     return {c - half, c + half};
@@ -366,6 +378,7 @@ class DescribedMechanism final : public Mechanism {
     if (branch < 0 || branch >= kin_.branches())
       throw std::invalid_argument("described: branch must be 0.." + std::to_string(kin_.branches() - 1));
     const bool second = info_.measures.size() > 1;
+    if (kin_.model().planar && grid.dims[2] > 1) return extruded_field(grid, fixed_task, o, threads, progress);
     detail::check_grid(grid, Field::bytes_per_sample() + (second ? sizeof(float) : 0), kFieldMemoryLimitBytes);
     const VectorXd base = to_model(fixed_task.size() == Eigen::Index(info_.task.size()) ? fixed_task : home_task(), "fixed task");
     Field f;
@@ -393,6 +406,33 @@ class DescribedMechanism final : public Mechanism {
   }
 
  private:
+  // A planar device ignores z: one layer sampled, copied to every z layer.
+  std::optional<Field> extruded_field(const Grid& grid, const VectorXd& fixed_task, const IkOptions& o, int threads,
+                                      const FieldProgress& progress) const {
+    detail::check_grid(grid, Field::bytes_per_sample() + (info_.measures.size() > 1 ? sizeof(float) : 0),
+                       kFieldMemoryLimitBytes);
+    Grid layer = grid;
+    layer.dims[2] = 1;
+    std::optional<Field> f = compute_field(layer, fixed_task, o, threads, progress);
+    if (!f) return f;
+    const std::size_t n = layer.size(), layers = std::size_t(grid.dims[2]);
+    auto extrude = [&](auto& a) {
+      if (a.empty()) return;
+      a.resize(n * layers);
+      for (std::size_t k = 1; k < layers; ++k) std::copy(a.begin(), a.begin() + std::ptrdiff_t(n), a.begin() + std::ptrdiff_t(k * n));
+    };
+    extrude(f->cond);
+    extrude(f->reach_margin);
+    extrude(f->residual);
+    extrude(f->reachable);
+    extrude(f->status);
+    extrude(f->iterations);
+    extrude(f->method_used);
+    extrude(f->cond_orientation);
+    f->grid = grid;
+    return f;
+  }
+
   struct LinkBody {
     int leg, step, body;
   };

@@ -202,7 +202,7 @@ Model build_model(const std::string& description_json, const std::map<std::strin
   }
   const std::string top = "description";
   check_keys(doc,
-             {"space", "task", "fixed", "extras", "home", "platforms", "legs", "parameter_info", "size"}, top);
+             {"space", "task", "fixed", "extras", "home", "platforms", "legs", "parameter_info", "size", "box"}, top);
   for (const auto& [name, v] : parameters)
     if (!valid_name(name) || name.find('.') != std::string::npos)
       fail("parameters." + name, "a parameter name must be an identifier ([A-Za-z_][A-Za-z0-9_]*)");
@@ -514,6 +514,15 @@ Model build_model(const std::string& description_json, const std::map<std::strin
       if (s.kind == Step::Kind::Fixed) m.size += s.transform.translation().norm();
   }
   if (!(m.size > 0)) fail(top + ".size", "the device's size must be positive (give \"size\" explicitly)");
+
+  if (doc.contains("box")) {
+    const json& box = doc.at("box");
+    check_keys(box, {"min", "max"}, top + ".box");
+    const Vector3d lo = eval.vector(require(box, "min", top + ".box"), top + ".box.min");
+    const Vector3d hi = eval.vector(require(box, "max", top + ".box"), top + ".box.max");
+    if (!(lo.array() < hi.array()).all()) fail(top + ".box", "needs min < max in x, y and z");
+    m.box = Eigen::AlignedBox3d(lo, hi);
+  }
 
   // Parameter spans.
   if (doc.contains("parameter_info")) {

@@ -10,6 +10,7 @@
 #include <array>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -96,6 +97,7 @@ struct Model {
     bool in_panel = true;
   };
   std::map<std::string, ParameterInfo> parameter_info;
+  std::optional<Eigen::AlignedBox3d> box;  // the sampling box, where the description gives one
   // The platform bodies' frames (platform frame <- body) for the extras' values.
   std::shared_ptr<const ExpressionSet> frames;
   std::vector<Eigen::Isometry3d> platform_frames(const Eigen::VectorXd& extras) const;
