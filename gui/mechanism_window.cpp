@@ -641,6 +641,8 @@ QWidget* MechanismWindow::buildFieldPanel() {
   normal_box_ = new QComboBox(w);
   normal_box_->setObjectName("normalBox");
   normal_box_->addItems({"x", "y", "z"});
+  // The device's own first plane (a planar device's is its plane of motion).
+  normal_box_->setCurrentIndex(int(mechanism_->default_slice_plane(mechanism_->home_task()).first));
   normal_box_->setToolTip(tr("The axis the slice plane is normal to"));
   form->addRow(tr("Slice normal"), normal_box_);
   position_slider_ = new QSlider(Qt::Horizontal, w);
