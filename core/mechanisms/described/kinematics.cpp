@@ -381,6 +381,8 @@ LegSolution Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int bran
           tls.legs[std::size_t(leg)][std::size_t(combo)] = best.state;
           return best;
         }
+        // Keep it only as a state to report (never empty), not as the answer.
+        if (!found_other_branch && best.residual == kInf) best.state = r.state;
         found_other_branch = true;
         continue;
       }
@@ -395,6 +397,8 @@ LegSolution Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int bran
       if (r.stationary && ++stationary_misses >= 2 && !found_other_branch) break;
     }
   }
+  if (found_other_branch) best.residual = 0.0;  // the leg reaches the anchor, on another branch
+  if (best.state.values.size() == 0) best.state = spread_seeds_[std::size_t(leg)].front();
   best.status = found_other_branch ? Status::NotConverged : Status::Unreachable;
   best.iterations = iterations;
   return best;
