@@ -361,6 +361,16 @@ LegSolution Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int bran
 
   LegSolution best;
   best.residual = kInf;
+  // Beyond the leg's longest reach (its links end to end) no seed can help:
+  // the miss is at least the distance beyond it, exactly that for a leg
+  // that can point its stretched chain at the anchor.
+  const double beyond = (anchor.translation() - l.base.translation()).norm() - leg_reach_[std::size_t(leg)];
+  if (beyond > 1e-9 * model_.size) {
+    best.state = spread_seeds_[std::size_t(leg)].front();
+    best.residual = beyond;
+    best.status = Status::Unreachable;
+    return best;
+  }
   bool found_other_branch = false;
   int stationary_misses = 0;
   int iterations = 0;
@@ -747,6 +757,16 @@ Kinematics::LegDrawing Kinematics::draw_leg(int leg, const LegState& state) cons
 // ---- Construction: home on every branch, mobility ---------------------------------------------
 
 Kinematics::Kinematics(Model model) : model_(std::move(model)), id_(next_id++) {
+  // Each leg's longest reach: its fixed translations end to end; unbounded
+  // with a slide (IK solves without the travel, which makes out-of-limits).
+  for (const Leg& l : model_.legs) {
+    double reach = 0;
+    for (const Step& step : l.steps) {
+      if (step.kind == Kind::Fixed) reach += step.transform.translation().norm();
+      if (step.kind == Kind::Prismatic) reach = kInf;
+    }
+    leg_reach_.push_back(reach);
+  }
   // Spread seeds: the chain as written, then joint values spread over a turn.
   for (const Leg& l : model_.legs) {
     std::vector<LegState> seeds;

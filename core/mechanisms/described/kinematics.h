@@ -131,6 +131,7 @@ class Kinematics {
   // Per leg, per combination of its free rules' signs: the leg at home.
   std::vector<std::vector<std::optional<LegState>>> home_states_;
   std::vector<std::vector<LegState>> spread_seeds_;
+  std::vector<double> leg_reach_;  // per leg: the longest distance from its base anchor to its end
 };
 
 }  // namespace linkscape::described
