@@ -730,21 +730,32 @@ double Kinematics::limits_margin(const VectorXd& q) const {
   return margin;
 }
 
+std::vector<LegState> states_of(const PoseSolution& s) {
+  std::vector<LegState> out;
+  for (const LegSolution& l : s.legs) out.push_back(l.state);
+  return out;
+}
+
+bool assembled(const PoseSolution& s) {
+  for (const LegSolution& l : s.legs)
+    if (l.status != Status::Ok && l.status != Status::OutOfLimits) return false;
+  return true;
+}
+
+double Kinematics::reach_margin(const PoseSolution& s, const JacobianParts* parts) const {
+  double margin = kInf;
+  for (const LegSolution& l : s.legs)
+    if (l.status != Status::Ok && l.status != Status::OutOfLimits) margin = std::min(margin, -l.residual);
+  if (!parts) return margin;
+  for (double m : parts->serial_margin) margin = std::min(margin, m);
+  return std::min(margin, limits_margin(s.q));
+}
+
 double Kinematics::reach_margin(const VectorXd& x, int branch) const {
   const PoseSolution s = inverse(x, branch, 1e-10);
-  double geometric = kInf;
-  bool all_ok = true;
-  for (const LegSolution& l : s.legs) {
-    if (l.status == Status::Ok || l.status == Status::OutOfLimits) continue;
-    all_ok = false;
-    geometric = std::min(geometric, -l.residual);
-  }
-  if (!all_ok) return geometric;
-  std::vector<LegState> states;
-  for (const LegSolution& l : s.legs) states.push_back(l.state);
-  const JacobianParts parts = jacobian(x, states);
-  for (double m : parts.serial_margin) geometric = std::min(geometric, m);
-  return std::min(geometric, limits_margin(s.q));
+  if (!assembled(s)) return reach_margin(s, nullptr);
+  const JacobianParts parts = jacobian(x, states_of(s));
+  return reach_margin(s, &parts);
 }
 
 // ---- Drawing ---------------------------------------------------------------------------

@@ -54,6 +54,11 @@ struct PoseSolution {
   Eigen::VectorXd q;      // actuators (revolute angles wrapped to (-pi, pi])
 };
 
+// The legs' states of a solved pose, in leg order.
+std::vector<LegState> states_of(const PoseSolution& s);
+// Every leg closes (ok, or ok but outside its actuator's travel).
+bool assembled(const PoseSolution& s);
+
 struct JacobianParts {
   Eigen::MatrixXd Jx, Jq, J;  // J = -Jx^-1 Jq (driven task rows x actuators), physical units
   std::vector<double> serial_margin;  // per leg: size * |Jq_ii| for the unit wrench (length)
@@ -103,6 +108,8 @@ class Kinematics {
 
   // Reach margin on a branch (length unit), see the format page.
   double reach_margin(const Eigen::VectorXd& x, int branch) const;
+  // The same of a solved pose: `parts` (its Jacobian) where it assembles, else null.
+  double reach_margin(const PoseSolution& s, const JacobianParts* parts) const;
   double limits_margin(const Eigen::VectorXd& q) const;
 
   // Joint centres (per step, base frame) and the chain's end, for drawing.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -443,22 +444,16 @@ class DescribedMechanism final : public Mechanism {
     s.cond = s.cond_orientation = inf;
     const PoseSolution ik = kin_.inverse(xm, branch, tolerance);
     s.iterations = std::uint16_t(std::min(ik.iterations, 65535));
-    double margin = kInf;
-    bool assembled = true;
-    for (const LegSolution& l : ik.legs)
-      if (l.status != Status::Ok && l.status != Status::OutOfLimits) {
-        assembled = false;
-        margin = std::min(margin, -l.residual);
-      }
+    const bool closes = assembled(ik);
     Status status = ik.status;
-    s.residual = assembled ? float(ik.residual) : inf;
-    if (assembled) {
-      const JacobianParts parts = kin_.jacobian(xm, states_of(ik));
-      for (double m : parts.serial_margin) margin = std::min(margin, m);
-      margin = std::min(margin, kin_.limits_margin(ik.q));
-      if (status == Status::Ok && parts.status != Status::Ok) status = Status::Singular;
+    s.residual = closes ? float(ik.residual) : inf;
+    std::optional<JacobianParts> parts;
+    if (closes) parts = kin_.jacobian(xm, states_of(ik));
+    const double margin = kin_.reach_margin(ik, parts ? &*parts : nullptr);
+    if (parts) {
+      if (status == Status::Ok && parts->status != Status::Ok) status = Status::Singular;
       if (status == Status::Ok) {
-        const std::vector<double> v = measure_values(parts);
+        const std::vector<double> v = measure_values(*parts);
         s.cond = float(v[0]);
         if (v.size() > 1) s.cond_orientation = float(v[1]);
         s.method_used = 0;
@@ -513,12 +508,6 @@ class DescribedMechanism final : public Mechanism {
       g2 += g * g;
     }
     return g2 > 0 ? f0 / std::sqrt(g2) : kInf;
-  }
-
-  static std::vector<LegState> states_of(const PoseSolution& s) {
-    std::vector<LegState> out;
-    for (const LegSolution& l : s.legs) out.push_back(l.state);
-    return out;
   }
 
   void check_method(const std::string& method, const char* what) const {

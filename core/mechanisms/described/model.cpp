@@ -2,7 +2,9 @@
 
 #include <muParser.h>
 
+#include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <regex>
@@ -167,22 +169,33 @@ class ExpressionSet {
   ExpressionSet(std::map<std::string, double> parameters, std::vector<Extra> extras, std::vector<json> frames)
       : parameters_(std::move(parameters)), extras_(std::move(extras)), frames_(std::move(frames)) {}
 
-  std::vector<Isometry3d> evaluate(const Eigen::VectorXd& extra_values) const {
+  // Every pose asks, and the extras seldom change (fields hold them fixed):
+  // the thread's last frames are reused for the same set and extras.
+  const std::vector<Isometry3d>& evaluate(const Eigen::VectorXd& extra_values) const {
+    thread_local struct {
+      std::uint64_t id = 0;
+      Eigen::VectorXd extras;
+      std::vector<Isometry3d> frames;
+    } last;
+    if (last.id == id_ && last.extras.size() == extra_values.size() && last.extras == extra_values) return last.frames;
     Evaluator eval(parameters_, &extras_);
     for (std::size_t e = 0; e < extras_.size(); ++e) eval.set_extra(extras_[e].name, extra_values(Eigen::Index(e)));
     std::vector<Isometry3d> out;
     for (std::size_t b = 0; b < frames_.size(); ++b)
       out.push_back(transform_steps(frames_[b], eval, "description.platforms[" + std::to_string(b) + "].frame"));
-    return out;
+    last = {id_, extra_values, std::move(out)};
+    return last.frames;
   }
 
  private:
+  static inline std::atomic<std::uint64_t> next_id_{1};
+  const std::uint64_t id_ = next_id_++;
   std::map<std::string, double> parameters_;
   std::vector<Extra> extras_;
   std::vector<json> frames_;
 };
 
-std::vector<Isometry3d> Model::platform_frames(const Eigen::VectorXd& extra_values) const {
+const std::vector<Isometry3d>& Model::platform_frames(const Eigen::VectorXd& extra_values) const {
   return frames->evaluate(extra_values);
 }
 
@@ -478,13 +491,11 @@ Model build_model(const std::string& description_json, const std::map<std::strin
             for (int i = 0; i < 3; ++i) rule.steps[std::size_t(i)] = step_of(t[std::size_t(i)], i == 2);
             if (leg.steps[std::size_t(rule.steps[0])].kind != Step::Kind::Revolute)
               fail(at + ".triple", "joint A must be revolute (its axis orients the turn)");
-            rule.text = "triple(" + t.dump() + ")";
           } else if (rules[r].contains("angle")) {
             rule.kind = BranchRule::Kind::Angle;
             rule.steps[0] = step_of(rules[r].at("angle"), false);
             if (leg.steps[std::size_t(rule.steps[0])].kind != Step::Kind::Revolute)
               fail(at + ".angle", "must name a revolute joint");
-            rule.text = "angle(" + rules[r].at("angle").dump() + ")";
           } else {
             fail(at, "needs \"triple\" or \"angle\"");
           }

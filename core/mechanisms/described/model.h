@@ -39,7 +39,6 @@ struct BranchRule {
   std::array<int, 3> steps{-1, -1, -1};  // step indices (Triple: A, B, C; C = -2: the anchor), Angle: A
   int fixed_sign = 0;                    // +1/-1 fixed by the design, 0: a free assembly branch
   int free_index = -1;                   // bit in the device's branch number (free rules)
-  std::string text;                      // for messages: "triple(q1, elbow1, anchor)"
 };
 
 struct Leg {
@@ -98,9 +97,10 @@ struct Model {
   };
   std::map<std::string, ParameterInfo> parameter_info;
   std::optional<Eigen::AlignedBox3d> box;  // the sampling box, where the description gives one
-  // The platform bodies' frames (platform frame <- body) for the extras' values.
+  // The platform bodies' frames (platform frame <- body) for the extras' values;
+  // valid until the thread asks again.
   std::shared_ptr<const ExpressionSet> frames;
-  std::vector<Eigen::Isometry3d> platform_frames(const Eigen::VectorXd& extras) const;
+  const std::vector<Eigen::Isometry3d>& platform_frames(const Eigen::VectorXd& extras) const;
 
   int driven() const;  // task coordinates that are not extras
 };
