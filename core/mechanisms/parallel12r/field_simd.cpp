@@ -23,7 +23,8 @@
 #define HWY_TARGET_INCLUDE "core/mechanisms/parallel12r/field_simd.cpp"
 #include <hwy/foreach_target.h>  // must come before highway.h
 #include <hwy/highway.h>
-#include <hwy/contrib/math/math-inl.h>
+
+#include "core/simd_field-inl.h"  // per target, like this file
 
 #include <algorithm>
 #include <cmath>
@@ -36,89 +37,13 @@ HWY_BEFORE_NAMESPACE();
 namespace linkscape::parallel12r::planar::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-using D = hn::ScalableTag<double>;
-using V = hn::Vec<D>;
-using M = hn::Mask<D>;
-
-// atan2 from Atan and the quadrant: a few ulps (absolute), enough for range
-// margins, which keep a band around zero for the scalar path.
-HWY_INLINE V Atan2(D d, V y, V x) {
-  const V zero = hn::Zero(d);
-  const V at = hn::Atan(d, y / x);
-  const V turned = at + hn::CopySign(hn::Set(d, std::numbers::pi), y);
-  const V on_axis = hn::CopySign(hn::Set(d, std::numbers::pi / 2), y);
-  return hn::IfThenElse(x == zero, on_axis, hn::IfThenElse(x < zero, turned, at));
-}
+using namespace linkscape::simd::HWY_NAMESPACE;  // D, V, M, Block and the shared helpers
 
 // min over the three angles of the distances to their range ends (rad).
 HWY_INLINE V AngleMargin(D d, const Model& m, V alpha, V beta, V gamma) {
   const auto to_range = [&](V q, const Interval& r) { return hn::Min(q - hn::Set(d, r.lo), hn::Set(d, r.hi) - q); };
   return hn::Min(to_range(alpha, m.alpha_limits), hn::Min(to_range(beta, m.beta_limits), to_range(gamma, m.gamma_limits)));
 }
-
-// largest_eigenvalue (core/conditioning.cpp) of the symmetric matrix with
-// diagonal a00, a11, a22 and off-diagonal a01, a02, a12.
-HWY_INLINE V LargestEigenvalue(D d, V a00, V a11, V a22, V a01, V a02, V a12) {
-  const V q = (a00 + a11 + a22) * hn::Set(d, 1.0 / 3.0);
-  const V off = a01 * a01 + a02 * a02 + a12 * a12;
-  const V d0 = a00 - q, d1 = a11 - q, d2 = a22 - q;
-  const V p = hn::Sqrt((d0 * d0 + d1 * d1 + d2 * d2 + hn::Set(d, 2.0) * off) * hn::Set(d, 1.0 / 6.0));
-  // B = (A - q I) / p and its determinant, as Eigen evaluates a 3x3 one.
-  const V inv_p = hn::Set(d, 1.0) / p;
-  const V b00 = d0 * inv_p, b11 = d1 * inv_p, b22 = d2 * inv_p, b01 = a01 * inv_p, b02 = a02 * inv_p, b12 = a12 * inv_p;
-  const V det = b00 * (b11 * b22 - b12 * b12) - b01 * (b01 * b22 - b12 * b02) + b02 * (b01 * b12 - b11 * b02);
-  const V r = hn::Min(hn::Max(det * hn::Set(d, 0.5), hn::Set(d, -1.0)), hn::Set(d, 1.0));
-  const V angle = hn::Acos(d, r) * hn::Set(d, 1.0 / 3.0);
-  const V largest = q + hn::Set(d, 2.0) * p * hn::Cos(d, angle);
-  return hn::IfThenElse(p == hn::Zero(d), q, largest);
-}
-
-// condition_number_fast (core/conditioning.cpp) of J = [c0 c1 c2] given by
-// columns, without the unit scale; +inf where det J is zero or not finite.
-HWY_INLINE V ConditionNumber(D d, const V* c0, const V* c1, const V* c2) {
-  const auto cross = [](const V* a, const V* b, V* k) {
-    k[0] = a[1] * b[2] - a[2] * b[1];
-    k[1] = a[2] * b[0] - a[0] * b[2];
-    k[2] = a[0] * b[1] - a[1] * b[0];
-  };
-  const auto dot = [](const V* a, const V* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
-  V k0[3], k1[3], k2[3];
-  cross(c1, c2, k0);
-  cross(c2, c0, k1);
-  cross(c0, c1, k2);
-  const V det = dot(c0, k0);
-  const V l1 = LargestEigenvalue(d, dot(c0, c0), dot(c1, c1), dot(c2, c2), dot(c0, c1), dot(c0, c2), dot(c1, c2));
-  // 1/l1 and 1/det^2 from one division.
-  const V det2 = det * det, inv = hn::Set(d, 1.0) / (l1 * det2), inv_l1 = det2 * inv, inv_det2 = l1 * inv;
-  const V product = det2 * inv_l1;                                         // lambda_2 lambda_3
-  const V sum = (dot(k0, k0) + dot(k1, k1) + dot(k2, k2) - product) * inv_l1;  // lambda_2 + lambda_3
-  const V l2 = hn::Set(d, 0.5) * (sum + hn::Sqrt(hn::Max(hn::Zero(d), sum * sum - hn::Set(d, 4.0) * product)));
-  const V cond = hn::Sqrt(l1 * l2 * l1 * inv_det2);  // l1 l2 / product
-  const M degenerate = hn::Or(det == hn::Zero(d), hn::Not(hn::IsFinite(det)));
-  return hn::IfThenElse(degenerate, hn::Inf(d), cond);
-}
-
-// The status codes of a vector of samples, as doubles (exact small integers).
-HWY_INLINE V StatusCode(D d, Status s) { return hn::Set(d, double(s)); }
-HWY_INLINE V Flag(D d, M m) { return hn::IfThenElseZero(m, hn::Set(d, 1.0)); }
-HWY_INLINE M IsSet(D d, V flag) { return flag != hn::Zero(d); }
-// Small whole numbers (0..255) held as doubles, as bytes.
-HWY_INLINE hn::Vec<hn::Rebind<std::uint8_t, D>> ToBytes(D /*d*/, V v) {
-  return hn::DemoteTo(hn::Rebind<std::uint8_t, D>(), hn::DemoteTo(hn::Rebind<std::int32_t, D>(), v));
-}
-
-// A row is computed in blocks of samples, each in passes: the geometry up to
-// J, then c(J), then the stores into the Field. Each pass is short enough for
-// the CPU to overlap the square roots and divisions of consecutive vectors,
-// and a block's Jacobians and state (about 32 KiB) stay in the L1 cache
-// between passes.
-constexpr int kBlock = 256;
-
-struct alignas(64) Block {  // structure of arrays, one entry per sample
-  double J[9][kBlock];      // column by column
-  double cond[kBlock], status[kBlock], reach_margin[kBlock], residual[kBlock];
-  double wants_cond[kBlock], to_scalar[kBlock];  // flags: 1 or 0
-};
 
 // The row's samples in the model's units (coordinate `axis` as Grid::point
 // computes it), their status without c(J), margins, residual and J.
@@ -216,15 +141,7 @@ void Conditioning(int count, Block& b) {
       c1[e] = hn::Load(d, b.J[3 + e] + t);
       c2[e] = hn::Load(d, b.J[6 + e] + t);
     }
-    // J's largest entry, and whether all are finite (a NaN or inf makes the sum so).
-    V largest = hn::Abs(c0[0]), sum = c0[0];
-    for (const V* column : {c0, c1, c2})
-      for (int e = 0; e < 3; ++e) {
-        largest = hn::Max(largest, hn::Abs(column[e]));
-        sum = sum + column[e];
-      }
-    const M unit_range =
-        hn::And(hn::IsFinite(sum), hn::And(largest >= hn::Set(d, 0x1p-100), largest <= hn::Set(d, 0x1p100)));
+    const M unit_range = UnitRange(d, c0, c1, c2);
     const V c = ConditionNumber(d, c0, c1, c2);
     const M ok = hn::And(wants_cond, c <= trusted);
     const V status = hn::IfThenElse(
@@ -237,69 +154,16 @@ void Conditioning(int count, Block& b) {
   }
 }
 
-// Where a sample goes: at its own index, and with `mirror` also at its
-// mirror image in the row (n - 1 - i), written from the same registers.
-struct RowStore {
-  const detail::FieldRowOut& out;
-  bool mirror;
-  int n;  // samples in the row
-
-  void put(int i, const FieldSample& s) const {
-    out.store(i, s);
-    if (mirror) out.store(n - 1 - i, s);
-  }
-};
-
 void SampleRow(const UnitModel& u, int branch, bool check_limits, const Grid& g, const detail::GridRow& row,
                int first, int count, bool mirror, const detail::FieldRowOut& out) {
-  const D d;
-  const int lanes = int(hn::Lanes(d));
-  const hn::Rebind<float, D> df;
-  const hn::Rebind<std::uint8_t, D> du8;
-  const hn::Rebind<std::uint16_t, D> du16;
-  // The portable targets' DemoteTo saturates infinities to the largest float.
-  constexpr bool kDemoteKeepsInfinity = HWY_TARGET != HWY_SCALAR && HWY_TARGET != HWY_EMU128;
-  const RowStore to{out, mirror, row.count};
-  const int last = row.count - 1;
+  const MethodRule rule{double(IkMethod::Planar), true};
   Block b;
   for (int block = 0; block < count; block += kBlock) {
-    const int n = std::min(kBlock, count - block), full = kDemoteKeepsInfinity ? n / lanes * lanes : 0;
+    const int n = std::min(kBlock, count - block);
     Geometry(u, branch, check_limits, g, row, first + block, n, b);
     Conditioning(n, b);
-    const int i0 = first + block;
-    const auto store_floats = [&](const double* from, float* into) {
-      for (int t = 0; t < full; t += lanes) {
-        const auto v = hn::DemoteTo(df, hn::Load(d, from + t));
-        hn::StoreU(v, df, into + i0 + t);
-        if (mirror) hn::StoreU(hn::Reverse(df, v), df, into + last - (i0 + t + lanes - 1));
-      }
-    };
-    store_floats(b.cond, out.cond);
-    store_floats(b.reach_margin, out.reach_margin);
-    store_floats(b.residual, out.residual);
-    // The byte arrays follow from the status: reachable where Ok, the planar
-    // method where Ok or OutOfLimits, no iterations.
-    const auto store_bytes = [&](V status, int i) {
-      const V ok = hn::IfThenElseZero(status == StatusCode(d, Status::Ok), hn::Set(d, 1.0));
-      const M solved = hn::Or(status == StatusCode(d, Status::Ok), status == StatusCode(d, Status::OutOfLimits));
-      const V method = hn::IfThenElse(solved, hn::Set(d, double(IkMethod::Planar)), hn::Set(d, double(Field::kNoMethod)));
-      hn::StoreU(ToBytes(d, status), du8, out.status + i);
-      hn::StoreU(ToBytes(d, ok), du8, out.reachable + i);
-      hn::StoreU(ToBytes(d, method), du8, out.method_used + i);
-      hn::StoreU(hn::Zero(du16), du16, out.iterations + i);
-    };
-    for (int t = 0; t < full; t += lanes) {
-      const V status = hn::Load(d, b.status + t);
-      store_bytes(status, i0 + t);
-      if (mirror) store_bytes(hn::Reverse(d, status), last - (i0 + t + lanes - 1));
-    }
-    for (int t = full; t < n; ++t)  // the last partial vector, one sample at a time
-      to.put(i0 + t, to_field_sample({b.cond[t], b.reach_margin[t], b.residual[t], Status(int(b.status[t]))}));
-    for (int t = 0; t < n; t += lanes) {
-      if (hn::AllFalse(d, IsSet(d, hn::Load(d, b.to_scalar + t)))) continue;
-      for (int l = t; l < std::min(n, t + lanes); ++l)
-        if (b.to_scalar[l] != 0.0) to.put(i0 + l, to_field_sample(sample(u, row.point(g, i0 + l), branch, check_limits)));
-    }
+    StoreBlock(b, first + block, n, row.count, mirror, rule, out,
+               [&](int i) { return to_field_sample(sample(u, row.point(g, i), branch, check_limits)); });
   }
 }
 
