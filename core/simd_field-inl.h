@@ -15,8 +15,10 @@
 #include <hwy/contrib/math/math-inl.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <numbers>
+#include <optional>
 
 #include "core/field.h"
 #include "core/field_sampling.h"
@@ -30,14 +32,22 @@ using D = hn::ScalableTag<double>;
 using V = hn::Vec<D>;
 using M = hn::Mask<D>;
 
-// atan2 from Atan and the quadrant: a few ulps (absolute), enough for range
-// margins, which keep a band around zero for the scalar path.
+// atan2 to a few ulps (absolute), enough for range margins, which keep a
+// band around zero for the scalar path: Highway's arctangent polynomial on
+// [0, 1] at min(|y|, |x|) / max(|y|, |x|) (one division, where hn::Atan(y /
+// x) takes two), then the octant.
 HWY_INLINE V Atan2(D d, V y, V x) {
+  const V ax = hn::Abs(x), ay = hn::Abs(y);
+  const M steep = ay > ax;
+  const V ratio = hn::IfThenElse(steep, ax, ay) / hn::IfThenElse(steep, ay, ax);
   const V zero = hn::Zero(d);
-  const V at = hn::Atan(d, y / x);
-  const V turned = at + hn::CopySign(hn::Set(d, std::numbers::pi), y);
-  const V on_axis = hn::CopySign(hn::Set(d, std::numbers::pi / 2), y);
-  return hn::IfThenElse(x == zero, on_axis, hn::IfThenElse(x < zero, turned, at));
+  // At the origin 0/0 is taken as 0: std::atan2(+-0, +0) = +-0, (+-0, -0) = +-pi.
+  const V t = hn::IfThenElse(ax == ay, hn::IfThenElse(ax == zero, zero, hn::Set(d, 1.0)), ratio);
+  V a = hn::impl::AtanImpl<double>().AtanPoly(d, t);
+  a = hn::IfThenElse(steep, hn::Set(d, std::numbers::pi / 2) - a, a);
+  const M x_negative = hn::CopySign(hn::Set(d, 1.0), x) < zero;  // -0 included
+  a = hn::IfThenElse(x_negative, hn::Set(d, std::numbers::pi) - a, a);
+  return hn::CopySign(a, y);
 }
 
 // largest_eigenvalue (core/conditioning.cpp) of the symmetric matrix with
@@ -118,6 +128,43 @@ struct alignas(64) Block {  // structure of arrays, one entry per sample
   double cond[kBlock], status[kBlock], reach_margin[kBlock], residual[kBlock];
   double wants_cond[kBlock], to_scalar[kBlock];  // flags: 1 or 0
 };
+
+// c(J) of the block's samples flagged wants_cond (+inf elsewhere). With
+// `trusted`, those samples become Ok up to it and Singular beyond, with
+// c(J) = +inf, and samples within 1e-6 relative of it go to the scalar
+// kernel; without, their status stays. Samples whose J is outside UnitRange
+// go to the scalar kernel too.
+HWY_INLINE void BlockConditioning(int count, Block& b, std::optional<double> trusted_condition) {
+  const D d;
+  const V inf = hn::Inf(d), trusted = hn::Set(d, trusted_condition.value_or(HUGE_VAL));
+  for (int t = 0; t < count; t += int(hn::Lanes(d))) {
+    const M wants_cond = IsSet(d, hn::Load(d, b.wants_cond + t));
+    if (hn::AllFalse(d, wants_cond)) {
+      hn::Store(inf, d, b.cond + t);
+      continue;
+    }
+    V c0[3], c1[3], c2[3];
+    for (int e = 0; e < 3; ++e) {
+      c0[e] = hn::Load(d, b.J[e] + t);
+      c1[e] = hn::Load(d, b.J[3 + e] + t);
+      c2[e] = hn::Load(d, b.J[6 + e] + t);
+    }
+    const V c = ConditionNumber(d, c0, c1, c2);
+    M to_scalar = hn::And(wants_cond, hn::Not(UnitRange(d, c0, c1, c2)));
+    if (trusted_condition) {
+      const M ok = hn::And(wants_cond, c <= trusted);
+      const V status = hn::IfThenElse(wants_cond, hn::IfThenElse(ok, StatusCode(d, Status::Ok), StatusCode(d, Status::Singular)),
+                                      hn::Load(d, b.status + t));
+      const M near_trust = hn::Abs(c - trusted) <= hn::Set(d, 1e-6 * *trusted_condition);
+      to_scalar = hn::Or(to_scalar, hn::And(wants_cond, near_trust));
+      hn::Store(hn::IfThenElse(ok, c, inf), d, b.cond + t);
+      hn::Store(status, d, b.status + t);
+    } else {
+      hn::Store(hn::IfThenElse(wants_cond, c, inf), d, b.cond + t);
+    }
+    hn::Store(hn::Or(hn::Load(d, b.to_scalar + t), Flag(d, to_scalar)), d, b.to_scalar + t);
+  }
+}
 
 // How a kernel's statuses map to the Field's method_used: `method` where the
 // IK solved the pose (Ok, and OutOfLimits where `solved_out_of_limits`),

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "core/field_sampling.h"
+#include "core/simd.h"
 
 namespace linkscape::delta {
 
@@ -40,14 +41,14 @@ std::optional<Field> compute_field(const Model& m, const FieldRequest& req, cons
   const Grid& g = req.grid;
   const bool fast = kernel != FieldKernel::Scalar && req.method == IkMethod::Closed;
   const FieldLegs legs = field_legs(m);
+  if (fast) simd::apply_environment();
   const bool complete =
       detail::fill_field_rows(f, false, req.threads, progress, [&](const detail::GridRow& row, const detail::FieldRowOut& out) {
-        for (int t = 0; t < row.count; ++t) {
-          const Eigen::Vector3d p = row.point(g, t);
-          std::optional<FieldSample> s;
-          if (fast) s = sample_closed(m, legs, p, req.ik.branch, req.ik.tolerance);
-          out.store(t, s ? *s : sample_point(m, p, req));
+        if (fast) {
+          sample_row_vector(m, legs, req, g, row, out);
+          return;
         }
+        for (int t = 0; t < row.count; ++t) out.store(t, sample_point(m, row.point(g, t), req));
       });
   if (!complete) return std::nullopt;
   return f;

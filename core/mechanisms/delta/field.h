@@ -2,15 +2,15 @@
 // every sample of a grid (core/field.h), through the shared parallel loop
 // (core/field_sampling.h).
 //
-// The reference sample calls inverse, reach_margin and jacobian per point,
-// which between them take the sine and cosine of every leg angle and actuator
-// angle many times over and solve each leg twice. The fast kernel
+// The reference sample (FieldKernel::Scalar, and the Newton IK) calls
+// inverse, reach_margin and jacobian per point. The fast kernel
 // (FieldKernel::Vector and VectorMirrored, the default; the closed IK only)
-// computes each quantity once with the same operations, so every array is
-// bit for bit the reference's (tests/core/mechanisms/delta/test_field.cpp).
-// It has no mirror: reflecting y maps leg 1 onto leg 2, but cos and sin of
-// 120 and 240 degrees are not exact mirrors in double, so the field is
-// symmetric only to rounding.
+// takes rows of samples in SIMD vectors with run-time dispatch
+// (field_simd.cpp); it agrees with the reference as
+// tests/core/mechanisms/delta/test_field_simd.cpp states. It has no mirror:
+// reflecting y maps leg 1 onto leg 2, but cos and sin of 120 and 240 degrees
+// are not exact mirrors in double, so the field is symmetric only to
+// rounding.
 #pragma once
 
 #include <Eigen/Core>
@@ -18,6 +18,7 @@
 #include <optional>
 
 #include "core/field.h"
+#include "core/field_sampling.h"
 #include "core/mechanisms/delta/delta.h"
 
 namespace linkscape::delta {
@@ -46,7 +47,7 @@ std::optional<Field> compute_field(const Model& model, const FieldRequest& reque
 // The reference: one sample through inverse, reach_margin and jacobian.
 FieldSample sample_point(const Model& model, const Eigen::Vector3d& p_base_platform, const FieldRequest& request);
 
-// ---- The fast kernel's parts (delta.cpp) ------------------------------------
+// ---- The fast kernel ----------------------------------------------------------
 
 // The legs' constant geometry: cos and sin of phi_i, e_i and A_i, as
 // leg_radial and motor_position compute them. Validates the model.
@@ -56,11 +57,11 @@ struct FieldLegs {
 };
 FieldLegs field_legs(const Model& model);
 
-// The closed-IK sample at p for `branch` with the IK tolerance `tolerance`
-// (relative to size()), equal to sample_point's; nullopt where the
-// reference takes a path of its own (non-finite angles or residual, a
-// tolerance looser than the Jacobian's closure check, an underflowing Jq).
-std::optional<FieldSample> sample_closed(const Model& model, const FieldLegs& legs,
-                                         const Eigen::Vector3d& p_base_platform, int branch, double tolerance);
+// The closed-IK samples of a grid row in SIMD vectors (field_simd.cpp) with
+// the best instruction set of the CPU (core/simd.h): sample_point's, but for
+// the last bits of c(J), the reach margin and the residual; the statuses are
+// its exactly.
+void sample_row_vector(const Model& model, const FieldLegs& legs, const FieldRequest& request, const Grid& grid,
+                       const detail::GridRow& row, const detail::FieldRowOut& out);
 
 }  // namespace linkscape::delta

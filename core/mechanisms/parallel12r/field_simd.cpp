@@ -124,36 +124,6 @@ void Geometry(const UnitModel& u, int branch, bool check_limits, const Grid& g, 
   }
 }
 
-// c(J) where the geometry found a solution within the ranges, and the
-// statuses that follow from it.
-void Conditioning(int count, Block& b) {
-  const D d;
-  const V inf = hn::Inf(d), trusted = hn::Set(d, kMaxTrustedCondition);
-  for (int t = 0; t < count; t += int(hn::Lanes(d))) {
-    const M wants_cond = IsSet(d, hn::Load(d, b.wants_cond + t));
-    if (hn::AllFalse(d, wants_cond)) {
-      hn::Store(inf, d, b.cond + t);
-      continue;
-    }
-    V c0[3], c1[3], c2[3];
-    for (int e = 0; e < 3; ++e) {
-      c0[e] = hn::Load(d, b.J[e] + t);
-      c1[e] = hn::Load(d, b.J[3 + e] + t);
-      c2[e] = hn::Load(d, b.J[6 + e] + t);
-    }
-    const M unit_range = UnitRange(d, c0, c1, c2);
-    const V c = ConditionNumber(d, c0, c1, c2);
-    const M ok = hn::And(wants_cond, c <= trusted);
-    const V status = hn::IfThenElse(
-        wants_cond, hn::IfThenElse(ok, StatusCode(d, Status::Ok), StatusCode(d, Status::Singular)), hn::Load(d, b.status + t));
-    const M near_trust = hn::Abs(c - trusted) <= hn::Set(d, 1e-6 * kMaxTrustedCondition);
-    const M to_scalar = hn::And(wants_cond, hn::Or(hn::Not(unit_range), near_trust));
-    hn::Store(hn::IfThenElse(ok, c, inf), d, b.cond + t);
-    hn::Store(status, d, b.status + t);
-    hn::Store(hn::Or(hn::Load(d, b.to_scalar + t), Flag(d, to_scalar)), d, b.to_scalar + t);
-  }
-}
-
 void SampleRow(const UnitModel& u, int branch, bool check_limits, const Grid& g, const detail::GridRow& row,
                int first, int count, bool mirror, const detail::FieldRowOut& out) {
   const MethodRule rule{double(IkMethod::Planar), true};
@@ -161,7 +131,7 @@ void SampleRow(const UnitModel& u, int branch, bool check_limits, const Grid& g,
   for (int block = 0; block < count; block += kBlock) {
     const int n = std::min(kBlock, count - block);
     Geometry(u, branch, check_limits, g, row, first + block, n, b);
-    Conditioning(n, b);
+    BlockConditioning(n, b, kMaxTrustedCondition);
     StoreBlock(b, first + block, n, row.count, mirror, rule, out,
                [&](int i) { return to_field_sample(sample(u, row.point(g, i), branch, check_limits)); });
   }

@@ -35,8 +35,12 @@
 #include "core/mechanisms/parallel12r/field.h"
 #include "core/mechanisms/parallel12r/planar_kernel.h"
 #include "core/simd.h"
+#include "tests/core/simd_targets.h"
 
 using namespace linkscape;
+using simd_test::rounds_near;
+using simd_test::rounds_within;
+using simd_test::TargetLimit;
 using Eigen::Vector3d;
 namespace planar = parallel12r::planar;
 
@@ -44,13 +48,6 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kUlp = 0x1p-53;
-
-// Dispatch limited to one target for the lifetime of the object.
-class TargetLimit {
- public:
-  explicit TargetLimit(const std::string& target) { simd::limit_targets(target); }
-  ~TargetLimit() { simd::limit_targets(""); }
-};
 
 struct Case {
   std::string name;
@@ -172,18 +169,6 @@ std::vector<Case> cases() {
     out.push_back({"random " + std::to_string(k), m, Grid::box(lo - Vector3d::Constant(0.01), hi, dims), k % 2});
   }
   return out;
-}
-
-// Whether the float v is the rounding of a value within rel * |d| of d
-// (rounding is monotonic, so the ends of that interval bound it).
-bool rounds_near(float v, double d, double rel) {
-  if (std::isinf(d) || std::isinf(v)) return v == d;
-  const double slack = rel * std::abs(d);
-  return float(d - slack) <= v && v <= float(d + slack);
-}
-bool rounds_within(float v, double d, double absolute) {
-  if (std::isinf(d) || std::isinf(v)) return v == d;
-  return float(d - absolute) <= v && v <= float(d + absolute);
 }
 
 // The c(J) tolerance at p: 1e-12, widened where two eigenvalues of J^T J

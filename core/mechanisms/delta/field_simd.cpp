@@ -1,0 +1,247 @@
+// The Delta's closed-IK field kernel on rows of samples in SIMD vectors
+// (Highway), compiled once per instruction set and chosen at run time
+// (core/simd.h), as the 12R's (core/mechanisms/parallel12r/field_simd.cpp).
+//
+// Lane for lane it is the reference sample (sample_point: inverse, then
+// reach_margin, then jacobian) with the early returns replaced by masks and
+// no transcendental call where algebra does without one:
+// - hypot(a, b) is sqrt(a^2 + b^2): one rounding more, no scaling (the
+//   lengths of a field are far from overflow);
+// - each leg's angle comes from tan(q/2) = n/d, as in solve_leg, but cos q
+//   and sin q are the double-angle ratios (d^2 - n^2, 2 n d) / (d^2 + n^2)
+//   instead of cos and sin of 2 atan2(n, d); the angle itself (Highway's
+//   arctangent, a few ulps from libm's) is needed only for the actuator
+//   ranges;
+// - c(J) is condition_number_fast's closed form (core/simd_field-inl.h)
+//   where the reference takes condition_number_closed_form.
+// So J differs from the reference's in its last bits, and c(J) by about its
+// own size times an ulp (a relative change of J moves c(J) by at most about
+// twice c(J) times as much), more where two singular values nearly coincide
+// (tests/core/mechanisms/delta/test_field_simd.cpp states the tolerance).
+// Every lane whose status could hang on those bits -- a leg margin within a
+// band of the singular tolerance or of zero, an angle within 1e-12 rad of a
+// range end, a residual near the IK tolerance, a J^-1 row near zero, a
+// circumcircle near the type II test, a non-finite coordinate or a J far from
+// unit scale -- is recomputed by the reference, so the statuses are the
+// reference's exactly.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "core/mechanisms/delta/field_simd.cpp"
+#include <hwy/foreach_target.h>  // must come before highway.h
+#include <hwy/highway.h>
+
+#include "core/simd_field-inl.h"  // per target, like this file
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "core/mechanisms/delta/field.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace linkscape::delta::HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+using namespace linkscape::simd::HWY_NAMESPACE;  // D, V, M, Block and the shared helpers
+
+// angle - 2 pi round(angle / 2 pi): std::remainder(angle, 2 pi) for the
+// angles here (|angle| <= 2 pi), where the product and difference are exact;
+// only the choice of the turn at an odd multiple of pi may differ.
+HWY_INLINE V Remainder2Pi(D d, V angle) {
+  const V turns = hn::Round(angle * hn::Set(d, 0.5 / std::numbers::pi));
+  return angle - turns * hn::Set(d, 2.0 * std::numbers::pi);
+}
+
+// wrap_angle (delta.cpp): into (-pi, pi].
+HWY_INLINE V Wrap(D d, V angle) {
+  const V a = Remainder2Pi(d, angle);
+  return hn::IfThenElse(a <= hn::Set(d, -std::numbers::pi), a + hn::Set(d, 2.0 * std::numbers::pi), a);
+}
+
+// range_margin (delta.cpp): the angle to the nearer end of [lo, hi] for the
+// representative of q nearest the range's centre.
+HWY_INLINE V RangeMargin(D d, const Interval& range, V q) {
+  const double centre = 0.5 * (range.lo + range.hi);
+  const V near = hn::Set(d, centre) + Remainder2Pi(d, q - hn::Set(d, centre));
+  return hn::Min(near - hn::Set(d, range.lo), hn::Set(d, range.hi) - near);
+}
+
+struct Setup {
+  const Model& m;
+  const FieldLegs& legs;
+  int branch;
+  double tolerance;  // the IK's, relative to size()
+};
+
+// The samples [first, first + count) of the row: statuses without c(J),
+// reach margins, residuals, the rows of J = -diag(1 / Jq) S, and the flags.
+void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int first, int count, Block& b) {
+  const D d;
+  const Model& m = s.m;
+  const double size = m.size(), tol = kSingularTolerance * size;
+  const V zero = hn::Zero(d), one = hn::Set(d, 1.0), inf = hn::Inf(d);
+  const V La = hn::Set(d, m.La), Lb = hn::Set(d, m.Lb), vtol = hn::Set(d, tol), neg_tol = hn::Set(d, -tol);
+  // Bands around the status thresholds inside which the reference decides.
+  const V margin_band = hn::Set(d, 1e-12 * size), angle_band = hn::Set(d, 1e-12);
+  // The closure error is rounding (1e-15 of the size) that differs from the
+  // reference's: within 1e-13 of the size of the IK tolerance (or of the
+  // Jacobian's closure check, 1e-6) the reference decides.
+  const V residual_limit = hn::Set(d, (std::min(s.tolerance, 1e-6) - 1e-13) * size);
+  const Eigen::Vector3d p0 = row.point(g, 0);
+  const int axis = row.axis;
+  const V origin = hn::Set(d, g.origin(axis)), spacing = hn::Set(d, g.spacing(axis));
+
+  for (int t = 0; t < count; t += int(hn::Lanes(d))) {
+    const V along = origin + (hn::Iota(d, double(row.start[axis] + first + t)) + hn::Set(d, 0.5)) * spacing;
+    const V x = axis == 0 ? along : hn::Set(d, p0.x());
+    const V y = axis == 1 ? along : hn::Set(d, p0.y());
+    const V z = axis == 2 ? along : hn::Set(d, p0.z());
+    M to_scalar = hn::Not(hn::And(hn::IsFinite(x), hn::And(hn::IsFinite(y), hn::IsFinite(z))));
+    M unreachable = hn::FirstN(d, 0), singular = unreachable, outside_range = unreachable;
+    V geometric = inf, limits = inf;
+    V cos_q[kLegCount], sin_q[kLegCount];
+    for (int i = 0; i < kLegCount; ++i) {
+      const double c = s.legs.cos_phi[i], sn = s.legs.sin_phi[i];
+      // leg_coordinates and leg_reach
+      const V px = x - hn::Set(d, (m.R - m.r) * c), py = y - hn::Set(d, (m.R - m.r) * sn);
+      const V u = hn::Set(d, c) * px + hn::Set(d, sn) * py, v = hn::Set(d, -sn) * px + hn::Set(d, c) * py, w = z;
+      const V rho = hn::Sqrt(u * u + w * w);
+      const V in = rho - La, out = rho + La;
+      const V d_min = hn::Sqrt(in * in + v * v), d_max = hn::Sqrt(out * out + v * v);
+      const V margin = hn::Min(Lb - d_min, d_max - Lb);
+      // solve_leg
+      const V A = hn::Set(d, 2.0 * m.La) * u, B = hn::Set(d, -2.0 * m.La) * w;
+      const M leg_unreachable = margin < neg_tol;
+      const V C = u * u + v * v + w * w + hn::Set(d, m.La * m.La) - hn::Set(d, m.Lb * m.Lb);
+      const V disc = (Lb - d_min) * (Lb + d_min) * (d_max - Lb) * (d_max + Lb);
+      const V root = hn::Sqrt(hn::Max(zero, disc));
+      const V sigma_root = (s.branch >> i) & 1 ? root : hn::Neg(root);
+      const V n1 = B + sigma_root, d1 = C + A, n2 = C - A, d2 = B - sigma_root;
+      const M first_pair = n1 * n1 + d1 * d1 >= n2 * n2 + d2 * d2;
+      // Unreachable: the angle of closest approach, towards or away.
+      const V n = hn::IfThenElse(leg_unreachable, B, hn::IfThenElse(first_pair, n1, n2));
+      const V dd = hn::IfThenElse(leg_unreachable, A, hn::IfThenElse(first_pair, d1, d2));
+      const V towards = Atan2(d, n, dd);
+      const V turned = hn::IfThenElse(Lb < d_min, towards, towards + hn::Set(d, std::numbers::pi));
+      const V q = Wrap(d, hn::IfThenElse(leg_unreachable, turned, towards + towards));
+      const V inv_norm = one / (dd * dd + n * n);
+      cos_q[i] = (dd * dd - n * n) * inv_norm;
+      sin_q[i] = hn::Set(d, 2.0) * n * dd * inv_norm;
+      const V to_range = RangeMargin(d, m.q_limits[i], q);
+
+      unreachable = hn::Or(unreachable, leg_unreachable);
+      singular = hn::Or(singular, hn::Abs(margin) <= vtol);
+      outside_range = hn::Or(outside_range, to_range < zero);
+      geometric = hn::Min(geometric, margin);
+      limits = hn::Min(limits, La * to_range);
+      // reach_margin solves with tolerance 0 where -tol <= margin < 0; the
+      // singular and unreachable tests; the range test.
+      const M near_threshold = hn::Or(hn::Abs(margin - neg_tol) <= margin_band, hn::Abs(margin - vtol) <= margin_band);
+      const M resolve = hn::And(margin < zero, margin >= neg_tol);
+      const M near_range = hn::Or(hn::Abs(to_range) <= angle_band, hn::IsNaN(to_range));
+      to_scalar = hn::Or(to_scalar, hn::Or(near_threshold, hn::Or(resolve, near_range)));
+    }
+    const M solved = hn::Not(unreachable);
+    V status = hn::IfThenElse(unreachable, StatusCode(d, Status::Unreachable), StatusCode(d, Status::Singular));
+    V residual = inf;
+    M wants_cond = hn::FirstN(d, 0);
+    if (!hn::AllFalse(d, solved)) {
+      // The sphere centres c_i = B_i - r e_i, S's rows s_i = p - c_i, the
+      // closure error and Jq_i = -La s_i . dB_i/dq_i.
+      V sx[kLegCount], sy[kLegCount], sz[kLegCount], cx[kLegCount], cy[kLegCount], cz[kLegCount], Jq[kLegCount];
+      V closure = zero;
+      const V Lb2 = hn::Set(d, m.Lb * m.Lb);
+      M serial = hn::FirstN(d, 0), near_serial = serial;
+      for (int i = 0; i < kLegCount; ++i) {
+        const Eigen::Vector3d& e = s.legs.radial[i];
+        const Eigen::Vector3d centre_at_zero = s.legs.motor[i] - m.r * e;  // A_i - r e_i
+        const V arm = La * cos_q[i];
+        cx[i] = hn::Set(d, centre_at_zero.x()) + arm * hn::Set(d, e.x());
+        cy[i] = hn::Set(d, centre_at_zero.y()) + arm * hn::Set(d, e.y());
+        cz[i] = hn::Neg(La * sin_q[i]);
+        sx[i] = x - cx[i];
+        sy[i] = y - cy[i];
+        sz[i] = z - cz[i];
+        // | |s_i| - Lb | as | |s_i|^2 - Lb^2 | / (2 Lb): the same to a relative
+        // 1e-15 where it is rounding, with neither square root nor division.
+        closure = hn::Max(closure, hn::Abs(sx[i] * sx[i] + sy[i] * sy[i] + sz[i] * sz[i] - Lb2));
+        Jq[i] = La * (sin_q[i] * (sx[i] * hn::Set(d, e.x()) + sy[i] * hn::Set(d, e.y())) + cos_q[i] * sz[i]);
+        serial = hn::Or(serial, Jq[i] == zero);
+        near_serial = hn::Or(near_serial, hn::Abs(Jq[i]) <= hn::Set(d, 1e-12 * m.La * m.Lb));
+      }
+      residual = hn::IfThenElse(solved, closure * hn::Set(d, 0.5 / m.Lb), inf);
+      status = hn::IfThenElse(solved,
+                              hn::IfThenElse(singular, StatusCode(d, Status::Singular),
+                                             hn::IfThenElse(outside_range, StatusCode(d, Status::OutOfLimits),
+                                                            StatusCode(d, Status::Ok))),
+                              status);
+      const M ok = hn::And(solved, hn::Not(hn::Or(singular, outside_range)));
+      // The circumcircle of the centres (spheres_from_centres) and det S.
+      const V ax = cx[0] - cx[2], ay = cy[0] - cy[2], az = cz[0] - cz[2];
+      const V bx = cx[1] - cx[2], by = cy[1] - cy[2], bz = cz[1] - cz[2];
+      const V nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
+      const V n2 = nx * nx + ny * ny + nz * nz, a2 = ax * ax + ay * ay + az * az, b2 = bx * bx + by * by + bz * bz;
+      const V abx = ax - bx, aby = ay - by, abz = az - bz;
+      const V circumradius = hn::Sqrt(a2 * b2 * (abx * abx + aby * aby + abz * abz) / (hn::Set(d, 4.0) * n2));
+      const V gap = Lb - circumradius;
+      const V flat = hn::Set(d, 1e-24) * a2 * b2;
+      const M degenerate = hn::Not(n2 > flat);
+      const V det = sx[0] * (sy[1] * sz[2] - sz[1] * sy[2]) - sy[0] * (sx[1] * sz[2] - sz[1] * sx[2]) +
+                    sz[0] * (sx[1] * sy[2] - sy[1] * sx[2]);
+      const M parallel = hn::Or(det == zero, hn::Or(degenerate, gap <= vtol));
+      wants_cond = hn::AndNot(hn::Or(serial, parallel), ok);
+      const M near_parallel = hn::Or(hn::Abs(gap - vtol) <= hn::Set(d, 1e-9 * size),
+                                     hn::Or(hn::Abs(n2 - flat) <= hn::Set(d, 1e-6) * flat,
+                                            hn::Abs(det) <= hn::Set(d, 1e-12 * m.Lb * m.Lb * m.Lb)));
+      const M near_closure = hn::Not(residual <= residual_limit);  // NaN included
+      // NotConverged (a residual over the IK tolerance) comes before the range
+      // test; J^-1 is refused over the closure check.
+      to_scalar = hn::Or(to_scalar, hn::Or(hn::AndNot(singular, hn::And(solved, near_closure)),
+                                           hn::And(ok, hn::Or(near_serial, near_parallel))));
+      // J's rows -s_i / Jq_i, stored as its columns (c(J) = c(J^T)).
+      // The three reciprocals -1 / Jq_i from one division (J outside 2^+-100
+      // goes to the reference anyway).
+      const V Jq01 = Jq[0] * Jq[1], minus_inv = hn::Neg(one) / (Jq01 * Jq[2]);
+      const V scales[kLegCount] = {Jq[1] * Jq[2] * minus_inv, Jq[0] * Jq[2] * minus_inv, Jq01 * minus_inv};
+      for (int i = 0; i < kLegCount; ++i) {
+        const V scale = scales[i];
+        hn::Store(sx[i] * scale, d, b.J[3 * i] + t);
+        hn::Store(sy[i] * scale, d, b.J[3 * i + 1] + t);
+        hn::Store(sz[i] * scale, d, b.J[3 * i + 2] + t);
+      }
+    }
+    hn::Store(status, d, b.status + t);
+    hn::Store(hn::Min(geometric, limits), d, b.reach_margin + t);
+    hn::Store(residual, d, b.residual + t);
+    hn::Store(Flag(d, wants_cond), d, b.wants_cond + t);
+    hn::Store(Flag(d, to_scalar), d, b.to_scalar + t);
+  }
+}
+
+void SampleRow(const Model& m, const FieldLegs& legs, const FieldRequest& request, const Grid& g,
+               const detail::GridRow& row, const detail::FieldRowOut& out) {
+  const Setup setup{m, legs, request.ik.branch, request.ik.tolerance};
+  const MethodRule rule{0.0 /* IkMethod::Closed */, false};
+  Block b;
+  for (int first = 0; first < row.count; first += kBlock) {
+    const int n = std::min(kBlock, row.count - first);
+    Geometry(setup, g, row, first, n, b);
+    BlockConditioning(n, b, std::nullopt);
+    StoreBlock(b, first, n, row.count, false, rule, out, [&](int i) { return sample_point(m, row.point(g, i), request); });
+  }
+}
+
+}  // namespace linkscape::delta::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace linkscape::delta {
+
+HWY_EXPORT(SampleRow);
+
+void sample_row_vector(const Model& m, const FieldLegs& legs, const FieldRequest& request, const Grid& g,
+                       const detail::GridRow& row, const detail::FieldRowOut& out) {
+  HWY_DYNAMIC_DISPATCH(SampleRow)(m, legs, request, g, row, out);
+}
+
+}  // namespace linkscape::delta
+#endif  // HWY_ONCE
