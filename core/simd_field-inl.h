@@ -35,19 +35,34 @@ using M = hn::Mask<D>;
 // atan2 to a few ulps (absolute), enough for range margins, which keep a
 // band around zero for the scalar path: Highway's arctangent polynomial on
 // [0, 1] at min(|y|, |x|) / max(|y|, |x|) (one division, where hn::Atan(y /
-// x) takes two), then the octant.
-HWY_INLINE V Atan2(D d, V y, V x) {
-  const V ax = hn::Abs(x), ay = hn::Abs(y);
+// x) takes two), then the octant. Split in two so that a kernel can take
+// the ratio num / den from a division it shares with other quotients.
+struct AtanOctant {
+  V num, den;  // the ratio's parts, 0 <= num <= den; 0 / 1 at the origin
+  M steep, x_negative;
+  V y;  // whose sign the angle takes
+};
+
+HWY_INLINE AtanOctant Octant(D d, V y, V x) {
+  const V ax = hn::Abs(x), ay = hn::Abs(y), zero = hn::Zero(d), one = hn::Set(d, 1.0);
   const M steep = ay > ax;
-  const V ratio = hn::IfThenElse(steep, ax, ay) / hn::IfThenElse(steep, ay, ax);
-  const V zero = hn::Zero(d);
-  // At the origin 0/0 is taken as 0: std::atan2(+-0, +0) = +-0, (+-0, -0) = +-pi.
-  const V t = hn::IfThenElse(ax == ay, hn::IfThenElse(ax == zero, zero, hn::Set(d, 1.0)), ratio);
-  V a = hn::impl::AtanImpl<double>().AtanPoly(d, t);
-  a = hn::IfThenElse(steep, hn::Set(d, std::numbers::pi / 2) - a, a);
-  const M x_negative = hn::CopySign(hn::Set(d, 1.0), x) < zero;  // -0 included
-  a = hn::IfThenElse(x_negative, hn::Set(d, std::numbers::pi) - a, a);
-  return hn::CopySign(a, y);
+  // At the origin the angle is taken as 0: std::atan2(+-0, +0) = +-0, (+-0, -0) = +-pi.
+  const M diagonal = ax == ay;
+  const V num = hn::IfThenElse(diagonal, hn::IfThenElse(ax == zero, zero, one), hn::IfThenElse(steep, ax, ay));
+  const V den = hn::IfThenElse(diagonal, one, hn::IfThenElse(steep, ay, ax));
+  return {num, den, steep, hn::CopySign(one, x) < zero /* -0 included */, y};
+}
+
+HWY_INLINE V AngleOfOctant(D d, const AtanOctant& o, V ratio) {
+  V a = hn::impl::AtanImpl<double>().AtanPoly(d, ratio);
+  a = hn::IfThenElse(o.steep, hn::Set(d, std::numbers::pi / 2) - a, a);
+  a = hn::IfThenElse(o.x_negative, hn::Set(d, std::numbers::pi) - a, a);
+  return hn::CopySign(a, o.y);
+}
+
+HWY_INLINE V Atan2(D d, V y, V x) {
+  const AtanOctant o = Octant(d, y, x);
+  return AngleOfOctant(d, o, o.num / o.den);
 }
 
 // largest_eigenvalue (core/conditioning.cpp) of the symmetric matrix with

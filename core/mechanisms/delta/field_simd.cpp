@@ -79,9 +79,13 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
   const Model& m = s.m;
   const double size = m.size(), tol = kSingularTolerance * size;
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0), inf = hn::Inf(d);
-  const V La = hn::Set(d, m.La), Lb = hn::Set(d, m.Lb), vtol = hn::Set(d, tol), neg_tol = hn::Set(d, -tol);
+  const V La = hn::Set(d, m.La), Lb = hn::Set(d, m.Lb), vtol = hn::Set(d, tol);
   // Bands around the status thresholds inside which the reference decides.
-  const V margin_band = hn::Set(d, 1e-12 * size), angle_band = hn::Set(d, 1e-12);
+  // Where the reference decides: a leg margin within tol + 1e-12 size of 0
+  // (its singular tolerance and the band around it; d^2 - Lb^2 is about
+  // 2 Lb (d - Lb) there), an angle within 1e-12 rad of a range end.
+  const V Lb2 = hn::Set(d, m.Lb * m.Lb), zone_half_width = hn::Set(d, 2.0 * m.Lb * (tol + 1e-12 * size) * 1.01);
+  const V angle_band = hn::Set(d, 1e-12);
   // The closure error is rounding (1e-15 of the size) that differs from the
   // reference's: within 1e-13 of the size of the IK tolerance (or of the
   // Jacobian's closure check, 1e-6) the reference decides.
@@ -96,9 +100,10 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
     const V y = axis == 1 ? along : hn::Set(d, p0.y());
     const V z = axis == 2 ? along : hn::Set(d, p0.z());
     M to_scalar = hn::Not(hn::And(hn::IsFinite(x), hn::And(hn::IsFinite(y), hn::IsFinite(z))));
-    M unreachable = hn::FirstN(d, 0), singular = unreachable, outside_range = unreachable;
-    V geometric = inf, limits = inf;
+    M unreachable = hn::FirstN(d, 0), outside_range = unreachable;
+    V largest_X = zero, smallest_Y = inf, limits = inf;
     V cos_q[kLegCount], sin_q[kLegCount];
+#pragma GCC unroll 3
     for (int i = 0; i < kLegCount; ++i) {
       const double c = s.legs.cos_phi[i], sn = s.legs.sin_phi[i];
       // leg_coordinates and leg_reach
@@ -106,13 +111,19 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
       const V u = hn::Set(d, c) * px + hn::Set(d, sn) * py, v = hn::Set(d, -sn) * px + hn::Set(d, c) * py, w = z;
       const V rho = hn::Sqrt(u * u + w * w);
       const V in = rho - La, out = rho + La;
-      const V d_min = hn::Sqrt(in * in + v * v), d_max = hn::Sqrt(out * out + v * v);
-      const V margin = hn::Min(Lb - d_min, d_max - Lb);
+      // d_min^2 and d_max^2: the leg's margin min(Lb - d_min, d_max - Lb) is
+      // needed only as the smallest over the legs (below), and its tests
+      // against 0 and +-tol follow from these squares outside the singular
+      // zone |margin| <= tol + band, which goes to the reference.
+      const V X = in * in + v * v, Y = out * out + v * v;
+      const M zone = hn::Or(hn::Abs(X - Lb2) <= zone_half_width, hn::Abs(Y - Lb2) <= zone_half_width);
+      const M leg_unreachable = hn::Or(X > Lb2, Y < Lb2);
+      largest_X = hn::Max(largest_X, X);
+      smallest_Y = hn::Min(smallest_Y, Y);
       // solve_leg
       const V A = hn::Set(d, 2.0 * m.La) * u, B = hn::Set(d, -2.0 * m.La) * w;
-      const M leg_unreachable = margin < neg_tol;
       const V C = u * u + v * v + w * w + hn::Set(d, m.La * m.La) - hn::Set(d, m.Lb * m.Lb);
-      const V disc = (Lb - d_min) * (Lb + d_min) * (d_max - Lb) * (d_max + Lb);
+      const V disc = (Lb2 - X) * (Y - Lb2);
       const V root = hn::Sqrt(hn::Max(zero, disc));
       const V sigma_root = (s.branch >> i) & 1 ? root : hn::Neg(root);
       const V n1 = B + sigma_root, d1 = C + A, n2 = C - A, d2 = B - sigma_root;
@@ -120,28 +131,32 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
       // Unreachable: the angle of closest approach, towards or away.
       const V n = hn::IfThenElse(leg_unreachable, B, hn::IfThenElse(first_pair, n1, n2));
       const V dd = hn::IfThenElse(leg_unreachable, A, hn::IfThenElse(first_pair, d1, d2));
-      const V towards = Atan2(d, n, dd);
-      const V turned = hn::IfThenElse(Lb < d_min, towards, towards + hn::Set(d, std::numbers::pi));
+      // atan2(n, dd), cos and sin of twice it from one division: the
+      // octant's ratio num / den and 1 / (dd^2 + n^2) as products with
+      // 1 / (den (dd^2 + n^2)), of about (La + Lb)^6 (out of 2^+-960: the reference).
+      const AtanOctant octant = Octant(d, n, dd);
+      const V norm = dd * dd + n * n, product = octant.den * norm, inv = one / product;
+      const V towards = AngleOfOctant(d, octant, octant.num * norm * inv);
+      const V inv_norm = octant.den * inv;
+      const M unscaled = hn::Not(hn::And(product >= hn::Set(d, 0x1p-960), product <= hn::Set(d, 0x1p960)));
+      const V turned = hn::IfThenElse(Lb2 < X, towards, towards + hn::Set(d, std::numbers::pi));
       const V q = Wrap(d, hn::IfThenElse(leg_unreachable, turned, towards + towards));
-      const V inv_norm = one / (dd * dd + n * n);
       cos_q[i] = (dd * dd - n * n) * inv_norm;
       sin_q[i] = hn::Set(d, 2.0) * n * dd * inv_norm;
       const V to_range = RangeMargin(d, m.q_limits[i], q);
 
       unreachable = hn::Or(unreachable, leg_unreachable);
-      singular = hn::Or(singular, hn::Abs(margin) <= vtol);
       outside_range = hn::Or(outside_range, to_range < zero);
-      geometric = hn::Min(geometric, margin);
       limits = hn::Min(limits, La * to_range);
-      // reach_margin solves with tolerance 0 where -tol <= margin < 0; the
-      // singular and unreachable tests; the range test.
-      const M near_threshold = hn::Or(hn::Abs(margin - neg_tol) <= margin_band, hn::Abs(margin - vtol) <= margin_band);
-      const M resolve = hn::And(margin < zero, margin >= neg_tol);
       const M near_range = hn::Or(hn::Abs(to_range) <= angle_band, hn::IsNaN(to_range));
-      to_scalar = hn::Or(to_scalar, hn::Or(near_threshold, hn::Or(resolve, near_range)));
+      to_scalar = hn::Or(hn::Or(to_scalar, unscaled), hn::Or(zone, near_range));
     }
+    // min over the legs of min(Lb - d_min, d_max - Lb), from the largest
+    // d_min and the smallest d_max (sqrt is monotonic, so these are the bits
+    // of the smallest of the six differences).
+    const V geometric = hn::Min(Lb - hn::Sqrt(largest_X), hn::Sqrt(smallest_Y) - Lb);
     const M solved = hn::Not(unreachable);
-    V status = hn::IfThenElse(unreachable, StatusCode(d, Status::Unreachable), StatusCode(d, Status::Singular));
+    V status = StatusCode(d, Status::Unreachable);  // solved samples below
     V residual = inf;
     M wants_cond = hn::FirstN(d, 0);
     if (!hn::AllFalse(d, solved)) {
@@ -149,8 +164,8 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
       // closure error and Jq_i = -La s_i . dB_i/dq_i.
       V sx[kLegCount], sy[kLegCount], sz[kLegCount], cx[kLegCount], cy[kLegCount], cz[kLegCount], Jq[kLegCount];
       V closure = zero;
-      const V Lb2 = hn::Set(d, m.Lb * m.Lb);
       M serial = hn::FirstN(d, 0), near_serial = serial;
+#pragma GCC unroll 3
       for (int i = 0; i < kLegCount; ++i) {
         const Eigen::Vector3d& e = s.legs.radial[i];
         const Eigen::Vector3d centre_at_zero = s.legs.motor[i] - m.r * e;  // A_i - r e_i
@@ -169,12 +184,9 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
         near_serial = hn::Or(near_serial, hn::Abs(Jq[i]) <= hn::Set(d, 1e-12 * m.La * m.Lb));
       }
       residual = hn::IfThenElse(solved, closure * hn::Set(d, 0.5 / m.Lb), inf);
-      status = hn::IfThenElse(solved,
-                              hn::IfThenElse(singular, StatusCode(d, Status::Singular),
-                                             hn::IfThenElse(outside_range, StatusCode(d, Status::OutOfLimits),
-                                                            StatusCode(d, Status::Ok))),
-                              status);
-      const M ok = hn::And(solved, hn::Not(hn::Or(singular, outside_range)));
+      status = hn::IfThenElse(
+          solved, hn::IfThenElse(outside_range, StatusCode(d, Status::OutOfLimits), StatusCode(d, Status::Ok)), status);
+      const M ok = hn::AndNot(outside_range, solved);
       // The circumcircle of the centres (spheres_from_centres) and det S.
       const V ax = cx[0] - cx[2], ay = cy[0] - cy[2], az = cz[0] - cz[2];
       const V bx = cx[1] - cx[2], by = cy[1] - cy[2], bz = cz[1] - cz[2];
@@ -195,7 +207,7 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
       const M near_closure = hn::Not(residual <= residual_limit);  // NaN included
       // NotConverged (a residual over the IK tolerance) comes before the range
       // test; J^-1 is refused over the closure check.
-      to_scalar = hn::Or(to_scalar, hn::Or(hn::AndNot(singular, hn::And(solved, near_closure)),
+      to_scalar = hn::Or(to_scalar, hn::Or(hn::And(solved, near_closure),
                                            hn::And(ok, hn::Or(near_serial, near_parallel))));
       // J's rows -s_i / Jq_i, stored as its columns (c(J) = c(J^T)).
       // The three reciprocals -1 / Jq_i from one division (J outside 2^+-100
