@@ -423,7 +423,8 @@ int run(int argc, char** argv) {
                         "device")
       ->delimiter(',');
   bench_cmd->footer(
-      "parallel-12r planar fields use SIMD kernels with the best instruction set of the CPU. Environment, for\n"
+      "parallel-12r planar and delta closed-IK fields use SIMD kernels with the best instruction set of the CPU.\n"
+      "Environment, for\n"
       "every command:\n"
       "  LINKSCAPE_SIMD_TARGET=AVX2|SSE4|...|baseline   use at most this instruction set\n"
       "  LINKSCAPE_FIELD_KERNEL=scalar|vector|vector-mirrored   parallel-12r planar and delta closed kernels: scalar =\n"

@@ -232,48 +232,49 @@ else
 fi
 
 # 4c. As on a CPU with only the baseline instruction set (SSE2): the
-# vectorised field forced to Highway's portable target must give the scalar
-# reference's statuses, reach and method, and c(J) within a float rounding.
+# vectorised fields forced to Highway's portable target.
 field_csv() {  # name file mechanism [VAR=value]: a field at 21^3 as CSV
   local name=$1 file=$2 mechanism=$3; shift 3
   (cd "$work" && run "$name" env -u LINKSCAPE_ASSETS "$@" "$exe" field --mechanism "$mechanism" \
      --resolution 21 --output "$file")
 }
-if field_csv field-baseline "$work/baseline.csv" parallel-12r LINKSCAPE_SIMD_TARGET=baseline &&
-   field_csv field-scalar "$work/scalar.csv" parallel-12r LINKSCAPE_FIELD_KERNEL=scalar; then
-  # Columns: x,y,z,cond,reach_margin,residual,reachable,status,iterations,method_used
-  if paste -d, "$work/baseline.csv" "$work/scalar.csv" | awk -F, '
-       NR == 1 { next }
-       { n++; for (i = 7; i <= 10; i++) if ($i != $(i + 10)) bad++
-         a = $4; b = $14; d = a - b; if (d < 0) d = -d; m = (a < 0 ? -a : a)
-         if (a != b && !(d <= 2.4e-7 * m)) bad++ }
+# The 12R's and the Delta's kernels are vectorised: the statuses, reachable
+# flags, iterations and methods must be the reference's, c(J) within a float
+# rounding, the reach margin and residual within 1e-5 (length unit; the file
+# prints floats).
+for device in parallel-12r delta; do
+  if field_csv "$device-baseline" "$work/$device-baseline.csv" "$device" LINKSCAPE_SIMD_TARGET=baseline &&
+     field_csv "$device-scalar" "$work/$device-scalar.csv" "$device" LINKSCAPE_FIELD_KERNEL=scalar; then
+    # Columns: x,y,z,cond,reach_margin,residual,reachable,status,iterations,method_used
+    if paste -d, "$work/$device-baseline.csv" "$work/$device-scalar.csv" | awk -F, '
+         function off(a, b) { return a == b ? 0 : (a - b < 0 ? b - a : a - b) }
+         NR == 1 { next }
+         { n++; for (i = 7; i <= 10; i++) if ($i != $(i + 10)) bad++
+           m = ($4 < 0 ? -$4 : $4)
+           if (off($4, $14) > 2.4e-7 * m || off($5, $15) > 1e-5 || off($6, $16) > 1e-5) bad++ }
        END { exit !(n == 9261 && bad == 0) }'; then
-    pass "field on the baseline SIMD target agrees with the scalar kernel (9261 samples)"
+      pass "$device field on the baseline SIMD target agrees with the reference kernel (9261 samples)"
+    else
+      fail "$device field on the baseline SIMD target differs from the reference kernel"
+    fi
   else
-    fail "field on the baseline SIMD target differs from the scalar kernel"
-  fi
-else
-  fail "linkscape field with LINKSCAPE_SIMD_TARGET=baseline / LINKSCAPE_FIELD_KERNEL=scalar"
-fi
-# The Delta's and PATHOS-II's fast kernels are plain C++: on the baseline
-# target they write the reference's file, the Delta's byte for byte,
-# PATHOS-II's but for the reach margin (column 6: sqrt for hypot, within
-# 1e-7 (l2 + l3) = 2e-6 cm of the default model) and the closure residual
-# (column 7, rounding noise).
-for device in delta:1- pathos2:1-5,8-; do
-  name=${device%%:*} columns=${device#*:}
-  if field_csv "$name-baseline" "$work/$name-baseline.csv" "$name" LINKSCAPE_SIMD_TARGET=baseline &&
-     field_csv "$name-scalar" "$work/$name-scalar.csv" "$name" LINKSCAPE_FIELD_KERNEL=scalar &&
-     cmp -s <(cut -d, -f"$columns" "$work/$name-baseline.csv") <(cut -d, -f"$columns" "$work/$name-scalar.csv") &&
-     { [ "$name" != pathos2 ] ||
-       paste -d, <(cut -d, -f6 "$work/$name-baseline.csv") <(cut -d, -f6 "$work/$name-scalar.csv") | awk -F, '
-         NR > 1 { d = $1 - $2; if (d < 0) d = -d; if ($1 != $2 && !(d <= 2e-6)) bad++ }
-         END { exit bad > 0 }'; }; then
-    pass "$name field on the baseline SIMD target equals the reference kernel's (columns $columns)"
-  else
-    fail "$name field on the baseline SIMD target differs from the reference kernel's"
+    fail "linkscape field -m $device with LINKSCAPE_SIMD_TARGET=baseline / LINKSCAPE_FIELD_KERNEL=scalar"
   fi
 done
+# PATHOS-II's fast kernel is plain C++: on the baseline target it writes the
+# reference's file but for the reach margin (column 6: sqrt for hypot,
+# within 1e-7 (l2 + l3) = 2e-6 cm of the default model) and the closure
+# residual (column 7, rounding noise).
+if field_csv pathos2-baseline "$work/pathos2-baseline.csv" pathos2 LINKSCAPE_SIMD_TARGET=baseline &&
+   field_csv pathos2-scalar "$work/pathos2-scalar.csv" pathos2 LINKSCAPE_FIELD_KERNEL=scalar &&
+   cmp -s <(cut -d, -f1-5,8- "$work/pathos2-baseline.csv") <(cut -d, -f1-5,8- "$work/pathos2-scalar.csv") &&
+   paste -d, <(cut -d, -f6 "$work/pathos2-baseline.csv") <(cut -d, -f6 "$work/pathos2-scalar.csv") | awk -F, '
+     NR > 1 { d = $1 - $2; if (d < 0) d = -d; if ($1 != $2 && !(d <= 2e-6)) bad++ }
+     END { exit bad > 0 }'; then
+  pass "pathos2 field on the baseline SIMD target equals the reference kernel's (all but columns 6-7)"
+else
+  fail "pathos2 field on the baseline SIMD target differs from the reference kernel's"
+fi
 
 if [ -n "${DISPLAY:-}" ]; then
   if run_exe screenshot --screenshot "$work/out.png" && [ -s "$work/out.png" ]; then

@@ -2,8 +2,9 @@
 // (+-(L1 + L2) on every axis) at 256^3, per planar kernel (scalar reference,
 // vector, vector with the x mirror), SIMD target (core/simd.h; "best" = what
 // dispatch picks on this CPU) and thread count; the row kernel alone; and
-// the PATHOS-II and Delta fields over their default boxes through the
-// mechanism interface (what the window and the headless commands call).
+// every device's field over its default box and its 512 x 512 default slice
+// through the mechanism interface (what the window and the headless commands
+// call), the Delta's on every SIMD target.
 // The CPU column is the process's CPU time (every thread, page faults
 // included), the rate is per wall-clock second.
 // Run: build/tests/bench/bench_field --benchmark_repetitions=5
@@ -92,6 +93,23 @@ void device_field(benchmark::State& state, const std::string& preset, int n, con
   linkscape::simd::limit_targets("");
 }
 
+// The device's 512 x 512 slice on its first plane over its default box, as
+// `linkscape bench` and the window take it, on every core.
+void device_slice(benchmark::State& state, const std::string& preset, const std::string& target) {
+  const auto mechanism = linkscape::make_mechanism(linkscape::load_preset(preset));
+  const Eigen::VectorXd task = mechanism->home_task();
+  const auto [normal, position] = mechanism->default_slice_plane(task);
+  const auto [u, v] = Grid::slice_axes(normal);
+  const Eigen::AlignedBox3d box = mechanism->default_box();
+  const Grid g = Grid::slice(normal, position, box.min()(int(u)), box.max()(int(u)), box.min()(int(v)),
+                             box.max()(int(v)), 512, 512);
+  linkscape::simd::limit_targets(target == "best" ? "" : target);
+  for (auto _ : state) benchmark::DoNotOptimize(mechanism->compute_field(g, task, {}, 0, {}));
+  state.SetItemsProcessed(state.iterations() * std::int64_t(g.size()));
+  state.SetLabel(linkscape::simd::current_target());
+  linkscape::simd::limit_targets("");
+}
+
 void add_device(const std::string& name, const std::string& preset, int n, const std::string& target) {
   for (int threads : {1, 2})
     benchmark::RegisterBenchmark(("BM_" + name + "Field" + std::to_string(n) + "/" + target + "/threads:" +
@@ -100,6 +118,10 @@ void add_device(const std::string& name, const std::string& preset, int n, const
         ->Unit(benchmark::kMillisecond)
         ->MeasureProcessCPUTime()
         ->UseRealTime();
+  benchmark::RegisterBenchmark(("BM_" + name + "Slice512/" + target).c_str(), device_slice, preset, target)
+      ->Unit(benchmark::kMillisecond)
+      ->MeasureProcessCPUTime()
+      ->UseRealTime();
 }
 
 void add(const std::string& kernel_name, PlanarKernel kernel, const std::string& target) {
@@ -123,9 +145,10 @@ int main(int argc, char** argv) {
     add("vector", PlanarKernel::Vector, target);
     add("vector-mirrored", PlanarKernel::VectorMirrored, target);
   }
-  // Their kernels are plain C++ (no SIMD dispatch): one target is enough.
+  add_device("Parallel12r", "parallel-12r", 160, "best");
+  for (const std::string& target : linkscape::simd::available_targets()) add_device("Delta", "delta", 160, target);
+  // Its kernel is plain C++ (no SIMD dispatch): one target is enough.
   add_device("Pathos2", "pathos2", 96, "best");
-  add_device("Delta", "delta", 160, "best");
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();
