@@ -7,19 +7,24 @@
 // no transcendental call where algebra does without one:
 // - hypot(a, b) is sqrt(a^2 + b^2): one rounding more, no scaling (the
 //   lengths of a field are far from overflow);
+// - a leg's margin min(Lb - d_min, d_max - Lb) is taken only as the smallest
+//   over the legs, from the largest d_min^2 and the smallest d_max^2 (two
+//   square roots a sample instead of six); its tests against 0 and the
+//   singular tolerance follow from the squares;
 // - each leg's angle comes from tan(q/2) = n/d, as in solve_leg, but cos q
 //   and sin q are the double-angle ratios (d^2 - n^2, 2 n d) / (d^2 + n^2)
-//   instead of cos and sin of 2 atan2(n, d); the angle itself (Highway's
-//   arctangent, a few ulps from libm's) is needed only for the actuator
-//   ranges;
+//   instead of cos and sin of 2 atan2(n, d); the angle itself (a vector
+//   arctangent a few ulps from libm's) is needed only for the actuator
+//   ranges; the closure error | |s_i| - Lb | is | |s_i|^2 - Lb^2 | / (2 Lb);
 // - c(J) is condition_number_fast's closed form (core/simd_field-inl.h)
 //   where the reference takes condition_number_closed_form.
 // So J differs from the reference's in its last bits, and c(J) by about its
 // own size times an ulp (a relative change of J moves c(J) by at most about
-// twice c(J) times as much), more where two singular values nearly coincide
-// (tests/core/mechanisms/delta/test_field_simd.cpp states the tolerance).
-// Every lane whose status could hang on those bits -- a leg margin within a
-// band of the singular tolerance or of zero, an angle within 1e-12 rad of a
+// twice c(J) times as much), more near a leg's serial singular surface and
+// where two singular values nearly coincide
+// (tests/core/mechanisms/delta/test_field.cpp states the tolerance).
+// Every lane whose status could hang on those bits -- a leg margin within
+// the singular tolerance and a band around it, an angle within 1e-12 rad of a
 // range end, a residual near the IK tolerance, a J^-1 row near zero, a
 // circumcircle near the type II test, a non-finite coordinate or a J far from
 // unit scale -- is recomputed by the reference, so the statuses are the
@@ -80,7 +85,6 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
   const double size = m.size(), tol = kSingularTolerance * size;
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0), inf = hn::Inf(d);
   const V La = hn::Set(d, m.La), Lb = hn::Set(d, m.Lb), vtol = hn::Set(d, tol);
-  // Bands around the status thresholds inside which the reference decides.
   // Where the reference decides: a leg margin within tol + 1e-12 size of 0
   // (its singular tolerance and the band around it; d^2 - Lb^2 is about
   // 2 Lb (d - Lb) there), an angle within 1e-12 rad of a range end.
