@@ -59,7 +59,7 @@ FieldKernel field_kernel_from_environment();
 inline constexpr std::size_t kFieldMemoryLimitBytes = std::size_t(6) << 30;
 
 namespace detail {
-// Sample blocks. Large ones (4 MiB and up) are kept when freed, up to 1 GiB
+// Sample blocks. Large ones (256 KiB and up) are kept when freed, up to 1 GiB
 // in all, and handed out again for a request of the same size, so a field
 // re-sampled on the same grid writes into pages already mapped instead of
 // faulting in freshly zeroed ones (docs/performance.md).
