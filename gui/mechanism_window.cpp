@@ -58,6 +58,7 @@
 #include "gui/vtk_widget.h"
 #include "gui/window_parts.h"
 #include "render/field_scene.h"
+#include "render/scene_renderer.h"
 #include "render/skeleton_scene.h"
 #include "render/task_scene.h"
 #include "render/slice_image.h"
@@ -285,7 +286,7 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
     if (path == preset_file(preset_)) reloadMechanism();
     else openMechanismFile(path);
   });
-  vtkNew<vtkRenderer> renderer;
+  vtkNew<render::SceneRenderer> renderer;
   renderer->GradientBackgroundOn();
   renderer->SetBackground(0.97, 0.97, 0.98);
   renderer->SetBackground2(0.80, 0.84, 0.90);
@@ -302,9 +303,11 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   placeLegend();
   view_->installEventFilter(this);
   scene_->set_model(mechanism_->skeleton_model());
-  scene_->add_to(renderer_);
+  // Translucent props blend in the order they were added (render/scene_renderer.h):
+  // the fields first, the task volume, then the device (its joint labels last).
   field_scene_->add_to(renderer_, legend_);
   task_scene_->add_to(renderer_);
+  scene_->add_to(renderer_);
   renderer_->SetUseDepthPeeling(false);  // plain alpha blending: interactive under software GL
   fitCamera();
 

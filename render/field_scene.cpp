@@ -117,8 +117,11 @@ std::size_t FieldScene::index(Surface which) {
 void FieldScene::add_to(vtkRenderer* renderer, vtkRenderer* legend) {
   if (!renderer) throw std::invalid_argument("field scene: expected a renderer, got null");
   // AddViewProp ignores props already present, so this is idempotent.
+  // Translucent props blend in the order they were added (where depth peeling
+  // is off): the slice, then the inner surface, then the outer one.
   renderer->AddViewProp(slice_actor_);
-  for (auto& a : surface_actors_) renderer->AddViewProp(a);
+  renderer->AddViewProp(surface_actors_[index(Surface::WellConditioned)]);
+  renderer->AddViewProp(surface_actors_[index(Surface::Reach)]);
   if (legend) {
     // The whole legend viewport is the bar's.
     colour_bar_->SetPosition(0.08, 0.06);
