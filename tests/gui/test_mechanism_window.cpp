@@ -608,6 +608,26 @@ class MechanismWindowTest : public QObject {
     QVERIFY(std::abs(d1.x() - d0.x()) < 1e-9);
   }
 
+  void surfacesAreLightOnlyWhileSomethingIsDragged() {
+    MechanismWindow w(load_preset("parallel-12r"));
+    QVERIFY(show_settled(w, true));
+    w.setDrive(MechanismWindow::Drive::Actuators);
+    const render::FieldScene& scene = w.fieldScene();
+    QVERIFY(scene.surface_visible(render::Surface::Reach));
+    QVERIFY(!scene.drawing_light(render::Surface::Reach));
+    auto* slider = w.findChild<QSlider*>(QString::fromStdString(w.mechanism().info().actuators.at(1).name) + "Slider");
+    QVERIFY(slider);
+    slider->setSliderDown(true);  // the light meshes are made now, off the GUI thread
+    QTRY_VERIFY_WITH_TIMEOUT(scene.drawing_light(render::Surface::Reach), 10000);
+    QVERIFY(scene.drawing_light(render::Surface::WellConditioned));
+    slider->setValue(slider->value() + 20);
+    QVERIFY(scene.drawing_light(render::Surface::Reach));
+    slider->setSliderDown(false);
+    QVERIFY(!scene.drawing_light(render::Surface::Reach));
+    QVERIFY(!scene.drawing_light(render::Surface::WellConditioned));
+    QVERIFY(scene.surface_visible(render::Surface::Reach));
+  }
+
   void pictureMatchesBaselines() {
     {
       MechanismWindow w(load_preset("parallel-12r"));

@@ -145,7 +145,7 @@ TEST(FieldScene, SliceGeometryTitleAndPropBookkeeping) {
   scene.add_to(renderer);
   scene.add_to(renderer);  // idempotent
   const int props = view_prop_count(renderer);
-  EXPECT_EQ(props, 4);  // slice, two surfaces, colour bar
+  EXPECT_EQ(props, 6);  // slice, two surfaces and their light meshes, colour bar
   EXPECT_TRUE(renderer->GetUseDepthPeeling());
   EXPECT_EQ(renderer->GetMaximumNumberOfPeels(), 4);
 
@@ -205,8 +205,31 @@ TEST(FieldScene, SliceGeometryTitleAndPropBookkeeping) {
   scene.set_surface(Surface::WellConditioned, empty);
   EXPECT_EQ(scene.surface_faces(Surface::WellConditioned), 0u);
 
+  // A light mesh is drawn instead of the full one only while set_light(true),
+  // and goes with its surface.
+  auto light = render::extract_light_surface(volume, surface_request(Surface::Reach, 3.0));
   scene.set_surface(Surface::Reach, mesh);
+  scene.set_light_surface(Surface::Reach, light);
+  EXPECT_FALSE(scene.drawing_light(Surface::Reach));
+  scene.set_light(true);
+  EXPECT_TRUE(scene.drawing_light(Surface::Reach));
+  EXPECT_TRUE(scene.surface_visible(Surface::Reach));
+  EXPECT_EQ(scene.surface_faces(Surface::Reach), std::size_t(mesh->GetNumberOfCells()));  // the full mesh's
+  scene.set_surface_visible(Surface::Reach, false);
+  EXPECT_FALSE(scene.drawing_light(Surface::Reach));
+  scene.set_surface_visible(Surface::Reach, true);
+  scene.set_surface(Surface::Reach, mesh);  // new surfaces: no light mesh until one is given
+  EXPECT_FALSE(scene.drawing_light(Surface::Reach));
+  scene.set_light_surface(Surface::WellConditioned, light);  // no full mesh there: ignored
+  EXPECT_FALSE(scene.drawing_light(Surface::WellConditioned));
+  scene.set_light_surface(Surface::Reach, light);
+  EXPECT_TRUE(scene.drawing_light(Surface::Reach));
+  scene.set_light(false);
+  EXPECT_FALSE(scene.drawing_light(Surface::Reach));
+  scene.set_light(true);
   scene.clear();
+  EXPECT_FALSE(scene.drawing_light(Surface::Reach));
+  scene.set_light(false);
   EXPECT_FALSE(scene.slice_visible());
   EXPECT_FALSE(scene.surface_visible(Surface::Reach));
   EXPECT_FALSE(scene.colour_bar_visible());
