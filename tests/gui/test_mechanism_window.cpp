@@ -626,6 +626,15 @@ class MechanismWindowTest : public QObject {
     QVERIFY(!scene.drawing_light(render::Surface::Reach));
     QVERIFY(!scene.drawing_light(render::Surface::WellConditioned));
     QVERIFY(scene.surface_visible(render::Surface::Reach));
+    // Turning the camera: light while the button is down (the meshes are made already).
+    const QPoint corner(12, 12);  // away from the device and its handle
+    QTest::mousePress(w.view(), Qt::LeftButton, Qt::NoModifier, corner);
+    QMouseEvent move(QEvent::MouseMove, QPointF(corner + QPoint(30, 10)), w.view()->mapToGlobal(QPointF(corner + QPoint(30, 10))),
+                     Qt::NoButton, Qt::LeftButton, Qt::NoModifier);
+    QApplication::sendEvent(w.view(), &move);
+    QVERIFY(scene.drawing_light(render::Surface::Reach));
+    QTest::mouseRelease(w.view(), Qt::LeftButton, Qt::NoModifier, corner + QPoint(30, 10));
+    QVERIFY(!scene.drawing_light(render::Surface::Reach));
   }
 
   void pictureMatchesBaselines() {
