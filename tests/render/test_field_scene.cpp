@@ -21,6 +21,7 @@
 #include "offscreen_view.h"
 #include "render/field_scene.h"
 #include "render/image_io.h"
+#include "render/scene_renderer.h"
 #include "render/slice_image.h"
 #include "render/workspace_mesh.h"
 
@@ -348,6 +349,40 @@ TEST(FieldScene, TranslucentSurfacesChangeOnlyTheirPixels) {
   scene.set_surface(Surface::Reach, nullptr);
   const auto cleared = view.grab();
   EXPECT_LE(distance(View::at(cleared, 0.2, 0.1), background), 1);
+}
+
+TEST(SceneRenderer, BlendsTranslucentPropsInOnePassAndPeelsOnRequest) {
+  if (!have_display()) GTEST_SKIP() << "VTK's OpenGL needs an X server (ctest runs it under tests/with-xvfb.sh)";
+  // The View above with the window's renderer in place of VTK's.
+  View view(Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitY());
+  vtkNew<render::SceneRenderer> renderer;
+  renderer->SetBackground(0.1, 0.2, 0.3);
+  renderer->SetActiveCamera(view.renderer->GetActiveCamera());
+  view.window->RemoveRenderer(view.renderer);
+  view.window->AddRenderer(renderer);
+  FieldScene scene;
+  scene.add_to(renderer);
+  scene.set_slice(ball_field(ball_slice_grid()), SliceStyle{});
+  renderer->SetUseDepthPeeling(false);
+  const auto slice_only = view.grab();
+
+  const Field volume = ball_field(Grid::box({-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2}, {32, 32, 32}));
+  scene.set_surface(Surface::Reach, render::extract_surface(volume, surface_request(Surface::Reach, 3.0)));
+  const auto outer = view.grab();
+  EXPECT_FALSE(renderer->GetLastRenderingUsedDepthPeeling());
+  EXPECT_GE(distance(View::at(outer, 0.2, 0.1), View::at(slice_only, 0.2, 0.1)), 6);  // tinted
+  EXPECT_LE(distance(View::at(outer, 1.4, 1.0), View::at(slice_only, 1.4, 1.0)), 1);  // outside the sphere
+  // Both spheres over the opaque slice: the inner one shows through the outer.
+  scene.set_surface(Surface::WellConditioned,
+                    render::extract_surface(volume, surface_request(Surface::WellConditioned, 3.0)));
+  const auto both = view.grab();
+  EXPECT_GE(distance(View::at(both, 0.1, 0.1), View::at(outer, 0.1, 0.1)), 6);
+  EXPECT_LE(distance(View::at(both, 0.8, 0.1), View::at(outer, 0.8, 0.1)), 1);
+
+  renderer->SetUseDepthPeeling(true);
+  const auto peeled = view.grab();
+  EXPECT_TRUE(renderer->GetLastRenderingUsedDepthPeeling());
+  EXPECT_GE(distance(View::at(peeled, 0.2, 0.1), View::at(slice_only, 0.2, 0.1)), 6);
 }
 
 TEST(FieldScene, UpdatesAtInteractiveRates) {
