@@ -495,6 +495,8 @@ MechanismWindow::~MechanismWindow() {
   slice_runner_.cancel();
   volume_runner_.cancel();
   handle_->EnabledOff();
+  // The view (a child widget) outlives this part of the window.
+  if (vtkInteractorObserver* style = view_->interactor()->GetInteractorStyle()) style->RemoveObserver(camera_callback_);
 }
 
 bool MechanismWindow::takesLimits() const {
