@@ -1,6 +1,7 @@
 #include "gui/field_job.h"
 
 #include <QMetaObject>
+#include <algorithm>
 #include <chrono>
 #include <vtkPolyData.h>
 
@@ -106,6 +107,7 @@ void FieldJobRunner::submit(const FieldJob& job) {
         su.reach = render::extract_surface(*su.volume, reach_request);
         if (!current()) return;
         su.well_conditioned = render::extract_surface(*su.volume, cond_request);
+        su.cond_threshold = job.cond_threshold;
         su.fine = fine;
         su.seconds = seconds_since(t1);
         if (fine) last_volume_seconds_.store(su.seconds);
@@ -117,6 +119,39 @@ void FieldJobRunner::submit(const FieldJob& job) {
     } catch (const std::exception& e) {
       const QString message = QString::fromStdString(e.what());
       QMetaObject::invokeMethod(this, [this, message] { emit failed(message); }, Qt::QueuedConnection);
+    }
+  });
+}
+
+void FieldJobRunner::submitLight(const SurfaceResult& full) {
+  if (!full.fine || !full.volume) return;
+  const auto& dims = full.volume->grid.dims;
+  if (*std::min_element(dims.begin(), dims.end()) < kLightFromSamples) return;
+  const bool reach = full.reach && full.reach->GetNumberOfCells() > 0;
+  const bool well = full.well_conditioned && full.well_conditioned->GetNumberOfCells() > 0;
+  if (!reach && !well) return;
+  const std::uint64_t generation = generation_.load();  // a later submit() supersedes this too
+  pool_.start([this, volume = full.volume, threshold = full.cond_threshold, reach, well, generation] {
+    auto current = [&] { return generation_.load() == generation; };
+    try {
+      const auto t0 = std::chrono::steady_clock::now();
+      SurfaceResult light;
+      light.volume = volume;
+      light.cond_threshold = threshold;
+      light.fine = true;
+      render::SurfaceRequest reach_request, cond_request;
+      cond_request.surface = render::Surface::WellConditioned;
+      cond_request.cond_threshold = threshold;
+      if (reach) light.reach_light = render::extract_light_surface(*volume, reach_request);
+      if (!current()) return;
+      if (well) light.well_conditioned_light = render::extract_light_surface(*volume, cond_request);
+      light.seconds = seconds_since(t0);
+      if (!current()) return;
+      QMetaObject::invokeMethod(this, [this, light, generation] {
+        if (generation_.load() == generation) emit lightSurfacesReady(light);
+      }, Qt::QueuedConnection);
+    } catch (const std::exception&) {
+      // Light meshes only save time: the full ones stay drawn.
     }
   });
 }

@@ -47,7 +47,12 @@ struct SliceResult {
 struct SurfaceResult {
   vtkSmartPointer<vtkPolyData> reach;
   vtkSmartPointer<vtkPolyData> well_conditioned;
+  // The same surfaces from every other sample (render::extract_light_surface),
+  // drawn while the device is being moved: set only in lightSurfacesReady.
+  vtkSmartPointer<vtkPolyData> reach_light;
+  vtkSmartPointer<vtkPolyData> well_conditioned_light;
   std::shared_ptr<const Field> volume;  // the field they came from (for export)
+  double cond_threshold = 3.0;          // of the well-conditioned surface
   bool fine = false;
   double seconds = 0.0;
 };
@@ -59,6 +64,8 @@ class FieldJobRunner : public QObject {
   explicit FieldJobRunner(QObject* parent = nullptr);
   ~FieldJobRunner() override;  // cancels and waits
 
+  // Light surfaces are made for volumes of at least this many samples a side.
+  static constexpr int kLightFromSamples = 48;
   static constexpr double kCoarseWhenSlowerThan = 0.03;  // seconds: about one software-rendered frame
   // A slice-only job whose last full pass took less than this is answered
   // at once, on the calling thread: the next frame then shows it, instead
@@ -67,12 +74,19 @@ class FieldJobRunner : public QObject {
 
   // Starts `job`, cancelling any earlier one (or answers it at once, above).
   void submit(const FieldJob& job);
+  // Makes the light meshes of a full pass's surfaces (from a volume with at
+  // least kLightFromSamples samples along each axis, else nothing) and emits
+  // lightSurfacesReady; after any running job, superseded by a later submit.
+  // Asked for when a drag starts, so that no frame waits on them otherwise.
+  void submitLight(const SurfaceResult& full);
   void cancel();
   bool busy() const;
 
  signals:
   void sliceReady(const linkscape::gui::SliceResult& result);
   void surfacesReady(const linkscape::gui::SurfaceResult& result);
+  // The light meshes asked for by submitLight, with the full pass's volume.
+  void lightSurfacesReady(const linkscape::gui::SurfaceResult& result);
   void progress(double fraction);  // of the current pass
   void failed(const QString& message);
 

@@ -58,6 +58,9 @@ std::vector<double> slider_to_frame(MechanismWindow& w, int moves) {
   const auto& actuators = w.mechanism().info().actuators;
   auto* slider = w.findChild<QSlider*>(QString::fromStdString(actuators.at(actuators.size() > 1 ? 1 : 0).name) + "Slider");
   std::vector<double> ms;
+  // Held down, as a drag holds it (the window draws lighter workspace
+  // surfaces while something is being dragged).
+  slider->setSliderDown(true);
   for (int i = 0; i < moves; ++i) {
     QElapsedTimer t;
     t.start();
@@ -65,6 +68,7 @@ std::vector<double> slider_to_frame(MechanismWindow& w, int moves) {
     if (!wait_for(w.view(), &VtkWidget::rendered)) break;
     ms.push_back(double(t.nsecsElapsed()) / 1e6);
   }
+  slider->setSliderDown(false);
   return ms;
 }
 

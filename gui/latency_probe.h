@@ -9,8 +9,8 @@ namespace linkscape::gui {
 class MechanismWindow;
 
 // Drives `window` (shown, event loop not yet running) through a fixed script
-// and prints a table to `out`: actuator slider to frame (device only, and
-// with slice and isosurfaces), a design parameter (the first in the design
+// and prints a table to `out`: actuator slider to frame (the slider held
+// down as in a drag; device only, and with slice and isosurfaces), a design parameter (the first in the design
 // panel) to the coarse and to the full slice on screen and to the full
 // isosurfaces on screen. Returns the process exit code.
 int run_latency_probe(MechanismWindow& window, std::ostream& out);

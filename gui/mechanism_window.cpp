@@ -37,6 +37,7 @@
 #include <vtkPointHandleRepresentation3D.h>
 #include <vtkPolyData.h>
 #include <vtkProperty.h>
+#include <vtkInteractorObserver.h>
 #include <vtkRenderWindowInteractor.h>
 #include <vtkRenderer.h>
 
@@ -58,6 +59,7 @@
 #include "gui/vtk_widget.h"
 #include "gui/window_parts.h"
 #include "render/field_scene.h"
+#include "render/scene_renderer.h"
 #include "render/skeleton_scene.h"
 #include "render/task_scene.h"
 #include "render/slice_image.h"
@@ -285,7 +287,7 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
     if (path == preset_file(preset_)) reloadMechanism();
     else openMechanismFile(path);
   });
-  vtkNew<vtkRenderer> renderer;
+  vtkNew<render::SceneRenderer> renderer;
   renderer->GradientBackgroundOn();
   renderer->SetBackground(0.97, 0.97, 0.98);
   renderer->SetBackground2(0.80, 0.84, 0.90);
@@ -302,9 +304,11 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   placeLegend();
   view_->installEventFilter(this);
   scene_->set_model(mechanism_->skeleton_model());
-  scene_->add_to(renderer_);
+  // Translucent props blend in the order they were added (render/scene_renderer.h):
+  // the fields first, the task volume, then the device (its joint labels last).
   field_scene_->add_to(renderer_, legend_);
   task_scene_->add_to(renderer_);
+  scene_->add_to(renderer_);
   renderer_->SetUseDepthPeeling(false);  // plain alpha blending: interactive under software GL
   fitCamera();
 
@@ -321,13 +325,27 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   handle_callback_->SetClientData(this);
   handle_callback_->SetCallback([](vtkObject*, unsigned long event, void* client, void*) {
     auto* self = static_cast<MechanismWindow*>(client);
+    if (event == vtkCommand::StartInteractionEvent || event == vtkCommand::EndInteractionEvent)
+      self->setMoving(kHandleDrag, event == vtkCommand::StartInteractionEvent);
+    if (event == vtkCommand::StartInteractionEvent) return;
     double p[3];
     self->handle_rep_->GetWorldPosition(p);
     self->moveEndpointTo(Eigen::Vector3d(p[0], p[1], p[2]));
     if (event == vtkCommand::EndInteractionEvent) self->placeHandle();
   });
+  handle_->AddObserver(vtkCommand::StartInteractionEvent, handle_callback_);
   handle_->AddObserver(vtkCommand::InteractionEvent, handle_callback_);
   handle_->AddObserver(vtkCommand::EndInteractionEvent, handle_callback_);
+  // Turning or zooming the camera with the mouse moves the picture too.
+  camera_callback_ = vtkSmartPointer<vtkCallbackCommand>::New();
+  camera_callback_->SetClientData(this);
+  camera_callback_->SetCallback([](vtkObject*, unsigned long event, void* client, void*) {
+    static_cast<MechanismWindow*>(client)->setMoving(kCameraDrag, event == vtkCommand::StartInteractionEvent);
+  });
+  if (vtkInteractorObserver* style = view_->interactor()->GetInteractorStyle()) {
+    style->AddObserver(vtkCommand::StartInteractionEvent, camera_callback_);
+    style->AddObserver(vtkCommand::EndInteractionEvent, camera_callback_);
+  }
   handle_->EnabledOn();
 
   QDockWidget* drive = add_dock(this, tr("Drive"), "driveDock", buildDrivePanel());
@@ -363,6 +381,12 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
                    }).compute;
   connect(&slice_runner_, &FieldJobRunner::sliceReady, this, &MechanismWindow::onSlice);
   connect(&volume_runner_, &FieldJobRunner::surfacesReady, this, &MechanismWindow::onSurfaces);
+  connect(&volume_runner_, &FieldJobRunner::lightSurfacesReady, this, [this](const SurfaceResult& light) {
+    if (light.volume != surfaces_.volume) return;  // for surfaces no longer shown
+    field_scene_->set_light_surface(render::Surface::Reach, light.reach_light);
+    field_scene_->set_light_surface(render::Surface::WellConditioned, light.well_conditioned_light);
+    if (moving_) view_->update();
+  });
 
   animation_timer_ = new QTimer(this);
   animation_timer_->setInterval(33);
@@ -422,6 +446,18 @@ void MechanismWindow::updateTitle() {
   setWindowModified(history_ && history_->modified());
 }
 
+void MechanismWindow::setMoving(Moving source, bool on) {
+  const unsigned before = moving_;
+  moving_ = on ? moving_ | source : moving_ & ~unsigned(source);
+  if (bool(before) == bool(moving_)) return;
+  field_scene_->set_light(moving_ != 0);
+  if (moving_ && !light_asked_) {
+    light_asked_ = true;  // for the surfaces shown; made once, on a worker thread
+    volume_runner_.submitLight(surfaces_);
+  }
+  if (!moving_) view_->update();  // the surfaces in full as soon as nothing moves
+}
+
 void MechanismWindow::placeLegend() {
   // About 120 pixels wide, at most a quarter of the view; the whole view is
   // the scene's while no colour bar is shown.
@@ -459,6 +495,8 @@ MechanismWindow::~MechanismWindow() {
   slice_runner_.cancel();
   volume_runner_.cancel();
   handle_->EnabledOff();
+  // The view (a child widget) outlives this part of the window.
+  if (vtkInteractorObserver* style = view_->interactor()->GetInteractorStyle()) style->RemoveObserver(camera_callback_);
 }
 
 bool MechanismWindow::takesLimits() const {
@@ -548,6 +586,11 @@ QWidget* MechanismWindow::buildDrivePanel() {
       else setActuators(q_, x);  // an FK input (e.g. a grip) changed
     }));
   column->addWidget(task_group_);
+  const auto drags_pose = [this](const QuantityControl& c) {
+    connect(c.slider, &QSlider::sliderPressed, this, [this] { setMoving(kSliderDrag, true); });
+    connect(c.slider, &QSlider::sliderReleased, this, [this] { setMoving(kSliderDrag, false); });
+  };
+  for (const auto& c : task_controls_) drags_pose(*c);
   actuator_group_ = new QGroupBox(tr("Actuators"), w);
   auto* actuator_form = new QFormLayout(actuator_group_);
   for (std::size_t k = 0; k < info.actuators.size(); ++k)
@@ -556,6 +599,7 @@ QWidget* MechanismWindow::buildDrivePanel() {
       q(Eigen::Index(k)) = actuator_controls_[k]->value();
       setActuators(q);
     }));
+  for (const auto& c : actuator_controls_) drags_pose(*c);
   column->addWidget(actuator_group_);
 
   auto* state = new QGroupBox(tr("State"), w);
@@ -810,6 +854,7 @@ QWidget* MechanismWindow::buildAnimationPanel() {
     } else {
       animation_timer_->stop();
     }
+    setMoving(kAnimation, on);
   });
   connect(path_box_, &QComboBox::currentIndexChanged, this, [this] { animation_phase_ = 0.0; });
   return w;
@@ -1388,6 +1433,11 @@ void MechanismWindow::onSurfaces(const SurfaceResult& result) {
   surfaces_ = result;  // kept for export
   field_scene_->set_surface(render::Surface::Reach, result.reach);
   field_scene_->set_surface(render::Surface::WellConditioned, result.well_conditioned);
+  light_asked_ = false;
+  if (moving_ && result.fine) {  // fields that follow the pose: light meshes for the next frames
+    light_asked_ = true;
+    volume_runner_.submitLight(result);
+  }
   applyFieldVisibility();
   statusBar()->showMessage(tr("isosurfaces (%1) in %2 ms")
                                .arg(result.fine ? tr("full") : tr("coarse"))

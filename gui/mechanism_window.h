@@ -225,6 +225,11 @@ class MechanismWindow : public QMainWindow {
   void watchPresetFile();
   void noteChange();
   void placeLegend();
+  // What is moving the picture every frame: while any is, the workspace
+  // surfaces draw their light meshes (render::FieldScene::set_light); once
+  // none is, the next frame draws them in full.
+  enum Moving : unsigned { kSliderDrag = 1, kHandleDrag = 2, kAnimation = 4, kCameraDrag = 8 };
+  void setMoving(Moving source, bool on);
 
   Preset preset_;
   std::shared_ptr<const Mechanism> mechanism_;
@@ -249,6 +254,9 @@ class MechanismWindow : public QMainWindow {
   vtkSmartPointer<vtkHandleWidget> handle_;
   vtkSmartPointer<vtkPointHandleRepresentation3D> handle_rep_;
   vtkSmartPointer<vtkCallbackCommand> handle_callback_;
+  vtkSmartPointer<vtkCallbackCommand> camera_callback_;
+  unsigned moving_ = 0;       // Moving flags
+  bool light_asked_ = false;  // the light meshes of the surfaces shown are made or being made
 
   // Panels: one control per parameter shown, per actuator, per task coordinate.
   std::vector<std::unique_ptr<QuantityControl>> parameter_controls_, actuator_controls_, task_controls_;

@@ -14,6 +14,7 @@
 #include <vtkGenericRenderWindowInteractor.h>
 #include <vtkInteractorStyleTrackballCamera.h>
 #include <vtkNew.h>
+#include <vtkOpenGLFramebufferObject.h>
 #include <vtkOpenGLState.h>
 
 #include <cmath>
@@ -76,8 +77,12 @@ VtkWidget::VtkWidget(QWidget* parent)
 
   // Nothing can render before initializeGL() hands VTK a context.
   renderWindow_->SetReadyForRendering(false);
-  // paintGL() blits VTK's framebuffer into ours; VTK must not blit on its own.
+  // paintGL() blits VTK's render framebuffer into ours; VTK must not blit on
+  // its own. With SwapBuffers off VTK also leaves out its copy of colour and
+  // depth into its display framebuffer, a full-view copy per frame that
+  // nothing reads (under software OpenGL about a millisecond and more).
   renderWindow_->SetFrameBlitModeToNoBlit();
+  renderWindow_->SetSwapBuffers(0);
   renderWindow_->SetOwnContext(0);
   // Depth peeling (order-independent transparency of the workspace surfaces)
   // needs destination alpha in VTK's framebuffer and no multisampling.
@@ -185,7 +190,6 @@ void VtkWidget::paintGL() {
     QScopedValueRollback<bool> painting(inPaint_, true);
     renderWindow_->Render();
   }
-  const double milliseconds = static_cast<double>(timer.nsecsElapsed()) / 1e6;
 
   // Observers of the render (progress bars, other GL widgets) may have made
   // another context current.
@@ -194,9 +198,15 @@ void VtkWidget::paintGL() {
   const int w = static_cast<int>(std::lround(width() * devicePixelRatioF()));
   const int h = static_cast<int>(std::lround(height() * devicePixelRatioF()));
   const int* source = renderWindow_->GetSize();
+  vtkOpenGLFramebufferObject* image = renderWindow_->GetRenderFramebuffer();
+  image->Bind(GL_READ_FRAMEBUFFER);
+  image->ActivateReadBuffer(0);
   state->vtkglBindFramebuffer(GL_DRAW_FRAMEBUFFER, defaultFramebufferObject());
-  renderWindow_->BlitDisplayFramebuffer(0, 0, 0, source[0], source[1], 0, 0, w, h,
-                                        GL_COLOR_BUFFER_BIT, GL_LINEAR);
+  state->vtkglBlitFramebuffer(0, 0, source[0], source[1], 0, 0, w, h, GL_COLOR_BUFFER_BIT,
+                              source[0] == w && source[1] == h ? GL_NEAREST : GL_LINEAR);
+  // The copy waits for the rasteriser to finish VTK's frame: the time to here
+  // is what the frame cost.
+  const double milliseconds = static_cast<double>(timer.nsecsElapsed()) / 1e6;
 
   // Force opaque alpha: Qt composites the widget's framebuffer with alpha,
   // and Mesa otherwise lets the window behind show through.
@@ -237,9 +247,9 @@ void VtkWidget::onRenderWindowEvent(vtkObject*, unsigned long eventId, void* cal
       *static_cast<int*>(callData) = ctx && ctx->isValid() ? 1 : 0;
       break;
     case vtkCommand::WindowFrameEvent:
-      // A render outside paintGL() (someone called Render() directly) must
-      // still reach the screen. Frames drawn without swapping are captures.
-      if (!inPaint_ && renderWindow_->GetSwapBuffers()) update();
+      // A render outside paintGL() (someone called Render() directly, or an
+      // image capture) must still reach the screen.
+      if (!inPaint_) update();
       break;
     case vtkCommand::RenderEvent:
       if (!inPaint_) update();

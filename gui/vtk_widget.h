@@ -6,7 +6,10 @@
 // so this is a small stand-in: a QOpenGLWidget whose context drives a
 // vtkGenericOpenGLRenderWindow, and whose input events are replayed on a
 // vtkGenericRenderWindowInteractor. VTK renders into its own framebuffer;
-// paintGL() blits the result into the widget's framebuffer.
+// paintGL() blits the result into the widget's framebuffer. The render
+// window's SwapBuffers is off (its display framebuffer is never filled): an
+// image capture must read the back buffer (vtkWindowToImageFilter::
+// ReadFrontBufferOff).
 
 #include <QOpenGLWidget>
 #include <QSurfaceFormat>
@@ -38,7 +41,9 @@ class VtkWidget : public QOpenGLWidget {
   vtkRenderWindowInteractor* interactor() const;
 
  signals:
-  // Emitted after each paintGL() with the time vtkRenderWindow::Render() took.
+  // Emitted after each paintGL() with the time vtkRenderWindow::Render() and
+  // the copy of its image into the widget took (software OpenGL rasterises
+  // until the copy).
   void rendered(double milliseconds);
 
  protected:

@@ -61,11 +61,19 @@ FieldScene::FieldScene() {
   const std::array<double, kSurfaces> opacities = {0.10, 0.22};
   for (std::size_t k = 0; k < kSurfaces; ++k) {
     meshes_[k] = vtkSmartPointer<vtkPolyData>::New();
-    vtkNew<vtkPolyDataMapper> mapper;
+    light_meshes_[k] = vtkSmartPointer<vtkPolyData>::New();
+    vtkNew<vtkPolyDataMapper> mapper, light_mapper;
     mapper->SetInputData(meshes_[k]);
     mapper->ScalarVisibilityOff();
+    light_mapper->SetInputData(light_meshes_[k]);
+    light_mapper->ScalarVisibilityOff();
     surface_actors_[k] = vtkSmartPointer<vtkActor>::New();
     surface_actors_[k]->SetMapper(mapper);
+    light_actors_[k] = vtkSmartPointer<vtkActor>::New();
+    light_actors_[k]->SetMapper(light_mapper);
+    light_actors_[k]->SetProperty(surface_actors_[k]->GetProperty());
+    light_actors_[k]->PickableOff();
+    light_actors_[k]->VisibilityOff();
     vtkProperty* p = surface_actors_[k]->GetProperty();
     p->SetColor(colours[k][0], colours[k][1], colours[k][2]);
     p->SetOpacity(opacities[k]);
@@ -117,8 +125,13 @@ std::size_t FieldScene::index(Surface which) {
 void FieldScene::add_to(vtkRenderer* renderer, vtkRenderer* legend) {
   if (!renderer) throw std::invalid_argument("field scene: expected a renderer, got null");
   // AddViewProp ignores props already present, so this is idempotent.
+  // Translucent props blend in the order they were added (where depth peeling
+  // is off): the slice, then the inner surface, then the outer one.
   renderer->AddViewProp(slice_actor_);
-  for (auto& a : surface_actors_) renderer->AddViewProp(a);
+  for (Surface s : {Surface::WellConditioned, Surface::Reach}) {
+    renderer->AddViewProp(surface_actors_[index(s)]);
+    renderer->AddViewProp(light_actors_[index(s)]);
+  }
   if (legend) {
     // The whole legend viewport is the bar's.
     colour_bar_->SetPosition(0.08, 0.06);
@@ -202,21 +215,46 @@ void FieldScene::set_slice_opacity(double opacity) {
   slice_actor_->GetProperty()->SetOpacity(opacity);
 }
 
-void FieldScene::set_surface(Surface which, vtkPolyData* mesh) {
-  const std::size_t k = index(which);
+namespace {
+
+// Shallow-copies `mesh` into `into` (cleared for null or no cells).
+void take_mesh(vtkPolyData* into, vtkPolyData* mesh) {
   if (mesh && mesh->GetNumberOfCells() > 0) {
-    meshes_[k]->ShallowCopy(mesh);
+    into->ShallowCopy(mesh);
     // extract_surface marks "Normals" active; accept a mesh where it is not.
-    vtkPointData* pd = meshes_[k]->GetPointData();
+    vtkPointData* pd = into->GetPointData();
     if (!pd->GetNormals()) {
       vtkDataArray* normals = pd->GetArray("Normals");
       if (normals && normals->GetNumberOfComponents() == 3) pd->SetNormals(normals);
     }
   } else {
-    meshes_[k]->Initialize();
+    into->Initialize();
   }
-  meshes_[k]->Modified();
+  into->Modified();
+}
+
+}  // namespace
+
+void FieldScene::set_surface(Surface which, vtkPolyData* mesh) {
+  const std::size_t k = index(which);
+  take_mesh(meshes_[k], mesh);
+  take_mesh(light_meshes_[k], nullptr);
   update_visibility();
+}
+
+void FieldScene::set_light_surface(Surface which, vtkPolyData* light) {
+  const std::size_t k = index(which);
+  take_mesh(light_meshes_[k], meshes_[k]->GetNumberOfCells() > 0 ? light : nullptr);
+  update_visibility();
+}
+
+void FieldScene::set_light(bool on) {
+  light_ = on;
+  update_visibility();
+}
+
+bool FieldScene::drawing_light(Surface which) const {
+  return light_ && surface_visible(which) && light_meshes_[index(which)]->GetNumberOfCells() > 0;
 }
 
 void FieldScene::set_surface_visible(Surface which, bool visible) {
@@ -238,17 +276,21 @@ void FieldScene::set_colour_bar_visible(bool visible) {
 void FieldScene::clear() {
   has_slice_ = false;
   texture_->SetInputData(nullptr);
-  for (auto& m : meshes_) {
-    m->Initialize();
-    m->Modified();
-  }
+  for (auto* meshes : {&meshes_, &light_meshes_})
+    for (auto& m : *meshes) {
+      m->Initialize();
+      m->Modified();
+    }
   update_visibility();
 }
 
 void FieldScene::update_visibility() {
   slice_actor_->SetVisibility(slice_visible());
-  for (Surface s : {Surface::Reach, Surface::WellConditioned})
-    surface_actors_[index(s)]->SetVisibility(surface_visible(s));
+  for (Surface s : {Surface::Reach, Surface::WellConditioned}) {
+    const bool light = drawing_light(s);
+    surface_actors_[index(s)]->SetVisibility(surface_visible(s) && !light);
+    light_actors_[index(s)]->SetVisibility(light);
+  }
   colour_bar_->SetVisibility(colour_bar_visible());
 }
 

@@ -59,8 +59,19 @@ class FieldScene {
 
   // Shows an isosurface from extract_surface (smooth shading from its
   // "Normals"). The mesh is shallow-copied. nullptr or a mesh without cells
-  // clears that surface.
+  // clears that surface and its light mesh.
   void set_surface(Surface which, vtkPolyData* mesh);
+  // The same surface with fewer triangles (extract_light_surface), drawn
+  // instead of the full mesh while set_light(true); shallow-copied. Ignored
+  // while the surface has no full mesh; nullptr clears it.
+  void set_light_surface(Surface which, vtkPolyData* light);
+  // While on, surfaces that have a light mesh draw it instead of the full one
+  // (while the device is being moved: a software-rendered frame costs what
+  // the surfaces' triangles cost). Default off.
+  void set_light(bool on);
+  bool light() const { return light_; }
+  // Whether the light mesh of `which` is what is drawn.
+  bool drawing_light(Surface which) const;
   void set_surface_visible(Surface which, bool visible);
   // 0..1; defaults: Reach 0.15 (light grey-blue), WellConditioned 0.35
   // (green-teal). Throws std::invalid_argument outside [0, 1].
@@ -102,10 +113,12 @@ class FieldScene {
   bool has_slice_ = false;
   bool slice_flag_ = true;
 
-  // Isosurfaces: each actor draws its own copy (shallow) of the mesh.
-  std::array<vtkSmartPointer<vtkPolyData>, kSurfaces> meshes_;
-  std::array<vtkSmartPointer<vtkActor>, kSurfaces> surface_actors_;
+  // Isosurfaces: each actor draws its own copy (shallow) of the mesh; the
+  // light actors share the full ones' property.
+  std::array<vtkSmartPointer<vtkPolyData>, kSurfaces> meshes_, light_meshes_;
+  std::array<vtkSmartPointer<vtkActor>, kSurfaces> surface_actors_, light_actors_;
   std::array<bool, kSurfaces> surface_flags_{true, true};
+  bool light_ = false;
 
   // Colour bar and the range it was last built for (rebuilt only on change).
   vtkSmartPointer<vtkLookupTable> lut_;

@@ -221,14 +221,15 @@ std::vector<vtkProp*> SkeletonScene::props() const {
   std::vector<vtkProp*> out;
   for (const BodyProps& b : bodies_)
     if (b.tube) out.push_back(b.tube);
-  for (const JointProps& j : joints_) {
-    out.push_back(j.knuckle);
-    if (j.label) out.push_back(j.label);
-  }
+  for (const JointProps& j : joints_) out.push_back(j.knuckle);
   out.push_back(endpoint_actor_);
   out.push_back(axes_);
-  for (const BodyProps& b : bodies_)  // translucent: after the opaque props
+  // Translucent, blended in this order after the opaque props: the plates,
+  // then the labels over them.
+  for (const BodyProps& b : bodies_)
     if (b.plate) out.push_back(b.plate);
+  for (const JointProps& j : joints_)
+    if (j.label) out.push_back(j.label);
   return out;
 }
 

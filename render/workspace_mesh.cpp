@@ -136,6 +136,43 @@ vtkSmartPointer<vtkImageData> padded_image(const Grid& g, const SurfaceScalar& s
   return image;
 }
 
+// Every `stride`-th interior sample of a padded_image along each axis (the
+// first one included), padded again the same way: the surface from a grid
+// `stride` times coarser, its far faces up to half a fine cell from the full
+// surface's.
+vtkSmartPointer<vtkImageData> every_nth(vtkImageData* padded, int stride, float eps) {
+  int d[3];
+  padded->GetDimensions(d);
+  double spacing[3], origin[3];
+  padded->GetSpacing(spacing);
+  padded->GetOrigin(origin);
+  int m[3];
+  for (int a = 0; a < 3; ++a) m[a] = (d[a] - 2 + stride - 1) / stride + 2;  // interior samples + 2 pads
+  auto image = vtkSmartPointer<vtkImageData>::New();
+  image->SetDimensions(m[0], m[1], m[2]);
+  image->SetSpacing(stride * spacing[0], stride * spacing[1], stride * spacing[2]);
+  // Interior sample t sits at padded index 1 + stride * t; the pad one step before it.
+  image->SetOrigin(origin[0] + (1 - stride) * spacing[0], origin[1] + (1 - stride) * spacing[1],
+                   origin[2] + (1 - stride) * spacing[2]);
+  vtkNew<vtkFloatArray> scalars;
+  scalars->SetName("surface_scalar");
+  scalars->SetNumberOfTuples(vtkIdType(m[0]) * m[1] * m[2]);
+  const float* in = static_cast<vtkFloatArray*>(padded->GetPointData()->GetScalars())->GetPointer(0);
+  float* out = scalars->GetPointer(0);
+  const auto src = [&](int i, int j, int k) {
+    return in[(1 + stride * (i - 1)) + std::size_t(d[0]) * ((1 + stride * (j - 1)) + std::size_t(d[1]) * (1 + stride * (k - 1)))];
+  };
+  for (int k = 0; k < m[2]; ++k)
+    for (int j = 0; j < m[1]; ++j)
+      for (int i = 0; i < m[0]; ++i) {
+        const bool pad = i == 0 || j == 0 || k == 0 || i == m[0] - 1 || j == m[1] - 1 || k == m[2] - 1;
+        const float v = src(std::clamp(i, 1, m[0] - 2), std::clamp(j, 1, m[1] - 2), std::clamp(k, 1, m[2] - 2));
+        out[i + std::size_t(m[0]) * (j + std::size_t(m[1]) * k)] = pad ? std::min(-eps, -v) : v;
+      }
+  image->GetPointData()->SetScalars(scalars);
+  return image;
+}
+
 // Triangles of a poly data (polygons fan-triangulated), as point ids.
 std::vector<std::array<vtkIdType, 3>> triangles_of(vtkPolyData* mesh) {
   std::vector<std::array<vtkIdType, 3>> out;
@@ -343,7 +380,9 @@ std::string to_string(Surface surface) {
   return "?";
 }
 
-vtkSmartPointer<vtkPolyData> extract_surface(const Field& field, const SurfaceRequest& request) {
+namespace {
+
+vtkSmartPointer<vtkPolyData> extract(const Field& field, const SurfaceRequest& request, int stride) {
   check_field(field);
   const auto& d = field.grid.dims;
   if (d[0] < 2 || d[1] < 2 || d[2] < 2)
@@ -360,6 +399,7 @@ vtkSmartPointer<vtkPolyData> extract_surface(const Field& field, const SurfaceRe
 
   const float eps = request.surface == Surface::Reach ? float(1e-6 * field.grid.spacing.minCoeff()) : 1e-6f;
   vtkSmartPointer<vtkImageData> image = padded_image(field.grid, surface_scalar(field, request), eps);
+  if (stride > 1) image = every_nth(image, stride, eps);
   vtkNew<vtkFlyingEdges3D> contour;
   contour->SetInputData(image);
   contour->SetValue(0, 0.0);
@@ -378,6 +418,19 @@ vtkSmartPointer<vtkPolyData> extract_surface(const Field& field, const SurfaceRe
   add_metadata(out->GetFieldData(), field);
   add_surface_metadata(out->GetFieldData(), request);
   return out;
+}
+
+}  // namespace
+
+vtkSmartPointer<vtkPolyData> extract_surface(const Field& field, const SurfaceRequest& request) {
+  return extract(field, request, 1);
+}
+
+vtkSmartPointer<vtkPolyData> extract_light_surface(const Field& field, const SurfaceRequest& request, int stride) {
+  if (stride < 1) throw std::invalid_argument("surface: expected a stride >= 1, got " + std::to_string(stride));
+  SurfaceRequest undecimated = request;
+  undecimated.decimate_error = 0;
+  return extract(field, undecimated, stride);
 }
 
 MeshStats mesh_stats(vtkPolyData* mesh) {

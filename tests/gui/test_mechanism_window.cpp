@@ -608,6 +608,35 @@ class MechanismWindowTest : public QObject {
     QVERIFY(std::abs(d1.x() - d0.x()) < 1e-9);
   }
 
+  void surfacesAreLightOnlyWhileSomethingIsDragged() {
+    MechanismWindow w(load_preset("parallel-12r"));
+    QVERIFY(show_settled(w, true));
+    w.setDrive(MechanismWindow::Drive::Actuators);
+    const render::FieldScene& scene = w.fieldScene();
+    QVERIFY(scene.surface_visible(render::Surface::Reach));
+    QVERIFY(!scene.drawing_light(render::Surface::Reach));
+    auto* slider = w.findChild<QSlider*>(QString::fromStdString(w.mechanism().info().actuators.at(1).name) + "Slider");
+    QVERIFY(slider);
+    slider->setSliderDown(true);  // the light meshes are made now, off the GUI thread
+    QTRY_VERIFY_WITH_TIMEOUT(scene.drawing_light(render::Surface::Reach), 10000);
+    QVERIFY(scene.drawing_light(render::Surface::WellConditioned));
+    slider->setValue(slider->value() + 20);
+    QVERIFY(scene.drawing_light(render::Surface::Reach));
+    slider->setSliderDown(false);
+    QVERIFY(!scene.drawing_light(render::Surface::Reach));
+    QVERIFY(!scene.drawing_light(render::Surface::WellConditioned));
+    QVERIFY(scene.surface_visible(render::Surface::Reach));
+    // Turning the camera: light while the button is down (the meshes are made already).
+    const QPoint corner(12, 12);  // away from the device and its handle
+    QTest::mousePress(w.view(), Qt::LeftButton, Qt::NoModifier, corner);
+    QMouseEvent move(QEvent::MouseMove, QPointF(corner + QPoint(30, 10)), w.view()->mapToGlobal(QPointF(corner + QPoint(30, 10))),
+                     Qt::NoButton, Qt::LeftButton, Qt::NoModifier);
+    QApplication::sendEvent(w.view(), &move);
+    QVERIFY(scene.drawing_light(render::Surface::Reach));
+    QTest::mouseRelease(w.view(), Qt::LeftButton, Qt::NoModifier, corner + QPoint(30, 10));
+    QVERIFY(!scene.drawing_light(render::Surface::Reach));
+  }
+
   void pictureMatchesBaselines() {
     {
       MechanismWindow w(load_preset("parallel-12r"));

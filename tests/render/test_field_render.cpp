@@ -536,6 +536,34 @@ TEST(WorkspaceMesh, DecimationKeepsTheBallClosed) {
   EXPECT_LT(worst, request.decimate_error + 0.003);  // + the marching-cubes error at 64^3
 }
 
+TEST(WorkspaceMesh, LightSurfaceIsTheSameClosedBallWithAQuarterOfTheFaces) {
+  const Field f = cube_ball(64);
+  for (render::Surface surface : {render::Surface::Reach, render::Surface::WellConditioned}) {
+    const render::SurfaceRequest request = surface_request(surface, 3.0);
+    const auto full = render::mesh_stats(render::extract_surface(f, request));
+    auto light_mesh = render::extract_light_surface(f, request);
+    const auto light = render::mesh_stats(light_mesh);
+    std::cout << render::to_string(surface) << " light: " << full.faces << " -> " << light.faces << " faces, volume "
+              << full.volume << " -> " << light.volume << "\n";
+    EXPECT_LT(light.faces, full.faces / 3);
+    EXPECT_GT(light.faces, full.faces / 6);
+    EXPECT_EQ(light.boundary_edges, 0u);
+    EXPECT_EQ(light.non_manifold_edges, 0u);
+    EXPECT_EQ(light.euler_characteristic, 2);
+    EXPECT_NEAR(light.volume, full.volume, 0.03 * full.volume);
+    ASSERT_NE(light_mesh->GetPointData()->GetNormals(), nullptr);
+  }
+  // Cut by the box: closed within half a fine sample of the box faces.
+  const Field cut = cube_ball(40, 0.8);
+  const auto s = render::mesh_stats(render::extract_light_surface(cut, surface_request(render::Surface::Reach)));
+  EXPECT_EQ(s.boundary_edges, 0u);
+  EXPECT_EQ(s.euler_characteristic, 2);
+  const double half_sample = 0.5 * 1.6 / 40;
+  EXPECT_NEAR(s.min.x(), -0.8, half_sample + 1e-5);
+  EXPECT_NEAR(s.max.z(), 0.8, half_sample + 1e-5);
+  EXPECT_THROW(render::extract_light_surface(cut, surface_request(render::Surface::Reach), 0), std::invalid_argument);
+}
+
 TEST(WorkspaceMesh, ExportsReadBackWithVtkReaders) {
   Folder dir;
   const Field f = cube_ball(32);

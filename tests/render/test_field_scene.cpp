@@ -21,6 +21,7 @@
 #include "offscreen_view.h"
 #include "render/field_scene.h"
 #include "render/image_io.h"
+#include "render/scene_renderer.h"
 #include "render/slice_image.h"
 #include "render/workspace_mesh.h"
 
@@ -145,7 +146,7 @@ TEST(FieldScene, SliceGeometryTitleAndPropBookkeeping) {
   scene.add_to(renderer);
   scene.add_to(renderer);  // idempotent
   const int props = view_prop_count(renderer);
-  EXPECT_EQ(props, 4);  // slice, two surfaces, colour bar
+  EXPECT_EQ(props, 6);  // slice, two surfaces and their light meshes, colour bar
   EXPECT_TRUE(renderer->GetUseDepthPeeling());
   EXPECT_EQ(renderer->GetMaximumNumberOfPeels(), 4);
 
@@ -205,8 +206,31 @@ TEST(FieldScene, SliceGeometryTitleAndPropBookkeeping) {
   scene.set_surface(Surface::WellConditioned, empty);
   EXPECT_EQ(scene.surface_faces(Surface::WellConditioned), 0u);
 
+  // A light mesh is drawn instead of the full one only while set_light(true),
+  // and goes with its surface.
+  auto light = render::extract_light_surface(volume, surface_request(Surface::Reach, 3.0));
   scene.set_surface(Surface::Reach, mesh);
+  scene.set_light_surface(Surface::Reach, light);
+  EXPECT_FALSE(scene.drawing_light(Surface::Reach));
+  scene.set_light(true);
+  EXPECT_TRUE(scene.drawing_light(Surface::Reach));
+  EXPECT_TRUE(scene.surface_visible(Surface::Reach));
+  EXPECT_EQ(scene.surface_faces(Surface::Reach), std::size_t(mesh->GetNumberOfCells()));  // the full mesh's
+  scene.set_surface_visible(Surface::Reach, false);
+  EXPECT_FALSE(scene.drawing_light(Surface::Reach));
+  scene.set_surface_visible(Surface::Reach, true);
+  scene.set_surface(Surface::Reach, mesh);  // new surfaces: no light mesh until one is given
+  EXPECT_FALSE(scene.drawing_light(Surface::Reach));
+  scene.set_light_surface(Surface::WellConditioned, light);  // no full mesh there: ignored
+  EXPECT_FALSE(scene.drawing_light(Surface::WellConditioned));
+  scene.set_light_surface(Surface::Reach, light);
+  EXPECT_TRUE(scene.drawing_light(Surface::Reach));
+  scene.set_light(false);
+  EXPECT_FALSE(scene.drawing_light(Surface::Reach));
+  scene.set_light(true);
   scene.clear();
+  EXPECT_FALSE(scene.drawing_light(Surface::Reach));
+  scene.set_light(false);
   EXPECT_FALSE(scene.slice_visible());
   EXPECT_FALSE(scene.surface_visible(Surface::Reach));
   EXPECT_FALSE(scene.colour_bar_visible());
@@ -325,6 +349,40 @@ TEST(FieldScene, TranslucentSurfacesChangeOnlyTheirPixels) {
   scene.set_surface(Surface::Reach, nullptr);
   const auto cleared = view.grab();
   EXPECT_LE(distance(View::at(cleared, 0.2, 0.1), background), 1);
+}
+
+TEST(SceneRenderer, BlendsTranslucentPropsInOnePassAndPeelsOnRequest) {
+  if (!have_display()) GTEST_SKIP() << "VTK's OpenGL needs an X server (ctest runs it under tests/with-xvfb.sh)";
+  // The View above with the window's renderer in place of VTK's.
+  View view(Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitY());
+  vtkNew<render::SceneRenderer> renderer;
+  renderer->SetBackground(0.1, 0.2, 0.3);
+  renderer->SetActiveCamera(view.renderer->GetActiveCamera());
+  view.window->RemoveRenderer(view.renderer);
+  view.window->AddRenderer(renderer);
+  FieldScene scene;
+  scene.add_to(renderer);
+  scene.set_slice(ball_field(ball_slice_grid()), SliceStyle{});
+  renderer->SetUseDepthPeeling(false);
+  const auto slice_only = view.grab();
+
+  const Field volume = ball_field(Grid::box({-1.2, -1.2, -1.2}, {1.2, 1.2, 1.2}, {32, 32, 32}));
+  scene.set_surface(Surface::Reach, render::extract_surface(volume, surface_request(Surface::Reach, 3.0)));
+  const auto outer = view.grab();
+  EXPECT_FALSE(renderer->GetLastRenderingUsedDepthPeeling());
+  EXPECT_GE(distance(View::at(outer, 0.2, 0.1), View::at(slice_only, 0.2, 0.1)), 6);  // tinted
+  EXPECT_LE(distance(View::at(outer, 1.4, 1.0), View::at(slice_only, 1.4, 1.0)), 1);  // outside the sphere
+  // Both spheres over the opaque slice: the inner one shows through the outer.
+  scene.set_surface(Surface::WellConditioned,
+                    render::extract_surface(volume, surface_request(Surface::WellConditioned, 3.0)));
+  const auto both = view.grab();
+  EXPECT_GE(distance(View::at(both, 0.1, 0.1), View::at(outer, 0.1, 0.1)), 6);
+  EXPECT_LE(distance(View::at(both, 0.8, 0.1), View::at(outer, 0.8, 0.1)), 1);
+
+  renderer->SetUseDepthPeeling(true);
+  const auto peeled = view.grab();
+  EXPECT_TRUE(renderer->GetLastRenderingUsedDepthPeeling());
+  EXPECT_GE(distance(View::at(peeled, 0.2, 0.1), View::at(slice_only, 0.2, 0.1)), 6);
 }
 
 TEST(FieldScene, UpdatesAtInteractiveRates) {
