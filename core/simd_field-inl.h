@@ -46,7 +46,7 @@ struct AtanOctant {
 HWY_INLINE AtanOctant Octant(D d, V y, V x) {
   const V ax = hn::Abs(x), ay = hn::Abs(y), zero = hn::Zero(d), one = hn::Set(d, 1.0);
   const M steep = ay > ax;
-  // At the origin the angle is taken as 0: std::atan2(+-0, +0) = +-0, (+-0, -0) = +-pi.
+  // At the origin num / den = 0 / 1: the angle is std::atan2's, +-0 for x = +0, +-pi for x = -0.
   const M diagonal = ax == ay;
   const V num = hn::IfThenElse(diagonal, hn::IfThenElse(ax == zero, zero, one), hn::IfThenElse(steep, ax, ay));
   const V den = hn::IfThenElse(diagonal, one, hn::IfThenElse(steep, ay, ax));
@@ -65,6 +65,26 @@ HWY_INLINE V Atan2(D d, V y, V x) {
   return AngleOfOctant(d, o, o.num / o.den);
 }
 
+// cos(acos(r) / 3) for r in [-1, 1], as largest_eigenvalue takes it with
+// libm's acos and cos: a polynomial in s = sqrt((1 + r) / 2) = cos(acos(r) / 2),
+// in which it is analytic on [0, 1] (an even function of acos(s), and acos^2
+// is analytic at s = 1). The degree-17 Chebyshev interpolant (mpmath,
+// chebyfit at 60 digits) is within 1.7e-16 of it, 5.2e-16 as evaluated here
+// (tests/core/test_simd_math.cpp; libm's acos and cos in double: about
+// 2.4e-16): one square root and 17 multiply-adds where Acos and Cos took two
+// polynomials, a square root and a range reduction (docs/performance.md).
+HWY_INLINE V CosOfAcosOver3(D d, V r) {
+  const V s = hn::Sqrt(hn::Max(hn::Zero(d), (hn::Set(d, 1.0) + r) * hn::Set(d, 0.5)));
+  // Estrin's scheme (Highway's): a shorter chain of dependent multiply-adds than Horner's.
+  return hn::impl::Estrin(s,
+                          hn::Set(d, 0.50000000000000022), hn::Set(d, 0.57735026918951615), hn::Set(d, -0.11111111109923312),
+                          hn::Set(d, 0.053458357745060213), hn::Set(d, -0.032921798931632495), hn::Set(d, 0.022868132364985042),
+                          hn::Set(d, -0.017069017920350656), hn::Set(d, 0.0133598231805251), hn::Set(d, -0.010788571334488309),
+                          hn::Set(d, 0.0088335671721010024), hn::Set(d, -0.0071360307458022921), hn::Set(d, 0.0054524181946897302),
+                          hn::Set(d, -0.0037299160736523518), hn::Set(d, 0.0021473896765229006), hn::Set(d, -0.00097221584090348477),
+                          hn::Set(d, 0.00031848663505108793), hn::Set(d, -6.6323768258064474e-05), hn::Set(d, 6.5415558694125153e-06));
+}
+
 // largest_eigenvalue (core/conditioning.cpp) of the symmetric matrix with
 // diagonal a00, a11, a22 and off-diagonal a01, a02, a12.
 HWY_INLINE V LargestEigenvalue(D d, V a00, V a11, V a22, V a01, V a02, V a12) {
@@ -77,8 +97,7 @@ HWY_INLINE V LargestEigenvalue(D d, V a00, V a11, V a22, V a01, V a02, V a12) {
   const V b00 = d0 * inv_p, b11 = d1 * inv_p, b22 = d2 * inv_p, b01 = a01 * inv_p, b02 = a02 * inv_p, b12 = a12 * inv_p;
   const V det = b00 * (b11 * b22 - b12 * b12) - b01 * (b01 * b22 - b12 * b02) + b02 * (b01 * b12 - b11 * b02);
   const V r = hn::Min(hn::Max(det * hn::Set(d, 0.5), hn::Set(d, -1.0)), hn::Set(d, 1.0));
-  const V angle = hn::Acos(d, r) * hn::Set(d, 1.0 / 3.0);
-  const V largest = q + hn::Set(d, 2.0) * p * hn::Cos(d, angle);
+  const V largest = q + hn::Set(d, 2.0) * p * CosOfAcosOver3(d, r);
   return hn::IfThenElse(p == hn::Zero(d), q, largest);
 }
 

@@ -6,12 +6,13 @@
 // Lane for lane it is planar::sample (field.cpp), operation for operation up
 // to J, with the early returns replaced by masks, so the coordinates, the
 // reach margin, the residual and J have the scalar path's bits. c(J) follows
-// condition_number_fast with three differences: the arccosine and cosine are
-// Highway's (a few ulps from libm), divisions by a common denominator are
+// condition_number_fast with three differences: cos(acos(r) / 3) is a
+// polynomial within 2.2e-16 of libm's (CosOfAcosOver3 in
+// core/simd_field-inl.h), divisions by a common denominator are
 // multiplications by its reciprocal, and J is not scaled by a power of two
 // first (which changes no rounding while J's entries stay within 2^+-100 of
 // 1). Lanes whose status could hang on those last bits -- within 1e-12 rad of
-// a range limit (the arctangents are Highway's too) or 1e-6 relative of
+// a range limit (the arctangents are vector ones too) or 1e-6 relative of
 // kMaxTrustedCondition -- and lanes with a non-finite coordinate or a J
 // outside that range are recomputed by planar::sample, so the statuses are
 // the scalar path's exactly.

@@ -13,10 +13,11 @@
 // - c(J) is stored as the rounding of a value within kCondTolerance of the
 //   scalar double: 1e-12 relative, plus where two eigenvalues l_i > l_j of
 //   J^T J nearly coincide, 64 ulps times (l_i + l_j) / (l_i - l_j), capped at
-//   1e-7: condition_number_fast takes l1 from acos(r) / 3, flat in r where
-//   l1 = l2, and l2 from a quadratic with a double root where l2 = l3, so the
-//   last bits of their inputs (Highway's acos and cos, products by
-//   reciprocals) move c(J) by that much there (docs/performance.md). In
+//   1e-7: condition_number_fast takes l1 from cos(acos(r) / 3), flat in r
+//   where l1 = l2, and l2 from a quadratic with a double root where l2 = l3,
+//   so the last bits of their inputs (the vector path's polynomial for
+//   cos(acos(r) / 3), products by reciprocals) move c(J) by that much there
+//   (docs/performance.md). In
 //   practice the stored floats are identical except very near those sets,
 //   where they may differ by one float ulp.
 #include <gtest/gtest.h>
@@ -119,7 +120,7 @@ std::vector<Case> cases() {
   }
   // Where the two largest and the two smallest singular values of J coincide
   // (L1 = L2 = 1, branch 0; found by minimising the gap over a random
-  // search): c(J) takes the last bits of Highway's arccosine and the
+  // search): c(J) takes the last bits of cos(acos(r) / 3) and the
   // quadratic's double root there.
   out.push_back({"sigma_1 = sigma_2", lengths(1, 1),
                  Grid::box(Vector3d(9.772797e-9, 0.318628177816464, 1.377851982) - Vector3d::Constant(1e-7),
@@ -269,6 +270,8 @@ TEST(FieldSimd, EveryTargetAgreesWithTheScalarKernel) {
     for (Status s : {Status::Ok, Status::Unreachable, Status::Singular, Status::OutOfLimits})
       EXPECT_GT(tally.by_status[int(s)], 100) << target << " " << to_string(s);
     EXPECT_LT(tally.wide_cond, tally.samples / 1000) << target;
+    RecordProperty(target + " comparisons", std::to_string(tally.samples));
+    RecordProperty(target + " c(J) over 1e-12", std::to_string(tally.wide_cond));
   }
 }
 
