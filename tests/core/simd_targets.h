@@ -2,9 +2,13 @@
 // reference on every SIMD target (core/simd.h).
 #pragma once
 
+#include <Eigen/Core>
+#include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
 #include <string>
 
+#include "core/field.h"
 #include "core/simd.h"
 
 namespace linkscape::simd_test {
@@ -32,5 +36,34 @@ inline bool rounds_within(float v, double d, double absolute) {
   if (std::isinf(d) || std::isinf(v)) return v == d;
   return float(d - absolute) <= v && v <= float(d + absolute);
 }
+
+inline constexpr double kUlp = 0x1p-53;
+
+// One row of n samples along `axis` through `centre`, spacing `step`.
+inline Grid row_through(const Eigen::Vector3d& centre, int axis, double step, int n) {
+  Grid g;
+  g.dims = {1, 1, 1};
+  g.dims[axis] = n;
+  g.spacing = Eigen::Vector3d::Constant(step);
+  g.origin = centre - Eigen::Vector3d::Constant(0.5 * step);
+  g.origin(axis) = centre(axis) - 0.5 * n * step;
+  return g;
+}
+
+// The relative c(J) allowance where two eigenvalues l_i > l_j of J^T J nearly
+// coincide: 64 ulps times (l_i + l_j) / (l_i - l_j), capped at 1e-7 (the
+// closed form's cos(acos(r) / 3) is flat in r where l1 = l2, and l2 is a
+// quadratic's double root where l2 = l3).
+inline double coincident_eigenvalue_allowance(const Eigen::Matrix3d& J) {
+  const Eigen::Vector3d sv = J.jacobiSvd().singularValues();
+  const double l1 = sv(0) * sv(0), l2 = sv(1) * sv(1), l3 = sv(2) * sv(2);
+  return std::min(1e-7, 64 * kUlp * std::max((l1 + l2) / (l1 - l2), (l2 + l3) / (l2 - l3)));
+}
+
+// Counts of the samples compared, by status, and of those whose stored c(J)
+// differed from the reference's.
+struct Tally {
+  long samples = 0, by_status[5] = {0, 0, 0, 0, 0}, wide_cond = 0;
+};
 
 }  // namespace linkscape::simd_test

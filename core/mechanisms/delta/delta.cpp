@@ -713,8 +713,6 @@ FieldLegs field_legs(const Model& m) {
   for (int i = 0; i < kLegCount; ++i) {
     legs.cos_phi[i] = std::cos(leg_angle(i));
     legs.sin_phi[i] = std::sin(leg_angle(i));
-    legs.radial[i] = leg_radial(i);
-    legs.motor[i] = motor_position(m, i);
   }
   return legs;
 }

@@ -49,11 +49,10 @@ FieldSample sample_point(const Model& model, const Eigen::Vector3d& p_base_platf
 
 // ---- The fast kernel ----------------------------------------------------------
 
-// The legs' constant geometry: cos and sin of phi_i, e_i and A_i, as
-// leg_radial and motor_position compute them. Validates the model.
+// The legs' constant geometry: cos and sin of phi_i, as leg_radial computes
+// them (e_i = (cos phi_i, sin phi_i, 0), A_i = R e_i). Validates the model.
 struct FieldLegs {
   std::array<double, kLegCount> cos_phi{}, sin_phi{};
-  std::array<Eigen::Vector3d, kLegCount> radial, motor;
 };
 FieldLegs field_legs(const Model& model);
 

@@ -171,11 +171,10 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
       M serial = hn::FirstN(d, 0), near_serial = serial;
 #pragma GCC unroll 3
       for (int i = 0; i < kLegCount; ++i) {
-        const Eigen::Vector3d& e = s.legs.radial[i];
-        const Eigen::Vector3d centre_at_zero = s.legs.motor[i] - m.r * e;  // A_i - r e_i
+        const double c = s.legs.cos_phi[i], sn = s.legs.sin_phi[i];  // e_i = (c, sn, 0), A_i = R e_i
         const V arm = La * cos_q[i];
-        cx[i] = hn::Set(d, centre_at_zero.x()) + arm * hn::Set(d, e.x());
-        cy[i] = hn::Set(d, centre_at_zero.y()) + arm * hn::Set(d, e.y());
+        cx[i] = hn::Set(d, m.R * c - m.r * c) + arm * hn::Set(d, c);  // A_i - r e_i + La cos q_i e_i
+        cy[i] = hn::Set(d, m.R * sn - m.r * sn) + arm * hn::Set(d, sn);
         cz[i] = hn::Neg(La * sin_q[i]);
         sx[i] = x - cx[i];
         sy[i] = y - cy[i];
@@ -183,7 +182,7 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
         // | |s_i| - Lb | as | |s_i|^2 - Lb^2 | / (2 Lb): the same to a relative
         // 1e-15 where it is rounding, with neither square root nor division.
         closure = hn::Max(closure, hn::Abs(sx[i] * sx[i] + sy[i] * sy[i] + sz[i] * sz[i] - Lb2));
-        Jq[i] = La * (sin_q[i] * (sx[i] * hn::Set(d, e.x()) + sy[i] * hn::Set(d, e.y())) + cos_q[i] * sz[i]);
+        Jq[i] = La * (sin_q[i] * (sx[i] * hn::Set(d, c) + sy[i] * hn::Set(d, sn)) + cos_q[i] * sz[i]);
         serial = hn::Or(serial, Jq[i] == zero);
         near_serial = hn::Or(near_serial, hn::Abs(Jq[i]) <= hn::Set(d, 1e-12 * m.La * m.Lb));
       }

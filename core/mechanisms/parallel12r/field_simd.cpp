@@ -28,9 +28,6 @@
 #include "core/simd_field-inl.h"  // per target, like this file
 
 #include <algorithm>
-#include <cmath>
-#include <limits>
-#include <numbers>
 
 #include "core/mechanisms/parallel12r/planar_kernel.h"
 

@@ -26,7 +26,6 @@
 //   row i by about size / m_i ulps.
 #include <gtest/gtest.h>
 
-#include <Eigen/SVD>
 #include <algorithm>
 #include <cstdlib>
 #include <cstring>
@@ -45,11 +44,13 @@ namespace linkscape::delta {
 namespace {
 
 using Eigen::Vector3d;
+using simd_test::kUlp;
+using simd_test::row_through;
 using simd_test::rounds_near;
 using simd_test::rounds_within;
+using simd_test::Tally;
 using simd_test::TargetLimit;
 
-constexpr double kUlp = 0x1p-53;
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 struct Case {
@@ -57,17 +58,6 @@ struct Case {
   Model model;
   FieldRequest request;
 };
-
-// One row of n samples along `axis` through `centre`, spacing `step`.
-Grid row_through(const Vector3d& centre, int axis, double step, int n) {
-  Grid g;
-  g.dims = {1, 1, 1};
-  g.dims[axis] = n;
-  g.spacing = Vector3d::Constant(step);
-  g.origin = centre - Vector3d::Constant(0.5 * step);
-  g.origin(axis) = centre(axis) - 0.5 * n * step;
-  return g;
-}
 
 Model random_model(std::mt19937_64& rng, int c) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -147,17 +137,11 @@ std::vector<Case> cases() {
 double cond_slack(const Model& m, const Vector3d& p, const FieldRequest& r) {
   const IkResult ik = inverse(m, p, IkMethod::Closed, r.ik);
   const JacobianResult jac = jacobian(m, ik.q_actuated, p);
-  const Vector3d sv = jac.J_actuated_from_task.jacobiSvd().singularValues();
-  const double l1 = sv(0) * sv(0), l2 = sv(1) * sv(1), l3 = sv(2) * sv(2);
-  const double coincident = std::min(1e-7, 64 * kUlp * std::max((l1 + l2) / (l1 - l2), (l2 + l3) / (l2 - l3)));
+  const double coincident = simd_test::coincident_eigenvalue_allowance(jac.J_actuated_from_task);
   double margin = kInfinity;
   for (int i = 0; i < kLegCount; ++i) margin = std::min(margin, std::abs(leg_margin(m, i, p)));
   return 1e-12 + 64 * kUlp * jac.cond + 16 * kUlp * m.size() / margin + coincident;
 }
-
-struct Tally {
-  long samples = 0, by_status[5] = {0, 0, 0, 0, 0}, wide_cond = 0;
-};
 
 // Compares f with sample_point at every sample; returns the number of
 // failures (the first few are reported).

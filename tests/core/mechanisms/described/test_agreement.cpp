@@ -37,6 +37,17 @@ void print(const char* name, const Worst& w) {
               name, w.compared, w.fk_compared, w.q, w.J, w.cond, w.compiled_cond, w.fk, w.status_mismatch);
 }
 
+// Prints w and checks it: at least 10^5 poses, every difference within 1e-9, no status mismatch.
+void expect_agreement(const char* name, const Worst& w) {
+  print(name, w);
+  EXPECT_GE(w.compared, 100000) << name;
+  EXPECT_LE(w.q, 1e-9) << name;
+  EXPECT_LE(w.J, 1e-9) << name;
+  EXPECT_LE(w.cond, 1e-9) << name;
+  EXPECT_LE(w.fk, 1e-9) << name;
+  EXPECT_EQ(w.status_mismatch, 0) << name;
+}
+
 TEST(DescribedDelta, AgreesWithTheCompiledDeltaAt1e5Poses) {
   const auto compiled = make_mechanism(load_preset("delta"));
   const auto described = make_mechanism(load_preset("delta-described"));
@@ -87,13 +98,7 @@ TEST(DescribedDelta, AgreesWithTheCompiledDeltaAt1e5Poses) {
       }
     }
   }
-  print("Delta", w);
-  EXPECT_GE(w.compared, 100000);
-  EXPECT_LE(w.q, 1e-9);
-  EXPECT_LE(w.J, 1e-9);
-  EXPECT_LE(w.cond, 1e-9);
-  EXPECT_LE(w.fk, 1e-9);
-  EXPECT_EQ(w.status_mismatch, 0);
+  expect_agreement("Delta", w);
 }
 
 // At the Delta's home two singular values of J meet; the compiled closed
@@ -191,13 +196,7 @@ TEST(DescribedPathos2, AgreesWithTheCompiledPathos2At1e5Poses) {
   }
   std::printf("PATHOS-II FK: %d seeds reached two different assembly modes (both verified)\n", other_modes);
   EXPECT_LE(other_modes, w.fk_compared / 100);
-  print("PATHOS-II", w);
-  EXPECT_GE(w.compared, 100000);
-  EXPECT_LE(w.q, 1e-9);
-  EXPECT_LE(w.J, 1e-9);
-  EXPECT_LE(w.cond, 1e-9);
-  EXPECT_LE(w.fk, 1e-9);
-  EXPECT_EQ(w.status_mismatch, 0);
+  expect_agreement("PATHOS-II", w);
 }
 
 }  // namespace

@@ -22,7 +22,6 @@
 //   where they may differ by one float ulp.
 #include <gtest/gtest.h>
 
-#include <Eigen/SVD>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -39,8 +38,10 @@
 #include "tests/core/simd_targets.h"
 
 using namespace linkscape;
+using simd_test::row_through;
 using simd_test::rounds_near;
 using simd_test::rounds_within;
+using simd_test::Tally;
 using simd_test::TargetLimit;
 using Eigen::Vector3d;
 namespace planar = parallel12r::planar;
@@ -48,7 +49,6 @@ namespace planar = parallel12r::planar;
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr double kUlp = 0x1p-53;
 
 struct Case {
   std::string name;
@@ -62,17 +62,6 @@ parallel12r::Model lengths(double L1, double L2) {
   m.L1 = L1;
   m.L2 = L2;
   return m;
-}
-
-// One row of n samples along `axis` through `centre`, spacing `step`.
-Grid row_through(const Vector3d& centre, int axis, double step, int n) {
-  Grid g;
-  g.dims = {1, 1, 1};
-  g.dims[axis] = n;
-  g.spacing = Vector3d::Constant(step);
-  g.origin = centre - Vector3d::Constant(0.5 * step);
-  g.origin(axis) = centre(axis) - 0.5 * n * step;
-  return g;
 }
 
 // Grids over the singular sets, the reach spheres, range limits, scales and
@@ -178,18 +167,10 @@ double cond_tolerance(const parallel12r::Model& m, const Vector3d& p, int branch
   const parallel12r::IkResult ik = parallel12r::inverse(m, p, parallel12r::IkMethod::Planar);
   for (const auto& s : ik.solutions) {
     if (s.branch != branch) continue;
-    const Vector3d sv = parallel12r::jacobian(m, s.q_actuated).jacobiSvd().singularValues();
-    const double l1 = sv(0) * sv(0), l2 = sv(1) * sv(1), l3 = sv(2) * sv(2);
-    return 1e-12 + std::min(1e-7, 64 * kUlp * std::max((l1 + l2) / (l1 - l2), (l2 + l3) / (l2 - l3)));
+    return 1e-12 + simd_test::coincident_eigenvalue_allowance(parallel12r::jacobian(m, s.q_actuated));
   }
   return 1e-12;
 }
-
-// Counts of the samples compared, by status, and of those whose stored c(J)
-// needed more than 1e-12.
-struct Tally {
-  long samples = 0, by_status[5] = {0, 0, 0, 0, 0}, wide_cond = 0;
-};
 
 // Compares f (computed by a vectorised kernel) with planar::sample at every
 // sample; returns the number of failures (the first few are reported).
