@@ -43,14 +43,14 @@ ErrorPanel::ErrorPanel(QWidget* parent) : QFrame(parent) {
   reload_ = new QPushButton(tr("Reload"), this);
   reload_->setObjectName("errorReloadButton");
   reload_->setToolTip(tr("Read the file again (after fixing it)"));
-  dismiss_ = new QPushButton(tr("Dismiss"), this);
-  dismiss_->setObjectName("errorDismissButton");
-  dismiss_->setToolTip(tr("Hide this message; the device shown stays as it is"));
+  auto* dismiss = new QPushButton(tr("Dismiss"), this);
+  dismiss->setObjectName("errorDismissButton");
+  dismiss->setToolTip(tr("Hide this message; the device shown stays as it is"));
 
   auto* top = new QHBoxLayout;
   top->addWidget(title_, 1);
   top->addWidget(reload_);
-  top->addWidget(dismiss_);
+  top->addWidget(dismiss);
   auto* text = new QVBoxLayout;
   text->addLayout(top);
   text->addWidget(path_label_);
@@ -61,7 +61,7 @@ ErrorPanel::ErrorPanel(QWidget* parent) : QFrame(parent) {
   row->addLayout(text, 1);
 
   connect(reload_, &QPushButton::clicked, this, [this] { emit reloadRequested(path_); });
-  connect(dismiss_, &QPushButton::clicked, this, &QWidget::hide);
+  connect(dismiss, &QPushButton::clicked, this, &QWidget::hide);
   hide();
 }
 

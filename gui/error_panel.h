@@ -32,7 +32,7 @@ class ErrorPanel : public QFrame {
  private:
   QString path_;
   QLabel *title_ = nullptr, *path_label_ = nullptr, *message_ = nullptr;
-  QPushButton *reload_ = nullptr, *dismiss_ = nullptr;
+  QPushButton* reload_ = nullptr;
 };
 
 }  // namespace linkscape::gui

@@ -133,6 +133,7 @@ void FieldJobRunner::submitLight(const SurfaceResult& full) {
   const std::uint64_t generation = generation_.load();  // a later submit() supersedes this too
   pool_.start([this, volume = full.volume, threshold = full.cond_threshold, reach, well, generation] {
     auto current = [&] { return generation_.load() == generation; };
+    if (!current()) return;  // superseded while it waited behind another job
     try {
       const auto t0 = std::chrono::steady_clock::now();
       SurfaceResult light;

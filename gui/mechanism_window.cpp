@@ -420,8 +420,8 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
       reload_timer_->start();
       return;
     }
-    watchPresetFile();
-    reloadMechanism();
+    // A window that replaces this one watches the file itself.
+    if (!reloadMechanism()) watchPresetFile();
   });
   watchPresetFile();
 }
@@ -1664,9 +1664,9 @@ MechanismWindow* MechanismWindow::reloadMechanism() {
     // has it. Design parameters and travel are left out: the file's stand.
     Session kept;
     kept.mechanism = preset_reference(next);
-    kept.camera = camera_state(renderer_);
-    kept.field = fieldSettings();
-    kept.task_volume = task_panel_->setting();
+    kept.camera = before.camera;
+    kept.field = before.field;
+    kept.task_volume = before.task_volume;
     const bool same_task = names_of(info.task) == names_of(mechanism_->info().task);
     if (same_task) {
       kept.task = x_;

@@ -247,11 +247,9 @@ void VtkWidget::onRenderWindowEvent(vtkObject*, unsigned long eventId, void* cal
       *static_cast<int*>(callData) = ctx && ctx->isValid() ? 1 : 0;
       break;
     case vtkCommand::WindowFrameEvent:
+    case vtkCommand::RenderEvent:
       // A render outside paintGL() (someone called Render() directly, or an
       // image capture) must still reach the screen.
-      if (!inPaint_) update();
-      break;
-    case vtkCommand::RenderEvent:
       if (!inPaint_) update();
       break;
     case vtkCommand::CursorChangedEvent:

@@ -69,7 +69,6 @@ class FieldScene {
   // (while the device is being moved: a software-rendered frame costs what
   // the surfaces' triangles cost). Default off.
   void set_light(bool on);
-  bool light() const { return light_; }
   // Whether the light mesh of `which` is what is drawn.
   bool drawing_light(Surface which) const;
   void set_surface_visible(Surface which, bool visible);

@@ -257,11 +257,26 @@ std::vector<int> Kinematics::rule_signs(int leg, const LegState& state, const Is
 
 bool Kinematics::signs_match(int leg, const LegState& state, const Isometry3d& anchor, int branch) const {
   const Leg& l = model_.legs[std::size_t(leg)];
+  if (l.rules.empty()) return true;  // no chain to walk
   const std::vector<int> signs = rule_signs(leg, state, anchor);
   for (std::size_t i = 0; i < l.rules.size(); ++i) {
     const BranchRule& r = l.rules[i];
     const int wanted = r.fixed_sign != 0 ? r.fixed_sign : ((branch >> r.free_index) & 1) ? -1 : 1;
     if (signs[i] * wanted < 0) return false;
+  }
+  return true;
+}
+
+bool Kinematics::within_travel(int leg, const LegState& state) const {
+  const Leg& l = model_.legs[std::size_t(leg)];
+  for (int a : l.actuators) {
+    const Actuator& act = model_.actuators[std::size_t(a)];
+    if (!act.limited) continue;
+    const double v = state.values(l.steps[std::size_t(act.step)].variable);
+    const bool inside = act.prismatic ? act.range.contains(v)
+                                      : act.range.contains(wrap(v)) || act.range.contains(wrap(v) + 2 * kPi) ||
+                                            act.range.contains(wrap(v) - 2 * kPi);
+    if (!inside) return false;
   }
   return true;
 }
@@ -384,12 +399,13 @@ LegSolution Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int bran
       const double residual = r.error * model_.size;
       if (residual <= tolerance * model_.size) {
         if (signs_match(leg, r.state, anchor, branch)) {
-          best.state = std::move(r.state);
-          best.status = Status::Ok;
-          best.residual = residual;
-          best.iterations = iterations;
-          tls.legs[std::size_t(leg)][std::size_t(combo)] = best.state;
-          return best;
+          LegSolution solved;
+          solved.state = std::move(r.state);
+          solved.status = Status::Ok;
+          solved.residual = residual;
+          solved.iterations = iterations;
+          tls.legs[std::size_t(leg)][std::size_t(combo)] = solved.state;
+          return solved;
         }
         // Keep it only as a state to report (never empty), not as the answer.
         if (!found_other_branch && best.residual == kInf) best.state = r.state;
@@ -436,14 +452,8 @@ PoseSolution Kinematics::inverse(const VectorXd& x, int branch, double tolerance
       const Actuator& act = model_.actuators[std::size_t(a)];
       const double v = s.state.values(l.steps[std::size_t(act.step)].variable);
       out.q(a) = act.prismatic ? v : wrap(v);
-      if (s.status == Status::Ok && act.limited) {
-        const double d = act.prismatic ? v : out.q(a);
-        const bool inside = act.prismatic ? act.range.contains(d)
-                                          : act.range.contains(d) || act.range.contains(d + 2 * kPi) ||
-                                                act.range.contains(d - 2 * kPi);
-        if (!inside) s.status = Status::OutOfLimits;
-      }
     }
+    if (s.status == Status::Ok && !within_travel(int(leg), s.state)) s.status = Status::OutOfLimits;
     if (rank(s.status) > rank(out.status)) {
       out.status = s.status;
       out.failing_leg = int(leg);
@@ -494,9 +504,8 @@ namespace {
 // the base axes where all three rotations are free, else the Euler rates).
 MatrixXd platform_columns(const Model& m, const PlatformPose& pose, const Vector3d& r) {
   const bool all_rotations = m.free[3] && m.free[4] && m.free[5];
-  std::array<double, 3> e = {0, 0, 0};
-  const Vector3d euler = euler_of(pose.R);
-  e = {euler.x(), euler.y(), euler.z()};
+  // The Euler angles, for the rates (not needed where all three rotations are free).
+  const Vector3d e = all_rotations ? Vector3d::Zero() : euler_of(pose.R);
   MatrixXd cols(6, m.driven());
   int col = 0;
   for (const TaskCoordinate& t : m.task) {
@@ -520,7 +529,7 @@ MatrixXd platform_columns(const Model& m, const PlatformPose& pose, const Vector
 }
 }  // namespace
 
-JacobianParts Kinematics::jacobian(const VectorXd& x, const std::vector<LegState>& legs) const {
+JacobianParts Kinematics::jacobian(const VectorXd& x, const PoseSolution& solved) const {
   const PlatformPose p = pose(x);
   const int n = model_.driven();
   const int a_count = int(model_.actuators.size());
@@ -531,7 +540,7 @@ JacobianParts Kinematics::jacobian(const VectorXd& x, const std::vector<LegState
   int row = 0;
   for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
     const Leg& l = model_.legs[leg];
-    const Chain c = walk(l, legs[leg]);
+    const Chain c = walk(l, solved.legs[leg].state);
     const Vector3d r = c.end.translation();
     const int actuator = l.actuators.front();
     const int act_var = l.steps[std::size_t(model_.actuators[std::size_t(actuator)].step)].variable;
@@ -566,7 +575,6 @@ JacobianParts Kinematics::jacobian(const VectorXd& x, const std::vector<LegState
     }
     ++row;
   }
-  if (n != a_count) throw std::logic_error("described: driven coordinates and actuators differ");
   Eigen::JacobiSVD<MatrixXd> svd(out.Jx);
   const auto& sv = svd.singularValues();
   out.jx_condition = sv(sv.size() - 1) > 0 ? sv(0) / sv(sv.size() - 1) : kInf;
@@ -730,12 +738,6 @@ double Kinematics::limits_margin(const VectorXd& q) const {
   return margin;
 }
 
-std::vector<LegState> states_of(const PoseSolution& s) {
-  std::vector<LegState> out;
-  for (const LegSolution& l : s.legs) out.push_back(l.state);
-  return out;
-}
-
 bool assembled(const PoseSolution& s) {
   for (const LegSolution& l : s.legs)
     if (l.status != Status::Ok && l.status != Status::OutOfLimits) return false;
@@ -754,7 +756,7 @@ double Kinematics::reach_margin(const PoseSolution& s, const JacobianParts* part
 double Kinematics::reach_margin(const VectorXd& x, int branch) const {
   const PoseSolution s = inverse(x, branch, 1e-10);
   if (!assembled(s)) return reach_margin(s, nullptr);
-  const JacobianParts parts = jacobian(x, states_of(s));
+  const JacobianParts parts = jacobian(x, s);
   return reach_margin(s, &parts);
 }
 
@@ -762,7 +764,7 @@ double Kinematics::reach_margin(const VectorXd& x, int branch) const {
 
 Kinematics::LegDrawing Kinematics::draw_leg(int leg, const LegState& state) const {
   const Chain c = walk(model_.legs[std::size_t(leg)], state);
-  return {c.step_frame, c.step_centre};
+  return {c.step_frame};
 }
 
 // ---- Construction: home on every branch, mobility ---------------------------------------------

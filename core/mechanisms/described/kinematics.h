@@ -54,8 +54,6 @@ struct PoseSolution {
   Eigen::VectorXd q;      // actuators (revolute angles wrapped to (-pi, pi])
 };
 
-// The legs' states of a solved pose, in leg order.
-std::vector<LegState> states_of(const PoseSolution& s);
 // Every leg closes (ok, or ok but outside its actuator's travel).
 bool assembled(const PoseSolution& s);
 
@@ -102,7 +100,8 @@ class Kinematics {
   PoseSolution inverse(const Eigen::VectorXd& x, int branch, double tolerance) const;
   // Each leg on the solution whose actuator is nearest q (q, x consistent).
   PoseSolution inverse_near(const Eigen::VectorXd& x, const Eigen::VectorXd& q) const;
-  JacobianParts jacobian(const Eigen::VectorXd& x, const std::vector<LegState>& legs) const;
+  // At a solved pose (its legs' states).
+  JacobianParts jacobian(const Eigen::VectorXd& x, const PoseSolution& solved) const;
   ForwardSolution forward(const Eigen::VectorXd& q, const Eigen::VectorXd& seed, double tolerance,
                           int max_iterations) const;
 
@@ -112,10 +111,9 @@ class Kinematics {
   double reach_margin(const PoseSolution& s, const JacobianParts* parts) const;
   double limits_margin(const Eigen::VectorXd& q) const;
 
-  // Joint centres (per step, base frame) and the chain's end, for drawing.
+  // The frames of a leg's steps (base frame), for drawing.
   struct LegDrawing {
     std::vector<Eigen::Isometry3d> frames;  // per step: the frame after it
-    std::vector<Eigen::Vector3d> centres;   // per step: joint centre (Fixed: its start)
   };
   LegDrawing draw_leg(int leg, const LegState& state) const;
 
@@ -130,6 +128,8 @@ class Kinematics {
   LegSolution solve_leg_on(int leg, const Eigen::Isometry3d& anchor, int branch, double tolerance,
                            const LegState* extra_seed) const;
   bool signs_match(int leg, const LegState& state, const Eigen::Isometry3d& anchor, int branch) const;
+  // Whether the leg's actuator lies within its travel (a revolute one: some turn of it).
+  bool within_travel(int leg, const LegState& state) const;
   std::vector<int> rule_signs(int leg, const LegState& state, const Eigen::Isometry3d& anchor) const;
 
   Model model_;

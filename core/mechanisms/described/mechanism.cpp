@@ -18,7 +18,6 @@ using Eigen::Vector3d;
 using Eigen::VectorXd;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-const char* const kCoordinateNames[6] = {"x", "y", "z", "rx", "ry", "rz"};
 
 class DescribedMechanism final : public Mechanism {
  public:
@@ -41,7 +40,8 @@ class DescribedMechanism final : public Mechanism {
       }
       i.parameters.push_back(q);
     }
-    const VectorXd home = kin_.inverse(m.home, 0, 1e-10).q;
+    home_q_ = kin_.inverse(m.home, 0, 1e-10).q;
+    const VectorXd& home = home_q_;
     for (std::size_t a = 0; a < m.actuators.size(); ++a) {
       const Actuator& act = m.actuators[a];
       i.actuators.push_back({act.name, act.prismatic ? m.length_unit : "rad",
@@ -99,7 +99,7 @@ class DescribedMechanism final : public Mechanism {
   std::map<std::string, double> parameters() const override { return kin_.model().parameters; }
   double size() const override { return kin_.model().size; }
   VectorXd home_task() const override { return to_interface(kin_.model().home, 0.0); }
-  VectorXd home_actuators() const override { return kin_.inverse(kin_.model().home, 0, 1e-10).q; }
+  VectorXd home_actuators() const override { return home_q_; }
 
   IkResult inverse(const VectorXd& x, const IkOptions& o) const override {
     check_method(o.method, "IK");
@@ -112,7 +112,7 @@ class DescribedMechanism final : public Mechanism {
     for (int b = first; b <= last; ++b) {
       PoseSolution s = kin_.inverse(xm, b, o.tolerance);
       if (s.status == Status::Ok) {
-        const JacobianParts parts = kin_.jacobian(xm, states_of(s));
+        const JacobianParts parts = kin_.jacobian(xm, s);
         if (parts.singular_leg >= 0) {
           s.status = Status::Singular;
           s.failing_leg = parts.singular_leg;
@@ -151,7 +151,7 @@ class DescribedMechanism final : public Mechanism {
 
   Eigen::MatrixXd jacobian(const VectorXd& q, const VectorXd& x) const override {
     const VectorXd xm = to_model(x, "x");
-    return kin_.jacobian(xm, states_of(kin_.inverse_near(xm, q))).J;
+    return kin_.jacobian(xm, kin_.inverse_near(xm, q)).J;
   }
 
   Measures measures(const VectorXd& q, const VectorXd& x) const override {
@@ -163,7 +163,7 @@ class DescribedMechanism final : public Mechanism {
       out.values.assign(info_.measures.size(), kInf);
       return out;
     }
-    const JacobianParts parts = kin_.jacobian(xm, states_of(s));
+    const JacobianParts parts = kin_.jacobian(xm, s);
     out.status = parts.status;
     out.values = measure_values(parts);
     out.det = parts.status == Status::Ok ? parts.J.determinant() : 0.0;
@@ -181,7 +181,7 @@ class DescribedMechanism final : public Mechanism {
     const int legs = int(kin_.model().legs.size());
     r.distances.assign(std::size_t(legs + 1), kInf);
     if (s.status != Status::Ok) return r;
-    const JacobianParts parts = kin_.jacobian(xm, states_of(s));
+    const JacobianParts parts = kin_.jacobian(xm, s);
     for (int l = 0; l < legs; ++l) r.distances[std::size_t(l)] = parts.serial_margin[std::size_t(l)];
     r.distances[std::size_t(legs)] = parallel_distance(xm, s);
     r.nearest = int(std::min_element(r.distances.begin(), r.distances.end()) - r.distances.begin());
@@ -210,7 +210,7 @@ class DescribedMechanism final : public Mechanism {
       const VectorXd end = m.home + lo * d;
       const PoseSolution s = kin_.inverse(end, 0, 1e-10);
       if (s.status != Status::Ok) continue;
-      const JacobianParts parts = kin_.jacobian(end, states_of(s));
+      const JacobianParts parts = kin_.jacobian(end, s);
       const int leg = int(std::min_element(parts.serial_margin.begin(), parts.serial_margin.end()) -
                           parts.serial_margin.begin());
       ends[std::size_t(leg)].push_back(end);
@@ -448,7 +448,7 @@ class DescribedMechanism final : public Mechanism {
     Status status = ik.status;
     s.residual = closes ? float(ik.residual) : inf;
     std::optional<JacobianParts> parts;
-    if (closes) parts = kin_.jacobian(xm, states_of(ik));
+    if (closes) parts = kin_.jacobian(xm, ik);
     const double margin = kin_.reach_margin(ik, parts ? &*parts : nullptr);
     if (parts) {
       if (status == Status::Ok && parts->status != Status::Ok) status = Status::Singular;
@@ -492,7 +492,7 @@ class DescribedMechanism final : public Mechanism {
     auto smallest = [&](const VectorXd& x) {
       const PoseSolution near = kin_.inverse_near(x, s.q);
       if (near.status != Status::Ok) return kInf;
-      const JacobianParts parts = kin_.jacobian(x, states_of(near));
+      const JacobianParts parts = kin_.jacobian(x, near);
       Eigen::JacobiSVD<Eigen::MatrixXd> svd(parts.Jx);
       return svd.singularValues()(svd.singularValues().size() - 1);
     };
@@ -535,6 +535,7 @@ class DescribedMechanism final : public Mechanism {
   Preset preset_;
   Kinematics kin_;
   MechanismInfo info_;
+  VectorXd home_q_;  // the actuators at the home task, branch 0 (solved once)
   int rotations_ = 0;
   // The drawing: which link body follows which leg step, where the platform bodies start.
   std::vector<LinkBody> link_bodies_;

@@ -5,7 +5,6 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
-#include <mutex>
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <set>
@@ -37,11 +36,7 @@ std::string replace_hash(std::string text, int number) {
 // frames only) the extras.
 class Evaluator {
  public:
-  Evaluator(const std::map<std::string, double>& parameters, const std::vector<Extra>* extras)
-      : parameters_(parameters) {
-    if (extras)
-      for (const Extra& e : *extras) extra_values_[e.name] = e.home;
-  }
+  explicit Evaluator(const std::map<std::string, double>& parameters) : parameters_(parameters) {}
   int copy = 0;   // the leg copy being read (k)
   int first = 1;  // '#' in strings stands for first + copy
 
@@ -178,7 +173,7 @@ class ExpressionSet {
       std::vector<Isometry3d> frames;
     } last;
     if (last.id == id_ && last.extras.size() == extra_values.size() && last.extras == extra_values) return last.frames;
-    Evaluator eval(parameters_, &extras_);
+    Evaluator eval(parameters_);
     for (std::size_t e = 0; e < extras_.size(); ++e) eval.set_extra(extras_[e].name, extra_values(Eigen::Index(e)));
     std::vector<Isometry3d> out;
     for (std::size_t b = 0; b < frames_.size(); ++b)
@@ -223,7 +218,7 @@ Model build_model(const std::string& description_json, const std::map<std::strin
   Model m;
   m.length_unit = length_unit;
   m.parameters = parameters;
-  Evaluator eval(parameters, nullptr);
+  Evaluator eval(parameters);
 
   const std::string space = doc.value("space", std::string("spatial"));
   if (space != "spatial" && space != "planar")
