@@ -387,14 +387,22 @@ LegSolution Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int bran
     return best;
   }
   bool found_other_branch = false;
+  // A solution on the branch whose actuator is outside its travel: the answer
+  // only if the first fixed seed (the leg at home on the branch) does not
+  // lead to one within it. (A leg may close the same
+  // anchor twice on one branch, e.g. a prismatic leg at +d and, its universal
+  // joint turned over, at -d; which one a seed finds must not decide the
+  // status.)
+  std::optional<LegSolution> outside_travel;
   int stationary_misses = 0;
   int iterations = 0;
   for (const auto* seeds : {&fast, &fixed}) {
-    for (const LegState* seed : *seeds) {
+    for (std::size_t i = 0; i < seeds->size(); ++i) {
+      if (outside_travel && seeds == &fixed && i >= 1) break;
       // Towards a least-squares minimum only while it gains 0.1 % per step:
       // enough for the verdict and for the miss distance near the boundary,
       // where the residual is small and Gauss-Newton converges fast.
-      LegSolveResult r = solve_leg(leg, anchor, *seed, 40, 1e-3);
+      LegSolveResult r = solve_leg(leg, anchor, *(*seeds)[i], 40, 1e-3);
       iterations += r.iterations;
       const double residual = r.error * model_.size;
       if (residual <= tolerance * model_.size) {
@@ -404,6 +412,10 @@ LegSolution Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int bran
           solved.status = Status::Ok;
           solved.residual = residual;
           solved.iterations = iterations;
+          if (!within_travel(leg, solved.state)) {
+            if (!outside_travel) outside_travel = std::move(solved);
+            continue;
+          }
           tls.legs[std::size_t(leg)][std::size_t(combo)] = solved.state;
           return solved;
         }
@@ -422,6 +434,10 @@ LegSolution Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int bran
       // repeat the verdict).
       if (r.stationary && ++stationary_misses >= 2 && !found_other_branch) break;
     }
+  }
+  if (outside_travel) {
+    outside_travel->iterations = iterations;
+    return *outside_travel;
   }
   if (found_other_branch) best.residual = 0.0;  // the leg reaches the anchor, on another branch
   if (best.state.values.size() == 0) best.state = spread_seeds_[std::size_t(leg)].front();

@@ -365,6 +365,37 @@ TEST_F(StewartDevice, ForwardFromHomeAndOutsideTheTravel) {
   EXPECT_TRUE(statuses.empty());
 }
 
+// A field over the default box at the home orientation: every sample is ok
+// exactly where the closed-form leg lengths are within the travel, and
+// out-of-limits elsewhere, whatever the thread solved before it. (A leg
+// closes its anchor twice, at +l and, its universal joint turned over, at
+// -l; the solver once reported out-of-limits where a seed led it to -l.)
+TEST_F(StewartDevice, FieldStatusIsTheLegLengthsAgainstTheTravel) {
+  const Eigen::AlignedBox3d box = m->default_box();
+  const Grid g = Grid::box(box.min(), box.max(), {24, 24, 24});
+  const VectorXd home = m->home_task();
+  int wrong = 0, ok = 0;
+  for (int threads : {1, 2}) {
+    const Field f = *m->compute_field(g, home, {}, threads, {});
+    for (int k = 0; k < g.dims[2]; ++k)
+      for (int j = 0; j < g.dims[1]; ++j)
+        for (int i = 0; i < g.dims[0]; ++i) {
+          Pose x = pose(home);
+          x.p = g.point(i, j, k);
+          const double margin = travel_margin(geometry.ik(x));
+          if (std::abs(margin) < 1e-9 * m->size()) continue;  // on the travel's end
+          const Status want = margin > 0 ? Status::Ok : Status::OutOfLimits;
+          const Status got = Status(f.status[g.index(i, j, k)]);
+          ok += got == Status::Ok;
+          if (got != want && wrong++ < 5)
+            ADD_FAILURE() << threads << " thread(s), at " << x.p.transpose() << ": " << to_string(got) << ", expected "
+                          << to_string(want) << " (travel margin " << margin << ")";
+        }
+  }
+  EXPECT_EQ(wrong, 0);
+  EXPECT_GT(ok, 500);
+}
+
 // The reference itself, without the solver: the rows [u_i, (R a_i) x u_i]
 // give the rate of the closed-form leg lengths along a platform twist (v, w),
 // the pose moving as p + v t, exp([w] t) R.
