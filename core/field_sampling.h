@@ -75,6 +75,12 @@ struct FieldRowOut {
     method_used[t] = s.method_used;
     if (cond_orientation) cond_orientation[t] = s.cond_orientation;
   }
+
+  // The same arrays `by` samples further on (another row of the Field).
+  FieldRowOut shifted(std::ptrdiff_t by) const {
+    return {cond + by,   reach_margin + by, residual + by,    reachable + by,
+            status + by, iterations + by,   method_used + by, cond_orientation ? cond_orientation + by : nullptr};
+  }
 };
 
 // Sizes f's arrays to f.grid (cond_orientation only if with_orientation) and

@@ -7,10 +7,18 @@
 // (FieldKernel::Vector and VectorMirrored, the default; the closed IK only)
 // takes rows of samples in SIMD vectors with run-time dispatch
 // (field_simd.cpp); it agrees with the reference as
-// tests/core/mechanisms/delta/test_field_simd.cpp states. It has no mirror:
-// reflecting y maps leg 1 onto leg 2, but cos and sin of 120 and 240 degrees
-// are not exact mirrors in double, so the field is symmetric only to
-// rounding.
+// tests/core/mechanisms/delta/test_field.cpp states.
+//
+// VectorMirrored also uses the Delta's mirror symmetry: reflecting y maps leg
+// 0 onto itself and leg 1 onto leg 2, with the same actuator angles, so where
+// legs 1 and 2 have the same range and elbow, the sample at (x, -y, z) is the
+// one at (x, y, z) with two legs swapped, and c(J), the reach margin, the
+// residual and the status are unchanged. In double it holds to rounding
+// (cos and sin of 120 and 240 degrees are not exact mirrors), which is the
+// kernel's own agreement with the reference; the samples whose status could
+// hang on it are the ones the kernel hands to the reference anyway, and
+// there the reference is called at each mirrored point itself. So the rows
+// of the grid's upper half in y are the lower half's, computed once.
 #pragma once
 
 #include <Eigen/Core>
@@ -56,11 +64,22 @@ struct FieldLegs {
 };
 FieldLegs field_legs(const Model& model);
 
+// Whether the mirror in y holds for this request (see above): legs 1 and 2
+// with the same range and elbow, rows along x, and grid y coordinates that
+// are exact negatives of each other.
+bool mirror_holds(const Model& model, const FieldRequest& request);
+
+// The row y -> -y of a grid row: where the same samples go.
+struct RowMirror {
+  detail::GridRow row;
+  detail::FieldRowOut out;
+};
+
 // The closed-IK samples of a grid row in SIMD vectors (field_simd.cpp) with
 // the best instruction set of the CPU (core/simd.h): sample_point's, but for
 // the last bits of c(J), the reach margin and the residual; the statuses are
-// its exactly.
+// its exactly. With `mirror`, also the mirror row's (mirror_holds).
 void sample_row_vector(const Model& model, const FieldLegs& legs, const FieldRequest& request, const Grid& grid,
-                       const detail::GridRow& row, const detail::FieldRowOut& out);
+                       const detail::GridRow& row, const detail::FieldRowOut& out, const RowMirror* mirror = nullptr);
 
 }  // namespace linkscape::delta

@@ -233,7 +233,7 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
 }
 
 void SampleRow(const Model& m, const FieldLegs& legs, const FieldRequest& request, const Grid& g,
-               const detail::GridRow& row, const detail::FieldRowOut& out) {
+               const detail::GridRow& row, const detail::FieldRowOut& out, const RowMirror* mirror) {
   const Setup setup{m, legs, request.ik.branch, request.ik.tolerance};
   const MethodRule rule{0.0 /* IkMethod::Closed */, false};
   Block b;
@@ -242,6 +242,11 @@ void SampleRow(const Model& m, const FieldLegs& legs, const FieldRequest& reques
     Geometry(setup, g, row, first, n, b);
     BlockConditioning(n, b, std::nullopt);
     StoreBlock(b, first, n, row.count, false, rule, out, [&](int i) { return sample_point(m, row.point(g, i), request); });
+    // The mirror row takes the same values; the lanes the reference decides
+    // are decided at the mirror row's own points.
+    if (mirror)
+      StoreBlock(b, first, n, row.count, false, rule, mirror->out,
+                 [&](int i) { return sample_point(m, mirror->row.point(g, i), request); });
   }
 }
 
@@ -254,8 +259,8 @@ namespace linkscape::delta {
 HWY_EXPORT(SampleRow);
 
 void sample_row_vector(const Model& m, const FieldLegs& legs, const FieldRequest& request, const Grid& g,
-                       const detail::GridRow& row, const detail::FieldRowOut& out) {
-  HWY_DYNAMIC_DISPATCH(SampleRow)(m, legs, request, g, row, out);
+                       const detail::GridRow& row, const detail::FieldRowOut& out, const RowMirror* mirror) {
+  HWY_DYNAMIC_DISPATCH(SampleRow)(m, legs, request, g, row, out, mirror);
 }
 
 }  // namespace linkscape::delta

@@ -70,6 +70,7 @@ Model random_model(std::mt19937_64& rng, int c) {
     if (c % 4 == 1) range = {-std::numbers::pi, std::numbers::pi};  // the full circle
     else range = {-2.0 * unit(rng), 2.0 * unit(rng)};
   }
+  if (c % 2 == 0) m.q_limits[2] = m.q_limits[1];  // the mirror in y holds with branches 0, 1, 6, 7
   return m;
 }
 
@@ -86,6 +87,16 @@ void add_rows_across_status_changes(const std::string& name, const Model& m, con
   }
   Case c{name, m, r};
   c.request.grid = row_through(0.5 * (a + b), 0, 1e-12 * m.size(), 61);
+  out.push_back(c);
+  // The same row and its mirror in y, two rows of one grid (y = -+y0 exactly,
+  // with y0 rounded to 40 bits so that 3 y0 is exact): the mirrored kernel
+  // computes the second from the first.
+  const double y0 = std::ldexp(std::round(std::ldexp(std::abs(c.request.grid.point(0, 0, 0).y()), 40)), -40);
+  if (y0 == 0.0) return;
+  c.name += ", mirrored";
+  c.request.grid.dims[1] = 2;
+  c.request.grid.spacing.y() = 2.0 * y0;
+  c.request.grid.origin.y() = -2.0 * y0;
   out.push_back(c);
 }
 
@@ -192,7 +203,16 @@ TEST(DeltaField, EveryTargetAgreesWithTheReference) {
     const TargetLimit limit(target);
     ASSERT_EQ(simd::current_target(), target);
     Tally tally;
-    for (const Case& c : all) EXPECT_EQ(compare_with_reference(c, field_of(c, FieldKernel::Vector), target, tally), 0) << target;
+    int mirrored = 0;
+    for (const Case& c : all) {
+      EXPECT_EQ(compare_with_reference(c, field_of(c, FieldKernel::Vector), target, tally), 0) << target;
+      // The default kernel, with the mirror in y where it holds.
+      if (!mirror_holds(c.model, c.request)) continue;
+      ++mirrored;
+      EXPECT_EQ(compare_with_reference(c, field_of(c, FieldKernel::VectorMirrored), target + " mirrored", tally), 0) << target;
+    }
+    EXPECT_GE(mirrored, 8) << target;
+    RecordProperty(target + " mirrored cases", std::to_string(mirrored));
     // The cases reach every status the closed IK gives, and c(J) mostly has
     // the reference's float.
     for (Status s : {Status::Ok, Status::Unreachable, Status::Singular, Status::OutOfLimits, Status::NotConverged})
@@ -201,6 +221,58 @@ TEST(DeltaField, EveryTargetAgreesWithTheReference) {
     RecordProperty(target + " samples", std::to_string(tally.samples));
     RecordProperty(target + " c(J) floats not identical", std::to_string(tally.wide_cond));
   }
+}
+
+// The symmetry the mirrored kernel uses, on the reference alone: where legs 1
+// and 2 have the same range and elbow, the sample at (x, -y, z) is the one at
+// (x, y, z) -- the same status and the floats within the kernel's own
+// tolerance -- at random points of random designs; and mirror_holds sees
+// when it does not apply.
+TEST(DeltaField, MirrorInYHoldsOnRandomPoints) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  Tally tally;
+  int compared = 0;
+  for (int c = 0; c < 40; ++c) {
+    const Model m = random_model(rng, 2 * c);  // even: legs 1 and 2 share their range
+    FieldRequest r;
+    r.ik.branch = std::array{0, 1, 6, 7}[c % 4];
+    const double s = m.size();
+    for (int k = 0; k < 400; ++k) {
+      // Half in the box, half where random actuator angles in their ranges put the platform.
+      Vector3d p(1.4 * s * (unit(rng) - 0.5), 1.4 * s * (unit(rng) - 0.5), -1.1 * s + 1.5 * s * unit(rng));
+      if (k % 2) {
+        Vector3d q;
+        for (int i = 0; i < kLegCount; ++i) q(i) = m.q_limits[i].lo + (m.q_limits[i].hi - m.q_limits[i].lo) * unit(rng);
+        const FkResult fk = forward(m, q);
+        if (fk.status == Status::Ok) p = fk.p_base_platform;
+      }
+      const FieldSample a = sample_point(m, p, r), b = sample_point(m, Vector3d(p.x(), -p.y(), p.z()), r);
+      ++compared;
+      ++tally.by_status[a.status];
+      EXPECT_EQ(a.status, b.status) << "design " << c << " at " << p.transpose();
+      EXPECT_TRUE(rounds_within(b.reach_margin, a.reach_margin, 1e-13 * s + std::abs(a.reach_margin) * 0x1p-24));
+      EXPECT_TRUE(rounds_within(b.residual, a.residual, 1e-13 * s));
+      if (b.cond != a.cond)
+        EXPECT_TRUE(std::isfinite(a.cond) && rounds_near(b.cond, a.cond, cond_slack(m, p, r) + 0x1p-24))
+            << b.cond << " vs " << a.cond;
+    }
+  }
+  EXPECT_GT(tally.by_status[int(Status::Ok)], compared / 20);
+  EXPECT_GT(tally.by_status[int(Status::Unreachable)], compared / 20);
+  // Where it does not hold, the mirrored kernel computes every row.
+  Model m;
+  FieldRequest r;
+  r.grid = Grid::box(Vector3d(-25, -25, -30), Vector3d(25, 25, 5), {8, 8, 8});
+  EXPECT_TRUE(mirror_holds(m, r));
+  r.ik.branch = 2;  // leg 1 elbow out, leg 2 in
+  EXPECT_FALSE(mirror_holds(m, r));
+  r.ik.branch = 0;
+  m.q_limits[2].hi += 0.1;
+  EXPECT_FALSE(mirror_holds(m, r));
+  m.q_limits[2] = m.q_limits[1];
+  r.grid.origin.y() += 1.0;  // not symmetric in y
+  EXPECT_FALSE(mirror_holds(m, r));
 }
 
 // As on a machine with only the baseline instruction set (SSE2): the field
