@@ -107,6 +107,12 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
     M unreachable = hn::FirstN(d, 0), outside_range = unreachable;
     V largest_X = zero, smallest_Y = inf, limits = inf;
     V cos_q[kLegCount], sin_q[kLegCount];
+    // Per leg: the tangent half-angle n / dd of its angle (the angle of
+    // closest approach where it does not reach), whether it reaches, and
+    // the octant and norm the angle's arctangent, cos and sin take.
+    V n[kLegCount], dd[kLegCount], norm[kLegCount], product[kLegCount];
+    AtanOctant octant[kLegCount];
+    M leg_unreachable[kLegCount], turn[kLegCount];
 #pragma GCC unroll 3
     for (int i = 0; i < kLegCount; ++i) {
       const double c = s.legs.cos_phi[i], sn = s.legs.sin_phi[i];
@@ -121,7 +127,8 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
       // zone |margin| <= tol + band, which goes to the reference.
       const V X = in * in + v * v, Y = out * out + v * v;
       const M zone = hn::Or(hn::Abs(X - Lb2) <= zone_half_width, hn::Abs(Y - Lb2) <= zone_half_width);
-      const M leg_unreachable = hn::Or(X > Lb2, Y < Lb2);
+      leg_unreachable[i] = hn::Or(X > Lb2, Y < Lb2);
+      turn[i] = hn::Not(Lb2 < X);
       largest_X = hn::Max(largest_X, X);
       smallest_Y = hn::Min(smallest_Y, Y);
       // solve_leg
@@ -133,27 +140,35 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
       const V n1 = B + sigma_root, d1 = C + A, n2 = C - A, d2 = B - sigma_root;
       const M first_pair = n1 * n1 + d1 * d1 >= n2 * n2 + d2 * d2;
       // Unreachable: the angle of closest approach, towards or away.
-      const V n = hn::IfThenElse(leg_unreachable, B, hn::IfThenElse(first_pair, n1, n2));
-      const V dd = hn::IfThenElse(leg_unreachable, A, hn::IfThenElse(first_pair, d1, d2));
-      // atan2(n, dd), cos and sin of twice it from one division: the
-      // octant's ratio num / den and 1 / (dd^2 + n^2) as products with
-      // 1 / (den (dd^2 + n^2)), of about (La + Lb)^6 (out of 2^+-960: the reference).
-      const AtanOctant octant = Octant(d, n, dd);
-      const V norm = dd * dd + n * n, product = octant.den * norm, inv = one / product;
-      const V towards = AngleOfOctant(d, octant, octant.num * norm * inv);
-      const V inv_norm = octant.den * inv;
-      const M unscaled = hn::Not(hn::And(product >= hn::Set(d, 0x1p-960), product <= hn::Set(d, 0x1p960)));
-      const V turned = hn::IfThenElse(Lb2 < X, towards, towards + hn::Set(d, std::numbers::pi));
-      const V q = Wrap(d, hn::IfThenElse(leg_unreachable, turned, towards + towards));
-      cos_q[i] = (dd * dd - n * n) * inv_norm;
-      sin_q[i] = hn::Set(d, 2.0) * n * dd * inv_norm;
+      n[i] = hn::IfThenElse(leg_unreachable[i], B, hn::IfThenElse(first_pair, n1, n2));
+      dd[i] = hn::IfThenElse(leg_unreachable[i], A, hn::IfThenElse(first_pair, d1, d2));
+      octant[i] = Octant(d, n[i], dd[i]);
+      norm[i] = dd[i] * dd[i] + n[i] * n[i];
+      product[i] = octant[i].den * norm[i];
+      // Each product is about (La + Lb)^6; out of 2^+-300 (where the three
+      // together could leave double's range) the reference decides.
+      const M unscaled = hn::Not(hn::And(product[i] >= hn::Set(d, 0x1p-300), product[i] <= hn::Set(d, 0x1p300)));
+      to_scalar = hn::Or(to_scalar, hn::Or(unscaled, zone));
+      unreachable = hn::Or(unreachable, leg_unreachable[i]);
+    }
+    // atan2(n, dd) and cos and sin of twice it for the three legs from one
+    // division: the octant's ratio num / den and 1 / (dd^2 + n^2) are
+    // products with 1 / (den (dd^2 + n^2)), and those three from 1 / their product.
+    const V product01 = product[0] * product[1], inv_all = one / (product01 * product[2]);
+    const V inv[kLegCount] = {product[1] * product[2] * inv_all, product[0] * product[2] * inv_all, product01 * inv_all};
+#pragma GCC unroll 3
+    for (int i = 0; i < kLegCount; ++i) {
+      const V towards = AngleOfOctant(d, octant[i], octant[i].num * norm[i] * inv[i]);
+      const V inv_norm = octant[i].den * inv[i];
+      const V turned = hn::IfThenElse(turn[i], towards + hn::Set(d, std::numbers::pi), towards);
+      const V q = Wrap(d, hn::IfThenElse(leg_unreachable[i], turned, towards + towards));
+      cos_q[i] = (dd[i] * dd[i] - n[i] * n[i]) * inv_norm;
+      sin_q[i] = hn::Set(d, 2.0) * n[i] * dd[i] * inv_norm;
       const V to_range = RangeMargin(d, m.q_limits[i], q);
-
-      unreachable = hn::Or(unreachable, leg_unreachable);
       outside_range = hn::Or(outside_range, to_range < zero);
       limits = hn::Min(limits, La * to_range);
       const M near_range = hn::Or(hn::Abs(to_range) <= angle_band, hn::IsNaN(to_range));
-      to_scalar = hn::Or(hn::Or(to_scalar, unscaled), hn::Or(zone, near_range));
+      to_scalar = hn::Or(to_scalar, near_range);
     }
     // min over the legs of min(Lb - d_min, d_max - Lb), from the largest
     // d_min and the smallest d_max (sqrt is monotonic, so these are the bits
@@ -196,15 +211,22 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
       const V nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
       const V n2 = nx * nx + ny * ny + nz * nz, a2 = ax * ax + ay * ay + az * az, b2 = bx * bx + by * by + bz * bz;
       const V abx = ax - bx, aby = ay - by, abz = az - bz;
-      const V circumradius = hn::Sqrt(a2 * b2 * (abx * abx + aby * aby + abz * abz) / (hn::Set(d, 4.0) * n2));
-      const V gap = Lb - circumradius;
+      // The type II test Lb - circumradius <= tol and its band of 1e-9 size
+      // on the circumradius's square a2 b2 |a - b|^2 / (4 n2), without its
+      // division and square root.
+      const V circumradius2_num = a2 * b2 * (abx * abx + aby * aby + abz * abz), circumradius2_den = hn::Set(d, 4.0) * n2;
+      const auto circumradius_at_least = [&](double r) {
+        return r <= 0.0 ? hn::Not(hn::IsNaN(circumradius2_num)) : circumradius2_num >= circumradius2_den * hn::Set(d, r * r);
+      };
+      const M type_two = circumradius_at_least(m.Lb - tol);
+      const M near_type_two = hn::AndNot(circumradius_at_least(m.Lb - tol + 1e-9 * size), circumradius_at_least(m.Lb - tol - 1e-9 * size));
       const V flat = hn::Set(d, 1e-24) * a2 * b2;
       const M degenerate = hn::Not(n2 > flat);
       const V det = sx[0] * (sy[1] * sz[2] - sz[1] * sy[2]) - sy[0] * (sx[1] * sz[2] - sz[1] * sx[2]) +
                     sz[0] * (sx[1] * sy[2] - sy[1] * sx[2]);
-      const M parallel = hn::Or(det == zero, hn::Or(degenerate, gap <= vtol));
+      const M parallel = hn::Or(det == zero, hn::Or(degenerate, type_two));
       wants_cond = hn::AndNot(hn::Or(serial, parallel), ok);
-      const M near_parallel = hn::Or(hn::Abs(gap - vtol) <= hn::Set(d, 1e-9 * size),
+      const M near_parallel = hn::Or(near_type_two,
                                      hn::Or(hn::Abs(n2 - flat) <= hn::Set(d, 1e-6) * flat,
                                             hn::Abs(det) <= hn::Set(d, 1e-12 * m.Lb * m.Lb * m.Lb)));
       const M near_closure = hn::Not(residual <= residual_limit);  // NaN included

@@ -78,8 +78,12 @@ Model random_model(std::mt19937_64& rng, int c) {
 // status changes between a and b (found by bisection), along the x axis.
 void add_rows_across_status_changes(const std::string& name, const Model& m, const FieldRequest& r, Vector3d a,
                                     Vector3d b, std::vector<Case>& out) {
-  const auto status = [&](const Vector3d& p) { return sample_point(m, p, r).status; };
-  const std::uint8_t sa = status(a);
+  // A change of status, or of c(J) between finite and infinite (J singular on a solved pose).
+  const auto status = [&](const Vector3d& p) {
+    const FieldSample s = sample_point(m, p, r);
+    return 2 * int(s.status) + int(std::isinf(s.cond));
+  };
+  const int sa = status(a);
   if (sa == status(b)) return;
   for (int k = 0; k < 200 && (b - a).norm() > 1e-14 * m.size(); ++k) {
     const Vector3d mid = 0.5 * (a + b);
@@ -98,6 +102,41 @@ void add_rows_across_status_changes(const std::string& name, const Model& m, con
   c.request.grid.spacing.y() = 2.0 * y0;
   c.request.grid.origin.y() = -2.0 * y0;
   out.push_back(c);
+}
+
+// Rows across the type II singular surface of design m, where the sphere
+// centres' circumradius reaches Lb (J singular on a solved pose): actuator
+// angles in their ranges bisected between a pair whose forward kinematics
+// is Ok and one where it is not, the platform there, and rows through it in
+// random directions on the elbow branch of those angles.
+void add_rows_across_type_two(const std::string& name, const Model& m, const FieldRequest& base, std::mt19937_64& rng,
+                              std::vector<Case>& out) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const auto random_angles = [&] {
+    Vector3d q;
+    for (int i = 0; i < kLegCount; ++i) q(i) = m.q_limits[i].lo + (m.q_limits[i].hi - m.q_limits[i].lo) * unit(rng);
+    return q;
+  };
+  int found = 0;
+  for (int attempt = 0; attempt < 200 && found < 3; ++attempt) {
+    Vector3d ok = random_angles(), other = random_angles();
+    if (forward(m, ok).status != Status::Ok || forward(m, other).status == Status::Ok) continue;
+    for (int k = 0; k < 80; ++k) {
+      const Vector3d mid = 0.5 * (ok + other);
+      (forward(m, mid).status == Status::Ok ? ok : other) = mid;
+    }
+    const Vector3d p = forward(m, ok).p_base_platform;
+    FieldRequest r = base;
+    r.ik.branch = branch_of(m, ok, p);
+    const Vector3d dir = Vector3d(unit(rng) - 0.5, unit(rng) - 0.5, unit(rng) - 0.5).normalized();
+    const std::size_t before = out.size();
+    // p is at the edge of the thin layer where the circumradius is within
+    // the singular tolerance of Lb: one side or the other crosses it.
+    for (double side : {-1.0, 1.0})
+      add_rows_across_status_changes(name + " type II " + std::to_string(attempt), m, r, p,
+                                     p + side * 1e-4 * m.size() * dir, out);
+    found += out.size() > before;
+  }
 }
 
 std::vector<Case> cases() {
@@ -125,6 +164,7 @@ std::vector<Case> cases() {
       const Vector3d a = centre + half.cwiseProduct(random()), b = centre + half.cwiseProduct(random());
       add_rows_across_status_changes("design " + std::to_string(c) + " change " + std::to_string(k), m, r, a, b, out);
     }
+    if (c % 3 == 0) add_rows_across_type_two("design " + std::to_string(c), m, r, rng, out);
   }
   // The preset's design: its default box at a count with a tail in every row,
   // the z axis, and rows across leg 0's folded singular surface (d_max = Lb,
@@ -199,6 +239,9 @@ TEST(DeltaField, EveryTargetAgreesWithTheReference) {
   const auto changes = std::count_if(all.begin(), all.end(), [](const Case& c) { return c.name.find("change") != std::string::npos; });
   EXPECT_GT(changes, 30);  // rows across status changes
   RecordProperty("rows across status changes", std::to_string(changes));
+  const auto type_two = std::count_if(all.begin(), all.end(), [](const Case& c) { return c.name.find("type II") != std::string::npos; });
+  EXPECT_GE(type_two, 6);  // rows across J's singular surface
+  RecordProperty("rows across the type II surface", std::to_string(type_two));
   for (const std::string& target : targets) {
     const TargetLimit limit(target);
     ASSERT_EQ(simd::current_target(), target);
