@@ -713,6 +713,12 @@ FieldLegs field_legs(const Model& m) {
   for (int i = 0; i < kLegCount; ++i) {
     legs.cos_phi[i] = std::cos(leg_angle(i));
     legs.sin_phi[i] = std::sin(leg_angle(i));
+    const Interval& range = m.q_limits[i];
+    const double centre = 0.5 * (range.lo + range.hi), half_width = 0.5 * (range.hi - range.lo);
+    legs.cos_centre[i] = std::cos(centre);
+    legs.sin_centre[i] = std::sin(centre);
+    legs.cos_half_width[i] = std::cos(half_width);
+    legs.sin_half_width[i] = std::sin(half_width);
   }
   return legs;
 }

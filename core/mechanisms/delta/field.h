@@ -58,9 +58,11 @@ FieldSample sample_point(const Model& model, const Eigen::Vector3d& p_base_platf
 // ---- The fast kernel ----------------------------------------------------------
 
 // The legs' constant geometry: cos and sin of phi_i, as leg_radial computes
-// them (e_i = (cos phi_i, sin phi_i, 0), A_i = R e_i). Validates the model.
+// them (e_i = (cos phi_i, sin phi_i, 0), A_i = R e_i), and of the centre and
+// the half width of each actuator range. Validates the model.
 struct FieldLegs {
   std::array<double, kLegCount> cos_phi{}, sin_phi{};
+  std::array<double, kLegCount> cos_centre{}, sin_centre{}, cos_half_width{}, sin_half_width{};
 };
 FieldLegs field_legs(const Model& model);
 

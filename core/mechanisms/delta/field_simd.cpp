@@ -13,9 +13,13 @@
 //   singular tolerance follow from the squares;
 // - each leg's angle comes from tan(q/2) = n/d, as in solve_leg, but cos q
 //   and sin q are the double-angle ratios (d^2 - n^2, 2 n d) / (d^2 + n^2)
-//   instead of cos and sin of 2 atan2(n, d); the angle itself (a vector
-//   arctangent a few ulps from libm's) is needed only for the actuator
-//   ranges; the closure error | |s_i| - Lb | is | |s_i|^2 - Lb^2 | / (2 Lb);
+//   (the three legs' from one division) instead of cos and sin of
+//   2 atan2(n, d); the actuator ranges need no angle per leg: each leg's
+//   excess over its range is a direction, the largest is found by comparing
+//   directions, and only its angle is taken (one vector arctangent a few
+//   ulps from libm's where the reference takes three);
+// - the type II test compares the circumradius's square, without its root;
+// - the closure error | |s_i| - Lb | is | |s_i|^2 - Lb^2 | / (2 Lb);
 // - c(J) is condition_number_fast's closed form (core/simd_field-inl.h)
 //   where the reference takes condition_number_closed_form.
 // So J differs from the reference's in its last bits, and c(J) by about its
@@ -48,26 +52,15 @@ namespace hn = hwy::HWY_NAMESPACE;
 
 using namespace linkscape::simd::HWY_NAMESPACE;  // D, V, M, Block and the shared helpers
 
-// angle - 2 pi round(angle / 2 pi): std::remainder(angle, 2 pi) for the
-// angles here (|angle| <= 2 pi), where the product and difference are exact;
-// only the choice of the turn at an odd multiple of pi may differ.
-HWY_INLINE V Remainder2Pi(D d, V angle) {
-  const V turns = hn::Round(angle * hn::Set(d, 0.5 / std::numbers::pi));
-  return angle - turns * hn::Set(d, 2.0 * std::numbers::pi);
-}
-
-// wrap_angle (delta.cpp): into (-pi, pi].
-HWY_INLINE V Wrap(D d, V angle) {
-  const V a = Remainder2Pi(d, angle);
-  return hn::IfThenElse(a <= hn::Set(d, -std::numbers::pi), a + hn::Set(d, 2.0 * std::numbers::pi), a);
-}
-
-// range_margin (delta.cpp): the angle to the nearer end of [lo, hi] for the
-// representative of q nearest the range's centre.
-HWY_INLINE V RangeMargin(D d, const Interval& range, V q) {
-  const double centre = 0.5 * (range.lo + range.hi);
-  const V near = hn::Set(d, centre) + Remainder2Pi(d, q - hn::Set(d, centre));
-  return hn::Min(near - hn::Set(d, range.lo), hn::Set(d, range.hi) - near);
+// Whether the angle of direction (c1, s1) is larger than that of (c2, s2),
+// both taken in (-pi, pi] (atan2's): the upper half-plane's angles are the
+// larger; within one half-plane the sign of the cross product decides.
+HWY_INLINE M AngleGreater(D d, V c1, V s1, V c2, V s2) {
+  const V zero = hn::Zero(d);
+  const M upper1 = hn::Or(s1 > zero, hn::And(s1 == zero, c1 < zero));
+  const M upper2 = hn::Or(s2 > zero, hn::And(s2 == zero, c2 < zero));
+  const M halves_differ = hn::Xor(upper1, upper2);
+  return hn::Or(hn::And(halves_differ, upper1), hn::AndNot(halves_differ, c2 * s1 - s2 * c1 > zero));
 }
 
 struct Setup {
@@ -84,12 +77,11 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
   const Model& m = s.m;
   const double size = m.size(), tol = kSingularTolerance * size;
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0), inf = hn::Inf(d);
-  const V La = hn::Set(d, m.La), Lb = hn::Set(d, m.Lb), vtol = hn::Set(d, tol);
+  const V La = hn::Set(d, m.La), Lb = hn::Set(d, m.Lb);
   // Where the reference decides: a leg margin within tol + 1e-12 size of 0
   // (its singular tolerance and the band around it; d^2 - Lb^2 is about
   // 2 Lb (d - Lb) there), an angle within 1e-12 rad of a range end.
   const V Lb2 = hn::Set(d, m.Lb * m.Lb), zone_half_width = hn::Set(d, 2.0 * m.Lb * (tol + 1e-12 * size) * 1.01);
-  const V angle_band = hn::Set(d, 1e-12);
   // The closure error is rounding (1e-15 of the size) that differs from the
   // reference's: within 1e-13 of the size of the IK tolerance (or of the
   // Jacobian's closure check, 1e-6) the reference decides.
@@ -104,14 +96,12 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
     const V y = axis == 1 ? along : hn::Set(d, p0.y());
     const V z = axis == 2 ? along : hn::Set(d, p0.z());
     M to_scalar = hn::Not(hn::And(hn::IsFinite(x), hn::And(hn::IsFinite(y), hn::IsFinite(z))));
-    M unreachable = hn::FirstN(d, 0), outside_range = unreachable;
-    V largest_X = zero, smallest_Y = inf, limits = inf;
+    M unreachable = hn::FirstN(d, 0);
+    V largest_X = zero, smallest_Y = inf;
     V cos_q[kLegCount], sin_q[kLegCount];
     // Per leg: the tangent half-angle n / dd of its angle (the angle of
-    // closest approach where it does not reach), whether it reaches, and
-    // the octant and norm the angle's arctangent, cos and sin take.
-    V n[kLegCount], dd[kLegCount], norm[kLegCount], product[kLegCount];
-    AtanOctant octant[kLegCount];
+    // closest approach where it does not reach) and whether it reaches.
+    V n[kLegCount], dd[kLegCount], norm[kLegCount];
     M leg_unreachable[kLegCount], turn[kLegCount];
 #pragma GCC unroll 3
     for (int i = 0; i < kLegCount; ++i) {
@@ -142,34 +132,48 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
       // Unreachable: the angle of closest approach, towards or away.
       n[i] = hn::IfThenElse(leg_unreachable[i], B, hn::IfThenElse(first_pair, n1, n2));
       dd[i] = hn::IfThenElse(leg_unreachable[i], A, hn::IfThenElse(first_pair, d1, d2));
-      octant[i] = Octant(d, n[i], dd[i]);
       norm[i] = dd[i] * dd[i] + n[i] * n[i];
-      product[i] = octant[i].den * norm[i];
-      // Each product is about (La + Lb)^6; out of 2^+-300 (where the three
-      // together could leave double's range) the reference decides.
-      const M unscaled = hn::Not(hn::And(product[i] >= hn::Set(d, 0x1p-300), product[i] <= hn::Set(d, 0x1p300)));
+      // norm is about (La + Lb)^4; out of 2^+-300 (where the three together
+      // could leave double's range) the reference decides.
+      const M unscaled = hn::Not(hn::And(norm[i] >= hn::Set(d, 0x1p-300), norm[i] <= hn::Set(d, 0x1p300)));
       to_scalar = hn::Or(to_scalar, hn::Or(unscaled, zone));
       unreachable = hn::Or(unreachable, leg_unreachable[i]);
     }
-    // atan2(n, dd) and cos and sin of twice it for the three legs from one
-    // division: the octant's ratio num / den and 1 / (dd^2 + n^2) are
-    // products with 1 / (den (dd^2 + n^2)), and those three from 1 / their product.
-    const V product01 = product[0] * product[1], inv_all = one / (product01 * product[2]);
-    const V inv[kLegCount] = {product[1] * product[2] * inv_all, product[0] * product[2] * inv_all, product01 * inv_all};
+    // cos q_i and sin q_i from 1 / (dd^2 + n^2), the three from one division.
+    const V norm01 = norm[0] * norm[1], inv_all = one / (norm01 * norm[2]);
+    const V inv_norm[kLegCount] = {norm[1] * norm[2] * inv_all, norm[0] * norm[2] * inv_all, norm01 * inv_all};
+    // The actuator ranges without an arctangent per leg: range_margin(q) is
+    // w - |q - centre| (q - centre wrapped into (-pi, pi], w the half width),
+    // so each leg's excess delta_i = |q_i - centre_i| - w_i has the direction
+    // of q_i's (dd^2 - n^2, 2 n dd), or of the angle of closest approach
+    // (dd, n) turned by pi where the leg does not reach, rotated by
+    // -centre_i, folded to |.| and rotated by -w_i. The largest excess is
+    // found by comparing directions, and only its angle is taken.
+    V excess_c = zero, excess_s = zero;
 #pragma GCC unroll 3
     for (int i = 0; i < kLegCount; ++i) {
-      const V towards = AngleOfOctant(d, octant[i], octant[i].num * norm[i] * inv[i]);
-      const V inv_norm = octant[i].den * inv[i];
-      const V turned = hn::IfThenElse(turn[i], towards + hn::Set(d, std::numbers::pi), towards);
-      const V q = Wrap(d, hn::IfThenElse(leg_unreachable[i], turned, towards + towards));
-      cos_q[i] = (dd[i] * dd[i] - n[i] * n[i]) * inv_norm;
-      sin_q[i] = hn::Set(d, 2.0) * n[i] * dd[i] * inv_norm;
-      const V to_range = RangeMargin(d, m.q_limits[i], q);
-      outside_range = hn::Or(outside_range, to_range < zero);
-      limits = hn::Min(limits, La * to_range);
-      const M near_range = hn::Or(hn::Abs(to_range) <= angle_band, hn::IsNaN(to_range));
+      cos_q[i] = (dd[i] * dd[i] - n[i] * n[i]) * inv_norm[i];
+      sin_q[i] = hn::Set(d, 2.0) * n[i] * dd[i] * inv_norm[i];
+      const V sign = hn::IfThenElse(turn[i], hn::Neg(one), one);
+      const V qc = hn::IfThenElse(leg_unreachable[i], sign * dd[i], dd[i] * dd[i] - n[i] * n[i]);
+      const V qs = hn::IfThenElse(leg_unreachable[i], sign * n[i], hn::Set(d, 2.0) * n[i] * dd[i]);
+      const V cc = hn::Set(d, s.legs.cos_centre[i]), sc = hn::Set(d, s.legs.sin_centre[i]);
+      const V rc = qc * cc + qs * sc, rs = hn::Abs(qs * cc - qc * sc);  // q - centre, folded
+      const V cw = hn::Set(d, s.legs.cos_half_width[i]), sw = hn::Set(d, s.legs.sin_half_width[i]);
+      const V ec = rc * cw + rs * sw, es = rs * cw - rc * sw;  // delta_i
+      // Within 1e-12 rad of a range end (delta_i = 0; the sine of the
+      // direction's angle, bounded by |es| / (|ec| + |es|), with room for
+      // rounding), or not a number: the reference decides.
+      const M near_range = hn::Or(hn::And(ec > zero, hn::Abs(es) <= hn::Set(d, 2e-12) * (hn::Abs(ec) + hn::Abs(es))),
+                                  hn::Or(hn::IsNaN(ec), hn::IsNaN(es)));
       to_scalar = hn::Or(to_scalar, near_range);
+      const M larger = i == 0 ? hn::Not(hn::FirstN(d, 0)) : AngleGreater(d, ec, es, excess_c, excess_s);
+      excess_c = hn::IfThenElse(larger, ec, excess_c);
+      excess_s = hn::IfThenElse(larger, es, excess_s);
     }
+    const V largest_excess = Atan2(d, excess_s, excess_c);
+    const M outside_range = largest_excess > zero;
+    const V limits = La * hn::Neg(largest_excess);
     // min over the legs of min(Lb - d_min, d_max - Lb), from the largest
     // d_min and the smallest d_max (sqrt is monotonic, so these are the bits
     // of the smallest of the six differences).
