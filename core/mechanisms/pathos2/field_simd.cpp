@@ -161,6 +161,19 @@ void Samples(const Setup& setup, const Grid& g, const detail::GridRow& row, int 
       const M unreachable_y = y2 < root_slack;
       const V y2c = hn::Max(y2, zero);
       const V c1y = hn::Set(d, leg.branch_sign) * hn::Sqrt(y2c);
+      // leg_reach_margin_from_ik; out of its range the fast path takes hypot: the scalar sample.
+      to_scalar = hn::Or(to_scalar, hn::Not(hn::And(rho2 <= hn::Set(d, 1e300), rxy2 >= hn::Set(d, 1e-290))));
+      const V rho = hn::Sqrt(rho2);
+      const V shell = hn::Min(reach - rho, rho - inner);
+      const V c1y_kept = hn::IfThenElse(unreachable_y, zero, c1y);  // 0 where c2z's root failed
+      margin = hn::Min(margin, hn::Min(shell, hn::Sqrt(rxy2) - hn::Abs(c1y_kept)));
+      // Where an earlier leg made every lane Unreachable or Singular and no
+      // limit margin is asked for, nothing else of this leg shows.
+      ax[i] = a_x, ay[i] = a_y, az[i] = a_z;
+      if (!any_limit && hn::AllTrue(d, hn::And(failed, status != StatusCode(d, Status::OutOfLimits)))) {
+        c1v[i] = c2v[i] = one, s1v[i] = s2v[i] = zero;
+        continue;
+      }
       const V x2 = rxy2 - y2c;
       const M unreachable = hn::Or(unreachable_y, x2 < root_slack);
       const V c1x = hn::Sqrt(hn::Max(x2, zero));
@@ -222,12 +235,6 @@ void Samples(const Setup& setup, const Grid& g, const detail::GridRow& row, int 
       const M fails = hn::Not(hn::And(leg_ok, hn::Not(out_of_limits)));
       status = hn::IfThenElse(hn::AndNot(failed, fails), leg_status, status);
       failed = hn::Or(failed, fails);
-      // leg_reach_margin_from_ik; out of its range the fast path takes hypot: the scalar sample.
-      to_scalar = hn::Or(to_scalar, hn::Not(hn::And(rho2 <= hn::Set(d, 1e300), rxy2 >= hn::Set(d, 1e-290))));
-      const V rho = hn::Sqrt(rho2);
-      const V shell = hn::Min(reach - rho, rho - inner);
-      const V c1y_kept = hn::IfThenElse(unreachable_y, zero, c1y);  // 0 where c2z's root failed
-      margin = hn::Min(margin, hn::Min(shell, hn::Sqrt(rxy2) - hn::Abs(c1y_kept)));
       if (any_limit) margin = hn::Min(margin, hn::IfThenElse(unreachable, inf, limit_margin));
       // The unreachable legs keep LegSolution's cosines and sines (1 and 0).
       c1v[i] = hn::IfThenElse(unreachable, one, c1);
@@ -235,7 +242,6 @@ void Samples(const Setup& setup, const Grid& g, const detail::GridRow& row, int 
       c2v[i] = hn::IfThenElse(unreachable, one, c2);
       s2v[i] = hn::IfThenElse(unreachable, zero, s2);
       const V c3k = hn::IfThenElse(unreachable, one, c3), s3k = hn::IfThenElse(unreachable, zero, s3);
-      ax[i] = a_x, ay[i] = a_y, az[i] = a_z;
       // leg_end: the closure error of the solved angles.
       const V ly = hn::Set(d, -m.l3) * s3k, lz = l2 + l3 * c3k;
       const V x1 = s2v[i] * lz, z1 = l1 + c2v[i] * lz;
