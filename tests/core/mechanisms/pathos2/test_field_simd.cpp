@@ -255,6 +255,9 @@ Reference reference_at(const Geometry& g, const Vector3d& p, const FieldRequest&
 struct Tally {
   long samples = 0, by_status[5] = {0, 0, 0, 0, 0};
   long floats = 0, differing[4] = {0, 0, 0, 0}, cond_over_1e12 = 0, kappa_over_1e6 = 0;
+  // The largest differences from the reference: cond and cond_orientation
+  // relative to its doubles, reach margin and residual to its floats / S.
+  double cond_relative = 0, margin = 0, residual = 0;
 };
 
 // Compares f with the reference at every sample; returns the number of
@@ -279,6 +282,13 @@ int compare_with_reference(const Case& c, const Field& f, const std::string& lab
         tally.differing[2] += f.reach_margin[idx] != want.reach_margin;
         tally.differing[3] += f.residual[idx] != want.residual;
         tally.kappa_over_1e6 += ref.kappa > 1e6;
+        if (std::isfinite(want.reach_margin))
+          tally.margin = std::max(tally.margin, std::abs(double(f.reach_margin[idx]) - want.reach_margin) / s);
+        if (std::isfinite(want.residual))
+          tally.residual = std::max(tally.residual, std::abs(double(f.residual[idx]) - want.residual) / s);
+        if (want.status == std::uint8_t(Status::Ok) && std::isfinite(ref.cond_p) && std::isfinite(ref.cond_o))
+          tally.cond_relative = std::max({tally.cond_relative, std::abs(f.cond[idx] - ref.cond_p) / ref.cond_p,
+                                          std::abs(f.cond_orientation[idx] - ref.cond_o) / ref.cond_o});
         bool ok = f.status[idx] == want.status && f.reachable[idx] == want.reachable &&
                   f.method_used[idx] == want.method_used && f.iterations[idx] == want.iterations;
         // want's floats are roundings themselves: the slack covers that too.
@@ -325,11 +335,13 @@ void record(const std::string& target, const Tally& tally) {
   ::testing::Test::RecordProperty(target + " cond over 1e-12", std::to_string(tally.cond_over_1e12));
   std::printf("%s: %ld samples (Ok %ld, %ld of them with kappa > 1e6; Unreachable %ld, Singular %ld, OutOfLimits "
               "%ld); %ld of %ld floats not identical (cond %ld, cond_orientation %ld, reach_margin %ld, residual "
-              "%ld); %ld Ok samples with a cond over 1e-12 relative\n",
+              "%ld); %ld Ok samples with a cond over 1e-12 relative; largest differences: cond %.3g relative (the "
+              "stored float's rounding included), reach margin %.3g S, residual %.3g S\n",
               target.c_str(), tally.samples, tally.by_status[int(Status::Ok)], tally.kappa_over_1e6,
               tally.by_status[int(Status::Unreachable)], tally.by_status[int(Status::Singular)],
               tally.by_status[int(Status::OutOfLimits)], differing, tally.floats, tally.differing[0],
-              tally.differing[1], tally.differing[2], tally.differing[3], tally.cond_over_1e12);
+              tally.differing[1], tally.differing[2], tally.differing[3], tally.cond_over_1e12, tally.cond_relative,
+              tally.margin, tally.residual);
 }
 
 TEST(Pathos2FieldSimd, EveryTargetAgreesWithTheReference) {
