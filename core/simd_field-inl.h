@@ -277,6 +277,34 @@ HWY_INLINE void StoreBlock(const Block& b, int i0, int n, int row_count, bool mi
   }
 }
 
+// A second measure (FieldRowOut::cond_orientation) of a block's samples
+// [0, n), for kernels that have one; call it after StoreBlock, with the same
+// block, i0, n, row_count and mirror. Samples flagged to_scalar keep what
+// StoreBlock's scalar sample wrote; every other sample gets values[t].
+HWY_INLINE void StoreSecondMeasure(const Block& b, const double* values, int i0, int n, int row_count, bool mirror,
+                                   float* into) {
+  const D d;
+  const int lanes = int(hn::Lanes(d));
+  const hn::Rebind<float, D> df;
+  // As in StoreBlock: the portable targets' DemoteTo saturates infinities.
+  constexpr bool kDemoteKeepsInfinity = HWY_TARGET != HWY_SCALAR && HWY_TARGET != HWY_EMU128;
+  const int last = row_count - 1;
+  for (int t = 0; t < n; t += lanes) {
+    const bool whole = t + lanes <= n;
+    if (kDemoteKeepsInfinity && whole && hn::AllFalse(d, IsSet(d, hn::Load(d, b.to_scalar + t)))) {
+      const auto v = hn::DemoteTo(df, hn::Load(d, values + t));
+      hn::StoreU(v, df, into + i0 + t);
+      if (mirror) hn::StoreU(hn::Reverse(df, v), df, into + last - (i0 + t + lanes - 1));
+      continue;
+    }
+    for (int l = t; l < std::min(n, t + lanes); ++l) {
+      if (b.to_scalar[l] != 0.0) continue;
+      into[i0 + l] = float(values[l]);
+      if (mirror) into[last - (i0 + l)] = float(values[l]);
+    }
+  }
+}
+
 }  // namespace linkscape::simd::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();
 

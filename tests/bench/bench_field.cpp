@@ -4,7 +4,7 @@
 // dispatch picks on this CPU) and thread count; the row kernel alone; and
 // every device's field over its default box and its 512 x 512 default slice
 // through the mechanism interface (what the window and the headless commands
-// call), the Delta's on every SIMD target.
+// call), the Delta's and PATHOS-II's on every SIMD target.
 // The CPU column is the process's CPU time (every thread, page faults
 // included), the rate is per wall-clock second.
 // Run: build/tests/bench/bench_field --benchmark_repetitions=5
@@ -147,8 +147,7 @@ int main(int argc, char** argv) {
   }
   add_device("Parallel12r", "parallel-12r", 160, "best");
   for (const std::string& target : linkscape::simd::available_targets()) add_device("Delta", "delta", 160, target);
-  // Its kernel is plain C++ (no SIMD dispatch): one target is enough.
-  add_device("Pathos2", "pathos2", 96, "best");
+  for (const std::string& target : linkscape::simd::available_targets()) add_device("Pathos2", "pathos2", 96, target);
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "core/field_sampling.h"
+#include "core/simd.h"
 
 namespace linkscape::pathos2 {
 namespace {
@@ -119,6 +120,42 @@ FieldSample sample_pose(const Geometry& g, const Pose& pose, const GlobularOffse
 
 }  // namespace
 
+FieldSample sample_oriented(const Geometry& g, const Pose& oriented, const GlobularOffsets& offsets,
+                            const Eigen::Vector3d& p) {
+  Pose pose = oriented;
+  pose.p_world_E = p;
+  return sample_pose(g, pose, &offsets);
+}
+
+FieldSetup field_setup(const Geometry& g, const Pose& oriented, const GlobularOffsets& offsets) {
+  const Model& m = g.model;
+  constexpr double pi = std::numbers::pi;
+  FieldSetup s;
+  for (int i = 0; i < kLegCount; ++i) {
+    FieldSetup::Leg& leg = s.legs[i];
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) leg.R[3 * r + c] = g.R_world_B[i](r, c);
+    // As inverse_with forms it (a 3x3 product, then its z column).
+    const Eigen::Matrix3d R_world_A = oriented.R_world_E * g.R_E_A[i];
+    const Eigen::Vector3d z_A = R_world_A.col(2), z_A_in_B = g.R_world_B[i].transpose() * z_A;
+    for (int k = 0; k < 3; ++k) {
+      leg.p_B[k] = g.p_world_B[i](k);
+      leg.offset[k] = offsets[i](k);
+      leg.z_A[k] = z_A(k);
+      leg.z_A_in_B[k] = z_A_in_B(k);
+    }
+    leg.branch_sign = m.branch[i] >= 0 ? 1.0 : -1.0;
+  }
+  s.cos_cone = std::cos(m.cone_limit);
+  s.cos_t2 = std::cos(m.t2_limit);
+  s.cos_t3 = std::cos(m.t3_limit);
+  s.check_cone = m.cone_limit < pi;
+  s.check_t2 = m.t2_limit < pi;
+  s.check_t3 = m.t3_limit < pi;
+  s.length_scale = std::ldexp(1.0, std::ilogb(m.l2 + m.l3));
+  return s;
+}
+
 FieldSample sample_position(const Geometry& g, const Eigen::Vector3d& p, const FieldRequest& req) {
   const Pose pose = Pose::from_xyz_rpy(p.x(), p.y(), p.z(), req.rpy.x(), req.rpy.y(), req.rpy.z(), req.h0);
   return sample_pose(g, pose, nullptr);
@@ -146,13 +183,19 @@ std::optional<Field> compute_field(const Model& model, const FieldRequest& req, 
   const Pose oriented = Pose::from_xyz_rpy(0.0, 0.0, 0.0, req.rpy.x(), req.rpy.y(), req.rpy.z(), req.h0);
   inverse(g, oriented, IkDetail::ActiveOnly);  // checks the rotation and grip once: IkDetail::Field does not
   const GlobularOffsets offsets = globular_offsets(g, oriented);
-  if (!detail::fill_field(f, true, req.threads, progress, [&](const Eigen::Vector3d& p) {
-        if (kernel == FieldKernel::Scalar) return sample_position(g, p, req);
-        Pose pose = oriented;
-        pose.p_world_E = p;
-        return sample_pose(g, pose, &offsets);
-      }))
-    return std::nullopt;
+  bool complete = false;
+  if (kernel == FieldKernel::Scalar) {
+    complete = detail::fill_field(f, true, req.threads, progress,
+                                  [&](const Eigen::Vector3d& p) { return sample_position(g, p, req); });
+  } else {
+    simd::apply_environment();
+    const FieldSetup setup = field_setup(g, oriented, offsets);
+    complete = detail::fill_field_rows(f, true, req.threads, progress,
+                                       [&](const detail::GridRow& row, const detail::FieldRowOut& out) {
+                                         sample_row_vector(g, setup, oriented, offsets, req.grid, row, out);
+                                       });
+  }
+  if (!complete) return std::nullopt;
   return f;
 }
 

@@ -5,9 +5,11 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <optional>
 
 #include "core/field.h"
+#include "core/field_sampling.h"
 #include "core/mechanisms/pathos2/pathos2.h"
 
 namespace linkscape::pathos2 {
@@ -19,9 +21,10 @@ struct FieldRequest {
   std::size_t memory_limit_bytes = kFieldMemoryLimitBytes;
   int threads = 0;                                  // 0 = all cores
   // Unset: the environment (field_kernel_from_environment). Scalar: every
-  // sample through sample_position, the reference. The others: the pose's
-  // rotation built once and the IK without the angles a sample does not use
-  // (IkDetail::Field), bit for bit the same.
+  // sample through sample_position, the reference. Vector and
+  // VectorMirrored (the same: the field has no exact mirror): rows of
+  // samples in SIMD vectors (sample_row_vector below), the statuses exactly
+  // the reference's.
   std::optional<FieldKernel> kernel;
 };
 
@@ -45,5 +48,42 @@ FieldSample sample_position(const Geometry& geometry, const Eigen::Vector3d& p_w
 // over the memory limit; returns nullopt when cancelled.
 std::optional<Field> compute_field(const Model& model, const FieldRequest& request,
                                    const FieldProgress& progress = {});
+
+// ---- The fast kernel ----------------------------------------------------------
+
+// The per-point fast path: the pose's orientation and grip built once
+// (`oriented`, whose globular offsets are `offsets`), the IK without the
+// angles a sample does not use (IkDetail::Field). Bit for bit
+// sample_position but for the reach margin and the residual (within
+// rounding: sqrt for hypot, the closure from the legs' cosines).
+FieldSample sample_oriented(const Geometry& geometry, const Pose& oriented, const GlobularOffsets& offsets,
+                            const Eigen::Vector3d& p_world_E);
+
+// What the vectorised kernel needs of a field, computed once with the
+// reference's own expressions (so that the IK's statuses come out with its
+// bits): per leg R_world_B (row by row), p_world_B, the globular offset,
+// the world z axis of the attachment frame A_i (R_world_E R_E_A col 2, as
+// inverse_with forms it) and the same in the leg frame, and the branch sign.
+struct FieldSetup {
+  struct Leg {
+    std::array<double, 9> R{};  // R_world_B, R[3 r + c] = R(r, c)
+    std::array<double, 3> p_B{}, offset{}, z_A{}, z_A_in_B{};
+    double branch_sign = 1.0;
+  };
+  std::array<Leg, kLegCount> legs;
+  double cos_cone = -1.0, cos_t2 = -1.0, cos_t3 = -1.0;  // std::cos of the limits
+  bool check_cone = false, check_t2 = false, check_t3 = false;  // limit < pi
+  double length_scale = 1.0;  // the power of two near l2 + l3 that makes M dimensionless
+};
+FieldSetup field_setup(const Geometry& geometry, const Pose& oriented, const GlobularOffsets& offsets);
+
+// The samples of a grid row in SIMD vectors (field_simd.cpp) with the best
+// instruction set of the CPU (core/simd.h): sample_position's statuses,
+// reachable flags, methods and infinities exactly, its finite floats within
+// the tolerance field_simd.cpp states. Lanes it cannot decide with
+// certainty go to sample_oriented.
+void sample_row_vector(const Geometry& geometry, const FieldSetup& setup, const Pose& oriented,
+                       const GlobularOffsets& offsets, const Grid& grid, const detail::GridRow& row,
+                       const detail::FieldRowOut& out);
 
 }  // namespace linkscape::pathos2

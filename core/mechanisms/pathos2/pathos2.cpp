@@ -21,14 +21,6 @@ constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180.0;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// A leg counts as singular when |c1x c1y| (det / l2, cm^2) is below this
-// fraction of (l2 + l3)^2: one part in 1e10 is far below any pose a user sets
-// by hand and well above the rounding of the closed form (~1e-15).
-constexpr double kLegSingularTolerance = 1e-10;
-// Roots that are negative by no more than this fraction of the squared
-// length are rounding, not unreachability (a stretched leg).
-constexpr double kRootSlack = 1e-12;
-
 Matrix3d rot_x(double a) { return Eigen::AngleAxisd(a, Vector3d::UnitX()).toRotationMatrix(); }
 Matrix3d rot_y(double a) { return Eigen::AngleAxisd(a, Vector3d::UnitY()).toRotationMatrix(); }
 Matrix3d rot_z(double a) { return Eigen::AngleAxisd(a, Vector3d::UnitZ()).toRotationMatrix(); }

@@ -136,6 +136,14 @@ struct LegSolution {
   double cos_t1 = 1.0, sin_t1 = 0.0, cos_t2 = 1.0, sin_t2 = 0.0, cos_t3 = 1.0, sin_t3 = 0.0;
 };
 
+// A leg counts as singular when |c1x c1y| (det / l2, cm^2) is below this
+// fraction of (l2 + l3)^2: one part in 1e10 is far below any pose a user sets
+// by hand and well above the rounding of the closed form (~1e-15).
+inline constexpr double kLegSingularTolerance = 1e-10;
+// Roots (Eq. 14's c1y^2 and c1x^2) that are negative by no more than this
+// fraction of (l2 + l3)^2 are rounding, not unreachability (a stretched leg).
+inline constexpr double kRootSlack = 1e-12;
+
 // Closed-form leg IK (Eqs. 8-14 corrected): a = Rz(t1)[Tz(l1) + Ry(t2){Tz(l2)
 // + Rx(t3) Tz(l3)}] for one branch (sign of c1y). Unreachable if |a - l1 z|
 // is outside [|l2 - l3|, l2 + l3] or the c1x root is imaginary; Singular if

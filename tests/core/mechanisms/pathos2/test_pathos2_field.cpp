@@ -129,8 +129,10 @@ TEST(Pathos2Field, BadRequestsAreRefused) {
   EXPECT_FALSE(pathos2::compute_field(m, r, FieldProgress{{}, &cancel}).has_value());
 }
 
-// The fast path (rotation built once, IkDetail::Field: no angles but those a
-// limit needs, sqrt for hypot in the reach margin) against the reference
+// The per-point fast path (sample_oriented: rotation built once,
+// IkDetail::Field: no angles but those a limit needs, sqrt for hypot in the
+// reach margin; the vector kernel hands its doubtful lanes to it; the vector
+// kernel itself is test_field_simd.cpp's) against the reference
 // (sample_position per point), with and without joint limits, at random
 // orientations and grips, over boxes that cross the reach boundary: cond(Jp),
 // cond(Jo), status and reachable bit for bit. The closure residual (taken
@@ -160,8 +162,21 @@ TEST(Pathos2Field, FastPathEqualsTheReference) {
     r.h0 = m.h0 * (0.8 + 0.4 * unit(rng));
     r.kernel = FieldKernel::Scalar;
     const Field reference = *pathos2::compute_field(m, r);
-    r.kernel = FieldKernel::VectorMirrored;
-    const Field fast = *pathos2::compute_field(m, r);
+    const Geometry g = make_geometry(m);
+    const Pose oriented = Pose::from_xyz_rpy(0, 0, 0, r.rpy.x(), r.rpy.y(), r.rpy.z(), r.h0);
+    const GlobularOffsets offsets = globular_offsets(g, oriented);
+    Field fast;
+    for (int k = 0; k < r.grid.dims[2]; ++k)
+      for (int j = 0; j < r.grid.dims[1]; ++j)
+        for (int i = 0; i < r.grid.dims[0]; ++i) {
+          const FieldSample s = sample_oriented(g, oriented, offsets, r.grid.point(i, j, k));
+          fast.cond.push_back(s.cond);
+          fast.cond_orientation.push_back(s.cond_orientation);
+          fast.reach_margin.push_back(s.reach_margin);
+          fast.residual.push_back(s.residual);
+          fast.status.push_back(s.status);
+          fast.reachable.push_back(s.reachable);
+        }
     EXPECT_TRUE(same_bits(fast.cond, reference.cond)) << c;
     EXPECT_TRUE(same_bits(fast.cond_orientation, reference.cond_orientation)) << c;
     ASSERT_EQ(fast.reach_margin.size(), reference.reach_margin.size());
