@@ -423,12 +423,11 @@ int run(int argc, char** argv) {
                         "device")
       ->delimiter(',');
   bench_cmd->footer(
-      "parallel-12r planar and delta closed-IK fields use SIMD kernels with the best instruction set of the CPU.\n"
-      "Environment, for\n"
-      "every command:\n"
+      "parallel-12r (planar IK), delta (closed IK) and pathos2 fields use SIMD kernels with the best instruction set\n"
+      "of the CPU. Environment, for every command:\n"
       "  LINKSCAPE_SIMD_TARGET=AVX2|SSE4|...|baseline   use at most this instruction set\n"
-      "  LINKSCAPE_FIELD_KERNEL=scalar|vector|vector-mirrored   parallel-12r planar and delta closed kernels: scalar =\n"
-      "    the reference, one sample at a time (default vector-mirrored)");
+      "  LINKSCAPE_FIELD_KERNEL=scalar|vector|vector-mirrored   those kernels: scalar = the reference, one sample at\n"
+      "    a time; vector = without the mirror symmetries (12R in x, Delta in y); default vector-mirrored");
 
   app.failure_message([&](const CLI::App*, const CLI::Error& e) { return parse_error_message(app, e); });
   try {
