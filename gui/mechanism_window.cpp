@@ -355,7 +355,7 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   task_panel_ = new TaskPanel(task_scene_.get());
   QDockWidget* task = add_dock(this, tr("Task"), "taskDock", task_panel_);
   connect(task_panel_, &TaskPanel::changed, view_, [this] {
-    view_->update();
+    view_->requestRender();
     noteChange();  // the task volume is part of the document
   });
   fit_panel_ = new FitPanel(task_panel_);
@@ -385,7 +385,7 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
     if (light.volume != surfaces_.volume) return;  // for surfaces no longer shown
     field_scene_->set_light_surface(render::Surface::Reach, light.reach_light);
     field_scene_->set_light_surface(render::Surface::WellConditioned, light.well_conditioned_light);
-    if (moving_) view_->update();
+    if (moving_) view_->requestRender();
   });
 
   animation_timer_ = new QTimer(this);
@@ -455,7 +455,7 @@ void MechanismWindow::setMoving(Moving source, bool on) {
     light_asked_ = true;  // for the surfaces shown; made once, on a worker thread
     volume_runner_.submitLight(surfaces_);
   }
-  if (!moving_) view_->update();  // the surfaces in full as soon as nothing moves
+  if (!moving_) view_->requestRender();  // the surfaces in full as soon as nothing moves
 }
 
 void MechanismWindow::placeLegend() {
@@ -483,6 +483,7 @@ QImage MechanismWindow::viewImage(int width, int height) {
   const QImage image = view_->grabFramebuffer();
   view_->setMinimumSize(min);
   view_->setMaximumSize(max);
+  if (image.isNull()) throw std::runtime_error("the view has no picture yet: the window is not on screen");
   return image.size() == QSize(width, height) ? image : image.scaled(width, height);
 }
 
@@ -925,7 +926,7 @@ void MechanismWindow::buildMenus() {
   QMenu* view = menuBar()->addMenu(tr("&View"));
   view->addAction(tr("&Reset camera"), this, [this] {
     fitCamera();
-    view_->update();
+    view_->requestRender();
   });
   view->addAction(tr("Reset &layout"), this, [this] {
     restoreState(initial_layout_);
@@ -942,7 +943,7 @@ void MechanismWindow::buildMenus() {
   exact->setCheckable(true);
   connect(exact, &QAction::toggled, this, [this](bool on) {
     renderer_->SetUseDepthPeeling(on);
-    view_->update();
+    view_->requestRender();
   });
   QMenu* help = menuBar()->addMenu(tr("&Help"));
   help->addAction(tr("&Documentation"), this, [this] { show_documentation(this); });
@@ -1063,7 +1064,7 @@ bool MechanismWindow::refuse(const QString& why, const IkResult* failed) {
   status_label_->setText(why);
   status_label_->setStyleSheet("color: #b00020");
   drawPose(failed);
-  view_->update();
+  view_->requestRender();
   return false;
 }
 
@@ -1092,7 +1093,7 @@ void MechanismWindow::accept(const Eigen::VectorXd& q, const Eigen::VectorXd& x,
   }
   if (fixed_changed || branch_changed) requestFields(true, true);
   else if (moved && follow_box_ && follow_box_->isChecked()) requestFields(true, false);
-  view_->update();
+  view_->requestRender();
   noteChange();
   emit poseChanged();
 }
@@ -1498,7 +1499,7 @@ void MechanismWindow::applyFieldVisibility() {
   field_scene_->set_surface_visible(render::Surface::WellConditioned, show_well_box_->isChecked());
   field_scene_->set_surface_opacity(render::Surface::Reach, reach_opacity_slider_->value() / 100.0);
   field_scene_->set_surface_opacity(render::Surface::WellConditioned, well_opacity_slider_->value() / 100.0);
-  view_->update();
+  view_->requestRender();
 }
 
 // ---- Animation ------------------------------------------------------------------

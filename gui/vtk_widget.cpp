@@ -5,8 +5,11 @@
 #include <QMouseEvent>
 #include <QOpenGLContext>
 #include <QOpenGLFunctions>
+#include <QOpenGLWindow>
+#include <QPainter>
 #include <QScopedValueRollback>
 #include <QScreen>
+#include <QVBoxLayout>
 #include <QWheelEvent>
 
 #include <vtkCommand.h>
@@ -67,13 +70,47 @@ char setKeyInformation(vtkRenderWindowInteractor* interactor, const QKeyEvent* e
 
 }  // namespace
 
+// The native window the view draws into: its OpenGL calls and its input go
+// to the VtkWidget that owns it.
+class ViewWindow : public QOpenGLWindow {
+ public:
+  // VTK redraws the whole frame; Qt need not preserve the old contents.
+  explicit ViewWindow(VtkWidget* view) : QOpenGLWindow(QOpenGLWindow::NoPartialUpdate), view_(view) {}
+
+ protected:
+  void initializeGL() override { view_->initializeGL(); }
+  void resizeGL(int, int) override { view_->resizeGL(); }
+  void paintGL() override { view_->paintGL(); }
+
+  void mousePressEvent(QMouseEvent* event) override { view_->mousePressEvent(event); }
+  void mouseReleaseEvent(QMouseEvent* event) override { view_->mouseReleaseEvent(event); }
+  void mouseDoubleClickEvent(QMouseEvent* event) override { view_->mousePressEvent(event); }
+  void mouseMoveEvent(QMouseEvent* event) override { view_->mouseMoveEvent(event); }
+  void wheelEvent(QWheelEvent* event) override { view_->wheelEvent(event); }
+  void keyPressEvent(QKeyEvent* event) override { view_->keyPressEvent(event); }
+  void keyReleaseEvent(QKeyEvent* event) override { view_->keyReleaseEvent(event); }
+  bool event(QEvent* event) override {
+    if (event->type() == QEvent::Enter) view_->enterEvent(static_cast<QEnterEvent*>(event));
+    if (event->type() == QEvent::Leave) view_->leaveEvent(event);
+    return QOpenGLWindow::event(event);
+  }
+
+ private:
+  VtkWidget* view_;
+};
+
 VtkWidget::VtkWidget(QWidget* parent)
-    : QOpenGLWidget(parent),
+    : QWidget(parent),
+      window_(new ViewWindow(this)),
       renderWindow_(vtkSmartPointer<vtkGenericOpenGLRenderWindow>::New()),
       interactor_(vtkSmartPointer<vtkGenericRenderWindowInteractor>::New()) {
   setFocusPolicy(Qt::StrongFocus);
-  // VTK redraws the whole frame; Qt need not preserve the old contents.
-  setUpdateBehavior(QOpenGLWidget::NoPartialUpdate);
+  QWidget* container = QWidget::createWindowContainer(window_, this);
+  container->setFocusPolicy(Qt::StrongFocus);
+  setFocusProxy(container);
+  auto* layout = new QVBoxLayout(this);
+  layout->setContentsMargins(0, 0, 0, 0);
+  layout->addWidget(container);
 
   // Nothing can render before initializeGL() hands VTK a context.
   renderWindow_->SetReadyForRendering(false);
@@ -101,7 +138,7 @@ VtkWidget::VtkWidget(QWidget* parent)
   vtkNew<vtkInteractorStyleTrackballCamera> style;
   interactor_->SetInteractorStyle(style);
   // All rendering happens in paintGL(), where the widget's framebuffer is
-  // bound; the interactor's render requests are turned into update() calls.
+  // bound; the interactor's render requests are turned into requestRender() calls.
   interactor_->EnableRenderOff();
   renderRequestTag_ = interactor_->AddObserver(vtkCommand::RenderEvent, this,
                                                &VtkWidget::onRenderWindowEvent);
@@ -109,13 +146,13 @@ VtkWidget::VtkWidget(QWidget* parent)
 }
 
 VtkWidget::~VtkWidget() {
-  // By the time QOpenGLWidget's destructor emits aboutToBeDestroyed, this
-  // part of the object is gone, so clean up here while the context exists.
-  if (QOpenGLContext* ctx = context()) {
+  // The window's context outlives this part of the object only until its
+  // container (a child) goes: clean up here while it exists.
+  if (QOpenGLContext* ctx = window_->context()) {
     disconnect(ctx, &QOpenGLContext::aboutToBeDestroyed, this, nullptr);
-    makeCurrent();
+    window_->makeCurrent();
     releaseGraphics();
-    doneCurrent();
+    window_->doneCurrent();
   }
   interactor_->RemoveObserver(renderRequestTag_);
   for (unsigned long tag : observerTags_) renderWindow_->RemoveObserver(tag);
@@ -145,10 +182,12 @@ vtkGenericOpenGLRenderWindow* VtkWidget::renderWindow() const { return renderWin
 
 vtkRenderWindowInteractor* VtkWidget::interactor() const { return interactor_; }
 
+void VtkWidget::requestRender() { window_->update(); }
+
+double VtkWidget::pixelRatio() const { return window_->devicePixelRatio(); }
+
 void VtkWidget::initializeGL() {
-  // Also reached again after a reparent gave us a fresh context; the old
-  // context's resources were released in releaseGraphics().
-  connect(context(), &QOpenGLContext::aboutToBeDestroyed, this, &VtkWidget::releaseGraphics,
+  connect(window_->context(), &QOpenGLContext::aboutToBeDestroyed, this, &VtkWidget::releaseGraphics,
           static_cast<Qt::ConnectionType>(Qt::DirectConnection | Qt::UniqueConnection));
 
   vtkOpenGLState* state = renderWindow_->GetState();
@@ -158,17 +197,17 @@ void VtkWidget::initializeGL() {
 
   renderWindow_->SetReadyForRendering(true);
   renderWindow_->OpenGLInitContext();
-  resizeGL(width(), height());
+  resizeGL();
 }
 
-void VtkWidget::resizeGL(int, int) {
-  // Qt's arguments are not reliably in device pixels; VTK wants device pixels.
-  const double dpr = devicePixelRatioF();
-  interactor_->UpdateSize(static_cast<int>(std::lround(width() * dpr)),
-                          static_cast<int>(std::lround(height() * dpr)));
+void VtkWidget::resizeGL() {
+  // VTK wants device pixels.
+  const double dpr = pixelRatio();
+  interactor_->UpdateSize(static_cast<int>(std::lround(window_->width() * dpr)),
+                          static_cast<int>(std::lround(window_->height() * dpr)));
   // Keeps text and line widths the same physical size on HiDPI screens.
   renderWindow_->SetDPI(static_cast<int>(std::lround(72 * dpr)));
-  if (const QScreen* s = screen()) {
+  if (const QScreen* s = window_->screen()) {
     const QSize screenSize = s->size() * dpr;
     renderWindow_->SetScreenSize(screenSize.width(), screenSize.height());
   }
@@ -193,30 +232,61 @@ void VtkWidget::paintGL() {
 
   // Observers of the render (progress bars, other GL widgets) may have made
   // another context current.
-  makeCurrent();
+  window_->makeCurrent();
 
-  const int w = static_cast<int>(std::lround(width() * devicePixelRatioF()));
-  const int h = static_cast<int>(std::lround(height() * devicePixelRatioF()));
+  const int w = static_cast<int>(std::lround(window_->width() * pixelRatio()));
+  const int h = static_cast<int>(std::lround(window_->height() * pixelRatio()));
   const int* source = renderWindow_->GetSize();
   vtkOpenGLFramebufferObject* image = renderWindow_->GetRenderFramebuffer();
   image->Bind(GL_READ_FRAMEBUFFER);
   image->ActivateReadBuffer(0);
-  state->vtkglBindFramebuffer(GL_DRAW_FRAMEBUFFER, defaultFramebufferObject());
+  state->vtkglBindFramebuffer(GL_DRAW_FRAMEBUFFER, window_->defaultFramebufferObject());
   state->vtkglBlitFramebuffer(0, 0, source[0], source[1], 0, 0, w, h, GL_COLOR_BUFFER_BIT,
                               source[0] == w && source[1] == h ? GL_NEAREST : GL_LINEAR);
   // The copy waits for the rasteriser to finish VTK's frame: the time to here
   // is what the frame cost.
   const double milliseconds = static_cast<double>(timer.nsecsElapsed()) / 1e6;
 
-  // Force opaque alpha: Qt composites the widget's framebuffer with alpha,
-  // and Mesa otherwise lets the window behind show through.
-  state->vtkglDisable(GL_SCISSOR_TEST);
-  state->vtkglColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_TRUE);
-  state->vtkglClearColor(0.0f, 0.0f, 0.0f, 1.0f);
-  context()->functions()->glClear(GL_COLOR_BUFFER_BIT);
-
   state->Pop();
   emit rendered(milliseconds);
+}
+
+QImage VtkWidget::grabFramebuffer() {
+  if (!window_->isExposed() || !window_->context() || !renderWindow_->GetReadyForRendering()) return {};
+  window_->makeCurrent();
+  vtkOpenGLState* state = renderWindow_->GetState();
+  state->Reset();
+  state->Push();
+  state->vtkglDepthFunc(GL_LEQUAL);
+  {
+    QScopedValueRollback<bool> painting(inPaint_, true);
+    renderWindow_->Render();
+  }
+  window_->makeCurrent();
+  const int* size = renderWindow_->GetSize();
+  QImage image(size[0], size[1], QImage::Format_RGBA8888);
+  vtkOpenGLFramebufferObject* framebuffer = renderWindow_->GetRenderFramebuffer();
+  framebuffer->Bind(GL_READ_FRAMEBUFFER);
+  framebuffer->ActivateReadBuffer(0);
+  QOpenGLFunctions* gl = window_->context()->functions();
+  gl->glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  gl->glReadPixels(0, 0, size[0], size[1], GL_RGBA, GL_UNSIGNED_BYTE, image.bits());
+  state->Pop();
+  // OpenGL's rows run bottom up; the view is opaque.
+  image = image.mirrored().convertToFormat(QImage::Format_RGB32);
+  image.setDevicePixelRatio(pixelRatio());
+  return image;
+}
+
+QImage VtkWidget::grabWindow(QWidget* window) {
+  QImage image = window->grab().toImage();
+  QPainter painter(&image);
+  for (VtkWidget* view : window->findChildren<VtkWidget*>()) {
+    if (!view->isVisible()) continue;
+    const QImage frame = view->grabFramebuffer();
+    if (!frame.isNull()) painter.drawImage(QRect(view->mapTo(window, QPoint(0, 0)), view->size()), frame);
+  }
+  return image;
 }
 
 void VtkWidget::releaseGraphics() {
@@ -227,12 +297,12 @@ void VtkWidget::releaseGraphics() {
 }
 
 void VtkWidget::onRenderWindowEvent(vtkObject*, unsigned long eventId, void* callData) {
-  QOpenGLContext* ctx = context();
+  QOpenGLContext* ctx = window_->context();
   switch (eventId) {
     case vtkCommand::WindowMakeCurrentEvent:
-      // Not QOpenGLWidget::makeCurrent(): VTK binds its own framebuffers,
-      // and rebinding the widget's here leaves the widget black.
-      if (ctx) ctx->makeCurrent(ctx->surface());
+      // Not QOpenGLWindow::makeCurrent(), which binds the window's
+      // framebuffer: VTK binds its own.
+      if (ctx) ctx->makeCurrent(window_);
       break;
     case vtkCommand::WindowIsCurrentEvent: {
       const QOpenGLContext* current = QOpenGLContext::currentContext();
@@ -250,14 +320,14 @@ void VtkWidget::onRenderWindowEvent(vtkObject*, unsigned long eventId, void* cal
     case vtkCommand::RenderEvent:
       // A render outside paintGL() (someone called Render() directly, or an
       // image capture) must still reach the screen.
-      if (!inPaint_) update();
+      if (!inPaint_) requestRender();
       break;
     case vtkCommand::CursorChangedEvent:
       switch (*static_cast<int*>(callData)) {
-        case VTK_CURSOR_HAND: setCursor(Qt::PointingHandCursor); break;
-        case VTK_CURSOR_CROSSHAIR: setCursor(Qt::CrossCursor); break;
-        case VTK_CURSOR_SIZEALL: setCursor(Qt::SizeAllCursor); break;
-        default: unsetCursor(); break;
+        case VTK_CURSOR_HAND: window_->setCursor(Qt::PointingHandCursor); break;
+        case VTK_CURSOR_CROSSHAIR: window_->setCursor(Qt::CrossCursor); break;
+        case VTK_CURSOR_SIZEALL: window_->setCursor(Qt::SizeAllCursor); break;
+        default: window_->unsetCursor(); break;
       }
       break;
     default:
@@ -266,7 +336,7 @@ void VtkWidget::onRenderWindowEvent(vtkObject*, unsigned long eventId, void* cal
 }
 
 void VtkWidget::setEventPosition(const QPointF& pos, const QInputEvent* event, int repeatCount) {
-  const double dpr = devicePixelRatioF();
+  const double dpr = pixelRatio();
   const Qt::KeyboardModifiers mods = event->modifiers();
   interactor_->SetEventInformationFlipY(static_cast<int>(std::lround(pos.x() * dpr)),
                                         static_cast<int>(std::lround(pos.y() * dpr)),
@@ -285,7 +355,7 @@ void VtkWidget::mousePressEvent(QMouseEvent* event) {
     case Qt::RightButton: interactor_->InvokeEvent(vtkCommand::RightButtonPressEvent, event); break;
     default: break;
   }
-  update();
+  requestRender();
 }
 
 void VtkWidget::mouseReleaseEvent(QMouseEvent* event) {
@@ -296,13 +366,13 @@ void VtkWidget::mouseReleaseEvent(QMouseEvent* event) {
     case Qt::RightButton: interactor_->InvokeEvent(vtkCommand::RightButtonReleaseEvent, event); break;
     default: break;
   }
-  update();
+  requestRender();
 }
 
 void VtkWidget::mouseMoveEvent(QMouseEvent* event) {
   setEventPosition(event->position(), event);
   interactor_->InvokeEvent(vtkCommand::MouseMoveEvent, event);
-  update();
+  requestRender();
 }
 
 void VtkWidget::wheelEvent(QWheelEvent* event) {
@@ -314,18 +384,18 @@ void VtkWidget::wheelEvent(QWheelEvent* event) {
   for (; wheelDelta_ <= -120; wheelDelta_ += 120)
     interactor_->InvokeEvent(vtkCommand::MouseWheelBackwardEvent, event);
   event->accept();
-  update();
+  requestRender();
 }
 
 void VtkWidget::enterEvent(QEnterEvent* event) {
   setEventPosition(event->position(), event);
   interactor_->InvokeEvent(vtkCommand::EnterEvent, event);
-  update();
+  requestRender();
 }
 
 void VtkWidget::leaveEvent(QEvent* event) {
   interactor_->InvokeEvent(vtkCommand::LeaveEvent, event);
-  update();
+  requestRender();
 }
 
 void VtkWidget::keyPressEvent(QKeyEvent* event) {
@@ -333,13 +403,13 @@ void VtkWidget::keyPressEvent(QKeyEvent* event) {
   interactor_->InvokeEvent(vtkCommand::KeyPressEvent, event);
   // The interactor styles' shortcuts ('r' reset, 'w' wireframe...) listen to CharEvent.
   if (ascii) interactor_->InvokeEvent(vtkCommand::CharEvent, event);
-  update();
+  requestRender();
 }
 
 void VtkWidget::keyReleaseEvent(QKeyEvent* event) {
   setKeyInformation(interactor_, event);
   interactor_->InvokeEvent(vtkCommand::KeyReleaseEvent, event);
-  update();
+  requestRender();
 }
 
 }  // namespace linkscape::gui

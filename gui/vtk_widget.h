@@ -3,20 +3,31 @@
 // Hosts a VTK render window inside a Qt6 widget.
 //
 // Debian's VTK 9.1 Qt module (QVTKOpenGLNativeWidget) is built against Qt5,
-// so this is a small stand-in: a QOpenGLWidget whose context drives a
-// vtkGenericOpenGLRenderWindow, and whose input events are replayed on a
-// vtkGenericRenderWindowInteractor. VTK renders into its own framebuffer;
-// paintGL() blits the result into the widget's framebuffer. The render
-// window's SwapBuffers is off (its display framebuffer is never filled): an
-// image capture must read the back buffer (vtkWindowToImageFilter::
-// ReadFrontBufferOff).
+// so this is a small stand-in: a native OpenGL window (QOpenGLWindow) in a
+// window container, whose context drives a vtkGenericOpenGLRenderWindow,
+// and whose input events are replayed on a vtkGenericRenderWindowInteractor.
+// VTK renders into its own framebuffer; paintGL() blits the result into the
+// window's. A native window reaches the screen by its own buffer swap: a
+// QOpenGLWidget's frame is instead composed with the whole top-level window
+// by OpenGL on every frame, which under software OpenGL cost more than
+// drawing the scene (docs/performance.md). The render window's SwapBuffers
+// is off (its display framebuffer is never filled): an image capture must
+// read the back buffer (vtkWindowToImageFilter::ReadFrontBufferOff).
+//
+// A widget's grab() leaves a native child window out: grabWindow() below
+// paints the views into the grabbed image.
 
-#include <QOpenGLWidget>
+#include <QImage>
 #include <QSurfaceFormat>
+#include <QWidget>
 
 #include <vtkSmartPointer.h>
 
+class QEnterEvent;
 class QInputEvent;
+class QKeyEvent;
+class QMouseEvent;
+class QWheelEvent;
 class vtkGenericOpenGLRenderWindow;
 class vtkGenericRenderWindowInteractor;
 class vtkObject;
@@ -24,7 +35,9 @@ class vtkRenderWindowInteractor;
 
 namespace linkscape::gui {
 
-class VtkWidget : public QOpenGLWidget {
+class ViewWindow;
+
+class VtkWidget : public QWidget {
   Q_OBJECT
 
  public:
@@ -37,20 +50,26 @@ class VtkWidget : public QOpenGLWidget {
 
   vtkGenericOpenGLRenderWindow* renderWindow() const;
   // Uses vtkInteractorStyleTrackballCamera. Never runs its own event loop;
-  // its Render() requests become update() calls on this widget.
+  // its Render() requests become requestRender() calls.
   vtkRenderWindowInteractor* interactor() const;
+
+  // Schedules a frame (the scene changed).
+  void requestRender();
+  // The scene rendered now, at the view's size in device pixels (a null
+  // image before the view has been shown).
+  QImage grabFramebuffer();
+  // `window` as grab() shows it, with every visible view inside it painted in.
+  static QImage grabWindow(QWidget* window);
 
  signals:
   // Emitted after each paintGL() with the time vtkRenderWindow::Render() and
-  // the copy of its image into the widget took (software OpenGL rasterises
+  // the copy of its image into the window took (software OpenGL rasterises
   // until the copy).
   void rendered(double milliseconds);
 
  protected:
-  void initializeGL() override;
-  void resizeGL(int w, int h) override;
-  void paintGL() override;
-
+  // Input arrives at the native window, which hands it here; events sent
+  // to this widget itself (tests) take the same way.
   void mousePressEvent(QMouseEvent* event) override;
   void mouseReleaseEvent(QMouseEvent* event) override;
   void mouseMoveEvent(QMouseEvent* event) override;
@@ -61,10 +80,16 @@ class VtkWidget : public QOpenGLWidget {
   void keyReleaseEvent(QKeyEvent* event) override;
 
  private:
+  friend class ViewWindow;
+  void initializeGL();
+  void resizeGL();
+  void paintGL();
   void onRenderWindowEvent(vtkObject* caller, unsigned long eventId, void* callData);
   void releaseGraphics();
   void setEventPosition(const QPointF& pos, const QInputEvent* event, int repeatCount = 0);
+  double pixelRatio() const;
 
+  ViewWindow* window_ = nullptr;  // owned by its container, a child of this widget
   vtkSmartPointer<vtkGenericOpenGLRenderWindow> renderWindow_;
   vtkSmartPointer<vtkGenericRenderWindowInteractor> interactor_;
   unsigned long observerTags_[6] = {};

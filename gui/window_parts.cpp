@@ -243,7 +243,7 @@ void export_screenshot(QWidget* window) {
       QFileDialog::getSaveFileName(window, QObject::tr("Save screenshot"), "linkscape.png", QObject::tr("PNG (*.png)"));
   if (path.isEmpty()) return;
   try {
-    save_png(window->grab().toImage(), path.toStdString());
+    save_png(VtkWidget::grabWindow(window), path.toStdString());
   } catch (const std::exception& e) {
     QMessageBox::warning(window, QObject::tr("Screenshot failed"), QString::fromStdString(e.what()));
   }
@@ -263,7 +263,7 @@ int save_screenshot_when(QWidget& window, const std::string& path, const std::fu
     QTimer::singleShot(100, &window, [&] {
       try {  // exceptions must not cross Qt's event loop
         const std::string size = write ? write() : [&] {
-          const QImage image = window.grab().toImage();
+          const QImage image = VtkWidget::grabWindow(&window);
           save_png(image, path);
           return std::to_string(image.width()) + "x" + std::to_string(image.height());
         }();

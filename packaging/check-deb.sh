@@ -90,7 +90,7 @@ echo "Depends: $depends"
 # Package names in Depends, one a line, without versions or alternatives.
 dep_names=$(sed 's/([^)]*)//g; s/[|,]/\n/g' <<<"$depends" | tr -d ' ' | sed '/^$/d')
 missing=()
-for lib in libc6 libstdc++6 libgomp1 libhwy1 libqt6core6 libqt6gui6 libqt6widgets6 libqt6openglwidgets6 libqt6charts6 libvtk9.1; do
+for lib in libc6 libstdc++6 libgomp1 libhwy1 libqt6core6 libqt6gui6 libqt6widgets6 libqt6opengl6 libqt6charts6 libvtk9.1; do
   grep -qxF "$lib" <<<"$dep_names" || missing+=("$lib")
 done
 if [ ${#missing[@]} -eq 0 ]; then pass "Depends names libc6, libstdc++6, libgomp1, Highway, Qt6 (with Charts) and VTK 9.1"

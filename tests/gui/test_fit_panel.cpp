@@ -49,7 +49,7 @@ void screenshot(MechanismWindow& w, const std::string& name) {
   QTRY_VERIFY_WITH_TIMEOUT(w.fieldsSettled(), 60000);
   QTest::qWait(300);
   fs::create_directories(folder);
-  QVERIFY(w.grab().toImage().save(QString::fromStdString((fs::path(folder) / ("window-fit-" + name + ".png")).string())));
+  QVERIFY(gui::VtkWidget::grabWindow(&w).save(QString::fromStdString((fs::path(folder) / ("window-fit-" + name + ".png")).string())));
 }
 
 }  // namespace

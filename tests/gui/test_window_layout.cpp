@@ -31,7 +31,7 @@ namespace {
 
 void save(QWidget& w, const QString& name) {
   const QByteArray folder = qgetenv("LINKSCAPE_SCREENSHOTS");
-  if (!folder.isEmpty()) w.grab().save(QDir(QString::fromLocal8Bit(folder)).filePath(name));
+  if (!folder.isEmpty()) gui::VtkWidget::grabWindow(&w).save(QDir(QString::fromLocal8Bit(folder)).filePath(name));
 }
 
 }  // namespace

@@ -219,7 +219,7 @@ class WindowOpenTest : public QObject {
     if (const QByteArray folder = qgetenv("LINKSCAPE_SCREENSHOTS"); !folder.isEmpty()) {
       if (const QByteArray size = qgetenv("LINKSCAPE_SCREENSHOT_WIDTH"); !size.isEmpty()) w->resize(size.toInt(), 700);
       QTest::qWait(200);  // the panel laid out, a frame drawn
-      QVERIFY(w->grab().save(QDir(QString::fromLocal8Bit(folder)).filePath("window-mechanism-error.png")));
+      QVERIFY(gui::VtkWidget::grabWindow(w).save(QDir(QString::fromLocal8Bit(folder)).filePath("window-mechanism-error.png")));
     }
 
     // Fixed: the panel's Reload button reads it again.

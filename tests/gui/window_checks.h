@@ -35,7 +35,7 @@ inline double changed_fraction(const QImage& a, const QImage& b) {
 // The 3-D view's next frame as RGB.
 template <class Window>
 QImage frame(Window& w) {
-  w.view()->update();
+  w.view()->requestRender();
   QTest::qWait(60);
   return w.view()->grabFramebuffer().convertToFormat(QImage::Format_RGB888);
 }
