@@ -1,11 +1,13 @@
 #include "gui/vtk_widget.h"
 
+#include <QCoreApplication>
 #include <QElapsedTimer>
 #include <QKeyEvent>
 #include <QMouseEvent>
 #include <QOpenGLContext>
 #include <QOpenGLFunctions>
 #include <QOpenGLWindow>
+#include <QPaintEvent>
 #include <QPainter>
 #include <QScopedValueRollback>
 #include <QScreen>
@@ -90,6 +92,15 @@ class ViewWindow : public QOpenGLWindow {
   void keyPressEvent(QKeyEvent* event) override { view_->keyPressEvent(event); }
   void keyReleaseEvent(QKeyEvent* event) override { view_->keyReleaseEvent(event); }
   bool event(QEvent* event) override {
+    if (event->type() == QEvent::Paint) {
+      view_->renderPosted_ = false;
+      // A posted paint can arrive after the window lost its surface (its
+      // top-level hidden or closed): it is drawn when next exposed.
+      if (!isExposed() || !handle()) {
+        update();
+        return true;
+      }
+    }
     if (event->type() == QEvent::Enter) view_->enterEvent(static_cast<QEnterEvent*>(event));
     if (event->type() == QEvent::Leave) view_->leaveEvent(event);
     return QOpenGLWindow::event(event);
@@ -182,7 +193,21 @@ vtkGenericOpenGLRenderWindow* VtkWidget::renderWindow() const { return renderWin
 
 vtkRenderWindowInteractor* VtkWidget::interactor() const { return interactor_; }
 
-void VtkWidget::requestRender() { window_->update(); }
+void VtkWidget::requestRender() {
+  // Not QWindow::requestUpdate() (QOpenGLWindow::update()), which waits for
+  // a 5 ms timer on xcb: a posted paint event is handled on the event loop's
+  // next pass, as a widget's update is. One at a time; a hidden window
+  // paints when it is exposed.
+  if (!window_->isExposed()) {
+    window_->update();
+    return;
+  }
+  if (renderPosted_) return;
+  renderPosted_ = true;
+  QCoreApplication::postEvent(window_, new QPaintEvent(QRect(QPoint(0, 0), window_->size())), Qt::LowEventPriority);
+}
+
+QWindow* VtkWidget::nativeWindow() const { return window_; }
 
 double VtkWidget::pixelRatio() const { return window_->devicePixelRatio(); }
 

@@ -28,6 +28,7 @@ class QInputEvent;
 class QKeyEvent;
 class QMouseEvent;
 class QWheelEvent;
+class QWindow;
 class vtkGenericOpenGLRenderWindow;
 class vtkGenericRenderWindowInteractor;
 class vtkObject;
@@ -60,6 +61,8 @@ class VtkWidget : public QWidget {
   QImage grabFramebuffer();
   // `window` as grab() shows it, with every visible view inside it painted in.
   static QImage grabWindow(QWidget* window);
+  // The native window that draws the view and receives its input.
+  QWindow* nativeWindow() const;
 
  signals:
   // Emitted after each paintGL() with the time vtkRenderWindow::Render() and
@@ -95,6 +98,7 @@ class VtkWidget : public QWidget {
   unsigned long observerTags_[6] = {};
   unsigned long renderRequestTag_ = 0;
   bool inPaint_ = false;
+  bool renderPosted_ = false;  // a paint event is on its way to window_
   int wheelDelta_ = 0;  // Accumulates high-resolution wheel deltas into notches.
 };
 

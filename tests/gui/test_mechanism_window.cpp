@@ -3,6 +3,7 @@
 // the preset chooser, the methods dock and the picture. Numbers are checked
 // against the device's own kinematics (core/mechanism.h), not literals.
 #include <QCheckBox>
+#include <QWindow>
 #include <QComboBox>
 #include <QDockWidget>
 #include <QDoubleSpinBox>
@@ -352,8 +353,11 @@ class MechanismWindowTest : public QObject {
     QCOMPARE(w.findChild<QComboBox*>("branchBox")->currentIndex(), other);
   }
 
+  // The drag sent to the view widget (as tests do elsewhere) and to its
+  // native window, where a real mouse's events arrive.
   void mouseDragOfTheHandleMovesTheDrivenPoint() {
-    for (const char* device : kDevices) {
+    for (const char* device : kDevices)
+      for (bool native : {false, true}) {
       MechanismWindow w(load_preset(device));
       QVERIFY(show_settled(w, false));
       frame(w);
@@ -367,14 +371,18 @@ class MechanismWindowTest : public QObject {
       const QPoint start(int(px[0] / dpr), int(w.view()->height() - px[1] / dpr));
       const int branch = w.branch();
       const Eigen::VectorXd q0 = w.actuators(), x0 = w.task();
-      QTest::mousePress(w.view(), Qt::LeftButton, Qt::NoModifier, start);
+      QWindow* window = w.view()->nativeWindow();
+      if (native) QTest::mousePress(window, Qt::LeftButton, Qt::NoModifier, start);
+      else QTest::mousePress(w.view(), Qt::LeftButton, Qt::NoModifier, start);
       for (int i = 1; i <= 10; ++i) {
         const QPointF p = start + QPoint(0, -3 * i);
         QMouseEvent move(QEvent::MouseMove, p, w.view()->mapToGlobal(p), Qt::NoButton, Qt::LeftButton, Qt::NoModifier);
-        QApplication::sendEvent(w.view(), &move);
+        if (native) QApplication::sendEvent(window, &move);
+        else QApplication::sendEvent(w.view(), &move);
         QTest::qWait(10);
       }
-      QTest::mouseRelease(w.view(), Qt::LeftButton, Qt::NoModifier, start + QPoint(0, -30));
+      if (native) QTest::mouseRelease(window, Qt::LeftButton, Qt::NoModifier, start + QPoint(0, -30));
+      else QTest::mouseRelease(w.view(), Qt::LeftButton, Qt::NoModifier, start + QPoint(0, -30));
       QVERIFY2((w.actuators() - q0).norm() > 1e-3, device);
       QCOMPARE(w.branch(), branch);
       // Moving up on screen raises the driven point; the other task coordinates stay.
