@@ -3,6 +3,7 @@
 #include <QApplication>
 #include <QComboBox>
 #include <QDockWidget>
+#include <QElapsedTimer>
 #include <QFileDialog>
 #include <QImage>
 #include <QMainWindow>
@@ -66,10 +67,32 @@ FieldStatus add_field_status(QMainWindow* window, VtkWidget* view, std::initiali
   window->statusBar()->addPermanentWidget(s.frame);
   QObject::connect(view, &VtkWidget::rendered, s.frame,
                    [label = s.frame](double ms) { label->setText(QObject::tr("frame %1 ms").arg(ms, 0, 'f', 1)); });
+  // The bar shows only work that lasts (a job's first report starts the
+  // clock; shown after kShowAfterMs), and moves at most every kStepMs: a
+  // progress bar repaints at once, and the window's short jobs (a slice, a
+  // volume re-sampled as the device moves) reported up to 200 times each,
+  // every report a repaint that held up the frames (docs/performance.md).
+  constexpr qint64 kShowAfterMs = 300, kStepMs = 100;
+  struct Clock {
+    QElapsedTimer since_start, since_step, since_report;
+  };
   for (FieldJobRunner* runner : runners) {
-    QObject::connect(runner, &FieldJobRunner::progress, s.progress, [bar = s.progress](double f) {
-      bar->setVisible(f < 1.0);
+    auto clock = std::make_shared<Clock>();
+    QObject::connect(runner, &FieldJobRunner::progress, s.progress, [bar = s.progress, clock](double f) {
+      if (f >= 1.0) {
+        clock->since_start.invalidate();
+        bar->setVisible(false);
+        return;
+      }
+      // A superseded job reports no end: after a pause, the clock starts again.
+      if (!clock->since_start.isValid() || !clock->since_report.isValid() || clock->since_report.elapsed() > kShowAfterMs)
+        clock->since_start.start();
+      clock->since_report.start();
+      if (clock->since_start.elapsed() < kShowAfterMs) return;
+      if (!bar->isHidden() && clock->since_step.isValid() && clock->since_step.elapsed() < kStepMs) return;
+      clock->since_step.start();
       bar->setValue(int(f * 100));
+      bar->setVisible(true);
     });
     QObject::connect(runner, &FieldJobRunner::failed, window, [window, bar = s.progress, on_failure](const QString& m) {
       window->statusBar()->showMessage(QObject::tr("Field computation failed: %1").arg(m), 8000);

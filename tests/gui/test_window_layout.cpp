@@ -12,6 +12,8 @@
 #include <QDockWidget>
 #include <QGroupBox>
 #include <QLabel>
+#include <QMainWindow>
+#include <QProgressBar>
 #include <QScrollArea>
 #include <QtTest>
 #include <vtkGenericOpenGLRenderWindow.h>
@@ -19,7 +21,9 @@
 #include <vtkRendererCollection.h>
 
 #include "core/preset.h"
+#include "gui/field_job.h"
 #include "gui/mechanism_window.h"
+#include "gui/window_parts.h"
 #include "gui/vtk_widget.h"
 #include "render/field_scene.h"
 
@@ -40,6 +44,46 @@ class WindowLayoutTest : public QObject {
   Q_OBJECT
 
  private slots:
+  // The status bar's progress bar shows only work that lasts and moves at
+  // most every 100 ms (each step repaints at once); a pause in the reports
+  // (a superseded job never reports its end) starts the clock again.
+  void progressBarShowsOnlyLastingWork() {
+    QMainWindow window;
+    auto* view = new gui::VtkWidget(&window);
+    window.setCentralWidget(view);
+    gui::FieldJobRunner runner;
+    const gui::FieldStatus status = gui::add_field_status(&window, view, {&runner}, [] {});
+    QProgressBar* bar = status.progress;
+    const auto report = [&](double f) { emit runner.progress(f); };
+    report(0.1);
+    QVERIFY(!bar->isVisibleTo(&window));  // a short job never shows it
+    for (double f : {0.2, 0.3}) {  // reports 100 ms apart (a pause would start the clock again)
+      QTest::qWait(100);
+      report(f);
+    }
+    QVERIFY(!bar->isVisibleTo(&window));
+    QTest::qWait(150);
+    report(0.4);
+    QVERIFY(bar->isVisibleTo(&window));
+    QCOMPARE(bar->value(), 40);
+    report(0.45);
+    QCOMPARE(bar->value(), 40);  // within 100 ms of the last step
+    QTest::qWait(120);
+    report(0.6);
+    QCOMPARE(bar->value(), 60);
+    report(1.0);
+    QVERIFY(!bar->isVisibleTo(&window));
+    // A job superseded before its end, then a pause: the next one starts from zero.
+    report(0.2);
+    QTest::qWait(200);
+    report(0.3);
+    QTest::qWait(400);
+    report(0.5);
+    QTest::qWait(100);
+    report(0.6);
+    QVERIFY(!bar->isVisibleTo(&window));
+  }
+
   void layoutHoldsFromSmallToLarge_data() {
     QTest::addColumn<QString>("device");
     QTest::addColumn<QSize>("size");
