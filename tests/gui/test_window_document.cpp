@@ -12,6 +12,7 @@
 #include <QRegularExpression>
 #include <QTemporaryDir>
 #include <QUndoStack>
+#include <QWindow>
 #include <QtTest>
 #include <vtkCamera.h>
 #include <vtkGenericOpenGLRenderWindow.h>
@@ -65,6 +66,24 @@ class WindowDocumentTest : public QObject {
   Q_OBJECT
 
  private slots:
+  // The view is a native window inside the main one: with it focused,
+  // keys still reach the window's shortcuts (here Undo).
+  void shortcutsWorkWithTheViewFocused() {
+    MechanismWindow w(load_preset("parallel-12r"));
+    QVERIFY(show_settled(w));
+    w.activateWindow();
+    const double l1 = w.mechanism().parameters().at("L1");
+    QVERIFY(w.setParameters({{"L1", l1 + 2}}));
+    w.history()->flush();
+    QCOMPARE(w.history()->stack()->count(), 1);
+    QWindow* view = w.view()->nativeWindow();
+    w.view()->setFocus();
+    QTRY_VERIFY(QGuiApplication::focusWindow() == view || w.view()->hasFocus() ||
+                (QApplication::focusWidget() && w.view()->isAncestorOf(QApplication::focusWidget())));
+    QTest::keyClick(view, Qt::Key_Z, Qt::ControlModifier);
+    QTRY_COMPARE(w.mechanism().parameters().at("L1"), l1);
+  }
+
   void undoAndRedoEveryKindOfChange() {
     MechanismWindow w(load_preset("parallel-12r"));
     QVERIFY(show_settled(w));
