@@ -70,6 +70,14 @@ class Evaluator {
     return {number(value[0], where + "[0]"), number(value[1], where + "[1]"), number(value[2], where + "[2]")};
   }
 
+  // [lo, hi] with lo < hi, each times `scale`.
+  Range range(const json& value, const std::string& where, double scale = 1.0) {
+    if (!value.is_array() || value.size() != 2) fail(where, "must be [lo, hi]");
+    const Range r{scale * number(value[0], where + "[0]"), scale * number(value[1], where + "[1]")};
+    if (!(r.lo < r.hi)) fail(where, "needs lo < hi");
+    return r;
+  }
+
   Vector3d unit_axis(const json& value, const std::string& where) {
     const Vector3d a = vector(value, where);
     const double n = a.norm();
@@ -236,10 +244,7 @@ Model build_model(const std::string& description_json, const std::map<std::strin
       Extra e;
       e.name = name;
       e.home = eval.number(require(spec, "home", where), where + ".home");
-      const json& r = require(spec, "range", where);
-      if (!r.is_array() || r.size() != 2) fail(where + ".range", "must be [lo, hi]");
-      e.range = {eval.number(r[0], where + ".range[0]"), eval.number(r[1], where + ".range[1]")};
-      if (!(e.range.lo < e.range.hi)) fail(where + ".range", "needs lo < hi");
+      e.range = eval.range(require(spec, "range", where), where + ".range");
       e.unit = spec.value("unit", length_unit);
       e.description = spec.value("description", "");
       m.extras.push_back(e);
@@ -422,12 +427,7 @@ Model build_model(const std::string& description_json, const std::map<std::strin
             fail(at, prismatic ? "a prismatic joint's travel is \"range\" (length unit)"
                                : "a revolute joint's travel is \"range_deg\" (degrees)");
           if (step.contains(range_key)) {
-            const json& r = step.at(range_key);
-            if (!r.is_array() || r.size() != 2) fail(at + "." + range_key, "must be [lo, hi]");
-            const double scale = prismatic ? 1.0 : kPi / 180;
-            range = {scale * eval.number(r[0], at + "." + range_key + "[0]"),
-                     scale * eval.number(r[1], at + "." + range_key + "[1]")};
-            if (!(range.lo < range.hi)) fail(at + "." + range_key, "needs lo < hi");
+            range = eval.range(step.at(range_key), at + "." + range_key, prismatic ? 1.0 : kPi / 180);
             limited = true;
           } else if (actuated && prismatic) {
             fail(at, "an actuated prismatic joint needs its travel, \"range\": [lo, hi] (length unit)");
@@ -539,12 +539,7 @@ Model build_model(const std::string& description_json, const std::map<std::strin
       if (!parameters.count(name)) fail(where, "is not a parameter");
       check_keys(spec, {"range", "unit", "description", "in_panel"}, where);
       Model::ParameterInfo p;
-      if (spec.contains("range")) {
-        const json& r = spec.at("range");
-        if (!r.is_array() || r.size() != 2) fail(where + ".range", "must be [lo, hi]");
-        p.range = {eval.number(r[0], where + ".range[0]"), eval.number(r[1], where + ".range[1]")};
-        if (!(p.range.lo < p.range.hi)) fail(where + ".range", "needs lo < hi");
-      }
+      if (spec.contains("range")) p.range = eval.range(spec.at("range"), where + ".range");
       p.unit = spec.value("unit", "");
       p.description = spec.value("description", "");
       p.in_panel = spec.value("in_panel", true);
