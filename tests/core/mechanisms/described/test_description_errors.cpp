@@ -51,6 +51,22 @@ TEST(DescriptionErrors, NonUnitAxisNamesTheAxis) {
   expect_contains(m, {"description.legs[0] \"1\"", "chain[0] (joint \"q1\").axis", "not a unit vector", "1.41"});
 }
 
+TEST(DescriptionErrors, BadRangesNameTheirPlace) {
+  // A joint's travel (degrees), a parameter's range and an extra's range share one reader.
+  expect_contains(error_after([](json& d) { d["description"]["legs"][0]["chain"][0]["range_deg"] = {30, -30}; }),
+                  {"chain[0] (joint \"q1\").range_deg", "needs lo < hi"});
+  expect_contains(error_after([](json& d) { d["description"]["legs"][0]["chain"][0]["range_deg"] = {30}; }),
+                  {"chain[0] (joint \"q1\").range_deg", "must be [lo, hi]"});
+  expect_contains(error_after([](json& d) { d["description"]["parameter_info"]["La"]["range"] = {5, "La / 0"}; }),
+                  {"parameter_info.La.range[1]", "evaluates to"});
+  expect_contains(error_after([](json& d) { d["description"]["parameter_info"]["La"]["range"] = {9, 3}; }),
+                  {"parameter_info.La.range", "needs lo < hi"});
+  expect_contains(error_after([](json& d) {
+                    d["description"]["extras"] = {{"grip", {{"home", 1}, {"range", "wide"}}}};
+                  }),
+                  {"extras.grip.range", "must be [lo, hi]"});
+}
+
 TEST(DescriptionErrors, MissingActuatorNamesTheLeg) {
   const std::string m = error_after([](json& d) { d["description"]["legs"][0]["chain"][0].erase("actuated"); });
   expect_contains(m, {"description.legs[0] \"1\": chain", "no actuated joint"});
