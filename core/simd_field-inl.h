@@ -160,6 +160,7 @@ constexpr int kBlock = 256;
 struct alignas(64) Block {  // structure of arrays, one entry per sample
   double J[9][kBlock];      // column by column
   double cond[kBlock], status[kBlock], reach_margin[kBlock], residual[kBlock];
+  double cond_orientation[kBlock];  // a second measure, for kernels with one (FieldRowOut::cond_orientation)
   double wants_cond[kBlock], to_scalar[kBlock];  // flags: 1 or 0
 };
 
@@ -227,8 +228,9 @@ struct MethodRule {
 
 // Stores samples [0, n) of block b at i0.. of the row `out` (row_count
 // samples), and with `mirror` also at their mirror images row_count - 1 - i,
-// written from the same registers. Samples flagged to_scalar are then
-// replaced by scalar_sample(i) (the reference kernel at the row's sample i).
+// written from the same registers; b.cond_orientation only where `out` has
+// that array. Samples flagged to_scalar are then replaced by
+// scalar_sample(i) (the reference kernel at the row's sample i).
 template <class ScalarSample>
 HWY_INLINE void StoreBlock(const Block& b, int i0, int n, int row_count, bool mirror, const MethodRule& rule,
                            const detail::FieldRowOut& out, ScalarSample&& scalar_sample) {
@@ -255,6 +257,7 @@ HWY_INLINE void StoreBlock(const Block& b, int i0, int n, int row_count, bool mi
   store_floats(b.cond, out.cond);
   store_floats(b.reach_margin, out.reach_margin);
   store_floats(b.residual, out.residual);
+  if (out.cond_orientation) store_floats(b.cond_orientation, out.cond_orientation);
   // The byte arrays follow from the status.
   const auto store_bytes = [&](V status, int i) {
     const V ok = hn::IfThenElseZero(status == StatusCode(d, Status::Ok), hn::Set(d, 1.0));
@@ -269,39 +272,15 @@ HWY_INLINE void StoreBlock(const Block& b, int i0, int n, int row_count, bool mi
     store_bytes(status, i0 + t);
     if (mirror) store_bytes(hn::Reverse(d, status), last - (i0 + t + lanes - 1));
   }
-  for (int t = full; t < n; ++t) put(i0 + t, rule.Sample(b, t));  // the last partial vector
+  for (int t = full; t < n; ++t) {  // the last partial vector
+    FieldSample sample = rule.Sample(b, t);
+    if (out.cond_orientation) sample.cond_orientation = float(b.cond_orientation[t]);
+    put(i0 + t, sample);
+  }
   for (int t = 0; t < n; t += lanes) {
     if (hn::AllFalse(d, IsSet(d, hn::Load(d, b.to_scalar + t)))) continue;
     for (int l = t; l < std::min(n, t + lanes); ++l)
       if (b.to_scalar[l] != 0.0) put(i0 + l, scalar_sample(i0 + l));
-  }
-}
-
-// A second measure (FieldRowOut::cond_orientation) of a block's samples
-// [0, n), for kernels that have one; call it after StoreBlock, with the same
-// block, i0, n, row_count and mirror. Samples flagged to_scalar keep what
-// StoreBlock's scalar sample wrote; every other sample gets values[t].
-HWY_INLINE void StoreSecondMeasure(const Block& b, const double* values, int i0, int n, int row_count, bool mirror,
-                                   float* into) {
-  const D d;
-  const int lanes = int(hn::Lanes(d));
-  const hn::Rebind<float, D> df;
-  // As in StoreBlock: the portable targets' DemoteTo saturates infinities.
-  constexpr bool kDemoteKeepsInfinity = HWY_TARGET != HWY_SCALAR && HWY_TARGET != HWY_EMU128;
-  const int last = row_count - 1;
-  for (int t = 0; t < n; t += lanes) {
-    const bool whole = t + lanes <= n;
-    if (kDemoteKeepsInfinity && whole && hn::AllFalse(d, IsSet(d, hn::Load(d, b.to_scalar + t)))) {
-      const auto v = hn::DemoteTo(df, hn::Load(d, values + t));
-      hn::StoreU(v, df, into + i0 + t);
-      if (mirror) hn::StoreU(hn::Reverse(df, v), df, into + last - (i0 + t + lanes - 1));
-      continue;
-    }
-    for (int l = t; l < std::min(n, t + lanes); ++l) {
-      if (b.to_scalar[l] != 0.0) continue;
-      into[i0 + l] = float(values[l]);
-      if (mirror) into[last - (i0 + l)] = float(values[l]);
-    }
   }
 }
 

@@ -238,33 +238,34 @@ void VtkWidget::resizeGL() {
   }
 }
 
-void VtkWidget::paintGL() {
-  if (!renderWindow_->GetReadyForRendering()) return;
-
-  // Qt changed GL state behind VTK's cache: resync it, and give Qt its state
-  // back afterwards.
+void VtkWidget::renderForReading() {
+  // Qt changed GL state behind VTK's cache: resync it (the caller gives Qt
+  // its state back with Pop()).
   vtkOpenGLState* state = renderWindow_->GetState();
   state->Reset();
   state->Push();
   state->vtkglDepthFunc(GL_LEQUAL);
-
-  QElapsedTimer timer;
-  timer.start();
   {
     QScopedValueRollback<bool> painting(inPaint_, true);
     renderWindow_->Render();
   }
-
   // Observers of the render (progress bars, other GL widgets) may have made
   // another context current.
   window_->makeCurrent();
+  vtkOpenGLFramebufferObject* frame = renderWindow_->GetRenderFramebuffer();
+  frame->Bind(GL_READ_FRAMEBUFFER);
+  frame->ActivateReadBuffer(0);
+}
 
+void VtkWidget::paintGL() {
+  if (!renderWindow_->GetReadyForRendering()) return;
+  QElapsedTimer timer;
+  timer.start();
+  renderForReading();
+  vtkOpenGLState* state = renderWindow_->GetState();
   const int w = static_cast<int>(std::lround(window_->width() * pixelRatio()));
   const int h = static_cast<int>(std::lround(window_->height() * pixelRatio()));
   const int* source = renderWindow_->GetSize();
-  vtkOpenGLFramebufferObject* image = renderWindow_->GetRenderFramebuffer();
-  image->Bind(GL_READ_FRAMEBUFFER);
-  image->ActivateReadBuffer(0);
   state->vtkglBindFramebuffer(GL_DRAW_FRAMEBUFFER, window_->defaultFramebufferObject());
   state->vtkglBlitFramebuffer(0, 0, source[0], source[1], 0, 0, w, h, GL_COLOR_BUFFER_BIT,
                               source[0] == w && source[1] == h ? GL_NEAREST : GL_LINEAR);
@@ -279,24 +280,13 @@ void VtkWidget::paintGL() {
 QImage VtkWidget::grabFramebuffer() {
   if (!window_->isExposed() || !window_->context() || !renderWindow_->GetReadyForRendering()) return {};
   window_->makeCurrent();
-  vtkOpenGLState* state = renderWindow_->GetState();
-  state->Reset();
-  state->Push();
-  state->vtkglDepthFunc(GL_LEQUAL);
-  {
-    QScopedValueRollback<bool> painting(inPaint_, true);
-    renderWindow_->Render();
-  }
-  window_->makeCurrent();
+  renderForReading();
   const int* size = renderWindow_->GetSize();
   QImage image(size[0], size[1], QImage::Format_RGBA8888);
-  vtkOpenGLFramebufferObject* framebuffer = renderWindow_->GetRenderFramebuffer();
-  framebuffer->Bind(GL_READ_FRAMEBUFFER);
-  framebuffer->ActivateReadBuffer(0);
   QOpenGLFunctions* gl = window_->context()->functions();
   gl->glPixelStorei(GL_PACK_ALIGNMENT, 4);
   gl->glReadPixels(0, 0, size[0], size[1], GL_RGBA, GL_UNSIGNED_BYTE, image.bits());
-  state->Pop();
+  renderWindow_->GetState()->Pop();
   // OpenGL's rows run bottom up; the view is opaque.
   image = image.mirrored().convertToFormat(QImage::Format_RGB32);
   image.setDevicePixelRatio(pixelRatio());

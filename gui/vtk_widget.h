@@ -87,6 +87,9 @@ class VtkWidget : public QWidget {
   void initializeGL();
   void resizeGL();
   void paintGL();
+  // Renders the scene into VTK's framebuffer and binds it for reading, with
+  // VTK's GL state pushed (the caller pops it).
+  void renderForReading();
   void onRenderWindowEvent(vtkObject* caller, unsigned long eventId, void* callData);
   void releaseGraphics();
   void setEventPosition(const QPointF& pos, const QInputEvent* event, int repeatCount = 0);

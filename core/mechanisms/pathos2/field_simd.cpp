@@ -74,44 +74,35 @@ HWY_INLINE V LowerTriangularCondition(D d, V a, V b, V c, V dd, V e, V f) {
 // closed form.
 HWY_INLINE V ThreeColumnCondition(D d, const V* b0, const V* b1, const V* b2) {
   const V one = hn::Set(d, 1.0);
+  // Summed from the first entry on, as the reference's loops do.
+  const auto dot = [](const V* u, const V* v) {
+    V sum = u[0] * v[0];
+    for (int k = 1; k < 6; ++k) sum = sum + u[k] * v[k];
+    return sum;
+  };
   V q0[6], q1[6], v2[6];
-  V r00 = b0[0] * b0[0];
-  for (int k = 1; k < 6; ++k) r00 = r00 + b0[k] * b0[k];
-  r00 = hn::Sqrt(r00);
+  const V r00 = hn::Sqrt(dot(b0, b0));
   const V inv00 = one / r00;
   for (int k = 0; k < 6; ++k) q0[k] = b0[k] * inv00;
-  V r01 = q0[0] * b1[0];
-  for (int k = 1; k < 6; ++k) r01 = r01 + q0[k] * b1[k];
+  const V r01 = dot(q0, b1);
   for (int k = 0; k < 6; ++k) q1[k] = b1[k] - r01 * q0[k];
-  V r11 = q1[0] * q1[0];
-  for (int k = 1; k < 6; ++k) r11 = r11 + q1[k] * q1[k];
-  r11 = hn::Sqrt(r11);
+  const V r11 = hn::Sqrt(dot(q1, q1));
   const V inv11 = one / r11;
   for (int k = 0; k < 6; ++k) q1[k] = q1[k] * inv11;
-  V r02 = q0[0] * b2[0];
-  for (int k = 1; k < 6; ++k) r02 = r02 + q0[k] * b2[k];
+  const V r02 = dot(q0, b2);
   for (int k = 0; k < 6; ++k) v2[k] = b2[k] - r02 * q0[k];
-  V r12 = q1[0] * v2[0];
-  for (int k = 1; k < 6; ++k) r12 = r12 + q1[k] * v2[k];
+  const V r12 = dot(q1, v2);
   for (int k = 0; k < 6; ++k) v2[k] = v2[k] - r12 * q1[k];
-  V r22 = v2[0] * v2[0];
-  for (int k = 1; k < 6; ++k) r22 = r22 + v2[k] * v2[k];
+  const V r22 = dot(v2, v2);
   // r00 or r11 zero (a rank-deficient block) makes det zero or NaN: +inf.
   return LowerTriangularCondition(d, r00, r01, r11, r02, r12, hn::Sqrt(r22));
 }
 
-struct Setup {
-  const Model& m;
-  const FieldSetup& s;
-};
-
 // The samples [first, first + count) of the row into b (status, reach
-// margin, residual, cond = cond(Jp), to_scalar) and cond_o (cond(Jo)).
-void Samples(const Setup& setup, const Grid& g, const detail::GridRow& row, int first, int count, Block& b,
-             double* cond_o) {
+// margin, residual, cond = cond(Jp), cond_orientation = cond(Jo), to_scalar).
+void Samples(const Model& m, const FieldSetup& fs, const Grid& g, const detail::GridRow& row, int first, int count,
+             Block& b) {
   const D d;
-  const Model& m = setup.m;
-  const FieldSetup& fs = setup.s;
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0), inf = hn::Inf(d);
   const double scale2 = (m.l2 + m.l3) * (m.l2 + m.l3);
   const V l1 = hn::Set(d, m.l1), l2 = hn::Set(d, m.l2), l3 = hn::Set(d, m.l3);
@@ -372,23 +363,20 @@ void Samples(const Setup& setup, const Grid& g, const detail::GridRow& row, int 
     hn::Store(margin, d, b.reach_margin + t);
     hn::Store(residual, d, b.residual + t);
     hn::Store(cond_p, d, b.cond + t);
-    hn::Store(cond_orientation, d, cond_o + t);
+    hn::Store(cond_orientation, d, b.cond_orientation + t);
     hn::Store(Flag(d, to_scalar), d, b.to_scalar + t);
   }
 }
 
 void SampleRow(const Geometry& g, const FieldSetup& setup, const Pose& oriented, const GlobularOffsets& offsets,
                const Grid& grid, const detail::GridRow& row, const detail::FieldRowOut& out) {
-  const Setup s{g.model, setup};
   const MethodRule rule{double(Field::kNoMethod), false};  // closed form: no method recorded
   Block b;
-  alignas(64) double cond_o[kBlock];
   for (int first = 0; first < row.count; first += kBlock) {
     const int n = std::min(kBlock, row.count - first);
-    Samples(s, grid, row, first, n, b, cond_o);
+    Samples(g.model, setup, grid, row, first, n, b);
     StoreBlock(b, first, n, row.count, false, rule, out,
                [&](int i) { return sample_oriented(g, oriented, offsets, row.point(grid, i)); });
-    StoreSecondMeasure(b, cond_o, first, n, row.count, false, out.cond_orientation);
   }
 }
 
