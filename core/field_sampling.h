@@ -76,6 +76,18 @@ struct FieldRowOut {
     if (cond_orientation) cond_orientation[t] = s.cond_orientation;
   }
 
+  // Copies samples [first, first + n) into `to` at the same places.
+  void copy_to(const FieldRowOut& to, int first, int n) const {
+    std::copy_n(cond + first, n, to.cond + first);
+    std::copy_n(reach_margin + first, n, to.reach_margin + first);
+    std::copy_n(residual + first, n, to.residual + first);
+    std::copy_n(reachable + first, n, to.reachable + first);
+    std::copy_n(status + first, n, to.status + first);
+    std::copy_n(iterations + first, n, to.iterations + first);
+    std::copy_n(method_used + first, n, to.method_used + first);
+    if (cond_orientation) std::copy_n(cond_orientation + first, n, to.cond_orientation + first);
+  }
+
   // The same arrays `by` samples further on (another row of the Field).
   FieldRowOut shifted(std::ptrdiff_t by) const {
     return {cond + by,   reach_margin + by, residual + by,    reachable + by,

@@ -226,6 +226,18 @@ struct MethodRule {
   }
 };
 
+// Calls handed_off(t) for each of the block's samples [0, n) flagged to_scalar.
+template <class HandedOff>
+HWY_INLINE void ForEachHandedOff(const Block& b, int n, HandedOff&& handed_off) {
+  const D d;
+  const int lanes = int(hn::Lanes(d));
+  for (int t = 0; t < n; t += lanes) {
+    if (hn::AllFalse(d, IsSet(d, hn::Load(d, b.to_scalar + t)))) continue;
+    for (int l = t; l < std::min(n, t + lanes); ++l)
+      if (b.to_scalar[l] != 0.0) handed_off(l);
+  }
+}
+
 // Stores samples [0, n) of block b at i0.. of the row `out` (row_count
 // samples), and with `mirror` also at their mirror images row_count - 1 - i,
 // written from the same registers; b.cond_orientation only where `out` has
@@ -277,11 +289,7 @@ HWY_INLINE void StoreBlock(const Block& b, int i0, int n, int row_count, bool mi
     if (out.cond_orientation) sample.cond_orientation = float(b.cond_orientation[t]);
     put(i0 + t, sample);
   }
-  for (int t = 0; t < n; t += lanes) {
-    if (hn::AllFalse(d, IsSet(d, hn::Load(d, b.to_scalar + t)))) continue;
-    for (int l = t; l < std::min(n, t + lanes); ++l)
-      if (b.to_scalar[l] != 0.0) put(i0 + l, scalar_sample(i0 + l));
-  }
+  ForEachHandedOff(b, n, [&](int t) { put(i0 + t, scalar_sample(i0 + t)); });
 }
 
 }  // namespace linkscape::simd::HWY_NAMESPACE

@@ -16,8 +16,12 @@
 //   (the three legs' from one division) instead of cos and sin of
 //   2 atan2(n, d); the actuator ranges need no angle per leg: each leg's
 //   excess over its range is a direction, the largest is found by comparing
-//   directions, and only its angle is taken (one vector arctangent a few
-//   ulps from libm's where the reference takes three);
+//   directions, and its angle is taken (one vector arctangent a few ulps
+//   from libm's where the reference takes three) only in vectors where
+//   La times it can be smaller than the legs' margin (bounds by its sine
+//   and tangent decide elsewhere);
+// - a leg's quadratic is solved only where it reaches in some lane, and the
+//   Jacobian only where some lane is Ok (the rest store no J);
 // - the type II test compares the circumradius's square, without its root;
 // - the closure error | |s_i| - Lb | is | |s_i|^2 - Lb^2 | / (2 Lb);
 // - c(J) is condition_number_fast's closed form (core/simd_field-inl.h)
@@ -98,10 +102,9 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
     M to_scalar = hn::Not(hn::And(hn::IsFinite(x), hn::And(hn::IsFinite(y), hn::IsFinite(z))));
     M unreachable = hn::FirstN(d, 0);
     V largest_X = zero, smallest_Y = inf;
-    V cos_q[kLegCount], sin_q[kLegCount];
     // Per leg: the tangent half-angle n / dd of its angle (the angle of
     // closest approach where it does not reach) and whether it reaches.
-    V n[kLegCount], dd[kLegCount], norm[kLegCount];
+    V n[kLegCount], dd[kLegCount];
     M leg_unreachable[kLegCount], turn[kLegCount];
 #pragma GCC unroll 3
     for (int i = 0; i < kLegCount; ++i) {
@@ -121,39 +124,38 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
       turn[i] = hn::Not(Lb2 < X);
       largest_X = hn::Max(largest_X, X);
       smallest_Y = hn::Min(smallest_Y, Y);
-      // solve_leg
+      // solve_leg; where the leg reaches in no lane, only its angle of
+      // closest approach (towards or away) is needed.
       const V A = hn::Set(d, 2.0 * m.La) * u, B = hn::Set(d, -2.0 * m.La) * w;
-      const V C = u * u + v * v + w * w + hn::Set(d, m.La * m.La) - hn::Set(d, m.Lb * m.Lb);
-      const V disc = (Lb2 - X) * (Y - Lb2);
-      const V root = hn::Sqrt(hn::Max(zero, disc));
-      const V sigma_root = (s.branch >> i) & 1 ? root : hn::Neg(root);
-      const V n1 = B + sigma_root, d1 = C + A, n2 = C - A, d2 = B - sigma_root;
-      const M first_pair = n1 * n1 + d1 * d1 >= n2 * n2 + d2 * d2;
-      // Unreachable: the angle of closest approach, towards or away.
-      n[i] = hn::IfThenElse(leg_unreachable[i], B, hn::IfThenElse(first_pair, n1, n2));
-      dd[i] = hn::IfThenElse(leg_unreachable[i], A, hn::IfThenElse(first_pair, d1, d2));
-      norm[i] = dd[i] * dd[i] + n[i] * n[i];
+      n[i] = B;
+      dd[i] = A;
+      if (!hn::AllTrue(d, leg_unreachable[i])) {
+        const V C = u * u + v * v + w * w + hn::Set(d, m.La * m.La) - hn::Set(d, m.Lb * m.Lb);
+        const V disc = (Lb2 - X) * (Y - Lb2);
+        const V root = hn::Sqrt(hn::Max(zero, disc));
+        const V sigma_root = (s.branch >> i) & 1 ? root : hn::Neg(root);
+        const V n1 = B + sigma_root, d1 = C + A, n2 = C - A, d2 = B - sigma_root;
+        const M first_pair = n1 * n1 + d1 * d1 >= n2 * n2 + d2 * d2;
+        n[i] = hn::IfThenElse(leg_unreachable[i], B, hn::IfThenElse(first_pair, n1, n2));
+        dd[i] = hn::IfThenElse(leg_unreachable[i], A, hn::IfThenElse(first_pair, d1, d2));
+      }
+      const V norm = dd[i] * dd[i] + n[i] * n[i];
       // norm is about (La + Lb)^4; out of 2^+-300 (where the three together
       // could leave double's range) the reference decides.
-      const M unscaled = hn::Not(hn::And(norm[i] >= hn::Set(d, 0x1p-300), norm[i] <= hn::Set(d, 0x1p300)));
+      const M unscaled = hn::Not(hn::And(norm >= hn::Set(d, 0x1p-300), norm <= hn::Set(d, 0x1p300)));
       to_scalar = hn::Or(to_scalar, hn::Or(unscaled, zone));
       unreachable = hn::Or(unreachable, leg_unreachable[i]);
     }
-    // cos q_i and sin q_i from 1 / (dd^2 + n^2), the three from one division.
-    const V norm01 = norm[0] * norm[1], inv_all = one / (norm01 * norm[2]);
-    const V inv_norm[kLegCount] = {norm[1] * norm[2] * inv_all, norm[0] * norm[2] * inv_all, norm01 * inv_all};
     // The actuator ranges without an arctangent per leg: range_margin(q) is
     // w - |q - centre| (q - centre wrapped into (-pi, pi], w the half width),
     // so each leg's excess delta_i = |q_i - centre_i| - w_i has the direction
     // of q_i's (dd^2 - n^2, 2 n dd), or of the angle of closest approach
     // (dd, n) turned by pi where the leg does not reach, rotated by
     // -centre_i, folded to |.| and rotated by -w_i. The largest excess is
-    // found by comparing directions, and only its angle is taken.
+    // found by comparing directions.
     V excess_c = zero, excess_s = zero;
 #pragma GCC unroll 3
     for (int i = 0; i < kLegCount; ++i) {
-      cos_q[i] = (dd[i] * dd[i] - n[i] * n[i]) * inv_norm[i];
-      sin_q[i] = hn::Set(d, 2.0) * n[i] * dd[i] * inv_norm[i];
       const V sign = hn::IfThenElse(turn[i], hn::Neg(one), one);
       const V qc = hn::IfThenElse(leg_unreachable[i], sign * dd[i], dd[i] * dd[i] - n[i] * n[i]);
       const V qs = hn::IfThenElse(leg_unreachable[i], sign * n[i], hn::Set(d, 2.0) * n[i] * dd[i]);
@@ -161,35 +163,53 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
       const V rc = qc * cc + qs * sc, rs = hn::Abs(qs * cc - qc * sc);  // q - centre, folded
       const V cw = hn::Set(d, s.legs.cos_half_width[i]), sw = hn::Set(d, s.legs.sin_half_width[i]);
       const V ec = rc * cw + rs * sw, es = rs * cw - rc * sw;  // delta_i
-      // Within 1e-12 rad of a range end (delta_i = 0; the sine of the
-      // direction's angle, bounded by |es| / (|ec| + |es|), with room for
-      // rounding), or not a number: the reference decides.
-      const M near_range = hn::Or(hn::And(ec > zero, hn::Abs(es) <= hn::Set(d, 2e-12) * (hn::Abs(ec) + hn::Abs(es))),
-                                  hn::Or(hn::IsNaN(ec), hn::IsNaN(es)));
-      to_scalar = hn::Or(to_scalar, near_range);
       const M larger = i == 0 ? hn::Not(hn::FirstN(d, 0)) : AngleGreater(d, ec, es, excess_c, excess_s);
       excess_c = hn::IfThenElse(larger, ec, excess_c);
       excess_s = hn::IfThenElse(larger, es, excess_s);
     }
-    const V largest_excess = Atan2(d, excess_s, excess_c);
-    const M outside_range = largest_excess > zero;
-    const V limits = La * hn::Neg(largest_excess);
+    // Whether the largest excess is within 1e-12 rad of 0, a range end (the
+    // sine of the direction's angle, bounded by |es| / (|ec| + |es|), with
+    // room for rounding), at +-pi or not a number: there the reference decides.
+    // Elsewhere its sign is that of es (the sign of atan2(es, ec)), and the
+    // other legs' excesses, smaller, decide neither the status nor the margin.
+    to_scalar = hn::Or(to_scalar, hn::Or(hn::And(excess_c > zero, hn::Abs(excess_s) <= hn::Set(d, 2e-12) * (hn::Abs(excess_c) + hn::Abs(excess_s))),
+                                         hn::Or(excess_s == zero, hn::Or(hn::IsNaN(excess_c), hn::IsNaN(excess_s)))));
+    const M outside_range = excess_s > zero;
     // min over the legs of min(Lb - d_min, d_max - Lb), from the largest
     // d_min and the smallest d_max (sqrt is monotonic, so these are the bits
     // of the smallest of the six differences).
     const V geometric = hn::Min(Lb - hn::Sqrt(largest_X), hn::Sqrt(smallest_Y) - Lb);
+    // The margin min(geometric, -La theta), theta the largest excess's angle,
+    // needs theta only where theta > alpha = -geometric / La. theta <= alpha
+    // for sure (so the margin is geometric) where theta <= 0 <= alpha; or
+    // theta in [0, pi/2] and tan theta <= alpha; or theta in [-pi/2, 0] and
+    // sin theta <= alpha; or theta in (-pi, -pi/2) and -pi/2 <= alpha.
+    const V alpha = geometric * hn::Set(d, -1.0 / m.La);
+    const M right = excess_c >= zero, lower = excess_s <= zero;
+    const M below_by_sine = hn::Or(alpha >= zero, excess_s * excess_s * (one - alpha * alpha) >= alpha * alpha * excess_c * excess_c);
+    const M below_by_tangent = excess_s <= alpha * excess_c;
+    const M below_alpha = hn::Or(hn::And(right, hn::Or(hn::And(lower, below_by_sine), hn::AndNot(lower, below_by_tangent))),
+                                 hn::AndNot(right, hn::And(lower, alpha >= hn::Set(d, -std::numbers::pi / 2))));
+    V margin = geometric;
+    if (!hn::AllTrue(d, below_alpha)) margin = hn::Min(geometric, La * hn::Neg(Atan2(d, excess_s, excess_c)));
     const M solved = hn::Not(unreachable);
     V status = StatusCode(d, Status::Unreachable);  // solved samples below
     V residual = inf;
     M wants_cond = hn::FirstN(d, 0);
     if (!hn::AllFalse(d, solved)) {
-      // The sphere centres c_i = B_i - r e_i, S's rows s_i = p - c_i, the
-      // closure error and Jq_i = -La s_i . dB_i/dq_i.
-      V sx[kLegCount], sy[kLegCount], sz[kLegCount], cx[kLegCount], cy[kLegCount], cz[kLegCount], Jq[kLegCount];
+      // cos q_i and sin q_i, the double-angle ratios, from one division.
+      V norm[kLegCount], cos_q[kLegCount], sin_q[kLegCount];
+      for (int i = 0; i < kLegCount; ++i) norm[i] = dd[i] * dd[i] + n[i] * n[i];
+      const V norm01 = norm[0] * norm[1], inv_all = one / (norm01 * norm[2]);
+      const V inv_norm[kLegCount] = {norm[1] * norm[2] * inv_all, norm[0] * norm[2] * inv_all, norm01 * inv_all};
+      // The sphere centres c_i = B_i - r e_i, S's rows s_i = p - c_i and the
+      // closure error.
+      V sx[kLegCount], sy[kLegCount], sz[kLegCount], cx[kLegCount], cy[kLegCount], cz[kLegCount];
       V closure = zero;
-      M serial = hn::FirstN(d, 0), near_serial = serial;
 #pragma GCC unroll 3
       for (int i = 0; i < kLegCount; ++i) {
+        cos_q[i] = (dd[i] * dd[i] - n[i] * n[i]) * inv_norm[i];
+        sin_q[i] = hn::Set(d, 2.0) * n[i] * dd[i] * inv_norm[i];
         const double c = s.legs.cos_phi[i], sn = s.legs.sin_phi[i];  // e_i = (c, sn, 0), A_i = R e_i
         const V arm = La * cos_q[i];
         cx[i] = hn::Set(d, m.R * c - m.r * c) + arm * hn::Set(d, c);  // A_i - r e_i + La cos q_i e_i
@@ -201,57 +221,66 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
         // | |s_i| - Lb | as | |s_i|^2 - Lb^2 | / (2 Lb): the same to a relative
         // 1e-15 where it is rounding, with neither square root nor division.
         closure = hn::Max(closure, hn::Abs(sx[i] * sx[i] + sy[i] * sy[i] + sz[i] * sz[i] - Lb2));
-        Jq[i] = La * (sin_q[i] * (sx[i] * hn::Set(d, c) + sy[i] * hn::Set(d, sn)) + cos_q[i] * sz[i]);
-        serial = hn::Or(serial, Jq[i] == zero);
-        near_serial = hn::Or(near_serial, hn::Abs(Jq[i]) <= hn::Set(d, 1e-12 * m.La * m.Lb));
       }
       residual = hn::IfThenElse(solved, closure * hn::Set(d, 0.5 / m.Lb), inf);
       status = hn::IfThenElse(
           solved, hn::IfThenElse(outside_range, StatusCode(d, Status::OutOfLimits), StatusCode(d, Status::Ok)), status);
-      const M ok = hn::AndNot(outside_range, solved);
-      // The circumcircle of the centres (spheres_from_centres) and det S.
-      const V ax = cx[0] - cx[2], ay = cy[0] - cy[2], az = cz[0] - cz[2];
-      const V bx = cx[1] - cx[2], by = cy[1] - cy[2], bz = cz[1] - cz[2];
-      const V nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
-      const V n2 = nx * nx + ny * ny + nz * nz, a2 = ax * ax + ay * ay + az * az, b2 = bx * bx + by * by + bz * bz;
-      const V abx = ax - bx, aby = ay - by, abz = az - bz;
-      // The type II test Lb - circumradius <= tol and its band of 1e-9 size
-      // on the circumradius's square a2 b2 |a - b|^2 / (4 n2), without its
-      // division and square root.
-      const V circumradius2_num = a2 * b2 * (abx * abx + aby * aby + abz * abz), circumradius2_den = hn::Set(d, 4.0) * n2;
-      const auto circumradius_at_least = [&](double r) {
-        return r <= 0.0 ? hn::Not(hn::IsNaN(circumradius2_num)) : circumradius2_num >= circumradius2_den * hn::Set(d, r * r);
-      };
-      const M type_two = circumradius_at_least(m.Lb - tol);
-      const M near_type_two = hn::AndNot(circumradius_at_least(m.Lb - tol + 1e-9 * size), circumradius_at_least(m.Lb - tol - 1e-9 * size));
-      const V flat = hn::Set(d, 1e-24) * a2 * b2;
-      const M degenerate = hn::Not(n2 > flat);
-      const V det = sx[0] * (sy[1] * sz[2] - sz[1] * sy[2]) - sy[0] * (sx[1] * sz[2] - sz[1] * sx[2]) +
-                    sz[0] * (sx[1] * sy[2] - sy[1] * sx[2]);
-      const M parallel = hn::Or(det == zero, hn::Or(degenerate, type_two));
-      wants_cond = hn::AndNot(hn::Or(serial, parallel), ok);
-      const M near_parallel = hn::Or(near_type_two,
-                                     hn::Or(hn::Abs(n2 - flat) <= hn::Set(d, 1e-6) * flat,
-                                            hn::Abs(det) <= hn::Set(d, 1e-12 * m.Lb * m.Lb * m.Lb)));
+      // NotConverged (a residual over the IK tolerance) comes before the range test.
       const M near_closure = hn::Not(residual <= residual_limit);  // NaN included
-      // NotConverged (a residual over the IK tolerance) comes before the range
-      // test; J^-1 is refused over the closure check.
-      to_scalar = hn::Or(to_scalar, hn::Or(hn::And(solved, near_closure),
-                                           hn::And(ok, hn::Or(near_serial, near_parallel))));
-      // J's rows -s_i / Jq_i, stored as its columns (c(J) = c(J^T)).
-      // The three reciprocals -1 / Jq_i from one division (J outside 2^+-100
-      // goes to the reference anyway).
-      const V Jq01 = Jq[0] * Jq[1], minus_inv = hn::Neg(one) / (Jq01 * Jq[2]);
-      const V scales[kLegCount] = {Jq[1] * Jq[2] * minus_inv, Jq[0] * Jq[2] * minus_inv, Jq01 * minus_inv};
-      for (int i = 0; i < kLegCount; ++i) {
-        const V scale = scales[i];
-        hn::Store(sx[i] * scale, d, b.J[3 * i] + t);
-        hn::Store(sy[i] * scale, d, b.J[3 * i + 1] + t);
-        hn::Store(sz[i] * scale, d, b.J[3 * i + 2] + t);
+      to_scalar = hn::Or(to_scalar, hn::And(solved, near_closure));
+      const M ok = hn::AndNot(outside_range, solved);
+      if (!hn::AllFalse(d, ok)) {
+        // Jq_i = -La s_i . dB_i/dq_i.
+        V Jq[kLegCount];
+        M serial = hn::FirstN(d, 0), near_serial = serial;
+        for (int i = 0; i < kLegCount; ++i) {
+          const V c = hn::Set(d, s.legs.cos_phi[i]), sn = hn::Set(d, s.legs.sin_phi[i]);
+          Jq[i] = La * (sin_q[i] * (sx[i] * c + sy[i] * sn) + cos_q[i] * sz[i]);
+          serial = hn::Or(serial, Jq[i] == zero);
+          near_serial = hn::Or(near_serial, hn::Abs(Jq[i]) <= hn::Set(d, 1e-12 * m.La * m.Lb));
+        }
+        // The circumcircle of the centres (spheres_from_centres) and det S.
+        const V ax = cx[0] - cx[2], ay = cy[0] - cy[2], az = cz[0] - cz[2];
+        const V bx = cx[1] - cx[2], by = cy[1] - cy[2], bz = cz[1] - cz[2];
+        const V nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
+        const V n2 = nx * nx + ny * ny + nz * nz, a2 = ax * ax + ay * ay + az * az, b2 = bx * bx + by * by + bz * bz;
+        const V abx = ax - bx, aby = ay - by, abz = az - bz;
+        // The type II test Lb - circumradius <= tol and its band of 1e-9 size
+        // on the circumradius's square a2 b2 |a - b|^2 / (4 n2), without its
+        // division and square root.
+        const V circumradius2_num = a2 * b2 * (abx * abx + aby * aby + abz * abz), circumradius2_den = hn::Set(d, 4.0) * n2;
+        const auto circumradius_at_least = [&](double r) {
+          return r <= 0.0 ? hn::Not(hn::IsNaN(circumradius2_num)) : circumradius2_num >= circumradius2_den * hn::Set(d, r * r);
+        };
+        const M type_two = circumradius_at_least(m.Lb - tol);
+        const M near_type_two =
+            hn::AndNot(circumradius_at_least(m.Lb - tol + 1e-9 * size), circumradius_at_least(m.Lb - tol - 1e-9 * size));
+        const V flat = hn::Set(d, 1e-24) * a2 * b2;
+        const M degenerate = hn::Not(n2 > flat);
+        const V det = sx[0] * (sy[1] * sz[2] - sz[1] * sy[2]) - sy[0] * (sx[1] * sz[2] - sz[1] * sx[2]) +
+                      sz[0] * (sx[1] * sy[2] - sy[1] * sx[2]);
+        const M parallel = hn::Or(det == zero, hn::Or(degenerate, type_two));
+        wants_cond = hn::AndNot(hn::Or(serial, parallel), ok);
+        const M near_parallel = hn::Or(near_type_two,
+                                       hn::Or(hn::Abs(n2 - flat) <= hn::Set(d, 1e-6) * flat,
+                                              hn::Abs(det) <= hn::Set(d, 1e-12 * m.Lb * m.Lb * m.Lb)));
+        // J^-1 is refused over the closure check.
+        to_scalar = hn::Or(to_scalar, hn::And(ok, hn::Or(near_serial, near_parallel)));
+        // J's rows -s_i / Jq_i, stored as its columns (c(J) = c(J^T)).
+        // The three reciprocals -1 / Jq_i from one division (J outside 2^+-100
+        // goes to the reference anyway).
+        const V Jq01 = Jq[0] * Jq[1], minus_inv = hn::Neg(one) / (Jq01 * Jq[2]);
+        const V scales[kLegCount] = {Jq[1] * Jq[2] * minus_inv, Jq[0] * Jq[2] * minus_inv, Jq01 * minus_inv};
+        for (int i = 0; i < kLegCount; ++i) {
+          const V scale = scales[i];
+          hn::Store(sx[i] * scale, d, b.J[3 * i] + t);
+          hn::Store(sy[i] * scale, d, b.J[3 * i + 1] + t);
+          hn::Store(sz[i] * scale, d, b.J[3 * i + 2] + t);
+        }
       }
     }
     hn::Store(status, d, b.status + t);
-    hn::Store(hn::Min(geometric, limits), d, b.reach_margin + t);
+    hn::Store(margin, d, b.reach_margin + t);
     hn::Store(residual, d, b.residual + t);
     hn::Store(Flag(d, wants_cond), d, b.wants_cond + t);
     hn::Store(Flag(d, to_scalar), d, b.to_scalar + t);
@@ -270,9 +299,12 @@ void SampleRow(const Model& m, const FieldLegs& legs, const FieldRequest& reques
     StoreBlock(b, first, n, row.count, false, rule, out, [&](int i) { return sample_point(m, row.point(g, i), request); });
     // The mirror row takes the same values; the lanes the reference decides
     // are decided at the mirror row's own points.
-    if (mirror)
-      StoreBlock(b, first, n, row.count, false, rule, mirror->out,
-                 [&](int i) { return sample_point(m, mirror->row.point(g, i), request); });
+    if (mirror) {
+      out.copy_to(mirror->out, first, n);
+      ForEachHandedOff(b, n, [&](int t) {
+        mirror->out.store(first + t, sample_point(m, mirror->row.point(g, first + t), request));
+      });
+    }
   }
 }
 

@@ -4,7 +4,8 @@
 // the baseline target, over random designs, actuator ranges, branches,
 // tolerances and boxes that cross the workspace boundary, the z axis (where
 // two singular values of J coincide) and rows that cross each status change
-// in steps of 1e-12 of the device's size.
+// in steps of 1e-12 of the device's size, and rows across the surface where
+// the reach margin's geometric and actuator-range terms meet.
 //
 // What "agrees" means, sample by sample:
 // - status, reachable, method_used and iterations are identical, and so is
@@ -115,6 +116,30 @@ void add_rows_across_status_changes(const std::string& name, const Model& m, con
   out.push_back(c);
 }
 
+// Rows of 61 samples across the surface where the reach margin's two terms
+// meet (the legs' geometric margin and La times the smallest actuator range
+// margin, found by bisection between a and b), in steps of 1e-5 and 1e-12 of
+// the size: the kernel takes an arctangent only where the range term can be
+// the smaller, decided by bounds on the angle.
+void add_rows_across_margin_crossover(const std::string& name, const Model& m, const FieldRequest& r, Vector3d a,
+                                      Vector3d b, std::vector<Case>& out) {
+  const auto limits_smaller = [&](const Vector3d& p) {
+    const ReachMargin margin = reach_margin(m, p, r.ik.branch);
+    return margin.limits < margin.geometric;
+  };
+  const bool sa = limits_smaller(a);
+  if (sa == limits_smaller(b)) return;
+  for (int k = 0; k < 200 && (b - a).norm() > 1e-14 * m.size(); ++k) {
+    const Vector3d mid = 0.5 * (a + b);
+    (limits_smaller(mid) == sa ? a : b) = mid;
+  }
+  for (double step : {1e-5, 1e-12}) {
+    Case c{name + " margin crossover, step " + std::to_string(step), m, r};
+    c.request.grid = row_through(0.5 * (a + b), 0, step * m.size(), 61);
+    out.push_back(c);
+  }
+}
+
 // Rows across the type II singular surface of design m, where the sphere
 // centres' circumradius reaches Lb (J singular on a solved pose): actuator
 // angles in their ranges bisected between a pair whose forward kinematics
@@ -174,6 +199,7 @@ std::vector<Case> cases() {
       const auto random = [&] { return Vector3d(2 * unit(rng) - 1, 2 * unit(rng) - 1, 2 * unit(rng) - 1); };
       const Vector3d a = centre + half.cwiseProduct(random()), b = centre + half.cwiseProduct(random());
       add_rows_across_status_changes("design " + std::to_string(c) + " change " + std::to_string(k), m, r, a, b, out);
+      add_rows_across_margin_crossover("design " + std::to_string(c) + " segment " + std::to_string(k), m, r, a, b, out);
     }
     if (c % 3 == 0) add_rows_across_type_two("design " + std::to_string(c), m, r, rng, out);
   }
@@ -253,6 +279,9 @@ TEST(DeltaField, EveryTargetAgreesWithTheReference) {
   const auto type_two = std::count_if(all.begin(), all.end(), [](const Case& c) { return c.name.find("type II") != std::string::npos; });
   EXPECT_GE(type_two, 6);  // rows across J's singular surface
   RecordProperty("rows across the type II surface", std::to_string(type_two));
+  const auto crossover = std::count_if(all.begin(), all.end(), [](const Case& c) { return c.name.find("crossover") != std::string::npos; });
+  EXPECT_GE(crossover, 30);  // rows where the margin's geometric and range terms meet
+  RecordProperty("rows across the margin crossover", std::to_string(crossover));
   for (const std::string& target : targets) {
     const TargetLimit limit(target);
     ASSERT_EQ(simd::current_target(), target);
