@@ -76,18 +76,6 @@ struct FieldRowOut {
     if (cond_orientation) cond_orientation[t] = s.cond_orientation;
   }
 
-  // Copies samples [first, first + n) into `to` at the same places.
-  void copy_to(const FieldRowOut& to, int first, int n) const {
-    std::copy_n(cond + first, n, to.cond + first);
-    std::copy_n(reach_margin + first, n, to.reach_margin + first);
-    std::copy_n(residual + first, n, to.residual + first);
-    std::copy_n(reachable + first, n, to.reachable + first);
-    std::copy_n(status + first, n, to.status + first);
-    std::copy_n(iterations + first, n, to.iterations + first);
-    std::copy_n(method_used + first, n, to.method_used + first);
-    if (cond_orientation) std::copy_n(cond_orientation + first, n, to.cond_orientation + first);
-  }
-
   // The same arrays `by` samples further on (another row of the Field).
   FieldRowOut shifted(std::ptrdiff_t by) const {
     return {cond + by,   reach_margin + by, residual + by,    reachable + by,
@@ -144,6 +132,9 @@ bool fill_field_rows(Field& f, bool with_orientation, int threads, const FieldPr
                             with_orientation ? f.cond_orientation.data() + index : nullptr};
       sample_row(std::as_const(row), out);
     }
+    // Kernels may write with streaming stores (weakly ordered): they are
+    // done, for every thread, before the chunk counts as done.
+    std::atomic_thread_fence(std::memory_order_seq_cst);
     const std::int64_t done = chunks_done.fetch_add(1, std::memory_order_relaxed) + 1;
     if (progress.report && done % report_every == 0) progress.report(double(done) / double(chunks));
   }

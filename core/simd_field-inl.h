@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <numbers>
 #include <optional>
 
@@ -225,6 +226,38 @@ struct MethodRule {
     return s;
   }
 };
+
+// Copies `bytes` bytes with streaming stores where the destination allows
+// (16-byte aligned parts): they write whole cache lines without reading them
+// first.
+HWY_INLINE void StreamBytes(const void* from, void* to, std::size_t bytes) {
+  const hn::CappedTag<std::uint8_t, 16> d8;
+  const std::size_t lanes = hn::Lanes(d8);
+  const auto* source = static_cast<const std::uint8_t*>(from);
+  auto* target = static_cast<std::uint8_t*>(to);
+  const std::size_t head = std::min(bytes, (16 - reinterpret_cast<std::uintptr_t>(target) % 16) % 16);
+  std::memcpy(target, source, head);
+  std::size_t i = head;
+  for (; i + lanes <= bytes; i += lanes) hn::Stream(hn::LoadU(d8, source + i), d8, target + i);
+  std::memcpy(target + i, source + i, bytes - i);
+}
+
+// Copies samples [first, first + n) of one row's arrays into another's at
+// the same places (a row that is another's mirror image), by streaming
+// stores: the other row is usually far away in the Field, where ordinary
+// stores first read every line they write. fill_field_rows fences them at
+// the end of each chunk of rows.
+HWY_INLINE void CopySamples(const detail::FieldRowOut& from, const detail::FieldRowOut& to, int first, int n) {
+  const auto copy = [&](const auto* source, auto* target) { StreamBytes(source + first, target + first, sizeof(*source) * std::size_t(n)); };
+  copy(from.cond, to.cond);
+  copy(from.reach_margin, to.reach_margin);
+  copy(from.residual, to.residual);
+  copy(from.reachable, to.reachable);
+  copy(from.status, to.status);
+  copy(from.iterations, to.iterations);
+  copy(from.method_used, to.method_used);
+  if (from.cond_orientation) copy(from.cond_orientation, to.cond_orientation);
+}
 
 // Calls handed_off(t) for each of the block's samples [0, n) flagged to_scalar.
 template <class HandedOff>

@@ -300,7 +300,7 @@ void SampleRow(const Model& m, const FieldLegs& legs, const FieldRequest& reques
     // The mirror row takes the same values; the lanes the reference decides
     // are decided at the mirror row's own points.
     if (mirror) {
-      out.copy_to(mirror->out, first, n);
+      CopySamples(out, mirror->out, first, n);
       ForEachHandedOff(b, n, [&](int t) {
         mirror->out.store(first + t, sample_point(m, mirror->row.point(g, first + t), request));
       });
