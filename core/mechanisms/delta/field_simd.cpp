@@ -93,13 +93,30 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
   const Eigen::Vector3d p0 = row.point(g, 0);
   const int axis = row.axis;
   const V origin = hn::Set(d, g.origin(axis)), spacing = hn::Set(d, g.spacing(axis));
+  // leg_coordinates along the row: u = c x + sn y - (R - r) and v = -sn x + c y
+  // are linear in the row's coordinate `along` (the one that varies), so
+  // each is one multiply-add with per-row constants; w = z.
+  double u_slope[kLegCount], u_offset[kLegCount], v_slope[kLegCount], v_offset[kLegCount];
+  for (int i = 0; i < kLegCount; ++i) {
+    const double c = s.legs.cos_phi[i], sn = s.legs.sin_phi[i];
+    u_slope[i] = axis == 0 ? c : axis == 1 ? sn : 0.0;
+    v_slope[i] = axis == 0 ? -sn : axis == 1 ? c : 0.0;
+    u_offset[i] = (axis == 0 ? 0.0 : c * p0.x()) + (axis == 1 ? 0.0 : sn * p0.y()) - (m.R - m.r);
+    v_offset[i] = (axis == 0 ? 0.0 : -sn * p0.x()) + (axis == 1 ? 0.0 : c * p0.y());
+  }
+  // A leg's half-angle norm is about its coordinates to the fourth power:
+  // coordinates and lengths within 2^70 keep it under 2^300 (below, where
+  // the three norms' product could leave double's range).
+  const double kLargest = 0x1p70;
+  const bool row_scaled = std::max({std::abs(p0.x()), std::abs(p0.y()), std::abs(p0.z()), m.R, m.La, m.Lb}) <= kLargest;
 
   for (int t = 0; t < count; t += int(hn::Lanes(d))) {
     const V along = origin + (hn::Iota(d, double(row.start[axis] + first + t)) + hn::Set(d, 0.5)) * spacing;
     const V x = axis == 0 ? along : hn::Set(d, p0.x());
     const V y = axis == 1 ? along : hn::Set(d, p0.y());
     const V z = axis == 2 ? along : hn::Set(d, p0.z());
-    M to_scalar = hn::Not(hn::And(hn::IsFinite(x), hn::And(hn::IsFinite(y), hn::IsFinite(z))));
+    // Not a number, infinite or too large: the reference decides.
+    M to_scalar = hn::Not(hn::And(hn::Abs(along) <= hn::Set(d, kLargest), hn::Set(d, row_scaled ? 1.0 : 0.0) > zero));
     M unreachable = hn::FirstN(d, 0);
     V largest_X = zero, smallest_Y = inf;
     // Per leg: the tangent half-angle n / dd of its angle (the angle of
@@ -108,17 +125,17 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
     M leg_unreachable[kLegCount], turn[kLegCount];
 #pragma GCC unroll 3
     for (int i = 0; i < kLegCount; ++i) {
-      const double c = s.legs.cos_phi[i], sn = s.legs.sin_phi[i];
       // leg_coordinates and leg_reach
-      const V px = x - hn::Set(d, (m.R - m.r) * c), py = y - hn::Set(d, (m.R - m.r) * sn);
-      const V u = hn::Set(d, c) * px + hn::Set(d, sn) * py, v = hn::Set(d, -sn) * px + hn::Set(d, c) * py, w = z;
-      const V rho = hn::Sqrt(u * u + w * w);
+      const V u = hn::MulAdd(hn::Set(d, u_slope[i]), along, hn::Set(d, u_offset[i]));
+      const V v = hn::MulAdd(hn::Set(d, v_slope[i]), along, hn::Set(d, v_offset[i])), w = z;
+      const V rho2 = hn::MulAdd(u, u, w * w), v2 = v * v;
+      const V rho = hn::Sqrt(rho2);
       const V in = rho - La, out = rho + La;
       // d_min^2 and d_max^2: the leg's margin min(Lb - d_min, d_max - Lb) is
       // needed only as the smallest over the legs (below), and its tests
       // against 0 and +-tol follow from these squares outside the singular
       // zone |margin| <= tol + band, which goes to the reference.
-      const V X = in * in + v * v, Y = out * out + v * v;
+      const V X = hn::MulAdd(in, in, v2), Y = hn::MulAdd(out, out, v2);
       const M zone = hn::Or(hn::Abs(X - Lb2) <= zone_half_width, hn::Abs(Y - Lb2) <= zone_half_width);
       leg_unreachable[i] = hn::Or(X > Lb2, Y < Lb2);
       turn[i] = hn::Not(Lb2 < X);
@@ -130,7 +147,7 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
       n[i] = B;
       dd[i] = A;
       if (!hn::AllTrue(d, leg_unreachable[i])) {
-        const V C = u * u + v * v + w * w + hn::Set(d, m.La * m.La) - hn::Set(d, m.Lb * m.Lb);
+        const V C = rho2 + v2 + hn::Set(d, m.La * m.La - m.Lb * m.Lb);
         const V disc = (Lb2 - X) * (Y - Lb2);
         const V root = hn::Sqrt(hn::Max(zero, disc));
         const V sigma_root = (s.branch >> i) & 1 ? root : hn::Neg(root);
@@ -139,11 +156,9 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
         n[i] = hn::IfThenElse(leg_unreachable[i], B, hn::IfThenElse(first_pair, n1, n2));
         dd[i] = hn::IfThenElse(leg_unreachable[i], A, hn::IfThenElse(first_pair, d1, d2));
       }
-      const V norm = dd[i] * dd[i] + n[i] * n[i];
-      // norm is about (La + Lb)^4; out of 2^+-300 (where the three together
-      // could leave double's range) the reference decides.
-      const M unscaled = hn::Not(hn::And(norm >= hn::Set(d, 0x1p-300), norm <= hn::Set(d, 0x1p300)));
-      to_scalar = hn::Or(to_scalar, hn::Or(unscaled, zone));
+      // A norm under 2^-300 (a degenerate leg, 0 / 0): the reference decides.
+      const M tiny = hn::Not(hn::MulAdd(dd[i], dd[i], n[i] * n[i]) >= hn::Set(d, 0x1p-300));
+      to_scalar = hn::Or(to_scalar, hn::Or(tiny, zone));
       unreachable = hn::Or(unreachable, leg_unreachable[i]);
     }
     // The actuator ranges without an arctangent per leg: range_margin(q) is

@@ -212,6 +212,34 @@ std::vector<Case> cases() {
   out.push_back({"preset, box 37^3", m, r});
   r.grid = row_through(Vector3d(0, 0, -15), 2, 0.37, 81);
   out.push_back({"preset, z axis", m, r});
+  // Along y through leg 0's motor axis (x = R - r, z = 0: its angle is 0 / 0),
+  // and boxes far out (coordinates past 2^70, and within it), where the
+  // kernel's products would leave double's range: the reference decides.
+  r.grid = row_through(Vector3d(m.R - m.r, 0.0, 0.0), 1, 0.37, 81);
+  out.push_back({"preset, leg 0's motor axis", m, r});
+  r.grid = row_through(Vector3d(0.0, 1e76, -1e76), 0, 0.37, 41);  // near x = 0, far in y and z
+  out.push_back({"preset, row far out in y and z", m, r});
+  r.grid = row_through(Vector3d(0.0, 0.0, -10.0), 0, 1e158, 41);  // far out along x only
+  out.push_back({"preset, row far out along x", m, r});
+  for (double far : {1e20, 1e22, 1e160}) {
+    r.grid = Grid::box(Vector3d(-far, -far, -far), Vector3d(far, far, far), {9, 9, 9});
+    out.push_back({"preset, box at " + std::to_string(far), m, r});
+  }
+  // The preset scaled far up and down: its default box has coordinates past
+  // 2^70 and half-angle norms under 2^-300 at the extremes.
+  for (double scale : {1e-60, 1e15, 1e30, 1e60, 1e76}) {
+    Model scaled = m;
+    scaled.R *= scale;
+    scaled.r *= scale;
+    scaled.La *= scale;
+    scaled.Lb *= scale;
+    FieldRequest rs;
+    rs.grid = Grid::box(scale * Vector3d(-25, -25, -30), scale * Vector3d(25, 25, 5), {11, 11, 11});
+    out.push_back({"preset scaled by " + std::to_string(scale), scaled, rs});
+    // A row along x through its home position with x small: only y, z and the lengths are large.
+    rs.grid = row_through(home_position(scaled), 0, 1e10, 41);
+    out.push_back({"preset scaled by " + std::to_string(scale) + ", home row", scaled, rs});
+  }
   const double tol = kSingularTolerance * m.size();
   for (int k = 0; k < 12; ++k) {
     const double a = -0.3 - 2.5 * k / 12.0, reach = m.Lb - m.La;
