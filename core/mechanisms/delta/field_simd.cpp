@@ -122,6 +122,7 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
     // Per leg: the tangent half-angle n / dd of its angle (the angle of
     // closest approach where it does not reach) and whether it reaches.
     V n[kLegCount], dd[kLegCount];
+    V A[kLegCount], B[kLegCount], C[kLegCount];  // the closure A cos q + B sin q = C
     M leg_unreachable[kLegCount], turn[kLegCount];
 #pragma GCC unroll 3
     for (int i = 0; i < kLegCount; ++i) {
@@ -143,18 +144,20 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
       smallest_Y = hn::Min(smallest_Y, Y);
       // solve_leg; where the leg reaches in no lane, only its angle of
       // closest approach (towards or away) is needed.
-      const V A = hn::Set(d, 2.0 * m.La) * u, B = hn::Set(d, -2.0 * m.La) * w;
-      n[i] = B;
-      dd[i] = A;
+      A[i] = hn::Set(d, 2.0 * m.La) * u;
+      B[i] = hn::Set(d, -2.0 * m.La) * w;
+      n[i] = B[i];
+      dd[i] = A[i];
+      C[i] = zero;
       if (!hn::AllTrue(d, leg_unreachable[i])) {
-        const V C = rho2 + v2 + hn::Set(d, m.La * m.La - m.Lb * m.Lb);
+        C[i] = rho2 + v2 + hn::Set(d, m.La * m.La - m.Lb * m.Lb);
         const V disc = (Lb2 - X) * (Y - Lb2);
         const V root = hn::Sqrt(hn::Max(zero, disc));
         const V sigma_root = (s.branch >> i) & 1 ? root : hn::Neg(root);
-        const V n1 = B + sigma_root, d1 = C + A, n2 = C - A, d2 = B - sigma_root;
+        const V n1 = B[i] + sigma_root, d1 = C[i] + A[i], n2 = C[i] - A[i], d2 = B[i] - sigma_root;
         const M first_pair = n1 * n1 + d1 * d1 >= n2 * n2 + d2 * d2;
-        n[i] = hn::IfThenElse(leg_unreachable[i], B, hn::IfThenElse(first_pair, n1, n2));
-        dd[i] = hn::IfThenElse(leg_unreachable[i], A, hn::IfThenElse(first_pair, d1, d2));
+        n[i] = hn::IfThenElse(leg_unreachable[i], B[i], hn::IfThenElse(first_pair, n1, n2));
+        dd[i] = hn::IfThenElse(leg_unreachable[i], A[i], hn::IfThenElse(first_pair, d1, d2));
       }
       // A norm under 2^-300 (a degenerate leg, 0 / 0): the reference decides.
       const M tiny = hn::Not(hn::MulAdd(dd[i], dd[i], n[i] * n[i]) >= hn::Set(d, 0x1p-300));
@@ -212,31 +215,22 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
     V residual = inf;
     M wants_cond = hn::FirstN(d, 0);
     if (!hn::AllFalse(d, solved)) {
-      // cos q_i and sin q_i, the double-angle ratios, from one division.
-      V norm[kLegCount], cos_q[kLegCount], sin_q[kLegCount];
-      for (int i = 0; i < kLegCount; ++i) norm[i] = dd[i] * dd[i] + n[i] * n[i];
+      // cos q_i and sin q_i are the double-angle ratios (dd^2 - n^2, 2 n dd) / norm_i,
+      // the three 1 / norm_i from one division.
+      V norm[kLegCount], cos_by_norm[kLegCount], sin_by_norm[kLegCount];
+      for (int i = 0; i < kLegCount; ++i) {
+        norm[i] = hn::MulAdd(dd[i], dd[i], n[i] * n[i]);
+        cos_by_norm[i] = dd[i] * dd[i] - n[i] * n[i];
+        sin_by_norm[i] = hn::Set(d, 2.0) * n[i] * dd[i];
+      }
       const V norm01 = norm[0] * norm[1], inv_all = one / (norm01 * norm[2]);
       const V inv_norm[kLegCount] = {norm[1] * norm[2] * inv_all, norm[0] * norm[2] * inv_all, norm01 * inv_all};
-      // The sphere centres c_i = B_i - r e_i, S's rows s_i = p - c_i and the
-      // closure error.
-      V sx[kLegCount], sy[kLegCount], sz[kLegCount], cx[kLegCount], cy[kLegCount], cz[kLegCount];
+      // The closure error | |s_i| - Lb | as | |s_i|^2 - Lb^2 | / (2 Lb), the same
+      // to a relative 1e-15 where it is rounding, and |s_i|^2 - Lb^2 as the
+      // leg's closure C - A cos q - B sin q in its own frame.
       V closure = zero;
-#pragma GCC unroll 3
-      for (int i = 0; i < kLegCount; ++i) {
-        cos_q[i] = (dd[i] * dd[i] - n[i] * n[i]) * inv_norm[i];
-        sin_q[i] = hn::Set(d, 2.0) * n[i] * dd[i] * inv_norm[i];
-        const double c = s.legs.cos_phi[i], sn = s.legs.sin_phi[i];  // e_i = (c, sn, 0), A_i = R e_i
-        const V arm = La * cos_q[i];
-        cx[i] = hn::Set(d, m.R * c - m.r * c) + arm * hn::Set(d, c);  // A_i - r e_i + La cos q_i e_i
-        cy[i] = hn::Set(d, m.R * sn - m.r * sn) + arm * hn::Set(d, sn);
-        cz[i] = hn::Neg(La * sin_q[i]);
-        sx[i] = x - cx[i];
-        sy[i] = y - cy[i];
-        sz[i] = z - cz[i];
-        // | |s_i| - Lb | as | |s_i|^2 - Lb^2 | / (2 Lb): the same to a relative
-        // 1e-15 where it is rounding, with neither square root nor division.
-        closure = hn::Max(closure, hn::Abs(sx[i] * sx[i] + sy[i] * sy[i] + sz[i] * sz[i] - Lb2));
-      }
+      for (int i = 0; i < kLegCount; ++i)
+        closure = hn::Max(closure, hn::Abs(C[i] * norm[i] - A[i] * cos_by_norm[i] - B[i] * sin_by_norm[i]) * inv_norm[i]);
       residual = hn::IfThenElse(solved, closure * hn::Set(d, 0.5 / m.Lb), inf);
       status = hn::IfThenElse(
           solved, hn::IfThenElse(outside_range, StatusCode(d, Status::OutOfLimits), StatusCode(d, Status::Ok)), status);
@@ -245,12 +239,22 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
       to_scalar = hn::Or(to_scalar, hn::And(solved, near_closure));
       const M ok = hn::AndNot(outside_range, solved);
       if (!hn::AllFalse(d, ok)) {
+        // The sphere centres c_i = B_i - r e_i, S's rows s_i = p - c_i and
         // Jq_i = -La s_i . dB_i/dq_i.
-        V Jq[kLegCount];
+        V sx[kLegCount], sy[kLegCount], sz[kLegCount], cx[kLegCount], cy[kLegCount], cz[kLegCount], Jq[kLegCount];
         M serial = hn::FirstN(d, 0), near_serial = serial;
+#pragma GCC unroll 3
         for (int i = 0; i < kLegCount; ++i) {
-          const V c = hn::Set(d, s.legs.cos_phi[i]), sn = hn::Set(d, s.legs.sin_phi[i]);
-          Jq[i] = La * (sin_q[i] * (sx[i] * c + sy[i] * sn) + cos_q[i] * sz[i]);
+          const double c = s.legs.cos_phi[i], sn = s.legs.sin_phi[i];  // e_i = (c, sn, 0), A_i = R e_i
+          const V cos_q = cos_by_norm[i] * inv_norm[i], sin_q = sin_by_norm[i] * inv_norm[i];
+          const V arm = La * cos_q;
+          cx[i] = hn::Set(d, m.R * c - m.r * c) + arm * hn::Set(d, c);  // A_i - r e_i + La cos q_i e_i
+          cy[i] = hn::Set(d, m.R * sn - m.r * sn) + arm * hn::Set(d, sn);
+          cz[i] = hn::Neg(La * sin_q);
+          sx[i] = x - cx[i];
+          sy[i] = y - cy[i];
+          sz[i] = z - cz[i];
+          Jq[i] = La * (sin_q * (sx[i] * hn::Set(d, c) + sy[i] * hn::Set(d, sn)) + cos_q * sz[i]);
           serial = hn::Or(serial, Jq[i] == zero);
           near_serial = hn::Or(near_serial, hn::Abs(Jq[i]) <= hn::Set(d, 1e-12 * m.La * m.Lb));
         }
