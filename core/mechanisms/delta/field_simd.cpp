@@ -90,6 +90,10 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
   // reference's: within 1e-13 of the size of the IK tolerance (or of the
   // Jacobian's closure check, 1e-6) the reference decides.
   const V residual_limit = hn::Set(d, (std::min(s.tolerance, 1e-6) - 1e-13) * size);
+  const bool equal_widths = s.legs.cos_half_width[1] == s.legs.cos_half_width[0] &&
+                            s.legs.cos_half_width[2] == s.legs.cos_half_width[0] &&
+                            s.legs.sin_half_width[1] == s.legs.sin_half_width[0] &&
+                            s.legs.sin_half_width[2] == s.legs.sin_half_width[0];
   const Eigen::Vector3d p0 = row.point(g, 0);
   const int axis = row.axis;
   const V origin = hn::Set(d, g.origin(axis)), spacing = hn::Set(d, g.spacing(axis));
@@ -179,11 +183,28 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
       const V qs = hn::IfThenElse(leg_unreachable[i], sign * n[i], hn::Set(d, 2.0) * n[i] * dd[i]);
       const V cc = hn::Set(d, s.legs.cos_centre[i]), sc = hn::Set(d, s.legs.sin_centre[i]);
       const V rc = qc * cc + qs * sc, rs = hn::Abs(qs * cc - qc * sc);  // q - centre, folded
+      if (equal_widths) {
+        // The same w for every leg: the largest |q_i - centre_i| (in [0, pi],
+        // rs >= 0) has the largest excess; it alone is rotated below. Within
+        // the upper half-plane the cross product decides, and on the real
+        // axis (cross product 0) the direction of pi beats that of 0.
+        const V cross = excess_c * rs - excess_s * rc;
+        const M larger = i == 0 ? hn::Not(hn::FirstN(d, 0)) : hn::Or(cross > zero, hn::And(cross == zero, rc < excess_c));
+        excess_c = hn::IfThenElse(larger, rc, excess_c);
+        excess_s = hn::IfThenElse(larger, rs, excess_s);
+        continue;
+      }
       const V cw = hn::Set(d, s.legs.cos_half_width[i]), sw = hn::Set(d, s.legs.sin_half_width[i]);
       const V ec = rc * cw + rs * sw, es = rs * cw - rc * sw;  // delta_i
       const M larger = i == 0 ? hn::Not(hn::FirstN(d, 0)) : AngleGreater(d, ec, es, excess_c, excess_s);
       excess_c = hn::IfThenElse(larger, ec, excess_c);
       excess_s = hn::IfThenElse(larger, es, excess_s);
+    }
+    if (equal_widths) {
+      const V cw = hn::Set(d, s.legs.cos_half_width[0]), sw = hn::Set(d, s.legs.sin_half_width[0]);
+      const V rc = excess_c, rs = excess_s;
+      excess_c = rc * cw + rs * sw;
+      excess_s = rs * cw - rc * sw;
     }
     // Whether the largest excess is within 1e-12 rad of 0, a range end (the
     // sine of the direction's angle, bounded by |es| / (|ec| + |es|), with

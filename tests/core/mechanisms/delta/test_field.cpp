@@ -67,9 +67,16 @@ Model random_model(std::mt19937_64& rng, int c) {
   m.r = c % 5 == 0 ? m.R : 6 * unit(rng);  // R = r: the legs' circles coincide
   m.La = 4 + 8 * unit(rng);
   m.Lb = m.La * (0.6 + 2 * unit(rng));
+  const double width = 0.5 + 3.0 * unit(rng);
   for (auto& range : m.q_limits) {
-    if (c % 4 == 1) range = {-std::numbers::pi, std::numbers::pi};  // the full circle
-    else range = {-2.0 * unit(rng), 2.0 * unit(rng)};
+    if (c % 4 == 1) {
+      range = {-std::numbers::pi, std::numbers::pi};  // the full circle
+    } else if (c % 4 == 3) {
+      const double lo = -2.0 * unit(rng);  // the same width, centres apart
+      range = {lo, lo + width};
+    } else {
+      range = {-2.0 * unit(rng), 2.0 * unit(rng)};
+    }
   }
   if (c % 2 == 0) m.q_limits[2] = m.q_limits[1];  // the mirror in y holds with branches 0, 1, 6, 7
   return m;
@@ -224,6 +231,18 @@ std::vector<Case> cases() {
   for (double far : {1e20, 1e22, 1e160}) {
     r.grid = Grid::box(Vector3d(-far, -far, -far), Vector3d(far, far, far), {9, 9, 9});
     out.push_back({"preset, box at " + std::to_string(far), m, r});
+  }
+  // Ranges [-1, 1] (the same width, centre 0) on the plane z = 0, where every
+  // leg that does not reach has the angle 0 or pi exactly: legs tie in
+  // |q - centre| up to which of 0 and pi they are.
+  {
+    Model symmetric = m;
+    symmetric.q_limits.fill({-1.0, 1.0});
+    FieldRequest rz;
+    rz.grid.dims = {41, 41, 1};
+    rz.grid.spacing = Vector3d(1.25, 1.25, 1.0);
+    rz.grid.origin = Vector3d(-25.625, -25.625, -0.5);  // z = 0 exactly
+    out.push_back({"ranges [-1, 1], plane z = 0", symmetric, rz});
   }
   // The preset scaled far up and down: its default box has coordinates past
   // 2^70 and half-angle norms under 2^-300 at the extremes.
