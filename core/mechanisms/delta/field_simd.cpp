@@ -159,7 +159,7 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
         const V root = hn::Sqrt(hn::Max(zero, disc));
         const V sigma_root = (s.branch >> i) & 1 ? root : hn::Neg(root);
         const V n1 = B[i] + sigma_root, d1 = C[i] + A[i], n2 = C[i] - A[i], d2 = B[i] - sigma_root;
-        const M first_pair = n1 * n1 + d1 * d1 >= n2 * n2 + d2 * d2;
+        const M first_pair = hn::MulAdd(n1, n1, d1 * d1) >= hn::MulAdd(n2, n2, d2 * d2);
         n[i] = hn::IfThenElse(leg_unreachable[i], B[i], hn::IfThenElse(first_pair, n1, n2));
         dd[i] = hn::IfThenElse(leg_unreachable[i], A[i], hn::IfThenElse(first_pair, d1, d2));
       }
@@ -179,23 +179,23 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
 #pragma GCC unroll 3
     for (int i = 0; i < kLegCount; ++i) {
       const V sign = hn::IfThenElse(turn[i], hn::Neg(one), one);
-      const V qc = hn::IfThenElse(leg_unreachable[i], sign * dd[i], dd[i] * dd[i] - n[i] * n[i]);
+      const V qc = hn::IfThenElse(leg_unreachable[i], sign * dd[i], hn::MulSub(dd[i], dd[i], n[i] * n[i]));
       const V qs = hn::IfThenElse(leg_unreachable[i], sign * n[i], hn::Set(d, 2.0) * n[i] * dd[i]);
       const V cc = hn::Set(d, s.legs.cos_centre[i]), sc = hn::Set(d, s.legs.sin_centre[i]);
-      const V rc = qc * cc + qs * sc, rs = hn::Abs(qs * cc - qc * sc);  // q - centre, folded
+      const V rc = hn::MulAdd(qc, cc, qs * sc), rs = hn::Abs(hn::MulSub(qs, cc, qc * sc));  // q - centre, folded
       if (equal_widths) {
         // The same w for every leg: the largest |q_i - centre_i| (in [0, pi],
         // rs >= 0) has the largest excess; it alone is rotated below. Within
         // the upper half-plane the cross product decides, and on the real
         // axis (cross product 0) the direction of pi beats that of 0.
-        const V cross = excess_c * rs - excess_s * rc;
+        const V cross = hn::MulSub(excess_c, rs, excess_s * rc);
         const M larger = i == 0 ? hn::Not(hn::FirstN(d, 0)) : hn::Or(cross > zero, hn::And(cross == zero, rc < excess_c));
         excess_c = hn::IfThenElse(larger, rc, excess_c);
         excess_s = hn::IfThenElse(larger, rs, excess_s);
         continue;
       }
       const V cw = hn::Set(d, s.legs.cos_half_width[i]), sw = hn::Set(d, s.legs.sin_half_width[i]);
-      const V ec = rc * cw + rs * sw, es = rs * cw - rc * sw;  // delta_i
+      const V ec = hn::MulAdd(rc, cw, rs * sw), es = hn::MulSub(rs, cw, rc * sw);  // delta_i
       const M larger = i == 0 ? hn::Not(hn::FirstN(d, 0)) : AngleGreater(d, ec, es, excess_c, excess_s);
       excess_c = hn::IfThenElse(larger, ec, excess_c);
       excess_s = hn::IfThenElse(larger, es, excess_s);
@@ -203,8 +203,8 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
     if (equal_widths) {
       const V cw = hn::Set(d, s.legs.cos_half_width[0]), sw = hn::Set(d, s.legs.sin_half_width[0]);
       const V rc = excess_c, rs = excess_s;
-      excess_c = rc * cw + rs * sw;
-      excess_s = rs * cw - rc * sw;
+      excess_c = hn::MulAdd(rc, cw, rs * sw);
+      excess_s = hn::MulSub(rs, cw, rc * sw);
     }
     // Whether the largest excess is within 1e-12 rad of 0, a range end (the
     // sine of the direction's angle, bounded by |es| / (|ec| + |es|), with
@@ -241,7 +241,7 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
       V norm[kLegCount], cos_by_norm[kLegCount], sin_by_norm[kLegCount];
       for (int i = 0; i < kLegCount; ++i) {
         norm[i] = hn::MulAdd(dd[i], dd[i], n[i] * n[i]);
-        cos_by_norm[i] = dd[i] * dd[i] - n[i] * n[i];
+        cos_by_norm[i] = hn::MulSub(dd[i], dd[i], n[i] * n[i]);
         sin_by_norm[i] = hn::Set(d, 2.0) * n[i] * dd[i];
       }
       const V norm01 = norm[0] * norm[1], inv_all = one / (norm01 * norm[2]);
@@ -251,7 +251,7 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
       // leg's closure C - A cos q - B sin q in its own frame.
       V closure = zero;
       for (int i = 0; i < kLegCount; ++i)
-        closure = hn::Max(closure, hn::Abs(C[i] * norm[i] - A[i] * cos_by_norm[i] - B[i] * sin_by_norm[i]) * inv_norm[i]);
+        closure = hn::Max(closure, hn::Abs(hn::NegMulAdd(B[i], sin_by_norm[i], hn::MulSub(C[i], norm[i], A[i] * cos_by_norm[i]))) * inv_norm[i]);
       residual = hn::IfThenElse(solved, closure * hn::Set(d, 0.5 / m.Lb), inf);
       status = hn::IfThenElse(
           solved, hn::IfThenElse(outside_range, StatusCode(d, Status::OutOfLimits), StatusCode(d, Status::Ok)), status);
