@@ -112,6 +112,7 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
   // coordinates and lengths within 2^70 keep it under 2^300 (below, where
   // the three norms' product could leave double's range).
   const double kLargest = 0x1p70;
+  const V tiny_rho2 = hn::Set(d, 0x1p-300 / (4.0 * m.La * m.La));
   const bool row_scaled = std::max({std::abs(p0.x()), std::abs(p0.y()), std::abs(p0.z()), m.R, m.La, m.Lb}) <= kLargest;
 
   for (int t = 0; t < count; t += int(hn::Lanes(d))) {
@@ -127,6 +128,7 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
     // closest approach where it does not reach) and whether it reaches.
     V n[kLegCount], dd[kLegCount];
     V A[kLegCount], B[kLegCount], C[kLegCount];  // the closure A cos q + B sin q = C
+    const V B_all = hn::Set(d, -2.0 * m.La) * z;  // B = -2 La w, w = z for every leg
     M leg_unreachable[kLegCount], turn[kLegCount];
 #pragma GCC unroll 3
     for (int i = 0; i < kLegCount; ++i) {
@@ -141,21 +143,22 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
       // against 0 and +-tol follow from these squares outside the singular
       // zone |margin| <= tol + band, which goes to the reference.
       const V X = hn::MulAdd(in, in, v2), Y = hn::MulAdd(out, out, v2);
-      const M zone = hn::Or(hn::Abs(X - Lb2) <= zone_half_width, hn::Abs(Y - Lb2) <= zone_half_width);
-      leg_unreachable[i] = hn::Or(X > Lb2, Y < Lb2);
-      turn[i] = hn::Not(Lb2 < X);
+      const V below = Lb2 - X, above = Y - Lb2;  // both >= 0 where the leg reaches
+      const M zone = hn::Min(hn::Abs(below), hn::Abs(above)) <= zone_half_width;
+      leg_unreachable[i] = hn::Min(below, above) < zero;
+      turn[i] = below >= zero;  // too near: the elbow turns away
       largest_X = hn::Max(largest_X, X);
       smallest_Y = hn::Min(smallest_Y, Y);
       // solve_leg; where the leg reaches in no lane, only its angle of
       // closest approach (towards or away) is needed.
       A[i] = hn::Set(d, 2.0 * m.La) * u;
-      B[i] = hn::Set(d, -2.0 * m.La) * w;
+      B[i] = B_all;
       n[i] = B[i];
       dd[i] = A[i];
       C[i] = zero;
       if (!hn::AllTrue(d, leg_unreachable[i])) {
         C[i] = rho2 + v2 + hn::Set(d, m.La * m.La - m.Lb * m.Lb);
-        const V disc = (Lb2 - X) * (Y - Lb2);
+        const V disc = below * above;
         const V root = hn::Sqrt(hn::Max(zero, disc));
         const V sigma_root = (s.branch >> i) & 1 ? root : hn::Neg(root);
         const V n1 = B[i] + sigma_root, d1 = C[i] + A[i], n2 = C[i] - A[i], d2 = B[i] - sigma_root;
@@ -163,9 +166,11 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
         n[i] = hn::IfThenElse(leg_unreachable[i], B[i], hn::IfThenElse(first_pair, n1, n2));
         dd[i] = hn::IfThenElse(leg_unreachable[i], A[i], hn::IfThenElse(first_pair, d1, d2));
       }
-      // A norm under 2^-300 (a degenerate leg, 0 / 0): the reference decides.
-      const M tiny = hn::Not(hn::MulAdd(dd[i], dd[i], n[i] * n[i]) >= hn::Set(d, 0x1p-300));
-      to_scalar = hn::Or(to_scalar, hn::Or(tiny, zone));
+      // A half-angle norm dd^2 + n^2 under 2^-300 (a degenerate leg, 0 / 0):
+      // the reference decides. The norm is at least A^2 + B^2 = 4 La^2 rho^2
+      // (the larger of the two pairs is at least their mean), so a rho^2
+      // that keeps this above 2^-300 keeps the norm above it.
+      to_scalar = hn::Or(to_scalar, hn::Or(rho2 < tiny_rho2, zone));
       unreachable = hn::Or(unreachable, leg_unreachable[i]);
     }
     // The actuator ranges without an arctangent per leg: range_margin(q) is
