@@ -5,8 +5,10 @@
 // Lane for lane it is the reference sample (sample_point: inverse, then
 // reach_margin, then jacobian) with the early returns replaced by masks and
 // no transcendental call where algebra does without one:
+// - a leg's coordinates u, v are linear along a row: one multiply-add each;
 // - hypot(a, b) is sqrt(a^2 + b^2): one rounding more, no scaling (the
-//   lengths of a field are far from overflow);
+//   lengths of a field are far from overflow; rows past 2^70 go to the
+//   reference);
 // - a leg's margin min(Lb - d_min, d_max - Lb) is taken only as the smallest
 //   over the legs, from the largest d_min^2 and the smallest d_max^2 (two
 //   square roots a sample instead of six); its tests against 0 and the
@@ -16,14 +18,16 @@
 //   (the three legs' from one division) instead of cos and sin of
 //   2 atan2(n, d); the actuator ranges need no angle per leg: each leg's
 //   excess over its range is a direction, the largest is found by comparing
-//   directions, and its angle is taken (one vector arctangent a few ulps
-//   from libm's where the reference takes three) only in vectors where
-//   La times it can be smaller than the legs' margin (bounds by its sine
-//   and tangent decide elsewhere);
+//   directions (where the ranges share one width, by |q_i - centre_i|
+//   alone), and its angle is taken (one vector arctangent a few ulps from
+//   libm's where the reference takes three) only in vectors where La times
+//   it can be smaller than the legs' margin (bounds by its sine and tangent
+//   decide elsewhere);
 // - a leg's quadratic is solved only where it reaches in some lane, and the
 //   Jacobian only where some lane is Ok (the rest store no J);
 // - the type II test compares the circumradius's square, without its root;
-// - the closure error | |s_i| - Lb | is | |s_i|^2 - Lb^2 | / (2 Lb);
+// - the closure error | |s_i| - Lb | is | |s_i|^2 - Lb^2 | / (2 Lb), and
+//   |s_i|^2 - Lb^2 is the leg's closure C - A cos q - B sin q;
 // - c(J) is condition_number_fast's closed form (core/simd_field-inl.h)
 //   where the reference takes condition_number_closed_form.
 // So J differs from the reference's in its last bits, and c(J) by about its
