@@ -149,20 +149,23 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
       const V X = hn::MulAdd(in, in, v2), Y = hn::MulAdd(out, out, v2);
       const V below = Lb2 - X, above = Y - Lb2;  // both >= 0 where the leg reaches
       const M zone = hn::Min(hn::Abs(below), hn::Abs(above)) <= zone_half_width;
-      leg_unreachable[i] = hn::Min(below, above) < zero;
-      turn[i] = below >= zero;  // too near: the elbow turns away
       largest_X = hn::Max(largest_X, X);
       smallest_Y = hn::Min(smallest_Y, Y);
       // solve_leg; where the leg reaches in no lane, only its angle of
-      // closest approach (towards or away) is needed.
+      // closest approach (towards or away) is needed. Its discriminant
+      // A^2 + B^2 - C^2 = (Lb^2 - d_min^2)(d_max^2 - Lb^2) without rho
+      // (whose square root it need not wait for), and from it whether the
+      // leg reaches: outside the zone, which goes to the reference, its
+      // rounding cannot change the sign.
       A[i] = hn::Set(d, 2.0 * m.La) * u;
       B[i] = B_all;
+      C[i] = rho2 + v2 + hn::Set(d, m.La * m.La - m.Lb * m.Lb);
+      const V disc = hn::MulSub(hn::Set(d, 4.0 * m.La * m.La), rho2, C[i] * C[i]);
+      leg_unreachable[i] = disc < zero;
+      turn[i] = C[i] < zero;  // too near (d_max < Lb): the elbow turns away
       n[i] = B[i];
       dd[i] = A[i];
-      C[i] = zero;
       if (!hn::AllTrue(d, leg_unreachable[i])) {
-        C[i] = rho2 + v2 + hn::Set(d, m.La * m.La - m.Lb * m.Lb);
-        const V disc = below * above;
         const V root = hn::Sqrt(hn::Max(zero, disc));
         const V sigma_root = (s.branch >> i) & 1 ? root : hn::Neg(root);
         const V n1 = B[i] + sigma_root, d1 = C[i] + A[i], n2 = C[i] - A[i], d2 = B[i] - sigma_root;
