@@ -169,7 +169,8 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
         const V root = hn::Sqrt(hn::Max(zero, disc));
         const V sigma_root = (s.branch >> i) & 1 ? root : hn::Neg(root);
         const V n1 = B[i] + sigma_root, d1 = C[i] + A[i], n2 = C[i] - A[i], d2 = B[i] - sigma_root;
-        const M first_pair = hn::MulAdd(n1, n1, d1 * d1) >= hn::MulAdd(n2, n2, d2 * d2);
+        // |(n1, d1)|^2 - |(n2, d2)|^2 = 4 (B sigma root + C A): the pair with the larger norm.
+        const M first_pair = hn::MulAdd(B[i], sigma_root, C[i] * A[i]) >= zero;
         n[i] = hn::IfThenElse(leg_unreachable[i], B[i], hn::IfThenElse(first_pair, n1, n2));
         dd[i] = hn::IfThenElse(leg_unreachable[i], A[i], hn::IfThenElse(first_pair, d1, d2));
       }
