@@ -242,8 +242,6 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
     const M below_by_tangent = excess_s <= alpha * excess_c;
     const M below_alpha = hn::Or(hn::And(right, hn::Or(hn::And(lower, below_by_sine), hn::AndNot(lower, below_by_tangent))),
                                  hn::AndNot(right, hn::And(lower, alpha >= hn::Set(d, -std::numbers::pi / 2))));
-    V margin = geometric;
-    if (!hn::AllTrue(d, below_alpha)) margin = hn::Min(geometric, La * hn::Neg(Atan2(d, excess_s, excess_c)));
     const M solved = hn::Not(unreachable);
     V status = StatusCode(d, Status::Unreachable);  // solved samples below
     V residual = inf;
@@ -332,6 +330,8 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
         }
       }
     }
+    V margin = geometric;
+    if (!hn::AllTrue(d, below_alpha)) margin = hn::Min(geometric, La * hn::Neg(Atan2(d, excess_s, excess_c)));
     hn::Store(status, d, b.status + t);
     hn::Store(margin, d, b.reach_margin + t);
     hn::Store(residual, d, b.residual + t);
