@@ -169,8 +169,10 @@ struct alignas(64) Block {  // structure of arrays, one entry per sample
 // `trusted`, those samples become Ok up to it and Singular beyond, with
 // c(J) = +inf, and samples within 1e-6 relative of it go to the scalar
 // kernel; without, their status stays. Samples whose J is outside UnitRange
-// go to the scalar kernel too.
-HWY_INLINE void BlockConditioning(int count, Block& b, std::optional<double> trusted_condition) {
+// go to the scalar kernel too, unless the kernel vouches that every J it
+// flags is within it (unit_range_known).
+HWY_INLINE void BlockConditioning(int count, Block& b, std::optional<double> trusted_condition,
+                                  bool unit_range_known = false) {
   const D d;
   const V inf = hn::Inf(d), trusted = hn::Set(d, trusted_condition.value_or(HUGE_VAL));
   for (int t = 0; t < count; t += int(hn::Lanes(d))) {
@@ -186,7 +188,7 @@ HWY_INLINE void BlockConditioning(int count, Block& b, std::optional<double> tru
       c2[e] = hn::Load(d, b.J[6 + e] + t);
     }
     const V c = ConditionNumber(d, c0, c1, c2);
-    M to_scalar = hn::And(wants_cond, hn::Not(UnitRange(d, c0, c1, c2)));
+    M to_scalar = unit_range_known ? hn::FirstN(d, 0) : hn::And(wants_cond, hn::Not(UnitRange(d, c0, c1, c2)));
     if (trusted_condition) {
       const M ok = hn::And(wants_cond, c <= trusted);
       const V status = hn::IfThenElse(wants_cond, hn::IfThenElse(ok, StatusCode(d, Status::Ok), StatusCode(d, Status::Singular)),

@@ -71,6 +71,8 @@ HWY_INLINE M AngleGreater(D d, V c1, V s1, V c2, V s2) {
   return hn::Or(hn::And(halves_differ, upper1), hn::AndNot(halves_differ, c2 * s1 - s2 * c1 > zero));
 }
 
+constexpr double kSmallestLa = 0x1p-50;
+
 struct Setup {
   const Model& m;
   const FieldLegs& legs;
@@ -117,7 +119,9 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
   // the three norms' product could leave double's range).
   const double kLargest = 0x1p70;
   const V tiny_rho2 = hn::Set(d, 0x1p-300 / (4.0 * m.La * m.La));
-  const bool row_scaled = std::max({std::abs(p0.x()), std::abs(p0.y()), std::abs(p0.z()), m.R, m.La, m.Lb}) <= kLargest;
+  // La at least 2^-50 keeps J within UnitRange (SampleRow).
+  const bool row_scaled = std::max({std::abs(p0.x()), std::abs(p0.y()), std::abs(p0.z()), m.R, m.La, m.Lb}) <= kLargest &&
+                          m.La >= kSmallestLa;
 
   for (int t = 0; t < count; t += int(hn::Lanes(d))) {
     const V along = origin + (hn::Iota(d, double(row.start[axis] + first + t)) + hn::Set(d, 0.5)) * spacing;
@@ -348,7 +352,12 @@ void SampleRow(const Model& m, const FieldLegs& legs, const FieldRequest& reques
   for (int first = 0; first < row.count; first += kBlock) {
     const int n = std::min(kBlock, row.count - first);
     Geometry(setup, g, row, first, n, b);
-    BlockConditioning(n, b, std::nullopt);
+    // J's rows are s_i / Jq_i with |s_i| = Lb (to the closure check) and
+    // 1e-12 La Lb < |Jq_i| <= La |s_i| (nearer 0 goes to the reference), so
+    // its largest entry is between 1 / (sqrt 3 La) and about 1e12 / La:
+    // within UnitRange's 2^+-100 for La in [2^-50, 2^70] (Geometry sends
+    // other designs to the reference).
+    BlockConditioning(n, b, std::nullopt, true);
     StoreBlock(b, first, n, row.count, false, rule, out, [&](int i) { return sample_point(m, row.point(g, i), request); });
     // The mirror row takes the same values; the lanes the reference decides
     // are decided at the mirror row's own points.
