@@ -369,9 +369,11 @@ LegSolution Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int bran
   std::vector<const LegState*> fast, fixed;
   if (tls.legs[std::size_t(leg)][std::size_t(combo)]) fast.push_back(&*tls.legs[std::size_t(leg)][std::size_t(combo)]);
   if (extra_seed) fast.push_back(extra_seed);
-  if (home_states_[std::size_t(leg)][std::size_t(combo)]) fixed.push_back(&*home_states_[std::size_t(leg)][std::size_t(combo)]);
-  for (const auto& other : home_states_[std::size_t(leg)])
-    if (other) fixed.push_back(&*other);
+  // The leg at home on this branch first, then at home on its other branches.
+  const auto& homes = home_states_[std::size_t(leg)];
+  if (homes[std::size_t(combo)]) fixed.push_back(&*homes[std::size_t(combo)]);
+  for (std::size_t other = 0; other < homes.size(); ++other)
+    if (homes[other] && other != std::size_t(combo)) fixed.push_back(&*homes[other]);
   for (const LegState& s : spread_seeds_[std::size_t(leg)]) fixed.push_back(&s);
 
   LegSolution best;
