@@ -51,14 +51,17 @@ constexpr double kCondCap = 1e6;  // cond above this (and +inf, NaN) counts as t
 constexpr double kDecadesCap = 6;  // a named array's log10 distance to its threshold is clamped to this
 
 // The scalar whose zero level set is the requested surface, > 0 inside:
-// fills out[0 .. count) with the values of samples first .. first + count.
-using SurfaceScalar = std::function<void(std::size_t first, int count, float* out)>;
+// fills out[0 .. count) with the values of samples first, first + step, ...
+using SurfaceScalar = std::function<void(std::size_t first, int count, int step, float* out)>;
 SurfaceScalar surface_scalar(const Field& field, const SurfaceRequest& request) {
   const double h = field.grid.spacing.minCoeff();
   if (request.surface == Surface::Reach)
-    return [&field, h](std::size_t first, int count, float* out) {
+    return [&field, h](std::size_t first, int count, int step, float* out) {
       const float* margin = field.reach_margin.data() + first;
-      for (int t = 0; t < count; ++t) out[t] = std::isnan(margin[t]) ? float(-h) : margin[t];
+      for (int t = 0; t < count; ++t) {
+        const float m = margin[std::size_t(t) * std::size_t(step)];
+        out[t] = std::isnan(m) ? float(-h) : m;
+      }
     };
   // s = log10(threshold) - log10(cond) in decades, combined by min() with
   // the reach margin in cells (k*m). On every grid edge where the reach
@@ -88,37 +91,41 @@ SurfaceScalar surface_scalar(const Field& field, const SurfaceRequest& request) 
       return sign * std::clamp(std::isnan(d) ? -kDecadesCap : d, -kDecadesCap, kDecadesCap);
     };
   }
-  return [&field, h, k, decades](std::size_t first, int count, float* out) {
+  return [&field, h, k, decades](std::size_t first, int count, int step, float* out) {
     for (int t = 0; t < count; ++t) {
-      const std::size_t i = first + std::size_t(t);
+      const std::size_t i = first + std::size_t(t) * std::size_t(step);
       const double m = std::isnan(field.reach_margin[i]) ? -h : double(field.reach_margin[i]);
       out[t] = float(field.reachable[i] ? std::min(decades(i), k * m) : std::min(k * m, -1.0));
     }
   };
 }
 
-// The surface scalar on the grid padded by one sample on every side, each
-// row written straight into the image's array. A pad sample takes minus its
-// nearest real sample's value (or a small negative value), so a surface
-// leaving the box crosses exactly half-way, on the box face, and is closed.
-// Values of exactly 0 are nudged outside so that no triangle degenerates.
-vtkSmartPointer<vtkImageData> padded_image(const Grid& g, const SurfaceScalar& scalar, float eps) {
-  const int nx = g.dims[0] + 2, ny = g.dims[1] + 2, nz = g.dims[2] + 2;
+// The surface scalar at every `stride`-th sample of the grid along each axis
+// (the first included), padded by one sample on every side, each row written
+// straight into the image's array: only the samples kept are evaluated. A pad
+// sample takes minus its nearest real sample's value (or a small negative
+// value), so a surface leaving the box crosses exactly half-way to the pad
+// (for stride 1 on the box face) and is closed. Values of exactly 0 are
+// nudged outside so that no triangle degenerates.
+vtkSmartPointer<vtkImageData> padded_image(const Grid& g, const SurfaceScalar& scalar, float eps, int stride) {
+  const int nx = (g.dims[0] + stride - 1) / stride + 2, ny = (g.dims[1] + stride - 1) / stride + 2,
+            nz = (g.dims[2] + stride - 1) / stride + 2;
   auto image = vtkSmartPointer<vtkImageData>::New();
   image->SetDimensions(nx, ny, nz);
-  image->SetSpacing(g.spacing.x(), g.spacing.y(), g.spacing.z());
-  const Eigen::Vector3d first = g.origin - 0.5 * g.spacing;  // one sample before the first cell centre
+  const Eigen::Vector3d step = stride * g.spacing;
+  image->SetSpacing(step.x(), step.y(), step.z());
+  const Eigen::Vector3d first = g.origin + (0.5 - stride) * g.spacing;  // one step before the first sample
   image->SetOrigin(first.x(), first.y(), first.z());
   vtkNew<vtkFloatArray> scalars;
   scalars->SetName("surface_scalar");
   scalars->SetNumberOfTuples(vtkIdType(nx) * ny * nz);
   float* out = scalars->GetPointer(0);
   const auto at = [&](int i, int j, int k) -> float& { return out[i + std::size_t(nx) * (j + std::size_t(ny) * k)]; };
-  for (int k = 0; k < g.dims[2]; ++k)
-    for (int j = 0; j < g.dims[1]; ++j) {
-      float* row = &at(1, j + 1, k + 1);
-      scalar(g.index(0, j, k), g.dims[0], row);
-      for (int i = 0; i < g.dims[0]; ++i)
+  for (int k = 1; k < nz - 1; ++k)
+    for (int j = 1; j < ny - 1; ++j) {
+      float* row = &at(1, j, k);
+      scalar(g.index(0, stride * (j - 1), stride * (k - 1)), nx - 2, stride, row);
+      for (int i = 0; i < nx - 2; ++i)
         if (std::abs(row[i]) < eps) row[i] = -eps;
     }
   const auto pad = [&](int i, int j, int k) {
@@ -131,43 +138,6 @@ vtkSmartPointer<vtkImageData> padded_image(const Grid& g, const SurfaceScalar& s
       } else {
         pad(0, j, k);
         pad(nx - 1, j, k);
-      }
-  image->GetPointData()->SetScalars(scalars);
-  return image;
-}
-
-// Every `stride`-th interior sample of a padded_image along each axis (the
-// first one included), padded again the same way: the surface from a grid
-// `stride` times coarser, its far faces up to half a fine cell from the full
-// surface's.
-vtkSmartPointer<vtkImageData> every_nth(vtkImageData* padded, int stride, float eps) {
-  int d[3];
-  padded->GetDimensions(d);
-  double spacing[3], origin[3];
-  padded->GetSpacing(spacing);
-  padded->GetOrigin(origin);
-  int m[3];
-  for (int a = 0; a < 3; ++a) m[a] = (d[a] - 2 + stride - 1) / stride + 2;  // interior samples + 2 pads
-  auto image = vtkSmartPointer<vtkImageData>::New();
-  image->SetDimensions(m[0], m[1], m[2]);
-  image->SetSpacing(stride * spacing[0], stride * spacing[1], stride * spacing[2]);
-  // Interior sample t sits at padded index 1 + stride * t; the pad one step before it.
-  image->SetOrigin(origin[0] + (1 - stride) * spacing[0], origin[1] + (1 - stride) * spacing[1],
-                   origin[2] + (1 - stride) * spacing[2]);
-  vtkNew<vtkFloatArray> scalars;
-  scalars->SetName("surface_scalar");
-  scalars->SetNumberOfTuples(vtkIdType(m[0]) * m[1] * m[2]);
-  const float* in = static_cast<vtkFloatArray*>(padded->GetPointData()->GetScalars())->GetPointer(0);
-  float* out = scalars->GetPointer(0);
-  const auto src = [&](int i, int j, int k) {
-    return in[(1 + stride * (i - 1)) + std::size_t(d[0]) * ((1 + stride * (j - 1)) + std::size_t(d[1]) * (1 + stride * (k - 1)))];
-  };
-  for (int k = 0; k < m[2]; ++k)
-    for (int j = 0; j < m[1]; ++j)
-      for (int i = 0; i < m[0]; ++i) {
-        const bool pad = i == 0 || j == 0 || k == 0 || i == m[0] - 1 || j == m[1] - 1 || k == m[2] - 1;
-        const float v = src(std::clamp(i, 1, m[0] - 2), std::clamp(j, 1, m[1] - 2), std::clamp(k, 1, m[2] - 2));
-        out[i + std::size_t(m[0]) * (j + std::size_t(m[1]) * k)] = pad ? std::min(-eps, -v) : v;
       }
   image->GetPointData()->SetScalars(scalars);
   return image;
@@ -398,8 +368,7 @@ vtkSmartPointer<vtkPolyData> extract(const Field& field, const SurfaceRequest& r
     throw std::invalid_argument("surface: expected decimate_error >= 0, got " + std::to_string(request.decimate_error));
 
   const float eps = request.surface == Surface::Reach ? float(1e-6 * field.grid.spacing.minCoeff()) : 1e-6f;
-  vtkSmartPointer<vtkImageData> image = padded_image(field.grid, surface_scalar(field, request), eps);
-  if (stride > 1) image = every_nth(image, stride, eps);
+  vtkSmartPointer<vtkImageData> image = padded_image(field.grid, surface_scalar(field, request), eps, stride);
   vtkNew<vtkFlyingEdges3D> contour;
   contour->SetInputData(image);
   contour->SetValue(0, 0.0);

@@ -564,6 +564,46 @@ TEST(WorkspaceMesh, LightSurfaceIsTheSameClosedBallWithAQuarterOfTheFaces) {
   EXPECT_THROW(render::extract_light_surface(cut, surface_request(render::Surface::Reach), 0), std::invalid_argument);
 }
 
+TEST(WorkspaceMesh, LightSurfaceIsTheFullSurfaceOfEveryOtherSample) {
+  // A ball cut by the box on a grid with even and odd sample counts: the
+  // light surface must be the full surface of the field sampled only at
+  // every other sample (a grid twice as coarse whose samples are the fine
+  // ones 0, 2, 4, ...), closed on that grid's box faces in the same way.
+  const Eigen::Vector3d lo(-1.2, -0.9, -1.0), hi(0.9, 1.1, 1.3), centre(0.1, 0.3, -0.1);
+  const std::array<int, 3> dims{40, 33, 27};
+  const Field fine = ball_field(lo, hi, dims, centre, 1.0);
+  Eigen::Vector3d coarse_lo = lo - 0.5 * fine.grid.spacing, coarse_hi;
+  std::array<int, 3> coarse_dims;
+  for (int a = 0; a < 3; ++a) {
+    coarse_dims[a] = (dims[a] + 1) / 2;
+    coarse_hi[a] = coarse_lo[a] + coarse_dims[a] * 2 * fine.grid.spacing[a];
+  }
+  const Field coarse = ball_field(coarse_lo, coarse_hi, coarse_dims, centre, 1.0);
+  const auto request = surface_request(render::Surface::Reach);
+  const auto light = render::mesh_stats(render::extract_light_surface(fine, request));
+  const auto expected = render::mesh_stats(render::extract_surface(coarse, request));
+  const auto full = render::mesh_stats(render::extract_surface(fine, request));
+  EXPECT_EQ(light.faces, expected.faces);
+  EXPECT_EQ(light.vertices, expected.vertices);
+  EXPECT_EQ(light.boundary_edges, 0u);
+  EXPECT_EQ(light.euler_characteristic, 2);
+  EXPECT_NEAR(light.volume, expected.volume, 1e-6 * expected.volume);
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_NEAR(light.min[a], expected.min[a], 1e-5) << a;
+    EXPECT_NEAR(light.max[a], expected.max[a], 1e-5) << a;
+  }
+  // The ball leaves the box at its largest x and y and its smallest z: the
+  // full surface ends on the box faces, the light one on its coarse grid's
+  // (half a fine sample beyond or before them).
+  EXPECT_NEAR(full.max.x(), hi.x(), 1e-5);
+  EXPECT_NEAR(full.max.y(), hi.y(), 1e-5);
+  EXPECT_NEAR(full.min.z(), lo.z(), 1e-5);
+  EXPECT_NEAR(light.max.x(), coarse_hi.x(), 1e-5);
+  EXPECT_NEAR(light.max.y(), coarse_hi.y(), 1e-5);
+  EXPECT_NEAR(light.min.z(), coarse_lo.z(), 1e-5);
+  EXPECT_LT(light.faces, full.faces / 3);
+}
+
 TEST(WorkspaceMesh, ExportsReadBackWithVtkReaders) {
   Folder dir;
   const Field f = cube_ball(32);

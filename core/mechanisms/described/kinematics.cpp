@@ -369,9 +369,11 @@ LegSolution Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int bran
   std::vector<const LegState*> fast, fixed;
   if (tls.legs[std::size_t(leg)][std::size_t(combo)]) fast.push_back(&*tls.legs[std::size_t(leg)][std::size_t(combo)]);
   if (extra_seed) fast.push_back(extra_seed);
-  if (home_states_[std::size_t(leg)][std::size_t(combo)]) fixed.push_back(&*home_states_[std::size_t(leg)][std::size_t(combo)]);
-  for (const auto& other : home_states_[std::size_t(leg)])
-    if (other) fixed.push_back(&*other);
+  // The leg at home on this branch first, then at home on its other branches.
+  const auto& homes = home_states_[std::size_t(leg)];
+  if (homes[std::size_t(combo)]) fixed.push_back(&*homes[std::size_t(combo)]);
+  for (std::size_t other = 0; other < homes.size(); ++other)
+    if (homes[other] && other != std::size_t(combo)) fixed.push_back(&*homes[other]);
   for (const LegState& s : spread_seeds_[std::size_t(leg)]) fixed.push_back(&s);
 
   LegSolution best;
@@ -639,15 +641,20 @@ ForwardSolution Kinematics::forward(const VectorXd& q, const VectorXd& seed, dou
     }
   }
   VectorXd x = seed;
-  auto errors = [&](const VectorXd& xx, const std::vector<LegState>& ls, PlatformPose& p) {
+  // The closure errors at (xx, ls), with the pose and the legs' chains they
+  // came from (kept for the next Jacobian).
+  auto errors = [&](const VectorXd& xx, const std::vector<LegState>& ls, PlatformPose& p, std::vector<Chain>& chains) {
     p = pose(xx);
+    chains.resize(model_.legs.size());
     VectorXd e(rows);
-    for (std::size_t leg = 0; leg < model_.legs.size(); ++leg)
-      e.segment(Index(leg) * m, m) =
-          rows_of(closure_error(walk(model_.legs[leg], ls[leg]), anchor(int(leg), p), model_.size), model_.planar);
+    for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
+      walk_into(model_.legs[leg], ls[leg], chains[leg]);
+      e.segment(Index(leg) * m, m) = rows_of(closure_error(chains[leg], anchor(int(leg), p), model_.size), model_.planar);
+    }
     return e;
   };
-  auto step_pose = [&](const VectorXd& xx, const VectorXd& d) {
+  // `R`: the rotation of pose(xx), which the caller already has.
+  auto step_pose = [&](const VectorXd& xx, const Matrix3d& R, const VectorXd& d) {
     VectorXd nx = xx;
     int col = 0;
     Vector3d dw = Vector3d::Zero();
@@ -663,21 +670,22 @@ ForwardSolution Kinematics::forward(const VectorXd& q, const VectorXd& seed, dou
       ++col;
     }
     if (all_rotations) {
-      const PlatformPose p = pose(xx);
-      const Vector3d e = euler_of(rotation_of(dw) * p.R);
+      const Vector3d e = euler_of(rotation_of(dw) * R);
       for (int k = 0; k < 3; ++k) nx(rot_index[std::size_t(k)]) = e(k);
     }
     return nx;
   };
+  // pose(x) and the legs' chains: updated with x and legs, never recomputed.
   PlatformPose p;
-  VectorXd e = errors(x, legs, p);
+  std::vector<Chain> chains;
+  VectorXd e = errors(x, legs, p, chains);
   double norm = e.norm();
   int it = 0;
   for (; it < max_iterations && norm > 1e-15; ++it) {
     MatrixXd J = MatrixXd::Zero(rows, unknowns);
     for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
       const Leg& l = model_.legs[leg];
-      const Chain c = walk(l, legs[leg]);
+      const Chain& c = chains[leg];
       const Vector3d r = c.end.translation();
       const MatrixXd cols = platform_columns(model_, p, r);
       for (Index j = 0; j < cols.cols(); ++j)
@@ -691,7 +699,7 @@ ForwardSolution Kinematics::forward(const VectorXd& q, const VectorXd& seed, dou
     limit_step(d, length_unknowns, model_.size);
     bool accepted = false;
     for (int halving = 0; halving < 30 && !accepted; ++halving, d *= 0.5) {
-      const VectorXd tx = step_pose(x, d);
+      const VectorXd tx = step_pose(x, p.R, d);
       std::vector<LegState> tl = legs;
       for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
         const Leg& l = model_.legs[leg];
@@ -702,13 +710,15 @@ ForwardSolution Kinematics::forward(const VectorXd& q, const VectorXd& seed, dou
         apply(l, tl[leg], full);
       }
       PlatformPose tp;
-      const VectorXd te = errors(tx, tl, tp);
+      std::vector<Chain> tchains;
+      const VectorXd te = errors(tx, tl, tp, tchains);
       if (te.norm() < norm) {
         accepted = true;
         const bool floor = te.norm() > 0.5 * norm && norm < 1e-11;
         x = tx;
         legs = std::move(tl);
-        p = tp;
+        p = std::move(tp);
+        chains = std::move(tchains);
         e = te;
         norm = te.norm();
         if (floor) it = max_iterations;
@@ -724,10 +734,9 @@ ForwardSolution Kinematics::forward(const VectorXd& q, const VectorXd& seed, dou
   // An assembly whose legs break the design's own branch rules (a "sign" in
   // the description) is not this device: report it as not converged.
   if (out.status == Status::Ok) {
-    const PlatformPose fp = pose(x);
     for (std::size_t leg = 0; leg < model_.legs.size() && out.status == Status::Ok; ++leg) {
       const Leg& l = model_.legs[leg];
-      const std::vector<int> signs = rule_signs(int(leg), out.legs[leg], anchor(int(leg), fp));
+      const std::vector<int> signs = rule_signs(int(leg), out.legs[leg], anchor(int(leg), p));
       for (std::size_t r = 0; r < l.rules.size(); ++r)
         if (l.rules[r].fixed_sign != 0 && signs[r] * l.rules[r].fixed_sign < 0) out.status = Status::NotConverged;
     }
