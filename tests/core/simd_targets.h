@@ -39,6 +39,35 @@ inline bool rounds_within(float v, double d, double absolute) {
 
 inline constexpr double kUlp = 0x1p-53;
 
+// A case of an agreement test: a design, its field request (grid included)
+// and a name for the reports.
+template <class Model, class Request>
+struct FieldCase {
+  std::string name;
+  Model model;
+  Request request;
+};
+
+// The field of case c with `kernel` (the device's compute_field, found by
+// argument-dependent lookup).
+template <class Case, class Kernel>
+Field field_of(const Case& c, Kernel kernel) {
+  auto request = c.request;
+  request.kernel = kernel;
+  return *compute_field(c.model, request);
+}
+
+// Halves [a, b] towards where same_as_a stops holding: at most `steps`
+// times, while |b - a| > min_length and the midpoint is neither end.
+template <class SameAsA>
+void bisect(Eigen::Vector3d& a, Eigen::Vector3d& b, SameAsA&& same_as_a, int steps, double min_length = 0.0) {
+  for (int k = 0; k < steps && (b - a).norm() > min_length; ++k) {
+    const Eigen::Vector3d mid = 0.5 * (a + b);
+    if (mid == a || mid == b) return;
+    (same_as_a(mid) ? a : b) = mid;
+  }
+}
+
 // One row of n samples along `axis` through `centre`, spacing `step`.
 inline Grid row_through(const Eigen::Vector3d& centre, int axis, double step, int n) {
   Grid g;

@@ -50,7 +50,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
 #include "core/mechanisms/delta/field.h"
 
@@ -135,8 +134,9 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
     // Per leg: the tangent half-angle n / dd of its angle (the angle of
     // closest approach where it does not reach) and whether it reaches.
     V n[kLegCount], dd[kLegCount];
-    V A[kLegCount], B[kLegCount], C[kLegCount];  // the closure A cos q + B sin q = C
-    const V B_all = hn::Set(d, -2.0 * m.La) * z;  // B = -2 La w, w = z for every leg
+    // Each leg's closure A cos q + B sin q = C; B = -2 La w, w = z for every leg.
+    V A[kLegCount], C[kLegCount];
+    const V B = hn::Set(d, -2.0 * m.La) * z;
     M leg_unreachable[kLegCount], turn[kLegCount];
 #pragma GCC unroll 3
     for (int i = 0; i < kLegCount; ++i) {
@@ -162,20 +162,19 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
       // leg reaches: outside the zone, which goes to the reference, its
       // rounding cannot change the sign.
       A[i] = hn::Set(d, 2.0 * m.La) * u;
-      B[i] = B_all;
       C[i] = rho2 + v2 + hn::Set(d, m.La * m.La - m.Lb * m.Lb);
       const V disc = hn::MulSub(hn::Set(d, 4.0 * m.La * m.La), rho2, C[i] * C[i]);
       leg_unreachable[i] = disc < zero;
       turn[i] = C[i] < zero;  // too near (d_max < Lb): the elbow turns away
-      n[i] = B[i];
+      n[i] = B;
       dd[i] = A[i];
       if (!hn::AllTrue(d, leg_unreachable[i])) {
         const V root = hn::Sqrt(hn::Max(zero, disc));
         const V sigma_root = (s.branch >> i) & 1 ? root : hn::Neg(root);
-        const V n1 = B[i] + sigma_root, d1 = C[i] + A[i], n2 = C[i] - A[i], d2 = B[i] - sigma_root;
+        const V n1 = B + sigma_root, d1 = C[i] + A[i], n2 = C[i] - A[i], d2 = B - sigma_root;
         // |(n1, d1)|^2 - |(n2, d2)|^2 = 4 (B sigma root + C A): the pair with the larger norm.
-        const M first_pair = hn::MulAdd(B[i], sigma_root, C[i] * A[i]) >= zero;
-        n[i] = hn::IfThenElse(leg_unreachable[i], B[i], hn::IfThenElse(first_pair, n1, n2));
+        const M first_pair = hn::MulAdd(B, sigma_root, C[i] * A[i]) >= zero;
+        n[i] = hn::IfThenElse(leg_unreachable[i], B, hn::IfThenElse(first_pair, n1, n2));
         dd[i] = hn::IfThenElse(leg_unreachable[i], A[i], hn::IfThenElse(first_pair, d1, d2));
       }
       // A half-angle norm dd^2 + n^2 under 2^-300 (a degenerate leg, 0 / 0):
@@ -239,13 +238,14 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
     // needs theta only where theta > alpha = -geometric / La. theta <= alpha
     // for sure (so the margin is geometric) where theta <= 0 <= alpha; or
     // theta in [0, pi/2] and tan theta <= alpha; or theta in [-pi/2, 0] and
-    // sin theta <= alpha; or theta in (-pi, -pi/2) and -pi/2 <= alpha.
+    // sin theta <= alpha; or theta in (-pi, -pi/2), below -1 <= alpha (the
+    // legs' margin is at most La: d_max - d_min <= 2 La).
     const V alpha = geometric * hn::Set(d, -1.0 / m.La);
     const M right = excess_c >= zero, lower = excess_s <= zero;
     const M below_by_sine = hn::Or(alpha >= zero, excess_s * excess_s * (one - alpha * alpha) >= alpha * alpha * excess_c * excess_c);
     const M below_by_tangent = excess_s <= alpha * excess_c;
     const M below_alpha = hn::Or(hn::And(right, hn::Or(hn::And(lower, below_by_sine), hn::AndNot(lower, below_by_tangent))),
-                                 hn::AndNot(right, hn::And(lower, alpha >= hn::Set(d, -std::numbers::pi / 2))));
+                                 hn::AndNot(right, lower));
     const M solved = hn::Not(unreachable);
     V status = StatusCode(d, Status::Unreachable);  // solved samples below
     V residual = inf;
@@ -266,7 +266,7 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
       // leg's closure C - A cos q - B sin q in its own frame.
       V closure = zero;
       for (int i = 0; i < kLegCount; ++i)
-        closure = hn::Max(closure, hn::Abs(hn::NegMulAdd(B[i], sin_by_norm[i], hn::MulSub(C[i], norm[i], A[i] * cos_by_norm[i]))) * inv_norm[i]);
+        closure = hn::Max(closure, hn::Abs(hn::NegMulAdd(B, sin_by_norm[i], hn::MulSub(C[i], norm[i], A[i] * cos_by_norm[i]))) * inv_norm[i]);
       residual = hn::IfThenElse(solved, closure * hn::Set(d, 0.5 / m.Lb), inf);
       status = hn::IfThenElse(
           solved, hn::IfThenElse(outside_range, StatusCode(d, Status::OutOfLimits), StatusCode(d, Status::Ok)), status);

@@ -80,19 +80,27 @@ HWY_INLINE V ThreeColumnCondition(D d, const V* b0, const V* b1, const V* b2) {
     for (int k = 1; k < 6; ++k) sum = sum + u[k] * v[k];
     return sum;
   };
+  // v /= |v|, returning |v|.
+  const auto normalise = [&](V* v) {
+    const V r = hn::Sqrt(dot(v, v)), inv = one / r;
+    for (int k = 0; k < 6; ++k) v[k] = v[k] * inv;
+    return r;
+  };
+  // v -= r q, returning r = q . v.
+  const auto remove_along = [&](V* v, const V* q) {
+    const V r = dot(q, v);
+    for (int k = 0; k < 6; ++k) v[k] = v[k] - r * q[k];
+    return r;
+  };
   V q0[6], q1[6], v2[6];
-  const V r00 = hn::Sqrt(dot(b0, b0));
-  const V inv00 = one / r00;
-  for (int k = 0; k < 6; ++k) q0[k] = b0[k] * inv00;
-  const V r01 = dot(q0, b1);
-  for (int k = 0; k < 6; ++k) q1[k] = b1[k] - r01 * q0[k];
-  const V r11 = hn::Sqrt(dot(q1, q1));
-  const V inv11 = one / r11;
-  for (int k = 0; k < 6; ++k) q1[k] = q1[k] * inv11;
-  const V r02 = dot(q0, b2);
-  for (int k = 0; k < 6; ++k) v2[k] = b2[k] - r02 * q0[k];
-  const V r12 = dot(q1, v2);
-  for (int k = 0; k < 6; ++k) v2[k] = v2[k] - r12 * q1[k];
+  std::copy_n(b0, 6, q0);
+  std::copy_n(b1, 6, q1);
+  std::copy_n(b2, 6, v2);
+  const V r00 = normalise(q0);
+  const V r01 = remove_along(q1, q0);
+  const V r11 = normalise(q1);
+  const V r02 = remove_along(v2, q0);
+  const V r12 = remove_along(v2, q1);
   const V r22 = dot(v2, v2);
   // r00 or r11 zero (a rank-deficient block) makes det zero or NaN: +inf.
   return LowerTriangularCondition(d, r00, r01, r11, r02, r12, hn::Sqrt(r22));

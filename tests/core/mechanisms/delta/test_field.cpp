@@ -45,6 +45,8 @@ namespace linkscape::delta {
 namespace {
 
 using Eigen::Vector3d;
+using simd_test::bisect;
+using simd_test::field_of;
 using simd_test::kUlp;
 using simd_test::row_through;
 using simd_test::rounds_near;
@@ -54,11 +56,7 @@ using simd_test::TargetLimit;
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
-struct Case {
-  std::string name;
-  Model model;
-  FieldRequest request;
-};
+using Case = simd_test::FieldCase<Model, FieldRequest>;
 
 Model random_model(std::mt19937_64& rng, int c) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -93,20 +91,14 @@ void add_rows_across_status_changes(const std::string& name, const Model& m, con
   };
   const int sa = status(a);
   if (sa == status(b)) return;
-  for (int k = 0; k < 200 && (b - a).norm() > 1e-14 * m.size(); ++k) {
-    const Vector3d mid = 0.5 * (a + b);
-    (status(mid) == sa ? a : b) = mid;
-  }
+  const auto same_as_a = [&](const Vector3d& p) { return status(p) == sa; };
+  bisect(a, b, same_as_a, 200, 1e-14 * m.size());
   Case c{name, m, r};
   c.request.grid = row_through(0.5 * (a + b), 0, 1e-12 * m.size(), 61);
   out.push_back(c);
   // On to the last bits, and a row a few ulps a step across it: where the
   // kernel's and the reference's roundings could decide differently.
-  for (int k = 0; k < 80; ++k) {
-    const Vector3d mid = 0.5 * (a + b);
-    if (mid == a || mid == b) break;
-    (status(mid) == sa ? a : b) = mid;
-  }
+  bisect(a, b, same_as_a, 80);
   Case fine = c;
   fine.name += ", ulp steps";
   fine.request.grid = row_through(0.5 * (a + b), 0, 4 * kUlp * std::max(std::abs(a.x()), 1e-3 * m.size()), 61);
@@ -136,10 +128,7 @@ void add_rows_across_margin_crossover(const std::string& name, const Model& m, c
   };
   const bool sa = limits_smaller(a);
   if (sa == limits_smaller(b)) return;
-  for (int k = 0; k < 200 && (b - a).norm() > 1e-14 * m.size(); ++k) {
-    const Vector3d mid = 0.5 * (a + b);
-    (limits_smaller(mid) == sa ? a : b) = mid;
-  }
+  bisect(a, b, [&](const Vector3d& p) { return limits_smaller(p) == sa; }, 200, 1e-14 * m.size());
   for (double step : {1e-5, 1e-12}) {
     Case c{name + " margin crossover, step " + std::to_string(step), m, r};
     c.request.grid = row_through(0.5 * (a + b), 0, step * m.size(), 61);
@@ -164,10 +153,7 @@ void add_rows_across_type_two(const std::string& name, const Model& m, const Fie
   for (int attempt = 0; attempt < 200 && found < 3; ++attempt) {
     Vector3d ok = random_angles(), other = random_angles();
     if (forward(m, ok).status != Status::Ok || forward(m, other).status == Status::Ok) continue;
-    for (int k = 0; k < 80; ++k) {
-      const Vector3d mid = 0.5 * (ok + other);
-      (forward(m, mid).status == Status::Ok ? ok : other) = mid;
-    }
+    bisect(ok, other, [&](const Vector3d& q) { return forward(m, q).status == Status::Ok; }, 80);
     const Vector3d p = forward(m, ok).p_base_platform;
     FieldRequest r = base;
     r.ik.branch = branch_of(m, ok, p);
@@ -308,12 +294,6 @@ int compare_with_reference(const Case& c, const Field& f, const std::string& lab
                         << want.reach_margin << ", residual " << f.residual[idx] << " vs " << want.residual;
       }
   return failures;
-}
-
-Field field_of(const Case& c, FieldKernel kernel) {
-  FieldRequest r = c.request;
-  r.kernel = kernel;
-  return *compute_field(c.model, r);
 }
 
 TEST(DeltaField, EveryTargetAgreesWithTheReference) {

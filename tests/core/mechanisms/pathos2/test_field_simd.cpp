@@ -48,6 +48,8 @@ namespace linkscape::pathos2 {
 namespace {
 
 using Eigen::Vector3d;
+using simd_test::bisect;
+using simd_test::field_of;
 using simd_test::kUlp;
 using simd_test::row_through;
 using simd_test::rounds_near;
@@ -56,11 +58,7 @@ using simd_test::TargetLimit;
 
 constexpr double kPi = std::numbers::pi;
 
-struct Case {
-  std::string name;
-  Model model;
-  FieldRequest request;
-};
+using Case = simd_test::FieldCase<Model, FieldRequest>;
 
 Model random_model(std::mt19937_64& rng, int c) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -103,10 +101,7 @@ void add_rows_across_status_changes(const std::string& name, const Model& m, con
   const auto status = [&](const Vector3d& p) { return sample_position(g, p, r).status; };
   const std::uint8_t sa = status(a);
   if (sa == status(b)) return;
-  for (int k = 0; k < 200 && (b - a).norm() > 1e-14 * size_of(m); ++k) {
-    const Vector3d mid = 0.5 * (a + b);
-    (status(mid) == sa ? a : b) = mid;
-  }
+  bisect(a, b, [&](const Vector3d& p) { return status(p) == sa; }, 200, 1e-14 * size_of(m));
   // Across kappa = kMaxJacobianCondition where every leg solves on both sides.
   const auto ik_status = [&](const Vector3d& p) {
     return inverse(g, Pose::from_xyz_rpy(p.x(), p.y(), p.z(), r.rpy.x(), r.rpy.y(), r.rpy.z(), r.h0)).status;
@@ -319,12 +314,6 @@ int compare_with_reference(const Case& c, const Field& f, const std::string& lab
                         << ", residual " << f.residual[idx] << " vs " << want.residual;
       }
   return failures;
-}
-
-Field field_of(const Case& c, FieldKernel kernel) {
-  FieldRequest r = c.request;
-  r.kernel = kernel;
-  return *compute_field(c.model, r);
 }
 
 void record(const std::string& target, const Tally& tally) {
