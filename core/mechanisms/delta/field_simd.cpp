@@ -13,10 +13,10 @@
 //   over the legs, from the largest d_min^2 and the smallest d_max^2 (two
 //   square roots a sample instead of six); its tests against 0 and the
 //   singular tolerance follow from the squares;
-// - each leg's angle comes from tan(q/2) = n/d, as in solve_leg, but cos q
-//   and sin q are the double-angle ratios (d^2 - n^2, 2 n d) / (d^2 + n^2)
-//   (the three legs' from one division) instead of cos and sin of
-//   2 atan2(n, d); the actuator ranges need no angle per leg: each leg's
+// - each leg's cos q and sin q are (A C - sigma B root, B C + sigma A root)
+//   / (A^2 + B^2), from solve_leg's tan(q/2) without forming it (the three
+//   legs' from one division), instead of cos and sin of 2 atan2(n, d); the
+//   actuator ranges need no angle per leg: each leg's
 //   excess over its range is a direction, the largest is found by comparing
 //   directions (where the ranges share one width, by |q_i - centre_i|
 //   alone), and its angle is taken (one vector arctangent a few ulps from
@@ -131,13 +131,13 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
     M to_scalar = hn::Not(hn::And(hn::Abs(along) <= hn::Set(d, kLargest), hn::Set(d, row_scaled ? 1.0 : 0.0) > zero));
     M unreachable = hn::FirstN(d, 0);
     V largest_X = zero, smallest_Y = inf;
-    // Per leg: the tangent half-angle n / dd of its angle (the angle of
-    // closest approach where it does not reach) and whether it reaches.
-    V n[kLegCount], dd[kLegCount];
+    // Per leg: the direction (qc, qs) of its angle q (the angle of closest
+    // approach where it does not reach) and whether it reaches.
+    V qc[kLegCount], qs[kLegCount];
     // Each leg's closure A cos q + B sin q = C; B = -2 La w, w = z for every leg.
     V A[kLegCount], C[kLegCount];
     const V B = hn::Set(d, -2.0 * m.La) * z;
-    M leg_unreachable[kLegCount], turn[kLegCount];
+    M leg_unreachable[kLegCount];
 #pragma GCC unroll 3
     for (int i = 0; i < kLegCount; ++i) {
       // leg_coordinates and leg_reach
@@ -155,50 +155,45 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
       const M zone = hn::Min(hn::Abs(below), hn::Abs(above)) <= zone_half_width;
       largest_X = hn::Max(largest_X, X);
       smallest_Y = hn::Min(smallest_Y, Y);
-      // solve_leg; where the leg reaches in no lane, only its angle of
-      // closest approach (towards or away) is needed. Its discriminant
-      // A^2 + B^2 - C^2 = (Lb^2 - d_min^2)(d_max^2 - Lb^2) without rho
-      // (whose square root it need not wait for), and from it whether the
-      // leg reaches: outside the zone, which goes to the reference, its
-      // rounding cannot change the sign.
+      // solve_leg. Its discriminant A^2 + B^2 - C^2 = (Lb^2 - d_min^2)(d_max^2 - Lb^2)
+      // without rho (whose square root it need not wait for), and from it
+      // whether the leg reaches: outside the zone, which goes to the
+      // reference, its rounding cannot change the sign.
       A[i] = hn::Set(d, 2.0 * m.La) * u;
       C[i] = rho2 + v2 + hn::Set(d, m.La * m.La - m.Lb * m.Lb);
       const V disc = hn::MulSub(hn::Set(d, 4.0 * m.La * m.La), rho2, C[i] * C[i]);
       leg_unreachable[i] = disc < zero;
-      turn[i] = C[i] < zero;  // too near (d_max < Lb): the elbow turns away
-      n[i] = B;
-      dd[i] = A[i];
-      if (!hn::AllTrue(d, leg_unreachable[i])) {
+      // q's direction without its half-angle: A cos q + B sin q = C has
+      // (cos q, sin q) (A^2 + B^2) = (A C - sigma B root, B C + sigma A root),
+      // tan(q / 2) = (B + sigma root) / (C + A) being solve_leg's solution
+      // (docs/mechanisms/delta.md derives it). Its rounding is a few ulps of the angle
+      // wherever A^2 + B^2 is not tiny (below). Where the leg does not reach,
+      // root = 0 leaves C (A, B): the angle of closest approach, turned by pi
+      // where C < 0 (too near, d_max < Lb), as solve_leg's.
+      if (hn::AllTrue(d, leg_unreachable[i])) {
+        qc[i] = A[i] * C[i];
+        qs[i] = B * C[i];
+      } else {
         const V root = hn::Sqrt(hn::Max(zero, disc));
         const V sigma_root = (s.branch >> i) & 1 ? root : hn::Neg(root);
-        const V n1 = B + sigma_root, d1 = C[i] + A[i], n2 = C[i] - A[i], d2 = B - sigma_root;
-        // |(n1, d1)|^2 - |(n2, d2)|^2 = 4 (B sigma root + C A): the pair with the larger norm.
-        const M first_pair = hn::MulAdd(B, sigma_root, C[i] * A[i]) >= zero;
-        n[i] = hn::IfThenElse(leg_unreachable[i], B, hn::IfThenElse(first_pair, n1, n2));
-        dd[i] = hn::IfThenElse(leg_unreachable[i], A[i], hn::IfThenElse(first_pair, d1, d2));
+        qc[i] = hn::MulSub(A[i], C[i], B * sigma_root);
+        qs[i] = hn::MulAdd(A[i], sigma_root, B * C[i]);
       }
-      // A half-angle norm dd^2 + n^2 under 2^-300 (a degenerate leg, 0 / 0):
-      // the reference decides. The norm is at least A^2 + B^2 = 4 La^2 rho^2
-      // (the larger of the two pairs is at least their mean), so a rho^2
-      // that keeps this above 2^-300 keeps the norm above it.
+      // A^2 + B^2 = 4 La^2 rho^2 under 2^-300 (a degenerate leg, 0 / 0): the
+      // reference decides.
       to_scalar = hn::Or(to_scalar, hn::Or(rho2 < tiny_rho2, zone));
       unreachable = hn::Or(unreachable, leg_unreachable[i]);
     }
     // The actuator ranges without an arctangent per leg: range_margin(q) is
     // w - |q - centre| (q - centre wrapped into (-pi, pi], w the half width),
     // so each leg's excess delta_i = |q_i - centre_i| - w_i has the direction
-    // of q_i's (dd^2 - n^2, 2 n dd), or of the angle of closest approach
-    // (dd, n) turned by pi where the leg does not reach, rotated by
-    // -centre_i, folded to |.| and rotated by -w_i. The largest excess is
-    // found by comparing directions.
+    // of q_i's (qc, qs) rotated by -centre_i, folded to |.| and rotated by
+    // -w_i. The largest excess is found by comparing directions.
     V excess_c = zero, excess_s = zero;
 #pragma GCC unroll 3
     for (int i = 0; i < kLegCount; ++i) {
-      const V sign = hn::IfThenElse(turn[i], hn::Neg(one), one);
-      const V qc = hn::IfThenElse(leg_unreachable[i], sign * dd[i], hn::MulSub(dd[i], dd[i], n[i] * n[i]));
-      const V qs = hn::IfThenElse(leg_unreachable[i], sign * n[i], hn::Set(d, 2.0) * n[i] * dd[i]);
       const V cc = hn::Set(d, s.legs.cos_centre[i]), sc = hn::Set(d, s.legs.sin_centre[i]);
-      const V rc = hn::MulAdd(qc, cc, qs * sc), rs = hn::Abs(hn::MulSub(qs, cc, qc * sc));  // q - centre, folded
+      const V rc = hn::MulAdd(qc[i], cc, qs[i] * sc), rs = hn::Abs(hn::MulSub(qs[i], cc, qc[i] * sc));  // q - centre, folded
       if (equal_widths) {
         // The same w for every leg: the largest |q_i - centre_i| (in [0, pi],
         // rs >= 0) has the largest excess; it alone is rotated below. Within
@@ -251,14 +246,11 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
     V residual = inf;
     M wants_cond = hn::FirstN(d, 0);
     if (!hn::AllFalse(d, solved)) {
-      // cos q_i and sin q_i are the double-angle ratios (dd^2 - n^2, 2 n dd) / norm_i,
-      // the three 1 / norm_i from one division.
-      V norm[kLegCount], cos_by_norm[kLegCount], sin_by_norm[kLegCount];
-      for (int i = 0; i < kLegCount; ++i) {
-        norm[i] = hn::MulAdd(dd[i], dd[i], n[i] * n[i]);
-        cos_by_norm[i] = hn::MulSub(dd[i], dd[i], n[i] * n[i]);
-        sin_by_norm[i] = hn::Set(d, 2.0) * n[i] * dd[i];
-      }
+      // cos q_i and sin q_i are (qc, qs) / norm_i, norm_i = A_i^2 + B^2, the
+      // three 1 / norm_i from one division.
+      V norm[kLegCount];
+      const V B2 = B * B;
+      for (int i = 0; i < kLegCount; ++i) norm[i] = hn::MulAdd(A[i], A[i], B2);
       const V norm01 = norm[0] * norm[1], inv_all = one / (norm01 * norm[2]);
       const V inv_norm[kLegCount] = {norm[1] * norm[2] * inv_all, norm[0] * norm[2] * inv_all, norm01 * inv_all};
       // The closure error | |s_i| - Lb | as | |s_i|^2 - Lb^2 | / (2 Lb), the same
@@ -266,7 +258,7 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
       // leg's closure C - A cos q - B sin q in its own frame.
       V closure = zero;
       for (int i = 0; i < kLegCount; ++i)
-        closure = hn::Max(closure, hn::Abs(hn::NegMulAdd(B, sin_by_norm[i], hn::MulSub(C[i], norm[i], A[i] * cos_by_norm[i]))) * inv_norm[i]);
+        closure = hn::Max(closure, hn::Abs(hn::NegMulAdd(B, qs[i], hn::MulSub(C[i], norm[i], A[i] * qc[i]))) * inv_norm[i]);
       residual = hn::IfThenElse(solved, closure * hn::Set(d, 0.5 / m.Lb), inf);
       status = hn::IfThenElse(
           solved, hn::IfThenElse(outside_range, StatusCode(d, Status::OutOfLimits), StatusCode(d, Status::Ok)), status);
@@ -282,7 +274,7 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
 #pragma GCC unroll 3
         for (int i = 0; i < kLegCount; ++i) {
           const double c = s.legs.cos_phi[i], sn = s.legs.sin_phi[i];  // e_i = (c, sn, 0), A_i = R e_i
-          const V cos_q = cos_by_norm[i] * inv_norm[i], sin_q = sin_by_norm[i] * inv_norm[i];
+          const V cos_q = qc[i] * inv_norm[i], sin_q = qs[i] * inv_norm[i];
           const V arm = La * cos_q;
           cx[i] = hn::Set(d, m.R * c - m.r * c) + arm * hn::Set(d, c);  // A_i - r e_i + La cos q_i e_i
           cy[i] = hn::Set(d, m.R * sn - m.r * sn) + arm * hn::Set(d, sn);
