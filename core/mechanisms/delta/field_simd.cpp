@@ -130,38 +130,40 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
     // Not a number, infinite or too large: the reference decides.
     M to_scalar = hn::Not(hn::And(hn::Abs(along) <= hn::Set(d, kLargest), hn::Set(d, row_scaled ? 1.0 : 0.0) > zero));
     M unreachable = hn::FirstN(d, 0);
-    V largest_X = zero, smallest_Y = inf;
+    // The largest d_min^2 - Lb^2 and the smallest d_max^2 - Lb^2 over the legs.
+    V largest_X_excess = hn::Neg(inf), smallest_Y_excess = inf;
     // Per leg: the direction (qc, qs) of its angle q (the angle of closest
     // approach where it does not reach) and whether it reaches.
     V qc[kLegCount], qs[kLegCount];
     // Each leg's closure A cos q + B sin q = C; B = -2 La w, w = z for every leg.
-    V A[kLegCount], C[kLegCount];
-    const V B = hn::Set(d, -2.0 * m.La) * z;
+    V A[kLegCount], C[kLegCount], norm[kLegCount];  // norm = A^2 + B^2
+    const V B = hn::Set(d, -2.0 * m.La) * z, w2 = z * z;
     M leg_unreachable[kLegCount];
 #pragma GCC unroll 3
     for (int i = 0; i < kLegCount; ++i) {
       // leg_coordinates and leg_reach
       const V u = hn::MulAdd(hn::Set(d, u_slope[i]), along, hn::Set(d, u_offset[i]));
-      const V v = hn::MulAdd(hn::Set(d, v_slope[i]), along, hn::Set(d, v_offset[i])), w = z;
-      const V rho2 = hn::MulAdd(u, u, w * w), v2 = v * v;
-      const V rho = hn::Sqrt(rho2);
-      const V in = rho - La, out = rho + La;
-      // d_min^2 and d_max^2: the leg's margin min(Lb - d_min, d_max - Lb) is
-      // needed only as the smallest over the legs (below), and its tests
-      // against 0 and +-tol follow from these squares outside the singular
-      // zone |margin| <= tol + band, which goes to the reference.
-      const V X = hn::MulAdd(in, in, v2), Y = hn::MulAdd(out, out, v2);
-      const V below = Lb2 - X, above = Y - Lb2;  // both >= 0 where the leg reaches
-      const M zone = hn::Min(hn::Abs(below), hn::Abs(above)) <= zone_half_width;
-      largest_X = hn::Max(largest_X, X);
-      smallest_Y = hn::Min(smallest_Y, Y);
-      // solve_leg. Its discriminant A^2 + B^2 - C^2 = (Lb^2 - d_min^2)(d_max^2 - Lb^2)
-      // without rho (whose square root it need not wait for), and from it
-      // whether the leg reaches: outside the zone, which goes to the
-      // reference, its rounding cannot change the sign.
+      const V v = hn::MulAdd(hn::Set(d, v_slope[i]), along, hn::Set(d, v_offset[i]));
+      const V rho2 = hn::MulAdd(u, u, w2);
       A[i] = hn::Set(d, 2.0 * m.La) * u;
-      C[i] = rho2 + v2 + hn::Set(d, m.La * m.La - m.Lb * m.Lb);
-      const V disc = hn::MulSub(hn::Set(d, 4.0 * m.La * m.La), rho2, C[i] * C[i]);
+      C[i] = hn::MulAdd(v, v, rho2 + hn::Set(d, m.La * m.La - m.Lb * m.Lb));
+      norm[i] = hn::Set(d, 4.0 * m.La * m.La) * rho2;
+      // With S = 2 La rho, d_min^2 = (rho - La)^2 + v^2 = Lb^2 + C - S and
+      // d_max^2 = Lb^2 + C + S. The leg's margin min(Lb - d_min, d_max - Lb)
+      // is needed only as the smallest over the legs (below), and its tests
+      // against 0 and +-tol follow from Lb^2 - d_min^2 = S - C and
+      // d_max^2 - Lb^2 = S + C outside the singular zone |margin| <= tol + band
+      // (where the smaller of the two, |S - |C||, is small), which goes to the
+      // reference.
+      const V S = hn::Sqrt(norm[i]);
+      const M zone = hn::Abs(S - hn::Abs(C[i])) <= zone_half_width;
+      largest_X_excess = hn::Max(largest_X_excess, C[i] - S);
+      smallest_Y_excess = hn::Min(smallest_Y_excess, C[i] + S);
+      // solve_leg. Its discriminant A^2 + B^2 - C^2 = (S - C)(S + C) without
+      // S (whose square root it need not wait for), and from it whether the
+      // leg reaches: outside the zone, which goes to the reference, its
+      // rounding cannot change the sign.
+      const V disc = hn::NegMulAdd(C[i], C[i], norm[i]);
       leg_unreachable[i] = disc < zero;
       // q's direction without its half-angle: A cos q + B sin q = C has
       // (cos q, sin q) (A^2 + B^2) = (A C - sigma B root, B C + sigma A root),
@@ -228,6 +230,7 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
     // min over the legs of min(Lb - d_min, d_max - Lb), from the largest
     // d_min and the smallest d_max (sqrt is monotonic, so these are the bits
     // of the smallest of the six differences).
+    const V largest_X = hn::Max(zero, Lb2 + largest_X_excess), smallest_Y = Lb2 + smallest_Y_excess;
     const V geometric = hn::Min(Lb - hn::Sqrt(largest_X), hn::Sqrt(smallest_Y) - Lb);
     // The margin min(geometric, -La theta), theta the largest excess's angle,
     // needs theta only where theta > alpha = -geometric / La. theta <= alpha
@@ -248,9 +251,6 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
     if (!hn::AllFalse(d, solved)) {
       // cos q_i and sin q_i are (qc, qs) / norm_i, norm_i = A_i^2 + B^2, the
       // three 1 / norm_i from one division.
-      V norm[kLegCount];
-      const V B2 = B * B;
-      for (int i = 0; i < kLegCount; ++i) norm[i] = hn::MulAdd(A[i], A[i], B2);
       const V norm01 = norm[0] * norm[1], inv_all = one / (norm01 * norm[2]);
       const V inv_norm[kLegCount] = {norm[1] * norm[2] * inv_all, norm[0] * norm[2] * inv_all, norm01 * inv_all};
       // The closure error | |s_i| - Lb | as | |s_i|^2 - Lb^2 | / (2 Lb), the same
