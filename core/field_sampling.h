@@ -83,14 +83,20 @@ struct FieldRowOut {
   }
 };
 
+// Samples in a chunk of rows (below): the per-point kernels' chunks keep
+// cancelling and progress prompt at up to tens of microseconds a sample; the
+// vector kernels' (nanoseconds a sample) amortise each chunk's fixed cost,
+// above all the fence after their streaming stores (docs/performance.md).
+inline constexpr std::int64_t kChunkSamples = 512, kVectorChunkSamples = 4096;
+
 // Sizes f's arrays to f.grid (cond_orientation only if with_orientation) and
 // calls sample_row(const GridRow&, const FieldRowOut&) once for every grid
 // row, which must fill all the row's samples. Rows go to the threads in
-// chunks of about 512 samples (at least one row); the cancel flag is checked
-// before each chunk. Returns false if cancelled.
+// chunks of about chunk_samples samples (at least one row); the cancel flag
+// is checked before each chunk. Returns false if cancelled.
 template <class SampleRow>
 bool fill_field_rows(Field& f, bool with_orientation, int threads, const FieldProgress& progress,
-                     SampleRow&& sample_row) {
+                     SampleRow&& sample_row, std::int64_t chunk_samples = kChunkSamples) {
   const Grid& g = f.grid;
   const std::size_t n = g.size();
   f.cond.resize(n);
@@ -105,8 +111,7 @@ bool fill_field_rows(Field& f, bool with_orientation, int threads, const FieldPr
   const int axis = g.dims[0] > 1 ? 0 : g.dims[1] > 1 ? 1 : 2;
   const std::int64_t row_length = g.dims[axis];
   const std::int64_t rows = std::int64_t(n) / row_length;
-  constexpr std::int64_t kChunkSamples = 512;
-  const std::int64_t rows_per_chunk = std::max<std::int64_t>(1, kChunkSamples / row_length);
+  const std::int64_t rows_per_chunk = std::max<std::int64_t>(1, chunk_samples / row_length);
   const std::int64_t chunks = (rows + rows_per_chunk - 1) / rows_per_chunk;
   const std::int64_t report_every = std::max<std::int64_t>(1, chunks / 200);
   std::atomic<std::int64_t> chunks_done{0};

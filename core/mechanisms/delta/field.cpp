@@ -74,7 +74,7 @@ std::optional<Field> compute_field(const Model& m, const FieldRequest& req, cons
           return;
         }
         for (int t = 0; t < row.count; ++t) out.store(t, sample_point(m, row.point(g, t), req));
-      });
+      }, fast ? detail::kVectorChunkSamples : detail::kChunkSamples);
   if (!complete) return std::nullopt;
   return f;
 }

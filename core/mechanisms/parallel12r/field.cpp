@@ -250,7 +250,7 @@ std::optional<Field> compute_field(const Model& m, const FieldRequest& req, cons
         } else {
           planar::sample_row_vector(unit, req.branch, check_limits, g, row, 0, n, false, out);
         }
-      });
+      }, kernel != PlanarKernel::Scalar ? detail::kVectorChunkSamples : detail::kChunkSamples);
   if (!complete) return std::nullopt;
   return f;
 }

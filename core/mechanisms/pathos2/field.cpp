@@ -193,7 +193,7 @@ std::optional<Field> compute_field(const Model& model, const FieldRequest& req, 
     complete = detail::fill_field_rows(f, true, req.threads, progress,
                                        [&](const detail::GridRow& row, const detail::FieldRowOut& out) {
                                          sample_row_vector(g, setup, oriented, offsets, req.grid, row, out);
-                                       });
+                                       }, detail::kVectorChunkSamples);
   }
   if (!complete) return std::nullopt;
   return f;
