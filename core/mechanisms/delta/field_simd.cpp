@@ -219,13 +219,12 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
       excess_c = hn::MulAdd(rc, cw, rs * sw);
       excess_s = hn::MulSub(rs, cw, rc * sw);
     }
-    // Whether the largest excess is within 1e-12 rad of 0, a range end (the
-    // sine of the direction's angle, bounded by |es| / (|ec| + |es|), with
-    // room for rounding), at +-pi or not a number: there the reference decides.
+    // Whether the largest excess is within 1e-12 rad of 0 (a range end) or of
+    // +-pi (the sine of the direction's angle, bounded by |es| / (|ec| + |es|),
+    // with room for rounding), or not a number: there the reference decides.
     // Elsewhere its sign is that of es (the sign of atan2(es, ec)), and the
     // other legs' excesses, smaller, decide neither the status nor the margin.
-    to_scalar = hn::Or(to_scalar, hn::Or(hn::And(excess_c > zero, hn::Abs(excess_s) <= hn::Set(d, 2e-12) * (hn::Abs(excess_c) + hn::Abs(excess_s))),
-                                         hn::Or(excess_s == zero, hn::Or(hn::IsNaN(excess_c), hn::IsNaN(excess_s)))));
+    to_scalar = hn::Or(to_scalar, hn::Not(hn::Abs(excess_s) > hn::Set(d, 2e-12) * (hn::Abs(excess_c) + hn::Abs(excess_s))));
     const M outside_range = excess_s > zero;
     // min over the legs of min(Lb - d_min, d_max - Lb), from the largest
     // d_min and the smallest d_max (sqrt is monotonic, so these are the bits
