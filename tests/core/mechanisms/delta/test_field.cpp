@@ -251,6 +251,27 @@ std::vector<Case> cases() {
     r.grid = row_through(Vector3d((m.R - m.r) + reach * std::cos(a), 0.0, reach * std::sin(a)), 0, 0.3 * tol, 41);
     out.push_back({"preset, folded leg " + std::to_string(k), m, r});
   }
+  // r = R and p = (0, 0, -La): every platform joint on its elbow's circle
+  // (d_min = 0 for every leg), with Lb < La and full ranges, so that the
+  // reach margin is Lb - d_min: d_min^2 must not come from a difference
+  // of terms of size La^2 (its rounding would put d_min at about
+  // sqrt(ulp) La).
+  for (double La : {4.3, 5.9, 7.1, 9.7, 11.3})
+    for (double ratio : {0.05, 0.1, 0.2}) {
+      Model at_joints;
+      at_joints.R = at_joints.r = 6.0;
+      at_joints.La = La;
+      at_joints.Lb = ratio * La;
+      at_joints.q_limits.fill({-std::numbers::pi, std::numbers::pi});
+      FieldRequest rj;
+      for (int axis : {0, 1, 2})
+        for (double step : {1e-7, 1e-13}) {
+          rj.grid = row_through(Vector3d(0.0, 0.0, -La), axis, step * at_joints.size(), 41);
+          out.push_back({"elbows at the joints, La " + std::to_string(La) + ", Lb / La " + std::to_string(ratio) +
+                             ", axis " + std::to_string(axis) + ", step " + std::to_string(step),
+                         at_joints, rj});
+        }
+    }
   return out;
 }
 
