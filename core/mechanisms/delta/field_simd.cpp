@@ -130,8 +130,8 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
     // Not a number, infinite or too large: the reference decides.
     M to_scalar = hn::Not(hn::And(hn::Abs(along) <= hn::Set(d, kLargest), hn::Set(d, row_scaled ? 1.0 : 0.0) > zero));
     M unreachable = hn::FirstN(d, 0);
-    // The largest d_min^2 - Lb^2 and the smallest d_max^2 - Lb^2 over the legs.
-    V largest_X_excess = hn::Neg(inf), smallest_Y_excess = inf;
+    // The largest d_min^2 and the smallest d_max^2 - Lb^2 over the legs.
+    V largest_X = zero, smallest_Y_excess = inf;
     // Per leg: the direction (qc, qs) of its angle q (the angle of closest
     // approach where it does not reach) and whether it reaches.
     V qc[kLegCount], qs[kLegCount];
@@ -149,7 +149,10 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
       C[i] = hn::MulAdd(v, v, rho2 + hn::Set(d, m.La * m.La - m.Lb * m.Lb));
       norm[i] = hn::Set(d, 4.0 * m.La * m.La) * rho2;
       // With S = 2 La rho, d_min^2 = (rho - La)^2 + v^2 = Lb^2 + C - S and
-      // d_max^2 = Lb^2 + C + S. The leg's margin min(Lb - d_min, d_max - Lb)
+      // d_max^2 = Lb^2 + C + S. d_min^2 is taken as (rho - La)^2 + v^2: from
+      // C - S, terms of size La^2 whose difference can be about -Lb^2, its
+      // rounding would put a d_min of 0 at about sqrt(ulp) La. The leg's
+      // margin min(Lb - d_min, d_max - Lb)
       // is needed only as the smallest over the legs (below), and its tests
       // against 0 and +-tol follow from Lb^2 - d_min^2 = S - C and
       // d_max^2 - Lb^2 = S + C outside the singular zone |margin| <= tol + band
@@ -157,7 +160,8 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
       // reference.
       const V S = hn::Sqrt(norm[i]);
       const M zone = hn::Abs(S - hn::Abs(C[i])) <= zone_half_width;
-      largest_X_excess = hn::Max(largest_X_excess, C[i] - S);
+      const V in = hn::MulSub(S, hn::Set(d, 0.5 / m.La), La);  // rho - La
+      largest_X = hn::Max(largest_X, hn::MulAdd(in, in, v * v));
       smallest_Y_excess = hn::Min(smallest_Y_excess, C[i] + S);
       // solve_leg. Its discriminant A^2 + B^2 - C^2 = (S - C)(S + C) without
       // S (whose square root it need not wait for), and from it whether the
@@ -229,7 +233,7 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
     // min over the legs of min(Lb - d_min, d_max - Lb), from the largest
     // d_min and the smallest d_max (sqrt is monotonic, so these are the bits
     // of the smallest of the six differences).
-    const V largest_X = hn::Max(zero, Lb2 + largest_X_excess), smallest_Y = Lb2 + smallest_Y_excess;
+    const V smallest_Y = Lb2 + smallest_Y_excess;
     const V geometric = hn::Min(Lb - hn::Sqrt(largest_X), hn::Sqrt(smallest_Y) - Lb);
     // The margin min(geometric, -La theta), theta the largest excess's angle,
     // needs theta only where theta > alpha = -geometric / La. theta <= alpha
