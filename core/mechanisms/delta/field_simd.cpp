@@ -37,10 +37,12 @@
 // (tests/core/mechanisms/delta/test_field.cpp states the tolerance).
 // Every lane whose status could hang on those bits -- a leg margin within
 // the singular tolerance and a band around it, an angle within 1e-12 rad of a
-// range end, a residual near the IK tolerance, a J^-1 row near zero, a
+// range end (wider near a leg's serial singular surface, where the angle is
+// ill-conditioned), a residual near the IK tolerance, a J^-1 row near zero, a
 // circumcircle near the type II test, a non-finite coordinate or a J far from
 // unit scale -- is recomputed by the reference, so the statuses are the
-// reference's exactly.
+// reference's exactly. The reach margin's range term La theta carries the
+// same conditioning near such a surface, in the reference as here.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "core/mechanisms/delta/field_simd.cpp"
 #include <hwy/foreach_target.h>  // must come before highway.h
@@ -118,6 +120,9 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
   // the three norms' product could leave double's range).
   const double kLargest = 0x1p70;
   const V tiny_rho2 = hn::Set(d, 0x1p-300 / (4.0 * m.La * m.La));
+  // The range hand-off's bound on C + |p|^2 + R^2 + 2 Lb^2 is 3 C + extent
+  // (below), from |p|^2 <= 2 (C - La^2 + Lb^2) + 2 (R - r)^2.
+  const double extent = 2.0 * (m.Lb * m.Lb - m.La * m.La) + 2.0 * (m.R - m.r) * (m.R - m.r) + m.R * m.R + 2.0 * m.Lb * m.Lb;
   // La at least 2^-50 keeps J within UnitRange (SampleRow).
   const bool row_scaled = std::max({std::abs(p0.x()), std::abs(p0.y()), std::abs(p0.z()), m.R, m.La, m.Lb}) <= kLargest &&
                           m.La >= kSmallestLa;
@@ -135,6 +140,9 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
     // Per leg: the direction (qc, qs) of its angle q (the angle of closest
     // approach where it does not reach) and whether it reaches.
     V qc[kLegCount], qs[kLegCount];
+    // The smallest root and the largest C over the legs (for the range
+    // hand-off below).
+    V smallest_root = inf, largest_C = hn::Neg(inf);
     // Each leg's closure A cos q + B sin q = C; B = -2 La w, w = z for every leg.
     V A[kLegCount], C[kLegCount], norm[kLegCount];  // norm = A^2 + B^2
     const V B = hn::Set(d, -2.0 * m.La) * z, w2 = z * z;
@@ -176,11 +184,13 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
       // wherever A^2 + B^2 is not tiny (below). Where the leg does not reach,
       // root = 0 leaves C (A, B): the angle of closest approach, turned by pi
       // where C < 0 (too near, d_max < Lb), as solve_leg's.
+      largest_C = hn::Max(largest_C, C[i]);
       if (hn::AllTrue(d, leg_unreachable[i])) {
         qc[i] = A[i] * C[i];
         qs[i] = B * C[i];
       } else {
         const V root = hn::Sqrt(hn::Max(zero, disc));
+        smallest_root = hn::Min(smallest_root, root);
         const V sigma_root = (s.branch >> i) & 1 ? root : hn::Neg(root);
         qc[i] = hn::MulSub(A[i], C[i], B * sigma_root);
         qs[i] = hn::MulAdd(A[i], sigma_root, B * C[i]);
@@ -228,7 +238,9 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
     // with room for rounding), or not a number: there the reference decides.
     // Elsewhere its sign is that of es (the sign of atan2(es, ec)), and the
     // other legs' excesses, smaller, decide neither the status nor the margin.
-    to_scalar = hn::Or(to_scalar, hn::Not(hn::Abs(excess_s) > hn::Set(d, 2e-12) * (hn::Abs(excess_c) + hn::Abs(excess_s))));
+    const V excess_norm = hn::Abs(excess_c) + hn::Abs(excess_s);
+    const V beyond_band = hn::NegMulAdd(hn::Set(d, 2e-12), excess_norm, hn::Abs(excess_s));
+    to_scalar = hn::Or(to_scalar, hn::Not(beyond_band > zero));
     const M outside_range = excess_s > zero;
     // min over the legs of min(Lb - d_min, d_max - Lb), from the largest
     // d_min and the smallest d_max (sqrt is monotonic, so these are the bits
@@ -252,6 +264,18 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
     V residual = inf;
     M wants_cond = hn::FirstN(d, 0);
     if (!hn::AllFalse(d, solved)) {
+      // Near a leg's serial singular surface its angle is ill-conditioned: it
+      // moves by about 1 / root per unit of C, so the rounding of C and of the
+      // root's argument (some ulps of C + |p|^2 + R^2 + 2 Lb^2) moves it, in the
+      // reference as here, by up to 16 u (that) / root, more than the band
+      // above just outside the singular zone. Where every leg reaches, a
+      // largest excess within that of 0 for the worst-conditioned leg goes to
+      // the reference too (the smallest root and largest C over the legs bound
+      // every leg's; |p|^2 <= 2 |p - a_i|^2 + 2 |a_i|^2 bounds |p|^2 by C:
+      // C + |p|^2 + R^2 + 2 Lb^2 <= 3 C + extent).
+      const V ill_scale = hn::MulAdd(hn::Set(d, 3.0), largest_C, hn::Set(d, extent));
+      const M ill_conditioned = beyond_band * smallest_root <= hn::Set(d, 16 * 0x1p-53) * excess_norm * ill_scale;
+      to_scalar = hn::Or(to_scalar, hn::And(solved, ill_conditioned));
       // cos q_i and sin q_i are (qc, qs) / norm_i, norm_i = A_i^2 + B^2, the
       // three 1 / norm_i from one division.
       const V norm01 = norm[0] * norm[1], inv_all = one / (norm01 * norm[2]);
