@@ -92,7 +92,7 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
   // Where the reference decides: a leg margin within tol + 1e-12 size of 0
   // (its singular tolerance and the band around it; d^2 - Lb^2 is about
   // 2 Lb (d - Lb) there), an angle within 1e-12 rad of a range end.
-  const V Lb2 = hn::Set(d, m.Lb * m.Lb), zone_half_width = hn::Set(d, 2.0 * m.Lb * (tol + 1e-12 * size) * 1.01);
+  const V zone_half_width = hn::Set(d, 2.0 * m.Lb * (tol + 1e-12 * size) * 1.01);
   // The closure error is rounding (1e-15 of the size) that differs from the
   // reference's: within 1e-13 of the size of the IK tolerance (or of the
   // Jacobian's closure check, 1e-6) the reference decides.
@@ -135,8 +135,8 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
     // Not a number, infinite or too large: the reference decides.
     M to_scalar = hn::Not(hn::And(hn::Abs(along) <= hn::Set(d, kLargest), hn::Set(d, row_scaled ? 1.0 : 0.0) > zero));
     M unreachable = hn::FirstN(d, 0);
-    // The largest d_min^2 and the smallest d_max^2 - Lb^2 over the legs.
-    V largest_X = zero, smallest_Y_excess = inf;
+    // The largest d_min^2 and the smallest d_max^2 over the legs.
+    V largest_X = zero, smallest_Y = inf;
     // Per leg: the direction (qc, qs) of its angle q (the angle of closest
     // approach where it does not reach) and whether it reaches.
     V qc[kLegCount], qs[kLegCount];
@@ -156,21 +156,20 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
       A[i] = hn::Set(d, 2.0 * m.La) * u;
       C[i] = hn::MulAdd(v, v, rho2 + hn::Set(d, m.La * m.La - m.Lb * m.Lb));
       norm[i] = hn::Set(d, 4.0 * m.La * m.La) * rho2;
-      // With S = 2 La rho, d_min^2 = (rho - La)^2 + v^2 = Lb^2 + C - S and
-      // d_max^2 = Lb^2 + C + S. d_min^2 is taken as (rho - La)^2 + v^2: from
-      // C - S, terms of size La^2 whose difference can be about -Lb^2, its
-      // rounding would put a d_min of 0 at about sqrt(ulp) La. The leg's
-      // margin min(Lb - d_min, d_max - Lb)
-      // is needed only as the smallest over the legs (below), and its tests
-      // against 0 and +-tol follow from Lb^2 - d_min^2 = S - C and
-      // d_max^2 - Lb^2 = S + C outside the singular zone |margin| <= tol + band
-      // (where the smaller of the two, |S - |C||, is small), which goes to the
-      // reference.
+      // d_min^2 = (rho - La)^2 + v^2 and d_max^2 = (rho + La)^2 + v^2, rho from
+      // S = 2 La rho = sqrt(A^2 + B^2). The leg's margin min(Lb - d_min,
+      // d_max - Lb) is needed only as the smallest over the legs (below). Its
+      // tests against 0 and +-tol follow from Lb^2 - d_min^2 = S - C and
+      // d_max^2 - Lb^2 = S + C outside the singular zone |margin| <= tol +
+      // band (where the smaller of the two, |S - |C||, is small), which goes
+      // to the reference. (d_min^2 as Lb^2 + C - S would cancel: terms of
+      // size La^2 whose difference can be about -Lb^2.)
       const V S = hn::Sqrt(norm[i]);
       const M zone = hn::Abs(S - hn::Abs(C[i])) <= zone_half_width;
-      const V in = hn::MulSub(S, hn::Set(d, 0.5 / m.La), La);  // rho - La
-      largest_X = hn::Max(largest_X, hn::MulAdd(in, in, v * v));
-      smallest_Y_excess = hn::Min(smallest_Y_excess, C[i] + S);
+      const V rho = S * hn::Set(d, 0.5 / m.La), v2 = v * v;
+      largest_X = hn::Max(largest_X, hn::MulAdd(rho - La, rho - La, v2));
+      smallest_Y = hn::Min(smallest_Y, hn::MulAdd(rho + La, rho + La, v2));
+      largest_C = hn::Max(largest_C, C[i]);
       // solve_leg. Its discriminant A^2 + B^2 - C^2 = (S - C)(S + C) without
       // S (whose square root it need not wait for), and from it whether the
       // leg reaches: outside the zone, which goes to the reference, its
@@ -184,7 +183,6 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
       // wherever A^2 + B^2 is not tiny (below). Where the leg does not reach,
       // root = 0 leaves C (A, B): the angle of closest approach, turned by pi
       // where C < 0 (too near, d_max < Lb), as solve_leg's.
-      largest_C = hn::Max(largest_C, C[i]);
       if (hn::AllTrue(d, leg_unreachable[i])) {
         qc[i] = A[i] * C[i];
         qs[i] = B * C[i];
@@ -245,7 +243,6 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
     // min over the legs of min(Lb - d_min, d_max - Lb), from the largest
     // d_min and the smallest d_max (sqrt is monotonic, so these are the bits
     // of the smallest of the six differences).
-    const V smallest_Y = Lb2 + smallest_Y_excess;
     const V geometric = hn::Min(Lb - hn::Sqrt(largest_X), hn::Sqrt(smallest_Y) - Lb);
     // The margin min(geometric, -La theta), theta the largest excess's angle,
     // needs theta only where theta > alpha = -geometric / La. theta <= alpha
