@@ -247,6 +247,9 @@ void open_file_argument(const CLI::App& app, WindowOptions& window) {
 
 // Bad files and parameters are input errors (exit 2), with a display or without.
 void check_window_inputs(const WindowOptions& window) {
+  for (const auto& [option, path] : {std::pair{"--view-image", window.view_image}, {"--screenshot", window.screenshot}})
+    if (!path.empty() && std::filesystem::path(path).extension() != ".png")
+      throw std::invalid_argument(std::string(option) + " writes PNG: the file must end in .png, got '" + path + "'");
   if (!window.session.empty()) {
     load_session(window.session);
     return;
