@@ -27,17 +27,21 @@ TEST(CliHardening, OutputLostToAFullDeviceOrAClosedStdoutIsAnError) {
   EXPECT_EQ(ok.exit_code, 0) << ok.out;
 }
 
-// On a full disk every format of every writing command fails with exit 1 and
-// the reason, and the file that was there stays whole (PDF/SVG figures and
-// PLY/OBJ/OFF meshes used to come out truncated with exit 0 and "wrote").
+// On a nearly full disk every format of every writing command fails with
+// exit 1 and the reason, and the file that was there stays whole (PDF/SVG
+// figures and PLY/OBJ/OFF meshes used to come out cut at the room left, with
+// exit 0 and "wrote").
 TEST(CliHardening, AFullDiskFailsEveryFormatAndKeepsThePreviousFile) {
   FullDisk disk("cli");
   if (!disk.why_not().empty()) GTEST_SKIP() << disk.why_not();
-  const fs::path in = temp_file("hard_targets.csv", kTargets);
+  std::string targets = "x,y,z\n";
+  for (int k = 0; k < 300; ++k) targets += std::to_string(k % 20 - 10) + ",15," + std::to_string(k % 7) + "\n";
+  const fs::path in = temp_file("hard_many_targets.csv", targets);
+  // Every output is larger than the 16 KiB left.
   const std::vector<std::pair<std::string, std::string>> commands = {
       {"slice --size 96x96 --figure -o ", "figure.pdf"},  {"slice --size 96x96 --figure -o ", "figure.svg"},
-      {"slice --size 96x96 --figure -o ", "figure.png"},  {"slice --size 96x96 -o ", "slice.png"},
-      {"slice --size 96x96 -o ", "slice.csv"},            {"field --resolution 12 -o ", "field.vti"},
+      {"slice --size 96x96 --figure -o ", "figure.png"},  {"slice --size 192x192 -o ", "slice.png"},
+      {"slice --size 96x96 -o ", "slice.csv"},            {"field --resolution 24 -o ", "field.vti"},
       {"mesh --resolution 24 -o ", "mesh.ply"},            {"mesh --resolution 24 -o ", "mesh.obj"},
       {"mesh --resolution 24 -o ", "mesh.off"},            {"mesh --resolution 24 -o ", "mesh.stl"},
       {"mesh --resolution 24 -o ", "mesh.vtp"},            {"eval --ik " + in.string() + " -o ", "eval.csv"}};
@@ -46,8 +50,8 @@ TEST(CliHardening, AFullDiskFailsEveryFormatAndKeepsThePreviousFile) {
     std::ofstream(disk.folder() / name) << "old " << name;
     names.insert(name);
   }
-  disk.fill();
   for (const auto& [command, name] : commands) {
+    disk.fill(16 * 1024);
     const fs::path out = disk.folder() / name;
     const auto r = run_linkscape(command + out.string());
     EXPECT_EQ(r.exit_code, 1) << command << name << ": " << r.out;
