@@ -522,7 +522,7 @@ render::SurfaceRequest parse_surface(const std::string& text, const MechanismInf
   } catch (const std::invalid_argument&) {
     throw std::invalid_argument("--surface expects reach, cond<T with T > 1 (e.g. cond<3) or a haptic criterion "
                                 "(force_iso>F, force_max>F in N, resolution<R in mm, inertia<M in kg) for " +
-                                info.name + ", got '" + text + "'");
+                                info.name + ", got '" + text + "'" + task::quoting_hint(text));
   }
   if (c.measure == "cond") {
     r.surface = render::Surface::WellConditioned;

@@ -108,6 +108,19 @@ TEST(CliHardening, WindowFilesOfTheWrongKindAreRefusedBeforeAnyWindow) {
   }
 }
 
+// `mesh --surface cond>3` unquoted: the shell writes to a file "3" and the
+// program sees "cond"; the error says to quote.
+TEST(CliHardening, AComparisonTheShellTookAsARedirectionIsExplained) {
+  const fs::path dir = fs::temp_directory_path() / "linkscape_cli_tests";
+  fs::create_directories(dir);
+  for (const std::string& args : {std::string("mesh --resolution 8 --surface cond -o ") + (dir / "m.stl").string(),
+                                  std::string("fit --task sphere:diameter=15 --criterion cond")}) {
+    const auto r = run_linkscape(args);
+    EXPECT_EQ(r.exit_code, 2) << r.out;
+    EXPECT_TRUE(contains(r.out, "quote it, 'cond<3'")) << r.out;
+  }
+}
+
 TEST(CliHardening, OptionsBeforeTheCommandAreRefusedNotIgnored) {
   const fs::path in = temp_file("hard_targets.csv", kTargets);
   for (const std::string& before : std::vector<std::string>{"--param L1=12", "--mechanism pathos2", "--mechanism foo", "--size 800x600"}) {
