@@ -133,9 +133,10 @@ Vector6d closure_error(const Chain& c, const Isometry3d& anchor, double size) {
 }
 
 // Keeps the rows the device closes (planar: rz, x, y).
-// Closure rows: at most six, kept on the stack.
+// Closure rows: at most six, kept on the stack; a leg's columns (its joint
+// variables, as many as the file gives) on the heap.
 using Rows = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
-using LegMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 48>;
+using LegMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, Eigen::Dynamic>;
 
 Rows rows_of(const Vector6d& v, bool planar) {
   if (!planar) return v;
