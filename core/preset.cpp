@@ -86,7 +86,8 @@ fs::path resolve_preset(const std::string& name_or_path) {
 
 // "actuator_data": {"source": text, "all": rating, "<actuator>": rating}, a
 // rating being {"peak_torque_Nm", "continuous_torque_Nm",
-// "encoder_counts_per_rev", "rotor_inertia_kgm2"}, each a positive number.
+// "encoder_counts_per_rev", "rotor_inertia_kgm2", "lead_m_per_rev"}, each a
+// positive number.
 // Actuator names are checked against the device in core/haptics.cpp.
 ActuatorDataSpec parse_actuator_data(const nlohmann::json& doc) {
   if (!doc.is_object()) throw std::invalid_argument("actuator_data must be an object");
@@ -105,11 +106,12 @@ ActuatorDataSpec parse_actuator_data(const nlohmann::json& doc) {
                                      : name == "continuous_torque_Nm"   ? &r.continuous_torque_Nm
                                      : name == "encoder_counts_per_rev" ? &r.encoder_counts_per_rev
                                      : name == "rotor_inertia_kgm2"     ? &r.rotor_inertia_kgm2
+                                     : name == "lead_m_per_rev"         ? &r.lead_m_per_rev
                                                                         : nullptr;
       if (!field)
         throw std::invalid_argument("unknown key " + where + "." + name +
                                     " (known: peak_torque_Nm, continuous_torque_Nm, encoder_counts_per_rev, "
-                                    "rotor_inertia_kgm2)");
+                                    "rotor_inertia_kgm2, lead_m_per_rev)");
       const double v = number.get<double>();
       if (!std::isfinite(v) || !(v > 0))
         throw std::invalid_argument(where + "." + name + " must be a positive finite number, got " + number.dump());
