@@ -27,8 +27,9 @@
 // and cond(Jo) are themselves accurate to about 4 u kappa (u = 2^-53), and
 // this kernel's too, so the two agree to 1e-12 relative plus 16 u kappa,
 // plus where two singular values of a block nearly coincide 64 u (s_i^2 +
-// s_j^2) / (s_i^2 - s_j^2) (the closed form's arccosine and quadratic are
-// flat there), capped at 1e-7 (tests/core/mechanisms/pathos2/test_field_simd.cpp).
+// s_j^2) / (s_i^2 - s_j^2), capped at 1e-7: there the trigonometric root
+// taken here loses up to ~sqrt(u) (the reference deflates instead, pathos2.cpp),
+// far below the float the field stores (tests/core/mechanisms/pathos2/test_field_simd.cpp).
 // Every lane whose status could hang on last bits -- kappa within a factor 2
 // of kMaxJacobianCondition or not finite, a non-finite M or one with its
 // largest entry outside 2^+-100, a non-finite coordinate, and a leg whose

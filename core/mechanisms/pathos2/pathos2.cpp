@@ -395,32 +395,16 @@ PoseIkResult inverse(const Model& model, const Pose& pose) {
 
 namespace {
 
-// Largest eigenvalue of a symmetric 3x3 S, within a few u |S|. S = q I + p B
-// with eig(B) = 2 cos(phi + 2 pi k / 3), phi = acos(det(B) / 2) / 3 in
-// [0, pi / 3]. The largest (k = 0) is flat in det B except where it meets
-// the middle one (phi -> pi / 3): there acos's slope turns the ulps of det B
-// into ~sqrt(u) (3e-9 at the centred level poses, where the two horizontal
-// singular values of a block coincide by symmetry). There the smallest
-// (k = 1) is the flat one and well apart from the others: the two largest
-// are those of S on the plane orthogonal to its eigenvector, a 2x2 whose
-// largest, mean + hypot, forms no cancellation.
-double largest_eigenvalue(const Matrix3d& S) {
-  const double q = S.trace() / 3.0;
-  const double off = S(0, 1) * S(0, 1) + S(0, 2) * S(0, 2) + S(1, 2) * S(1, 2);
-  const double d0 = S(0, 0) - q, d1 = S(1, 1) - q, d2 = S(2, 2) - q;
-  const double p = std::sqrt((d0 * d0 + d1 * d1 + d2 * d2 + 2.0 * off) / 6.0);
-  if (p == 0.0) return q;
-  const double r = std::clamp(((S - q * Matrix3d::Identity()) / p).determinant() / 2.0, -1.0, 1.0);
-  const double phi = std::acos(r) / 3.0;
-  const double largest = q + 2.0 * p * std::cos(phi);
-  // Beyond 0.02 from pi / 3 the root is within ~0.2 p |d det B| / 0.02 ~ 5e-15 p.
-  if (phi < kPi / 3.0 - 0.02) return largest;
-  const Matrix3d N = S - (q + 2.0 * p * std::cos(phi + 2.0 * kPi / 3.0)) * Matrix3d::Identity();
+// The largest eigenvalue of a symmetric 3x3 S whose two largest nearly meet,
+// given the smallest: those two are the eigenvalues of S on the plane
+// orthogonal to the smallest's eigenvector, a 2x2 whose largest, mean +
+// hypot, forms no cancellation. Apart from the cases of largest_eigenvalue.
+[[gnu::noinline]] double largest_of_a_close_pair(const Matrix3d& S, double smallest) {
+  const Matrix3d N = S - smallest * Matrix3d::Identity();
   // N's null vector, the smallest's eigenvector: the longest cross product of two rows.
   Vector3d v = N.row(0).cross(N.row(1));
   for (const Vector3d& w : {Vector3d(N.row(0).cross(N.row(2))), Vector3d(N.row(1).cross(N.row(2)))})
     if (w.squaredNorm() > v.squaredNorm()) v = w;
-  if (!(v.squaredNorm() > 0.0)) return largest;  // p at rounding level: S ~ q I
   v.normalize();
   int least;
   v.cwiseAbs().minCoeff(&least);
@@ -429,20 +413,47 @@ double largest_eigenvalue(const Matrix3d& S) {
   return 0.5 * (c11 + c22) + std::hypot(0.5 * (c11 - c22), c12);
 }
 
+// Largest eigenvalue of a symmetric 3x3 S, within a few u |S|. S = q I + p B
+// with eig(B) = 2 cos(phi + 2 pi k / 3), phi = acos(det(B) / 2) / 3 in
+// [0, pi / 3]. The largest (k = 0) is flat in det B except where it meets
+// the middle one (phi -> pi / 3): there acos's slope turns the ulps of det B
+// into ~sqrt(u) (3e-9 at the centred level poses, where the two horizontal
+// singular values of a block coincide by symmetry). There the smallest
+// (k = 1) is the flat one, and well apart from the other two.
+double largest_eigenvalue(const Matrix3d& S) {
+  const double q = S.trace() / 3.0;
+  const double off = S(0, 1) * S(0, 1) + S(0, 2) * S(0, 2) + S(1, 2) * S(1, 2);
+  const double d0 = S(0, 0) - q, d1 = S(1, 1) - q, d2 = S(2, 2) - q;
+  const double p = std::sqrt((d0 * d0 + d1 * d1 + d2 * d2 + 2.0 * off) / 6.0);
+  if (p == 0.0) return q;
+  const double r = std::clamp(((S - q * Matrix3d::Identity()) / p).determinant() / 2.0, -1.0, 1.0);
+  const double phi = std::acos(r) / 3.0;
+  // Beyond 0.02 from pi / 3 the root is within ~0.2 p |d det B| / 0.02 ~ 5e-15 p;
+  // with p at rounding level (S ~ q I) any answer within p will do.
+  if (phi < kPi / 3.0 - 0.02 || p < 0x1p-40 * std::abs(q)) return q + 2.0 * p * std::cos(phi);
+  return largest_of_a_close_pair(S, q + 2.0 * p * std::cos(phi + 2.0 * kPi / 3.0));
+}
+
 // c of a lower-triangular L = [a 0 0; b c 0; d e f] whose entries are within
 // ~1e+-70 of 1: sigma_max^2 is the largest eigenvalue of L L^T and
-// (sigma_max sigma_mid)^2 that of K^T K, K the cofactor matrix (det L L^-T,
-// triangular too), so c = sqrt(lambda_max(L L^T) lambda_max(K^T K)) / |acf|
-// with no determinant formed by cancellation: relative error ~u c.
+// (sigma_max sigma_mid)^2 that of K K^T, K = [cf -bf be-cd; 0 af -ae; 0 0 ac]
+// the cofactor matrix (det L L^-T), so c = sqrt(lambda_max(L L^T)
+// lambda_max(K K^T)) / |acf| with no determinant formed by cancellation:
+// relative error ~u c. Both products by hand, without L's and K's zeros.
 double triangle_condition_number(const Matrix3d& L) {
   const double a = L(0, 0), b = L(1, 0), c = L(1, 1), d = L(2, 0), e = L(2, 1), f = L(2, 2);
   const double det = a * c * f;
   if (det == 0.0 || !std::isfinite(det)) return kInf;
-  Matrix3d K;
-  K << c * f, -b * f, b * e - c * d,  //
-      0.0, a * f, -a * e,             //
-      0.0, 0.0, a * c;
-  return std::sqrt(largest_eigenvalue(L * L.transpose()) * largest_eigenvalue(K.transpose() * K)) / std::abs(det);
+  const double bd_ce = b * d + c * e, k02 = b * e - c * d, f2 = f * f;
+  Matrix3d LLt, KKt;
+  LLt << a * a, a * b, a * d,  //
+      a * b, b * b + c * c, bd_ce,  //
+      a * d, bd_ce, d * d + e * e + f2;
+  const double kk01 = -a * (b * f2 + e * k02), kk12 = -a * a * c * e, kk02 = a * c * k02;
+  KKt << (b * b + c * c) * f2 + k02 * k02, kk01, kk02,  //
+      kk01, a * a * (e * e + f2), kk12,  //
+      kk02, kk12, a * a * c * c;
+  return std::sqrt(largest_eigenvalue(LLt) * largest_eigenvalue(KKt)) / std::abs(det);
 }
 
 // c of a 6x3 matrix B (the transpose of a block of J) whose entries are
