@@ -395,12 +395,13 @@ PoseIkResult inverse(const Model& model, const Pose& pose) {
 
 namespace {
 
-// The largest eigenvalue of a symmetric 3x3 S whose two largest nearly meet,
-// given the smallest: those two are the eigenvalues of S on the plane
-// orthogonal to the smallest's eigenvector, a 2x2 whose largest, mean +
-// hypot, forms no cancellation. Apart from the cases of largest_eigenvalue.
-[[gnu::noinline]] double largest_of_a_close_pair(const Matrix3d& S, double smallest) {
-  const Matrix3d N = S - smallest * Matrix3d::Identity();
+// The largest eigenvalue of a symmetric 3x3 B (eigenvalues in [-2, 2])
+// whose two largest nearly meet, given the smallest: those two are the
+// eigenvalues of B on the plane orthogonal to the smallest's eigenvector, a
+// 2x2 whose largest, mean + hypot, forms no cancellation. The smallest is
+// about 3 below the others, so the cross products below are of order 1.
+[[gnu::noinline]] double largest_of_a_close_pair(const Matrix3d& B, double smallest) {
+  const Matrix3d N = B - smallest * Matrix3d::Identity();
   // N's null vector, the smallest's eigenvector: the longest cross product of two rows.
   Vector3d v = N.row(0).cross(N.row(1));
   for (const Vector3d& w : {Vector3d(N.row(0).cross(N.row(2))), Vector3d(N.row(1).cross(N.row(2)))})
@@ -409,7 +410,7 @@ namespace {
   int least;
   v.cwiseAbs().minCoeff(&least);
   const Vector3d e1 = v.cross(Vector3d::Unit(least)).normalized(), e2 = v.cross(e1);
-  const double c11 = e1.dot(S * e1), c22 = e2.dot(S * e2), c12 = e1.dot(S * e2);
+  const double c11 = e1.dot(B * e1), c22 = e2.dot(B * e2), c12 = e1.dot(B * e2);
   return 0.5 * (c11 + c22) + std::hypot(0.5 * (c11 - c22), c12);
 }
 
@@ -426,12 +427,11 @@ double largest_eigenvalue(const Matrix3d& S) {
   const double d0 = S(0, 0) - q, d1 = S(1, 1) - q, d2 = S(2, 2) - q;
   const double p = std::sqrt((d0 * d0 + d1 * d1 + d2 * d2 + 2.0 * off) / 6.0);
   if (p == 0.0) return q;
-  const double r = std::clamp(((S - q * Matrix3d::Identity()) / p).determinant() / 2.0, -1.0, 1.0);
-  const double phi = std::acos(r) / 3.0;
-  // Beyond 0.02 from pi / 3 the root is within ~0.2 p |d det B| / 0.02 ~ 5e-15 p;
-  // with p at rounding level (S ~ q I) any answer within p will do.
-  if (phi < kPi / 3.0 - 0.02 || p < 0x1p-40 * std::abs(q)) return q + 2.0 * p * std::cos(phi);
-  return largest_of_a_close_pair(S, q + 2.0 * p * std::cos(phi + 2.0 * kPi / 3.0));
+  const Matrix3d B = (S - q * Matrix3d::Identity()) / p;
+  const double phi = std::acos(std::clamp(B.determinant() / 2.0, -1.0, 1.0)) / 3.0;
+  // Beyond 0.02 from pi / 3 the root is within ~0.2 |d det B| / 0.02 ~ 5e-15 of B's.
+  if (phi < kPi / 3.0 - 0.02) return q + 2.0 * p * std::cos(phi);
+  return q + p * largest_of_a_close_pair(B, 2.0 * std::cos(phi + 2.0 * kPi / 3.0));
 }
 
 // c of a lower-triangular L = [a 0 0; b c 0; d e f] whose entries are within
