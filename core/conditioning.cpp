@@ -11,9 +11,34 @@
 namespace linkscape {
 namespace {
 
-// Largest eigenvalue of a symmetric 3x3 matrix: A = q I + p B with
-// eig(B) = 2 cos(phi + 2 pi k / 3); k = 0 gives the largest, where cos is flat
-// in phi, so rounding in det(B) barely moves it.
+constexpr double kPi = 3.141592653589793;
+
+// The largest eigenvalue of a symmetric 3x3 B (eigenvalues in [-2, 2])
+// whose two largest nearly meet, given the smallest: those two are the
+// eigenvalues of B on the plane orthogonal to the smallest's eigenvector, a
+// 2x2 whose largest, mean + hypot, forms no cancellation. The smallest is
+// about 3 below the others, so the cross products below are of order 1.
+[[gnu::noinline]] double largest_of_a_close_pair(const Eigen::Matrix3d& B, double smallest) {
+  const Eigen::Matrix3d N = B - smallest * Eigen::Matrix3d::Identity();
+  // N's null vector, the smallest's eigenvector: the longest cross product of two rows.
+  Eigen::Vector3d v = N.row(0).cross(N.row(1));
+  for (const Eigen::Vector3d& w : {Eigen::Vector3d(N.row(0).cross(N.row(2))), Eigen::Vector3d(N.row(1).cross(N.row(2)))})
+    if (w.squaredNorm() > v.squaredNorm()) v = w;
+  v.normalize();
+  int least;
+  v.cwiseAbs().minCoeff(&least);
+  const Eigen::Vector3d e1 = v.cross(Eigen::Vector3d::Unit(least)).normalized(), e2 = v.cross(e1);
+  const double c11 = e1.dot(B * e1), c22 = e2.dot(B * e2), c12 = e1.dot(B * e2);
+  return 0.5 * (c11 + c22) + std::hypot(0.5 * (c11 - c22), c12);
+}
+
+// Largest eigenvalue of a symmetric 3x3 A, within a few u |A|. A = q I + p B
+// with eig(B) = 2 cos(phi + 2 pi k / 3), phi = acos(det(B) / 2) / 3 in
+// [0, pi / 3]. The largest (k = 0) is flat in det B except where it meets
+// the middle one (phi -> pi / 3): there acos's slope turns the ulps of det B
+// into ~sqrt(u) (3e-9 in PATHOS-II's c(J) at its centred level poses, where
+// two singular values coincide by symmetry). There the smallest (k = 1) is
+// the flat one, and well apart from the other two: deflate by it.
 double largest_eigenvalue(const Eigen::Matrix3d& A) {
   const double q = A.trace() / 3.0;
   const double off = A(0, 1) * A(0, 1) + A(0, 2) * A(0, 2) + A(1, 2) * A(1, 2);
@@ -21,8 +46,10 @@ double largest_eigenvalue(const Eigen::Matrix3d& A) {
   const double p = std::sqrt((d0 * d0 + d1 * d1 + d2 * d2 + 2.0 * off) / 6.0);
   if (p == 0.0) return q;
   const Eigen::Matrix3d B = (A - q * Eigen::Matrix3d::Identity()) / p;
-  const double r = std::clamp(B.determinant() / 2.0, -1.0, 1.0);
-  return q + 2.0 * p * std::cos(std::acos(r) / 3.0);
+  const double phi = std::acos(std::clamp(B.determinant() / 2.0, -1.0, 1.0)) / 3.0;
+  // Beyond 0.02 from pi / 3 the root is within ~0.2 |d det B| / 0.02 ~ 5e-15 of B's.
+  if (phi < kPi / 3.0 - 0.02) return q + 2.0 * p * std::cos(phi);
+  return q + p * largest_of_a_close_pair(B, 2.0 * std::cos(phi + 2.0 * kPi / 3.0));
 }
 
 // The power of two that scales J (exactly) so its largest entry is in

@@ -27,8 +27,9 @@ double condition_number_fast(const Eigen::Matrix3d& J);
 // The closed form for a lower-triangular L (entries above the diagonal are
 // ignored): det L is the product of the diagonal and the cofactor matrix is
 // triangular too, so no determinant is formed by cancellation and the
-// relative error stays ~u c (plus ~sqrt(u) where the top two singular values
-// coincide, from the trigonometric root). The reduction of a wide block B =
+// relative error stays ~u c (where the top two singular values coincide the
+// largest eigenvalues are deflated, not taken from the trigonometric root,
+// which loses ~sqrt(u) there). The reduction of a wide block B =
 // L Q (orthonormal Q) ends here. Unlike the forms above it does not rescale:
 // L's entries must be within ~1e+-70 of 1.
 double condition_number_lower_triangular(const Eigen::Matrix3d& L);
