@@ -1,5 +1,6 @@
 #include "core/csv.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <sstream>
@@ -120,6 +121,49 @@ std::string format_number(double value) {
   char buf[32];
   const auto [ptr, ec] = std::to_chars(buf, buf + sizeof buf, value);
   return ec == std::errc() ? std::string(buf, ptr) : std::string("nan");
+}
+
+}  // namespace linkscape
+
+namespace linkscape {
+
+std::string csv_cell(std::string_view text) {
+  if (text.find_first_of(",\"\r\n") == std::string_view::npos) return std::string(text);
+  std::string out = "\"";
+  for (const char c : text) {
+    if (c == '"') out += '"';
+    out += c;
+  }
+  return out + '"';
+}
+
+std::vector<std::string> csv_cells(std::string_view line) {
+  std::vector<std::string> out;
+  std::size_t at = 0;
+  while (true) {
+    std::string cell;
+    if (at < line.size() && line[at] == '"') {
+      for (++at;; ++at) {
+        if (at >= line.size()) throw std::invalid_argument("CSV line: a quoted cell is not closed");
+        if (line[at] == '"') {
+          if (at + 1 < line.size() && line[at + 1] == '"') ++at;
+          else break;
+        }
+        cell += line[at];
+      }
+      ++at;  // past the closing quote
+      if (at < line.size() && line[at] != ',')
+        throw std::invalid_argument("CSV line: a quoted cell is followed by '" + std::string(1, line[at]) +
+                                    "', not a comma");
+    } else {
+      const std::size_t comma = std::min(line.find(',', at), line.size());
+      cell = line.substr(at, comma - at);
+      at = comma;
+    }
+    out.push_back(std::move(cell));
+    if (at >= line.size()) return out;
+    ++at;  // past the comma
+  }
 }
 
 }  // namespace linkscape

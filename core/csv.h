@@ -43,3 +43,17 @@ double parse_number_or_throw(std::string_view text, const std::string& what, boo
 std::string format_number(double value);
 
 }  // namespace linkscape
+
+namespace linkscape {
+
+// One CSV cell as RFC 4180 writes it: the text itself, or, where it holds a
+// comma, a double quote or a line break, the text in double quotes with
+// each double quote doubled.
+std::string csv_cell(std::string_view text);
+
+// The cells of one CSV line as csv_cell writes them, unquoted. Throws
+// std::invalid_argument for a quoted cell that is not closed or is
+// followed by anything but a comma.
+std::vector<std::string> csv_cells(std::string_view line);
+
+}  // namespace linkscape

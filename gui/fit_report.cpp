@@ -61,12 +61,13 @@ std::vector<std::size_t> csv_order(const fit::Result& r) {
 
 std::string csv_text(const fit::Problem& p, const fit::Result& r, const std::vector<std::string>& columns) {
   std::ostringstream s;
-  for (const std::string& c : columns) s << c << ",";
+  for (const std::string& c : columns) s << csv_cell(c) << ",";
   s << "cx,cy,cz,size,meets";
   const bool free_centre = !p.task.centre;
   if (free_centre) s << (p.task.shape == task::Shape::Sphere ? ",inscribed_diameter" : ",inscribed_scale");
   s << ",fraction,margin";
-  for (const task::Criterion& c : p.criteria) s << ",worst_" << c.measure << ",margin_" << c.measure;
+  for (const task::Criterion& c : p.criteria)
+    s << "," << csv_cell("worst_" + c.measure) << "," << csv_cell("margin_" + c.measure);
   s << "\n";
   for (std::size_t i : csv_order(r)) {
     const fit::Row& row = r.rows[i];
