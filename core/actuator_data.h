@@ -6,7 +6,9 @@
 // Units: torques in N·m, encoder counts per revolution of the actuated
 // joint, rotor inertia in kg·m² about the joint axis. A motor behind a
 // reduction of ratio n is entered at the joint: torques times n, counts
-// times n, inertia times n².
+// times n, inertia times n². A prismatic actuator is a rotary motor with
+// these ratings driving the slide: lead_m_per_rev metres of travel per
+// motor revolution (a screw's lead, or 2 pi times a capstan's radius).
 #pragma once
 
 #include <map>
@@ -20,6 +22,7 @@ struct ActuatorRating {
   std::optional<double> continuous_torque_Nm;
   std::optional<double> encoder_counts_per_rev;
   std::optional<double> rotor_inertia_kgm2;  // optional: no reflected inertia without it
+  std::optional<double> lead_m_per_rev;      // prismatic actuators only (m per revolution)
 };
 
 // The preset's "actuator_data" object:

@@ -1,6 +1,7 @@
 #include "core/atomic_file.h"
 
 #include <fcntl.h>
+#include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -11,11 +12,14 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <memory>
 #include <iostream>
 #include <mutex>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace linkscape {
 namespace fs = std::filesystem;
@@ -112,109 +116,170 @@ fs::path follow_links(const fs::path& target) {
   fail(target, "too many levels of symbolic links");
 }
 
-// Creates an empty temporary named after `target` in `folder` (hidden,
-// unique per process, extension last: VTK's and Qt's writers pick the
-// format by the extension). Fails with the system's reason.
-fs::path create_temporary(const fs::path& folder, const fs::path& target, const fs::path& reported) {
-  std::ostringstream name;
-  name << '.' << target.stem().string() << ".tmp" << ::getpid() << target.extension().string();
-  const fs::path temporary = folder / name.str();
-  ::unlink(temporary.c_str());  // left by an earlier process with the same id
-  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-  if (fd < 0) fail(reported, reason(errno));
-  ::close(fd);
-  return temporary;
-}
-
-void check_written(const fs::path& temporary, const fs::path& reported) {
-  std::error_code ec;
-  const auto size = fs::file_size(temporary, ec);
-  if (ec) fail(reported, "the writer left no file (" + ec.message() + ")");
-  if (size == 0) fail(reported, "the writer produced no output");
-}
-
-// Copies a finished temporary into a device or FIFO, checking every write.
-void copy_into(const fs::path& temporary, const fs::path& destination, const fs::path& reported) {
-  const int in = ::open(temporary.c_str(), O_RDONLY | O_CLOEXEC);
-  if (in < 0) fail(reported, reason(errno));
-  const int out = ::open(destination.c_str(), O_WRONLY | O_CLOEXEC);
-  if (out < 0) {
-    const int e = errno;
-    ::close(in);
-    fail(reported, reason(e));
+// A file in memory (memfd) that writers fill through an ordinary path. Most
+// writers (VTK's, Qt's, OpenMesh's) do not report a short write, so they never
+// write to disk themselves: a write to memory cannot run out of disk space,
+// and the bytes go to disk afterwards through copy_all, which checks them.
+class MemoryFile {
+ public:
+  explicit MemoryFile(const fs::path& reported) : fd_(::memfd_create("linkscape-output", MFD_CLOEXEC)) {
+    if (fd_ < 0) fail(reported, "cannot create the file in memory: " + reason(errno));
   }
+  ~MemoryFile() { ::close(fd_); }
+  MemoryFile(const MemoryFile&) = delete;
+  MemoryFile& operator=(const MemoryFile&) = delete;
+  int fd() const { return fd_; }
+  // The path a writer opens (it has no extension: writers are told the format).
+  fs::path path() const { return "/proc/self/fd/" + std::to_string(fd_); }
+  off_t size() const {
+    struct stat s {};
+    return ::fstat(fd_, &s) == 0 ? s.st_size : 0;
+  }
+
+ private:
+  int fd_;
+};
+
+// Copies the whole of `in` into `out`, checking every write; returns 0 or
+// the errno of the first failure.
+int copy_all(int in, int out) {
   char buffer[1 << 16];
-  int error_number = 0;
-  for (;;) {
-    const ssize_t n = ::read(in, buffer, sizeof buffer);
+  for (off_t offset = 0;;) {
+    const ssize_t n = ::pread(in, buffer, sizeof buffer, offset);
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      if (n < 0) error_number = errno;
-      break;
-    }
+    if (n < 0) return errno;
+    if (n == 0) return 0;
+    offset += n;
     for (ssize_t done = 0; done < n;) {
       const ssize_t w = ::write(out, buffer + done, std::size_t(n - done));
       if (w < 0 && errno == EINTR) continue;
-      if (w <= 0) {
-        error_number = w < 0 ? errno : EIO;
-        break;
-      }
+      if (w <= 0) return w < 0 ? errno : EIO;
       done += w;
     }
-    if (error_number) break;
   }
-  ::close(in);
-  if (::close(out) != 0 && !error_number) error_number = errno;
-  if (error_number) fail(reported, reason(error_number));
+}
+
+// One output, from the check of its path to its commit. A regular file (or
+// none) is replaced by renaming a temporary over it; the temporary is created
+// before any work, so an unwritable place is refused at once. A character
+// device or FIFO is written through, only once everything is ready.
+class Output {
+ public:
+  explicit Output(const fs::path& target) : reported_(target) {
+    if (target.empty()) throw std::invalid_argument("the output path is empty");
+    path_ = follow_links(target);
+    std::error_code ec;
+    const fs::file_status status = fs::status(path_, ec);
+    exists_ = fs::exists(status);
+    if (exists_ && fs::is_directory(status))
+      throw std::invalid_argument("cannot write '" + target.string() + "': it is a folder");
+    write_through_ = exists_ && (fs::is_character_file(status) || fs::is_fifo(status));
+    if (exists_ && !write_through_ && !fs::is_regular_file(status))
+      throw std::invalid_argument("cannot write '" + target.string() +
+                                  "': it is a block device or socket, not a file (refused)");
+    if (write_through_) return;
+    const fs::path folder = this->folder();
+    const fs::file_status folder_status = fs::status(folder, ec);
+    if (!fs::exists(folder_status)) fail(target, "folder '" + folder.string() + "' does not exist");
+    if (!fs::is_directory(folder_status)) fail(target, "'" + folder.string() + "' is not a folder");
+    std::ostringstream name;  // hidden, unique per process
+    name << '.' << path_.stem().string() << ".tmp" << ::getpid() << path_.extension().string();
+    temporary_ = folder / name.str();
+    ::unlink(temporary_.c_str());  // left by an earlier process with the same id
+    fd_ = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd_ < 0) fail(target, reason(errno));
+    guard_ = std::make_unique<TemporaryGuard>(temporary_);
+  }
+  ~Output() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  Output(Output&& other) noexcept
+      : reported_(std::move(other.reported_)), path_(std::move(other.path_)), exists_(other.exists_),
+        write_through_(other.write_through_), temporary_(std::move(other.temporary_)), fd_(other.fd_),
+        guard_(std::move(other.guard_)), content_(std::move(other.content_)) {
+    other.fd_ = -1;
+  }
+  Output(const Output&) = delete;
+  Output& operator=(const Output&) = delete;
+  Output& operator=(Output&&) = delete;
+
+  // Runs the writer into memory, then (for a file) copies the result into
+  // the temporary and syncs it: a full disk or an I/O error shows here.
+  void fill(const std::function<void(const fs::path&)>& write) {
+    content_ = std::make_unique<MemoryFile>(reported_);
+    write(content_->path());
+    if (content_->size() == 0) fail(reported_, "the writer produced no output");
+    if (write_through_) return;
+    int error_number = copy_all(content_->fd(), fd_);
+    if (!error_number && ::fsync(fd_) != 0) error_number = errno;  // a late ENOSPC or EIO shows here
+    if (::close(fd_) != 0 && !error_number) error_number = errno;
+    fd_ = -1;
+    content_.reset();
+    if (error_number) fail(reported_, reason(error_number));
+  }
+
+  void commit() {
+    if (write_through_) {
+      const int out = ::open(path_.c_str(), O_WRONLY | O_CLOEXEC);
+      if (out < 0) fail(reported_, reason(errno));
+      int error_number = copy_all(content_->fd(), out);
+      if (::close(out) != 0 && !error_number) error_number = errno;
+      if (error_number) fail(reported_, reason(error_number));
+      return;
+    }
+    if (exists_) {
+      // Keep the permissions of the file being replaced.
+      struct stat old {};
+      if (::stat(path_.c_str(), &old) == 0) ::chmod(temporary_.c_str(), old.st_mode & 07777);
+    }
+    if (::rename(temporary_.c_str(), path_.c_str()) != 0) fail(reported_, reason(errno));
+    // Make the rename itself durable (best effort: the file is already in place).
+    const int dir = ::open(folder().c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (dir >= 0) {
+      ::fsync(dir);
+      ::close(dir);
+    }
+  }
+
+ private:
+  fs::path folder() const { return path_.has_parent_path() ? path_.parent_path() : fs::path("."); }
+
+  fs::path reported_;  // the path as the user gave it
+  fs::path path_;      // symbolic links followed
+  bool exists_ = false;
+  bool write_through_ = false;
+  fs::path temporary_;
+  int fd_ = -1;                            // the temporary, open until filled
+  std::unique_ptr<TemporaryGuard> guard_;  // removes the temporary unless it was renamed
+  std::unique_ptr<MemoryFile> content_;    // what a device or FIFO gets at commit
+};
+
+void write_text_to(const fs::path& path, const std::string& text, const fs::path& reported) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  out.close();
+  if (!out) fail(reported, "the text could not be written to memory");
 }
 
 }  // namespace
 
 void write_atomically(const fs::path& target, const std::function<void(const fs::path&)>& write) {
-  if (target.empty()) throw std::invalid_argument("the output path is empty");
-  const fs::path destination = follow_links(target);
-  std::error_code ec;
-  const fs::file_status status = fs::status(destination, ec);
-  const bool exists = fs::exists(status);
-  if (exists && fs::is_directory(status))
-    throw std::invalid_argument("cannot write '" + target.string() + "': it is a folder");
-  const bool write_through = exists && (fs::is_character_file(status) || fs::is_fifo(status));
-  if (exists && !write_through && !fs::is_regular_file(status))
-    throw std::invalid_argument("cannot write '" + target.string() +
-                                "': it is a block device or socket, not a file (refused)");
-
-  if (write_through) {
-    // The writer needs a real file (VTK and Qt seek); stream the finished
-    // result into the device or pipe afterwards.
-    const fs::path temporary = create_temporary(fs::temp_directory_path(), destination, target);
-    TemporaryGuard guard(temporary);
-    write(temporary);
-    check_written(temporary, target);
-    copy_into(temporary, destination, target);
-    return;
-  }
-
-  const fs::path folder = destination.has_parent_path() ? destination.parent_path() : fs::path(".");
-  if (!fs::is_directory(folder)) fail(target, "folder '" + folder.string() + "' does not exist");
-  const fs::path temporary = create_temporary(folder, destination, target);
-  TemporaryGuard guard(temporary);
-  write(temporary);
-  check_written(temporary, target);
-  if (exists) {
-    // Keep the permissions of the file being replaced.
-    struct stat old {};
-    if (::stat(destination.c_str(), &old) == 0) ::chmod(temporary.c_str(), old.st_mode & 07777);
-  }
-  if (::rename(temporary.c_str(), destination.c_str()) != 0) fail(target, reason(errno));
+  Output output(target);
+  output.fill(write);
+  output.commit();
 }
 
-void write_text_atomically(const std::filesystem::path& target, const std::string& text) {
-  write_atomically(target, [&](const std::filesystem::path& tmp) {
-    std::ofstream out(tmp, std::ios::binary);
-    out << text;
-    out.close();
-    if (!out) throw std::runtime_error("cannot write '" + target.string() + "'");
-  });
+void write_text_atomically(const fs::path& target, const std::string& text) {
+  write_atomically(target, [&](const fs::path& path) { write_text_to(path, text, target); });
+}
+
+void write_texts_atomically(const std::vector<std::pair<fs::path, std::string>>& files) {
+  std::vector<Output> outputs;
+  outputs.reserve(files.size());
+  for (const auto& file : files) outputs.emplace_back(file.first);
+  for (std::size_t i = 0; i < files.size(); ++i)
+    outputs[i].fill([&](const fs::path& path) { write_text_to(path, files[i].second, files[i].first); });
+  for (Output& output : outputs) output.commit();
 }
 
 void check_stdout() {

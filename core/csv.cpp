@@ -123,6 +123,15 @@ std::string format_number(double value) {
   return ec == std::errc() ? std::string(buf, ptr) : std::string("nan");
 }
 
+std::string csv_text(std::string_view text) {
+  const bool plain = text.find_first_of(",\"\r\n") == std::string_view::npos &&
+                     (text.empty() || (text.front() != ' ' && text.back() != ' '));
+  if (plain) return std::string(text);
+  std::string quoted = "\"";
+  for (char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return quoted + '"';
+}
+
 }  // namespace linkscape
 
 namespace linkscape {

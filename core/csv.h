@@ -42,6 +42,11 @@ double parse_number_or_throw(std::string_view text, const std::string& what, boo
 // Shortest text that reads back to the same double ("%.17g"-exact).
 std::string format_number(double value);
 
+// A text cell as RFC 4180 writes it: quoted (inner quotes doubled) when it
+// holds a comma, a quote, a line break or leading or trailing spaces; as it
+// is otherwise. Names and statuses from a description file can hold any of them.
+std::string csv_text(std::string_view text);
+
 }  // namespace linkscape
 
 namespace linkscape {

@@ -17,17 +17,14 @@
 namespace linkscape::haptics {
 namespace {
 
-using Eigen::Matrix3d;
-using Eigen::Matrix3Xd;
-using Eigen::Vector3d;
 using Eigen::VectorXd;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// Three columns of J_p count as dependent where |det| is below this times the
-// product of their lengths (the sine of the angle the third makes with the
-// plane of the other two, times the sine between those two): the vertex they
-// define then lies beyond 1e12 times the forces along the columns, and
-// double cannot place it.
+// Three columns of J_p (two, for a planar device) count as dependent where
+// |det| is below this times the product of their lengths (the sine of the
+// angle the third makes with the plane of the other two, times the sine
+// between those two): the vertex they define then lies beyond 1e12 times
+// the forces along the columns, and double cannot place it.
 constexpr double kRankTolerance = 1e-12;
 // J_p M^-1 J_p^T counts as singular where its smallest eigenvalue is below
 // this times its largest: the solver places that eigenvalue to about 1e4
@@ -36,32 +33,85 @@ constexpr double kRankTolerance = 1e-12;
 constexpr double kInertiaRankTolerance = 1e-12;
 
 // The largest |F| over the polytope {F : |a_i . F| <= 1 for every column a_i
-// of A}: a bounded convex polytope attains it at a vertex, where three
-// independent constraints are active, so every triple of columns and every
-// sign pattern is tried and the feasible points kept. +inf where no triple
-// is independent: A has rank < 3 and the polytope is unbounded along its
-// null space.
-double largest_vertex(const Matrix3Xd& A) {
+// of A} in D dimensions (3, or 2 for a planar device): a bounded convex
+// polytope attains it at a vertex, where D independent constraints are
+// active, so every D columns and every sign pattern are tried and the
+// feasible points kept. +inf where no D columns are independent: A has rank
+// < D and the polytope is unbounded along its null space.
+template <int D>
+double largest_vertex(const Eigen::Matrix<double, D, Eigen::Dynamic>& A) {
+  using Square = Eigen::Matrix<double, D, D>;
+  using Vector = Eigen::Matrix<double, D, 1>;
   const Eigen::Index n = A.cols();
+  if (n < D) return kInf;
+  std::array<Eigen::Index, D> pick;  // the columns tried, in increasing order
+  for (int r = 0; r < D; ++r) pick[std::size_t(r)] = r;
   bool bounded = false;
-  static constexpr std::array<std::array<double, 3>, 4> kSigns = {{{1, 1, 1}, {1, 1, -1}, {1, -1, 1}, {1, -1, -1}}};
   double best = 0;
-  for (Eigen::Index i = 0; i < n; ++i)
-    for (Eigen::Index j = i + 1; j < n; ++j)
-      for (Eigen::Index k = j + 1; k < n; ++k) {
-        Matrix3d M;
-        M << A.col(i).transpose(), A.col(j).transpose(), A.col(k).transpose();
-        const double scale = A.col(i).norm() * A.col(j).norm() * A.col(k).norm();
-        if (!(std::abs(M.determinant()) > kRankTolerance * scale)) continue;
-        bounded = true;
-        const Eigen::PartialPivLU<Matrix3d> lu(M);
-        for (const auto& sign : kSigns) {  // -F is the same vertex mirrored
-          const Vector3d F = lu.solve(Vector3d(sign[0], sign[1], sign[2]));
-          if ((A.transpose() * F).cwiseAbs().maxCoeff() <= 1 + 1e-9) best = std::max(best, F.norm());
-        }
+  while (true) {
+    Square M;
+    double scale = 1;
+    for (int r = 0; r < D; ++r) {
+      M.row(r) = A.col(pick[std::size_t(r)]).transpose();
+      scale *= A.col(pick[std::size_t(r)]).norm();
+    }
+    if (std::abs(M.determinant()) > kRankTolerance * scale) {
+      bounded = true;
+      const Eigen::PartialPivLU<Square> lu(M);
+      for (int signs = 0; signs < 1 << (D - 1); ++signs) {  // -F is the same vertex mirrored
+        Vector rhs;
+        for (int r = 0; r < D; ++r) rhs(r) = r > 0 && (signs >> (r - 1)) & 1 ? -1.0 : 1.0;
+        const Vector F = lu.solve(rhs);
+        if ((A.transpose() * F).cwiseAbs().maxCoeff() <= 1 + 1e-9) best = std::max(best, F.norm());
       }
+    }
+    int r = D - 1;  // the next combination
+    while (r >= 0 && pick[std::size_t(r)] == n - D + r) --r;
+    if (r < 0) break;
+    ++pick[std::size_t(r)];
+    for (int k = r + 1; k < D; ++k) pick[std::size_t(k)] = pick[std::size_t(k - 1)] + 1;
+  }
   return bounded ? best : kInf;
 }
+
+// The measures of J_p, the D position rows of J in metres per motor radian.
+template <int D>
+Measures measures_of(const Eigen::Matrix<double, D, Eigen::Dynamic>& Jp, const DeviceData& data,
+                     TorqueRating rating) {
+  const Eigen::Index n = Jp.cols();
+  Eigen::Matrix<double, D, Eigen::Dynamic> A(D, n);  // a_i = J_p e_i / tau_i: actuator i is within its limit iff |a_i . F| <= 1
+  Measures m;
+  m.force_iso_N = kInf;
+  double resolution_m = 0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Rating& r = data.actuators[std::size_t(i)];
+    const double tau = rating == TorqueRating::Peak ? r.peak_torque_Nm : r.continuous_torque_Nm;
+    const double column = Jp.col(i).norm();
+    A.col(i) = Jp.col(i) / tau;
+    // Every F with |F| <= tau_i / |J_p e_i| keeps |a_i . F| <= 1, and F along
+    // J_p e_i reaches the limit: the smallest over the actuators is the force
+    // available in every direction.
+    m.force_iso_N = std::min(m.force_iso_N, tau / column);
+    resolution_m = std::max(resolution_m, 2 * std::numbers::pi / r.encoder_counts_per_rev * column);
+  }
+  m.resolution_mm = 1e3 * resolution_m;
+  m.force_max_N = largest_vertex<D>(A);
+  if (data.has_inertia()) {
+    // Endpoint acceleration a = J_p M^-1 J_p^T F (rotors only, at rest):
+    // the apparent mass along u is 1 / (u^T J_p M^-1 J_p^T u), largest
+    // along the eigenvector of the smallest eigenvalue.
+    Eigen::Matrix<double, D, D> inverse_mass = Eigen::Matrix<double, D, D>::Zero();
+    for (Eigen::Index i = 0; i < n; ++i)
+      inverse_mass += Jp.col(i) * Jp.col(i).transpose() / *data.actuators[std::size_t(i)].rotor_inertia_kgm2;
+    const auto lambda =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, D, D>>(inverse_mass, Eigen::EigenvaluesOnly).eigenvalues();
+    m.inertia_kg = lambda(0) > kInertiaRankTolerance * lambda(D - 1) ? 1.0 / lambda(0) : kInf;
+  }
+  return m;
+}
+
+// A prismatic actuator's default drive: a capstan of 1 cm radius.
+constexpr double kDefaultLead_m = 2 * std::numbers::pi * 0.01;
 
 std::string number_text(double v) {
   std::string s = std::to_string(v);
@@ -71,6 +121,11 @@ std::string number_text(double v) {
 }
 
 }  // namespace
+
+double DeviceData::metres_per_motor_radian(std::size_t i) const {
+  const Rating& r = actuators.at(i);
+  return r.lead_m_per_rev ? *r.lead_m_per_rev / (2 * std::numbers::pi) : metres_per_length_unit;
+}
 
 bool DeviceData::has_inertia() const {
   if (actuators.empty()) return false;
@@ -96,26 +151,34 @@ double metres_per(const std::string& length_unit) {
                               "got '" + length_unit + "'");
 }
 
-Rating default_rating() {
+Rating default_rating(bool prismatic) {
   Rating r;
   r.continuous_torque_Nm = 0.18;
   r.peak_torque_Nm = 1.0;
   r.encoder_counts_per_rev = 2000;  // 500 lines, quadrature
   r.rotor_inertia_kgm2 = 1.4e-5;
+  if (prismatic) r.lead_m_per_rev = kDefaultLead_m;
   return r;
 }
 
 DeviceData device_data(const Preset& preset, const MechanismInfo& info) {
   DeviceData d;
   d.metres_per_length_unit = metres_per(info.length_unit);
+  d.position_rows = info.plane_z ? 2 : 3;
+  // Angles are in rad; any other actuator is a slide in the length unit.
+  auto prismatic = [](const Quantity& a) { return a.unit != "rad"; };
   const ActuatorDataSpec& spec = preset.actuator_data;
   if (!spec.given) {
-    d.actuators.assign(info.actuators.size(), default_rating());
+    bool slides = false;
+    for (const Quantity& a : info.actuators) {
+      d.actuators.push_back(default_rating(prismatic(a)));
+      slides = slides || prismatic(a);
+    }
     const Rating r = default_rating();
     d.source = "Linkscape defaults (the preset has no actuator_data): " + number_text(r.continuous_torque_Nm) +
                " N m continuous, " + number_text(r.peak_torque_Nm) + " N m peak, " +
                number_text(r.encoder_counts_per_rev) + " counts/rev, rotor " + number_text(*r.rotor_inertia_kgm2) +
-               " kg m^2";
+               " kg m^2" + (slides ? ", slides driven by a capstan of 1 cm radius" : "");
     d.defaults = true;
     return d;
   }
@@ -145,6 +208,10 @@ DeviceData device_data(const Preset& preset, const MechanismInfo& info) {
     r.continuous_torque_Nm = *value(&ActuatorRating::continuous_torque_Nm, "continuous_torque_Nm", true);
     r.encoder_counts_per_rev = *value(&ActuatorRating::encoder_counts_per_rev, "encoder_counts_per_rev", true);
     r.rotor_inertia_kgm2 = value(&ActuatorRating::rotor_inertia_kgm2, "rotor_inertia_kgm2", false);
+    if (prismatic(a)) r.lead_m_per_rev = value(&ActuatorRating::lead_m_per_rev, "lead_m_per_rev", true);
+    else if (own != spec.per_actuator.end() && own->second.lead_m_per_rev)
+      throw std::invalid_argument("preset actuator_data: lead_m_per_rev is for prismatic actuators; " + a.name +
+                                  " is revolute");
     if (r.continuous_torque_Nm > r.peak_torque_Nm)
       throw std::invalid_argument("preset actuator_data: continuous_torque_Nm of " + a.name +
                                   " exceeds its peak_torque_Nm");
@@ -156,41 +223,16 @@ DeviceData device_data(const Preset& preset, const MechanismInfo& info) {
 }
 
 Measures measures(const Eigen::MatrixXd& J, const DeviceData& data, TorqueRating rating) {
-  const Eigen::Index n = J.cols();
-  if (J.rows() < 3 || n != Eigen::Index(data.actuators.size()))
+  const Eigen::Index n = J.cols(), rows = data.position_rows;
+  if (J.rows() < rows || n != Eigen::Index(data.actuators.size()))
     throw std::invalid_argument("haptic measures: J is " + std::to_string(J.rows()) + "x" + std::to_string(n) +
-                                ", expected 3 or more rows and one column per actuator (" +
+                                ", expected " + std::to_string(rows) + " or more rows and one column per actuator (" +
                                 std::to_string(data.actuators.size()) + ")");
-  // Position rows in metres per radian: then tau = J_p^T F is in N m for F in N.
-  const Matrix3Xd Jp = J.topRows(3) * data.metres_per_length_unit;
-  Matrix3Xd A(3, n);  // a_i = J_p e_i / tau_i: actuator i is within its limit iff |a_i . F| <= 1
-  Measures m;
-  m.force_iso_N = kInf;
-  double resolution_m = 0;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const Rating& r = data.actuators[std::size_t(i)];
-    const double tau = rating == TorqueRating::Peak ? r.peak_torque_Nm : r.continuous_torque_Nm;
-    const double column = Jp.col(i).norm();
-    A.col(i) = Jp.col(i) / tau;
-    // Every F with |F| <= tau_i / |J_p e_i| keeps |a_i . F| <= 1, and F along
-    // J_p e_i reaches the limit: the smallest over the actuators is the force
-    // available in every direction.
-    m.force_iso_N = std::min(m.force_iso_N, tau / column);
-    resolution_m = std::max(resolution_m, 2 * std::numbers::pi / r.encoder_counts_per_rev * column);
-  }
-  m.resolution_mm = 1e3 * resolution_m;
-  m.force_max_N = largest_vertex(A);
-  if (data.has_inertia()) {
-    // Endpoint acceleration a = J_p M^-1 J_p^T F (rotors only, at rest):
-    // the apparent mass along u is 1 / (u^T J_p M^-1 J_p^T u), largest
-    // along the eigenvector of the smallest eigenvalue.
-    Matrix3d inverse_mass = Matrix3d::Zero();
-    for (Eigen::Index i = 0; i < n; ++i)
-      inverse_mass += Jp.col(i) * Jp.col(i).transpose() / *data.actuators[std::size_t(i)].rotor_inertia_kgm2;
-    const Vector3d lambda = Eigen::SelfAdjointEigenSolver<Matrix3d>(inverse_mass, Eigen::EigenvaluesOnly).eigenvalues();
-    m.inertia_kg = lambda(0) > kInertiaRankTolerance * lambda(2) ? 1.0 / lambda(0) : kInf;
-  }
-  return m;
+  // Position rows in metres per motor radian: then tau = J_p^T F is in N m for F in N.
+  Eigen::MatrixXd Jp = J.topRows(rows);
+  for (Eigen::Index i = 0; i < n; ++i) Jp.col(i) *= data.metres_per_motor_radian(std::size_t(i));
+  if (rows == 2) return measures_of<2>(Jp, data, rating);
+  return measures_of<3>(Jp, data, rating);
 }
 
 const std::vector<FieldInfo>& all_field_infos() {
@@ -255,6 +297,8 @@ bool add_fields(Field& f, const Mechanism& mechanism, const DeviceData& data, To
         float values[4] = {0.0f, 0.0f, INFINITY, INFINITY};  // fail every criterion
         if (f.reachable[std::size_t(idx)]) {
           x.head<3>() = f.grid.point(int(idx % nx), int((idx / nx) % f.grid.dims[1]), int(idx / nxy));
+          // A planar device's field is its plane's, extruded along z.
+          if (info.plane_z) x(2) = *info.plane_z;
           const IkResult r = mechanism.inverse(x, ik);
           for (const IkSolution& s : r.solutions) {
             if (s.branch != branch || s.status != Status::Ok) continue;

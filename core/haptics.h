@@ -9,7 +9,7 @@
 //   inertia     the largest rotor inertia reflected to the driven point,
 //               where every actuator's rotor inertia is given       (kg)
 // The force is a pure force at the driven point: statics tau = J_p^T F with
-// J_p the three position rows of J. For a device with more task coordinates
+// J_p the position rows of J (three; two, in its plane, for a planar device). For a device with more task coordinates
 // (PATHOS-II: orientation and grip) this is the force with zero moment and
 // zero grip force; the actuators must then hold the moment too, which the
 // same torques do. Links are massless: inertia is the rotors' alone.
@@ -29,12 +29,14 @@ struct Preset;
 
 namespace haptics {
 
-// One actuator's ratings, every value present (inertia optional).
+// One actuator's ratings, every value present (inertia optional). A
+// prismatic actuator is a rotary motor with these ratings driving its slide.
 struct Rating {
   double peak_torque_Nm = 0;
   double continuous_torque_Nm = 0;
   double encoder_counts_per_rev = 0;
   std::optional<double> rotor_inertia_kgm2;
+  std::optional<double> lead_m_per_rev;  // set for a prismatic actuator: travel per motor revolution
 };
 
 struct DeviceData {
@@ -42,7 +44,13 @@ struct DeviceData {
   std::string source;             // from the preset, or that Linkscape's defaults were used
   bool defaults = false;          // true where the numbers are Linkscape's defaults, not the device's
   double metres_per_length_unit = 0.01;
+  // The rows of J that place the driven point: 3 (x, y, z), or 2 (x, y)
+  // for a planar device (MechanismInfo::plane_z), whose forces lie in its plane.
+  int position_rows = 3;
   bool has_inertia() const;       // every actuator's rotor inertia is given
+  // Metres of the driven point per motor radian, per unit of J's column i:
+  // the length unit for a revolute actuator, lead / 2 pi for a prismatic one.
+  double metres_per_motor_radian(std::size_t i) const;
 };
 
 enum class TorqueRating { Continuous, Peak };
@@ -60,8 +68,9 @@ double metres_per(const std::string& length_unit);
 // naming the key for an unknown actuator or a missing value.
 DeviceData device_data(const Preset& preset, const MechanismInfo& info);
 // Linkscape's default rating, of the order of a 40 mm direct-drive DC motor
-// with a 500-line quadrature encoder; not from any paper.
-Rating default_rating();
+// with a 500-line quadrature encoder; not from any paper. A prismatic
+// actuator's default drives its slide by a capstan of 1 cm radius.
+Rating default_rating(bool prismatic = false);
 
 struct Measures {
   double force_iso_N = 0;
@@ -70,9 +79,11 @@ struct Measures {
   std::optional<double> inertia_kg;  // where DeviceData::has_inertia(); +inf where J_p loses rank
 };
 
-// The measures of J (task rows x actuator columns, task lengths in the
-// device's unit per rad; at least 3 rows, the first three the position).
-// Throws std::invalid_argument for a J whose size does not match data.
+// The measures of J (task rows x actuator columns, as Mechanism::jacobian
+// gives it: task lengths in the device's unit per rad of a revolute
+// actuator, per length unit of a prismatic one; the first
+// data.position_rows rows the position). Throws std::invalid_argument for a
+// J whose size does not match data.
 Measures measures(const Eigen::MatrixXd& J, const DeviceData& data, TorqueRating rating);
 
 // The haptic fields: name, title and unit, in this order; "inertia" only

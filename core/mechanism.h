@@ -59,6 +59,14 @@ struct MechanismInfo {
   // x: the first three are the position x, y, z of the driven point; any
   // further ones (orientation, grip) are held fixed while fields sample x, y, z.
   std::vector<Quantity> task;
+  // Set for a planar device: its driven point moves in the plane
+  // z = *plane_z of the base frame, so z is not a freedom. Every point-wise
+  // call (inverse, forward's seed, jacobian, measures, reach_margin,
+  // nearest_singularity, skeleton_pose) throws std::invalid_argument for a
+  // task whose z is off that plane; J then has no z row (its rows: x, y, and
+  // any further driven coordinates). Fields over a 3-D grid show the plane's
+  // field extruded along z. Unset for a spatial device.
+  std::optional<double> plane_z;
   std::vector<NamedItem> ik_methods;  // the first is the default
   std::vector<NamedItem> fk_methods;  // the first is the default
   // Conditioning measures, the first the main one (fields' "cond"); a second
@@ -205,8 +213,8 @@ class Mechanism {
   virtual IkResult inverse(const Eigen::VectorXd& x, const IkOptions& options = {}) const = 0;
   // Throws std::invalid_argument for an unknown method, a wrong-sized or non-finite q.
   virtual FkResult forward(const Eigen::VectorXd& q, const FkOptions& options = {}) const = 0;
-  // J = dx/dq of the task coordinates it drives (rows) w.r.t. the actuators,
-  // at a consistent pair (q, x).
+  // J = dx/dq of the task coordinates it drives (rows; a planar device's
+  // omit z) w.r.t. the actuators, at a consistent pair (q, x).
   virtual Eigen::MatrixXd jacobian(const Eigen::VectorXd& q, const Eigen::VectorXd& x) const = 0;
   virtual Measures measures(const Eigen::VectorXd& q, const Eigen::VectorXd& x) const = 0;
   // Signed margin of x to the edge of the reachable set (length unit):

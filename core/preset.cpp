@@ -51,6 +51,16 @@ std::vector<std::string> described_presets() {
   return names;
 }
 
+std::string why_not_a_readable_file(const fs::path& path) {
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (fs::is_regular_file(status)) return "";
+  if (ec && ec != std::errc::no_such_file_or_directory) return "cannot be read: " + ec.message();
+  if (!fs::exists(status)) return "does not exist";
+  if (fs::is_directory(status)) return "is a folder, not a file";
+  return "is not a regular file (a pipe or device cannot be read as one)";
+}
+
 namespace {
 
 fs::path resolve_preset(const std::string& name_or_path) {
@@ -59,10 +69,8 @@ fs::path resolve_preset(const std::string& name_or_path) {
   // a name that names no preset, not an exception of another kind.
   std::error_code ec;
   if (given.extension() == ".json" || given.has_parent_path()) {
-    if (!fs::is_regular_file(given, ec))
-      throw std::invalid_argument("preset file '" + name_or_path + "' " +
-                                  (ec && ec != std::errc::no_such_file_or_directory ? "cannot be read: " + ec.message()
-                                                                                    : std::string("does not exist")));
+    const std::string unreadable = why_not_a_readable_file(given);
+    if (!unreadable.empty()) throw std::invalid_argument("preset file '" + name_or_path + "' " + unreadable);
     return given;
   }
   for (const fs::path& dir : preset_search_path()) {
@@ -78,7 +86,8 @@ fs::path resolve_preset(const std::string& name_or_path) {
 
 // "actuator_data": {"source": text, "all": rating, "<actuator>": rating}, a
 // rating being {"peak_torque_Nm", "continuous_torque_Nm",
-// "encoder_counts_per_rev", "rotor_inertia_kgm2"}, each a positive number.
+// "encoder_counts_per_rev", "rotor_inertia_kgm2", "lead_m_per_rev"}, each a
+// positive number.
 // Actuator names are checked against the device in core/haptics.cpp.
 ActuatorDataSpec parse_actuator_data(const nlohmann::json& doc) {
   if (!doc.is_object()) throw std::invalid_argument("actuator_data must be an object");
@@ -97,11 +106,12 @@ ActuatorDataSpec parse_actuator_data(const nlohmann::json& doc) {
                                      : name == "continuous_torque_Nm"   ? &r.continuous_torque_Nm
                                      : name == "encoder_counts_per_rev" ? &r.encoder_counts_per_rev
                                      : name == "rotor_inertia_kgm2"     ? &r.rotor_inertia_kgm2
+                                     : name == "lead_m_per_rev"         ? &r.lead_m_per_rev
                                                                         : nullptr;
       if (!field)
         throw std::invalid_argument("unknown key " + where + "." + name +
                                     " (known: peak_torque_Nm, continuous_torque_Nm, encoder_counts_per_rev, "
-                                    "rotor_inertia_kgm2)");
+                                    "rotor_inertia_kgm2, lead_m_per_rev)");
       const double v = number.get<double>();
       if (!std::isfinite(v) || !(v > 0))
         throw std::invalid_argument(where + "." + name + " must be a positive finite number, got " + number.dump());

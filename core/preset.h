@@ -38,6 +38,11 @@ std::vector<std::string> described_presets();
 // to a .json file.
 // Throws std::invalid_argument naming the file and the problem.
 Preset load_preset(const std::string& name_or_path);
+
+// Why `path` cannot be read as a file ("does not exist", "is a folder, not a
+// file", "is not a regular file ..." for a pipe or device, whose read could
+// block), or "" when it can.
+std::string why_not_a_readable_file(const std::filesystem::path& path);
 Preset parse_preset(const std::string& json_text, const std::string& origin);
 
 // How a session or a report should name the preset: its name where the

@@ -35,6 +35,12 @@ void check_bound(const Criterion& c) {
 
 }  // namespace
 
+std::string quoting_hint(const std::string& text) {
+  if (text.empty() || text.find_first_of("<>") != std::string::npos) return "";
+  return " (unquoted, the shell reads the < or > of " + text + "<3 or " + text +
+         ">3 as a redirection: quote it, '" + text + "<3')";
+}
+
 Criterion parse_criterion(const std::string& text) {
   Criterion c;
   c.text = text;
@@ -46,7 +52,7 @@ Criterion parse_criterion(const std::string& text) {
   if (op == std::string::npos || op == 0)
     throw std::invalid_argument("criterion '" + text +
                                 "': expected reach or NAME<VALUE / NAME>VALUE, e.g. cond<3, force_iso>2, "
-                                "resolution<0.5, inertia<0.2");
+                                "resolution<0.5, inertia<0.2" + quoting_hint(text));
   c.measure = text.substr(0, op);
   c.above = text[op] == '>';
   std::size_t number = op + 1;

@@ -39,6 +39,10 @@ struct Criterion {
 // a threshold no pose can meet (cond below 1, a force or threshold <= 0), or
 // a bound on a measure's wrong side (cond>3).
 Criterion parse_criterion(const std::string& text);
+
+// For a criterion without < or > (e.g. "cond", left when a shell took an
+// unquoted cond>3 as a redirection to a file "3"): advice to quote it; else "".
+std::string quoting_hint(const std::string& text);
 // The criterion with its measure found on the device (its measures, and the
 // haptic fields `data` provides). Throws std::invalid_argument listing the
 // names it knows, or where the measure needs actuator data not given.

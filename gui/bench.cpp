@@ -221,44 +221,30 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
   }
 
   if (!o.csv.empty()) {
+    // The three tables replace the old ones together or not at all.
     const std::filesystem::path base(o.csv);
-    const std::filesystem::path stem = base.parent_path() / base.stem();
-    auto write_text = [](const std::filesystem::path& path, const std::string& text) {
-      write_atomically(path, [&](const std::filesystem::path& tmp) {
-        std::ofstream f(tmp);
-        f << text;
-        if (!f) throw std::runtime_error("cannot write '" + path.string() + "'");
-      });
-    };
+    const std::string stem = (base.parent_path() / base.stem()).string();
     std::ostringstream table_csv;
     table_csv << "family,method,parameter,samples,not_ok,seconds_per_evaluation,error_median,error_p99,error_max,"
                  "error_unit,mechanism\n"
               << std::setprecision(6);
     for (const auto& r : table)
-      table_csv << r.family << ',' << '"' << r.method << '"' << ',' << r.parameter << ',' << r.samples << ','
-                << r.failures << ',' << r.seconds_per_evaluation << ',' << r.error_median << ',' << r.error_p99 << ','
-                << r.error_max << ',' << r.error_unit << ',' << r.mechanism << "\n";
-    write_text(stem.string() + ".methods.csv", table_csv.str());
+      table_csv << csv_text(r.family) << ',' << csv_text(r.method) << ',' << csv_text(r.parameter) << ',' << r.samples
+                << ',' << r.failures << ',' << r.seconds_per_evaluation << ',' << r.error_median << ',' << r.error_p99
+                << ',' << r.error_max << ',' << csv_text(r.error_unit) << ',' << csv_text(r.mechanism) << "\n";
     std::ostringstream sweep_csv;
     sweep_csv << "path,base_point,eps,distance,cond,sigma_min,predicted,family,method,status,error,residual,iterations,mechanism\n"
               << std::setprecision(6);
     for (const auto& r : sweeps)
-      sweep_csv << stability::path_label(r) << ',' << r.base_point << ',' << r.eps << ',' << r.distance << ','
-                << r.cond << ',' << r.sigma_min << ',' << r.predicted << ',' << r.family << ',' << r.method << ','
-                << to_string(r.status) << ',' << r.error << ',' << r.residual << ',' << r.iterations << ',' << r.mechanism << "\n";
-    write_text(stem.string() + ".sweeps.csv", sweep_csv.str());
-    out << "wrote " << o.csv << ", " << stem.string() << ".methods.csv, " << stem.string() << ".sweeps.csv\n";
-  }
-
-  if (!o.csv.empty()) {
+      sweep_csv << csv_text(stability::path_label(r)) << ',' << r.base_point << ',' << r.eps << ',' << r.distance << ','
+                << r.cond << ',' << r.sigma_min << ',' << r.predicted << ',' << csv_text(r.family) << ','
+                << csv_text(r.method) << ',' << to_string(r.status) << ',' << r.error << ',' << r.residual << ','
+                << r.iterations << ',' << csv_text(r.mechanism) << "\n";
     std::ostringstream csv;
     csv << "measurement,value,unit\n";
-    for (const Row& r : rows) csv << '"' << r.what << "\"," << std::setprecision(10) << r.value << "," << r.unit << "\n";
-    write_atomically(o.csv, [&](const std::filesystem::path& tmp) {
-      std::ofstream f(tmp);
-      f << csv.str();
-      if (!f) throw std::runtime_error("cannot write '" + o.csv + "'");
-    });
+    for (const Row& r : rows) csv << csv_text(r.what) << "," << std::setprecision(10) << r.value << "," << csv_text(r.unit) << "\n";
+    write_texts_atomically({{o.csv, csv.str()}, {stem + ".methods.csv", table_csv.str()}, {stem + ".sweeps.csv", sweep_csv.str()}});
+    out << "wrote " << o.csv << ", " << stem << ".methods.csv, " << stem << ".sweeps.csv\n";
   }
 }
 

@@ -247,6 +247,9 @@ void open_file_argument(const CLI::App& app, WindowOptions& window) {
 
 // Bad files and parameters are input errors (exit 2), with a display or without.
 void check_window_inputs(const WindowOptions& window) {
+  for (const auto& [option, path] : {std::pair{"--view-image", window.view_image}, {"--screenshot", window.screenshot}})
+    if (!path.empty() && std::filesystem::path(path).extension() != ".png")
+      throw std::invalid_argument(std::string(option) + " writes PNG: the file must end in .png, got '" + path + "'");
   if (!window.session.empty()) {
     load_session(window.session);
     return;
@@ -279,7 +282,7 @@ int run(int argc, char** argv) {
   app.add_option("--task", window.task,
                  "Show a task volume in the Task tab: sphere:diameter=D or box:size=X,Y,Z, optionally ,centre=x,y,z "
                  "(else placed in the largest sphere or box where the criteria hold)");
-  app.add_option("--criterion", window.criteria, "Criteria of --task (repeatable), e.g. cond<3, force_iso>1");
+  app.add_option("--criterion", window.criteria, "Criteria of --task (repeatable), quoted for the shell, e.g. 'cond<3' 'force_iso>1'");
   app.add_flag("--latency", window.latency,
                "Open the window, measure slider-to-frame, link-length-to-slice and isosurface latencies, print them and exit");
 
@@ -383,9 +386,9 @@ int run(int argc, char** argv) {
       "mesh", "Extract a workspace isosurface and write a mesh (STL, OBJ, PLY, OFF, VTP); prints its statistics");
   add_sampling_options(*mesh_cmd, mesh.sampling, help);
   mesh_cmd->add_option("--surface", mesh.surface,
-                       "reach (boundary of the reachable set), cond<T (well-conditioned region, e.g. cond<3), or the "
-                       "region meeting a haptic criterion: force_iso>F, force_max>F (N), resolution<R (mm), "
-                       "inertia<M (kg)")
+                       "reach (boundary of the reachable set), cond<T (well-conditioned region, e.g. 'cond<3', "
+                       "quoted for the shell), or the region meeting a haptic criterion: force_iso>F, force_max>F "
+                       "(N), resolution<R (mm), inertia<M (kg)")
       ->capture_default_str();
   mesh_cmd->add_option("--resolution", mesh.resolution, "Samples per axis: N or NXxNYxNZ")->capture_default_str();
   mesh_cmd->add_option("--box", mesh.box, "x_min,x_max,y_min,y_max,z_min,z_max; default the device's sampling box")

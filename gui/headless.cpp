@@ -111,8 +111,8 @@ void write_ik(const Mechanism& m, const Table& table, const IkOptions& ik, std::
       const Status status = r.status == Status::Ok ? Status::NotConverged : r.status;
       out << where;
       if (c.ik_branch) out << (ik.branch ? std::to_string(*ik.branch) : "") << ",";
-      out << (r.status_text.empty() ? std::string(to_string(status)) : r.status_text);
-      if (!c.ik_failing_part.empty()) out << "," << r.failing_part << empties(after_status - 1) << "\n";
+      out << csv_text(r.status_text.empty() ? std::string(to_string(status)) : r.status_text);
+      if (!c.ik_failing_part.empty()) out << "," << csv_text(r.failing_part) << empties(after_status - 1) << "\n";
       else out << empties(after_status) << "\n";
     }
   });
@@ -227,12 +227,7 @@ void run_eval(const EvalOptions& o, std::istream& stdin_stream, std::ostream& st
   if (o.output == "-") {
     stdout_stream << result.str();
   } else {
-    write_atomically(o.output, [&](const std::filesystem::path& tmp) {
-      std::ofstream out(tmp);
-      out << result.str();
-      out.close();
-      if (!out) throw std::runtime_error("cannot write '" + o.output + "'");
-    });
+    write_text_atomically(o.output, result.str());
   }
   // Written to stdout, the rows themselves say it worked; a summary there would only get in a pipe's way.
   if (o.output != "-")
@@ -527,7 +522,7 @@ render::SurfaceRequest parse_surface(const std::string& text, const MechanismInf
   } catch (const std::invalid_argument&) {
     throw std::invalid_argument("--surface expects reach, cond<T with T > 1 (e.g. cond<3) or a haptic criterion "
                                 "(force_iso>F, force_max>F in N, resolution<R in mm, inertia<M in kg) for " +
-                                info.name + ", got '" + text + "'");
+                                info.name + ", got '" + text + "'" + task::quoting_hint(text));
   }
   if (c.measure == "cond") {
     r.surface = render::Surface::WellConditioned;

@@ -11,6 +11,7 @@
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QFileSystemWatcher>
+#include <QPointer>
 #include <QFormLayout>
 #include <QGridLayout>
 #include <QGroupBox>
@@ -1629,15 +1630,28 @@ bool MechanismWindow::saveSession(const QString& path) {
   return true;
 }
 
+std::optional<Preset> MechanismWindow::readPresetFile(const QString& file, const QString& failure_title) {
+  if (reading_preset_) return std::nullopt;  // one file at a time; the watcher tries again
+  reading_preset_ = true;
+  const QPointer<MechanismWindow> alive(this);
+  std::optional<Preset> next;
+  QString error;
+  try {
+    next = load_checked_preset(file.toStdString());
+  } catch (const std::exception& e) {
+    error = qs(e.what());
+  }
+  if (!alive) return std::nullopt;  // closed while the file was read
+  reading_preset_ = false;
+  if (!next) showLoadError(failure_title, file, error);
+  return next;
+}
+
 MechanismWindow* MechanismWindow::openMechanismFile(const QString& path) {
   const QString file = QFileInfo(path).absoluteFilePath();
-  Preset next;
-  try {
-    next = load_preset(file.toStdString());
-  } catch (const std::exception& e) {
-    showLoadError(tr("Cannot open the mechanism"), file, qs(e.what()));
-    return nullptr;
-  }
+  const std::optional<Preset> read = readPresetFile(file, tr("Cannot open the mechanism"));
+  if (!read) return nullptr;
+  const Preset& next = *read;
   if (!maybeSave()) return nullptr;  // the user keeps this document
   try {
     MechanismWindow* shown = replace_window(this, next, std::nullopt);
@@ -1655,8 +1669,10 @@ MechanismWindow* MechanismWindow::reloadMechanism() {
     showLoadError(tr("Cannot reload the mechanism"), QString(), tr("This device was not read from a file."));
     return nullptr;
   }
+  const std::optional<Preset> read = readPresetFile(file, tr("Cannot reload the mechanism"));
+  if (!read) return nullptr;
   try {
-    const Preset next = load_preset(file.toStdString());
+    const Preset& next = *read;
     const std::shared_ptr<const Mechanism> m = make_mechanism(next);
     const MechanismInfo& info = m->info();
     history_->flush();
@@ -1770,8 +1786,6 @@ int run_window(const WindowOptions& options, int argc, char** argv) {
   const auto [width, height] = pixel_size(options.size, "--size", 200, 150);
   const auto [view_width, view_height] =
       options.view_image.empty() ? std::array<int, 2>{} : pixel_size(options.view_size, "--view-size", 16, 16);
-  if (!options.view_image.empty() && std::filesystem::path(options.view_image).extension() != ".png")
-    throw std::invalid_argument("--view-image writes PNG: the file must end in .png, got '" + options.view_image + "'");
   QSurfaceFormat::setDefaultFormat(VtkWidget::defaultFormat());
   QApplication app(argc, argv);
   QApplication::setApplicationName("Linkscape");

@@ -222,6 +222,9 @@ class MechanismWindow : public QMainWindow {
   bool saveAs();
   void updateTitle();
   void showLoadError(const QString& title, const QString& path, const QString& message);
+  // The preset in `file`, read and checked off the GUI thread, or nothing
+  // (the error shown under `failure_title`; or another read under way).
+  std::optional<Preset> readPresetFile(const QString& file, const QString& failure_title);
   void watchPresetFile();
   void noteChange();
   void placeLegend();
@@ -232,6 +235,7 @@ class MechanismWindow : public QMainWindow {
   void setMoving(Moving source, bool on);
 
   Preset preset_;
+  bool reading_preset_ = false;
   std::shared_ptr<const Mechanism> mechanism_;
   std::unique_ptr<render::SkeletonScene> scene_;
   std::unique_ptr<render::FieldScene> field_scene_;

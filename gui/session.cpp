@@ -87,11 +87,7 @@ void save_session(const Session& s, const std::filesystem::path& path) {
   if (s.task_volume)
     j["task_volume"] = {{"volume", s.task_volume->volume}, {"criteria", s.task_volume->criteria}, {"shown", s.task_volume->shown}};
   const std::string text = j.dump(2) + "\n";
-  write_atomically(path, [&](const std::filesystem::path& tmp) {
-    std::ofstream out(tmp);
-    out << text;
-    if (!out) throw std::runtime_error("cannot write session '" + path.string() + "'");
-  });
+  write_text_atomically(path, text);
 }
 
 CameraState camera_state(vtkRenderer* renderer) {
@@ -298,10 +294,21 @@ Session parse_session(const std::string& text, const std::string& origin) {
                              finite_vec(c.at("focal_point"), "camera.focal_point"),
                              finite_vec(c.at("view_up"), "camera.view_up"), 30.0};
       if (c.contains("view_angle_deg")) s.camera->view_angle = finite(c["view_angle_deg"], "camera.view_angle_deg");
-      if (!(s.camera->view_angle > 0 && s.camera->view_angle < 180))
-        throw std::invalid_argument("camera.view_angle_deg must be in (0, 180)");
-      if (s.camera->view_up.norm() == 0 || (s.camera->position - s.camera->focal_point).norm() == 0)
-        throw std::invalid_argument("camera: view_up must be non-zero and position differ from focal_point");
+      // Beyond these the view is blank or degenerate (VTK's clipping range
+      // and view-up arithmetic lose every digit): refused, not shown empty.
+      constexpr double kFarthest = 1e6, kNearest = 1e-6;  // in the preset's length unit
+      for (const auto& [name, p] : {std::pair{"position", s.camera->position}, {"focal_point", s.camera->focal_point}})
+        if (p.cwiseAbs().maxCoeff() > kFarthest)
+          throw std::invalid_argument(std::string("camera.") + name + " must lie within " + format_number(kFarthest) +
+                                      " of the origin in every coordinate");
+      const Eigen::Vector3d view = s.camera->focal_point - s.camera->position;
+      if (!(view.norm() >= kNearest))
+        throw std::invalid_argument("camera: position must be at least " + format_number(kNearest) +
+                                    " from focal_point");
+      if (!(s.camera->view_angle >= 1 && s.camera->view_angle <= 179))
+        throw std::invalid_argument("camera.view_angle_deg must be in [1, 179]");
+      if (!(s.camera->view_up.cross(view).norm() > 1e-6 * s.camera->view_up.norm() * view.norm()))
+        throw std::invalid_argument("camera.view_up must be non-zero and not along the view direction");
     }
     const FieldChoices choices = field_choices(info);
     FieldSettings& d = s.field;
@@ -379,6 +386,8 @@ Session parse_session(const std::string& text, const std::string& origin) {
 }
 
 Session load_session(const std::filesystem::path& path) {
+  const std::string unreadable = why_not_a_readable_file(path);
+  if (!unreadable.empty()) throw std::invalid_argument("session file '" + path.string() + "' " + unreadable);
   std::ifstream in(path);
   if (!in) throw std::invalid_argument("cannot open session file '" + path.string() + "'");
   std::stringstream buffer;

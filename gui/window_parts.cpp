@@ -4,6 +4,7 @@
 #include <QComboBox>
 #include <QDockWidget>
 #include <QElapsedTimer>
+#include <QEventLoop>
 #include <QFileDialog>
 #include <QImage>
 #include <QMainWindow>
@@ -13,7 +14,9 @@
 #include <QScrollArea>
 #include <QStatusBar>
 #include <QTimer>
+#include <chrono>
 #include <filesystem>
+#include <future>
 #include <memory>
 #include <optional>
 #include <iostream>
@@ -111,6 +114,30 @@ MethodsPanel* add_methods_dock(QMainWindow* window, const Preset& preset, QDockW
   return panel;
 }
 
+void run_off_gui_thread(const std::function<void()>& work) {
+  auto job = std::async(std::launch::async, work);
+  const auto ready = [&job] { return job.wait_for(std::chrono::seconds(0)) == std::future_status::ready; };
+  if (!ready()) {
+    QEventLoop loop;
+    QTimer poll;
+    QObject::connect(&poll, &QTimer::timeout, &loop, [&] {
+      if (ready()) loop.quit();
+    });
+    poll.start(10);
+    loop.exec(QEventLoop::ExcludeUserInputEvents);
+  }
+  job.get();
+}
+
+Preset load_checked_preset(const std::string& name_or_path) {
+  Preset preset;
+  run_off_gui_thread([&] {
+    preset = load_preset(name_or_path);
+    make_mechanism(preset);
+  });
+  return preset;
+}
+
 MechanismWindow* replace_window(QWidget* window, const Preset& preset, const std::optional<Session>& session,
                                 const QString& session_path) {
   auto next = std::make_unique<MechanismWindow>(preset);
@@ -145,7 +172,7 @@ bool may_discard(QWidget* window) {
 bool open_session_file(QMainWindow* window, const Preset& current, const QString& path) {
   try {
     const Session s = load_session(path.toStdString());
-    const Preset preset = load_preset(s.mechanism);
+    const Preset preset = load_checked_preset(s.mechanism);
     auto* w = qobject_cast<MechanismWindow*>(window);
     if (w && preset.mechanism == current.mechanism) {
       w->applySession(s);
@@ -188,7 +215,7 @@ QComboBox* make_preset_chooser(QWidget* window, const Preset& current) {
       return;
     }
     try {
-      replace_window(window, load_preset(chosen.toStdString()), std::nullopt);
+      replace_window(window, load_checked_preset(chosen.toStdString()), std::nullopt);
     } catch (const std::invalid_argument& e) {
       const QSignalBlocker block(box);
       box->setCurrentText(current_name);

@@ -53,6 +53,15 @@ QDockWidget* add_dock(QMainWindow* window, const QString& title, const QString& 
 // load leaves everything as it was and says why.
 QComboBox* make_preset_chooser(QWidget* window, const Preset& current);
 
+// Runs `work` on a worker thread and rethrows what it throws; the GUI thread
+// meanwhile keeps drawing and running its timers (user input waits).
+void run_off_gui_thread(const std::function<void()>& work);
+
+// Reads a preset file and checks its model (load_preset, make_mechanism)
+// through run_off_gui_thread: a large or hostile description never freezes
+// the window. Throws what they throw.
+Preset load_checked_preset(const std::string& name_or_path);
+
 // A window of `preset`'s device in the place of `window` (same geometry and
 // panel layout), with `session` applied, else with the old window's field
 // settings; its document is `session_path` (empty: a new one). The old

@@ -32,6 +32,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <fstream>
 #include <functional>
 #include <limits>
 #include <numeric>
@@ -506,7 +507,8 @@ void write_mesh(vtkPolyData* mesh, const std::filesystem::path& path, const Fiel
     }
   } quiet;
   write_atomically(path, [&](const std::filesystem::path& tmp) {
-    if (!OpenMesh::IO::write_mesh(om, tmp.string(), options, 9))
+    std::ofstream out(tmp, std::ios::binary);  // the format from the target's extension, not tmp's
+    if (!OpenMesh::IO::write_mesh(om, out, ext, options, 9) || !out.flush())
       throw std::runtime_error("cannot write mesh '" + path.string() + "'");
   });
 }

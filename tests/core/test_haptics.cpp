@@ -276,4 +276,48 @@ TEST(ActuatorData, PresetsOverrideAllPerActuatorAndNameTheirProblems) {
     EXPECT_TRUE(haptics::device_data(shipped_preset, make_mechanism(shipped_preset)->info()).defaults) << name;
   }
   EXPECT_THROW(haptics::metres_per("unit"), std::invalid_argument);
+  // A lead is for prismatic actuators: named on a revolute one it is refused.
+  fails(R"({"all": {"peak_torque_Nm": 1, "continuous_torque_Nm": 0.5, "encoder_counts_per_rev": 10},
+            "beta": {"lead_m_per_rev": 0.005}})",
+        "lead_m_per_rev is for prismatic actuators; beta is revolute");
+}
+
+// A prismatic actuator (the described Stewart platform's legs) is a motor
+// driving its slide: with actuator data it needs the lead; without, the
+// default motor drives it by a capstan of 1 cm radius, which the source says.
+TEST(ActuatorData, PrismaticActuatorsAreMotorsDrivingTheirSlideByALead) {
+  Preset stewart = load_preset("stewart");
+  stewart.actuator_data = {};
+  const auto m = make_mechanism(stewart);
+  const haptics::DeviceData defaults = haptics::device_data(stewart, m->info());
+  ASSERT_EQ(defaults.actuators.size(), 6u);
+  EXPECT_NE(defaults.source.find("capstan of 1 cm radius"), std::string::npos) << defaults.source;
+  EXPECT_DOUBLE_EQ(*defaults.actuators[0].lead_m_per_rev, 2 * M_PI * 0.01);
+  EXPECT_DOUBLE_EQ(defaults.metres_per_motor_radian(0), 0.01);
+  stewart.actuator_data.given = true;
+  stewart.actuator_data.all = {1.0, 0.5, 4096.0, std::nullopt, std::nullopt};
+  try {
+    haptics::device_data(stewart, m->info());
+    ADD_FAILURE() << "a prismatic actuator without a lead accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("no lead_m_per_rev for actuator l1"), std::string::npos) << e.what();
+  }
+  stewart.actuator_data.per_actuator["l2"].lead_m_per_rev = 0.004;
+  stewart.actuator_data.all.lead_m_per_rev = 0.005;
+  const haptics::DeviceData rated = haptics::device_data(stewart, m->info());
+  EXPECT_DOUBLE_EQ(rated.metres_per_motor_radian(0), 0.005 / (2 * M_PI));
+  EXPECT_DOUBLE_EQ(rated.metres_per_motor_radian(1), 0.004 / (2 * M_PI));
+  // A slide of unit column: force 2 pi tau / lead, one count lead / counts, mass I (2 pi / lead)^2.
+  MatrixXd J = MatrixXd::Zero(6, 6);
+  J.topLeftCorner(3, 3).setIdentity();
+  J.block(3, 3, 3, 3).setIdentity();
+  haptics::DeviceData one = rated;
+  for (haptics::Rating& r : one.actuators) {
+    r.lead_m_per_rev = 0.005;
+    r.rotor_inertia_kgm2 = 2e-5;
+  }
+  const haptics::Measures h = haptics::measures(J, one, haptics::TorqueRating::Continuous);
+  EXPECT_NEAR(h.force_iso_N, 2 * M_PI * 0.5 / 0.005, 1e-9 * h.force_iso_N);
+  EXPECT_NEAR(h.resolution_mm, 1e3 * 0.005 / 4096, 1e-12);
+  EXPECT_NEAR(*h.inertia_kg, 2e-5 * std::pow(2 * M_PI / 0.005, 2), 1e-9 * *h.inertia_kg);
 }

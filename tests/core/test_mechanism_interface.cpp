@@ -196,6 +196,117 @@ TEST_P(EveryDevice, SkeletonFitsItsModel) {
   EXPECT_GT(model.scale, 0);
 }
 
+// "singular" wherever J is reported singular: along seeded rays from home
+// on every branch, each sign change of det J (through 0 at a serial
+// singularity, through infinity at a parallel one) is bisected to the
+// floating-point edge of the singular set; where measures() says singular
+// there, IK (the solution on that branch) and FK of its actuators are never
+// "ok".
+TEST_P(EveryDevice, StatusesAreSingularWhereJIsReportedSingular) {
+  const auto m = shipped(GetParam());
+  const MechanismInfo& info = m->info();
+  const VectorXd home = m->home_task();
+  std::mt19937_64 rng(29);
+  std::normal_distribution<double> normal;
+  int singular = 0;
+  for (int ray = 0; ray < 150; ++ray) {
+    IkOptions io;
+    io.branch = ray % int(info.branches.size());
+    VectorXd direction = VectorXd::Zero(home.size());
+    for (int k = 0; k < 3; ++k) direction(k) = normal(rng);
+    if (info.plane_z) direction(2) = 0;
+    direction.normalize();
+    // det J of the branch's solution at home + t size direction (NaN where none assembles).
+    auto det_at = [&](double t, IkSolution* solution) {
+      const VectorXd x = home + t * m->size() * direction;
+      for (const IkSolution& s : m->inverse(x, io).solutions)
+        if (s.branch == *io.branch && s.status != Status::Unreachable && s.status != Status::NotConverged) {
+          if (solution) *solution = s;
+          const Eigen::MatrixXd J = m->jacobian(s.q, x);
+          return J.rows() == J.cols() ? J.determinant() : NAN;
+        }
+      return double(NAN);
+    };
+    double t0 = 0, d0 = det_at(0, nullptr);
+    for (double t = 0.02; t < 1.5 && std::isfinite(d0); t += 0.02) {
+      const double d1 = det_at(t, nullptr);
+      if (!std::isfinite(d1)) break;
+      if (d0 * d1 < 0) {
+        double lo = t0, hi = t;
+        for (int i = 0; i < 80; ++i) {
+          const double mid = 0.5 * (lo + hi), dm = det_at(mid, nullptr);
+          if (!std::isfinite(dm)) break;
+          (dm * d0 > 0 ? lo : hi) = mid;
+        }
+        IkSolution s;
+        if (!std::isfinite(det_at(lo, &s))) break;
+        const VectorXd x = home + lo * m->size() * direction;
+        if (m->measures(s.q, x).status != Status::Singular) break;
+        ++singular;
+        EXPECT_NE(s.status, Status::Ok) << "IK at " << x.transpose() << ", branch " << s.branch;
+        FkOptions fo;
+        fo.seed = x;
+        const FkResult fk = m->forward(s.q, fo);
+        EXPECT_NE(fk.status, Status::Ok) << "FK of " << s.q.transpose() << " seeded at " << x.transpose();
+        break;
+      }
+      t0 = t;
+      d0 = d1;
+    }
+  }
+  RecordProperty("singular_points", singular);
+}
+
+// The compiled Delta with its ranges opened to the full circle reaches its
+// parallel (type II) set, where the forearms are coplanar and the two
+// assembly modes merge: found by bisecting q3 between actuator values that
+// assemble and values that do not. Each leg's inverse is regular there, but
+// J is singular, and so is the IK the device reports.
+TEST(DeltaDevice, InverseIsSingularOnTheParallelSet) {
+  Preset full_circle = load_preset("delta");
+  for (const char* name : {"q1", "q2", "q3"}) full_circle.limits_deg[name] = {-180, 180};
+  const auto m = make_mechanism(full_circle);
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<double> angle(-0.5, 1.2);
+  int tested = 0;
+  for (int attempt = 0; attempt < 2000 && tested < 20; ++attempt) {
+    VectorXd q(3);
+    q << angle(rng), angle(rng), -3.1;
+    auto assembles = [&](double q3) {
+      VectorXd qq = q;
+      qq(2) = q3;
+      const Status s = m->forward(qq).status;
+      return s == Status::Ok || s == Status::Singular;
+    };
+    double lo = -3.1, hi = lo;  // an edge of the values of q3 that assemble
+    for (double t = -3.1; t < 3.1 && assembles(lo) == assembles(hi); t += 0.05) hi = t;
+    if (assembles(lo) == assembles(hi)) continue;
+    const bool lo_assembles = assembles(lo);
+    for (int k = 0; k < 100; ++k) {
+      const double mid = 0.5 * (lo + hi);
+      (assembles(mid) == lo_assembles ? lo : hi) = mid;
+    }
+    q(2) = lo_assembles ? lo : hi;
+    const FkResult fk = m->forward(q);
+    if (fk.status != Status::Singular || m->measures(q, fk.x).status != Status::Singular) continue;
+    ++tested;
+    bool found = false;
+    for (int branch = 0; branch < int(m->info().branches.size()); ++branch) {
+      IkOptions io;
+      io.branch = branch;
+      const IkResult ik = m->inverse(fk.x, io);
+      for (const IkSolution& s : ik.solutions)
+        if ((s.q - q).unaryExpr([](double d) { return std::remainder(d, 2 * M_PI); }).cwiseAbs().maxCoeff() < 1e-6) {
+          found = true;
+          EXPECT_EQ(s.status, Status::Singular) << "q " << q.transpose() << ", branch " << branch;
+          EXPECT_EQ(ik.status, Status::Singular);
+        }
+    }
+    EXPECT_TRUE(found) << q.transpose();
+  }
+  EXPECT_GE(tested, 10);
+}
+
 INSTANTIATE_TEST_SUITE_P(Registered, EveryDevice, ::testing::ValuesIn(registered_mechanisms()),
                          [](const auto& info) {
                            std::string n = info.param;

@@ -1,4 +1,6 @@
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -9,6 +11,7 @@
 #include "core/preset.h"
 
 using namespace linkscape;
+namespace fs = std::filesystem;
 
 TEST(Preset, ShippedParallel12rIsThePapersDesign) {
   const Preset p = load_preset("parallel-12r");
@@ -182,4 +185,32 @@ TEST(Preset, ReferenceIsTheNameForShippedPresetsAndThePathOtherwise) {
   const Preset own = load_preset(file.string());
   EXPECT_EQ(preset_reference(own), std::filesystem::absolute(file).string());
   std::filesystem::remove(file);
+}
+
+TEST(Csv, TextCellsAreQuotedWhereRfc4180NeedsIt) {
+  EXPECT_EQ(csv_text("leg 3"), "leg 3");
+  EXPECT_EQ(csv_text(""), "");
+  EXPECT_EQ(csv_text("leg 3, left"), "\"leg 3, left\"");
+  EXPECT_EQ(csv_text("the \"long\" leg"), "\"the \"\"long\"\" leg\"");
+  EXPECT_EQ(csv_text("two\nlines"), "\"two\nlines\"");
+  EXPECT_EQ(csv_text(" padded"), "\" padded\"");
+}
+
+// A folder or a pipe named as a preset is not "missing": the message says
+// what it is, and a pipe is never opened (its read would block).
+TEST(Preset, AFolderOrPipeNamedAsAPresetSaysWhatItIs) {
+  const fs::path dir = fs::temp_directory_path() / ("linkscape_preset_kinds" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir / "folder.json");
+  ASSERT_EQ(::mkfifo((dir / "pipe.json").c_str(), 0600), 0);
+  for (const auto& [name, expected] : std::vector<std::pair<std::string, std::string>>{
+           {"folder.json", "is a folder, not a file"}, {"pipe.json", "is not a regular file"}, {"none.json", "does not exist"}}) {
+    try {
+      load_preset((dir / name).string());
+      FAIL() << name;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  }
+  fs::remove_all(dir);
 }

@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "core/atomic_file.h"
+#include "full_disk.h"
 
 using namespace linkscape;
 namespace fs = std::filesystem;
@@ -156,4 +157,79 @@ TEST(SafeOutput, ASignalDuringTheWriteRemovesTheTemporary) {
     EXPECT_EQ(read_all(file), "old");
     EXPECT_EQ(other_files(dir, {"out.vti"}), 0) << "a temporary was left behind after signal " << sig;
   }
+}
+
+// Writers such as VTK's, Qt's and OpenMesh's do not report a short write; on
+// a full disk their output used to be truncated and put in place as if whole.
+TEST(SafeOutput, AFullDiskLeavesThePreviousFileWholeAndNoTemporary) {
+  FullDisk disk("writer");
+  if (!disk.why_not().empty()) GTEST_SKIP() << disk.why_not();
+  const fs::path file = disk.folder() / "mesh.ply";
+  std::ofstream(file) << "old";
+  disk.fill();
+  const std::string large(1 << 20, 'm');
+  try {
+    // Like those writers: nothing checked.
+    write_atomically(file, [&](const fs::path& tmp) { std::ofstream(tmp) << large; });
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot write '" + file.string() + "': No space left on device"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(read_all(file), "old");
+  EXPECT_EQ(other_files(disk.folder(), {"mesh.ply", "filler"}), 0);
+}
+
+TEST(SafeOutput, AFullDeviceIsAnErrorNotASilentLoss) {
+  try {
+    write_text_atomically("/dev/full", "anything");
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("No space left on device"), std::string::npos) << e.what();
+  }
+}
+
+// Writing through a pipe needs no temporary file: a full TMPDIR is no reason
+// to lose or cut the output.
+TEST(SafeOutput, APipeIsWrittenWholeWhenTheTemporaryFolderIsFull) {
+  FullDisk disk("tmpdir");
+  if (!disk.why_not().empty()) GTEST_SKIP() << disk.why_not();
+  disk.fill();
+  const fs::path dir = fresh_dir("fifo_full_tmp");
+  const fs::path fifo = dir / "pipe";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const std::string text(300000, 'p');
+  std::string received;
+  std::thread reader([&] { received = read_all(fifo); });
+  const char* old_tmpdir = std::getenv("TMPDIR");
+  const std::string saved = old_tmpdir ? old_tmpdir : "";
+  ::setenv("TMPDIR", disk.folder().c_str(), 1);
+  EXPECT_NO_THROW(write_text_atomically(fifo, text));
+  if (old_tmpdir) ::setenv("TMPDIR", saved.c_str(), 1);
+  else ::unsetenv("TMPDIR");
+  reader.join();
+  EXPECT_EQ(received.size(), text.size());
+}
+
+// A set of outputs (bench's three tables) is replaced together or not at all.
+TEST(SafeOutput, ASetOfFilesIsReplacedWhollyOrNotAtAll) {
+  FullDisk disk("set");
+  if (!disk.why_not().empty()) GTEST_SKIP() << disk.why_not();
+  const fs::path a = disk.folder() / "bench.csv", b = disk.folder() / "bench.methods.csv";
+  std::ofstream(a) << "old a";
+  std::ofstream(b) << "old b";
+  disk.fill(64 * 1024);  // room for a small table, not for a large one
+  EXPECT_THROW(write_texts_atomically({{a, "new a"}, {b, std::string(1 << 20, 'b')}}), std::runtime_error);
+  EXPECT_EQ(read_all(a), "old a");
+  EXPECT_EQ(read_all(b), "old b");
+  EXPECT_EQ(other_files(disk.folder(), {"bench.csv", "bench.methods.csv", "filler"}), 0);
+
+  const fs::path dir = fresh_dir("set_ok");
+  write_texts_atomically({{dir / "x.csv", "x"}, {dir / "y.csv", "y"}});
+  EXPECT_EQ(read_all(dir / "x.csv"), "x");
+  EXPECT_EQ(read_all(dir / "y.csv"), "y");
+  // A path that cannot be written is refused before anything is written.
+  EXPECT_THROW(write_texts_atomically({{dir / "x.csv", "new"}, {dir / "missing" / "y.csv", "y"}}), std::runtime_error);
+  EXPECT_EQ(read_all(dir / "x.csv"), "x");
 }

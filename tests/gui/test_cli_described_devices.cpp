@@ -38,7 +38,7 @@ TEST(CliDescribedDevices, FiveBarEvalMatchesCircleIntersectionAndRoundTrips) {
   const double d = 6, a = 10, b = 14;
   std::mt19937_64 rng(15201);
   std::uniform_real_distribution<double> ux(-8, 8), uy(10, 22);
-  // A planar device's task is x, y, z; z is not modelled (any value).
+  // A planar device's task is x, y, z with z = 0, the device's plane.
   std::string targets = "x,y,z\n";
   std::vector<Eigen::Vector2d> points, angles;
   while (points.size() < 10000) {
@@ -176,4 +176,15 @@ TEST(CliDescribedDevices, SliceAndMeshRunAndABadBranchIsRefused) {
   const auto branch = run_linkscape("eval -m " + kFiveBar + " --branch 4 --ik " +
                                     temp_file("five_bar_one.csv", "x,y,z\n0,17,0\n").string());
   EXPECT_EQ(branch.exit_code, 2) << branch.out;
+}
+
+// The five-bar is planar: a target off its plane z = 0 exits 2 naming the
+// coordinate, the device and its plane (it once answered ok at z = 1e300).
+TEST(CliDescribedDevices, FiveBarRefusesATargetOffItsPlane) {
+  const auto off = run_linkscape("eval -m " + kFiveBar + " --ik " +
+                                 temp_file("five_bar_off_plane.csv", "x,y,z\n0,17,1e300\n").string());
+  EXPECT_EQ(off.exit_code, 2) << off.out;
+  EXPECT_TRUE(contains(off.out, "z = 1e+300") && contains(off.out, "five-bar is planar") &&
+              contains(off.out, "plane z = 0"))
+      << off.out;
 }

@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
+#include <set>
+
 #include "cli_runner.h"
+#include "full_disk.h"
 
 namespace {
 
@@ -22,6 +25,100 @@ TEST(CliHardening, OutputLostToAFullDeviceOrAClosedStdoutIsAnError) {
   }
   const auto ok = run_linkscape("eval --ik " + in.string(), "", ">/dev/null");
   EXPECT_EQ(ok.exit_code, 0) << ok.out;
+}
+
+// On a nearly full disk every format of every writing command fails with
+// exit 1 and the reason, and the file that was there stays whole (PDF/SVG
+// figures and PLY/OBJ/OFF meshes used to come out cut at the room left, with
+// exit 0 and "wrote").
+TEST(CliHardening, AFullDiskFailsEveryFormatAndKeepsThePreviousFile) {
+  FullDisk disk("cli");
+  if (!disk.why_not().empty()) GTEST_SKIP() << disk.why_not();
+  std::string targets = "x,y,z\n";
+  for (int k = 0; k < 300; ++k) targets += std::to_string(k % 20 - 10) + ",15," + std::to_string(k % 7) + "\n";
+  const fs::path in = temp_file("hard_many_targets.csv", targets);
+  // Every output is larger than the 16 KiB left.
+  const std::vector<std::pair<std::string, std::string>> commands = {
+      {"slice --size 96x96 --figure -o ", "figure.pdf"},  {"slice --size 96x96 --figure -o ", "figure.svg"},
+      {"slice --size 96x96 --figure -o ", "figure.png"},  {"slice --size 192x192 -o ", "slice.png"},
+      {"slice --size 96x96 -o ", "slice.csv"},            {"field --resolution 24 -o ", "field.vti"},
+      {"mesh --resolution 24 -o ", "mesh.ply"},            {"mesh --resolution 24 -o ", "mesh.obj"},
+      {"mesh --resolution 24 -o ", "mesh.off"},            {"mesh --resolution 24 -o ", "mesh.stl"},
+      {"mesh --resolution 24 -o ", "mesh.vtp"},            {"eval --ik " + in.string() + " -o ", "eval.csv"}};
+  std::set<std::string> names = {"filler"};
+  for (const auto& [command, name] : commands) {
+    std::ofstream(disk.folder() / name) << "old " << name;
+    names.insert(name);
+  }
+  for (const auto& [command, name] : commands) {
+    disk.fill(16 * 1024);
+    const fs::path out = disk.folder() / name;
+    const auto r = run_linkscape(command + out.string());
+    EXPECT_EQ(r.exit_code, 1) << command << name << ": " << r.out;
+    EXPECT_TRUE(contains(r.out, "cannot write '" + out.string() + "': No space left on device")) << r.out;
+    EXPECT_FALSE(contains(r.out, "wrote")) << r.out;
+    std::ifstream old(out);
+    std::string text;
+    std::getline(old, text);
+    EXPECT_EQ(text, "old " + name);
+  }
+  for (const auto& e : fs::directory_iterator(disk.folder()))
+    EXPECT_TRUE(names.count(e.path().filename().string())) << "left behind: " << e.path();
+}
+
+// A pipe is written through without a temporary file: a full TMPDIR does not
+// cut what goes down it.
+TEST(CliHardening, APipeGetsTheWholeOutputWhenTheTemporaryFolderIsFull) {
+  FullDisk disk("cli_tmpdir");
+  if (!disk.why_not().empty()) GTEST_SKIP() << disk.why_not();
+  disk.fill();
+  const fs::path dir = fs::temp_directory_path() / "linkscape_cli_tests";
+  fs::create_directories(dir);
+  const fs::path fifo = dir / "figure-pipe.pdf", received = dir / "figure-received.pdf";
+  fs::remove(fifo);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  // (the reader gives up after a while, should the command fail before it opens the pipe)
+  const auto r = run_shell("timeout 60 cat " + fifo.string() + " > " + received.string() + " & TMPDIR=" + disk.folder().string() +
+                           " " + LINKSCAPE_BINARY + " slice --size 96x96 --figure -o " + fifo.string() + " 2>&1; wait");
+  EXPECT_EQ(r.exit_code, 0) << r.out;
+  std::ifstream pdf(received, std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(pdf)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(text.rfind("%PDF", 0), 0u);
+  EXPECT_NE(text.find("%%EOF", text.size() > 16 ? text.size() - 16 : 0), std::string::npos) << "the PDF was cut";
+  fs::remove(fifo);
+}
+
+// A pipe named as a session is refused at once (reading it used to block),
+// and window images are PNG by name, refused before any window opens.
+TEST(CliHardening, WindowFilesOfTheWrongKindAreRefusedBeforeAnyWindow) {
+  const fs::path dir = fs::temp_directory_path() / "linkscape_cli_tests";
+  fs::create_directories(dir);
+  const fs::path fifo = dir / "session-pipe.json";
+  fs::remove(fifo);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const auto pipe = run_linkscape("--session " + fifo.string(), "timeout 20");
+  EXPECT_EQ(pipe.exit_code, 2) << pipe.out;
+  EXPECT_TRUE(contains(pipe.out, "is not a regular file")) << pipe.out;
+  fs::remove(fifo);
+  for (const std::string option : {"--screenshot", "--view-image"}) {
+    const auto r = run_linkscape(option + " " + (dir / "window.jpg").string());
+    EXPECT_EQ(r.exit_code, 2) << r.out;
+    EXPECT_TRUE(contains(r.out, option + " writes PNG")) << r.out;
+    EXPECT_FALSE(fs::exists(dir / "window.jpg"));
+  }
+}
+
+// `mesh --surface cond>3` unquoted: the shell writes to a file "3" and the
+// program sees "cond"; the error says to quote.
+TEST(CliHardening, AComparisonTheShellTookAsARedirectionIsExplained) {
+  const fs::path dir = fs::temp_directory_path() / "linkscape_cli_tests";
+  fs::create_directories(dir);
+  for (const std::string& args : {std::string("mesh --resolution 8 --surface cond -o ") + (dir / "m.stl").string(),
+                                  std::string("fit --task sphere:diameter=15 --criterion cond")}) {
+    const auto r = run_linkscape(args);
+    EXPECT_EQ(r.exit_code, 2) << r.out;
+    EXPECT_TRUE(contains(r.out, "quote it, 'cond<3'")) << r.out;
+  }
 }
 
 TEST(CliHardening, OptionsBeforeTheCommandAreRefusedNotIgnored) {

@@ -72,6 +72,12 @@ TEST(Session, ValuesTheWindowCannotHonourAreErrorsNamingTheKey) {
       {"/actuator_limits_deg", json::parse(R"({"alpha": [10, -10]})"), "alpha"},
       {"/actuator_limits_deg", json::parse(R"({"delta": [0, 10]})"), "delta"},
       {"/camera", json::parse(R"({"position": [1, 0, 0], "focal_point": [0, 0, 0], "view_up": [0, 0, 1], "view_angle_deg": 0})"), "view_angle"},
+      // Extreme values that used to give a blank view:
+      {"/camera", json::parse(R"({"position": [1e300, 0, 0], "focal_point": [0, 0, 0], "view_up": [0, 0, 1]})"), "camera.position"},
+      {"/camera", json::parse(R"({"position": [1, 0, 0], "focal_point": [0, 0, 1e12], "view_up": [0, 0, 1]})"), "camera.focal_point"},
+      {"/camera", json::parse(R"({"position": [1e-12, 0, 0], "focal_point": [0, 0, 0], "view_up": [0, 0, 1]})"), "position must be at least"},
+      {"/camera", json::parse(R"({"position": [1, 0, 0], "focal_point": [0, 0, 0], "view_up": [1, 0, 0]})"), "view_up"},
+      {"/camera", json::parse(R"({"position": [1, 0, 0], "focal_point": [0, 0, 0], "view_up": [0, 0, 1], "view_angle_deg": 1e-9})"), "view_angle"},
       {"/mechanism", "no-such-mechanism", "no-such-mechanism"},
       {"/version", 2, "version"},
       {"/platform_pose", json::array({0, 0, 22.5, 0, 0, 0, 7}), "platform_pose"},

@@ -25,12 +25,14 @@
 #include <functional>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include "core/preset.h"
 #include "gui/error_panel.h"
 #include "gui/mechanism_window.h"
 #include "gui/session_history.h"
 #include "gui/vtk_widget.h"
+#include "gui/window_parts.h"
 
 using namespace linkscape;
 using linkscape::gui::MechanismWindow;
@@ -332,6 +334,27 @@ class WindowOpenTest : public QObject {
     QVERIFY(w);
     QCOMPARE(w->mechanism().parameters().at("La"), 10.0);
     QVERIFY(!w->errorPanel()->isVisible());
+  }
+
+  // Files are read and checked on a worker thread (a hostile description
+  // once held the GUI thread for minutes): the window's timers keep running.
+  void slowWorkRunsOffTheGuiThreadWhileTheWindowKeepsGoing() {
+    int ticks = 0;
+    QTimer tick;
+    connect(&tick, &QTimer::timeout, [&] { ++ticks; });
+    tick.start(10);
+    std::thread::id worker;
+    gui::run_off_gui_thread([&] {
+      worker = std::this_thread::get_id();
+      std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    });
+    QVERIFY(worker != std::this_thread::get_id());
+    QVERIFY2(ticks >= 5, qPrintable(QString("the GUI thread ran %1 timer ticks in 300 ms").arg(ticks)));
+    // Errors come back to the caller, as from the work itself.
+    QVERIFY_THROWS_EXCEPTION(std::invalid_argument,
+                             gui::run_off_gui_thread([] { throw std::invalid_argument("a bad file"); }));
+    QVERIFY_THROWS_EXCEPTION(std::invalid_argument, gui::load_checked_preset("/no/such/preset.json"));
+    QCOMPARE(gui::load_checked_preset("delta").mechanism, std::string("delta"));
   }
 };
 

@@ -82,7 +82,12 @@ class DeltaMechanism final : public Mechanism {
     io.max_iterations = o.max_iterations;
     if (o.branch && (*o.branch < 0 || *o.branch >= kBranchCount))
       throw std::invalid_argument("delta: branch must be 0..7, got " + std::to_string(*o.branch));
-    const delta::IkResult r = delta::inverse(model_, three(x, "x"), method, io);
+    const Vector3d target = three(x, "x");
+    delta::IkResult r = delta::inverse(model_, target, method, io);
+    // Each leg is regular at a type II singularity, but J is singular there:
+    // singular wherever measures() says so.
+    if (r.status == Status::Ok && delta::jacobian(model_, r.q_actuated, target).status != Status::Ok)
+      r.status = Status::Singular;
     linkscape::IkResult out;
     out.status = r.status;
     for (int k = 0; k < kLegCount; ++k)

@@ -133,9 +133,10 @@ Vector6d closure_error(const Chain& c, const Isometry3d& anchor, double size) {
 }
 
 // Keeps the rows the device closes (planar: rz, x, y).
-// Closure rows: at most six, kept on the stack.
+// Closure rows: at most six, kept on the stack; a leg's columns (its joint
+// variables, as many as the file gives) on the heap.
 using Rows = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
-using LegMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 48>;
+using LegMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, Eigen::Dynamic>;
 
 Rows rows_of(const Vector6d& v, bool planar) {
   if (!planar) return v;
@@ -378,13 +379,15 @@ LegSolution Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int bran
 
   LegSolution best;
   best.residual = kInf;
-  // Beyond the leg's longest reach (its links end to end) no seed can help:
-  // the miss is at least the distance beyond it, exactly that for a leg
-  // that can point its stretched chain at the anchor.
-  const double beyond = (anchor.translation() - l.base.translation()).norm() - leg_reach_[std::size_t(leg)];
-  if (beyond > 1e-9 * model_.size) {
+  // Beyond the leg's longest reach (its links end to end), or nearer than
+  // its shortest, no seed can help: the miss is at least the distance
+  // outside that shell, exactly that for a leg that can point its stretched
+  // (or folded) chain at the anchor.
+  const double distance = (anchor.translation() - l.base.translation()).norm();
+  const double outside = std::max(distance - leg_reach_[std::size_t(leg)], leg_shortest_reach_[std::size_t(leg)] - distance);
+  if (outside > 1e-9 * model_.size) {
     best.state = spread_seeds_[std::size_t(leg)].front();
-    best.residual = beyond;
+    best.residual = outside;
     best.status = Status::Unreachable;
     return best;
   }
@@ -795,15 +798,23 @@ Kinematics::LegDrawing Kinematics::draw_leg(int leg, const LegState& state) cons
 // ---- Construction: home on every branch, mobility ---------------------------------------------
 
 Kinematics::Kinematics(Model model) : model_(std::move(model)), id_(next_id++) {
-  // Each leg's longest reach: its fixed translations end to end; unbounded
-  // with a slide (IK solves without the travel, which makes out-of-limits).
+  // Each leg's longest and shortest reach from its base: the chain's end is
+  // the base plus its fixed translations, each turned by the joints before
+  // it, so by the triangle inequality its distance lies between the longest
+  // translation less all the others and their sum, whatever the joints do.
+  // Unbounded with a slide (IK solves without the travel, which makes
+  // out-of-limits).
   for (const Leg& l : model_.legs) {
-    double reach = 0;
+    double sum = 0, longest = 0;
+    bool slides = false;
     for (const Step& step : l.steps) {
-      if (step.kind == Kind::Fixed) reach += step.transform.translation().norm();
-      if (step.kind == Kind::Prismatic) reach = kInf;
+      const double length = step.kind == Kind::Fixed ? step.transform.translation().norm() : 0.0;
+      sum += length;
+      longest = std::max(longest, length);
+      slides = slides || step.kind == Kind::Prismatic;
     }
-    leg_reach_.push_back(reach);
+    leg_reach_.push_back(slides ? kInf : sum);
+    leg_shortest_reach_.push_back(slides ? 0.0 : std::max(0.0, 2 * longest - sum));
   }
   // Spread seeds: the chain as written, then joint values spread over a turn.
   for (const Leg& l : model_.legs) {

@@ -138,7 +138,8 @@ class Kinematics {
   // Per leg, per combination of its free rules' signs: the leg at home.
   std::vector<std::vector<std::optional<LegState>>> home_states_;
   std::vector<std::vector<LegState>> spread_seeds_;
-  std::vector<double> leg_reach_;  // per leg: the longest distance from its base anchor to its end
+  // Per leg: the longest and the shortest distance from its base to its end.
+  std::vector<double> leg_reach_, leg_shortest_reach_;
 };
 
 }  // namespace linkscape::described

@@ -18,6 +18,8 @@ using Eigen::Vector3d;
 using Eigen::VectorXd;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// A planar device moves in the base frame's xy plane (docs/described-mechanisms.md).
+constexpr double kPlaneZ = 0.0;
 
 class DescribedMechanism final : public Mechanism {
  public:
@@ -63,9 +65,10 @@ class DescribedMechanism final : public Mechanism {
         i.task.push_back({c.name, "rad", "Platform rotation (R = Rz Ry Rx)", h, {h - 0.6, h + 0.6}});
       }
       if (m.planar && t == 1)
-        i.task.push_back({"z", m.length_unit, "Not modelled: a planar device moves in its xy plane", 0.0,
-                          {-0.1 * m.size, 0.1 * m.size}});
+        i.task.push_back({"z", m.length_unit, "The plane the device moves in (fixed: a planar device)", kPlaneZ,
+                          {kPlaneZ, kPlaneZ}});
     }
+    if (m.planar) i.plane_z = kPlaneZ;
     i.ik_methods = {{"newton", "newton", "Damped Gauss-Newton per leg from seeds, branch by the leg's rules"}};
     i.fk_methods = {{"newton", "newton", "Gauss-Newton on every loop closure from a seed pose"}};
     rotations_ = 0;
@@ -98,7 +101,7 @@ class DescribedMechanism final : public Mechanism {
   const MechanismInfo& info() const override { return info_; }
   std::map<std::string, double> parameters() const override { return kin_.model().parameters; }
   double size() const override { return kin_.model().size; }
-  VectorXd home_task() const override { return to_interface(kin_.model().home, 0.0); }
+  VectorXd home_task() const override { return to_interface(kin_.model().home); }
   VectorXd home_actuators() const override { return home_q_; }
 
   IkResult inverse(const VectorXd& x, const IkOptions& o) const override {
@@ -111,9 +114,11 @@ class DescribedMechanism final : public Mechanism {
     const int first = o.branch.value_or(0), last = o.branch ? *o.branch : kin_.branches() - 1;
     for (int b = first; b <= last; ++b) {
       PoseSolution s = kin_.inverse(xm, b, o.tolerance);
+      // Singular at a type I (a leg's) or a type II (the platform's)
+      // singularity: wherever measures() reports J singular.
       if (s.status == Status::Ok) {
         const JacobianParts parts = kin_.jacobian(xm, s);
-        if (parts.singular_leg >= 0) {
+        if (parts.status != Status::Ok) {
           s.status = Status::Singular;
           s.failing_leg = parts.singular_leg;
         }
@@ -143,7 +148,13 @@ class DescribedMechanism final : public Mechanism {
     out.status = f.status;
     // As the compiled devices: an assembly with an actuator outside its travel.
     if (out.status == Status::Ok && kin_.limits_margin(q) < 0) out.status = Status::OutOfLimits;
-    out.x = to_interface(f.x, kin_.model().planar ? seed(2) : 0.0);
+    out.x = to_interface(f.x);
+    // An assembly where J is singular (type I or II) is singular, as measures() says there.
+    if (out.status == Status::Ok) {
+      PoseSolution assembly;
+      for (const LegState& leg : f.legs) assembly.legs.push_back({leg, Status::Ok, 0.0, 0});
+      if (kin_.jacobian(f.x, assembly).status != Status::Ok) out.status = Status::Singular;
+    }
     out.residual = f.residual;
     out.iterations = f.iterations;
     return out;
@@ -225,7 +236,7 @@ class DescribedMechanism final : public Mechanism {
                        const VectorXd xm = home + (1 - eps) * (end - home);
                        if (!planar) return xm;
                        VectorXd x(xm.size() + 1);
-                       x << xm.head(2), 0.0, xm.tail(xm.size() - 2);
+                       x << xm.head(2), kPlaneZ, xm.tail(xm.size() - 2);
                        return x;
                      }});
     }
@@ -381,7 +392,10 @@ class DescribedMechanism final : public Mechanism {
     const bool second = info_.measures.size() > 1;
     if (kin_.model().planar && grid.dims[2] > 1) return extruded_field(grid, fixed_task, o, threads, progress);
     detail::check_grid(grid, Field::bytes_per_sample() + (second ? sizeof(float) : 0), kFieldMemoryLimitBytes);
-    const VectorXd base = to_model(fixed_task.size() == Eigen::Index(info_.task.size()) ? fixed_task : home_task(), "fixed task");
+    // The fixed task's x, y, z are not used (a planar device's z: its plane).
+    VectorXd fixed = fixed_task.size() == Eigen::Index(info_.task.size()) ? fixed_task : home_task();
+    if (kin_.model().planar) fixed(2) = kPlaneZ;
+    const VectorXd base = to_model(fixed, "fixed task");
     Field f;
     f.grid = grid;
     f.mechanism = info_.name;
@@ -516,19 +530,26 @@ class DescribedMechanism final : public Mechanism {
   }
 
   // Interface task (x, y, z, ... with z inserted for planar devices) <-> model task.
+  // A planar device refuses a z off its plane (within rounding of the size).
   VectorXd to_model(const VectorXd& x, const char* what) const {
     const Eigen::Index n = Eigen::Index(info_.task.size());
     if (x.size() != n) throw std::invalid_argument(std::string("described: ") + what + " needs " + std::to_string(n) + " values");
     if (!x.allFinite()) throw std::invalid_argument(std::string("described: ") + what + " must be finite numbers");
     if (!kin_.model().planar) return x;
+    if (!(std::abs(x(2) - kPlaneZ) <= 1e-12 * kin_.model().size)) {
+      std::ostringstream msg;
+      msg << "described: " << what << " has z = " << x(2) << " " << kin_.model().length_unit << ", but "
+          << info_.name << " is planar: it moves in the plane z = " << kPlaneZ << " of its base frame";
+      throw std::invalid_argument(msg.str());
+    }
     VectorXd out(n - 1);
     out << x.head(2), x.tail(n - 3);
     return out;
   }
-  VectorXd to_interface(const VectorXd& xm, double z) const {
+  VectorXd to_interface(const VectorXd& xm) const {
     if (!kin_.model().planar) return xm;
     VectorXd out(xm.size() + 1);
-    out << xm.head(2), z, xm.tail(xm.size() - 2);
+    out << xm.head(2), kPlaneZ, xm.tail(xm.size() - 2);
     return out;
   }
 

@@ -78,10 +78,16 @@ class Parallel12rMechanism final : public Mechanism {
     const parallel12r::IkResult r = parallel12r::inverse(model_, target, method, ik);
     linkscape::IkResult out;
     out.status = r.status;
+    bool any_ok = false, demoted = false;
     for (const auto& s : r.solutions) {
       if (o.branch && s.branch != *o.branch) continue;
-      out.solutions.push_back(linkscape::IkSolution{s.q_actuated, s.branch, s.status, s.residual, s.iterations, std::string(to_string(s.method))});
+      // Singular wherever measures() reports J singular.
+      const Status status = s.status == Status::Ok && singular_at(s.q_actuated) ? Status::Singular : s.status;
+      any_ok = any_ok || status == Status::Ok;
+      demoted = demoted || status != s.status;
+      out.solutions.push_back(linkscape::IkSolution{s.q_actuated, s.branch, status, s.residual, s.iterations, std::string(to_string(s.method))});
     }
+    if (out.status == Status::Ok && !any_ok && demoted) out.status = Status::Singular;
     return out;
   }
 
@@ -90,7 +96,7 @@ class Parallel12rMechanism final : public Mechanism {
       throw std::invalid_argument("parallel-12r: unknown FK method '" + o.method + "' (known: closed)");
     linkscape::FkResult r;
     r.x = parallel12r::forward(model_, three(q, "q"));
-    r.status = Status::Ok;
+    r.status = singular_at(three(q, "q")) ? Status::Singular : Status::Ok;
     return r;
   }
 
@@ -106,6 +112,8 @@ class Parallel12rMechanism final : public Mechanism {
     m.status = std::isfinite(c.cond) ? Status::Ok : Status::Singular;
     return m;
   }
+  // Where measures() reports J singular (c(J) beyond what double resolves).
+  bool singular_at(const Vector3d& q) const { return !std::isfinite(conditioning(model_, q).cond); }
 
   double reach_margin(const VectorXd& x, int branch) const override {
     linkscape::FieldRequest request;

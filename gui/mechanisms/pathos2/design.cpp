@@ -43,11 +43,7 @@ const char* to_string(DesignOutcome o) {
 }
 
 void write_text(const std::string& path, const std::string& text) {
-  write_atomically(path, [&](const std::filesystem::path& tmp) {
-    std::ofstream out(tmp);
-    out << text;
-    if (!out) throw std::runtime_error("cannot write '" + path + "'");
-  });
+  write_text_atomically(path, text);
 }
 
 std::string table_csv(const pathos2::DesignSearchResult& r) {

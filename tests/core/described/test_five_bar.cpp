@@ -18,10 +18,12 @@
 #include <array>
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <random>
 
+#include "core/haptics.h"
 #include "described_devices_support.h"
 
 using namespace linkscape;
@@ -276,23 +278,143 @@ TEST_F(FiveBarDevice, InverseMatchesCircleIntersectionOnEveryBranch) {
               worst, refused_inside, wrong_outside);
 }
 
-// z is not modelled: the device reaches (x, y) at any z with the same angles.
-TEST_F(FiveBarDevice, PlanarDeviceIgnoresZ) {
+// A planar device says so (MechanismInfo::plane_z: the plane z = 0) and
+// refuses a question off its plane in every point-wise call, naming z and
+// the plane; in its plane it answers with the closed-form angles.
+TEST_F(FiveBarDevice, PlanarDeviceRefusesZOffItsPlane) {
+  ASSERT_TRUE(m->info().plane_z.has_value());
+  EXPECT_EQ(*m->info().plane_z, 0.0);
   const int iz = index_of_name(m->info().task, "z");
-  if (iz < 0) GTEST_SKIP() << "no z in the task";
-  std::mt19937_64 rng(15002);
-  std::uniform_real_distribution<double> ux(-6, 6), uy(12, 21), uz(-100, 100);
-  for (int n = 0; n < 200; ++n) {
-    const Vector2d p(ux(rng), uy(rng));
-    VectorXd x = task(p);
-    x(iz) = uz(rng);
-    const IkResult r = m->inverse(x);
-    ASSERT_EQ(r.status, Status::Ok) << x.transpose();
-    const Vector2d q = *geometry.ik(p, r.solutions[0].branch);
-    EXPECT_LT(std::abs(angle_difference(r.solutions[0].q(0), q(0))), 1e-9);
-    EXPECT_LT(std::abs(angle_difference(r.solutions[0].q(1), q(1))), 1e-9);
-    EXPECT_GT(m->reach_margin(x), 0.0);
+  ASSERT_EQ(iz, 2);
+  EXPECT_EQ(m->home_task()(iz), 0.0);
+  const Vector2d p(2, 15);
+  const VectorXd in_plane = task(p);
+  const IkResult r = m->inverse(in_plane);
+  ASSERT_EQ(r.status, Status::Ok);
+  const Vector2d q = *geometry.ik(p, r.solutions[0].branch);
+  EXPECT_LT(std::abs(angle_difference(r.solutions[0].q(0), q(0))), 1e-9);
+  EXPECT_LT(std::abs(angle_difference(r.solutions[0].q(1), q(1))), 1e-9);
+  EXPECT_EQ(m->forward(r.solutions[0].q).x(iz), 0.0);
+  // J has the rows x, y: z is not driven.
+  EXPECT_EQ(m->jacobian(r.solutions[0].q, in_plane).rows(), 2);
+  for (const double z : {1e300, 1.0, -1e-6}) {
+    VectorXd x = in_plane;
+    x(iz) = z;
+    const VectorXd& qs = r.solutions[0].q;
+    FkOptions seeded;
+    seeded.seed = x;
+    const std::vector<std::pair<const char*, std::function<void()>>> calls = {
+        {"inverse", [&] { m->inverse(x); }},
+        {"forward seed", [&] { m->forward(qs, seeded); }},
+        {"jacobian", [&] { m->jacobian(qs, x); }},
+        {"measures", [&] { m->measures(qs, x); }},
+        {"reach_margin", [&] { m->reach_margin(x); }},
+        {"nearest_singularity", [&] { m->nearest_singularity(qs, x); }},
+        {"skeleton_pose", [&] { m->skeleton_pose(qs, x); }}};
+    for (const auto& [name, call] : calls) {
+      try {
+        call();
+        ADD_FAILURE() << name << " answered at z = " << z;
+      } catch (const std::invalid_argument& e) {
+        const std::string message = e.what();
+        EXPECT_NE(message.find("z = "), std::string::npos) << name << ": " << message;
+        EXPECT_NE(message.find("plane z = 0"), std::string::npos) << name << ": " << message;
+      }
+    }
   }
+}
+
+// A parallel (type II) singularity: both elbows at E = (0, sqrt(a^2 - d^2/4)),
+// so both distal links pull along the same line E P and Jx = [(P - E)^T;
+// (P - E)^T] has rank 1, for any P on the circle of radius b about E. There
+// J is reported singular (measures: singular, c(J) = inf), and so are IK
+// (on the branch of those elbows) and FK of those angles.
+TEST_F(FiveBarDevice, TypeIISingularPoseIsSingularInInverseAndForward) {
+  const double a = geometry.a, d = geometry.d, b = geometry.b;
+  const Vector2d E(0, std::sqrt(a * a - d * d / 4));
+  const Vector2d q(std::atan2(E.y(), E.x() + d / 2), std::atan2(E.y(), E.x() - d / 2));
+  ASSERT_TRUE(geometry.within_limits(0, q(0), 0.1) && geometry.within_limits(1, q(1), 0.1));
+  int checked = 0;
+  for (const double t : {0.0, 0.3, 2.6, 3.1}) {
+    const Vector2d p = E + b * Vector2d(std::cos(t), std::sin(t));
+    if (!(std::min(geometry.annulus_margin(0, p), geometry.annulus_margin(1, p)) > 0.5)) continue;
+    int branch = -1;  // the branch whose elbows are at E
+    for (int k = 0; k < 4; ++k)
+      if (const auto qk = geometry.ik(p, k);
+          qk && std::abs(angle_difference((*qk)(0), q(0))) < 1e-9 && std::abs(angle_difference((*qk)(1), q(1))) < 1e-9)
+        branch = k;
+    ASSERT_GE(branch, 0) << p.transpose();
+    const VectorXd x = task(p);
+    const Measures at = m->measures(q, x);
+    EXPECT_EQ(at.status, Status::Singular) << p.transpose();
+    EXPECT_TRUE(std::isinf(at.values.at(0)));
+    IkOptions options;
+    options.branch = branch;
+    const IkResult ik = m->inverse(x, options);
+    EXPECT_EQ(ik.status, Status::Singular) << "IK at " << p.transpose() << ", branch " << branch;
+    FkOptions fo;
+    fo.seed = x;
+    const FkResult fk = m->forward(q, fo);
+    EXPECT_EQ(fk.status, Status::Singular) << "FK of " << q.transpose() << " seeded at " << p.transpose();
+    EXPECT_EQ(m->measures(q, fk.x).status, Status::Singular);
+    ++checked;
+  }
+  EXPECT_GE(checked, 3);
+}
+
+// The haptic measures of a planar device, forces in its plane, against the
+// closed form with J_p = J (m/rad, the file's cm converted) and the preset's
+// ratings (Linkscape's defaults: the file has no actuator_data):
+//   force_iso = min_i tau / |J_p e_i|, force_max = max over s = +-1 of
+//   tau |J_p^-T (1, s)|, resolution = max_i (2 pi / counts) |J_p e_i|,
+//   inertia = 1 / lambda_min(J_p M^-1 J_p^T), M = I_rotor Id (2 x 2, by hand).
+// The haptic field of a slice holds the same values.
+TEST_F(FiveBarDevice, HapticMeasuresMatchTheClosedForm) {
+  const Preset preset = load_preset(asset_path("five-bar.json"));
+  const haptics::DeviceData data = haptics::device_data(preset, m->info());
+  ASSERT_EQ(data.position_rows, 2);
+  const haptics::Rating rating = haptics::default_rating();
+  const double tau = rating.continuous_torque_Nm, rotor = *rating.rotor_inertia_kgm2;
+  std::mt19937_64 rng(15009);
+  std::uniform_real_distribution<double> ux(-6, 6), uy(12, 21);
+  for (int n = 0; n < 50; ++n) {
+    const Vector2d p(ux(rng), uy(rng));
+    const VectorXd x = task(p);
+    const IkResult r = m->inverse(x);
+    ASSERT_EQ(r.status, Status::Ok) << p.transpose();
+    const Vector2d q = *geometry.ik(p, r.solutions[0].branch);
+    const Matrix2d Jp = geometry.jacobian(q, p) * 0.01;
+    const haptics::Measures h = haptics::measures(m->jacobian(r.solutions[0].q, x), data, haptics::TorqueRating::Continuous);
+    const double iso = tau / std::max(Jp.col(0).norm(), Jp.col(1).norm());
+    const Matrix2d inverse_transpose = Jp.transpose().inverse();
+    const double largest = tau * std::max((inverse_transpose * Vector2d(1, 1)).norm(), (inverse_transpose * Vector2d(1, -1)).norm());
+    const double resolution_mm = 1e3 * 2 * std::numbers::pi / rating.encoder_counts_per_rev *
+                                 std::max(Jp.col(0).norm(), Jp.col(1).norm());
+    const Matrix2d S = Jp * Jp.transpose() / rotor;
+    const double lambda_min = 0.5 * (S(0, 0) + S(1, 1)) - std::hypot(0.5 * (S(0, 0) - S(1, 1)), S(0, 1));
+    EXPECT_NEAR(h.force_iso_N, iso, 1e-9 * iso) << p.transpose();
+    EXPECT_NEAR(h.force_max_N, largest, 1e-9 * largest) << p.transpose();
+    EXPECT_NEAR(h.resolution_mm, resolution_mm, 1e-9 * resolution_mm) << p.transpose();
+    ASSERT_TRUE(h.inertia_kg.has_value());
+    EXPECT_NEAR(*h.inertia_kg, 1 / lambda_min, 1e-8 / lambda_min) << p.transpose();
+  }
+  // A box of two z layers: the plane's field, extruded.
+  const Grid grid = Grid::box({-6, 12, -1}, {6, 21, 1}, {6, 5, 2});
+  const auto field = haptics::sample_field(*m, grid, m->home_task(), {}, 1, {}, &data);
+  ASSERT_TRUE(field.has_value());
+  const auto* iso = field->extra("force_iso");
+  ASSERT_NE(iso, nullptr);
+  int reachable = 0;
+  for (std::size_t s = 0; s < grid.size(); ++s) {
+    if (!field->reachable[s]) continue;
+    ++reachable;
+    const Eigen::Vector3d point = grid.point(int(s % 6), int((s / 6) % 5), int(s / 30));
+    const VectorXd x = task({point.x(), point.y()});
+    const IkResult r = m->inverse(x);
+    ASSERT_EQ(r.status, Status::Ok);
+    EXPECT_FLOAT_EQ(iso->values[s], float(haptics::measures(m->jacobian(r.solutions[0].q, x), data, {}).force_iso_N));
+  }
+  EXPECT_GT(reachable, 30);
 }
 
 // 10^4 actuator pairs over the travel: the two circle intersections are

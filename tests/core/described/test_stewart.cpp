@@ -21,6 +21,7 @@
 #include <cmath>
 #include <random>
 
+#include "core/haptics.h"
 #include "described_devices_support.h"
 
 using namespace linkscape;
@@ -399,6 +400,67 @@ TEST_F(StewartDevice, FieldStatusIsTheLegLengthsAgainstTheTravel) {
 // The reference itself, without the solver: the rows [u_i, (R a_i) x u_i]
 // give the rate of the closed-form leg lengths along a platform twist (v, w),
 // the pose moving as p + v t, exp([w] t) R.
+// The haptic measures are in SI whatever the file's length unit: the
+// platform described in mm (the file rewritten here: lengths times 10) has
+// the force_iso, force_max, resolution and inertia of the platform in cm at
+// the same poses, with the preset's actuator data and with Linkscape's
+// defaults. Each slide is a motor driving it with lead_m_per_rev of travel
+// per revolution: against the closed form from the leg screws (J_p, the
+// velocity rows of J, in m/m; the motor's column J_p e_i lead / 2 pi):
+//   force_iso = min_i tau / |J_p e_i| 2 pi / lead,
+//   resolution = max_i |J_p e_i| lead / counts.
+TEST_F(StewartDevice, HapticMeasuresInSiDoNotDependOnTheLengthUnit) {
+  nlohmann::json cm = read_asset("stewart.json");
+  nlohmann::json mm = cm;
+  mm["length_unit"] = "mm";
+  for (const char* length : {"rb", "rp", "lmin", "lmax"}) {
+    mm["parameters"][length] = 10 * cm["parameters"][length].get<double>();
+    nlohmann::json& info = mm["description"]["parameter_info"][length];
+    info["range"] = {10 * info["range"][0].get<double>(), 10 * info["range"][1].get<double>()};
+    info["unit"] = "mm";
+  }
+  const double tau = 0.5, counts = 4096, rotor = 2e-5, lead = 0.005;
+  const nlohmann::json rated = {
+      {"source", "test"},
+      {"all", {{"peak_torque_Nm", 1.0}, {"continuous_torque_Nm", tau}, {"encoder_counts_per_rev", counts},
+               {"rotor_inertia_kgm2", rotor}, {"lead_m_per_rev", lead}}}};
+  std::mt19937_64 rng(16011);
+  for (const bool defaults : {false, true}) {
+    nlohmann::json cm_file = cm, mm_file = mm;
+    if (!defaults) cm_file["actuator_data"] = mm_file["actuator_data"] = rated;
+    const Preset cm_preset = parse_preset(cm_file.dump(), "stewart-cm.json");
+    const Preset mm_preset = parse_preset(mm_file.dump(), "stewart-mm.json");
+    const auto in_cm = make_mechanism(cm_preset), in_mm = make_mechanism(mm_preset);
+    const haptics::DeviceData cm_data = haptics::device_data(cm_preset, in_cm->info());
+    const haptics::DeviceData mm_data = haptics::device_data(mm_preset, in_mm->info());
+    int checked = 0;
+    while (checked < 20) {
+      const Pose x = random_pose(rng, 0.6);
+      if (!(travel_margin(geometry.ik(x)) > 0.1)) continue;
+      Pose x_mm = x;
+      x_mm.p *= 10;
+      const VectorXd task_cm = task(x), task_mm = task(x_mm);
+      const IkResult ik_cm = in_cm->inverse(task_cm), ik_mm = in_mm->inverse(task_mm);
+      ASSERT_EQ(ik_cm.status, Status::Ok);
+      ASSERT_EQ(ik_mm.status, Status::Ok);
+      const haptics::Measures a = haptics::measures(in_cm->jacobian(ik_cm.solutions[0].q, task_cm), cm_data, {});
+      const haptics::Measures b = haptics::measures(in_mm->jacobian(ik_mm.solutions[0].q, task_mm), mm_data, {});
+      EXPECT_NEAR(b.force_iso_N, a.force_iso_N, 1e-9 * a.force_iso_N);
+      EXPECT_NEAR(b.force_max_N, a.force_max_N, 1e-8 * a.force_max_N);
+      EXPECT_NEAR(b.resolution_mm, a.resolution_mm, 1e-9 * a.resolution_mm);
+      ASSERT_TRUE(a.inertia_kg && b.inertia_kg);
+      EXPECT_NEAR(*b.inertia_kg, *a.inertia_kg, 1e-8 * *a.inertia_kg);
+      if (!defaults) {
+        const Eigen::MatrixXd Jp = geometry.inverse_jacobian(x).inverse().topRows(3);
+        const double longest = Jp.colwise().norm().maxCoeff();
+        EXPECT_NEAR(a.force_iso_N, tau * 2 * std::numbers::pi / lead / longest, 1e-9 * a.force_iso_N);
+        EXPECT_NEAR(a.resolution_mm, 1e3 * longest * lead / counts, 1e-9 * a.resolution_mm);
+      }
+      ++checked;
+    }
+  }
+}
+
 TEST(StewartReference, InverseJacobianIsTheRateOfTheLegLengths) {
   const Stewart g = Stewart::from_file();
   std::mt19937_64 rng(15100);

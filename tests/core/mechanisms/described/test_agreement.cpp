@@ -11,6 +11,7 @@
 #include <random>
 
 #include "core/mechanism.h"
+#include "core/mechanisms/described/kinematics.h"
 #include "core/preset.h"
 
 namespace linkscape {
@@ -113,6 +114,45 @@ TEST(DescribedDelta, AtHomeTheConditionNumberIsSettledByALongDoubleSvd) {
   std::printf("Delta home c(J): long-double SVD %.17Lg, described %.17g (%.1e), compiled closed form %.17g (%.1e)\n",
               ref, d, double(std::abs(d - ref) / ref), c, double(std::abs(c - ref) / ref));
   EXPECT_LE(std::abs(d - ref) / ref, 1e-13);
+}
+
+// A target nearer a leg's base than the leg's shortest reach (|La - Lb|:
+// forearm folded back over the arm) is unreachable whatever the joints do;
+// the solver says so before iterating that leg, with the miss through the
+// shell |La - Lb| - distance, and the compiled Delta agrees it is
+// unreachable, by the same leg, with a miss no smaller.
+TEST(DescribedDelta, ALegNearerItsBaseThanItsShortestReachIsUnreachableBeforeIterating) {
+  const Preset preset = load_preset("delta-described");
+  const described::Kinematics kinematics(
+      described::build_model(preset.description, preset.parameters, preset.limits_deg, preset.length_unit));
+  const auto compiled = make_mechanism(load_preset("delta"));
+  const auto p = compiled->parameters();
+  const double R = p.at("R"), r = p.at("r"), La = p.at("La"), Lb = p.at("Lb"), size = compiled->size();
+  std::mt19937_64 rng(20261127);
+  std::normal_distribution<double> normal;
+  std::uniform_real_distribution<double> unit(0, 1);
+  int checked = 0;
+  for (int n = 0; n < 2000; ++n) {
+    const int leg = n % 3, branch = (n / 3) % 8;
+    const Eigen::Vector3d radial(std::cos(leg * 2 * M_PI / 3), std::sin(leg * 2 * M_PI / 3), 0);
+    const Eigen::Vector3d u = Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).normalized();
+    // The anchor (platform point + r radial) within the shell, by 1e-6 of the size at least.
+    const double distance = (std::abs(La - Lb) - 1e-6 * size) * std::cbrt(unit(rng));
+    const VectorXd x = (R - r) * radial + distance * u;
+    const described::PoseSolution s = kinematics.inverse(x, branch, 1e-10);
+    const described::LegSolution& l = s.legs[std::size_t(leg)];
+    ASSERT_EQ(l.status, Status::Unreachable) << x.transpose();
+    EXPECT_EQ(l.iterations, 0) << x.transpose();
+    EXPECT_NEAR(l.residual, std::abs(La - Lb) - distance, 1e-12 * size) << x.transpose();
+    IkOptions o;
+    o.branch = branch;
+    const IkResult c = compiled->inverse(x, o);
+    EXPECT_EQ(c.status, Status::Unreachable) << x.transpose();
+    // The compiled reach margin is the signed distance to the leg's reach (a torus): outside by at least the shell's miss.
+    EXPECT_LE(compiled->reach_margin(x, branch), -l.residual + 1e-12 * size) << x.transpose();
+    ++checked;
+  }
+  EXPECT_EQ(checked, 2000);
 }
 
 TEST(DescribedPathos2, AgreesWithTheCompiledPathos2At1e5Poses) {

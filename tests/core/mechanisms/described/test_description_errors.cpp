@@ -78,6 +78,39 @@ TEST(DescriptionErrors, ALegThatDoesNotReachItsAnchorAtHome) {
   expect_contains(m, {"broken.json", "leg", "does not reach its anchor at home", "misses by"});
 }
 
+// A leg of 61 joint variables (the Delta's, with 18 more spherical joints
+// at each wrist: idle turns that leave the device as it was) once overran a
+// fixed-size matrix on the stack. Either a limit on joints refuses it by name,
+// or it is the same device: the same actuator angles as the shipped
+// described Delta.
+TEST(DescriptionErrors, ALegWithManyJointVariablesIsSolvedOrRefused) {
+  json doc = delta_description();
+  json& chain = doc["description"]["legs"][0]["chain"];
+  for (int k = 0; k < 18; ++k) chain.push_back({{"joint", "spherical"}, {"name", "idle" + std::to_string(k) + "#"}});
+  std::shared_ptr<const Mechanism> many;
+  try {
+    many = make_mechanism(parse_preset(doc.dump(), "long-legs.json"));
+  } catch (const std::invalid_argument& e) {
+    expect_contains(e.what(), {"long-legs.json", "description.legs"});
+    return;
+  }
+  const auto shipped = make_mechanism(parse_preset(delta_description().dump(), "delta-described.json"));
+  const Eigen::VectorXd home = shipped->home_task();
+  for (const Eigen::Vector3d& offset : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(2, -1, 1), Eigen::Vector3d(-3, 2, -2)}) {
+    Eigen::VectorXd x = home;
+    x.head<3>() += offset;
+    const IkResult expected = shipped->inverse(x), got = many->inverse(x);
+    ASSERT_EQ(expected.status, Status::Ok) << x.transpose();
+    ASSERT_EQ(got.status, Status::Ok) << x.transpose();
+    EXPECT_LT((got.solutions[0].q - expected.solutions[0].q).cwiseAbs().maxCoeff(), 1e-9) << x.transpose();
+    FkOptions fo;
+    fo.seed = home;
+    const FkResult back = many->forward(got.solutions[0].q, fo);
+    EXPECT_EQ(back.status, Status::Ok);
+    EXPECT_LT((back.x - x).norm(), 1e-9 * many->size()) << x.transpose();
+  }
+}
+
 TEST(DescriptionErrors, WrongDegreeOfFreedomCount) {
   // A fourth freedom of the platform (rz) with three actuators.
   const std::string m = error_after([](json& d) { d["description"]["task"] = {"x", "y", "z", "rz"};
