@@ -132,20 +132,6 @@ std::string csv_text(std::string_view text) {
   return quoted + '"';
 }
 
-}  // namespace linkscape
-
-namespace linkscape {
-
-std::string csv_cell(std::string_view text) {
-  if (text.find_first_of(",\"\r\n") == std::string_view::npos) return std::string(text);
-  std::string out = "\"";
-  for (const char c : text) {
-    if (c == '"') out += '"';
-    out += c;
-  }
-  return out + '"';
-}
-
 std::vector<std::string> csv_cells(std::string_view line) {
   std::vector<std::string> out;
   std::size_t at = 0;

@@ -47,18 +47,10 @@ std::string format_number(double value);
 // is otherwise. Names and statuses from a description file can hold any of them.
 std::string csv_text(std::string_view text);
 
-}  // namespace linkscape
-
-namespace linkscape {
-
-// One CSV cell as RFC 4180 writes it: the text itself, or, where it holds a
-// comma, a double quote or a line break, the text in double quotes with
-// each double quote doubled.
-std::string csv_cell(std::string_view text);
-
-// The cells of one CSV line as csv_cell writes them, unquoted. Throws
+// The cells of one CSV line as csv_text writes them, unquoted. Throws
 // std::invalid_argument for a quoted cell that is not closed or is
 // followed by anything but a comma.
 std::vector<std::string> csv_cells(std::string_view line);
 
 }  // namespace linkscape
+

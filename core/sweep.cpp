@@ -38,7 +38,7 @@ double number_of(const std::string& text) {
 std::string error_cell(std::string text) {
   std::replace(text.begin(), text.end(), '\n', ' ');
   std::replace(text.begin(), text.end(), '\r', ' ');
-  return csv_cell(text);
+  return csv_text(text);
 }
 
 bool free_centre(const Plan& plan) { return !plan.problem.task.centre; }
@@ -71,7 +71,7 @@ FieldMeasures field_measures(const Plan& plan, const Mechanism& m, const Eigen::
   const Eigen::VectorXd fixed = plan.problem.pose.size() ? plan.problem.pose : m.home_task();
   const std::optional<Field> field = m.compute_field(grid, fixed, plan.problem.ik, plan.problem.threads, {});
   if (!field) throw std::runtime_error("field sampling was cancelled");
-  const bool flat = task::planar(m.info());
+  const std::optional<double> plane = m.info().plane_z;
   FieldMeasures out;
   std::size_t reachable = 0, in_task = 0, in_task_reachable = 0, finite = 0;
   double inverse_sum = 0, task_sum = 0, task_worst = 0;
@@ -86,7 +86,7 @@ FieldMeasures field_measures(const Plan& plan, const Mechanism& m, const Eigen::
           inverse_sum += std::isfinite(c) && c > 0 ? 1.0 / c : 0.0;
         }
         Eigen::Vector3d p = grid.point(i, j, k);
-        if (flat) p.z() = centre.z();  // a planar device's task: its section by the plane
+        if (plane) p.z() = centre.z();  // a planar device's task: its section by the plane
         if (!plan.problem.task.contains(p, centre)) continue;
         ++in_task;
         task_worst = std::max(task_worst, reached ? c : INFINITY);
@@ -177,12 +177,12 @@ std::vector<std::vector<double>> designs(const Plan& plan) {
 std::string header(const Plan& plan) {
   std::ostringstream s;
   s << "design";
-  for (const std::string& c : plan.columns) s << "," << csv_cell(c);
+  for (const std::string& c : plan.columns) s << "," << csv_text(c);
   s << ",cx,cy,cz,size,meets";
   if (free_centre(plan)) s << (plan.problem.task.shape == task::Shape::Sphere ? ",inscribed_diameter" : ",inscribed_scale");
   s << ",fraction,margin";
   for (const task::Criterion& c : plan.problem.criteria)
-    s << "," << csv_cell("worst_" + c.measure) << "," << csv_cell("margin_" + c.measure);
+    s << "," << csv_text("worst_" + c.measure) << "," << csv_text("margin_" + c.measure);
   if (plan.field_resolution > 0)
     for (const char* c : kFieldColumns) s << "," << c;
   s << ",pareto,error";
@@ -324,7 +324,7 @@ std::string table(const Plan& plan, const std::map<std::size_t, std::string>& ro
   for (const auto& c : lines) {
     for (std::size_t k = 0; k < c.size(); ++k) {
       if (k) out += ',';
-      out += csv_cell(c[k]);
+      out += csv_text(c[k]);
     }
     out += "\n";
   }

@@ -91,8 +91,6 @@ Criterion resolve(const Criterion& c, const MechanismInfo& info, const haptics::
                               " (known: " + known + ")");
 }
 
-bool planar(const MechanismInfo& info) { return info.actuators.size() + info.fk_inputs.size() < info.task.size(); }
-
 // ---- Task volumes -------------------------------------------------------------------
 
 Eigen::AlignedBox3d TaskVolume::bounds(const Vector3d& c) const { return {c - size / 2, c + size / 2}; }
@@ -268,12 +266,14 @@ double CriterionReport::margin() const {
 }
 
 TaskReport evaluate(const Device& device, const std::vector<Criterion>& criteria, const TaskVolume& task,
-                    const Vector3d& centre, int resolution) {
+                    const Vector3d& at, int resolution) {
   if (resolution < 2 || resolution > kMaxTaskResolution)
     throw std::invalid_argument("task evaluation: resolution must be 2 to " + std::to_string(kMaxTaskResolution) +
                                 ", got " + std::to_string(resolution));
-  // A planar device's task is its section by the plane: one layer at the centre.
-  const bool flat = planar(device.mechanism->info());
+  // A planar device's task is its section by the plane: one layer, centred on the plane.
+  const std::optional<double> plane = device.mechanism->info().plane_z;
+  const bool flat = plane.has_value();
+  const Vector3d centre = flat ? Vector3d(at.x(), at.y(), *plane) : at;
   const Eigen::AlignedBox3d bounds = task.bounds(centre);
   const Vector3d extent = bounds.sizes();
   const double longest = flat ? extent.head<2>().maxCoeff() : extent.maxCoeff();
@@ -588,15 +588,19 @@ std::optional<Inscribed> largest_inscribed(const Device& device, const std::vect
     throw std::invalid_argument("inscribed shape: resolution must be at least 4, refinements 0 to " +
                                 std::to_string(kMaxRefinements) + ", places at least 1");
   // Samples `region` at the resolution; nullopt if cancelled.
-  // A planar device's task is a section of its plane: one layer in z.
-  const bool flat = planar(device.mechanism->info());
-  auto sample_region = [&](const Eigen::AlignedBox3d& region, double done, double share)
+  // A planar device's task is a section of its plane: one layer, on the plane.
+  const std::optional<double> plane = device.mechanism->info().plane_z;
+  auto sample_region = [&](Eigen::AlignedBox3d region, double done, double share)
       -> std::optional<std::pair<Grid, std::vector<std::uint8_t>>> {
+    const double longest = plane ? region.sizes().head<2>().maxCoeff() : region.sizes().maxCoeff();
+    if (plane) {
+      region.min().z() = *plane - longest / 2;
+      region.max().z() = *plane + longest / 2;
+    }
     const Vector3d extent = region.sizes();
-    const double longest = flat ? extent.head<2>().maxCoeff() : extent.maxCoeff();
     std::array<int, 3> dims{};
     for (int k = 0; k < 3; ++k) dims[k] = std::max(4, int(std::lround(options.resolution * extent(k) / longest)));
-    if (flat) dims[2] = 1;
+    if (plane) dims[2] = 1;
     const Grid grid = Grid::box(region.min(), region.max(), dims);
     FieldProgress part = progress;
     if (progress.report) part.report = [&](double f) { progress.report(done + share * f); };

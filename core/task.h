@@ -48,15 +48,11 @@ std::string quoting_hint(const std::string& text);
 // names it knows, or where the measure needs actuator data not given.
 Criterion resolve(const Criterion& c, const MechanismInfo& info, const haptics::DeviceData* data);
 
-// Whether the device moves its driven point in a plane (its xy plane, z
-// not modelled): it actuates or reads fewer coordinates than it has task
-// coordinates. A task on such a device is the task's section by the plane
-// through its centre: a sphere is a disc of its diameter, a box the
-// rectangle of its x and y edges (docs/task-volumes.md).
-bool planar(const MechanismInfo& info);
-
 // ---- Task volumes -----------------------------------------------------------------
 
+// On a planar device (MechanismInfo::plane_z) a task is its section by the
+// plane: a sphere is a disc of its diameter, a box the rectangle of its x
+// and y edges, centred on the plane (docs/task-volumes.md).
 enum class Shape { Sphere, Box };
 
 // A sphere (diameter) or an axis-aligned box (edge lengths) of the driven
@@ -147,7 +143,7 @@ struct TaskReport {
 // interior samples (each stands for an equal volume); `worst`, `failing` and
 // where it fails count the surface too. Point-wise through the interface,
 // in parallel. A planar device: the section, a grid and the rim in the
-// plane at the centre. Throws std::invalid_argument for a resolution
+// plane, at the centre moved onto it. Throws std::invalid_argument for a resolution
 // outside 2..kMaxTaskResolution.
 // The largest resolution (about resolution^3 points evaluated one by one).
 inline constexpr int kMaxTaskResolution = 256;

@@ -34,6 +34,10 @@ fit::Problem make_problem(const FitOptions& o, const std::string& command) {
   const std::shared_ptr<const Mechanism> base = make_mechanism(problem.preset);
   const MechanismInfo& info = base->info();
   problem.task = task::parse_task(o.task);
+  if (info.plane_z && problem.task.centre && problem.task.centre->z() != *info.plane_z)
+    throw std::invalid_argument(command + ": the task's centre has z = " + format_number(problem.task.centre->z()) +
+                                ", off " + info.name + "'s plane z = " + format_number(*info.plane_z) +
+                                ": a planar device's task lies in its plane (a sphere is a disc there)");
   for (const std::string& c : o.criteria) problem.criteria.push_back(task::parse_criterion(c));
   if (std::none_of(problem.criteria.begin(), problem.criteria.end(), [](const task::Criterion& c) { return c.reach(); }))
     problem.criteria.insert(problem.criteria.begin(), task::parse_criterion("reach"));

@@ -265,14 +265,14 @@ TEST(SweepCheckpoint, ALinkToAMissingJournalStaysAndItsTargetIsWritten) {
 // Cells as RFC 4180 writes them: quoted where they hold a comma, a quote or
 // a line break, each quote doubled; read back to the same text.
 TEST(SweepCsv, CellsRoundTripThroughQuoting) {
-  EXPECT_EQ(csv_cell("plain text"), "plain text");
-  EXPECT_EQ(csv_cell("a, b"), "\"a, b\"");
-  EXPECT_EQ(csv_cell("say \"hi\""), "\"say \"\"hi\"\"\"");
+  EXPECT_EQ(csv_text("plain text"), "plain text");
+  EXPECT_EQ(csv_text("a, b"), "\"a, b\"");
+  EXPECT_EQ(csv_text("say \"hi\""), "\"say \"\"hi\"\"\"");
   const std::vector<std::string> texts = {"", "1.5", "a,b", "\"", "x\"y,z", ",,", "end,", "two\nlines"};
   std::string line;
   for (std::size_t k = 0; k < texts.size(); ++k) {
     if (k) line += ',';
-    line += csv_cell(texts[k]);
+    line += csv_text(texts[k]);
   }
   EXPECT_EQ(csv_cells(line), texts) << line;
   EXPECT_EQ(csv_cells("a,,b,"), (std::vector<std::string>{"a", "", "b", ""}));

@@ -180,6 +180,11 @@ TEST(CliFit, OptionsOutsideTheirRangesExitWithTwo) {
     EXPECT_NE(r.out.find(expected), std::string::npos) << args << "\n" << r.out;
     EXPECT_FALSE(fs::exists(csv)) << args;
   }
+  // A planar device's task lies in its plane.
+  const CommandResult off = run_linkscape("fit -m five-bar --task sphere:diameter=4,centre=0,17,3 -q --output " + csv);
+  EXPECT_EQ(off.exit_code, 2) << off.out;
+  EXPECT_NE(off.out.find("off five-bar's plane z = 0"), std::string::npos) << off.out;
+  EXPECT_FALSE(fs::exists(csv));
   const CommandResult help = run_linkscape("fit --help");
   EXPECT_NE(help.out.find("0 to 10"), std::string::npos) << help.out;
   EXPECT_NE(help.out.find("2 to 256"), std::string::npos) << help.out;
