@@ -310,7 +310,8 @@ std::string fit_report(const fit::Problem& problem, const fit::Result& r, const 
         << "\n  centre " << point_text(row.centre, unit);
     if (!problem.task.centre)
       out << (problem.task.shape == task::Shape::Sphere
-                  ? "; the largest sphere there is " + short_number(row.fit * problem.task.diameter()) + " " + unit +
+                  ? "; the largest " + std::string(info.plane_z ? "disc" : "sphere") + " there is " +
+                        short_number(row.fit * problem.task.diameter()) + " " + unit +
                         " across (the task's " + short_number(problem.task.diameter()) + ")"
                   : "; the largest box there is " + short_number(row.fit) + " times the task's");
     out << "\n  the task there: " << percent_text(row.report.fraction) << " % meets every criterion\n";

@@ -157,6 +157,7 @@ TEST(CliFit, APlanarDeviceIsSizedByTheDiscInItsPlane) {
       run_linkscape("fit -m five-bar --free a,b --task sphere:diameter=10 --output " + csv + kCoarse);
   ASSERT_EQ(r.exit_code, 0) << r.out;
   EXPECT_NE(r.out.find("smallest design meeting it: a = "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("the largest disc there is "), std::string::npos) << r.out;
   const auto rows = rows_of(csv);
   ASSERT_FALSE(rows.empty());
   EXPECT_EQ(rows[0].at("meets"), "1");
