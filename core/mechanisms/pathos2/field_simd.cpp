@@ -26,14 +26,17 @@
 // J differs from the reference's in its last bits: the reference's cond(Jp)
 // and cond(Jo) are themselves accurate to about 4 u kappa (u = 2^-53), and
 // this kernel's too, so the two agree to 1e-12 relative plus 16 u kappa,
-// plus where two singular values of a block nearly coincide 64 u (s_i^2 +
-// s_j^2) / (s_i^2 - s_j^2) (the closed form's arccosine and quadratic are
-// flat there), capped at 1e-7 (tests/core/mechanisms/pathos2/test_field_simd.cpp).
+// plus where two singular values of a block come close 64 u (s_i^2 + s_j^2) /
+// (s_i^2 - s_j^2), capped at 1e-7 (tests/core/mechanisms/pathos2/test_field_simd.cpp):
+// the trigonometric root taken here loses up to ~sqrt(u) as they meet,
+// where the reference deflates (pathos2.cpp), so the lanes with a close pair
+// (kClosePair) go to the reference.
 // Every lane whose status could hang on last bits -- kappa within a factor 2
 // of kMaxJacobianCondition or not finite, a non-finite M or one with its
 // largest entry outside 2^+-100, a non-finite coordinate, and a leg whose
 // reach margin the fast path takes from hypot -- goes to sample_oriented,
-// so the statuses are the reference's exactly.
+// so the statuses are the reference's exactly; so does every Ok lane with
+// a close pair of singular values in a block.
 //
 // Built with -ffp-contract=off (core/CMakeLists.txt): a fused multiply-add
 // would round once where the reference rounds twice.
@@ -55,9 +58,17 @@ namespace hn = hwy::HWY_NAMESPACE;
 
 using namespace linkscape::simd::HWY_NAMESPACE;  // D, V, M, Block and the shared helpers
 
+// Two squared singular values closer than this (relative) make a close
+// pair: the trigonometric root's relative error is ~3 u / gap, 1e-12 at a
+// gap of 3e-4, so this margin keeps the kernel's cond within ~1e-12 of the
+// reference's elsewhere.
+constexpr double kClosePair = 1e-3;
+
 // condition_number_lower_triangular (core/conditioning.cpp) of L = [a 0 0;
-// b c 0; d e f]; +inf where det L is zero or not finite.
-HWY_INLINE V LowerTriangularCondition(D d, V a, V b, V c, V dd, V e, V f) {
+// b c 0; d e f]; +inf where det L is zero or not finite. `close` marks the
+// lanes where two of L's singular values form a close pair: there the
+// trigonometric root loses up to ~sqrt(u), where the reference deflates.
+HWY_INLINE V LowerTriangularCondition(D d, V a, V b, V c, V dd, V e, V f, M& close) {
   const V det = a * c * f;
   const V a2 = a * a, f2 = f * f;
   const V k02 = b * e - c * dd;
@@ -66,13 +77,17 @@ HWY_INLINE V LowerTriangularCondition(D d, V a, V b, V c, V dd, V e, V f) {
                                     hn::Neg(b) * c * f2, c * f * k02, hn::Neg(b) * f * k02 - a2 * e * f);
   const V cond = hn::Sqrt(s_max * t_max) / hn::Abs(det);
   const M degenerate = hn::Or(det == hn::Zero(d), hn::Not(hn::IsFinite(det)));
+  // s_max = s1^2, t_max = (s1 s2)^2, det^2 / t_max = s3^2: s2^2 > (1 - k) s1^2
+  // or s3^2 > (1 - k) s2^2, without divisions.
+  const V keep = hn::Set(d, 1.0 - kClosePair);
+  close = hn::Or(keep * s_max * s_max < t_max, keep * t_max * t_max < det * det * s_max);
   return hn::IfThenElse(degenerate, hn::Inf(d), cond);
 }
 
 // three_column_condition_number (pathos2.cpp) of the 6x3 matrix with
 // columns b0, b1, b2: modified Gram-Schmidt to the triangle, then its
-// closed form.
-HWY_INLINE V ThreeColumnCondition(D d, const V* b0, const V* b1, const V* b2) {
+// closed form (`close` as there).
+HWY_INLINE V ThreeColumnCondition(D d, const V* b0, const V* b1, const V* b2, M& close) {
   const V one = hn::Set(d, 1.0);
   // Summed from the first entry on, as the reference's loops do.
   const auto dot = [](const V* u, const V* v) {
@@ -103,7 +118,7 @@ HWY_INLINE V ThreeColumnCondition(D d, const V* b0, const V* b1, const V* b2) {
   const V r12 = remove_along(v2, q1);
   const V r22 = dot(v2, v2);
   // r00 or r11 zero (a rank-deficient block) makes det zero or NaN: +inf.
-  return LowerTriangularCondition(d, r00, r01, r11, r02, r12, hn::Sqrt(r22));
+  return LowerTriangularCondition(d, r00, r01, r11, r02, r12, hn::Sqrt(r22), close);
 }
 
 // The samples [first, first + count) of the row into b (status, reach
@@ -363,8 +378,10 @@ void Samples(const Model& m, const FieldSetup& fs, const Grid& g, const detail::
         V col[6][6];
         for (int c = 0; c < 6; ++c)
           for (int r = 0; r < 6; ++r) col[c][r] = X[r][c];
-        cond_p = hn::IfThenElse(wants, ThreeColumnCondition(d, col[0], col[1], col[2]), inf);
-        cond_orientation = hn::IfThenElse(wants, ThreeColumnCondition(d, col[3], col[4], col[5]), inf);
+        M close_p, close_o;
+        cond_p = hn::IfThenElse(wants, ThreeColumnCondition(d, col[0], col[1], col[2], close_p), inf);
+        cond_orientation = hn::IfThenElse(wants, ThreeColumnCondition(d, col[3], col[4], col[5], close_o), inf);
+        to_scalar = hn::Or(to_scalar, hn::And(wants, hn::Or(close_p, close_o)));
       }
     }
     hn::Store(status, d, b.status + t);

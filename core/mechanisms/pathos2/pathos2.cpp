@@ -10,7 +10,6 @@
 #include <string_view>
 #include <stdexcept>
 
-#include "core/conditioning.h"
 
 namespace linkscape::pathos2 {
 namespace {
@@ -396,13 +395,74 @@ PoseIkResult inverse(const Model& model, const Pose& pose) {
 
 namespace {
 
+// The largest eigenvalue of a symmetric 3x3 B (eigenvalues in [-2, 2])
+// whose two largest nearly meet, given the smallest: those two are the
+// eigenvalues of B on the plane orthogonal to the smallest's eigenvector, a
+// 2x2 whose largest, mean + hypot, forms no cancellation. The smallest is
+// about 3 below the others, so the cross products below are of order 1.
+[[gnu::noinline]] double largest_of_a_close_pair(const Matrix3d& B, double smallest) {
+  const Matrix3d N = B - smallest * Matrix3d::Identity();
+  // N's null vector, the smallest's eigenvector: the longest cross product of two rows.
+  Vector3d v = N.row(0).cross(N.row(1));
+  for (const Vector3d& w : {Vector3d(N.row(0).cross(N.row(2))), Vector3d(N.row(1).cross(N.row(2)))})
+    if (w.squaredNorm() > v.squaredNorm()) v = w;
+  v.normalize();
+  int least;
+  v.cwiseAbs().minCoeff(&least);
+  const Vector3d e1 = v.cross(Vector3d::Unit(least)).normalized(), e2 = v.cross(e1);
+  const double c11 = e1.dot(B * e1), c22 = e2.dot(B * e2), c12 = e1.dot(B * e2);
+  return 0.5 * (c11 + c22) + std::hypot(0.5 * (c11 - c22), c12);
+}
+
+// Largest eigenvalue of a symmetric 3x3 S, within a few u |S|. S = q I + p B
+// with eig(B) = 2 cos(phi + 2 pi k / 3), phi = acos(det(B) / 2) / 3 in
+// [0, pi / 3]. The largest (k = 0) is flat in det B except where it meets
+// the middle one (phi -> pi / 3): there acos's slope turns the ulps of det B
+// into ~sqrt(u) (3e-9 at the centred level poses, where the two horizontal
+// singular values of a block coincide by symmetry). There the smallest
+// (k = 1) is the flat one, and well apart from the other two.
+double largest_eigenvalue(const Matrix3d& S) {
+  const double q = S.trace() / 3.0;
+  const double off = S(0, 1) * S(0, 1) + S(0, 2) * S(0, 2) + S(1, 2) * S(1, 2);
+  const double d0 = S(0, 0) - q, d1 = S(1, 1) - q, d2 = S(2, 2) - q;
+  const double p = std::sqrt((d0 * d0 + d1 * d1 + d2 * d2 + 2.0 * off) / 6.0);
+  if (p == 0.0) return q;
+  const Matrix3d B = (S - q * Matrix3d::Identity()) / p;
+  const double phi = std::acos(std::clamp(B.determinant() / 2.0, -1.0, 1.0)) / 3.0;
+  // Beyond 0.02 from pi / 3 the root is within ~0.2 |d det B| / 0.02 ~ 5e-15 of B's.
+  if (phi < kPi / 3.0 - 0.02) return q + 2.0 * p * std::cos(phi);
+  return q + p * largest_of_a_close_pair(B, 2.0 * std::cos(phi + 2.0 * kPi / 3.0));
+}
+
+// c of a lower-triangular L = [a 0 0; b c 0; d e f] whose entries are within
+// ~1e+-70 of 1: sigma_max^2 is the largest eigenvalue of L L^T and
+// (sigma_max sigma_mid)^2 that of K K^T, K = [cf -bf be-cd; 0 af -ae; 0 0 ac]
+// the cofactor matrix (det L L^-T), so c = sqrt(lambda_max(L L^T)
+// lambda_max(K K^T)) / |acf| with no determinant formed by cancellation:
+// relative error ~u c. Both products by hand, without L's and K's zeros.
+double triangle_condition_number(const Matrix3d& L) {
+  const double a = L(0, 0), b = L(1, 0), c = L(1, 1), d = L(2, 0), e = L(2, 1), f = L(2, 2);
+  const double det = a * c * f;
+  if (det == 0.0 || !std::isfinite(det)) return kInf;
+  const double bd_ce = b * d + c * e, k02 = b * e - c * d, f2 = f * f;
+  Matrix3d LLt, KKt;
+  LLt << a * a, a * b, a * d,  //
+      a * b, b * b + c * c, bd_ce,  //
+      a * d, bd_ce, d * d + e * e + f2;
+  const double kk01 = -a * (b * f2 + e * k02), kk12 = -a * a * c * e, kk02 = a * c * k02;
+  KKt << (b * b + c * c) * f2 + k02 * k02, kk01, kk02,  //
+      kk01, a * a * (e * e + f2), kk12,  //
+      kk02, kk12, a * a * c * c;
+  return std::sqrt(largest_eigenvalue(LLt) * largest_eigenvalue(KKt)) / std::abs(det);
+}
+
 // c of a 6x3 matrix B (the transpose of a block of J) whose entries are
 // within ~1e+-70 of 1. B = Q R with Q's columns orthonormal, by modified
 // Gram-Schmidt: the triangle R is backward stable (exactly the factor of a
 // matrix within a few u |B| of B) and has B's singular values; its closed
-// form forms no determinant by cancellation, so the relative error stays
-// ~u c. (Forming B^T B would square c, and a threshold on its determinant
-// cannot tell rank deficiency from rounding.)
+// form above keeps the relative error ~u c. (Forming B^T B would square c,
+// and a threshold on its determinant cannot tell rank deficiency from
+// rounding.)
 template <class Columns>
 double three_column_condition_number(const Eigen::MatrixBase<Columns>& B) {
   // Plain loops: Eigen's 6-vector updates were not inlined here.
@@ -427,7 +487,7 @@ double three_column_condition_number(const Eigen::MatrixBase<Columns>& B) {
   for (int k = 0; k < 6; ++k) v2[k] -= r12 * q1[k], r22 += v2[k] * v2[k];
   Matrix3d L;  // R^T
   L << r00, 0.0, 0.0, r01, r11, 0.0, r02, r12, std::sqrt(r22);
-  return condition_number_lower_triangular(L);
+  return triangle_condition_number(L);
 }
 
 }  // namespace

@@ -210,8 +210,9 @@ JacobianResult jacobian(const Geometry& geometry, const Pose& pose, const PoseIk
 JacobianResult jacobian(const Model& model, const Pose& pose);
 
 // cond of a 3x6 block, sigma_max / sigma_min, at any scale: B^T reduced to a
-// triangle by modified Gram-Schmidt, then conditioning.h's triangular closed
-// form (relative error ~u c). +inf if rank deficient, zero or not finite.
+// triangle by modified Gram-Schmidt, then the triangle's closed form, its
+// largest eigenvalues deflated where two singular values coincide (relative
+// error ~u c). +inf if rank deficient, zero or not finite.
 double block_condition_number(const Eigen::Matrix<double, 3, 6>& block);
 
 // ---- Forward kinematics ---------------------------------------------------

@@ -23,14 +23,12 @@
 //   the 1-norm condition number of the dimensionless M, <= 1e9 where the
 //   sample is Ok): near the Jacobian's singular set the reference's own
 //   values are accurate only to about 4 u kappa (pathos2.h), and the
-//   kernel's J differs from its J in the last bits; plus where two singular
-//   values s_i > s_j of the block nearly coincide 64 u (s_i^2 + s_j^2) /
-//   (s_i^2 - s_j^2), capped at 1e-7 (the closed form's arccosine and
-//   quadratic are flat there; the 12R kernel's test explains it).
+//   kernel's J differs from its J in the last bits. Where two singular
+//   values of a block nearly coincide the kernel hands the sample to the
+//   reference, so no allowance is needed there.
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
-#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -212,14 +210,6 @@ double kappa_of(const Model& m, const JacobianResult& J) {
   return Mu.cwiseAbs().colwise().sum().maxCoeff() * Mu.inverse().cwiseAbs().colwise().sum().maxCoeff();
 }
 
-// 64 u (s_i^2 + s_j^2) / (s_i^2 - s_j^2) for the closest pair of the block's
-// singular values, capped at 1e-7.
-double coincident_allowance(const Eigen::Matrix<double, 3, 6>& block) {
-  const Eigen::Vector3d sv = block.jacobiSvd().singularValues();
-  const double l1 = sv(0) * sv(0), l2 = sv(1) * sv(1), l3 = sv(2) * sv(2);
-  return std::min(1e-7, 64 * kUlp * std::max((l1 + l2) / (l1 - l2), (l2 + l3) / (l2 - l3)));
-}
-
 // The reference's sample at p with what the tolerances need.
 struct Reference {
   FieldSample sample;
@@ -295,13 +285,9 @@ int compare_with_reference(const Case& c, const Field& f, const std::string& lab
                              rounds_near(f.cond_orientation[idx], ref.cond_o, 1e-12);
           if (!close) {
             ++tally.cond_over_1e12;
-            const Pose pose = Pose::from_xyz_rpy(p.x(), p.y(), p.z(), c.request.rpy.x(), c.request.rpy.y(),
-                                                 c.request.rpy.z(), c.request.h0);
-            const JacobianResult J = jacobian(g, pose, inverse(g, pose));
-            const double base = 1e-12 + 16 * kUlp * ref.kappa;
-            ok = ok && rounds_near(f.cond[idx], ref.cond_p, base + coincident_allowance(J.J_twist_from_qdot.topRows<3>())) &&
-                 rounds_near(f.cond_orientation[idx], ref.cond_o,
-                             base + coincident_allowance(J.J_twist_from_qdot.bottomRows<3>()));
+            const double tolerance = 1e-12 + 16 * kUlp * ref.kappa;
+            ok = ok && rounds_near(f.cond[idx], ref.cond_p, tolerance) &&
+                 rounds_near(f.cond_orientation[idx], ref.cond_o, tolerance);
           }
         } else {
           ok = ok && f.cond[idx] == want.cond && f.cond_orientation[idx] == want.cond_orientation;
@@ -370,6 +356,32 @@ TEST(Pathos2FieldSimd, BaselineTargetAloneAgrees) {
     EXPECT_EQ(compare_with_reference(c, *compute_field(c.model, c.request), baseline, tally), 0) << c.name;
   EXPECT_GT(tally.by_status[int(Status::Ok)], 1000);
   record(baseline + " alone", tally);
+}
+
+// On the axis of three-fold symmetry (x = y = 0, level, rz = 0 .. 60 deg
+// in 6 deg steps, z over the reachable heights) the two horizontal singular
+// values of each block coincide, where the closed form's trigonometric root
+// alone is off by up to ~3e-9: a float's rounding in a few percent of the
+// samples. Every target stores the reference's floats there, bit for bit.
+TEST(Pathos2FieldSimd, AxisOfSymmetryMatchesTheReferenceBitForBit) {
+  for (const std::string& target : simd::available_targets()) {
+    const TargetLimit limit(target);
+    long compared = 0, differing = 0;
+    for (int deg = 0; deg <= 60; deg += 6) {
+      Case c{"axis, rz " + std::to_string(deg) + " deg", Model{}, {}};
+      c.request.rpy = Vector3d(0, 0, deg * kPi / 180);
+      c.request.grid = Grid::box(Vector3d(-1, -1, 16), Vector3d(1, 1, 29), {1, 1, 128});  // x = y = 0 exactly
+      const Field kernel = field_of(c, FieldKernel::Vector), reference = field_of(c, FieldKernel::Scalar);
+      for (std::size_t i = 0; i < reference.cond.size(); ++i) {
+        if (reference.status[i] != std::uint8_t(Status::Ok)) continue;
+        ++compared;
+        differing += kernel.cond[i] != reference.cond[i];
+        differing += kernel.cond_orientation[i] != reference.cond_orientation[i];
+      }
+    }
+    EXPECT_GT(compared, 800) << target;
+    EXPECT_EQ(differing, 0) << target << ": of " << 2 * compared << " floats";
+  }
 }
 
 TEST(Pathos2FieldSimd, KernelSwitch) {

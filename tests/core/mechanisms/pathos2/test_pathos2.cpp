@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <Eigen/QR>
 #include <Eigen/SVD>
 #include <cmath>
 #include <numbers>
@@ -276,12 +277,67 @@ TEST(Pathos2Jacobian, ConditionNumbersMatchSvd) {
     const Eigen::Matrix<double, 3, 6> block = jr.J_twist_from_qdot.middleRows<3>(3 * b);
     const Eigen::BDCSVD<Eigen::Matrix<double, 3, 6>> svd(block);
     const double expected = svd.singularValues()(0) / svd.singularValues()(2);
-    // The trigonometric root loses up to ~sqrt(eps) = 1.5e-8 where the two
-    // largest singular values coincide, which the three-fold symmetry makes
-    // common; 5e-8 relative is far below anything a map or a chart shows.
-    EXPECT_NEAR(b == 0 ? jr.cond_p : jr.cond_o, expected, 5e-8 * expected);
+    // Both are backward stable: a few u c apart, also where the three-fold
+    // symmetry makes two singular values coincide.
+    EXPECT_NEAR(b == 0 ? jr.cond_p : jr.cond_o, expected, 1e-14 * expected);
   }
   EXPECT_EQ(block_condition_number(Eigen::Matrix<double, 3, 6>::Zero()), std::numeric_limits<double>::infinity());
+}
+
+// Blocks with prescribed singular values c, mid, 1 (random orthogonal
+// factors), mid equal to c or to 1, or apart from one by 1e-12 .. 1e-2
+// relative, where the trigonometric root of the closed form loses up to
+// sqrt(u), and all three equal: within 8 u c of the exact c (a long-double
+// SVD of the double block).
+TEST(Pathos2Jacobian, BlockConditionNumberIsAccurateWhereSingularValuesCoincide) {
+  using LD = long double;
+  std::mt19937_64 rng(26);
+  std::normal_distribution<double> normal;
+  std::uniform_real_distribution<double> unit(0, 1);
+  double worst = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const double c = i < 50 ? 1.0 : std::pow(10.0, 8.0 * unit(rng));  // first all three equal
+    const double apart = i % 4 < 2 ? 0.0 : std::pow(10.0, -12.0 + 10.0 * unit(rng));
+    const double mid = i % 2 == 0 ? c * (1 - apart) : 1 + apart;
+    Eigen::Matrix3d A;
+    Eigen::Matrix<double, 6, 6> B6;
+    for (int k = 0; k < 9; ++k) A(k / 3, k % 3) = normal(rng);
+    for (int k = 0; k < 36; ++k) B6(k / 6, k % 6) = normal(rng);
+    const Eigen::Matrix3d U = Eigen::HouseholderQR<Eigen::Matrix3d>(A).householderQ();
+    const Matrix6d V = Eigen::HouseholderQR<Matrix6d>(B6).householderQ();
+    const Eigen::Matrix<double, 3, 6> block = U * Vector3d(c, mid, 1).asDiagonal() * V.leftCols<3>().transpose();
+    const Eigen::JacobiSVD<Eigen::Matrix<LD, 3, 6>> svd(block.cast<LD>());
+    const double exact = double(svd.singularValues()(0) / svd.singularValues()(2));
+    const double error = std::abs(block_condition_number(block) - exact) / exact;
+    worst = std::max(worst, error / (0x1p-53 * c));
+    EXPECT_LE(error, 8 * 0x1p-53 * c) << "c " << c << ", mid " << mid;
+  }
+  std::ostringstream text;
+  text << worst;
+  RecordProperty("worst relative error / (u c)", text.str());
+}
+
+// The README pose and the 36 centred level poses (x = y = 0, rx = ry = 0,
+// grip 7 cm; z = 19 .. 26.5 cm in 1.5 cm steps, rz = 0 .. 60 deg in 12 deg
+// steps), where the two horizontal singular values of each block coincide
+// by symmetry: cond(Jp) and cond(Jo) to 1e-12 relative of an independent
+// 50-digit computation (tests/reference/pathos2_cond_mpmath.py).
+TEST(Pathos2Jacobian, ConditionNumbersMatchFiftyDigitsAtCentredLevelPoses) {
+  struct Row {
+    double x, y, z, rx, ry, rz, h0, cond_p, cond_o;
+  };
+  static constexpr Row kReference[] = {
+#include "tests/core/mechanisms/pathos2/pathos2_cond_reference.inc"
+  };
+  static_assert(std::size(kReference) == 37);
+  const Geometry g = make_geometry(Model{});
+  for (const Row& r : kReference) {
+    const Pose pose = Pose::from_xyz_rpy(r.x, r.y, r.z, r.rx, r.ry, r.rz, r.h0);
+    const JacobianResult jr = jacobian(g, pose, inverse(g, pose));
+    ASSERT_EQ(jr.status, Status::Ok) << "z " << r.z << ", rz " << r.rz;
+    EXPECT_NEAR(jr.cond_p, r.cond_p, 1e-12 * r.cond_p) << "z " << r.z << ", rz " << r.rz;
+    EXPECT_NEAR(jr.cond_o, r.cond_o, 1e-12 * r.cond_o) << "z " << r.z << ", rz " << r.rz;
+  }
 }
 
 // ---- Forward kinematics -----------------------------------------------------------
