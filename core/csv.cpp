@@ -1,5 +1,6 @@
 #include "core/csv.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <sstream>
@@ -129,6 +130,35 @@ std::string csv_text(std::string_view text) {
   std::string quoted = "\"";
   for (char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
   return quoted + '"';
+}
+
+std::vector<std::string> csv_cells(std::string_view line) {
+  std::vector<std::string> out;
+  std::size_t at = 0;
+  while (true) {
+    std::string cell;
+    if (at < line.size() && line[at] == '"') {
+      for (++at;; ++at) {
+        if (at >= line.size()) throw std::invalid_argument("CSV line: a quoted cell is not closed");
+        if (line[at] == '"') {
+          if (at + 1 < line.size() && line[at + 1] == '"') ++at;
+          else break;
+        }
+        cell += line[at];
+      }
+      ++at;  // past the closing quote
+      if (at < line.size() && line[at] != ',')
+        throw std::invalid_argument("CSV line: a quoted cell is followed by '" + std::string(1, line[at]) +
+                                    "', not a comma");
+    } else {
+      const std::size_t comma = std::min(line.find(',', at), line.size());
+      cell = line.substr(at, comma - at);
+      at = comma;
+    }
+    out.push_back(std::move(cell));
+    if (at >= line.size()) return out;
+    ++at;  // past the comma
+  }
 }
 
 }  // namespace linkscape

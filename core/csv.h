@@ -47,4 +47,10 @@ std::string format_number(double value);
 // is otherwise. Names and statuses from a description file can hold any of them.
 std::string csv_text(std::string_view text);
 
+// The cells of one CSV line as csv_text writes them, unquoted. Throws
+// std::invalid_argument for a quoted cell that is not closed or is
+// followed by anything but a comma.
+std::vector<std::string> csv_cells(std::string_view line);
+
 }  // namespace linkscape
+

@@ -200,6 +200,7 @@ std::vector<Variable> variables(const Mechanism& mechanism, const std::vector<st
       v.hi = std::min(v.hi, q.range.hi);
     }
   }
+  std::set<std::string> bounded;  // variables given bounds
   for (const std::string& b : bounds) {
     const auto eq = b.find('='), colon = b.find(':');
     if (eq == std::string::npos || colon == std::string::npos || colon < eq)
@@ -212,6 +213,8 @@ std::vector<Variable> variables(const Mechanism& mechanism, const std::vector<st
       return std::count(v.parameters.begin(), v.parameters.end(), name) > 0;
     });
     if (it == out.end()) throw std::invalid_argument("fit: --bounds names '" + name + "', which is not free");
+    if (!bounded.insert(it->name()).second)
+      throw std::invalid_argument("fit: --bounds given twice for " + it->name() + " (again as '" + b + "')");
     it->lo = lo;
     it->hi = hi;
   }
@@ -344,28 +347,60 @@ void smallest_size(Search& search) {
   }
 }
 
-// The size as an affine function of the variables, size = held + c . v:
-// Mechanism::size() is the sum of the parameters its size_description names
-// (tested for every device: FitVariables.EverySizeIsTheSumItDescribes).
+// The size as an affine function of the variables, size = held + c . v.
 struct SizeLine {
   VectorXd c;
   double held = 0;
   double at(const VectorXd& v) const { return held + c.dot(v); }
 };
 
-SizeLine size_line(const Problem& problem) {
-  const std::shared_ptr<const Mechanism> base = make_mechanism(problem.preset);
-  const std::map<std::string, double> parameters = base->parameters();
+// The size line measured on designs: from the middle of the bounds and a
+// step of a quarter of each variable's span (the other way where that
+// design cannot be built), checked at the bounds' corners. A compiled
+// device's size is a sum of parameters (FitVariables.EverySizeIsTheSumItDescribes);
+// a described one's is an expression of its description, which --size
+// refuses where these designs show it is not affine.
+SizeLine size_line(const Problem& problem, const VectorXd& lo, const VectorXd& hi) {
+  const std::string described = make_mechanism(problem.preset)->info().size_description;
+  auto size_at = [&](const VectorXd& v) -> std::optional<double> {
+    try {
+      return make_mechanism(design_preset(problem, std::vector<double>(v.data(), v.data() + v.size())))->size();
+    } catch (const std::invalid_argument&) {
+      return std::nullopt;  // a design that cannot be built
+    }
+  };
+  const VectorXd mid = (lo + hi) / 2;
+  const std::optional<double> at_mid = size_at(mid);
+  if (!at_mid)
+    throw std::invalid_argument("fit: --size measures the size (" + described +
+                                ") on the design at the middle of the bounds, which cannot be built");
   SizeLine line;
-  line.c = VectorXd::Zero(Eigen::Index(problem.variables.size()));
-  for (const std::string& term : size_terms(base->info())) {
-    bool free = false;
-    for (std::size_t i = 0; i < problem.variables.size(); ++i)
-      if (std::count(problem.variables[i].parameters.begin(), problem.variables[i].parameters.end(), term)) {
-        line.c(Eigen::Index(i)) += 1;
-        free = true;
+  line.c = VectorXd::Zero(lo.size());
+  for (Eigen::Index i = 0; i < lo.size(); ++i) {
+    const double step = (hi(i) - lo(i)) / 4;
+    if (step == 0) continue;  // a variable that cannot move
+    std::optional<double> moved;
+    for (const double sign : {1.0, -1.0}) {
+      VectorXd v = mid;
+      v(i) += sign * step;
+      if ((moved = size_at(v))) {
+        line.c(i) = (*moved - *at_mid) / (sign * step);
+        break;
       }
-    if (!free) line.held += parameters.at(term);
+    }
+    if (!moved)
+      throw std::invalid_argument("fit: --size measures the size (" + described + ") on designs around the middle "
+                                  "of the bounds; moving " + problem.variables[std::size_t(i)].name() +
+                                  " a quarter of its span either way gives designs that cannot be built");
+  }
+  line.held = *at_mid - line.c.dot(mid);
+  for (const VectorXd& corner : {lo, hi}) {
+    const std::optional<double> measured = size_at(corner);
+    if (measured && std::abs(*measured - line.at(corner)) > 1e-9 * std::max(std::abs(*measured), std::abs(*at_mid)))
+      throw std::invalid_argument("fit: --size needs a size that changes in proportion to the free parameters "
+                                  "(as a sum of them does); this device's size (" + described + ") is " +
+                                  format_number(*measured) + " at a corner of the bounds where that would give " +
+                                  format_number(line.at(corner)));
   }
   return line;
 }
@@ -393,12 +428,14 @@ void largest_margin_at_size(const Problem& problem, Search& search) {
   const double size = *problem.size;
   if (!std::isfinite(size) || size <= 0)
     throw std::invalid_argument("fit: the size must be positive and finite, got " + format_number(size));
-  const SizeLine line = size_line(problem);
   const VectorXd lo = search.lo(), hi = search.hi();
+  const SizeLine line = size_line(problem, lo, hi);
   const std::string described = make_mechanism(problem.preset)->info().size_description;
   if (line.c.isZero())
     throw std::invalid_argument("fit: --size needs a free parameter the size counts (" + described + ")");
-  const double smallest = line.held + line.c.cwiseProduct(lo).sum(), largest = line.held + line.c.cwiseProduct(hi).sum();
+  // (A size may fall as a parameter grows.)
+  const double smallest = line.held + line.c.cwiseProduct(lo).cwiseMin(line.c.cwiseProduct(hi)).sum(),
+               largest = line.held + line.c.cwiseProduct(lo).cwiseMax(line.c.cwiseProduct(hi)).sum();
   if (size < smallest * (1 - 1e-12) || size > largest * (1 + 1e-12))
     throw std::invalid_argument("fit: no design within the bounds has size " + described + " = " + format_number(size) +
                                 " (they span " + format_number(smallest) + " to " + format_number(largest) + ")");
@@ -435,11 +472,7 @@ void largest_margin_at_size(const Problem& problem, Search& search) {
 
 Result solve(const Problem& problem, const Progress& progress) {
   const auto t0 = std::chrono::steady_clock::now();
-  if (problem.variables.empty()) throw std::invalid_argument("fit: no free design parameter");
-  for (const Variable& v : problem.variables)
-    if (!std::isfinite(v.lo) || !std::isfinite(v.hi) || !(v.lo <= v.hi))
-      throw std::invalid_argument("fit: the bounds of " + v.name() + " must be finite with lo <= hi, got " +
-                                  format_number(v.lo) + ":" + format_number(v.hi));
+  check_bounds(problem.variables, "fit");
   if (!(problem.tolerance > 0 && problem.tolerance < 1))
     throw std::invalid_argument("fit: the tolerance must lie in (0, 1)");
   Search search(problem, progress);
@@ -448,6 +481,23 @@ Result solve(const Problem& problem, const Progress& progress) {
   else smallest_size(search);
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
+}
+
+void check_bounds(const std::vector<Variable>& variables, const std::string& command) {
+  if (variables.empty()) throw std::invalid_argument(command + ": no free design parameter");
+  for (const Variable& v : variables)
+    if (!(std::abs(v.lo) <= kLargestBound && std::abs(v.hi) <= kLargestBound && v.lo <= v.hi))
+      throw std::invalid_argument(command + ": the bounds of " + v.name() + " must lie within -" +
+                                  format_number(kLargestBound) + " to " + format_number(kLargestBound) +
+                                  " (the parameter's unit) with lo <= hi, got " + format_number(v.lo) + ":" +
+                                  format_number(v.hi));
+}
+
+Preset design_preset(const Problem& problem, const std::vector<double>& values) {
+  Preset preset = problem.preset;
+  for (std::size_t i = 0; i < problem.variables.size() && i < values.size(); ++i)
+    for (const std::string& name : problem.variables[i].parameters) preset.parameters[name] = values[i];
+  return preset;
 }
 
 std::optional<Row> evaluate(const Problem& problem, const std::vector<double>& values, const std::atomic<bool>* cancel) {
@@ -459,9 +509,7 @@ std::optional<Row> evaluate(const Problem& problem, const std::vector<double>& v
   simd::clear_upper_registers();
   Row row;
   row.values = values;
-  Preset preset = problem.preset;
-  for (std::size_t i = 0; i < problem.variables.size(); ++i)
-    for (const std::string& name : problem.variables[i].parameters) preset.parameters[name] = values[i];
+  const Preset preset = design_preset(problem, values);
   std::shared_ptr<const Mechanism> mechanism;
   try {
     mechanism = make_mechanism(preset);

@@ -80,13 +80,27 @@ struct Progress {
   const std::atomic<bool>* cancel = nullptr;
 };
 
+// The largest magnitude of a bound: beyond it the samples and the
+// searches lose their resolution (a bisection over bounds 1e15 wide stops
+// a thousand cm from the answer; a design of 1e18 cm has a default box
+// whose corners round together).
+inline constexpr double kLargestBound = 1e6;
+
+// Throws std::invalid_argument (messages starting with `command`) for no
+// variable, or bounds beyond +-kLargestBound or with lo > hi.
+void check_bounds(const std::vector<Variable>& variables, const std::string& command);
+
 // Throws std::invalid_argument for a problem no search can run: no free
-// variable, lo > hi or non-finite bounds, criteria the device does not know,
+// variable, lo > hi or bounds beyond +-kLargestBound, criteria the device does not know,
 // bounds where no design can be built (naming the device's reason); with a
 // size, one that is not positive, that no design within the bounds has, or
 // that no free variable changes.
 // Otherwise a task no design meets is a result (best empty, closest set).
 Result solve(const Problem& problem, const Progress& progress = {});
+
+// The problem's preset with each variable's parameters set to `values`
+// (one per variable).
+Preset design_preset(const Problem& problem, const std::vector<double>& values);
 
 // One design: the problem's preset with each variable's parameters set to
 // `values` (one per variable), evaluated as solve evaluates each design. A
@@ -105,7 +119,8 @@ std::vector<std::string> size_terms(const MechanismInfo& info);
 // ("L1,L2", each a comma list held equal; its parameters are free),
 // bounds "NAME=lo:hi" (default: the parameter's range in the device's
 // description; a group takes the intersection). Throws
-// std::invalid_argument naming an unknown parameter or a malformed bound.
+// std::invalid_argument naming an unknown parameter, a malformed bound or
+// a variable bounded twice.
 std::vector<Variable> variables(const Mechanism& mechanism, const std::vector<std::string>& free,
                                 const std::vector<std::string>& equal, const std::vector<std::string>& bounds);
 

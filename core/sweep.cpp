@@ -2,17 +2,25 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <random>
 #include <sstream>
 #include <stdexcept>
 
 #include "core/csv.h"
 #include "core/field.h"
+#include "core/preflight.h"
 
 namespace linkscape::sweep {
 namespace {
 
 constexpr std::size_t kMaxDesigns = 1'000'000'000;
+// What a sweep keeps per design until its table is written (the design, its
+// row in the checkpoint's map and in the table, its cells while the Pareto
+// front is marked, its fit row for the chart): about 920 bytes plus 78 a
+// column, measured as peak memory over designs with /usr/bin/time -v
+// (docs/sweeps.md), rounded up.
+constexpr double kBytesPerDesign = 1024, kBytesPerCell = 96;
 
 // A number as the table holds it: exact round trip, "inf"/"-inf", empty for NaN.
 std::string cell(double v) {
@@ -26,12 +34,12 @@ double number_of(const std::string& text) {
   return parse_number(text).value_or(std::nan(""));
 }
 
-// One line, no commas: an error message fit for a CSV cell.
+// An error message as one CSV cell on one line (the checkpoint is a journal
+// of lines): line breaks become spaces, commas and quotes are quoted.
 std::string error_cell(std::string text) {
-  std::replace(text.begin(), text.end(), ',', ';');
   std::replace(text.begin(), text.end(), '\n', ' ');
   std::replace(text.begin(), text.end(), '\r', ' ');
-  return text;
+  return csv_text(text);
 }
 
 bool free_centre(const Plan& plan) { return !plan.problem.task.centre; }
@@ -64,6 +72,7 @@ FieldMeasures field_measures(const Plan& plan, const Mechanism& m, const Eigen::
   const Eigen::VectorXd fixed = plan.problem.pose.size() ? plan.problem.pose : m.home_task();
   const std::optional<Field> field = m.compute_field(grid, fixed, plan.problem.ik, plan.problem.threads, {});
   if (!field) throw std::runtime_error("field sampling was cancelled");
+  const std::optional<double> plane = m.info().plane_z;
   FieldMeasures out;
   std::size_t reachable = 0, in_task = 0, in_task_reachable = 0, finite = 0;
   double inverse_sum = 0, task_sum = 0, task_worst = 0;
@@ -77,7 +86,9 @@ FieldMeasures field_measures(const Plan& plan, const Mechanism& m, const Eigen::
           ++reachable;
           inverse_sum += std::isfinite(c) && c > 0 ? 1.0 / c : 0.0;
         }
-        if (!plan.problem.task.contains(grid.point(i, j, k), centre)) continue;
+        Eigen::Vector3d p = grid.point(i, j, k);
+        if (plane) p.z() = centre.z();  // a planar device's task: its section by the plane
+        if (!plan.problem.task.contains(p, centre)) continue;
         ++in_task;
         task_worst = std::max(task_worst, reached ? c : INFINITY);
         if (!reached) continue;
@@ -100,32 +111,44 @@ std::size_t column_of(const std::vector<std::string>& header, const std::string&
 
 }  // namespace
 
-std::vector<std::string> cells(const std::string& line) {
-  std::vector<std::string> out;
-  std::size_t start = 0;
-  for (std::size_t comma; (comma = line.find(',', start)) != std::string::npos; start = comma + 1)
-    out.push_back(line.substr(start, comma - start));
-  out.push_back(line.substr(start));
-  return out;
+std::size_t design_count(const Plan& plan) {
+  const auto& vars = plan.problem.variables;
+  fit::check_bounds(vars, "sweep");
+  if (plan.sampling == Sampling::Random) {
+    if (plan.count < 1 || plan.count > kMaxDesigns)
+      throw std::invalid_argument("sweep: --random needs 1 to 10^9 designs, got " + std::to_string(plan.count));
+    return plan.count;
+  }
+  if (plan.levels < 2) throw std::invalid_argument("sweep: --grid needs at least 2 values per parameter");
+  double total = 1;
+  for (std::size_t i = 0; i < vars.size(); ++i) total *= plan.levels;
+  if (total > double(kMaxDesigns))
+    throw std::invalid_argument("sweep: a grid of " + std::to_string(plan.levels) + "^" + std::to_string(vars.size()) +
+                                " designs is more than 10^9");
+  return std::size_t(total);
+}
+
+double table_bytes(const Plan& plan) {
+  const double cells = double(csv_cells(header(plan)).size());
+  return double(design_count(plan)) * (kBytesPerDesign + kBytesPerCell * cells);
 }
 
 std::vector<std::vector<double>> designs(const Plan& plan) {
   const auto& vars = plan.problem.variables;
-  if (vars.empty()) throw std::invalid_argument("sweep: no free design parameter");
-  for (const fit::Variable& v : vars)
-    if (!std::isfinite(v.lo) || !std::isfinite(v.hi) || !(v.lo <= v.hi))
-      throw std::invalid_argument("sweep: the bounds of " + v.name() + " must be finite with lo <= hi, got " +
-                                  cell(v.lo) + ":" + cell(v.hi));
+  const std::size_t n = design_count(plan);
+  // Refused before the designs take any memory.
+  const double needed = table_bytes(plan);
+  if (const std::optional<double> available = available_memory_bytes(); available && needed > *available) {
+    std::ostringstream message;
+    message << std::setprecision(3) << "sweep: " << n << " designs need about " << needed / (1 << 30)
+            << " GiB for the table, over the " << *available / (1 << 30)
+            << " GiB of memory available now; sweep fewer designs (a coarser --grid, a smaller --random) or split "
+               "the bounds into several sweeps";
+    throw std::invalid_argument(message.str());
+  }
   std::vector<std::vector<double>> out;
+  out.reserve(n);
   if (plan.sampling == Sampling::Grid) {
-    if (plan.levels < 2) throw std::invalid_argument("sweep: --grid needs at least 2 values per parameter");
-    double total = 1;
-    for (std::size_t i = 0; i < vars.size(); ++i) total *= plan.levels;
-    if (total > double(kMaxDesigns))
-      throw std::invalid_argument("sweep: a grid of " + std::to_string(plan.levels) + "^" + std::to_string(vars.size()) +
-                                  " designs is more than 10^9");
-    const std::size_t n = std::size_t(total);
-    out.reserve(n);
     for (std::size_t d = 0; d < n; ++d) {
       std::vector<double> values(vars.size());
       std::size_t rest = d;
@@ -137,11 +160,8 @@ std::vector<std::vector<double>> designs(const Plan& plan) {
       out.push_back(std::move(values));
     }
   } else {
-    if (plan.count < 1 || plan.count > kMaxDesigns)
-      throw std::invalid_argument("sweep: --random needs 1 to 10^9 designs, got " + std::to_string(plan.count));
     std::mt19937_64 random(plan.seed);
-    out.reserve(plan.count);
-    for (std::size_t d = 0; d < plan.count; ++d) {
+    for (std::size_t d = 0; d < n; ++d) {
       std::vector<double> values(vars.size());
       for (std::size_t i = 0; i < vars.size(); ++i) {
         // 53 random bits as a double in [0, 1): the same on every platform
@@ -158,11 +178,12 @@ std::vector<std::vector<double>> designs(const Plan& plan) {
 std::string header(const Plan& plan) {
   std::ostringstream s;
   s << "design";
-  for (const std::string& c : plan.columns) s << "," << c;
+  for (const std::string& c : plan.columns) s << "," << csv_text(c);
   s << ",cx,cy,cz,size,meets";
   if (free_centre(plan)) s << (plan.problem.task.shape == task::Shape::Sphere ? ",inscribed_diameter" : ",inscribed_scale");
   s << ",fraction,margin";
-  for (const task::Criterion& c : plan.problem.criteria) s << ",worst_" << c.measure << ",margin_" << c.measure;
+  for (const task::Criterion& c : plan.problem.criteria)
+    s << "," << csv_text("worst_" + c.measure) << "," << csv_text("margin_" + c.measure);
   if (plan.field_resolution > 0)
     for (const char* c : kFieldColumns) s << "," << c;
   s << ",pareto,error";
@@ -170,9 +191,7 @@ std::string header(const Plan& plan) {
 }
 
 std::string evaluate_row(const Plan& plan, std::size_t index, const std::vector<double>& values) {
-  Preset preset = plan.problem.preset;
-  for (std::size_t i = 0; i < plan.problem.variables.size() && i < values.size(); ++i)
-    for (const std::string& name : plan.problem.variables[i].parameters) preset.parameters[name] = values[i];
+  const Preset preset = fit::design_preset(plan.problem, values);
   std::map<std::string, double> parameters = preset.parameters;  // the whole design, once built
   std::optional<fit::Row> row;
   std::optional<FieldMeasures> field;
@@ -198,7 +217,7 @@ std::string evaluate_row(const Plan& plan, std::size_t index, const std::vector<
   }
   if (!scored) {
     // Empty scores: every column but design, the parameters, pareto and error.
-    const std::size_t score_cells = cells(header(plan)).size() - plan.columns.size() - 3;
+    const std::size_t score_cells = csv_cells(header(plan)).size() - plan.columns.size() - 3;
     for (std::size_t i = 0; i < score_cells; ++i) s << ",";
     s << ",0," << error_cell(error);
     return s.str();
@@ -242,7 +261,7 @@ std::vector<bool> non_dominated(const std::vector<double>& x, const std::vector<
 }
 
 fit::Result as_fit_result(const Plan& plan, const std::map<std::size_t, std::string>& rows) {
-  const std::vector<std::string> head = cells(header(plan));
+  const std::vector<std::string> head = csv_cells(header(plan));
   const bool free = free_centre(plan);
   const std::size_t size_col = column_of(head, "size"), meets_col = column_of(head, "meets"),
                     fraction_col = column_of(head, "fraction"), error_col = column_of(head, "error");
@@ -250,7 +269,7 @@ fit::Result as_fit_result(const Plan& plan, const std::map<std::size_t, std::str
   const task::TaskVolume& t = plan.problem.task;
   fit::Result r;
   for (const auto& [index, text] : rows) {
-    const std::vector<std::string> row_cells = cells(text);
+    const std::vector<std::string> row_cells = csv_cells(text);
     if (row_cells.size() != head.size() || !row_cells[error_col].empty()) continue;
     fit::Row row;
     for (std::size_t k = 0; k < plan.columns.size(); ++k) row.parameters[plan.columns[k]] = number_of(row_cells[k + 1]);
@@ -275,7 +294,7 @@ fit::Result as_fit_result(const Plan& plan, const std::map<std::size_t, std::str
 }
 
 std::string table(const Plan& plan, const std::map<std::size_t, std::string>& rows) {
-  const std::vector<std::string> head = cells(header(plan));
+  const std::vector<std::string> head = csv_cells(header(plan));
   const std::size_t size_col = column_of(head, "size"), pareto_col = column_of(head, "pareto"),
                     error_col = column_of(head, "error");
   const std::optional<std::size_t> measured = measured_criterion(plan);
@@ -288,7 +307,7 @@ std::string table(const Plan& plan, const std::map<std::size_t, std::string>& ro
   std::size_t expected = 0;
   for (const auto& [index, text] : rows) {
     if (index != expected++) throw std::invalid_argument("sweep: the table misses design " + std::to_string(index - 1));
-    lines.push_back(cells(text));
+    lines.push_back(csv_cells(text));
     const auto& c = lines.back();
     if (c.size() != head.size())
       throw std::invalid_argument("sweep: design " + std::to_string(index) + " has " + std::to_string(c.size()) +
@@ -304,7 +323,10 @@ std::string table(const Plan& plan, const std::map<std::size_t, std::string>& ro
   for (std::size_t k = 0; k < candidates.size(); ++k) lines[candidates[k]][pareto_col] = front[k] ? "1" : "0";
   std::string out = header(plan) + "\n";
   for (const auto& c : lines) {
-    for (std::size_t k = 0; k < c.size(); ++k) out += (k ? "," : "") + c[k];
+    for (std::size_t k = 0; k < c.size(); ++k) {
+      if (k) out += ',';
+      out += csv_text(c[k]);
+    }
     out += "\n";
   }
   return out;
@@ -331,9 +353,9 @@ std::string fingerprint(const Plan& plan) {
 }
 
 Checkpoint::Checkpoint(const std::filesystem::path& path, const Plan& plan, std::size_t designs, bool resume)
-    : path_(path) {
+    : path_(path), file_(followed_links(path)) {
   const std::string first = "# " + fingerprint(plan);
-  const std::size_t width = cells(header(plan)).size();
+  const std::size_t width = csv_cells(header(plan)).size();
   if (resume) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw std::invalid_argument("sweep: --resume finds no checkpoint '" + path.string() + "'");
@@ -354,8 +376,14 @@ Checkpoint::Checkpoint(const std::filesystem::path& path, const Plan& plan, std:
       if (!index || *index < 0 || *index >= double(designs) || *index != std::floor(*index))
         throw std::invalid_argument("sweep: " + where + ": a checkpoint row starts with a design index below " +
                                     std::to_string(designs));
-      if (cells(line).size() != width)
-        throw std::invalid_argument("sweep: " + where + ": " + std::to_string(cells(line).size()) + " cells, expected " +
+      std::size_t count = 0;
+      try {
+        count = csv_cells(line).size();
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument("sweep: " + where + ": " + e.what());
+      }
+      if (count != width)
+        throw std::invalid_argument("sweep: " + where + ": " + std::to_string(count) + " cells, expected " +
                                     std::to_string(width));
       rows_[std::size_t(*index)] = line;
     }
@@ -385,7 +413,7 @@ void Checkpoint::flush() {
 
 void Checkpoint::remove() {
   out_.close();
-  std::filesystem::remove(path_);
+  std::filesystem::remove(file_);
 }
 
 }  // namespace linkscape::sweep

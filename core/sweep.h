@@ -35,10 +35,18 @@ struct Plan {
   std::vector<std::string> columns;  // design parameters named in the table (every free one among them)
 };
 
+// The number of designs of the plan. Throws std::invalid_argument for
+// bounds fit::check_bounds refuses, fewer than 1 design, a grid of one
+// level, or more than 10^9 designs.
+std::size_t design_count(const Plan& plan);
+
+// About the memory the sweep keeps until its table is written, in bytes.
+double table_bytes(const Plan& plan);
+
 // Every design of the plan, as one value per variable, in table order: the
 // grid with the first variable slowest, or `count` uniform draws from a
-// 64-bit Mersenne twister seeded with `seed`. Throws std::invalid_argument
-// for fewer than 1 design, a grid of one level, or more than 10^9 designs.
+// 64-bit Mersenne twister seeded with `seed`. Throws as design_count, and
+// std::invalid_argument where table_bytes exceeds the memory available now.
 std::vector<std::vector<double>> designs(const Plan& plan);
 
 // The table's header line (no newline), pareto and error columns included.
@@ -47,7 +55,7 @@ std::string header(const Plan& plan);
 // The table row of one design (no newline, the pareto cell left as "0"):
 // never throws for the design itself; a design that cannot be built or whose
 // evaluation throws has its reason in the error column (commas and line
-// breaks replaced) and empty scores.
+// breaks replaced by spaces, the cell quoted as RFC 4180 quotes it) and empty scores.
 std::string evaluate_row(const Plan& plan, std::size_t index, const std::vector<double>& values);
 
 // The whole table, header first, rows in index order, with the pareto column
@@ -61,9 +69,6 @@ std::string table(const Plan& plan, const std::map<std::size_t, std::string>& ro
 // and each criterion's worst value), for fit's Pareto chart; rows with an error are
 // left out. Also returns the index of the smallest meeting design, if any.
 fit::Result as_fit_result(const Plan& plan, const std::map<std::size_t, std::string>& rows);
-
-// The cells of a table line (no quoting: rows hold no commas in a cell).
-std::vector<std::string> cells(const std::string& line);
 
 // Which of the points (x smaller is better; y larger is better where
 // `larger_is_better`, else smaller) no other point beats on both.
@@ -89,11 +94,14 @@ class Checkpoint {
   const std::map<std::size_t, std::string>& rows() const { return rows_; }
   void add(std::size_t index, const std::string& row);  // appended; flush() writes it through
   void flush();
-  void remove();  // once the table is written
+  // Once the table is written: the journal goes; a symbolic link to it
+  // stays, as every output's link does.
+  void remove();
   const std::filesystem::path& path() const { return path_; }
 
  private:
   std::filesystem::path path_;
+  std::filesystem::path file_;  // path_ with its links followed
   std::ofstream out_;
   std::map<std::size_t, std::string> rows_;
 };

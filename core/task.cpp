@@ -266,12 +266,20 @@ double CriterionReport::margin() const {
 }
 
 TaskReport evaluate(const Device& device, const std::vector<Criterion>& criteria, const TaskVolume& task,
-                    const Vector3d& centre, int resolution) {
-  if (resolution < 2) throw std::invalid_argument("task evaluation: resolution must be at least 2");
+                    const Vector3d& at, int resolution) {
+  if (resolution < 2 || resolution > kMaxTaskResolution)
+    throw std::invalid_argument("task evaluation: resolution must be 2 to " + std::to_string(kMaxTaskResolution) +
+                                ", got " + std::to_string(resolution));
+  // A planar device's task is its section by the plane: one layer, centred on the plane.
+  const std::optional<double> plane = device.mechanism->info().plane_z;
+  const bool flat = plane.has_value();
+  const Vector3d centre = flat ? Vector3d(at.x(), at.y(), *plane) : at;
   const Eigen::AlignedBox3d bounds = task.bounds(centre);
   const Vector3d extent = bounds.sizes();
+  const double longest = flat ? extent.head<2>().maxCoeff() : extent.maxCoeff();
   std::array<int, 3> dims{};
-  for (int k = 0; k < 3; ++k) dims[k] = std::max(2, int(std::lround(resolution * extent(k) / extent.maxCoeff())));
+  for (int k = 0; k < 3; ++k) dims[k] = std::max(2, int(std::lround(resolution * extent(k) / longest)));
+  if (flat) dims[2] = 1;
   const Grid grid = Grid::box(bounds.min(), bounds.max(), dims);
   std::vector<Vector3d> points;
   for (int k = 0; k < dims[2]; ++k)
@@ -279,7 +287,15 @@ TaskReport evaluate(const Device& device, const std::vector<Criterion>& criteria
       for (int i = 0; i < dims[0]; ++i)
         if (task.contains(grid.point(i, j, k), centre)) points.push_back(grid.point(i, j, k));
   const std::size_t interior = points.size();
-  if (task.shape == Shape::Sphere) {
+  if (task.shape == Shape::Sphere && flat) {
+    // The disc's rim, evenly.
+    const int n = std::max(64, 8 * resolution);
+    const double r = task.diameter() / 2;
+    for (int k = 0; k < n; ++k) {
+      const double phi = 2 * std::numbers::pi * k / n;
+      points.push_back(centre + r * Vector3d(std::cos(phi), std::sin(phi), 0));
+    }
+  } else if (task.shape == Shape::Sphere) {
     // Fibonacci points: nearly even spacing, no clustering at poles.
     const int n = std::max(64, resolution * resolution);
     const double r = task.diameter() / 2;
@@ -288,8 +304,9 @@ TaskReport evaluate(const Device& device, const std::vector<Criterion>& criteria
       points.push_back(centre + r * Vector3d(rho * std::cos(phi), rho * std::sin(phi), z));
     }
   } else {
-    // Each face: its cell centres of the grid, on the face.
-    for (int axis = 0; axis < 3; ++axis)
+    // Each face: its cell centres of the grid, on the face (a rectangle's
+    // edges: the faces across x and y, one layer thick).
+    for (int axis = 0; axis < (flat ? 2 : 3); ++axis)
       for (double side : {-0.5, 0.5}) {
         const int a = (axis + 1) % 3, b = (axis + 2) % 3;
         for (int j = 0; j < dims[b]; ++j)
@@ -356,10 +373,14 @@ TaskReport evaluate(const Device& device, const std::vector<Criterion>& criteria
 namespace {
 
 // The grid with a ring of failing samples around it, so that shapes stay
-// inside the sampled box.
+// inside the sampled box. A grid one sample thick in z is a section of a
+// planar device's plane: ringed in x and y only, its shapes are discs and
+// rectangles in it.
 struct Padded {
   std::array<int, 3> dims;
+  std::array<int, 3> ring;  // samples added before the grid's first, per axis
   std::vector<std::uint8_t> good;
+  bool flat() const { return ring[2] == 0; }
   std::size_t index(int i, int j, int k) const { return i + std::size_t(dims[0]) * (j + std::size_t(dims[1]) * k); }
   std::array<int, 3> ijk(std::size_t s) const {
     return {int(s % std::size_t(dims[0])), int((s / std::size_t(dims[0])) % std::size_t(dims[1])),
@@ -371,17 +392,22 @@ Padded padded(const Grid& g, const std::vector<std::uint8_t>& good) {
   if (good.size() != g.size())
     throw std::invalid_argument("inscribed shape: the mask has " + std::to_string(good.size()) + " samples, the grid " +
                                 std::to_string(g.size()));
-  Padded p{{g.dims[0] + 2, g.dims[1] + 2, g.dims[2] + 2}, {}};
+  const int ring_z = g.dims[2] == 1 ? 0 : 1;
+  Padded p{{g.dims[0] + 2, g.dims[1] + 2, g.dims[2] + 2 * ring_z}, {1, 1, ring_z}, {}};
   p.good.assign(std::size_t(p.dims[0]) * p.dims[1] * p.dims[2], 0);
   for (int k = 0; k < g.dims[2]; ++k)
     for (int j = 0; j < g.dims[1]; ++j)
-      for (int i = 0; i < g.dims[0]; ++i) p.good[p.index(i + 1, j + 1, k + 1)] = good[g.index(i, j, k)];
+      for (int i = 0; i < g.dims[0]; ++i) p.good[p.index(i + 1, j + 1, k + ring_z)] = good[g.index(i, j, k)];
   return p;
 }
 
+// The largest spacing of a grid across the shapes it holds (a plane's
+// section: in x and y).
+double spacing_of(const Grid& g) { return g.dims[2] == 1 ? g.spacing.head<2>().maxCoeff() : g.spacing.maxCoeff(); }
+
 Vector3d point_of(const Grid& g, const Padded& p, std::size_t s) {
   const auto [i, j, k] = p.ijk(s);
-  return g.point(i - 1, j - 1, k - 1);
+  return g.point(i - p.ring[0], j - p.ring[1], k - p.ring[2]);
 }
 
 // One line of the exact squared Euclidean distance transform (Felzenszwalb
@@ -470,14 +496,19 @@ std::vector<double> box_sizes(const Padded& p, const Vector3d& spacing, const Ve
     return at(hi[0], hi[1], hi[2]) - at(lo[0], hi[1], hi[2]) - at(hi[0], lo[1], hi[2]) - at(hi[0], hi[1], lo[2]) +
            at(lo[0], lo[1], hi[2]) + at(lo[0], hi[1], lo[2]) + at(hi[0], lo[1], lo[2]) - at(lo[0], lo[1], lo[2]);
   };
+  // The box reaches the failing ring around the grid along the axis where it
+  // is longest relative to the grid: there every window stays within the
+  // padded grid, whatever the box's aspect ratio. (A plane's section has
+  // no ring in z, nor a z extent to its rectangle.)
+  const int axes = p.flat() ? 2 : 3;
+  double top = kInf;
+  for (int a = 0; a < axes; ++a) top = std::min(top, 2 * p.dims[a] * spacing(a) / shape(a));
   // A failing sample at offset d is strictly inside iff |d_k| h_k < s shape_k / 2 for every k.
   auto windows = [&](double scale) {
     std::array<int, 3> w{};
-    for (int a = 0; a < 3; ++a) w[a] = int(std::ceil(scale * shape(a) / (2 * spacing(a)))) - 1;
+    for (int a = 0; a < axes; ++a) w[a] = int(std::ceil(scale * shape(a) / (2 * spacing(a)))) - 1;
     return w;
   };
-  double top = 0;
-  for (int a = 0; a < 3; ++a) top = std::max(top, 2 * p.dims[a] * spacing(a) / shape(a));
   std::vector<double> sizes(p.good.size(), 0.0);
   for (std::size_t s = 0; s < sizes.size(); ++s) {
     if (!p.good[s]) continue;
@@ -511,7 +542,7 @@ std::vector<Inscribed> best_places(const Grid& grid, const Padded& p, const std:
     bool near = false;
     for (const Inscribed& o : out) near = near || (o.centre - c).norm() < separation;
     if (near) continue;
-    out.push_back({true, sizes[s], c, grid.spacing.maxCoeff()});
+    out.push_back({true, sizes[s], c, spacing_of(grid)});
     if (out.size() == count) break;
   }
   return out;
@@ -521,7 +552,7 @@ std::vector<Inscribed> best_places(const Grid& grid, const Padded& p, const std:
 std::vector<Inscribed> candidates(const Grid& grid, const std::vector<std::uint8_t>& good, const TaskVolume& task,
                                   std::size_t count) {
   const Padded p = padded(grid, good);
-  const double h = grid.spacing.maxCoeff();
+  const double h = spacing_of(grid);
   if (task.shape == Shape::Sphere) {
     const std::vector<double> sizes = sphere_sizes(p, grid.spacing);
     const double best = *std::max_element(sizes.begin(), sizes.end());
@@ -530,7 +561,7 @@ std::vector<Inscribed> candidates(const Grid& grid, const std::vector<std::uint8
   if (!(task.size.array() > 0).all()) throw std::invalid_argument("inscribed box: the shape must have positive edges");
   const std::vector<double> sizes = box_sizes(p, grid.spacing, task.size);
   const double best = *std::max_element(sizes.begin(), sizes.end());
-  const double smallest = task.size.minCoeff();
+  const double smallest = p.flat() ? task.size.head<2>().minCoeff() : task.size.minCoeff();
   return best_places(grid, p, sizes, 4 * h / smallest, std::max(best * smallest / 4, 3 * h), count);
 }
 
@@ -539,7 +570,7 @@ std::vector<Inscribed> candidates(const Grid& grid, const std::vector<std::uint8
 Inscribed inscribed_sphere(const Grid& grid, const std::vector<std::uint8_t>& good) {
   TaskVolume sphere;
   const auto c = candidates(grid, good, sphere, 1);
-  return c.empty() ? Inscribed{false, 0, Vector3d::Zero(), grid.spacing.maxCoeff()} : c.front();
+  return c.empty() ? Inscribed{false, 0, Vector3d::Zero(), spacing_of(grid)} : c.front();
 }
 
 Inscribed inscribed_box(const Grid& grid, const std::vector<std::uint8_t>& good, const Vector3d& shape) {
@@ -547,21 +578,29 @@ Inscribed inscribed_box(const Grid& grid, const std::vector<std::uint8_t>& good,
   box.shape = Shape::Box;
   box.size = shape;
   const auto c = candidates(grid, good, box, 1);
-  return c.empty() ? Inscribed{false, 0, Vector3d::Zero(), grid.spacing.maxCoeff()} : c.front();
+  return c.empty() ? Inscribed{false, 0, Vector3d::Zero(), spacing_of(grid)} : c.front();
 }
 
 std::optional<Inscribed> largest_inscribed(const Device& device, const std::vector<Criterion>& criteria,
                                            const TaskVolume& task, const Eigen::AlignedBox3d& box,
                                            const InscribedOptions& options, const FieldProgress& progress) {
-  if (options.resolution < 4 || options.refinements < 0 || options.places < 1)
-    throw std::invalid_argument("inscribed shape: resolution must be at least 4, refinements at least 0, places at least 1");
+  if (options.resolution < 4 || options.refinements < 0 || options.refinements > kMaxRefinements || options.places < 1)
+    throw std::invalid_argument("inscribed shape: resolution must be at least 4, refinements 0 to " +
+                                std::to_string(kMaxRefinements) + ", places at least 1");
   // Samples `region` at the resolution; nullopt if cancelled.
-  auto sample_region = [&](const Eigen::AlignedBox3d& region, double done, double share)
+  // A planar device's task is a section of its plane: one layer, on the plane.
+  const std::optional<double> plane = device.mechanism->info().plane_z;
+  auto sample_region = [&](Eigen::AlignedBox3d region, double done, double share)
       -> std::optional<std::pair<Grid, std::vector<std::uint8_t>>> {
+    const double longest = plane ? region.sizes().head<2>().maxCoeff() : region.sizes().maxCoeff();
+    if (plane) {
+      region.min().z() = *plane - longest / 2;
+      region.max().z() = *plane + longest / 2;
+    }
     const Vector3d extent = region.sizes();
     std::array<int, 3> dims{};
-    for (int k = 0; k < 3; ++k)
-      dims[k] = std::max(4, int(std::lround(options.resolution * extent(k) / extent.maxCoeff())));
+    for (int k = 0; k < 3; ++k) dims[k] = std::max(4, int(std::lround(options.resolution * extent(k) / longest)));
+    if (plane) dims[2] = 1;
     const Grid grid = Grid::box(region.min(), region.max(), dims);
     FieldProgress part = progress;
     if (progress.report) part.report = [&](double f) { progress.report(done + share * f); };
@@ -573,13 +612,13 @@ std::optional<Inscribed> largest_inscribed(const Device& device, const std::vect
   const auto coarse = sample_region(box, 0, 1 / steps);
   if (!coarse) return std::nullopt;
   std::vector<Inscribed> places = candidates(coarse->first, coarse->second, task, std::size_t(options.places));
-  if (places.empty()) return Inscribed{false, 0, Vector3d::Zero(), coarse->first.spacing.maxCoeff()};
+  if (places.empty()) return Inscribed{false, 0, Vector3d::Zero(), spacing_of(coarse->first)};
   // Zoom onto each place in turn: a box around the shape found, three cells
   // of the grid that found it wider, sampled at the same resolution.
   Inscribed best = places.front();
   for (std::size_t k = 0; k < places.size(); ++k) {
     Inscribed current = places[k];
-    double spacing = coarse->first.spacing.maxCoeff();
+    double spacing = spacing_of(coarse->first);
     for (int level = 0; level < options.refinements; ++level) {
       const Vector3d half =
           (task.shape == Shape::Sphere ? Vector3d::Constant(current.size / 2) : Vector3d(current.size * task.size / 2)) +
@@ -590,7 +629,7 @@ std::optional<Inscribed> largest_inscribed(const Device& device, const std::vect
       const auto found = candidates(fine->first, fine->second, task, 1);
       if (found.empty()) break;  // the zoom missed what the coarser grid saw: keep that
       current = found.front();
-      spacing = fine->first.spacing.maxCoeff();
+      spacing = spacing_of(fine->first);
     }
     if (current.size > best.size || k == 0) best = current;
   }

@@ -50,6 +50,9 @@ Criterion resolve(const Criterion& c, const MechanismInfo& info, const haptics::
 
 // ---- Task volumes -----------------------------------------------------------------
 
+// On a planar device (MechanismInfo::plane_z) a task is its section by the
+// plane: a sphere is a disc of its diameter, a box the rectangle of its x
+// and y edges, centred on the plane (docs/task-volumes.md).
 enum class Shape { Sphere, Box };
 
 // A sphere (diameter) or an axis-aligned box (edge lengths) of the driven
@@ -139,7 +142,11 @@ struct TaskReport {
 // surface (where the worst values usually are). `fraction` is over the
 // interior samples (each stands for an equal volume); `worst`, `failing` and
 // where it fails count the surface too. Point-wise through the interface,
-// in parallel.
+// in parallel. A planar device: the section, a grid and the rim in the
+// plane, at the centre moved onto it. Throws std::invalid_argument for a resolution
+// outside 2..kMaxTaskResolution.
+// The largest resolution (about resolution^3 points evaluated one by one).
+inline constexpr int kMaxTaskResolution = 256;
 TaskReport evaluate(const Device& device, const std::vector<Criterion>& criteria, const TaskVolume& task,
                     const Eigen::Vector3d& centre, int resolution = 24);
 
@@ -162,6 +169,10 @@ struct Inscribed {
 // is in docs/task-volumes.md.
 Inscribed inscribed_sphere(const Grid& grid, const std::vector<std::uint8_t>& good);
 Inscribed inscribed_box(const Grid& grid, const std::vector<std::uint8_t>& good, const Eigen::Vector3d& shape);
+
+// Zooms beyond a few change nothing: after the first the zoomed box keeps
+// its size (the shape and three cells around it).
+inline constexpr int kMaxRefinements = 10;
 
 struct InscribedOptions {
   int resolution = 64;   // samples along the longest side of the box

@@ -11,6 +11,7 @@
 
 #include "core/csv.h"
 #include "core/fit.h"
+#include "core/preflight.h"
 #include "core/preset.h"
 #include "gui/fit_report.h"
 #include "gui/terminal.h"
@@ -20,15 +21,23 @@ namespace linkscape::gui {
 
 fit::Problem make_problem(const FitOptions& o, const std::string& command) {
   if (o.task.empty()) throw std::invalid_argument(command + ": --task is required, e.g. sphere:diameter=15");
-  if (o.resolution < 8 || o.refinements < 0 || o.places < 1 || o.task_resolution < 2)
-    throw std::invalid_argument(command + ": --resolution must be at least 8, --refinements at least 0, --places at "
-                                "least 1 and --task-resolution at least 2");
+  if (o.resolution < 8 || o.refinements < 0 || o.refinements > task::kMaxRefinements || o.places < 1 ||
+      o.task_resolution < 2 || o.task_resolution > task::kMaxTaskResolution)
+    throw std::invalid_argument(command + ": --resolution must be at least 8, --refinements 0 to " +
+                                std::to_string(task::kMaxRefinements) + ", --places at least 1 and --task-resolution 2 to " +
+                                std::to_string(task::kMaxTaskResolution) + ", got " + std::to_string(o.resolution) + ", " +
+                                std::to_string(o.refinements) + ", " + std::to_string(o.places) + " and " +
+                                std::to_string(o.task_resolution));
   fit::Problem problem;
   problem.preset = load_preset(o.mechanism.mechanism);
   apply_overrides(problem.preset, o.mechanism.params);
   const std::shared_ptr<const Mechanism> base = make_mechanism(problem.preset);
   const MechanismInfo& info = base->info();
   problem.task = task::parse_task(o.task);
+  if (info.plane_z && problem.task.centre && problem.task.centre->z() != *info.plane_z)
+    throw std::invalid_argument(command + ": the task's centre has z = " + format_number(problem.task.centre->z()) +
+                                ", off " + info.name + "'s plane z = " + format_number(*info.plane_z) +
+                                ": a planar device's task lies in its plane (a sphere is a disc there)");
   for (const std::string& c : o.criteria) problem.criteria.push_back(task::parse_criterion(c));
   if (std::none_of(problem.criteria.begin(), problem.criteria.end(), [](const task::Criterion& c) { return c.reach(); }))
     problem.criteria.insert(problem.criteria.begin(), task::parse_criterion("reach"));
@@ -75,6 +84,7 @@ void run_fit(const FitOptions& o, std::ostream& out) {
   fit::Problem problem = make_problem(o, "fit");
   problem.tolerance = o.tolerance;
   problem.size = o.size;
+  for (const std::string* file : {&o.output, &o.chart}) check_output(*file);  // before the search
   const std::shared_ptr<const Mechanism> base = make_mechanism(problem.preset);
   const MechanismInfo& info = base->info();
   fit::Progress progress;
@@ -122,9 +132,12 @@ void add_problem_options(CLI::App& cmd, FitOptions& o) {
   cmd.add_option("--torque", o.torque, "Torque limit of force criteria: continuous or peak")->capture_default_str();
   cmd.add_option("--resolution", o.resolution, "Samples along the box for the largest inscribed shape")
       ->capture_default_str();
-  cmd.add_option("--refinements", o.refinements, "Zooms onto each place found")->capture_default_str();
+  cmd.add_option("--refinements", o.refinements,
+                 "Zooms onto each place found, 0 to " + std::to_string(task::kMaxRefinements))
+      ->capture_default_str();
   cmd.add_option("--places", o.places, "Well-separated places refined")->capture_default_str();
-  cmd.add_option("--task-resolution", o.task_resolution, "Samples across the task where it is evaluated")
+  cmd.add_option("--task-resolution", o.task_resolution,
+                 "Samples across the task where it is evaluated, 2 to " + std::to_string(task::kMaxTaskResolution))
       ->capture_default_str();
 }
 

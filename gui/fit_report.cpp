@@ -59,14 +59,15 @@ std::vector<std::size_t> csv_order(const fit::Result& r) {
   return rest;
 }
 
-std::string csv_text(const fit::Problem& p, const fit::Result& r, const std::vector<std::string>& columns) {
+std::string rows_csv(const fit::Problem& p, const fit::Result& r, const std::vector<std::string>& columns) {
   std::ostringstream s;
-  for (const std::string& c : columns) s << c << ",";
+  for (const std::string& c : columns) s << csv_text(c) << ",";
   s << "cx,cy,cz,size,meets";
   const bool free_centre = !p.task.centre;
   if (free_centre) s << (p.task.shape == task::Shape::Sphere ? ",inscribed_diameter" : ",inscribed_scale");
   s << ",fraction,margin";
-  for (const task::Criterion& c : p.criteria) s << ",worst_" << c.measure << ",margin_" << c.measure;
+  for (const task::Criterion& c : p.criteria)
+    s << "," << csv_text("worst_" + c.measure) << "," << csv_text("margin_" + c.measure);
   s << "\n";
   for (std::size_t i : csv_order(r)) {
     const fit::Row& row = r.rows[i];
@@ -309,7 +310,8 @@ std::string fit_report(const fit::Problem& problem, const fit::Result& r, const 
         << "\n  centre " << point_text(row.centre, unit);
     if (!problem.task.centre)
       out << (problem.task.shape == task::Shape::Sphere
-                  ? "; the largest sphere there is " + short_number(row.fit * problem.task.diameter()) + " " + unit +
+                  ? "; the largest " + std::string(info.plane_z ? "disc" : "sphere") + " there is " +
+                        short_number(row.fit * problem.task.diameter()) + " " + unit +
                         " across (the task's " + short_number(problem.task.diameter()) + ")"
                   : "; the largest box there is " + short_number(row.fit) + " times the task's");
     out << "\n  the task there: " << percent_text(row.report.fraction) << " % meets every criterion\n";
@@ -335,7 +337,7 @@ std::string fit_report(const fit::Problem& problem, const fit::Result& r, const 
 }
 
 std::string fit_csv(const fit::Problem& problem, const fit::Result& result, const MechanismInfo& info) {
-  return csv_text(problem, result, design_columns(info, problem.variables));
+  return rows_csv(problem, result, design_columns(info, problem.variables));
 }
 
 void draw_fit_chart(QPainter& p, const QRectF& area, const fit::Problem& problem, const fit::Result& result,

@@ -9,6 +9,7 @@
 #include <vtkPointData.h>
 #include <vtkStringArray.h>
 
+#include <charconv>
 #include <chrono>
 #include <csignal>
 #include <cstring>
@@ -20,6 +21,7 @@
 
 #include "core/atomic_file.h"
 #include "core/csv.h"
+#include "core/preflight.h"
 #include "core/sweep.h"
 #include "gui/fit_report.h"
 #include "gui/sweep_ranks.h"
@@ -28,6 +30,11 @@
 
 namespace linkscape::gui {
 namespace {
+
+// Threads per process: each samples its design's fields at once, so
+// thousands would exhaust the memory or the threads the system gives long
+// before they could help.
+constexpr int kMostThreads = 256;
 
 // What rank 0 prints when the job is stopped by a signal (mpirun sends
 // SIGTERM to the surviving ranks when one dies): the rows finished are in
@@ -65,7 +72,7 @@ void write_sweep_vti(const sweep::Plan& plan, const std::string& table, const st
   std::istringstream lines(table);
   std::string line;
   std::getline(lines, line);
-  const std::vector<std::string> head = sweep::cells(line);
+  const std::vector<std::string> head = csv_cells(line);
   const std::size_t first = std::size_t(std::find(head.begin(), head.end(), "cx") - head.begin());
   std::vector<vtkSmartPointer<vtkDoubleArray>> arrays;
   for (std::size_t c = first; c + 1 < head.size(); ++c) {  // every score, the error column aside
@@ -75,7 +82,7 @@ void write_sweep_vti(const sweep::Plan& plan, const std::string& table, const st
     image->GetPointData()->AddArray(arrays.back());
   }
   for (std::size_t design = 0; std::getline(lines, line); ++design) {
-    const std::vector<std::string> row = sweep::cells(line);
+    const std::vector<std::string> row = csv_cells(line);
     // The design's grid indices (the last variable fastest in the table).
     int at[3] = {0, 0, 0};
     std::size_t rest = design;
@@ -108,7 +115,9 @@ void run_sweep(const SweepOptions& o, std::ostream& out) {
     throw std::invalid_argument("sweep: --vti must end in .vti, got '" + o.vti + "'");
   if (o.field_resolution < 0 || (o.field_resolution > 0 && o.field_resolution < 4))
     throw std::invalid_argument("sweep: --field-resolution must be 0 (none) or at least 4");
-  if (o.threads < 0) throw std::invalid_argument("sweep: --threads must be 0 (OpenMP's default) or more");
+  if (o.threads < 0 || o.threads > kMostThreads)
+    throw std::invalid_argument("sweep: --threads must be 0 (OpenMP's default) to " + std::to_string(kMostThreads) +
+                                ", got " + std::to_string(o.threads));
   if (o.chunk < 1) throw std::invalid_argument("sweep: --chunk must be at least 1");
   const int ranks = sweep_ranks::launched_ranks();
   if (ranks > 1 && !sweep_ranks::mpi_built())
@@ -131,6 +140,11 @@ void run_sweep(const SweepOptions& o, std::ostream& out) {
                                 std::to_string(plan.problem.variables.size()) +
                                 (plan.sampling == sweep::Sampling::Grid ? "" : " and --random"));
 
+  const std::filesystem::path checkpoint_path = o.checkpoint.empty() ? o.output + ".checkpoint" : o.checkpoint;
+  for (const std::filesystem::path& file : {std::filesystem::path(o.output), checkpoint_path,
+                                           std::filesystem::path(o.chart), std::filesystem::path(o.vti)})
+    check_output(file);  // before any design is evaluated
+
   sweep_ranks::Job job;
   job.evaluate = [&](std::size_t i) { return sweep::evaluate_row(plan, i, designs[i]); };
   job.max_chunk = o.chunk;
@@ -143,7 +157,6 @@ void run_sweep(const SweepOptions& o, std::ostream& out) {
     return;
   }
 
-  const std::filesystem::path checkpoint_path = o.checkpoint.empty() ? o.output + ".checkpoint" : o.checkpoint;
   sweep::Checkpoint checkpoint(checkpoint_path, plan, designs.size(), o.resume);
   const std::size_t already = checkpoint.rows().size();
   std::size_t failed = 0;
@@ -190,10 +203,13 @@ void run_sweep(const SweepOptions& o, std::ostream& out) {
   checkpoint.remove();
 
   std::size_t on_front = 0;
-  for (std::size_t start = 0, end; (end = table.find('\n', start)) != std::string::npos; start = end + 1) {
-    const std::string line = table.substr(start, end - start);
-    const std::size_t last = line.rfind(','), before = line.rfind(',', last - 1);
-    on_front += start > 0 && line.compare(before + 1, last - before - 1, "1") == 0;
+  {
+    std::istringstream lines(table);
+    std::string line;
+    std::getline(lines, line);
+    const std::vector<std::string> head = csv_cells(line);
+    const std::size_t pareto = std::size_t(std::find(head.begin(), head.end(), "pareto") - head.begin());
+    while (std::getline(lines, line)) on_front += csv_cells(line).at(pareto) == "1";
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   out << "sweep " << info.name << ": " << designs.size() << " designs (" << failed << " with an error";
@@ -216,14 +232,24 @@ SweepCommand add_sweep_command(CLI::App& app) {
   add_problem_options(*cmd, o->problem);
   cmd->add_option("--grid", o->grid, "Values per free parameter, its bounds included (a full grid)");
   cmd->add_option("--random", o->random, "Or this many designs drawn uniformly within the bounds");
-  cmd->add_option("--seed", o->seed, "Seed of the random designs (the same seed, the same designs)")->capture_default_str();
+  cmd->add_option("--seed", o->seed, "Seed of the random designs, 0 to 2^64 - 1 (the same seed, the same designs)")
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            std::uint64_t seed = 0;
+            const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), seed);
+            if (error == std::errc() && end == text.data() + text.size()) return "";
+            return "--seed expects a whole number from 0 to 18446744073709551615, got '" + text + "'";
+          },
+          "SEED"))
+      ->capture_default_str();
   cmd->add_option("--field-resolution", o->field_resolution,
                   "Also sample each design's field over its default box, N samples along the longest side (0: "
                   "none): reach_volume, gci (mean of 1/c over the reachable samples), and inside the task at its "
                   "centre task_reach, task_worst_cond, task_mean_cond")
       ->capture_default_str();
   cmd->add_option("--threads", o->threads,
-                  "OpenMP threads per process, each evaluating whole designs (0: OMP_NUM_THREADS or every core)")
+                  "OpenMP threads per process, each evaluating whole designs, 0 to " + std::to_string(kMostThreads) +
+                      " (0: OMP_NUM_THREADS or every core)")
       ->capture_default_str();
   cmd->add_option("--chunk", o->chunk,
                   "Most designs handed to a rank at a time under mpirun (never fewer than its threads)")

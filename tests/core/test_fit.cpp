@@ -8,6 +8,8 @@
 #include "expect_error.h"
 
 
+#include <nlohmann/json.hpp>
+
 #include "core/fit.h"
 
 using namespace linkscape;
@@ -57,6 +59,9 @@ TEST(FitVariables, FromFreeEqualAndBounds) {
   expect_error([&] { fit::variables(*m, {"L1"}, {}, {"L2=1:2"}); }, "not free");
   expect_error([&] { fit::variables(*m, {}, {"L1"}, {}); }, "two or more");
   expect_error([&] { fit::variables(*m, {}, {}, {"L1=1"}); }, "NAME=lo:hi");
+  // Bounds given twice for one variable, by one name or by two names of a group.
+  expect_error([&] { fit::variables(*m, {}, {}, {"L1=5:30", "L1=6:20"}); }, "--bounds given twice for L1");
+  expect_error([&] { fit::variables(*m, {}, {"L1,L2"}, {"L1=5:30", "L2=6:20"}); }, "--bounds given twice for L1=L2");
 }
 
 // The size fit minimises is what each device says it is: the sum of the
@@ -134,8 +139,27 @@ TEST(FitSearch, NoDesignIsAResultAndExcludingBoundsAnError) {
   p.variables[0].lo = 5;
   p.variables[0].hi = 2;
   expect_error([&] { fit::solve(p); }, "lo <= hi");
+  // Bounds past the searches' range: refused, not "no design meets".
+  p.variables[0].lo = 1;
+  p.variables[0].hi = 1e31;
+  expect_error([&] { fit::solve(p); }, "must lie within -1e+06 to 1e+06");
+  p.variables[0].hi = fit::kLargestBound;
+  EXPECT_NO_THROW(fit::check_bounds(p.variables, "fit"));
   p.variables.clear();
   expect_error([&] { fit::solve(p); }, "no free design parameter");
+}
+
+// At the widest bounds allowed the search still finds the 12R's smallest
+// design to its tolerance (the size along the ray resolves 1e-12 of the
+// bounds: 1e-6 cm here).
+TEST(FitSearch, TheWidestBoundsGiveTheSameSmallestDesign) {
+  fit::Problem p = problem_12r("sphere:diameter=15", {"L1,L2"});
+  const fit::Result narrow = fit::solve(p);
+  p.variables[0].hi = fit::kLargestBound;
+  const fit::Result wide = fit::solve(p);
+  ASSERT_TRUE(narrow.best && wide.best);
+  EXPECT_NEAR(wide.rows[*wide.best].size, narrow.rows[*narrow.best].size,
+              2 * p.tolerance * narrow.rows[*narrow.best].size);
 }
 
 // ---- The largest margin at a given size ---------------------------------------------
@@ -267,4 +291,44 @@ TEST(FitSearch, ThreeFreeParametersGiveADesignTheTwoVariableSearchCannotClearlyB
   ASSERT_TRUE(two.best);
   EXPECT_GE(two.rows[*two.best].size, best.size * (1 - 0.03))
       << "three free: " << best.size << ", l0 held at " << best.parameters.at("l0");
+}
+
+// A described device's size is its description's expression: the Delta
+// described (size La + Lb) is held at the size asked for like the compiled
+// one, every design evaluated having it.
+TEST(FitMargin, ADescribedDeviceIsHeldAtTheSizeAsked) {
+  fit::Problem p;
+  p.preset = load_preset("delta-described");
+  p.variables = fit::variables(*make_mechanism(p.preset), {"La", "Lb"}, {}, {});
+  p.task = task::parse_task("sphere:diameter=5");
+  p.criteria = {task::parse_criterion("reach")};
+  p.inscribed = {8, 0, 1};  // coarse: the described solver is slow, and this checks the sizes only
+  p.task_resolution = 2;
+  p.tolerance = 0.1;
+  p.size = 30;
+  const fit::Result r = fit::solve(p);
+  ASSERT_TRUE(r.best || r.closest);
+  std::size_t valid = 0;
+  for (const fit::Row& row : r.rows) {
+    if (!row.invalid.empty()) continue;
+    ++valid;
+    EXPECT_NEAR(row.size, 30, 1e-9);
+    EXPECT_NEAR(row.parameters.at("La") + row.parameters.at("Lb"), 30, 1e-9);
+  }
+  EXPECT_GT(valid, 5u);
+}
+
+// A size the description makes no sum of parameters (a * b / 10 for the
+// five-bar) cannot be held by moving along a line: refused, naming why.
+TEST(FitMargin, ASizeNotInProportionToTheParametersIsRefused) {
+  fit::Problem p;
+  p.preset = load_preset("five-bar");
+  nlohmann::json description = nlohmann::json::parse(p.preset.description);
+  description["size"] = "a * b / 10";
+  p.preset.description = description.dump();
+  p.variables = fit::variables(*make_mechanism(p.preset), {"a", "b"}, {}, {});
+  p.task = task::parse_task("sphere:diameter=5");
+  p.criteria = {task::parse_criterion("reach")};
+  p.size = 20;
+  expect_error([&] { fit::solve(p); }, "--size needs a size that changes in proportion to the free parameters");
 }

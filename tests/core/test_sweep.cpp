@@ -35,13 +35,7 @@ sweep::Plan plan_12r(const std::string& l1_bounds = "L1=10:20") {
   return plan;
 }
 
-std::vector<std::string> cells(const std::string& line) {
-  std::vector<std::string> out;
-  std::stringstream s(line);
-  for (std::string c; std::getline(s, c, ',');) out.push_back(c);
-  if (!line.empty() && line.back() == ',') out.push_back("");
-  return out;
-}
+std::vector<std::string> cells(const std::string& line) { return csv_cells(line); }
 
 std::map<std::size_t, std::string> every_row(const sweep::Plan& plan) {
   const auto designs = sweep::designs(plan);
@@ -130,7 +124,15 @@ TEST(SweepRows, ADesignThatCannotBeBuiltIsARowWithItsReason) {
   const auto rows = every_row(plan);
   const auto first = cells(rows.at(0));
   EXPECT_EQ(first[1], "-5");
-  EXPECT_NE(first.back().find("invalid design: parallel-12r: L1 must be"), std::string::npos) << first.back();
+  // The reason word for word, its commas quoted (RFC 4180), not replaced.
+  std::string reason;
+  try {
+    make_mechanism(fit::design_preset(plan.problem, sweep::designs(plan)[0]));
+  } catch (const std::invalid_argument& e) {
+    reason = e.what();
+  }
+  ASSERT_NE(reason.find(','), std::string::npos) << reason;
+  EXPECT_EQ(first.back(), "invalid design: " + reason);
   EXPECT_EQ(first[cells(sweep::header(plan)).size() - 2], "0");  // never on the front
   EXPECT_EQ(cells(rows.at(8)).back(), "");  // the others are scored
   const std::string table = sweep::table(plan, rows);
@@ -237,4 +239,59 @@ TEST(SweepCheckpoint, AnotherPlanOrAMalformedJournalIsRefused) {
   { sweep::Checkpoint(path, plan, 9, false); }
   std::ofstream(path, std::ios::app) << "3,1,2\n";
   expect_error([&] { sweep::Checkpoint(path, plan, 9, true); }, "other.checkpoint:2: 3 cells, expected 17");
+}
+
+// A journal named through a symbolic link to a file not yet there: the
+// journal is written at the link's target, and once the table is written it
+// goes and the link stays, as every output's link does.
+TEST(SweepCheckpoint, ALinkToAMissingJournalStaysAndItsTargetIsWritten) {
+  const sweep::Plan plan = plan_12r();
+  const fs::path link = temp("link.checkpoint"), target = temp("target.checkpoint");
+  fs::remove(link);
+  fs::remove(target);
+  fs::create_symlink(target.filename(), link);
+  sweep::Checkpoint journal(link, plan, 9, false);
+  journal.add(0, sweep::evaluate_row(plan, 0, sweep::designs(plan)[0]));
+  journal.flush();
+  EXPECT_TRUE(fs::is_regular_file(target));
+  const std::string written = read(link);
+  EXPECT_EQ(std::count(written.begin(), written.end(), '\n'), 2);  // the plan's line and the row
+  journal.remove();
+  EXPECT_TRUE(fs::is_symlink(fs::symlink_status(link)));
+  EXPECT_FALSE(fs::exists(target));
+  fs::remove(link);
+}
+
+// Cells as RFC 4180 writes them: quoted where they hold a comma, a quote or
+// a line break, each quote doubled; read back to the same text.
+TEST(SweepCsv, CellsRoundTripThroughQuoting) {
+  EXPECT_EQ(csv_text("plain text"), "plain text");
+  EXPECT_EQ(csv_text("a, b"), "\"a, b\"");
+  EXPECT_EQ(csv_text("say \"hi\""), "\"say \"\"hi\"\"\"");
+  const std::vector<std::string> texts = {"", "1.5", "a,b", "\"", "x\"y,z", ",,", "end,", "two\nlines"};
+  std::string line;
+  for (std::size_t k = 0; k < texts.size(); ++k) {
+    if (k) line += ',';
+    line += csv_text(texts[k]);
+  }
+  EXPECT_EQ(csv_cells(line), texts) << line;
+  EXPECT_EQ(csv_cells("a,,b,"), (std::vector<std::string>{"a", "", "b", ""}));
+  expect_error([] { csv_cells("1,\"open"); }, "not closed");
+  expect_error([] { csv_cells("\"a\"b,c"); }, "followed by 'b'");
+}
+
+// A sweep whose table would not fit in the memory available now is refused
+// before its designs take any; the estimate grows with designs and columns.
+TEST(SweepDesigns, ATableLargerThanTheMemoryIsRefused) {
+  sweep::Plan plan = plan_12r();
+  plan.sampling = sweep::Sampling::Random;
+  plan.count = 1000;
+  const double thousand = sweep::table_bytes(plan);
+  EXPECT_GT(thousand, 1000 * 1024.0);
+  plan.count = 2000;
+  EXPECT_DOUBLE_EQ(sweep::table_bytes(plan), 2 * thousand);
+  plan.field_resolution = 8;  // five more columns
+  EXPECT_GT(sweep::table_bytes(plan), 2 * thousand);
+  plan.count = 1'000'000'000;  // about 3 TB
+  expect_error([&] { sweep::designs(plan); }, "GiB of memory available now");
 }

@@ -100,10 +100,41 @@ TEST(TaskCriteria, ParseBoundsOnTheGoodSideAndRefuseImpossibleOnes) {
   expect_error([&] { resolve(parse_criterion("force_iso>1"), m->info(), nullptr); }, "actuator data");
 }
 
+namespace {
+
+// By brute force on a mask, the best over good samples of the distance to
+// the nearest failing sample (or the ring just outside the grid), and of
+// the smallest weighted Chebyshev distance max_k |d_k| / (shape_k / 2) to
+// one: the inscribed sphere's radius and box's scale.
+struct BruteForce {
+  double radius = -1, scale = -1;
+};
+BruteForce brute_force(const Grid& g, const std::vector<std::uint8_t>& good, const Vector3d& shape) {
+  BruteForce out;
+  for (int k = 0; k < g.dims[2]; ++k)
+    for (int j = 0; j < g.dims[1]; ++j)
+      for (int i = 0; i < g.dims[0]; ++i) {
+        if (!good[g.index(i, j, k)]) continue;
+        double d = INFINITY, scale = INFINITY;
+        for (int c = -1; c <= g.dims[2]; ++c)
+          for (int b = -1; b <= g.dims[1]; ++b)
+            for (int a = -1; a <= g.dims[0]; ++a) {
+              const bool outside = a < 0 || b < 0 || c < 0 || a >= g.dims[0] || b >= g.dims[1] || c >= g.dims[2];
+              if (!outside && good[g.index(a, b, c)]) continue;
+              const Vector3d off = g.point(a, b, c) - g.point(i, j, k);
+              d = std::min(d, off.norm());
+              scale = std::min(scale, off.cwiseAbs().cwiseQuotient(shape / 2).maxCoeff());
+            }
+        out.radius = std::max(out.radius, d);
+        out.scale = std::max(out.scale, scale);
+      }
+  return out;
+}
+
+}  // namespace
+
 // The exact distance transform and the box scales against brute force on
-// random masks: the best over good samples of the distance to the nearest
-// failing sample (or the ring just outside the grid), and of the smallest
-// weighted Chebyshev distance max_k |d_k| / (shape_k / 2) to one.
+// random masks.
 TEST(InscribedShapes, AgreeWithBruteForceOnRandomMasks) {
   std::mt19937_64 rng(7);
   const Vector3d shape(1.0, 0.5, 0.7);
@@ -111,36 +142,34 @@ TEST(InscribedShapes, AgreeWithBruteForceOnRandomMasks) {
     const Grid g = Grid::box({0, 0, 0}, {1.0, 1.3, 0.8}, {10, 13, 8});
     std::vector<std::uint8_t> good(g.size());
     for (auto& v : good) v = std::bernoulli_distribution(0.93)(rng);
-    double sphere = -1, box = -1;
-    Vector3d sphere_at, box_at;
-    for (int k = 0; k < g.dims[2]; ++k)
-      for (int j = 0; j < g.dims[1]; ++j)
-        for (int i = 0; i < g.dims[0]; ++i) {
-          if (!good[g.index(i, j, k)]) continue;
-          double d = INFINITY, scale = INFINITY;
-          for (int c = -1; c <= g.dims[2]; ++c)
-            for (int b = -1; b <= g.dims[1]; ++b)
-              for (int a = -1; a <= g.dims[0]; ++a) {
-                const bool outside = a < 0 || b < 0 || c < 0 || a >= g.dims[0] || b >= g.dims[1] || c >= g.dims[2];
-                if (!outside && good[g.index(a, b, c)]) continue;
-                const Vector3d off = g.point(a, b, c) - g.point(i, j, k);
-                d = std::min(d, off.norm());
-                scale = std::min(scale, off.cwiseAbs().cwiseQuotient(shape / 2).maxCoeff());
-              }
-          if (d > sphere) sphere = d, sphere_at = g.point(i, j, k);
-          if (scale > box) box = scale, box_at = g.point(i, j, k);
-        }
+    const BruteForce expected = brute_force(g, good, shape);
     const Inscribed s = inscribed_sphere(g, good);
     ASSERT_TRUE(s.found);
-    EXPECT_NEAR(s.size, 2 * sphere, 1e-12) << "trial " << trial;
+    EXPECT_NEAR(s.size, 2 * expected.radius, 1e-12) << "trial " << trial;
     const Inscribed b = inscribed_box(g, good, shape);
     ASSERT_TRUE(b.found);
-    EXPECT_NEAR(b.size, box, 1e-8 * box) << "trial " << trial;
+    EXPECT_NEAR(b.size, expected.scale, 1e-8 * expected.scale) << "trial " << trial;
   }
   // A mask with no good sample has no shape.
   const Grid g = Grid::box({0, 0, 0}, {1, 1, 1}, {4, 4, 4});
   EXPECT_FALSE(inscribed_sphere(g, std::vector<std::uint8_t>(g.size(), 0)).found);
   EXPECT_FALSE(inscribed_box(g, std::vector<std::uint8_t>(g.size(), 0), Vector3d::Ones()).found);
+}
+
+// Boxes of any aspect ratio, needles and sheets up to 1e-12 thin relative
+// to their length, against brute force: the box's scale is bounded by the
+// grid along its longest axis relative to the grid, so no window overflows.
+TEST(InscribedShapes, BoxesOfAnyAspectRatioAgreeWithBruteForce) {
+  std::mt19937_64 rng(11);
+  for (const Vector3d& shape : {Vector3d(1e8, 1, 1), Vector3d(1, 1, 1e-9), Vector3d(1e-12, 1e3, 1), Vector3d(1e12, 1e-12, 1)}) {
+    const Grid g = Grid::box({0, 0, 0}, {1.0, 1.3, 0.8}, {10, 13, 8});
+    std::vector<std::uint8_t> good(g.size());
+    for (auto& v : good) v = std::bernoulli_distribution(0.95)(rng);
+    const double expected = brute_force(g, good, shape).scale;
+    const Inscribed b = inscribed_box(g, good, shape);
+    ASSERT_TRUE(b.found) << shape.transpose();
+    EXPECT_NEAR(b.size, expected, 1e-8 * expected) << shape.transpose();
+  }
 }
 
 // A ball-shaped good region: the inscribed sphere is the ball, to the
@@ -227,4 +256,45 @@ TEST(TaskEvaluation, InscribedSphereFitsWhereItIsPlaced) {
   EXPECT_TRUE(evaluate(s, criteria, probe, found->centre, 16).meets());
   probe.size = Vector3d::Constant(1.05 * found->size);
   EXPECT_FALSE(evaluate(s, criteria, probe, found->centre, 16).meets());
+}
+
+// On a planar device a sphere task is a disc in the plane: the largest one
+// is not bounded by the thin z extent of the device's default box (0.2 of
+// its size), it fits where it is placed (every sample in the plane), and a
+// disc a little larger does not.
+TEST(TaskPlanar, TheLargestSphereOfAPlanarDeviceIsADiscInItsPlane) {
+  const Device s = device_of("five-bar");
+  const std::vector<Criterion> criteria = resolve(s, {parse_criterion("reach")});
+  TaskVolume probe = parse_task("sphere:diameter=1");
+  const Eigen::AlignedBox3d box = s.mechanism->default_box();
+  const auto found = largest_inscribed(s, criteria, probe, box);
+  ASSERT_TRUE(found && found->found);
+  EXPECT_GT(found->size, 1.5 * box.sizes().z());
+  ASSERT_TRUE(s.mechanism->info().plane_z);
+  EXPECT_EQ(found->centre.z(), *s.mechanism->info().plane_z);
+  probe.size = Vector3d::Constant(0.98 * found->size);
+  EXPECT_TRUE(evaluate(s, criteria, probe, found->centre, 24).meets());
+  probe.size = Vector3d::Constant(1.1 * found->size);
+  const TaskReport larger = evaluate(s, criteria, probe, found->centre, 24);
+  ASSERT_FALSE(larger.meets());
+  EXPECT_EQ(larger.failing_bounds.min().z(), found->centre.z());  // it fails in the plane only
+  EXPECT_EQ(larger.failing_bounds.max().z(), found->centre.z());
+  EXPECT_EQ(larger.criteria[0].worst_point.z(), found->centre.z());
+}
+
+// A box on a planar device is the rectangle of its x and y edges: its z
+// edge changes nothing, and the largest scaled box is not bounded by the
+// default box's thin z extent either.
+TEST(TaskPlanar, ABoxOnAPlanarDeviceIsTheRectangleOfItsXAndYEdges) {
+  const Device s = device_of("five-bar");
+  const std::vector<Criterion> criteria = resolve(s, {parse_criterion("reach")});
+  const Vector3d centre(0, 17, 0);
+  const TaskReport thin = evaluate(s, criteria, parse_task("box:size=12,8,0.1"), centre, 16);
+  const TaskReport tall = evaluate(s, criteria, parse_task("box:size=12,8,1000"), centre, 16);
+  EXPECT_EQ(thin.samples, tall.samples);
+  EXPECT_EQ(thin.fraction, tall.fraction);
+  EXPECT_EQ(thin.criteria[0].worst, tall.criteria[0].worst);
+  const auto found = largest_inscribed(s, criteria, parse_task("box:size=1"), s.mechanism->default_box());
+  ASSERT_TRUE(found && found->found);
+  EXPECT_GT(found->size, 1.5 * s.mechanism->default_box().sizes().z()) << "the square's side";
 }

@@ -10,6 +10,7 @@
 #include <chrono>
 #include <fstream>
 #include <thread>
+#include <tuple>
 
 #include "tests/gui/cli_runner.h"
 
@@ -163,6 +164,14 @@ TEST(CliSweep, BadInputsExitWithTwoAndWriteNothing) {
       {base + " --grid 3 --criterion 'speed<3'", "speed"},
       {base + " --grid 3 --resume", "--resume finds no checkpoint"},
       {base + " --random 5 --vti " + (kOut / "bad.vti").string(), "--vti needs --grid"},
+      {base + " --grid 3 --threads 100000", "--threads must be 0 (OpenMP's default) to 256"},
+      {base + " --random 5 --seed -1", "--seed expects a whole number from 0 to 18446744073709551615"},
+      {base + " --random 5 --seed 18446744073709551616", "--seed expects a whole number"},
+      {base + " --grid 3 --bounds L1=5:30 --bounds L1=6:20", "--bounds given twice for L1"},
+      {base + " --grid 3 --bounds L1=1:1e31", "must lie within -1e+06 to 1e+06"},
+      {base + " --grid 3 --task-resolution 300", "--task-resolution 2 to 256"},
+      {base + " --grid 3 --refinements 11", "--refinements 0 to 10"},
+      {base + " --random 1000000000", "GiB of memory available now"},
   };
   for (const auto& [args, expected] : cases) {
     const CommandResult r = run_linkscape(args);
@@ -192,4 +201,48 @@ TEST(CliSweep, HelpExplainsEveryOptionWithAnExample) {
   for (const char* option : {"--grid", "--random", "--seed", "--field-resolution", "--threads", "--chunk", "--output",
                              "--checkpoint", "--resume", "--chart", "--vti", "mpirun -np 4 linkscape sweep"})
     EXPECT_NE(r.out.find(option), std::string::npos) << option;
+}
+
+// Outputs that cannot be written stop the sweep before any design is
+// evaluated: no table, no checkpoint (they used to be written, the chart
+// failing after all the work).
+TEST(CliSweep, OutputsThatCannotBeWrittenStopBeforeAnyWork) {
+  const std::string file = out("unwritten.csv");
+  fs::remove_all(kOut / "no_such_folder");
+  const std::string folder = out("a_folder.vti");
+  fs::create_directories(folder);
+  for (const auto& [args, code, expected] : std::vector<std::tuple<std::string, int, std::string>>{
+           {" --chart " + (kOut / "no_such_folder" / "c.png").string(), 1, "no_such_folder' does not exist"},
+           {" --vti " + folder, 2, "it is a folder"},
+           {" --checkpoint " + (kOut / "no_such_folder" / "journal").string(), 1, "no_such_folder' does not exist"},
+       }) {
+    const CommandResult r = run_linkscape(kSmall + " -o " + file + args);
+    EXPECT_EQ(r.exit_code, code) << args << "\n" << r.out;
+    EXPECT_NE(r.out.find(expected), std::string::npos) << args << "\n" << r.out;
+    EXPECT_FALSE(fs::exists(file)) << args;
+    EXPECT_FALSE(fs::exists(file + ".checkpoint")) << args;
+  }
+  fs::remove(folder);
+}
+
+// Text in the table is quoted as RFC 4180 quotes it: a reason with a comma
+// reads back whole, and every line has the header's cells.
+TEST(CliSweep, ReasonsWithCommasAreQuotedCells) {
+  const std::string file = out("quoted.csv");
+  const CommandResult r = run_linkscape(
+      "sweep --task sphere:diameter=15 --bounds L1=-5:20 --bounds L2=10:20 --grid 2 --resolution 16 --refinements 0 "
+      "--places 1 --task-resolution 4 --threads 1 -q -o " + file);
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  std::istringstream lines(read(file));
+  std::string line;
+  std::getline(lines, line);
+  const std::vector<std::string> header = linkscape::csv_cells(line);
+  const std::size_t error = std::size_t(std::find(header.begin(), header.end(), "error") - header.begin());
+  ASSERT_LT(error, header.size());
+  std::getline(lines, line);
+  const std::vector<std::string> first = linkscape::csv_cells(line);
+  ASSERT_EQ(first.size(), header.size()) << line;
+  EXPECT_NE(first[error].find("must be a length in ["), std::string::npos) << first[error];
+  EXPECT_NE(first[error].find(", got -5"), std::string::npos) << first[error];
+  while (std::getline(lines, line)) EXPECT_EQ(linkscape::csv_cells(line).size(), header.size()) << line;
 }

@@ -20,6 +20,7 @@
 #include "core/csv.h"
 #include "core/mechanisms/pathos2/design.h"
 #include "core/mechanisms/pathos2/mechanism.h"
+#include "core/preflight.h"
 #include "core/preset.h"
 #include "gui/painted_file.h"
 #include "gui/terminal.h"
@@ -220,6 +221,7 @@ void run_design(const DesignOptions& o, std::ostream& out) {
   preset.parameters["l0"] = pathos2::table1_model().l0;  // Table 1 optimises at l0 = 50
   apply_overrides(preset, o.mechanism.params);
   const pathos2::Model base = make_pathos2(preset);
+  for (const std::string* file : {&o.table, &o.sweep, &o.chart}) check_output(*file);  // before the search
 
   pathos2::DesignGrid grid;
   if (o.quick) grid = {{2, 20, 3}, {2, 20, 3}, {0, 8, 2}, {0, 120, 30}};
