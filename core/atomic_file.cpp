@@ -102,20 +102,6 @@ std::string reason(int error_number) { return std::strerror(error_number); }
   throw std::runtime_error(msg.str());
 }
 
-// Follows symbolic links (relative ones from the link's folder) to the path
-// that is finally written; a dangling link gives its missing target.
-fs::path follow_links(const fs::path& target) {
-  fs::path p = target;
-  for (int hops = 0; hops < 40; ++hops) {
-    std::error_code ec;
-    if (!fs::is_symlink(fs::symlink_status(p, ec))) return p;
-    const fs::path link = fs::read_symlink(p, ec);
-    if (ec) fail(target, "cannot read the symbolic link: " + ec.message());
-    p = link.is_absolute() ? link : p.parent_path() / link;
-  }
-  fail(target, "too many levels of symbolic links");
-}
-
 // A file in memory (memfd) that writers fill through an ordinary path. Most
 // writers (VTK's, Qt's, OpenMesh's) do not report a short write, so they never
 // write to disk themselves: a write to memory cannot run out of disk space,
@@ -159,6 +145,37 @@ int copy_all(int in, int out) {
   }
 }
 
+// What is at an output path, checked as the writer will need it: a regular
+// file (or none) in an existing folder, or a character device or FIFO to
+// write through. Throws as check_output says.
+struct Target {
+  fs::path path;  // symbolic links followed
+  bool exists = false;
+  bool write_through = false;
+};
+
+Target check_target(const fs::path& target) {
+  if (target.empty()) throw std::invalid_argument("the output path is empty");
+  Target t{followed_links(target)};
+  std::error_code ec;
+  const fs::file_status status = fs::status(t.path, ec);
+  t.exists = fs::exists(status);
+  if (t.exists && fs::is_directory(status))
+    throw std::invalid_argument("cannot write '" + target.string() + "': it is a folder");
+  t.write_through = t.exists && (fs::is_character_file(status) || fs::is_fifo(status));
+  if (t.exists && !t.write_through && !fs::is_regular_file(status))
+    throw std::invalid_argument("cannot write '" + target.string() +
+                                "': it is a block device or socket, not a file (refused)");
+  if (t.write_through) return t;
+  const fs::path folder = t.path.has_parent_path() ? t.path.parent_path() : fs::path(".");
+  const fs::file_status folder_status = fs::status(folder, ec);
+  if (!fs::exists(folder_status)) fail(target, "folder '" + folder.string() + "' does not exist");
+  if (!fs::is_directory(folder_status)) fail(target, "'" + folder.string() + "' is not a folder");
+  // The temporary is created beside the file and renamed over it.
+  if (::access(folder.c_str(), W_OK | X_OK) != 0) fail(target, "folder '" + folder.string() + "': " + reason(errno));
+  return t;
+}
+
 // One output, from the check of its path to its commit. A regular file (or
 // none) is replaced by renaming a temporary over it; the temporary is created
 // before any work, so an unwritable place is refused at once. A character
@@ -166,25 +183,14 @@ int copy_all(int in, int out) {
 class Output {
  public:
   explicit Output(const fs::path& target) : reported_(target) {
-    if (target.empty()) throw std::invalid_argument("the output path is empty");
-    path_ = follow_links(target);
-    std::error_code ec;
-    const fs::file_status status = fs::status(path_, ec);
-    exists_ = fs::exists(status);
-    if (exists_ && fs::is_directory(status))
-      throw std::invalid_argument("cannot write '" + target.string() + "': it is a folder");
-    write_through_ = exists_ && (fs::is_character_file(status) || fs::is_fifo(status));
-    if (exists_ && !write_through_ && !fs::is_regular_file(status))
-      throw std::invalid_argument("cannot write '" + target.string() +
-                                  "': it is a block device or socket, not a file (refused)");
+    const Target t = check_target(target);
+    path_ = t.path;
+    exists_ = t.exists;
+    write_through_ = t.write_through;
     if (write_through_) return;
-    const fs::path folder = this->folder();
-    const fs::file_status folder_status = fs::status(folder, ec);
-    if (!fs::exists(folder_status)) fail(target, "folder '" + folder.string() + "' does not exist");
-    if (!fs::is_directory(folder_status)) fail(target, "'" + folder.string() + "' is not a folder");
     std::ostringstream name;  // hidden, unique per process
     name << '.' << path_.stem().string() << ".tmp" << ::getpid() << path_.extension().string();
-    temporary_ = folder / name.str();
+    temporary_ = folder() / name.str();
     ::unlink(temporary_.c_str());  // left by an earlier process with the same id
     fd_ = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     if (fd_ < 0) fail(target, reason(errno));
@@ -262,6 +268,22 @@ void write_text_to(const fs::path& path, const std::string& text, const fs::path
 }
 
 }  // namespace
+
+fs::path followed_links(const fs::path& path) {
+  fs::path p = path;
+  for (int hops = 0; hops < 40; ++hops) {  // the kernel's own limit (ELOOP)
+    std::error_code ec;
+    if (!fs::is_symlink(fs::symlink_status(p, ec))) return p;
+    const fs::path link = fs::read_symlink(p, ec);
+    if (ec) fail(path, "cannot read the symbolic link: " + ec.message());
+    p = link.is_absolute() ? link : p.parent_path() / link;
+  }
+  fail(path, "too many levels of symbolic links");
+}
+
+void check_output(const fs::path& path) {
+  if (!path.empty()) check_target(path);
+}
 
 void write_atomically(const fs::path& target, const std::function<void(const fs::path&)>& write) {
   Output output(target);

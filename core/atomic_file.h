@@ -30,6 +30,19 @@ namespace linkscape {
 void write_atomically(const std::filesystem::path& target,
                       const std::function<void(const std::filesystem::path&)>& write);
 
+// The checks write_atomically makes of `path` before any work, for a command
+// to make before its work starts: std::invalid_argument where `path`, its
+// links followed, is a folder, a block device or a socket; std::runtime_error
+// "cannot write 'PATH': ..." where its folder is missing or not writable. A
+// character device or FIFO passes (it is written through); so does an empty
+// path (no such output asked for).
+void check_output(const std::filesystem::path& path);
+
+// The file `path` names once its symbolic links are followed (relative ones
+// from the link's folder); a dangling link names the file it would create.
+// Throws std::runtime_error for a loop of links.
+std::filesystem::path followed_links(const std::filesystem::path& path);
+
 // Writes `text` to `target` through write_atomically. Throws as it, and
 // std::runtime_error naming the path when the text cannot be written.
 void write_text_atomically(const std::filesystem::path& target, const std::string& text);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <mutex>
 #include <new>
 #include <stdexcept>
@@ -140,6 +141,17 @@ Grid Grid::box(const Vector3d& min, const Vector3d& max, std::array<int, 3> dims
   g.dims = dims;
   g.spacing = (max - min).cwiseQuotient(Vector3d(dims[0], dims[1], dims[2]));
   return g;
+}
+
+std::optional<double> available_memory_bytes() {
+  std::ifstream meminfo("/proc/meminfo");
+  std::string key;
+  double kib = 0;
+  while (meminfo >> key >> kib) {
+    if (key == "MemAvailable:") return kib * 1024;
+    meminfo.ignore(64, '\n');
+  }
+  return std::nullopt;
 }
 
 }  // namespace linkscape

@@ -58,6 +58,11 @@ FieldKernel field_kernel_from_environment();
 // (every device's default; the headless commands compare their peak with it).
 inline constexpr std::size_t kFieldMemoryLimitBytes = std::size_t(6) << 30;
 
+// The memory the system can give now (MemAvailable of /proc/meminfo), in
+// bytes; nullopt where it does not say. Commands compare their estimated
+// peak with it before any work.
+std::optional<double> available_memory_bytes();
+
 namespace detail {
 // Sample blocks. Large ones (256 KiB and up) are kept when freed, up to 1 GiB
 // in all, and handed out again for a request of the same size, so a field

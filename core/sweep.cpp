@@ -9,7 +9,7 @@
 
 #include "core/csv.h"
 #include "core/field.h"
-#include "core/preflight.h"
+#include "core/atomic_file.h"
 
 namespace linkscape::sweep {
 namespace {

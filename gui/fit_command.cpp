@@ -11,7 +11,7 @@
 
 #include "core/csv.h"
 #include "core/fit.h"
-#include "core/preflight.h"
+#include "core/atomic_file.h"
 #include "core/preset.h"
 #include "gui/fit_report.h"
 #include "gui/terminal.h"

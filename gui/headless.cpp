@@ -281,15 +281,9 @@ void check_peak_memory(const Grid& grid, std::size_t bytes_per_sample, double fa
   const double peak = arrays * factor + kProgramBytes;
   double limit = double(kFieldMemoryLimitBytes);
   std::string limit_source = "the field engine's limit";
-  std::ifstream meminfo("/proc/meminfo");
-  std::string key;
-  double kib = 0;
-  while (meminfo >> key >> kib) {
-    if (key == "MemAvailable:" && kib * 1024 < limit) {
-      limit = kib * 1024;
-      limit_source = "the memory available now";
-    }
-    meminfo.ignore(64, '\n');
+  if (const std::optional<double> available = available_memory_bytes(); available && *available < limit) {
+    limit = *available;
+    limit_source = "the memory available now";
   }
   if (peak <= limit) return;
   std::ostringstream msg;

@@ -21,7 +21,6 @@
 
 #include "core/atomic_file.h"
 #include "core/csv.h"
-#include "core/preflight.h"
 #include "core/sweep.h"
 #include "gui/fit_report.h"
 #include "gui/sweep_ranks.h"

@@ -20,7 +20,6 @@
 #include "core/csv.h"
 #include "core/mechanisms/pathos2/design.h"
 #include "core/mechanisms/pathos2/mechanism.h"
-#include "core/preflight.h"
 #include "core/preset.h"
 #include "gui/painted_file.h"
 #include "gui/terminal.h"
