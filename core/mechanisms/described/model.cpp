@@ -4,7 +4,6 @@
 
 #include <muParser.h>
 
-#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
@@ -612,9 +611,12 @@ Model build_model(const std::string& description_json, const std::map<std::strin
     }
   }
   eval.set_copy(0, 1);
-  for (const auto& [name, r] : limits_deg) {
-    const auto a = std::find_if(m.actuators.begin(), m.actuators.end(), [&](const Actuator& x) { return x.name == name; });
-    if (a == m.actuators.end()) {
+  for (const auto& limit : limits_deg) {
+    const std::string& name = limit.first;
+    const Actuator* a = nullptr;
+    for (const Actuator& x : m.actuators)
+      if (x.name == name) a = &x;
+    if (!a) {
       std::set<std::string> known;
       for (const Actuator& x : m.actuators) known.insert(x.name);
       fail("actuator_limits_deg." + name, "names no actuator of the description (actuators: " + comma_list(known) + ")");

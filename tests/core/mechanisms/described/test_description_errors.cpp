@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cstdio>
 #include <fstream>
 #include <functional>
 #include <nlohmann/json.hpp>
@@ -158,6 +159,16 @@ TEST(DescriptionErrors, AKeyGivenTwiceIsRefused) {
 TEST(DescriptionErrors, AFileLargerThanAPresetMayBeIsRefused) {
   const std::string padded = delta_description().dump() + std::string(kMaxPresetBytes, ' ');
   expect_contains(error_of_text(padded), {"broken.json", "larger than a preset may be (1048576 bytes)"});
+  // From a file, too: it is read only up to the limit.
+  const std::string path = testing::TempDir() + "/large-preset.json";
+  std::ofstream(path) << padded;
+  try {
+    load_preset(path);
+    ADD_FAILURE() << "a preset of " << padded.size() << " bytes loaded";
+  } catch (const std::invalid_argument& e) {
+    expect_contains(e.what(), {"large-preset.json", "larger than a preset may be"});
+  }
+  std::remove(path.c_str());
 }
 
 TEST(DescriptionErrors, TooManyLegsAreRefusedBeforeAnyWork) {
