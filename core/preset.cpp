@@ -1,6 +1,7 @@
 #include "core/preset.h"
 
 #include "core/csv.h"
+#include "core/json_checked.h"
 #include "core/mechanism.h"
 
 #include <unistd.h>
@@ -10,7 +11,6 @@
 #include <cstdlib>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <stdexcept>
 
 namespace linkscape {
@@ -95,7 +95,7 @@ ActuatorDataSpec parse_actuator_data(const nlohmann::json& doc) {
   spec.given = true;
   for (const auto& [key, value] : doc.items()) {
     if (key == "source") {
-      spec.source = value.get<std::string>();
+      spec.source = string_at(value, "actuator_data.source");
       continue;
     }
     const std::string where = "actuator_data." + key;
@@ -112,7 +112,7 @@ ActuatorDataSpec parse_actuator_data(const nlohmann::json& doc) {
         throw std::invalid_argument("unknown key " + where + "." + name +
                                     " (known: peak_torque_Nm, continuous_torque_Nm, encoder_counts_per_rev, "
                                     "rotor_inertia_kgm2, lead_m_per_rev)");
-      const double v = number.get<double>();
+      const double v = number_at(number, where + "." + name);
       if (!std::isfinite(v) || !(v > 0))
         throw std::invalid_argument(where + "." + name + " must be a positive finite number, got " + number.dump());
       *field = v;
@@ -127,7 +127,10 @@ Preset parse_preset(const std::string& text, const std::string& origin) {
   using nlohmann::json;
   Preset p;
   try {
-    const json doc = json::parse(text);
+    if (text.size() > kMaxPresetBytes)
+      throw std::invalid_argument("the file is larger than a preset may be (" + std::to_string(kMaxPresetBytes) +
+                                  " bytes)");
+    const json doc = parse_json_checked(text, kMaxPresetNesting);
     if (!doc.is_object()) throw std::invalid_argument("top level must be a JSON object");
     for (const auto& [key, value] : doc.items())
       if (key != "mechanism" && key != "title" && key != "length_unit" && key != "parameters" &&
@@ -135,17 +138,23 @@ Preset parse_preset(const std::string& text, const std::string& origin) {
         throw std::invalid_argument(
             "unknown key '" + key +
             "' (known: mechanism, title, length_unit, parameters, actuator_limits_deg, actuator_data, description)");
-    p.mechanism = doc.at("mechanism").get<std::string>();
-    p.title = doc.value("title", p.mechanism);
-    p.length_unit = doc.value("length_unit", "unit");
-    for (const auto& [key, value] : doc.at("parameters").items()) p.parameters[key] = value.get<double>();
+    for (const char* key : {"mechanism", "parameters"})
+      if (!doc.contains(key)) throw std::invalid_argument(std::string("missing key '") + key + "'");
+    p.mechanism = string_at(doc.at("mechanism"), "mechanism");
+    p.title = doc.contains("title") ? string_at(doc.at("title"), "title") : p.mechanism;
+    p.length_unit = doc.contains("length_unit") ? string_at(doc.at("length_unit"), "length_unit") : "unit";
+    if (!doc.at("parameters").is_object()) throw std::invalid_argument("parameters must be an object {name: number}");
+    for (const auto& [key, value] : doc.at("parameters").items())
+      p.parameters[key] = number_at(value, "parameters." + key);
     if (doc.contains("actuator_limits_deg")) {
+      if (!doc.at("actuator_limits_deg").is_object())
+        throw std::invalid_argument("actuator_limits_deg must be an object {actuator: [lo, hi]}");
       for (const auto& [key, value] : doc.at("actuator_limits_deg").items()) {
-        if (!value.is_array() || value.size() != 2)
-          throw std::invalid_argument("actuator_limits_deg." + key + " must be [lo, hi]");
-        p.limits_deg[key] = {value[0].get<double>(), value[1].get<double>()};
+        const std::string where = "actuator_limits_deg." + key;
+        if (!value.is_array() || value.size() != 2) throw std::invalid_argument(where + " must be [lo, hi]");
+        p.limits_deg[key] = {number_at(value[0], where + "[0]"), number_at(value[1], where + "[1]")};
         if (!std::isfinite(p.limits_deg[key].lo) || !std::isfinite(p.limits_deg[key].hi))
-          throw std::invalid_argument("actuator_limits_deg." + key + " must be finite");
+          throw std::invalid_argument(where + " must be finite");
       }
     }
     if (doc.contains("actuator_data")) p.actuator_data = parse_actuator_data(doc.at("actuator_data"));
@@ -169,11 +178,14 @@ Preset parse_preset(const std::string& text, const std::string& origin) {
 
 Preset load_preset(const std::string& name_or_path) {
   const fs::path file = resolve_preset(name_or_path);
-  std::ifstream in(file);
+  std::ifstream in(file, std::ios::binary);
   if (!in) throw std::invalid_argument("cannot read preset file '" + file.string() + "'");
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  Preset p = parse_preset(buffer.str(), file.string());
+  // One byte past the limit is enough for parse_preset to refuse the file.
+  std::string text(kMaxPresetBytes + 1, '\0');
+  in.read(text.data(), std::streamsize(text.size()));
+  if (in.bad()) throw std::invalid_argument("cannot read preset file '" + file.string() + "'");
+  text.resize(std::size_t(in.gcount()));
+  Preset p = parse_preset(text, file.string());
   p.source = file;
   return p;
 }

@@ -5,9 +5,9 @@
 //   --param L1=12
 //
 // parse_preset either throws std::invalid_argument or returns a preset of a
-// known mechanism that builds its model; apply_overrides either throws
-// std::invalid_argument or leaves a preset that still builds, holding the
-// values given.
+// known mechanism, or a described one (docs/described-mechanisms.md), that
+// builds its model; apply_overrides either throws std::invalid_argument or
+// leaves a preset that still builds, holding the values given.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -19,6 +19,8 @@
 #include <vector>
 
 #include "core/mechanism.h"
+#include "core/mechanisms/described/mechanism.h"
+#include "core/mechanisms/described/model.h"
 #include "core/mechanisms/parallel12r/mechanism.h"
 #include "core/mechanisms/pathos2/mechanism.h"
 #include "core/preset.h"
@@ -36,8 +38,12 @@ bool close(double a, double b) { return std::abs(a - b) <= 1e-12 * std::max({1.0
 
 // The model a preset builds is valid, and the preset is of its mechanism only.
 void check_builds(const Preset& p) {
+  const bool described = p.mechanism == linkscape::described::kMechanismName;
   const std::vector<std::string> known = linkscape::registered_mechanisms();
-  FUZZ_CHECK(std::find(known.begin(), known.end(), p.mechanism) != known.end(), "mechanism '" << p.mechanism << "'");
+  FUZZ_CHECK(described || std::find(known.begin(), known.end(), p.mechanism) != known.end(),
+             "mechanism '" << p.mechanism << "'");
+  FUZZ_CHECK(described == !p.description.empty(), "a " << p.mechanism << " preset with a description of "
+                                                       << p.description.size() << " characters");
   linkscape::validate(p);
   const std::vector<std::string> names = linkscape::parameter_names(p);
   for (const auto& [key, value] : p.parameters)
@@ -73,10 +79,14 @@ void check_builds(const Preset& p) {
       other_refused = true;
     }
   } else {
-    // Any other registered device: its description names every parameter it was given.
+    // Any other device: it holds every parameter it was given.
     const auto m = linkscape::make_mechanism(p);
     for (const auto& [key, value] : p.parameters)
       FUZZ_CHECK(m->parameters().count(key) && close(m->parameters().at(key), value), "parameter '" << key << "'");
+    // A described device is within the format's limits: one actuator a leg.
+    if (described)
+      FUZZ_CHECK(!m->info().actuators.empty() && m->info().actuators.size() <= std::size_t(linkscape::described::kMaxLegs),
+                 m->info().actuators.size() << " actuators");
     other_refused = true;
   }
   FUZZ_CHECK(other_refused, "a " << p.mechanism << " preset also built the other mechanism's model");

@@ -1,10 +1,14 @@
 #include "core/mechanisms/described/model.h"
 
+#include "core/json_checked.h"
+
 #include <muParser.h>
 
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <set>
@@ -31,14 +35,46 @@ std::string replace_hash(std::string text, int number) {
   return text;
 }
 
+// Names the expressions define themselves (pi, deg, the copy index k and
+// muparser's functions and constants): a parameter or extra of the same name
+// would silently replace one.
+const std::set<std::string>& reserved_names() {
+  static const std::set<std::string> names = [] {
+    std::set<std::string> n{"pi", "deg", "k"};
+    const mu::Parser p;
+    for (const auto& [name, f] : p.GetFunDef()) n.insert(name);
+    for (const auto& [name, v] : p.GetConst()) n.insert(name);
+    return n;
+  }();
+  return names;
+}
+
+std::string comma_list(const std::set<std::string>& names) {
+  std::string list;
+  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
+  return list;
+}
+
 // Evaluates the numbers of a description: JSON numbers, or muparser
 // expressions over the parameters, pi, deg, the copy index k and (platform
-// frames only) the extras.
+// frames only) the extras. Every name is a constant, so an expression cannot
+// assign: it only computes a value.
 class Evaluator {
  public:
   explicit Evaluator(const std::map<std::string, double>& parameters) : parameters_(parameters) {}
-  int copy = 0;   // the leg copy being read (k)
-  int first = 1;  // '#' in strings stands for first + copy
+
+  // The leg copy being read: k = copy, and '#' in strings stands for first + copy.
+  void set_copy(int copy, int first) {
+    if (copy == copy_ && first == first_) return;
+    copy_ = copy;
+    first_ = first;
+    parser_.reset();
+  }
+  void set_extra(const std::string& name, double value) {
+    extra_values_[name] = value;
+    parser_.reset();
+  }
+  int hash_number() const { return first_ + copy_; }
 
   double number(const json& value, const std::string& where) {
     if (value.is_number()) {
@@ -47,20 +83,30 @@ class Evaluator {
       return v;
     }
     if (!value.is_string()) fail(where, "must be a number or an expression string, got " + value.dump());
-    const std::string text = replace_hash(value.get<std::string>(), first + copy);
-    double k = copy;
-    mu::Parser p;
+    const std::string& written = value.get_ref<const std::string&>();
+    if (written.size() > kMaxExpressionLength)
+      fail(where, "an expression of " + std::to_string(written.size()) + " characters (at most " +
+                      std::to_string(kMaxExpressionLength) + ")");
+    for (std::size_t i = 0; i < written.size(); ++i)
+      if (const auto c = static_cast<unsigned char>(written[i]); c < 0x20 || c == 0x7f) {
+        char code[8];
+        std::snprintf(code, sizeof code, "0x%02x", c);
+        fail(where, "the expression holds the control character " + std::string(code) + " at " + std::to_string(i) +
+                        " (an expression is one line of text)");
+      }
+    const std::string text = replace_hash(written, hash_number());
     try {
-      p.DefineConst("pi", kPi);
-      p.DefineConst("deg", kPi / 180);
-      p.DefineVar("k", &k);
-      for (auto& [name, v] : parameters_) p.DefineVar(name, &v);
-      for (auto& [name, v] : extra_values_) p.DefineVar(name, &v);
+      mu::Parser& p = parser();
       p.SetExpr(text);
       const double v = p.Eval();
+      if (p.GetNumResults() != 1)
+        fail(where, "'" + text + "' is " + std::to_string(p.GetNumResults()) +
+                        " expressions (a comma separates only a function's arguments)");
       if (!std::isfinite(v)) fail(where, "'" + text + "' evaluates to " + std::to_string(v));
       return v;
     } catch (const mu::Parser::exception_type& e) {
+      if (e.GetCode() == mu::ecUNEXPECTED_OPERATOR && e.GetToken() == "=")
+        fail(where, "'" + text + "' assigns with '=': an expression only computes a value (compare with '==')");
       fail(where, "cannot evaluate '" + text + "': " + e.GetMsg() + known_names());
     }
   }
@@ -89,9 +135,21 @@ class Evaluator {
     return a / n;
   }
 
-  void set_extra(const std::string& name, double value) { extra_values_[name] = value; }
-
  private:
+  // One parser for every number while the copy and the extras stay: the
+  // names are its constants.
+  mu::Parser& parser() {
+    if (!parser_) {
+      auto p = std::make_unique<mu::Parser>();
+      p->DefineConst("pi", kPi);
+      p->DefineConst("deg", kPi / 180);
+      p->DefineConst("k", copy_);
+      for (const auto& [name, v] : parameters_) p->DefineConst(name, v);
+      for (const auto& [name, v] : extra_values_) p->DefineConst(name, v);
+      parser_ = std::move(p);
+    }
+    return *parser_;
+  }
   std::string known_names() const {
     std::string s = " (variables: pi, deg, k";
     for (const auto& [name, v] : parameters_) s += ", " + name;
@@ -100,6 +158,8 @@ class Evaluator {
   }
   std::map<std::string, double> parameters_;
   std::map<std::string, double> extra_values_;
+  int copy_ = 0, first_ = 1;
+  std::unique_ptr<mu::Parser> parser_;
 };
 
 void check_keys(const json& object, const std::set<std::string>& known, const std::string& where) {
@@ -115,6 +175,26 @@ void check_keys(const json& object, const std::set<std::string>& known, const st
 const json& require(const json& object, const std::string& key, const std::string& where) {
   if (!object.contains(key)) fail(where, "missing key '" + key + "'");
   return object.at(key);
+}
+
+// An optional string or flag of an object, or its default.
+std::string string_or(const json& object, const std::string& key, const std::string& fallback,
+                      const std::string& where) {
+  return object.contains(key) ? string_at(object.at(key), where + "." + key) : fallback;
+}
+bool bool_or(const json& object, const std::string& key, bool fallback, const std::string& where) {
+  return object.contains(key) ? bool_at(object.at(key), where + "." + key) : fallback;
+}
+
+// A whole number from lo to hi (lo >= 0), refused rather than wrapped when it
+// is beyond an int.
+int whole_number(const json& value, int lo, int hi, const std::string& where) {
+  const bool in_range = value.is_number_unsigned() ? value.get<std::uint64_t>() <= std::uint64_t(hi)
+                        : value.is_number_integer() && value.get<std::int64_t>() <= hi;
+  if (!in_range || value.get<std::int64_t>() < lo)
+    fail(where, "must be a whole number from " + std::to_string(lo) + " to " + std::to_string(hi) + ", got " +
+                    value.dump());
+  return int(value.get<std::int64_t>());
 }
 
 // A fixed transform step; returns false if `step` is not one.
@@ -161,6 +241,15 @@ Isometry3d transform_steps(const json& steps, Evaluator& eval, const std::string
 bool valid_name(const std::string& name) {
   static const std::regex pattern("[A-Za-z_][A-Za-z0-9_.]*");
   return std::regex_match(name, pattern);
+}
+
+// A parameter's or an extra's name: a variable of the expressions.
+void check_variable_name(const std::string& name, const std::string& where) {
+  if (!valid_name(name) || name.find('.') != std::string::npos)
+    fail(where, "a parameter or extra name must be an identifier ([A-Za-z_][A-Za-z0-9_]*)");
+  if (reserved_names().count(name))
+    fail(where, "'" + name + "' is a name the expressions define themselves (reserved: " +
+                    comma_list(reserved_names()) + ")");
 }
 
 }  // namespace
@@ -212,23 +301,45 @@ Model build_model(const std::string& description_json, const std::map<std::strin
                   const std::map<std::string, Range>& limits_deg, const std::string& length_unit) {
   json doc;
   try {
-    doc = json::parse(description_json);
+    doc = parse_json_checked(description_json, kMaxPresetNesting);
   } catch (const json::exception& e) {
+    fail("description", e.what());
+  } catch (const std::invalid_argument& e) {
     fail("description", e.what());
   }
   const std::string top = "description";
   check_keys(doc,
              {"space", "task", "fixed", "extras", "home", "platforms", "legs", "parameter_info", "size", "box"}, top);
-  for (const auto& [name, v] : parameters)
-    if (!valid_name(name) || name.find('.') != std::string::npos)
-      fail("parameters." + name, "a parameter name must be an identifier ([A-Za-z_][A-Za-z0-9_]*)");
+  if (parameters.size() > std::size_t(kMaxParameters))
+    fail("parameters", "more than " + std::to_string(kMaxParameters) + " parameters");
+  for (const auto& [name, v] : parameters) check_variable_name(name, "parameters." + name);
+  for (const auto& [name, r] : limits_deg)
+    if (!(r.lo < r.hi)) {
+      std::ostringstream s;
+      s << "needs lo < hi, got [" << r.lo << ", " << r.hi << "]";
+      fail("actuator_limits_deg." + name, s.str());
+    }
+
+  // The legs' number, copies counted, before any is built.
+  const json& legs = require(doc, "legs", top);
+  if (!legs.is_array() || legs.empty()) fail(top + ".legs", "must be a non-empty list of legs");
+  std::vector<int> copies(legs.size(), 1), firsts(legs.size(), 1);  // firsts: the number '#' stands for in copy 0
+  for (std::size_t l = 0, count = 0; l < legs.size(); ++l) {
+    const std::string where = top + ".legs[" + std::to_string(l) + "]";
+    check_keys(legs[l], {"name", "copies", "first", "base", "chain", "platform", "anchor", "branch"}, where);
+    if (legs[l].contains("copies")) copies[l] = whole_number(legs[l].at("copies"), 1, kMaxLegs, where + ".copies");
+    if (legs[l].contains("first")) firsts[l] = whole_number(legs[l].at("first"), 0, kMaxFirstNumber, where + ".first");
+    count += std::size_t(copies[l]);
+    if (count > std::size_t(kMaxLegs))
+      fail(top + ".legs", "more than " + std::to_string(kMaxLegs) + " legs, copies counted (the format's limit)");
+  }
 
   Model m;
   m.length_unit = length_unit;
   m.parameters = parameters;
   Evaluator eval(parameters);
 
-  const std::string space = doc.value("space", std::string("spatial"));
+  const std::string space = string_or(doc, "space", "spatial", top);
   if (space != "spatial" && space != "planar")
     fail(top + ".space", "must be \"spatial\" or \"planar\", got \"" + space + "\"");
   m.planar = space == "planar";
@@ -237,16 +348,19 @@ Model build_model(const std::string& description_json, const std::map<std::strin
   if (doc.contains("extras")) {
     const json& extras = doc.at("extras");
     if (!extras.is_object()) fail(top + ".extras", "must be an object {name: {...}}");
+    if (extras.size() > std::size_t(kMaxExtras))
+      fail(top + ".extras", "more than " + std::to_string(kMaxExtras) + " extras (the format's limit)");
     for (const auto& [name, spec] : extras.items()) {
       const std::string where = top + ".extras." + name;
-      if (!valid_name(name) || parameters.count(name)) fail(where, "must be an identifier that is not a parameter");
+      check_variable_name(name, where);
+      if (parameters.count(name)) fail(where, "'" + name + "' is a parameter's name");
       check_keys(spec, {"home", "range", "unit", "description"}, where);
       Extra e;
       e.name = name;
       e.home = eval.number(require(spec, "home", where), where + ".home");
       e.range = eval.range(require(spec, "range", where), where + ".range");
-      e.unit = spec.value("unit", length_unit);
-      e.description = spec.value("description", "");
+      e.unit = string_or(spec, "unit", length_unit, where);
+      e.description = string_or(spec, "description", "", where);
       m.extras.push_back(e);
     }
   }
@@ -312,10 +426,12 @@ Model build_model(const std::string& description_json, const std::map<std::strin
   if (doc.contains("platforms")) {
     const json& platforms = doc.at("platforms");
     if (!platforms.is_array() || platforms.empty()) fail(top + ".platforms", "must be a non-empty list");
+    if (platforms.size() > std::size_t(kMaxPlatforms))
+      fail(top + ".platforms", "more than " + std::to_string(kMaxPlatforms) + " platform bodies (the format's limit)");
     for (std::size_t b = 0; b < platforms.size(); ++b) {
       const std::string where = top + ".platforms[" + std::to_string(b) + "]";
       check_keys(platforms[b], {"name", "frame"}, where);
-      const std::string name = require(platforms[b], "name", where).get<std::string>();
+      const std::string name = string_at(require(platforms[b], "name", where), where + ".name");
       for (const std::string& other : m.platform_names)
         if (other == name) fail(where, "platform '" + name + "' is listed twice");
       m.platform_names.push_back(name);
@@ -333,36 +449,20 @@ Model build_model(const std::string& description_json, const std::map<std::strin
   }
 
   // Legs.
-  const json& legs = require(doc, "legs", top);
-  if (!legs.is_array() || legs.empty()) fail(top + ".legs", "must be a non-empty list of legs");
   std::set<std::string> joint_names, leg_names;
   for (std::size_t l = 0; l < legs.size(); ++l) {
     const json& spec = legs[l];
     const std::string leg_where = top + ".legs[" + std::to_string(l) + "]";
-    check_keys(spec, {"name", "copies", "first", "base", "chain", "platform", "anchor", "branch"}, leg_where);
-    int copies = 1;
-    if (spec.contains("copies")) {
-      if (!spec.at("copies").is_number_integer() || spec.at("copies").get<int>() < 1 ||
-          spec.at("copies").get<int>() > 64)
-        fail(leg_where + ".copies", "must be a whole number from 1 to 64");
-      copies = spec.at("copies").get<int>();
-    }
-    int first = 1;  // the number '#' stands for in the first copy
-    if (spec.contains("first")) {
-      if (!spec.at("first").is_number_integer()) fail(leg_where + ".first", "must be a whole number");
-      first = spec.at("first").get<int>();
-    }
-    for (int copy = 0; copy < copies; ++copy) {
-      eval.copy = copy;
-      eval.first = first;
+    for (int copy = 0; copy < copies[l]; ++copy) {
+      eval.set_copy(copy, firsts[l]);
       Leg leg;
-      leg.name = replace_hash(spec.value("name", std::to_string(m.legs.size() + 1)), first + copy);
+      leg.name = replace_hash(string_or(spec, "name", std::to_string(m.legs.size() + 1), leg_where), eval.hash_number());
       const std::string where = leg_where + " \"" + leg.name + "\"";
       if (!leg_names.insert(leg.name).second) fail(where, "leg name '" + leg.name + "' is used twice");
       leg.base = transform_steps(spec.value("base", json::array()), eval, where + ": base");
       leg.anchor = transform_steps(spec.value("anchor", json::array()), eval, where + ": anchor");
       if (spec.contains("platform")) {
-        const std::string body = spec.at("platform").get<std::string>();
+        const std::string body = string_at(spec.at("platform"), where + ": platform");
         leg.platform = -1;
         for (std::size_t b = 0; b < m.platform_names.size(); ++b)
           if (m.platform_names[b] == body) leg.platform = int(b);
@@ -391,16 +491,19 @@ Model build_model(const std::string& description_json, const std::map<std::strin
         }
         if (!step.is_object() || !step.contains("joint"))
           fail(at, "expected a joint or a transform (translate, rx, ry, rz, rotate), got " + step.dump());
-        const std::string type = step.at("joint").get<std::string>();
-        const std::string name = replace_hash(require(step, "name", at).get<std::string>(), first + copy);
+        const std::string type = string_at(step.at("joint"), at + ".joint");
+        const std::string name = replace_hash(string_at(require(step, "name", at), at + ".name"), eval.hash_number());
         at += " (joint \"" + name + "\")";
         if (!valid_name(name)) fail(at, "a joint name must be an identifier");
         if (!joint_names.insert(name).second) fail(at, "joint name '" + name + "' is used twice");
-        const bool actuated = step.value("actuated", false);
+        const bool actuated = bool_or(step, "actuated", false, at);
         if (actuated && type != "revolute" && type != "prismatic")
           fail(at, "only revolute and prismatic joints can be actuated");
         flush();
         auto add = [&](Step::Kind kind, const Vector3d& axis, const std::string& step_name) {
+          if (leg.variables + (kind == Step::Kind::Spherical ? 3 : 1) > kMaxLegVariables)
+            fail(at, "the leg has more than " + std::to_string(kMaxLegVariables) +
+                         " joint variables (the format's limit; a universal joint counts 2, a spherical 3)");
           Step s;
           s.kind = kind;
           s.axis = axis;
@@ -472,7 +575,7 @@ Model build_model(const std::string& description_json, const std::map<std::strin
           check_keys(rules[r], {"triple", "angle", "sign"}, at);
           BranchRule rule;
           auto step_of = [&](const json& n, bool allow_anchor) {
-            const std::string name = replace_hash(n.get<std::string>(), first + copy);
+            const std::string name = replace_hash(string_at(n, at), eval.hash_number());
             if (allow_anchor && name == "anchor") return -2;
             for (std::size_t s = 0; s < leg.steps.size(); ++s)
               if (leg.steps[s].kind != Step::Kind::Fixed && (leg.steps[s].name == name || leg.steps[s].joint == name))
@@ -507,8 +610,20 @@ Model build_model(const std::string& description_json, const std::map<std::strin
       m.legs.push_back(std::move(leg));
     }
   }
-  eval.copy = 0;
-  eval.first = 1;
+  eval.set_copy(0, 1);
+  for (const auto& limit : limits_deg) {
+    const std::string& name = limit.first;
+    const Actuator* a = nullptr;
+    for (const Actuator& x : m.actuators)
+      if (x.name == name) a = &x;
+    if (!a) {
+      std::set<std::string> known;
+      for (const Actuator& x : m.actuators) known.insert(x.name);
+      fail("actuator_limits_deg." + name, "names no actuator of the description (actuators: " + comma_list(known) + ")");
+    }
+    if (a->prismatic)
+      fail("actuator_limits_deg." + name, "is a prismatic actuator: its travel is the joint's \"range\" (length unit)");
+  }
   if (m.free_rules > 12) fail(top + ".legs", "more than 12 free branch rules (4096 branches)");
 
   // The device's typical size.
@@ -540,9 +655,9 @@ Model build_model(const std::string& description_json, const std::map<std::strin
       check_keys(spec, {"range", "unit", "description", "in_panel"}, where);
       Model::ParameterInfo p;
       if (spec.contains("range")) p.range = eval.range(spec.at("range"), where + ".range");
-      p.unit = spec.value("unit", "");
-      p.description = spec.value("description", "");
-      p.in_panel = spec.value("in_panel", true);
+      p.unit = string_or(spec, "unit", "", where);
+      p.description = string_or(spec, "description", "", where);
+      p.in_panel = bool_or(spec, "in_panel", true, where);
       m.parameter_info[name] = p;
     }
   }

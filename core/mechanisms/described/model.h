@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
+#include <cstddef>
 #include <map>
 #include <memory>
 #include <optional>
@@ -104,6 +105,18 @@ struct Model {
 
   int driven() const;  // task coordinates that are not extras
 };
+
+// The format's limits (docs/described-mechanisms.md, "Limits"), far above
+// every real device: they bound the work and memory a file can ask for, and
+// are checked before the work. The file's size and nesting depth are a
+// preset's (core/json_checked.h).
+inline constexpr int kMaxLegs = 64;                  // after copies
+inline constexpr int kMaxLegVariables = 24;          // joint variables per leg (a spherical joint counts 3)
+inline constexpr int kMaxPlatforms = 64;             // platform bodies
+inline constexpr int kMaxExtras = 16;
+inline constexpr int kMaxParameters = 256;
+inline constexpr std::size_t kMaxExpressionLength = 1000;  // characters
+inline constexpr int kMaxFirstNumber = 1000000;      // a leg's "first"
 
 // Reads and evaluates a description. `description_json` is the preset's
 // "description" value as JSON text; `limits_deg` the preset's
