@@ -14,6 +14,7 @@
 
 #include "core/atomic_file.h"
 #include "core/csv.h"
+#include "core/json_checked.h"
 #include "core/preset.h"
 #include "core/task.h"
 #include "render/slice_image.h"
@@ -228,7 +229,8 @@ bool is_session_file(const std::filesystem::path& path) {
 Session parse_session(const std::string& text, const std::string& origin) {
   Session s;
   try {
-    const json j = json::parse(text);
+    // As presets are read: no key given twice, no nesting deep enough to overflow the stack.
+    const json j = parse_json_checked(text, kMaxPresetNesting);
     if (!j.is_object() || j.value("format", "") != "linkscape-session")
       throw std::invalid_argument("not a Linkscape session (no \"format\": \"linkscape-session\")");
     check_keys(j, "", {"format", "version", "mechanism", "parameters", "actuator_limits_deg", "actuators", "task",

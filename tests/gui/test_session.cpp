@@ -23,14 +23,16 @@ json good_12r() {
 }
 
 // The message for `session`, or "" if it opened.
-std::string error_of(const json& session) {
+std::string error_of_text(const std::string& session) {
   try {
-    parse_session(session.dump(), "s.json");
+    parse_session(session, "s.json");
     return "";
   } catch (const std::invalid_argument& e) {
     return e.what();
   }
 }
+
+std::string error_of(const json& session) { return error_of_text(session.dump()); }
 
 }  // namespace
 
@@ -90,6 +92,17 @@ TEST(Session, ValuesTheWindowCannotHonourAreErrorsNamingTheKey) {
     EXPECT_NE(message.find(c.expected), std::string::npos) << c.pointer << " gave: '" << message << "'";
     EXPECT_NE(message.find("s.json"), std::string::npos) << message;
   }
+}
+
+// Read as presets are: a key given twice is not resolved by a guess, and
+// nesting that would overflow the stack is refused with its place.
+TEST(Session, AKeyGivenTwiceOrDeepNestingIsRefused) {
+  std::string twice = good_12r().dump();
+  twice.insert(1, "\"mechanism\": \"pathos2\", ");
+  EXPECT_NE(error_of_text(twice).find("given twice"), std::string::npos) << error_of_text(twice);
+  std::string deep = good_12r().dump();
+  deep.insert(deep.size() - 1, ", \"extra\": " + std::string(100000, '[') + std::string(100000, ']'));
+  EXPECT_NE(error_of_text(deep).find("nested deeper than"), std::string::npos) << error_of_text(deep).substr(0, 200);
 }
 
 TEST(Session, AMechanismPathTooLongToLookUpIsAnUnknownMechanism) {
