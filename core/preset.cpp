@@ -3,6 +3,7 @@
 #include "core/csv.h"
 #include "core/json_checked.h"
 #include "core/mechanism.h"
+#include "core/spelling.h"
 
 #include <unistd.h>
 
@@ -77,11 +78,13 @@ fs::path resolve_preset(const std::string& name_or_path) {
     const fs::path candidate = dir / (name_or_path + ".json");
     if (fs::is_regular_file(candidate, ec)) return candidate;
   }
+  const std::vector<std::string> presets = available_presets();
   std::string known;
-  for (const auto& n : available_presets()) known += (known.empty() ? "" : ", ") + n;
-  throw std::invalid_argument("unknown mechanism '" + name_or_path + "' (known presets: " +
-                              (known.empty() ? "none found" : known) +
-                              "; or give a path to a .json preset)");
+  for (const auto& n : presets) known += (known.empty() ? "" : ", ") + n;
+  const std::optional<std::string> meant = closest_name(name_or_path, presets);
+  throw std::invalid_argument("unknown mechanism '" + name_or_path + "'" +
+                              (meant ? "; did you mean '" + *meant + "'?" : std::string()) + " (known presets: " +
+                              (known.empty() ? "none found" : known) + "; or give a path to a .json preset)");
 }
 
 // "actuator_data": {"source": text, "all": rating, "<actuator>": rating}, a

@@ -24,6 +24,7 @@
 #include "gui/headless.h"
 #include "gui/mechanism_window.h"
 #include "gui/session.h"
+#include "core/spelling.h"
 #include "gui/terminal.h"
 
 namespace linkscape::gui {

@@ -15,19 +15,6 @@ namespace {
 
 // Optimal string alignment distance: insertions, deletions, substitutions
 // and swaps of neighbours ("--plnae" is one step from "--plane").
-std::size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
-  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
-  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i)
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t cost = a[i - 1] == b[j - 1] ? 0 : 1;
-      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
-      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
-    }
-  return d[a.size()][b.size()];
-}
-
 }  // namespace
 
 std::string duration_text(double s) {
@@ -132,17 +119,6 @@ std::string seconds_since(std::chrono::steady_clock::time_point start) {
   out.precision(s < 10 ? 2 : 1);
   out << s << " s";
   return out.str();
-}
-
-std::optional<std::string> closest_name(const std::string& word, const std::vector<std::string>& candidates) {
-  std::optional<std::string> best;
-  std::size_t best_distance = std::max<std::size_t>(1, word.size() / 3) + 1;
-  for (const std::string& c : candidates)
-    if (const std::size_t d = edit_distance(word, c); d < best_distance) {
-      best_distance = d;
-      best = c;
-    }
-  return best;
 }
 
 }  // namespace linkscape::gui

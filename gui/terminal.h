@@ -66,8 +66,4 @@ std::string duration_text(double seconds);
 // Seconds since `start`, as "0.21 s".
 std::string seconds_since(std::chrono::steady_clock::time_point start);
 
-// The candidate `word` was most likely meant to be (edit distance with
-// transpositions at most a third of its length, at least 1), if any.
-std::optional<std::string> closest_name(const std::string& word, const std::vector<std::string>& candidates);
-
 }  // namespace linkscape::gui

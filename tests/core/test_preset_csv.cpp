@@ -9,6 +9,7 @@
 #include "core/csv.h"
 #include "core/mechanisms/parallel12r/mechanism.h"
 #include "core/preset.h"
+#include "core/spelling.h"
 
 using namespace linkscape;
 namespace fs = std::filesystem;
@@ -213,4 +214,27 @@ TEST(Preset, AFolderOrPipeNamedAsAPresetSaysWhatItIs) {
     }
   }
   fs::remove_all(dir);
+}
+
+TEST(Spelling, AMistypedWordGetsTheNearestName) {
+  const std::vector<std::string> commands = {"eval", "slice", "field", "mesh", "fit", "sweep"};
+  EXPECT_EQ(closest_name("evl", commands), "eval");
+  EXPECT_EQ(closest_name("silce", commands), "slice");  // two letters swapped: one step
+  EXPECT_EQ(closest_name("--plnae", {"--plane", "--pose"}), "--plane");
+  EXPECT_FALSE(closest_name("frobnicate", commands));
+}
+
+TEST(Preset, AMistypedPresetNameGetsASuggestion) {
+  try {
+    load_preset("delat");
+    FAIL() << "expected an error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("did you mean 'delta'?"), std::string::npos) << e.what();
+  }
+  try {
+    load_preset("frobnicate");
+    FAIL() << "expected an error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_EQ(std::string(e.what()).find("did you mean"), std::string::npos) << e.what();
+  }
 }

@@ -1,10 +1,9 @@
-// The progress line's words and the suggestion for a mistyped name, without
-// timing anything: progress_text and closest_name are pure functions.
+// The progress line's words, without timing anything: progress_text is a
+// pure function.
 #include <gtest/gtest.h>
 
 #include "gui/terminal.h"
 
-using linkscape::gui::closest_name;
 using linkscape::gui::progress_text;
 
 TEST(TerminalProgress, TheTimeLeftFollowsTheShareDone) {
@@ -18,12 +17,4 @@ TEST(TerminalProgress, TheTimeLeftFollowsTheShareDone) {
   // Without a share, the time spent.
   EXPECT_EQ(progress_text("writing f.vti", std::nullopt, 1.25), "writing f.vti, 1.2 s");
   EXPECT_EQ(progress_text("fit", std::nullopt, 150), "fit, 2 min 30 s");
-}
-
-TEST(TerminalSuggestion, AMistypedWordGetsTheNearestName) {
-  const std::vector<std::string> commands = {"eval", "slice", "field", "mesh", "fit", "sweep"};
-  EXPECT_EQ(closest_name("evl", commands), "eval");
-  EXPECT_EQ(closest_name("silce", commands), "slice");  // two letters swapped: one step
-  EXPECT_EQ(closest_name("--plnae", {"--plane", "--pose"}), "--plane");
-  EXPECT_FALSE(closest_name("frobnicate", commands));
 }

@@ -1,0 +1,14 @@
+// Suggestions for mistyped names (commands, options, presets, fields).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace linkscape {
+
+// The candidate `word` was most likely meant to be (edit distance with
+// transpositions at most a third of its length, at least 1), if any.
+std::optional<std::string> closest_name(const std::string& word, const std::vector<std::string>& candidates);
+
+}  // namespace linkscape
