@@ -123,6 +123,8 @@ std::string format_number(double value) {
   return ec == std::errc() ? std::string(buf, ptr) : std::string("nan");
 }
 
+std::string csv_number(double value) { return std::isnan(value) ? std::string() : format_number(value); }
+
 std::string csv_text(std::string_view text) {
   const bool plain = text.find_first_of(",\"\r\n") == std::string_view::npos &&
                      (text.empty() || (text.front() != ' ' && text.back() != ' '));

@@ -42,6 +42,10 @@ double parse_number_or_throw(std::string_view text, const std::string& what, boo
 // Shortest text that reads back to the same double ("%.17g"-exact).
 std::string format_number(double value);
 
+// A number cell as every table writes it: format_number's exact round trip
+// ("inf" and "-inf" for infinities), an empty cell for NaN (no value).
+std::string csv_number(double value);
+
 // A text cell as RFC 4180 writes it: quoted (inner quotes doubled) when it
 // holds a comma, a quote, a line break or leading or trailing spaces; as it
 // is otherwise. Names and statuses from a description file can hold any of them.

@@ -22,12 +22,6 @@ constexpr std::size_t kMaxDesigns = 1'000'000'000;
 // (docs/sweeps.md), rounded up.
 constexpr double kBytesPerDesign = 1024, kBytesPerCell = 96;
 
-// A number as the table holds it: exact round trip, "inf"/"-inf", empty for NaN.
-std::string cell(double v) {
-  if (std::isnan(v)) return "";
-  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-  return format_number(v);
-}
 
 double number_of(const std::string& text) {
   if (text.empty()) return std::nan("");
@@ -213,7 +207,7 @@ std::string evaluate_row(const Plan& plan, std::size_t index, const std::vector<
   s << index;
   for (const std::string& c : plan.columns) {
     const auto it = parameters.find(c);
-    s << "," << (it == parameters.end() ? "" : cell(it->second));
+    s << "," << (it == parameters.end() ? "" : csv_number(it->second));
   }
   if (!scored) {
     // Empty scores: every column but design, the parameters, pareto and error.
@@ -223,14 +217,14 @@ std::string evaluate_row(const Plan& plan, std::size_t index, const std::vector<
     return s.str();
   }
   const task::TaskVolume& t = plan.problem.task;
-  s << "," << cell(row->centre.x()) << "," << cell(row->centre.y()) << "," << cell(row->centre.z()) << ","
-    << cell(row->size) << "," << (row->meets ? 1 : 0);
-  if (free_centre(plan)) s << "," << cell(t.shape == task::Shape::Sphere ? row->fit * t.diameter() : row->fit);
-  s << "," << cell(row->report.fraction) << "," << cell(row->margin);
-  for (const task::CriterionReport& c : row->report.criteria) s << "," << cell(c.worst) << "," << cell(c.margin());
+  s << "," << csv_number(row->centre.x()) << "," << csv_number(row->centre.y()) << "," << csv_number(row->centre.z()) << ","
+    << csv_number(row->size) << "," << (row->meets ? 1 : 0);
+  if (free_centre(plan)) s << "," << csv_number(t.shape == task::Shape::Sphere ? row->fit * t.diameter() : row->fit);
+  s << "," << csv_number(row->report.fraction) << "," << csv_number(row->margin);
+  for (const task::CriterionReport& c : row->report.criteria) s << "," << csv_number(c.worst) << "," << csv_number(c.margin());
   if (field)
-    s << "," << cell(field->reach_volume) << "," << cell(field->gci) << "," << cell(field->task_reach) << ","
-      << cell(field->task_worst) << "," << cell(field->task_mean);
+    s << "," << csv_number(field->reach_volume) << "," << csv_number(field->gci) << "," << csv_number(field->task_reach) << ","
+      << csv_number(field->task_worst) << "," << csv_number(field->task_mean);
   s << ",0,";
   return s.str();
 }
@@ -336,13 +330,13 @@ std::string fingerprint(const Plan& plan) {
   const fit::Problem& p = plan.problem;
   std::ostringstream s;
   s << "linkscape sweep 1; " << p.preset.mechanism << ";";
-  for (const auto& [name, value] : p.preset.parameters) s << " " << name << "=" << cell(value);
+  for (const auto& [name, value] : p.preset.parameters) s << " " << name << "=" << csv_number(value);
   s << ";";
-  for (const fit::Variable& v : p.variables) s << " " << v.name() << "=" << cell(v.lo) << ":" << cell(v.hi);
+  for (const fit::Variable& v : p.variables) s << " " << v.name() << "=" << csv_number(v.lo) << ":" << csv_number(v.hi);
   s << "; task " << p.task.text << ";";
   for (const task::Criterion& c : p.criteria) s << " " << c.text;
   s << "; pose";
-  for (Eigen::Index i = 0; i < p.pose.size(); ++i) s << " " << cell(p.pose(i));
+  for (Eigen::Index i = 0; i < p.pose.size(); ++i) s << " " << csv_number(p.pose(i));
   s << "; method " << p.ik.method << " branch " << p.ik.branch.value_or(0) << " torque " << int(p.torque) << "; inscribed "
     << p.inscribed.resolution << " " << p.inscribed.refinements << " " << p.inscribed.places << "; task resolution "
     << p.task_resolution << "; ";

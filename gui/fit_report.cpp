@@ -19,7 +19,7 @@
 namespace linkscape::gui {
 namespace {
 
-std::string number(double v) { return std::isfinite(v) ? format_number(v) : (std::isinf(v) ? (v > 0 ? "inf" : "-inf") : ""); }
+
 
 // 3 significant digits for the report.
 std::string short_number(double v) {
@@ -71,12 +71,12 @@ std::string rows_csv(const fit::Problem& p, const fit::Result& r, const std::vec
   s << "\n";
   for (std::size_t i : csv_order(r)) {
     const fit::Row& row = r.rows[i];
-    for (const std::string& c : columns) s << number(row.parameters.at(c)) << ",";
-    s << number(row.centre.x()) << "," << number(row.centre.y()) << "," << number(row.centre.z()) << ","
-      << number(row.size) << "," << (row.meets ? 1 : 0);
-    if (free_centre) s << "," << number(p.task.shape == task::Shape::Sphere ? row.fit * p.task.diameter() : row.fit);
-    s << "," << number(row.report.fraction) << "," << number(row.margin);
-    for (const task::CriterionReport& c : row.report.criteria) s << "," << number(c.worst) << "," << number(c.margin());
+    for (const std::string& c : columns) s << csv_number(row.parameters.at(c)) << ",";
+    s << csv_number(row.centre.x()) << "," << csv_number(row.centre.y()) << "," << csv_number(row.centre.z()) << ","
+      << csv_number(row.size) << "," << (row.meets ? 1 : 0);
+    if (free_centre) s << "," << csv_number(p.task.shape == task::Shape::Sphere ? row.fit * p.task.diameter() : row.fit);
+    s << "," << csv_number(row.report.fraction) << "," << csv_number(row.margin);
+    for (const task::CriterionReport& c : row.report.criteria) s << "," << csv_number(c.worst) << "," << csv_number(c.margin());
     s << "\n";
   }
   return s.str();

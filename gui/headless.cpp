@@ -62,8 +62,6 @@ void for_each_row(const Table& table, Body body) {
   }
 }
 
-// CSV cells; missing values are empty cells, never NaN.
-std::string cell(double v) { return std::isfinite(v) ? format_number(v) : (std::isinf(v) ? "inf" : ""); }
 
 std::string joined_names(const std::vector<Quantity>& items, const std::string& prefix = "") {
   std::string out;
@@ -92,7 +90,7 @@ void write_ik(const Mechanism& m, const Table& table, const IkOptions& ik, std::
     std::string where;
     for (std::size_t k = 0; k < col.size(); ++k) {
       x(Eigen::Index(k)) = row[col[k]];
-      where += cell(row[col[k]]) + ",";
+      where += csv_number(row[col[k]]) + ",";
     }
     const IkResult r = m.inverse(x, ik);
     for (const IkSolution& s : r.solutions) {
@@ -100,11 +98,11 @@ void write_ik(const Mechanism& m, const Table& table, const IkOptions& ik, std::
       if (c.ik_branch) out << s.branch << ",";
       out << to_string(s.status);
       if (!c.ik_failing_part.empty()) out << ",";
-      for (Eigen::Index k = 0; k < s.q.size(); ++k) out << "," << cell(s.q(k));
+      for (Eigen::Index k = 0; k < s.q.size(); ++k) out << "," << csv_number(s.q(k));
       const Measures meas = m.measures(s.q, x);
-      for (double v : meas.values) out << "," << cell(v);
-      if (c.ik_det) out << "," << cell(meas.det);
-      if (c.ik_diagnostics) out << "," << cell(s.residual) << "," << s.iterations;
+      for (double v : meas.values) out << "," << csv_number(v);
+      if (c.ik_det) out << "," << csv_number(meas.det);
+      if (c.ik_diagnostics) out << "," << csv_number(s.residual) << "," << s.iterations;
       out << "\n";
     }
     if (r.solutions.empty()) {
@@ -162,20 +160,20 @@ void write_fk(const Mechanism& m, const Table& table, std::ostream& out) {
     fo.seed = home;
     for (std::size_t k = 0; k < input_index.size(); ++k) (*fo.seed)(input_index[k]) = row[input_col[k]];
     for (std::size_t k = 0; k < seed_col.size(); ++k) (*fo.seed)(result_index[k]) = row[seed_col[k]];
-    for (std::size_t k = 0; k < q_col.size(); ++k) out << (k ? "," : "") << cell(row[q_col[k]]);
-    for (std::size_t k = 0; k < input_col.size(); ++k) out << "," << cell(row[input_col[k]]);
+    for (std::size_t k = 0; k < q_col.size(); ++k) out << (k ? "," : "") << csv_number(row[q_col[k]]);
+    for (std::size_t k = 0; k < input_col.size(); ++k) out << "," << csv_number(row[input_col[k]]);
     const FkResult r = m.forward(q, fo);
     const bool ok = r.status == Status::Ok;
     if (c.fk_status) out << "," << (r.status_text.empty() ? std::string(to_string(r.status)) : r.status_text);
-    for (int k : result_index) out << "," << (ok ? cell(r.x(k)) : "");
+    for (int k : result_index) out << "," << (ok ? csv_number(r.x(k)) : "");
     if (c.fk_measures) {
       const Measures meas = ok ? m.measures(q, r.x) : Measures{};
       for (std::size_t k = 0; k < info.measures.size(); ++k)
-        out << "," << (ok && k < meas.values.size() ? cell(meas.values[k]) : "");
-      out << "," << (ok ? cell(meas.det) : "");
+        out << "," << (ok && k < meas.values.size() ? csv_number(meas.values[k]) : "");
+      out << "," << (ok ? csv_number(meas.det) : "");
     }
     if (c.fk_diagnostics) {
-      if (r.status_text.empty()) out << "," << r.iterations << "," << cell(r.residual);
+      if (r.status_text.empty()) out << "," << r.iterations << "," << csv_number(r.residual);
       else out << ",,";
     }
     out << "\n";

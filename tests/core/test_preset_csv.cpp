@@ -3,7 +3,9 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <cmath>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "core/csv.h"
@@ -186,6 +188,14 @@ TEST(Preset, ReferenceIsTheNameForShippedPresetsAndThePathOtherwise) {
   const Preset own = load_preset(file.string());
   EXPECT_EQ(preset_reference(own), std::filesystem::absolute(file).string());
   std::filesystem::remove(file);
+}
+
+// One number cell for every table (one writer used to put "inf" for -inf).
+TEST(Csv, NumberCellsRoundTripWithSignedInfinitiesAndEmptyForNaN) {
+  for (double v : {0.1, -2.5e-300, 1e308, 3.0}) EXPECT_EQ(parse_number(csv_number(v)), v);
+  EXPECT_EQ(csv_number(std::numeric_limits<double>::infinity()), "inf");
+  EXPECT_EQ(csv_number(-std::numeric_limits<double>::infinity()), "-inf");
+  EXPECT_EQ(csv_number(std::nan("")), "");
 }
 
 TEST(Csv, TextCellsAreQuotedWhereRfc4180NeedsIt) {
