@@ -6,7 +6,7 @@ namespace linkscape {
 namespace {
 
 // Optimal string alignment distance: insertions, deletions, substitutions
-// and transpositions of neighbours each cost 1.
+// and swaps of neighbours each cost 1 ("--plnae" is one step from "--plane").
 std::size_t edit_distance(const std::string& a, const std::string& b) {
   std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
   for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;

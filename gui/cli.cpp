@@ -12,6 +12,7 @@
 #include <functional>
 #include <iostream>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,33 @@ namespace {
 constexpr const char* kDescription =
     "Linkscape: kinematic design of parallel haptic-device mechanisms.\n"
     "Without a command it opens the window; with one it runs headless.";
+
+// Help wrapped to the terminal (80 columns in a pipe and in the man page):
+// descriptions break at spaces within the right column, and the commands'
+// and the program's descriptions within the width.
+class WrappingFormatter : public CLI::Formatter {
+ public:
+  WrappingFormatter() : width_(terminal_width()) { column_width(std::min<std::size_t>(30, width_ / 3)); }
+  std::string make_option_desc(const CLI::Option* option) const override {
+    return wrap_text(CLI::Formatter::make_option_desc(option), right_width());
+  }
+  std::string make_subcommand(const CLI::App* sub) const override {
+    std::stringstream out;
+    CLI::detail::format_help(out, sub->get_display_name(true), wrap_text(sub->get_description(), right_width()),
+                             get_column_width());
+    return out.str();
+  }
+  std::string make_description(const CLI::App* app) const override {
+    return wrap_text(CLI::Formatter::make_description(app), width_);
+  }
+  std::string make_footer(const CLI::App* app) const override {
+    return wrap_text(CLI::Formatter::make_footer(app), width_);
+  }
+
+ private:
+  std::size_t right_width() const { return width_ - get_column_width(); }
+  std::size_t width_;
+};
 
 // What the help says each device accepts comes from the devices themselves:
 // every registered device, made from its shipped preset.
@@ -264,6 +292,7 @@ void check_window_inputs(const WindowOptions& window) {
 
 int run(int argc, char** argv) {
   CLI::App app(kDescription, "linkscape");
+  app.formatter(std::make_shared<WrappingFormatter>());
   app.set_version_flag("--version", std::string("linkscape ") + LINKSCAPE_VERSION);
   const DeviceHelp help = device_help();
 

@@ -1,21 +1,18 @@
 #include "gui/terminal.h"
 
+#include <sys/ioctl.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <cstdlib>
 #include <sstream>
 
+#include "core/csv.h"
+
 namespace linkscape::gui {
-
-namespace {
-
-
-// Optimal string alignment distance: insertions, deletions, substitutions
-// and swaps of neighbours ("--plnae" is one step from "--plane").
-}  // namespace
 
 std::string duration_text(double s) {
   std::ostringstream out;
@@ -119,6 +116,36 @@ std::string seconds_since(std::chrono::steady_clock::time_point start) {
   out.precision(s < 10 ? 2 : 1);
   out << s << " s";
   return out.str();
+}
+
+std::size_t terminal_width() {
+  std::size_t width = 80;
+  winsize size{};
+  if (::isatty(STDOUT_FILENO) && ::ioctl(STDOUT_FILENO, TIOCGWINSZ, &size) == 0 && size.ws_col > 0) {
+    width = size.ws_col;
+  } else if (const char* columns = std::getenv("COLUMNS")) {
+    if (const std::optional<double> n = parse_number(columns); n && *n >= 1 && *n <= 10000) width = std::size_t(*n);
+  }
+  return std::clamp<std::size_t>(width, 40, 250);
+}
+
+std::string wrap_text(const std::string& text, std::size_t width) {
+  std::string out, line;
+  std::istringstream paragraphs(text);
+  for (std::string paragraph; std::getline(paragraphs, paragraph);) {
+    std::istringstream words(paragraph);
+    line.clear();
+    for (std::string word; words >> word;) {
+      if (!line.empty() && line.size() + 1 + word.size() > width) {
+        out += line + '\n';
+        line.clear();
+      }
+      line += (line.empty() ? "" : " ") + word;
+    }
+    out += line + '\n';
+  }
+  if (!text.empty() && text.back() != '\n' && !out.empty()) out.pop_back();
+  return out;
 }
 
 }  // namespace linkscape::gui

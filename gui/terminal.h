@@ -60,6 +60,14 @@ class ProgressLine {
 // "linkscape: <text>" on stderr unless quiet.
 void summary(bool quiet, const std::string& text);
 
+// The width text is wrapped to: the terminal's where standard output is one,
+// else $COLUMNS, else 80 (pipes, help2man's man page); within 40..250.
+std::size_t terminal_width();
+
+// `text` with its lines broken at spaces to at most `width` characters
+// (a word longer than that stands alone); its own line breaks are kept.
+std::string wrap_text(const std::string& text, std::size_t width);
+
 // "4.2 s", "35 s", "2 min 5 s": a duration for people.
 std::string duration_text(double seconds);
 

@@ -151,6 +151,14 @@ if [ -f "$man" ] && zcat "$man" | head -n1 | grep -q '^\.TH LINKSCAPE 1' &&
 else
   fail "manual page is missing its title or its command sections"
 fi
+# The help text is preformatted on the page and indented by 7: within 80
+# columns when each of its lines is at most 73 (the page's own lines fill).
+wide=$(zcat "$man" 2>/dev/null | awk '/^\.nf/ {pre = 1; next} /^\.fi/ {pre = 0} pre && length($0) > 73 {n++} END {print n + 0}')
+if [ -f "$man" ] && [ "$wide" -eq 0 ]; then
+  pass "manual page's help text fits 80 columns"
+else
+  fail "manual page has $wide preformatted lines wider than 73 characters"
+fi
 completion="$root/usr/share/bash-completion/completions/linkscape"
 if [ -f "$completion" ] && bash -n "$completion" && grep -q 'complete -F _linkscape linkscape' "$completion"; then
   pass "bash completion parses and registers _linkscape"

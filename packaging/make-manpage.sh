@@ -9,6 +9,8 @@ set -euo pipefail
 [ $# -eq 2 ] || { echo "usage: $0 LINKSCAPE_BINARY OUTPUT.1.gz" >&2; exit 2; }
 exe=$1 out=$2
 export QT_QPA_PLATFORM=offscreen
+# The page indents its text by 7 columns: help wrapped to 72 keeps it within 80.
+export COLUMNS=72
 
 # Help text as preformatted roff: backslashes escaped, control characters
 # at a line start neutralised.

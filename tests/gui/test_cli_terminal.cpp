@@ -131,3 +131,19 @@ TEST(CliTerminal, TheViewAloneIsDrawnAtTheAskedSize) {
   EXPECT_EQ(be32(16), 1500);
   EXPECT_EQ(be32(20), 400);
 }
+
+// Help fits the terminal: 80 columns in a pipe (and so in the man page made
+// from it); the width of $COLUMNS where it is set.
+TEST(CliTerminal, HelpIsWrappedToTheTerminal) {
+  for (const std::string command : {"", "eval", "slice", "field", "mesh", "fit", "sweep", "bench", "design"}) {
+    for (const auto& [columns, width] : std::vector<std::pair<std::string, std::size_t>>{{"-u COLUMNS", 80}, {"COLUMNS=100", 100}}) {
+      const auto r = run_linkscape(command + " --help", "env " + columns);
+      ASSERT_EQ(r.exit_code, 0) << command << ": " << r.out;
+      std::istringstream lines(r.out);
+      std::size_t longest = 0, count = 0;
+      for (std::string line; std::getline(lines, line); ++count) longest = std::max(longest, line.size());
+      EXPECT_LE(longest, width) << "linkscape " << command << " --help with " << columns;
+      EXPECT_GT(count, 10u) << command;
+    }
+  }
+}

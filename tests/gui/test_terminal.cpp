@@ -18,3 +18,12 @@ TEST(TerminalProgress, TheTimeLeftFollowsTheShareDone) {
   EXPECT_EQ(progress_text("writing f.vti", std::nullopt, 1.25), "writing f.vti, 1.2 s");
   EXPECT_EQ(progress_text("fit", std::nullopt, 150), "fit, 2 min 30 s");
 }
+
+TEST(TerminalText, WrapsAtSpacesAndKeepsLineBreaks) {
+  using linkscape::gui::wrap_text;
+  EXPECT_EQ(wrap_text("one two three four", 9), "one two\nthree\nfour");
+  EXPECT_EQ(wrap_text("a\nb c", 80), "a\nb c");
+  EXPECT_EQ(wrap_text("averyveryverylongword x", 5), "averyveryverylongword\nx");  // a long word stands alone
+  EXPECT_EQ(wrap_text("", 10), "");
+  EXPECT_EQ(wrap_text("ends in a break\n", 80), "ends in a break\n");
+}
