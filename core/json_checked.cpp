@@ -64,6 +64,12 @@ json parse_json_checked(const std::string& text, int max_depth) {
   return json::parse(text, check);
 }
 
+std::string json_error_text(const nlohmann::json::exception& error) {
+  const std::string text = error.what();
+  const std::size_t code_end = text.find("] ");
+  return text.rfind("[json.exception.", 0) == 0 && code_end != std::string::npos ? text.substr(code_end + 2) : text;
+}
+
 namespace {
 
 [[noreturn]] void wrong_type(const json& value, const std::string& where, const char* expected) {

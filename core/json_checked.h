@@ -22,6 +22,10 @@ inline constexpr int kMaxPresetNesting = 64;  // objects and arrays within each 
 // nlohmann::json::parse_error for malformed text.
 nlohmann::json parse_json_checked(const std::string& text, int max_depth);
 
+// A JSON library error as a user reads it: its message without the library's
+// "[json.exception.parse_error.101] " code.
+std::string json_error_text(const nlohmann::json::exception& error);
+
 // The value as a string, number or boolean; std::invalid_argument
 // "WHERE: must be a string, got 5" otherwise.
 std::string string_at(const nlohmann::json& value, const std::string& where);

@@ -167,7 +167,7 @@ Preset parse_preset(const std::string& text, const std::string& origin) {
       p.description = doc.at("description").dump();
     }
   } catch (const nlohmann::json::exception& e) {
-    throw std::invalid_argument("preset " + origin + ": " + e.what());
+    throw std::invalid_argument("preset " + origin + ": " + json_error_text(e));
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument("preset " + origin + ": " + e.what());
   }

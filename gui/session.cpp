@@ -380,7 +380,7 @@ Session parse_session(const std::string& text, const std::string& origin) {
       s.task_volume = setting;
     }
   } catch (const json::exception& e) {
-    throw std::invalid_argument("session '" + origin + "': " + e.what());
+    throw std::invalid_argument("session '" + origin + "': " + json_error_text(e));
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument("session '" + origin + "': " + e.what());
   }

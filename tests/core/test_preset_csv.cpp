@@ -248,3 +248,18 @@ TEST(Preset, AMistypedPresetNameGetsASuggestion) {
     EXPECT_EQ(std::string(e.what()).find("did you mean"), std::string::npos) << e.what();
   }
 }
+
+// The JSON library's error codes stay out of what the user reads.
+TEST(Preset, AMalformedFileSaysWhereWithoutTheLibrarysCode) {
+  const fs::path file = fs::temp_directory_path() / ("linkscape_malformed" + std::to_string(::getpid()) + ".json");
+  std::ofstream(file) << "{\"mechanism\": \"delta\", \"parameters\": {";
+  try {
+    load_preset(file.string());
+    FAIL() << "expected an error";
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.find("json.exception"), std::string::npos) << what;
+    EXPECT_NE(what.find("line 1, column"), std::string::npos) << what;
+  }
+  fs::remove(file);
+}

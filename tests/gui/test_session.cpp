@@ -105,6 +105,14 @@ TEST(Session, AKeyGivenTwiceOrDeepNestingIsRefused) {
   EXPECT_NE(error_of_text(deep).find("nested deeper than"), std::string::npos) << error_of_text(deep).substr(0, 200);
 }
 
+TEST(Session, ErrorsCarryNoJsonLibraryCode) {
+  json s = good_12r();
+  s["mechanism"] = 5;
+  EXPECT_EQ(error_of(s).find("json.exception"), std::string::npos) << error_of(s);
+  EXPECT_NE(error_of(s).find("s.json"), std::string::npos) << error_of(s);
+  EXPECT_EQ(error_of_text("{\"format\": ").find("json.exception"), std::string::npos) << error_of_text("{");
+}
+
 TEST(Session, AMechanismPathTooLongToLookUpIsAnUnknownMechanism) {
   json s = good_12r();
   s["mechanism"] = "presets/" + std::string(300, 'x') + ".json";  // one name over NAME_MAX
