@@ -165,6 +165,15 @@ if [ -f "$completion" ] && bash -n "$completion" && grep -q 'complete -F _linksc
 else
   fail "bash completion does not parse or register"
 fi
+# It completes what the program says: a preset name after -m, with help of any width.
+completed=$(bash -c 'source /usr/share/bash-completion/bash_completion 2>/dev/null; source "$1"
+  PATH="$2:$PATH"; COMP_WORDS=(linkscape eval -m del); COMP_CWORD=3; COMP_LINE="linkscape eval -m del"
+  COMP_POINT=${#COMP_LINE}; _linkscape linkscape del -m; echo "${COMPREPLY[*]}"' _ "$completion" "$build/gui" 2>/dev/null)
+if [[ " $completed " == *" delta "* ]]; then
+  pass "bash completion offers the presets after -m ($completed)"
+else
+  fail "bash completion after '-m del' gave '$completed', expected delta among them"
+fi
 if command -v lintian >/dev/null; then
   # lintian warns when run as root; that is about the checker, not the package.
   if lintian --fail-on error,warning "$deb" >"$work/lintian.log" 2>&1; then
