@@ -108,6 +108,7 @@ struct IkSolution {
   double residual = 0.0;  // |forward(q) - x| in the task, length unit
   int iterations = 0;     // 0 for closed forms
   std::string method;     // the method that produced it
+  std::string failing_part;  // a solution that is not Ok: the part at fault, where the device can say
 };
 
 struct IkResult {

@@ -97,7 +97,7 @@ void write_ik(const Mechanism& m, const Table& table, const IkOptions& ik, std::
       out << where;
       if (c.ik_branch) out << s.branch << ",";
       out << to_string(s.status);
-      if (!c.ik_failing_part.empty()) out << ",";
+      if (!c.ik_failing_part.empty()) out << "," << csv_text(s.failing_part);
       for (Eigen::Index k = 0; k < s.q.size(); ++k) out << "," << csv_number(s.q(k));
       const Measures meas = m.measures(s.q, x);
       for (double v : meas.values) out << "," << csv_number(v);

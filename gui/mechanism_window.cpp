@@ -250,12 +250,15 @@ int branch_of(const Mechanism& m, const Eigen::VectorXd& q, const Eigen::VectorX
   return best;
 }
 
-// What the device calls a failing part ("leg" from the column "failing_leg").
-QString part_name(const MechanismInfo& info) {
+// A failing part as the status says it: "leg 3" from the column
+// "failing_leg" and the part "3"; a part named "leg 3" in its file already
+// says what it is.
+QString part_label(const MechanismInfo& info, const std::string& part) {
   std::string column = info.eval_columns.ik_failing_part;
   const std::string prefix = "failing_";
   if (column.rfind(prefix, 0) == 0) column = column.substr(prefix.size());
-  return column.empty() ? QObject::tr("part") : qs(column);
+  const QString kind = column.empty() ? QObject::tr("part") : qs(column);
+  return qs(part).startsWith(kind + " ") ? qs(part) : kind + " " + qs(part);
 }
 
 }  // namespace
@@ -992,7 +995,7 @@ bool MechanismWindow::setTask(const Eigen::VectorXd& x, bool tracking) {
     if (c.branch == branch_) s = &c;
   if (!s || s->status != Status::Ok) {
     QString why = status_text(s ? s->status : r.status, s ? std::string() : r.status_text);
-    if (!r.failing_part.empty()) why = QString("%1 %2: %3").arg(part_name(info), qs(r.failing_part), why);
+    if (!r.failing_part.empty()) why = QString("%1: %2").arg(part_label(info, r.failing_part), why);
     if ((s ? s->status : r.status) == Status::Singular && s) {
       const SingularityReport near = mechanism_->nearest_singularity(s->q, x);
       why += tr(" (on the %1)").arg(qs(info.singular_sets.at(near.nearest).title));
@@ -1052,8 +1055,8 @@ bool MechanismWindow::setActuators(const Eigen::VectorXd& q, const std::optional
     return refuse(qs(e.what()));
   }
   if (ik.status != Status::Ok && !ik.failing_part.empty())
-    return refuse(QString("%1 %2: %3 at the FK pose; the device stays at the last valid pose")
-                      .arg(part_name(info), qs(ik.failing_part), status_text(ik.status, ik.status_text)),
+    return refuse(QString("%1: %2 at the FK pose; the device stays at the last valid pose")
+                      .arg(part_label(info, ik.failing_part), status_text(ik.status, ik.status_text)),
                   &ik);
   accept(q, r.x, branch_of(*mechanism_, q, r.x, branch_));
   return true;

@@ -188,3 +188,23 @@ TEST(CliDescribedDevices, FiveBarRefusesATargetOffItsPlane) {
               contains(off.out, "plane z = 0"))
       << off.out;
 }
+
+// A pose the Stewart reaches only with a leg beyond its travel: the row names
+// that leg, and its length is indeed outside [lmin, lmax] (the column was
+// left empty; the window said "leg leg 4").
+TEST(CliDescribedDevices, AnOutOfLimitsRowNamesTheLegBeyondItsTravel) {
+  const fs::path in = temp_file("stewart_out_of_limits.csv", "x,y,z,rx,ry,rz\n5,0,12,0,0.5,0\n0,0,40,0,0,0\n");
+  const auto r = run_linkscape("eval -m stewart --ik " + in.string());
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const auto rows = parse_cells(r.out);
+  ASSERT_EQ(rows.size(), 2u) << r.out;
+  const linkscape::Preset preset = linkscape::load_preset("stewart");
+  const double lmin = preset.parameters.at("lmin"), lmax = preset.parameters.at("lmax");
+  for (const auto& row : rows) {
+    EXPECT_EQ(row.at("status"), "out-of-limits") << r.out;
+    const std::string leg = row.at("failing_leg");
+    ASSERT_EQ(leg.rfind("leg ", 0), 0u) << r.out;
+    const double length = std::stod(row.at("l" + leg.substr(4)));
+    EXPECT_TRUE(length < lmin || length > lmax) << leg << " has length " << length << " within [" << lmin << ", " << lmax << "]";
+  }
+}

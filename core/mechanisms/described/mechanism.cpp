@@ -130,7 +130,10 @@ class DescribedMechanism final : public Mechanism {
         }
       }
       if (s.status == Status::Ok || s.status == Status::OutOfLimits)
-        out.solutions.push_back({s.q, b, s.status, s.residual, s.iterations, "newton"});
+        out.solutions.push_back({s.q, b, s.status, s.residual, s.iterations, "newton",
+                                 s.status == Status::Ok || s.failing_leg < 0
+                                     ? std::string()
+                                     : kin_.model().legs[std::size_t(s.failing_leg)].name});
     }
     if (out.status == Status::Ok) out.failing_part.clear();
     return out;
