@@ -186,7 +186,7 @@ TEST(CliFit, OptionsOutsideTheirRangesExitWithTwo) {
   EXPECT_EQ(off.exit_code, 2) << off.out;
   EXPECT_NE(off.out.find("off five-bar's plane z = 0"), std::string::npos) << off.out;
   EXPECT_FALSE(fs::exists(csv));
-  const CommandResult help = run_linkscape("fit --help");
+  const CommandResult help = run_linkscape("fit --help", "COLUMNS=250");  // unwrapped
   EXPECT_NE(help.out.find("0 to 10"), std::string::npos) << help.out;
   EXPECT_NE(help.out.find("2 to 256"), std::string::npos) << help.out;
 }

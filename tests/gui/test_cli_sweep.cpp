@@ -196,7 +196,7 @@ TEST(CliSweep, BadInputsExitWithTwoAndWriteNothing) {
 }
 
 TEST(CliSweep, HelpExplainsEveryOptionWithAnExample) {
-  const CommandResult r = run_linkscape("sweep --help");
+  const CommandResult r = run_linkscape("sweep --help", "COLUMNS=250");  // unwrapped: phrases on one line
   ASSERT_EQ(r.exit_code, 0) << r.out;
   for (const char* option : {"--grid", "--random", "--seed", "--field-resolution", "--threads", "--chunk", "--output",
                              "--checkpoint", "--resume", "--chart", "--vti", "mpirun -np 4 linkscape sweep"})
