@@ -98,7 +98,7 @@ class DeltaMechanism final : public Mechanism {
       out.status = Status::NotConverged;
       return out;
     }
-    out.solutions.push_back({r.q_actuated, r.branch, r.status, r.residual, r.iterations, std::string(to_string(r.method))});
+    out.solutions.push_back({r.q_actuated, r.branch, r.status, r.residual, r.iterations, std::string(to_string(r.method)), {}});
     return out;
   }
 

@@ -85,7 +85,7 @@ class Parallel12rMechanism final : public Mechanism {
       const Status status = s.status == Status::Ok && singular_at(s.q_actuated) ? Status::Singular : s.status;
       any_ok = any_ok || status == Status::Ok;
       demoted = demoted || status != s.status;
-      out.solutions.push_back(linkscape::IkSolution{s.q_actuated, s.branch, status, s.residual, s.iterations, std::string(to_string(s.method))});
+      out.solutions.push_back(linkscape::IkSolution{s.q_actuated, s.branch, status, s.residual, s.iterations, std::string(to_string(s.method)), {}});
     }
     if (out.status == Status::Ok && !any_ok && demoted) out.status = Status::Singular;
     return out;

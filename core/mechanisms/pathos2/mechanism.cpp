@@ -110,7 +110,7 @@ class Pathos2Mechanism final : public Mechanism {
     const PoseIkResult ik = pathos2::inverse(geometry_, pose_of(x));
     out.status = ik.status;
     if (ik.failing_leg >= 0) out.failing_part = std::to_string(ik.failing_leg + 1);
-    if (ik.status == Status::Ok) out.solutions.push_back(linkscape::IkSolution{ik.q_active, 0, Status::Ok, 0.0, 0, "closed"});
+    if (ik.status == Status::Ok) out.solutions.push_back(linkscape::IkSolution{ik.q_active, 0, Status::Ok, 0.0, 0, "closed", {}});
     return out;
   }
 
