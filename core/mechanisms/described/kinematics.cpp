@@ -384,7 +384,8 @@ LegSolution Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int bran
   // outside that shell, exactly that for a leg that can point its stretched
   // (or folded) chain at the anchor.
   const double distance = (anchor.translation() - l.base.translation()).norm();
-  const double outside = std::max(distance - leg_reach_[std::size_t(leg)], leg_shortest_reach_[std::size_t(leg)] - distance);
+  const Range& reach = leg_reach_[std::size_t(leg)];
+  const double outside = std::max(distance - reach.hi, reach.lo - distance);
   if (outside > 1e-9 * model_.size) {
     best.state = spread_seeds_[std::size_t(leg)].front();
     best.residual = outside;
@@ -813,8 +814,7 @@ Kinematics::Kinematics(Model model) : model_(std::move(model)), id_(next_id++) {
       longest = std::max(longest, length);
       slides = slides || step.kind == Kind::Prismatic;
     }
-    leg_reach_.push_back(slides ? kInf : sum);
-    leg_shortest_reach_.push_back(slides ? 0.0 : std::max(0.0, 2 * longest - sum));
+    leg_reach_.push_back(slides ? Range{0.0, kInf} : Range{std::max(0.0, 2 * longest - sum), sum});
   }
   // Spread seeds: the chain as written, then joint values spread over a turn.
   for (const Leg& l : model_.legs) {

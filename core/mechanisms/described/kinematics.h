@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "core/mechanisms/described/model.h"
+#include "core/range.h"
 #include "core/status.h"
 
 namespace linkscape::described {
@@ -138,8 +139,8 @@ class Kinematics {
   // Per leg, per combination of its free rules' signs: the leg at home.
   std::vector<std::vector<std::optional<LegState>>> home_states_;
   std::vector<std::vector<LegState>> spread_seeds_;
-  // Per leg: the longest and the shortest distance from its base to its end.
-  std::vector<double> leg_reach_, leg_shortest_reach_;
+  // Per leg: the shortest (lo) and longest (hi) distance from its base to its end.
+  std::vector<Range> leg_reach_;
 };
 
 }  // namespace linkscape::described
