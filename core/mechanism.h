@@ -274,6 +274,15 @@ std::shared_ptr<const Mechanism> make_mechanism(const Preset& preset);
 // The device the program starts with: the registry's first.
 std::string default_mechanism();
 
+// A device as a user names it: a registered preset or a description file,
+// then "key=value" overrides of its parameters.
+struct PresetChoice {
+  std::string name_or_path = default_mechanism();
+  std::vector<std::string> params;
+};
+// Loads and overrides; throws std::invalid_argument naming the bad part.
+Preset chosen_preset(const PresetChoice& choice);
+
 // Convenience: the index of a named item (method, measure), or
 // std::invalid_argument listing the names.
 int index_of(const std::vector<NamedItem>& items, const std::string& name, const std::string& what);

@@ -4,11 +4,13 @@
 #include <stdexcept>
 
 #include "core/atomic_file.h"
-#include "gui/cli.h"
+#include "gui/cli/cli.h"
+#include "gui/window/launch.h"
 
 int main(int argc, char** argv) {
   try {
-    const int code = linkscape::gui::run(argc, argv);
+    const linkscape::gui::WindowLauncher window{linkscape::gui::prepare_window, linkscape::gui::run_window};
+    const int code = linkscape::gui::run(argc, argv, &window);
     linkscape::check_stdout();  // output lost to a full disk or a closed pipe is an error
     return code;
   } catch (const std::invalid_argument& e) {

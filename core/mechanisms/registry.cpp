@@ -46,6 +46,12 @@ std::shared_ptr<const Mechanism> make_mechanism(const Preset& preset) {
 
 std::string default_mechanism() { return registry().front().first; }
 
+Preset chosen_preset(const PresetChoice& choice) {
+  Preset preset = load_preset(choice.name_or_path);
+  apply_overrides(preset, choice.params);
+  return preset;
+}
+
 int index_of(const std::vector<NamedItem>& items, const std::string& name, const std::string& what) {
   for (std::size_t k = 0; k < items.size(); ++k)
     if (items[k].name == name) return int(k);

@@ -1,4 +1,4 @@
-// Fuzz target for sessions (gui/session.h). The input is a session file.
+// Fuzz target for sessions (gui/window/session.h). The input is a session file.
 // load_session either throws std::invalid_argument or returns a session that
 // save_session writes and load_session reads back unchanged, and saving that
 // again writes the same bytes.
@@ -19,7 +19,7 @@
 #include <string>
 
 #include "fuzz_check.h"
-#include "gui/session.h"
+#include "gui/window/session.h"
 
 namespace {
 

@@ -1,0 +1,57 @@
+// linkscape fit: the smallest design of a device whose task volume meets the
+// criteria, or the largest margin at a given size (core/fit.h), as a report, a CSV of every design evaluated and a
+// Pareto chart of size against the worst measure.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <iosfwd>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/fit.h"
+#include "gui/cli/headless.h"
+
+namespace linkscape::gui {
+
+struct FitOptions {
+  PresetChoice mechanism;
+  std::string task;                    // "sphere:diameter=15[,centre=x,y,z]" or "box:size=..."
+  std::vector<std::string> criteria;   // "cond<3", "force_iso>1", ...; reach is always implied
+  std::vector<std::string> free;       // free parameters (empty: the design panel's)
+  std::vector<std::string> equal;      // groups held equal, e.g. "L1,L2"
+  std::vector<std::string> bounds;     // "NAME=lo:hi"
+  std::string pose;                    // every task coordinate; beyond x, y, z held (default: each design's home)
+  std::string method;                  // IK method (default: the device's first)
+  int branch = 0;
+  std::string torque = "continuous";
+  int resolution = 64, refinements = 2, places = 3;  // the largest inscribed shape (docs/task-volumes.md)
+  int task_resolution = 24;            // the task evaluated at its centre
+  double tolerance = 1e-3;             // relative, on the size (or the margin search's step)
+  std::optional<double> size;          // set: the largest margin at this size
+  std::string output;                  // CSV: the smallest design first, then every design by size
+  std::string chart;                   // size against the worst measure (.png, .svg, .pdf)
+  bool quiet = false;                  // no progress on stderr
+};
+
+// Runs the search, writes the CSV and chart when asked and prints the
+// chosen design, every criterion's margin and the time to `out`. A task no
+// design meets is a result ("no design in the bounds meets it; closest:
+// ..."), not an error. Throws std::invalid_argument for bad options (exit 2,
+// nothing written). The chart needs a QGuiApplication.
+void run_fit(const FitOptions& options, std::ostream& out);
+
+// The parts `fit` shares with `sweep`: the device, task, criteria, free
+// parameters and sampling options (every FitOptions field but size,
+// tolerance, output, chart and quiet), and the problem they describe,
+// checked (messages start with `command`; throws std::invalid_argument).
+void add_problem_options(CLI::App& command, FitOptions& options);
+fit::Problem make_problem(const FitOptions& options, const std::string& command);
+
+struct FitCommand {
+  CLI::App* command = nullptr;
+  std::shared_ptr<FitOptions> options;
+};
+FitCommand add_fit_command(CLI::App& app);
+
+}  // namespace linkscape::gui

@@ -1,0 +1,279 @@
+#include "gui/cli/mechanisms/pathos2/design.h"
+
+#include <memory>
+#include <unistd.h>
+
+#include <QFontMetricsF>
+#include <QPainter>
+#include <QPainterPath>
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <ostream>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/atomic_file.h"
+#include "core/csv.h"
+#include "core/mechanisms/pathos2/design.h"
+#include "core/mechanisms/pathos2/mechanism.h"
+#include "core/preset.h"
+#include "gui/figures/painted_file.h"
+#include "gui/cli/terminal.h"
+#include "render/slice_image.h"
+
+namespace linkscape::gui {
+namespace {
+
+using pathos2::DesignOutcome;
+using pathos2::DesignRow;
+
+const char* to_string(DesignOutcome o) {
+  switch (o) {
+    case DesignOutcome::Evaluated: return "evaluated";
+    case DesignOutcome::Degenerate: return "degenerate";
+    case DesignOutcome::StartInfeasible: return "start-infeasible";
+    case DesignOutcome::Cancelled: return "cancelled";
+  }
+  return "?";
+}
+
+void write_text(const std::string& path, const std::string& text) {
+  write_text_atomically(path, text);
+}
+
+std::string table_csv(const pathos2::DesignSearchResult& r) {
+  std::ostringstream s;
+  s << "l2,l3,lp,rz_deg,outcome,dLx,dLy,dLz,G\n";
+  for (const DesignRow& row : r.rows)
+    s << format_number(row.l2) << "," << format_number(row.l3) << "," << format_number(row.lp) << ","
+      << format_number(row.rz_deg) << "," << to_string(row.outcome) << "," << format_number(row.dLx) << ","
+      << format_number(row.dLy) << "," << format_number(row.dLz) << "," << format_number(row.G) << "\n";
+  return s.str();
+}
+
+std::string sweep_csv(const std::vector<pathos2::L0Row>& rows) {
+  std::ostringstream s;
+  s << "l0,status,dLx,dLy,dLz,dRx,dRy,dRz\n";
+  for (const auto& r : rows) {
+    s << format_number(r.l0) << "," << linkscape::to_string(r.ranges.start_status);
+    for (int a = 0; a < 6; ++a) s << "," << format_number(r.ranges.delta(a));
+    s << "\n";
+  }
+  return s.str();
+}
+
+// ---- Chart ------------------------------------------------------------------------
+
+struct Frame {
+  QRectF plot;
+  double x0, x1, y0, y1;
+  QPointF at(double x, double y) const {
+    return {plot.left() + (x - x0) / (x1 - x0) * plot.width(), plot.bottom() - (y - y0) / (y1 - y0) * plot.height()};
+  }
+};
+
+void axes(QPainter& p, const Frame& f, const QString& xlabel, const QString& ylabel, double xstep, double ystep) {
+  const double fh = QFontMetricsF(p.font()).height();
+  p.setPen(QPen(Qt::black, 1));
+  p.drawRect(f.plot);
+  for (double x = std::ceil(f.x0 / xstep) * xstep; x <= f.x1 + 1e-9; x += xstep) {
+    const QPointF a = f.at(x, f.y0);
+    p.drawLine(a, a + QPointF(0, 0.3 * fh));
+    p.drawText(QRectF(a.x() - 2 * fh, a.y() + 0.4 * fh, 4 * fh, fh), Qt::AlignCenter, QString::number(x));
+  }
+  for (double y = std::ceil(f.y0 / ystep) * ystep; y <= f.y1 + 1e-9; y += ystep) {
+    const QPointF a = f.at(f.x0, y);
+    p.drawLine(a, a - QPointF(0.3 * fh, 0));
+    p.drawText(QRectF(a.x() - 4.4 * fh, a.y() - fh / 2, 4 * fh, fh), Qt::AlignRight | Qt::AlignVCenter, QString::number(y));
+  }
+  p.drawText(QRectF(f.plot.left(), f.plot.bottom() + 1.5 * fh, f.plot.width(), fh), Qt::AlignCenter, xlabel);
+  p.save();
+  p.translate(f.plot.left() - 4.2 * fh, f.plot.center().y());
+  p.rotate(-90);
+  p.drawText(QRectF(-f.plot.height() / 2, -fh / 2, f.plot.height(), fh), Qt::AlignCenter, ylabel);
+  p.restore();
+}
+
+// Left: movable ranges against l0 (Fig. 6). Right: the best G over lp and
+// Rz for every (l2, l3) of the Table 2 grid, with the best design and the
+// paper's (l2 = 14, l3 = 6) marked.
+void draw_design_chart(QPainter& p, const QRectF& area, const pathos2::DesignGrid& grid,
+                       const pathos2::DesignSearchResult& search, const std::vector<pathos2::L0Row>& sweep,
+                       const QString& title) {
+  QFont font = p.font();
+  font.setPixelSize(int(area.height() / 48));
+  p.setFont(font);
+  const double fh = QFontMetricsF(p.font()).height();
+  p.fillRect(area, Qt::white);
+  QFont bold = font;
+  bold.setBold(true);
+  p.setFont(bold);
+  p.drawText(QRectF(area.left(), area.top() + 0.5 * fh, area.width(), 1.5 * fh), Qt::AlignCenter, title);
+  p.setFont(font);
+  const double top = area.top() + 4 * fh, bottom = area.bottom() - 4 * fh, half = area.width() / 2;
+
+  // (a) the l0 sweep.
+  {
+    double ymax = 1;
+    for (const auto& r : sweep)
+      for (int a = 0; a < 3; ++a) ymax = std::max(ymax, r.ranges.delta(a));
+    ymax = std::ceil(ymax / 5) * 5;
+    const double x0 = sweep.empty() ? 40 : sweep.front().l0, x1 = sweep.empty() ? 55 : sweep.back().l0;
+    const Frame f{QRectF(area.left() + 6 * fh, top, half - 9 * fh, bottom - top), x0, std::max(x1, x0 + 1), 0, ymax};
+    axes(p, f, "l0, distance between the base plates (cm)", "movable range from the home pose (cm)",
+         std::max(1.0, std::round((f.x1 - f.x0) / 6)), ymax <= 10 ? 2.0 : 5.0);
+    const QColor colours[] = {QColor(31, 119, 180), QColor(214, 39, 40), QColor(44, 160, 44)};
+    const char* names[] = {"dLx", "dLy", "dLz"};
+    for (int a = 0; a < 3; ++a) {
+      QPainterPath path;
+      for (std::size_t i = 0; i < sweep.size(); ++i) {
+        const QPointF q = f.at(sweep[i].l0, sweep[i].ranges.delta(a));
+        if (i == 0) path.moveTo(q);
+        else path.lineTo(q);
+      }
+      p.setPen(QPen(colours[a], 2.5));
+      p.drawPath(path);
+      for (const auto& r : sweep) p.drawEllipse(f.at(r.l0, r.ranges.delta(a)), 3, 3);
+      const QPointF key(f.plot.right() - 6 * fh, f.plot.top() + (1 + 1.3 * a) * fh);
+      p.drawLine(key, key + QPointF(2 * fh, 0));
+      p.setPen(Qt::black);
+      p.drawText(QRectF(key.x() + 2.4 * fh, key.y() - fh / 2, 4 * fh, fh), Qt::AlignLeft | Qt::AlignVCenter, names[a]);
+    }
+    p.drawText(QRectF(f.plot.left(), top - 1.8 * fh, f.plot.width(), fh), Qt::AlignCenter,
+               "(a) workspace along the axes against l0 (paper Fig. 6)");
+  }
+
+  // (b) the Table 2 search: best G per (l2, l3).
+  {
+    std::map<std::pair<double, double>, double> best;
+    double l2max = 1, l3max = 1, gmax = 0;
+    for (const DesignRow& r : search.rows) {
+      if (r.outcome != DesignOutcome::Evaluated) continue;
+      double& g = best[{r.l2, r.l3}];
+      g = std::max(g, r.G);
+      l2max = std::max(l2max, r.l2), l3max = std::max(l3max, r.l3), gmax = std::max(gmax, r.G);
+    }
+    const double w = grid.l2.step, h = grid.l3.step;
+    const Frame f{QRectF(area.left() + half + 6 * fh, top, half - 13 * fh, bottom - top), grid.l2.lo - w / 2, l2max + w / 2,
+                  grid.l3.lo - h / 2, l3max + h / 2};
+    for (const auto& [key, g] : best) {
+      const auto c = render::colour_of(gmax > 0 ? g / gmax : 0);
+      const QPointF a = f.at(key.first - w / 2, key.second + h / 2), b = f.at(key.first + w / 2, key.second - h / 2);
+      p.fillRect(QRectF(a, b), QColor::fromRgbF(c[0], c[1], c[2]));
+    }
+    axes(p, f, "l2 (cm)", "l3 (cm)", std::max(1.0, std::round(l2max / 10)), std::max(1.0, std::round(l3max / 10)));
+    auto mark = [&](double l2, double l3, const QColor& colour, const QString& label) {
+      const QPointF c = f.at(l2, l3);
+      p.setPen(QPen(colour, 3));
+      p.setBrush(Qt::NoBrush);
+      p.drawEllipse(c, 0.6 * fh, 0.6 * fh);
+      // The label sits on the side of the marker with room for it.
+      const bool left = c.x() > f.plot.center().x();
+      p.drawText(QRectF(left ? c.x() - 12.8 * fh : c.x() + 0.8 * fh, c.y() - 1.6 * fh, 12 * fh, fh),
+                 left ? Qt::AlignRight : Qt::AlignLeft, label);
+      p.setPen(Qt::black);
+    };
+    mark(14, 6, QColor(220, 30, 30), "paper: l2 = 14, l3 = 6");
+    if (search.best >= 0) {
+      const DesignRow& b = search.rows[std::size_t(search.best)];
+      mark(b.l2, b.l3, Qt::white, QString("best G = %1").arg(b.G, 0, 'f', 2));
+    }
+    // Colour bar.
+    const QRectF bar(f.plot.right() + 1.5 * fh, f.plot.top(), 1.2 * fh, f.plot.height());
+    for (int i = 0; i < 128; ++i) {
+      const auto c = render::colour_of((i + 0.5) / 128);
+      p.fillRect(QRectF(bar.left(), bar.bottom() - (i + 1) * bar.height() / 128, bar.width(), bar.height() / 128 + 0.5),
+                 QColor::fromRgbF(c[0], c[1], c[2]));
+    }
+    p.drawRect(bar);
+    for (int k = 0; k <= 4; ++k) {
+      const double y = bar.bottom() - k / 4.0 * bar.height();
+      p.drawText(QRectF(bar.right() + 0.4 * fh, y - fh / 2, 4 * fh, fh), Qt::AlignLeft | Qt::AlignVCenter,
+                 QString::number(gmax * k / 4, 'f', 1));
+    }
+    p.drawText(QRectF(bar.left() - 2 * fh, bar.top() - 1.5 * fh, 6 * fh, fh), Qt::AlignCenter, "G");
+    p.drawText(QRectF(f.plot.left(), top - 1.8 * fh, f.plot.width(), fh), Qt::AlignCenter,
+               "(b) best cost G (Eq. 21) over lp and Rz for each l2, l3 (Table 2 grid)");
+  }
+}
+
+}  // namespace
+
+void run_design(const DesignOptions& o, std::ostream& out) {
+  if (o.table.empty() && o.sweep.empty() && o.chart.empty())
+    throw std::invalid_argument("design: give at least one of --table FILE.csv, --sweep FILE.csv, --chart FILE.png");
+  for (const std::string* csv : {&o.table, &o.sweep})
+    if (!csv->empty() && std::filesystem::path(*csv).extension() != ".csv")
+      throw std::invalid_argument("design: --table and --sweep must end in .csv, got '" + *csv + "'");
+  if (!o.chart.empty()) {
+    const std::string ext = std::filesystem::path(o.chart).extension().string();
+    if (ext != ".png" && ext != ".svg" && ext != ".pdf")
+      throw std::invalid_argument("design: --chart must end in .png, .svg or .pdf, got '" + o.chart + "'");
+  }
+  Preset preset = load_preset(o.mechanism.name_or_path);
+  if (preset.mechanism != pathos2::kMechanismName)
+    throw std::invalid_argument("design: the Table 2 study is for pathos2, got '" + preset.mechanism + "'");
+  preset.parameters["l0"] = pathos2::table1_model().l0;  // Table 1 optimises at l0 = 50
+  apply_overrides(preset, o.mechanism.params);
+  const pathos2::Model base = make_pathos2(preset);
+  for (const std::string* file : {&o.table, &o.sweep, &o.chart}) check_output(*file);  // before the search
+
+  pathos2::DesignGrid grid;
+  if (o.quick) grid = {{2, 20, 3}, {2, 20, 3}, {0, 8, 2}, {0, 120, 30}};
+  ProgressLine line(o.quiet);
+  line.step("Table 2 search");
+  auto progress = [&](std::size_t done, std::size_t total) {
+    line.report(double(done) / double(std::max<std::size_t>(total, 1)));
+  };
+  const pathos2::DesignSearchResult search = pathos2::design_search(base, grid, {}, progress);
+  line.clear();
+  const std::vector<pathos2::L0Row> sweep =
+      pathos2::l0_sweep(base, 40.0, 55.0, o.quick ? 5.0 : 1.0);
+
+  if (!o.table.empty()) write_text(o.table, table_csv(search));
+  if (!o.sweep.empty()) write_text(o.sweep, sweep_csv(sweep));
+  if (!o.chart.empty())
+    write_painted(o.chart, QSize(1800, 900), "Linkscape PATHOS-II design", [&](QPainter& p, const QRectF& area) {
+      draw_design_chart(p, area, grid, search, sweep,
+                        QString("PATHOS-II design study (l0 = %1 cm for the search, lb = %2, l1 = %3 cm)%4")
+                            .arg(base.l0).arg(base.lb).arg(base.l1).arg(o.quick ? "  [quick grid]" : ""));
+    });
+
+  out << "designs " << search.rows.size() << ", evaluated " << search.evaluated << "\n";
+  if (search.best >= 0) {
+    const DesignRow& b = search.rows[std::size_t(search.best)];
+    out << "best G " << b.G << " at l2 = " << b.l2 << ", l3 = " << b.l3 << ", lp = " << b.lp << ", Rz = " << b.rz_deg
+        << " deg (dLx " << b.dLx << ", dLy " << b.dLy << ", dLz " << b.dLz << " cm)\n";
+  }
+  // The paper's optimum and its rank among the evaluated designs.
+  for (const DesignRow& r : search.rows)
+    if (r.l2 == 14 && r.l3 == 6 && r.lp == 2 && r.rz_deg == 30) {
+      std::size_t better = 0;
+      for (const DesignRow& q : search.rows) better += q.outcome == DesignOutcome::Evaluated && q.G > r.G;
+      out << "paper's design (l2 14, l3 6, lp 2, Rz 30): G " << r.G << ", rank " << better + 1 << " of "
+          << search.evaluated << "\n";
+    }
+  for (const auto& r : sweep)
+    out << "l0 " << r.l0 << ": dLx " << r.ranges.delta(0) << ", dLy " << r.ranges.delta(1) << ", dLz "
+        << r.ranges.delta(2) << " cm\n";
+}
+
+DeviceCommand add_design_command(CLI::App& app) {
+  auto options = std::make_shared<DesignOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "design", "PATHOS-II design study: the Table 2 grid search (cost G of Eq. 21 over l2, l3, lp, Rz) and the "
+                "l0 sweep of Fig. 6; writes CSV tables and a chart, prints the best design");
+  add_mechanism_options(*cmd, options->mechanism);
+  cmd->add_option("--table", options->table, "The search, one row per design (.csv)");
+  cmd->add_option("--sweep", options->sweep, "Movable ranges against l0 from 40 to 55 cm (.csv)");
+  cmd->add_option("--chart", options->chart, "Both as a chart (.png, .svg, .pdf)");
+  cmd->add_flag("--quick", options->quick, "A coarse grid (a smoke test, not the paper's Table 2)");
+  cmd->add_flag("-q,--quiet", options->quiet, "No progress line on stderr");
+  return {cmd, [options](std::ostream& out) { run_design(*options, out); }};
+}
+
+}  // namespace linkscape::gui

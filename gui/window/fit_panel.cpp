@@ -1,0 +1,435 @@
+#include "gui/window/fit_panel.h"
+
+#include <QCheckBox>
+#include <QComboBox>
+#include <QDoubleSpinBox>
+#include <QFileDialog>
+#include <QFormLayout>
+#include <QGridLayout>
+#include <QHBoxLayout>
+#include <QLabel>
+#include <QLineEdit>
+#include <QMessageBox>
+#include <QPainter>
+#include <QPlainTextEdit>
+#include <QProgressBar>
+#include <QPushButton>
+#include <QSplitter>
+#include <QVBoxLayout>
+#include <algorithm>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/csv.h"
+#include "gui/figures/fit_report.h"
+#include "gui/window/task_panel.h"
+
+namespace linkscape::gui {
+
+struct FitPanel::ParameterRow {
+  std::string name;
+  QCheckBox* free = nullptr;
+  QDoubleSpinBox* lo = nullptr;
+  QDoubleSpinBox* hi = nullptr;
+};
+
+namespace {
+
+QString qs(const std::string& s) { return QString::fromStdString(s); }
+
+// The chart of the panel's result, drawn into whatever rectangle it has.
+class FitChart : public QWidget {
+ public:
+  explicit FitChart(const FitPanel* panel, QWidget* parent) : QWidget(parent), panel_(panel) {
+    setMinimumSize(320, 220);
+  }
+
+ protected:
+  void paintEvent(QPaintEvent*) override {
+    QPainter p(this);
+    p.setRenderHint(QPainter::Antialiasing);
+    if (!panel_->result() || !panel_->problem()) {
+      p.fillRect(rect(), Qt::white);
+      p.setPen(QColor(110, 110, 110));
+      p.drawText(rect(), Qt::AlignCenter | Qt::TextWordWrap,
+                 "Run sizes the device to the Task tab's task and criteria;\nevery design evaluated is charted here.");
+      return;
+    }
+    draw_fit_chart(p, QRectF(rect()), *panel_->problem(), *panel_->result(),
+                   make_mechanism(panel_->problem()->preset)->info());
+  }
+
+ private:
+  const FitPanel* panel_;
+};
+
+// The task's text in the grammar of core/task.h (for the report).
+std::string task_text(const task::TaskVolume& t) {
+  std::string s = t.shape == task::Shape::Sphere
+                      ? "sphere:diameter=" + format_number(t.diameter())
+                      : "box:size=" + format_number(t.size.x()) + "," + format_number(t.size.y()) + "," +
+                            format_number(t.size.z());
+  if (t.centre)
+    s += ",centre=" + format_number(t.centre->x()) + "," + format_number(t.centre->y()) + "," +
+         format_number(t.centre->z());
+  return s;
+}
+
+}  // namespace
+
+FitPanel::FitPanel(const TaskPanel* task, QWidget* parent) : QWidget(parent), task_(task) {
+  auto* layout = new QVBoxLayout(this);
+  setToolTip("Sizes the device to the Task tab's task and criteria. Free parameters vary within their bounds; "
+             "the others keep the Design tab's values.");
+  parameters_ = new QWidget(this);
+  auto* grid = new QGridLayout(parameters_);
+  grid->setContentsMargins(0, 0, 0, 0);
+  grid->addWidget(new QLabel("free", parameters_), 0, 0);
+  grid->addWidget(new QLabel("lower bound", parameters_), 0, 1);
+  grid->addWidget(new QLabel("upper bound", parameters_), 0, 2);
+  layout->addWidget(parameters_);
+
+  auto* form = new QFormLayout;
+  equal_edit_ = new QLineEdit(this);
+  equal_edit_->setObjectName("fitEqual");
+  equal_edit_->setPlaceholderText("e.g. L1,L2 (groups separated by ;)");
+  equal_edit_->setToolTip("Parameters held equal: one free variable per group");
+  form->addRow("Hold equal", equal_edit_);
+  mode_box_ = new QComboBox(this);
+  mode_box_->setObjectName("fitMode");
+  mode_box_->addItems({"Smallest size", "Largest margin at size"});
+  mode_box_->setToolTip("The smallest design meeting the task, or the design of the given size with the largest margin");
+  size_box_ = new QDoubleSpinBox(this);
+  size_box_->setObjectName("fitSize");
+  size_box_->setRange(0, 1e6);
+  size_box_->setDecimals(3);
+  size_box_->setToolTip("The size held in the largest-margin mode");
+  auto* mode_row = new QHBoxLayout;
+  mode_row->addWidget(mode_box_, 1);
+  mode_row->addWidget(size_box_, 1);
+  form->addRow("Mode", mode_row);
+  centre_free_ = new QCheckBox("Place the task where it fits best", this);
+  centre_free_->setToolTip("Else the task stays at the Task tab's centre");
+  centre_free_->setObjectName("fitCentreFree");
+  centre_free_->setChecked(true);
+  form->addRow(centre_free_);
+  layout->addLayout(form);
+
+  auto* bar = new QHBoxLayout;
+  run_button_ = new QPushButton("Run", this);
+  run_button_->setObjectName("fitRun");
+  cancel_button_ = new QPushButton("Cancel", this);
+  cancel_button_->setObjectName("fitCancel");
+  run_button_->setToolTip("Search the designs in the bounds (off the window's thread; the window stays usable)");
+  cancel_button_->setToolTip("Stop the search; the designs evaluated so far are kept in the chart");
+  cancel_button_->setEnabled(false);
+  progress_ = new QProgressBar(this);
+  progress_->setRange(0, 1);
+  progress_->setValue(0);
+  progress_->setTextVisible(false);
+  bar->addWidget(run_button_);
+  bar->addWidget(cancel_button_);
+  bar->addWidget(progress_, 1);
+  layout->addLayout(bar);
+  status_ = new QLabel("Not run yet.", this);
+  status_->setObjectName("fitStatus");
+  status_->setWordWrap(true);
+  layout->addWidget(status_);
+
+  report_ = new QPlainTextEdit(this);
+  report_->setObjectName("fitReport");
+  report_->setReadOnly(true);
+  report_->setLineWrapMode(QPlainTextEdit::WidgetWidth);
+  report_->setMinimumHeight(80);
+  chart_ = new FitChart(this, this);
+  chart_->setObjectName("fitChart");
+  auto* split = new QSplitter(Qt::Vertical, this);
+  split->addWidget(report_);
+  split->addWidget(chart_);
+  split->setStretchFactor(0, 2);
+  split->setStretchFactor(1, 3);
+  layout->addWidget(split, 1);
+
+  auto* actions = new QHBoxLayout;
+  apply_button_ = new QPushButton("Apply design", this);
+  apply_button_->setObjectName("fitApply");
+  apply_button_->setToolTip("Set the Design tab's parameters to the chosen design");
+  export_chart_button_ = new QPushButton("Export chart...", this);
+  export_chart_button_->setObjectName("fitExportChart");
+  export_csv_button_ = new QPushButton("Export CSV...", this);
+  export_csv_button_->setObjectName("fitExportCsv");
+  export_chart_button_->setToolTip("Save the chart of size against margin as PNG, SVG or PDF");
+  export_csv_button_->setToolTip("Save every design evaluated, with its margins, as CSV (as linkscape fit -o)");
+  for (QPushButton* b : {apply_button_, export_chart_button_, export_csv_button_}) {
+    b->setEnabled(false);
+    actions->addWidget(b);
+  }
+  layout->addLayout(actions);
+
+  connect(mode_box_, &QComboBox::currentIndexChanged, this, [this] { syncMode(); });
+  connect(run_button_, &QPushButton::clicked, this, &FitPanel::run);
+  connect(cancel_button_, &QPushButton::clicked, this, &FitPanel::cancel);
+  connect(apply_button_, &QPushButton::clicked, this, &FitPanel::applyDesign);
+  auto export_to = [this](const QString& filter, const std::function<void(const std::filesystem::path&)>& write) {
+    const QString path = QFileDialog::getSaveFileName(this, "Export", QString(), filter);
+    if (path.isEmpty()) return;
+    try {
+      write(path.toStdString());
+    } catch (const std::exception& e) {
+      QMessageBox::warning(this, "Export failed", e.what());
+    }
+  };
+  connect(export_chart_button_, &QPushButton::clicked, this, [this, export_to] {
+    export_to("Chart (*.png *.svg *.pdf)", [this](const std::filesystem::path& p) { exportChart(p); });
+  });
+  connect(export_csv_button_, &QPushButton::clicked, this, [this, export_to] {
+    export_to("CSV (*.csv)", [this](const std::filesystem::path& p) { exportCsv(p); });
+  });
+  syncMode();
+}
+
+FitPanel::~FitPanel() {
+  if (cancel_flag_) cancel_flag_->store(true);
+  join_worker();
+}
+
+void FitPanel::join_worker() {
+  if (worker_.joinable()) worker_.join();
+}
+
+void FitPanel::syncMode() { size_box_->setEnabled(mode_box_->currentIndex() == 1); }
+
+void FitPanel::setDevice(const Preset& preset, const Eigen::VectorXd& pose) {
+  preset_ = preset;
+  pose_ = pose;
+  if (!rows_.empty()) return;
+  const std::shared_ptr<const Mechanism> m = make_mechanism(preset);
+  const MechanismInfo& info = m->info();
+  const std::vector<std::string> sized = fit::size_terms(info);
+  auto* grid = static_cast<QGridLayout*>(parameters_->layout());
+  for (const Quantity& q : info.parameters) {
+    if (!q.in_panel) continue;
+    ParameterRow row;
+    row.name = q.name;
+    const int r = grid->rowCount();
+    row.free = new QCheckBox(qs(q.name + (q.unit.empty() ? "" : " (" + q.unit + ")")), parameters_);
+    row.free->setObjectName(qs("fitFree_" + q.name));
+    row.free->setToolTip(qs(q.description));
+    row.free->setChecked(std::find(sized.begin(), sized.end(), q.name) != sized.end());
+    grid->addWidget(row.free, r, 0);
+    for (auto [box, value, suffix] : {std::tuple{&row.lo, q.range.lo, "Lo"}, std::tuple{&row.hi, q.range.hi, "Hi"}}) {
+      *box = new QDoubleSpinBox(parameters_);
+      (*box)->setObjectName(qs("fit" + std::string(suffix) + "_" + q.name));
+      (*box)->setDecimals(3);
+      (*box)->setRange(-1e4, 1e4);
+      (*box)->setValue(value);
+      if (!q.unit.empty()) (*box)->setSuffix(qs(" " + q.unit));
+      (*box)->setToolTip(qs((suffix[0] == 'L' ? "Lower" : "Upper") + std::string(" bound of ") + q.name +
+                            " in the search (default: its range in the Design tab)"));
+      grid->addWidget(*box, r, suffix[0] == 'L' ? 1 : 2);
+    }
+    rows_.push_back(row);
+  }
+  size_box_->setSuffix(qs(" " + info.length_unit));
+  size_box_->setToolTip(qs("The size held in the largest-margin mode: " + info.size_description));
+  size_box_->setValue(m->size());
+}
+
+void FitPanel::setFree(const std::vector<std::string>& names) {
+  for (const std::string& n : names)
+    if (std::none_of(rows_.begin(), rows_.end(), [&](const ParameterRow& r) { return r.name == n; }))
+      throw std::invalid_argument("fit panel: no design parameter '" + n + "'");
+  for (ParameterRow& r : rows_) r.free->setChecked(std::find(names.begin(), names.end(), r.name) != names.end());
+}
+
+void FitPanel::setBounds(const std::string& name, double lo, double hi) {
+  for (ParameterRow& r : rows_)
+    if (r.name == name) {
+      r.lo->setValue(lo);
+      r.hi->setValue(hi);
+      return;
+    }
+  throw std::invalid_argument("fit panel: no design parameter '" + name + "'");
+}
+
+void FitPanel::setEqual(const std::string& groups) { equal_edit_->setText(qs(groups)); }
+
+void FitPanel::setMode(Mode mode, double size) {
+  mode_box_->setCurrentIndex(mode == Mode::SmallestSize ? 0 : 1);
+  if (mode == Mode::LargestMarginAtSize) size_box_->setValue(size);
+}
+
+void FitPanel::setCentreFree(bool free) { centre_free_->setChecked(free); }
+
+void FitPanel::setSearchSettings(const task::InscribedOptions& inscribed, int task_resolution, double tolerance) {
+  inscribed_ = inscribed;
+  task_resolution_ = task_resolution;
+  tolerance_ = tolerance;
+}
+
+fit::Problem FitPanel::makeProblem() const {
+  if (rows_.empty()) throw std::invalid_argument("fit: no device");
+  fit::Problem p;
+  p.preset = preset_;
+  p.pose = pose_;
+  p.task = task_->volume();
+  if (centre_free_->isChecked()) p.task.centre.reset();
+  p.task.text = task_text(p.task);
+  p.criteria = task_->criteria();
+  std::vector<std::string> free, equal;
+  for (const ParameterRow& r : rows_)
+    if (r.free->isChecked()) free.push_back(r.name);
+  std::stringstream groups(equal_edit_->text().toStdString());
+  for (std::string g; std::getline(groups, g, ';');) {
+    g.erase(std::remove(g.begin(), g.end(), ' '), g.end());
+    if (g.empty()) continue;
+    equal.push_back(g);
+    std::stringstream names(g);  // a group's parameters are free
+    for (std::string n; std::getline(names, n, ',');)
+      if (std::find(free.begin(), free.end(), n) == free.end()) free.push_back(n);
+  }
+  if (free.empty()) throw std::invalid_argument("fit: tick at least one free parameter");
+  p.variables = fit::variables(*make_mechanism(preset_), free, equal, {});
+  // A group's bounds: the intersection of its parameters' rows.
+  for (fit::Variable& v : p.variables) {
+    v.lo = -std::numeric_limits<double>::infinity();
+    v.hi = std::numeric_limits<double>::infinity();
+    for (const ParameterRow& r : rows_)
+      if (std::count(v.parameters.begin(), v.parameters.end(), r.name)) {
+        v.lo = std::max(v.lo, r.lo->value());
+        v.hi = std::min(v.hi, r.hi->value());
+      }
+  }
+  p.inscribed = inscribed_;
+  p.task_resolution = task_resolution_;
+  p.tolerance = tolerance_;
+  if (mode_box_->currentIndex() == 1) p.size = size_box_->value();
+  return p;
+}
+
+void FitPanel::run() {
+  if (running_) return;
+  join_worker();
+  fit::Problem problem;
+  try {
+    problem = makeProblem();
+  } catch (const std::invalid_argument& e) {
+    status_->setText(QString("Cannot run: %1").arg(e.what()));
+    emit runFinished(false);
+    return;
+  }
+  running_ = true;
+  const unsigned generation = ++generation_;
+  cancel_flag_ = std::make_shared<std::atomic<bool>>(false);
+  run_button_->setEnabled(false);
+  cancel_button_->setEnabled(true);
+  progress_->setRange(0, 0);  // busy: the number of designs is not known in advance
+  status_->setText("Searching...");
+  auto shared = std::make_shared<const fit::Problem>(std::move(problem));
+  const auto cancel = cancel_flag_;
+  worker_ = std::thread([this, generation, shared, cancel] {
+    std::optional<fit::Result> result;
+    QString message;
+    fit::Progress progress;
+    progress.cancel = cancel.get();
+    std::optional<double> best;
+    const bool at_size = shared->size.has_value();
+    progress.design = [&](const fit::Row& row, std::size_t n) {
+      if (at_size ? row.invalid.empty() && (!best || row.margin > *best) : row.meets && (!best || row.size < *best))
+        best = at_size ? row.margin : row.size;
+      QString text = QString("%1 designs evaluated").arg(n);
+      if (best) text += QString(at_size ? ", largest margin so far %1" : ", smallest meeting size so far %1").arg(*best, 0, 'g', 4);
+      QMetaObject::invokeMethod(
+          this, [this, generation, text] {
+            if (generation == generation_ && running_) status_->setText(text);
+          },
+          Qt::QueuedConnection);
+    };
+    try {
+      fit::Result r = fit::solve(*shared, progress);
+      if (cancel->load()) message = "Cancelled.";
+      else result = std::move(r);
+    } catch (const std::exception& e) {
+      message = QString("Cannot run: %1").arg(e.what());
+    }
+    QMetaObject::invokeMethod(
+        this,
+        [this, generation, shared, result = std::move(result), message]() mutable {
+          if (result) problem_ = *shared;
+          finish(generation, std::move(result), message);
+        },
+        Qt::QueuedConnection);
+  });
+}
+
+void FitPanel::cancel() {
+  if (!running_ || !cancel_flag_) return;
+  cancel_flag_->store(true);
+  status_->setText("Cancelling...");
+}
+
+void FitPanel::finish(unsigned generation, std::optional<fit::Result> result, const QString& message) {
+  if (generation != generation_) return;
+  running_ = false;
+  join_worker();
+  run_button_->setEnabled(true);
+  cancel_button_->setEnabled(false);
+  progress_->setRange(0, 1);
+  progress_->setValue(result ? 1 : 0);
+  const bool completed = result.has_value();
+  if (completed) {
+    result_ = std::move(result);
+    const std::string report = fit_report(*problem_, *result_, make_mechanism(problem_->preset)->info());
+    report_->setPlainText(qs(report));
+    // The line with the answer: the third of the report.
+    QStringList lines = qs(report).split('\n');
+    status_->setText(lines.size() > 2 ? lines[2] : lines.value(0));
+    const bool chosen = result_->best || result_->closest;
+    apply_button_->setEnabled(chosen);
+    export_chart_button_->setEnabled(true);
+    export_csv_button_->setEnabled(true);
+    chart_->update();
+  } else {
+    status_->setText(message);
+  }
+  emit runFinished(completed);
+}
+
+std::map<std::string, double> FitPanel::chosenDesign() const {
+  if (!result_ || !problem_) return {};
+  const std::optional<std::size_t> chosen = result_->best ? result_->best : result_->closest;
+  if (!chosen) return {};
+  std::map<std::string, double> out;
+  for (const fit::Variable& v : problem_->variables)
+    for (const std::string& name : v.parameters) out[name] = result_->rows[*chosen].parameters.at(name);
+  return out;
+}
+
+std::optional<Eigen::Vector3d> FitPanel::chosenCentre() const {
+  if (!result_ || !problem_ || problem_->task.centre) return std::nullopt;
+  const std::optional<std::size_t> chosen = result_->best ? result_->best : result_->closest;
+  if (!chosen) return std::nullopt;
+  return result_->rows[*chosen].centre;
+}
+
+void FitPanel::applyDesign() {
+  const std::map<std::string, double> design = chosenDesign();
+  if (!design.empty()) emit applyRequested(design);
+}
+
+QString FitPanel::statusText() const { return status_->text(); }
+QString FitPanel::reportText() const { return report_->toPlainText(); }
+
+void FitPanel::exportChart(const std::filesystem::path& path) const {
+  if (!result_ || !problem_) throw std::invalid_argument("fit: nothing to export before a run");
+  write_fit_chart(path, *problem_, *result_, make_mechanism(problem_->preset)->info());
+}
+
+void FitPanel::exportCsv(const std::filesystem::path& path) const {
+  if (!result_ || !problem_) throw std::invalid_argument("fit: nothing to export before a run");
+  if (path.extension() != ".csv") throw std::invalid_argument("fit: the CSV must end in .csv, got '" + path.string() + "'");
+  write_fit_csv(path, *problem_, *result_, make_mechanism(problem_->preset)->info());
+}
+
+}  // namespace linkscape::gui

@@ -1,0 +1,124 @@
+// The window's Fit tab: sizing the window's device to the Task tab's task
+// and criteria (core/fit.h), built from the device's description: which
+// design parameters are free and their bounds, groups held equal, and the
+// mode (the smallest size, or the largest margin at a size). Run works off
+// the GUI thread with progress and Cancel; the answer is shown as the same
+// report and chart as `linkscape fit` (gui/figures/fit_report.h), can be applied to
+// the window's design and exported (chart as PNG/SVG/PDF, CSV).
+#pragma once
+
+#include <QWidget>
+#include <atomic>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/fit.h"
+
+class QCheckBox;
+class QComboBox;
+class QDoubleSpinBox;
+class QLabel;
+class QLineEdit;
+class QPlainTextEdit;
+class QProgressBar;
+class QPushButton;
+
+namespace linkscape::gui {
+
+class TaskPanel;
+
+class FitPanel : public QWidget {
+  Q_OBJECT
+
+ public:
+  enum class Mode { SmallestSize, LargestMarginAtSize };
+
+  // `task` gives the task and criteria each Run uses.
+  explicit FitPanel(const TaskPanel* task, QWidget* parent = nullptr);
+  ~FitPanel() override;  // cancels and joins a running search
+
+  // The window's design: the parameters held, and the pose whose
+  // coordinates beyond x, y, z the task holds. The first call builds a row
+  // per design parameter (free: those the size counts; bounds: the design
+  // panel's range); later calls keep what the user set.
+  void setDevice(const Preset& preset, const Eigen::VectorXd& pose);
+
+  // What the next Run searches; each throws std::invalid_argument for a
+  // name the device does not show or bad bounds.
+  void setFree(const std::vector<std::string>& names);
+  void setBounds(const std::string& name, double lo, double hi);
+  void setEqual(const std::string& groups);  // "L1,L2" (groups separated by ';')
+  void setMode(Mode mode, double size = 0);
+  void setCentreFree(bool free);
+  // The sampling (defaults: those of linkscape fit).
+  void setSearchSettings(const task::InscribedOptions& inscribed, int task_resolution, double tolerance);
+
+  bool isRunning() const { return running_; }
+  const std::optional<fit::Problem>& problem() const { return problem_; }
+  const std::optional<fit::Result>& result() const { return result_; }
+  // The chosen design's free parameters (or the closest one's); empty before a result.
+  std::map<std::string, double> chosenDesign() const;
+  // Where the search placed the task for that design (centre free), else empty.
+  std::optional<Eigen::Vector3d> chosenCentre() const;
+  QString statusText() const;
+  QString reportText() const;
+
+  // Throw std::invalid_argument without a result, std::runtime_error when the file cannot be written.
+  void exportChart(const std::filesystem::path& path) const;
+  void exportCsv(const std::filesystem::path& path) const;
+
+ public slots:
+  void run();     // no-op while running; bad input is shown in the status
+  void cancel();  // the search stops after the design it is evaluating
+  void applyDesign();  // asks the window to take chosenDesign() (and the task to move to chosenCentre())
+
+ signals:
+  void runFinished(bool completed);  // false when cancelled or failed
+  void applyRequested(const std::map<std::string, double>& parameters);
+
+ private:
+  struct ParameterRow;
+  fit::Problem makeProblem() const;  // throws std::invalid_argument
+  void finish(unsigned generation, std::optional<fit::Result> result, const QString& message);
+  void join_worker();
+  void syncMode();
+
+  const TaskPanel* task_;
+  Preset preset_;
+  Eigen::VectorXd pose_;
+  std::vector<ParameterRow> rows_;
+  task::InscribedOptions inscribed_;
+  int task_resolution_ = 24;
+  double tolerance_ = 1e-3;
+
+  std::optional<fit::Problem> problem_;  // of the result shown (or the run in flight)
+  std::optional<fit::Result> result_;
+  bool running_ = false;
+  unsigned generation_ = 0;
+  std::shared_ptr<std::atomic<bool>> cancel_flag_;
+  std::thread worker_;
+
+  QWidget* parameters_ = nullptr;
+  QLineEdit* equal_edit_ = nullptr;
+  QComboBox* mode_box_ = nullptr;
+  QDoubleSpinBox* size_box_ = nullptr;
+  QCheckBox* centre_free_ = nullptr;
+  QPushButton* run_button_ = nullptr;
+  QPushButton* cancel_button_ = nullptr;
+  QProgressBar* progress_ = nullptr;
+  QLabel* status_ = nullptr;
+  QPlainTextEdit* report_ = nullptr;
+  QWidget* chart_ = nullptr;
+  QPushButton* apply_button_ = nullptr;
+  QPushButton* export_chart_button_ = nullptr;
+  QPushButton* export_csv_button_ = nullptr;
+};
+
+}  // namespace linkscape::gui

@@ -1,0 +1,317 @@
+#include "gui/window/task_panel.h"
+
+#include <QApplication>
+#include <QCheckBox>
+#include <QComboBox>
+#include <QDoubleSpinBox>
+#include <QFormLayout>
+#include <QHBoxLayout>
+#include <QLabel>
+#include <QLineEdit>
+#include <QPushButton>
+#include <QTimer>
+#include <QVBoxLayout>
+#include <sstream>
+
+#include <vtkPolyData.h>
+
+#include "render/task_scene.h"
+
+namespace linkscape::gui {
+namespace {
+
+constexpr int kSurfaceResolution = 24;  // latitude bands of the drawn sphere, grid of each box face
+constexpr int kTaskResolution = 16;     // samples across the task for the live read-outs
+
+QString number(double v) {
+  if (!std::isfinite(v)) return v > 0 ? "inf" : "-inf";
+  return QString::number(v, 'g', 4);
+}
+
+QString point_text(const Eigen::Vector3d& p, const QString& unit) {
+  return QString("(%1, %2, %3) %4").arg(number(p.x()), number(p.y()), number(p.z()), unit);
+}
+
+QDoubleSpinBox* length_box(QWidget* parent) {
+  auto* box = new QDoubleSpinBox(parent);
+  box->setRange(-1e4, 1e4);
+  box->setDecimals(2);
+  box->setSingleStep(0.5);
+  box->setKeyboardTracking(false);
+  return box;
+}
+
+}  // namespace
+
+TaskPanel::TaskPanel(render::TaskScene* scene, QWidget* parent) : QWidget(parent), scene_(scene) {
+  auto* column = new QVBoxLayout(this);
+  auto* form = new QFormLayout;
+  column->addLayout(form);
+  show_box_ = new QCheckBox(tr("Show the task volume"), this);
+  show_box_->setObjectName("taskShowBox");
+  show_box_->setToolTip(tr("Draw the task volume in the view, coloured where it leaves the good region"));
+  form->addRow(show_box_);
+  shape_box_ = new QComboBox(this);
+  shape_box_->setObjectName("taskShapeBox");
+  shape_box_->setToolTip(tr("A sphere (its diameter) or an axis-aligned box (its sides)"));
+  shape_box_->addItems({"sphere", "box"});
+  form->addRow(tr("Shape"), shape_box_);
+  auto* sizes = new QHBoxLayout;
+  auto* centres = new QHBoxLayout;
+  for (int k = 0; k < 3; ++k) {
+    size_[k] = length_box(this);
+    size_[k]->setMinimum(0.01);
+    size_[k]->setObjectName(QString("taskSize%1").arg("XYZ"[k]));
+    size_[k]->setToolTip(k == 0 ? tr("Diameter of the sphere, or the box's side along x") : tr("The box's side along %1").arg(QChar("xyz"[k])));
+    sizes->addWidget(size_[k]);
+    centre_[k] = length_box(this);
+    centre_[k]->setObjectName(QString("taskCentre%1").arg("XYZ"[k]));
+    centre_[k]->setToolTip(tr("Centre, %1").arg(QChar("xyz"[k])));
+    centres->addWidget(centre_[k]);
+  }
+  size_label_ = new QLabel(this);
+  form->addRow(size_label_, sizes);
+  form->addRow(tr("Centre"), centres);
+  criteria_edit_ = new QLineEdit("cond<3", this);
+  criteria_edit_->setObjectName("taskCriteriaEdit");
+  criteria_edit_->setToolTip(tr("Space-separated: cond<T, cond_jo<T, force_iso>F, force_max>F (N), resolution<R (mm), "
+                                "inertia<M (kg); reach is always implied"));
+  form->addRow(tr("Criteria"), criteria_edit_);
+  place_button_ = new QPushButton(tr("Place at the largest"), this);
+  place_button_->setObjectName("taskPlaceButton");
+  place_button_->setToolTip(tr("Find the largest sphere (or box of this shape) where every criterion holds, draw it "
+                               "and centre the task in it"));
+  column->addWidget(place_button_);
+  readout_label_ = new QLabel(this);
+  readout_label_->setObjectName("taskReadout");
+  readout_label_->setWordWrap(true);
+  readout_label_->setTextInteractionFlags(Qt::TextSelectableByMouse);
+  readout_label_->setAlignment(Qt::AlignTop | Qt::AlignLeft);
+  column->addWidget(readout_label_);
+  column->addStretch(1);
+
+  debounce_ = new QTimer(this);
+  debounce_->setSingleShot(true);
+  debounce_->setInterval(40);
+  connect(debounce_, &QTimer::timeout, this, &TaskPanel::evaluateNow);
+  connect(show_box_, &QCheckBox::toggled, this, [this](bool on) {
+    scene_->set_visible(on);
+    if (on) schedule();
+    emit changed();
+  });
+  connect(shape_box_, &QComboBox::currentIndexChanged, this, [this] {
+    syncShape();
+    largest_.reset();
+    scene_->set_inscribed(nullptr);
+    schedule();
+  });
+  for (QDoubleSpinBox* box : {size_[0], size_[1], size_[2], centre_[0], centre_[1], centre_[2]})
+    connect(box, &QDoubleSpinBox::valueChanged, this, &TaskPanel::schedule);
+  connect(criteria_edit_, &QLineEdit::editingFinished, this, [this] {
+    largest_.reset();
+    scene_->set_inscribed(nullptr);
+    schedule();
+  });
+  connect(place_button_, &QPushButton::clicked, this, &TaskPanel::placeAtLargest);
+  syncShape();
+}
+
+void TaskPanel::syncShape() {
+  const bool sphere = shape_box_->currentIndex() == 0;
+  size_label_->setText(sphere ? tr("Diameter") : tr("Size x, y, z"));
+  size_[1]->setVisible(!sphere);
+  size_[2]->setVisible(!sphere);
+  place_button_->setText(sphere ? tr("Place at the largest sphere") : tr("Place at the largest box"));
+}
+
+void TaskPanel::setDevice(std::shared_ptr<const Mechanism> mechanism, const Preset& preset, const Eigen::VectorXd& task) {
+  const bool new_device = mechanism != mechanism_;
+  const bool held_changed = pose_.size() != task.size() || (pose_.tail(task.size() - 3) - task.tail(task.size() - 3)).norm() > 0;
+  mechanism_ = std::move(mechanism);
+  preset_ = preset;
+  pose_ = task;
+  if (!centred_) {
+    // A first task: at the home point, a quarter of the device's size across.
+    const QSignalBlocker b0(size_[0]), b1(size_[1]), b2(size_[2]), c0(centre_[0]), c1(centre_[1]), c2(centre_[2]);
+    const double size = 0.25 * mechanism_->size();
+    for (int k = 0; k < 3; ++k) {
+      size_[k]->setValue(size);
+      centre_[k]->setValue(mechanism_->home_task()(k));
+      size_[k]->setSuffix(" " + QString::fromStdString(mechanism_->info().length_unit));
+      centre_[k]->setSuffix(" " + QString::fromStdString(mechanism_->info().length_unit));
+    }
+    centred_ = true;
+  }
+  if (new_device) {
+    largest_.reset();
+    scene_->set_inscribed(nullptr);
+  }
+  if (new_device || held_changed) schedule();
+}
+
+void TaskPanel::setCentre(const Eigen::Vector3d& centre) {
+  for (int k = 0; k < 3; ++k) centre_[k]->setValue(centre(k));
+}
+
+void TaskPanel::setTask(const std::string& text, const std::vector<std::string>& criteria_texts) {
+  const task::TaskVolume t = task::parse_task(text);
+  std::string joined;
+  for (const std::string& c : criteria_texts) {
+    task::parse_criterion(c);
+    joined += (joined.empty() ? "" : " ") + c;
+  }
+  {
+    const QSignalBlocker b(shape_box_);
+    shape_box_->setCurrentIndex(t.shape == task::Shape::Sphere ? 0 : 1);
+  }
+  syncShape();
+  for (int k = 0; k < 3; ++k) {
+    const QSignalBlocker b(size_[k]);
+    size_[k]->setValue(t.size(k));
+  }
+  if (!joined.empty()) criteria_edit_->setText(QString::fromStdString(joined));
+  this->criteria();  // throws for a measure the device does not know
+  if (t.centre)
+    for (int k = 0; k < 3; ++k) {
+      const QSignalBlocker b(centre_[k]);
+      centre_[k]->setValue((*t.centre)(k));
+    }
+  show_box_->setChecked(true);
+  if (!t.centre) placeAtLargest();
+  evaluateNow();
+}
+
+TaskSetting TaskPanel::setting() const {
+  TaskSetting s;
+  s.volume = task::to_text(volume());
+  std::stringstream words(criteria_edit_->text().toStdString());
+  for (std::string word; words >> word;) s.criteria.push_back(word);
+  s.shown = show_box_->isChecked();
+  return s;
+}
+
+void TaskPanel::applySetting(const TaskSetting& s) {
+  setTask(s.volume, s.criteria);  // the centre is in the text: no search
+  if (s.criteria.empty()) criteria_edit_->clear();
+  show_box_->setChecked(s.shown);
+}
+
+task::TaskVolume TaskPanel::volume() const {
+  task::TaskVolume t;
+  t.shape = shape_box_->currentIndex() == 0 ? task::Shape::Sphere : task::Shape::Box;
+  t.size = t.shape == task::Shape::Sphere ? Eigen::Vector3d::Constant(size_[0]->value())
+                                          : Eigen::Vector3d(size_[0]->value(), size_[1]->value(), size_[2]->value());
+  t.centre = Eigen::Vector3d(centre_[0]->value(), centre_[1]->value(), centre_[2]->value());
+  return t;
+}
+
+std::vector<task::Criterion> TaskPanel::criteria() const {
+  std::vector<task::Criterion> out = {task::parse_criterion("reach")};
+  std::stringstream words(criteria_edit_->text().toStdString());
+  for (std::string word; words >> word;)
+    if (word != "reach") out.push_back(task::parse_criterion(word));
+  return task::resolve(device(), out);
+}
+
+task::Device TaskPanel::device() const {
+  task::Device d;
+  d.mechanism = mechanism_;
+  d.fixed_task = pose_;
+  // Haptic criteria need the preset's actuator data; others do not, so a
+  // preset without a physical length unit still evaluates c(J).
+  try {
+    d.data = haptics::device_data(preset_, mechanism_->info());
+  } catch (const std::invalid_argument&) {
+  }
+  return d;
+}
+
+void TaskPanel::schedule() {
+  if (show_box_->isChecked()) debounce_->start();
+}
+
+void TaskPanel::evaluateNow() {
+  debounce_->stop();
+  if (!mechanism_ || !show_box_->isChecked()) return;
+  try {
+    const std::vector<task::Criterion> c = criteria();
+    const task::TaskVolume t = volume();
+    const task::Device d = device();
+    report_ = task::evaluate(d, c, t, *t.centre, kTaskResolution);
+    const vtkSmartPointer<vtkPolyData> surface = render::task_surface(t, *t.centre, kSurfaceResolution);
+    std::vector<std::uint8_t> meets(std::size_t(surface->GetNumberOfPoints()));
+    for (vtkIdType i = 0; i < surface->GetNumberOfPoints(); ++i) {
+      Eigen::Vector3d p;
+      surface->GetPoint(i, p.data());
+      meets[std::size_t(i)] = task::evaluate_point(d, c, p).meets;
+    }
+    scene_->set_task(surface, meets);
+    readout_label_->setStyleSheet("");
+    readout_label_->setText(readout());
+  } catch (const std::invalid_argument& e) {
+    report_.reset();
+    readout_label_->setStyleSheet("color: #b71c1c");
+    readout_label_->setText(QString::fromStdString(e.what()));
+  }
+  emit changed();
+}
+
+QString TaskPanel::readout() const {
+  if (!report_ || !mechanism_) return {};
+  const task::TaskReport& r = *report_;
+  const QString unit = QString::fromStdString(mechanism_->info().length_unit);
+  QString text = r.meets() ? tr("<b style='color:#1b5e20'>Meets every criterion</b>")
+                           : tr("<b style='color:#b71c1c'>Leaves the good region</b>");
+  text += tr("<br>%1 % of the volume meets every criterion").arg(number(100 * r.fraction));
+  for (const task::CriterionReport& c : r.criteria) {
+    QString u;
+    if (c.criterion.reach()) u = " " + unit;
+    for (const haptics::FieldInfo& f : haptics::all_field_infos())
+      if (f.name == c.criterion.measure) u = " " + QString::fromStdString(f.unit);
+    text += tr("<br>%1: worst %2%3, margin %4%3").arg(QString::fromStdString(c.criterion.text).toHtmlEscaped(),
+                                                       number(c.worst), u, number(c.margin()));
+  }
+  if (r.failing > 0)
+    text += tr("<br>fails at %1 of %2 samples, around %3").arg(r.failing).arg(r.samples).arg(point_text(r.failing_centroid, unit));
+  if (largest_) {
+    if (!largest_->found) text += tr("<br>no sample of the box meets every criterion");
+    else if (shape_box_->currentIndex() == 0)
+      text += tr("<br>largest sphere: %1 %2 across at %3").arg(number(largest_->size), unit, point_text(largest_->centre, unit));
+    else
+      text += tr("<br>largest box: %1 times this one at %2").arg(number(largest_->size), point_text(largest_->centre, unit));
+  }
+  return text;
+}
+
+void TaskPanel::placeAtLargest() {
+  if (!mechanism_) return;
+  {
+    const QSignalBlocker b(show_box_);  // shown below, once placed
+    show_box_->setChecked(true);
+    scene_->set_visible(true);
+  }
+  try {
+    const task::TaskVolume t = volume();
+    QApplication::setOverrideCursor(Qt::WaitCursor);
+    const auto found = task::largest_inscribed(device(), criteria(), t, mechanism_->default_box());
+    QApplication::restoreOverrideCursor();
+    largest_ = *found;
+    if (found->found) {
+      task::TaskVolume shape = t;
+      shape.size = t.shape == task::Shape::Sphere ? Eigen::Vector3d::Constant(found->size) : Eigen::Vector3d(found->size * t.size);
+      scene_->set_inscribed(render::task_surface(shape, found->centre, kSurfaceResolution / 2));
+      for (int k = 0; k < 3; ++k) {
+        const QSignalBlocker b(centre_[k]);
+        centre_[k]->setValue(found->centre(k));
+      }
+    }
+  } catch (const std::invalid_argument& e) {
+    QApplication::restoreOverrideCursor();
+    readout_label_->setStyleSheet("color: #b71c1c");
+    readout_label_->setText(QString::fromStdString(e.what()));
+    return;
+  }
+  evaluateNow();
+}
+
+}  // namespace linkscape::gui

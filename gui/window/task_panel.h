@@ -1,0 +1,95 @@
+// The window's Task tab: a task volume (sphere or box, size, centre) and
+// criteria, drawn in the scene coloured where the criteria fail, with live
+// read-outs (share of the volume meeting them, each criterion's worst value
+// and margin, where it fails) as the design, the pose or the task change,
+// and the largest sphere or box of the good region on request
+// (core/task.h; docs/task-volumes.md).
+#pragma once
+
+#include <QWidget>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/preset.h"
+#include "core/task.h"
+#include "gui/window/session.h"
+
+class QCheckBox;
+class QComboBox;
+class QDoubleSpinBox;
+class QLabel;
+class QLineEdit;
+class QPushButton;
+class QTimer;
+
+namespace linkscape::render {
+class TaskScene;
+}
+
+namespace linkscape::gui {
+
+class TaskPanel : public QWidget {
+  Q_OBJECT
+
+ public:
+  explicit TaskPanel(render::TaskScene* scene, QWidget* parent = nullptr);
+
+  // The device, its preset (actuator data) and the pose, whose coordinates
+  // beyond x, y, z the task holds. The read-outs follow shortly (debounced);
+  // a new device forgets the largest shape found for the old one.
+  void setDevice(std::shared_ptr<const Mechanism> mechanism, const Preset& preset, const Eigen::VectorXd& task);
+  // A task and criteria as the command line gives them (core/task.h), shown
+  // at once; without a centre the task is placed at the largest shape of
+  // the good region. Throws std::invalid_argument for bad text.
+  void setTask(const std::string& task, const std::vector<std::string>& criteria);
+  // The task's centre (the read-outs follow shortly, debounced).
+  void setCentre(const Eigen::Vector3d& centre);
+  // The read-outs now, without waiting for the debounce.
+  void evaluateNow();
+  // What a session keeps of the tab, and back (throws std::invalid_argument
+  // for bad text, nothing changed then).
+  TaskSetting setting() const;
+  void applySetting(const TaskSetting& setting);
+
+  // The task as the panel holds it (with its centre), and its criteria with
+  // reach first, resolved on the device (throws std::invalid_argument for
+  // bad text).
+  task::TaskVolume volume() const;
+  std::vector<task::Criterion> criteria() const;
+
+  const std::optional<task::TaskReport>& report() const { return report_; }
+  const std::optional<task::Inscribed>& largest() const { return largest_; }
+  QString readout() const;
+
+ signals:
+  void changed();  // the scene changed: render the view
+
+ private:
+  task::Device device() const;                    // throws std::invalid_argument
+  void schedule();
+  void placeAtLargest();
+  void syncShape();
+
+  render::TaskScene* scene_;
+  std::shared_ptr<const Mechanism> mechanism_;
+  Preset preset_;
+  Eigen::VectorXd pose_;
+  QCheckBox* show_box_ = nullptr;
+  QComboBox* shape_box_ = nullptr;
+  QDoubleSpinBox* size_[3] = {};
+  QDoubleSpinBox* centre_[3] = {};
+  QLabel* size_label_ = nullptr;
+  QLineEdit* criteria_edit_ = nullptr;
+  QPushButton* place_button_ = nullptr;
+  QLabel* readout_label_ = nullptr;
+  QTimer* debounce_ = nullptr;
+  std::optional<task::TaskReport> report_;
+  std::optional<task::Inscribed> largest_;
+  bool centred_ = false;  // the centre was set for this device (else its home)
+};
+
+}  // namespace linkscape::gui

@@ -1,0 +1,107 @@
+// The window's Task tab for every registered device: the task drawn in the
+// scene and coloured where it fails, read-outs that are core's evaluation of
+// the same task and follow the design and the task's centre, the largest
+// sphere placed on request.
+#include <QDoubleSpinBox>
+#include <QLabel>
+#include <QtTest>
+
+#include "core/preset.h"
+#include "core/task.h"
+#include "gui/window/mechanism_window.h"
+#include "gui/window/task_panel.h"
+#include "gui/window/vtk_widget.h"
+#include "render/task_scene.h"
+
+using namespace linkscape;
+using linkscape::gui::MechanismWindow;
+
+namespace {
+
+// Core's evaluation of the task the panel shows (its centre as the panel's
+// boxes hold it), on the window's design and pose.
+task::TaskReport core_report(const MechanismWindow& w, task::TaskVolume t, const std::vector<std::string>& criteria) {
+  t.centre = Eigen::Vector3d(w.findChild<QDoubleSpinBox*>("taskCentreX")->value(),
+                             w.findChild<QDoubleSpinBox*>("taskCentreY")->value(),
+                             w.findChild<QDoubleSpinBox*>("taskCentreZ")->value());
+  task::Device d;
+  d.mechanism = make_mechanism(w.preset());
+  d.fixed_task = w.task();
+  std::vector<task::Criterion> c = {task::parse_criterion("reach")};
+  for (const std::string& text : criteria) c.push_back(task::parse_criterion(text));
+  return task::evaluate(d, task::resolve(d, c), t, *t.centre, 16);
+}
+
+std::string sphere_at(double diameter, const Eigen::Vector3d& c) {
+  return "sphere:diameter=" + std::to_string(diameter) + ",centre=" + std::to_string(c.x()) + "," +
+         std::to_string(c.y()) + "," + std::to_string(c.z());
+}
+
+}  // namespace
+
+class TaskPanelTest : public QObject {
+  Q_OBJECT
+
+ private slots:
+  void everyDeviceShowsItsTaskAndFollowsTheDesign() {
+    for (const std::string& name : registered_mechanisms()) {
+      MechanismWindow w(load_preset(name));
+      w.resize(1000, 700);
+      w.show();
+      QVERIFY(QTest::qWaitForWindowExposed(&w));
+      gui::TaskPanel* panel = w.taskPanel();
+      const Eigen::Vector3d home = w.mechanism().home_task().head<3>();
+      const double size = w.mechanism().size();
+      // A small sphere at home: reachable and conditioned well enough there.
+      task::TaskVolume t = task::parse_task(sphere_at(0.05 * size, home));
+      panel->setTask(t.text, {"cond<20"});
+      QVERIFY2(panel->report() && panel->report()->meets(), name.c_str());
+      QVERIFY(w.taskScene().visible());
+      QCOMPARE(w.taskScene().failing_points(), std::size_t(0));
+      QVERIFY(w.findChild<QLabel*>("taskReadout")->text().contains("Meets every criterion"));
+      task::TaskReport expected = core_report(w, t, {"cond<20"});
+      QCOMPARE(panel->report()->fraction, expected.fraction);
+      QCOMPARE(panel->report()->criteria[1].worst, expected.criteria[1].worst);
+
+      // Moved out of reach along x: the read-outs and the colours follow.
+      auto* cx = w.findChild<QDoubleSpinBox*>("taskCentreX");
+      cx->setValue(home.x() + 2 * size);
+      QTRY_VERIFY2(panel->report() && !panel->report()->meets(), name.c_str());
+      QVERIFY(w.taskScene().failing_points() > 0);
+      QVERIFY(w.findChild<QLabel*>("taskReadout")->text().contains("Leaves the good region"));
+      cx->setValue(home.x());
+      QTRY_VERIFY(panel->report() && panel->report()->meets());
+
+      // A new design: the read-outs are the new design's.
+      const Quantity& first = w.mechanism().info().parameters.front();
+      QVERIFY(w.setParameters({{first.name, 0.9 * first.value}}));
+      panel->evaluateNow();
+      expected = core_report(w, t, {"cond<20"});
+      QCOMPARE(panel->report()->fraction, expected.fraction);
+      QCOMPARE(panel->report()->criteria[1].worst, expected.criteria[1].worst);
+    }
+  }
+
+  // Without a centre the task goes to the largest sphere of the good region:
+  // the 12R's c(J) < 3 holds about 1.22 x 15 cm; a 5 cm task there meets it.
+  void aTaskWithoutCentreIsPlacedInTheLargestSphere() {
+    MechanismWindow w(load_preset("parallel-12r"));
+    w.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    w.taskPanel()->setTask("sphere:diameter=5", {"cond<3"});
+    QVERIFY(w.taskPanel()->largest() && w.taskPanel()->largest()->found);
+    QVERIFY(std::abs(w.taskPanel()->largest()->size - 1.224 * 15) < 0.02 * 18.4);
+    QVERIFY(w.taskPanel()->report()->meets());
+    QVERIFY(w.findChild<QLabel*>("taskReadout")->text().contains("largest sphere"));
+    QVERIFY_THROWS_EXCEPTION(std::invalid_argument, w.taskPanel()->setTask("sphere:diameter=5", {"stiffness<3"}));
+  }
+};
+
+int main(int argc, char** argv) {
+  QSurfaceFormat::setDefaultFormat(gui::VtkWidget::defaultFormat());
+  QApplication app(argc, argv);
+  TaskPanelTest test;
+  return QTest::qExec(&test, argc, argv);
+}
+
+#include "test_task_panel.moc"

@@ -1,0 +1,251 @@
+// The window as a document and a view: undo/redo of every change, Save and
+// Save As with the modified mark, the camera following the device's size,
+// the colour range shown, the slice position kept relative, and the View
+// menu's panels. Numbers come from the window's own state, not literals.
+#include <QAction>
+#include <QCheckBox>
+#include <QComboBox>
+#include <QDockWidget>
+#include <QDoubleSpinBox>
+#include <QLabel>
+#include <QMenuBar>
+#include <QRegularExpression>
+#include <QTemporaryDir>
+#include <QUndoStack>
+#include <QWindow>
+#include <QtTest>
+#include <vtkCamera.h>
+#include <vtkGenericOpenGLRenderWindow.h>
+#include <vtkRenderer.h>
+#include <vtkRendererCollection.h>
+
+#include "core/preset.h"
+#include "gui/window/mechanism_window.h"
+#include "gui/window/session.h"
+#include "gui/window/session_history.h"
+#include "gui/window/task_panel.h"
+#include "gui/window/vtk_widget.h"
+#include "render/field_scene.h"
+
+using namespace linkscape;
+using linkscape::gui::MechanismWindow;
+
+namespace {
+
+bool show_settled(MechanismWindow& w) {
+  w.resize(1200, 800);
+  w.show();
+  if (!QTest::qWaitForWindowExposed(&w)) return false;
+  return QTest::qWaitFor([&] { return w.fieldsSettled(); }, 30000);
+}
+
+QAction* action(MechanismWindow& w, const QString& text) {
+  for (QAction* a : w.findChildren<QAction*>())
+    if (a->text() == text) return a;
+  return nullptr;
+}
+
+vtkRenderer* renderer_of(MechanismWindow& w) { return w.view()->renderWindow()->GetRenderers()->GetFirstRenderer(); }
+
+Eigen::Vector3d camera_position(MechanismWindow& w) {
+  double p[3];
+  renderer_of(w)->GetActiveCamera()->GetPosition(p);
+  return {p[0], p[1], p[2]};
+}
+
+// The "(NN %)" of the slice position label.
+int position_percent(MechanismWindow& w) {
+  const QString text = w.findChild<QLabel*>("positionLabel")->text();
+  const auto m = QRegularExpression("\\((-?\\d+) %\\)").match(text);
+  return m.hasMatch() ? m.captured(1).toInt() : -1000;
+}
+
+}  // namespace
+
+class WindowDocumentTest : public QObject {
+  Q_OBJECT
+
+ private slots:
+  // The view is a native window inside the main one: with it focused,
+  // keys still reach the window's shortcuts (here Undo).
+  void shortcutsWorkWithTheViewFocused() {
+    MechanismWindow w(load_preset("parallel-12r"));
+    QVERIFY(show_settled(w));
+    w.activateWindow();
+    const double l1 = w.mechanism().parameters().at("L1");
+    QVERIFY(w.setParameters({{"L1", l1 + 2}}));
+    w.history()->flush();
+    QCOMPARE(w.history()->stack()->count(), 1);
+    QWindow* view = w.view()->nativeWindow();
+    w.view()->setFocus();
+    QTRY_VERIFY(QGuiApplication::focusWindow() == view || w.view()->hasFocus() ||
+                (QApplication::focusWidget() && w.view()->isAncestorOf(QApplication::focusWidget())));
+    QTest::keyClick(view, Qt::Key_Z, Qt::ControlModifier);
+    QTRY_COMPARE(w.mechanism().parameters().at("L1"), l1);
+  }
+
+  void undoAndRedoEveryKindOfChange() {
+    MechanismWindow w(load_preset("parallel-12r"));
+    QVERIFY(show_settled(w));
+    QUndoStack* stack = w.history()->stack();
+    QCOMPARE(stack->count(), 0);
+    QVERIFY(!w.isWindowModified());
+    const double l1 = w.mechanism().parameters().at("L1");
+    const Eigen::VectorXd task = w.task();
+
+    QVERIFY(w.setParameters({{"L1", l1 + 2}}));
+    w.history()->flush();
+    QCOMPARE(stack->count(), 1);
+    QCOMPARE(stack->undoText(), QString("L1"));
+    QVERIFY(w.isWindowModified());
+
+    const Eigen::VectorXd after_l1 = w.task();
+    Eigen::VectorXd moved = after_l1;
+    moved(0) += 1.0;
+    QVERIFY(w.setTask(moved));
+    w.history()->flush();
+    QCOMPARE(stack->count(), 2);
+    QCOMPARE(stack->undoText(), QString("pose"));
+
+    w.findChild<QComboBox*>("normalBox")->setCurrentText("y");
+    w.history()->flush();
+    QCOMPARE(stack->count(), 3);
+    QCOMPARE(stack->undoText(), QString("field settings"));
+
+    // A settle with nothing new adds no step.
+    w.history()->flush();
+    QCOMPARE(stack->count(), 3);
+
+    stack->undo();
+    QCOMPARE(w.fieldSettings().normal, std::string("x"));
+    stack->undo();
+    QVERIFY((w.task() - after_l1).norm() < 1e-9);
+    stack->undo();
+    QCOMPARE(w.mechanism().parameters().at("L1"), l1);
+    QVERIFY((w.task() - task).norm() < 1e-9);
+    QVERIFY(!w.isWindowModified());  // back where the document started
+
+    stack->redo();
+    QCOMPARE(w.mechanism().parameters().at("L1"), l1 + 2);
+    stack->redo();
+    stack->redo();
+    QCOMPARE(w.fieldSettings().normal, std::string("y"));
+    QVERIFY((w.task() - moved).norm() < 1e-9);
+    // Field results arriving after a redo add no step and keep the redo-able state.
+    QVERIFY(QTest::qWaitFor([&] { return w.fieldsSettled(); }, 30000));
+    QTest::qWait(gui::SessionHistory::kSettleMs + 100);
+    QCOMPARE(stack->count(), 3);
+    QCOMPARE(stack->index(), 3);
+  }
+
+  void saveAndSaveAsMarkTheDocument() {
+    QTemporaryDir dir;
+    const QString path = dir.filePath("design.json");
+    MechanismWindow w(load_preset("parallel-12r"));
+    QVERIFY(show_settled(w));
+    QVERIFY(w.windowTitle().startsWith("Untitled[*]"));
+    QVERIFY(w.setParameters({{"L2", 17.0}}));
+    w.history()->flush();
+    QVERIFY(w.isWindowModified());
+    QVERIFY(w.saveSession(path));  // what Save As does once the file is chosen
+    QVERIFY(!w.isWindowModified());
+    QCOMPARE(w.history()->path(), path);
+    QVERIFY(w.windowTitle().startsWith("design.json[*]"));
+    // Save writes to the same file without asking.
+    QVERIFY(w.setParameters({{"L2", 18.0}}));
+    QAction* save = action(w, "&Save session");
+    QVERIFY(save);
+    QCOMPARE(save->shortcut(), QKeySequence(QKeySequence::Save));
+    save->trigger();
+    QVERIFY(!w.isWindowModified());
+    QCOMPARE(gui::load_session(path.toStdString()).parameters.at("L2"), 18.0);
+    QVERIFY(action(w, "Save session &as…"));
+  }
+
+  void theCameraFollowsTheSizeUntilTheUserMovesIt() {
+    MechanismWindow w(load_preset("parallel-12r"));
+    QVERIFY(show_settled(w));
+    const Eigen::Vector3d before = camera_position(w);
+    QVERIFY(w.setParameters({{"L1", 24.0}, {"L2", 24.0}}));
+    const Eigen::Vector3d refit = camera_position(w);
+    QVERIFY((refit - before).norm() > 1.0);  // a larger device, a camera further out
+    w.fitCamera();
+    QVERIFY((camera_position(w) - refit).norm() < 1e-9);  // it was the fitted camera
+    renderer_of(w)->GetActiveCamera()->Azimuth(30);     // the user moves it
+    const Eigen::Vector3d moved = camera_position(w);
+    QVERIFY(w.setParameters({{"L1", 12.0}, {"L2", 12.0}}));
+    QVERIFY((camera_position(w) - moved).norm() < 1e-9);
+  }
+
+  void theColourRangeBoxesShowTheRangeInUse() {
+    MechanismWindow w(load_preset("parallel-12r"));
+    QVERIFY(show_settled(w));
+    auto* lo = w.findChild<QDoubleSpinBox*>("rangeMinBox");
+    auto* hi = w.findChild<QDoubleSpinBox*>("rangeMaxBox");
+    const auto range = w.fieldScene().colour_bar_range();
+    QVERIFY(range);
+    QVERIFY(!lo->isEnabled() && !hi->isEnabled());
+    QVERIFY(std::abs(lo->value() - (*range)[0]) <= 0.5e-3 + 1e-12);
+    QVERIFY(std::abs(hi->value() - (*range)[1]) <= 0.5e-3 + 1e-12);
+  }
+
+  void theColourMapIsSavedAndUndone() {
+    QTemporaryDir dir;
+    MechanismWindow w(load_preset("parallel-12r"));
+    QVERIFY(show_settled(w));
+    w.findChild<QComboBox*>("colourMapBox")->setCurrentText("cividis");
+    w.findChild<QCheckBox*>("logScaleBox")->setChecked(false);
+    QCOMPARE(w.fieldSettings().colour_map, std::string("cividis"));
+    QVERIFY(w.saveSession(dir.filePath("s.json")));
+    const gui::Session saved = gui::load_session(dir.filePath("s.json").toStdString());
+    QCOMPARE(saved.field.colour_map, std::string("cividis"));
+    QCOMPARE(saved.field.log_scale, false);
+    w.history()->stack()->undo();
+    QCOMPARE(w.fieldSettings().colour_map, std::string("viridis"));
+    QCOMPARE(w.fieldSettings().log_scale, true);
+  }
+
+  void theTaskVolumeIsPartOfTheDocument() {
+    QTemporaryDir dir;
+    const QString path = dir.filePath("task.json");
+    MechanismWindow w(load_preset("parallel-12r"));
+    QVERIFY(show_settled(w));
+    w.taskPanel()->setTask("sphere:diameter=10,centre=0,15,15", {"cond<3"});
+    w.history()->flush();
+    QCOMPARE(w.history()->stack()->undoText(), QString("task volume"));
+    QVERIFY(w.saveSession(path));
+    const gui::Session saved = gui::load_session(path.toStdString());
+    QVERIFY(saved.task_volume);
+    QCOMPARE(saved.task_volume->volume, std::string("sphere:diameter=10,centre=0,15,15"));
+    QCOMPARE(saved.task_volume->criteria, std::vector<std::string>{"cond<3"});
+    MechanismWindow other(load_preset("parallel-12r"));
+    QVERIFY(other.openSession(path));
+    QCOMPARE(other.taskPanel()->setting(), *saved.task_volume);
+    w.history()->stack()->undo();
+    QVERIFY(!(w.taskPanel()->setting() == *saved.task_volume));
+  }
+
+  void theSlicePositionIsKeptRelative() {
+    MechanismWindow w(load_preset("parallel-12r"));
+    QVERIFY(show_settled(w));
+    const int percent = position_percent(w);
+    QVERIFY(percent >= 0 && percent <= 100);
+    QVERIFY(w.setParameters({{"L1", 22.0}}));
+    QVERIFY(QTest::qWaitFor([&] { return w.fieldsSettled(); }, 30000));
+    QCOMPARE(position_percent(w), percent);
+  }
+
+  void theViewMenuBringsBackEveryPanel() {
+    MechanismWindow w(load_preset("delta"));
+    QVERIFY(show_settled(w));
+    const QList<QDockWidget*> docks = w.findChildren<QDockWidget*>();
+    QVERIFY(docks.size() >= 5);
+    for (QDockWidget* dock : docks) QVERIFY2(action(w, dock->windowTitle()), qPrintable(dock->windowTitle()));
+    for (QDockWidget* dock : docks) dock->close();
+    action(w, "Reset &layout")->trigger();
+    for (QDockWidget* dock : docks) QVERIFY(dock->isVisible());
+  }
+};
+
+QTEST_MAIN(WindowDocumentTest)
+#include "test_window_document.moc"
