@@ -570,15 +570,23 @@ JacobianParts Kinematics::jacobian(const VectorXd& x, const PoseSolution& solved
     MatrixXd passive(m, l.variables - 1);
     for (int v = 0, col = 0; v < l.variables; ++v)
       if (v != act_var) passive.col(col++) = rows_of(twist(c, v, r, model_.size), model_.planar);
-    // The wrench reciprocal to every passive twist: the last left singular vector.
+    // The wrenches reciprocal to every passive twist: the last left singular
+    // vectors, as many as the passive twists leave free at home (one for a leg
+    // of five passive freedoms; more where the leg also holds the platform's
+    // orientation, as a Falcon's revolute legs do). Of them, the actuation
+    // wrench is the one the actuator works against; the others are
+    // constraint wrenches, reciprocal to the actuator too.
     Eigen::JacobiSVD<MatrixXd> svd(passive, Eigen::ComputeFullU);
-    const VectorXd w = svd.matrixU().col(m - 1);
     const auto& sv = svd.singularValues();
-    // A second vanishing singular value (beyond the leg's idle freedoms): the
-    // passive joints lose a freedom, the leg is singular.
-    const int expected_rank = m - 1;
+    // A vanishing singular value beyond the leg's idle freedoms: the passive
+    // joints lose a freedom, the leg is singular.
+    const int expected_rank = passive_rank_[leg];
     int rank = 0;
     for (Index i = 0; i < sv.size(); ++i) rank += sv(i) > 1e-10 * sv(0);
+    const MatrixXd reciprocal = svd.matrixU().rightCols(m - expected_rank);
+    const VectorXd actuation = reciprocal.transpose() * rows_of(twist(c, act_var, r, model_.size), model_.planar);
+    const VectorXd w = actuation.norm() > 0 ? VectorXd(reciprocal * actuation.normalized())
+                                            : VectorXd(reciprocal.col(reciprocal.cols() - 1));
     const VectorXd platform = [&] {
       const MatrixXd cols = platform_columns(model_, p, r);
       MatrixXd kept(m, cols.cols());
@@ -609,6 +617,37 @@ JacobianParts Kinematics::jacobian(const VectorXd& x, const PoseSolution& solved
 
 ForwardSolution Kinematics::forward(const VectorXd& q, const VectorXd& seed, double tolerance,
                                     int max_iterations) const {
+  ForwardSolution out = forward_from(q, seed, tolerance, max_iterations);
+  if (out.status == Status::Ok) return out;
+  // Far from the seed, Gauss-Newton can stall where the closure's rank drops
+  // on the way (a parallelogram leg's redundant orientation rows): follow the
+  // actuators from the seed's to q in equal steps, each solved from the last,
+  // which keeps the assembly mode nearest the seed.
+  const PoseSolution start = inverse_near(seed, q);
+  if (!assembled(start)) return out;
+  VectorXd path = q - start.q;
+  for (std::size_t a = 0; a < model_.actuators.size(); ++a)
+    if (!model_.actuators[a].prismatic) path(Index(a)) = wrap(path(Index(a)));
+  for (int pieces = 4; pieces <= 64; pieces *= 4) {
+    ForwardSolution step;
+    step.x = seed;
+    int iterations = 0;
+    for (int k = 1; k <= pieces; ++k) {
+      step = forward_from(k == pieces ? q : VectorXd(start.q + path * (double(k) / pieces)), step.x, tolerance,
+                          max_iterations);
+      iterations += step.iterations;
+      if (step.status != Status::Ok) break;
+    }
+    if (step.status == Status::Ok) {
+      step.iterations = iterations;
+      return step;
+    }
+  }
+  return out;
+}
+
+ForwardSolution Kinematics::forward_from(const VectorXd& q, const VectorXd& seed, double tolerance,
+                                         int max_iterations) const {
   ForwardSolution out;
   out.x = seed;
   const int n = model_.driven();
@@ -903,6 +942,7 @@ Kinematics::Kinematics(Model model) : model_(std::move(model)), id_(next_id++) {
       Eigen::FullPivLU<MatrixXd> lu(without);
       lu.setThreshold(1e-9);
       mobility_.idle += int(without.cols()) - int(lu.rank());
+      passive_rank_.push_back(int(lu.rank()));
     }
     Eigen::FullPivLU<MatrixXd> lu(C);
     lu.setThreshold(1e-9);
