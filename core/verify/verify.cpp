@@ -87,6 +87,7 @@ struct TaskGeometry {
 // a grid of its inside), about `count` of them.
 std::vector<Vector3d> search_points(const TaskGeometry& g, int count) {
   std::vector<Vector3d> points;
+  if (count <= 0) return points;
   const int surface = std::max(64, count / 2);
   const int n = std::max(2, int(std::cbrt(double(count - surface))));
   const Box b = g.bounds();
@@ -256,9 +257,12 @@ double condition_threshold(const Preset& preset, const std::vector<task::Criteri
   const std::shared_ptr<const Mechanism> mechanism = make_mechanism(preset);
   double bound = kReachConditionBound;
   for (const task::Criterion& given : criteria) {
+    if (given.haptic())
+      throw Uncertifiable("verify: criterion '" + given.text + "' cannot be certified (reach and " +
+                          mechanism->info().measures.front().name + "<T can)");
     const task::Criterion c = task::resolve(given, mechanism->info(), nullptr);
     if (c.reach()) continue;
-    if (c.haptic() || c.measure_index != 0)
+    if (c.measure_index != 0)
       throw Uncertifiable("verify: criterion '" + c.text + "' cannot be certified (reach and " +
                           mechanism->info().measures.front().name + "<T can)");
     bound = std::min(bound, c.threshold);
