@@ -17,9 +17,11 @@ namespace {
 
 using Eigen::Vector3d;
 
-// Where the 12R device itself reports J singular (parallel12r::kMaxTrustedCondition):
-// with reach the only criterion, c(J) must stay below it.
-constexpr double kReachConditionBound = 5e7;
+// With reach the only criterion, c(J) must stay below this: the devices
+// call a point singular (not reached) within bands of about 1e-12 of their
+// size around the singular sets (the 12R also beyond c(J) = 5e7), where
+// c(J) exceeds 1e6; a bound of 1e5 keeps proved boxes clear of them.
+constexpr double kReachConditionBound = 1e5;
 // Counterexamples are sought this far inside the task's surface, so that
 // they are inside it for certain after rounding.
 constexpr double kInsideFactor = 1 - 1e-9;
@@ -156,10 +158,10 @@ struct Search {
   const std::function<std::optional<Counterexample>(const Vector3d&)>& confirm;
   std::chrono::steady_clock::time_point deadline;
   bool limited = false;
-
-  std::atomic<bool> stop{false};
-  std::mutex mutex;
   Result& result;
+
+  std::atomic<bool> stop{false}, timed_out{false};
+  std::mutex mutex{};
 
   bool out_of_time() const { return limited && std::chrono::steady_clock::now() > deadline; }
 
@@ -207,15 +209,6 @@ struct Search {
     double bound = 0;
     const int team = options.threads > 0 ? options.threads : omp_get_max_threads();
     while (!level.empty() && !stop) {
-      if (out_of_time()) {
-        result.timed_out = true;
-        for (const Open& o : level)
-          if (const std::optional<Box> b = geometry.clip(o.box)) {
-            result.undecided_volume += b->volume();
-            if (options.keep_boxes) result.undecided_boxes.push_back(*b);
-          }
-        break;
-      }
       std::vector<Open> next;
       result.boxes += std::int64_t(level.size());
       result.deepest = std::max(result.deepest, level.front().depth);
@@ -225,8 +218,17 @@ struct Search {
         std::vector<Box> proved_boxes, open_boxes;
         double proved = 0, undecided = 0, local_bound = 0;
 #pragma omp for schedule(dynamic, 64)
-        for (std::int64_t i = 0; i < std::int64_t(level.size()); ++i)
-          if (!stop) visit(level[std::size_t(i)], children, proved, undecided, local_bound, proved_boxes, open_boxes);
+        for (std::int64_t i = 0; i < std::int64_t(level.size()); ++i) {
+          if (stop) continue;
+          const Open& open = level[std::size_t(i)];
+          if (!out_of_time()) {
+            visit(open, children, proved, undecided, local_bound, proved_boxes, open_boxes);
+          } else if (const std::optional<Box> b = geometry.clip(open.box)) {
+            timed_out = true;
+            undecided += b->volume();
+            if (options.keep_boxes) open_boxes.push_back(*b);
+          }
+        }
         std::lock_guard lock(mutex);
         next.insert(next.end(), children.begin(), children.end());
         result.proved_volume += proved;
@@ -238,6 +240,7 @@ struct Search {
       level = std::move(next);
     }
     if (bound > 0) result.certified_bound = bound;
+    result.timed_out = timed_out;
   }
 };
 
@@ -368,9 +371,9 @@ Result verify(const Preset& preset, const task::TaskVolume& task, const std::vec
   }
 
   if (!result.counterexample) {
-    Search search{certifier, geometry, options, confirm, start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                                            std::chrono::duration<double>(options.time_limit_seconds)),
-                  options.time_limit_seconds > 0, {}, {}, result};
+    const auto limit = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+        std::chrono::duration<double>(std::clamp(options.time_limit_seconds, 0.0, 1e9)));
+    Search search{certifier, geometry, options, confirm, start + limit, options.time_limit_seconds > 0, result};
     search.run();
   }
   if (result.counterexample) {
@@ -379,6 +382,8 @@ Result verify(const Preset& preset, const task::TaskVolume& task, const std::vec
     result.proved_boxes.clear();
   } else {
     result.verdict = result.undecided_volume > 0 ? Verdict::Undecided : Verdict::Proved;
+    const bool conditioning = std::any_of(criteria.begin(), criteria.end(), [](const auto& c) { return !c.reach(); });
+    if (result.verdict != Verdict::Proved || !conditioning) result.certified_bound.reset();
   }
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

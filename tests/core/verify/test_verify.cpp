@@ -181,6 +181,14 @@ TEST(Verify, BoxesOpenAtTheDepthLimitAreAnUndecidedVolume) {
   EXPECT_FALSE(r.counterexample);
   EXPECT_EQ(r.deepest, 6);
   EXPECT_EQ(exit_status(r.verdict), kExitUndecided);
+  // And at the time limit: what is still open is undecided.
+  o.max_depth = 48;
+  o.time_limit_seconds = 0.05;
+  const Result timed = verify(preset_12r(L), task, criteria({"cond<3"}), o);
+  EXPECT_EQ(timed.verdict, Verdict::Undecided);
+  EXPECT_TRUE(timed.timed_out);
+  EXPECT_GT(timed.undecided_fraction(), 0);
+  EXPECT_LT(timed.seconds, 1.0);
 }
 
 TEST(Verify, OneThreadAndTwoGiveTheSameVerdict) {
