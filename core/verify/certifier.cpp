@@ -1,10 +1,12 @@
 #include "core/verify/certifier.h"
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/LU>
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <sstream>
 
 #include "core/conditioning.h"
 #include "core/mechanisms/delta/delta.h"
@@ -171,6 +173,76 @@ double condition_lower_bound(const IntervalMatrix& M) {
   return smallest_upper > 0 ? down(largest_lower / smallest_upper) : kInf;
 }
 
+// Enclosures of |J(p) e_i| for every p whose M(p) is within `deviation`
+// (entry magnitudes, spectral norm at most r) of M_c, whose smallest
+// singular value is at least `smallest`. The 12R's M is J; the Delta's is
+// J^-1, so J(p) e_i = x - M(p)^-1 (M(p) x - e_i) for x = M_c^-1 e_i found in
+// double, with |M(p)^-1| <= 1 / (smallest - r) (Weyl).
+std::array<Interval, 3> column_lengths(Device device, const Matrix3d& M_c, const Matrix3d& deviation, double r,
+                                       double smallest) {
+  auto length = [](const Vector3d& v) {
+    Interval sum(0.0);
+    for (int k = 0; k < 3; ++k) sum += sqr(Interval(v(k)));
+    return sqrt(sum);
+  };
+  std::array<Interval, 3> out;
+  const Eigen::PartialPivLU<Matrix3d> lu(M_c);
+  const double inverse_norm = smallest - r > 0 ? up(1.0 / down(smallest - r)) : kInf;
+  for (int i = 0; i < 3; ++i) {
+    Interval centre;
+    double error;
+    if (device == Device::Parallel12r) {
+      centre = length(M_c.col(i));
+      error = length(deviation.col(i)).hi;
+    } else {
+      const Vector3d x = lu.solve(Vector3d::Unit(i));
+      Vector3d residual;
+      for (int j = 0; j < 3; ++j) {
+        Interval row(j == i ? -1.0 : 0.0);
+        for (int k = 0; k < 3; ++k) row += Interval(M_c(j, k)) * Interval(x(k));
+        residual(j) = row.mag();
+      }
+      centre = length(x);
+      error = up(inverse_norm * up(length(residual).hi + up(r * centre.hi)));
+    }
+    out[i] = {std::max(0.0, down(centre.lo - error)), up(centre.hi + error)};
+  }
+  return out;
+}
+
+// A column criterion's measure bounded from the column lengths: at best
+// (from their upper bounds: force_iso at least, resolution at most) or at
+// worst (from their lower bounds).
+double column_measure(const Certifier::ColumnCriterion& c, const std::array<Interval, 3>& lengths, bool best) {
+  double value = c.force ? kInf : 0;
+  for (int i = 0; i < 3; ++i) {
+    const Interval length = best ? Interval(lengths[i].hi) : Interval(lengths[i].lo);
+    if (c.force) {
+      const Interval force = length.hi > 0 ? c.scale[i] / length : Interval::entire();
+      value = std::min(value, best ? force.lo : force.hi);
+    } else {
+      const Interval resolution = c.scale[i] * length;
+      value = std::max(value, best ? resolution.hi : resolution.lo);
+    }
+  }
+  return value;
+}
+
+bool column_criteria_hold(const Certifier& c, const std::array<Interval, 3>& lengths) {
+  for (const Certifier::ColumnCriterion& criterion : c.columns) {
+    const double value = column_measure(criterion, lengths, true);
+    if (criterion.force ? !(value > criterion.threshold) : !(value < criterion.threshold)) return false;
+  }
+  return true;
+}
+
+std::string measure_text(const char* name, const char* relation, double value, const char* unit) {
+  std::ostringstream out;
+  out.precision(6);
+  out << name << " " << relation << " " << value << unit;
+  return out.str();
+}
+
 const char* kActuatorNames12r[] = {"alpha", "beta", "gamma"};
 const char* kActuatorNamesDelta[] = {"q1", "q2", "q3"};
 
@@ -239,25 +311,41 @@ std::optional<double> Certifier::condition_bound(const Vector3d& lo, const Vecto
   if (!(smallest > 0)) return std::nullopt;
   const double bound = up(up(s.largest_upper + r) / smallest);
   if (!(bound < cond_bound)) return std::nullopt;
+  if (!columns.empty() &&
+      !column_criteria_hold(*this, column_lengths(device, M_c, deviation, r, s.smallest_lower)))
+    return std::nullopt;
   return bound;
 }
 
 std::optional<Certifier::PointFailure> Certifier::certain_failure(const Vector3d& p) const {
-  if (device == Device::Parallel12r && p.y() == 0.0) return PointFailure{kInf, "on the actuator plane y = 0 (singular)"};
+  if (device == Device::Parallel12r && p.y() == 0.0) return PointFailure{-1, kInf, "on the actuator plane y = 0 (singular)"};
   const KernelResult<Interval> at = kernel(Interval(p.x()), Interval(p.y()), Interval(p.z()));
-  if (at.failure == KernelFailure::Unreachable) return PointFailure{kInf, "out of reach"};
+  if (at.failure == KernelFailure::Unreachable) return PointFailure{-1, kInf, "out of reach"};
   if (at.failure != KernelFailure::None) return std::nullopt;
   if (check_ranges)
     for (int k = 0; k < 3; ++k)
       if (certainly_outside(at.cos_q[k], at.sin_q[k], ranges[k], wraps))
-        return PointFailure{kInf, std::string("outside the range of ") +
+        return PointFailure{-1, kInf, std::string("outside the range of ") +
                                       (device == Device::Parallel12r ? kActuatorNames12r : kActuatorNamesDelta)[k]};
   const double lower = condition_lower_bound(at.M);
-  if (lower >= cond_bound) return PointFailure{lower, "c(J) >= " + std::to_string(lower)};
+  if (lower >= cond_bound) return PointFailure{-1, lower, measure_text("c(J)", ">=", lower, "")};
+  if (columns.empty()) return std::nullopt;
+  Matrix3d mid, radius;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) mid(i, j) = at.M[i][j].mid(), radius(i, j) = at.M[i][j].rad();
+  const std::array<Interval, 3> lengths =
+      column_lengths(device, mid, radius, norm_bound(radius), singular_value_bounds(mid).smallest_lower);
+  for (std::size_t k = 0; k < columns.size(); ++k) {
+    const ColumnCriterion& c = columns[k];
+    const double worst = column_measure(c, lengths, false);
+    if (c.force ? worst <= c.threshold : worst >= c.threshold)
+      return PointFailure{int(k), worst, c.force ? measure_text("force_iso", "<=", worst, " N")
+                                                 : measure_text("resolution", ">=", worst, " mm")};
+  }
   return std::nullopt;
 }
 
-double Certifier::condition_estimate(const Vector3d& p) const {
+double Certifier::badness(const Vector3d& p) const {
   const KernelResult<double> at = kernel(p.x(), p.y(), p.z());
   if (at.failure != KernelFailure::None) return kInf;
   if (check_ranges)
@@ -266,7 +354,15 @@ double Certifier::condition_estimate(const Vector3d& p) const {
   Matrix3d M;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) M(i, j) = at.M[i][j];
-  return condition_number_closed_form(M);
+  double worst = condition_number_closed_form(M) / cond_bound;
+  if (columns.empty()) return worst;
+  const Matrix3d J = device == Device::Parallel12r ? M : Matrix3d(M.inverse());
+  for (const ColumnCriterion& c : columns)
+    for (int i = 0; i < 3; ++i) {
+      const double scale = c.scale[i].mid(), length = J.col(i).norm();
+      worst = std::max(worst, c.force ? c.threshold * length / scale : scale * length / c.threshold);
+    }
+  return worst;
 }
 
 }  // namespace linkscape::verify

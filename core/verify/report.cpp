@@ -36,16 +36,16 @@ std::string design_text(const std::map<std::string, double>& parameters) {
 
 void write_counterexample(std::ostream& out, const Counterexample& ce) {
   out << "  counterexample: " << point_text(ce.point) << " fails " << ce.criterion << ": " << ce.reason << "\n";
-  if (std::isfinite(ce.lower_bound))
-    out << "    c(J) there: certified >= " << short_number(ce.lower_bound) << ", long double "
-        << short_number(ce.long_double_value) << ", the device " << short_number(ce.device_value) << "\n";
+  if (std::isfinite(ce.bound))
+    out << "    there: certified bound " << short_number(ce.bound, 8) << ", long double "
+        << short_number(ce.long_double_value, 8) << ", the device " << short_number(ce.device_value, 8) << "\n";
 }
 
 json counterexample_json(const Counterexample& ce) {
   return {{"point", point_json(ce.point)},
           {"criterion", ce.criterion},
           {"reason", ce.reason},
-          {"lower_bound", number(ce.lower_bound)},
+          {"bound", number(ce.bound)},
           {"long_double_value", number(ce.long_double_value)},
           {"device_value", number(ce.device_value)}};
 }

@@ -114,7 +114,7 @@ std::vector<Vector3d> search_points(const TaskGeometry& g, int count) {
 // From p, the largest c(J) nearby in the task by a compass search (at most
 // a few dozen moves per step length: it only sharpens a sample).
 Vector3d climb(const Certifier& c, const TaskGeometry& g, Vector3d p) {
-  double best = c.condition_estimate(p);
+  double best = c.badness(p);
   for (double step = g.task.size.maxCoeff() / 16; step > 1e-9 * g.task.size.maxCoeff() && std::isfinite(best);
        step /= 2) {
     for (int moves = 0; moves < 32; ++moves) {
@@ -122,7 +122,7 @@ Vector3d climb(const Certifier& c, const TaskGeometry& g, Vector3d p) {
       for (int axis = 0; axis < 3 && !moved; ++axis)
         for (double sign : {-1.0, 1.0}) {
           const Vector3d trial = g.project(p + sign * step * Vector3d::Unit(axis));
-          const double value = c.condition_estimate(trial);
+          const double value = c.badness(trial);
           if (value > best) {
             p = trial, best = value, moved = true;
             break;
@@ -132,16 +132,6 @@ Vector3d climb(const Certifier& c, const TaskGeometry& g, Vector3d p) {
     }
   }
   return p;
-}
-
-std::string describe(const Certifier::PointFailure& f) {
-  if (std::isfinite(f.lower_bound)) {
-    std::ostringstream out;
-    out.precision(6);
-    out << "c(J) >= " << f.lower_bound;
-    return out.str();
-  }
-  return f.reason;
 }
 
 // ---- Subdivision ---------------------------------------------------------------------
@@ -184,7 +174,7 @@ struct Search {
       return;
     }
     const Vector3d mid = 0.5 * (b.lo + b.hi);
-    if (geometry.certainly_contains(mid) && !(certifier.condition_estimate(mid) < certifier.cond_bound * 0.999))
+    if (geometry.certainly_contains(mid) && !(certifier.badness(mid) < 0.999))
       if (std::optional<Counterexample> ce = confirm(mid)) {
         record_counterexample(std::move(*ce));
         return;
@@ -253,32 +243,66 @@ void check_options(const Options& o) {
   if (std::isnan(o.time_limit_seconds)) throw std::invalid_argument("verify: the time limit is not a number");
 }
 
-// The cond criterion's threshold (the smallest, if several), or the
-// device's singular bound where only reach is asked. Throws for criteria
-// the certifier has no enclosure for.
-double condition_threshold(const Preset& preset, const std::vector<task::Criterion>& criteria) {
-  const std::shared_ptr<const Mechanism> mechanism = make_mechanism(preset);
+// 2 pi, enclosed (the double nearest it is below it).
+const Interval kTwoPi(6.283185307179586, 6.283185307179587);
+
+// The certifier for these criteria: c(J) below the smallest cond threshold
+// (or the reach bound), and force_iso and resolution as bounds on J's
+// columns. Throws Uncertifiable for a criterion without an enclosure.
+Certifier certifier_for(const Preset& preset, const task::Device& device, const std::vector<task::Criterion>& criteria,
+                        int branch) {
+  const MechanismInfo& info = device.mechanism->info();
   double bound = kReachConditionBound;
+  std::vector<Certifier::ColumnCriterion> columns;
   for (const task::Criterion& given : criteria) {
-    if (given.haptic())
-      throw Uncertifiable("verify: criterion '" + given.text + "' cannot be certified (reach and " +
-                          mechanism->info().measures.front().name + "<T can)");
-    const task::Criterion c = task::resolve(given, mechanism->info(), nullptr);
+    const task::Criterion c = task::resolve(given, info, device.data ? &*device.data : nullptr);
     if (c.reach()) continue;
-    if (c.measure_index != 0)
-      throw Uncertifiable("verify: criterion '" + c.text + "' cannot be certified (reach and " +
-                          mechanism->info().measures.front().name + "<T can)");
+    if (c.measure == "force_iso" || c.measure == "resolution") {
+      Certifier::ColumnCriterion column{c.text, c.measure == "force_iso", c.threshold, {}};
+      for (std::size_t i = 0; i < 3; ++i) {
+        const haptics::Rating& r = device.data->actuators.at(i);
+        const Interval metres(device.data->metres_per_motor_radian(i));
+        const double torque = device.torque == haptics::TorqueRating::Peak ? r.peak_torque_Nm : r.continuous_torque_Nm;
+        column.scale[i] = column.force ? Interval(torque) / metres
+                                       : Interval(1000.0) * kTwoPi / Interval(r.encoder_counts_per_rev) * metres;
+      }
+      columns.push_back(column);
+      continue;
+    }
+    if (c.haptic() || c.measure_index != 0)
+      throw Uncertifiable("verify: criterion '" + c.text + "' cannot be certified (reach, " + info.measures.front().name +
+                          "<T, force_iso>F and resolution<R can)");
     bound = std::min(bound, c.threshold);
   }
-  return bound;
+  Certifier certifier = Certifier::from_preset(preset, branch, bound);
+  certifier.columns = columns;
+  return certifier;
 }
 
-// The criterion a counterexample fails: the cond criterion where c(J) is
-// too large, else reach (which every criterion implies).
-std::string failing_criterion(const std::vector<task::Criterion>& criteria, bool conditioning) {
-  for (const task::Criterion& c : criteria)
-    if (c.reach() != conditioning) return c.text;
-  return "reach (implied by " + criteria.front().text + ")";
+// The index of the criterion a certain failure fails: its column criterion,
+// the cond criterion where c(J) is too large, else reach (which every
+// criterion implies; -1 where none is given as such).
+int failing_criterion(const std::vector<task::Criterion>& criteria, const Certifier& certifier,
+                      const Certifier::PointFailure& failure) {
+  for (std::size_t k = 0; k < criteria.size(); ++k) {
+    const task::Criterion& c = criteria[k];
+    if (failure.column >= 0 ? c.text == certifier.columns[std::size_t(failure.column)].text
+                            : std::isfinite(failure.bound) ? !c.reach() && !c.haptic() : c.reach())
+      return int(k);
+  }
+  return -1;
+}
+
+// Whether the independent long-double evaluation fails the same way.
+bool reference_fails(const Certifier& certifier, const Certifier::PointFailure& failure, const Vector3d& p,
+                     long double& value) {
+  if (failure.column < 0) {
+    value = reference_condition(certifier, p);
+    return value >= certifier.cond_bound;
+  }
+  const Certifier::ColumnCriterion& c = certifier.columns[std::size_t(failure.column)];
+  value = reference_value(certifier, c, p);
+  return c.force ? value <= c.threshold : value >= c.threshold;
 }
 
 }  // namespace
@@ -311,13 +335,15 @@ Result verify(const Preset& preset, const task::TaskVolume& task, const std::vec
   if (!(task.size.array() > 0).all() || !task.size.allFinite() || !task.centre->allFinite())
     throw std::invalid_argument("verify: the task must have a positive size and a finite centre");
   if (criteria.empty()) throw std::invalid_argument("verify: give at least one criterion (reach, cond<T)");
-  const double threshold = condition_threshold(preset, criteria);
-  const Certifier certifier = Certifier::from_preset(preset, branch, threshold);
   const std::shared_ptr<const Mechanism> mechanism = make_mechanism(preset);
   task::Device device;
   device.mechanism = mechanism;
   device.ik.branch = branch;
   device.fixed_task = mechanism->home_task();
+  device.torque = options.torque;
+  if (std::any_of(criteria.begin(), criteria.end(), [](const task::Criterion& c) { return c.haptic(); }))
+    device.data = haptics::device_data(preset, mechanism->info());
+  const Certifier certifier = certifier_for(preset, device, criteria, branch);
   const std::vector<task::Criterion> resolved = task::resolve(device, criteria);
 
   Result result;
@@ -334,20 +360,18 @@ Result verify(const Preset& preset, const task::TaskVolume& task, const std::vec
     if (!geometry.certainly_contains(p)) return std::nullopt;
     const std::optional<Certifier::PointFailure> failure = certifier.certain_failure(p);
     if (!failure) return std::nullopt;
-    const long double reference = reference_condition(certifier, p);
-    if (!(reference >= threshold)) return std::nullopt;  // the evaluations disagree: no claim
+    long double reference = 0;
+    if (!reference_fails(certifier, *failure, p, reference)) return std::nullopt;  // the evaluations disagree: no claim
     const task::PointValues device_values = task::evaluate_point(device, resolved, p);
     if (device_values.meets) return std::nullopt;
+    const int k = failing_criterion(criteria, certifier, *failure);
     Counterexample ce;
     ce.point = p;
-    ce.reason = describe(*failure);
-    ce.lower_bound = failure->lower_bound;
+    ce.criterion = k >= 0 ? criteria[std::size_t(k)].text : "reach (implied by every criterion)";
+    ce.reason = failure->reason;
+    ce.bound = failure->bound;
     ce.long_double_value = double(reference);
-    double device_value = kInf;
-    for (std::size_t k = 0; k < resolved.size(); ++k)
-      if (!resolved[k].reach()) device_value = std::min(device_value, device_values.values[k]);
-    ce.device_value = device_values.reachable ? device_value : kInf;
-    ce.criterion = failing_criterion(criteria, std::isfinite(failure->lower_bound));
+    ce.device_value = k >= 0 && device_values.reachable ? device_values.values[std::size_t(k)] : kInf;
     return ce;
   };
 
@@ -357,7 +381,7 @@ Result verify(const Preset& preset, const task::TaskVolume& task, const std::vec
   const int team = options.threads > 0 ? options.threads : omp_get_max_threads();
 #pragma omp parallel for schedule(static) num_threads(team)
   for (std::int64_t i = 0; i < std::int64_t(points.size()); ++i)
-    scores[std::size_t(i)] = certifier.condition_estimate(points[std::size_t(i)]);
+    scores[std::size_t(i)] = certifier.badness(points[std::size_t(i)]);
   std::vector<std::size_t> order(points.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
   const std::size_t worst = std::min<std::size_t>(4, order.size());
@@ -365,7 +389,7 @@ Result verify(const Preset& preset, const task::TaskVolume& task, const std::vec
                     [&](std::size_t a, std::size_t b) { return scores[a] > scores[b]; });
   for (std::size_t k = 0; k < worst && !result.counterexample; ++k) {
     const Vector3d& p = points[order[k]];
-    if (scores[order[k]] < threshold * 0.95) break;
+    if (scores[order[k]] < 0.95) break;
     result.counterexample = confirm(std::isfinite(scores[order[k]]) ? climb(certifier, geometry, p) : p);
     if (!result.counterexample) result.counterexample = confirm(p);
   }

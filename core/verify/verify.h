@@ -51,6 +51,8 @@ struct Options {
   bool keep_boxes = false;          // keep the proved and undecided boxes (drawing, tests)
   // Samples of the task searched for a counterexample before subdividing.
   int search_samples = 6000;
+  // The torque the force criteria use.
+  haptics::TorqueRating torque = haptics::TorqueRating::Continuous;
 };
 
 // An axis-aligned box of positions, in the device's length unit.
@@ -62,13 +64,15 @@ struct Box {
 struct Counterexample {
   Eigen::Vector3d point = Eigen::Vector3d::Zero();  // inside the task (certified)
   std::string criterion;  // the criterion it fails, as given
-  std::string reason;     // "c(J) >= 3.0004", "out of reach", "outside the actuator ranges"
-  // c(J) there: a certified lower bound (interval arithmetic), an
+  std::string reason;     // "c(J) >= 3.0004", "force_iso <= 0.93 N", "out of reach", "outside the range of beta"
+  // The failing measure there: a certified bound (interval arithmetic; at
+  // least it for c(J) and resolution, at most it for force_iso), an
   // independent evaluation in long double (the paper's angles and J for the
-  // 12R, the tangent half-angle leg solution for the Delta, SVD), and the
-  // device's own evaluation through the mechanism interface; +inf where
-  // the point is out of reach or singular.
-  double lower_bound = 0;
+  // 12R, the tangent half-angle leg solution for the Delta), and the
+  // device's own evaluation through the mechanism interface. Out of reach
+  // or singular: bound +inf, and the values are the measure's failing
+  // extreme (c(J) +inf) or the device's reach margin.
+  double bound = 0;
   double long_double_value = 0;
   double device_value = 0;
 };
@@ -96,8 +100,9 @@ struct Result {
 
 // Proves or disproves that every point of `task` (with its centre) meets
 // every criterion on the preset's device in the IK branch `branch`.
-// Certifiable: the devices parallel-12r and delta; the criteria reach and
-// cond<T (the device's first measure). Throws Uncertifiable for others,
+// Certifiable: the devices parallel-12r and delta; the criteria reach,
+// cond<T (the device's first measure), force_iso>F and resolution<R (with
+// the preset's actuator data). Throws Uncertifiable for others,
 // std::invalid_argument for bad input (a task without a centre, an unknown
 // or malformed criterion, a branch the device does not have, a depth
 // outside 1..200, threads < 0).

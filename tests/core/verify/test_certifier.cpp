@@ -4,8 +4,11 @@
 // failures are failures for the device too.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
+#include <sstream>
 
+#include "core/haptics.h"
 #include "core/mechanisms/delta/delta.h"
 #include "core/mechanisms/parallel12r/mechanism.h"
 #include "core/preset.h"
@@ -147,6 +150,64 @@ TEST(VerifyCertifier, TheDeltaBoxBoundsHoldAtEveryPointAndNeverSpanTheWorkspaceE
   check_boxes(full, 6, Vector3d(-16, -16, -27), Vector3d(16, 16, 2), 1e6, 7);
 }
 
+// A force_iso or resolution bound on J's columns, with the threshold at the
+// median over random boxes near the home: bounded boxes meet it at every
+// sampled point, for the device and in long double; both outcomes occur.
+TEST(VerifyCertifier, HapticBoxBoundsHoldAtEveryPoint) {
+  for (const char* name : {"parallel-12r", "delta"})
+    for (bool force : {true, false}) {
+      const Preset preset = load_preset(name);
+      task::Device d = device_of(preset, 0);
+      d.data = haptics::device_data(preset, d.mechanism->info());
+      Certifier c = Certifier::from_preset(preset, 0, 1e5);
+      Certifier::ColumnCriterion column{force ? "force_iso>F" : "resolution<R", force, 0, {}};
+      for (std::size_t i = 0; i < 3; ++i) {
+        const haptics::Rating& r = d.data->actuators[i];
+        const Interval metres(d.data->metres_per_motor_radian(i));
+        column.scale[i] = force ? Interval(r.continuous_torque_Nm) / metres
+                                : Interval(1000.0) * Interval(6.283185307179586, 6.283185307179587) /
+                                      Interval(r.encoder_counts_per_rev) * metres;
+      }
+      std::mt19937_64 rng(12);
+      std::uniform_real_distribution<double> u(-0.2, 0.2), t(0, 1), w(-10, -3);
+      const Vector3d home = d.mechanism->home_task();
+      std::vector<Vector3d> corners, sizes;
+      std::vector<double> values;
+      for (int n = 0; n < 1500; ++n) {
+        corners.push_back(home + d.mechanism->size() * Vector3d(u(rng), u(rng), u(rng)));
+        sizes.push_back(d.mechanism->size() * Vector3d(std::exp2(w(rng)), std::exp2(w(rng)), std::exp2(w(rng))));
+        values.push_back(double(reference_value(c, column, corners.back() + sizes.back() / 2)));
+      }
+      // The median where the device reaches (force 0 and resolution +inf elsewhere).
+      std::vector<double> sorted;
+      for (double v : values)
+        if (v > 0 && std::isfinite(v)) sorted.push_back(v);
+      std::nth_element(sorted.begin(), sorted.begin() + std::ptrdiff_t(sorted.size() / 2), sorted.end());
+      column.threshold = sorted[sorted.size() / 2];
+      c.columns = {column};
+      std::ostringstream text;
+      text.precision(17);
+      text << (force ? "force_iso>" : "resolution<") << column.threshold;
+      const std::vector<task::Criterion> criterion = task::resolve(d, {task::parse_criterion(text.str())});
+      int bounded = 0, unbounded = 0;
+      for (std::size_t n = 0; n < corners.size(); ++n) {
+        if (!c.condition_bound(corners[n], corners[n] + sizes[n])) {
+          ++unbounded;
+          continue;
+        }
+        ++bounded;
+        for (int k = 0; k < 16; ++k) {
+          const Vector3d p = corners[n] + Vector3d(t(rng), t(rng), t(rng)).cwiseProduct(sizes[n]);
+          const long double v = reference_value(c, column, p);
+          ASSERT_TRUE(force ? v > column.threshold : v < column.threshold) << name << " " << p.transpose();
+          ASSERT_TRUE(task::evaluate_point(d, criterion, p).meets) << name << " " << p.transpose();
+        }
+      }
+      EXPECT_GT(bounded, 200) << name;
+      EXPECT_GT(unbounded, 200) << name;
+    }
+}
+
 TEST(VerifyCertifier, CertainFailuresFailForTheDeviceAndInLongDouble) {
   for (const char* name : {"parallel-12r", "delta"}) {
     const Preset preset = load_preset(name);
@@ -163,7 +224,7 @@ TEST(VerifyCertifier, CertainFailuresFailForTheDeviceAndInLongDouble) {
       const task::PointValues device = task::evaluate_point(d, criteria, p);
       if (const auto f = c.certain_failure(p)) {
         ASSERT_FALSE(device.meets) << name << " " << p.transpose();
-        ASSERT_GE(reference_condition(c, p), (long double)f->lower_bound) << name << " " << p.transpose();
+        ASSERT_GE(reference_condition(c, p), (long double)f->bound) << name << " " << p.transpose();
         ++failures;
       } else if (device.meets) {
         ++meeting;

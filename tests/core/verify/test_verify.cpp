@@ -87,7 +87,7 @@ void expect_confirmed(const Preset& preset, const task::TaskVolume& task, const 
   ASSERT_TRUE(r.counterexample);
   const Counterexample& ce = *r.counterexample;
   EXPECT_TRUE(task.contains(ce.point, *task.centre));
-  EXPECT_GE(ce.lower_bound, threshold);
+  EXPECT_GE(ce.bound, threshold);
   // Independently: long double through the actuator angles, and the device.
   const Certifier c = Certifier::from_preset(preset, branch, threshold);
   EXPECT_GE(reference_condition(c, ce.point), (long double)threshold);
@@ -142,6 +142,51 @@ TEST(Verify, TheDeltaIsProvedAndDisprovedAroundTheLargestSampledCondition) {
   expect_confirmed(preset, task, verify(preset, task, {task::parse_criterion(below)}, o), worst * 0.98);
 }
 
+// force_iso and resolution, with a threshold either side of the worst
+// value sampled over a task at the home: proved (the device meets them at
+// dense samples of every proved box, and so does the long-double
+// evaluation) and disproved (a confirmed counterexample).
+TEST(Verify, HapticCriteriaAreProvedAndDisprovedAroundTheSampledWorst) {
+  for (const char* name : {"parallel-12r", "delta"}) {
+    const Preset preset = load_preset(name);
+    task::Device d = device_of(preset);
+    d.data = haptics::device_data(preset, d.mechanism->info());
+    task::TaskVolume task = task::parse_task("sphere:diameter=4");
+    task.centre = d.mechanism->home_task();
+    for (const char* measure : {"force_iso", "resolution"}) {
+      const bool force = std::string(measure) == "force_iso";
+      const std::vector<task::Criterion> probe = task::resolve(d, {task::parse_criterion(std::string(measure) + (force ? ">1e-9" : "<1e9"))});
+      const double worst = task::evaluate(d, probe, task, *task.centre, 24).criteria[0].worst;
+      const double meets = force ? worst * 0.97 : worst * 1.03, fails = force ? worst * 1.01 : worst * 0.99;
+      const auto text = [&](double v) { return std::string(measure) + (force ? ">" : "<") + std::to_string(v); };
+      Options o;
+      o.keep_boxes = true;
+      const Result proved = verify(preset, task, {task::parse_criterion(text(meets))}, o);
+      ASSERT_EQ(proved.verdict, Verdict::Proved) << name << " " << measure;
+      const std::vector<task::Criterion> check = task::resolve(d, {task::parse_criterion(text(meets))});
+      std::mt19937_64 rng(9);
+      std::uniform_real_distribution<double> t(0, 1);
+      const std::size_t stride = std::max<std::size_t>(1, proved.proved_boxes.size() / 1000);
+      for (std::size_t i = 0; i < proved.proved_boxes.size(); i += stride) {
+        const Box& b = proved.proved_boxes[i];
+        for (int k = 0; k < 4; ++k) {
+          const Vector3d p = b.lo + Vector3d(t(rng), t(rng), t(rng)).cwiseProduct(b.hi - b.lo);
+          ASSERT_TRUE(task::evaluate_point(d, check, p).meets) << name << " " << measure << " " << p.transpose();
+        }
+      }
+      const Result disproved = verify(preset, task, {task::parse_criterion(text(fails))});
+      ASSERT_EQ(disproved.verdict, Verdict::Disproved) << name << " " << measure;
+      const Counterexample& ce = *disproved.counterexample;
+      EXPECT_TRUE(task.contains(ce.point, *task.centre));
+      EXPECT_FALSE(task::evaluate_point(d, task::resolve(d, {task::parse_criterion(text(fails))}), ce.point).meets);
+      EXPECT_TRUE(force ? ce.bound <= fails && ce.long_double_value <= fails && ce.device_value <= fails
+                        : ce.bound >= fails && ce.long_double_value >= fails && ce.device_value >= fails)
+          << name << " " << measure << " " << ce.bound << " " << ce.long_double_value << " " << ce.device_value;
+      EXPECT_NEAR(ce.long_double_value, ce.device_value, 1e-9 * ce.device_value);
+    }
+  }
+}
+
 TEST(Verify, APartOutOfReachIsNeverProved) {
   // 12R: a sphere through the outer reach sphere |p| = L1 + L2; Delta: a box
   // through the edge its actuator ranges cut.
@@ -161,7 +206,7 @@ TEST(Verify, APartOutOfReachIsNeverProved) {
       const Result r = verify(c.preset, task, criteria({"reach"}), o);
       EXPECT_EQ(r.verdict, Verdict::Disproved) << c.task;
       ASSERT_TRUE(r.counterexample);
-      EXPECT_FALSE(std::isfinite(r.counterexample->lower_bound));
+      EXPECT_FALSE(std::isfinite(r.counterexample->bound));
       EXPECT_TRUE(task.contains(r.counterexample->point, *task.centre));
       const task::Device d = device_of(c.preset);
       EXPECT_FALSE(task::evaluate_point(d, task::resolve(d, criteria({"reach"})), r.counterexample->point).reachable);
@@ -217,7 +262,8 @@ TEST(Verify, BadInputIsRefused) {
   o.threads = -1;
   EXPECT_THROW(verify(preset, placed, criteria({"cond<3"}), o), std::invalid_argument);
   // What has no enclosure says so: a haptic criterion, another device.
-  EXPECT_THROW(verify(preset, placed, criteria({"force_iso>1"})), Uncertifiable);
+  EXPECT_THROW(verify(preset, placed, criteria({"force_max>1"})), Uncertifiable);
+  EXPECT_THROW(verify(preset, placed, criteria({"inertia<1"})), Uncertifiable);
   EXPECT_THROW(verify(load_preset("pathos2"), placed, criteria({"cond<3"})), Uncertifiable);
   // Sizing: bounds, tolerance.
   SizingProblem s;
@@ -255,7 +301,7 @@ TEST(Verify, TheReportAndTheJsonSayTheVerdictAndTheCounterexample) {
   const nlohmann::json j = nlohmann::json::parse(json.str());
   EXPECT_EQ(j["verdict"], "disproved");
   EXPECT_EQ(j["counterexample"]["point"][1].get<double>(), r.counterexample->point.y());
-  EXPECT_GE(j["counterexample"]["lower_bound"].get<double>(), 3);
+  EXPECT_GE(j["counterexample"]["bound"].get<double>(), 3);
 }
 
 // Sizing the 12R for the seed's sphere scaled to L = 1: the bracket holds
