@@ -46,7 +46,7 @@ inline Interval operator+(Interval a, Interval b) { return {down(a.lo + b.lo), u
 inline Interval operator-(Interval a, Interval b) { return {down(a.lo - b.hi), up(a.hi - b.lo)}; }
 inline Interval operator-(Interval a) { return {-a.hi, -a.lo}; }
 inline Interval operator*(Interval a, Interval b) {
-  if (a.lo == a.hi && a.lo >= 0) {  // scaling by a non-negative point: two products
+  if (a.lo == a.hi && a.lo > 0) {  // scaling by a positive point: two products
     return {down(a.lo * b.lo), up(a.lo * b.hi)};
   }
   const double p[4] = {a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi};

@@ -34,7 +34,14 @@ struct TaskGeometry {
   double radius() const { return task.diameter() / 2; }
   bool sphere() const { return task.shape == task::Shape::Sphere; }
 
-  Box bounds() const { return {centre - task.size / 2, centre + task.size / 2}; }
+  // The task's exact bounds, enclosed: outward-rounded (every box split
+  // from it covers the task) and inward-rounded (every point in it is in the task).
+  Interval extent(int k) const { return Interval(centre(k)) + Interval(0.5) * Interval(task.size(k)) * Interval(-1.0, 1.0); }
+  Box bounds() const {
+    Box b;
+    for (int k = 0; k < 3; ++k) b.lo(k) = extent(k).lo, b.hi(k) = extent(k).hi;
+    return b;
+  }
 
   // The box's part inside the task, as a box around it (outward-rounded);
   // nullopt where the box certainly misses the task.
@@ -52,7 +59,7 @@ struct TaskGeometry {
     for (int k = 0; k < 3; ++k) {
       // Along axis k the ball's chord at the box's nearest offset in the other two.
       const Interval other = gap2[(k + 1) % 3] + gap2[(k + 2) % 3];
-      const double half_chord = sqrt(Interval(std::max(0.0, r2.hi - other.lo)) + Interval(0.0)).hi;
+      const double half_chord = sqrt(Interval(std::max(0.0, up(r2.hi - other.lo)))).hi;
       out.lo(k) = std::max(b.lo(k), down(centre(k) - half_chord));
       out.hi(k) = std::min(b.hi(k), up(centre(k) + half_chord));
       if (out.lo(k) > out.hi(k)) return std::nullopt;
@@ -67,8 +74,12 @@ struct TaskGeometry {
       for (int k = 0; k < 3; ++k) d2 += sqr(Interval(p(k)) - Interval(centre(k)));
       return d2.hi <= sqr(Interval(radius())).lo;
     }
-    const Box b = bounds();
-    return (p.array() >= b.lo.array()).all() && (p.array() <= b.hi.array()).all();
+    for (int k = 0; k < 3; ++k) {
+      const Interval lo = Interval(centre(k)) - Interval(0.5) * Interval(task.size(k));
+      const Interval hi = Interval(centre(k)) + Interval(0.5) * Interval(task.size(k));
+      if (!(p(k) >= lo.hi && p(k) <= hi.lo)) return false;
+    }
+    return true;
   }
 
   // The nearest point of the task, a hair inside.

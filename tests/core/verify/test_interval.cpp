@@ -71,6 +71,10 @@ TEST(Interval, RangesOfWideIntervalsHoldEveryPointResult) {
     ASSERT_TRUE(holds(sqr(A), a * a));
     if (B.lo > 0 || B.hi < 0) ASSERT_TRUE(holds(A / B, a / b));
   }
+  // Zero times an unbounded interval: unbounded, not NaN.
+  const Interval z = Interval(0.0) * Interval::entire();
+  EXPECT_EQ(z.lo, -kInf);
+  EXPECT_EQ(z.hi, kInf);
   // Division by an interval holding zero is unbounded, never a wrong finite answer.
   const Interval q = Interval(1.0) / Interval(-1.0, 1.0);
   EXPECT_EQ(q.lo, -kInf);
