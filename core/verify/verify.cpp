@@ -417,7 +417,8 @@ Result verify(const Preset& preset, const task::TaskVolume& task, const std::vec
     result.proved_boxes.clear();
   } else {
     result.verdict = result.undecided_volume > 0 ? Verdict::Undecided : Verdict::Proved;
-    const bool conditioning = std::any_of(criteria.begin(), criteria.end(), [](const auto& c) { return !c.reach(); });
+    const bool conditioning =
+        std::any_of(criteria.begin(), criteria.end(), [](const auto& c) { return !c.reach() && !c.haptic(); });
     if (result.verdict != Verdict::Proved || !conditioning) result.certified_bound.reset();
   }
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -1,6 +1,7 @@
 // Times the certified checks of docs/task-volumes.md ("Certified verdicts")
 // for the 12R with L1 = L2 = L:
 //   verify_bench verify L TASK CRITERION [threads]
+//   verify_bench preset NAME TASK CRITERION [threads]   (any preset, as it is)
 //   verify_bench size LO HI TOLERANCE TASK CRITERION REFERENCE_L [threads]
 // (size: the task's centre is where it is at L = REFERENCE_L, and moves with L.)
 #include <cstdlib>
@@ -24,6 +25,13 @@ int main(int argc, char** argv) {
     verify::write_report(std::cout, r);
     return verify::exit_status(r.verdict);
   }
+  if (mode == "preset" && argc >= 5) {
+    options.threads = argc > 5 ? std::atoi(argv[5]) : 2;
+    const verify::Result r =
+        verify::verify(load_preset(argv[2]), task::parse_task(argv[3]), {task::parse_criterion(argv[4])}, options);
+    verify::write_report(std::cout, r);
+    return verify::exit_status(r.verdict);
+  }
   if (mode == "size" && argc >= 8) {
     options.threads = argc > 8 ? std::atoi(argv[8]) : 2;
     verify::SizingProblem sizing;
@@ -41,6 +49,7 @@ int main(int argc, char** argv) {
     return verify::exit_status(r);
   }
   std::cerr << "usage: verify_bench verify L TASK CRITERION [threads]\n"
+               "       verify_bench preset NAME TASK CRITERION [threads]\n"
                "       verify_bench size LO HI TOLERANCE TASK CRITERION REFERENCE_L [threads]\n";
   return 2;
 }
