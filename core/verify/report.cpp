@@ -57,7 +57,7 @@ json result_json(const Result& r) {
             {"task", r.task},
             {"criteria", r.criteria},
             {"counterexample", r.counterexample ? counterexample_json(*r.counterexample) : json(nullptr)},
-            {"certified_bound", r.certified_bound ? json(*r.certified_bound) : json(nullptr)},
+            {"largest_box_bound", r.largest_box_bound ? json(*r.largest_box_bound) : json(nullptr)},
             {"task_volume", r.task_volume},
             {"proved_volume", r.proved_volume},
             {"undecided_volume", r.undecided_volume},
@@ -82,9 +82,7 @@ void write_report(std::ostream& out, const Result& r) {
       << criteria_text(r.criteria) << "\n";
   switch (r.verdict) {
     case Verdict::Proved:
-      out << "proved: every point of the task meets every criterion";
-      if (r.certified_bound) out << " (certified c(J) <= " << short_number(*r.certified_bound, 8) << ")";
-      out << "\n";
+      out << "proved: every point of the task meets every criterion\n";
       break;
     case Verdict::Disproved:
       out << "disproved: a point of the task fails\n";

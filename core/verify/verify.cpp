@@ -240,7 +240,7 @@ struct Search {
       }
       level = std::move(next);
     }
-    if (bound > 0) result.certified_bound = bound;
+    if (bound > 0) result.largest_box_bound = bound;
     result.timed_out = timed_out;
   }
 };
@@ -413,13 +413,13 @@ Result verify(const Preset& preset, const task::TaskVolume& task, const std::vec
   }
   if (result.counterexample) {
     result.verdict = Verdict::Disproved;
-    result.certified_bound.reset();
+    result.largest_box_bound.reset();
     result.proved_boxes.clear();
   } else {
     result.verdict = result.undecided_volume > 0 ? Verdict::Undecided : Verdict::Proved;
     const bool conditioning =
         std::any_of(criteria.begin(), criteria.end(), [](const auto& c) { return !c.reach() && !c.haptic(); });
-    if (result.verdict != Verdict::Proved || !conditioning) result.certified_bound.reset();
+    if (result.verdict != Verdict::Proved || !conditioning) result.largest_box_bound.reset();
   }
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

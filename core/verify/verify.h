@@ -84,9 +84,11 @@ struct Result {
   std::string task;                     // as core/task.h writes it
   std::vector<std::string> criteria;    // as given
   std::optional<Counterexample> counterexample;
-  // Where proved: a certified bound on the largest c(J) over the task
-  // (below the criterion's threshold); unset without a cond criterion.
-  std::optional<double> certified_bound;
+  // Where proved with a cond criterion: the largest of the boxes' certified
+  // upper bounds on c(J). Below the threshold, and above the task's largest
+  // c(J) by however much the boxes were left wide (boxes are split only
+  // until they prove): not the task's worst value.
+  std::optional<double> largest_box_bound;
   double task_volume = 0;
   double proved_volume = 0;     // of the boxes proved (clipped to the task's bounding boxes)
   double undecided_volume = 0;  // of the boxes left open (an upper bound on the task's part)

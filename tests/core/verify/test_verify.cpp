@@ -107,8 +107,8 @@ TEST(Verify, TheSeedSphereIsProvedAtASizeAboveTheAnswerAndNoProvedBoxHoldsAFaili
   expect_proved_boxes_hold(preset, proved, 3);
   EXPECT_EQ(proved.undecided_volume, 0);
   EXPECT_GE(proved.proved_volume, task.volume());
-  ASSERT_TRUE(proved.certified_bound);
-  EXPECT_LT(*proved.certified_bound, 3);
+  ASSERT_TRUE(proved.largest_box_bound);
+  EXPECT_LT(*proved.largest_box_bound, 3);
 }
 
 TEST(Verify, TheSeedSphereIsDisprovedBelowTheAnswerWithAConfirmedCounterexample) {
@@ -163,7 +163,7 @@ TEST(Verify, HapticCriteriaAreProvedAndDisprovedAroundTheSampledWorst) {
       o.keep_boxes = true;
       const Result proved = verify(preset, task, {task::parse_criterion(text(meets))}, o);
       ASSERT_EQ(proved.verdict, Verdict::Proved) << name << " " << measure;
-      EXPECT_FALSE(proved.certified_bound);  // a bound on c(J) only where c(J) was asked
+      EXPECT_FALSE(proved.largest_box_bound);  // a bound on c(J) only where c(J) was asked
       const std::vector<task::Criterion> check = task::resolve(d, {task::parse_criterion(text(meets))});
       std::mt19937_64 rng(9);
       std::uniform_real_distribution<double> t(0, 1);
