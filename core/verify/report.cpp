@@ -65,6 +65,7 @@ json result_json(const Result& r) {
             {"boxes", r.boxes},
             {"deepest", r.deepest},
             {"timed_out", r.timed_out},
+            {"box_limit", r.box_limit},
             {"seconds", r.seconds}};
   return j;
 }
@@ -91,7 +92,7 @@ void write_report(std::ostream& out, const Result& r) {
     case Verdict::Undecided:
       out << "undecided: no point found failing, but " << short_number(100 * r.undecided_fraction())
           << " % of the task's volume is not proved ("
-          << (r.timed_out ? "time limit reached" : "depth limit reached") << ")\n";
+          << (r.timed_out ? "time limit reached" : r.box_limit ? "too many open boxes" : "depth limit reached") << ")\n";
       break;
   }
   out << "  " << r.boxes << " boxes, " << r.deepest << " bisections deep, " << short_number(r.seconds) << " s\n";

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <mutex>
 #include <numbers>
 #include <sstream>
@@ -163,6 +164,7 @@ struct Search {
 
   std::atomic<bool> stop{false}, timed_out{false};
   std::mutex mutex{};
+  std::exception_ptr failure{};
 
   bool out_of_time() const { return limited && std::chrono::steady_clock::now() > deadline; }
 
@@ -222,12 +224,18 @@ struct Search {
         for (std::int64_t i = 0; i < std::int64_t(level.size()); ++i) {
           if (stop) continue;
           const Open& open = level[std::size_t(i)];
-          if (!out_of_time()) {
-            visit(open, children, proved, undecided, local_bound, proved_boxes, open_boxes);
-          } else if (const std::optional<Box> b = geometry.clip(open.box)) {
-            timed_out = true;
-            undecided += b->volume();
-            if (options.keep_boxes) open_boxes.push_back(*b);
+          try {
+            if (!out_of_time()) {
+              visit(open, children, proved, undecided, local_bound, proved_boxes, open_boxes);
+            } else if (const std::optional<Box> b = geometry.clip(open.box)) {
+              timed_out = true;
+              undecided += b->volume();
+              if (options.keep_boxes) open_boxes.push_back(*b);
+            }
+          } catch (...) {  // an exception must not leave the parallel region
+            std::lock_guard lock(mutex);
+            if (!failure) failure = std::current_exception();
+            stop = true;
           }
         }
         std::lock_guard lock(mutex);
@@ -237,6 +245,17 @@ struct Search {
         bound = std::max(bound, local_bound);
         result.proved_boxes.insert(result.proved_boxes.end(), proved_boxes.begin(), proved_boxes.end());
         result.undecided_boxes.insert(result.undecided_boxes.end(), open_boxes.begin(), open_boxes.end());
+      }
+      if (failure) std::rethrow_exception(failure);
+      if (next.size() > std::size_t(options.max_open_boxes)) {
+        // Memory, not time, would run out first: what is open stays undecided.
+        result.box_limit = true;
+        for (const Open& o : next)
+          if (const std::optional<Box> b = geometry.clip(o.box)) {
+            result.undecided_volume += b->volume();
+            if (options.keep_boxes) result.undecided_boxes.push_back(*b);
+          }
+        break;
       }
       level = std::move(next);
     }
@@ -252,6 +271,8 @@ void check_options(const Options& o) {
   if (o.search_samples < 0)
     throw std::invalid_argument("verify: search samples must be >= 0, got " + std::to_string(o.search_samples));
   if (std::isnan(o.time_limit_seconds)) throw std::invalid_argument("verify: the time limit is not a number");
+  if (o.max_open_boxes < 1)
+    throw std::invalid_argument("verify: the open-box limit must be positive, got " + std::to_string(o.max_open_boxes));
 }
 
 // 2 pi, enclosed (the double nearest it is below it).

@@ -51,6 +51,9 @@ struct Options {
   bool keep_boxes = false;          // keep the proved and undecided boxes (drawing, tests)
   // Samples of the task searched for a counterexample before subdividing.
   int search_samples = 6000;
+  // Boxes one generation may hold (2^24: about 1 GB with their children);
+  // beyond, the open boxes are undecided.
+  std::int64_t max_open_boxes = std::int64_t(1) << 24;
   // The torque the force criteria use.
   haptics::TorqueRating torque = haptics::TorqueRating::Continuous;
 };
@@ -95,7 +98,8 @@ struct Result {
   double undecided_fraction() const { return task_volume > 0 ? std::min(1.0, undecided_volume / task_volume) : 0.0; }
   std::int64_t boxes = 0;       // evaluated
   int deepest = 0;              // bisections of the deepest box evaluated
-  bool timed_out = false;
+  bool timed_out = false;       // open boxes left at the time limit
+  bool box_limit = false;       // open boxes left when a generation outgrew Options::max_open_boxes
   double seconds = 0;
   std::vector<Box> proved_boxes, undecided_boxes;  // with Options::keep_boxes
 };

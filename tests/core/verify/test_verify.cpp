@@ -235,6 +235,14 @@ TEST(Verify, BoxesOpenAtTheDepthLimitAreAnUndecidedVolume) {
   EXPECT_TRUE(timed.timed_out);
   EXPECT_GT(timed.undecided_fraction(), 0);
   EXPECT_LT(timed.seconds, 1.0);
+  // And where a generation outgrows the open-box limit.
+  o.time_limit_seconds = 120;
+  o.max_open_boxes = 1000;
+  const Result crowded = verify(preset_12r(L), task, criteria({"cond<3"}), o);
+  EXPECT_EQ(crowded.verdict, Verdict::Undecided);
+  EXPECT_TRUE(crowded.box_limit);
+  EXPECT_GT(crowded.undecided_fraction(), 0);
+  EXPECT_LT(crowded.boxes, 3000);
 }
 
 TEST(Verify, OneThreadAndTwoGiveTheSameVerdict) {
@@ -261,6 +269,9 @@ TEST(Verify, BadInputIsRefused) {
   EXPECT_THROW(verify(preset, placed, criteria({"cond<3"}), o), std::invalid_argument);
   o = {};
   o.threads = -1;
+  EXPECT_THROW(verify(preset, placed, criteria({"cond<3"}), o), std::invalid_argument);
+  o = {};
+  o.max_open_boxes = 0;
   EXPECT_THROW(verify(preset, placed, criteria({"cond<3"}), o), std::invalid_argument);
   // What has no enclosure says so: a haptic criterion, another device.
   EXPECT_THROW(verify(preset, placed, criteria({"force_max>1"})), Uncertifiable);
