@@ -109,6 +109,7 @@ void write_report(std::ostream& out, const SizingResult& s) {
         << "]: proved at " << short_number(*s.proved_at) << "; disproved at " << short_number(*s.disproved_at);
     const Counterexample& ce = *s.disproved->counterexample;
     out << " by " << point_text(ce.point) << ", " << ce.reason << "\n";
+    out << "  the task there: " << s.proved->task << " (proved), " << s.disproved->task << " (disproved)\n";
     if (!s.bracketed()) out << "  the bracket is wider than the tolerance: a design between was undecided\n";
   } else if (s.proved_at) {
     out << "proved at " << short_number(*s.proved_at) << ", but the lower bound was not disproved\n";

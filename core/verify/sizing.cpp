@@ -13,7 +13,8 @@ Result verify_design(const SizingProblem& problem, double value) {
   Preset preset = problem.preset;
   for (const std::string& name : problem.variable.parameters) preset.parameters[name] = value;
   task::TaskVolume task = problem.task;
-  if (problem.centre_scales_from) task.centre = *task.centre * (value / *problem.centre_scales_from);
+  if (problem.centre_at) task.centre = problem.centre_at(value);
+  else if (problem.centre_scales_from) task.centre = *task.centre * (value / *problem.centre_scales_from);
   Result r = verify(preset, task, problem.criteria, problem.options, problem.branch);
   r.proved_boxes.clear();
   r.undecided_boxes.clear();
@@ -33,7 +34,8 @@ SizingResult size(const SizingProblem& problem, const std::function<void(const S
     throw std::invalid_argument("certified sizing: the tolerance must be positive, got " +
                                 std::to_string(problem.tolerance));
   fit::check_bounds({v}, "certified sizing");
-  if (!problem.task.centre) throw std::invalid_argument("certified sizing: the task needs its centre (,centre=x,y,z)");
+  if (!problem.task.centre && !problem.centre_at)
+    throw std::invalid_argument("certified sizing: the task needs its centre (,centre=x,y,z) or a placement");
   if (problem.centre_scales_from && !(*problem.centre_scales_from > 0 && std::isfinite(*problem.centre_scales_from)))
     throw std::invalid_argument("certified sizing: the centre's reference value must be positive, got " +
                                 std::to_string(*problem.centre_scales_from));
@@ -67,6 +69,20 @@ SizingResult size(const SizingProblem& problem, const std::function<void(const S
     if (step(mid).verdict == Verdict::Undecided) break;
   }
   return finish();
+}
+
+std::function<Eigen::Vector3d(double)> placement_by_fit(const fit::Problem& problem) {
+  if (problem.variables.size() != 1)
+    throw std::invalid_argument("certified sizing sizes one variable (parameters held equal count as one), got " +
+                                std::to_string(problem.variables.size()));
+  if (problem.task.centre) throw std::invalid_argument("certified sizing: placement by fit needs a task without a centre");
+  return [problem](double value) {
+    const std::optional<fit::Row> row = fit::evaluate(problem, {value});
+    if (!row || !row->invalid.empty())
+      throw std::invalid_argument("certified sizing: no placement for " + problem.variables[0].name() + " = " +
+                                  std::to_string(value) + (row ? ": " + row->invalid : ""));
+    return Eigen::Vector3d(row->centre);
+  };
 }
 
 int exit_status(const SizingResult& r) {

@@ -137,7 +137,17 @@ struct SizingProblem {
   // each design is checked with the task where a placement at its own size
   // puts it. Unset: the centre stays.
   std::optional<double> centre_scales_from;
+  // Set: the task's centre for the design with the variable at `value`
+  // (e.g. placement_by_fit), overriding the two above; the task's own
+  // centre may then be unset. Each design's result names its centre.
+  std::function<Eigen::Vector3d(double value)> centre_at;
 };
+
+// The centre `fit` places a free-centre task at for each design of a
+// one-variable problem (fit::evaluate: the largest inscribed sphere or box;
+// where none is found, the device's default box's centre). Throws
+// std::invalid_argument unless the problem has one variable and no centre.
+std::function<Eigen::Vector3d(double value)> placement_by_fit(const fit::Problem& problem);
 
 struct SizingStep {
   double value = 0;  // of the variable

@@ -290,6 +290,14 @@ TEST(Verify, BadInputIsRefused) {
   s.tolerance = 0.1;
   s.centre_scales_from = -1;
   EXPECT_THROW(size(s), std::invalid_argument);
+  fit::Problem placement;
+  placement.preset = preset;
+  placement.variables = {s.variable, {{"L2"}, 1, 2}};
+  placement.task = task::parse_task("sphere:diameter=5");
+  EXPECT_THROW(placement_by_fit(placement), std::invalid_argument);  // two variables
+  placement.variables.pop_back();
+  placement.task = placed;
+  EXPECT_THROW(placement_by_fit(placement), std::invalid_argument);  // a centre given
 }
 
 TEST(Verify, EachVerdictHasItsOwnExitStatus) {
@@ -342,6 +350,25 @@ TEST(CertifiedSizing, BracketsTheSmallestDesignBetweenAProvedAndADisprovedOne) {
   std::ostringstream text;
   write_report(text, r);
   EXPECT_NE(text.str().find("proved at"), std::string::npos);
+  // Placed by fit at each design instead: the bracket holds, and each
+  // design's task sits where fit::evaluate places it.
+  fit::Problem placement;
+  placement.preset = s.preset;
+  placement.variables = {s.variable};
+  placement.task = task::parse_task("sphere:diameter=" + std::to_string(15 / 12.268798828125));
+  placement.criteria = s.criteria;
+  placement.inscribed.resolution = 32;
+  SizingProblem placed = s;
+  placed.centre_at = placement_by_fit(placement);
+  placed.variable.lo = 0.9, placed.variable.hi = 1.2;
+  placed.tolerance = 0.05;
+  const SizingResult by_fit = size(placed);
+  ASSERT_TRUE(by_fit.bracketed());
+  for (const SizingStep& step : by_fit.steps) {
+    task::TaskVolume expected = placement.task;
+    expected.centre = fit::evaluate(placement, {step.value})->centre;
+    EXPECT_EQ(step.result.task, task::to_text(expected));
+  }
   // Too small an upper bound: disproved throughout.
   s.variable = {{"L1", "L2"}, 0.8, 0.9};
   const SizingResult none = size(s);
