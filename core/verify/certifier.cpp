@@ -42,13 +42,18 @@ std::optional<Interval> angle_enclosure(Interval c, Interval s) {
   return Interval(lo - kAngleMargin, hi + kAngleMargin);
 }
 
-// The shifts by whole turns that may bring an angle into a range.
-std::vector<double> turns(bool wraps) { return wraps ? std::vector<double>{-2 * kPi, 0.0, 2 * kPi} : std::vector<double>{0.0}; }
+// The shifts by whole turns that may bring angles `a` into a range (any
+// number of turns away: ranges may lie anywhere, e.g. 300 to 400 deg).
+std::vector<double> turns(bool wraps, const Interval& a, const Range& range) {
+  if (!wraps) return {0.0};
+  const double base = 2 * kPi * std::round((0.5 * (range.lo + range.hi) - a.mid()) / (2 * kPi));
+  return {base - 2 * kPi, base, base + 2 * kPi};
+}
 
 bool certainly_within(Interval c, Interval s, const Range& range, bool wraps) {
   const std::optional<Interval> a = angle_enclosure(c, s);
   if (!a) return false;
-  for (double shift : turns(wraps))
+  for (double shift : turns(wraps, *a, range))
     if (a->lo + shift >= range.lo + kAngleMargin && a->hi + shift <= range.hi - kAngleMargin) return true;
   return false;
 }
@@ -57,15 +62,18 @@ bool certainly_outside(Interval c, Interval s, const Range& range, bool wraps) {
   const std::optional<Interval> a = angle_enclosure(c, s);
   if (!a) return false;
   // Without wrapping the device's angle is in (-pi, pi]: an enclosure around pi is both ends.
-  const std::vector<double> shifts = wraps || a->hi > kPi ? turns(true) : turns(false);
+  const std::vector<double> shifts = turns(wraps || a->hi > kPi, *a, range);
   for (double shift : shifts)
     if (a->hi + shift >= range.lo - kAngleMargin && a->lo + shift <= range.hi + kAngleMargin) return false;
   return true;
 }
 
-bool full_turns(const std::array<Range, 3>& ranges, const std::array<Range, 3>& full) {
+// Whether no range cuts the workspace: each holds `full` (or, where angles
+// wrap, spans a whole turn).
+bool full_turns(const std::array<Range, 3>& ranges, const std::array<Range, 3>& full, bool wraps) {
   for (int k = 0; k < 3; ++k)
-    if (ranges[k].lo > full[k].lo || ranges[k].hi < full[k].hi) return false;
+    if ((ranges[k].lo > full[k].lo || ranges[k].hi < full[k].hi) && !(wraps && ranges[k].hi - ranges[k].lo >= 2 * kPi))
+      return false;
   return true;
 }
 
@@ -260,7 +268,7 @@ Certifier Certifier::from_preset(const Preset& preset, int branch, double cond_b
     c.L1 = m.L1, c.L2 = m.L2;
     c.ranges = {Range{m.alpha_limits.lo, m.alpha_limits.hi}, Range{m.beta_limits.lo, m.beta_limits.hi},
                 Range{m.gamma_limits.lo, m.gamma_limits.hi}};
-    c.check_ranges = !full_turns(c.ranges, {Range{-kPi / 2, kPi / 2}, Range{-kPi, kPi}, Range{-kPi, kPi}});
+    c.check_ranges = !full_turns(c.ranges, {Range{-kPi / 2, kPi / 2}, Range{-kPi, kPi}, Range{-kPi, kPi}}, false);
     return c;
   }
   if (preset.mechanism == delta::kMechanismName) {
@@ -273,7 +281,7 @@ Certifier Certifier::from_preset(const Preset& preset, int branch, double cond_b
     c.delta = {m.R, m.r, m.La, m.Lb, branch};
     for (int k = 0; k < 3; ++k) c.ranges[k] = {m.q_limits[k].lo, m.q_limits[k].hi};
     c.wraps = true;
-    c.check_ranges = !full_turns(c.ranges, {Range{-kPi, kPi}, Range{-kPi, kPi}, Range{-kPi, kPi}});
+    c.check_ranges = !full_turns(c.ranges, {Range{-kPi, kPi}, Range{-kPi, kPi}, Range{-kPi, kPi}}, true);
     return c;
   }
   throw Uncertifiable("verify: '" + preset.mechanism +

@@ -150,6 +150,28 @@ TEST(VerifyCertifier, TheDeltaBoxBoundsHoldAtEveryPointAndNeverSpanTheWorkspaceE
   check_boxes(full, 6, Vector3d(-16, -16, -27), Vector3d(16, 16, 2), 1e6, 7);
 }
 
+// The Delta counts an angle inside a range if some turn of it is: ranges a
+// turns away (675 to 810 deg for -45 to 90) certify the same boxes.
+TEST(VerifyCertifier, TheDeltaRangesAreTheSameWholeTurnsAway) {
+  const Preset preset = load_preset("delta");
+  Preset turned = preset;
+  for (auto& [name, range] : turned.limits_deg) range = {range.lo + 720, range.hi + 720};
+  const Certifier a = Certifier::from_preset(preset, 0, 1e6), b = Certifier::from_preset(turned, 0, 1e6);
+  std::mt19937_64 rng(13);
+  std::uniform_real_distribution<double> u(-10, 10), h(-22, -8), w(-9, -4);
+  int bounded = 0;
+  for (int n = 0; n < 3000; ++n) {
+    const Vector3d lo(u(rng), u(rng), h(rng));
+    const Vector3d hi = lo + 25 * Vector3d(std::exp2(w(rng)), std::exp2(w(rng)), std::exp2(w(rng)));
+    const std::optional<double> x = a.condition_bound(lo, hi), y = b.condition_bound(lo, hi);
+    ASSERT_EQ(x.has_value(), y.has_value()) << lo.transpose();
+    bounded += x.has_value();
+    const Vector3d p = 0.5 * (lo + hi);
+    ASSERT_EQ(a.certain_failure(p).has_value(), b.certain_failure(p).has_value()) << p.transpose();
+  }
+  EXPECT_GT(bounded, 1000);
+}
+
 // A force_iso or resolution bound on J's columns, with the threshold at the
 // median over random boxes near the home: bounded boxes meet it at every
 // sampled point, for the device and in long double; both outcomes occur.
