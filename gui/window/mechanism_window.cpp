@@ -74,10 +74,6 @@ constexpr double kDeg = kPi / 180.0;
 constexpr int kMaxWindowSide = 8192;
 constexpr int kSliderSteps = 1000;
 constexpr int kPositionSteps = 400;
-// While dragging or animating, one step may move an actuator at most this
-// much; a larger jump means the same branch continues on the other side of
-// a singular set, which would make the device jump.
-constexpr double kMaxTrackingStep = 0.6;  // rad
 
 QString qs(const std::string& s) { return QString::fromStdString(s); }
 QString number(double v, int precision = 4) { return QString::number(v, 'g', precision); }
@@ -97,14 +93,6 @@ QString value_text(const Quantity& q, double v) {
   return QString("%1 = %2%3").arg(qs(q.name), fixed(v * display_scale(q), q.unit == "rad" || q.unit == "deg" ? 1 : 3),
                                   display_suffix(q));
 }
-
-double angle_distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
-  double d = 0;
-  for (Eigen::Index k = 0; k < a.size(); ++k) d = std::max(d, std::abs(std::remainder(a(k) - b(k), 2 * kPi)));
-  return d;
-}
-
-QString status_text(Status s, const std::string& text = {}) { return qs(text.empty() ? std::string(to_string(s)) : text); }
 
 // The preset's file as the watcher and the error panel name it; empty for a
 // preset not read from a file.
@@ -229,53 +217,16 @@ bool same_camera(const CameraState& a, const CameraState& b) {
          (a.view_up - b.view_up).norm() <= 1e-9 && std::abs(a.view_angle - b.view_angle) <= 1e-9;
 }
 
-// The branch of actuators q at task x: the IK solution nearest to q, or `fallback`.
-int branch_of(const Mechanism& m, const Eigen::VectorXd& q, const Eigen::VectorXd& x, int fallback) {
-  if (m.info().branches.size() <= 1) return 0;
-  IkOptions o;
-  o.seed = q;
-  IkResult r;
-  try {
-    r = m.inverse(x, o);
-  } catch (const std::invalid_argument&) {
-    return fallback;
-  }
-  int best = fallback;
-  double nearest = INFINITY;
-  for (const IkSolution& s : r.solutions)
-    if (s.status == Status::Ok && angle_distance(s.q, q) < nearest) {
-      nearest = angle_distance(s.q, q);
-      best = s.branch;
-    }
-  return best;
-}
-
-// A failing part as the status says it: "leg 3" from the column
-// "failing_leg" and the part "3"; a part named "leg 3" in its file already
-// says what it is.
-QString part_label(const MechanismInfo& info, const std::string& part) {
-  std::string column = info.eval_columns.ik_failing_part;
-  const std::string prefix = "failing_";
-  if (column.rfind(prefix, 0) == 0) column = column.substr(prefix.size());
-  const QString kind = column.empty() ? QObject::tr("part") : qs(column);
-  return qs(part).startsWith(kind + " ") ? qs(part) : kind + " " + qs(part);
-}
-
 }  // namespace
 
 // ---- Construction ------------------------------------------------------------
 
 MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
     : QMainWindow(parent),
-      preset_(preset),
-      mechanism_(make_mechanism(preset)),
+      state_(preset),
       scene_(std::make_unique<render::SkeletonScene>()),
       field_scene_(std::make_unique<render::FieldScene>()),
       task_scene_(std::make_unique<render::TaskScene>()) {
-  q_ = mechanism_->home_actuators();
-  x_ = mechanism_->home_task();
-  branch_ = branch_of(*mechanism_, q_, x_, 0);
-
   view_ = new VtkWidget(this);
   // A preset that fails to load is reported above the view, where it is seen.
   auto* centre = new QWidget(this);
@@ -288,7 +239,7 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   setCentralWidget(centre);
   connect(error_panel_, &ErrorPanel::reloadRequested, this, [this](const QString& path) {
     // The file that failed: this device's own preset is reloaded, another one opened.
-    if (path == preset_file(preset_)) reloadMechanism();
+    if (path == preset_file(state_.preset())) reloadMechanism();
     else openMechanismFile(path);
   });
   vtkNew<render::SceneRenderer> renderer;
@@ -307,7 +258,7 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   legend_ = legend;
   placeLegend();
   view_->installEventFilter(this);
-  scene_->set_model(mechanism_->skeleton_model());
+  scene_->set_model(state_.mechanism().skeleton_model());
   // Translucent props blend in the order they were added (render/scene_renderer.h):
   // the fields first, the task volume, then the device (its joint labels last).
   field_scene_->add_to(renderer_, legend_);
@@ -374,7 +325,7 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   tabifyDockWidget(drive, animation);
   tabifyDockWidget(drive, task);
   tabifyDockWidget(drive, fit);
-  methods_ = add_methods_dock(this, preset_, drive);
+  methods_ = add_methods_dock(this, state_.preset(), drive);
   drive->raise();
   QTimer::singleShot(0, this, [this, drive] { resizeDocks({drive}, {std::max(drive->width(), 440)}, Qt::Horizontal); });
   history_ = new SessionHistory([this] { return session(); }, [this](const Session& s) { applySession(s); }, this);
@@ -399,7 +350,7 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   // Neither the drive nor the layout is remembered, so screenshots are reproducible.
   rebuildRecentMenu();
   setDrive(Drive::Task);
-  accept(q_, x_, branch_);
+  showPose(state_.task(), state_.branch());
   requestFields(true, true);
   history_->reset({});
   connect(history_, &SessionHistory::modifiedChanged, this, &MechanismWindow::updateTitle);
@@ -416,7 +367,7 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   reload_timer_->setInterval(200);  // an editor's save is several changes
   connect(preset_watcher_, &QFileSystemWatcher::fileChanged, reload_timer_, qOverload<>(&QTimer::start));
   connect(preset_watcher_, &QFileSystemWatcher::directoryChanged, this, [this] {
-    const QString file = preset_file(preset_);
+    const QString file = preset_file(state_.preset());
     if (!preset_watcher_->files().contains(file) && QFileInfo::exists(file)) reload_timer_->start();
   });
   connect(reload_timer_, &QTimer::timeout, this, [this] {
@@ -431,7 +382,7 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
 }
 
 void MechanismWindow::watchPresetFile() {
-  const QString file = preset_file(preset_);
+  const QString file = preset_file(state_.preset());
   if (file.isEmpty()) return;
   if (QFileInfo::exists(file) && !preset_watcher_->files().contains(file)) preset_watcher_->addPath(file);
   const QString folder = QFileInfo(file).absolutePath();
@@ -443,7 +394,7 @@ void MechanismWindow::noteChange() {
 }
 
 void MechanismWindow::updateTitle() {
-  const QString device = qs(preset_.title.empty() ? mechanism_->info().title : preset_.title);
+  const QString device = qs(state_.preset().title.empty() ? state_.mechanism().info().title : state_.preset().title);
   const QString document = history_ && !history_->path().isEmpty() ? QFileInfo(history_->path()).fileName() : tr("Untitled");
   // [*] is where Qt shows the modified mark.
   setWindowTitle(QString("%1[*] — %2 — Linkscape").arg(document, device));
@@ -492,7 +443,7 @@ QImage MechanismWindow::viewImage(int width, int height) {
 }
 
 void MechanismWindow::fitCamera() {
-  scene_->reset_camera(renderer_, view_box(*mechanism_));
+  scene_->reset_camera(renderer_, view_box(state_.mechanism()));
   fitted_camera_ = camera_state(renderer_);
 }
 
@@ -504,30 +455,17 @@ MechanismWindow::~MechanismWindow() {
   if (vtkInteractorObserver* style = view_->interactor()->GetInteractorStyle()) style->RemoveObserver(camera_callback_);
 }
 
-bool MechanismWindow::takesLimits() const {
-  // A device takes actuator limits where its factory accepts them.
-  Preset p = preset_;
-  for (const Quantity& a : mechanism_->info().actuators)
-    if (!p.limits_deg.count(a.name)) p.limits_deg[a.name] = {a.range.lo / kDeg, a.range.hi / kDeg};
-  try {
-    make_mechanism(p);
-    return true;
-  } catch (const std::invalid_argument&) {
-    return false;
-  }
-}
-
 // ---- Panels -----------------------------------------------------------------
 
 QWidget* MechanismWindow::buildDesignPanel() {
   auto* w = new QWidget;
   auto* form = new QFormLayout(w);
-  form->addRow(tr("Preset"), make_preset_chooser(this, preset_));
-  auto* title = new QLabel(qs(mechanism_->info().title), w);
+  form->addRow(tr("Preset"), make_preset_chooser(this, state_.preset()));
+  auto* title = new QLabel(qs(state_.mechanism().info().title), w);
   title->setWordWrap(true);
   form->addRow(title);
   // Ranges come from the preset's device and stay while the design changes.
-  for (const Quantity& q : mechanism_->info().parameters) {
+  for (const Quantity& q : state_.mechanism().info().parameters) {
     if (!q.in_panel) continue;
     const std::string name = q.name;
     parameter_controls_.push_back(make_control(w, form, q, [this, name] {
@@ -535,10 +473,10 @@ QWidget* MechanismWindow::buildDesignPanel() {
         if (c->quantity.name == name) setParameters({{name, c->value()}});
     }));
   }
-  if (takesLimits()) {
+  if (state_.takes_limits()) {
     auto* grid = new QGridLayout;
     int row = 0;
-    for (const Quantity& a : mechanism_->info().actuators) {
+    for (const Quantity& a : state_.mechanism().info().actuators) {
       grid->addWidget(new QLabel(qs(a.name), w), row, 0);
       for (int k = 0; k < 2; ++k) {
         auto* box = spin(w, -360, 360, (k == 0 ? a.range.lo : a.range.hi) / kDeg, 1, QString::fromUtf8(" °"));
@@ -560,7 +498,7 @@ QWidget* MechanismWindow::buildDesignPanel() {
 }
 
 QWidget* MechanismWindow::buildDrivePanel() {
-  const MechanismInfo& info = mechanism_->info();
+  const MechanismInfo& info = state_.mechanism().info();
   auto* w = new QWidget;
   auto* column = new QVBoxLayout(w);
   auto* top = new QFormLayout;
@@ -585,10 +523,10 @@ QWidget* MechanismWindow::buildDrivePanel() {
   auto* task_form = new QFormLayout(task_group_);
   for (std::size_t k = 0; k < info.task.size(); ++k)
     task_controls_.push_back(make_control(task_group_, task_form, info.task[k], [this, k] {
-      Eigen::VectorXd x = x_;
+      Eigen::VectorXd x = state_.task();
       x(Eigen::Index(k)) = task_controls_[k]->value();
       if (drive_ == Drive::Task) setTask(x);
-      else setActuators(q_, x);  // an FK input (e.g. a grip) changed
+      else setActuators(state_.actuators(), x);  // an FK input (e.g. a grip) changed
     }));
   column->addWidget(task_group_);
   const auto drags_pose = [this](const QuantityControl& c) {
@@ -600,7 +538,7 @@ QWidget* MechanismWindow::buildDrivePanel() {
   auto* actuator_form = new QFormLayout(actuator_group_);
   for (std::size_t k = 0; k < info.actuators.size(); ++k)
     actuator_controls_.push_back(make_control(actuator_group_, actuator_form, info.actuators[k], [this, k] {
-      Eigen::VectorXd q = q_;
+      Eigen::VectorXd q = state_.actuators();
       q(Eigen::Index(k)) = actuator_controls_[k]->value();
       setActuators(q);
     }));
@@ -656,7 +594,7 @@ QWidget* MechanismWindow::buildDrivePanel() {
 }
 
 QWidget* MechanismWindow::buildFieldPanel() {
-  const MechanismInfo& info = mechanism_->info();
+  const MechanismInfo& info = state_.mechanism().info();
   const FieldChoices choices = field_choices(info);
   auto* w = new QWidget;
   auto* form = new QFormLayout(w);
@@ -691,7 +629,7 @@ QWidget* MechanismWindow::buildFieldPanel() {
   normal_box_->setObjectName("normalBox");
   normal_box_->addItems({"x", "y", "z"});
   // The device's own first plane (a planar device's is its plane of motion).
-  normal_box_->setCurrentIndex(int(mechanism_->default_slice_plane(mechanism_->home_task()).first));
+  normal_box_->setCurrentIndex(int(state_.mechanism().default_slice_plane(state_.mechanism().home_task()).first));
   normal_box_->setToolTip(tr("The axis the slice plane is normal to"));
   form->addRow(tr("Slice normal"), normal_box_);
   position_slider_ = new QSlider(Qt::Horizontal, w);
@@ -833,7 +771,7 @@ QWidget* MechanismWindow::buildAnimationPanel() {
                        tr("Line through the driven point (slice's first axis)")});
   path_box_->setToolTip(tr("The path the driven point follows while playing"));
   form->addRow(tr("Path"), path_box_);
-  amplitude_box_ = spin(w, 0.0, 1e4, 0.15 * mechanism_->size(), 2, " " + qs(mechanism_->info().length_unit));
+  amplitude_box_ = spin(w, 0.0, 1e4, 0.15 * state_.mechanism().size(), 2, " " + qs(state_.mechanism().info().length_unit));
   amplitude_box_->setObjectName("amplitudeBox");
   amplitude_box_->setToolTip(tr("Radius of the circle or half-length of the line"));
   form->addRow(tr("Size"), amplitude_box_);
@@ -878,9 +816,9 @@ void MechanismWindow::buildMenus() {
   file->addSeparator();
   const QKeySequence open_mechanism_key(Qt::CTRL | Qt::SHIFT | Qt::Key_O);
   QAction* open_mechanism = file->addAction(tr("Open &mechanism…"), open_mechanism_key, this, [this] {
-    const QString folder = preset_.source.empty()
+    const QString folder = state_.preset().source.empty()
                                ? QStandardPaths::writableLocation(QStandardPaths::DocumentsLocation)
-                               : QFileInfo(preset_file(preset_)).absolutePath();
+                               : QFileInfo(preset_file(state_.preset())).absolutePath();
     const QString path =
         QFileDialog::getOpenFileName(this, tr("Open mechanism"), folder, tr("Mechanism preset (*.json)"));
     if (!path.isEmpty()) openMechanismFile(path);
@@ -978,122 +916,52 @@ bool MechanismWindow::maybeSave() {
 // ---- Pose ---------------------------------------------------------------------
 
 bool MechanismWindow::setTask(const Eigen::VectorXd& x, bool tracking) {
-  const MechanismInfo& info = mechanism_->info();
-  if (x.size() != Eigen::Index(info.task.size()) || !x.allFinite())
-    return refuse(tr("The target is not %1 finite task coordinates.").arg(info.task.size()));
-  IkOptions o;
-  o.seed = q_;
-  if (info.branches.size() > 1) o.branch = branch_;
-  IkResult r;
-  try {
-    r = mechanism_->inverse(x, o);
-  } catch (const std::invalid_argument& e) {
-    return refuse(qs(e.what()));
-  }
-  const IkSolution* s = nullptr;
-  for (const IkSolution& c : r.solutions)
-    if (c.branch == branch_) s = &c;
-  if (!s || s->status != Status::Ok) {
-    QString why = status_text(s ? s->status : r.status, s ? std::string() : r.status_text);
-    if (!r.failing_part.empty()) why = QString("%1: %2").arg(part_label(info, r.failing_part), why);
-    if ((s ? s->status : r.status) == Status::Singular && s) {
-      const SingularityReport near = mechanism_->nearest_singularity(s->q, x);
-      why += tr(" (on the %1)").arg(qs(info.singular_sets.at(near.nearest).title));
-    }
-    if (info.branches.size() > 1) why += tr(" in branch %1").arg(branch_);
-    return refuse(why + tr("; the device stays at the last valid pose"), &r);
-  }
-  if (tracking && angle_distance(s->q, q_) > kMaxTrackingStep)
-    return refuse(tr("jump: reaching this target would make the device jump (it lies across a singular set); "
-                     "move through the workspace instead"));
-  accept(s->q, x, branch_);
-  return true;
+  return settle([&] { return state_.set_task(x, tracking); });
 }
 
 bool MechanismWindow::moveEndpointTo(const Eigen::Vector3d& target, int branch) {
-  Eigen::VectorXd x = x_;
-  x.head<3>() = target;
-  if (branch < 0) return setTask(x, true);
-  if (branch >= int(mechanism_->info().branches.size())) return refuse(tr("There is no branch %1.").arg(branch));
-  const int kept = branch_;
-  branch_ = branch;
-  if (setTask(x, false)) return true;
-  branch_ = kept;
-  syncPanels();
+  if (settle([&] { return state_.move_endpoint_to(target, branch); })) return true;
+  syncPanels();  // the branch box shows the branch in force
   return false;
 }
 
 bool MechanismWindow::setActuators(const Eigen::VectorXd& q, const std::optional<Eigen::VectorXd>& task_inputs) {
-  const MechanismInfo& info = mechanism_->info();
-  if (q.size() != Eigen::Index(info.actuators.size()) || !q.allFinite())
-    return refuse(tr("The actuators need %1 finite values.").arg(info.actuators.size()));
-  FkOptions o;
-  Eigen::VectorXd seed = x_;
-  if (task_inputs)
-    for (const std::string& name : info.fk_inputs)
-      for (std::size_t k = 0; k < info.task.size(); ++k)
-        if (info.task[k].name == name) seed(Eigen::Index(k)) = (*task_inputs)(Eigen::Index(k));
-  o.seed = seed;
-  FkResult r;
-  try {
-    r = mechanism_->forward(q, o);
-  } catch (const std::invalid_argument& e) {
-    return refuse(qs(e.what()));
-  }
-  if (r.status != Status::Ok)
-    return refuse(tr("FK %1 after %2 iterations (residual %3); the device stays at the last valid pose")
-                      .arg(status_text(r.status, r.status_text))
-                      .arg(r.iterations)
-                      .arg(number(r.residual, 2)));
-  // The pose FK found must assemble: its IK names a failing part if not.
-  IkOptions check;
-  check.seed = q;
-  IkResult ik;
-  try {
-    ik = mechanism_->inverse(r.x, check);
-  } catch (const std::invalid_argument& e) {
-    return refuse(qs(e.what()));
-  }
-  if (ik.status != Status::Ok && !ik.failing_part.empty())
-    return refuse(QString("%1: %2 at the FK pose; the device stays at the last valid pose")
-                      .arg(part_label(info, ik.failing_part), status_text(ik.status, ik.status_text)),
-                  &ik);
-  accept(q, r.x, branch_of(*mechanism_, q, r.x, branch_));
-  return true;
+  return settle([&] { return state_.set_actuators(q, task_inputs); });
 }
 
-bool MechanismWindow::refuse(const QString& why, const IkResult* failed) {
-  refusal_ = why;
-  failing_part_ = failed ? qs(failed->failing_part) : QString();
-  status_label_->setText(why);
+bool MechanismWindow::settle(const std::function<bool()>& change) {
+  const Eigen::VectorXd x_before = state_.task();
+  const int branch_before = state_.branch();
+  if (change()) {
+    showPose(x_before, branch_before);
+    return true;
+  }
+  status_label_->setText(refusal());
   status_label_->setStyleSheet("color: #b00020");
-  drawPose(failed);
+  drawPose(state_.failed());
   view_->requestRender();
   return false;
 }
 
-void MechanismWindow::accept(const Eigen::VectorXd& q, const Eigen::VectorXd& x, int branch) {
-  const bool fixed_changed = x_.size() != x.size() || (x_.tail(x.size() - 3) - x.tail(x.size() - 3)).norm() > 1e-12;
-  const bool moved = x_.size() != x.size() || (x_.head<3>() - x.head<3>()).norm() > 1e-12;
-  const bool branch_changed = branch != branch_;
-  q_ = q;
-  x_ = x;
-  branch_ = branch;
-  refusal_.clear();
-  failing_part_.clear();
+void MechanismWindow::showPose(const Eigen::VectorXd& x_before, int branch_before) {
+  const Eigen::VectorXd& x = state_.task();
+  const bool fixed_changed =
+      x_before.size() != x.size() || (x_before.tail(x.size() - 3) - x.tail(x.size() - 3)).norm() > 1e-12;
+  const bool moved = x_before.size() != x.size() || (x_before.head<3>() - x.head<3>()).norm() > 1e-12;
+  const bool branch_changed = state_.branch() != branch_before;
   status_label_->setText(tr("ok"));
   status_label_->setStyleSheet("color: #1b5e20");
   drawPose();
   syncPanels();
   updateReadouts();
   placeHandle();
-  task_panel_->setDevice(mechanism_, preset_, x_);  // its read-outs follow the design and the held pose
-  fit_panel_->setDevice(preset_, x_);                 // the next Run holds this design's other parameters
+  task_panel_->setDevice(state_.shared_mechanism(), state_.preset(), state_.task());  // its read-outs follow the design and the held pose
+  fit_panel_->setDevice(state_.preset(), state_.task());                 // the next Run holds this design's other parameters
   // Fields depend on the fixed task coordinates and the branch; the slice
   // also on the driven point while it follows it.
   if (branch_changed) {
     const QSignalBlocker block(field_branch_box_);
-    field_branch_box_->setCurrentIndex(branch_);
+    field_branch_box_->setCurrentIndex(state_.branch());
   }
   if (fixed_changed || branch_changed) requestFields(true, true);
   else if (moved && follow_box_ && follow_box_->isChecked()) requestFields(true, false);
@@ -1104,7 +972,7 @@ void MechanismWindow::accept(const Eigen::VectorXd& q, const Eigen::VectorXd& x,
 
 void MechanismWindow::drawPose(const IkResult* failed) {
   try {
-    scene_->set_pose(mechanism_->skeleton_pose(q_, x_, failed));
+    scene_->set_pose(state_.mechanism().skeleton_pose(state_.actuators(), state_.task(), failed));
   } catch (const std::invalid_argument& e) {
     statusBar()->showMessage(qs(e.what()), 8000);
   }
@@ -1124,7 +992,7 @@ void MechanismWindow::setDrive(Drive drive) {
     const QSignalBlocker block(drive_box_);
     drive_box_->setCurrentIndex(fk ? 1 : 0);
   }
-  const auto& inputs = mechanism_->info().fk_inputs;
+  const auto& inputs = state_.mechanism().info().fk_inputs;
   // The panel that drives is shown; the other one's values are in the read-outs.
   bool any_task = false;
   for (const auto& c : task_controls_) {
@@ -1138,18 +1006,18 @@ void MechanismWindow::setDrive(Drive drive) {
 }
 
 void MechanismWindow::syncPanels() {
-  for (std::size_t k = 0; k < task_controls_.size(); ++k) task_controls_[k]->set(x_(Eigen::Index(k)));
-  for (std::size_t k = 0; k < actuator_controls_.size(); ++k) actuator_controls_[k]->set(q_(Eigen::Index(k)));
+  for (std::size_t k = 0; k < task_controls_.size(); ++k) task_controls_[k]->set(state_.task()(Eigen::Index(k)));
+  for (std::size_t k = 0; k < actuator_controls_.size(); ++k) actuator_controls_[k]->set(state_.actuators()(Eigen::Index(k)));
   const QSignalBlocker block(branch_box_);
-  branch_box_->setCurrentIndex(branch_);
+  branch_box_->setCurrentIndex(state_.branch());
 }
 
 void MechanismWindow::syncRanges() {
-  const MechanismInfo& info = mechanism_->info();
+  const MechanismInfo& info = state_.mechanism().info();
   for (std::size_t k = 0; k < task_controls_.size(); ++k) task_controls_[k]->set_range(info.task[k].range);
   for (std::size_t k = 0; k < actuator_controls_.size(); ++k) actuator_controls_[k]->set_range(info.actuators[k].range);
   for (const auto& c : parameter_controls_) {
-    const auto p = mechanism_->parameters();
+    const auto p = state_.mechanism().parameters();
     if (p.count(c->quantity.name)) c->set(p.at(c->quantity.name));
   }
   for (const Quantity& a : info.actuators) {
@@ -1163,11 +1031,11 @@ void MechanismWindow::syncRanges() {
 }
 
 void MechanismWindow::updateReadouts() {
-  const MechanismInfo& info = mechanism_->info();
+  const MechanismInfo& info = state_.mechanism().info();
   QStringList task, actuators;
-  for (std::size_t k = 0; k < info.task.size(); ++k) task << value_text(info.task[k], x_(Eigen::Index(k)));
+  for (std::size_t k = 0; k < info.task.size(); ++k) task << value_text(info.task[k], state_.task()(Eigen::Index(k)));
   for (std::size_t k = 0; k < info.actuators.size(); ++k) {
-    double v = q_(Eigen::Index(k));
+    double v = state_.actuators()(Eigen::Index(k));
     if (info.actuators[k].unit == "rad") v = std::remainder(v, 2 * kPi);
     actuators << value_text(info.actuators[k], v);
   }
@@ -1179,22 +1047,22 @@ void MechanismWindow::updateReadouts() {
   task_label_->setText(lines(task));
   actuator_label_->setText(lines(actuators));
   try {
-    const Measures m = mechanism_->measures(q_, x_);
+    const Measures m = state_.mechanism().measures(state_.actuators(), state_.task());
     for (std::size_t k = 0; k < measure_labels_.size(); ++k) {
       const double v = k < m.values.size() ? m.values[k] : NAN;
       measure_labels_[k]->setText(std::isfinite(v) ? number(v) : QString::fromUtf8("∞ (singular)"));
     }
     det_label_->setText(number(m.det));
-    const SingularityReport s = mechanism_->nearest_singularity(q_, x_);
+    const SingularityReport s = state_.mechanism().nearest_singularity(state_.actuators(), state_.task());
     singular_label_->setText(QString("%1, %2 %3")
                                  .arg(qs(info.singular_sets.at(s.nearest).title), number(s.distance, 3),
                                       qs(info.length_unit)));
   } catch (const std::exception& e) {
     statusBar()->showMessage(qs(e.what()), 8000);
   }
-  branch_label_->setText(qs(info.branches.at(branch_)));
+  branch_label_->setText(qs(info.branches.at(state_.branch())));
   while (extra_form_->rowCount() > 0) extra_form_->removeRow(0);
-  for (const auto& [label, text] : mechanism_->readouts(q_, x_)) {
+  for (const auto& [label, text] : state_.mechanism().readouts(state_.actuators(), state_.task())) {
     auto* value = new QLabel(qs(text));
     value->setTextInteractionFlags(Qt::TextSelectableByMouse);
     extra_form_->addRow(qs(label), value);
@@ -1204,88 +1072,47 @@ void MechanismWindow::updateReadouts() {
 // ---- Design ---------------------------------------------------------------------
 
 bool MechanismWindow::setParameters(const std::map<std::string, double>& parameters) {
-  Preset next = preset_;
-  for (const auto& [name, value] : parameters) next.parameters[name] = value;
-  std::shared_ptr<const Mechanism> m;
-  SkeletonModel skeleton;
-  try {
-    m = make_mechanism(next);
-    skeleton = m->skeleton_model();
-  } catch (const std::invalid_argument& e) {
+  const DesignPlan plan = state_.with_parameters(parameters);
+  if (!plan.ok()) {
     syncRanges();  // the panel shows the design in force
-    statusBar()->showMessage(qs(e.what()), 8000);
+    statusBar()->showMessage(qs(plan.refusal), 8000);
     return false;
   }
-  // Keep the pose where the new design reaches it; else the actuators; else home.
-  Eigen::VectorXd q, x;
-  int branch = branch_;
-  IkOptions o;
-  o.seed = q_;
-  if (m->info().branches.size() > 1) o.branch = branch_;
-  const IkResult ik = m->inverse(x_, o);
-  if (ik.status == Status::Ok && !ik.solutions.empty() && ik.solutions.front().status == Status::Ok) {
-    q = ik.solutions.front().q;
-    x = x_;
-  } else {
-    FkOptions fo;
-    fo.seed = x_;
-    const FkResult fk = m->forward(q_, fo);
-    IkOptions check;
-    check.seed = q_;
-    if (fk.status == Status::Ok && m->inverse(fk.x, check).status == Status::Ok) {
-      q = q_;
-      x = fk.x;
-      branch = branch_of(*m, q, x, branch_);
-    } else {
-      q = m->home_actuators();
-      x = m->home_task();
-      if (m->inverse(x, check).status != Status::Ok) {
-        syncRanges();
-        statusBar()->showMessage(tr("This design cannot reach its home pose; design unchanged."), 8000);
-        return false;
-      }
-      branch = branch_of(*m, q, x, 0);
-    }
-  }
   try {
-    scene_->set_model(skeleton);
+    scene_->set_model(plan.mechanism->skeleton_model());
   } catch (const std::invalid_argument& e) {
     statusBar()->showMessage(qs(e.what()), 8000);
     return false;
   }
   // The camera follows the device's size unless the user moved it since it was fitted.
   const bool refit = fitted_camera_ && same_camera(*fitted_camera_, camera_state(renderer_));
-  preset_ = next;
-  mechanism_ = m;
-  syncRanges();
-  methods_->setMechanism(preset_);  // the next Run measures the new design
+  adoptDesign(plan);
   if (refit) fitCamera();
-  accept(q, x, branch);
   requestFields(true, true);
   return true;
 }
 
+void MechanismWindow::adoptDesign(const DesignPlan& plan) {
+  const Eigen::VectorXd x_before = state_.task();
+  const int branch_before = state_.branch();
+  state_.adopt(plan);
+  syncRanges();
+  methods_->setMechanism(state_.preset());  // the next Run measures the new design
+  showPose(x_before, branch_before);
+}
+
 bool MechanismWindow::setActuatorLimits(const std::map<std::string, std::array<double, 2>>& limits_deg) {
-  Preset next = preset_;
-  for (const auto& [name, range] : limits_deg) next.limits_deg[name] = {range[0], range[1]};
-  std::shared_ptr<const Mechanism> m;
-  try {
-    m = make_mechanism(next);
-  } catch (const std::invalid_argument& e) {
+  const Eigen::VectorXd x_before = state_.task();
+  const int branch_before = state_.branch();
+  std::string why;
+  if (!state_.set_actuator_limits(limits_deg, why)) {
     syncRanges();  // back to the limits in force
-    statusBar()->showMessage(qs(e.what()), 8000);
+    statusBar()->showMessage(qs(why), 8000);
     return false;
   }
-  preset_ = next;
-  mechanism_ = m;
   syncRanges();
-  methods_->setMechanism(preset_);
-  // The pose is clamped into the new travel.
-  Eigen::VectorXd q = q_;
-  const auto& actuators = m->info().actuators;
-  for (std::size_t k = 0; k < actuators.size(); ++k)
-    q(Eigen::Index(k)) = std::clamp(q(Eigen::Index(k)), actuators[k].range.lo, actuators[k].range.hi);
-  if (!setActuators(q)) accept(q_, x_, branch_);
+  methods_->setMechanism(state_.preset());
+  showPose(x_before, branch_before);
   requestFields(true, true);
   return true;
 }
@@ -1295,7 +1122,7 @@ bool MechanismWindow::setActuatorLimits(const std::map<std::string, std::array<d
 FieldSettings MechanismWindow::fieldSettings() const {
   FieldSettings f;
   f.field = field_box_->currentData().toString().toStdString();
-  if (!field_choices(mechanism_->info()).methods.empty()) f.method = method_box_->currentText().toStdString();
+  if (!field_choices(state_.mechanism().info()).methods.empty()) f.method = method_box_->currentText().toStdString();
   f.normal = normal_box_->currentText().toStdString();
   f.position = slicePosition();
   f.follow_endpoint = follow_box_->isChecked();
@@ -1342,7 +1169,7 @@ void MechanismWindow::applyFieldSettings(const FieldSettings& f) {
     show_well_box_->setChecked(f.show_well_conditioned);
     reach_opacity_slider_->setValue(int(std::lround(f.reach_opacity * 100)));
     well_opacity_slider_->setValue(int(std::lround(f.well_conditioned_opacity * 100)));
-    const Eigen::AlignedBox3d box = mechanism_->default_box();
+    const Eigen::AlignedBox3d box = state_.mechanism().default_box();
     const int n = normal_box_->currentIndex();
     const double half = 0.5 * (box.max()(n) - box.min()(n));
     position_slider_->setValue(int(std::lround((f.position - box.center()(n)) / half * kPositionSteps)));
@@ -1354,8 +1181,8 @@ void MechanismWindow::applyFieldSettings(const FieldSettings& f) {
 
 double MechanismWindow::slicePosition() const {
   const int n = normal_box_->currentIndex();
-  const Eigen::AlignedBox3d box = mechanism_->default_box();
-  if (follow_box_->isChecked()) return x_(n);
+  const Eigen::AlignedBox3d box = state_.mechanism().default_box();
+  if (follow_box_->isChecked()) return state_.task()(n);
   return box.center()(n) + 0.5 * (box.max()(n) - box.min()(n)) * position_slider_->value() / kPositionSteps;
 }
 
@@ -1364,24 +1191,24 @@ double MechanismWindow::slicePosition() const {
 void MechanismWindow::requestFields(bool slice, bool volume) {
   if (!field_box_) return;  // panels not built yet
   noteChange();
-  const MechanismInfo& info = mechanism_->info();
+  const MechanismInfo& info = state_.mechanism().info();
   IkOptions options;
   if (!field_choices(info).methods.empty()) options.method = method_box_->currentText().toStdString();
   if (info.branches.size() > 1) options.branch = field_branch_box_->currentIndex();
   FieldJob job;
-  job.sampler = [m = mechanism_, fixed = x_, options](const Grid& grid, const FieldProgress& progress) {
+  job.sampler = [m = state_.shared_mechanism(), fixed = state_.task(), options](const Grid& grid, const FieldProgress& progress) {
     return m->compute_field(grid, fixed, options, 0, progress);
   };
   std::optional<haptics::DeviceData> haptic_data;
   if (haptics::is_haptic_field(field_box_->currentData().toString().toStdString())) {
     try {
-      haptic_data = haptics::device_data(preset_, info);
+      haptic_data = haptics::device_data(state_.preset(), info);
     } catch (const std::invalid_argument& e) {
       statusBar()->showMessage(qs(e.what()), 8000);
     }
   }
   job.cond_threshold = threshold_box_->value();
-  const Eigen::AlignedBox3d box = mechanism_->default_box();
+  const Eigen::AlignedBox3d box = state_.mechanism().default_box();
   const Eigen::Vector3d lo = box.min(), hi = box.max();
   if (slice && show_slice_box_->isChecked()) {
     const Axis normal = parse_axis(normal_box_->currentText().toStdString());
@@ -1399,7 +1226,7 @@ void MechanismWindow::requestFields(bool slice, bool volume) {
     const int res = slice_resolution_box_->currentText().toInt();
     FieldJob slice_job = job;
     if (haptic_data)
-      slice_job.sampler = [m = mechanism_, fixed = x_, options, data = *haptic_data](const Grid& grid,
+      slice_job.sampler = [m = state_.shared_mechanism(), fixed = state_.task(), options, data = *haptic_data](const Grid& grid,
                                                                                     const FieldProgress& progress) {
         return haptics::sample_field(*m, grid, fixed, options, 0, progress, &data);
       };
@@ -1536,13 +1363,13 @@ void MechanismWindow::animationStep() {
 
 Session MechanismWindow::session() const {
   Session s;
-  s.mechanism = preset_reference(preset_);
-  s.parameters = mechanism_->parameters();
+  s.mechanism = preset_reference(state_.preset());
+  s.parameters = state_.mechanism().parameters();
   if (!limit_boxes_.empty())
-    for (const Quantity& a : mechanism_->info().actuators)
+    for (const Quantity& a : state_.mechanism().info().actuators)
       s.actuator_limits_deg[a.name] = {a.range.lo / kDeg, a.range.hi / kDeg};
-  s.pose = q_;
-  s.task = x_;
+  s.pose = state_.actuators();
+  s.task = state_.task();
   s.camera = camera_state(renderer_);
   s.field = fieldSettings();
   s.task_volume = task_panel_->setting();
@@ -1558,56 +1385,16 @@ void MechanismWindow::applySession(const Session& s) {
                                   " is outside the window's range [" + format_number(c->box->minimum() / c->scale) +
                                   ", " + format_number(c->box->maximum() / c->scale) + "] for this preset");
   }
-  Preset next = preset_;
+  Preset next = state_.preset();
   for (const auto& [name, value] : s.parameters) next.parameters[name] = value;
   for (const auto& [name, range] : s.actuator_limits_deg) next.limits_deg[name] = {range[0], range[1]};
-  const std::shared_ptr<const Mechanism> m = make_mechanism(next);  // throws: nothing changed
-  const MechanismInfo& info = m->info();
-  if (s.pose.size() > 0 && s.pose.size() != Eigen::Index(info.actuators.size()))
-    throw std::invalid_argument("session: the pose has " + std::to_string(s.pose.size()) + " actuator values, the device " +
-                                std::to_string(info.actuators.size()));
-  if (s.task.size() > 0 && s.task.size() != Eigen::Index(info.task.size()))
-    throw std::invalid_argument("session: the task has " + std::to_string(s.task.size()) + " coordinates, the device " +
-                                std::to_string(info.task.size()));
-  // The pose: saved actuators and task where they agree; else IK of the task
-  // (the solution nearest the saved actuators); else FK of the actuators.
-  std::optional<Eigen::VectorXd> q, x;
-  if (s.task.size() > 0) {
-    IkOptions o;
-    if (s.pose.size() > 0) o.seed = s.pose;
-    const IkResult r = m->inverse(s.task, o);
-    double nearest = INFINITY;
-    for (const IkSolution& sol : r.solutions) {
-      const double d = s.pose.size() > 0 ? angle_distance(sol.q, s.pose) : sol.branch == branch_ ? 0.0 : 1.0;
-      if (sol.status == Status::Ok && d < nearest) {
-        nearest = d;
-        q = sol.q;
-        x = s.task;
-      }
-    }
-    // The saved actuators themselves where they are that solution (no rounding).
-    if (q && s.pose.size() > 0 && angle_distance(*q, s.pose) < 1e-9) q = s.pose;
-  } else {
-    FkOptions o;
-    const FkResult r = m->forward(s.pose, o);
-    if (r.status == Status::Ok) {
-      q = s.pose;
-      x = r.x;
-    }
-  }
-  preset_ = next;
-  mechanism_ = m;
-  scene_->set_model(m->skeleton_model());
-  syncRanges();
-  methods_->setMechanism(preset_);
+  const DesignPlan plan = state_.with_saved_pose(next, s.pose, s.task);  // throws: nothing changed
+  scene_->set_model(plan.mechanism->skeleton_model());
+  adoptDesign(plan);
   applyFieldSettings(s.field);
   if (s.camera) apply_camera(renderer_, *s.camera);
-  if (q && x) {
-    accept(*q, *x, branch_of(*m, *q, *x, branch_));
-  } else {
-    accept(m->home_actuators(), m->home_task(), branch_of(*m, m->home_actuators(), m->home_task(), 0));
+  if (plan.kept == DesignPlan::Kept::Home)
     statusBar()->showMessage(tr("The session's pose is not reachable; the device is at its home pose."), 8000);
-  }
   if (s.task_volume) {
     try {
       task_panel_->applySetting(*s.task_volume);
@@ -1620,7 +1407,7 @@ void MechanismWindow::applySession(const Session& s) {
 }
 
 bool MechanismWindow::openSession(const QString& path) {
-  if (!open_session_file(this, preset_, path)) return false;
+  if (!open_session_file(this, state_.preset(), path)) return false;
   addRecent(path);
   return true;
 }
@@ -1667,7 +1454,7 @@ MechanismWindow* MechanismWindow::openMechanismFile(const QString& path) {
 }
 
 MechanismWindow* MechanismWindow::reloadMechanism() {
-  const QString file = preset_file(preset_);
+  const QString file = preset_file(state_.preset());
   if (file.isEmpty()) {
     showLoadError(tr("Cannot reload the mechanism"), QString(), tr("This device was not read from a file."));
     return nullptr;
@@ -1687,13 +1474,13 @@ MechanismWindow* MechanismWindow::reloadMechanism() {
     kept.camera = before.camera;
     kept.field = before.field;
     kept.task_volume = before.task_volume;
-    const bool same_task = names_of(info.task) == names_of(mechanism_->info().task);
+    const bool same_task = names_of(info.task) == names_of(state_.mechanism().info().task);
     if (same_task) {
-      kept.task = x_;
+      kept.task = state_.task();
       for (std::size_t k = 0; k < info.task.size(); ++k)
-        kept.task(Eigen::Index(k)) = std::clamp(x_(Eigen::Index(k)), info.task[k].range.lo, info.task[k].range.hi);
+        kept.task(Eigen::Index(k)) = std::clamp(state_.task()(Eigen::Index(k)), info.task[k].range.lo, info.task[k].range.hi);
       // The actuators seed the solve, so the device stays in its assembly branch.
-      if (names_of(info.actuators) == names_of(mechanism_->info().actuators)) kept.pose = q_;
+      if (names_of(info.actuators) == names_of(state_.mechanism().info().actuators)) kept.pose = state_.actuators();
     } else {
       kept.task = m->home_task();
       kept.pose = m->home_actuators();

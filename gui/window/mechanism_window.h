@@ -11,6 +11,7 @@
 #include <QMainWindow>
 #include <QString>
 #include <array>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -22,6 +23,7 @@
 
 #include "core/mechanism.h"
 #include "core/preset.h"
+#include "gui/window/device_state.h"
 #include "gui/window/field_job.h"
 #include "gui/window/launch.h"
 #include "gui/window/session.h"
@@ -74,12 +76,14 @@ class MechanismWindow : public QMainWindow {
   explicit MechanismWindow(const Preset& preset, QWidget* parent = nullptr);
   ~MechanismWindow() override;
 
-  const Mechanism& mechanism() const { return *mechanism_; }
-  const Preset& preset() const { return preset_; }  // with the window's parameters and limits
-  const Eigen::VectorXd& actuators() const { return q_; }
-  const Eigen::VectorXd& task() const { return x_; }
-  Eigen::Vector3d endpoint() const { return x_.head<3>(); }
-  int branch() const { return branch_; }
+  const Mechanism& mechanism() const { return state_.mechanism(); }
+  const Preset& preset() const { return state_.preset(); }  // with the window's parameters and limits
+  const Eigen::VectorXd& actuators() const { return state_.actuators(); }
+  const Eigen::VectorXd& task() const { return state_.task(); }
+  Eigen::Vector3d endpoint() const { return state_.endpoint(); }
+  int branch() const { return state_.branch(); }
+  // The device and its pose, without the window.
+  const DeviceState& state() const { return state_; }
   Drive drive() const { return drive_; }
   VtkWidget* view() const { return view_; }
   const render::FieldScene& fieldScene() const { return *field_scene_; }
@@ -90,9 +94,9 @@ class MechanismWindow : public QMainWindow {
   // True once the latest field request has been answered at full resolution.
   bool fieldsSettled() const { return slice_settled_ && surfaces_settled_; }
   // Why the last requested pose was refused, empty when it was taken.
-  QString refusal() const { return refusal_; }
+  QString refusal() const { return QString::fromStdString(state_.refusal()); }
   // The failing part named by the last refused IK ("3": leg 3), else empty.
-  QString failingPart() const { return failing_part_; }
+  QString failingPart() const { return QString::fromStdString(state_.failing_part()); }
   FieldSettings fieldSettings() const;
   Session session() const;
 
@@ -180,15 +184,19 @@ class MechanismWindow : public QMainWindow {
   QWidget* buildFieldPanel();
   QWidget* buildAnimationPanel();
   void buildMenus();
-  // Takes a solved pose: panels, picture, read-outs, fields that depend on it.
-  void accept(const Eigen::VectorXd& q, const Eigen::VectorXd& x, int branch);
-  bool refuse(const QString& why, const IkResult* failed = nullptr);
+  // Runs a change of pose of the device state and shows its outcome: the
+  // pose taken, or why it was refused (the failing part drawn red).
+  bool settle(const std::function<bool()>& change);
+  // Shows the state's pose: panels, picture, read-outs, the fields that
+  // depend on what changed since the pose at x_before in branch_before.
+  void showPose(const Eigen::VectorXd& x_before, int branch_before);
+  // Takes a new design with its pose (scene model already set).
+  void adoptDesign(const DesignPlan& plan);
   void syncPanels();
   void syncRanges();
   void updateReadouts();
   void drawPose(const IkResult* failed = nullptr);
   void placeHandle();
-  bool takesLimits() const;
   void requestFields(bool slice, bool volume);
   void restyleSlice();
   render::SliceStyle sliceStyle() const;
@@ -215,9 +223,8 @@ class MechanismWindow : public QMainWindow {
   enum Moving : unsigned { kSliderDrag = 1, kHandleDrag = 2, kAnimation = 4, kCameraDrag = 8 };
   void setMoving(Moving source, bool on);
 
-  Preset preset_;
+  DeviceState state_;
   bool reading_preset_ = false;
-  std::shared_ptr<const Mechanism> mechanism_;
   std::unique_ptr<render::SkeletonScene> scene_;
   std::unique_ptr<render::FieldScene> field_scene_;
   std::unique_ptr<render::TaskScene> task_scene_;
@@ -226,10 +233,7 @@ class MechanismWindow : public QMainWindow {
   vtkRenderer* renderer_ = nullptr;  // owned by the view's render window
   vtkRenderer* legend_ = nullptr;    // the colour bar's strip, likewise
   VtkWidget* view_ = nullptr;
-  Eigen::VectorXd q_, x_;
-  int branch_ = 0;
   Drive drive_ = Drive::Task;
-  QString refusal_, failing_part_;
   FieldJobRunner slice_runner_, volume_runner_;
   std::shared_ptr<const Field> slice_field_;
   SurfaceResult surfaces_;  // the last isosurfaces and their volume, for export
