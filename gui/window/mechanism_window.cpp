@@ -52,13 +52,17 @@
 #include "core/csv.h"
 #include "core/haptics.h"
 #include "gui/window/error_panel.h"
-#include "gui/window/latency_probe.h"
 #include "gui/window/fit_panel.h"
 #include "gui/window/methods_panel.h"
 #include "gui/window/session_history.h"
 #include "gui/window/task_panel.h"
 #include "gui/window/vtk_widget.h"
-#include "gui/window/window_parts.h"
+#include "gui/window/background.h"
+#include "gui/window/docks.h"
+#include "gui/window/export_actions.h"
+#include "gui/window/file_actions.h"
+#include "gui/window/help_actions.h"
+#include "gui/window/mechanism_actions.h"
 #include "render/field_scene.h"
 #include "render/scene_renderer.h"
 #include "render/skeleton_scene.h"
@@ -71,7 +75,6 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180.0;
-constexpr int kMaxWindowSide = 8192;
 constexpr int kSliderSteps = 1000;
 constexpr int kPositionSteps = 400;
 
@@ -92,18 +95,6 @@ QString display_suffix(const Quantity& q) {
 QString value_text(const Quantity& q, double v) {
   return QString("%1 = %2%3").arg(qs(q.name), fixed(v * display_scale(q), q.unit == "rad" || q.unit == "deg" ? 1 : 3),
                                   display_suffix(q));
-}
-
-// The preset's file as the watcher and the error panel name it; empty for a
-// preset not read from a file.
-QString preset_file(const Preset& preset) {
-  return preset.source.empty() ? QString() : QFileInfo(qs(preset.source.string())).absoluteFilePath();
-}
-
-std::vector<std::string> names_of(const std::vector<Quantity>& quantities) {
-  std::vector<std::string> names;
-  for (const Quantity& q : quantities) names.push_back(q.name);
-  return names;
 }
 
 }  // namespace
@@ -358,35 +349,12 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   updateTitle();
   initial_layout_ = saveState();
 
-  // The preset file is watched: a change on disk reloads the device. Its
-  // folder too, since editors save by writing a new file over the old one,
-  // which ends the watch on it.
-  preset_watcher_ = new QFileSystemWatcher(this);
-  reload_timer_ = new QTimer(this);
-  reload_timer_->setSingleShot(true);
-  reload_timer_->setInterval(200);  // an editor's save is several changes
-  connect(preset_watcher_, &QFileSystemWatcher::fileChanged, reload_timer_, qOverload<>(&QTimer::start));
-  connect(preset_watcher_, &QFileSystemWatcher::directoryChanged, this, [this] {
-    const QString file = preset_file(state_.preset());
-    if (!preset_watcher_->files().contains(file) && QFileInfo::exists(file)) reload_timer_->start();
+  // The preset file is watched: a change on disk reloads the device (a
+  // window that replaces this one watches the file itself).
+  preset_watcher_ = new PresetWatcher(this, [this] {
+    if (!reloadMechanism()) preset_watcher_->watch(preset_file(state_.preset()));
   });
-  connect(reload_timer_, &QTimer::timeout, this, [this] {
-    if (QApplication::activeModalWidget()) {  // not under an open dialog: later
-      reload_timer_->start();
-      return;
-    }
-    // A window that replaces this one watches the file itself.
-    if (!reloadMechanism()) watchPresetFile();
-  });
-  watchPresetFile();
-}
-
-void MechanismWindow::watchPresetFile() {
-  const QString file = preset_file(state_.preset());
-  if (file.isEmpty()) return;
-  if (QFileInfo::exists(file) && !preset_watcher_->files().contains(file)) preset_watcher_->addPath(file);
-  const QString folder = QFileInfo(file).absolutePath();
-  if (!preset_watcher_->directories().contains(folder)) preset_watcher_->addPath(folder);
+  preset_watcher_->watch(preset_file(state_.preset()));
 }
 
 void MechanismWindow::noteChange() {
@@ -460,7 +428,9 @@ MechanismWindow::~MechanismWindow() {
 QWidget* MechanismWindow::buildDesignPanel() {
   auto* w = new QWidget;
   auto* form = new QFormLayout(w);
-  form->addRow(tr("Preset"), make_preset_chooser(this, state_.preset()));
+  form->addRow(tr("Preset"), make_preset_chooser(
+                                this, state_.preset(), [this] { return maybeSave(); },
+                                [this](const Preset& preset) { replaceWith(preset, std::nullopt); }));
   auto* title = new QLabel(qs(state_.mechanism().info().title), w);
   title->setWordWrap(true);
   form->addRow(title);
@@ -807,7 +777,7 @@ void MechanismWindow::buildMenus() {
   QMenu* file = menuBar()->addMenu(tr("&File"));
   file->addAction(tr("&Open session…"), QKeySequence::Open, this, [this] {
     if (!maybeSave()) return;
-    const QString path = QFileDialog::getOpenFileName(this, tr("Open session"), QString(), tr("Linkscape session (*.json)"));
+    const QString path = ask_session_to_open(this);
     if (!path.isEmpty()) openSession(path);
   });
   file->addAction(tr("&Save session"), QKeySequence::Save, this, &MechanismWindow::save);
@@ -816,11 +786,7 @@ void MechanismWindow::buildMenus() {
   file->addSeparator();
   const QKeySequence open_mechanism_key(Qt::CTRL | Qt::SHIFT | Qt::Key_O);
   QAction* open_mechanism = file->addAction(tr("Open &mechanism…"), open_mechanism_key, this, [this] {
-    const QString folder = state_.preset().source.empty()
-                               ? QStandardPaths::writableLocation(QStandardPaths::DocumentsLocation)
-                               : QFileInfo(preset_file(state_.preset())).absolutePath();
-    const QString path =
-        QFileDialog::getOpenFileName(this, tr("Open mechanism"), folder, tr("Mechanism preset (*.json)"));
+    const QString path = ask_mechanism_file(this, state_.preset());
     if (!path.isEmpty()) openMechanismFile(path);
   });
   open_mechanism->setObjectName("openMechanismAction");
@@ -840,21 +806,9 @@ void MechanismWindow::buildMenus() {
   file->addAction(tr("Export &field (VTI)…"), this, [this] { export_volume(this, surfaces_.volume.get()); });
   file->addAction(tr("Save screens&hot…"), this, [this] { export_screenshot(this); });
   file->addAction(tr("Save &view image…"), this, [this] {
-    bool ok = false;
-    const QString size = QInputDialog::getText(this, tr("Save view image"),
-                                               tr("The 3-D view alone, drawn at this size in pixels (WIDTHxHEIGHT):"),
-                                               QLineEdit::Normal, QString("%1x%2").arg(2 * view_->width()).arg(2 * view_->height()), &ok);
-    if (!ok) return;
-    const QString path = QFileDialog::getSaveFileName(this, tr("Save view image"), "view.png", tr("PNG (*.png)"));
-    if (path.isEmpty()) return;
-    const QStringList wh = size.split('x');
-    try {
-      if (wh.size() != 2) throw std::invalid_argument("the size is WIDTHxHEIGHT, e.g. 1920x1080");
-      save_png(viewImage(wh[0].toInt(), wh[1].toInt()), path.toStdString());
-      statusBar()->showMessage(tr("Saved %1 (%2)").arg(path, size), 4000);
-    } catch (const std::exception& e) {
-      QMessageBox::warning(this, tr("Save view image"), qs(e.what()));
-    }
+    const QString suggested = QString("%1x%2").arg(2 * view_->width()).arg(2 * view_->height());
+    const QString saved = export_view_image(this, suggested, [this](int w, int h) { return viewImage(w, h); });
+    if (!saved.isEmpty()) statusBar()->showMessage(saved, 4000);
   });
   file->addSeparator();
   file->addAction(tr("&Quit"), QKeySequence::Quit, this, &QWidget::close);
@@ -898,8 +852,8 @@ bool MechanismWindow::save() {
 }
 
 bool MechanismWindow::saveAs() {
-  const QString suggested = history_->path().isEmpty() ? QStringLiteral("session.json") : history_->path();
-  const QString path = QFileDialog::getSaveFileName(this, tr("Save session as"), suggested, tr("Linkscape session (*.json)"));
+  const QString path =
+      ask_session_to_save(this, history_->path().isEmpty() ? QStringLiteral("session.json") : history_->path());
   return !path.isEmpty() && saveSession(path);
 }
 
@@ -1407,7 +1361,15 @@ void MechanismWindow::applySession(const Session& s) {
 }
 
 bool MechanismWindow::openSession(const QString& path) {
-  if (!open_session_file(this, state_.preset(), path)) return false;
+  const bool opened = open_session_file(this, path, [this, path](const Session& s, const Preset& preset) {
+    if (preset.mechanism == state_.preset().mechanism) {
+      applySession(s);
+      history_->reset(path);
+    } else {
+      replaceWith(preset, s, path);
+    }
+  });
+  if (!opened) return false;
   addRecent(path);
   return true;
 }
@@ -1444,7 +1406,7 @@ MechanismWindow* MechanismWindow::openMechanismFile(const QString& path) {
   const Preset& next = *read;
   if (!maybeSave()) return nullptr;  // the user keeps this document
   try {
-    MechanismWindow* shown = replace_window(this, next, std::nullopt);
+    MechanismWindow* shown = replaceWith(next, std::nullopt);
     shown->statusBar()->showMessage(tr("Opened %1").arg(file), 4000);
     return shown;
   } catch (const std::exception& e) {
@@ -1464,28 +1426,11 @@ MechanismWindow* MechanismWindow::reloadMechanism() {
   try {
     const Preset& next = *read;
     const std::shared_ptr<const Mechanism> m = make_mechanism(next);
-    const MechanismInfo& info = m->info();
     history_->flush();
     const Session before = session();
-    // What stays: the view, the settings and the pose where the device still
-    // has it. Design parameters and travel are left out: the file's stand.
-    Session kept;
-    kept.mechanism = preset_reference(next);
-    kept.camera = before.camera;
-    kept.field = before.field;
-    kept.task_volume = before.task_volume;
-    const bool same_task = names_of(info.task) == names_of(state_.mechanism().info().task);
-    if (same_task) {
-      kept.task = state_.task();
-      for (std::size_t k = 0; k < info.task.size(); ++k)
-        kept.task(Eigen::Index(k)) = std::clamp(state_.task()(Eigen::Index(k)), info.task[k].range.lo, info.task[k].range.hi);
-      // The actuators seed the solve, so the device stays in its assembly branch.
-      if (names_of(info.actuators) == names_of(state_.mechanism().info().actuators)) kept.pose = state_.actuators();
-    } else {
-      kept.task = m->home_task();
-      kept.pose = m->home_actuators();
-    }
-    MechanismWindow* shown = replace_window(this, next, kept, history_->path());
+    const Session kept = reload_session(before, next, *m, state_.mechanism(), state_.actuators(), state_.task());
+    const bool same_task = same_task_coordinates(*m, state_.mechanism());
+    MechanismWindow* shown = replaceWith(next, kept, history_->path());
     shown->setDrive(drive_);
     // A camera nobody moved still follows the device's size.
     if (fitted_camera_ && same_camera(*fitted_camera_, *kept.camera)) shown->fitted_camera_ = kept.camera;
@@ -1509,22 +1454,30 @@ void MechanismWindow::showLoadError(const QString& title, const QString& path, c
 }
 
 void MechanismWindow::addRecent(const QString& path) {
-  QSettings settings;
-  QStringList recent = settings.value("recentSessions").toStringList();
-  const QString absolute = QFileInfo(path).absoluteFilePath();
-  recent.removeAll(absolute);
-  recent.prepend(absolute);
-  while (recent.size() > 8) recent.removeLast();
-  settings.setValue("recentSessions", recent);
+  add_recent_session(path);
   rebuildRecentMenu();
 }
 
 void MechanismWindow::rebuildRecentMenu() {
-  if (!recent_menu_) return;
-  recent_menu_->clear();
-  const QStringList recent = QSettings().value("recentSessions").toStringList();
-  for (const QString& path : recent) recent_menu_->addAction(path, this, [this, path] { openSession(path); });
-  recent_menu_->setEnabled(!recent.isEmpty());
+  if (recent_menu_) fill_recent_menu(recent_menu_, this, [this](const QString& path) { openSession(path); });
+}
+
+MechanismWindow* MechanismWindow::replaceWith(const Preset& preset, const std::optional<Session>& session,
+                                              const QString& session_path) {
+  auto next = std::make_unique<MechanismWindow>(preset);
+  if (session) next->applySession(*session);
+  else next->applyFieldSettings(fieldSettings());
+  next->history()->reset(session ? session_path : QString());
+  next->restoreState(saveState());  // the same panels where the user put them
+  next->setInteractive(interactive());
+  setInteractive(false);  // it asked already
+  next->setAttribute(Qt::WA_DeleteOnClose);
+  next->setGeometry(geometry());
+  MechanismWindow* shown = next.release();
+  shown->show();
+  emit replacedBy(shown);
+  close();
+  return shown;
 }
 
 void MechanismWindow::closeEvent(QCloseEvent* event) {
@@ -1534,87 +1487,13 @@ void MechanismWindow::closeEvent(QCloseEvent* event) {
   }
   animation_timer_->stop();
   // A closed window no longer follows its file (the window in its place does).
-  reload_timer_->stop();
-  const QStringList watched = preset_watcher_->files() + preset_watcher_->directories();
-  if (!watched.isEmpty()) preset_watcher_->removePaths(watched);
+  preset_watcher_->stop();
   if (interactive_) {
     QSettings settings;
     settings.setValue("windowGeometry", saveGeometry());
     settings.setValue("windowState", saveState());
   }
   QMainWindow::closeEvent(event);
-}
-
-// ---- Entry ------------------------------------------------------------------------
-
-namespace {
-
-// WIDTHxHEIGHT from min_w x min_h to kMaxWindowSide a side: off-screen
-// framebuffers beyond that fail inside the OpenGL driver (a crash, not an
-// error). Throws std::invalid_argument naming `option`.
-std::array<int, 2> pixel_size(const std::string& text, const char* option, int min_w, int min_h) {
-  int w = 0, h = 0;
-  char x = 0, rest = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &rest) != 3 || x != 'x' || w < min_w || h < min_h ||
-      w > kMaxWindowSide || h > kMaxWindowSide)
-    throw std::invalid_argument(std::string(option) + " expects WIDTHxHEIGHT from " + std::to_string(min_w) + "x" +
-                                std::to_string(min_h) + " to " + std::to_string(kMaxWindowSide) + "x" +
-                                std::to_string(kMaxWindowSide) + ", got '" + text + "'");
-  return {w, h};
-}
-
-}  // namespace
-
-void prepare_window(WindowOptions& options) {
-  if (!options.file.empty()) {
-    if (is_session_file(options.file)) options.session = options.file;
-    else options.mechanism.name_or_path = options.file;
-  }
-  if (!options.session.empty()) load_session(options.session);
-  else make_mechanism(chosen_preset(options.mechanism));
-}
-
-int run_window(const WindowOptions& options, int argc, char** argv) {
-  std::optional<Session> session;
-  if (!options.session.empty()) session = load_session(options.session);  // bad file: exit code 2
-  // A session brings its own mechanism.
-  Preset preset = load_preset(session ? session->mechanism : options.mechanism.name_or_path);
-  apply_overrides(preset, options.mechanism.params);
-  if (!options.task.empty()) task::parse_task(options.task);  // bad text: exit code 2 before any window
-  for (const std::string& c : options.criteria) task::parse_criterion(c);
-  const auto [width, height] = pixel_size(options.size, "--size", 200, 150);
-  const auto [view_width, view_height] =
-      options.view_image.empty() ? std::array<int, 2>{} : pixel_size(options.view_size, "--view-size", 16, 16);
-  QSurfaceFormat::setDefaultFormat(VtkWidget::defaultFormat());
-  QApplication app(argc, argv);
-  QApplication::setApplicationName("Linkscape");
-  QApplication::setOrganizationName("Linkscape");
-  MechanismWindow window(preset);
-  if (session) window.applySession(*session);
-  if (!options.task.empty()) {
-    window.taskPanel()->setTask(options.task, options.criteria);
-    if (auto* dock = window.findChild<QDockWidget*>("taskDock")) dock->raise();
-  }
-  // Interactive use remembers the window's size and layout; an explicit
-  // --size, screenshots and latency runs start from the defaults.
-  const bool interactive = options.screenshot.empty() && options.view_image.empty() && !options.latency;
-  window.setInteractive(interactive);
-  const QSettings settings;
-  if (interactive && !options.size_given && settings.contains("windowGeometry")) {
-    window.restoreGeometry(settings.value("windowGeometry").toByteArray());
-    window.restoreState(settings.value("windowState").toByteArray());
-  } else {
-    window.resize(width, height);
-  }
-  window.show();
-  if (options.latency) return run_latency_probe(window, std::cout);
-  if (!options.view_image.empty())
-    return save_screenshot_when_settled(window, options.view_image, [&] {
-      save_png(window.viewImage(view_width, view_height), options.view_image);
-      return std::to_string(view_width) + "x" + std::to_string(view_height);
-    });
-  if (options.screenshot.empty()) return QApplication::exec();
-  return save_screenshot_when_settled(window, options.screenshot);
 }
 
 }  // namespace linkscape::gui

@@ -25,14 +25,12 @@
 #include "core/preset.h"
 #include "gui/window/device_state.h"
 #include "gui/window/field_job.h"
-#include "gui/window/launch.h"
 #include "gui/window/session.h"
 #include "render/slice_image.h"
 
 class QCheckBox;
 class QComboBox;
 class QDoubleSpinBox;
-class QFileSystemWatcher;
 class QFormLayout;
 class QGridLayout;
 class QGroupBox;
@@ -57,9 +55,14 @@ namespace linkscape::gui {
 class ErrorPanel;
 class FitPanel;
 class MethodsPanel;
+class PresetWatcher;
 class SessionHistory;
 class TaskPanel;
 class VtkWidget;
+
+// The largest side of the window and of the view image, in pixels:
+// off-screen framebuffers beyond that fail inside the OpenGL driver.
+inline constexpr int kMaxWindowSide = 8192;
 
 // A slider with a spin box for one named quantity (see mechanism_window.cpp).
 struct QuantityControl;
@@ -214,7 +217,13 @@ class MechanismWindow : public QMainWindow {
   // The preset in `file`, read and checked off the GUI thread, or nothing
   // (the error shown under `failure_title`; or another read under way).
   std::optional<Preset> readPresetFile(const QString& file, const QString& failure_title);
-  void watchPresetFile();
+  // A window of `preset`'s device in this one's place (same geometry and
+  // panel layout), with `session` applied, else with this one's field
+  // settings; its document is `session_path` (empty: a new one). This
+  // window says so (replacedBy) and closes. Throws std::invalid_argument
+  // with nothing changed.
+  MechanismWindow* replaceWith(const Preset& preset, const std::optional<Session>& session,
+                               const QString& session_path = {});
   void noteChange();
   void placeLegend();
   // What is moving the picture every frame: while any is, the workspace
@@ -276,15 +285,14 @@ class MechanismWindow : public QMainWindow {
   double animation_phase_ = 0.0;
   Eigen::Vector3d animation_centre_ = Eigen::Vector3d::Zero();
   QMenu* recent_menu_ = nullptr;
-  QLabel* compute_label_ = nullptr;  // in the status bar (window_parts.h)
+  QLabel* compute_label_ = nullptr;  // in the status bar (docks.h)
   MethodsPanel* methods_ = nullptr;
   SessionHistory* history_ = nullptr;
   bool interactive_ = false;
   std::optional<CameraState> fitted_camera_;  // where fitCamera() put it
   QByteArray initial_layout_;                 // for View > Reset layout
   ErrorPanel* error_panel_ = nullptr;
-  QFileSystemWatcher* preset_watcher_ = nullptr;  // the preset file, and its folder (editors replace files)
-  QTimer* reload_timer_ = nullptr;                // one reload for a burst of changes
+  PresetWatcher* preset_watcher_ = nullptr;  // reloads the device when its file changes
 };
 
 }  // namespace linkscape::gui
