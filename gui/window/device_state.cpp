@@ -166,8 +166,7 @@ bool DeviceState::set_actuators(const Eigen::VectorXd& q, const std::optional<Ei
 
 DesignPlan DeviceState::with_parameters(const std::map<std::string, double>& parameters) const {
   DesignPlan plan;
-  plan.preset = preset_;
-  for (const auto& [name, value] : parameters) plan.preset.parameters[name] = value;
+  plan.preset = design_with(parameters, {});
   try {
     plan.mechanism = make_mechanism(plan.preset);
     plan.mechanism->skeleton_model();  // a design the view cannot draw is refused too
@@ -262,6 +261,20 @@ DesignPlan DeviceState::with_saved_pose(const Preset& next, const Eigen::VectorX
   return plan;
 }
 
+Preset DeviceState::design_with(const std::map<std::string, double>& parameters,
+                               const std::map<std::string, std::array<double, 2>>& limits_deg) const {
+  Preset next = preset_;
+  for (const auto& [name, value] : parameters) next.parameters[name] = value;
+  for (const auto& [name, range] : limits_deg) next.limits_deg[name] = {range[0], range[1]};
+  return next;
+}
+
+std::map<std::string, std::array<double, 2>> DeviceState::limits_deg() const {
+  std::map<std::string, std::array<double, 2>> limits;
+  for (const Quantity& a : mechanism_->info().actuators) limits[a.name] = {a.range.lo / kDeg, a.range.hi / kDeg};
+  return limits;
+}
+
 void DeviceState::adopt(const DesignPlan& plan) {
   if (!plan.ok()) throw std::invalid_argument("a refused design cannot be adopted: " + plan.refusal);
   preset_ = plan.preset;
@@ -271,8 +284,7 @@ void DeviceState::adopt(const DesignPlan& plan) {
 
 bool DeviceState::set_actuator_limits(const std::map<std::string, std::array<double, 2>>& limits_deg,
                                       std::string& why) {
-  Preset next = preset_;
-  for (const auto& [name, range] : limits_deg) next.limits_deg[name] = {range[0], range[1]};
+  const Preset next = design_with({}, limits_deg);
   try {
     mechanism_ = make_mechanism(next);
   } catch (const std::invalid_argument& e) {

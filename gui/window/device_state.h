@@ -93,6 +93,11 @@ class DeviceState {
   // else FK of the actuators, else home. Throws std::invalid_argument for an
   // invalid design or vectors of the wrong size; nothing changes.
   DesignPlan with_saved_pose(const Preset& next, const Eigen::VectorXd& pose, const Eigen::VectorXd& task) const;
+  // This preset with these parameters and actuator travel (degrees) instead.
+  Preset design_with(const std::map<std::string, double>& parameters,
+                     const std::map<std::string, std::array<double, 2>>& limits_deg) const;
+  // Each actuator's travel in degrees, by name.
+  std::map<std::string, std::array<double, 2>> limits_deg() const;
   // Takes a plan: the design and its pose; the refusal clears.
   void adopt(const DesignPlan& plan);
 

@@ -6,6 +6,7 @@
 #include <QFileInfo>
 #include <QFileSystemWatcher>
 #include <QMessageBox>
+#include <QPointer>
 #include <QSignalBlocker>
 #include <QStandardPaths>
 #include <QTimer>
@@ -88,6 +89,23 @@ Session reload_session(const Session& before, const Preset& next, const Mechanis
     kept.pose = next_device.home_actuators();
   }
   return kept;
+}
+
+std::optional<Preset> PresetReader::read(const QString& file, QString& error) {
+  if (busy_) return std::nullopt;
+  busy_ = true;
+  const QPointer<QObject> alive(owner_);
+  std::optional<Preset> next;
+  QString why;
+  try {
+    next = load_checked_preset(file.toStdString());
+  } catch (const std::exception& e) {
+    why = QString::fromStdString(e.what());
+  }
+  if (!alive) return std::nullopt;  // closed while the file was read: this reader is gone too
+  busy_ = false;
+  error = why;
+  return next;
 }
 
 PresetWatcher::PresetWatcher(QObject* parent, std::function<void()> changed)

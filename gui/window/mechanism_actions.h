@@ -6,6 +6,7 @@
 #include <QObject>
 #include <QString>
 #include <functional>
+#include <optional>
 
 #include "core/mechanism.h"
 #include "core/preset.h"
@@ -44,6 +45,21 @@ Session reload_session(const Session& before, const Preset& next, const Mechanis
                        const Mechanism& old, const Eigen::VectorXd& q, const Eigen::VectorXd& x);
 // Whether reload_session kept the task coordinates' names (else it went home).
 bool same_task_coordinates(const Mechanism& a, const Mechanism& b);
+
+// Reads and checks preset files (load_checked_preset, off the GUI thread)
+// for `owner`, one at a time: while one is read another gets nothing (the
+// watcher tries again), and so does a read whose owner closed meanwhile.
+class PresetReader {
+ public:
+  explicit PresetReader(QObject* owner) : owner_(owner) {}
+  // The preset in `file`, or nothing: then `error` says why (empty when
+  // busy or the owner went; then touch nothing of the owner).
+  std::optional<Preset> read(const QString& file, QString& error);
+
+ private:
+  QObject* owner_;
+  bool busy_ = false;
+};
 
 // Watches a preset file, and its folder (editors save by writing a new file
 // over the old one, which ends the watch on it); `changed` runs once for a
