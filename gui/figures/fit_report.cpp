@@ -13,6 +13,7 @@
 
 #include "core/atomic_file.h"
 #include "core/csv.h"
+#include "core/pareto.h"
 #include "core/sweep.h"
 #include "gui/figures/painted_file.h"
 
@@ -191,7 +192,7 @@ void draw_pareto(QPainter& p, const QRectF& area, const fit::Problem& problem, c
   if (!at_size) {
     std::vector<double> xs, ys;
     for (const Point& q : pts) xs.push_back(q.x), ys.push_back(q.y);
-    const std::vector<bool> on_front = sweep::non_dominated(xs, ys, above);
+    const std::vector<bool> on_front = non_dominated(xs, ys, above);
     for (std::size_t i = 0; i < pts.size(); ++i)
       if (on_front[i]) front.push_back(pts[i]);
   }

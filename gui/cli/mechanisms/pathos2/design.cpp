@@ -1,4 +1,6 @@
-#include "gui/cli/mechanisms/pathos2/design.h"
+// linkscape design: the PATHOS-II design studies of the paper — the Table 2
+// grid search over l2, l3, lp and the initial Rz (cost G of Eq. 21) and the
+// l0 sweep of Fig. 6 — written as CSV tables and one chart.
 
 #include <memory>
 #include <unistd.h>
@@ -21,6 +23,8 @@
 #include "core/mechanisms/pathos2/design.h"
 #include "core/mechanisms/pathos2/mechanism.h"
 #include "core/preset.h"
+#include "gui/cli/command.h"
+#include "gui/cli/sampling.h"
 #include "gui/figures/painted_file.h"
 #include "gui/cli/terminal.h"
 #include "render/slice_image.h"
@@ -30,6 +34,15 @@ namespace {
 
 using pathos2::DesignOutcome;
 using pathos2::DesignRow;
+
+struct DesignOptions {
+  PresetChoice mechanism{"pathos2", {}};  // Table 1 values: l0 = 50 unless --param l0 says otherwise
+  std::string table;   // Table 2 search as CSV (one row per design)
+  std::string sweep;   // l0 sweep as CSV
+  std::string chart;   // both as a chart (.png, .svg, .pdf)
+  bool quick = false;  // a coarse grid (a smoke test, not the paper's Table 2)
+  bool quiet = false;  // no progress on stderr
+};
 
 const char* to_string(DesignOutcome o) {
   switch (o) {
@@ -201,8 +214,9 @@ void draw_design_chart(QPainter& p, const QRectF& area, const pathos2::DesignGri
   }
 }
 
-}  // namespace
-
+// Runs the search and the sweep, writes what was asked for and prints a
+// summary (best design, the paper's design and its rank) to `out`. Throws
+// std::invalid_argument for bad options (nothing written).
 void run_design(const DesignOptions& o, std::ostream& out) {
   if (o.table.empty() && o.sweep.empty() && o.chart.empty())
     throw std::invalid_argument("design: give at least one of --table FILE.csv, --sweep FILE.csv, --chart FILE.png");
@@ -262,9 +276,9 @@ void run_design(const DesignOptions& o, std::ostream& out) {
         << r.ranges.delta(2) << " cm\n";
 }
 
-DeviceCommand add_design_command(CLI::App& app) {
+Command add_design(CLI::App& program, const DeviceHelp&) {
   auto options = std::make_shared<DesignOptions>();
-  CLI::App* cmd = app.add_subcommand(
+  CLI::App* cmd = program.add_subcommand(
       "design", "PATHOS-II design study: the Table 2 grid search (cost G of Eq. 21 over l2, l3, lp, Rz) and the "
                 "l0 sweep of Fig. 6; writes CSV tables and a chart, prints the best design");
   add_mechanism_options(*cmd, options->mechanism);
@@ -273,7 +287,12 @@ DeviceCommand add_design_command(CLI::App& app) {
   cmd->add_option("--chart", options->chart, "Both as a chart (.png, .svg, .pdf)");
   cmd->add_flag("--quick", options->quick, "A coarse grid (a smoke test, not the paper's Table 2)");
   cmd->add_flag("-q,--quiet", options->quiet, "No progress line on stderr");
-  return {cmd, [options](std::ostream& out) { run_design(*options, out); }};
+  return {cmd, Runs::Painting,  // the chart draws with QPainter
+          "", [options](std::istream&, std::ostream& out) { run_design(*options, out); }};
 }
+
+const RegisterCommand registered{70, add_design};
+
+}  // namespace
 
 }  // namespace linkscape::gui
