@@ -276,17 +276,17 @@ Command add_bench(CLI::App& program, const DeviceHelp&) {
   add_mechanism_options(*cmd, o->mechanism);
   cmd->add_flag("--quick", o->quick, "Small grids and single runs (a smoke test, not a measurement)");
   cmd->add_option("--csv", o->csv,
-                        "Also write the figures to this CSV file (measurement,value,unit, every method included), "
-                        "the method table to <stem>.methods.csv and the sweeps to <stem>.sweeps.csv");
+                  "Also write the figures to this CSV file (measurement,value,unit, every method included), "
+                  "the method table to <stem>.methods.csv and the sweeps to <stem>.sweeps.csv");
   cmd->add_option("--chart", o->chart,
-                        "Write the error-against-time chart of every method with its Pareto front (.png, .svg, .pdf)");
+                  "Write the error-against-time chart of every method with its Pareto front (.png, .svg, .pdf)");
   cmd->add_option("--sweeps", o->sweeps,
-                        "Write the error-against-distance chart of the sweeps towards each singular set "
-                        "(.png, .svg, .pdf)");
+                  "Write the error-against-distance chart of the sweeps towards each singular set "
+                  "(.png, .svg, .pdf)");
   cmd->add_option("--compare", o->compare,
-                        "Measure the methods and sweeps of these presets beside the chosen device (side by side in "
-                        "--chart and --sweeps), e.g. -m delta-described --compare delta; default: every registered "
-                        "device")
+                  "Measure the methods and sweeps of these presets beside the chosen device (side by side in "
+                  "--chart and --sweeps), e.g. -m delta-described --compare delta; default: every registered "
+                  "device")
       ->delimiter(',');
   cmd->footer(
       "parallel-12r (planar IK), delta (closed IK) and pathos2 fields use SIMD kernels with the best instruction set\n"

@@ -76,8 +76,8 @@ Command add_field(CLI::App& program, const DeviceHelp& help) {
       ->delimiter(',')
       ->expected(6);
   cmd->add_option("--field", o->fields,
-                        "Also write these haptic arrays (comma list): force_iso, force_max (N), resolution (mm), "
-                        "inertia (kg); the kinematic arrays are always written")
+                  "Also write these haptic arrays (comma list): force_iso, force_max (N), resolution (mm), "
+                  "inertia (kg); the kinematic arrays are always written")
       ->delimiter(',');
   cmd->add_option("-o,--output", o->output, "Output: .vti (ParaView) or .csv")->required();
 

@@ -9,6 +9,7 @@
 
 #include "core/csv.h"
 #include "core/field.h"
+#include "core/field_names.h"
 #include "core/haptics.h"
 #include "core/size_text.h"
 #include "gui/cli/command.h"
@@ -70,21 +71,16 @@ void run_slice(const SliceOptions& o) {
     style.min = o.range[0];
     style.max = o.range[1];
   }
-  // The fields a device has: its main measure as "cond", a second measure
-  // under its own name (the field's second condition array, "cond_jo" to
-  // the renderer), the reach margin and the solver diagnostics; "method"
-  // where it has several IK methods.
-  std::vector<std::string> fields = {"cond"};
-  if (info.measures.size() > 1) fields.push_back(info.measures[1].name);
-  for (const char* f : {"reach", "residual", "iterations", "status"}) fields.push_back(f);
-  if (info.ik_methods.size() > 1) fields.push_back("method");
+  // The fields a device has (core/field_names.h), then the haptic ones.
+  std::vector<std::string> fields = device_fields(info);
   for (const haptics::FieldInfo& f : haptics::all_field_infos()) fields.push_back(f.name);
   if (std::find(fields.begin(), fields.end(), style.field) == fields.end()) {
     std::string known;
     for (const auto& f : fields) known += (known.empty() ? "" : ", ") + f;
     throw std::invalid_argument("--field for " + info.name + " must be one of " + known + ", got '" + style.field + "'");
   }
-  if (info.measures.size() > 1 && style.field == info.measures[1].name) style.field = "cond_jo";
+  if (info.measures.size() > 1 && style.field == info.measures[1].name)
+    style.field = field_array_name(FieldArray::CondOrientation).name;  // the renderer's name for the second measure
   // The figure's colour bar is continuous; the categorical method colours
   // are written as a plain image or CSV (column method_used).
   if (style.field == "method" && o.figure)
@@ -114,20 +110,20 @@ Command add_slice(CLI::App& program, const DeviceHelp& help) {
       "slice", "Sample a field on a plane and write a colour-mapped image or CSV (no display needed)");
   add_field_options(*cmd, o->sampling, help);
   cmd->add_option("--plane", o->plane,
-                        "Plane as axis=position in the length unit, e.g. x=0.25 (default: the device's first slice "
-                        "plane for the pose)");
+                  "Plane as axis=position in the length unit, e.g. x=0.25 (default: the device's first slice "
+                  "plane for the pose)");
   cmd->add_option("--extent", o->extent,
-                        "u_min,u_max,v_min,v_max of the plane's axes (x: y,z; y: x,z; z: x,y); default the "
-                        "device's sampling box")
+                  "u_min,u_max,v_min,v_max of the plane's axes (x: y,z; y: x,z; z: x,y); default the "
+                  "device's sampling box")
       ->delimiter(',')
       ->expected(4);
   cmd->add_option("--size", o->size, "Samples along u and v, WIDTHxHEIGHT")->capture_default_str();
   cmd->add_option(
-                "--field", o->field,
-                "Field to colour: cond (the device's main measure: " +
-                    help.per_device([](const MechanismInfo& i) { return i.measures.front().title; }) +
-                    "), the second measure by its name where the device has one (" +
-                    help.per_device([](const MechanismInfo& i) {
+          "--field", o->field,
+          "Field to colour: cond (the device's main measure: " +
+              help.per_device([](const MechanismInfo& i) { return i.measures.front().title; }) +
+              "), the second measure by its name where the device has one (" +
+              help.per_device([](const MechanismInfo& i) {
                       return i.measures.size() > 1 ? i.measures[1].name + " = " + i.measures[1].title : "";
                     }) +
                     "), reach, residual, iterations, status, method (IK method used per sample, where the device "
@@ -135,7 +131,7 @@ Command add_slice(CLI::App& program, const DeviceHelp& help) {
                     "direction), resolution (mm per encoder count), inertia (kg, reflected rotor inertia)")
       ->capture_default_str();
   cmd->add_option("--contour", o->contours,
-                        "Condition-number levels drawn as contour lines (comma list; of cond_jo when that is shown)")
+                  "Condition-number levels drawn as contour lines (comma list; of cond_jo when that is shown)")
       ->delimiter(',')
       ->capture_default_str();
   cmd->add_option("--range", o->range, "Colour range min,max (default: 1,10 for cond; data range otherwise)")
@@ -143,8 +139,8 @@ Command add_slice(CLI::App& program, const DeviceHelp& help) {
       ->expected(2);
   cmd->add_flag("--linear", o->linear, "Linear colour scale for cond and residual (default: log)");
   cmd->add_option("--colour-map", o->colour_map,
-                        "viridis, cividis (also for colour vision deficiency) or diverging (blue-grey-red; a signed "
-                        "field's automatic range is symmetric about 0, e.g. --field reach)")
+                  "viridis, cividis (also for colour vision deficiency) or diverging (blue-grey-red; a signed "
+                  "field's automatic range is symmetric about 0, e.g. --field reach)")
       ->capture_default_str();
   cmd->add_flag("--figure", o->figure, "Add axes with units, colour bar, legend and title (PNG, SVG or PDF)");
   cmd->add_option("-o,--output", o->output, "Output: .png or .csv; with --figure .png, .svg or .pdf")
