@@ -211,12 +211,10 @@ int run(int argc, char** argv, const WindowLauncher* launcher) {
     if (command.runs == Runs::Painting) {
       prepare_offscreen_painting();
       QGuiApplication qt(argc, argv);
-      command.run(std::cin, std::cout);
-    } else {
-      QCoreApplication qt(argc, argv);
-      command.run(std::cin, std::cout);
+      return command.run(std::cin, std::cout);
     }
-    return 0;
+    QCoreApplication qt(argc, argv);
+    return command.run(std::cin, std::cout);
   }
 
   check_file_argument(app, window);

@@ -8,7 +8,7 @@
 //     CLI::App* app = program.add_subcommand("verify", "...");
 //     add_sampling_options(*app, options->sampling, devices);   // if it samples a device
 //     return {app, Runs::Headless, "linkscape verify ...   what it does",
-//             [options](std::istream&, std::ostream& out) { run_verify(*options, out); }};
+//             [options](std::istream&, std::ostream& out) { return run_verify(*options, out); }};
 //   }
 //   const RegisterCommand registered{75, add_verify};
 //   }  // namespace
@@ -36,9 +36,10 @@ struct Command {
   // Its line(s) in the program's "Headless commands" footer, without the
   // leading "  "; empty: "linkscape NAME   description".
   std::string example;
-  // Runs it with the parsed options. Throws std::invalid_argument for bad
-  // input (exit 2).
-  std::function<void(std::istream& in, std::ostream& out)> run;
+  // Runs it with the parsed options; returns the exit status (0, or a
+  // command's own verdict, as verify's). Throws std::invalid_argument for
+  // bad input (exit 2).
+  std::function<int(std::istream& in, std::ostream& out)> run;
 };
 
 using AddCommand = Command (*)(CLI::App& program, const DeviceHelp& devices);

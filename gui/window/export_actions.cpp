@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "core/atomic_file.h"
+#include "core/size_text.h"
 #include "gui/figures/slice_figure.h"
 #include "gui/window/vtk_widget.h"
 #include "render/field_vtk.h"
@@ -100,10 +101,9 @@ QString export_view_image(QWidget* parent, const QString& suggested, const std::
   const QString path =
       QFileDialog::getSaveFileName(parent, QObject::tr("Save view image"), "view.png", QObject::tr("PNG (*.png)"));
   if (path.isEmpty()) return {};
-  const QStringList wh = size.split('x');
   try {
-    if (wh.size() != 2) throw std::invalid_argument("the size is WIDTHxHEIGHT, e.g. 1920x1080");
-    save_png(draw(wh[0].toInt(), wh[1].toInt()), path.toStdString());
+    const auto [width, height] = parse_width_height(size.trimmed().toStdString(), "the size", {16, 16, kMaxWindowSide});
+    save_png(draw(width, height), path.toStdString());
     return QObject::tr("Saved %1 (%2)").arg(path, size);
   } catch (const std::exception& e) {
     QMessageBox::warning(parent, QObject::tr("Save view image"), QString::fromStdString(e.what()));

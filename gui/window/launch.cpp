@@ -1,5 +1,7 @@
 #include "gui/window/launch.h"
 
+#include "core/size_text.h"
+
 #include <QApplication>
 #include <QDockWidget>
 #include <QSettings>
@@ -26,14 +28,7 @@ namespace {
 // framebuffers beyond that fail inside the OpenGL driver (a crash, not an
 // error). Throws std::invalid_argument naming `option`.
 std::array<int, 2> pixel_size(const std::string& text, const char* option, int min_w, int min_h) {
-  int w = 0, h = 0;
-  char x = 0, rest = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &rest) != 3 || x != 'x' || w < min_w || h < min_h ||
-      w > kMaxWindowSide || h > kMaxWindowSide)
-    throw std::invalid_argument(std::string(option) + " expects WIDTHxHEIGHT from " + std::to_string(min_w) + "x" +
-                                std::to_string(min_h) + " to " + std::to_string(kMaxWindowSide) + "x" +
-                                std::to_string(kMaxWindowSide) + ", got '" + text + "'");
-  return {w, h};
+  return parse_width_height(text, option, {min_w, min_h, kMaxWindowSide});
 }
 
 }  // namespace

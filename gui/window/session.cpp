@@ -14,6 +14,7 @@
 
 #include "core/atomic_file.h"
 #include "core/csv.h"
+#include "core/field_names.h"
 #include "core/json_checked.h"
 #include "core/preset.h"
 #include "core/task.h"
@@ -112,15 +113,9 @@ void apply_camera(vtkRenderer* renderer, const CameraState& cam) {
 
 FieldChoices field_choices(const MechanismInfo& info) {
   FieldChoices c;
-  c.fields = {"cond"};
-  if (info.measures.size() > 1) c.fields.push_back(info.measures[1].name);
-  c.fields.push_back("reach");
-  if (info.eval_columns.ik_diagnostics) c.fields.insert(c.fields.end(), {"residual", "iterations"});
-  c.fields.push_back("status");
-  if (info.ik_methods.size() > 1) {
-    c.fields.push_back("method");
+  c.fields = device_fields(info, info.eval_columns.ik_diagnostics);
+  if (info.ik_methods.size() > 1)
     for (const NamedItem& m : info.ik_methods) c.methods.push_back(m.name);
-  }
   // Haptic measures (core/haptics.h); inertia shows only where the preset
   // gives every rotor inertia (the window says so otherwise).
   for (const haptics::FieldInfo& f : haptics::all_field_infos()) c.fields.push_back(f.name);

@@ -24,6 +24,7 @@ constexpr int kSurfaceResolution = 24;  // latitude bands of the drawn sphere, g
 constexpr int kTaskResolution = 16;     // samples across the task for the live read-outs
 
 QString number(double v) {
+  if (std::isnan(v)) return "n/a";
   if (!std::isfinite(v)) return v > 0 ? "inf" : "-inf";
   return QString::number(v, 'g', 4);
 }

@@ -297,7 +297,10 @@ Command add_bench(CLI::App& program, const DeviceHelp&) {
 
   return {cmd, Runs::Painting,  // the charts draw text with QPainter
           "linkscape bench --chart m.png --sweeps s.png --csv b.csv   speed and accuracy of every method",
-          [o](std::istream&, std::ostream& out) { run_bench(*o, out); }};
+          [o](std::istream&, std::ostream& out) {
+            run_bench(*o, out);
+            return 0;
+          }};
 }
 
 const RegisterCommand registered{80, add_bench};

@@ -253,7 +253,10 @@ Command add_eval(CLI::App& program, const DeviceHelp& help) {
   return {cmd, Runs::Headless,
           "linkscape eval --mechanism NAME --ik targets.csv     inverse kinematics of each row's task coordinates\n"
           "  linkscape eval --mechanism NAME --fk actuators.csv   forward kinematics of each row's actuator values",
-          [o](std::istream& in, std::ostream& out) { run_eval(*o, in, out); }};
+          [o](std::istream& in, std::ostream& out) {
+            run_eval(*o, in, out);
+            return 0;
+          }};
 }
 
 const RegisterCommand registered{10, add_eval};

@@ -82,7 +82,10 @@ Command add_field(CLI::App& program, const DeviceHelp& help) {
   cmd->add_option("-o,--output", o->output, "Output: .vti (ParaView) or .csv")->required();
 
   return {cmd, Runs::Headless, "linkscape field --resolution 128 --output volume.vti sampled volume for ParaView",
-          [o](std::istream&, std::ostream&) { run_field(*o); }};
+          [o](std::istream&, std::ostream&) {
+            run_field(*o);
+            return 0;
+          }};
 }
 
 const RegisterCommand registered{30, add_field};

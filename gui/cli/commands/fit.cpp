@@ -13,6 +13,7 @@
 #include "core/fit.h"
 #include "core/atomic_file.h"
 #include "core/preset.h"
+#include "core/verify/verify.h"
 #include "gui/figures/fit_report.h"
 #include "gui/cli/terminal.h"
 #include "gui/cli/command.h"
@@ -60,7 +61,44 @@ fit::Problem make_problem(const FitOptions& o, const std::string& command) {
   return problem;
 }
 
-void run_fit(const FitOptions& o, std::ostream& out) {
+namespace {
+
+// fit --certify: the smallest design bracketed by verify::size; the task's
+// centre where it is given, else where fit places it at each design.
+int run_certified(const FitOptions& o, const fit::Problem& problem, std::ostream& out) {
+  if (!o.output.empty() || !o.chart.empty() || o.size)
+    throw std::invalid_argument("fit: --certify prints the certified bracket; --output, --chart and --size belong to "
+                                "the sampled search");
+  if (problem.variables.size() != 1)
+    throw std::invalid_argument("fit: --certify sizes one variable (one --free parameter, or a group held equal such "
+                                "as --equal L1,L2), got " + std::to_string(problem.variables.size()));
+  if (!(o.bracket > 0) || !std::isfinite(o.bracket))
+    throw std::invalid_argument("fit: --bracket must be a positive length, got " + format_number(o.bracket));
+  verify::SizingProblem sizing;
+  sizing.preset = problem.preset;
+  sizing.variable = problem.variables.front();
+  sizing.task = problem.task;
+  sizing.criteria = problem.criteria;
+  sizing.branch = problem.ik.branch.value_or(0);
+  sizing.tolerance = o.bracket;
+  sizing.options.torque = problem.torque;
+  if (!problem.task.centre) sizing.centre_at = verify::placement_by_fit(problem);
+  ProgressLine line(o.quiet);
+  line.step("fit --certify");
+  const verify::SizingResult r = verify::size(sizing, [&](const verify::SizingStep& step) {
+    std::ostringstream text;
+    text << std::setprecision(6) << "fit --certify: " << sizing.variable.name() << " = " << step.value << " "
+         << verify::to_string(step.result.verdict);
+    line.describe(text.str());
+  });
+  line.clear();
+  verify::write_report(out, r);
+  return verify::exit_status(r);
+}
+
+}  // namespace
+
+int run_fit(const FitOptions& o, std::ostream& out) {
   for (const std::string* file : {&o.chart}) {
     const std::string ext = std::filesystem::path(*file).extension().string();
     if (!file->empty() && ext != ".png" && ext != ".svg" && ext != ".pdf")
@@ -69,6 +107,7 @@ void run_fit(const FitOptions& o, std::ostream& out) {
   if (!o.output.empty() && std::filesystem::path(o.output).extension() != ".csv")
     throw std::invalid_argument("fit: --output must end in .csv, got '" + o.output + "'");
   fit::Problem problem = make_problem(o, "fit");
+  if (o.certify) return run_certified(o, problem, out);
   problem.tolerance = o.tolerance;
   problem.size = o.size;
   for (const std::string* file : {&o.output, &o.chart}) check_output(*file);  // before the search
@@ -95,6 +134,7 @@ void run_fit(const FitOptions& o, std::ostream& out) {
   out << fit_report(problem, r, info);
   if (!o.output.empty()) write_fit_csv(o.output, problem, r, info);
   if (!o.chart.empty()) write_fit_chart(o.chart, problem, r, info);
+  return 0;
 }
 
 void add_problem_options(CLI::App& cmd, FitOptions& o, const DeviceHelp& devices) {
@@ -146,9 +186,15 @@ Command add_fit(CLI::App& program, const DeviceHelp& devices) {
                   "criterion's worst value and margin; the smallest design first, then every design by size");
   cmd->add_option("--chart", o->chart, "Pareto chart, size against the worst measure (.png, .svg, .pdf)");
   cmd->add_flag("-q,--quiet", o->quiet, "No progress line on stderr");
+  cmd->add_flag("--certify", o->certify,
+                "Certified sizing instead of the sampled search: the smallest design bracketed between one proved "
+                "to meet the task everywhere (interval arithmetic) and one disproved by a counterexample; one free "
+                "variable; the 12R and the Delta (docs/task-volumes.md)");
+  cmd->add_option("--bracket", o->bracket, "Width of the certified bracket, in the variable's unit (with --certify)")
+      ->capture_default_str();
   return {cmd, Runs::Painting,  // the Pareto chart draws with QPainter
           "linkscape fit --task sphere:diameter=15 --criterion 'cond<3' -o fit.csv   the smallest design that serves a task",
-          [o](std::istream&, std::ostream& out) { run_fit(*o, out); }};
+          [o](std::istream&, std::ostream& out) { return run_fit(*o, out); }};
 }
 
 const RegisterCommand registered{50, add_fit};

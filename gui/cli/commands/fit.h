@@ -28,14 +28,21 @@ struct FitOptions {
   std::string output;                  // CSV: the smallest design first, then every design by size
   std::string chart;                   // size against the worst measure (.png, .svg, .pdf)
   bool quiet = false;                  // no progress on stderr
+  // Certified sizing instead of the sampled search: the answer bracketed
+  // between a design proved to meet the task and one disproved, `bracket`
+  // apart (the variable's unit); one free variable (core/verify/verify.h).
+  bool certify = false;
+  double bracket = 0.05;
 };
 
 // Runs the search, writes the CSV and chart when asked and prints the
 // chosen design, every criterion's margin and the time to `out`. A task no
 // design meets is a result ("no design in the bounds meets it; closest:
 // ..."), not an error. Throws std::invalid_argument for bad options (exit 2,
-// nothing written). The chart needs a QGuiApplication.
-void run_fit(const FitOptions& options, std::ostream& out);
+// nothing written). The chart needs a QGuiApplication. Returns the exit
+// status: 0, or with --certify the certified sizing's (0 bracketed, 3 even
+// the upper bound disproved, 4 undecided).
+int run_fit(const FitOptions& options, std::ostream& out);
 
 // The parts `fit` shares with `sweep`: the device, task, criteria, free
 // parameters and sampling options (every FitOptions field but size,

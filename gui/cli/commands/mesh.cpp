@@ -115,7 +115,10 @@ Command add_mesh(CLI::App& program, const DeviceHelp& help) {
   cmd->add_option("-o,--output", o->output, "Output: .stl, .obj, .ply, .off or .vtp")->required();
 
   return {cmd, Runs::Headless, "linkscape mesh --surface 'cond<3' --output ws.stl    workspace isosurface mesh",
-          [o](std::istream&, std::ostream& out) { run_mesh(*o, out); }};
+          [o](std::istream&, std::ostream& out) {
+            run_mesh(*o, out);
+            return 0;
+          }};
 }
 
 const RegisterCommand registered{40, add_mesh};

@@ -148,7 +148,10 @@ Command add_slice(CLI::App& program, const DeviceHelp& help) {
 
   return {cmd, Runs::Painting,  // figures draw text with QPainter
           "linkscape slice --plane x=0.25 --output slice.png    condition-number slice image",
-          [o](std::istream&, std::ostream&) { run_slice(*o); }};
+          [o](std::istream&, std::ostream&) {
+            run_slice(*o);
+            return 0;
+          }};
 }
 
 const RegisterCommand registered{20, add_slice};

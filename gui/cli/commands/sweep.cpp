@@ -278,7 +278,10 @@ Command add_sweep(CLI::App& program, const DeviceHelp& devices) {
       "A design that cannot be built or whose evaluation fails is a row with its reason in 'error'.");
   return {cmd, Runs::Painting,  // the Pareto chart draws with QPainter
           "linkscape sweep --task sphere:diameter=15 --grid 5 -o sweep.csv   score a grid of designs (also under mpirun)",
-          [o](std::istream&, std::ostream& out) { run_sweep(*o, out); }};
+          [o](std::istream&, std::ostream& out) {
+            run_sweep(*o, out);
+            return 0;
+          }};
 }
 
 const RegisterCommand registered{60, add_sweep};

@@ -258,7 +258,10 @@ Command add_design(CLI::App& program, const DeviceHelp&) {
   cmd->add_flag("--quick", options->quick, "A coarse grid (a smoke test, not the paper's Table 2)");
   cmd->add_flag("-q,--quiet", options->quiet, "No progress line on stderr");
   return {cmd, Runs::Painting,  // the chart draws with QPainter
-          "", [options](std::istream&, std::ostream& out) { run_design(*options, out); }};
+          "", [options](std::istream&, std::ostream& out) {
+            run_design(*options, out);
+            return 0;
+          }};
 }
 
 const RegisterCommand registered{70, add_design};
