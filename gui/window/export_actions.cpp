@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "core/atomic_file.h"
+#include "core/mechanisms/described/mjcf.h"
 #include "core/size_text.h"
 #include "gui/figures/slice_figure.h"
 #include "gui/window/vtk_widget.h"
@@ -70,6 +71,25 @@ void export_volume(QWidget* parent, const Field* volume) {
   if (path.isEmpty()) return;
   try {
     render::write_vti(*volume, path.toStdString());
+  } catch (const std::exception& e) {
+    QMessageBox::warning(parent, QObject::tr("Export failed"), QString::fromStdString(e.what()));
+  }
+}
+
+void export_model(QWidget* parent, const Preset& preset) {
+  // Refused before asking for a file where the device has no chain description.
+  Preset described;
+  try {
+    described = described::described_twin(preset);
+  } catch (const std::exception& e) {
+    QMessageBox::warning(parent, QObject::tr("Export model"), QString::fromStdString(e.what()));
+    return;
+  }
+  const QString path = QFileDialog::getSaveFileName(parent, QObject::tr("Export model (MJCF)"), "model.xml",
+                                                    QObject::tr("MuJoCo model (*.xml)"));
+  if (path.isEmpty()) return;
+  try {
+    write_text_atomically(path.toStdString(), described::mjcf_model(described));
   } catch (const std::exception& e) {
     QMessageBox::warning(parent, QObject::tr("Export failed"), QString::fromStdString(e.what()));
   }

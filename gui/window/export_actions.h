@@ -1,5 +1,6 @@
 // The window's exports (File menu): the slice, the workspace meshes, the
-// volume field, a screenshot and the view alone at a chosen size, through
+// volume field, the device as a MuJoCo model, a screenshot and the view
+// alone at a chosen size, through
 // the headless commands' writers (atomic). Each asks for its file; a
 // failure is shown in a message box; without data, nothing happens.
 #pragma once
@@ -9,6 +10,7 @@
 #include <string>
 
 #include "core/field.h"
+#include "core/preset.h"
 #include "render/slice_image.h"
 
 class QWidget;
@@ -21,6 +23,9 @@ void export_surface_mesh(QWidget* parent, const Field* volume, vtkPolyData* reac
                          double cond_threshold);
 void export_volume(QWidget* parent, const Field* volume);
 void export_screenshot(QWidget* window);
+// The design as a MuJoCo model (MJCF; a compiled device through its described
+// twin, docs/model-export.md); a device that cannot be written says why.
+void export_model(QWidget* parent, const Preset& preset);
 // Asks for a size (suggested: `suggested`, "WIDTHxHEIGHT") and a file, then
 // saves draw(width, height) there. Returns the message for the status bar
 // (empty when the user cancelled or it failed).

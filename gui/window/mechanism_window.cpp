@@ -224,6 +224,7 @@ void MechanismWindow::buildMenus() {
     export_surface_mesh(this, s.volume.get(), s.reach, s.well_conditioned, fieldSettings().threshold);
   };
   a.export_field = [this] { export_volume(this, fields_->surfaces().volume.get()); };
+  a.export_model = [this] { export_model(this, state_.preset()); };
   a.save_screenshot = [this] { export_screenshot(this); };
   a.save_view_image = [this] {
     const QString suggested = QString("%1x%2").arg(2 * view_->width()).arg(2 * view_->height());

@@ -42,6 +42,10 @@ void add_menus(QMainWindow* window, const MenuActions& actions) {
   add(file, QObject::tr("Export slice &image…"), {}, window, actions.export_slice);
   add(file, QObject::tr("Export workspace &mesh…"), {}, window, actions.export_mesh);
   add(file, QObject::tr("Export &field (VTI)…"), {}, window, actions.export_field);
+  QAction* model = add(file, QObject::tr("Export m&odel (MuJoCo MJCF)…"), {}, window, actions.export_model);
+  model->setObjectName("exportModelAction");
+  model->setStatusTip(QObject::tr("The design as a MuJoCo model: legs as body chains welded to the platform, "
+                                  "motors on the actuators (docs/model-export.md)"));
   add(file, QObject::tr("Save screens&hot…"), {}, window, actions.save_screenshot);
   add(file, QObject::tr("Save &view image…"), {}, window, actions.save_view_image);
   file->addSeparator();

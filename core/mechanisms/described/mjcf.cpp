@@ -1,5 +1,6 @@
 #include "core/mechanisms/described/mjcf.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <sstream>
 #include <stdexcept>
@@ -170,6 +171,26 @@ std::optional<double> actuator_limit(const Preset& preset, const Actuator& a) {
 }
 
 }  // namespace
+
+Preset described_twin(const Preset& preset) {
+  if (!preset.description.empty()) return preset;
+  const std::string twin = preset.mechanism + "-described";
+  const std::vector<std::string> presets = available_presets();
+  if (std::find(presets.begin(), presets.end(), twin) == presets.end())
+    throw std::invalid_argument(preset.mechanism + " is compiled and has no described twin ('" + twin +
+                                "'): only a device with a chain description can be written as MJCF");
+  Preset described = load_preset(twin);
+  const Preset defaults = load_preset(preset.mechanism);
+  for (const auto& [name, value] : preset.parameters) {
+    if (described.parameters.count(name) || motor_parameter(name)) described.parameters[name] = value;
+    else if (const auto d = defaults.parameters.find(name); d == defaults.parameters.end() || d->second != value)
+      throw std::invalid_argument(name + " of " + preset.mechanism + " has no counterpart in " + twin + "; export " +
+                                  twin + " with its own parameters");
+  }
+  described.actuator_data = preset.actuator_data;
+  validate(described);
+  return described;
+}
 
 std::string mjcf_platform_joint(const std::string& coordinate) { return "platform_" + coordinate; }
 std::string mjcf_leg_end(const std::string& leg) { return "leg_" + leg + "_end"; }

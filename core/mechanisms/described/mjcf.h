@@ -22,6 +22,13 @@ namespace linkscape::described {
 // preset is not a described device or its home does not assemble.
 std::string mjcf_model(const Preset& preset);
 
+// The described form of a preset: itself, or for a compiled device its
+// described twin, the preset named "<mechanism>-described", with the
+// parameters and actuator data they share. Throws std::invalid_argument for
+// a compiled device without a twin, or a parameter changed from the
+// compiled preset that the twin lacks (refused rather than dropped).
+Preset described_twin(const Preset& preset);
+
 // The MJCF names the export gives: the platform's coordinate joints and the
 // body a leg ends in (the legs' joints keep the description's names).
 std::string mjcf_platform_joint(const std::string& coordinate);  // "platform_x", ...

@@ -1,5 +1,4 @@
 // linkscape export-model: a device as a MuJoCo model (MJCF) for simulators (docs/model-export.md).
-#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <stdexcept>
@@ -18,36 +17,16 @@ struct ExportModelOptions {
   std::string output;  // .xml
 };
 
-// A compiled device exports through its described twin, the preset named
-// "<name>-described", with the parameters they share; a changed parameter
-// the twin lacks is refused rather than dropped.
-Preset described_preset(const PresetChoice& choice) {
-  Preset preset = chosen_preset(choice);
-  if (!preset.description.empty()) return preset;
-  const std::string twin = preset.mechanism + "-described";
-  const auto presets = available_presets();
-  if (std::find(presets.begin(), presets.end(), twin) == presets.end())
-    throw std::invalid_argument("export-model: " + preset.mechanism +
-                                " is compiled and has no described twin ('" + twin +
-                                "'): only devices with a chain description can be written as MJCF");
-  Preset described = load_preset(twin);
-  const Preset defaults = load_preset(preset.mechanism);
-  for (const auto& [name, value] : preset.parameters) {
-    if (described.parameters.count(name) || motor_parameter(name)) described.parameters[name] = value;
-    else if (const auto d = defaults.parameters.find(name); d == defaults.parameters.end() || d->second != value)
-      throw std::invalid_argument("export-model: " + name + " of " + preset.mechanism + " has no counterpart in " +
-                                  twin + "; export " + twin + " with its own parameters");
-  }
-  described.actuator_data = preset.actuator_data;
-  validate(described);
-  return described;
-}
-
 void run_export_model(const ExportModelOptions& o, std::ostream& out) {
   if (std::filesystem::path(o.output).extension() != ".xml")
     throw std::invalid_argument("export-model: --output must end in .xml (MJCF), got '" + o.output + "'");
   check_output(o.output);
-  const Preset preset = described_preset(o.mechanism);
+  Preset preset;
+  try {
+    preset = described::described_twin(chosen_preset(o.mechanism));
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("export-model: ") + e.what());
+  }
   write_text_atomically(o.output, described::mjcf_model(preset));
   out << "wrote " << o.output << ": " << preset.title << " as MJCF (lengths in m; joint values as Linkscape's)\n";
 }
