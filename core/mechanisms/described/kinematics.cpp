@@ -11,202 +11,20 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/mechanisms/described/chain.h"
+
 namespace linkscape::described {
+
+using namespace detail;  // its Eigen names too
+
 namespace {
-
-using Eigen::Index;
-using Eigen::Isometry3d;
-using Eigen::Matrix3d;
-using Eigen::MatrixXd;
-using Eigen::Vector3d;
-using Eigen::VectorXd;
-using Vector6d = Eigen::Matrix<double, 6, 1>;
-using Kind = Step::Kind;
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
-std::atomic<std::uint64_t> next_id{1};
-
-// The rows a device's closure keeps: spatial all six, planar (rz, x, y).
-constexpr int kPlanarRows[3] = {2, 3, 4};
-
-Matrix3d rotation_of(const Vector3d& v) {
-  const double angle = v.norm();
-  if (angle == 0) return Matrix3d::Identity();
-  return Eigen::AngleAxisd(angle, v / angle).toRotationMatrix();
-}
-
-Vector3d rotation_vector(const Matrix3d& R) {
-  const Eigen::AngleAxisd aa(R);
-  return aa.angle() * aa.axis();
-}
-
-Matrix3d euler_zyx(double rx, double ry, double rz) {
-  return (Eigen::AngleAxisd(rz, Vector3d::UnitZ()) * Eigen::AngleAxisd(ry, Vector3d::UnitY()) *
-          Eigen::AngleAxisd(rx, Vector3d::UnitX()))
-      .toRotationMatrix();
-}
-
-Vector3d euler_of(const Matrix3d& R) {
-  const double ry = std::asin(std::clamp(-R(2, 0), -1.0, 1.0));
-  return {std::atan2(R(2, 1), R(2, 2)), ry, std::atan2(R(1, 0), R(0, 0))};
-}
-
-// A leg's chain at one state: the end frame and, per variable, the twist's
-// axis and centre (base frame).
-struct Chain {
-  Isometry3d end = Isometry3d::Identity();
-  std::vector<Vector3d> axis, centre;  // per variable
-  std::vector<bool> sliding;           // per variable: prismatic
-  std::vector<Vector3d> step_centre, step_axis;  // per step, for branch rules and drawing
-  std::vector<Isometry3d> step_frame;            // per step: the frame after it
-};
-
-// Fills `c` (its vectors keep their capacity: no allocation in a solver's loop).
-void walk_into(const Leg& leg, const LegState& s, Chain& c) {
-  c.axis.resize(std::size_t(leg.variables));
-  c.centre.resize(std::size_t(leg.variables));
-  c.sliding.assign(std::size_t(leg.variables), false);
-  c.step_centre.clear();
-  c.step_axis.clear();
-  c.step_frame.clear();
-  Isometry3d T = leg.base;
-  int sphere = 0;
-  for (const Step& step : leg.steps) {
-    const Vector3d here = T.translation();
-    c.step_centre.push_back(here);
-    c.step_axis.push_back(T.linear() * step.axis);
-    switch (step.kind) {
-      case Kind::Fixed:
-        T = T * step.transform;
-        break;
-      case Kind::Revolute: {
-        c.axis[std::size_t(step.variable)] = T.linear() * step.axis;
-        c.centre[std::size_t(step.variable)] = here;
-        T.linear() = T.linear() * Eigen::AngleAxisd(s.values(step.variable), step.axis).toRotationMatrix();
-        break;
-      }
-      case Kind::Prismatic: {
-        const Vector3d a = T.linear() * step.axis;
-        c.axis[std::size_t(step.variable)] = a;
-        c.centre[std::size_t(step.variable)] = here;
-        c.sliding[std::size_t(step.variable)] = true;
-        T.translation() += a * s.values(step.variable);
-        break;
-      }
-      case Kind::Spherical: {
-        T.linear() = T.linear() * s.spheres[std::size_t(sphere++)];
-        for (int k = 0; k < 3; ++k) {
-          c.axis[std::size_t(step.variable + k)] = T.linear().col(k);
-          c.centre[std::size_t(step.variable + k)] = here;
-        }
-        break;
-      }
-    }
-    c.step_frame.push_back(T);
-  }
-  c.end = T;
-}
-
-Chain walk(const Leg& leg, const LegState& s) {
-  Chain c;
-  walk_into(leg, s, c);
-  return c;
-}
-
-// The twist of variable v about point r: [axis; axis x (r - centre)] (or
-// [0; axis] for a slide), position rows divided by size.
-Vector6d twist(const Chain& c, int v, const Vector3d& r, double size) {
-  Vector6d t;
-  const Vector3d& a = c.axis[std::size_t(v)];
-  if (c.sliding[std::size_t(v)]) t << Vector3d::Zero(), a / size;
-  else t << a, a.cross(r - c.centre[std::size_t(v)]) / size;
-  return t;
-}
-
-Vector6d closure_error(const Chain& c, const Isometry3d& anchor, double size) {
-  Vector6d e;
-  e << rotation_vector(anchor.linear() * c.end.linear().transpose()),
-      (anchor.translation() - c.end.translation()) / size;
-  return e;
-}
-
-// Keeps the rows the device closes (planar: rz, x, y).
-// Closure rows: at most six, kept on the stack; a leg's columns (its joint
-// variables, as many as the file gives) on the heap.
-using Rows = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
-using LegMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, Eigen::Dynamic>;
-
-Rows rows_of(const Vector6d& v, bool planar) {
-  if (!planar) return v;
-  Rows out(3);
-  for (int i = 0; i < 3; ++i) out(i) = v(kPlanarRows[i]);
-  return out;
-}
-
-template <class Vector>
-void apply(const Leg& leg, LegState& s, const Vector& delta, int offset = 0) {
-  int sphere = 0;
-  for (const Step& step : leg.steps) {
-    if (step.kind == Kind::Revolute || step.kind == Kind::Prismatic) s.values(step.variable) += delta(offset + step.variable);
-    if (step.kind == Kind::Spherical) {
-      Matrix3d& R = s.spheres[std::size_t(sphere++)];
-      R = R * rotation_of(delta.template segment<3>(offset + step.variable));
-      // Re-orthonormalise now and then would be needed only over thousands of steps.
-    }
-  }
-}
-
-// A damped Gauss-Newton step for J d = e (J m x n): d = J^T (J J^T + mu I)^-1 e,
-// the least-norm step, damped by mu = |e|^2 (Levenberg-Marquardt in the
-// Yamashita-Fukushima form: quadratic convergence where a solution exists,
-// also at singular ones). A leg's IK caps mu: at a least-squares minimum off
-// the target (an unreachable pose) light damping converges to the minimum,
-// whose distance is the reach margin outside.
-template <class Jacobian, class Error>
-auto damped_step(const Jacobian& J, const Error& e, double cap = kInf) {
-  using Square = Eigen::Matrix<double, Jacobian::RowsAtCompileTime, Jacobian::RowsAtCompileTime, 0,
-                               Jacobian::MaxRowsAtCompileTime, Jacobian::MaxRowsAtCompileTime>;
-  using Step = Eigen::Matrix<double, Jacobian::ColsAtCompileTime, 1, 0, Jacobian::MaxColsAtCompileTime, 1>;
-  Square A = J * J.transpose();
-  const double mu = std::min(e.squaredNorm(), cap) + 1e-30;
-  A.diagonal().array() += mu;
-  Step d = J.transpose() * A.ldlt().solve(e);
-  return d;
-}
-
-// Limits a step to half a radian in any angle and half the device's size in
-// any length (`lengths` marks the length variables).
-template <class Vector>
-void limit_step(Vector& d, const std::vector<bool>& lengths, double size) {
-  double ratio = 0;
-  for (Index i = 0; i < d.size(); ++i)
-    ratio = std::max(ratio, std::abs(d(i)) / (lengths[std::size_t(i)] ? 0.5 * size : 0.5));
-  if (ratio > 1) d /= ratio;
-}
-
-double golden(int i, int j) {
-  const double v = std::fmod(0.6180339887498949 * (i + 1) + 0.4142135623730951 * (j + 1) * (i + 3), 1.0);
-  return 2 * v - 1;
-}
-
 struct ThreadSeeds {
   std::uint64_t id = 0;
   std::vector<std::vector<std::optional<LegState>>> legs;  // per leg, per combination
 };
 thread_local ThreadSeeds thread_seeds;
-
 }  // namespace
 
-struct Kinematics::LegSolveResult {
-  LegState state;
-  double error = kInf;  // |e|, dimensionless
-  int iterations = 0;
-  // At a least-squares minimum: the gradient J^T e vanishes against |J| |e|
-  // (a pose the leg cannot reach from here), rather than merely slow.
-  bool stationary = false;
-};
 
 // ---- Poses -------------------------------------------------------------------
 
@@ -238,32 +56,39 @@ double Kinematics::wrap(double a) const {
 
 // ---- Branch rules ------------------------------------------------------------
 
+namespace {
+// The sign of one rule at a walked chain.
+int rule_sign(const BranchRule& r, const Leg& l, const Chain& c, const LegState& state, const Isometry3d& anchor) {
+  auto centre = [&](int step) { return step == -2 ? anchor.translation() : c.step_centre[std::size_t(step)]; };
+  double v = 0;
+  if (r.kind == BranchRule::Kind::Angle) {
+    v = std::sin(state.values(l.steps[std::size_t(r.steps[0])].variable));
+  } else if (r.kind == BranchRule::Kind::Along) {
+    v = (centre(r.steps[1]) - centre(r.steps[0])).dot(r.direction);
+  } else {
+    const Vector3d a = centre(r.steps[0]), b = centre(r.steps[1]);
+    v = (b - a).cross(centre(r.steps[2]) - b).dot(c.step_axis[std::size_t(r.steps[0])]);
+  }
+  return v > 0 ? 1 : v < 0 ? -1 : 0;
+}
+}  // namespace
+
 std::vector<int> Kinematics::rule_signs(int leg, const LegState& state, const Isometry3d& anchor) const {
   const Leg& l = model_.legs[std::size_t(leg)];
   const Chain c = walk(l, state);
   std::vector<int> signs;
-  for (const BranchRule& r : l.rules) {
-    double v = 0;
-    if (r.kind == BranchRule::Kind::Angle) {
-      v = std::sin(state.values(l.steps[std::size_t(r.steps[0])].variable));
-    } else {
-      const Vector3d a = c.step_centre[std::size_t(r.steps[0])], b = c.step_centre[std::size_t(r.steps[1])];
-      const Vector3d cc = r.steps[2] == -2 ? anchor.translation() : c.step_centre[std::size_t(r.steps[2])];
-      v = (b - a).cross(cc - b).dot(c.step_axis[std::size_t(r.steps[0])]);
-    }
-    signs.push_back(v > 0 ? 1 : v < 0 ? -1 : 0);
-  }
+  for (const BranchRule& r : l.rules) signs.push_back(rule_sign(r, l, c, state, anchor));
   return signs;
 }
 
 bool Kinematics::signs_match(int leg, const LegState& state, const Isometry3d& anchor, int branch) const {
   const Leg& l = model_.legs[std::size_t(leg)];
   if (l.rules.empty()) return true;  // no chain to walk
-  const std::vector<int> signs = rule_signs(leg, state, anchor);
-  for (std::size_t i = 0; i < l.rules.size(); ++i) {
-    const BranchRule& r = l.rules[i];
+  thread_local Chain c;
+  walk_into(l, state, c);
+  for (const BranchRule& r : l.rules) {
     const int wanted = r.fixed_sign != 0 ? r.fixed_sign : ((branch >> r.free_index) & 1) ? -1 : 1;
-    if (signs[i] * wanted < 0) return false;
+    if (rule_sign(r, l, c, state, anchor) * wanted < 0) return false;
   }
   return true;
 }
@@ -281,27 +106,6 @@ bool Kinematics::within_travel(int leg, const LegState& state) const {
   }
   return true;
 }
-
-namespace {
-// The combination index of a leg's own free rules for a device branch.
-int leg_combination(const Leg& l, int branch) {
-  int combo = 0, bit = 0;
-  for (const BranchRule& r : l.rules)
-    if (r.free_index >= 0) combo |= ((branch >> r.free_index) & 1) << bit++;
-  return combo;
-}
-int device_branch(const Leg& l, int combo) {
-  int branch = 0, bit = 0;
-  for (const BranchRule& r : l.rules)
-    if (r.free_index >= 0) branch |= ((combo >> bit++) & 1) << r.free_index;
-  return branch;
-}
-int free_rules_of(const Leg& l) {
-  int n = 0;
-  for (const BranchRule& r : l.rules) n += r.free_index >= 0;
-  return n;
-}
-}  // namespace
 
 // ---- Leg inverse kinematics ----------------------------------------------------
 
@@ -352,8 +156,43 @@ Kinematics::LegSolveResult Kinematics::solve_leg(int leg, const Isometry3d& anch
   return out;
 }
 
+const ClosedFormLeg* Kinematics::closed_form(int leg) const {
+  const auto& c = closed_[std::size_t(leg)];
+  return c ? &*c : nullptr;
+}
+
+std::optional<LegSolution> Kinematics::solve_leg_closed(int leg, const Isometry3d& anchor, int branch) const {
+  const Leg& l = model_.legs[std::size_t(leg)];
+  thread_local LegCandidates candidates;
+  solve_closed(*closed_[std::size_t(leg)], model_, l, anchor, candidates);
+  if (candidates.undecided) return std::nullopt;
+  LegSolution out;
+  if (candidates.count == 0) {
+    out.state = spread_seeds_[std::size_t(leg)].front();
+    out.residual = candidates.miss;
+    return out;  // unreachable
+  }
+  // On the branch, within the travel first (as the numerical solver: a leg
+  // that closes its anchor twice on one branch is ok if either is in travel).
+  const LegState* outside = nullptr;
+  for (int i = 0; i < candidates.count; ++i) {
+    const LegState& s = candidates.states[std::size_t(i)];
+    if (!signs_match(leg, s, anchor, branch)) continue;
+    if (within_travel(leg, s)) {
+      out.state = s;
+      out.status = Status::Ok;
+      return out;
+    }
+    if (!outside) outside = &s;
+  }
+  out.state = outside ? *outside : candidates.states[0];
+  // Ok outside the travel (inverse() says out-of-limits), or closing only on another branch.
+  out.status = outside ? Status::Ok : Status::NotConverged;
+  return out;
+}
+
 LegSolution Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int branch, double tolerance,
-                                     const LegState* extra_seed) const {
+                                     const LegState* extra_seed, LegSolver solver) const {
   const Leg& l = model_.legs[std::size_t(leg)];
   const int combo = leg_combination(l, branch);
   ThreadSeeds& tls = thread_seeds;
@@ -392,6 +231,8 @@ LegSolution Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int bran
     best.status = Status::Unreachable;
     return best;
   }
+  if (solver == LegSolver::Fastest && closed_[std::size_t(leg)])
+    if (std::optional<LegSolution> s = solve_leg_closed(leg, anchor, branch)) return *std::move(s);
   bool found_other_branch = false;
   // A solution on the branch whose actuator is outside its travel: the answer
   // only if the first fixed seed (the leg at home on the branch) does not
@@ -452,7 +293,7 @@ LegSolution Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int bran
   return best;
 }
 
-PoseSolution Kinematics::inverse(const VectorXd& x, int branch, double tolerance) const {
+PoseSolution Kinematics::inverse(const VectorXd& x, int branch, double tolerance, LegSolver solver) const {
   const PlatformPose p = pose(x);
   PoseSolution out;
   out.q = VectorXd::Zero(Index(model_.actuators.size()));
@@ -466,7 +307,7 @@ PoseSolution Kinematics::inverse(const VectorXd& x, int branch, double tolerance
     }
   };
   for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
-    LegSolution s = solve_leg_on(int(leg), anchor(int(leg), p), branch, tolerance, nullptr);
+    LegSolution s = solve_leg_on(int(leg), anchor(int(leg), p), branch, tolerance, nullptr, solver);
     out.iterations += s.iterations;
     out.residual = std::max(out.residual, s.residual);
     const Leg& l = model_.legs[leg];
@@ -485,7 +326,7 @@ PoseSolution Kinematics::inverse(const VectorXd& x, int branch, double tolerance
   return out;
 }
 
-PoseSolution Kinematics::inverse_near(const VectorXd& x, const VectorXd& q) const {
+PoseSolution Kinematics::inverse_near(const VectorXd& x, const VectorXd& q, LegSolver solver) const {
   const PlatformPose p = pose(x);
   PoseSolution out;
   out.q = VectorXd::Zero(Index(model_.actuators.size()));
@@ -496,7 +337,7 @@ PoseSolution Kinematics::inverse_near(const VectorXd& x, const VectorXd& q) cons
     LegSolution best;
     double best_distance = kInf;
     for (int combo = 0; combo < (1 << free_rules_of(l)); ++combo) {
-      LegSolution s = solve_leg_on(int(leg), anchor(int(leg), p), device_branch(l, combo), 1e-10, nullptr);
+      LegSolution s = solve_leg_on(int(leg), anchor(int(leg), p), device_branch(l, combo), 1e-10, nullptr, solver);
       if (s.status != Status::Ok) continue;
       const double v = s.state.values(var);
       const double distance = act.prismatic ? std::abs(v - q(l.actuators.front()))
@@ -520,10 +361,7 @@ PoseSolution Kinematics::inverse_near(const VectorXd& x, const VectorXd& q) cons
 
 // ---- The Jacobian by reciprocal screws ----------------------------------------------
 
-namespace {
-// The platform's twists about r for each driven coordinate (translation:
-// [0; e]; rotation: [w; w x (r - p)], w the angular velocity of a unit rate:
-// the base axes where all three rotations are free, else the Euler rates).
+namespace detail {
 MatrixXd platform_columns(const Model& m, const PlatformPose& pose, const Vector3d& r) {
   const bool all_rotations = m.free[3] && m.free[4] && m.free[5];
   // The Euler angles, for the rates (not needed where all three rotations are free).
@@ -549,7 +387,7 @@ MatrixXd platform_columns(const Model& m, const PlatformPose& pose, const Vector
   }
   return cols;
 }
-}  // namespace
+}  // namespace detail
 
 JacobianParts Kinematics::jacobian(const VectorXd& x, const PoseSolution& solved) const {
   const PlatformPose p = pose(x);
@@ -605,149 +443,6 @@ JacobianParts Kinematics::jacobian(const VectorXd& x, const PoseSolution& solved
   return out;
 }
 
-// ---- Forward kinematics -------------------------------------------------------------
-
-ForwardSolution Kinematics::forward(const VectorXd& q, const VectorXd& seed, double tolerance,
-                                    int max_iterations) const {
-  ForwardSolution out;
-  out.x = seed;
-  const int n = model_.driven();
-  const bool all_rotations = model_.free[3] && model_.free[4] && model_.free[5];
-  // Leg states at the seed: each leg's solution with its actuator nearest q,
-  // its actuator then set to q.
-  PoseSolution start = inverse_near(seed, q);
-  std::vector<LegState> legs;
-  for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
-    const Leg& l = model_.legs[leg];
-    LegState s = start.legs[leg].status == Status::Ok ? start.legs[leg].state : *home_states_[leg][0];
-    const int a = l.actuators.front();
-    const int var = l.steps[std::size_t(model_.actuators[std::size_t(a)].step)].variable;
-    s.values(var) = model_.actuators[std::size_t(a)].prismatic ? q(a) : s.values(var) + wrap(q(a) - s.values(var));
-    legs.push_back(std::move(s));
-  }
-  // Unknowns: the driven coordinates, then every leg's passive variables.
-  std::vector<int> offset;
-  int unknowns = n;
-  for (const Leg& l : model_.legs) {
-    offset.push_back(unknowns);
-    unknowns += l.variables - 1;
-  }
-  const int m = model_.planar ? 3 : 6;
-  const int rows = m * int(model_.legs.size());
-  std::vector<bool> length_unknowns;  // translations and slides, for the step limit
-  for (const TaskCoordinate& t : model_.task)
-    if (t.extra < 0) length_unknowns.push_back(t.platform_coordinate < 3);
-  for (const Leg& l : model_.legs) {
-    const int act_var = l.steps[std::size_t(model_.actuators[std::size_t(l.actuators.front())].step)].variable;
-    for (const Step& step : l.steps) {
-      if (step.kind == Kind::Fixed || step.variable == act_var) continue;
-      for (int k = 0; k < (step.kind == Kind::Spherical ? 3 : 1); ++k) length_unknowns.push_back(step.kind == Kind::Prismatic);
-    }
-  }
-  VectorXd x = seed;
-  // The closure errors at (xx, ls), with the pose and the legs' chains they
-  // came from (kept for the next Jacobian).
-  auto errors = [&](const VectorXd& xx, const std::vector<LegState>& ls, PlatformPose& p, std::vector<Chain>& chains) {
-    p = pose(xx);
-    chains.resize(model_.legs.size());
-    VectorXd e(rows);
-    for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
-      walk_into(model_.legs[leg], ls[leg], chains[leg]);
-      e.segment(Index(leg) * m, m) = rows_of(closure_error(chains[leg], anchor(int(leg), p), model_.size), model_.planar);
-    }
-    return e;
-  };
-  // `R`: the rotation of pose(xx), which the caller already has.
-  auto step_pose = [&](const VectorXd& xx, const Matrix3d& R, const VectorXd& d) {
-    VectorXd nx = xx;
-    int col = 0;
-    Vector3d dw = Vector3d::Zero();
-    std::vector<int> rot_index(3, -1);
-    for (std::size_t i = 0; i < model_.task.size(); ++i) {
-      const TaskCoordinate& t = model_.task[i];
-      if (t.extra >= 0) continue;
-      if (t.platform_coordinate < 3 || !all_rotations) nx(Index(i)) += d(col);
-      else {
-        dw(t.platform_coordinate - 3) = d(col);
-        rot_index[std::size_t(t.platform_coordinate - 3)] = int(i);
-      }
-      ++col;
-    }
-    if (all_rotations) {
-      const Vector3d e = euler_of(rotation_of(dw) * R);
-      for (int k = 0; k < 3; ++k) nx(rot_index[std::size_t(k)]) = e(k);
-    }
-    return nx;
-  };
-  // pose(x) and the legs' chains: updated with x and legs, never recomputed.
-  PlatformPose p;
-  std::vector<Chain> chains;
-  VectorXd e = errors(x, legs, p, chains);
-  double norm = e.norm();
-  int it = 0;
-  for (; it < max_iterations && norm > 1e-15; ++it) {
-    MatrixXd J = MatrixXd::Zero(rows, unknowns);
-    for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
-      const Leg& l = model_.legs[leg];
-      const Chain& c = chains[leg];
-      const Vector3d r = c.end.translation();
-      const MatrixXd cols = platform_columns(model_, p, r);
-      for (Index j = 0; j < cols.cols(); ++j)
-        J.block(Index(leg) * m, j, m, 1) = -rows_of(cols.col(j), model_.planar);
-      const int act_var = l.steps[std::size_t(model_.actuators[std::size_t(l.actuators.front())].step)].variable;
-      for (int v = 0, col = 0; v < l.variables; ++v)
-        if (v != act_var)
-          J.block(Index(leg) * m, offset[leg] + col++, m, 1) = rows_of(twist(c, v, r, model_.size), model_.planar);
-    }
-    VectorXd d = damped_step(J, e);
-    limit_step(d, length_unknowns, model_.size);
-    bool accepted = false;
-    for (int halving = 0; halving < 30 && !accepted; ++halving, d *= 0.5) {
-      const VectorXd tx = step_pose(x, p.R, d);
-      std::vector<LegState> tl = legs;
-      for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
-        const Leg& l = model_.legs[leg];
-        const int act_var = l.steps[std::size_t(model_.actuators[std::size_t(l.actuators.front())].step)].variable;
-        VectorXd full = VectorXd::Zero(l.variables);
-        for (int v = 0, col = 0; v < l.variables; ++v)
-          if (v != act_var) full(v) = d(offset[leg] + col++);
-        apply(l, tl[leg], full);
-      }
-      PlatformPose tp;
-      std::vector<Chain> tchains;
-      const VectorXd te = errors(tx, tl, tp, tchains);
-      if (te.norm() < norm) {
-        accepted = true;
-        const bool floor = te.norm() > 0.5 * norm && norm < 1e-11;
-        x = tx;
-        legs = std::move(tl);
-        p = std::move(tp);
-        chains = std::move(tchains);
-        e = te;
-        norm = te.norm();
-        if (floor) it = max_iterations;
-      }
-    }
-    if (!accepted) break;
-  }
-  out.x = x;
-  out.legs = std::move(legs);
-  out.residual = norm * model_.size;
-  out.iterations = std::min(it, max_iterations);
-  out.status = norm <= tolerance ? Status::Ok : Status::NotConverged;
-  // An assembly whose legs break the design's own branch rules (a "sign" in
-  // the description) is not this device: report it as not converged.
-  if (out.status == Status::Ok) {
-    for (std::size_t leg = 0; leg < model_.legs.size() && out.status == Status::Ok; ++leg) {
-      const Leg& l = model_.legs[leg];
-      const std::vector<int> signs = rule_signs(int(leg), out.legs[leg], anchor(int(leg), p));
-      for (std::size_t r = 0; r < l.rules.size(); ++r)
-        if (l.rules[r].fixed_sign != 0 && signs[r] * l.rules[r].fixed_sign < 0) out.status = Status::NotConverged;
-    }
-  }
-  return out;
-}
-
 // ---- Margins -------------------------------------------------------------------------
 
 double Kinematics::limits_margin(const VectorXd& q) const {
@@ -794,135 +489,6 @@ double Kinematics::reach_margin(const VectorXd& x, int branch) const {
 Kinematics::LegDrawing Kinematics::draw_leg(int leg, const LegState& state) const {
   const Chain c = walk(model_.legs[std::size_t(leg)], state);
   return {c.step_frame};
-}
-
-// ---- Construction: home on every branch, mobility ---------------------------------------------
-
-Kinematics::Kinematics(Model model) : model_(std::move(model)), id_(next_id++) {
-  // Each leg's longest and shortest reach from its base: the chain's end is
-  // the base plus its fixed translations, each turned by the joints before
-  // it, so by the triangle inequality its distance lies between the longest
-  // translation less all the others and their sum, whatever the joints do.
-  // Unbounded with a slide (IK solves without the travel, which makes
-  // out-of-limits).
-  for (const Leg& l : model_.legs) {
-    double sum = 0, longest = 0;
-    bool slides = false;
-    for (const Step& step : l.steps) {
-      const double length = step.kind == Kind::Fixed ? step.transform.translation().norm() : 0.0;
-      sum += length;
-      longest = std::max(longest, length);
-      slides = slides || step.kind == Kind::Prismatic;
-    }
-    leg_reach_.push_back(slides ? Range{0.0, kInf} : Range{std::max(0.0, 2 * longest - sum), sum});
-  }
-  // Spread seeds: the chain as written, then joint values spread over a turn.
-  for (const Leg& l : model_.legs) {
-    std::vector<LegState> seeds;
-    for (int j = 0; j < 12; ++j) {
-      LegState s;
-      s.values = VectorXd::Zero(l.variables);
-      for (const Step& step : l.steps) {
-        if (step.kind == Kind::Revolute) s.values(step.variable) = j == 0 ? 0.0 : kPi * golden(j, step.variable);
-        if (step.kind == Kind::Prismatic) {
-          const bool actuated = step.actuator >= 0;
-          const Range r = actuated ? model_.actuators[std::size_t(step.actuator)].range : Range{0, 0};
-          s.values(step.variable) = actuated ? 0.5 * (r.lo + r.hi) + 0.25 * (r.hi - r.lo) * golden(j, 0) : 0.0;
-        }
-        if (step.kind == Kind::Spherical)
-          s.spheres.push_back(j == 0 ? Matrix3d::Identity()
-                                     : rotation_of(kPi * Vector3d(golden(j, step.variable), golden(j, step.variable + 1),
-                                                                   golden(j, step.variable + 2)) /
-                                                   std::sqrt(3.0)));
-      }
-      seeds.push_back(std::move(s));
-    }
-    spread_seeds_.push_back(std::move(seeds));
-  }
-  // Home on every combination of each leg's free rules.
-  const PlatformPose home = pose(model_.home);
-  home_states_.resize(model_.legs.size());
-  for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
-    const Leg& l = model_.legs[leg];
-    home_states_[leg].assign(std::size_t(1) << free_rules_of(l), std::nullopt);
-    const Isometry3d a = anchor(int(leg), home);
-    double best = kInf;
-    for (const LegState& seed : spread_seeds_[leg]) {
-      LegSolveResult r = solve_leg(int(leg), a, seed, 100, 1e-9);
-      best = std::min(best, r.error * model_.size);
-      if (r.error * model_.size > 1e-10 * model_.size) continue;
-      for (int combo = 0; combo < int(home_states_[leg].size()); ++combo)
-        if (!home_states_[leg][std::size_t(combo)] && signs_match(int(leg), r.state, a, device_branch(l, combo)))
-          home_states_[leg][std::size_t(combo)] = r.state;
-    }
-    std::ostringstream msg;
-    if (!home_states_[leg][0]) {
-      msg << "description.legs \"" << l.name << "\": the leg does not reach its anchor at home";
-      if (best < kInf && best > 1e-10 * model_.size) msg << " (misses by " << best << " " << model_.length_unit << ")";
-      else msg << " on branch 0 (every branch rule positive or as its sign says)";
-      throw std::invalid_argument(msg.str());
-    }
-  }
-
-  // Mobility: the joint graph against the closure's rank at home.
-  const int lambda = model_.planar ? 3 : 6;
-  int bodies = 1 + int(model_.platform_names.size()), joints = int(model_.platform_names.size()) - 1, freedom = int(model_.extras.size());
-  for (const Leg& l : model_.legs) {
-    std::set<std::string> names;
-    for (const Step& s : l.steps)
-      if (s.kind != Kind::Fixed) names.insert(s.joint);
-    joints += int(names.size());
-    bodies += int(names.size()) - 1;
-    freedom += l.variables;
-  }
-  mobility_.gruebler = lambda * (bodies - 1 - joints) + freedom;
-  int free_coordinates = 0;
-  for (int c = 0; c < 6; ++c) free_coordinates += model_.free[std::size_t(c)] && (!model_.planar || c == 0 || c == 1 || c == 5);
-  mobility_.fixed = lambda - free_coordinates;
-  {
-    const int m = model_.planar ? 3 : 6;
-    int columns = model_.driven();
-    for (const Leg& l : model_.legs) columns += l.variables;
-    MatrixXd C = MatrixXd::Zero(m * Index(model_.legs.size()), columns);
-    int col = model_.driven();
-    for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
-      const Leg& l = model_.legs[leg];
-      const Chain c = walk(l, *home_states_[leg][0]);
-      const Vector3d r = c.end.translation();
-      const MatrixXd pc = platform_columns(model_, home, r);
-      for (Index j = 0; j < pc.cols(); ++j) C.block(Index(leg) * m, j, m, 1) = -rows_of(pc.col(j), model_.planar);
-      MatrixXd passive(m, l.variables);
-      for (int v = 0; v < l.variables; ++v) {
-        passive.col(v) = rows_of(twist(c, v, r, model_.size), model_.planar);
-        C.block(Index(leg) * m, col++, m, 1) = passive.col(v);
-      }
-      const int act_var = l.steps[std::size_t(model_.actuators[std::size_t(l.actuators.front())].step)].variable;
-      MatrixXd without(m, l.variables - 1);
-      for (int v = 0, k = 0; v < l.variables; ++v)
-        if (v != act_var) without.col(k++) = passive.col(v);
-      Eigen::FullPivLU<MatrixXd> lu(without);
-      lu.setThreshold(1e-9);
-      mobility_.idle += int(without.cols()) - int(lu.rank());
-    }
-    Eigen::FullPivLU<MatrixXd> lu(C);
-    lu.setThreshold(1e-9);
-    mobility_.closure_rank = columns - int(lu.rank());
-  }
-  mobility_.freedoms = mobility_.closure_rank - mobility_.idle;
-  if (mobility_.freedoms != int(model_.actuators.size())) {
-    std::ostringstream msg;
-    msg << "description: the mechanism has " << mobility_.freedoms << " freedom(s) at home (closure "
-        << mobility_.closure_rank << ", idle " << mobility_.idle << ") but " << model_.actuators.size()
-        << " actuator(s); each freedom of the task needs one actuator (Gruebler-Kutzbach count "
-        << mobility_.gruebler << ", " << mobility_.fixed << " platform coordinate(s) held by the description)";
-    throw std::invalid_argument(msg.str());
-  }
-  if (model_.driven() != int(model_.actuators.size())) {
-    std::ostringstream msg;
-    msg << "description.task: " << model_.driven() << " driven coordinate(s) but " << model_.actuators.size()
-        << " actuator(s)";
-    throw std::invalid_argument(msg.str());
-  }
 }
 
 }  // namespace linkscape::described

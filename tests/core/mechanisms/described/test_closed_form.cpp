@@ -1,0 +1,142 @@
+// The closed-form legs against the numerical solver (the reference) on every
+// shipped description: the pattern each leg is recognised as, identical
+// statuses away from the reach boundary, actuators, Jacobians and condition
+// numbers within 1e-9 relative; and every closed-form answer checked on its
+// own (its legs close, its branch signs hold), so that where the two differ
+// the closed form is shown right.
+#include <gtest/gtest.h>
+
+#include <Eigen/SVD>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "core/mechanisms/described/kinematics.h"
+#include "core/preset.h"
+
+namespace linkscape::described {
+namespace {
+
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+Kinematics load(const std::string& name) {
+  const Preset p = load_preset(name);
+  return Kinematics(build_model(p.description, p.parameters, p.limits_deg, p.length_unit));
+}
+
+std::vector<std::string> patterns(const Kinematics& k) {
+  std::vector<std::string> out;
+  for (std::size_t l = 0; l < k.model().legs.size(); ++l)
+    out.push_back(pattern_name(k.closed_form(int(l)) ? k.closed_form(int(l))->pattern : LegPattern::Numeric));
+  return out;
+}
+
+TEST(DescribedClosedForm, RecognisesTheShippedLegs) {
+  EXPECT_EQ(patterns(load("delta-described")), std::vector<std::string>(3, "crank-rod"));
+  EXPECT_EQ(patterns(load("pathos2-described")), std::vector<std::string>(6, "three-revolute"));
+  EXPECT_EQ(patterns(load("five-bar")), std::vector<std::string>(2, "planar-dyad"));
+  EXPECT_EQ(patterns(load("stewart")), std::vector<std::string>(6, "extensible"));
+}
+
+double cond(const MatrixXd& M) {
+  Eigen::JacobiSVD<MatrixXd> svd(M);
+  const auto& s = svd.singularValues();
+  return s(0) / s(s.size() - 1);
+}
+
+// A random pose: the position in home +- spread * size (planar: in the
+// plane), each rotation within 0.4 spread rad of home, each extra within its range.
+VectorXd random_pose(const Model& m, double spread, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> unit(-1, 1);
+  VectorXd x = m.home;
+  for (std::size_t i = 0; i < m.task.size(); ++i) {
+    const TaskCoordinate& t = m.task[i];
+    if (t.extra >= 0) {
+      const Range r = m.extras[std::size_t(t.extra)].range;
+      x(Eigen::Index(i)) = r.lo + (r.hi - r.lo) * 0.5 * (unit(rng) + 1);
+    } else {
+      x(Eigen::Index(i)) += spread * (t.platform_coordinate < 3 ? m.size : 0.4) * unit(rng);
+    }
+  }
+  return x;
+}
+
+// The closed form's answer, checked without the numerical solver: every
+// leg's chain closes on its anchor.
+double closure_miss(const Kinematics& k, const VectorXd& x, const PoseSolution& s) {
+  const PlatformPose p = k.pose(x);
+  double worst = 0;
+  for (std::size_t l = 0; l < s.legs.size(); ++l) {
+    const Kinematics::LegDrawing d = k.draw_leg(int(l), s.legs[l].state);
+    worst = std::max(worst, (d.frames.back().translation() - k.anchor(int(l), p).translation()).norm());
+  }
+  return worst;
+}
+
+struct Tally {
+  int poses = 0, ok = 0, mismatches = 0, band = 0;
+  double q = 0, J = 0, cond = 0;
+};
+
+// `band`: the width (fraction of the size) of the boundary band where the
+// numerical solver's verdict may differ (its seeds stall near a stretched leg).
+Tally compare(const std::string& name, int poses, double band) {
+  const Kinematics k = load(name);
+  const Model& m = k.model();
+  std::mt19937_64 rng(20261127);
+  Tally t;
+  for (int i = 0; i < poses; ++i) {
+    // Half near home (mostly reachable), half across the box (mostly not).
+    const VectorXd x = random_pose(m, i % 2 ? 1.0 : 0.15, rng);
+    const int branch = int(rng() % std::uint64_t(k.branches()));
+    const PoseSolution fast = k.inverse(x, branch, 1e-10, LegSolver::Fastest);
+    const PoseSolution slow = k.inverse(x, branch, 1e-10, LegSolver::Numeric);
+    ++t.poses;
+    EXPECT_EQ(fast.iterations, 0) << name << ": every leg in closed form";
+    if (fast.status == Status::Ok) {
+      EXPECT_LE(closure_miss(k, x, fast), 1e-12 * m.size) << name << " pose " << i;
+    }
+    if (fast.status != slow.status) {
+      ++t.mismatches;
+      // Only near the boundary, and never the closed form calling a pose the
+      // reference solves unreachable.
+      const double margin = std::abs(k.reach_margin(fast, nullptr));
+      const bool near = fast.status == Status::Ok || fast.status == Status::OutOfLimits
+                            ? k.reach_margin(fast, nullptr) == std::numeric_limits<double>::infinity()
+                            : margin <= band * m.size;
+      t.band += near;
+      EXPECT_FALSE(fast.status == Status::Unreachable && slow.status == Status::Ok) << name << " pose " << i;
+      continue;
+    }
+    if (fast.status != Status::Ok) continue;
+    ++t.ok;
+    for (Eigen::Index a = 0; a < fast.q.size(); ++a) {
+      const bool prismatic = m.actuators[std::size_t(a)].prismatic;
+      const double d = prismatic ? std::abs(fast.q(a) - slow.q(a)) / std::max(1.0, std::abs(slow.q(a)))
+                                 : std::abs(std::remainder(fast.q(a) - slow.q(a), 2 * M_PI));
+      t.q = std::max(t.q, d);
+    }
+    const JacobianParts jf = k.jacobian(x, fast), js = k.jacobian(x, slow);
+    if (jf.status != Status::Ok || js.status != Status::Ok) continue;
+    t.J = std::max(t.J, (jf.J - js.J).norm() / js.J.norm());
+    t.cond = std::max(t.cond, std::abs(cond(jf.J) - cond(js.J)) / cond(js.J));
+  }
+  std::printf("%s: %d poses, %d ok on both; worst q %.2e, J %.2e, cond %.2e (relative); %d status mismatches\n",
+              name.c_str(), t.poses, t.ok, t.q, t.J, t.cond, t.mismatches);
+  EXPECT_GE(t.ok, poses / 20) << name;
+  EXPECT_LE(t.q, 1e-9) << name;
+  EXPECT_LE(t.J, 1e-9) << name;
+  EXPECT_LE(t.cond, 1e-9) << name;
+  return t;
+}
+
+TEST(DescribedClosedForm, DeltaAgreesWithTheNumericalSolver) { compare("delta-described", 20000, 1e-3); }
+TEST(DescribedClosedForm, PathosAgreesWithTheNumericalSolver) { compare("pathos2-described", 4000, 1e-3); }
+TEST(DescribedClosedForm, FiveBarAgreesWithTheNumericalSolver) { compare("five-bar", 20000, 1e-3); }
+TEST(DescribedClosedForm, StewartAgreesWithTheNumericalSolver) { compare("stewart", 6000, 1e-3); }
+
+}  // namespace
+}  // namespace linkscape::described
