@@ -13,7 +13,7 @@
 
 #include "core/mechanisms/described/kinematics.h"
 
-namespace linkscape::described::detail {
+namespace linkscape::described::internal {
 
 using Eigen::Index;
 using Eigen::Isometry3d;
@@ -214,18 +214,22 @@ inline int free_rules_of(const Leg& l) {
 // the base axes where all three rotations are free, else the Euler rates).
 MatrixXd platform_columns(const Model& m, const PlatformPose& pose, const Vector3d& r);
 
+// sigma_max / sigma_min (+inf where singular), by a fixed-size SVD for the
+// shapes devices have (no allocation): 2x2, 3x3, 3x6, 6x6.
+double condition_number(const MatrixXd& M);
+
 // The chain variable of a leg's (first) actuator.
 inline int actuator_variable(const Model& m, const Leg& l) {
   return l.steps[std::size_t(m.actuators[std::size_t(l.actuators.front())].step)].variable;
 }
 
-}  // namespace linkscape::described::detail
+}  // namespace linkscape::described::internal
 
 namespace linkscape::described {
 
 struct Kinematics::LegSolveResult {
   LegState state;
-  double error = detail::kInf;  // |e|, dimensionless
+  double error = internal::kInf;  // |e|, dimensionless
   int iterations = 0;
   // At a least-squares minimum: the gradient J^T e vanishes against |J| |e|
   // (a pose the leg cannot reach from here), rather than merely slow.

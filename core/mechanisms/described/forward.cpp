@@ -12,7 +12,7 @@
 
 namespace linkscape::described {
 
-using namespace detail;  // its Eigen names too
+using namespace internal;  // its Eigen names too
 
 namespace {
 std::atomic<std::uint64_t> next_id{1};

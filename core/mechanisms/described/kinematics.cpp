@@ -15,7 +15,7 @@
 
 namespace linkscape::described {
 
-using namespace detail;  // its Eigen names too
+using namespace internal;  // its Eigen names too
 
 namespace {
 struct ThreadSeeds {
@@ -361,7 +361,24 @@ PoseSolution Kinematics::inverse_near(const VectorXd& x, const VectorXd& q, LegS
 
 // ---- The Jacobian by reciprocal screws ----------------------------------------------
 
-namespace detail {
+namespace internal {
+namespace {
+template <int Rows, int Cols>
+double fixed_condition(const MatrixXd& M) {
+  const Eigen::JacobiSVD<Eigen::Matrix<double, Rows, Cols>> svd(M);
+  const auto& s = svd.singularValues();
+  return s(s.size() - 1) > 0 ? s(0) / s(s.size() - 1) : kInf;
+}
+}  // namespace
+
+double condition_number(const MatrixXd& M) {
+  if (M.rows() == 2 && M.cols() == 2) return fixed_condition<2, 2>(M);
+  if (M.rows() == 3 && M.cols() == 3) return fixed_condition<3, 3>(M);
+  if (M.rows() == 3 && M.cols() == 6) return fixed_condition<3, 6>(M);
+  if (M.rows() == 6 && M.cols() == 6) return fixed_condition<6, 6>(M);
+  return fixed_condition<Eigen::Dynamic, Eigen::Dynamic>(M);
+}
+
 MatrixXd platform_columns(const Model& m, const PlatformPose& pose, const Vector3d& r) {
   const bool all_rotations = m.free[3] && m.free[4] && m.free[5];
   // The Euler angles, for the rates (not needed where all three rotations are free).
@@ -387,9 +404,43 @@ MatrixXd platform_columns(const Model& m, const PlatformPose& pose, const Vector
   }
   return cols;
 }
-}  // namespace detail
+}  // namespace internal
 
-JacobianParts Kinematics::jacobian(const VectorXd& x, const PoseSolution& solved) const {
+namespace {
+// The wrench reciprocal to a recognised leg's passive joints, in closed form:
+// a force through the centre of its last (spherical) joint w, along the rod
+// (crank-rod, slide-rod, extensible, planar dyad) or square to the linear
+// velocities the second and third revolutes give w (three revolutes), as
+// closure rows about r, of unit norm. False where the passive joints lose a
+// freedom (the leg is singular).
+bool closed_wrench(const ClosedFormLeg& form, const Leg& l, const Chain& c, const Vector3d& r, double size, bool planar,
+                   Rows& W) {
+  const Vector3d w = c.step_centre[std::size_t(form.end_step)];
+  Vector3d f;
+  if (form.pattern == LegPattern::ThreeRevolute) {
+    const int v2 = l.steps[std::size_t(form.second_step)].variable, v3 = l.steps[std::size_t(form.third_step)].variable;
+    const Vector3d u2 = c.axis[std::size_t(v2)].cross(w - c.centre[std::size_t(v2)]);
+    const Vector3d u3 = c.axis[std::size_t(v3)].cross(w - c.centre[std::size_t(v3)]);
+    f = u2.cross(u3);
+    if (!(f.norm() > 1e-10 * u2.norm() * u3.norm())) return false;
+  } else {
+    f = w - c.step_centre[std::size_t(form.ball_step)];
+    if (!(f.norm() > 1e-12 * size)) return false;
+    if (form.ball_joints == 2) {  // a universal: its two axes must move the rod's end two ways
+      const int v1 = l.steps[std::size_t(form.ball_step)].variable;
+      const Vector3d n = f.normalized();
+      if (!(c.axis[std::size_t(v1)].cross(n).cross(c.axis[std::size_t(v1 + 1)].cross(n)).norm() > 1e-10)) return false;
+    }
+  }
+  Vector6d full;
+  full << (w - r).cross(f), f * size;
+  W = rows_of(full, planar);
+  W.normalize();
+  return true;
+}
+}  // namespace
+
+JacobianParts Kinematics::jacobian(const VectorXd& x, const PoseSolution& solved, LegSolver solver) const {
   const PlatformPose p = pose(x);
   const int n = model_.driven();
   const int a_count = int(model_.actuators.size());
@@ -397,49 +448,53 @@ JacobianParts Kinematics::jacobian(const VectorXd& x, const PoseSolution& solved
   out.Jx = MatrixXd::Zero(a_count, n);
   out.Jq = MatrixXd::Zero(a_count, a_count);
   out.serial_margin.assign(model_.legs.size(), kInf);
+  const int m = model_.planar ? 3 : 6;
+  thread_local Chain c;
+  Rows w(m);
   int row = 0;
   for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
     const Leg& l = model_.legs[leg];
-    const Chain c = walk(l, solved.legs[leg].state);
+    walk_into(l, solved.legs[leg].state, c);
     const Vector3d r = c.end.translation();
     const int actuator = l.actuators.front();
     const int act_var = l.steps[std::size_t(model_.actuators[std::size_t(actuator)].step)].variable;
-    const int m = model_.planar ? 3 : 6;
-    MatrixXd passive(m, l.variables - 1);
-    for (int v = 0, col = 0; v < l.variables; ++v)
-      if (v != act_var) passive.col(col++) = rows_of(twist(c, v, r, model_.size), model_.planar);
-    // The wrench reciprocal to every passive twist: the last left singular vector.
-    Eigen::JacobiSVD<MatrixXd> svd(passive, Eigen::ComputeFullU);
-    const VectorXd w = svd.matrixU().col(m - 1);
-    const auto& sv = svd.singularValues();
-    // A second vanishing singular value (beyond the leg's idle freedoms): the
-    // passive joints lose a freedom, the leg is singular.
-    const int expected_rank = m - 1;
-    int rank = 0;
-    for (Index i = 0; i < sv.size(); ++i) rank += sv(i) > 1e-10 * sv(0);
-    const VectorXd platform = [&] {
-      const MatrixXd cols = platform_columns(model_, p, r);
-      MatrixXd kept(m, cols.cols());
-      for (Index j = 0; j < cols.cols(); ++j) kept.col(j) = rows_of(cols.col(j), model_.planar);
-      return VectorXd(w.transpose() * kept);
-    }();
-    out.Jx.row(row) = platform.transpose();
+    const ClosedFormLeg* form = solver == LegSolver::Fastest ? closed_form(int(leg)) : nullptr;
+    bool passive_singular = false;
+    if (form) {
+      passive_singular = !closed_wrench(*form, l, c, r, model_.size, model_.planar, w);
+    } else {
+      MatrixXd passive(m, l.variables - 1);
+      for (int v = 0, col = 0; v < l.variables; ++v)
+        if (v != act_var) passive.col(col++) = rows_of(twist(c, v, r, model_.size), model_.planar);
+      // The wrench reciprocal to every passive twist: the last left singular vector.
+      Eigen::JacobiSVD<MatrixXd> svd(passive, Eigen::ComputeFullU);
+      w = svd.matrixU().col(m - 1);
+      const auto& sv = svd.singularValues();
+      // A second vanishing singular value (beyond the leg's idle freedoms): the
+      // passive joints lose a freedom, the leg is singular.
+      int rank = 0;
+      for (Index i = 0; i < sv.size(); ++i) rank += sv(i) > 1e-10 * sv(0);
+      passive_singular = rank < m - 1;
+    }
+    const MatrixXd cols = platform_columns(model_, p, r);
+    for (Index j = 0; j < cols.cols(); ++j) out.Jx(row, j) = w.dot(rows_of(cols.col(j), model_.planar));
     const double jq = w.dot(rows_of(twist(c, act_var, r, model_.size), model_.planar));
     out.Jq(row, actuator) = jq;
     const bool prismatic = model_.actuators[std::size_t(actuator)].prismatic;
     out.serial_margin[leg] = model_.size * std::abs(jq) * (prismatic ? model_.size : 1.0);
-    if (rank < expected_rank || std::abs(jq) <= 1e-12) {
+    if (passive_singular || std::abs(jq) <= 1e-12) {
       if (out.status == Status::Ok) out.singular_leg = int(leg);
       out.status = Status::Singular;
-      out.serial_margin[leg] = rank < expected_rank ? 0.0 : out.serial_margin[leg];
+      out.serial_margin[leg] = passive_singular ? 0.0 : out.serial_margin[leg];
     }
     ++row;
   }
-  Eigen::JacobiSVD<MatrixXd> svd(out.Jx);
-  const auto& sv = svd.singularValues();
-  out.jx_condition = sv(sv.size() - 1) > 0 ? sv(0) / sv(sv.size() - 1) : kInf;
+  const Eigen::PartialPivLU<MatrixXd> lu(out.Jx);
+  // The closed forms take the LU's estimate (1-norm, within a small factor of
+  // the 2-norm's): an SVD of Jx would cost more than the rest of the sample.
+  out.jx_condition = solver == LegSolver::Fastest ? 1 / lu.rcond() : condition_number(out.Jx);
   if (!(out.jx_condition <= 1e12)) out.status = Status::Singular;
-  out.J = out.Jx.partialPivLu().solve(out.Jq);
+  out.J = lu.solve(out.Jq);
   return out;
 }
 

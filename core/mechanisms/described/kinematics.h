@@ -55,7 +55,9 @@ bool assembled(const PoseSolution& s);
 struct JacobianParts {
   Eigen::MatrixXd Jx, Jq, J;  // J = -Jx^-1 Jq (driven task rows x actuators), physical units
   std::vector<double> serial_margin;  // per leg: size * |Jq_ii| for the unit wrench (length)
-  double jx_condition = 0.0;  // of the dimensionless Jx; +inf if singular
+  // Of the dimensionless Jx (+inf if singular): 2-norm by an SVD (solver
+  // Numeric), else the LU's 1-norm estimate.
+  double jx_condition = 0.0;
   Status status = Status::Ok;  // Singular at a type I or type II singularity
   int singular_leg = -1;       // type I: the leg
 };
@@ -107,7 +109,9 @@ class Kinematics {
   const ClosedFormLeg* closed_form(int leg) const;
   const Range& reach(int leg) const { return leg_reach_[std::size_t(leg)]; }
   // At a solved pose (its legs' states).
-  JacobianParts jacobian(const Eigen::VectorXd& x, const PoseSolution& solved) const;
+  // Solver Fastest: each recognised leg's reciprocal wrench in closed form.
+  JacobianParts jacobian(const Eigen::VectorXd& x, const PoseSolution& solved,
+                         LegSolver solver = LegSolver::Fastest) const;
   ForwardSolution forward(const Eigen::VectorXd& q, const Eigen::VectorXd& seed, double tolerance,
                           int max_iterations) const;
 

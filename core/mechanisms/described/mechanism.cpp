@@ -9,6 +9,7 @@
 
 #include "core/field.h"
 #include "core/field_sampling.h"
+#include "core/mechanisms/described/chain.h"
 #include "core/mechanisms/described/kinematics.h"
 #include "core/preset.h"
 
@@ -469,7 +470,7 @@ class DescribedMechanism final : public Mechanism {
     Status status = ik.status;
     s.residual = closes ? float(ik.residual) : inf;
     std::optional<JacobianParts> parts;
-    if (closes) parts = kin_.jacobian(xm, ik);
+    if (closes) parts = kin_.jacobian(xm, ik, solver);
     const double margin = kin_.reach_margin(ik, parts ? &*parts : nullptr);
     if (parts) {
       if (status == Status::Ok && parts->status != Status::Ok) status = Status::Singular;
@@ -488,11 +489,7 @@ class DescribedMechanism final : public Mechanism {
 
   std::vector<double> measure_values(const JacobianParts& parts) const {
     if (parts.status != Status::Ok) return std::vector<double>(info_.measures.size(), kInf);
-    auto cond = [](const Eigen::MatrixXd& M) {
-      Eigen::JacobiSVD<Eigen::MatrixXd> svd(M);
-      const auto& sv = svd.singularValues();
-      return sv(sv.size() - 1) > 0 ? sv(0) / sv(sv.size() - 1) : kInf;
-    };
+    const auto cond = internal::condition_number;
     if (info_.measures.size() == 1) return {cond(parts.J)};
     // Rows of J in task order: translations first (x, y, z), then rotations.
     const Model& m = kin_.model();

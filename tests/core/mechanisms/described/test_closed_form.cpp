@@ -119,7 +119,8 @@ Tally compare(const std::string& name, int poses, double band) {
                                  : std::abs(std::remainder(fast.q(a) - slow.q(a), 2 * M_PI));
       t.q = std::max(t.q, d);
     }
-    const JacobianParts jf = k.jacobian(x, fast), js = k.jacobian(x, slow);
+    const JacobianParts jf = k.jacobian(x, fast), js = k.jacobian(x, slow, LegSolver::Numeric);
+    EXPECT_EQ(jf.status, js.status) << name << " pose " << i;
     if (jf.status != Status::Ok || js.status != Status::Ok) continue;
     t.J = std::max(t.J, (jf.J - js.J).norm() / js.J.norm());
     t.cond = std::max(t.cond, std::abs(cond(jf.J) - cond(js.J)) / cond(js.J));
