@@ -245,7 +245,13 @@ Kinematics::Kinematics(Model model) : model_(std::move(model)), id_(next_id++) {
       if (!closes) form.reset();
     }
     const std::string found = pattern_name(form ? form->pattern : LegPattern::Numeric);
-    if (!l.pattern.empty() && pattern_name(pattern_of_name(l.pattern)) != found)
+    std::optional<LegPattern> named;
+    try {
+      if (!l.pattern.empty()) named = pattern_of_name(l.pattern);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument("description.legs \"" + l.name + "\": pattern: " + e.what());
+    }
+    if (named && pattern_name(*named) != found)
       throw std::invalid_argument("description.legs \"" + l.name + "\": pattern: the description names \"" + l.pattern +
                                   "\" but the leg is solved as \"" + found + "\"");
     closed_.push_back(form);
