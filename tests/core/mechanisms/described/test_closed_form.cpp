@@ -39,6 +39,8 @@ TEST(DescribedClosedForm, RecognisesTheShippedLegs) {
   EXPECT_EQ(patterns(load("pathos2-described")), std::vector<std::string>(6, "three-revolute"));
   EXPECT_EQ(patterns(load("five-bar")), std::vector<std::string>(2, "planar-dyad"));
   EXPECT_EQ(patterns(load("stewart")), std::vector<std::string>(6, "extensible"));
+  EXPECT_EQ(patterns(load("three-rrr")), std::vector<std::string>(3, "planar-dyad"));
+  EXPECT_EQ(patterns(load("linear-delta")), std::vector<std::string>(3, "slide-rod"));
 }
 
 double cond(const MatrixXd& M) {
@@ -138,6 +140,8 @@ TEST(DescribedClosedForm, DeltaAgreesWithTheNumericalSolver) { compare("delta-de
 TEST(DescribedClosedForm, PathosAgreesWithTheNumericalSolver) { compare("pathos2-described", 4000, 1e-3); }
 TEST(DescribedClosedForm, FiveBarAgreesWithTheNumericalSolver) { compare("five-bar", 20000, 1e-3); }
 TEST(DescribedClosedForm, StewartAgreesWithTheNumericalSolver) { compare("stewart", 6000, 1e-3); }
+TEST(DescribedClosedForm, ThreeRrrAgreesWithTheNumericalSolver) { compare("three-rrr", 10000, 1e-3); }
+TEST(DescribedClosedForm, LinearDeltaAgreesWithTheNumericalSolver) { compare("linear-delta", 10000, 1e-3); }
 
 }  // namespace
 }  // namespace linkscape::described
