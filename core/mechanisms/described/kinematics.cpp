@@ -99,9 +99,10 @@ bool Kinematics::within_travel(int leg, const LegState& state) const {
     const Actuator& act = model_.actuators[std::size_t(a)];
     if (!act.limited) continue;
     const double v = state.values(l.steps[std::size_t(act.step)].variable);
+    const double w = act.prismatic ? v : wrap(v);
     const bool inside = act.prismatic ? act.range.contains(v)
-                                      : act.range.contains(wrap(v)) || act.range.contains(wrap(v) + 2 * kPi) ||
-                                            act.range.contains(wrap(v) - 2 * kPi);
+                                      : act.range.contains(w) || act.range.contains(w + 2 * kPi) ||
+                                            act.range.contains(w - 2 * kPi);
     if (!inside) return false;
   }
   return true;

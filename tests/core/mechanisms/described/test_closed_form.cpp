@@ -42,6 +42,7 @@ TEST(DescribedClosedForm, RecognisesTheShippedLegs) {
   EXPECT_EQ(patterns(load("stewart")), std::vector<std::string>(6, "extensible"));
   EXPECT_EQ(patterns(load("three-rrr")), std::vector<std::string>(3, "planar-dyad"));
   EXPECT_EQ(patterns(load("linear-delta")), std::vector<std::string>(3, "slide-rod"));
+  EXPECT_EQ(patterns(load("hexapod-rus")), std::vector<std::string>(6, "crank-rod"));
 }
 
 double cond(const MatrixXd& M) {
@@ -146,6 +147,7 @@ TEST(DescribedClosedForm, FiveBarAgreesWithTheNumericalSolver) { compare("five-b
 TEST(DescribedClosedForm, StewartAgreesWithTheNumericalSolver) { compare("stewart", 6000); }
 TEST(DescribedClosedForm, ThreeRrrAgreesWithTheNumericalSolver) { compare("three-rrr", 10000); }
 TEST(DescribedClosedForm, LinearDeltaAgreesWithTheNumericalSolver) { compare("linear-delta", 10000); }
+TEST(DescribedClosedForm, HexapodRusAgreesWithTheNumericalSolver) { compare("hexapod-rus", 4000); }
 
 // Random designs: every panel parameter drawn within its slider span; a
 // design that does not assemble at home (or changes its mobility) is skipped.
@@ -170,7 +172,7 @@ std::vector<Kinematics> random_designs(const std::string& name, int count, std::
 TEST(DescribedClosedForm, RandomDesignsAgreeWithTheNumericalSolver) {
   std::mt19937_64 rng(11);
   int ok = 0, mismatches = 0;
-  for (const char* name : {"delta-described", "pathos2-described", "five-bar", "stewart", "three-rrr", "linear-delta"})
+  for (const char* name : {"delta-described", "pathos2-described", "five-bar", "stewart", "three-rrr", "linear-delta", "hexapod-rus"})
     for (const Kinematics& k : random_designs(name, 6, rng)) {
       const Tally t = compare(k, name, 400);
       ok += t.ok;
@@ -187,7 +189,7 @@ TEST(DescribedClosedForm, ReachBoundsNeverRefuseAReachableAnchor) {
   std::mt19937_64 rng(13);
   std::uniform_real_distribution<double> unit(-1, 1);
   int refused = 0, checked = 0;
-  for (const char* name : {"delta-described", "pathos2-described", "five-bar", "stewart", "three-rrr", "linear-delta"}) {
+  for (const char* name : {"delta-described", "pathos2-described", "five-bar", "stewart", "three-rrr", "linear-delta", "hexapod-rus"}) {
     std::vector<Kinematics> designs = random_designs(name, 4, rng);
     designs.push_back(load(name));
     for (const Kinematics& k : designs) {
