@@ -1,5 +1,6 @@
 #include "core/mechanisms/described/closed_form.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -148,7 +149,10 @@ struct Builder {
     }
     const Step& second = leg.steps[std::size_t(form.ball_step + 1)];
     std::array<std::array<double, 2>, 2> angles{};
-    const int n = two_axes(first.axis, second.axis, link.normalized(), wanted.normalized(), angles);
+    // The universal's second way to point the link differs only in its own
+    // angles: needed only where a branch rule reads them.
+    const int n = std::min(two_axes(first.axis, second.axis, link.normalized(), wanted.normalized(), angles),
+                           form.ball_read ? 2 : 1);
     for (int k = 0; k < n; ++k) {
       LegState& s = fresh(partial);
       s.values(var(form.ball_step)) = angles[std::size_t(k)][0];
@@ -306,6 +310,8 @@ std::optional<ClosedFormLeg> recognise(const Model& model, const Leg& leg) {
   auto ball = [&](const Token& b) {
     c.ball_step = b.step;
     c.ball_joints = b.type == Type::Universal ? 2 : 1;
+    for (const BranchRule& r : leg.rules)
+      for (int i = 0; i < 3; ++i) c.ball_read = c.ball_read || r.steps[std::size_t(i)] == b.step || r.steps[std::size_t(i)] == b.step + 1;
   };
   // A universal points a link anywhere when its axes are square and the link
   // square to the second one (the link sweeps a great circle through the first axis).

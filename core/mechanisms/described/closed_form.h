@@ -53,6 +53,7 @@ struct ClosedFormLeg {
   // (before it: Extensible).
   int ball_step = -1;
   int ball_joints = 0;  // 1: spherical or a planar revolute; 2: universal
+  bool ball_read = false;  // a branch rule reads the ball's joints (a universal's two solutions both count)
   // ThreeRevolute: the second and third revolutes, the links after them.
   int second_step = -1, third_step = -1;
   Eigen::Vector3d second_link = Eigen::Vector3d::Zero(), third_link = Eigen::Vector3d::Zero();
