@@ -155,15 +155,26 @@ std::string Variable::name() const {
 
 std::vector<Variable> variables(const Mechanism& mechanism, const std::vector<std::string>& free,
                                 const std::vector<std::string>& equal, const std::vector<std::string>& bounds) {
-  const auto& described = mechanism.info().parameters;
+  // The linkage's parameters, then the motor ratings (core/actuator_data.h),
+  // which have no range of their own: they need --bounds.
+  std::vector<Quantity> described = mechanism.info().parameters;
+  for (const MotorParameter& p : motor_parameters()) {
+    Quantity q;
+    q.name = p.name;
+    q.unit = p.unit;
+    q.range = {-kInf, kInf};
+    q.in_panel = false;
+    described.push_back(q);
+  }
   auto find = [&](const std::string& name) -> const Quantity& {
     for (const Quantity& q : described)
       if (q.name == name) return q;
-    std::string known;
+    std::string known, motors;
     for (const Quantity& q : described)
       if (q.in_panel) known += (known.empty() ? "" : ", ") + q.name;
+    for (const MotorParameter& p : motor_parameters()) motors += (motors.empty() ? "" : ", ") + std::string(p.name);
     throw std::invalid_argument("fit: unknown parameter '" + name + "' for " + mechanism.info().name +
-                                " (design parameters: " + known + ")");
+                                " (design parameters: " + known + "; motor ratings: " + motors + ")");
   };
   auto split = [](const std::string& text) {
     std::vector<std::string> out;
@@ -217,6 +228,15 @@ std::vector<Variable> variables(const Mechanism& mechanism, const std::vector<st
       throw std::invalid_argument("fit: --bounds given twice for " + it->name() + " (again as '" + b + "')");
     it->lo = lo;
     it->hi = hi;
+  }
+  for (const Variable& v : out) {
+    const auto motors = std::count_if(v.parameters.begin(), v.parameters.end(),
+                                      [](const std::string& n) { return motor_parameter(n) != nullptr; });
+    if (motors > 0 && motors < std::ptrdiff_t(v.parameters.size()))
+      throw std::invalid_argument("fit: --equal cannot hold a motor rating equal to a length (" + v.name() + ")");
+    if (motors > 0 && !(std::isfinite(v.lo) && std::isfinite(v.hi)))
+      throw std::invalid_argument("fit: the motor rating " + v.name() + " needs --bounds " + v.parameters.front() +
+                                  "=LO:HI (it has no range of its own)");
   }
   return out;
 }
@@ -473,6 +493,12 @@ void largest_margin_at_size(const Problem& problem, Search& search) {
 Result solve(const Problem& problem, const Progress& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   check_bounds(problem.variables, "fit");
+  for (const Variable& v : problem.variables)
+    if (motor_parameter(v.parameters.front()))
+      throw std::invalid_argument("fit: " + v.name() + " is a motor rating, which does not change the device's size; "
+                                  "fit sizes the linkage with the ratings held (--param " + v.name() +
+                                  "=...). To find the rating a design needs, sweep it: linkscape sweep --free " +
+                                  v.name() + " --bounds " + v.name() + "=LO:HI --task ... --criterion ...");
   if (!(problem.tolerance > 0 && problem.tolerance < 1))
     throw std::invalid_argument("fit: the tolerance must lie in (0, 1)");
   Search search(problem, progress);
@@ -518,6 +544,8 @@ std::optional<Row> evaluate(const Problem& problem, const std::vector<double>& v
     return row;
   }
   row.parameters = mechanism->parameters();
+  for (const auto& [name, value] : preset.parameters)  // motor ratings, which the linkage does not hold
+    if (motor_parameter(name)) row.parameters[name] = value;
   row.size = mechanism->size();
   task::Device device;
   device.mechanism = mechanism;

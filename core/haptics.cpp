@@ -8,6 +8,7 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
@@ -161,6 +162,30 @@ Rating default_rating(bool prismatic) {
   return r;
 }
 
+namespace {
+
+// The ratings at each actuator as the preset gives them (per-actuator entries
+// over "all"), or Linkscape's defaults where it gives none.
+std::vector<ActuatorRating> given_ratings(const ActuatorDataSpec& spec, const MechanismInfo& info,
+                                          const std::function<bool(const Quantity&)>& prismatic) {
+  std::vector<ActuatorRating> out;
+  for (const Quantity& a : info.actuators) {
+    ActuatorRating r = spec.all;
+    if (!spec.given) {
+      const Rating d = default_rating(prismatic(a));
+      r = {d.peak_torque_Nm, d.continuous_torque_Nm, d.encoder_counts_per_rev, d.rotor_inertia_kgm2, d.lead_m_per_rev,
+           std::nullopt};
+    }
+    if (const auto own = spec.per_actuator.find(a.name); own != spec.per_actuator.end())
+      for (const MotorParameter& p : motor_parameters())
+        if (own->second.*(p.field)) r.*(p.field) = own->second.*(p.field);
+    out.push_back(r);
+  }
+  return out;
+}
+
+}  // namespace
+
 DeviceData device_data(const Preset& preset, const MechanismInfo& info) {
   DeviceData d;
   d.metres_per_length_unit = metres_per(info.length_unit);
@@ -168,20 +193,6 @@ DeviceData device_data(const Preset& preset, const MechanismInfo& info) {
   // Angles are in rad; any other actuator is a slide in the length unit.
   auto prismatic = [](const Quantity& a) { return a.unit != "rad"; };
   const ActuatorDataSpec& spec = preset.actuator_data;
-  if (!spec.given) {
-    bool slides = false;
-    for (const Quantity& a : info.actuators) {
-      d.actuators.push_back(default_rating(prismatic(a)));
-      slides = slides || prismatic(a);
-    }
-    const Rating r = default_rating();
-    d.source = "Linkscape defaults (the preset has no actuator_data): " + number_text(r.continuous_torque_Nm) +
-               " N m continuous, " + number_text(r.peak_torque_Nm) + " N m peak, " +
-               number_text(r.encoder_counts_per_rev) + " counts/rev, rotor " + number_text(*r.rotor_inertia_kgm2) +
-               " kg m^2" + (slides ? ", slides driven by a capstan of 1 cm radius" : "");
-    d.defaults = true;
-    return d;
-  }
   for (const auto& [name, rating] : spec.per_actuator) {
     bool known = false;
     std::string names;
@@ -193,32 +204,54 @@ DeviceData device_data(const Preset& preset, const MechanismInfo& info) {
       throw std::invalid_argument("preset actuator_data: '" + name + "' is not an actuator of " + info.name +
                                   " (actuators: " + names + "; or 'all', 'source')");
   }
-  for (const Quantity& a : info.actuators) {
-    const auto own = spec.per_actuator.find(a.name);
+  std::vector<ActuatorRating> ratings = given_ratings(spec, info, prismatic);
+  // Ratings given as parameters (--param, sessions, sweeps) hold for every actuator.
+  std::string from_parameters;
+  for (const MotorParameter& p : motor_parameters())
+    if (const auto it = preset.parameters.find(p.name); it != preset.parameters.end()) {
+      check_rating(std::string("parameter ") + p.name, it->second);
+      for (ActuatorRating& r : ratings) r.*(p.field) = it->second;
+      from_parameters += std::string(from_parameters.empty() ? "" : ", ") + p.name + " " + number_text(it->second);
+    }
+  for (std::size_t i = 0; i < info.actuators.size(); ++i) {
+    const Quantity& a = info.actuators[i];
+    const ActuatorRating& given = ratings[i];
     auto value = [&](std::optional<double> ActuatorRating::*field, const char* key, bool required) {
-      if (own != spec.per_actuator.end() && own->second.*field) return own->second.*field;
-      if (spec.all.*field) return spec.all.*field;
-      if (required)
-        throw std::invalid_argument("preset actuator_data: no " + std::string(key) + " for actuator " + a.name +
-                                    " (give it under 'all' or '" + a.name + "')");
-      return std::optional<double>{};
+      if (given.*field || !required) return given.*field;
+      throw std::invalid_argument("preset actuator_data: no " + std::string(key) + " for actuator " + a.name +
+                                  " (give it under 'all' or '" + a.name + "')");
     };
+    // The joint's side of the reduction: torques and counts times n, inertia times n^2.
+    const double n = given.gear_ratio.value_or(1.0);
     Rating r;
-    r.peak_torque_Nm = *value(&ActuatorRating::peak_torque_Nm, "peak_torque_Nm", true);
-    r.continuous_torque_Nm = *value(&ActuatorRating::continuous_torque_Nm, "continuous_torque_Nm", true);
-    r.encoder_counts_per_rev = *value(&ActuatorRating::encoder_counts_per_rev, "encoder_counts_per_rev", true);
-    r.rotor_inertia_kgm2 = value(&ActuatorRating::rotor_inertia_kgm2, "rotor_inertia_kgm2", false);
+    r.peak_torque_Nm = n * *value(&ActuatorRating::peak_torque_Nm, "peak_torque_Nm", true);
+    r.continuous_torque_Nm = n * *value(&ActuatorRating::continuous_torque_Nm, "continuous_torque_Nm", true);
+    r.encoder_counts_per_rev = n * *value(&ActuatorRating::encoder_counts_per_rev, "encoder_counts_per_rev", true);
+    if (const auto inertia = value(&ActuatorRating::rotor_inertia_kgm2, "rotor_inertia_kgm2", false))
+      r.rotor_inertia_kgm2 = n * n * *inertia;
     if (prismatic(a)) r.lead_m_per_rev = value(&ActuatorRating::lead_m_per_rev, "lead_m_per_rev", true);
-    else if (own != spec.per_actuator.end() && own->second.lead_m_per_rev)
+    else if (const auto own = spec.per_actuator.find(a.name);
+             own != spec.per_actuator.end() && own->second.lead_m_per_rev)
       throw std::invalid_argument("preset actuator_data: lead_m_per_rev is for prismatic actuators; " + a.name +
                                   " is revolute");
     if (r.continuous_torque_Nm > r.peak_torque_Nm)
-      throw std::invalid_argument("preset actuator_data: continuous_torque_Nm of " + a.name +
-                                  " exceeds its peak_torque_Nm");
+      throw std::invalid_argument("actuator ratings: continuous_torque_Nm of " + a.name + " exceeds its peak_torque_Nm");
     d.actuators.push_back(r);
   }
-  d.source = spec.source.empty() ? "preset actuator_data" : spec.source;
-  d.defaults = spec.source.rfind("default", 0) == 0;
+  if (!spec.given) {
+    bool slides = false;
+    for (const Quantity& a : info.actuators) slides = slides || prismatic(a);
+    const Rating r = default_rating();
+    d.source = "Linkscape defaults (the preset has no actuator_data): " + number_text(r.continuous_torque_Nm) +
+               " N m continuous, " + number_text(r.peak_torque_Nm) + " N m peak, " +
+               number_text(r.encoder_counts_per_rev) + " counts/rev, rotor " + number_text(*r.rotor_inertia_kgm2) +
+               " kg m^2" + (slides ? ", slides driven by a capstan of 1 cm radius" : "");
+    d.defaults = from_parameters.empty();
+  } else {
+    d.source = spec.source.empty() ? "preset actuator_data" : spec.source;
+    d.defaults = spec.source.rfind("default", 0) == 0 && from_parameters.empty();
+  }
+  if (!from_parameters.empty()) d.source += "; set as parameters: " + from_parameters;
   return d;
 }
 

@@ -88,9 +88,8 @@ fs::path resolve_preset(const std::string& name_or_path) {
 }
 
 // "actuator_data": {"source": text, "all": rating, "<actuator>": rating}, a
-// rating being {"peak_torque_Nm", "continuous_torque_Nm",
-// "encoder_counts_per_rev", "rotor_inertia_kgm2", "lead_m_per_rev"}, each a
-// positive number.
+// rating being an object of the keys of motor_parameters() (core/actuator_data.h),
+// each a positive number.
 // Actuator names are checked against the device in core/haptics.cpp.
 ActuatorDataSpec parse_actuator_data(const nlohmann::json& doc) {
   if (!doc.is_object()) throw std::invalid_argument("actuator_data must be an object");
@@ -105,20 +104,16 @@ ActuatorDataSpec parse_actuator_data(const nlohmann::json& doc) {
     if (!value.is_object()) throw std::invalid_argument(where + " must be an object of ratings");
     ActuatorRating& r = key == "all" ? spec.all : spec.per_actuator[key];
     for (const auto& [name, number] : value.items()) {
-      std::optional<double>* field = name == "peak_torque_Nm"           ? &r.peak_torque_Nm
-                                     : name == "continuous_torque_Nm"   ? &r.continuous_torque_Nm
-                                     : name == "encoder_counts_per_rev" ? &r.encoder_counts_per_rev
-                                     : name == "rotor_inertia_kgm2"     ? &r.rotor_inertia_kgm2
-                                     : name == "lead_m_per_rev"         ? &r.lead_m_per_rev
-                                                                        : nullptr;
-      if (!field)
-        throw std::invalid_argument("unknown key " + where + "." + name +
-                                    " (known: peak_torque_Nm, continuous_torque_Nm, encoder_counts_per_rev, "
-                                    "rotor_inertia_kgm2, lead_m_per_rev)");
+      const MotorParameter* rating = motor_parameter(name);
+      if (!rating) {
+        std::string known;
+        for (const MotorParameter& p : motor_parameters()) known += (known.empty() ? "" : ", ") + std::string(p.name);
+        throw std::invalid_argument("unknown key " + where + "." + name + " (known: " + known + ")");
+      }
       const double v = number_at(number, where + "." + name);
       if (!std::isfinite(v) || !(v > 0))
         throw std::invalid_argument(where + "." + name + " must be a positive finite number, got " + number.dump());
-      *field = v;
+      r.*(rating->field) = v;
     }
   }
   return spec;
@@ -213,11 +208,18 @@ void apply_overrides(Preset& preset, const std::vector<std::string>& overrides) 
     if (eq == std::string::npos || eq == 0)
       throw std::invalid_argument("--param expects key=value, got '" + pair + "'");
     const std::string key = pair.substr(0, eq), text = pair.substr(eq + 1);
+    if (motor_parameter(key)) {  // a motor rating, for every actuator (core/actuator_data.h)
+      const double value = parse_number_or_throw(text, "parameter " + key);
+      check_rating("parameter " + key, value);
+      preset.parameters[key] = value;
+      continue;
+    }
     if (std::find(names.begin(), names.end(), key) == names.end()) {
-      std::string known;
+      std::string known, motors;
       for (const auto& k : names) known += (known.empty() ? "" : ", ") + k;
-      throw std::invalid_argument("unknown parameter '" + key + "' for " + preset.mechanism +
-                                  " (known: " + known + ")");
+      for (const MotorParameter& p : motor_parameters()) motors += (motors.empty() ? "" : ", ") + std::string(p.name);
+      throw std::invalid_argument("unknown parameter '" + key + "' for " + preset.mechanism + " (known: " + known +
+                                  "; motor ratings: " + motors + ")");
     }
     preset.parameters[key] = parse_number_or_throw(text, "parameter " + key);
   }

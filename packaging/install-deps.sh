@@ -8,7 +8,7 @@ packages=(
   libeigen3-dev nlohmann-json3-dev libcli11-dev libhwy-dev libmuparser-dev
   libvtk9-dev libopenmesh-dev
   qt6-base-dev libqt6opengl6-dev qt6-svg-dev qt6-charts-dev
-  libgtest-dev libbenchmark-dev
+  libgtest-dev libbenchmark-dev libmujoco-dev
   libopenmpi-dev openmpi-bin
   xvfb xauth libgl1-mesa-dri
   lintian desktop-file-utils bash-completion

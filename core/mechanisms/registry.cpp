@@ -33,7 +33,9 @@ std::vector<std::string> registered_mechanisms() {
   return names;
 }
 
-std::shared_ptr<const Mechanism> make_mechanism(const Preset& preset) {
+namespace {
+
+std::shared_ptr<const Mechanism> make_linkage(const Preset& preset) {
   // Described devices are files, not entries of the list (docs/described-mechanisms.md).
   if (preset.mechanism == described::kMechanismName) return described::make_mechanism(preset);
   for (const auto& [name, factory] : registry())
@@ -42,6 +44,17 @@ std::shared_ptr<const Mechanism> make_mechanism(const Preset& preset) {
   for (const auto& n : registered_mechanisms()) known += (known.empty() ? "" : ", ") + n;
   throw std::invalid_argument("unsupported mechanism '" + preset.mechanism + "' (supported: " + known +
                               ", or \"described\" with a description)");
+}
+
+}  // namespace
+
+std::shared_ptr<const Mechanism> make_mechanism(const Preset& preset) {
+  // Motor ratings among the parameters are the haptic measures' (core/haptics.h), not the linkage's.
+  const auto is_motor = [](const auto& entry) { return motor_parameter(entry.first) != nullptr; };
+  if (std::none_of(preset.parameters.begin(), preset.parameters.end(), is_motor)) return make_linkage(preset);
+  Preset linkage = preset;
+  std::erase_if(linkage.parameters, is_motor);
+  return make_linkage(linkage);
 }
 
 std::string default_mechanism() { return registry().front().first; }

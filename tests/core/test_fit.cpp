@@ -64,6 +64,24 @@ TEST(FitVariables, FromFreeEqualAndBounds) {
   expect_error([&] { fit::variables(*m, {}, {"L1,L2"}, {"L1=5:30", "L2=6:20"}); }, "--bounds given twice for L1=L2");
 }
 
+// Motor ratings are variables of a sweep (they need bounds), not of fit,
+// which sizes the linkage; a design's row carries the rating it was given.
+TEST(FitVariables, MotorRatingsAreSweptNotFitted) {
+  const auto m = make_mechanism(load_preset("parallel-12r"));
+  const auto torque = fit::variables(*m, {"continuous_torque_Nm"}, {}, {"continuous_torque_Nm=0.1:1"});
+  ASSERT_EQ(torque.size(), 1u);
+  EXPECT_EQ(torque[0].lo, 0.1);
+  expect_error([&] { fit::variables(*m, {"continuous_torque_Nm"}, {}, {}); }, "needs --bounds continuous_torque_Nm");
+  expect_error([&] { fit::variables(*m, {}, {"L1,gear_ratio"}, {"L1=1:2"}); }, "cannot hold a motor rating equal to a length");
+  fit::Problem p = problem_12r("sphere:diameter=10", {});
+  p.variables = torque;
+  expect_error([&] { fit::solve(p); }, "is a motor rating, which does not change the device's size");
+  const std::optional<fit::Row> row = fit::evaluate(p, {0.25});
+  ASSERT_TRUE(row);
+  EXPECT_EQ(row->parameters.at("continuous_torque_Nm"), 0.25);
+  EXPECT_EQ(row->parameters.at("L1"), 15);
+}
+
 // The size fit minimises is what each device says it is: the sum of the
 // parameters its description names.
 TEST(FitVariables, EverySizeIsTheSumItDescribes) {

@@ -321,3 +321,76 @@ TEST(ActuatorData, PrismaticActuatorsAreMotorsDrivingTheirSlideByALead) {
   EXPECT_NEAR(h.resolution_mm, 1e3 * 0.005 / 4096, 1e-12);
   EXPECT_NEAR(*h.inertia_kg, 2e-5 * std::pow(2 * M_PI / 0.005, 2), 1e-9 * *h.inertia_kg);
 }
+
+// Motor ratings are design parameters too (--param, sessions, sweep): one
+// given as a parameter holds for every actuator, over the file's
+// actuator_data; a gear ratio n gives the joint n times the motor's torques
+// and counts and n^2 its inertia; the linkage never sees them.
+TEST(ActuatorData, RatingsAsParametersHoldForEveryActuatorOverTheFile) {
+  Preset p = load_preset("parallel-12r");
+  const auto m = make_mechanism(p);
+  const haptics::DeviceData file = haptics::device_data(p, m->info());
+  apply_overrides(p, {"continuous_torque_Nm=0.3", "gear_ratio=4"});
+  EXPECT_EQ(make_mechanism(p)->parameters(), m->parameters());  // the linkage is unchanged
+  const haptics::DeviceData d = haptics::device_data(p, m->info());
+  ASSERT_EQ(d.actuators.size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_DOUBLE_EQ(d.actuators[i].continuous_torque_Nm, 4 * 0.3);
+    EXPECT_DOUBLE_EQ(d.actuators[i].peak_torque_Nm, 4 * file.actuators[i].peak_torque_Nm);
+    EXPECT_DOUBLE_EQ(d.actuators[i].encoder_counts_per_rev, 4 * file.actuators[i].encoder_counts_per_rev);
+    EXPECT_DOUBLE_EQ(*d.actuators[i].rotor_inertia_kgm2, 16 * *file.actuators[i].rotor_inertia_kgm2);
+  }
+  EXPECT_NE(d.source.find("set as parameters: continuous_torque_Nm 0.3, gear_ratio 4"), std::string::npos) << d.source;
+  EXPECT_FALSE(d.defaults);
+
+  // The forces follow the torque: twice the torque, twice force_iso.
+  const VectorXd x = m->home_task(), q = m->home_actuators();
+  Preset doubled = p;
+  apply_overrides(doubled, {"continuous_torque_Nm=0.6"});
+  const MatrixXd J = m->jacobian(q, x);
+  const double f1 = haptics::measures(J, d, haptics::TorqueRating::Continuous).force_iso_N;
+  const double f2 = haptics::measures(J, haptics::device_data(doubled, m->info()), haptics::TorqueRating::Continuous).force_iso_N;
+  EXPECT_NEAR(f2, 2 * f1, 1e-12 * f2);
+
+  // Refused: a rating that is not positive, a name that is neither.
+  for (const std::string bad : {"gear_ratio=0", "peak_torque_Nm=-1", "continuous_torque_Nm=nan"})
+    EXPECT_THROW(apply_overrides(p, {bad}), std::invalid_argument) << bad;
+  try {
+    apply_overrides(p, {"torque=1"});
+    ADD_FAILURE() << "accepted torque=1";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("motor ratings: continuous_torque_Nm"), std::string::npos) << e.what();
+  }
+  // A continuous rating above the peak is refused where the ratings are read.
+  Preset over = load_preset("parallel-12r");
+  apply_overrides(over, {"continuous_torque_Nm=100"});
+  EXPECT_THROW(haptics::device_data(over, m->info()), std::invalid_argument);
+}
+
+// A preset without actuator_data gets the defaults, then the parameters over them.
+TEST(ActuatorData, RatingsAsParametersOverTheDefaults) {
+  Preset p = load_preset("stewart");
+  p.actuator_data = {};
+  apply_overrides(p, {"peak_torque_Nm=2", "lead_m_per_rev=0.004"});
+  const haptics::DeviceData d = haptics::device_data(p, make_mechanism(p)->info());
+  for (const haptics::Rating& r : d.actuators) {
+    EXPECT_DOUBLE_EQ(r.peak_torque_Nm, 2);
+    EXPECT_DOUBLE_EQ(r.continuous_torque_Nm, haptics::default_rating(true).continuous_torque_Nm);
+    EXPECT_DOUBLE_EQ(*r.lead_m_per_rev, 0.004);
+  }
+  EXPECT_FALSE(d.defaults);
+  EXPECT_NE(d.source.find("Linkscape defaults"), std::string::npos);
+  EXPECT_NE(d.source.find("peak_torque_Nm 2"), std::string::npos) << d.source;
+}
+
+// A gear ratio in the file is the motor's side of the reduction, as a parameter is.
+TEST(ActuatorData, AGearRatioInTheFileScalesTheMotorToTheJoint) {
+  const Preset p = parse_preset(R"({"mechanism": "parallel-12r", "length_unit": "cm", "parameters": {"L1": 15, "L2": 15},
+      "actuator_data": {"all": {"peak_torque_Nm": 0.1, "continuous_torque_Nm": 0.05, "encoder_counts_per_rev": 1000,
+                                "rotor_inertia_kgm2": 1e-6, "gear_ratio": 10}}})", "geared");
+  const haptics::DeviceData d = haptics::device_data(p, make_mechanism(p)->info());
+  EXPECT_DOUBLE_EQ(d.actuators[0].peak_torque_Nm, 1.0);
+  EXPECT_DOUBLE_EQ(d.actuators[0].continuous_torque_Nm, 0.5);
+  EXPECT_DOUBLE_EQ(d.actuators[0].encoder_counts_per_rev, 10000);
+  EXPECT_DOUBLE_EQ(*d.actuators[0].rotor_inertia_kgm2, 1e-4);
+}

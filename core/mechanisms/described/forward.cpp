@@ -22,6 +22,37 @@ std::atomic<std::uint64_t> next_id{1};
 
 ForwardSolution Kinematics::forward(const VectorXd& q, const VectorXd& seed, double tolerance,
                                     int max_iterations) const {
+  ForwardSolution out = forward_from(q, seed, tolerance, max_iterations);
+  if (out.status == Status::Ok) return out;
+  // Far from the seed, Gauss-Newton can stall where the closure's rank drops
+  // on the way (a parallelogram leg's redundant orientation rows): follow the
+  // actuators from the seed's to q in equal steps, each solved from the last,
+  // which keeps the assembly mode nearest the seed.
+  const PoseSolution start = inverse_near(seed, q);
+  if (!assembled(start)) return out;
+  VectorXd path = q - start.q;
+  for (std::size_t a = 0; a < model_.actuators.size(); ++a)
+    if (!model_.actuators[a].prismatic) path(Index(a)) = wrap(path(Index(a)));
+  for (int pieces = 4; pieces <= 64; pieces *= 4) {
+    ForwardSolution step;
+    step.x = seed;
+    int iterations = 0;
+    for (int k = 1; k <= pieces; ++k) {
+      step = forward_from(k == pieces ? q : VectorXd(start.q + path * (double(k) / pieces)), step.x, tolerance,
+                          max_iterations);
+      iterations += step.iterations;
+      if (step.status != Status::Ok) break;
+    }
+    if (step.status == Status::Ok) {
+      step.iterations = iterations;
+      return step;
+    }
+  }
+  return out;
+}
+
+ForwardSolution Kinematics::forward_from(const VectorXd& q, const VectorXd& seed, double tolerance,
+                                         int max_iterations) const {
   ForwardSolution out;
   out.x = seed;
   const int n = model_.driven();
@@ -296,6 +327,7 @@ Kinematics::Kinematics(Model model) : model_(std::move(model)), id_(next_id++) {
       Eigen::FullPivLU<MatrixXd> lu(without);
       lu.setThreshold(1e-9);
       mobility_.idle += int(without.cols()) - int(lu.rank());
+      passive_rank_.push_back(int(lu.rank()));
     }
     Eigen::FullPivLU<MatrixXd> lu(C);
     lu.setThreshold(1e-9);

@@ -459,7 +459,10 @@ JacobianParts Kinematics::jacobian(const VectorXd& x, const PoseSolution& solved
     const Vector3d r = c.end.translation();
     const int actuator = l.actuators.front();
     const int act_var = l.steps[std::size_t(model_.actuators[std::size_t(actuator)].step)].variable;
-    const ClosedFormLeg* form = solver == LegSolver::Fastest ? closed_form(int(leg)) : nullptr;
+    // The closed wrench is the one force of a leg that transmits one wrench
+    // (not one that also holds the platform's orientation).
+    const ClosedFormLeg* form =
+        solver == LegSolver::Fastest && passive_rank_[leg] == m - 1 ? closed_form(int(leg)) : nullptr;
     bool passive_singular = false;
     if (form) {
       passive_singular = !closed_wrench(*form, l, c, r, model_.size, model_.planar, w);
@@ -467,15 +470,24 @@ JacobianParts Kinematics::jacobian(const VectorXd& x, const PoseSolution& solved
       MatrixXd passive(m, l.variables - 1);
       for (int v = 0, col = 0; v < l.variables; ++v)
         if (v != act_var) passive.col(col++) = rows_of(twist(c, v, r, model_.size), model_.planar);
-      // The wrench reciprocal to every passive twist: the last left singular vector.
+      // The wrenches reciprocal to every passive twist: the last left singular
+      // vectors, as many as the passive twists leave free at home (one for a leg
+      // of five passive freedoms; more where the leg also holds the platform's
+      // orientation, as a Falcon's revolute legs do). Of them, the actuation
+      // wrench is the one the actuator works against; the others are
+      // constraint wrenches, reciprocal to the actuator too.
       Eigen::JacobiSVD<MatrixXd> svd(passive, Eigen::ComputeFullU);
-      w = svd.matrixU().col(m - 1);
       const auto& sv = svd.singularValues();
-      // A second vanishing singular value (beyond the leg's idle freedoms): the
-      // passive joints lose a freedom, the leg is singular.
+      // A vanishing singular value beyond the leg's idle freedoms: the passive
+      // joints lose a freedom, the leg is singular.
+      const int expected_rank = passive_rank_[leg];
       int rank = 0;
       for (Index i = 0; i < sv.size(); ++i) rank += sv(i) > 1e-10 * sv(0);
-      passive_singular = rank < m - 1;
+      const MatrixXd reciprocal = svd.matrixU().rightCols(m - expected_rank);
+      const VectorXd actuation = reciprocal.transpose() * rows_of(twist(c, act_var, r, model_.size), model_.planar);
+      w = actuation.norm() > 0 ? VectorXd(reciprocal * actuation.normalized())
+                               : VectorXd(reciprocal.col(reciprocal.cols() - 1));
+      passive_singular = rank < expected_rank;
     }
     const MatrixXd cols = platform_columns(model_, p, r);
     for (Index j = 0; j < cols.cols(); ++j) out.Jx(row, j) = w.dot(rows_of(cols.col(j), model_.planar));

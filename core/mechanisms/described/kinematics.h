@@ -131,6 +131,10 @@ class Kinematics {
 
  private:
   struct LegSolveResult;
+  // forward() from the seed in one Gauss-Newton run; forward() follows the
+  // actuators' path where this stalls.
+  ForwardSolution forward_from(const Eigen::VectorXd& q, const Eigen::VectorXd& seed, double tolerance,
+                               int max_iterations) const;
   // Damped Gauss-Newton on one leg; stops when an iteration gains less than
   // `crawl` (relative) away from a solution.
   LegSolveResult solve_leg(int leg, const Eigen::Isometry3d& anchor, LegState state, int max_iterations,
@@ -152,6 +156,9 @@ class Kinematics {
   std::vector<std::vector<LegState>> spread_seeds_;
   // Per leg: the shortest (lo) and longest (hi) distance from its base to its end.
   std::vector<Range> leg_reach_;
+  // Per leg: the rank of its passive joints' twists at home (6 less the
+  // wrenches the leg transmits: the actuation wrench and any constraint ones).
+  std::vector<int> passive_rank_;
   std::vector<std::optional<ClosedFormLeg>> closed_;
 };
 

@@ -43,6 +43,8 @@ TEST(DescribedClosedForm, RecognisesTheShippedLegs) {
   EXPECT_EQ(patterns(load("three-rrr")), std::vector<std::string>(3, "planar-dyad"));
   EXPECT_EQ(patterns(load("linear-delta")), std::vector<std::string>(3, "slide-rod"));
   EXPECT_EQ(patterns(load("hexapod-rus")), std::vector<std::string>(6, "crank-rod"));
+  // Five revolutes (a parallelogram's links as joints): no known pattern.
+  EXPECT_EQ(patterns(load("falcon")), std::vector<std::string>(3, "numeric"));
 }
 
 double cond(const MatrixXd& M) {
