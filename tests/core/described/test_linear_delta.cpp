@@ -19,13 +19,11 @@
 
 using namespace linkscape;
 using namespace linkscape::described_test;
-using Eigen::Matrix3d;
-using Eigen::Vector3d;
-using Eigen::VectorXd;
-
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
 
 struct LinearDelta {
   double R = 0, r = 0, L = 0, lo = 0, hi = 0;

@@ -91,6 +91,35 @@ TEST(DescribedDescribe, AnAssertedPatternIsChecked) {
   }
 }
 
+// The "along" rule names two joints and a unit direction.
+TEST(DescribedDescribe, AnAlongRuleIsChecked) {
+  auto with_rule = [](const nlohmann::json& rule) {
+    Preset p = load_preset("linear-delta");
+    nlohmann::json d = nlohmann::json::parse(p.description);
+    d["legs"][0]["branch"] = rule;
+    p.description = d.dump();
+    return p;
+  };
+  auto message = [&](const nlohmann::json& rule) {
+    try {
+      describe(with_rule(rule));
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_TRUE(has(message({{"along", {"elbow#", "anchor"}}}), "branch: \"along\" needs a \"direction\" [x, y, z] (base frame)"));
+  EXPECT_TRUE(has(message({{"along", {"elbow#"}}, {"direction", {0, 0, 1}}}), "branch.along: must name two joints [A, B]"));
+  EXPECT_TRUE(has(message({{"along", {"elbow#", "anchor"}}, {"direction", {0, 0, 2}}}), "is not a unit vector"));
+  EXPECT_TRUE(has(message({{"along", {"elbow#", "anchor"}}, {"direction", {0, 0, 1}}, {"sign", "-1"}}), "accepted"));
+  // The sign chooses the solution: rods below their carriages reach home
+  // within the travel; rods above need the carriages 22 cm below it.
+  const auto below = described::make_mechanism(with_rule({{"along", {"elbow#", "anchor"}}, {"direction", {0, 0, 1}}, {"sign", "-1"}}));
+  const auto above = described::make_mechanism(with_rule({{"along", {"elbow#", "anchor"}}, {"direction", {0, 0, 1}}, {"sign", "1"}}));
+  EXPECT_EQ(below->inverse(below->home_task()).status, Status::Ok);
+  EXPECT_EQ(above->inverse(above->home_task()).status, Status::OutOfLimits);
+}
+
 TEST(DescribedDescribe, APresetWithoutADescriptionIsRefused) {
   EXPECT_THROW(describe(load_preset("delta")), std::invalid_argument);
 }
