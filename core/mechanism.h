@@ -148,6 +148,12 @@ struct SingularityReport {
 };
 
 // ---- The skeleton: what the render scene draws ---------------------------------
+//
+// Frames and points are named as `p_F_P` (point P from F's origin, in F's
+// axes), `R_F_G` (G's axes in F: v_F = R_F_G * v_G, so R_F_H = R_F_G * R_G_H),
+// `X_F_G` (the transform F <- G) and `axis_F_A` (a direction, in F). Frame
+// names: world (the base), a body's name, or the paper's letter for a leg's
+// frames. Lengths in the device's length unit.
 
 enum class JointType { Revolute, Prismatic, Spherical, Universal };
 
@@ -164,8 +170,8 @@ struct Joint {
   std::string name;
   JointType type = JointType::Revolute;
   int body = 0;                       // the body it is drawn with
-  Eigen::Vector3d point_in_body = Eigen::Vector3d::Zero();
-  Eigen::Vector3d axis_in_body = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d point_in_body = Eigen::Vector3d::Zero();  // p_body_joint
+  Eigen::Vector3d axis_in_body = Eigen::Vector3d::UnitZ();   // axis_body_joint (unit)
   bool actuated = false;
   std::string label;  // drawn beside the joint where not empty (actuator names, leg numbers)
 };
@@ -179,9 +185,9 @@ struct SkeletonModel {
 enum class BodyState { Normal, Failing };
 
 struct SkeletonPose {
-  std::vector<Eigen::Isometry3d> body_frames;  // base <- body, per SkeletonModel::bodies
+  std::vector<Eigen::Isometry3d> body_frames;  // X_world_body, per SkeletonModel::bodies
   std::vector<BodyState> states;               // per body
-  Eigen::Vector3d endpoint = Eigen::Vector3d::Zero();  // the driven point, base frame
+  Eigen::Vector3d endpoint = Eigen::Vector3d::Zero();  // p_world_endpoint: the driven point
 };
 
 // ---- The interface --------------------------------------------------------------

@@ -1,5 +1,9 @@
 #include "core/method_harness.h"
 
+#include <map>
+
+#include "core/pareto.h"
+
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 #include <algorithm>
@@ -27,24 +31,24 @@ double condition_number_normal_equations(const Matrix3d& J) {
 
 std::vector<std::size_t> pareto_front(const std::vector<MethodRow>& rows, const std::string& family,
                                       const std::string& mechanism) {
-  auto member = [&](const MethodRow& r) {
-    return r.family == family && (mechanism.empty() || r.mechanism == mechanism) && std::isfinite(r.error_median);
-  };
+  // Each device's methods form their own front (core/pareto.h).
+  std::map<std::string, std::vector<std::size_t>> members;
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    if (rows[i].family == family && (mechanism.empty() || rows[i].mechanism == mechanism) &&
+        std::isfinite(rows[i].error_median))
+      members[rows[i].mechanism].push_back(i);
   std::vector<std::size_t> front;
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    if (!member(rows[i])) continue;
-    bool dominated = false;
-    for (std::size_t j = 0; j < rows.size() && !dominated; ++j) {
-      if (j == i || !member(rows[j]) || rows[j].mechanism != rows[i].mechanism) continue;
-      const bool no_worse = rows[j].seconds_per_evaluation <= rows[i].seconds_per_evaluation &&
-                            rows[j].error_median <= rows[i].error_median;
-      const bool better = rows[j].seconds_per_evaluation < rows[i].seconds_per_evaluation ||
-                          rows[j].error_median < rows[i].error_median;
-      dominated = no_worse && better;
+  for (const auto& [device, indices] : members) {
+    std::vector<double> seconds, error;
+    for (std::size_t i : indices) {
+      seconds.push_back(rows[i].seconds_per_evaluation);
+      error.push_back(rows[i].error_median);
     }
-    if (!dominated) front.push_back(i);
+    const std::vector<bool> on_front = non_dominated(seconds, error, false);
+    for (std::size_t k = 0; k < indices.size(); ++k)
+      if (on_front[k]) front.push_back(indices[k]);
   }
-  std::sort(front.begin(), front.end(), [&](std::size_t a, std::size_t b) {
+  std::stable_sort(front.begin(), front.end(), [&](std::size_t a, std::size_t b) {
     return rows[a].seconds_per_evaluation < rows[b].seconds_per_evaluation;
   });
   return front;

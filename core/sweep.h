@@ -70,10 +70,6 @@ std::string table(const Plan& plan, const std::map<std::size_t, std::string>& ro
 // left out. Also returns the index of the smallest meeting design, if any.
 fit::Result as_fit_result(const Plan& plan, const std::map<std::size_t, std::string>& rows);
 
-// Which of the points (x smaller is better; y larger is better where
-// `larger_is_better`, else smaller) no other point beats on both.
-std::vector<bool> non_dominated(const std::vector<double>& x, const std::vector<double>& y, bool larger_is_better);
-
 // A text that changes whenever anything that decides the table's bytes does
 // (device, variables, task, criteria, sampling, resolutions); a checkpoint
 // is resumed only under the same text.

@@ -1,5 +1,7 @@
 #include "render/field_vtk.h"
 
+#include "core/field_names.h"
+
 #include <vtkErrorCode.h>
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
@@ -22,6 +24,9 @@
 
 namespace linkscape::render {
 namespace {
+
+// The name a file stores an array under (core/field_names.h).
+const char* file_name(FieldArray array) { return field_array_name(array).file_name.data(); }
 
 // A VTK array with the values of `values`: a copy, or a view of them (VTK
 // neither writes nor frees them; they must outlive the array).
@@ -116,22 +121,22 @@ vtkSmartPointer<vtkImageData> image_data(const Field& field, bool copy) {
   const Eigen::Vector3d first = g.origin + 0.5 * g.spacing;
   image->SetOrigin(first.x(), first.y(), first.z());
   vtkPointData* pd = image->GetPointData();
-  pd->AddArray(vtk_array<vtkFloatArray>("cond", field.cond, copy));
+  pd->AddArray(vtk_array<vtkFloatArray>(file_name(FieldArray::Cond), field.cond, copy));
   if (!field.cond_orientation.empty())
-    pd->AddArray(vtk_array<vtkFloatArray>("cond_orientation", field.cond_orientation, copy));
-  pd->AddArray(vtk_array<vtkFloatArray>("reach_margin", field.reach_margin, copy));
-  pd->AddArray(vtk_array<vtkFloatArray>("residual", field.residual, copy));
+    pd->AddArray(vtk_array<vtkFloatArray>(file_name(FieldArray::CondOrientation), field.cond_orientation, copy));
+  pd->AddArray(vtk_array<vtkFloatArray>(file_name(FieldArray::Reach), field.reach_margin, copy));
+  pd->AddArray(vtk_array<vtkFloatArray>(file_name(FieldArray::Residual), field.residual, copy));
   pd->AddArray(vtk_array<vtkUnsignedCharArray>("reachable", field.reachable, copy));
-  pd->AddArray(vtk_array<vtkUnsignedCharArray>("status", field.status, copy));
-  pd->AddArray(vtk_array<vtkUnsignedShortArray>("iterations", field.iterations, copy));
+  pd->AddArray(vtk_array<vtkUnsignedCharArray>(file_name(FieldArray::Status), field.status, copy));
+  pd->AddArray(vtk_array<vtkUnsignedShortArray>(file_name(FieldArray::Iterations), field.iterations, copy));
   if (!field.method_used.empty())
-    pd->AddArray(vtk_array<vtkUnsignedCharArray>("method_used", field.method_used, copy));
+    pd->AddArray(vtk_array<vtkUnsignedCharArray>(file_name(FieldArray::Method), field.method_used, copy));
   for (const Field::NamedArray& a : field.extras) {
     pd->AddArray(vtk_array<vtkFloatArray>(a.name.c_str(), a.values, copy));
     // The unit also as the component name, which ParaView shows beside the array.
     pd->GetArray(a.name.c_str())->SetComponentName(0, a.unit.c_str());
   }
-  pd->SetActiveScalars("cond");
+  pd->SetActiveScalars(file_name(FieldArray::Cond));
   add_metadata(image->GetFieldData(), field);
   return image;
 }
@@ -174,10 +179,12 @@ void write_field_csv(const Field& field, const std::filesystem::path& path) {
     std::ofstream out(tmp, std::ios::binary);
     if (!out) throw std::runtime_error("cannot open '" + tmp.string() + "' for writing");
     const bool with_method = !field.method_used.empty(), with_orientation = !field.cond_orientation.empty();
-    std::string chunk = "x,y,z,cond,";
-    chunk += with_orientation ? "cond_orientation," : "";
-    chunk += "reach_margin,residual,reachable,status,iterations";
-    chunk += with_method ? ",method_used" : "";
+    // The columns in the order the rows below write them.
+    std::string chunk = std::string("x,y,z,") + file_name(FieldArray::Cond) + ",";
+    if (with_orientation) chunk += std::string(file_name(FieldArray::CondOrientation)) + ",";
+    chunk += std::string(file_name(FieldArray::Reach)) + "," + file_name(FieldArray::Residual) + ",reachable," +
+             file_name(FieldArray::Status) + "," + file_name(FieldArray::Iterations);
+    if (with_method) chunk += std::string(",") + file_name(FieldArray::Method);
     for (const Field::NamedArray& a : field.extras) chunk += "," + a.name;
     chunk += '\n';
     for (int k = 0; k < g.dims[2]; ++k)

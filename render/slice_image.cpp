@@ -11,9 +11,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include "core/atomic_file.h"
+#include "core/field_names.h"
 #include "render/field_vtk.h"
 
 namespace linkscape::render {
@@ -63,38 +65,32 @@ constexpr std::array<unsigned char, 3> kContourColour = {255, 255, 255};
 constexpr std::array<unsigned char, 3> kBoundaryColour = {64, 64, 64};
 constexpr double kCondCap = 1e6;  // cond beyond this (and +inf) is treated as this for contours
 
-// Extra: one of the field's named arrays (Field::extras, e.g. force_iso).
-enum class Quantity { Cond, CondOrientation, Reach, Residual, Iterations, Status, Method, Extra };
+// A kinematic array (core/field_names.h), or none for one of the field's
+// named arrays (Field::extras, e.g. force_iso).
+using Quantity = std::optional<FieldArray>;
 
 Quantity parse_quantity(const std::string& name) {
-  if (name == "cond") return Quantity::Cond;
-  if (name == "cond_jo") return Quantity::CondOrientation;
-  if (name == "reach") return Quantity::Reach;
-  if (name == "residual") return Quantity::Residual;
-  if (name == "iterations") return Quantity::Iterations;
-  if (name == "status") return Quantity::Status;
-  if (name == "method") return Quantity::Method;
   if (name.empty())
-    throw std::invalid_argument("slice style: expected a field name (cond, cond_jo, reach, residual, iterations, "
-                                "status, method or one of the field's named arrays), got none");
-  return Quantity::Extra;
+    throw std::invalid_argument("slice style: expected a field name (" + field_array_names() +
+                                " or one of the field's named arrays), got none");
+  return field_array(name);
 }
 
 // The named array a style shows. Throws std::invalid_argument listing the
 // field's arrays when it has none of that name.
 const Field::NamedArray& extra_array(const Field& field, const std::string& name) {
   if (const Field::NamedArray* a = field.extra(name)) return *a;
-  std::string known = "cond, cond_jo, reach, residual, iterations, status, method";
+  std::string known = field_array_names();
   for (const auto& a : field.extras) known += ", " + a.name;
   throw std::invalid_argument("slice style: expected field " + known + ", got '" + name + "'");
 }
 
-bool is_cond(Quantity q) { return q == Quantity::Cond || q == Quantity::CondOrientation; }
+bool is_cond(Quantity q) { return q == FieldArray::Cond || q == FieldArray::CondOrientation; }
 
 // Condition numbers, residuals and the named arrays (forces, resolutions,
 // inertias) spread over decades.
 bool is_log(const SliceStyle& style, Quantity q) {
-  return style.log_scale && (is_cond(q) || q == Quantity::Residual || q == Quantity::Extra);
+  return style.log_scale && (is_cond(q) || q == FieldArray::Residual || !q);
 }
 
 }  // namespace
@@ -102,30 +98,36 @@ bool is_log(const SliceStyle& style, Quantity q) {
 std::string field_title(const Field& field, const std::string& name) {
   const std::string unit = field.length_unit.empty() ? "" : " (" + field.length_unit + ")";
   const auto& titles = field.measure_titles;
-  if (name == "cond") return titles.size() > 0 ? titles[0] : "cond";
-  if (name == "cond_jo") return titles.size() > 1 ? titles[1] : "cond_jo";
-  if (name == "reach") return "reach margin" + unit;
-  if (name == "residual") return "residual" + unit;
+  switch (field_array(name).value_or(FieldArray::Method)) {
+    case FieldArray::Cond: return titles.size() > 0 ? titles[0] : name;
+    case FieldArray::CondOrientation: return titles.size() > 1 ? titles[1] : name;
+    case FieldArray::Reach: return "reach margin" + unit;
+    case FieldArray::Residual: return "residual" + unit;
+    default: break;
+  }
   if (const Field::NamedArray* a = field.extra(name)) return a->title + (a->unit.empty() ? "" : " (" + a->unit + ")");
   return name;  // iterations, status, method
 }
 
-std::string contour_field(const std::string& name) { return name == "cond_jo" ? "cond_jo" : "cond"; }
+std::string contour_field(const std::string& name) {
+  const FieldArray shown = field_array(name) == FieldArray::CondOrientation ? FieldArray::CondOrientation : FieldArray::Cond;
+  return std::string(field_array_name(shown).name);
+}
 
 bool uses_log_scale(const SliceStyle& style) { return is_log(style, parse_quantity(style.field)); }
 
 namespace {
 
 double value_at(const Field& f, Quantity q, std::size_t s, const Field::NamedArray* extra = nullptr) {
-  switch (q) {
-    case Quantity::Cond: return f.cond[s];
-    case Quantity::CondOrientation: return f.cond_orientation[s];
-    case Quantity::Reach: return f.reach_margin[s];
-    case Quantity::Residual: return f.residual[s];
-    case Quantity::Iterations: return f.iterations[s];
-    case Quantity::Status: return f.status[s];
-    case Quantity::Method: return f.method_used.empty() ? 255.0 : double(f.method_used[s]);
-    case Quantity::Extra: return extra->values[s];
+  if (!q) return extra->values[s];
+  switch (*q) {
+    case FieldArray::Cond: return f.cond[s];
+    case FieldArray::CondOrientation: return f.cond_orientation[s];
+    case FieldArray::Reach: return f.reach_margin[s];
+    case FieldArray::Residual: return f.residual[s];
+    case FieldArray::Iterations: return f.iterations[s];
+    case FieldArray::Status: return f.status[s];
+    case FieldArray::Method: return f.method_used.empty() ? 255.0 : double(f.method_used[s]);
   }
   return 0;
 }
@@ -304,9 +306,9 @@ std::pair<double, double> colour_range(const Field& field, const SliceStyle& sty
   colour_of(0, style.colour_map);  // an unknown map is a bad style
   const bool log = is_log(style, q);
   double lo = 1, hi = 10;
-  if (q == Quantity::CondOrientation && field.cond_orientation.size() != field.grid.size())
+  if (q == FieldArray::CondOrientation && field.cond_orientation.size() != field.grid.size())
     throw std::invalid_argument("slice style: field 'cond_jo' needs a field with a second condition array");
-  const Field::NamedArray* extra = q == Quantity::Extra ? &extra_array(field, style.field) : nullptr;
+  const Field::NamedArray* extra = !q ? &extra_array(field, style.field) : nullptr;
   if (extra && extra->values.size() != field.grid.size())
     throw std::invalid_argument("slice style: array '" + style.field + "' does not cover the grid");
   if (!is_cond(q) && !(style.min && style.max)) {
@@ -377,7 +379,7 @@ vtkSmartPointer<vtkImageData> render_slice_rgba(const Field& field, const SliceS
       throw std::invalid_argument("slice style: expected positive finite contour levels, got " +
                                   std::to_string(level));
   const Quantity q = parse_quantity(style.field);
-  const Field::NamedArray* extra = q == Quantity::Extra ? &extra_array(field, style.field) : nullptr;
+  const Field::NamedArray* extra = !q ? &extra_array(field, style.field) : nullptr;
   const Grid& g = field.grid;
   const Axis normal = slice_normal(g);
   const std::array<Axis, 2> axes = Grid::slice_axes(normal);
@@ -399,7 +401,7 @@ vtkSmartPointer<vtkImageData> render_slice_rgba(const Field& field, const SliceS
     for (int iu = 0; iu < nu; ++iu) {
       const std::size_t s = sample(iu, iv);
       std::array<unsigned char, 4> c{grey, grey, grey, style.unreachable_alpha};
-      if (field.reachable[s] && q == Quantity::Method) {
+      if (field.reachable[s] && q == FieldArray::Method) {
         const auto rgb = method_colour(std::uint8_t(value_at(field, q, s)));
         c = {to_byte(rgb[0]), to_byte(rgb[1]), to_byte(rgb[2]), 255};
       } else if (field.reachable[s]) {

@@ -13,8 +13,10 @@
 
 #include "core/atomic_file.h"
 #include "core/csv.h"
+#include "core/pareto.h"
 #include "core/sweep.h"
 #include "gui/figures/painted_file.h"
+#include "render/slice_image.h"
 
 namespace linkscape::gui {
 namespace {
@@ -139,16 +141,9 @@ void draw_pareto(QPainter& p, const QRectF& area, const fit::Problem& problem, c
   };
   p.setPen(QPen(Qt::black, 1));
   p.drawRect(plot);
-  // Ticks at round numbers: steps of 1, 2 or 5 times a power of ten; on a
-  // log axis the decades' 1, 2, 5 (or every digit over less than a decade).
-  auto round_ticks = [](double a, double b) {
-    const double raw = (b - a) / 5, decade = std::pow(10.0, std::floor(std::log10(raw)));
-    const double step = raw / decade < 1.5 ? decade : raw / decade < 3.5 ? 2 * decade : raw / decade < 7.5 ? 5 * decade : 10 * decade;
-    std::vector<double> t;
-    for (double v = std::ceil(a / step) * step; v <= b + 1e-9 * step; v += step) t.push_back(std::abs(v) < 1e-12 * step ? 0.0 : v);
-    return t;
-  };
-  for (double x : round_ticks(x0, x1)) {
+  // Ticks at round numbers (render::nice_ticks); on a log axis the decades'
+  // 1, 2, 5 (or every digit over less than a decade).
+  for (double x : render::nice_ticks(x0, x1, 5)) {
     const QPointF a(plot.left() + (x - x0) / (x1 - x0) * plot.width(), plot.bottom());
     p.drawLine(a, a + QPointF(0, 0.3 * fh));
     p.drawText(QRectF(a.x() - 3 * fh, a.y() + 0.4 * fh, 6 * fh, fh), Qt::AlignCenter, QString::fromStdString(short_number(x)));
@@ -161,7 +156,7 @@ void draw_pareto(QPainter& p, const QRectF& area, const fit::Problem& problem, c
         if (const double v = m * std::pow(10.0, d); (digits || m == 1 || m == 2 || m == 5) && ty(v) >= ly0 && ty(v) <= ly1)
           yticks.push_back(v);
   } else {
-    yticks = round_ticks(ly0, ly1);
+    yticks = render::nice_ticks(ly0, ly1, 5);
   }
   for (double v : yticks) {
     const QPointF a = at(x0, v);
@@ -191,7 +186,7 @@ void draw_pareto(QPainter& p, const QRectF& area, const fit::Problem& problem, c
   if (!at_size) {
     std::vector<double> xs, ys;
     for (const Point& q : pts) xs.push_back(q.x), ys.push_back(q.y);
-    const std::vector<bool> on_front = sweep::non_dominated(xs, ys, above);
+    const std::vector<bool> on_front = non_dominated(xs, ys, above);
     for (std::size_t i = 0; i < pts.size(); ++i)
       if (on_front[i]) front.push_back(pts[i]);
   }

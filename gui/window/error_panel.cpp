@@ -2,6 +2,7 @@
 
 #include <QHBoxLayout>
 #include <QLabel>
+#include <QMainWindow>
 #include <QPushButton>
 #include <QStyle>
 #include <QVBoxLayout>
@@ -77,5 +78,17 @@ void ErrorPanel::showError(const QString& title, const QString& path, const QStr
 }
 
 QString ErrorPanel::text() const { return title_->text() + "\n" + path_label_->text() + "\n" + message_->text(); }
+
+ErrorPanel* ErrorPanel::placeAbove(QMainWindow* window, QWidget* view) {
+  auto* centre = new QWidget(window);
+  auto* column = new QVBoxLayout(centre);
+  column->setContentsMargins(0, 0, 0, 0);
+  column->setSpacing(0);
+  auto* panel = new ErrorPanel(centre);
+  column->addWidget(panel);
+  column->addWidget(view, 1);
+  window->setCentralWidget(centre);
+  return panel;
+}
 
 }  // namespace linkscape::gui

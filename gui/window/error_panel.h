@@ -9,6 +9,7 @@
 #include <QString>
 
 class QLabel;
+class QMainWindow;
 class QPushButton;
 
 namespace linkscape::gui {
@@ -18,6 +19,8 @@ class ErrorPanel : public QFrame {
 
  public:
   explicit ErrorPanel(QWidget* parent = nullptr);
+  // A panel above `view` in the centre of `window`, where it is seen.
+  static ErrorPanel* placeAbove(QMainWindow* window, QWidget* view);
 
   // Shows the panel: `title` in bold ("Cannot reload the mechanism"), then
   // the file and what is wrong with it.

@@ -78,7 +78,8 @@ std::string task_text(const task::TaskVolume& t) {
 
 }  // namespace
 
-FitPanel::FitPanel(const TaskPanel* task, QWidget* parent) : QWidget(parent), task_(task) {
+FitPanel::FitPanel(const TaskPanel* task, QWidget* parent)
+    : QWidget(parent), task_(task), worker_(this, [this] { cancel_button_->setEnabled(false); }) {
   auto* layout = new QVBoxLayout(this);
   setToolTip("Sizes the device to the Task tab's task and criteria. Free parameters vary within their bounds; "
              "the others keep the Design tab's values.");
@@ -189,14 +190,7 @@ FitPanel::FitPanel(const TaskPanel* task, QWidget* parent) : QWidget(parent), ta
   syncMode();
 }
 
-FitPanel::~FitPanel() {
-  if (cancel_flag_) cancel_flag_->store(true);
-  join_worker();
-}
-
-void FitPanel::join_worker() {
-  if (worker_.joinable()) worker_.join();
-}
+FitPanel::~FitPanel() = default;  // the worker cancels and joins a search in flight
 
 void FitPanel::syncMode() { size_box_->setEnabled(mode_box_->currentIndex() == 1); }
 
@@ -309,8 +303,7 @@ fit::Problem FitPanel::makeProblem() const {
 }
 
 void FitPanel::run() {
-  if (running_) return;
-  join_worker();
+  if (worker_.running()) return;
   fit::Problem problem;
   try {
     problem = makeProblem();
@@ -319,20 +312,16 @@ void FitPanel::run() {
     emit runFinished(false);
     return;
   }
-  running_ = true;
-  const unsigned generation = ++generation_;
-  cancel_flag_ = std::make_shared<std::atomic<bool>>(false);
   run_button_->setEnabled(false);
   cancel_button_->setEnabled(true);
   progress_->setRange(0, 0);  // busy: the number of designs is not known in advance
   status_->setText("Searching...");
   auto shared = std::make_shared<const fit::Problem>(std::move(problem));
-  const auto cancel = cancel_flag_;
-  worker_ = std::thread([this, generation, shared, cancel] {
+  worker_.start([this, shared](const BackgroundTask::Run& run) {
     std::optional<fit::Result> result;
     QString message;
     fit::Progress progress;
-    progress.cancel = cancel.get();
+    progress.cancel = &run.cancelled;
     std::optional<double> best;
     const bool at_size = shared->size.has_value();
     progress.design = [&](const fit::Row& row, std::size_t n) {
@@ -340,41 +329,28 @@ void FitPanel::run() {
         best = at_size ? row.margin : row.size;
       QString text = QString("%1 designs evaluated").arg(n);
       if (best) text += QString(at_size ? ", largest margin so far %1" : ", smallest meeting size so far %1").arg(*best, 0, 'g', 4);
-      QMetaObject::invokeMethod(
-          this, [this, generation, text] {
-            if (generation == generation_ && running_) status_->setText(text);
-          },
-          Qt::QueuedConnection);
+      run.progress([this, text] { status_->setText(text); });
     };
     try {
       fit::Result r = fit::solve(*shared, progress);
-      if (cancel->load()) message = "Cancelled.";
+      if (run.cancelled.load()) message = "Cancelled.";
       else result = std::move(r);
     } catch (const std::exception& e) {
       message = QString("Cannot run: %1").arg(e.what());
     }
-    QMetaObject::invokeMethod(
-        this,
-        [this, generation, shared, result = std::move(result), message]() mutable {
-          if (result) problem_ = *shared;
-          finish(generation, std::move(result), message);
-        },
-        Qt::QueuedConnection);
+    run.finish([this, shared, result = std::move(result), message]() mutable {
+      if (result) problem_ = *shared;
+      finish(std::move(result), message);
+    });
   });
 }
 
 void FitPanel::cancel() {
-  if (!running_ || !cancel_flag_) return;
-  cancel_flag_->store(true);
-  status_->setText("Cancelling...");
+  if (worker_.cancel()) status_->setText("Cancelling...");
 }
 
-void FitPanel::finish(unsigned generation, std::optional<fit::Result> result, const QString& message) {
-  if (generation != generation_) return;
-  running_ = false;
-  join_worker();
+void FitPanel::finish(std::optional<fit::Result> result, const QString& message) {
   run_button_->setEnabled(true);
-  cancel_button_->setEnabled(false);
   progress_->setRange(0, 1);
   progress_->setValue(result ? 1 : 0);
   const bool completed = result.has_value();

@@ -8,18 +8,17 @@
 #pragma once
 
 #include <QWidget>
-#include <atomic>
 #include <filesystem>
 #include <map>
 #include <memory>
 #include <optional>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "core/fit.h"
+#include "gui/window/background.h"
 
 class QCheckBox;
 class QComboBox;
@@ -60,7 +59,7 @@ class FitPanel : public QWidget {
   // The sampling (defaults: those of linkscape fit).
   void setSearchSettings(const task::InscribedOptions& inscribed, int task_resolution, double tolerance);
 
-  bool isRunning() const { return running_; }
+  bool isRunning() const { return worker_.running(); }
   const std::optional<fit::Problem>& problem() const { return problem_; }
   const std::optional<fit::Result>& result() const { return result_; }
   // The chosen design's free parameters (or the closest one's); empty before a result.
@@ -86,8 +85,7 @@ class FitPanel : public QWidget {
  private:
   struct ParameterRow;
   fit::Problem makeProblem() const;  // throws std::invalid_argument
-  void finish(unsigned generation, std::optional<fit::Result> result, const QString& message);
-  void join_worker();
+  void finish(std::optional<fit::Result> result, const QString& message);
   void syncMode();
 
   const TaskPanel* task_;
@@ -100,10 +98,6 @@ class FitPanel : public QWidget {
 
   std::optional<fit::Problem> problem_;  // of the result shown (or the run in flight)
   std::optional<fit::Result> result_;
-  bool running_ = false;
-  unsigned generation_ = 0;
-  std::shared_ptr<std::atomic<bool>> cancel_flag_;
-  std::thread worker_;
 
   QWidget* parameters_ = nullptr;
   QLineEdit* equal_edit_ = nullptr;
@@ -119,6 +113,8 @@ class FitPanel : public QWidget {
   QPushButton* apply_button_ = nullptr;
   QPushButton* export_chart_button_ = nullptr;
   QPushButton* export_csv_button_ = nullptr;
+  // Last, so a search in flight is cancelled and joined before the rest goes.
+  BackgroundTask worker_;  // its end disables Cancel
 };
 
 }  // namespace linkscape::gui

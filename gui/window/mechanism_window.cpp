@@ -1,219 +1,41 @@
 #include "gui/window/mechanism_window.h"
 
-#include <QAction>
-#include <QApplication>
-#include <QCheckBox>
 #include <QCloseEvent>
 #include <QComboBox>
 #include <QDockWidget>
 #include <QEvent>
-#include <QDoubleSpinBox>
-#include <QFileDialog>
 #include <QFileInfo>
-#include <QFileSystemWatcher>
-#include <QPointer>
-#include <QFormLayout>
-#include <QGridLayout>
-#include <QGroupBox>
-#include <QHBoxLayout>
 #include <QLabel>
-#include <QInputDialog>
-#include <QLineEdit>
-#include <QMenuBar>
-#include <QMessageBox>
-#include <QPushButton>
-#include <QScrollArea>
-#include <QSettings>
-#include <QSignalBlocker>
-#include <QSlider>
-#include <QStandardPaths>
 #include <QStatusBar>
-#include <QSurfaceFormat>
 #include <QTimer>
-#include <QVBoxLayout>
-#include <vtkCallbackCommand.h>
-#include <vtkGenericOpenGLRenderWindow.h>
-#include <vtkHandleWidget.h>
-#include <vtkNew.h>
-#include <vtkPointHandleRepresentation3D.h>
 #include <vtkPolyData.h>
-#include <vtkProperty.h>
-#include <vtkInteractorObserver.h>
-#include <vtkRenderWindowInteractor.h>
 #include <vtkRenderer.h>
 
 #include <algorithm>
-#include <cmath>
-#include <functional>
-#include <iostream>
-#include <numbers>
 #include <stdexcept>
 
-#include "core/csv.h"
-#include "core/haptics.h"
+#include "gui/window/animation_panel.h"
+#include "gui/window/design_panel.h"
+#include "gui/window/docks.h"
 #include "gui/window/error_panel.h"
-#include "gui/window/latency_probe.h"
+#include "gui/window/export_actions.h"
+#include "gui/window/field_panel.h"
+#include "gui/window/file_actions.h"
 #include "gui/window/fit_panel.h"
 #include "gui/window/methods_panel.h"
+#include "gui/window/quantity_control.h"
 #include "gui/window/session_history.h"
 #include "gui/window/task_panel.h"
+#include "gui/window/view_handles.h"
+#include "gui/window/window_menus.h"
 #include "gui/window/vtk_widget.h"
-#include "gui/window/window_parts.h"
 #include "render/field_scene.h"
-#include "render/scene_renderer.h"
 #include "render/skeleton_scene.h"
 #include "render/task_scene.h"
-#include "render/slice_image.h"
 
 namespace linkscape::gui {
 
 namespace {
-
-constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
-constexpr int kMaxWindowSide = 8192;
-constexpr int kSliderSteps = 1000;
-constexpr int kPositionSteps = 400;
-// While dragging or animating, one step may move an actuator at most this
-// much; a larger jump means the same branch continues on the other side of
-// a singular set, which would make the device jump.
-constexpr double kMaxTrackingStep = 0.6;  // rad
-
-QString qs(const std::string& s) { return QString::fromStdString(s); }
-QString number(double v, int precision = 4) { return QString::number(v, 'g', precision); }
-// Fixed-point text; values that round to zero print as 0, never -0.
-QString fixed(double v, int decimals = 2) {
-  if (std::abs(v) < 0.5 * std::pow(10.0, -decimals)) v = 0.0;
-  return QString::number(v, 'f', decimals);
-}
-
-// Angles are shown in degrees; everything else in its own unit.
-double display_scale(const Quantity& q) { return q.unit == "rad" ? 1.0 / kDeg : 1.0; }
-QString display_suffix(const Quantity& q) {
-  if (q.unit == "rad" || q.unit == "deg") return QString::fromUtf8(" °");
-  return q.unit.empty() ? QString() : " " + qs(q.unit);
-}
-QString value_text(const Quantity& q, double v) {
-  return QString("%1 = %2%3").arg(qs(q.name), fixed(v * display_scale(q), q.unit == "rad" || q.unit == "deg" ? 1 : 3),
-                                  display_suffix(q));
-}
-
-double angle_distance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
-  double d = 0;
-  for (Eigen::Index k = 0; k < a.size(); ++k) d = std::max(d, std::abs(std::remainder(a(k) - b(k), 2 * kPi)));
-  return d;
-}
-
-QString status_text(Status s, const std::string& text = {}) { return qs(text.empty() ? std::string(to_string(s)) : text); }
-
-// The preset's file as the watcher and the error panel name it; empty for a
-// preset not read from a file.
-QString preset_file(const Preset& preset) {
-  return preset.source.empty() ? QString() : QFileInfo(qs(preset.source.string())).absoluteFilePath();
-}
-
-std::vector<std::string> names_of(const std::vector<Quantity>& quantities) {
-  std::vector<std::string> names;
-  for (const Quantity& q : quantities) names.push_back(q.name);
-  return names;
-}
-
-}  // namespace
-
-// A slider and a spin box showing one quantity (the spin box carries the
-// unit; angles in degrees); `changed` runs when the user moves either.
-struct QuantityControl {
-  Quantity quantity;
-  double scale = 1.0;  // display units per model unit
-  QSlider* slider = nullptr;
-  QDoubleSpinBox* box = nullptr;
-  QLabel* label = nullptr;
-  QFormLayout* form = nullptr;  // its row
-
-  double value() const { return box->value() / scale; }
-  int step_of(double display) const {
-    const double lo = box->minimum(), hi = box->maximum();
-    return hi > lo ? int(std::lround((display - lo) / (hi - lo) * kSliderSteps)) : 0;
-  }
-  void set(double v) {
-    const QSignalBlocker b1(slider), b2(box);
-    // Angles with a full turn of travel are shown in (-180, 180].
-    if (quantity.unit == "rad" && quantity.range.hi - quantity.range.lo >= 2 * kPi - 1e-9)
-      v = std::remainder(v, 2 * kPi);
-    box->setValue(v * scale);
-    slider->setValue(step_of(box->value()));
-  }
-  void set_range(const Range& r) {
-    const double v = value();
-    quantity.range = r;
-    {
-      const QSignalBlocker b(box);
-      box->setRange(r.lo * scale, r.hi * scale);
-    }
-    set(v);
-  }
-  void set_enabled(bool on) {
-    slider->setEnabled(on);
-    box->setEnabled(on);
-    form->setRowVisible(label, on);
-  }
-};
-
-namespace {
-
-std::unique_ptr<QuantityControl> make_control(QWidget* parent, QFormLayout* form, const Quantity& q,
-                                              std::function<void()> changed) {
-  auto c = std::make_unique<QuantityControl>();
-  c->quantity = q;
-  c->scale = display_scale(q);
-  c->slider = new QSlider(Qt::Horizontal, parent);
-  c->slider->setObjectName(qs(q.name) + "Slider");
-  c->slider->setRange(0, kSliderSteps);
-  c->box = new QDoubleSpinBox(parent);
-  c->box->setObjectName(qs(q.name) + "Box");
-  c->box->setDecimals(q.unit == "rad" || q.unit == "deg" ? 1 : 3);
-  c->box->setRange(q.range.lo * c->scale, q.range.hi * c->scale);
-  c->box->setSingleStep(q.unit == "rad" || q.unit == "deg" ? 1.0 : 0.1);
-  c->box->setSuffix(display_suffix(q));
-  c->box->setKeyboardTracking(false);
-  c->box->setMinimumWidth(96);
-  // What it is, and in which unit (the spin box shows the unit too).
-  const std::string unit = q.unit == "rad" ? "degrees" : q.unit;
-  const QString tip = qs((q.description.empty() ? q.name : q.description) + (unit.empty() ? "" : " (" + unit + ")"));
-  c->slider->setToolTip(tip);
-  c->box->setToolTip(tip);
-  auto* row = new QHBoxLayout;
-  row->addWidget(c->slider, 1);
-  row->addWidget(c->box);
-  c->form = form;
-  c->label = new QLabel(qs(q.name), parent);
-  c->label->setToolTip(tip);
-  form->addRow(c->label, row);
-  c->set(q.value);
-  QuantityControl* raw = c.get();
-  QObject::connect(c->slider, &QSlider::valueChanged, c->box, [raw](int v) {
-    const double lo = raw->box->minimum(), hi = raw->box->maximum();
-    raw->box->setValue(lo + (hi - lo) * v / kSliderSteps);
-  });
-  QObject::connect(c->box, &QDoubleSpinBox::valueChanged, c->slider, [raw, changed](double v) {
-    {
-      const QSignalBlocker block(raw->slider);
-      raw->slider->setValue(raw->step_of(v));
-    }
-    changed();
-  });
-  return c;
-}
-
-QDoubleSpinBox* spin(QWidget* parent, double lo, double hi, double value, int decimals, const QString& suffix = {}) {
-  auto* s = new QDoubleSpinBox(parent);
-  s->setRange(lo, hi);
-  s->setDecimals(decimals);
-  s->setValue(value);
-  s->setSuffix(suffix);
-  s->setKeyboardTracking(false);
-  return s;
-}
 
 // The camera frames the middle of the sampling box: the box's corners hold
 // no workspace, and framing them would make the device small.
@@ -223,91 +45,27 @@ Eigen::AlignedBox3d view_box(const Mechanism& m) {
   return {box.center() - half, box.center() + half};
 }
 
-bool same_camera(const CameraState& a, const CameraState& b) {
-  const double scale = std::max(1.0, (a.position - a.focal_point).norm());
-  return (a.position - b.position).norm() <= 1e-9 * scale && (a.focal_point - b.focal_point).norm() <= 1e-9 * scale &&
-         (a.view_up - b.view_up).norm() <= 1e-9 && std::abs(a.view_angle - b.view_angle) <= 1e-9;
-}
-
-// The branch of actuators q at task x: the IK solution nearest to q, or `fallback`.
-int branch_of(const Mechanism& m, const Eigen::VectorXd& q, const Eigen::VectorXd& x, int fallback) {
-  if (m.info().branches.size() <= 1) return 0;
-  IkOptions o;
-  o.seed = q;
-  IkResult r;
-  try {
-    r = m.inverse(x, o);
-  } catch (const std::invalid_argument&) {
-    return fallback;
-  }
-  int best = fallback;
-  double nearest = INFINITY;
-  for (const IkSolution& s : r.solutions)
-    if (s.status == Status::Ok && angle_distance(s.q, q) < nearest) {
-      nearest = angle_distance(s.q, q);
-      best = s.branch;
-    }
-  return best;
-}
-
-// A failing part as the status says it: "leg 3" from the column
-// "failing_leg" and the part "3"; a part named "leg 3" in its file already
-// says what it is.
-QString part_label(const MechanismInfo& info, const std::string& part) {
-  std::string column = info.eval_columns.ik_failing_part;
-  const std::string prefix = "failing_";
-  if (column.rfind(prefix, 0) == 0) column = column.substr(prefix.size());
-  const QString kind = column.empty() ? QObject::tr("part") : qs(column);
-  return qs(part).startsWith(kind + " ") ? qs(part) : kind + " " + qs(part);
-}
-
 }  // namespace
-
-// ---- Construction ------------------------------------------------------------
 
 MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
     : QMainWindow(parent),
-      preset_(preset),
-      mechanism_(make_mechanism(preset)),
+      state_(preset),
+      preset_reader_(this),
       scene_(std::make_unique<render::SkeletonScene>()),
       field_scene_(std::make_unique<render::FieldScene>()),
       task_scene_(std::make_unique<render::TaskScene>()) {
-  q_ = mechanism_->home_actuators();
-  x_ = mechanism_->home_task();
-  branch_ = branch_of(*mechanism_, q_, x_, 0);
-
   view_ = new VtkWidget(this);
-  // A preset that fails to load is reported above the view, where it is seen.
-  auto* centre = new QWidget(this);
-  auto* column = new QVBoxLayout(centre);
-  column->setContentsMargins(0, 0, 0, 0);
-  column->setSpacing(0);
-  error_panel_ = new ErrorPanel(centre);
-  column->addWidget(error_panel_);
-  column->addWidget(view_, 1);
-  setCentralWidget(centre);
+  error_panel_ = ErrorPanel::placeAbove(this, view_);  // says why a preset did not load
   connect(error_panel_, &ErrorPanel::reloadRequested, this, [this](const QString& path) {
     // The file that failed: this device's own preset is reloaded, another one opened.
-    if (path == preset_file(preset_)) reloadMechanism();
+    if (path == preset_file(state_.preset())) reloadMechanism();
     else openMechanismFile(path);
   });
-  vtkNew<render::SceneRenderer> renderer;
-  renderer->GradientBackgroundOn();
-  renderer->SetBackground(0.97, 0.97, 0.98);
-  renderer->SetBackground2(0.80, 0.84, 0.90);
-  view_->renderWindow()->AddRenderer(renderer);
-  renderer_ = renderer;
-  // The colour bar has a strip of its own at the right, so it never covers the data.
-  vtkNew<vtkRenderer> legend;
-  legend->GradientBackgroundOn();
-  legend->SetBackground(renderer->GetBackground());
-  legend->SetBackground2(renderer->GetBackground2());
-  legend->InteractiveOff();
-  view_->renderWindow()->AddRenderer(legend);
-  legend_ = legend;
-  placeLegend();
+  const VtkWidget::Renderers renderers = view_->addRenderers();
+  renderer_ = renderers.scene;
+  legend_ = renderers.legend;
   view_->installEventFilter(this);
-  scene_->set_model(mechanism_->skeleton_model());
+  scene_->set_model(state_.mechanism().skeleton_model());
   // Translucent props blend in the order they were added (render/scene_renderer.h):
   // the fields first, the task volume, then the device (its joint labels last).
   field_scene_->add_to(renderer_, legend_);
@@ -316,46 +74,93 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   renderer_->SetUseDepthPeeling(false);  // plain alpha blending: interactive under software GL
   fitCamera();
 
+  buildDocks();
+  fields_->placeLegend();
   // Drag the driven point: a handle on it, solved by IK as it moves.
-  handle_rep_ = vtkSmartPointer<vtkPointHandleRepresentation3D>::New();
-  handle_rep_->SetHandleSize(18);
-  handle_rep_->AllOff();
-  handle_rep_->GetProperty()->SetColor(0.95, 0.1, 0.1);
-  handle_rep_->GetSelectedProperty()->SetColor(1.0, 0.6, 0.0);
-  handle_ = vtkSmartPointer<vtkHandleWidget>::New();
-  handle_->SetInteractor(view_->interactor());
-  handle_->SetRepresentation(handle_rep_);
-  handle_callback_ = vtkSmartPointer<vtkCallbackCommand>::New();
-  handle_callback_->SetClientData(this);
-  handle_callback_->SetCallback([](vtkObject*, unsigned long event, void* client, void*) {
-    auto* self = static_cast<MechanismWindow*>(client);
-    if (event == vtkCommand::StartInteractionEvent || event == vtkCommand::EndInteractionEvent)
-      self->setMoving(kHandleDrag, event == vtkCommand::StartInteractionEvent);
-    if (event == vtkCommand::StartInteractionEvent) return;
-    double p[3];
-    self->handle_rep_->GetWorldPosition(p);
-    self->moveEndpointTo(Eigen::Vector3d(p[0], p[1], p[2]));
-    if (event == vtkCommand::EndInteractionEvent) self->placeHandle();
-  });
-  handle_->AddObserver(vtkCommand::StartInteractionEvent, handle_callback_);
-  handle_->AddObserver(vtkCommand::InteractionEvent, handle_callback_);
-  handle_->AddObserver(vtkCommand::EndInteractionEvent, handle_callback_);
-  // Turning or zooming the camera with the mouse moves the picture too.
-  camera_callback_ = vtkSmartPointer<vtkCallbackCommand>::New();
-  camera_callback_->SetClientData(this);
-  camera_callback_->SetCallback([](vtkObject*, unsigned long event, void* client, void*) {
-    static_cast<MechanismWindow*>(client)->setMoving(kCameraDrag, event == vtkCommand::StartInteractionEvent);
-  });
-  if (vtkInteractorObserver* style = view_->interactor()->GetInteractorStyle()) {
-    style->AddObserver(vtkCommand::StartInteractionEvent, camera_callback_);
-    style->AddObserver(vtkCommand::EndInteractionEvent, camera_callback_);
-  }
-  handle_->EnabledOn();
+  handles_ = std::make_unique<ViewHandles>(
+      view_->interactor(),
+      ViewHandles::Hooks{[this](const Eigen::Vector3d& p) { moveEndpointTo(p); },
+                         [this] { handles_->place(endpoint()); },
+                         [this](bool on) { fields_->setMoving(FieldDisplay::kHandleDrag, on); },
+                         [this](bool on) { fields_->setMoving(FieldDisplay::kCameraDrag, on); }});
+  document_ = new WindowDocument(
+      this, WindowDocument::Hooks{[this] { return session(); }, [this](const Session& s) { applySession(s); },
+                                  [this](const Session& s, const Preset& preset, const QString& path) {
+                                    if (preset.mechanism != state_.preset().mechanism) {
+                                      replaceWith(preset, s, path);
+                                      return;
+                                    }
+                                    applySession(s);
+                                    history()->reset(path);
+                                  },
+                                  [this] {
+                                    const Preset& p = state_.preset();
+                                    return qs(p.title.empty() ? state_.mechanism().info().title : p.title);
+                                  }});
+  document_->cameraFitted(camera_state(renderer_));  // as fitCamera() put it above
+  buildMenus();
+  compute_label_ = add_field_status(this, view_, {fields_->sliceRunner(), fields_->volumeRunner()}, [this] {
+                     fields_->markSettled();  // nothing more is coming
+                   }).compute;
 
-  QDockWidget* drive = add_dock(this, tr("Drive"), "driveDock", buildDrivePanel());
-  QDockWidget* design = add_dock(this, tr("Design"), "designDock", buildDesignPanel());
-  QDockWidget* field = add_dock(this, tr("Field"), "fieldDock", buildFieldPanel());
-  QDockWidget* animation = add_dock(this, tr("Animation"), "animationDock", buildAnimationPanel());
+  // Neither the drive nor the layout is remembered, so screenshots are reproducible.
+  setDrive(Drive::Task);
+  showPose(state_.task(), state_.branch());
+  fields_->request(true, true);
+  history()->reset({});
+  document_->updateTitle();
+  initial_layout_ = saveState();
+
+  // The preset file is watched: a change on disk reloads the device (a
+  // window that replaces this one watches the file itself).
+  preset_watcher_ = new PresetWatcher(this, [this] {
+    if (!reloadMechanism()) preset_watcher_->watch(preset_file(state_.preset()));
+  });
+  preset_watcher_->watch(preset_file(state_.preset()));
+}
+
+void MechanismWindow::buildDocks() {
+  const MechanismInfo& info = state_.mechanism().info();
+  drive_panel_ = new DrivePanel(info);
+  connect(drive_panel_, &DrivePanel::driveChosen, this, &MechanismWindow::setDrive);
+  connect(drive_panel_, &DrivePanel::branchChosen, this, [this](int b) { moveEndpointTo(endpoint(), b); });
+  connect(drive_panel_, &DrivePanel::taskEdited, this, [this](int k, double v) {
+    Eigen::VectorXd x = state_.task();
+    x(k) = v;
+    if (drive_ == Drive::Task) setTask(x);
+    else setActuators(state_.actuators(), x);  // an FK input (e.g. a grip) changed
+  });
+  connect(drive_panel_, &DrivePanel::actuatorEdited, this, [this](int k, double v) {
+    Eigen::VectorXd q = state_.actuators();
+    q(k) = v;
+    setActuators(q);
+  });
+  connect(drive_panel_, &DrivePanel::sliderHeld, this,
+          [this](bool on) { fields_->setMoving(FieldDisplay::kSliderDrag, on); });
+  QComboBox* chooser = make_preset_chooser(
+      this, state_.preset(), [this] { return maybeSave(); },
+      [this](const Preset& preset) { replaceWith(preset, std::nullopt); });
+  design_panel_ = new DesignPanel(state_, chooser);
+  connect(design_panel_, &DesignPanel::parametersEdited, this, &MechanismWindow::setParameters);
+  connect(design_panel_, &DesignPanel::limitsEdited, this, &MechanismWindow::setActuatorLimits);
+  field_panel_ = new FieldPanel(state_.mechanism());
+  fields_ = new FieldDisplay(state_, field_panel_, field_scene_.get(), view_, renderer_, legend_, this);
+  connect(fields_, &FieldDisplay::changed, this, &MechanismWindow::noteChange);
+  connect(fields_, &FieldDisplay::message, this, [this](const QString& m, int ms) { statusBar()->showMessage(m, ms); });
+  connect(fields_, &FieldDisplay::computed, this, [this](const QString& text) { compute_label_->setText(text); });
+  connect(fields_, &FieldDisplay::sliceUpdated, this, &MechanismWindow::sliceUpdated);
+  connect(fields_, &FieldDisplay::surfacesUpdated, this, &MechanismWindow::surfacesUpdated);
+  connect(fields_, &FieldDisplay::fieldsUpdated, this, &MechanismWindow::fieldsUpdated);
+  animation_panel_ = new AnimationPanel(
+      state_.mechanism().size(), qs(info.length_unit),
+      AnimationPanel::Hooks{[this] { return endpoint(); }, [this] { return field_panel_->normal(); },
+                            [this](const Eigen::Vector3d& p) { moveEndpointTo(p); }});
+  connect(animation_panel_, &AnimationPanel::playingChanged, this,
+          [this](bool on) { fields_->setMoving(FieldDisplay::kAnimation, on); });
+  QDockWidget* drive = add_dock(this, tr("Drive"), "driveDock", drive_panel_);
+  QDockWidget* design = add_dock(this, tr("Design"), "designDock", design_panel_);
+  QDockWidget* field = add_dock(this, tr("Field"), "fieldDock", field_panel_);
+  QDockWidget* animation = add_dock(this, tr("Animation"), "animationDock", animation_panel_);
   task_panel_ = new TaskPanel(task_scene_.get());
   QDockWidget* task = add_dock(this, tr("Task"), "taskDock", task_panel_);
   connect(task_panel_, &TaskPanel::changed, view_, [this] {
@@ -369,734 +174,126 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
     if (const auto centre = fit_panel_->chosenCentre()) task_panel_->setCentre(*centre);  // where it fits
   });
   // One column of tabs: the drive (with every read-out) in front.
-  tabifyDockWidget(drive, design);
-  tabifyDockWidget(drive, field);
-  tabifyDockWidget(drive, animation);
-  tabifyDockWidget(drive, task);
-  tabifyDockWidget(drive, fit);
-  methods_ = add_methods_dock(this, preset_, drive);
+  for (QDockWidget* d : {design, field, animation, task, fit}) tabifyDockWidget(drive, d);
+  methods_ = add_methods_dock(this, state_.preset(), drive);
   drive->raise();
   QTimer::singleShot(0, this, [this, drive] { resizeDocks({drive}, {std::max(drive->width(), 440)}, Qt::Horizontal); });
-  history_ = new SessionHistory([this] { return session(); }, [this](const Session& s) { applySession(s); }, this);
-  buildMenus();
-
-  compute_label_ = add_field_status(this, view_, {&slice_runner_, &volume_runner_}, [this] {
-                     slice_settled_ = surfaces_settled_ = true;  // nothing more is coming
-                   }).compute;
-  connect(&slice_runner_, &FieldJobRunner::sliceReady, this, &MechanismWindow::onSlice);
-  connect(&volume_runner_, &FieldJobRunner::surfacesReady, this, &MechanismWindow::onSurfaces);
-  connect(&volume_runner_, &FieldJobRunner::lightSurfacesReady, this, [this](const SurfaceResult& light) {
-    if (light.volume != surfaces_.volume) return;  // for surfaces no longer shown
-    field_scene_->set_light_surface(render::Surface::Reach, light.reach_light);
-    field_scene_->set_light_surface(render::Surface::WellConditioned, light.well_conditioned_light);
-    if (moving_) view_->requestRender();
-  });
-
-  animation_timer_ = new QTimer(this);
-  animation_timer_->setInterval(33);
-  connect(animation_timer_, &QTimer::timeout, this, &MechanismWindow::animationStep);
-
-  // Neither the drive nor the layout is remembered, so screenshots are reproducible.
-  rebuildRecentMenu();
-  setDrive(Drive::Task);
-  accept(q_, x_, branch_);
-  requestFields(true, true);
-  history_->reset({});
-  connect(history_, &SessionHistory::modifiedChanged, this, &MechanismWindow::updateTitle);
-  connect(history_, &SessionHistory::pathChanged, this, &MechanismWindow::updateTitle);
-  updateTitle();
-  initial_layout_ = saveState();
-
-  // The preset file is watched: a change on disk reloads the device. Its
-  // folder too, since editors save by writing a new file over the old one,
-  // which ends the watch on it.
-  preset_watcher_ = new QFileSystemWatcher(this);
-  reload_timer_ = new QTimer(this);
-  reload_timer_->setSingleShot(true);
-  reload_timer_->setInterval(200);  // an editor's save is several changes
-  connect(preset_watcher_, &QFileSystemWatcher::fileChanged, reload_timer_, qOverload<>(&QTimer::start));
-  connect(preset_watcher_, &QFileSystemWatcher::directoryChanged, this, [this] {
-    const QString file = preset_file(preset_);
-    if (!preset_watcher_->files().contains(file) && QFileInfo::exists(file)) reload_timer_->start();
-  });
-  connect(reload_timer_, &QTimer::timeout, this, [this] {
-    if (QApplication::activeModalWidget()) {  // not under an open dialog: later
-      reload_timer_->start();
-      return;
-    }
-    // A window that replaces this one watches the file itself.
-    if (!reloadMechanism()) watchPresetFile();
-  });
-  watchPresetFile();
-}
-
-void MechanismWindow::watchPresetFile() {
-  const QString file = preset_file(preset_);
-  if (file.isEmpty()) return;
-  if (QFileInfo::exists(file) && !preset_watcher_->files().contains(file)) preset_watcher_->addPath(file);
-  const QString folder = QFileInfo(file).absolutePath();
-  if (!preset_watcher_->directories().contains(folder)) preset_watcher_->addPath(folder);
 }
 
 void MechanismWindow::noteChange() {
-  if (history_ && !animation_timer_->isActive()) history_->noteChange();
+  if (document_ && !animation_panel_->playing()) history()->noteChange();
 }
 
-void MechanismWindow::updateTitle() {
-  const QString device = qs(preset_.title.empty() ? mechanism_->info().title : preset_.title);
-  const QString document = history_ && !history_->path().isEmpty() ? QFileInfo(history_->path()).fileName() : tr("Untitled");
-  // [*] is where Qt shows the modified mark.
-  setWindowTitle(QString("%1[*] — %2 — Linkscape").arg(document, device));
-  setWindowModified(history_ && history_->modified());
-}
 
-void MechanismWindow::setMoving(Moving source, bool on) {
-  const unsigned before = moving_;
-  moving_ = on ? moving_ | source : moving_ & ~unsigned(source);
-  if (bool(before) == bool(moving_)) return;
-  field_scene_->set_light(moving_ != 0);
-  if (moving_ && !light_asked_) {
-    light_asked_ = true;  // for the surfaces shown; made once, on a worker thread
-    volume_runner_.submitLight(surfaces_);
-  }
-  if (!moving_) view_->requestRender();  // the surfaces in full as soon as nothing moves
-}
-
-void MechanismWindow::placeLegend() {
-  // About 120 pixels wide, at most a quarter of the view; the whole view is
-  // the scene's while no colour bar is shown.
-  const bool shown = field_scene_->colour_bar_visible();
-  const double width = shown ? std::min(0.25, 120.0 / std::max(1, view_->width())) : 0.0;
-  renderer_->SetViewport(0, 0, 1 - width, 1);
-  legend_->SetDraw(shown);
-  if (shown) legend_->SetViewport(1 - width, 0, 1, 1);
-}
+void MechanismWindow::setDrive(Drive drive) { drive_ = drive_panel_->setDrive(drive, state_.mechanism().info().fk_inputs); }
 
 bool MechanismWindow::eventFilter(QObject* watched, QEvent* event) {
-  if (watched == view_ && event->type() == QEvent::Resize) placeLegend();  // docks resize the view too
+  if (watched == view_ && event->type() == QEvent::Resize && fields_) fields_->placeLegend();  // docks resize the view too
   return QMainWindow::eventFilter(watched, event);
 }
 
-QImage MechanismWindow::viewImage(int width, int height) {
-  if (width < 16 || height < 16 || width > kMaxWindowSide || height > kMaxWindowSide)
-    throw std::invalid_argument("the view image must be 16..8192 pixels a side, got " + std::to_string(width) + "x" +
-                                std::to_string(height));
-  const QSize min = view_->minimumSize(), max = view_->maximumSize();
-  view_->setFixedSize(width, height);  // the window grows or shrinks around it for this frame
-  QCoreApplication::processEvents();
-  const QImage image = view_->grabFramebuffer();
-  view_->setMinimumSize(min);
-  view_->setMaximumSize(max);
-  if (image.isNull()) throw std::runtime_error("the view has no picture yet: the window is not on screen");
-  return image.size() == QSize(width, height) ? image : image.scaled(width, height);
-}
+QImage MechanismWindow::viewImage(int width, int height) { return view_->imageAt(width, height); }
 
 void MechanismWindow::fitCamera() {
-  scene_->reset_camera(renderer_, view_box(*mechanism_));
-  fitted_camera_ = camera_state(renderer_);
+  scene_->reset_camera(renderer_, view_box(state_.mechanism()));
+  if (document_) document_->cameraFitted(camera_state(renderer_));
 }
 
 MechanismWindow::~MechanismWindow() {
-  slice_runner_.cancel();
-  volume_runner_.cancel();
-  handle_->EnabledOff();
-  // The view (a child widget) outlives this part of the window.
-  if (vtkInteractorObserver* style = view_->interactor()->GetInteractorStyle()) style->RemoveObserver(camera_callback_);
-}
-
-bool MechanismWindow::takesLimits() const {
-  // A device takes actuator limits where its factory accepts them.
-  Preset p = preset_;
-  for (const Quantity& a : mechanism_->info().actuators)
-    if (!p.limits_deg.count(a.name)) p.limits_deg[a.name] = {a.range.lo / kDeg, a.range.hi / kDeg};
-  try {
-    make_mechanism(p);
-    return true;
-  } catch (const std::invalid_argument&) {
-    return false;
-  }
-}
-
-// ---- Panels -----------------------------------------------------------------
-
-QWidget* MechanismWindow::buildDesignPanel() {
-  auto* w = new QWidget;
-  auto* form = new QFormLayout(w);
-  form->addRow(tr("Preset"), make_preset_chooser(this, preset_));
-  auto* title = new QLabel(qs(mechanism_->info().title), w);
-  title->setWordWrap(true);
-  form->addRow(title);
-  // Ranges come from the preset's device and stay while the design changes.
-  for (const Quantity& q : mechanism_->info().parameters) {
-    if (!q.in_panel) continue;
-    const std::string name = q.name;
-    parameter_controls_.push_back(make_control(w, form, q, [this, name] {
-      for (const auto& c : parameter_controls_)
-        if (c->quantity.name == name) setParameters({{name, c->value()}});
-    }));
-  }
-  if (takesLimits()) {
-    auto* grid = new QGridLayout;
-    int row = 0;
-    for (const Quantity& a : mechanism_->info().actuators) {
-      grid->addWidget(new QLabel(qs(a.name), w), row, 0);
-      for (int k = 0; k < 2; ++k) {
-        auto* box = spin(w, -360, 360, (k == 0 ? a.range.lo : a.range.hi) / kDeg, 1, QString::fromUtf8(" °"));
-        box->setObjectName(qs(a.name) + (k == 0 ? "MinBox" : "MaxBox"));
-        box->setToolTip(k == 0 ? tr("Lower end of the actuator's travel") : tr("Upper end of the actuator's travel"));
-        limit_boxes_[a.name][k] = box;
-        grid->addWidget(box, row, 1 + k);
-        connect(box, &QDoubleSpinBox::editingFinished, this, [this] {
-          std::map<std::string, std::array<double, 2>> limits;
-          for (const auto& [name, boxes] : limit_boxes_) limits[name] = {boxes[0]->value(), boxes[1]->value()};
-          setActuatorLimits(limits);
-        });
-      }
-      ++row;
-    }
-    form->addRow(tr("Actuator travel"), grid);
-  }
-  return w;
-}
-
-QWidget* MechanismWindow::buildDrivePanel() {
-  const MechanismInfo& info = mechanism_->info();
-  auto* w = new QWidget;
-  auto* column = new QVBoxLayout(w);
-  auto* top = new QFormLayout;
-  drive_box_ = new QComboBox(w);
-  drive_box_->setObjectName("driveBox");
-  drive_box_->addItems({tr("Task coordinates (inverse kinematics)"), tr("Actuators (forward kinematics)")});
-  drive_box_->setToolTip(tr("Which sliders move the device; the others follow."));
-  top->addRow(tr("Drive"), drive_box_);
-  // Both modes where the device has both kinds of kinematics.
-  if (info.ik_methods.empty() || info.fk_methods.empty()) drive_box_->setEnabled(false);
-  connect(drive_box_, &QComboBox::activated, this, [this](int i) { setDrive(i == 1 ? Drive::Actuators : Drive::Task); });
-  branch_box_ = new QComboBox(w);
-  branch_box_->setObjectName("branchBox");
-  for (const auto& b : info.branches) branch_box_->addItem(qs(b));
-  branch_box_->setToolTip(tr("Assembly branch of inverse kinematics. Dragging and the sliders keep the current one."));
-  connect(branch_box_, &QComboBox::activated, this, [this](int b) { moveEndpointTo(endpoint(), b); });
-  if (info.branches.size() > 1) top->addRow(tr("Branch"), branch_box_);
-  else branch_box_->hide();
-  column->addLayout(top);
-
-  task_group_ = new QGroupBox(tr("Task"), w);
-  auto* task_form = new QFormLayout(task_group_);
-  for (std::size_t k = 0; k < info.task.size(); ++k)
-    task_controls_.push_back(make_control(task_group_, task_form, info.task[k], [this, k] {
-      Eigen::VectorXd x = x_;
-      x(Eigen::Index(k)) = task_controls_[k]->value();
-      if (drive_ == Drive::Task) setTask(x);
-      else setActuators(q_, x);  // an FK input (e.g. a grip) changed
-    }));
-  column->addWidget(task_group_);
-  const auto drags_pose = [this](const QuantityControl& c) {
-    connect(c.slider, &QSlider::sliderPressed, this, [this] { setMoving(kSliderDrag, true); });
-    connect(c.slider, &QSlider::sliderReleased, this, [this] { setMoving(kSliderDrag, false); });
-  };
-  for (const auto& c : task_controls_) drags_pose(*c);
-  actuator_group_ = new QGroupBox(tr("Actuators"), w);
-  auto* actuator_form = new QFormLayout(actuator_group_);
-  for (std::size_t k = 0; k < info.actuators.size(); ++k)
-    actuator_controls_.push_back(make_control(actuator_group_, actuator_form, info.actuators[k], [this, k] {
-      Eigen::VectorXd q = q_;
-      q(Eigen::Index(k)) = actuator_controls_[k]->value();
-      setActuators(q);
-    }));
-  for (const auto& c : actuator_controls_) drags_pose(*c);
-  column->addWidget(actuator_group_);
-
-  auto* state = new QGroupBox(tr("State"), w);
-  auto* form = new QFormLayout(state);
-  status_label_ = new QLabel(state);
-  status_label_->setObjectName("statusLabel");
-  status_label_->setWordWrap(true);
-  status_label_->setToolTip(tr("Whether the last requested pose was taken; if not, why and which part fails "
-                               "(drawn red). The device stays at the last valid pose."));
-  form->addRow(tr("Status"), status_label_);
-  task_label_ = new QLabel(state);
-  task_label_->setObjectName("taskLabel");
-  actuator_label_ = new QLabel(state);
-  actuator_label_->setObjectName("actuatorLabel");
-  form->addRow(tr("Task"), task_label_);
-  form->addRow(tr("Actuators"), actuator_label_);
-  for (const NamedItem& m : info.measures) {
-    auto* label = new QLabel(state);
-    label->setObjectName(qs(m.name) + "Label");
-    label->setToolTip(qs(m.description));
-    auto* name = new QLabel(qs(m.title), state);
-    name->setToolTip(qs(m.description));
-    form->addRow(name, label);
-    measure_labels_.push_back(label);
-  }
-  det_label_ = new QLabel(state);
-  det_label_->setObjectName("detLabel");
-  det_label_->setToolTip(tr("Determinant of the Jacobian dx/dq where it is square (0 otherwise)"));
-  form->addRow(tr("det J"), det_label_);
-  singular_label_ = new QLabel(state);
-  singular_label_->setObjectName("singularLabel");
-  QString sets;
-  for (const NamedItem& s : info.singular_sets) sets += "\n" + qs(s.title) + ": " + qs(s.description);
-  singular_label_->setToolTip(tr("The nearest singular set and the distance to it (task, %1):").arg(qs(info.length_unit)) + sets);
-  form->addRow(tr("Nearest singular"), singular_label_);
-  branch_label_ = new QLabel(state);
-  branch_label_->setObjectName("branchLabel");
-  form->addRow(tr("Branch"), branch_label_);
-  for (QLabel* l : {task_label_, actuator_label_, det_label_, singular_label_, branch_label_})
-    l->setTextInteractionFlags(Qt::TextSelectableByMouse);
-  column->addWidget(state);
-  auto* extra = new QWidget(w);
-  extra_form_ = new QFormLayout(extra);
-  extra_form_->setContentsMargins(0, 0, 0, 0);
-  column->addWidget(extra);
-  column->addWidget(new QLabel(tr("Or drag the red handle on the driven point in the view."), w));
-  column->addStretch(1);
-  return w;
-}
-
-QWidget* MechanismWindow::buildFieldPanel() {
-  const MechanismInfo& info = mechanism_->info();
-  const FieldChoices choices = field_choices(info);
-  auto* w = new QWidget;
-  auto* form = new QFormLayout(w);
-  field_box_ = new QComboBox(w);
-  field_box_->setObjectName("fieldBox");
-  for (const auto& name : choices.fields) {
-    QString text = qs(name);
-    if (name == "cond") text = qs(info.measures.front().title);
-    else if (info.measures.size() > 1 && name == info.measures[1].name) text = qs(info.measures[1].title);
-    for (const haptics::FieldInfo& f : haptics::all_field_infos())
-      if (f.name == name) text = qs(f.title + " (" + f.unit + ")");
-    field_box_->addItem(text, qs(name));
-  }
-  field_box_->setToolTip(tr("method: which IK method served each sample (categorical colours)"));
-  form->addRow(tr("Field"), field_box_);
-  method_box_ = new QComboBox(w);
-  method_box_->setObjectName("methodBox");
-  for (const auto& m : info.ik_methods) {
-    method_box_->addItem(qs(m.name));
-    method_box_->setItemData(method_box_->count() - 1, qs(m.description), Qt::ToolTipRole);
-  }
-  if (choices.methods.empty()) method_box_->hide();
-  else form->addRow(tr("IK method"), method_box_);
-  method_box_->setToolTip(tr("The inverse kinematics method that solves each sample of the fields"));
-  field_branch_box_ = new QComboBox(w);
-  field_branch_box_->setObjectName("fieldBranchBox");
-  for (const auto& b : info.branches) field_branch_box_->addItem(qs(b));
-  field_branch_box_->setToolTip(tr("The branch the fields are sampled in; follows the device's branch."));
-  if (info.branches.size() > 1) form->addRow(tr("Branch"), field_branch_box_);
-  else field_branch_box_->hide();
-  normal_box_ = new QComboBox(w);
-  normal_box_->setObjectName("normalBox");
-  normal_box_->addItems({"x", "y", "z"});
-  // The device's own first plane (a planar device's is its plane of motion).
-  normal_box_->setCurrentIndex(int(mechanism_->default_slice_plane(mechanism_->home_task()).first));
-  normal_box_->setToolTip(tr("The axis the slice plane is normal to"));
-  form->addRow(tr("Slice normal"), normal_box_);
-  position_slider_ = new QSlider(Qt::Horizontal, w);
-  position_slider_->setObjectName("positionSlider");
-  position_slider_->setRange(-kPositionSteps, kPositionSteps);
-  position_slider_->setValue(kPositionSteps / 8);
-  position_label_ = new QLabel(w);
-  position_label_->setObjectName("positionLabel");
-  position_label_->setMinimumWidth(80);
-  const QString position_tip = tr("Where the slice cuts the sampling box, and how far across it (0 %: its low side). "
-                                  "The fraction stays when the design changes size.");
-  position_slider_->setToolTip(position_tip);
-  position_label_->setToolTip(position_tip);
-  auto* row = new QHBoxLayout;
-  row->addWidget(position_slider_, 1);
-  row->addWidget(position_label_);
-  form->addRow(tr("Position"), row);
-  follow_box_ = new QCheckBox(tr("Through the driven point"), w);
-  follow_box_->setObjectName("followBox");
-  follow_box_->setToolTip(tr("The slice moves with the driven point (the position slider follows it)"));
-  form->addRow(follow_box_);
-  const QString main_measure = qs(info.measures.front().title);
-  threshold_box_ = spin(w, 1.05, 100.0, 3.0, 2);
-  threshold_box_->setObjectName("thresholdBox");
-  threshold_box_->setToolTip(tr("%1 contour on the slice and the well-conditioned surface").arg(main_measure));
-  form->addRow(tr("%1 threshold").arg(main_measure), threshold_box_);
-  auto_range_box_ = new QCheckBox(tr("Automatic colour range"), w);
-  auto_range_box_->setChecked(true);
-  range_min_box_ = spin(w, -1e6, 1e6, 1.0, 3);
-  range_max_box_ = spin(w, -1e6, 1e6, 10.0, 3);
-  auto* range_row = new QHBoxLayout;
-  range_row->addWidget(range_min_box_);
-  range_row->addWidget(range_max_box_);
-  form->addRow(auto_range_box_);
-  form->addRow(tr("Colour range"), range_row);
-  colour_map_box_ = new QComboBox(w);
-  colour_map_box_->setObjectName("colourMapBox");
-  for (const std::string& map : render::colour_maps()) colour_map_box_->addItem(qs(map));
-  colour_map_box_->setToolTip(tr("viridis: perceptually uniform; cividis: also for colour vision deficiency; "
-                                 "diverging: blue below, red above the middle (the range is symmetric about 0 "
-                                 "for signed fields such as the reach margin)"));
-  log_scale_box_ = new QCheckBox(tr("Logarithmic"), w);
-  log_scale_box_->setObjectName("logScaleBox");
-  log_scale_box_->setChecked(true);
-  log_scale_box_->setToolTip(tr("A log10 colour scale for c(J), the residual and the haptic measures "
-                                "(the other fields are always linear)"));
-  auto* map_row = new QHBoxLayout;
-  map_row->addWidget(colour_map_box_, 1);
-  map_row->addWidget(log_scale_box_);
-  form->addRow(tr("Colour map"), map_row);
-  slice_resolution_box_ = new QComboBox(w);
-  slice_resolution_box_->setObjectName("sliceResolutionBox");
-  for (int n : choices.slice_resolutions) slice_resolution_box_->addItem(QString::number(n));
-  slice_resolution_box_->setCurrentText(QString::number(choices.default_slice_resolution));
-  volume_resolution_box_ = new QComboBox(w);
-  volume_resolution_box_->setObjectName("volumeResolutionBox");
-  for (int n : choices.volume_resolutions) volume_resolution_box_->addItem(QString::number(n));
-  volume_resolution_box_->setCurrentText(QString::number(choices.default_volume_resolution));
-  slice_resolution_box_->setToolTip(tr("Samples along each side of the slice"));
-  volume_resolution_box_->setToolTip(tr("Samples along each side of the volume the workspace surfaces come from"));
-  form->addRow(tr("Slice samples"), slice_resolution_box_);
-  form->addRow(tr("Volume samples"), volume_resolution_box_);
-  show_slice_box_ = new QCheckBox(tr("Slice"), w);
-  show_slice_box_->setObjectName("showSliceBox");
-  show_reach_box_ = new QCheckBox(tr("Reachable workspace"), w);
-  show_reach_box_->setObjectName("showReachBox");
-  show_well_box_ = new QCheckBox(tr("Well-conditioned workspace"), w);
-  show_well_box_->setObjectName("showWellBox");
-  reach_opacity_slider_ = new QSlider(Qt::Horizontal, w);
-  well_opacity_slider_ = new QSlider(Qt::Horizontal, w);
-  for (QSlider* s : {reach_opacity_slider_, well_opacity_slider_}) s->setRange(0, 100);
-  reach_opacity_slider_->setValue(10);
-  well_opacity_slider_->setValue(22);
-  for (QCheckBox* c : {show_slice_box_, show_reach_box_, show_well_box_}) c->setChecked(true);
-  show_slice_box_->setToolTip(tr("Show the slice (it is computed only while shown)"));
-  show_reach_box_->setToolTip(tr("The boundary of the reachable set, translucent; the slider sets its opacity"));
-  show_well_box_->setToolTip(tr("The region where the main measure is below the threshold; the slider sets its opacity"));
-  reach_opacity_slider_->setToolTip(tr("Opacity of the reachable workspace"));
-  well_opacity_slider_->setToolTip(tr("Opacity of the well-conditioned workspace"));
-  form->addRow(show_slice_box_);
-  form->addRow(show_reach_box_, reach_opacity_slider_);
-  form->addRow(show_well_box_, well_opacity_slider_);
-  if (info.task.size() > 3)
-    form->addRow(new QLabel(tr("Fields are sampled with the other task coordinates as they are now."), w));
-
-  auto slice_changed = [this] { requestFields(true, false); };
-  connect(normal_box_, &QComboBox::currentIndexChanged, this, slice_changed);
-  connect(position_slider_, &QSlider::valueChanged, this, [this] {
-    if (!follow_box_->isChecked()) requestFields(true, false);
-  });
-  connect(slice_resolution_box_, &QComboBox::currentIndexChanged, this, slice_changed);
-  connect(follow_box_, &QCheckBox::toggled, this, slice_changed);
-  connect(method_box_, &QComboBox::currentIndexChanged, this, [this] { requestFields(true, true); });
-  connect(field_branch_box_, &QComboBox::currentIndexChanged, this, [this] { requestFields(true, true); });
-  connect(volume_resolution_box_, &QComboBox::currentIndexChanged, this, [this] { requestFields(false, true); });
-  connect(threshold_box_, &QDoubleSpinBox::valueChanged, this, [this] {
-    restyleSlice();
-    requestFields(false, true);
-  });
-  // A haptic field needs its own pass over the slice (core/haptics.h): the
-  // slice is sampled again when the choice moves to or from one.
-  connect(field_box_, &QComboBox::currentIndexChanged, this, [this] {
-    const bool haptic = haptics::is_haptic_field(field_box_->currentData().toString().toStdString());
-    if (haptic || (slice_field_ && !slice_field_->extras.empty())) requestFields(true, false);
-    else restyleSlice();
-  });
-  connect(auto_range_box_, &QCheckBox::toggled, this, [this] { restyleSlice(); });
-  range_min_box_->setObjectName("rangeMinBox");
-  range_min_box_->setToolTip(tr("Lower end of the colour range (the value's unit); shows the automatic one when that is on"));
-  range_max_box_->setToolTip(tr("Upper end of the colour range (the value's unit); shows the automatic one when that is on"));
-  range_max_box_->setObjectName("rangeMaxBox");
-  auto_range_box_->setObjectName("autoRangeBox");
-  auto_range_box_->setToolTip(tr("Colour range from the slice's data (the boxes show it); off: type the range"));
-  connect(range_min_box_, &QDoubleSpinBox::valueChanged, this, [this] { restyleSlice(); });
-  connect(colour_map_box_, &QComboBox::currentIndexChanged, this, [this] { restyleSlice(); });
-  connect(log_scale_box_, &QCheckBox::toggled, this, [this] { restyleSlice(); });
-  connect(range_max_box_, &QDoubleSpinBox::valueChanged, this, [this] { restyleSlice(); });
-  // Fields are computed only while shown.
-  connect(show_slice_box_, &QCheckBox::toggled, this, [this] {
-    applyFieldVisibility();
-    requestFields(true, false);
-  });
-  for (QCheckBox* c : {show_reach_box_, show_well_box_})
-    connect(c, &QCheckBox::toggled, this, [this] {
-      applyFieldVisibility();
-      requestFields(false, true);
-    });
-  for (QSlider* s : {reach_opacity_slider_, well_opacity_slider_})
-    connect(s, &QSlider::valueChanged, this, [this] { applyFieldVisibility(); });
-  return w;
-}
-
-QWidget* MechanismWindow::buildAnimationPanel() {
-  auto* w = new QWidget;
-  auto* form = new QFormLayout(w);
-  path_box_ = new QComboBox(w);
-  path_box_->setObjectName("pathBox");
-  path_box_->addItems({tr("Circle around the driven point (slice plane)"),
-                       tr("Line through the driven point (slice's first axis)")});
-  path_box_->setToolTip(tr("The path the driven point follows while playing"));
-  form->addRow(tr("Path"), path_box_);
-  amplitude_box_ = spin(w, 0.0, 1e4, 0.15 * mechanism_->size(), 2, " " + qs(mechanism_->info().length_unit));
-  amplitude_box_->setObjectName("amplitudeBox");
-  amplitude_box_->setToolTip(tr("Radius of the circle or half-length of the line"));
-  form->addRow(tr("Size"), amplitude_box_);
-  speed_box_ = spin(w, 0.01, 100.0, 0.5, 2, tr(" cycles/s"));
-  speed_box_->setToolTip(tr("Turns of the circle, or back-and-forth sweeps of the line, per second"));
-  form->addRow(tr("Speed"), speed_box_);
-  loop_box_ = new QCheckBox(tr("Loop"), w);
-  loop_box_->setToolTip(tr("Play again from the start at the end of the path"));
-  loop_box_->setChecked(true);
-  form->addRow(loop_box_);
-  play_button_ = new QPushButton(tr("Play"), w);
-  play_button_->setObjectName("playButton");
-  play_button_->setToolTip(tr("Move the driven point along the path (again to stop)"));
-  play_button_->setCheckable(true);
-  form->addRow(play_button_);
-  form->addRow(new QLabel(tr("The path is followed by inverse kinematics in the current branch;\n"
-                             "points the device cannot reach are skipped."), w));
-  connect(play_button_, &QPushButton::toggled, this, [this](bool on) {
-    play_button_->setText(on ? tr("Pause") : tr("Play"));
-    if (on) {
-      if (animation_phase_ == 0.0) animation_centre_ = endpoint();
-      animation_timer_->start();
-    } else {
-      animation_timer_->stop();
-    }
-    setMoving(kAnimation, on);
-  });
-  connect(path_box_, &QComboBox::currentIndexChanged, this, [this] { animation_phase_ = 0.0; });
-  return w;
+  delete fields_;  // its jobs end before the state they sample goes
 }
 
 void MechanismWindow::buildMenus() {
-  QMenu* file = menuBar()->addMenu(tr("&File"));
-  file->addAction(tr("&Open session…"), QKeySequence::Open, this, [this] {
+  MenuActions a;
+  a.open_session = [this] {
     if (!maybeSave()) return;
-    const QString path = QFileDialog::getOpenFileName(this, tr("Open session"), QString(), tr("Linkscape session (*.json)"));
+    const QString path = ask_session_to_open(this);
     if (!path.isEmpty()) openSession(path);
-  });
-  file->addAction(tr("&Save session"), QKeySequence::Save, this, &MechanismWindow::save);
-  file->addAction(tr("Save session &as…"), QKeySequence::SaveAs, this, &MechanismWindow::saveAs);
-  recent_menu_ = file->addMenu(tr("Recent sessions"));
-  file->addSeparator();
-  const QKeySequence open_mechanism_key(Qt::CTRL | Qt::SHIFT | Qt::Key_O);
-  QAction* open_mechanism = file->addAction(tr("Open &mechanism…"), open_mechanism_key, this, [this] {
-    const QString folder = preset_.source.empty()
-                               ? QStandardPaths::writableLocation(QStandardPaths::DocumentsLocation)
-                               : QFileInfo(preset_file(preset_)).absolutePath();
-    const QString path =
-        QFileDialog::getOpenFileName(this, tr("Open mechanism"), folder, tr("Mechanism preset (*.json)"));
+  };
+  a.save = [this] { document_->save(); };
+  a.save_as = [this] { document_->saveAs(); };
+  a.recent_sessions = [this](QMenu* menu) { document_->setRecentMenu(menu); };
+  a.open_mechanism = [this] {
+    const QString path = ask_mechanism_file(this, state_.preset());
     if (!path.isEmpty()) openMechanismFile(path);
-  });
-  open_mechanism->setObjectName("openMechanismAction");
-  open_mechanism->setStatusTip(
-      tr("Open a device from its preset file (.json), a shipped one or a described mechanism"));
-  QAction* reload =
-      file->addAction(tr("&Reload mechanism"), QKeySequence(Qt::Key_F5), this, [this] { reloadMechanism(); });
-  reload->setObjectName("reloadMechanismAction");
-  reload->setStatusTip(tr("Read the preset file again (done by itself when the file changes): the design is the "
-                          "file's; the camera, the pose, the field and task settings stay"));
-  file->addSeparator();
-  file->addAction(tr("Export slice &image…"), this, [this] { export_slice_image(this, slice_field_.get(), sliceStyle()); });
-  file->addAction(tr("Export workspace &mesh…"), this, [this] {
-    export_surface_mesh(this, surfaces_.volume.get(), surfaces_.reach, surfaces_.well_conditioned,
-                        threshold_box_->value());
-  });
-  file->addAction(tr("Export &field (VTI)…"), this, [this] { export_volume(this, surfaces_.volume.get()); });
-  file->addAction(tr("Save screens&hot…"), this, [this] { export_screenshot(this); });
-  file->addAction(tr("Save &view image…"), this, [this] {
-    bool ok = false;
-    const QString size = QInputDialog::getText(this, tr("Save view image"),
-                                               tr("The 3-D view alone, drawn at this size in pixels (WIDTHxHEIGHT):"),
-                                               QLineEdit::Normal, QString("%1x%2").arg(2 * view_->width()).arg(2 * view_->height()), &ok);
-    if (!ok) return;
-    const QString path = QFileDialog::getSaveFileName(this, tr("Save view image"), "view.png", tr("PNG (*.png)"));
-    if (path.isEmpty()) return;
-    const QStringList wh = size.split('x');
-    try {
-      if (wh.size() != 2) throw std::invalid_argument("the size is WIDTHxHEIGHT, e.g. 1920x1080");
-      save_png(viewImage(wh[0].toInt(), wh[1].toInt()), path.toStdString());
-      statusBar()->showMessage(tr("Saved %1 (%2)").arg(path, size), 4000);
-    } catch (const std::exception& e) {
-      QMessageBox::warning(this, tr("Save view image"), qs(e.what()));
-    }
-  });
-  file->addSeparator();
-  file->addAction(tr("&Quit"), QKeySequence::Quit, this, &QWidget::close);
-  QMenu* edit = menuBar()->addMenu(tr("&Edit"));
-  QAction* undo = history_->stack()->createUndoAction(this, tr("&Undo"));
-  undo->setShortcut(QKeySequence::Undo);
-  QAction* redo = history_->stack()->createRedoAction(this, tr("&Redo"));
-  redo->setShortcut(QKeySequence::Redo);
-  edit->addAction(undo);
-  edit->addAction(redo);
-  QMenu* view = menuBar()->addMenu(tr("&View"));
-  view->addAction(tr("&Reset camera"), this, [this] {
+  };
+  a.reload_mechanism = [this] { reloadMechanism(); };
+  a.export_slice = [this] { export_slice_image(this, fields_->slice(), fields_->sliceStyle()); };
+  a.export_mesh = [this] {
+    const SurfaceResult& s = fields_->surfaces();
+    export_surface_mesh(this, s.volume.get(), s.reach, s.well_conditioned, fieldSettings().threshold);
+  };
+  a.export_field = [this] { export_volume(this, fields_->surfaces().volume.get()); };
+  a.save_screenshot = [this] { export_screenshot(this); };
+  a.save_view_image = [this] {
+    const QString suggested = QString("%1x%2").arg(2 * view_->width()).arg(2 * view_->height());
+    const QString saved = export_view_image(this, suggested, [this](int w, int h) { return viewImage(w, h); });
+    if (!saved.isEmpty()) statusBar()->showMessage(saved, 4000);
+  };
+  a.undo_stack = history()->stack();
+  a.reset_camera = [this] {
     fitCamera();
     view_->requestRender();
-  });
-  view->addAction(tr("Reset &layout"), this, [this] {
+  };
+  a.reset_layout = [this] {
     restoreState(initial_layout_);
     for (QDockWidget* dock : findChildren<QDockWidget*>()) dock->show();
-  });
-  view->addSeparator();
-  for (QDockWidget* dock : findChildren<QDockWidget*>()) view->addAction(dock->toggleViewAction());
-  view->addSeparator();
-  // Depth peeling composites the translucent surfaces exactly but costs
-  // several full-screen passes per frame (docs/performance.md), so
-  // interaction uses plain alpha blending unless the user asks.
-  QAction* exact = view->addAction(tr("&Exact transparency (slower)"));
-  exact->setObjectName("exactTransparencyAction");
-  exact->setCheckable(true);
-  connect(exact, &QAction::toggled, this, [this](bool on) {
+  };
+  a.exact_transparency = [this](bool on) {
     renderer_->SetUseDepthPeeling(on);
     view_->requestRender();
-  });
-  QMenu* help = menuBar()->addMenu(tr("&Help"));
-  help->addAction(tr("&Documentation"), this, [this] { show_documentation(this); });
-  help->addAction(tr("&About Linkscape"), this, [this] { show_about(this); });
-}
-
-bool MechanismWindow::save() {
-  if (history_->path().isEmpty()) return saveAs();
-  return saveSession(history_->path());
-}
-
-bool MechanismWindow::saveAs() {
-  const QString suggested = history_->path().isEmpty() ? QStringLiteral("session.json") : history_->path();
-  const QString path = QFileDialog::getSaveFileName(this, tr("Save session as"), suggested, tr("Linkscape session (*.json)"));
-  return !path.isEmpty() && saveSession(path);
-}
-
-bool MechanismWindow::maybeSave() {
-  history_->flush();
-  if (!interactive_ || !history_->modified()) return true;
-  const auto answer = QMessageBox::warning(
-      this, tr("Unsaved changes"), tr("The session has changes that are not saved. Save them first?"),
-      QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel, QMessageBox::Save);
-  if (answer == QMessageBox::Save) return save();
-  return answer == QMessageBox::Discard;
+  };
+  add_menus(this, a);
 }
 
 // ---- Pose ---------------------------------------------------------------------
 
 bool MechanismWindow::setTask(const Eigen::VectorXd& x, bool tracking) {
-  const MechanismInfo& info = mechanism_->info();
-  if (x.size() != Eigen::Index(info.task.size()) || !x.allFinite())
-    return refuse(tr("The target is not %1 finite task coordinates.").arg(info.task.size()));
-  IkOptions o;
-  o.seed = q_;
-  if (info.branches.size() > 1) o.branch = branch_;
-  IkResult r;
-  try {
-    r = mechanism_->inverse(x, o);
-  } catch (const std::invalid_argument& e) {
-    return refuse(qs(e.what()));
-  }
-  const IkSolution* s = nullptr;
-  for (const IkSolution& c : r.solutions)
-    if (c.branch == branch_) s = &c;
-  if (!s || s->status != Status::Ok) {
-    QString why = status_text(s ? s->status : r.status, s ? std::string() : r.status_text);
-    if (!r.failing_part.empty()) why = QString("%1: %2").arg(part_label(info, r.failing_part), why);
-    if ((s ? s->status : r.status) == Status::Singular && s) {
-      const SingularityReport near = mechanism_->nearest_singularity(s->q, x);
-      why += tr(" (on the %1)").arg(qs(info.singular_sets.at(near.nearest).title));
-    }
-    if (info.branches.size() > 1) why += tr(" in branch %1").arg(branch_);
-    return refuse(why + tr("; the device stays at the last valid pose"), &r);
-  }
-  if (tracking && angle_distance(s->q, q_) > kMaxTrackingStep)
-    return refuse(tr("jump: reaching this target would make the device jump (it lies across a singular set); "
-                     "move through the workspace instead"));
-  accept(s->q, x, branch_);
-  return true;
+  return settle([&] { return state_.set_task(x, tracking); });
 }
 
 bool MechanismWindow::moveEndpointTo(const Eigen::Vector3d& target, int branch) {
-  Eigen::VectorXd x = x_;
-  x.head<3>() = target;
-  if (branch < 0) return setTask(x, true);
-  if (branch >= int(mechanism_->info().branches.size())) return refuse(tr("There is no branch %1.").arg(branch));
-  const int kept = branch_;
-  branch_ = branch;
-  if (setTask(x, false)) return true;
-  branch_ = kept;
-  syncPanels();
+  if (settle([&] { return state_.move_endpoint_to(target, branch); })) return true;
+  drive_panel_->showValues(state_);  // the branch box shows the branch in force
   return false;
 }
 
 bool MechanismWindow::setActuators(const Eigen::VectorXd& q, const std::optional<Eigen::VectorXd>& task_inputs) {
-  const MechanismInfo& info = mechanism_->info();
-  if (q.size() != Eigen::Index(info.actuators.size()) || !q.allFinite())
-    return refuse(tr("The actuators need %1 finite values.").arg(info.actuators.size()));
-  FkOptions o;
-  Eigen::VectorXd seed = x_;
-  if (task_inputs)
-    for (const std::string& name : info.fk_inputs)
-      for (std::size_t k = 0; k < info.task.size(); ++k)
-        if (info.task[k].name == name) seed(Eigen::Index(k)) = (*task_inputs)(Eigen::Index(k));
-  o.seed = seed;
-  FkResult r;
-  try {
-    r = mechanism_->forward(q, o);
-  } catch (const std::invalid_argument& e) {
-    return refuse(qs(e.what()));
-  }
-  if (r.status != Status::Ok)
-    return refuse(tr("FK %1 after %2 iterations (residual %3); the device stays at the last valid pose")
-                      .arg(status_text(r.status, r.status_text))
-                      .arg(r.iterations)
-                      .arg(number(r.residual, 2)));
-  // The pose FK found must assemble: its IK names a failing part if not.
-  IkOptions check;
-  check.seed = q;
-  IkResult ik;
-  try {
-    ik = mechanism_->inverse(r.x, check);
-  } catch (const std::invalid_argument& e) {
-    return refuse(qs(e.what()));
-  }
-  if (ik.status != Status::Ok && !ik.failing_part.empty())
-    return refuse(QString("%1: %2 at the FK pose; the device stays at the last valid pose")
-                      .arg(part_label(info, ik.failing_part), status_text(ik.status, ik.status_text)),
-                  &ik);
-  accept(q, r.x, branch_of(*mechanism_, q, r.x, branch_));
-  return true;
+  return settle([&] { return state_.set_actuators(q, task_inputs); });
 }
 
-bool MechanismWindow::refuse(const QString& why, const IkResult* failed) {
-  refusal_ = why;
-  failing_part_ = failed ? qs(failed->failing_part) : QString();
-  status_label_->setText(why);
-  status_label_->setStyleSheet("color: #b00020");
-  drawPose(failed);
+bool MechanismWindow::settle(const std::function<bool()>& change) {
+  const Eigen::VectorXd x_before = state_.task();
+  const int branch_before = state_.branch();
+  if (change()) {
+    showPose(x_before, branch_before);
+    return true;
+  }
+  drive_panel_->showStatus(refusal(), false);
+  drawPose(state_.failed());
   view_->requestRender();
   return false;
 }
 
-void MechanismWindow::accept(const Eigen::VectorXd& q, const Eigen::VectorXd& x, int branch) {
-  const bool fixed_changed = x_.size() != x.size() || (x_.tail(x.size() - 3) - x.tail(x.size() - 3)).norm() > 1e-12;
-  const bool moved = x_.size() != x.size() || (x_.head<3>() - x.head<3>()).norm() > 1e-12;
-  const bool branch_changed = branch != branch_;
-  q_ = q;
-  x_ = x;
-  branch_ = branch;
-  refusal_.clear();
-  failing_part_.clear();
-  status_label_->setText(tr("ok"));
-  status_label_->setStyleSheet("color: #1b5e20");
+void MechanismWindow::showPose(const Eigen::VectorXd& x_before, int branch_before) {
+  const Eigen::VectorXd& x = state_.task();
+  const bool fixed_changed =
+      x_before.size() != x.size() || (x_before.tail(x.size() - 3) - x.tail(x.size() - 3)).norm() > 1e-12;
+  const bool moved = x_before.size() != x.size() || (x_before.head<3>() - x.head<3>()).norm() > 1e-12;
+  const bool branch_changed = state_.branch() != branch_before;
+  drive_panel_->showStatus(tr("ok"), true);
   drawPose();
-  syncPanels();
-  updateReadouts();
-  placeHandle();
-  task_panel_->setDevice(mechanism_, preset_, x_);  // its read-outs follow the design and the held pose
-  fit_panel_->setDevice(preset_, x_);                 // the next Run holds this design's other parameters
+  drive_panel_->showValues(state_);
+  if (const QString problem = drive_panel_->showReadouts(state_); !problem.isEmpty())
+    statusBar()->showMessage(problem, 8000);
+  if (handles_) handles_->place(endpoint());
+  task_panel_->setDevice(state_.shared_mechanism(), state_.preset(), state_.task());  // its read-outs follow the design and the held pose
+  fit_panel_->setDevice(state_.preset(), state_.task());                 // the next Run holds this design's other parameters
   // Fields depend on the fixed task coordinates and the branch; the slice
   // also on the driven point while it follows it.
-  if (branch_changed) {
-    const QSignalBlocker block(field_branch_box_);
-    field_branch_box_->setCurrentIndex(branch_);
-  }
-  if (fixed_changed || branch_changed) requestFields(true, true);
-  else if (moved && follow_box_ && follow_box_->isChecked()) requestFields(true, false);
+  if (branch_changed) field_panel_->showFieldBranch(state_.branch());
+  if (fixed_changed || branch_changed) fields_->request(true, true);
+  else if (moved && fieldSettings().follow_endpoint) fields_->request(true, false);
   view_->requestRender();
   noteChange();
   emit poseChanged();
@@ -1104,445 +301,76 @@ void MechanismWindow::accept(const Eigen::VectorXd& q, const Eigen::VectorXd& x,
 
 void MechanismWindow::drawPose(const IkResult* failed) {
   try {
-    scene_->set_pose(mechanism_->skeleton_pose(q_, x_, failed));
+    scene_->set_pose(state_.mechanism().skeleton_pose(state_.actuators(), state_.task(), failed));
   } catch (const std::invalid_argument& e) {
     statusBar()->showMessage(qs(e.what()), 8000);
-  }
-}
-
-void MechanismWindow::placeHandle() {
-  if (!handle_rep_) return;
-  Eigen::Vector3d p = endpoint();
-  handle_rep_->SetWorldPosition(p.data());
-}
-
-void MechanismWindow::setDrive(Drive drive) {
-  drive_ = drive;
-  const bool fk = drive == Drive::Actuators && drive_box_->isEnabled();
-  if (!fk) drive_ = Drive::Task;
-  {
-    const QSignalBlocker block(drive_box_);
-    drive_box_->setCurrentIndex(fk ? 1 : 0);
-  }
-  const auto& inputs = mechanism_->info().fk_inputs;
-  // The panel that drives is shown; the other one's values are in the read-outs.
-  bool any_task = false;
-  for (const auto& c : task_controls_) {
-    const bool input = !fk || std::find(inputs.begin(), inputs.end(), c->quantity.name) != inputs.end();
-    c->set_enabled(input);
-    any_task = any_task || input;
-  }
-  for (const auto& c : actuator_controls_) c->set_enabled(fk);
-  task_group_->setVisible(any_task);
-  actuator_group_->setVisible(fk);
-}
-
-void MechanismWindow::syncPanels() {
-  for (std::size_t k = 0; k < task_controls_.size(); ++k) task_controls_[k]->set(x_(Eigen::Index(k)));
-  for (std::size_t k = 0; k < actuator_controls_.size(); ++k) actuator_controls_[k]->set(q_(Eigen::Index(k)));
-  const QSignalBlocker block(branch_box_);
-  branch_box_->setCurrentIndex(branch_);
-}
-
-void MechanismWindow::syncRanges() {
-  const MechanismInfo& info = mechanism_->info();
-  for (std::size_t k = 0; k < task_controls_.size(); ++k) task_controls_[k]->set_range(info.task[k].range);
-  for (std::size_t k = 0; k < actuator_controls_.size(); ++k) actuator_controls_[k]->set_range(info.actuators[k].range);
-  for (const auto& c : parameter_controls_) {
-    const auto p = mechanism_->parameters();
-    if (p.count(c->quantity.name)) c->set(p.at(c->quantity.name));
-  }
-  for (const Quantity& a : info.actuators) {
-    const auto it = limit_boxes_.find(a.name);
-    if (it == limit_boxes_.end()) continue;
-    for (int k = 0; k < 2; ++k) {
-      const QSignalBlocker block(it->second[k]);
-      it->second[k]->setValue((k == 0 ? a.range.lo : a.range.hi) / kDeg);
-    }
-  }
-}
-
-void MechanismWindow::updateReadouts() {
-  const MechanismInfo& info = mechanism_->info();
-  QStringList task, actuators;
-  for (std::size_t k = 0; k < info.task.size(); ++k) task << value_text(info.task[k], x_(Eigen::Index(k)));
-  for (std::size_t k = 0; k < info.actuators.size(); ++k) {
-    double v = q_(Eigen::Index(k));
-    if (info.actuators[k].unit == "rad") v = std::remainder(v, 2 * kPi);
-    actuators << value_text(info.actuators[k], v);
-  }
-  auto lines = [](const QStringList& items) {
-    QString text;
-    for (int i = 0; i < items.size(); ++i) text += (i == 0 ? "" : i % 3 == 0 ? "\n" : ", ") + items[i];
-    return text;
-  };
-  task_label_->setText(lines(task));
-  actuator_label_->setText(lines(actuators));
-  try {
-    const Measures m = mechanism_->measures(q_, x_);
-    for (std::size_t k = 0; k < measure_labels_.size(); ++k) {
-      const double v = k < m.values.size() ? m.values[k] : NAN;
-      measure_labels_[k]->setText(std::isfinite(v) ? number(v) : QString::fromUtf8("∞ (singular)"));
-    }
-    det_label_->setText(number(m.det));
-    const SingularityReport s = mechanism_->nearest_singularity(q_, x_);
-    singular_label_->setText(QString("%1, %2 %3")
-                                 .arg(qs(info.singular_sets.at(s.nearest).title), number(s.distance, 3),
-                                      qs(info.length_unit)));
-  } catch (const std::exception& e) {
-    statusBar()->showMessage(qs(e.what()), 8000);
-  }
-  branch_label_->setText(qs(info.branches.at(branch_)));
-  while (extra_form_->rowCount() > 0) extra_form_->removeRow(0);
-  for (const auto& [label, text] : mechanism_->readouts(q_, x_)) {
-    auto* value = new QLabel(qs(text));
-    value->setTextInteractionFlags(Qt::TextSelectableByMouse);
-    extra_form_->addRow(qs(label), value);
   }
 }
 
 // ---- Design ---------------------------------------------------------------------
 
 bool MechanismWindow::setParameters(const std::map<std::string, double>& parameters) {
-  Preset next = preset_;
-  for (const auto& [name, value] : parameters) next.parameters[name] = value;
-  std::shared_ptr<const Mechanism> m;
-  SkeletonModel skeleton;
-  try {
-    m = make_mechanism(next);
-    skeleton = m->skeleton_model();
-  } catch (const std::invalid_argument& e) {
-    syncRanges();  // the panel shows the design in force
-    statusBar()->showMessage(qs(e.what()), 8000);
+  const DesignPlan plan = state_.with_parameters(parameters);
+  if (!plan.ok()) {
+    showDesign();  // the panel shows the design in force
+    statusBar()->showMessage(qs(plan.refusal), 8000);
     return false;
   }
-  // Keep the pose where the new design reaches it; else the actuators; else home.
-  Eigen::VectorXd q, x;
-  int branch = branch_;
-  IkOptions o;
-  o.seed = q_;
-  if (m->info().branches.size() > 1) o.branch = branch_;
-  const IkResult ik = m->inverse(x_, o);
-  if (ik.status == Status::Ok && !ik.solutions.empty() && ik.solutions.front().status == Status::Ok) {
-    q = ik.solutions.front().q;
-    x = x_;
-  } else {
-    FkOptions fo;
-    fo.seed = x_;
-    const FkResult fk = m->forward(q_, fo);
-    IkOptions check;
-    check.seed = q_;
-    if (fk.status == Status::Ok && m->inverse(fk.x, check).status == Status::Ok) {
-      q = q_;
-      x = fk.x;
-      branch = branch_of(*m, q, x, branch_);
-    } else {
-      q = m->home_actuators();
-      x = m->home_task();
-      if (m->inverse(x, check).status != Status::Ok) {
-        syncRanges();
-        statusBar()->showMessage(tr("This design cannot reach its home pose; design unchanged."), 8000);
-        return false;
-      }
-      branch = branch_of(*m, q, x, 0);
-    }
-  }
   try {
-    scene_->set_model(skeleton);
+    scene_->set_model(plan.mechanism->skeleton_model());
   } catch (const std::invalid_argument& e) {
     statusBar()->showMessage(qs(e.what()), 8000);
     return false;
   }
   // The camera follows the device's size unless the user moved it since it was fitted.
-  const bool refit = fitted_camera_ && same_camera(*fitted_camera_, camera_state(renderer_));
-  preset_ = next;
-  mechanism_ = m;
-  syncRanges();
-  methods_->setMechanism(preset_);  // the next Run measures the new design
+  const bool refit = document_->cameraUntouched(camera_state(renderer_));
+  adoptDesign(plan);
   if (refit) fitCamera();
-  accept(q, x, branch);
-  requestFields(true, true);
+  fields_->request(true, true);
   return true;
+}
+
+void MechanismWindow::showDesign() {
+  drive_panel_->showRanges(state_.mechanism().info());
+  design_panel_->showDesign(state_.mechanism());
+}
+
+void MechanismWindow::adoptDesign(const DesignPlan& plan) {
+  const Eigen::VectorXd x_before = state_.task();
+  const int branch_before = state_.branch();
+  state_.adopt(plan);
+  showDesign();
+  methods_->setMechanism(state_.preset());  // the next Run measures the new design
+  showPose(x_before, branch_before);
 }
 
 bool MechanismWindow::setActuatorLimits(const std::map<std::string, std::array<double, 2>>& limits_deg) {
-  Preset next = preset_;
-  for (const auto& [name, range] : limits_deg) next.limits_deg[name] = {range[0], range[1]};
-  std::shared_ptr<const Mechanism> m;
-  try {
-    m = make_mechanism(next);
-  } catch (const std::invalid_argument& e) {
-    syncRanges();  // back to the limits in force
-    statusBar()->showMessage(qs(e.what()), 8000);
+  const Eigen::VectorXd x_before = state_.task();
+  const int branch_before = state_.branch();
+  std::string why;
+  if (!state_.set_actuator_limits(limits_deg, why)) {
+    showDesign();  // back to the limits in force
+    statusBar()->showMessage(qs(why), 8000);
     return false;
   }
-  preset_ = next;
-  mechanism_ = m;
-  syncRanges();
-  methods_->setMechanism(preset_);
-  // The pose is clamped into the new travel.
-  Eigen::VectorXd q = q_;
-  const auto& actuators = m->info().actuators;
-  for (std::size_t k = 0; k < actuators.size(); ++k)
-    q(Eigen::Index(k)) = std::clamp(q(Eigen::Index(k)), actuators[k].range.lo, actuators[k].range.hi);
-  if (!setActuators(q)) accept(q_, x_, branch_);
-  requestFields(true, true);
+  showDesign();
+  methods_->setMechanism(state_.preset());
+  showPose(x_before, branch_before);
+  fields_->request(true, true);
   return true;
-}
-
-// ---- Fields -------------------------------------------------------------------
-
-FieldSettings MechanismWindow::fieldSettings() const {
-  FieldSettings f;
-  f.field = field_box_->currentData().toString().toStdString();
-  if (!field_choices(mechanism_->info()).methods.empty()) f.method = method_box_->currentText().toStdString();
-  f.normal = normal_box_->currentText().toStdString();
-  f.position = slicePosition();
-  f.follow_endpoint = follow_box_->isChecked();
-  f.threshold = threshold_box_->value();
-  if (!auto_range_box_->isChecked()) {
-    f.range_min = range_min_box_->value();
-    f.range_max = range_max_box_->value();
-  }
-  f.colour_map = colour_map_box_->currentText().toStdString();
-  f.log_scale = log_scale_box_->isChecked();
-  f.slice_resolution = slice_resolution_box_->currentText().toInt();
-  f.volume_resolution = volume_resolution_box_->currentText().toInt();
-  f.show_slice = show_slice_box_->isChecked();
-  f.show_reach = show_reach_box_->isChecked();
-  f.show_well_conditioned = show_well_box_->isChecked();
-  f.reach_opacity = reach_opacity_slider_->value() / 100.0;
-  f.well_conditioned_opacity = well_opacity_slider_->value() / 100.0;
-  return f;
-}
-
-void MechanismWindow::applyFieldSettings(const FieldSettings& f) {
-  {
-    const QSignalBlocker b1(field_box_), b2(normal_box_), b3(position_slider_), b4(follow_box_), b5(threshold_box_),
-        b6(auto_range_box_), b7(slice_resolution_box_), b8(volume_resolution_box_), b9(show_slice_box_),
-        b10(show_reach_box_), b11(show_well_box_), b12(reach_opacity_slider_), b13(well_opacity_slider_),
-        b14(method_box_), b15(range_min_box_), b16(range_max_box_), b17(colour_map_box_), b18(log_scale_box_);
-    auto choose = [](QComboBox* box, int index) {
-      if (index >= 0) box->setCurrentIndex(index);
-    };
-    choose(field_box_, field_box_->findData(qs(f.field)));
-    choose(method_box_, method_box_->findText(qs(f.method)));
-    choose(normal_box_, normal_box_->findText(qs(f.normal)));
-    choose(slice_resolution_box_, slice_resolution_box_->findText(QString::number(f.slice_resolution)));
-    choose(volume_resolution_box_, volume_resolution_box_->findText(QString::number(f.volume_resolution)));
-    follow_box_->setChecked(f.follow_endpoint);
-    threshold_box_->setValue(f.threshold);
-    choose(colour_map_box_, colour_map_box_->findText(qs(f.colour_map)));
-    log_scale_box_->setChecked(f.log_scale);
-    auto_range_box_->setChecked(!(f.range_min && f.range_max));
-    if (f.range_min) range_min_box_->setValue(*f.range_min);
-    if (f.range_max) range_max_box_->setValue(*f.range_max);
-    show_slice_box_->setChecked(f.show_slice);
-    show_reach_box_->setChecked(f.show_reach);
-    show_well_box_->setChecked(f.show_well_conditioned);
-    reach_opacity_slider_->setValue(int(std::lround(f.reach_opacity * 100)));
-    well_opacity_slider_->setValue(int(std::lround(f.well_conditioned_opacity * 100)));
-    const Eigen::AlignedBox3d box = mechanism_->default_box();
-    const int n = normal_box_->currentIndex();
-    const double half = 0.5 * (box.max()(n) - box.min()(n));
-    position_slider_->setValue(int(std::lround((f.position - box.center()(n)) / half * kPositionSteps)));
-  }
-  applyFieldVisibility();
-  restyleSlice();
-  requestFields(true, true);
-}
-
-double MechanismWindow::slicePosition() const {
-  const int n = normal_box_->currentIndex();
-  const Eigen::AlignedBox3d box = mechanism_->default_box();
-  if (follow_box_->isChecked()) return x_(n);
-  return box.center()(n) + 0.5 * (box.max()(n) - box.min()(n)) * position_slider_->value() / kPositionSteps;
 }
 
 // Fields are computed only when shown, coarse first, on worker threads; a
 // new request cancels the one in flight.
-void MechanismWindow::requestFields(bool slice, bool volume) {
-  if (!field_box_) return;  // panels not built yet
-  noteChange();
-  const MechanismInfo& info = mechanism_->info();
-  IkOptions options;
-  if (!field_choices(info).methods.empty()) options.method = method_box_->currentText().toStdString();
-  if (info.branches.size() > 1) options.branch = field_branch_box_->currentIndex();
-  FieldJob job;
-  job.sampler = [m = mechanism_, fixed = x_, options](const Grid& grid, const FieldProgress& progress) {
-    return m->compute_field(grid, fixed, options, 0, progress);
-  };
-  std::optional<haptics::DeviceData> haptic_data;
-  if (haptics::is_haptic_field(field_box_->currentData().toString().toStdString())) {
-    try {
-      haptic_data = haptics::device_data(preset_, info);
-    } catch (const std::invalid_argument& e) {
-      statusBar()->showMessage(qs(e.what()), 8000);
-    }
-  }
-  job.cond_threshold = threshold_box_->value();
-  const Eigen::AlignedBox3d box = mechanism_->default_box();
-  const Eigen::Vector3d lo = box.min(), hi = box.max();
-  if (slice && show_slice_box_->isChecked()) {
-    const Axis normal = parse_axis(normal_box_->currentText().toStdString());
-    const int n = int(normal);
-    const double position = std::clamp(slicePosition(), lo(n), hi(n));
-    if (follow_box_->isChecked()) {
-      const QSignalBlocker block(position_slider_);
-      position_slider_->setValue(
-          int(std::lround((position - 0.5 * (lo(n) + hi(n))) / (0.5 * (hi(n) - lo(n))) * kPositionSteps)));
-    }
-    position_label_->setText(QString("%1 = %2 %3 (%4 %)")
-                                 .arg(normal_box_->currentText(), fixed(position, 2), qs(info.length_unit))
-                                 .arg(std::lround(100.0 * (position - lo(n)) / (hi(n) - lo(n)))));
-    const auto [u, v] = Grid::slice_axes(normal);
-    const int res = slice_resolution_box_->currentText().toInt();
-    FieldJob slice_job = job;
-    if (haptic_data)
-      slice_job.sampler = [m = mechanism_, fixed = x_, options, data = *haptic_data](const Grid& grid,
-                                                                                    const FieldProgress& progress) {
-        return haptics::sample_field(*m, grid, fixed, options, 0, progress, &data);
-      };
-    slice_job.slice = Grid::slice(normal, position, lo(int(u)), hi(int(u)), lo(int(v)), hi(int(v)), res, res);
-    slice_settled_ = false;
-    slice_runner_.submit(slice_job);
-  } else if (slice) {
-    slice_runner_.cancel();
-    slice_settled_ = true;
-  }
-  if (volume && (show_reach_box_->isChecked() || show_well_box_->isChecked())) {
-    const int n = volume_resolution_box_->currentText().toInt();
-    FieldJob volume_job = job;
-    volume_job.volume = Grid::box(lo, hi, {n, n, n});
-    volume_job.coarse_divisor = 2;
-    surfaces_settled_ = false;
-    volume_runner_.submit(volume_job);
-  } else if (volume) {
-    volume_runner_.cancel();
-    surfaces_settled_ = true;
-  }
-}
-
-void MechanismWindow::onSlice(const SliceResult& result) {
-  slice_field_ = result.field;
-  restyleSlice();
-  compute_label_->setText(tr("slice %1 ms, %2 M points/s")
-                              .arg(result.seconds * 1e3, 0, 'f', 1)
-                              .arg(result.points_per_second / 1e6, 0, 'f', 2));
-  if (result.fine) slice_settled_ = true;
-  emit sliceUpdated(result.fine);
-  emit fieldsUpdated(result.fine);
-}
-
-void MechanismWindow::onSurfaces(const SurfaceResult& result) {
-  surfaces_ = result;  // kept for export
-  field_scene_->set_surface(render::Surface::Reach, result.reach);
-  field_scene_->set_surface(render::Surface::WellConditioned, result.well_conditioned);
-  light_asked_ = false;
-  if (moving_ && result.fine) {  // fields that follow the pose: light meshes for the next frames
-    light_asked_ = true;
-    volume_runner_.submitLight(result);
-  }
-  applyFieldVisibility();
-  statusBar()->showMessage(tr("isosurfaces (%1) in %2 ms")
-                               .arg(result.fine ? tr("full") : tr("coarse"))
-                               .arg(result.seconds * 1e3, 0, 'f', 0),
-                           4000);
-  if (result.fine) surfaces_settled_ = true;
-  emit surfacesUpdated(result.fine);
-  emit fieldsUpdated(result.fine);
-}
-
-render::SliceStyle MechanismWindow::sliceStyle() const {
-  const FieldSettings f = fieldSettings();
-  render::SliceStyle style;
-  style.field = f.field;
-  style.contour_levels = {f.threshold};
-  style.min = f.range_min;
-  style.max = f.range_max;
-  style.colour_map = f.colour_map;
-  style.log_scale = f.log_scale;
-  return style;
-}
-
-void MechanismWindow::restyleSlice() {
-  noteChange();
-  // The range boxes show the range in use: typed, or the automatic one.
-  range_min_box_->setEnabled(!auto_range_box_->isChecked());
-  range_max_box_->setEnabled(!auto_range_box_->isChecked());
-  if (!slice_field_) return;
-  render::SliceStyle style = sliceStyle();
-  if (auto_range_box_->isChecked()) {
-    try {
-      const auto [lo, hi] = render::colour_range(*slice_field_, style);
-      const QSignalBlocker b1(range_min_box_), b2(range_max_box_);
-      range_min_box_->setValue(lo);
-      range_max_box_->setValue(hi);
-    } catch (const std::invalid_argument&) {
-      // categorical fields have no range; the error is shown below
-    }
-  }
-  style.scale = std::max(1, 768 / slice_resolution_box_->currentText().toInt());
-  style.unreachable_alpha = 50;
-  try {
-    field_scene_->set_slice(*slice_field_, style);
-  } catch (const std::invalid_argument& e) {
-    statusBar()->showMessage(qs(e.what()), 8000);
-  }
-  applyFieldVisibility();
-}
-
-void MechanismWindow::applyFieldVisibility() {
-  noteChange();
-  const bool slice = show_slice_box_->isChecked() && slice_field_ != nullptr;
-  field_scene_->set_slice_visible(slice);
-  // The method field is categorical: its colours are not on a scale.
-  field_scene_->set_colour_bar_visible(slice && field_box_->currentData().toString() != "method");
-  placeLegend();
-  field_scene_->set_surface_visible(render::Surface::Reach, show_reach_box_->isChecked());
-  field_scene_->set_surface_visible(render::Surface::WellConditioned, show_well_box_->isChecked());
-  field_scene_->set_surface_opacity(render::Surface::Reach, reach_opacity_slider_->value() / 100.0);
-  field_scene_->set_surface_opacity(render::Surface::WellConditioned, well_opacity_slider_->value() / 100.0);
-  view_->requestRender();
-}
-
-// ---- Animation ------------------------------------------------------------------
-
-void MechanismWindow::animationStep() {
-  const double dt = animation_timer_->interval() / 1000.0;
-  animation_phase_ += speed_box_->value() * dt;
-  if (animation_phase_ >= 1.0) {
-    if (!loop_box_->isChecked()) {
-      play_button_->setChecked(false);
-      animation_phase_ = 0.0;
-      return;
-    }
-    animation_phase_ -= 1.0;
-  }
-  const double angle = 2 * kPi * animation_phase_;
-  const auto [u, v] = Grid::slice_axes(parse_axis(normal_box_->currentText().toStdString()));
-  Eigen::Vector3d offset = Eigen::Vector3d::Zero();
-  const double a = amplitude_box_->value();
-  if (path_box_->currentIndex() == 0) {
-    offset(int(u)) = a * std::cos(angle) - a;  // starts at the driven point
-    offset(int(v)) = a * std::sin(angle);
-  } else {
-    offset(int(u)) = a * std::sin(angle);
-  }
-  moveEndpointTo(animation_centre_ + offset);  // an unreachable point is skipped, the panel says why
-}
-
 // ---- Sessions, files ---------------------------------------------------------------
 
 Session MechanismWindow::session() const {
   Session s;
-  s.mechanism = preset_reference(preset_);
-  s.parameters = mechanism_->parameters();
-  if (!limit_boxes_.empty())
-    for (const Quantity& a : mechanism_->info().actuators)
-      s.actuator_limits_deg[a.name] = {a.range.lo / kDeg, a.range.hi / kDeg};
-  s.pose = q_;
-  s.task = x_;
+  s.mechanism = preset_reference(state_.preset());
+  s.parameters = state_.mechanism().parameters();
+  if (design_panel_->editsLimits()) s.actuator_limits_deg = state_.limits_deg();
+  s.pose = state_.actuators();
+  s.task = state_.task();
   s.camera = camera_state(renderer_);
   s.field = fieldSettings();
   s.task_volume = task_panel_->setting();
@@ -1551,63 +379,15 @@ Session MechanismWindow::session() const {
 
 void MechanismWindow::applySession(const Session& s) {
   // Refuse before changing anything: a value outside a slider's range would be clamped.
-  for (const auto& c : parameter_controls_) {
-    const auto it = s.parameters.find(c->quantity.name);
-    if (it != s.parameters.end() && (it->second * c->scale < c->box->minimum() || it->second * c->scale > c->box->maximum()))
-      throw std::invalid_argument("session: " + c->quantity.name + " = " + format_number(it->second) +
-                                  " is outside the window's range [" + format_number(c->box->minimum() / c->scale) +
-                                  ", " + format_number(c->box->maximum() / c->scale) + "] for this preset");
-  }
-  Preset next = preset_;
-  for (const auto& [name, value] : s.parameters) next.parameters[name] = value;
-  for (const auto& [name, range] : s.actuator_limits_deg) next.limits_deg[name] = {range[0], range[1]};
-  const std::shared_ptr<const Mechanism> m = make_mechanism(next);  // throws: nothing changed
-  const MechanismInfo& info = m->info();
-  if (s.pose.size() > 0 && s.pose.size() != Eigen::Index(info.actuators.size()))
-    throw std::invalid_argument("session: the pose has " + std::to_string(s.pose.size()) + " actuator values, the device " +
-                                std::to_string(info.actuators.size()));
-  if (s.task.size() > 0 && s.task.size() != Eigen::Index(info.task.size()))
-    throw std::invalid_argument("session: the task has " + std::to_string(s.task.size()) + " coordinates, the device " +
-                                std::to_string(info.task.size()));
-  // The pose: saved actuators and task where they agree; else IK of the task
-  // (the solution nearest the saved actuators); else FK of the actuators.
-  std::optional<Eigen::VectorXd> q, x;
-  if (s.task.size() > 0) {
-    IkOptions o;
-    if (s.pose.size() > 0) o.seed = s.pose;
-    const IkResult r = m->inverse(s.task, o);
-    double nearest = INFINITY;
-    for (const IkSolution& sol : r.solutions) {
-      const double d = s.pose.size() > 0 ? angle_distance(sol.q, s.pose) : sol.branch == branch_ ? 0.0 : 1.0;
-      if (sol.status == Status::Ok && d < nearest) {
-        nearest = d;
-        q = sol.q;
-        x = s.task;
-      }
-    }
-    // The saved actuators themselves where they are that solution (no rounding).
-    if (q && s.pose.size() > 0 && angle_distance(*q, s.pose) < 1e-9) q = s.pose;
-  } else {
-    FkOptions o;
-    const FkResult r = m->forward(s.pose, o);
-    if (r.status == Status::Ok) {
-      q = s.pose;
-      x = r.x;
-    }
-  }
-  preset_ = next;
-  mechanism_ = m;
-  scene_->set_model(m->skeleton_model());
-  syncRanges();
-  methods_->setMechanism(preset_);
+  design_panel_->checkParameters(s.parameters);
+  const Preset next = state_.design_with(s.parameters, s.actuator_limits_deg);
+  const DesignPlan plan = state_.with_saved_pose(next, s.pose, s.task);  // throws: nothing changed
+  scene_->set_model(plan.mechanism->skeleton_model());
+  adoptDesign(plan);
   applyFieldSettings(s.field);
   if (s.camera) apply_camera(renderer_, *s.camera);
-  if (q && x) {
-    accept(*q, *x, branch_of(*m, *q, *x, branch_));
-  } else {
-    accept(m->home_actuators(), m->home_task(), branch_of(*m, m->home_actuators(), m->home_task(), 0));
+  if (plan.kept == DesignPlan::Kept::Home)
     statusBar()->showMessage(tr("The session's pose is not reachable; the device is at its home pose."), 8000);
-  }
   if (s.task_volume) {
     try {
       task_panel_->applySetting(*s.task_volume);
@@ -1615,38 +395,14 @@ void MechanismWindow::applySession(const Session& s) {
       statusBar()->showMessage(tr("The session's task volume was not applied: %1").arg(qs(e.what())), 8000);
     }
   }
-  restyleSlice();
-  requestFields(true, true);
-}
-
-bool MechanismWindow::openSession(const QString& path) {
-  if (!open_session_file(this, preset_, path)) return false;
-  addRecent(path);
-  return true;
-}
-
-bool MechanismWindow::saveSession(const QString& path) {
-  history_->flush();
-  if (!save_session_file(this, session(), path)) return false;
-  history_->markSaved(path);
-  addRecent(path);
-  return true;
+  fields_->restyle();
+  fields_->request(true, true);
 }
 
 std::optional<Preset> MechanismWindow::readPresetFile(const QString& file, const QString& failure_title) {
-  if (reading_preset_) return std::nullopt;  // one file at a time; the watcher tries again
-  reading_preset_ = true;
-  const QPointer<MechanismWindow> alive(this);
-  std::optional<Preset> next;
   QString error;
-  try {
-    next = load_checked_preset(file.toStdString());
-  } catch (const std::exception& e) {
-    error = qs(e.what());
-  }
-  if (!alive) return std::nullopt;  // closed while the file was read
-  reading_preset_ = false;
-  if (!next) showLoadError(failure_title, file, error);
+  std::optional<Preset> next = preset_reader_.read(file, error);
+  if (!next && !error.isEmpty()) showLoadError(failure_title, file, error);  // (empty: this window may be gone)
   return next;
 }
 
@@ -1657,7 +413,7 @@ MechanismWindow* MechanismWindow::openMechanismFile(const QString& path) {
   const Preset& next = *read;
   if (!maybeSave()) return nullptr;  // the user keeps this document
   try {
-    MechanismWindow* shown = replace_window(this, next, std::nullopt);
+    MechanismWindow* shown = replaceWith(next, std::nullopt);
     shown->statusBar()->showMessage(tr("Opened %1").arg(file), 4000);
     return shown;
   } catch (const std::exception& e) {
@@ -1667,7 +423,7 @@ MechanismWindow* MechanismWindow::openMechanismFile(const QString& path) {
 }
 
 MechanismWindow* MechanismWindow::reloadMechanism() {
-  const QString file = preset_file(preset_);
+  const QString file = preset_file(state_.preset());
   if (file.isEmpty()) {
     showLoadError(tr("Cannot reload the mechanism"), QString(), tr("This device was not read from a file."));
     return nullptr;
@@ -1677,32 +433,15 @@ MechanismWindow* MechanismWindow::reloadMechanism() {
   try {
     const Preset& next = *read;
     const std::shared_ptr<const Mechanism> m = make_mechanism(next);
-    const MechanismInfo& info = m->info();
-    history_->flush();
+    history()->flush();
     const Session before = session();
-    // What stays: the view, the settings and the pose where the device still
-    // has it. Design parameters and travel are left out: the file's stand.
-    Session kept;
-    kept.mechanism = preset_reference(next);
-    kept.camera = before.camera;
-    kept.field = before.field;
-    kept.task_volume = before.task_volume;
-    const bool same_task = names_of(info.task) == names_of(mechanism_->info().task);
-    if (same_task) {
-      kept.task = x_;
-      for (std::size_t k = 0; k < info.task.size(); ++k)
-        kept.task(Eigen::Index(k)) = std::clamp(x_(Eigen::Index(k)), info.task[k].range.lo, info.task[k].range.hi);
-      // The actuators seed the solve, so the device stays in its assembly branch.
-      if (names_of(info.actuators) == names_of(mechanism_->info().actuators)) kept.pose = q_;
-    } else {
-      kept.task = m->home_task();
-      kept.pose = m->home_actuators();
-    }
-    MechanismWindow* shown = replace_window(this, next, kept, history_->path());
+    const Session kept = reload_session(before, next, *m, state_.mechanism(), state_.actuators(), state_.task());
+    const bool same_task = same_task_coordinates(*m, state_.mechanism());
+    MechanismWindow* shown = replaceWith(next, kept, history()->path());
     shown->setDrive(drive_);
     // A camera nobody moved still follows the device's size.
-    if (fitted_camera_ && same_camera(*fitted_camera_, *kept.camera)) shown->fitted_camera_ = kept.camera;
-    if (history_->modified() || !same_document(before, shown->session())) shown->history()->markModified();
+    if (document_->cameraUntouched(*kept.camera)) shown->document_->cameraFitted(*kept.camera);
+    if (history()->modified() || !same_document(before, shown->session())) shown->history()->markModified();
     const bool pose_kept = same_task && (shown->task() - kept.task).norm() <= 1e-9;
     shown->statusBar()->showMessage(
         pose_kept || !same_task ? tr("Reloaded %1").arg(file)
@@ -1721,23 +460,22 @@ void MechanismWindow::showLoadError(const QString& title, const QString& path, c
   statusBar()->showMessage(title + ": " + message, 15000);
 }
 
-void MechanismWindow::addRecent(const QString& path) {
-  QSettings settings;
-  QStringList recent = settings.value("recentSessions").toStringList();
-  const QString absolute = QFileInfo(path).absoluteFilePath();
-  recent.removeAll(absolute);
-  recent.prepend(absolute);
-  while (recent.size() > 8) recent.removeLast();
-  settings.setValue("recentSessions", recent);
-  rebuildRecentMenu();
-}
-
-void MechanismWindow::rebuildRecentMenu() {
-  if (!recent_menu_) return;
-  recent_menu_->clear();
-  const QStringList recent = QSettings().value("recentSessions").toStringList();
-  for (const QString& path : recent) recent_menu_->addAction(path, this, [this, path] { openSession(path); });
-  recent_menu_->setEnabled(!recent.isEmpty());
+MechanismWindow* MechanismWindow::replaceWith(const Preset& preset, const std::optional<Session>& session,
+                                              const QString& session_path) {
+  auto next = std::make_unique<MechanismWindow>(preset);
+  if (session) next->applySession(*session);
+  else next->applyFieldSettings(fieldSettings());
+  next->history()->reset(session ? session_path : QString());
+  next->restoreState(saveState());  // the same panels where the user put them
+  next->setInteractive(interactive());
+  setInteractive(false);  // it asked already
+  next->setAttribute(Qt::WA_DeleteOnClose);
+  next->setGeometry(geometry());
+  MechanismWindow* shown = next.release();
+  shown->show();
+  emit replacedBy(shown);
+  close();
+  return shown;
 }
 
 void MechanismWindow::closeEvent(QCloseEvent* event) {
@@ -1745,89 +483,11 @@ void MechanismWindow::closeEvent(QCloseEvent* event) {
     event->ignore();
     return;
   }
-  animation_timer_->stop();
+  animation_panel_->stop();
   // A closed window no longer follows its file (the window in its place does).
-  reload_timer_->stop();
-  const QStringList watched = preset_watcher_->files() + preset_watcher_->directories();
-  if (!watched.isEmpty()) preset_watcher_->removePaths(watched);
-  if (interactive_) {
-    QSettings settings;
-    settings.setValue("windowGeometry", saveGeometry());
-    settings.setValue("windowState", saveState());
-  }
+  preset_watcher_->stop();
+  document_->closing();
   QMainWindow::closeEvent(event);
-}
-
-// ---- Entry ------------------------------------------------------------------------
-
-namespace {
-
-// WIDTHxHEIGHT from min_w x min_h to kMaxWindowSide a side: off-screen
-// framebuffers beyond that fail inside the OpenGL driver (a crash, not an
-// error). Throws std::invalid_argument naming `option`.
-std::array<int, 2> pixel_size(const std::string& text, const char* option, int min_w, int min_h) {
-  int w = 0, h = 0;
-  char x = 0, rest = 0;
-  if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &rest) != 3 || x != 'x' || w < min_w || h < min_h ||
-      w > kMaxWindowSide || h > kMaxWindowSide)
-    throw std::invalid_argument(std::string(option) + " expects WIDTHxHEIGHT from " + std::to_string(min_w) + "x" +
-                                std::to_string(min_h) + " to " + std::to_string(kMaxWindowSide) + "x" +
-                                std::to_string(kMaxWindowSide) + ", got '" + text + "'");
-  return {w, h};
-}
-
-}  // namespace
-
-void prepare_window(WindowOptions& options) {
-  if (!options.file.empty()) {
-    if (is_session_file(options.file)) options.session = options.file;
-    else options.mechanism.name_or_path = options.file;
-  }
-  if (!options.session.empty()) load_session(options.session);
-  else make_mechanism(chosen_preset(options.mechanism));
-}
-
-int run_window(const WindowOptions& options, int argc, char** argv) {
-  std::optional<Session> session;
-  if (!options.session.empty()) session = load_session(options.session);  // bad file: exit code 2
-  // A session brings its own mechanism.
-  Preset preset = load_preset(session ? session->mechanism : options.mechanism.name_or_path);
-  apply_overrides(preset, options.mechanism.params);
-  if (!options.task.empty()) task::parse_task(options.task);  // bad text: exit code 2 before any window
-  for (const std::string& c : options.criteria) task::parse_criterion(c);
-  const auto [width, height] = pixel_size(options.size, "--size", 200, 150);
-  const auto [view_width, view_height] =
-      options.view_image.empty() ? std::array<int, 2>{} : pixel_size(options.view_size, "--view-size", 16, 16);
-  QSurfaceFormat::setDefaultFormat(VtkWidget::defaultFormat());
-  QApplication app(argc, argv);
-  QApplication::setApplicationName("Linkscape");
-  QApplication::setOrganizationName("Linkscape");
-  MechanismWindow window(preset);
-  if (session) window.applySession(*session);
-  if (!options.task.empty()) {
-    window.taskPanel()->setTask(options.task, options.criteria);
-    if (auto* dock = window.findChild<QDockWidget*>("taskDock")) dock->raise();
-  }
-  // Interactive use remembers the window's size and layout; an explicit
-  // --size, screenshots and latency runs start from the defaults.
-  const bool interactive = options.screenshot.empty() && options.view_image.empty() && !options.latency;
-  window.setInteractive(interactive);
-  const QSettings settings;
-  if (interactive && !options.size_given && settings.contains("windowGeometry")) {
-    window.restoreGeometry(settings.value("windowGeometry").toByteArray());
-    window.restoreState(settings.value("windowState").toByteArray());
-  } else {
-    window.resize(width, height);
-  }
-  window.show();
-  if (options.latency) return run_latency_probe(window, std::cout);
-  if (!options.view_image.empty())
-    return save_screenshot_when_settled(window, options.view_image, [&] {
-      save_png(window.viewImage(view_width, view_height), options.view_image);
-      return std::to_string(view_width) + "x" + std::to_string(view_height);
-    });
-  if (options.screenshot.empty()) return QApplication::exec();
-  return save_screenshot_when_settled(window, options.screenshot);
 }
 
 }  // namespace linkscape::gui

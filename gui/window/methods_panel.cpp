@@ -21,7 +21,7 @@ QString mechanism_title(const Preset& preset) {
 
 }  // namespace
 
-MethodsPanel::MethodsPanel(QWidget* parent) : QWidget(parent) {
+MethodsPanel::MethodsPanel(QWidget* parent) : QWidget(parent), task_(this, [this] { cancel_button_->setEnabled(false); }) {
   preset_ = load_preset(default_mechanism());
   auto* layout = new QVBoxLayout(this);
   auto* bar = new QHBoxLayout;
@@ -62,14 +62,7 @@ MethodsPanel::MethodsPanel(QWidget* parent) : QWidget(parent) {
   connect(cancel_button_, &QPushButton::clicked, this, &MethodsPanel::cancel);
 }
 
-MethodsPanel::~MethodsPanel() {
-  if (cancel_) cancel_->store(true);
-  join_worker();
-}
-
-void MethodsPanel::join_worker() {
-  if (worker_.joinable()) worker_.join();
-}
+MethodsPanel::~MethodsPanel() = default;  // the task cancels and joins a run in flight
 
 const std::vector<methods::MethodRow>& MethodsPanel::rows() const { return view_->rows(); }
 
@@ -100,11 +93,7 @@ void MethodsPanel::setHarnessSize(std::size_t samples, int repeats, bool include
 QString MethodsPanel::statusText() const { return status_->text(); }
 
 void MethodsPanel::run() {
-  if (running_) return;
-  join_worker();  // a finished worker may still be unwinding
-  running_ = true;
-  const unsigned generation = ++generation_;
-  cancel_ = std::make_shared<std::atomic<bool>>(false);
+  if (task_.running()) return;
   run_button_->setEnabled(false);
   cancel_button_->setEnabled(true);
   status_->setText("Measuring " + mechanism_title(preset_) + "...");
@@ -113,19 +102,7 @@ void MethodsPanel::run() {
   const std::size_t samples = samples_;
   const int repeats = repeats_;
   const bool fields = include_fields_;
-  const auto cancel = cancel_;
-  // Results come back through queued calls with this object as context: Qt
-  // drops them if the panel is gone, and the destructor joins the thread.
-  auto report = [this, generation](double fraction, const std::string& stage) {
-    const QString text = QString("%1 %: %2").arg(int(100 * fraction)).arg(QString::fromStdString(stage));
-    QMetaObject::invokeMethod(
-        this,
-        [this, generation, text] {
-          if (generation == generation_ && running_) status_->setText("Measuring: " + text);
-        },
-        Qt::QueuedConnection);
-  };
-  worker_ = std::thread([this, generation, preset, compare, samples, repeats, fields, cancel, report] {
+  task_.start([this, preset, compare, samples, repeats, fields](const BackgroundTask::Run& run) {
     std::vector<methods::MethodRow> rows;
     QString message;
     bool completed = false;
@@ -137,14 +114,17 @@ void MethodsPanel::run() {
       o.include_field = fields;
       o.field_resolutions = {16, 32};
       o.field_reference_resolution = 64;
-      o.progress = report;
-      o.cancel = cancel.get();
+      o.progress = [this, &run](double fraction, const std::string& stage) {
+        const QString text = QString("%1 %: %2").arg(int(100 * fraction)).arg(QString::fromStdString(stage));
+        run.progress([this, text] { status_->setText("Measuring: " + text); });
+      };
+      o.cancel = &run.cancelled;
       rows = make_mechanism(preset)->measure_methods(o);
-      if (!compare.empty() && !cancel->load()) {
+      if (!compare.empty() && !run.cancelled.load()) {
         const std::vector<methods::MethodRow> second = make_mechanism(load_preset(compare))->measure_methods(o);
         rows.insert(rows.end(), second.begin(), second.end());
       }
-      completed = !cancel->load();
+      completed = !run.cancelled.load();
       message = completed ? QString("Measured %1 methods (%2 samples, median of %3 repeats).")
                                 .arg(rows.size())
                                 .arg(samples)
@@ -153,28 +133,18 @@ void MethodsPanel::run() {
     } catch (const std::exception& e) {
       message = QString("Failed: %1").arg(e.what());
     }
-    QMetaObject::invokeMethod(
-        this,
-        [this, generation, rows = std::move(rows), completed, message]() mutable {
-          finish(generation, std::move(rows), completed, message);
-        },
-        Qt::QueuedConnection);
+    run.finish([this, rows = std::move(rows), completed, message]() mutable {
+      finish(std::move(rows), completed, message);
+    });
   });
 }
 
 void MethodsPanel::cancel() {
-  if (!running_ || !cancel_) return;
-  cancel_->store(true);
-  status_->setText("Cancelling...");
+  if (task_.cancel()) status_->setText("Cancelling...");
 }
 
-void MethodsPanel::finish(unsigned generation, std::vector<methods::MethodRow> rows, bool completed,
-                          const QString& message) {
-  if (generation != generation_) return;
-  running_ = false;
-  join_worker();
+void MethodsPanel::finish(std::vector<methods::MethodRow> rows, bool completed, const QString& message) {
   run_button_->setEnabled(true);
-  cancel_button_->setEnabled(false);
   status_->setText(message);
   if (completed) {
     measured_title_ = mechanism_title(preset_);

@@ -7,14 +7,13 @@
 #pragma once
 
 #include <QWidget>
-#include <atomic>
 #include <cstddef>
 #include <memory>
-#include <thread>
 #include <vector>
 
 #include "core/method_harness.h"
 #include "core/preset.h"
+#include "gui/window/background.h"
 
 class QComboBox;
 class QLabel;
@@ -46,7 +45,7 @@ class MethodsPanel : public QWidget {
   MethodsView* view() const { return view_; }
   MethodsWindow* enlargedWindow() const { return enlarged_; }  // null until Enlarge
   const linkscape::Preset& mechanism() const { return preset_; }
-  bool isRunning() const { return running_; }
+  bool isRunning() const { return task_.running(); }
   QString statusText() const;
 
  public slots:
@@ -58,24 +57,21 @@ class MethodsPanel : public QWidget {
   void runFinished(bool completed);  // false when cancelled or failed
 
  private:
-  void finish(unsigned generation, std::vector<methods::MethodRow> rows, bool completed, const QString& message);
-  void join_worker();
+  void finish(std::vector<methods::MethodRow> rows, bool completed, const QString& message);
 
   linkscape::Preset preset_;
   QString measured_title_;  // the device the shown rows measured
   std::size_t samples_ = 2000;
   int repeats_ = 3;
   bool include_fields_ = false;
-  bool running_ = false;
-  unsigned generation_ = 0;
-  std::shared_ptr<std::atomic<bool>> cancel_;
-  std::thread worker_;
   MethodsView* view_ = nullptr;
   MethodsWindow* enlarged_ = nullptr;  // a child: lives as long as the panel
   QLabel* status_ = nullptr;
   QComboBox* compare_ = nullptr;  // a second preset measured beside this device
   QPushButton* run_button_ = nullptr;
   QPushButton* cancel_button_ = nullptr;
+  // Last, so a run in flight is cancelled and joined before the rest goes.
+  BackgroundTask task_;  // its end disables Cancel
 };
 
 }  // namespace linkscape::gui

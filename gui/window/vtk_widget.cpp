@@ -19,11 +19,16 @@
 #include <vtkGenericRenderWindowInteractor.h>
 #include <vtkInteractorStyleTrackballCamera.h>
 #include <vtkNew.h>
+#include <vtkRenderer.h>
 #include <vtkOpenGLFramebufferObject.h>
 #include <vtkOpenGLState.h>
 
 #include <cmath>
+#include <stdexcept>
+#include <string>
 #include <iterator>
+
+#include "render/scene_renderer.h"
 
 namespace linkscape::gui {
 
@@ -425,6 +430,36 @@ void VtkWidget::keyReleaseEvent(QKeyEvent* event) {
   setKeyInformation(interactor_, event);
   interactor_->InvokeEvent(vtkCommand::KeyReleaseEvent, event);
   requestRender();
+}
+
+QImage VtkWidget::imageAt(int width, int height) {
+  if (width < 16 || height < 16 || width > kMaxWindowSide || height > kMaxWindowSide)
+    throw std::invalid_argument("the view image must be 16..8192 pixels a side, got " + std::to_string(width) + "x" +
+                                std::to_string(height));
+  const QSize min = minimumSize(), max = maximumSize();
+  setFixedSize(width, height);  // the window grows or shrinks around it for this frame
+  QCoreApplication::processEvents();
+  const QImage image = grabFramebuffer();
+  setMinimumSize(min);
+  setMaximumSize(max);
+  if (image.isNull()) throw std::runtime_error("the view has no picture yet: the window is not on screen");
+  return image.size() == QSize(width, height) ? image : image.scaled(width, height);
+}
+
+VtkWidget::Renderers VtkWidget::addRenderers() {
+  vtkNew<render::SceneRenderer> renderer;
+  renderer->GradientBackgroundOn();
+  renderer->SetBackground(0.97, 0.97, 0.98);
+  renderer->SetBackground2(0.80, 0.84, 0.90);
+  renderWindow()->AddRenderer(renderer);
+  // The colour bar has a strip of its own at the right, so it never covers the data.
+  vtkNew<vtkRenderer> legend;
+  legend->GradientBackgroundOn();
+  legend->SetBackground(renderer->GetBackground());
+  legend->SetBackground2(renderer->GetBackground2());
+  legend->InteractiveOff();
+  renderWindow()->AddRenderer(legend);
+  return {renderer, legend};
 }
 
 }  // namespace linkscape::gui

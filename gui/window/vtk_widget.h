@@ -33,10 +33,15 @@ class vtkGenericOpenGLRenderWindow;
 class vtkGenericRenderWindowInteractor;
 class vtkObject;
 class vtkRenderWindowInteractor;
+class vtkRenderer;
 
 namespace linkscape::gui {
 
 class ViewWindow;
+
+// The largest side of the window and of a view image, in pixels: off-screen
+// framebuffers beyond that fail inside the OpenGL driver (a crash, not an error).
+inline constexpr int kMaxWindowSide = 8192;
 
 class VtkWidget : public QWidget {
   Q_OBJECT
@@ -59,6 +64,17 @@ class VtkWidget : public QWidget {
   // The scene rendered now, at the view's size in device pixels (a null
   // image before the view has been shown).
   QImage grabFramebuffer();
+  // The view alone drawn at width x height pixels (the view is resized for
+  // one frame, so the picture is rendered at that size, not scaled). Throws
+  // std::invalid_argument outside 16..kMaxWindowSide pixels a side.
+  QImage imageAt(int width, int height);
+  // The view's two renderers: the scene's, on a gradient, and at its right
+  // the colour bar's strip (not interactive), so the bar never covers the data.
+  struct Renderers {
+    vtkRenderer* scene;
+    vtkRenderer* legend;
+  };
+  Renderers addRenderers();
   // `window` as grab() shows it, with every visible view inside it painted in.
   static QImage grabWindow(QWidget* window);
   // The native window that draws the view and receives its input.

@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "core/csv.h"
+#include "core/pareto.h"
 #include "core/sweep.h"
 
 using namespace linkscape;
@@ -182,7 +183,7 @@ TEST(SweepPareto, TheFrontIsThePointsNoOtherBeatsOnBoth) {
       y.push_back(double(random() % 10));
     }
     for (bool larger : {false, true}) {
-      const std::vector<bool> front = sweep::non_dominated(x, y, larger);
+      const std::vector<bool> front = non_dominated(x, y, larger);
       for (std::size_t a = 0; a < x.size(); ++a) {
         bool dominated = false;
         for (std::size_t b = 0; b < x.size(); ++b)

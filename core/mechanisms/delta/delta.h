@@ -35,6 +35,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/range.h"
 #include "core/status.h"
 
 namespace linkscape::delta {
@@ -47,10 +48,7 @@ inline constexpr int kBranchCount = 8;  // 2^kLegCount elbow choices
 // within kSingularTolerance * size() of zero counts as singular (see docs).
 inline constexpr double kSingularTolerance = 1e-12;
 
-struct Interval {
-  double lo = 0.0;
-  double hi = 0.0;
-};
+using Interval = Range;  // core/range.h
 
 struct Model {
   // 3D Hapkit dimensions (docs/mechanisms/delta.md gives the source), cm.

@@ -23,17 +23,14 @@
 #include <string_view>
 #include <vector>
 
+#include "core/range.h"
 #include "core/status.h"
 
 namespace linkscape::parallel12r {
 
 inline constexpr std::string_view kMechanismName = "parallel-12r";
 
-struct Interval {
-  double lo = 0.0;
-  double hi = 0.0;
-  bool contains(double v) const { return v >= lo && v <= hi; }
-};
+using Interval = Range;  // core/range.h
 
 // Accepted link lengths, in the model's length unit. The kinematics work in
 // lengths divided by a power of two near the reach, so results do not depend

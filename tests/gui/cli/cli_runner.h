@@ -17,6 +17,12 @@ namespace fs = std::filesystem;
 
 namespace cli_runner {
 
+// Whether the binary has the window: a build with -DLINKSCAPE_WINDOW=OFF has
+// the commands alone, and the tests that open the window skip there.
+inline constexpr bool kWindowBuilt = LINKSCAPE_TEST_WINDOW;
+#define SKIP_WITHOUT_WINDOW() \
+  if (!cli_runner::kWindowBuilt) GTEST_SKIP() << "this build has no window (-DLINKSCAPE_WINDOW=OFF)"
+
 struct CommandResult {
   int exit_code = -1;
   std::string out;  // stdout and stderr

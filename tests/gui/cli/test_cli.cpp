@@ -157,6 +157,7 @@ TEST(Cli, HelpExplainsEveryOption) {
 }
 
 TEST(Cli, ScreenshotShowsTheLinkage) {
+  SKIP_WITHOUT_WINDOW();
   if (!std::getenv("DISPLAY")) GTEST_SKIP() << "needs an X server (ctest runs this under tests/with-xvfb.sh)";
   const fs::path png = fs::temp_directory_path() / "linkscape_cli_tests" / "window.png";
   fs::remove(png);
@@ -167,10 +168,39 @@ TEST(Cli, ScreenshotShowsTheLinkage) {
 }
 
 TEST(Cli, WindowWithoutDisplaySaysSoAndShowsHeadlessCommands) {
+  SKIP_WITHOUT_WINDOW();
   const CommandResult r = run_linkscape("", "env -u DISPLAY -u WAYLAND_DISPLAY -u QT_QPA_PLATFORM");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.out.find("no display"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("linkscape eval"), std::string::npos) << r.out;
+}
+
+// Every command registers itself (gui/cli/command.h); the help lists them in
+// their order, and the footer gives each its example line.
+TEST(Cli, HelpListsEveryCommandInItsOrderWithAnExample) {
+  const CommandResult r = run_linkscape("--help", "COLUMNS=120 QT_QPA_PLATFORM=offscreen");
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const std::size_t listed = r.out.find("Subcommands:");
+  ASSERT_NE(listed, std::string::npos) << r.out;
+  std::size_t at = listed;
+  for (const char* command : {"eval", "slice", "field", "mesh", "fit", "sweep", "design", "bench"}) {
+    const std::size_t next = r.out.find(std::string("\n  ") + command + " ", at);
+    ASSERT_NE(next, std::string::npos) << command << " after position " << at << ":\n" << r.out;
+    at = next + 1;
+    EXPECT_NE(r.out.find(std::string("linkscape ") + command + " ", at), std::string::npos) << command;
+  }
+}
+
+TEST(Cli, ABuildWithoutTheWindowSaysSoAndRunsEveryCommand) {
+  if (kWindowBuilt) GTEST_SKIP() << "this build has the window (the test is for -DLINKSCAPE_WINDOW=OFF)";
+  const CommandResult r = run_linkscape("", "QT_QPA_PLATFORM=offscreen");
+  EXPECT_EQ(r.exit_code, 1) << r.out;
+  EXPECT_NE(r.out.find("this build has no window"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("linkscape eval"), std::string::npos) << r.out;
+  const CommandResult fk = run_shell("printf 'alpha,beta,gamma\\n0.1,0.2,0.3\\n' | " + std::string(LINKSCAPE_BINARY) +
+                                     " eval -m parallel-12r --fk - 2>&1");
+  EXPECT_EQ(fk.exit_code, 0) << fk.out;
+  EXPECT_EQ(parse(fk.out).rows.size(), 1u) << fk.out;
 }
 
 // ---- field commands -----------------------------------------------------------

@@ -91,6 +91,7 @@ TEST(CliHardening, APipeGetsTheWholeOutputWhenTheTemporaryFolderIsFull) {
 // A pipe named as a session is refused at once (reading it used to block),
 // and window images are PNG by name, refused before any window opens.
 TEST(CliHardening, WindowFilesOfTheWrongKindAreRefusedBeforeAnyWindow) {
+  SKIP_WITHOUT_WINDOW();
   const fs::path dir = fs::temp_directory_path() / "linkscape_cli_tests";
   fs::create_directories(dir);
   const fs::path fifo = dir / "session-pipe.json";
@@ -167,6 +168,7 @@ TEST(CliHardening, NonFiniteAndOutOfRangeOptionValuesAreRefused) {
 }
 
 TEST(CliHardening, WindowSizeIsBoundedBeforeAnyWindowOpens) {
+  SKIP_WITHOUT_WINDOW();
   // A size the OpenGL driver cannot allocate used to crash it.
   for (const std::string& size : std::vector<std::string>{"100000x100000", "9000x600", "800x600junk", "100x100"}) {
     const auto r = run_linkscape("--size " + size + " --screenshot never.png", "DISPLAY=:0");

@@ -86,6 +86,7 @@ TEST(CliTerminal, ProgressIsShownOnATerminalOnly) {
 }
 
 TEST(CliTerminal, AFileArgumentOpensASessionOrAMechanism) {
+  SKIP_WITHOUT_WINDOW();
   fs::create_directories(kDir);
   // A preset file is opened as the mechanism: its error names it.
   const fs::path preset = temp_file("terminal_bad_preset.json", R"({"mechanism": "parallel-12r", "parameters": {"L1": -1}})");
@@ -113,6 +114,7 @@ TEST(CliTerminal, AFileArgumentOpensASessionOrAMechanism) {
 }
 
 TEST(CliTerminal, TheViewAloneIsDrawnAtTheAskedSize) {
+  SKIP_WITHOUT_WINDOW();
   fs::create_directories(kDir);
   const CommandResult bad_size = run_linkscape("--view-image v.png --view-size 10x10");
   EXPECT_EQ(bad_size.exit_code, 2) << bad_size.out;

@@ -23,7 +23,7 @@
 #include "core/preset.h"
 #include "gui/window/field_job.h"
 #include "gui/window/mechanism_window.h"
-#include "gui/window/window_parts.h"
+#include "gui/window/docks.h"
 #include "gui/window/vtk_widget.h"
 #include "render/field_scene.h"
 

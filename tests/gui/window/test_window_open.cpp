@@ -32,7 +32,7 @@
 #include "gui/window/mechanism_window.h"
 #include "gui/window/session_history.h"
 #include "gui/window/vtk_widget.h"
-#include "gui/window/window_parts.h"
+#include "gui/window/background.h"
 
 using namespace linkscape;
 using linkscape::gui::MechanismWindow;

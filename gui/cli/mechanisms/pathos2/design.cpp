@@ -1,4 +1,6 @@
-#include "gui/cli/mechanisms/pathos2/design.h"
+// linkscape design: the PATHOS-II design studies of the paper — the Table 2
+// grid search over l2, l3, lp and the initial Rz (cost G of Eq. 21) and the
+// l0 sweep of Fig. 6 — written as CSV tables and one chart.
 
 #include <memory>
 #include <unistd.h>
@@ -21,7 +23,10 @@
 #include "core/mechanisms/pathos2/design.h"
 #include "core/mechanisms/pathos2/mechanism.h"
 #include "core/preset.h"
+#include "gui/cli/command.h"
+#include "gui/cli/sampling.h"
 #include "gui/figures/painted_file.h"
+#include "gui/figures/plot_axes.h"
 #include "gui/cli/terminal.h"
 #include "render/slice_image.h"
 
@@ -30,6 +35,15 @@ namespace {
 
 using pathos2::DesignOutcome;
 using pathos2::DesignRow;
+
+struct DesignOptions {
+  PresetChoice mechanism{"pathos2", {}};  // Table 1 values: l0 = 50 unless --param l0 says otherwise
+  std::string table;   // Table 2 search as CSV (one row per design)
+  std::string sweep;   // l0 sweep as CSV
+  std::string chart;   // both as a chart (.png, .svg, .pdf)
+  bool quick = false;  // a coarse grid (a smoke test, not the paper's Table 2)
+  bool quiet = false;  // no progress on stderr
+};
 
 const char* to_string(DesignOutcome o) {
   switch (o) {
@@ -68,36 +82,6 @@ std::string sweep_csv(const std::vector<pathos2::L0Row>& rows) {
 
 // ---- Chart ------------------------------------------------------------------------
 
-struct Frame {
-  QRectF plot;
-  double x0, x1, y0, y1;
-  QPointF at(double x, double y) const {
-    return {plot.left() + (x - x0) / (x1 - x0) * plot.width(), plot.bottom() - (y - y0) / (y1 - y0) * plot.height()};
-  }
-};
-
-void axes(QPainter& p, const Frame& f, const QString& xlabel, const QString& ylabel, double xstep, double ystep) {
-  const double fh = QFontMetricsF(p.font()).height();
-  p.setPen(QPen(Qt::black, 1));
-  p.drawRect(f.plot);
-  for (double x = std::ceil(f.x0 / xstep) * xstep; x <= f.x1 + 1e-9; x += xstep) {
-    const QPointF a = f.at(x, f.y0);
-    p.drawLine(a, a + QPointF(0, 0.3 * fh));
-    p.drawText(QRectF(a.x() - 2 * fh, a.y() + 0.4 * fh, 4 * fh, fh), Qt::AlignCenter, QString::number(x));
-  }
-  for (double y = std::ceil(f.y0 / ystep) * ystep; y <= f.y1 + 1e-9; y += ystep) {
-    const QPointF a = f.at(f.x0, y);
-    p.drawLine(a, a - QPointF(0.3 * fh, 0));
-    p.drawText(QRectF(a.x() - 4.4 * fh, a.y() - fh / 2, 4 * fh, fh), Qt::AlignRight | Qt::AlignVCenter, QString::number(y));
-  }
-  p.drawText(QRectF(f.plot.left(), f.plot.bottom() + 1.5 * fh, f.plot.width(), fh), Qt::AlignCenter, xlabel);
-  p.save();
-  p.translate(f.plot.left() - 4.2 * fh, f.plot.center().y());
-  p.rotate(-90);
-  p.drawText(QRectF(-f.plot.height() / 2, -fh / 2, f.plot.height(), fh), Qt::AlignCenter, ylabel);
-  p.restore();
-}
-
 // Left: movable ranges against l0 (Fig. 6). Right: the best G over lp and
 // Rz for every (l2, l3) of the Table 2 grid, with the best design and the
 // paper's (l2 = 14, l3 = 6) marked.
@@ -123,9 +107,8 @@ void draw_design_chart(QPainter& p, const QRectF& area, const pathos2::DesignGri
       for (int a = 0; a < 3; ++a) ymax = std::max(ymax, r.ranges.delta(a));
     ymax = std::ceil(ymax / 5) * 5;
     const double x0 = sweep.empty() ? 40 : sweep.front().l0, x1 = sweep.empty() ? 55 : sweep.back().l0;
-    const Frame f{QRectF(area.left() + 6 * fh, top, half - 9 * fh, bottom - top), x0, std::max(x1, x0 + 1), 0, ymax};
-    axes(p, f, "l0, distance between the base plates (cm)", "movable range from the home pose (cm)",
-         std::max(1.0, std::round((f.x1 - f.x0) / 6)), ymax <= 10 ? 2.0 : 5.0);
+    const PlotFrame f{QRectF(area.left() + 6 * fh, top, half - 9 * fh, bottom - top), x0, std::max(x1, x0 + 1), 0, ymax};
+    draw_axes(p, f, "l0, distance between the base plates (cm)", "movable range from the home pose (cm)");
     const QColor colours[] = {QColor(31, 119, 180), QColor(214, 39, 40), QColor(44, 160, 44)};
     const char* names[] = {"dLx", "dLy", "dLz"};
     for (int a = 0; a < 3; ++a) {
@@ -158,14 +141,14 @@ void draw_design_chart(QPainter& p, const QRectF& area, const pathos2::DesignGri
       l2max = std::max(l2max, r.l2), l3max = std::max(l3max, r.l3), gmax = std::max(gmax, r.G);
     }
     const double w = grid.l2.step, h = grid.l3.step;
-    const Frame f{QRectF(area.left() + half + 6 * fh, top, half - 13 * fh, bottom - top), grid.l2.lo - w / 2, l2max + w / 2,
+    const PlotFrame f{QRectF(area.left() + half + 6 * fh, top, half - 13 * fh, bottom - top), grid.l2.lo - w / 2, l2max + w / 2,
                   grid.l3.lo - h / 2, l3max + h / 2};
     for (const auto& [key, g] : best) {
       const auto c = render::colour_of(gmax > 0 ? g / gmax : 0);
       const QPointF a = f.at(key.first - w / 2, key.second + h / 2), b = f.at(key.first + w / 2, key.second - h / 2);
       p.fillRect(QRectF(a, b), QColor::fromRgbF(c[0], c[1], c[2]));
     }
-    axes(p, f, "l2 (cm)", "l3 (cm)", std::max(1.0, std::round(l2max / 10)), std::max(1.0, std::round(l3max / 10)));
+    draw_axes(p, f, "l2 (cm)", "l3 (cm)");
     auto mark = [&](double l2, double l3, const QColor& colour, const QString& label) {
       const QPointF c = f.at(l2, l3);
       p.setPen(QPen(colour, 3));
@@ -201,8 +184,9 @@ void draw_design_chart(QPainter& p, const QRectF& area, const pathos2::DesignGri
   }
 }
 
-}  // namespace
-
+// Runs the search and the sweep, writes what was asked for and prints a
+// summary (best design, the paper's design and its rank) to `out`. Throws
+// std::invalid_argument for bad options (nothing written).
 void run_design(const DesignOptions& o, std::ostream& out) {
   if (o.table.empty() && o.sweep.empty() && o.chart.empty())
     throw std::invalid_argument("design: give at least one of --table FILE.csv, --sweep FILE.csv, --chart FILE.png");
@@ -262,9 +246,9 @@ void run_design(const DesignOptions& o, std::ostream& out) {
         << r.ranges.delta(2) << " cm\n";
 }
 
-DeviceCommand add_design_command(CLI::App& app) {
+Command add_design(CLI::App& program, const DeviceHelp&) {
   auto options = std::make_shared<DesignOptions>();
-  CLI::App* cmd = app.add_subcommand(
+  CLI::App* cmd = program.add_subcommand(
       "design", "PATHOS-II design study: the Table 2 grid search (cost G of Eq. 21 over l2, l3, lp, Rz) and the "
                 "l0 sweep of Fig. 6; writes CSV tables and a chart, prints the best design");
   add_mechanism_options(*cmd, options->mechanism);
@@ -273,7 +257,12 @@ DeviceCommand add_design_command(CLI::App& app) {
   cmd->add_option("--chart", options->chart, "Both as a chart (.png, .svg, .pdf)");
   cmd->add_flag("--quick", options->quick, "A coarse grid (a smoke test, not the paper's Table 2)");
   cmd->add_flag("-q,--quiet", options->quiet, "No progress line on stderr");
-  return {cmd, [options](std::ostream& out) { run_design(*options, out); }};
+  return {cmd, Runs::Painting,  // the chart draws with QPainter
+          "", [options](std::istream&, std::ostream& out) { run_design(*options, out); }};
 }
+
+const RegisterCommand registered{70, add_design};
+
+}  // namespace
 
 }  // namespace linkscape::gui

@@ -1,4 +1,4 @@
-#include "gui/cli/sweep_command.h"
+#include "gui/cli/commands/sweep.h"
 
 #include <omp.h>
 #include <unistd.h>
@@ -23,6 +23,7 @@
 #include "core/csv.h"
 #include "core/sweep.h"
 #include "gui/figures/fit_report.h"
+#include "gui/cli/command.h"
 #include "gui/cli/sweep_ranks.h"
 #include "gui/cli/terminal.h"
 #include "render/field_vtk.h"
@@ -222,13 +223,15 @@ void run_sweep(const SweepOptions& o, std::ostream& out) {
   out << "; table " << o.output << "\n";
 }
 
-SweepCommand add_sweep_command(CLI::App& app) {
+namespace {
+
+Command add_sweep(CLI::App& program, const DeviceHelp& devices) {
   auto o = std::make_shared<SweepOptions>();
-  CLI::App* cmd = app.add_subcommand(
+  CLI::App* cmd = program.add_subcommand(
       "sweep", "Score a grid or random sample of a device's designs against a task (as fit scores each design) and "
                "field measures, as one CSV table with the Pareto front marked; runs alike on one process or under "
                "mpirun (docs/sweeps.md)");
-  add_problem_options(*cmd, o->problem);
+  add_problem_options(*cmd, o->problem, devices);
   cmd->add_option("--grid", o->grid, "Values per free parameter, its bounds included (a full grid)");
   cmd->add_option("--random", o->random, "Or this many designs drawn uniformly within the bounds");
   cmd->add_option("--seed", o->seed, "Seed of the random designs, 0 to 2^64 - 1 (the same seed, the same designs)")
@@ -273,7 +276,13 @@ SweepCommand add_sweep_command(CLI::App& app) {
       "  mpirun -np 4 linkscape sweep ...same options...         the same table, four processes\n"
       "  linkscape sweep ...same options... --resume              finish a stopped sweep from its checkpoint\n"
       "A design that cannot be built or whose evaluation fails is a row with its reason in 'error'.");
-  return {cmd, o};
+  return {cmd, Runs::Painting,  // the Pareto chart draws with QPainter
+          "linkscape sweep --task sphere:diameter=15 --grid 5 -o sweep.csv   score a grid of designs (also under mpirun)",
+          [o](std::istream&, std::ostream& out) { run_sweep(*o, out); }};
 }
+
+const RegisterCommand registered{60, add_sweep};
+
+}  // namespace
 
 }  // namespace linkscape::gui

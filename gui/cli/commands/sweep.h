@@ -10,7 +10,7 @@
 #include <memory>
 #include <string>
 
-#include "gui/cli/fit_command.h"
+#include "gui/cli/commands/fit.h"
 
 namespace linkscape::gui {
 
@@ -36,11 +36,5 @@ struct SweepOptions {
 // std::invalid_argument for bad options (exit 2, nothing written). The
 // chart needs a QGuiApplication.
 void run_sweep(const SweepOptions& options, std::ostream& out);
-
-struct SweepCommand {
-  CLI::App* command = nullptr;
-  std::shared_ptr<SweepOptions> options;
-};
-SweepCommand add_sweep_command(CLI::App& app);
 
 }  // namespace linkscape::gui

@@ -1,4 +1,4 @@
-#include "gui/cli/fit_command.h"
+#include "gui/cli/commands/fit.h"
 
 #include <unistd.h>
 
@@ -15,7 +15,7 @@
 #include "core/preset.h"
 #include "gui/figures/fit_report.h"
 #include "gui/cli/terminal.h"
-#include "gui/cli/mechanisms/commands.h"
+#include "gui/cli/command.h"
 
 namespace linkscape::gui {
 
@@ -28,10 +28,10 @@ fit::Problem make_problem(const FitOptions& o, const std::string& command) {
                                 std::to_string(task::kMaxTaskResolution) + ", got " + std::to_string(o.resolution) + ", " +
                                 std::to_string(o.refinements) + ", " + std::to_string(o.places) + " and " +
                                 std::to_string(o.task_resolution));
+  const SampledDevice device = check_sampling_options(o.device, command);
   fit::Problem problem;
-  problem.preset = load_preset(o.mechanism.name_or_path);
-  apply_overrides(problem.preset, o.mechanism.params);
-  const std::shared_ptr<const Mechanism> base = make_mechanism(problem.preset);
+  problem.preset = device.preset;
+  const std::shared_ptr<const Mechanism> base = device.mechanism;
   const MechanismInfo& info = base->info();
   problem.task = task::parse_task(o.task);
   if (info.plane_z && problem.task.centre && problem.task.centre->z() != *info.plane_z)
@@ -42,22 +42,9 @@ fit::Problem make_problem(const FitOptions& o, const std::string& command) {
   if (std::none_of(problem.criteria.begin(), problem.criteria.end(), [](const task::Criterion& c) { return c.reach(); }))
     problem.criteria.insert(problem.criteria.begin(), task::parse_criterion("reach"));
   problem.variables = fit::variables(*base, o.free, o.equal, o.bounds);
-  if (!o.pose.empty()) {
-    std::vector<double> v;
-    std::stringstream ss(o.pose);
-    for (std::string part; std::getline(ss, part, ',');) v.push_back(parse_number_or_throw(part, "--pose"));
-    if (v.size() != info.task.size())
-      throw std::invalid_argument(command + ": --pose expects " + std::to_string(info.task.size()) +
-                                  " task coordinates for " + info.name);
-    problem.pose = Eigen::Map<const Eigen::VectorXd>(v.data(), Eigen::Index(v.size()));
-  }
-  if (!o.method.empty()) index_of(info.ik_methods, o.method, "IK method for " + info.name);
-  problem.ik.method = o.method;
-  if (o.branch < 0 || o.branch >= int(info.branches.size()))
-    throw std::invalid_argument(command + ": --branch must be 0.." + std::to_string(info.branches.size() - 1) +
-                                " for " + info.name);
-  if (o.branch != 0) problem.ik.branch = o.branch;
-  problem.torque = haptics::parse_torque_rating(o.torque);
+  if (device.pose) problem.pose = *device.pose;
+  problem.ik = device.ik;
+  problem.torque = device.torque;
   problem.inscribed = {o.resolution, o.refinements, o.places};
   problem.task_resolution = o.task_resolution;
   // The criteria on the base design: an unknown measure is an input error.
@@ -110,8 +97,8 @@ void run_fit(const FitOptions& o, std::ostream& out) {
   if (!o.chart.empty()) write_fit_chart(o.chart, problem, r, info);
 }
 
-void add_problem_options(CLI::App& cmd, FitOptions& o) {
-  add_mechanism_options(cmd, o.mechanism);
+void add_problem_options(CLI::App& cmd, FitOptions& o, const DeviceHelp& devices) {
+  add_sampling_options(cmd, o.device, devices, " (default: each design's home pose)");
   cmd.add_option("--task", o.task,
                  "sphere:diameter=D (or radius=R) or box:size=X,Y,Z (or size=S), in the device's length unit; "
                  "append ,centre=x,y,z to fix the centre, else the search places it")
@@ -125,11 +112,6 @@ void add_problem_options(CLI::App& cmd, FitOptions& o) {
   cmd.add_option("--bounds", o.bounds,
                  "NAME=lo:hi (repeatable; a group held equal by any of its names); default the parameter's range in "
                  "the design panel");
-  cmd.add_option("--pose", o.pose,
-                 "Every task coordinate; those beyond x, y, z (orientation, grip) are held (default: each design's home)");
-  cmd.add_option("--method", o.method, "IK method per sample (default: the device's first)");
-  cmd.add_option("--branch", o.branch, "Assembly branch")->capture_default_str();
-  cmd.add_option("--torque", o.torque, "Torque limit of force criteria: continuous or peak")->capture_default_str();
   cmd.add_option("--resolution", o.resolution, "Samples along the box for the largest inscribed shape")
       ->capture_default_str();
   cmd.add_option("--refinements", o.refinements,
@@ -141,14 +123,16 @@ void add_problem_options(CLI::App& cmd, FitOptions& o) {
       ->capture_default_str();
 }
 
-FitCommand add_fit_command(CLI::App& app) {
+namespace {
+
+Command add_fit(CLI::App& program, const DeviceHelp& devices) {
   auto o = std::make_shared<FitOptions>();
-  CLI::App* cmd = app.add_subcommand(
+  CLI::App* cmd = program.add_subcommand(
       "fit", "Size a device to a task: the smallest design (within bounds on its free parameters) whose task volume "
              "meets every criterion, or with --size the design of that size with the largest margin; prints it with "
              "each criterion's margin, writes every design as CSV and a Pareto chart of size against the worst "
              "measure (docs/task-volumes.md)");
-  add_problem_options(*cmd, *o);
+  add_problem_options(*cmd, *o, devices);
   cmd->add_option("--size", o->size,
                   "Largest margin at this size instead of the smallest size: among designs of this size (the "
                   "device's size measure, e.g. L1 + L2 for the 12R; length unit) within the bounds, the one whose "
@@ -162,7 +146,13 @@ FitCommand add_fit_command(CLI::App& app) {
                   "criterion's worst value and margin; the smallest design first, then every design by size");
   cmd->add_option("--chart", o->chart, "Pareto chart, size against the worst measure (.png, .svg, .pdf)");
   cmd->add_flag("-q,--quiet", o->quiet, "No progress line on stderr");
-  return {cmd, o};
+  return {cmd, Runs::Painting,  // the Pareto chart draws with QPainter
+          "linkscape fit --task sphere:diameter=15 --criterion 'cond<3' -o fit.csv   the smallest design that serves a task",
+          [o](std::istream&, std::ostream& out) { run_fit(*o, out); }};
 }
+
+const RegisterCommand registered{50, add_fit};
+
+}  // namespace
 
 }  // namespace linkscape::gui

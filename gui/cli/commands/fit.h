@@ -10,21 +10,17 @@
 #include <vector>
 
 #include "core/fit.h"
-#include "gui/cli/headless.h"
+#include "gui/cli/sampling.h"
 
 namespace linkscape::gui {
 
 struct FitOptions {
-  PresetChoice mechanism;
+  SamplingOptions device;              // the device, pose (default: each design's home), method, branch, torque
   std::string task;                    // "sphere:diameter=15[,centre=x,y,z]" or "box:size=..."
   std::vector<std::string> criteria;   // "cond<3", "force_iso>1", ...; reach is always implied
   std::vector<std::string> free;       // free parameters (empty: the design panel's)
   std::vector<std::string> equal;      // groups held equal, e.g. "L1,L2"
   std::vector<std::string> bounds;     // "NAME=lo:hi"
-  std::string pose;                    // every task coordinate; beyond x, y, z held (default: each design's home)
-  std::string method;                  // IK method (default: the device's first)
-  int branch = 0;
-  std::string torque = "continuous";
   int resolution = 64, refinements = 2, places = 3;  // the largest inscribed shape (docs/task-volumes.md)
   int task_resolution = 24;            // the task evaluated at its centre
   double tolerance = 1e-3;             // relative, on the size (or the margin search's step)
@@ -45,13 +41,7 @@ void run_fit(const FitOptions& options, std::ostream& out);
 // parameters and sampling options (every FitOptions field but size,
 // tolerance, output, chart and quiet), and the problem they describe,
 // checked (messages start with `command`; throws std::invalid_argument).
-void add_problem_options(CLI::App& command, FitOptions& options);
+void add_problem_options(CLI::App& command, FitOptions& options, const DeviceHelp& devices);
 fit::Problem make_problem(const FitOptions& options, const std::string& command);
-
-struct FitCommand {
-  CLI::App* command = nullptr;
-  std::shared_ptr<FitOptions> options;
-};
-FitCommand add_fit_command(CLI::App& app);
 
 }  // namespace linkscape::gui

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <tuple>
 #include <chrono>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <iomanip>
@@ -22,7 +23,8 @@
 #include "core/preset.h"
 #include "core/simd.h"
 #include "core/stability.h"
-#include "gui/cli/headless.h"
+#include "gui/cli/command.h"
+#include "gui/cli/sampling.h"
 #include "gui/figures/method_chart.h"
 #include <vtkPolyData.h>
 
@@ -43,15 +45,32 @@ Grid cube(const Mechanism& m, int n) {
   return Grid::box(box.min(), box.max(), {n, n, n});
 }
 
+struct BenchOptions {
+  PresetChoice mechanism;
+  bool quick = false;   // smaller grids, fewer repeats (for a smoke test)
+  std::string csv;      // also write the figures as CSV (plus <stem>.methods.csv, <stem>.sweeps.csv)
+  std::string chart;    // error-against-time chart of every method (.png, .svg, .pdf)
+  std::string sweeps;   // error-against-eps chart of the stability sweeps (.png, .svg, .pdf)
+  // Methods and sweeps of the chosen device and these presets only (side by
+  // side); empty: the chosen device and every registered one.
+  std::vector<std::string> compare;
+};
+// Measures field throughput, slice and volume times, isosurfaces, peak
+// memory and accuracy against resolution, then every numerical method's time
+// per evaluation and error (core/method_harness.h) and the stability sweeps
+// (core/stability.h); prints a report to `out`. Charts need a QGuiApplication.
 struct Row {
   std::string what;
   double value;
   std::string unit;
 };
 
-}  // namespace
-
 void run_bench(const BenchOptions& o, std::ostream& out) {
+  for (const std::string* chart : {&o.chart, &o.sweeps}) {
+    const std::string ext = std::filesystem::path(*chart).extension().string();
+    if (!chart->empty() && ext != ".png" && ext != ".svg" && ext != ".pdf")
+      throw std::invalid_argument("bench: --chart and --sweeps must end in .png, .svg or .pdf, got '" + *chart + "'");
+  }
   // Fields are measured for the chosen device; methods and sweeps for it and
   // every registered device (its shipped preset; --mechanism/--param set the
   // parameters of the one they name), or for it and the --compare presets.
@@ -248,4 +267,40 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
   }
 }
 
+Command add_bench(CLI::App& program, const DeviceHelp&) {
+  auto o = std::make_shared<BenchOptions>();
+  CLI::App* cmd = program.add_subcommand(
+      "bench",
+      "Measure field throughput, slice/volume/isosurface times, peak memory, accuracy vs resolution, and every "
+      "numerical method's time per evaluation against its error, with stability sweeps towards the singular sets");
+  add_mechanism_options(*cmd, o->mechanism);
+  cmd->add_flag("--quick", o->quick, "Small grids and single runs (a smoke test, not a measurement)");
+  cmd->add_option("--csv", o->csv,
+                  "Also write the figures to this CSV file (measurement,value,unit, every method included), "
+                  "the method table to <stem>.methods.csv and the sweeps to <stem>.sweeps.csv");
+  cmd->add_option("--chart", o->chart,
+                  "Write the error-against-time chart of every method with its Pareto front (.png, .svg, .pdf)");
+  cmd->add_option("--sweeps", o->sweeps,
+                  "Write the error-against-distance chart of the sweeps towards each singular set "
+                  "(.png, .svg, .pdf)");
+  cmd->add_option("--compare", o->compare,
+                  "Measure the methods and sweeps of these presets beside the chosen device (side by side in "
+                  "--chart and --sweeps), e.g. -m delta-described --compare delta; default: every registered "
+                  "device")
+      ->delimiter(',');
+  cmd->footer(
+      "parallel-12r (planar IK), delta (closed IK) and pathos2 fields use SIMD kernels with the best instruction set\n"
+      "of the CPU. Environment, for every command:\n"
+      "  LINKSCAPE_SIMD_TARGET=AVX2|SSE4|...|baseline   use at most this instruction set\n"
+      "  LINKSCAPE_FIELD_KERNEL=scalar|vector|vector-mirrored   those kernels: scalar = the reference, one sample at\n"
+      "    a time; vector = without the mirror symmetries (12R in x, Delta in y); default vector-mirrored");
+
+  return {cmd, Runs::Painting,  // the charts draw text with QPainter
+          "linkscape bench --chart m.png --sweeps s.png --csv b.csv   speed and accuracy of every method",
+          [o](std::istream&, std::ostream& out) { run_bench(*o, out); }};
+}
+
+const RegisterCommand registered{80, add_bench};
+
+}  // namespace
 }  // namespace linkscape::gui

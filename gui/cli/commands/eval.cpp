@@ -1,0 +1,262 @@
+// linkscape eval: inverse or forward kinematics of each row of a CSV, written as CSV.
+#include <Eigen/Core>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/atomic_file.h"
+#include "core/csv.h"
+#include "core/mechanism.h"
+#include "gui/cli/command.h"
+#include "gui/cli/sampling.h"
+#include "gui/cli/terminal.h"
+
+namespace linkscape::gui {
+namespace {
+
+struct EvalOptions {
+  PresetChoice mechanism;
+  std::string ik_file;  // CSV of task coordinates ("-" = stdin); exclusive with fk_file
+  std::string fk_file;  // CSV of actuator values
+  std::string method;   // empty: the device's first IK method
+  std::optional<int> branch;
+  std::string seed;     // actuator values, comma separated
+  double tolerance = 1e-10;
+  int max_iterations = 100;
+  std::string output = "-";  // file, or "-" for stdout
+  bool quiet = false;        // no summary on stderr
+};
+
+Table read_input(const std::string& file, std::istream& stdin_stream) {
+  if (file == "-") return read_csv(stdin_stream, "<stdin>");
+  std::ifstream in(file);
+  if (!in) throw std::invalid_argument("cannot open input file '" + file + "'");
+  return read_csv(in, file);
+}
+
+// Every value a command reads must be finite: the first that is not is an
+// error naming its file, line and column.
+void require_finite(const Table& table, const std::vector<std::size_t>& columns) {
+  for (std::size_t r = 0; r < table.rows.size(); ++r)
+    for (std::size_t c : columns)
+      if (!std::isfinite(table.rows[r][c]))
+        throw std::invalid_argument(table.where(r) + ": column '" + table.columns[c] + "': " +
+                                    format_number(table.rows[r][c]) + " is not a finite number");
+}
+
+// Runs `body` for each row; an invalid_argument thrown for a row is reported
+// with the row's file and line.
+template <typename Body>
+void for_each_row(const Table& table, Body body) {
+  for (std::size_t r = 0; r < table.rows.size(); ++r) {
+    try {
+      body(table.rows[r]);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(table.where(r) + ": " + e.what());
+    }
+  }
+}
+
+std::string empties(std::size_t n) { return std::string(n, ','); }
+
+// Inverse kinematics of each row of task coordinates: one output row per
+// solution (branch), or one row that says why there is none. Columns as
+// MechanismInfo::EvalColumns describes.
+void write_ik(const Mechanism& m, const Table& table, const IkOptions& ik, std::ostream& out) {
+  const MechanismInfo& info = m.info();
+  const auto& c = info.eval_columns;
+  std::vector<std::size_t> col;
+  for (const Quantity& q : info.task) col.push_back(table.column(q.name));
+  require_finite(table, col);
+  out << joined_names(info.task) << (c.ik_branch ? ",branch" : "") << ",status"
+      << (c.ik_failing_part.empty() ? "" : "," + c.ik_failing_part) << "," << joined_names(info.actuators);
+  for (const NamedItem& measure : info.measures) out << "," << measure.name;
+  out << (c.ik_det ? ",det" : "") << (c.ik_diagnostics ? ",residual,iterations" : "") << "\n";
+  const std::size_t after_status = info.actuators.size() + info.measures.size() + (c.ik_det ? 1 : 0) +
+                                   (c.ik_diagnostics ? 2 : 0) + (c.ik_failing_part.empty() ? 0 : 1);
+  for_each_row(table, [&](const std::vector<double>& row) {
+    Eigen::VectorXd x(Eigen::Index(col.size()));
+    std::string where;
+    for (std::size_t k = 0; k < col.size(); ++k) {
+      x(Eigen::Index(k)) = row[col[k]];
+      where += csv_number(row[col[k]]) + ",";
+    }
+    const IkResult r = m.inverse(x, ik);
+    for (const IkSolution& s : r.solutions) {
+      out << where;
+      if (c.ik_branch) out << s.branch << ",";
+      out << to_string(s.status);
+      if (!c.ik_failing_part.empty()) out << "," << csv_text(s.failing_part);
+      for (Eigen::Index k = 0; k < s.q.size(); ++k) out << "," << csv_number(s.q(k));
+      const Measures meas = m.measures(s.q, x);
+      for (double v : meas.values) out << "," << csv_number(v);
+      if (c.ik_det) out << "," << csv_number(meas.det);
+      if (c.ik_diagnostics) out << "," << csv_number(s.residual) << "," << s.iterations;
+      out << "\n";
+    }
+    if (r.solutions.empty()) {
+      const Status status = r.status == Status::Ok ? Status::NotConverged : r.status;
+      out << where;
+      if (c.ik_branch) out << (ik.branch ? std::to_string(*ik.branch) : "") << ",";
+      out << csv_text(r.status_text.empty() ? std::string(to_string(status)) : r.status_text);
+      if (!c.ik_failing_part.empty()) out << "," << csv_text(r.failing_part) << empties(after_status - 1) << "\n";
+      else out << empties(after_status) << "\n";
+    }
+  });
+}
+
+// Forward kinematics of each row of actuator values (and the task
+// coordinates the device reads as inputs), from the home pose or the row's
+// seed_<coordinate> columns: a row's answer depends on that row alone.
+void write_fk(const Mechanism& m, const Table& table, std::ostream& out) {
+  const MechanismInfo& info = m.info();
+  const auto& c = info.eval_columns;
+  std::vector<std::size_t> q_col, input_col, used;
+  for (const Quantity& q : info.actuators) used.push_back(q_col.emplace_back(table.column(q.name)));
+  std::vector<int> input_index, result_index;  // into info.task
+  for (std::size_t k = 0; k < info.task.size(); ++k) {
+    const bool input = std::count(info.fk_inputs.begin(), info.fk_inputs.end(), info.task[k].name) > 0;
+    (input ? input_index : result_index).push_back(int(k));
+    if (input) used.push_back(input_col.emplace_back(table.column(info.task[k].name)));
+  }
+  // Seeds: all of seed_<result coordinate> or none.
+  std::vector<std::size_t> seed_col;
+  std::string seed_names;
+  for (int k : result_index) {
+    const std::string name = "seed_" + info.task[std::size_t(k)].name;
+    seed_names += (seed_names.empty() ? "" : ",") + name;
+    if (std::count(table.columns.begin(), table.columns.end(), name)) seed_col.push_back(table.column(name));
+  }
+  if (!seed_col.empty() && seed_col.size() != result_index.size())
+    throw std::invalid_argument(table.origin + ": give all of the seed columns (" + seed_names + ") or none");
+  used.insert(used.end(), seed_col.begin(), seed_col.end());
+  require_finite(table, used);
+
+  out << joined_names(info.actuators);
+  for (int k : input_index) out << "," << info.task[std::size_t(k)].name;
+  if (c.fk_status) out << ",status";
+  for (int k : result_index) out << "," << info.task[std::size_t(k)].name;
+  if (c.fk_measures) {
+    for (const NamedItem& measure : info.measures) out << "," << measure.name;
+    out << ",det";
+  }
+  out << (c.fk_diagnostics ? ",iterations,residual" : "") << "\n";
+  const Eigen::VectorXd home = m.home_task();
+  for_each_row(table, [&](const std::vector<double>& row) {
+    Eigen::VectorXd q(Eigen::Index(q_col.size()));
+    for (std::size_t k = 0; k < q_col.size(); ++k) q(Eigen::Index(k)) = row[q_col[k]];
+    FkOptions fo;
+    fo.seed = home;
+    for (std::size_t k = 0; k < input_index.size(); ++k) (*fo.seed)(input_index[k]) = row[input_col[k]];
+    for (std::size_t k = 0; k < seed_col.size(); ++k) (*fo.seed)(result_index[k]) = row[seed_col[k]];
+    for (std::size_t k = 0; k < q_col.size(); ++k) out << (k ? "," : "") << csv_number(row[q_col[k]]);
+    for (std::size_t k = 0; k < input_col.size(); ++k) out << "," << csv_number(row[input_col[k]]);
+    const FkResult r = m.forward(q, fo);
+    const bool ok = r.status == Status::Ok;
+    if (c.fk_status) out << "," << (r.status_text.empty() ? std::string(to_string(r.status)) : r.status_text);
+    for (int k : result_index) out << "," << (ok ? csv_number(r.x(k)) : "");
+    if (c.fk_measures) {
+      const Measures meas = ok ? m.measures(q, r.x) : Measures{};
+      for (std::size_t k = 0; k < info.measures.size(); ++k)
+        out << "," << (ok && k < meas.values.size() ? csv_number(meas.values[k]) : "");
+      out << "," << (ok ? csv_number(meas.det) : "");
+    }
+    if (c.fk_diagnostics) {
+      if (r.status_text.empty()) out << "," << r.iterations << "," << csv_number(r.residual);
+      else out << ",,";
+    }
+    out << "\n";
+  });
+}
+
+// Writes the evaluation as CSV. Throws std::invalid_argument for bad input.
+void run_eval(const EvalOptions& o, std::istream& stdin_stream, std::ostream& stdout_stream) {
+  if (o.ik_file.empty() == o.fk_file.empty())
+    throw std::invalid_argument("eval: give exactly one of --ik FILE or --fk FILE");
+  if (!(o.tolerance > 0) || !std::isfinite(o.tolerance))
+    throw std::invalid_argument("eval: --tolerance must be a positive finite number, got " + format_number(o.tolerance));
+  if (o.max_iterations < 1)
+    throw std::invalid_argument("eval: --max-iterations must be at least 1, got " + std::to_string(o.max_iterations));
+  const std::shared_ptr<const Mechanism> m = make_mechanism(chosen_preset(o.mechanism));
+  const MechanismInfo& info = m->info();
+  IkOptions ik = checked_ik(info, o.method, o.branch, "eval");  // before reading input
+  if (!o.seed.empty()) {
+    std::vector<double> seed;
+    std::stringstream ss(o.seed);
+    for (std::string part; std::getline(ss, part, ',');) seed.push_back(parse_number_or_throw(part, "--seed"));
+    if (seed.size() != info.actuators.size())
+      throw std::invalid_argument("eval: --seed expects " + joined_names(info.actuators) + " (" +
+                                  std::to_string(info.actuators.size()) + " values) for " + info.name);
+    ik.seed = Eigen::Map<const Eigen::VectorXd>(seed.data(), Eigen::Index(seed.size()));
+  }
+  ik.tolerance = o.tolerance;
+  ik.max_iterations = o.max_iterations;
+  const auto start = std::chrono::steady_clock::now();
+  const Table table = read_input(o.ik_file.empty() ? o.fk_file : o.ik_file, stdin_stream);
+  std::ostringstream result;
+  if (!o.ik_file.empty()) write_ik(*m, table, ik, result);
+  else write_fk(*m, table, result);
+
+  if (o.output == "-") {
+    stdout_stream << result.str();
+  } else {
+    write_text_atomically(o.output, result.str());
+  }
+  // Written to stdout, the rows themselves say it worked; a summary there would only get in a pipe's way.
+  if (o.output != "-")
+    summary(o.quiet, std::string("eval: ") + (o.ik_file.empty() ? "forward" : "inverse") + " kinematics of " +
+                       std::to_string(table.rows.size()) + (table.rows.size() == 1 ? " row (" : " rows (") + info.name + ") written to " +
+                       o.output + " in " + seconds_since(start));
+}
+
+Command add_eval(CLI::App& program, const DeviceHelp& help) {
+  auto o = std::make_shared<EvalOptions>();
+  CLI::App* cmd = program.add_subcommand("eval", "Evaluate kinematics for each CSV row; writes CSV (stdout by default)");
+  add_mechanism_options(*cmd, o->mechanism);
+  auto* ik = cmd->add_option(
+      "--ik", o->ik_file,
+      "Inverse kinematics of the targets in a CSV whose header names the device's task coordinates (" +
+          help.per_device([](const MechanismInfo& i) { return with_units(i.task); }) +
+          "; '-' = stdin). Writes one row per branch found: the target, branch, status, actuators, measures and "
+          "diagnostics, as far as the device reports them");
+  auto* fk = cmd->add_option(
+      "--fk", o->fk_file,
+      "Forward kinematics of a CSV whose header names the device's actuators and FK inputs (" +
+          help.per_device([](const MechanismInfo& i) {
+            std::vector<Quantity> header = i.actuators;
+            for (const Quantity& q : i.task)
+              if (std::count(i.fk_inputs.begin(), i.fk_inputs.end(), q.name)) header.push_back(q);
+            return with_units(header);
+          }) +
+          "). Iterative FK starts from the home pose, or from the row's seed_<coordinate> columns when given, so "
+          "each row's answer depends on that row alone; writes the actuators, the task coordinates, and the "
+          "status, measures and diagnostics as far as the device reports them");
+  ik->excludes(fk);
+  cmd->add_option("--method", o->method,
+                  "IK method, one of the device's (default: its first). " +
+                      help.per_device([](const MechanismInfo& i) { return names(i.ik_methods, ", ", true); }))
+      ->capture_default_str();
+  cmd->add_option("--branch", o->branch, "Only this assembly branch, an index of the device's (" + branches_help(help) + ")");
+  cmd->add_option("--seed", o->seed,
+                  "Start for iterative IK methods (closed forms do not use it): the device's actuator values, "
+                  "comma separated (default: each branch's home pose)");
+  cmd->add_option("--tolerance", o->tolerance, "Accept a solution when residual <= tolerance * the device's size")
+      ->capture_default_str();
+  cmd->add_option("--max-iterations", o->max_iterations, "Iteration limit for newton/dls")->capture_default_str();
+  cmd->add_option("-o,--output", o->output, "Output CSV file (written atomically); '-' = stdout")->capture_default_str();
+  cmd->add_flag("-q,--quiet", o->quiet, "No summary on stderr (there is none when the rows go to stdout)");
+  return {cmd, Runs::Headless,
+          "linkscape eval --mechanism NAME --ik targets.csv     inverse kinematics of each row's task coordinates\n"
+          "  linkscape eval --mechanism NAME --fk actuators.csv   forward kinematics of each row's actuator values",
+          [o](std::istream& in, std::ostream& out) { run_eval(*o, in, out); }};
+}
+
+const RegisterCommand registered{10, add_eval};
+
+}  // namespace
+}  // namespace linkscape::gui

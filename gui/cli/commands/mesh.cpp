@@ -1,0 +1,124 @@
+// linkscape mesh: a workspace isosurface written as a mesh, with its statistics.
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/csv.h"
+#include "core/field.h"
+#include "core/haptics.h"
+#include "core/size_text.h"
+#include "gui/cli/command.h"
+#include "gui/cli/field_sampling.h"
+#include "gui/cli/terminal.h"
+#include <vtkPolyData.h>
+
+#include "core/task.h"
+#include "render/workspace_mesh.h"
+
+namespace linkscape::gui {
+namespace {
+
+struct MeshOptions {
+  FieldOptions sampling;
+  std::string surface = "reach";   // "reach", "cond<T" or a haptic criterion ("force_iso>2")
+  std::string resolution = "128";
+  std::vector<double> box;
+  double decimate = 0;             // max decimation error, length unit; 0 = off
+  std::string output;              // .stl .obj .ply .off .vtp
+};
+
+// reach, cond<T (the device's first measure; both measures for six-DOF
+// devices), or a haptic criterion such as force_iso>2 (core/task.h).
+render::SurfaceRequest parse_surface(const std::string& text, const MechanismInfo& info) {
+  render::SurfaceRequest r;
+  task::Criterion c;
+  try {
+    c = task::parse_criterion(text);
+    if (c.measure != "reach" && c.measure != "cond" && !c.haptic()) throw std::invalid_argument("not a surface");
+  } catch (const std::invalid_argument&) {
+    throw std::invalid_argument("--surface expects reach, cond<T with T > 1 (e.g. cond<3) or a haptic criterion "
+                                "(force_iso>F, force_max>F in N, resolution<R in mm, inertia<M in kg) for " +
+                                info.name + ", got '" + text + "'" + task::quoting_hint(text));
+  }
+  if (c.measure == "cond") {
+    r.surface = render::Surface::WellConditioned;
+    r.cond_threshold = c.threshold;
+  } else if (c.haptic()) {
+    r.surface = render::Surface::Threshold;
+    r.field = c.measure;
+    r.above = c.above;
+    r.threshold = c.threshold;
+  }
+  return r;
+}
+
+
+void run_mesh(const MeshOptions& o, std::ostream& out) {
+  if (o.output.empty()) throw std::invalid_argument("mesh: --output is empty; give a file (.stl, .obj, .ply, .off, .vtp)");
+  const std::string ext = extension_of(o.output);
+  if (ext != ".stl" && ext != ".obj" && ext != ".ply" && ext != ".off" && ext != ".vtp")
+    throw std::invalid_argument("mesh: --output must end in .stl, .obj, .ply, .off or .vtp, got '" + o.output + "'");
+  if (!(o.decimate >= 0) || !std::isfinite(o.decimate))
+    throw std::invalid_argument("--decimate must be a finite number >= 0, got " + format_number(o.decimate));
+  Sampling sampling = make_sampling(o.sampling, "mesh");
+  render::SurfaceRequest request = parse_surface(o.surface, sampling.mechanism->info());
+  request.decimate_error = o.decimate;
+  if (request.surface == render::Surface::Threshold) {
+    sampling.with_haptics();
+    if (request.field == "inertia" && !sampling.device_data().has_inertia())
+      throw std::invalid_argument("--surface inertia<M: the preset gives no rotor_inertia_kgm2 for every actuator");
+  }
+  const Grid grid = box_grid(sampling, o.box, o.resolution);
+  check_peak_memory(grid, sampling.bytes_per_sample, kPeakMesh, "mesh");
+  ProgressLine line(o.sampling.quiet);
+  const Field field = sample(sampling, grid, line);
+  line.step("extracting the surface");
+  const vtkSmartPointer<vtkPolyData> mesh = render::extract_surface(field, request);
+  const render::MeshStats s = render::mesh_stats(mesh);
+  if (s.faces == 0) throw std::invalid_argument("mesh: the surface does not occur in the box (nothing written)");
+  line.step("writing " + o.output);
+  render::write_mesh(mesh, o.output, field, request);
+  line.clear();
+  out << "wrote " << o.output << ": " << s.vertices << " vertices, " << s.faces << " triangles, "
+      << (s.boundary_edges == 0 && s.non_manifold_edges == 0 ? "watertight" : "NOT watertight")
+      << ", Euler characteristic " << s.euler_characteristic << "\n"
+      << "volume " << s.volume << " " << sampling.length_unit() << "^3, area " << s.area << " " << sampling.length_unit()
+      << "^2, bounds x [" << s.min.x() << ", " << s.max.x() << "] y [" << s.min.y() << ", " << s.max.y() << "] z ["
+      << s.min.z() << ", " << s.max.z() << "]\n";
+  if (request.surface == render::Surface::Reach)
+    if (const auto v = sampling.mechanism->analytic_reach_volume())
+      out << "analytic volume " << *v << " " << sampling.length_unit() << "^3 (error " << 100.0 * (s.volume - *v) / *v
+          << " %)\n";
+}
+
+Command add_mesh(CLI::App& program, const DeviceHelp& help) {
+  auto o = std::make_shared<MeshOptions>();
+  CLI::App* cmd = program.add_subcommand(
+      "mesh", "Extract a workspace isosurface and write a mesh (STL, OBJ, PLY, OFF, VTP); prints its statistics");
+  add_field_options(*cmd, o->sampling, help);
+  cmd->add_option("--surface", o->surface,
+                  "reach (boundary of the reachable set), cond<T (well-conditioned region, e.g. 'cond<3', "
+                  "quoted for the shell), or the region meeting a haptic criterion: force_iso>F, force_max>F "
+                  "(N), resolution<R (mm), inertia<M (kg)")
+      ->capture_default_str();
+  cmd->add_option("--resolution", o->resolution, "Samples per axis: N or NXxNYxNZ")->capture_default_str();
+  cmd->add_option("--box", o->box, "x_min,x_max,y_min,y_max,z_min,z_max; default the device's sampling box")
+      ->delimiter(',')
+      ->expected(6);
+  cmd->add_option("--decimate", o->decimate,
+                  "Simplify the mesh; the largest allowed deviation in the length unit (0 = off)")
+      ->capture_default_str();
+  cmd->add_option("-o,--output", o->output, "Output: .stl, .obj, .ply, .off or .vtp")->required();
+
+  return {cmd, Runs::Headless, "linkscape mesh --surface 'cond<3' --output ws.stl    workspace isosurface mesh",
+          [o](std::istream&, std::ostream& out) { run_mesh(*o, out); }};
+}
+
+const RegisterCommand registered{40, add_mesh};
+
+}  // namespace
+}  // namespace linkscape::gui

@@ -1,0 +1,88 @@
+#include "gui/cli/sampling.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/csv.h"
+
+namespace linkscape::gui {
+
+void add_mechanism_options(CLI::App& app, PresetChoice& choice) {
+  std::string presets;
+  for (const auto& n : available_presets()) presets += (presets.empty() ? "" : ", ") + n;
+  app.add_option("-m,--mechanism", choice.name_or_path,
+                 "Preset name (" + presets + ") or path to a preset .json file")
+      ->capture_default_str();
+  app.add_option("-p,--param", choice.params,
+                 "Override a model parameter, key=value in the preset's unit (repeatable), e.g. L1=1");
+}
+
+void add_sampling_options(CLI::App& app, SamplingOptions& s, const DeviceHelp& help, const std::string& pose_default) {
+  add_mechanism_options(app, s.mechanism);
+  app.add_option("--method", s.method,
+                 "IK method per sample, one of the device's (default: its first; " +
+                     help.per_device([](const MechanismInfo& i) { return names(i.ik_methods, ", "); }) +
+                     "); where a method falls back to another, the one that served is recorded per sample")
+      ->capture_default_str();
+  app.add_option("--branch", s.branch, "Assembly branch evaluated, an index of the device's (" + branches_help(help) + ")")
+      ->capture_default_str();
+  app.add_option("--pose", s.pose,
+                 "The task pose, all of the device's task coordinates comma separated (" +
+                     help.per_device([](const MechanismInfo& i) { return i.task.size() > 3 ? with_units(i.task) : ""; }) +
+                     "): the coordinates after x, y, z (orientation, grip) are held fixed" + pose_default);
+  app.add_option("--torque", s.torque,
+                 "Torque limit of the haptic fields and force criteria (force_iso, force_max): continuous or peak, "
+                 "from the preset's actuator_data (docs/haptic-measures.md)")
+      ->capture_default_str();
+}
+
+IkOptions checked_ik(const MechanismInfo& info, const std::string& method, std::optional<int> branch,
+                     const std::string& command) {
+  IkOptions ik;
+  if (!method.empty()) index_of(info.ik_methods, method, "IK method for " + info.name);
+  ik.method = method;
+  if (branch && (*branch < 0 || *branch >= int(info.branches.size())))
+    throw std::invalid_argument(command + ": --branch must be 0.." + std::to_string(info.branches.size() - 1) +
+                                " for " + info.name + ", got " + std::to_string(*branch));
+  ik.branch = branch;
+  return ik;
+}
+
+SampledDevice check_sampling_options(const SamplingOptions& s, const std::string& command) {
+  SampledDevice out;
+  out.preset = chosen_preset(s.mechanism);
+  out.mechanism = make_mechanism(out.preset);
+  out.torque = haptics::parse_torque_rating(s.torque);
+  const MechanismInfo& info = out.mechanism->info();
+  if (!s.pose.empty()) {
+    const auto v = parse_numbers(s.pose, info.task.size(),
+                                 command + ": --pose expects " + joined_names(info.task) + " for " + info.name);
+    out.pose = Eigen::Map<const Eigen::VectorXd>(v.data(), Eigen::Index(v.size()));
+  }
+  out.ik = checked_ik(info, s.method, s.branch, command);
+  if (s.branch == 0) out.ik.branch.reset();
+  return out;
+}
+
+std::vector<double> parse_numbers(const std::string& text, std::size_t count, const std::string& what) {
+  std::vector<double> v;
+  std::stringstream ss(text);
+  std::string part;
+  while (std::getline(ss, part, ',')) {
+    const std::optional<double> x = parse_number(part);
+    if (!x || !std::isfinite(*x)) throw std::invalid_argument(what + ", got '" + text + "'");
+    v.push_back(*x);
+  }
+  if (v.size() != count || (!text.empty() && text.back() == ','))
+    throw std::invalid_argument(what + ", got '" + text + "'");
+  return v;
+}
+
+std::string joined_names(const std::vector<Quantity>& items, const std::string& prefix) {
+  std::string out;
+  for (const Quantity& q : items) out += (out.empty() ? "" : ",") + prefix + q.name;
+  return out;
+}
+
+}  // namespace linkscape::gui

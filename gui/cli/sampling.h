@@ -1,0 +1,62 @@
+// The options every command that samples a device shares, declared once and
+// checked once: --mechanism --param --method --branch --pose --torque.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "core/haptics.h"
+#include "core/mechanism.h"
+#include "core/preset.h"
+#include "gui/cli/device_help.h"
+
+namespace linkscape::gui {
+
+struct SamplingOptions {
+  PresetChoice mechanism;
+  std::string method;  // empty: the device's first IK method
+  int branch = 0;
+  // The task pose, every coordinate: all but x, y, z are held fixed over a
+  // grid. Empty: the command's default (the home pose).
+  std::string pose;
+  // Torque limit of the haptic fields: "continuous" or "peak" (core/haptics.h).
+  std::string torque = "continuous";
+};
+
+// --mechanism and --param alone, for a command that takes a device without
+// sampling it (eval, bench, design) and for the window.
+void add_mechanism_options(CLI::App& app, PresetChoice& choice);
+
+// All six. `pose_default` ends the --pose help: what an absent pose means.
+void add_sampling_options(CLI::App& app, SamplingOptions& options, const DeviceHelp& devices,
+                          const std::string& pose_default);
+
+// The options checked against the device they choose.
+struct SampledDevice {
+  Preset preset;  // with the --param overrides
+  std::shared_ptr<const Mechanism> mechanism;
+  std::optional<Eigen::VectorXd> pose;  // --pose; none: the command's default
+  IkOptions ik;                         // method and branch (none for branch 0)
+  haptics::TorqueRating torque = haptics::TorqueRating::Continuous;
+};
+
+// Throws std::invalid_argument, its message starting with "`command`: ",
+// for an unknown preset, parameter, method or torque rating, a branch the
+// device lacks or a pose that is not all of its task coordinates.
+SampledDevice check_sampling_options(const SamplingOptions& options, const std::string& command);
+
+// The IK method and branch of `info`'s, checked (eval's optional branch included).
+IkOptions checked_ik(const MechanismInfo& info, const std::string& method, std::optional<int> branch,
+                     const std::string& command);
+
+// `count` finite numbers, comma separated; else std::invalid_argument("`what`, got 'text'").
+std::vector<double> parse_numbers(const std::string& text, std::size_t count, const std::string& what);
+
+// "x,y,z" (with `prefix` before each: "seed_x,...").
+std::string joined_names(const std::vector<Quantity>& items, const std::string& prefix = "");
+
+}  // namespace linkscape::gui

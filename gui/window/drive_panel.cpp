@@ -1,0 +1,186 @@
+#include "gui/window/drive_panel.h"
+
+#include <QComboBox>
+#include <QFormLayout>
+#include <QGroupBox>
+#include <QLabel>
+#include <QSignalBlocker>
+#include <QSlider>
+#include <QStringList>
+#include <QVBoxLayout>
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "gui/window/device_state.h"
+#include "gui/window/quantity_control.h"
+
+namespace linkscape::gui {
+
+DrivePanel::DrivePanel(const MechanismInfo& info, QWidget* parent) : QWidget(parent) {
+  QWidget* w = this;
+  auto* column = new QVBoxLayout(w);
+  auto* top = new QFormLayout;
+  drive_box_ = new QComboBox(w);
+  drive_box_->setObjectName("driveBox");
+  drive_box_->addItems({tr("Task coordinates (inverse kinematics)"), tr("Actuators (forward kinematics)")});
+  drive_box_->setToolTip(tr("Which sliders move the device; the others follow."));
+  top->addRow(tr("Drive"), drive_box_);
+  // Both modes where the device has both kinds of kinematics.
+  if (info.ik_methods.empty() || info.fk_methods.empty()) drive_box_->setEnabled(false);
+  connect(drive_box_, &QComboBox::activated, this, [this](int i) { emit driveChosen(i == 1 ? Drive::Actuators : Drive::Task); });
+  branch_box_ = new QComboBox(w);
+  branch_box_->setObjectName("branchBox");
+  for (const auto& b : info.branches) branch_box_->addItem(qs(b));
+  branch_box_->setToolTip(tr("Assembly branch of inverse kinematics. Dragging and the sliders keep the current one."));
+  connect(branch_box_, &QComboBox::activated, this, &DrivePanel::branchChosen);
+  if (info.branches.size() > 1) top->addRow(tr("Branch"), branch_box_);
+  else branch_box_->hide();
+  column->addLayout(top);
+
+  task_group_ = new QGroupBox(tr("Task"), w);
+  auto* task_form = new QFormLayout(task_group_);
+  for (std::size_t k = 0; k < info.task.size(); ++k)
+    task_controls_.push_back(make_control(task_group_, task_form, info.task[k],
+                                          [this, k] { emit taskEdited(int(k), task_controls_[k]->value()); }));
+  column->addWidget(task_group_);
+  const auto drags_pose = [this](const QuantityControl& c) {
+    connect(c.slider, &QSlider::sliderPressed, this, [this] { emit sliderHeld(true); });
+    connect(c.slider, &QSlider::sliderReleased, this, [this] { emit sliderHeld(false); });
+  };
+  for (const auto& c : task_controls_) drags_pose(*c);
+  actuator_group_ = new QGroupBox(tr("Actuators"), w);
+  auto* actuator_form = new QFormLayout(actuator_group_);
+  for (std::size_t k = 0; k < info.actuators.size(); ++k)
+    actuator_controls_.push_back(make_control(actuator_group_, actuator_form, info.actuators[k],
+                                              [this, k] { emit actuatorEdited(int(k), actuator_controls_[k]->value()); }));
+  for (const auto& c : actuator_controls_) drags_pose(*c);
+  column->addWidget(actuator_group_);
+
+  auto* state = new QGroupBox(tr("State"), w);
+  auto* form = new QFormLayout(state);
+  status_label_ = new QLabel(state);
+  status_label_->setObjectName("statusLabel");
+  status_label_->setWordWrap(true);
+  status_label_->setToolTip(tr("Whether the last requested pose was taken; if not, why and which part fails "
+                               "(drawn red). The device stays at the last valid pose."));
+  form->addRow(tr("Status"), status_label_);
+  task_label_ = new QLabel(state);
+  task_label_->setObjectName("taskLabel");
+  actuator_label_ = new QLabel(state);
+  actuator_label_->setObjectName("actuatorLabel");
+  form->addRow(tr("Task"), task_label_);
+  form->addRow(tr("Actuators"), actuator_label_);
+  for (const NamedItem& m : info.measures) {
+    auto* label = new QLabel(state);
+    label->setObjectName(qs(m.name) + "Label");
+    label->setToolTip(qs(m.description));
+    auto* name = new QLabel(qs(m.title), state);
+    name->setToolTip(qs(m.description));
+    form->addRow(name, label);
+    measure_labels_.push_back(label);
+  }
+  det_label_ = new QLabel(state);
+  det_label_->setObjectName("detLabel");
+  det_label_->setToolTip(tr("Determinant of the Jacobian dx/dq where it is square (0 otherwise)"));
+  form->addRow(tr("det J"), det_label_);
+  singular_label_ = new QLabel(state);
+  singular_label_->setObjectName("singularLabel");
+  QString sets;
+  for (const NamedItem& s : info.singular_sets) sets += "\n" + qs(s.title) + ": " + qs(s.description);
+  singular_label_->setToolTip(tr("The nearest singular set and the distance to it (task, %1):").arg(qs(info.length_unit)) + sets);
+  form->addRow(tr("Nearest singular"), singular_label_);
+  branch_label_ = new QLabel(state);
+  branch_label_->setObjectName("branchLabel");
+  form->addRow(tr("Branch"), branch_label_);
+  for (QLabel* l : {task_label_, actuator_label_, det_label_, singular_label_, branch_label_})
+    l->setTextInteractionFlags(Qt::TextSelectableByMouse);
+  column->addWidget(state);
+  auto* extra = new QWidget(w);
+  extra_form_ = new QFormLayout(extra);
+  extra_form_->setContentsMargins(0, 0, 0, 0);
+  column->addWidget(extra);
+  column->addWidget(new QLabel(tr("Or drag the red handle on the driven point in the view."), w));
+  column->addStretch(1);
+}
+
+DrivePanel::~DrivePanel() = default;
+
+Drive DrivePanel::setDrive(Drive drive, const std::vector<std::string>& inputs) {
+  const bool fk = drive == Drive::Actuators && drive_box_->isEnabled();
+  {
+    const QSignalBlocker block(drive_box_);
+    drive_box_->setCurrentIndex(fk ? 1 : 0);
+  }
+  // The panel that drives is shown; the other one's values are in the read-outs.
+  bool any_task = false;
+  for (const auto& c : task_controls_) {
+    const bool input = !fk || std::find(inputs.begin(), inputs.end(), c->quantity.name) != inputs.end();
+    c->set_enabled(input);
+    any_task = any_task || input;
+  }
+  for (const auto& c : actuator_controls_) c->set_enabled(fk);
+  task_group_->setVisible(any_task);
+  actuator_group_->setVisible(fk);
+  return fk ? Drive::Actuators : Drive::Task;
+}
+
+void DrivePanel::showValues(const DeviceState& state) {
+  for (std::size_t k = 0; k < task_controls_.size(); ++k) task_controls_[k]->set(state.task()(Eigen::Index(k)));
+  for (std::size_t k = 0; k < actuator_controls_.size(); ++k) actuator_controls_[k]->set(state.actuators()(Eigen::Index(k)));
+  const QSignalBlocker block(branch_box_);
+  branch_box_->setCurrentIndex(state.branch());
+}
+
+void DrivePanel::showRanges(const MechanismInfo& info) {
+  for (std::size_t k = 0; k < task_controls_.size(); ++k) task_controls_[k]->set_range(info.task[k].range);
+  for (std::size_t k = 0; k < actuator_controls_.size(); ++k) actuator_controls_[k]->set_range(info.actuators[k].range);
+}
+
+QString DrivePanel::showReadouts(const DeviceState& state) {
+  const MechanismInfo& info = state.mechanism().info();
+  QString problem;
+  QStringList task, actuators;
+  for (std::size_t k = 0; k < info.task.size(); ++k) task << value_text(info.task[k], state.task()(Eigen::Index(k)));
+  for (std::size_t k = 0; k < info.actuators.size(); ++k) {
+    double v = state.actuators()(Eigen::Index(k));
+    if (info.actuators[k].unit == "rad") v = std::remainder(v, 2 * std::numbers::pi);
+    actuators << value_text(info.actuators[k], v);
+  }
+  auto lines = [](const QStringList& items) {
+    QString text;
+    for (int i = 0; i < items.size(); ++i) text += (i == 0 ? "" : i % 3 == 0 ? "\n" : ", ") + items[i];
+    return text;
+  };
+  task_label_->setText(lines(task));
+  actuator_label_->setText(lines(actuators));
+  try {
+    const Measures m = state.mechanism().measures(state.actuators(), state.task());
+    for (std::size_t k = 0; k < measure_labels_.size(); ++k) {
+      const double v = k < m.values.size() ? m.values[k] : NAN;
+      measure_labels_[k]->setText(std::isfinite(v) ? number(v) : QString::fromUtf8("∞ (singular)"));
+    }
+    det_label_->setText(number(m.det));
+    const SingularityReport s = state.mechanism().nearest_singularity(state.actuators(), state.task());
+    singular_label_->setText(QString("%1, %2 %3")
+                                 .arg(qs(info.singular_sets.at(s.nearest).title), number(s.distance, 3),
+                                      qs(info.length_unit)));
+  } catch (const std::exception& e) {
+    problem = qs(e.what());
+  }
+  branch_label_->setText(qs(info.branches.at(state.branch())));
+  while (extra_form_->rowCount() > 0) extra_form_->removeRow(0);
+  for (const auto& [label, text] : state.mechanism().readouts(state.actuators(), state.task())) {
+    auto* value = new QLabel(qs(text));
+    value->setTextInteractionFlags(Qt::TextSelectableByMouse);
+    extra_form_->addRow(qs(label), value);
+  }
+  return problem;
+}
+
+void DrivePanel::showStatus(const QString& text, bool ok) {
+  status_label_->setText(text);
+  status_label_->setStyleSheet(ok ? "color: #1b5e20" : "color: #b00020");
+}
+
+}  // namespace linkscape::gui

@@ -1,0 +1,42 @@
+#include "gui/window/help_actions.h"
+
+#include <QDesktopServices>
+#include <QMessageBox>
+#include <QUrl>
+#include <filesystem>
+#include <vtkVersion.h>
+#include <Eigen/Core>
+
+#include "core/simd.h"
+#include "render/workspace_mesh.h"
+
+namespace linkscape::gui {
+
+void show_about(QWidget* parent) {
+  const QString text =
+      QObject::tr("<h3>Linkscape %1</h3>"
+                  "<p>Kinematic design of parallel haptic-device mechanisms.</p>"
+                  "<p>Built with Qt %2 (running %3), VTK %4, Eigen %5.%6.%7, OpenMesh %8 and Highway %9; "
+                  "field kernels on the %10 instruction set.</p>")
+          .arg(LINKSCAPE_VERSION, QT_VERSION_STR, qVersion(), vtkVersion::GetVTKVersion())
+          .arg(EIGEN_WORLD_VERSION)
+          .arg(EIGEN_MAJOR_VERSION)
+          .arg(EIGEN_MINOR_VERSION)
+          .arg(QString::fromStdString(render::openmesh_version()), QString::fromStdString(simd::highway_version()),
+               QString::fromStdString(simd::current_target()));
+  QMessageBox::about(parent, QObject::tr("About Linkscape"), text);
+}
+
+void show_documentation(QWidget* parent) {
+  // A build's source tree has the docs; an installed copy elsewhere has the manual page.
+  const std::filesystem::path docs = LINKSCAPE_SOURCE_DOCS;
+  std::error_code ec;
+  if (std::filesystem::is_directory(docs, ec) &&
+      QDesktopServices::openUrl(QUrl::fromLocalFile(QString::fromStdString(docs.string()))))
+    return;
+  QMessageBox::information(parent, QObject::tr("Documentation"),
+                           QObject::tr("Run 'man linkscape' for every command and option, and "
+                                       "'linkscape --help' for a summary."));
+}
+
+}  // namespace linkscape::gui

@@ -1,0 +1,41 @@
+// What the mouse does in the view besides turning the camera: a handle on
+// the driven point that the user drags (solved by IK as it moves), and the
+// start and end of camera drags (the picture moves every frame meanwhile).
+#pragma once
+
+#include <Eigen/Core>
+#include <functional>
+#include <vtkSmartPointer.h>
+
+class vtkCallbackCommand;
+class vtkHandleWidget;
+class vtkPointHandleRepresentation3D;
+class vtkRenderWindowInteractor;
+
+namespace linkscape::gui {
+
+class ViewHandles {
+ public:
+  struct Hooks {
+    std::function<void(const Eigen::Vector3d&)> dragged_to;  // the handle moved there
+    std::function<void()> released;                          // the drag ended (after its last move)
+    std::function<void(bool)> handle_held;                   // a drag of the handle starts or ends
+    std::function<void(bool)> camera_held;                   // a drag of the camera starts or ends
+  };
+  ViewHandles(vtkRenderWindowInteractor* interactor, Hooks hooks);
+  ~ViewHandles();
+  ViewHandles(const ViewHandles&) = delete;
+  ViewHandles& operator=(const ViewHandles&) = delete;
+
+  // The handle at the driven point.
+  void place(const Eigen::Vector3d& p);
+
+ private:
+  Hooks hooks_;
+  vtkRenderWindowInteractor* interactor_;
+  vtkSmartPointer<vtkHandleWidget> handle_;
+  vtkSmartPointer<vtkPointHandleRepresentation3D> rep_;
+  vtkSmartPointer<vtkCallbackCommand> handle_callback_, camera_callback_;
+};
+
+}  // namespace linkscape::gui

@@ -1,0 +1,77 @@
+#include "gui/window/window_menus.h"
+
+#include <QAction>
+#include <QDockWidget>
+#include <QMainWindow>
+#include <QMenuBar>
+#include <QUndoStack>
+
+#include "gui/window/help_actions.h"
+
+namespace linkscape::gui {
+
+namespace {
+
+QAction* add(QMenu* menu, const QString& text, const QKeySequence& key, QObject* context,
+             const std::function<void()>& run) {
+  QAction* a = menu->addAction(text, context, run);
+  if (!key.isEmpty()) a->setShortcut(key);
+  return a;
+}
+
+}  // namespace
+
+void add_menus(QMainWindow* window, const MenuActions& actions) {
+  QMenu* file = window->menuBar()->addMenu(QObject::tr("&File"));
+  add(file, QObject::tr("&Open session…"), QKeySequence::Open, window, actions.open_session);
+  add(file, QObject::tr("&Save session"), QKeySequence::Save, window, actions.save);
+  add(file, QObject::tr("Save session &as…"), QKeySequence::SaveAs, window, actions.save_as);
+  actions.recent_sessions(file->addMenu(QObject::tr("Recent sessions")));
+  file->addSeparator();
+  QAction* open_mechanism = add(file, QObject::tr("Open &mechanism…"), QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_O),
+                                window, actions.open_mechanism);
+  open_mechanism->setObjectName("openMechanismAction");
+  open_mechanism->setStatusTip(
+      QObject::tr("Open a device from its preset file (.json), a shipped one or a described mechanism"));
+  QAction* reload =
+      add(file, QObject::tr("&Reload mechanism"), QKeySequence(Qt::Key_F5), window, actions.reload_mechanism);
+  reload->setObjectName("reloadMechanismAction");
+  reload->setStatusTip(QObject::tr("Read the preset file again (done by itself when the file changes): the design "
+                                   "is the file's; the camera, the pose, the field and task settings stay"));
+  file->addSeparator();
+  add(file, QObject::tr("Export slice &image…"), {}, window, actions.export_slice);
+  add(file, QObject::tr("Export workspace &mesh…"), {}, window, actions.export_mesh);
+  add(file, QObject::tr("Export &field (VTI)…"), {}, window, actions.export_field);
+  add(file, QObject::tr("Save screens&hot…"), {}, window, actions.save_screenshot);
+  add(file, QObject::tr("Save &view image…"), {}, window, actions.save_view_image);
+  file->addSeparator();
+  add(file, QObject::tr("&Quit"), QKeySequence::Quit, window, [window] { window->close(); });
+
+  QMenu* edit = window->menuBar()->addMenu(QObject::tr("&Edit"));
+  QAction* undo = actions.undo_stack->createUndoAction(window, QObject::tr("&Undo"));
+  undo->setShortcut(QKeySequence::Undo);
+  QAction* redo = actions.undo_stack->createRedoAction(window, QObject::tr("&Redo"));
+  redo->setShortcut(QKeySequence::Redo);
+  edit->addAction(undo);
+  edit->addAction(redo);
+
+  QMenu* view = window->menuBar()->addMenu(QObject::tr("&View"));
+  add(view, QObject::tr("&Reset camera"), {}, window, actions.reset_camera);
+  add(view, QObject::tr("Reset &layout"), {}, window, actions.reset_layout);
+  view->addSeparator();
+  for (QDockWidget* dock : window->findChildren<QDockWidget*>()) view->addAction(dock->toggleViewAction());
+  view->addSeparator();
+  // Depth peeling composites the translucent surfaces exactly but costs
+  // several full-screen passes per frame (docs/performance.md), so
+  // interaction uses plain alpha blending unless the user asks.
+  QAction* exact = view->addAction(QObject::tr("&Exact transparency (slower)"));
+  exact->setObjectName("exactTransparencyAction");
+  exact->setCheckable(true);
+  QObject::connect(exact, &QAction::toggled, window, actions.exact_transparency);
+
+  QMenu* help = window->menuBar()->addMenu(QObject::tr("&Help"));
+  help->addAction(QObject::tr("&Documentation"), window, [window] { show_documentation(window); });
+  help->addAction(QObject::tr("&About Linkscape"), window, [window] { show_about(window); });
+}
+
+}  // namespace linkscape::gui

@@ -1,0 +1,29 @@
+// The window's menu bar: File (sessions; the mechanism; exports; Quit),
+// Edit (undo, redo), View (camera, layout, the docks, transparency) and
+// Help. Each entry runs the action the window hands it: the window's own
+// or one of the actions of file_actions.h, mechanism_actions.h,
+// export_actions.h and help_actions.h.
+#pragma once
+
+#include <functional>
+
+class QMainWindow;
+class QMenu;
+class QUndoStack;
+
+namespace linkscape::gui {
+
+struct MenuActions {
+  std::function<void()> open_session, save, save_as;
+  std::function<void(QMenu*)> recent_sessions;  // fills the submenu
+  std::function<void()> open_mechanism, reload_mechanism;
+  std::function<void()> export_slice, export_mesh, export_field, save_screenshot, save_view_image;
+  QUndoStack* undo_stack = nullptr;
+  std::function<void()> reset_camera, reset_layout;
+  std::function<void(bool)> exact_transparency;
+};
+
+// The menus of `window` (its docks' toggles from the docks it has now).
+void add_menus(QMainWindow* window, const MenuActions& actions);
+
+}  // namespace linkscape::gui
