@@ -11,202 +11,20 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/mechanisms/described/chain.h"
+
 namespace linkscape::described {
+
+using namespace internal;  // its Eigen names too
+
 namespace {
-
-using Eigen::Index;
-using Eigen::Isometry3d;
-using Eigen::Matrix3d;
-using Eigen::MatrixXd;
-using Eigen::Vector3d;
-using Eigen::VectorXd;
-using Vector6d = Eigen::Matrix<double, 6, 1>;
-using Kind = Step::Kind;
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
-std::atomic<std::uint64_t> next_id{1};
-
-// The rows a device's closure keeps: spatial all six, planar (rz, x, y).
-constexpr int kPlanarRows[3] = {2, 3, 4};
-
-Matrix3d rotation_of(const Vector3d& v) {
-  const double angle = v.norm();
-  if (angle == 0) return Matrix3d::Identity();
-  return Eigen::AngleAxisd(angle, v / angle).toRotationMatrix();
-}
-
-Vector3d rotation_vector(const Matrix3d& R) {
-  const Eigen::AngleAxisd aa(R);
-  return aa.angle() * aa.axis();
-}
-
-Matrix3d euler_zyx(double rx, double ry, double rz) {
-  return (Eigen::AngleAxisd(rz, Vector3d::UnitZ()) * Eigen::AngleAxisd(ry, Vector3d::UnitY()) *
-          Eigen::AngleAxisd(rx, Vector3d::UnitX()))
-      .toRotationMatrix();
-}
-
-Vector3d euler_of(const Matrix3d& R) {
-  const double ry = std::asin(std::clamp(-R(2, 0), -1.0, 1.0));
-  return {std::atan2(R(2, 1), R(2, 2)), ry, std::atan2(R(1, 0), R(0, 0))};
-}
-
-// A leg's chain at one state: the end frame and, per variable, the twist's
-// axis and centre (base frame).
-struct Chain {
-  Isometry3d end = Isometry3d::Identity();
-  std::vector<Vector3d> axis, centre;  // per variable
-  std::vector<bool> sliding;           // per variable: prismatic
-  std::vector<Vector3d> step_centre, step_axis;  // per step, for branch rules and drawing
-  std::vector<Isometry3d> step_frame;            // per step: the frame after it
-};
-
-// Fills `c` (its vectors keep their capacity: no allocation in a solver's loop).
-void walk_into(const Leg& leg, const LegState& s, Chain& c) {
-  c.axis.resize(std::size_t(leg.variables));
-  c.centre.resize(std::size_t(leg.variables));
-  c.sliding.assign(std::size_t(leg.variables), false);
-  c.step_centre.clear();
-  c.step_axis.clear();
-  c.step_frame.clear();
-  Isometry3d T = leg.base;
-  int sphere = 0;
-  for (const Step& step : leg.steps) {
-    const Vector3d here = T.translation();
-    c.step_centre.push_back(here);
-    c.step_axis.push_back(T.linear() * step.axis);
-    switch (step.kind) {
-      case Kind::Fixed:
-        T = T * step.transform;
-        break;
-      case Kind::Revolute: {
-        c.axis[std::size_t(step.variable)] = T.linear() * step.axis;
-        c.centre[std::size_t(step.variable)] = here;
-        T.linear() = T.linear() * Eigen::AngleAxisd(s.values(step.variable), step.axis).toRotationMatrix();
-        break;
-      }
-      case Kind::Prismatic: {
-        const Vector3d a = T.linear() * step.axis;
-        c.axis[std::size_t(step.variable)] = a;
-        c.centre[std::size_t(step.variable)] = here;
-        c.sliding[std::size_t(step.variable)] = true;
-        T.translation() += a * s.values(step.variable);
-        break;
-      }
-      case Kind::Spherical: {
-        T.linear() = T.linear() * s.spheres[std::size_t(sphere++)];
-        for (int k = 0; k < 3; ++k) {
-          c.axis[std::size_t(step.variable + k)] = T.linear().col(k);
-          c.centre[std::size_t(step.variable + k)] = here;
-        }
-        break;
-      }
-    }
-    c.step_frame.push_back(T);
-  }
-  c.end = T;
-}
-
-Chain walk(const Leg& leg, const LegState& s) {
-  Chain c;
-  walk_into(leg, s, c);
-  return c;
-}
-
-// The twist of variable v about point r: [axis; axis x (r - centre)] (or
-// [0; axis] for a slide), position rows divided by size.
-Vector6d twist(const Chain& c, int v, const Vector3d& r, double size) {
-  Vector6d t;
-  const Vector3d& a = c.axis[std::size_t(v)];
-  if (c.sliding[std::size_t(v)]) t << Vector3d::Zero(), a / size;
-  else t << a, a.cross(r - c.centre[std::size_t(v)]) / size;
-  return t;
-}
-
-Vector6d closure_error(const Chain& c, const Isometry3d& anchor, double size) {
-  Vector6d e;
-  e << rotation_vector(anchor.linear() * c.end.linear().transpose()),
-      (anchor.translation() - c.end.translation()) / size;
-  return e;
-}
-
-// Keeps the rows the device closes (planar: rz, x, y).
-// Closure rows: at most six, kept on the stack; a leg's columns (its joint
-// variables, as many as the file gives) on the heap.
-using Rows = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
-using LegMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, Eigen::Dynamic>;
-
-Rows rows_of(const Vector6d& v, bool planar) {
-  if (!planar) return v;
-  Rows out(3);
-  for (int i = 0; i < 3; ++i) out(i) = v(kPlanarRows[i]);
-  return out;
-}
-
-template <class Vector>
-void apply(const Leg& leg, LegState& s, const Vector& delta, int offset = 0) {
-  int sphere = 0;
-  for (const Step& step : leg.steps) {
-    if (step.kind == Kind::Revolute || step.kind == Kind::Prismatic) s.values(step.variable) += delta(offset + step.variable);
-    if (step.kind == Kind::Spherical) {
-      Matrix3d& R = s.spheres[std::size_t(sphere++)];
-      R = R * rotation_of(delta.template segment<3>(offset + step.variable));
-      // Re-orthonormalise now and then would be needed only over thousands of steps.
-    }
-  }
-}
-
-// A damped Gauss-Newton step for J d = e (J m x n): d = J^T (J J^T + mu I)^-1 e,
-// the least-norm step, damped by mu = |e|^2 (Levenberg-Marquardt in the
-// Yamashita-Fukushima form: quadratic convergence where a solution exists,
-// also at singular ones). A leg's IK caps mu: at a least-squares minimum off
-// the target (an unreachable pose) light damping converges to the minimum,
-// whose distance is the reach margin outside.
-template <class Jacobian, class Error>
-auto damped_step(const Jacobian& J, const Error& e, double cap = kInf) {
-  using Square = Eigen::Matrix<double, Jacobian::RowsAtCompileTime, Jacobian::RowsAtCompileTime, 0,
-                               Jacobian::MaxRowsAtCompileTime, Jacobian::MaxRowsAtCompileTime>;
-  using Step = Eigen::Matrix<double, Jacobian::ColsAtCompileTime, 1, 0, Jacobian::MaxColsAtCompileTime, 1>;
-  Square A = J * J.transpose();
-  const double mu = std::min(e.squaredNorm(), cap) + 1e-30;
-  A.diagonal().array() += mu;
-  Step d = J.transpose() * A.ldlt().solve(e);
-  return d;
-}
-
-// Limits a step to half a radian in any angle and half the device's size in
-// any length (`lengths` marks the length variables).
-template <class Vector>
-void limit_step(Vector& d, const std::vector<bool>& lengths, double size) {
-  double ratio = 0;
-  for (Index i = 0; i < d.size(); ++i)
-    ratio = std::max(ratio, std::abs(d(i)) / (lengths[std::size_t(i)] ? 0.5 * size : 0.5));
-  if (ratio > 1) d /= ratio;
-}
-
-double golden(int i, int j) {
-  const double v = std::fmod(0.6180339887498949 * (i + 1) + 0.4142135623730951 * (j + 1) * (i + 3), 1.0);
-  return 2 * v - 1;
-}
-
 struct ThreadSeeds {
   std::uint64_t id = 0;
   std::vector<std::vector<std::optional<LegState>>> legs;  // per leg, per combination
 };
 thread_local ThreadSeeds thread_seeds;
-
 }  // namespace
 
-struct Kinematics::LegSolveResult {
-  LegState state;
-  double error = kInf;  // |e|, dimensionless
-  int iterations = 0;
-  // At a least-squares minimum: the gradient J^T e vanishes against |J| |e|
-  // (a pose the leg cannot reach from here), rather than merely slow.
-  bool stationary = false;
-};
 
 // ---- Poses -------------------------------------------------------------------
 
@@ -238,32 +56,39 @@ double Kinematics::wrap(double a) const {
 
 // ---- Branch rules ------------------------------------------------------------
 
+namespace {
+// The sign of one rule at a walked chain.
+int rule_sign(const BranchRule& r, const Leg& l, const Chain& c, const LegState& state, const Isometry3d& anchor) {
+  auto centre = [&](int step) { return step == -2 ? anchor.translation() : c.step_centre[std::size_t(step)]; };
+  double v = 0;
+  if (r.kind == BranchRule::Kind::Angle) {
+    v = std::sin(state.values(l.steps[std::size_t(r.steps[0])].variable));
+  } else if (r.kind == BranchRule::Kind::Along) {
+    v = (centre(r.steps[1]) - centre(r.steps[0])).dot(r.direction);
+  } else {
+    const Vector3d a = centre(r.steps[0]), b = centre(r.steps[1]);
+    v = (b - a).cross(centre(r.steps[2]) - b).dot(c.step_axis[std::size_t(r.steps[0])]);
+  }
+  return v > 0 ? 1 : v < 0 ? -1 : 0;
+}
+}  // namespace
+
 std::vector<int> Kinematics::rule_signs(int leg, const LegState& state, const Isometry3d& anchor) const {
   const Leg& l = model_.legs[std::size_t(leg)];
   const Chain c = walk(l, state);
   std::vector<int> signs;
-  for (const BranchRule& r : l.rules) {
-    double v = 0;
-    if (r.kind == BranchRule::Kind::Angle) {
-      v = std::sin(state.values(l.steps[std::size_t(r.steps[0])].variable));
-    } else {
-      const Vector3d a = c.step_centre[std::size_t(r.steps[0])], b = c.step_centre[std::size_t(r.steps[1])];
-      const Vector3d cc = r.steps[2] == -2 ? anchor.translation() : c.step_centre[std::size_t(r.steps[2])];
-      v = (b - a).cross(cc - b).dot(c.step_axis[std::size_t(r.steps[0])]);
-    }
-    signs.push_back(v > 0 ? 1 : v < 0 ? -1 : 0);
-  }
+  for (const BranchRule& r : l.rules) signs.push_back(rule_sign(r, l, c, state, anchor));
   return signs;
 }
 
 bool Kinematics::signs_match(int leg, const LegState& state, const Isometry3d& anchor, int branch) const {
   const Leg& l = model_.legs[std::size_t(leg)];
   if (l.rules.empty()) return true;  // no chain to walk
-  const std::vector<int> signs = rule_signs(leg, state, anchor);
-  for (std::size_t i = 0; i < l.rules.size(); ++i) {
-    const BranchRule& r = l.rules[i];
+  thread_local Chain c;
+  walk_into(l, state, c);
+  for (const BranchRule& r : l.rules) {
     const int wanted = r.fixed_sign != 0 ? r.fixed_sign : ((branch >> r.free_index) & 1) ? -1 : 1;
-    if (signs[i] * wanted < 0) return false;
+    if (rule_sign(r, l, c, state, anchor) * wanted < 0) return false;
   }
   return true;
 }
@@ -274,34 +99,14 @@ bool Kinematics::within_travel(int leg, const LegState& state) const {
     const Actuator& act = model_.actuators[std::size_t(a)];
     if (!act.limited) continue;
     const double v = state.values(l.steps[std::size_t(act.step)].variable);
+    const double w = act.prismatic ? v : wrap(v);
     const bool inside = act.prismatic ? act.range.contains(v)
-                                      : act.range.contains(wrap(v)) || act.range.contains(wrap(v) + 2 * kPi) ||
-                                            act.range.contains(wrap(v) - 2 * kPi);
+                                      : act.range.contains(w) || act.range.contains(w + 2 * kPi) ||
+                                            act.range.contains(w - 2 * kPi);
     if (!inside) return false;
   }
   return true;
 }
-
-namespace {
-// The combination index of a leg's own free rules for a device branch.
-int leg_combination(const Leg& l, int branch) {
-  int combo = 0, bit = 0;
-  for (const BranchRule& r : l.rules)
-    if (r.free_index >= 0) combo |= ((branch >> r.free_index) & 1) << bit++;
-  return combo;
-}
-int device_branch(const Leg& l, int combo) {
-  int branch = 0, bit = 0;
-  for (const BranchRule& r : l.rules)
-    if (r.free_index >= 0) branch |= ((combo >> bit++) & 1) << r.free_index;
-  return branch;
-}
-int free_rules_of(const Leg& l) {
-  int n = 0;
-  for (const BranchRule& r : l.rules) n += r.free_index >= 0;
-  return n;
-}
-}  // namespace
 
 // ---- Leg inverse kinematics ----------------------------------------------------
 
@@ -352,8 +157,43 @@ Kinematics::LegSolveResult Kinematics::solve_leg(int leg, const Isometry3d& anch
   return out;
 }
 
+const ClosedFormLeg* Kinematics::closed_form(int leg) const {
+  const auto& c = closed_[std::size_t(leg)];
+  return c ? &*c : nullptr;
+}
+
+std::optional<LegSolution> Kinematics::solve_leg_closed(int leg, const Isometry3d& anchor, int branch) const {
+  const Leg& l = model_.legs[std::size_t(leg)];
+  thread_local LegCandidates candidates;
+  solve_closed(*closed_[std::size_t(leg)], model_, l, anchor, candidates);
+  if (candidates.undecided) return std::nullopt;
+  LegSolution out;
+  if (candidates.count == 0) {
+    out.state = spread_seeds_[std::size_t(leg)].front();
+    out.residual = candidates.miss;
+    return out;  // unreachable
+  }
+  // On the branch, within the travel first (as the numerical solver: a leg
+  // that closes its anchor twice on one branch is ok if either is in travel).
+  const LegState* outside = nullptr;
+  for (int i = 0; i < candidates.count; ++i) {
+    const LegState& s = candidates.states[std::size_t(i)];
+    if (!signs_match(leg, s, anchor, branch)) continue;
+    if (within_travel(leg, s)) {
+      out.state = s;
+      out.status = Status::Ok;
+      return out;
+    }
+    if (!outside) outside = &s;
+  }
+  out.state = outside ? *outside : candidates.states[0];
+  // Ok outside the travel (inverse() says out-of-limits), or closing only on another branch.
+  out.status = outside ? Status::Ok : Status::NotConverged;
+  return out;
+}
+
 LegSolution Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int branch, double tolerance,
-                                     const LegState* extra_seed) const {
+                                     const LegState* extra_seed, LegSolver solver) const {
   const Leg& l = model_.legs[std::size_t(leg)];
   const int combo = leg_combination(l, branch);
   ThreadSeeds& tls = thread_seeds;
@@ -392,6 +232,8 @@ LegSolution Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int bran
     best.status = Status::Unreachable;
     return best;
   }
+  if (solver == LegSolver::Fastest && closed_[std::size_t(leg)])
+    if (std::optional<LegSolution> s = solve_leg_closed(leg, anchor, branch)) return *std::move(s);
   bool found_other_branch = false;
   // A solution on the branch whose actuator is outside its travel: the answer
   // only if the first fixed seed (the leg at home on the branch) does not
@@ -452,7 +294,7 @@ LegSolution Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int bran
   return best;
 }
 
-PoseSolution Kinematics::inverse(const VectorXd& x, int branch, double tolerance) const {
+PoseSolution Kinematics::inverse(const VectorXd& x, int branch, double tolerance, LegSolver solver) const {
   const PlatformPose p = pose(x);
   PoseSolution out;
   out.q = VectorXd::Zero(Index(model_.actuators.size()));
@@ -466,7 +308,7 @@ PoseSolution Kinematics::inverse(const VectorXd& x, int branch, double tolerance
     }
   };
   for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
-    LegSolution s = solve_leg_on(int(leg), anchor(int(leg), p), branch, tolerance, nullptr);
+    LegSolution s = solve_leg_on(int(leg), anchor(int(leg), p), branch, tolerance, nullptr, solver);
     out.iterations += s.iterations;
     out.residual = std::max(out.residual, s.residual);
     const Leg& l = model_.legs[leg];
@@ -485,7 +327,7 @@ PoseSolution Kinematics::inverse(const VectorXd& x, int branch, double tolerance
   return out;
 }
 
-PoseSolution Kinematics::inverse_near(const VectorXd& x, const VectorXd& q) const {
+PoseSolution Kinematics::inverse_near(const VectorXd& x, const VectorXd& q, LegSolver solver) const {
   const PlatformPose p = pose(x);
   PoseSolution out;
   out.q = VectorXd::Zero(Index(model_.actuators.size()));
@@ -496,7 +338,7 @@ PoseSolution Kinematics::inverse_near(const VectorXd& x, const VectorXd& q) cons
     LegSolution best;
     double best_distance = kInf;
     for (int combo = 0; combo < (1 << free_rules_of(l)); ++combo) {
-      LegSolution s = solve_leg_on(int(leg), anchor(int(leg), p), device_branch(l, combo), 1e-10, nullptr);
+      LegSolution s = solve_leg_on(int(leg), anchor(int(leg), p), device_branch(l, combo), 1e-10, nullptr, solver);
       if (s.status != Status::Ok) continue;
       const double v = s.state.values(var);
       const double distance = act.prismatic ? std::abs(v - q(l.actuators.front()))
@@ -520,10 +362,24 @@ PoseSolution Kinematics::inverse_near(const VectorXd& x, const VectorXd& q) cons
 
 // ---- The Jacobian by reciprocal screws ----------------------------------------------
 
+namespace internal {
 namespace {
-// The platform's twists about r for each driven coordinate (translation:
-// [0; e]; rotation: [w; w x (r - p)], w the angular velocity of a unit rate:
-// the base axes where all three rotations are free, else the Euler rates).
+template <int Rows, int Cols>
+double fixed_condition(const MatrixXd& M) {
+  const Eigen::JacobiSVD<Eigen::Matrix<double, Rows, Cols>> svd(M);
+  const auto& s = svd.singularValues();
+  return s(s.size() - 1) > 0 ? s(0) / s(s.size() - 1) : kInf;
+}
+}  // namespace
+
+double condition_number(const MatrixXd& M) {
+  if (M.rows() == 2 && M.cols() == 2) return fixed_condition<2, 2>(M);
+  if (M.rows() == 3 && M.cols() == 3) return fixed_condition<3, 3>(M);
+  if (M.rows() == 3 && M.cols() == 6) return fixed_condition<3, 6>(M);
+  if (M.rows() == 6 && M.cols() == 6) return fixed_condition<6, 6>(M);
+  return fixed_condition<Eigen::Dynamic, Eigen::Dynamic>(M);
+}
+
 MatrixXd platform_columns(const Model& m, const PlatformPose& pose, const Vector3d& r) {
   const bool all_rotations = m.free[3] && m.free[4] && m.free[5];
   // The Euler angles, for the rates (not needed where all three rotations are free).
@@ -549,9 +405,43 @@ MatrixXd platform_columns(const Model& m, const PlatformPose& pose, const Vector
   }
   return cols;
 }
+}  // namespace internal
+
+namespace {
+// The wrench reciprocal to a recognised leg's passive joints, in closed form:
+// a force through the centre of its last (spherical) joint w, along the rod
+// (crank-rod, slide-rod, extensible, planar dyad) or square to the linear
+// velocities the second and third revolutes give w (three revolutes), as
+// closure rows about r, of unit norm. False where the passive joints lose a
+// freedom (the leg is singular).
+bool closed_wrench(const ClosedFormLeg& form, const Leg& l, const Chain& c, const Vector3d& r, double size, bool planar,
+                   Rows& W) {
+  const Vector3d w = c.step_centre[std::size_t(form.end_step)];
+  Vector3d f;
+  if (form.pattern == LegPattern::ThreeRevolute) {
+    const int v2 = l.steps[std::size_t(form.second_step)].variable, v3 = l.steps[std::size_t(form.third_step)].variable;
+    const Vector3d u2 = c.axis[std::size_t(v2)].cross(w - c.centre[std::size_t(v2)]);
+    const Vector3d u3 = c.axis[std::size_t(v3)].cross(w - c.centre[std::size_t(v3)]);
+    f = u2.cross(u3);
+    if (!(f.norm() > 1e-10 * u2.norm() * u3.norm())) return false;
+  } else {
+    f = w - c.step_centre[std::size_t(form.ball_step)];
+    if (!(f.norm() > 1e-12 * size)) return false;
+    if (form.ball_joints == 2) {  // a universal: its two axes must move the rod's end two ways
+      const int v1 = l.steps[std::size_t(form.ball_step)].variable;
+      const Vector3d n = f.normalized();
+      if (!(c.axis[std::size_t(v1)].cross(n).cross(c.axis[std::size_t(v1 + 1)].cross(n)).norm() > 1e-10)) return false;
+    }
+  }
+  Vector6d full;
+  full << (w - r).cross(f), f * size;
+  W = rows_of(full, planar);
+  W.normalize();
+  return true;
+}
 }  // namespace
 
-JacobianParts Kinematics::jacobian(const VectorXd& x, const PoseSolution& solved) const {
+JacobianParts Kinematics::jacobian(const VectorXd& x, const PoseSolution& solved, LegSolver solver) const {
   const PlatformPose p = pose(x);
   const int n = model_.driven();
   const int a_count = int(model_.actuators.size());
@@ -559,231 +449,65 @@ JacobianParts Kinematics::jacobian(const VectorXd& x, const PoseSolution& solved
   out.Jx = MatrixXd::Zero(a_count, n);
   out.Jq = MatrixXd::Zero(a_count, a_count);
   out.serial_margin.assign(model_.legs.size(), kInf);
+  const int m = model_.planar ? 3 : 6;
+  thread_local Chain c;
+  Rows w(m);
   int row = 0;
   for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
     const Leg& l = model_.legs[leg];
-    const Chain c = walk(l, solved.legs[leg].state);
+    walk_into(l, solved.legs[leg].state, c);
     const Vector3d r = c.end.translation();
     const int actuator = l.actuators.front();
     const int act_var = l.steps[std::size_t(model_.actuators[std::size_t(actuator)].step)].variable;
-    const int m = model_.planar ? 3 : 6;
-    MatrixXd passive(m, l.variables - 1);
-    for (int v = 0, col = 0; v < l.variables; ++v)
-      if (v != act_var) passive.col(col++) = rows_of(twist(c, v, r, model_.size), model_.planar);
-    // The wrenches reciprocal to every passive twist: the last left singular
-    // vectors, as many as the passive twists leave free at home (one for a leg
-    // of five passive freedoms; more where the leg also holds the platform's
-    // orientation, as a Falcon's revolute legs do). Of them, the actuation
-    // wrench is the one the actuator works against; the others are
-    // constraint wrenches, reciprocal to the actuator too.
-    Eigen::JacobiSVD<MatrixXd> svd(passive, Eigen::ComputeFullU);
-    const auto& sv = svd.singularValues();
-    // A vanishing singular value beyond the leg's idle freedoms: the passive
-    // joints lose a freedom, the leg is singular.
-    const int expected_rank = passive_rank_[leg];
-    int rank = 0;
-    for (Index i = 0; i < sv.size(); ++i) rank += sv(i) > 1e-10 * sv(0);
-    const MatrixXd reciprocal = svd.matrixU().rightCols(m - expected_rank);
-    const VectorXd actuation = reciprocal.transpose() * rows_of(twist(c, act_var, r, model_.size), model_.planar);
-    const VectorXd w = actuation.norm() > 0 ? VectorXd(reciprocal * actuation.normalized())
-                                            : VectorXd(reciprocal.col(reciprocal.cols() - 1));
-    const VectorXd platform = [&] {
-      const MatrixXd cols = platform_columns(model_, p, r);
-      MatrixXd kept(m, cols.cols());
-      for (Index j = 0; j < cols.cols(); ++j) kept.col(j) = rows_of(cols.col(j), model_.planar);
-      return VectorXd(w.transpose() * kept);
-    }();
-    out.Jx.row(row) = platform.transpose();
+    // The closed wrench is the one force of a leg that transmits one wrench
+    // (not one that also holds the platform's orientation).
+    const ClosedFormLeg* form =
+        solver == LegSolver::Fastest && passive_rank_[leg] == m - 1 ? closed_form(int(leg)) : nullptr;
+    bool passive_singular = false;
+    if (form) {
+      passive_singular = !closed_wrench(*form, l, c, r, model_.size, model_.planar, w);
+    } else {
+      MatrixXd passive(m, l.variables - 1);
+      for (int v = 0, col = 0; v < l.variables; ++v)
+        if (v != act_var) passive.col(col++) = rows_of(twist(c, v, r, model_.size), model_.planar);
+      // The wrenches reciprocal to every passive twist: the last left singular
+      // vectors, as many as the passive twists leave free at home (one for a leg
+      // of five passive freedoms; more where the leg also holds the platform's
+      // orientation, as a Falcon's revolute legs do). Of them, the actuation
+      // wrench is the one the actuator works against; the others are
+      // constraint wrenches, reciprocal to the actuator too.
+      Eigen::JacobiSVD<MatrixXd> svd(passive, Eigen::ComputeFullU);
+      const auto& sv = svd.singularValues();
+      // A vanishing singular value beyond the leg's idle freedoms: the passive
+      // joints lose a freedom, the leg is singular.
+      const int expected_rank = passive_rank_[leg];
+      int rank = 0;
+      for (Index i = 0; i < sv.size(); ++i) rank += sv(i) > 1e-10 * sv(0);
+      const MatrixXd reciprocal = svd.matrixU().rightCols(m - expected_rank);
+      const VectorXd actuation = reciprocal.transpose() * rows_of(twist(c, act_var, r, model_.size), model_.planar);
+      w = actuation.norm() > 0 ? VectorXd(reciprocal * actuation.normalized())
+                               : VectorXd(reciprocal.col(reciprocal.cols() - 1));
+      passive_singular = rank < expected_rank;
+    }
+    const MatrixXd cols = platform_columns(model_, p, r);
+    for (Index j = 0; j < cols.cols(); ++j) out.Jx(row, j) = w.dot(rows_of(cols.col(j), model_.planar));
     const double jq = w.dot(rows_of(twist(c, act_var, r, model_.size), model_.planar));
     out.Jq(row, actuator) = jq;
     const bool prismatic = model_.actuators[std::size_t(actuator)].prismatic;
     out.serial_margin[leg] = model_.size * std::abs(jq) * (prismatic ? model_.size : 1.0);
-    if (rank < expected_rank || std::abs(jq) <= 1e-12) {
+    if (passive_singular || std::abs(jq) <= 1e-12) {
       if (out.status == Status::Ok) out.singular_leg = int(leg);
       out.status = Status::Singular;
-      out.serial_margin[leg] = rank < expected_rank ? 0.0 : out.serial_margin[leg];
+      out.serial_margin[leg] = passive_singular ? 0.0 : out.serial_margin[leg];
     }
     ++row;
   }
-  Eigen::JacobiSVD<MatrixXd> svd(out.Jx);
-  const auto& sv = svd.singularValues();
-  out.jx_condition = sv(sv.size() - 1) > 0 ? sv(0) / sv(sv.size() - 1) : kInf;
+  const Eigen::PartialPivLU<MatrixXd> lu(out.Jx);
+  // The closed forms take the LU's estimate (1-norm, within a small factor of
+  // the 2-norm's): an SVD of Jx would cost more than the rest of the sample.
+  out.jx_condition = solver == LegSolver::Fastest ? 1 / lu.rcond() : condition_number(out.Jx);
   if (!(out.jx_condition <= 1e12)) out.status = Status::Singular;
-  out.J = out.Jx.partialPivLu().solve(out.Jq);
-  return out;
-}
-
-// ---- Forward kinematics -------------------------------------------------------------
-
-ForwardSolution Kinematics::forward(const VectorXd& q, const VectorXd& seed, double tolerance,
-                                    int max_iterations) const {
-  ForwardSolution out = forward_from(q, seed, tolerance, max_iterations);
-  if (out.status == Status::Ok) return out;
-  // Far from the seed, Gauss-Newton can stall where the closure's rank drops
-  // on the way (a parallelogram leg's redundant orientation rows): follow the
-  // actuators from the seed's to q in equal steps, each solved from the last,
-  // which keeps the assembly mode nearest the seed.
-  const PoseSolution start = inverse_near(seed, q);
-  if (!assembled(start)) return out;
-  VectorXd path = q - start.q;
-  for (std::size_t a = 0; a < model_.actuators.size(); ++a)
-    if (!model_.actuators[a].prismatic) path(Index(a)) = wrap(path(Index(a)));
-  for (int pieces = 4; pieces <= 64; pieces *= 4) {
-    ForwardSolution step;
-    step.x = seed;
-    int iterations = 0;
-    for (int k = 1; k <= pieces; ++k) {
-      step = forward_from(k == pieces ? q : VectorXd(start.q + path * (double(k) / pieces)), step.x, tolerance,
-                          max_iterations);
-      iterations += step.iterations;
-      if (step.status != Status::Ok) break;
-    }
-    if (step.status == Status::Ok) {
-      step.iterations = iterations;
-      return step;
-    }
-  }
-  return out;
-}
-
-ForwardSolution Kinematics::forward_from(const VectorXd& q, const VectorXd& seed, double tolerance,
-                                         int max_iterations) const {
-  ForwardSolution out;
-  out.x = seed;
-  const int n = model_.driven();
-  const bool all_rotations = model_.free[3] && model_.free[4] && model_.free[5];
-  // Leg states at the seed: each leg's solution with its actuator nearest q,
-  // its actuator then set to q.
-  PoseSolution start = inverse_near(seed, q);
-  std::vector<LegState> legs;
-  for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
-    const Leg& l = model_.legs[leg];
-    LegState s = start.legs[leg].status == Status::Ok ? start.legs[leg].state : *home_states_[leg][0];
-    const int a = l.actuators.front();
-    const int var = l.steps[std::size_t(model_.actuators[std::size_t(a)].step)].variable;
-    s.values(var) = model_.actuators[std::size_t(a)].prismatic ? q(a) : s.values(var) + wrap(q(a) - s.values(var));
-    legs.push_back(std::move(s));
-  }
-  // Unknowns: the driven coordinates, then every leg's passive variables.
-  std::vector<int> offset;
-  int unknowns = n;
-  for (const Leg& l : model_.legs) {
-    offset.push_back(unknowns);
-    unknowns += l.variables - 1;
-  }
-  const int m = model_.planar ? 3 : 6;
-  const int rows = m * int(model_.legs.size());
-  std::vector<bool> length_unknowns;  // translations and slides, for the step limit
-  for (const TaskCoordinate& t : model_.task)
-    if (t.extra < 0) length_unknowns.push_back(t.platform_coordinate < 3);
-  for (const Leg& l : model_.legs) {
-    const int act_var = l.steps[std::size_t(model_.actuators[std::size_t(l.actuators.front())].step)].variable;
-    for (const Step& step : l.steps) {
-      if (step.kind == Kind::Fixed || step.variable == act_var) continue;
-      for (int k = 0; k < (step.kind == Kind::Spherical ? 3 : 1); ++k) length_unknowns.push_back(step.kind == Kind::Prismatic);
-    }
-  }
-  VectorXd x = seed;
-  // The closure errors at (xx, ls), with the pose and the legs' chains they
-  // came from (kept for the next Jacobian).
-  auto errors = [&](const VectorXd& xx, const std::vector<LegState>& ls, PlatformPose& p, std::vector<Chain>& chains) {
-    p = pose(xx);
-    chains.resize(model_.legs.size());
-    VectorXd e(rows);
-    for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
-      walk_into(model_.legs[leg], ls[leg], chains[leg]);
-      e.segment(Index(leg) * m, m) = rows_of(closure_error(chains[leg], anchor(int(leg), p), model_.size), model_.planar);
-    }
-    return e;
-  };
-  // `R`: the rotation of pose(xx), which the caller already has.
-  auto step_pose = [&](const VectorXd& xx, const Matrix3d& R, const VectorXd& d) {
-    VectorXd nx = xx;
-    int col = 0;
-    Vector3d dw = Vector3d::Zero();
-    std::vector<int> rot_index(3, -1);
-    for (std::size_t i = 0; i < model_.task.size(); ++i) {
-      const TaskCoordinate& t = model_.task[i];
-      if (t.extra >= 0) continue;
-      if (t.platform_coordinate < 3 || !all_rotations) nx(Index(i)) += d(col);
-      else {
-        dw(t.platform_coordinate - 3) = d(col);
-        rot_index[std::size_t(t.platform_coordinate - 3)] = int(i);
-      }
-      ++col;
-    }
-    if (all_rotations) {
-      const Vector3d e = euler_of(rotation_of(dw) * R);
-      for (int k = 0; k < 3; ++k) nx(rot_index[std::size_t(k)]) = e(k);
-    }
-    return nx;
-  };
-  // pose(x) and the legs' chains: updated with x and legs, never recomputed.
-  PlatformPose p;
-  std::vector<Chain> chains;
-  VectorXd e = errors(x, legs, p, chains);
-  double norm = e.norm();
-  int it = 0;
-  for (; it < max_iterations && norm > 1e-15; ++it) {
-    MatrixXd J = MatrixXd::Zero(rows, unknowns);
-    for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
-      const Leg& l = model_.legs[leg];
-      const Chain& c = chains[leg];
-      const Vector3d r = c.end.translation();
-      const MatrixXd cols = platform_columns(model_, p, r);
-      for (Index j = 0; j < cols.cols(); ++j)
-        J.block(Index(leg) * m, j, m, 1) = -rows_of(cols.col(j), model_.planar);
-      const int act_var = l.steps[std::size_t(model_.actuators[std::size_t(l.actuators.front())].step)].variable;
-      for (int v = 0, col = 0; v < l.variables; ++v)
-        if (v != act_var)
-          J.block(Index(leg) * m, offset[leg] + col++, m, 1) = rows_of(twist(c, v, r, model_.size), model_.planar);
-    }
-    VectorXd d = damped_step(J, e);
-    limit_step(d, length_unknowns, model_.size);
-    bool accepted = false;
-    for (int halving = 0; halving < 30 && !accepted; ++halving, d *= 0.5) {
-      const VectorXd tx = step_pose(x, p.R, d);
-      std::vector<LegState> tl = legs;
-      for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
-        const Leg& l = model_.legs[leg];
-        const int act_var = l.steps[std::size_t(model_.actuators[std::size_t(l.actuators.front())].step)].variable;
-        VectorXd full = VectorXd::Zero(l.variables);
-        for (int v = 0, col = 0; v < l.variables; ++v)
-          if (v != act_var) full(v) = d(offset[leg] + col++);
-        apply(l, tl[leg], full);
-      }
-      PlatformPose tp;
-      std::vector<Chain> tchains;
-      const VectorXd te = errors(tx, tl, tp, tchains);
-      if (te.norm() < norm) {
-        accepted = true;
-        const bool floor = te.norm() > 0.5 * norm && norm < 1e-11;
-        x = tx;
-        legs = std::move(tl);
-        p = std::move(tp);
-        chains = std::move(tchains);
-        e = te;
-        norm = te.norm();
-        if (floor) it = max_iterations;
-      }
-    }
-    if (!accepted) break;
-  }
-  out.x = x;
-  out.legs = std::move(legs);
-  out.residual = norm * model_.size;
-  out.iterations = std::min(it, max_iterations);
-  out.status = norm <= tolerance ? Status::Ok : Status::NotConverged;
-  // An assembly whose legs break the design's own branch rules (a "sign" in
-  // the description) is not this device: report it as not converged.
-  if (out.status == Status::Ok) {
-    for (std::size_t leg = 0; leg < model_.legs.size() && out.status == Status::Ok; ++leg) {
-      const Leg& l = model_.legs[leg];
-      const std::vector<int> signs = rule_signs(int(leg), out.legs[leg], anchor(int(leg), p));
-      for (std::size_t r = 0; r < l.rules.size(); ++r)
-        if (l.rules[r].fixed_sign != 0 && signs[r] * l.rules[r].fixed_sign < 0) out.status = Status::NotConverged;
-    }
-  }
+  out.J = lu.solve(out.Jq);
   return out;
 }
 
@@ -833,136 +557,6 @@ double Kinematics::reach_margin(const VectorXd& x, int branch) const {
 Kinematics::LegDrawing Kinematics::draw_leg(int leg, const LegState& state) const {
   const Chain c = walk(model_.legs[std::size_t(leg)], state);
   return {c.step_frame};
-}
-
-// ---- Construction: home on every branch, mobility ---------------------------------------------
-
-Kinematics::Kinematics(Model model) : model_(std::move(model)), id_(next_id++) {
-  // Each leg's longest and shortest reach from its base: the chain's end is
-  // the base plus its fixed translations, each turned by the joints before
-  // it, so by the triangle inequality its distance lies between the longest
-  // translation less all the others and their sum, whatever the joints do.
-  // Unbounded with a slide (IK solves without the travel, which makes
-  // out-of-limits).
-  for (const Leg& l : model_.legs) {
-    double sum = 0, longest = 0;
-    bool slides = false;
-    for (const Step& step : l.steps) {
-      const double length = step.kind == Kind::Fixed ? step.transform.translation().norm() : 0.0;
-      sum += length;
-      longest = std::max(longest, length);
-      slides = slides || step.kind == Kind::Prismatic;
-    }
-    leg_reach_.push_back(slides ? Range{0.0, kInf} : Range{std::max(0.0, 2 * longest - sum), sum});
-  }
-  // Spread seeds: the chain as written, then joint values spread over a turn.
-  for (const Leg& l : model_.legs) {
-    std::vector<LegState> seeds;
-    for (int j = 0; j < 12; ++j) {
-      LegState s;
-      s.values = VectorXd::Zero(l.variables);
-      for (const Step& step : l.steps) {
-        if (step.kind == Kind::Revolute) s.values(step.variable) = j == 0 ? 0.0 : kPi * golden(j, step.variable);
-        if (step.kind == Kind::Prismatic) {
-          const bool actuated = step.actuator >= 0;
-          const Range r = actuated ? model_.actuators[std::size_t(step.actuator)].range : Range{0, 0};
-          s.values(step.variable) = actuated ? 0.5 * (r.lo + r.hi) + 0.25 * (r.hi - r.lo) * golden(j, 0) : 0.0;
-        }
-        if (step.kind == Kind::Spherical)
-          s.spheres.push_back(j == 0 ? Matrix3d::Identity()
-                                     : rotation_of(kPi * Vector3d(golden(j, step.variable), golden(j, step.variable + 1),
-                                                                   golden(j, step.variable + 2)) /
-                                                   std::sqrt(3.0)));
-      }
-      seeds.push_back(std::move(s));
-    }
-    spread_seeds_.push_back(std::move(seeds));
-  }
-  // Home on every combination of each leg's free rules.
-  const PlatformPose home = pose(model_.home);
-  home_states_.resize(model_.legs.size());
-  for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
-    const Leg& l = model_.legs[leg];
-    home_states_[leg].assign(std::size_t(1) << free_rules_of(l), std::nullopt);
-    const Isometry3d a = anchor(int(leg), home);
-    double best = kInf;
-    for (const LegState& seed : spread_seeds_[leg]) {
-      LegSolveResult r = solve_leg(int(leg), a, seed, 100, 1e-9);
-      best = std::min(best, r.error * model_.size);
-      if (r.error * model_.size > 1e-10 * model_.size) continue;
-      for (int combo = 0; combo < int(home_states_[leg].size()); ++combo)
-        if (!home_states_[leg][std::size_t(combo)] && signs_match(int(leg), r.state, a, device_branch(l, combo)))
-          home_states_[leg][std::size_t(combo)] = r.state;
-    }
-    std::ostringstream msg;
-    if (!home_states_[leg][0]) {
-      msg << "description.legs \"" << l.name << "\": the leg does not reach its anchor at home";
-      if (best < kInf && best > 1e-10 * model_.size) msg << " (misses by " << best << " " << model_.length_unit << ")";
-      else msg << " on branch 0 (every branch rule positive or as its sign says)";
-      throw std::invalid_argument(msg.str());
-    }
-  }
-
-  // Mobility: the joint graph against the closure's rank at home.
-  const int lambda = model_.planar ? 3 : 6;
-  int bodies = 1 + int(model_.platform_names.size()), joints = int(model_.platform_names.size()) - 1, freedom = int(model_.extras.size());
-  for (const Leg& l : model_.legs) {
-    std::set<std::string> names;
-    for (const Step& s : l.steps)
-      if (s.kind != Kind::Fixed) names.insert(s.joint);
-    joints += int(names.size());
-    bodies += int(names.size()) - 1;
-    freedom += l.variables;
-  }
-  mobility_.gruebler = lambda * (bodies - 1 - joints) + freedom;
-  int free_coordinates = 0;
-  for (int c = 0; c < 6; ++c) free_coordinates += model_.free[std::size_t(c)] && (!model_.planar || c == 0 || c == 1 || c == 5);
-  mobility_.fixed = lambda - free_coordinates;
-  {
-    const int m = model_.planar ? 3 : 6;
-    int columns = model_.driven();
-    for (const Leg& l : model_.legs) columns += l.variables;
-    MatrixXd C = MatrixXd::Zero(m * Index(model_.legs.size()), columns);
-    int col = model_.driven();
-    for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
-      const Leg& l = model_.legs[leg];
-      const Chain c = walk(l, *home_states_[leg][0]);
-      const Vector3d r = c.end.translation();
-      const MatrixXd pc = platform_columns(model_, home, r);
-      for (Index j = 0; j < pc.cols(); ++j) C.block(Index(leg) * m, j, m, 1) = -rows_of(pc.col(j), model_.planar);
-      MatrixXd passive(m, l.variables);
-      for (int v = 0; v < l.variables; ++v) {
-        passive.col(v) = rows_of(twist(c, v, r, model_.size), model_.planar);
-        C.block(Index(leg) * m, col++, m, 1) = passive.col(v);
-      }
-      const int act_var = l.steps[std::size_t(model_.actuators[std::size_t(l.actuators.front())].step)].variable;
-      MatrixXd without(m, l.variables - 1);
-      for (int v = 0, k = 0; v < l.variables; ++v)
-        if (v != act_var) without.col(k++) = passive.col(v);
-      Eigen::FullPivLU<MatrixXd> lu(without);
-      lu.setThreshold(1e-9);
-      mobility_.idle += int(without.cols()) - int(lu.rank());
-      passive_rank_.push_back(int(lu.rank()));
-    }
-    Eigen::FullPivLU<MatrixXd> lu(C);
-    lu.setThreshold(1e-9);
-    mobility_.closure_rank = columns - int(lu.rank());
-  }
-  mobility_.freedoms = mobility_.closure_rank - mobility_.idle;
-  if (mobility_.freedoms != int(model_.actuators.size())) {
-    std::ostringstream msg;
-    msg << "description: the mechanism has " << mobility_.freedoms << " freedom(s) at home (closure "
-        << mobility_.closure_rank << ", idle " << mobility_.idle << ") but " << model_.actuators.size()
-        << " actuator(s); each freedom of the task needs one actuator (Gruebler-Kutzbach count "
-        << mobility_.gruebler << ", " << mobility_.fixed << " platform coordinate(s) held by the description)";
-    throw std::invalid_argument(msg.str());
-  }
-  if (model_.driven() != int(model_.actuators.size())) {
-    std::ostringstream msg;
-    msg << "description.task: " << model_.driven() << " driven coordinate(s) but " << model_.actuators.size()
-        << " actuator(s)";
-    throw std::invalid_argument(msg.str());
-  }
 }
 
 }  // namespace linkscape::described

@@ -18,18 +18,12 @@
 #include <string>
 #include <vector>
 
+#include "core/mechanisms/described/closed_form.h"
 #include "core/mechanisms/described/model.h"
 #include "core/range.h"
 #include "core/status.h"
 
 namespace linkscape::described {
-
-// A leg's joint values: one per revolute/prismatic step (spherical steps'
-// slots unused) and a rotation per spherical joint.
-struct LegState {
-  Eigen::VectorXd values;
-  std::vector<Eigen::Matrix3d> spheres;
-};
 
 // The platform's pose for a task vector (the model's task order).
 struct PlatformPose {
@@ -61,7 +55,9 @@ bool assembled(const PoseSolution& s);
 struct JacobianParts {
   Eigen::MatrixXd Jx, Jq, J;  // J = -Jx^-1 Jq (driven task rows x actuators), physical units
   std::vector<double> serial_margin;  // per leg: size * |Jq_ii| for the unit wrench (length)
-  double jx_condition = 0.0;  // of the dimensionless Jx; +inf if singular
+  // Of the dimensionless Jx (+inf if singular): 2-norm by an SVD (solver
+  // Numeric), else the LU's 1-norm estimate.
+  double jx_condition = 0.0;
   Status status = Status::Ok;  // Singular at a type I or type II singularity
   int singular_leg = -1;       // type I: the leg
 };
@@ -82,6 +78,10 @@ struct Mobility {
   int freedoms = 0;      // device freedoms: closure_rank - idle (+ extras)
 };
 
+// How legs are solved: in closed form where a leg's pattern is recognised
+// (the numerical solver elsewhere), or all numerically (the reference).
+enum class LegSolver { Fastest, Numeric };
+
 class Kinematics {
  public:
   // Solves home on every branch; throws std::invalid_argument naming the leg
@@ -98,11 +98,20 @@ class Kinematics {
 
   // Every leg on `branch` (bits of the free rules). Seeds: the thread's last
   // solution, the leg at home on the branch, spread seeds.
-  PoseSolution inverse(const Eigen::VectorXd& x, int branch, double tolerance) const;
+  PoseSolution inverse(const Eigen::VectorXd& x, int branch, double tolerance,
+                       LegSolver solver = LegSolver::Fastest) const;
   // Each leg on the solution whose actuator is nearest q (q, x consistent).
-  PoseSolution inverse_near(const Eigen::VectorXd& x, const Eigen::VectorXd& q) const;
+  PoseSolution inverse_near(const Eigen::VectorXd& x, const Eigen::VectorXd& q,
+                            LegSolver solver = LegSolver::Fastest) const;
+
+  // The leg's closed form (nullptr: solved numerically) and the bounds of the
+  // distance from its base to its anchor (outside them it cannot close).
+  const ClosedFormLeg* closed_form(int leg) const;
+  const Range& reach(int leg) const { return leg_reach_[std::size_t(leg)]; }
   // At a solved pose (its legs' states).
-  JacobianParts jacobian(const Eigen::VectorXd& x, const PoseSolution& solved) const;
+  // Solver Fastest: each recognised leg's reciprocal wrench in closed form.
+  JacobianParts jacobian(const Eigen::VectorXd& x, const PoseSolution& solved,
+                         LegSolver solver = LegSolver::Fastest) const;
   ForwardSolution forward(const Eigen::VectorXd& q, const Eigen::VectorXd& seed, double tolerance,
                           int max_iterations) const;
 
@@ -131,7 +140,9 @@ class Kinematics {
   LegSolveResult solve_leg(int leg, const Eigen::Isometry3d& anchor, LegState state, int max_iterations,
                            double crawl) const;
   LegSolution solve_leg_on(int leg, const Eigen::Isometry3d& anchor, int branch, double tolerance,
-                           const LegState* extra_seed) const;
+                           const LegState* extra_seed, LegSolver solver) const;
+  // The closed form's solution on the branch; nullopt where it cannot decide.
+  std::optional<LegSolution> solve_leg_closed(int leg, const Eigen::Isometry3d& anchor, int branch) const;
   bool signs_match(int leg, const LegState& state, const Eigen::Isometry3d& anchor, int branch) const;
   // Whether the leg's actuator lies within its travel (a revolute one: some turn of it).
   bool within_travel(int leg, const LegState& state) const;
@@ -148,6 +159,7 @@ class Kinematics {
   // Per leg: the rank of its passive joints' twists at home (6 less the
   // wrenches the leg transmits: the actuation wrench and any constraint ones).
   std::vector<int> passive_rank_;
+  std::vector<std::optional<ClosedFormLeg>> closed_;
 };
 
 }  // namespace linkscape::described

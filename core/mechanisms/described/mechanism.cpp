@@ -7,7 +7,9 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/field.h"
 #include "core/field_sampling.h"
+#include "core/mechanisms/described/chain.h"
 #include "core/mechanisms/described/kinematics.h"
 #include "core/preset.h"
 
@@ -69,7 +71,8 @@ class DescribedMechanism final : public Mechanism {
                           {kPlaneZ, kPlaneZ}});
     }
     if (m.planar) i.plane_z = kPlaneZ;
-    i.ik_methods = {{"newton", "newton", "Damped Gauss-Newton per leg from seeds, branch by the leg's rules"}};
+    i.ik_methods = {{"closed", "closed", "Closed form per recognised leg (describe), Gauss-Newton for the others"},
+                    {"newton", "newton", "Damped Gauss-Newton per leg from seeds, branch by the leg's rules (the reference)"}};
     i.fk_methods = {{"newton", "newton", "Gauss-Newton on every loop closure from a seed pose"}};
     rotations_ = 0;
     for (const TaskCoordinate& c : m.task) rotations_ += c.platform_coordinate >= 3;
@@ -105,7 +108,7 @@ class DescribedMechanism final : public Mechanism {
   VectorXd home_actuators() const override { return home_q_; }
 
   IkResult inverse(const VectorXd& x, const IkOptions& o) const override {
-    check_method(o.method, "IK");
+    const LegSolver solver = solver_of(o.method);
     const VectorXd xm = to_model(x, "x");
     if (o.branch && (*o.branch < 0 || *o.branch >= kin_.branches()))
       throw std::invalid_argument("described: branch must be 0.." + std::to_string(kin_.branches() - 1) + ", got " +
@@ -113,7 +116,7 @@ class DescribedMechanism final : public Mechanism {
     IkResult out;
     const int first = o.branch.value_or(0), last = o.branch ? *o.branch : kin_.branches() - 1;
     for (int b = first; b <= last; ++b) {
-      PoseSolution s = kin_.inverse(xm, b, o.tolerance);
+      PoseSolution s = kin_.inverse(xm, b, o.tolerance, solver);
       // Singular at a type I (a leg's) or a type II (the platform's)
       // singularity: wherever measures() reports J singular.
       if (s.status == Status::Ok) {
@@ -130,7 +133,7 @@ class DescribedMechanism final : public Mechanism {
         }
       }
       if (s.status == Status::Ok || s.status == Status::OutOfLimits)
-        out.solutions.push_back({s.q, b, s.status, s.residual, s.iterations, "newton",
+        out.solutions.push_back({s.q, b, s.status, s.residual, s.iterations, method_name(solver),
                                  s.status == Status::Ok || s.failing_leg < 0
                                      ? std::string()
                                      : kin_.model().legs[std::size_t(s.failing_leg)].name});
@@ -388,7 +391,9 @@ class DescribedMechanism final : public Mechanism {
 
   std::optional<Field> compute_field(const Grid& grid, const VectorXd& fixed_task, const IkOptions& o, int threads,
                                      const FieldProgress& progress) const override {
-    check_method(o.method, "IK");
+    // The numerical reference where asked for, by method or LINKSCAPE_FIELD_KERNEL=scalar.
+    const LegSolver solver =
+        field_kernel_from_environment() == FieldKernel::Scalar ? LegSolver::Numeric : solver_of(o.method);
     const int branch = o.branch.value_or(0);
     if (branch < 0 || branch >= kin_.branches())
       throw std::invalid_argument("described: branch must be 0.." + std::to_string(kin_.branches() - 1));
@@ -404,7 +409,7 @@ class DescribedMechanism final : public Mechanism {
     f.mechanism = info_.name;
     f.length_unit = kin_.model().length_unit;
     f.parameters = parameters();
-    f.method = "newton";
+    f.method = method_name(solver);
     f.branch = branch;
     for (const NamedItem& n : info_.measures) f.measure_titles.push_back(n.title);
     const double tolerance = o.tolerance;
@@ -416,7 +421,7 @@ class DescribedMechanism final : public Mechanism {
             x(0) = p.x();
             x(1) = p.y();
             if (!kin_.model().planar) x(2) = p.z();
-            out.store(t, sample(x, branch, tolerance));
+            out.store(t, sample(x, branch, tolerance, solver));
           }
         });
     if (!complete) return std::nullopt;
@@ -455,17 +460,17 @@ class DescribedMechanism final : public Mechanism {
     int leg, step, body;
   };
 
-  FieldSample sample(const VectorXd& xm, int branch, double tolerance) const {
+  FieldSample sample(const VectorXd& xm, int branch, double tolerance, LegSolver solver) const {
     FieldSample s;
     const float inf = std::numeric_limits<float>::infinity();
     s.cond = s.cond_orientation = inf;
-    const PoseSolution ik = kin_.inverse(xm, branch, tolerance);
+    const PoseSolution ik = kin_.inverse(xm, branch, tolerance, solver);
     s.iterations = std::uint16_t(std::min(ik.iterations, 65535));
     const bool closes = assembled(ik);
     Status status = ik.status;
     s.residual = closes ? float(ik.residual) : inf;
     std::optional<JacobianParts> parts;
-    if (closes) parts = kin_.jacobian(xm, ik);
+    if (closes) parts = kin_.jacobian(xm, ik, solver);
     const double margin = kin_.reach_margin(ik, parts ? &*parts : nullptr);
     if (parts) {
       if (status == Status::Ok && parts->status != Status::Ok) status = Status::Singular;
@@ -484,11 +489,7 @@ class DescribedMechanism final : public Mechanism {
 
   std::vector<double> measure_values(const JacobianParts& parts) const {
     if (parts.status != Status::Ok) return std::vector<double>(info_.measures.size(), kInf);
-    auto cond = [](const Eigen::MatrixXd& M) {
-      Eigen::JacobiSVD<Eigen::MatrixXd> svd(M);
-      const auto& sv = svd.singularValues();
-      return sv(sv.size() - 1) > 0 ? sv(0) / sv(sv.size() - 1) : kInf;
-    };
+    const auto cond = internal::condition_number;
     if (info_.measures.size() == 1) return {cond(parts.J)};
     // Rows of J in task order: translations first (x, y, z), then rotations.
     const Model& m = kin_.model();
@@ -531,6 +532,12 @@ class DescribedMechanism final : public Mechanism {
     if (!method.empty() && method != "newton")
       throw std::invalid_argument(std::string("described: unknown ") + what + " method '" + method + "' (known: newton)");
   }
+  static LegSolver solver_of(const std::string& method) {
+    if (method.empty() || method == "closed") return LegSolver::Fastest;
+    if (method == "newton") return LegSolver::Numeric;
+    throw std::invalid_argument("described: unknown IK method '" + method + "' (known: closed, newton)");
+  }
+  static const char* method_name(LegSolver s) { return s == LegSolver::Numeric ? "newton" : "closed"; }
 
   // Interface task (x, y, z, ... with z inserted for planar devices) <-> model task.
   // A planar device refuses a z off its plane (within rounding of the size).

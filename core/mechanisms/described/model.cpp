@@ -326,7 +326,7 @@ Model build_model(const std::string& description_json, const std::map<std::strin
   std::vector<int> copies(legs.size(), 1), firsts(legs.size(), 1);  // firsts: the number '#' stands for in copy 0
   for (std::size_t l = 0, count = 0; l < legs.size(); ++l) {
     const std::string where = top + ".legs[" + std::to_string(l) + "]";
-    check_keys(legs[l], {"name", "copies", "first", "base", "chain", "platform", "anchor", "branch"}, where);
+    check_keys(legs[l], {"name", "copies", "first", "base", "chain", "platform", "anchor", "branch", "pattern"}, where);
     if (legs[l].contains("copies")) copies[l] = whole_number(legs[l].at("copies"), 1, kMaxLegs, where + ".copies");
     if (legs[l].contains("first")) firsts[l] = whole_number(legs[l].at("first"), 0, kMaxFirstNumber, where + ".first");
     count += std::size_t(copies[l]);
@@ -562,6 +562,7 @@ Model build_model(const std::string& description_json, const std::map<std::strin
         }
       }
       flush();
+      if (spec.contains("pattern")) leg.pattern = string_at(spec.at("pattern"), where + ": pattern");
       if (leg.variables == 0) fail(where + ": chain", "has no joints");
       if (leg.actuators.size() != 1)
         fail(where + ": chain", leg.actuators.empty() ? "has no actuated joint (mark one \"actuated\": true)"
@@ -572,7 +573,7 @@ Model build_model(const std::string& description_json, const std::map<std::strin
         const json rules = spec.at("branch").is_array() ? spec.at("branch") : json::array({spec.at("branch")});
         for (std::size_t r = 0; r < rules.size(); ++r) {
           const std::string at = where + ": branch" + (spec.at("branch").is_array() ? "[" + std::to_string(r) + "]" : "");
-          check_keys(rules[r], {"triple", "angle", "sign"}, at);
+          check_keys(rules[r], {"triple", "angle", "along", "direction", "sign"}, at);
           BranchRule rule;
           auto step_of = [&](const json& n, bool allow_anchor) {
             const std::string name = replace_hash(string_at(n, at), eval.hash_number());
@@ -594,8 +595,15 @@ Model build_model(const std::string& description_json, const std::map<std::strin
             rule.steps[0] = step_of(rules[r].at("angle"), false);
             if (leg.steps[std::size_t(rule.steps[0])].kind != Step::Kind::Revolute)
               fail(at + ".angle", "must name a revolute joint");
+          } else if (rules[r].contains("along")) {
+            const json& t = rules[r].at("along");
+            if (!t.is_array() || t.size() != 2) fail(at + ".along", "must name two joints [A, B]");
+            rule.kind = BranchRule::Kind::Along;
+            for (int i = 0; i < 2; ++i) rule.steps[std::size_t(i)] = step_of(t[std::size_t(i)], i == 1);
+            if (!rules[r].contains("direction")) fail(at, "\"along\" needs a \"direction\" [x, y, z] (base frame)");
+            rule.direction = eval.unit_axis(rules[r].at("direction"), at + ".direction");
           } else {
-            fail(at, "needs \"triple\" or \"angle\"");
+            fail(at, "needs \"triple\", \"angle\" or \"along\"");
           }
           if (rules[r].contains("sign")) {
             const double s = eval.number(rules[r].at("sign"), at + ".sign");

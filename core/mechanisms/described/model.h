@@ -35,9 +35,11 @@ struct Step {
 // Which inverse-kinematics solution a leg takes: the sign of a quantity of
 // its joint centres and axes.
 struct BranchRule {
-  enum class Kind { Triple, Angle };
+  enum class Kind { Triple, Angle, Along };
   Kind kind = Kind::Triple;
-  std::array<int, 3> steps{-1, -1, -1};  // step indices (Triple: A, B, C; C = -2: the anchor), Angle: A
+  // Step indices (Triple: A, B, C; Along: A, B; -2: the anchor), Angle: A.
+  std::array<int, 3> steps{-1, -1, -1};
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();  // Along: unit, base frame
   int fixed_sign = 0;                    // +1/-1 fixed by the design, 0: a free assembly branch
   int free_index = -1;                   // bit in the device's branch number (free rules)
 };
@@ -52,6 +54,7 @@ struct Leg {
   int spheres = 0;    // spherical joints (their rotations are stored apart)
   std::vector<BranchRule> rules;
   std::vector<int> actuators;  // indices into Model::actuators, in chain order
+  std::string pattern;  // the closed-form pattern the description asserts ("": none)
 };
 
 struct Actuator {

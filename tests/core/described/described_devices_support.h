@@ -69,4 +69,18 @@ inline std::string scientific(double value) {
   return out.str();
 }
 
+// The IK status the geometry expects: unreachable where a leg cannot reach,
+// out-of-limits where an actuator leaves its travel, else ok (or singular,
+// skipped). Counts each and returns true where the numbers are to be compared.
+struct Verdicts {
+  int ok = 0, out_of_limits = 0, unreachable = 0;
+  bool check(const IkResult& res, bool reaches, bool in_travel, int pose) {
+    const Status expected = !reaches ? Status::Unreachable : !in_travel ? Status::OutOfLimits : Status::Ok;
+    if (expected == Status::Ok && res.status == Status::Singular) return false;
+    EXPECT_EQ(res.status, expected) << "pose " << pose;
+    (expected == Status::Ok ? ok : expected == Status::OutOfLimits ? out_of_limits : unreachable)++;
+    return expected == Status::Ok && res.status == Status::Ok;
+  }
+};
+
 }  // namespace linkscape::described_test

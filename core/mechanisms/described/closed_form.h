@@ -1,0 +1,80 @@
+// Closed-form inverse kinematics of the leg patterns parallel devices are
+// built from, recognised from a leg's steps (docs/described-mechanisms.md,
+// "How each leg is solved"). A recognised leg yields every solution of its
+// closure at once (up to four), each a full leg state; the caller keeps the
+// one the branch rules and the travel select. Legs of no known pattern keep
+// the numerical solver.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/mechanisms/described/model.h"
+
+namespace linkscape::described {
+
+// A leg's joint values: one per revolute/prismatic step (spherical steps'
+// slots unused) and a rotation per spherical joint.
+struct LegState {
+  Eigen::VectorXd values;
+  std::vector<Eigen::Matrix3d> spheres;
+};
+
+enum class LegPattern {
+  Numeric,        // no known pattern: damped Gauss-Newton from seeds
+  CrankRod,       // revolute actuator, crank, ball (spherical/universal), rod, spherical (Delta, 6-RUS)
+  SlideRod,       // prismatic actuator, carriage, ball, rod, spherical (linear Delta)
+  Extensible,     // ball, prismatic actuator, spherical (Gough-Stewart UPS/SPS)
+  PlanarDyad,     // planar: revolute actuator, link, revolute, link, revolute (five-bar, 3-RRR)
+  ThreeRevolute,  // revolute actuator whose axis holds the second joint, two revolutes, spherical (PATHOS-II)
+};
+
+// The pattern's name as a description names it ("crank-rod", ..., "numeric").
+std::string pattern_name(LegPattern p);
+// The pattern a description names; throws std::invalid_argument listing the names.
+LegPattern pattern_of_name(const std::string& name);
+
+// A leg's closed form: where its joints are in its chain and the design's
+// constant vectors (leg base frame).
+struct ClosedFormLeg {
+  LegPattern pattern = LegPattern::Numeric;
+  Eigen::Isometry3d base = Eigen::Isometry3d::Identity();  // base frame <- the actuator's frame
+  int actuator_step = -1;
+  Eigen::Vector3d actuator_axis = Eigen::Vector3d::UnitZ();  // local
+  // The fixed transforms between the joints (identity where absent).
+  Eigen::Isometry3d after_actuator = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d rod = Eigen::Isometry3d::Identity();   // ball -> last joint
+  Eigen::Isometry3d tail = Eigen::Isometry3d::Identity();  // last joint -> end
+  // The ball (spherical, universal or, planar, a revolute) after the actuator
+  // (before it: Extensible).
+  int ball_step = -1;
+  int ball_joints = 0;  // 1: spherical or a planar revolute; 2: universal
+  bool ball_read = false;  // a branch rule reads the ball's joints (a universal's two solutions both count)
+  // ThreeRevolute: the second and third revolutes, the links after them.
+  int second_step = -1, third_step = -1;
+  Eigen::Vector3d second_link = Eigen::Vector3d::Zero(), third_link = Eigen::Vector3d::Zero();
+  int end_step = -1;  // the last joint (spherical; planar: revolute)
+  double offset = 0;  // Extensible: the fixed length along the slide
+};
+
+// The leg's pattern, or nullopt (numeric). Only structure that the closed
+// form solves exactly is recognised: a degenerate design (a crank of zero
+// length, a rod of zero length) stays numeric.
+std::optional<ClosedFormLeg> recognise(const Model& model, const Leg& leg);
+
+// Every solution of the leg's closure for `anchor` (base frame), or the
+// distance by which the anchor is out of the leg's reach.
+struct LegCandidates {
+  int count = 0;
+  std::array<LegState, 4> states;
+  double miss = 0;        // length unit, where count == 0
+  bool undecided = false;  // a degenerate pose (the anchor on an axis): use the numerical solver
+};
+void solve_closed(const ClosedFormLeg& form, const Model& model, const Leg& leg, const Eigen::Isometry3d& anchor,
+                  LegCandidates& out);
+
+}  // namespace linkscape::described

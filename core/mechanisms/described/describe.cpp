@@ -1,0 +1,72 @@
+// The text of `linkscape describe FILE` (docs/described-mechanisms.md, "How
+// each leg is solved").
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/mechanisms/described/kinematics.h"
+#include "core/mechanisms/described/mechanism.h"
+#include "core/preset.h"
+
+namespace linkscape::described {
+namespace {
+
+std::string joint_name(const Leg& l, int step) { return step == -2 ? "anchor" : l.steps[std::size_t(step)].name; }
+
+std::string rule_text(const Leg& l, const BranchRule& r) {
+  std::ostringstream s;
+  if (r.kind == BranchRule::Kind::Triple)
+    s << "triple [" << joint_name(l, r.steps[0]) << ", " << joint_name(l, r.steps[1]) << ", " << joint_name(l, r.steps[2]) << "]";
+  else if (r.kind == BranchRule::Kind::Angle)
+    s << "angle " << joint_name(l, r.steps[0]);
+  else
+    s << "along [" << joint_name(l, r.steps[0]) << ", " << joint_name(l, r.steps[1]) << "] direction [" << r.direction.x()
+      << ", " << r.direction.y() << ", " << r.direction.z() << "]";
+  if (r.fixed_sign != 0) s << " sign " << (r.fixed_sign > 0 ? "+" : "-") << " (design)";
+  else s << " free (branch bit " << r.free_index << ")";
+  return s.str();
+}
+
+}  // namespace
+
+std::string describe(const Preset& preset) {
+  if (preset.description.empty())
+    throw std::invalid_argument("describe: the preset has no \"description\" (only described devices can be described)");
+  const Kinematics k(build_model(preset.description, preset.parameters, preset.limits_deg, preset.length_unit));
+  const Model& m = k.model();
+  const Mobility& mb = k.mobility();
+  const std::string& unit = m.length_unit;
+  std::ostringstream s;
+  s << preset.title << "\n";
+  s << "space: " << (m.planar ? "planar" : "spatial") << ", size " << m.size << " " << unit << "\n";
+  s << "mobility: " << mb.freedoms << " (Gruebler-Kutzbach " << mb.gruebler << ", " << mb.fixed << " held, " << mb.idle
+    << " idle, closure rank " << mb.closure_rank << "); " << m.actuators.size() << " actuator(s)";
+  if (!m.extras.empty()) s << ", " << m.extras.size() << " extra(s)";
+  s << "\n";
+  s << "branches: " << k.branches() << "\n";
+  int closed = 0;
+  for (std::size_t leg = 0; leg < m.legs.size(); ++leg) closed += k.closed_form(int(leg)) != nullptr;
+  s << "legs: " << m.legs.size() << " (" << closed << " in closed form, " << m.legs.size() - std::size_t(closed)
+    << " numeric)\n";
+  for (std::size_t leg = 0; leg < m.legs.size(); ++leg) {
+    const Leg& l = m.legs[leg];
+    const ClosedFormLeg* form = k.closed_form(int(leg));
+    s << "  leg " << l.name << ": " << pattern_name(form ? form->pattern : LegPattern::Numeric) << "\n";
+    const Actuator& a = m.actuators[std::size_t(l.actuators.front())];
+    s << "    actuator " << a.name << " (" << (a.prismatic ? "prismatic" : "revolute") << "), travel ";
+    if (!a.limited) s << "a full turn";
+    else if (a.prismatic) s << a.range.lo << " .. " << a.range.hi << " " << unit;
+    else s << a.range.lo * 180 / M_PI << " .. " << a.range.hi * 180 / M_PI << " deg";
+    s << "\n";
+    if (l.rules.empty()) s << "    branch: none\n";
+    for (const BranchRule& r : l.rules) s << "    branch: " << rule_text(l, r) << "\n";
+    const Range& reach = k.reach(int(leg));
+    s << "    reach: " << reach.lo << " .. ";
+    if (std::isinf(reach.hi)) s << "unbounded";
+    else s << reach.hi;
+    s << " " << unit << " from its base to its anchor\n";
+  }
+  return s.str();
+}
+
+}  // namespace linkscape::described

@@ -1,0 +1,353 @@
+// Forward kinematics of a described mechanism, and its construction: each
+// leg solved at home on every branch, the mobility checked.
+#include <Eigen/LU>
+#include <atomic>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/mechanisms/described/chain.h"
+#include "core/mechanisms/described/closed_form.h"
+#include "core/mechanisms/described/kinematics.h"
+
+namespace linkscape::described {
+
+using namespace internal;  // its Eigen names too
+
+namespace {
+std::atomic<std::uint64_t> next_id{1};
+}  // namespace
+
+// ---- Forward kinematics -------------------------------------------------------------
+
+ForwardSolution Kinematics::forward(const VectorXd& q, const VectorXd& seed, double tolerance,
+                                    int max_iterations) const {
+  ForwardSolution out = forward_from(q, seed, tolerance, max_iterations);
+  if (out.status == Status::Ok) return out;
+  // Far from the seed, Gauss-Newton can stall where the closure's rank drops
+  // on the way (a parallelogram leg's redundant orientation rows): follow the
+  // actuators from the seed's to q in equal steps, each solved from the last,
+  // which keeps the assembly mode nearest the seed.
+  const PoseSolution start = inverse_near(seed, q);
+  if (!assembled(start)) return out;
+  VectorXd path = q - start.q;
+  for (std::size_t a = 0; a < model_.actuators.size(); ++a)
+    if (!model_.actuators[a].prismatic) path(Index(a)) = wrap(path(Index(a)));
+  for (int pieces = 4; pieces <= 64; pieces *= 4) {
+    ForwardSolution step;
+    step.x = seed;
+    int iterations = 0;
+    for (int k = 1; k <= pieces; ++k) {
+      step = forward_from(k == pieces ? q : VectorXd(start.q + path * (double(k) / pieces)), step.x, tolerance,
+                          max_iterations);
+      iterations += step.iterations;
+      if (step.status != Status::Ok) break;
+    }
+    if (step.status == Status::Ok) {
+      step.iterations = iterations;
+      return step;
+    }
+  }
+  return out;
+}
+
+ForwardSolution Kinematics::forward_from(const VectorXd& q, const VectorXd& seed, double tolerance,
+                                         int max_iterations) const {
+  ForwardSolution out;
+  out.x = seed;
+  const int n = model_.driven();
+  const bool all_rotations = model_.free[3] && model_.free[4] && model_.free[5];
+  // Leg states at the seed: each leg's solution with its actuator nearest q,
+  // its actuator then set to q.
+  PoseSolution start = inverse_near(seed, q);
+  std::vector<LegState> legs;
+  for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
+    const Leg& l = model_.legs[leg];
+    LegState s = start.legs[leg].status == Status::Ok ? start.legs[leg].state : *home_states_[leg][0];
+    const int a = l.actuators.front();
+    const int var = l.steps[std::size_t(model_.actuators[std::size_t(a)].step)].variable;
+    s.values(var) = model_.actuators[std::size_t(a)].prismatic ? q(a) : s.values(var) + wrap(q(a) - s.values(var));
+    legs.push_back(std::move(s));
+  }
+  // Unknowns: the driven coordinates, then every leg's passive variables.
+  std::vector<int> offset;
+  int unknowns = n;
+  for (const Leg& l : model_.legs) {
+    offset.push_back(unknowns);
+    unknowns += l.variables - 1;
+  }
+  const int m = model_.planar ? 3 : 6;
+  const int rows = m * int(model_.legs.size());
+  std::vector<bool> length_unknowns;  // translations and slides, for the step limit
+  for (const TaskCoordinate& t : model_.task)
+    if (t.extra < 0) length_unknowns.push_back(t.platform_coordinate < 3);
+  for (const Leg& l : model_.legs) {
+    const int act_var = l.steps[std::size_t(model_.actuators[std::size_t(l.actuators.front())].step)].variable;
+    for (const Step& step : l.steps) {
+      if (step.kind == Kind::Fixed || step.variable == act_var) continue;
+      for (int k = 0; k < (step.kind == Kind::Spherical ? 3 : 1); ++k) length_unknowns.push_back(step.kind == Kind::Prismatic);
+    }
+  }
+  VectorXd x = seed;
+  // The closure errors at (xx, ls), with the pose and the legs' chains they
+  // came from (kept for the next Jacobian).
+  auto errors = [&](const VectorXd& xx, const std::vector<LegState>& ls, PlatformPose& p, std::vector<Chain>& chains) {
+    p = pose(xx);
+    chains.resize(model_.legs.size());
+    VectorXd e(rows);
+    for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
+      walk_into(model_.legs[leg], ls[leg], chains[leg]);
+      e.segment(Index(leg) * m, m) = rows_of(closure_error(chains[leg], anchor(int(leg), p), model_.size), model_.planar);
+    }
+    return e;
+  };
+  // `R`: the rotation of pose(xx), which the caller already has.
+  auto step_pose = [&](const VectorXd& xx, const Matrix3d& R, const VectorXd& d) {
+    VectorXd nx = xx;
+    int col = 0;
+    Vector3d dw = Vector3d::Zero();
+    std::vector<int> rot_index(3, -1);
+    for (std::size_t i = 0; i < model_.task.size(); ++i) {
+      const TaskCoordinate& t = model_.task[i];
+      if (t.extra >= 0) continue;
+      if (t.platform_coordinate < 3 || !all_rotations) nx(Index(i)) += d(col);
+      else {
+        dw(t.platform_coordinate - 3) = d(col);
+        rot_index[std::size_t(t.platform_coordinate - 3)] = int(i);
+      }
+      ++col;
+    }
+    if (all_rotations) {
+      const Vector3d e = euler_of(rotation_of(dw) * R);
+      for (int k = 0; k < 3; ++k) nx(rot_index[std::size_t(k)]) = e(k);
+    }
+    return nx;
+  };
+  // pose(x) and the legs' chains: updated with x and legs, never recomputed.
+  PlatformPose p;
+  std::vector<Chain> chains;
+  VectorXd e = errors(x, legs, p, chains);
+  double norm = e.norm();
+  int it = 0;
+  for (; it < max_iterations && norm > 1e-15; ++it) {
+    MatrixXd J = MatrixXd::Zero(rows, unknowns);
+    for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
+      const Leg& l = model_.legs[leg];
+      const Chain& c = chains[leg];
+      const Vector3d r = c.end.translation();
+      const MatrixXd cols = platform_columns(model_, p, r);
+      for (Index j = 0; j < cols.cols(); ++j)
+        J.block(Index(leg) * m, j, m, 1) = -rows_of(cols.col(j), model_.planar);
+      const int act_var = l.steps[std::size_t(model_.actuators[std::size_t(l.actuators.front())].step)].variable;
+      for (int v = 0, col = 0; v < l.variables; ++v)
+        if (v != act_var)
+          J.block(Index(leg) * m, offset[leg] + col++, m, 1) = rows_of(twist(c, v, r, model_.size), model_.planar);
+    }
+    VectorXd d = damped_step(J, e);
+    limit_step(d, length_unknowns, model_.size);
+    bool accepted = false;
+    for (int halving = 0; halving < 30 && !accepted; ++halving, d *= 0.5) {
+      const VectorXd tx = step_pose(x, p.R, d);
+      std::vector<LegState> tl = legs;
+      for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
+        const Leg& l = model_.legs[leg];
+        const int act_var = l.steps[std::size_t(model_.actuators[std::size_t(l.actuators.front())].step)].variable;
+        VectorXd full = VectorXd::Zero(l.variables);
+        for (int v = 0, col = 0; v < l.variables; ++v)
+          if (v != act_var) full(v) = d(offset[leg] + col++);
+        apply(l, tl[leg], full);
+      }
+      PlatformPose tp;
+      std::vector<Chain> tchains;
+      const VectorXd te = errors(tx, tl, tp, tchains);
+      if (te.norm() < norm) {
+        accepted = true;
+        const bool floor = te.norm() > 0.5 * norm && norm < 1e-11;
+        x = tx;
+        legs = std::move(tl);
+        p = std::move(tp);
+        chains = std::move(tchains);
+        e = te;
+        norm = te.norm();
+        if (floor) it = max_iterations;
+      }
+    }
+    if (!accepted) break;
+  }
+  out.x = x;
+  out.legs = std::move(legs);
+  out.residual = norm * model_.size;
+  out.iterations = std::min(it, max_iterations);
+  out.status = norm <= tolerance ? Status::Ok : Status::NotConverged;
+  // An assembly whose legs break the design's own branch rules (a "sign" in
+  // the description) is not this device: report it as not converged.
+  if (out.status == Status::Ok) {
+    for (std::size_t leg = 0; leg < model_.legs.size() && out.status == Status::Ok; ++leg) {
+      const Leg& l = model_.legs[leg];
+      const std::vector<int> signs = rule_signs(int(leg), out.legs[leg], anchor(int(leg), p));
+      for (std::size_t r = 0; r < l.rules.size(); ++r)
+        if (l.rules[r].fixed_sign != 0 && signs[r] * l.rules[r].fixed_sign < 0) out.status = Status::NotConverged;
+    }
+  }
+  return out;
+}
+
+// ---- Construction: home on every branch, mobility ---------------------------------------------
+
+Kinematics::Kinematics(Model model) : model_(std::move(model)), id_(next_id++) {
+  // Each leg's longest and shortest reach from its base: the chain's end is
+  // the base plus its fixed translations, each turned by the joints before
+  // it, so by the triangle inequality its distance lies between the longest
+  // translation less all the others and their sum, whatever the joints do.
+  // Unbounded with a slide (IK solves without the travel, which makes
+  // out-of-limits).
+  for (const Leg& l : model_.legs) {
+    double sum = 0, longest = 0;
+    bool slides = false;
+    for (const Step& step : l.steps) {
+      const double length = step.kind == Kind::Fixed ? step.transform.translation().norm() : 0.0;
+      sum += length;
+      longest = std::max(longest, length);
+      slides = slides || step.kind == Kind::Prismatic;
+    }
+    leg_reach_.push_back(slides ? Range{0.0, kInf} : Range{std::max(0.0, 2 * longest - sum), sum});
+  }
+  // Spread seeds: the chain as written, then joint values spread over a turn.
+  for (const Leg& l : model_.legs) {
+    std::vector<LegState> seeds;
+    for (int j = 0; j < 12; ++j) {
+      LegState s;
+      s.values = VectorXd::Zero(l.variables);
+      for (const Step& step : l.steps) {
+        if (step.kind == Kind::Revolute) s.values(step.variable) = j == 0 ? 0.0 : kPi * golden(j, step.variable);
+        if (step.kind == Kind::Prismatic) {
+          const bool actuated = step.actuator >= 0;
+          const Range r = actuated ? model_.actuators[std::size_t(step.actuator)].range : Range{0, 0};
+          s.values(step.variable) = actuated ? 0.5 * (r.lo + r.hi) + 0.25 * (r.hi - r.lo) * golden(j, 0) : 0.0;
+        }
+        if (step.kind == Kind::Spherical)
+          s.spheres.push_back(j == 0 ? Matrix3d::Identity()
+                                     : rotation_of(kPi * Vector3d(golden(j, step.variable), golden(j, step.variable + 1),
+                                                                   golden(j, step.variable + 2)) /
+                                                   std::sqrt(3.0)));
+      }
+      seeds.push_back(std::move(s));
+    }
+    spread_seeds_.push_back(std::move(seeds));
+  }
+  // Home on every combination of each leg's free rules.
+  const PlatformPose home = pose(model_.home);
+  home_states_.resize(model_.legs.size());
+  for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
+    const Leg& l = model_.legs[leg];
+    home_states_[leg].assign(std::size_t(1) << free_rules_of(l), std::nullopt);
+    const Isometry3d a = anchor(int(leg), home);
+    double best = kInf;
+    for (const LegState& seed : spread_seeds_[leg]) {
+      LegSolveResult r = solve_leg(int(leg), a, seed, 100, 1e-9);
+      best = std::min(best, r.error * model_.size);
+      if (r.error * model_.size > 1e-10 * model_.size) continue;
+      for (int combo = 0; combo < int(home_states_[leg].size()); ++combo)
+        if (!home_states_[leg][std::size_t(combo)] && signs_match(int(leg), r.state, a, device_branch(l, combo)))
+          home_states_[leg][std::size_t(combo)] = r.state;
+    }
+    std::ostringstream msg;
+    if (!home_states_[leg][0]) {
+      msg << "description.legs \"" << l.name << "\": the leg does not reach its anchor at home";
+      if (best < kInf && best > 1e-10 * model_.size) msg << " (misses by " << best << " " << model_.length_unit << ")";
+      else msg << " on branch 0 (every branch rule positive or as its sign says)";
+      throw std::invalid_argument(msg.str());
+    }
+  }
+
+  // Closed forms: each recognised leg must reproduce its home solution (a
+  // safeguard: a leg whose closed form would not close stays numerical).
+  for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
+    const Leg& l = model_.legs[leg];
+    std::optional<ClosedFormLeg> form = recognise(model_, l);
+    if (form) {
+      LegCandidates c;
+      solve_closed(*form, model_, l, anchor(int(leg), home), c);
+      bool closes = c.count > 0;
+      for (int i = 0; i < c.count; ++i)
+        closes = closes && rows_of(closure_error(walk(l, c.states[std::size_t(i)]), anchor(int(leg), home), model_.size),
+                                   model_.planar)
+                                   .norm() <= 1e-9;
+      if (!closes) form.reset();
+    }
+    const std::string found = pattern_name(form ? form->pattern : LegPattern::Numeric);
+    std::optional<LegPattern> named;
+    try {
+      if (!l.pattern.empty()) named = pattern_of_name(l.pattern);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument("description.legs \"" + l.name + "\": pattern: " + e.what());
+    }
+    if (named && pattern_name(*named) != found)
+      throw std::invalid_argument("description.legs \"" + l.name + "\": pattern: the description names \"" + l.pattern +
+                                  "\" but the leg is solved as \"" + found + "\"");
+    closed_.push_back(form);
+  }
+
+  // Mobility: the joint graph against the closure's rank at home.
+  const int lambda = model_.planar ? 3 : 6;
+  int bodies = 1 + int(model_.platform_names.size()), joints = int(model_.platform_names.size()) - 1, freedom = int(model_.extras.size());
+  for (const Leg& l : model_.legs) {
+    std::set<std::string> names;
+    for (const Step& s : l.steps)
+      if (s.kind != Kind::Fixed) names.insert(s.joint);
+    joints += int(names.size());
+    bodies += int(names.size()) - 1;
+    freedom += l.variables;
+  }
+  mobility_.gruebler = lambda * (bodies - 1 - joints) + freedom;
+  int free_coordinates = 0;
+  for (int c = 0; c < 6; ++c) free_coordinates += model_.free[std::size_t(c)] && (!model_.planar || c == 0 || c == 1 || c == 5);
+  mobility_.fixed = lambda - free_coordinates;
+  {
+    const int m = model_.planar ? 3 : 6;
+    int columns = model_.driven();
+    for (const Leg& l : model_.legs) columns += l.variables;
+    MatrixXd C = MatrixXd::Zero(m * Index(model_.legs.size()), columns);
+    int col = model_.driven();
+    for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
+      const Leg& l = model_.legs[leg];
+      const Chain c = walk(l, *home_states_[leg][0]);
+      const Vector3d r = c.end.translation();
+      const MatrixXd pc = platform_columns(model_, home, r);
+      for (Index j = 0; j < pc.cols(); ++j) C.block(Index(leg) * m, j, m, 1) = -rows_of(pc.col(j), model_.planar);
+      MatrixXd passive(m, l.variables);
+      for (int v = 0; v < l.variables; ++v) {
+        passive.col(v) = rows_of(twist(c, v, r, model_.size), model_.planar);
+        C.block(Index(leg) * m, col++, m, 1) = passive.col(v);
+      }
+      const int act_var = l.steps[std::size_t(model_.actuators[std::size_t(l.actuators.front())].step)].variable;
+      MatrixXd without(m, l.variables - 1);
+      for (int v = 0, k = 0; v < l.variables; ++v)
+        if (v != act_var) without.col(k++) = passive.col(v);
+      Eigen::FullPivLU<MatrixXd> lu(without);
+      lu.setThreshold(1e-9);
+      mobility_.idle += int(without.cols()) - int(lu.rank());
+      passive_rank_.push_back(int(lu.rank()));
+    }
+    Eigen::FullPivLU<MatrixXd> lu(C);
+    lu.setThreshold(1e-9);
+    mobility_.closure_rank = columns - int(lu.rank());
+  }
+  mobility_.freedoms = mobility_.closure_rank - mobility_.idle;
+  if (mobility_.freedoms != int(model_.actuators.size())) {
+    std::ostringstream msg;
+    msg << "description: the mechanism has " << mobility_.freedoms << " freedom(s) at home (closure "
+        << mobility_.closure_rank << ", idle " << mobility_.idle << ") but " << model_.actuators.size()
+        << " actuator(s); each freedom of the task needs one actuator (Gruebler-Kutzbach count "
+        << mobility_.gruebler << ", " << mobility_.fixed << " platform coordinate(s) held by the description)";
+    throw std::invalid_argument(msg.str());
+  }
+  if (model_.driven() != int(model_.actuators.size())) {
+    std::ostringstream msg;
+    msg << "description.task: " << model_.driven() << " driven coordinate(s) but " << model_.actuators.size()
+        << " actuator(s)";
+    throw std::invalid_argument(msg.str());
+  }
+}
+
+}  // namespace linkscape::described

@@ -1,0 +1,76 @@
+// Described devices against the compiled ones, side by side in one run: each
+// case is registered as compiled (where the device exists in C++), described
+// with its closed-form legs (IK method "closed", the default), and described
+// through the numerical reference (IK method "newton"), one after another.
+// Fields over the device's default box (n^3) and slices on its default plane
+// (n x n), at the home task, 2 threads. The newton cases run once (they take
+// seconds). The CPU column is every thread's time; the rate is per wall-clock
+// second.
+// Run: build/tests/bench/bench_described (--benchmark_filter=Stewart etc.)
+#include <benchmark/benchmark.h>
+
+#include <string>
+
+#include "core/mechanism.h"
+#include "core/preset.h"
+
+namespace {
+
+using linkscape::Grid;
+
+Grid grid_of(const linkscape::Mechanism& m, int n, bool slice) {
+  const Eigen::AlignedBox3d box = m.default_box();
+  if (!slice) return Grid::box(box.min(), box.max(), {n, n, n});
+  const auto [normal, position] = m.default_slice_plane(m.home_task());
+  const auto [u, v] = Grid::slice_axes(normal);
+  return Grid::slice(normal, position, box.min()(int(u)), box.max()(int(u)), box.min()(int(v)), box.max()(int(v)), n,
+                     n);
+}
+
+void field(benchmark::State& state, const std::string& preset, const std::string& method, int n, bool slice) {
+  const auto mechanism = linkscape::make_mechanism(linkscape::load_preset(preset));
+  // The compiled devices' grids are those of the described copies, so both sample the same points.
+  const std::string grid_preset = preset == "delta" ? "delta-described" : preset == "pathos2" ? "pathos2-described" : preset;
+  const Grid g = grid_of(*linkscape::make_mechanism(linkscape::load_preset(grid_preset)), n, slice);
+  linkscape::IkOptions o;
+  o.method = method;
+  std::size_t reachable = 0;
+  for (auto _ : state) {
+    const auto f = mechanism->compute_field(g, mechanism->home_task(), o, 2, {});
+    reachable = 0;
+    for (std::uint8_t r : f->reachable) reachable += r;
+  }
+  state.SetItemsProcessed(state.iterations() * std::int64_t(g.size()));
+  state.counters["reachable"] = double(reachable);
+}
+
+void add(const std::string& name, const std::string& compiled, const std::string& described, int n, bool slice) {
+  const std::string shape = slice ? "Slice" + std::to_string(n) : "Box" + std::to_string(n);
+  auto reg = [&](const std::string& label, const std::string& preset, const std::string& method) {
+    auto* b = benchmark::RegisterBenchmark(("BM_" + name + shape + "/" + label).c_str(), field, preset, method, n, slice)
+                  ->Unit(benchmark::kMillisecond)
+                  ->MeasureProcessCPUTime()
+                  ->UseRealTime();
+    if (method == "newton") b->Iterations(1);
+  };
+  if (!compiled.empty()) reg("compiled", compiled, "");
+  reg("described-closed", described, "closed");
+  reg("described-newton", described, "newton");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  add("Delta", "delta", "delta-described", 96, true);
+  add("Delta", "delta", "delta-described", 64, false);
+  add("Pathos2", "pathos2", "pathos2-described", 96, true);
+  add("Pathos2", "pathos2", "pathos2-described", 64, false);
+  add("Stewart", "", "stewart", 192, true);
+  add("Stewart", "", "stewart", 64, false);
+  add("FiveBar", "", "five-bar", 192, true);
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -1,0 +1,224 @@
+// The closed-form legs against the numerical solver (the reference) on every
+// shipped description: the pattern each leg is recognised as, identical
+// statuses away from the reach boundary, actuators, Jacobians and condition
+// numbers within 1e-9 relative; and every closed-form answer checked on its
+// own (its legs close, its branch signs hold), so that where the two differ
+// the closed form is shown right.
+#include <gtest/gtest.h>
+
+#include <Eigen/SVD>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "core/mechanisms/described/kinematics.h"
+#include "core/preset.h"
+
+namespace linkscape::described {
+namespace {
+
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+Kinematics load(const std::string& name) {
+  const Preset p = load_preset(name);
+  return Kinematics(build_model(p.description, p.parameters, p.limits_deg, p.length_unit));
+}
+
+std::vector<std::string> patterns(const Kinematics& k) {
+  std::vector<std::string> out;
+  for (std::size_t l = 0; l < k.model().legs.size(); ++l)
+    out.push_back(pattern_name(k.closed_form(int(l)) ? k.closed_form(int(l))->pattern : LegPattern::Numeric));
+  return out;
+}
+
+TEST(DescribedClosedForm, RecognisesTheShippedLegs) {
+  EXPECT_EQ(patterns(load("delta-described")), std::vector<std::string>(3, "crank-rod"));
+  EXPECT_EQ(patterns(load("pathos2-described")), std::vector<std::string>(6, "three-revolute"));
+  EXPECT_EQ(patterns(load("five-bar")), std::vector<std::string>(2, "planar-dyad"));
+  EXPECT_EQ(patterns(load("stewart")), std::vector<std::string>(6, "extensible"));
+  EXPECT_EQ(patterns(load("three-rrr")), std::vector<std::string>(3, "planar-dyad"));
+  EXPECT_EQ(patterns(load("linear-delta")), std::vector<std::string>(3, "slide-rod"));
+  EXPECT_EQ(patterns(load("hexapod-rus")), std::vector<std::string>(6, "crank-rod"));
+  // Five revolutes (a parallelogram's links as joints): no known pattern.
+  EXPECT_EQ(patterns(load("falcon")), std::vector<std::string>(3, "numeric"));
+}
+
+double cond(const MatrixXd& M) {
+  Eigen::JacobiSVD<MatrixXd> svd(M);
+  const auto& s = svd.singularValues();
+  return s(0) / s(s.size() - 1);
+}
+
+// A random pose: the position in home +- spread * size (planar: in the
+// plane), each rotation within 0.4 spread rad of home, each extra within its range.
+VectorXd random_pose(const Model& m, double spread, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> unit(-1, 1);
+  VectorXd x = m.home;
+  for (std::size_t i = 0; i < m.task.size(); ++i) {
+    const TaskCoordinate& t = m.task[i];
+    if (t.extra >= 0) {
+      const Range r = m.extras[std::size_t(t.extra)].range;
+      x(Eigen::Index(i)) = r.lo + (r.hi - r.lo) * 0.5 * (unit(rng) + 1);
+    } else {
+      x(Eigen::Index(i)) += spread * (t.platform_coordinate < 3 ? m.size : 0.4) * unit(rng);
+    }
+  }
+  return x;
+}
+
+// The closed form's answer, checked without the numerical solver: every
+// leg's chain closes on its anchor.
+double closure_miss(const Kinematics& k, const VectorXd& x, const PoseSolution& s) {
+  const PlatformPose p = k.pose(x);
+  double worst = 0;
+  for (std::size_t l = 0; l < s.legs.size(); ++l) {
+    const Kinematics::LegDrawing d = k.draw_leg(int(l), s.legs[l].state);
+    worst = std::max(worst, (d.frames.back().translation() - k.anchor(int(l), p).translation()).norm());
+  }
+  return worst;
+}
+
+struct Tally {
+  int poses = 0, ok = 0, mismatches = 0;
+  double q = 0, J = 0, cond = 0;
+};
+Tally compare(const Kinematics& k, const std::string& name, int poses);
+
+// How far a status is from ok: ok, out of limits, not converged (another
+// branch only), unreachable.
+int rank(Status s) {
+  return s == Status::Ok ? 0 : s == Status::OutOfLimits ? 1 : s == Status::NotConverged ? 2 : 3;
+}
+
+Tally compare(const std::string& name, int poses) {
+  const Tally t = compare(load(name), name, poses);
+  EXPECT_GE(t.ok, poses / 20) << name;
+  return t;
+}
+
+Tally compare(const Kinematics& k, const std::string& name, int poses) {
+  const Model& m = k.model();
+  std::mt19937_64 rng(20261127);
+  Tally t;
+  for (int i = 0; i < poses; ++i) {
+    // Half near home (mostly reachable), half across the box (mostly not).
+    const VectorXd x = random_pose(m, i % 2 ? 1.0 : 0.15, rng);
+    const int branch = int(rng() % std::uint64_t(k.branches()));
+    const PoseSolution fast = k.inverse(x, branch, 1e-10, LegSolver::Fastest);
+    const PoseSolution slow = k.inverse(x, branch, 1e-10, LegSolver::Numeric);
+    ++t.poses;
+    EXPECT_EQ(fast.iterations, 0) << name << ": every leg in closed form";
+    // The closed form's assemblies checked on their own: every leg closes.
+    if (assembled(fast)) EXPECT_LE(closure_miss(k, x, fast), 1e-12 * m.size) << name << " pose " << i;
+    if (fast.status != slow.status) {
+      // Only where the reference's seeds stall: the closed form has found
+      // (and the line above verified) more than the reference, never less.
+      ++t.mismatches;
+      EXPECT_LT(rank(fast.status), rank(slow.status)) << name << " pose " << i;
+      continue;
+    }
+    if (fast.status != Status::Ok) continue;
+    ++t.ok;
+    for (Eigen::Index a = 0; a < fast.q.size(); ++a) {
+      const bool prismatic = m.actuators[std::size_t(a)].prismatic;
+      const double d = prismatic ? std::abs(fast.q(a) - slow.q(a)) / std::max(1.0, std::abs(slow.q(a)))
+                                 : std::abs(std::remainder(fast.q(a) - slow.q(a), 2 * M_PI));
+      t.q = std::max(t.q, d);
+    }
+    const JacobianParts jf = k.jacobian(x, fast), js = k.jacobian(x, slow, LegSolver::Numeric);
+    EXPECT_EQ(jf.status, js.status) << name << " pose " << i;
+    if (jf.status != Status::Ok || js.status != Status::Ok) continue;
+    t.J = std::max(t.J, (jf.J - js.J).norm() / js.J.norm());
+    t.cond = std::max(t.cond, std::abs(cond(jf.J) - cond(js.J)) / cond(js.J));
+  }
+  std::printf("%s: %d poses, %d ok on both; worst q %.2e, J %.2e, cond %.2e (relative); %d where the reference stalled\n",
+              name.c_str(), t.poses, t.ok, t.q, t.J, t.cond, t.mismatches);
+  EXPECT_LE(t.q, 1e-9) << name;
+  EXPECT_LE(t.J, 1e-9) << name;
+  EXPECT_LE(t.cond, 1e-9) << name;
+  return t;
+}
+
+TEST(DescribedClosedForm, DeltaAgreesWithTheNumericalSolver) { compare("delta-described", 20000); }
+TEST(DescribedClosedForm, PathosAgreesWithTheNumericalSolver) { compare("pathos2-described", 4000); }
+TEST(DescribedClosedForm, FiveBarAgreesWithTheNumericalSolver) { compare("five-bar", 20000); }
+TEST(DescribedClosedForm, StewartAgreesWithTheNumericalSolver) { compare("stewart", 6000); }
+TEST(DescribedClosedForm, ThreeRrrAgreesWithTheNumericalSolver) { compare("three-rrr", 10000); }
+TEST(DescribedClosedForm, LinearDeltaAgreesWithTheNumericalSolver) { compare("linear-delta", 10000); }
+TEST(DescribedClosedForm, HexapodRusAgreesWithTheNumericalSolver) { compare("hexapod-rus", 4000); }
+
+// Random designs: every panel parameter drawn within its slider span; a
+// design that does not assemble at home (or changes its mobility) is skipped.
+std::vector<Kinematics> random_designs(const std::string& name, int count, std::mt19937_64& rng) {
+  const Preset p = load_preset(name);
+  const Model base = build_model(p.description, p.parameters, p.limits_deg, p.length_unit);
+  std::vector<Kinematics> out;
+  for (int tries = 0; int(out.size()) < count && tries < 20 * count; ++tries) {
+    std::map<std::string, double> params = p.parameters;
+    for (const auto& [param, info] : base.parameter_info)
+      if (info.in_panel && info.range.hi > info.range.lo)
+        params[param] = std::uniform_real_distribution<double>(info.range.lo, info.range.hi)(rng);
+    try {
+      out.emplace_back(build_model(p.description, params, p.limits_deg, p.length_unit));
+    } catch (const std::invalid_argument&) {
+    }
+  }
+  EXPECT_EQ(int(out.size()), count) << name;
+  return out;
+}
+
+TEST(DescribedClosedForm, RandomDesignsAgreeWithTheNumericalSolver) {
+  std::mt19937_64 rng(11);
+  int ok = 0, mismatches = 0;
+  for (const char* name : {"delta-described", "pathos2-described", "five-bar", "stewart", "three-rrr", "linear-delta", "hexapod-rus"})
+    for (const Kinematics& k : random_designs(name, 6, rng)) {
+      const Tally t = compare(k, name, 400);
+      ok += t.ok;
+      mismatches += t.mismatches;
+    }
+  std::printf("random designs: %d poses ok on both, %d where the reference's seeds stalled\n", ok, mismatches);
+  EXPECT_GT(ok, 3000);
+}
+
+// The reach bounds (distance from a leg's base to its anchor) are sound: an
+// anchor outside them has no closure, as the closed form (exact) says, on
+// every shipped description and random designs.
+TEST(DescribedClosedForm, ReachBoundsNeverRefuseAReachableAnchor) {
+  std::mt19937_64 rng(13);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  int refused = 0, checked = 0;
+  for (const char* name : {"delta-described", "pathos2-described", "five-bar", "stewart", "three-rrr", "linear-delta", "hexapod-rus"}) {
+    std::vector<Kinematics> designs = random_designs(name, 4, rng);
+    designs.push_back(load(name));
+    for (const Kinematics& k : designs) {
+      const Model& m = k.model();
+      for (std::size_t leg = 0; leg < m.legs.size(); ++leg) {
+        const Leg& l = m.legs[leg];
+        const Range& reach = k.reach(int(leg));
+        for (int i = 0; i < 2000; ++i) {
+          Eigen::Isometry3d anchor = Eigen::Isometry3d::Identity();
+          Eigen::Vector3d offset(unit(rng), unit(rng), m.planar ? 0.0 : unit(rng));
+          anchor.translation() = l.base.translation() + 1.5 * m.size * offset;
+          if (m.planar) anchor.linear() = Eigen::AngleAxisd(3 * unit(rng), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+          const double distance = (anchor.translation() - l.base.translation()).norm();
+          if (reach.contains(distance)) continue;
+          ++refused;
+          LegCandidates c;
+          solve_closed(*k.closed_form(int(leg)), m, l, anchor, c);
+          EXPECT_EQ(c.count, 0) << name << " leg " << l.name << " at distance " << distance;
+          EXPECT_GE(c.miss, std::max(distance - reach.hi, reach.lo - distance) * (1 - 1e-12)) << name;
+          ++checked;
+        }
+      }
+    }
+  }
+  std::printf("reach bounds: %d anchors refused by the bounds, each confirmed out of reach\n", refused);
+  EXPECT_GT(checked, 10000);
+}
+
+}  // namespace
+}  // namespace linkscape::described

@@ -1,0 +1,128 @@
+// The text of `linkscape describe FILE` (described::describe) and a leg's
+// asserted pattern.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <stdexcept>
+#include <string>
+
+#include "core/mechanisms/described/mechanism.h"
+#include "core/preset.h"
+
+namespace linkscape::described {
+namespace {
+
+bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+TEST(DescribedDescribe, FiveBarLegsPatternsRulesAndReach) {
+  const std::string text = describe(load_preset("five-bar"));
+  EXPECT_TRUE(has(text, "mobility: 2 ")) << text;
+  EXPECT_TRUE(has(text, "legs: 2 (2 in closed form, 0 numeric)")) << text;
+  EXPECT_TRUE(has(text, "  leg left: planar-dyad\n")) << text;
+  EXPECT_TRUE(has(text, "    actuator q1 (revolute), travel 0 .. 210 deg\n")) << text;
+  EXPECT_TRUE(has(text, "    branch: triple [tip1, elbow1, q1] free (branch bit 0)\n")) << text;
+  EXPECT_TRUE(has(text, "    branch: triple [q2, elbow2, tip2] free (branch bit 1)\n")) << text;
+  // Links of 10 and 14 cm: from 4 (folded) to 24 (stretched).
+  EXPECT_TRUE(has(text, "    reach: 4 .. 24 cm from its base to its anchor\n")) << text;
+}
+
+TEST(DescribedDescribe, StewartAndPathosLegs) {
+  const std::string stewart = describe(load_preset("stewart"));
+  EXPECT_TRUE(has(stewart, "  leg leg 6: extensible\n")) << stewart;
+  EXPECT_TRUE(has(stewart, "actuator l6 (prismatic), travel 10 .. 18 cm")) << stewart;
+  EXPECT_TRUE(has(stewart, "branch: none")) << stewart;
+  EXPECT_TRUE(has(stewart, "reach: 0 .. unbounded cm")) << stewart;
+  const std::string pathos = describe(load_preset("pathos2-described"));
+  EXPECT_TRUE(has(pathos, "legs: 6 (6 in closed form, 0 numeric)")) << pathos;
+  EXPECT_TRUE(has(pathos, "branch: angle t3_4 sign + (design)")) << pathos;
+  EXPECT_TRUE(has(pathos, "1 extra(s)")) << pathos;
+}
+
+// The five-bar with its left leg changed: `pattern` asserted (if not empty),
+// `steps` appended to its chain.
+Preset five_bar_with(const std::string& pattern, const nlohmann::json& steps = nlohmann::json::array()) {
+  Preset p = load_preset("five-bar");
+  nlohmann::json d = nlohmann::json::parse(p.description);
+  nlohmann::json& left = d["legs"][0];
+  if (!pattern.empty()) left["pattern"] = pattern;
+  for (const auto& step : steps) left["chain"].push_back(step);
+  p.description = d.dump();
+  return p;
+}
+
+TEST(DescribedDescribe, ALegOfNoKnownPatternIsNumeric) {
+  // PATHOS-II with the second joint of legs 1-3 set 0.5 cm off the
+  // actuator's axis: three revolutes to a spherical joint whose first two
+  // axes do not meet, of no known pattern.
+  Preset p = load_preset("pathos2-described");
+  nlohmann::json d = nlohmann::json::parse(p.description);
+  d["legs"][0]["chain"][1]["translate"][0] = 0.5;
+  d["legs"][0]["pattern"] = "numeric";
+  p.description = d.dump();
+  const std::string text = describe(p);
+  EXPECT_TRUE(has(text, "legs: 6 (3 in closed form, 3 numeric)")) << text;
+  EXPECT_TRUE(has(text, "  leg 1: numeric\n")) << text;
+  EXPECT_TRUE(has(text, "  leg 4: three-revolute\n")) << text;
+  // The same leg asserted numeric where it is a planar dyad is refused.
+  try {
+    describe(five_bar_with("numeric"));
+    FAIL() << "a planar dyad asserted numeric was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_TRUE(has(e.what(), "names \"numeric\" but the leg is solved as \"planar-dyad\"")) << e.what();
+  }
+}
+
+TEST(DescribedDescribe, AnAssertedPatternIsChecked) {
+  EXPECT_NO_THROW(describe(five_bar_with("planar-dyad")));
+  try {
+    describe(five_bar_with("crank-rod"));
+    FAIL() << "a wrong pattern was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_TRUE(has(e.what(), "description.legs \"left\": pattern: the description names \"crank-rod\" but the leg is "
+                              "solved as \"planar-dyad\""))
+        << e.what();
+  }
+  try {
+    describe(five_bar_with("scara"));
+    FAIL() << "an unknown pattern was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_TRUE(has(e.what(), "unknown pattern \"scara\" (known: crank-rod")) << e.what();
+  }
+}
+
+// The "along" rule names two joints and a unit direction.
+TEST(DescribedDescribe, AnAlongRuleIsChecked) {
+  auto with_rule = [](const nlohmann::json& rule) {
+    Preset p = load_preset("linear-delta");
+    nlohmann::json d = nlohmann::json::parse(p.description);
+    d["legs"][0]["branch"] = rule;
+    p.description = d.dump();
+    return p;
+  };
+  auto message = [&](const nlohmann::json& rule) {
+    try {
+      describe(with_rule(rule));
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_TRUE(has(message({{"along", {"elbow#", "anchor"}}}), "branch: \"along\" needs a \"direction\" [x, y, z] (base frame)"));
+  EXPECT_TRUE(has(message({{"along", {"elbow#"}}, {"direction", {0, 0, 1}}}), "branch.along: must name two joints [A, B]"));
+  EXPECT_TRUE(has(message({{"along", {"elbow#", "anchor"}}, {"direction", {0, 0, 2}}}), "is not a unit vector"));
+  EXPECT_TRUE(has(message({{"along", {"elbow#", "anchor"}}, {"direction", {0, 0, 1}}, {"sign", "-1"}}), "accepted"));
+  // The sign chooses the solution: rods below their carriages reach home
+  // within the travel; rods above need the carriages 22 cm below it.
+  const auto below = described::make_mechanism(with_rule({{"along", {"elbow#", "anchor"}}, {"direction", {0, 0, 1}}, {"sign", "-1"}}));
+  const auto above = described::make_mechanism(with_rule({{"along", {"elbow#", "anchor"}}, {"direction", {0, 0, 1}}, {"sign", "1"}}));
+  EXPECT_EQ(below->inverse(below->home_task()).status, Status::Ok);
+  EXPECT_EQ(above->inverse(above->home_task()).status, Status::OutOfLimits);
+}
+
+TEST(DescribedDescribe, APresetWithoutADescriptionIsRefused) {
+  EXPECT_THROW(describe(load_preset("delta")), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace linkscape::described
