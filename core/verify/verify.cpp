@@ -166,7 +166,9 @@ struct Search {
   std::mutex mutex{};
   std::exception_ptr failure{};
 
-  bool out_of_time() const { return limited && std::chrono::steady_clock::now() > deadline; }
+  bool out_of_time() const {
+    return (options.cancel && options.cancel->load()) || (limited && std::chrono::steady_clock::now() > deadline);
+  }
 
   void record_counterexample(Counterexample ce) {
     std::lock_guard lock(mutex);

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -56,6 +57,8 @@ struct Options {
   std::int64_t max_open_boxes = std::int64_t(1) << 24;
   // The torque the force criteria use.
   haptics::TorqueRating torque = haptics::TorqueRating::Continuous;
+  // Set and true: stop as at the time limit (the open boxes undecided).
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 // An axis-aligned box of positions, in the device's length unit.

@@ -15,6 +15,8 @@
 
 #include <vtkPolyData.h>
 
+#include "core/verify/verify.h"
+#include "gui/window/background.h"
 #include "render/task_scene.h"
 
 namespace linkscape::gui {
@@ -89,6 +91,18 @@ TaskPanel::TaskPanel(render::TaskScene* scene, QWidget* parent) : QWidget(parent
   readout_label_->setTextInteractionFlags(Qt::TextSelectableByMouse);
   readout_label_->setAlignment(Qt::AlignTop | Qt::AlignLeft);
   column->addWidget(readout_label_);
+  verify_button_ = new QPushButton(tr("Verify (certified)"), this);
+  verify_button_->setObjectName("taskVerifyButton");
+  verify_button_->setToolTip(tr("Prove by interval arithmetic that every point of the task meets every criterion, "
+                                "or find a point that fails; the 12R and the Delta, IK branch 0 "
+                                "(docs/task-volumes.md, \"Certified verdicts\")"));
+  column->addWidget(verify_button_);
+  verdict_label_ = new QLabel(this);
+  verdict_label_->setObjectName("taskVerdict");
+  verdict_label_->setWordWrap(true);
+  verdict_label_->setTextInteractionFlags(Qt::TextSelectableByMouse);
+  column->addWidget(verdict_label_);
+  verifier_ = std::make_unique<BackgroundTask>(this, [this] { verify_button_->setText(tr("Verify (certified)")); });
   column->addStretch(1);
 
   debounce_ = new QTimer(this);
@@ -114,7 +128,55 @@ TaskPanel::TaskPanel(render::TaskScene* scene, QWidget* parent) : QWidget(parent
     schedule();
   });
   connect(place_button_, &QPushButton::clicked, this, &TaskPanel::placeAtLargest);
+  connect(verify_button_, &QPushButton::clicked, this, &TaskPanel::verifyTask);
   syncShape();
+}
+
+TaskPanel::~TaskPanel() {
+  if (verifier_) verifier_->cancel();  // the worker stops at its next box and is joined
+}
+
+void TaskPanel::verifyTask() {
+  if (verifier_->running()) {
+    verifier_->cancel();
+    return;
+  }
+  task::TaskVolume volume;
+  std::vector<task::Criterion> criteria;
+  try {
+    volume = this->volume();
+    criteria = this->criteria();
+  } catch (const std::exception& e) {
+    verdict_label_->setStyleSheet("color: #b71c1c");
+    verdict_label_->setText(QString::fromStdString(e.what()));
+    return;
+  }
+  verdict_label_->setStyleSheet("");
+  verdict_label_->setText(tr("Verifying…"));
+  verify_button_->setText(tr("Cancel verify"));
+  verifier_->start([this, preset = preset_, volume, criteria](const BackgroundTask::Run& run) {
+    verify::Options options;
+    options.cancel = &run.cancelled;
+    options.time_limit_seconds = 60;
+    std::string text, colour;
+    try {
+      const verify::Result r = verify::verify(preset, volume, criteria, options, 0);
+      std::ostringstream report;
+      verify::write_report(report, r);
+      text = report.str();
+      colour = r.verdict == verify::Verdict::Proved      ? "#1b5e20"
+               : r.verdict == verify::Verdict::Disproved ? "#b71c1c"
+                                                         : "#8d6e00";
+      if (run.cancelled) text = "cancelled: " + text;
+    } catch (const std::exception& e) {
+      text = e.what();
+      colour = "#b71c1c";
+    }
+    run.finish([this, text, colour] {
+      verdict_label_->setStyleSheet(QString::fromStdString("color: " + colour));
+      verdict_label_->setText(QString::fromStdString(text).trimmed());
+    });
+  });
 }
 
 void TaskPanel::syncShape() {
@@ -229,6 +291,10 @@ task::Device TaskPanel::device() const {
 
 void TaskPanel::schedule() {
   if (show_box_->isChecked()) debounce_->start();
+  if (!verifier_->running() && !verdict_label_->text().isEmpty()) {  // a verdict is about what was verified
+    verdict_label_->setStyleSheet("color: gray");
+    verdict_label_->setText(tr("The design, pose or task changed since the last Verify."));
+  }
 }
 
 void TaskPanel::evaluateNow() {

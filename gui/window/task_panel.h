@@ -32,11 +32,14 @@ class TaskScene;
 
 namespace linkscape::gui {
 
+class BackgroundTask;
+
 class TaskPanel : public QWidget {
   Q_OBJECT
 
  public:
   explicit TaskPanel(render::TaskScene* scene, QWidget* parent = nullptr);
+  ~TaskPanel() override;
 
   // The device, its preset (actuator data) and the pose, whose coordinates
   // beyond x, y, z the task holds. The read-outs follow shortly (debounced);
@@ -60,6 +63,12 @@ class TaskPanel : public QWidget {
   // bad text).
   task::TaskVolume volume() const;
   std::vector<task::Criterion> criteria() const;
+
+  // Verify: a proof that every point of the task meets every criterion
+  // (core/verify, on branch 0), or a counterexample, off the GUI thread;
+  // the button cancels a run under way. The verdict's words stay until the
+  // design, the pose or the task change.
+  void verifyTask();
 
   const std::optional<task::TaskReport>& report() const { return report_; }
   const std::optional<task::Inscribed>& largest() const { return largest_; }
@@ -86,6 +95,9 @@ class TaskPanel : public QWidget {
   QLineEdit* criteria_edit_ = nullptr;
   QPushButton* place_button_ = nullptr;
   QLabel* readout_label_ = nullptr;
+  QPushButton* verify_button_ = nullptr;
+  QLabel* verdict_label_ = nullptr;
+  std::unique_ptr<BackgroundTask> verifier_;
   QTimer* debounce_ = nullptr;
   std::optional<task::TaskReport> report_;
   std::optional<task::Inscribed> largest_;

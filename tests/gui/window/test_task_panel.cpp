@@ -4,6 +4,7 @@
 // sphere placed on request.
 #include <QDoubleSpinBox>
 #include <QLabel>
+#include <QPushButton>
 #include <QtTest>
 
 #include "core/preset.h"
@@ -84,6 +85,32 @@ class TaskPanelTest : public QObject {
 
   // Without a centre the task goes to the largest sphere of the good region:
   // the 12R's c(J) < 3 holds about 1.22 x 15 cm; a 5 cm task there meets it.
+  // Verify in the Task tab: seed 001's 15 cm sphere, where fit places it at
+  // L1 = L2 = 12.4 cm, proved; at 11.5 cm disproved with its point; a change
+  // after a verdict marks it stale; a device without enclosures says so.
+  void verifyProvesAndDisprovesInWords() {
+    const std::string task = "sphere:diameter=15,centre=0.7092,-12.96,-8.385";
+    for (const auto& [length, words] : {std::pair{12.4, "proved: every point"}, {11.5, "disproved"}}) {
+      Preset preset = load_preset("parallel-12r");
+      apply_overrides(preset, {"L1=" + std::to_string(length), "L2=" + std::to_string(length)});
+      MechanismWindow w(preset);
+      w.show();
+      QVERIFY(QTest::qWaitForWindowExposed(&w));
+      w.taskPanel()->setTask(task, {"cond<3"});
+      auto* verdict = w.findChild<QLabel*>("taskVerdict");
+      QTest::mouseClick(w.findChild<QPushButton*>("taskVerifyButton"), Qt::LeftButton);
+      QTRY_VERIFY_WITH_TIMEOUT(verdict->text().contains(words), 60000);
+      if (length < 12) QVERIFY(verdict->text().contains("c(J)"));
+      w.findChild<QDoubleSpinBox*>("taskCentreX")->setValue(0.5);
+      QTRY_VERIFY(verdict->text().contains("changed since the last Verify"));
+    }
+    MechanismWindow pathos(load_preset("pathos2"));
+    pathos.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&pathos));
+    QTest::mouseClick(pathos.findChild<QPushButton*>("taskVerifyButton"), Qt::LeftButton);
+    QTRY_VERIFY_WITH_TIMEOUT(pathos.findChild<QLabel*>("taskVerdict")->text().contains("cannot be certified"), 30000);
+  }
+
   void aTaskWithoutCentreIsPlacedInTheLargestSphere() {
     MechanismWindow w(load_preset("parallel-12r"));
     w.show();
