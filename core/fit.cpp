@@ -543,9 +543,7 @@ std::optional<Row> evaluate(const Problem& problem, const std::vector<double>& v
     row.invalid = e.what();
     return row;
   }
-  row.parameters = mechanism->parameters();
-  for (const auto& [name, value] : preset.parameters)  // motor ratings, which the linkage does not hold
-    if (motor_parameter(name)) row.parameters[name] = value;
+  row.parameters = design_parameters(*mechanism, preset);
   row.size = mechanism->size();
   task::Device device;
   device.mechanism = mechanism;

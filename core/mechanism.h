@@ -289,6 +289,11 @@ struct PresetChoice {
 // Loads and overrides; throws std::invalid_argument naming the bad part.
 Preset chosen_preset(const PresetChoice& choice);
 
+// A design's parameters: the linkage's (Mechanism::parameters) and the motor
+// ratings its preset sets as parameters (core/actuator_data.h), which the
+// linkage does not hold. What sessions and design tables record.
+std::map<std::string, double> design_parameters(const Mechanism& mechanism, const Preset& preset);
+
 // Convenience: the index of a named item (method, measure), or
 // std::invalid_argument listing the names.
 int index_of(const std::vector<NamedItem>& items, const std::string& name, const std::string& what);

@@ -59,6 +59,13 @@ std::shared_ptr<const Mechanism> make_mechanism(const Preset& preset) {
 
 std::string default_mechanism() { return registry().front().first; }
 
+std::map<std::string, double> design_parameters(const Mechanism& mechanism, const Preset& preset) {
+  std::map<std::string, double> out = mechanism.parameters();
+  for (const auto& [name, value] : preset.parameters)
+    if (motor_parameter(name)) out[name] = value;
+  return out;
+}
+
 Preset chosen_preset(const PresetChoice& choice) {
   Preset preset = load_preset(choice.name_or_path);
   apply_overrides(preset, choice.params);

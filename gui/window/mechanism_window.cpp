@@ -368,7 +368,7 @@ bool MechanismWindow::setActuatorLimits(const std::map<std::string, std::array<d
 Session MechanismWindow::session() const {
   Session s;
   s.mechanism = preset_reference(state_.preset());
-  s.parameters = state_.mechanism().parameters();
+  s.parameters = design_parameters(state_.mechanism(), state_.preset());  // motor ratings set as parameters too
   if (design_panel_->editsLimits()) s.actuator_limits_deg = state_.limits_deg();
   s.pose = state_.actuators();
   s.task = state_.task();

@@ -162,6 +162,22 @@ class WindowDocumentTest : public QObject {
     QVERIFY(action(w, "Save session &as…"));
   }
 
+  // Motor ratings given as parameters are part of the design a session keeps.
+  void motorRatingsAsParametersAreSaved() {
+    QTemporaryDir dir;
+    const QString path = dir.filePath("rated.json");
+    Preset preset = load_preset("delta");
+    apply_overrides(preset, {"continuous_torque_Nm=0.3", "gear_ratio=2"});
+    MechanismWindow w(preset);
+    QVERIFY(show_settled(w));
+    QVERIFY(w.setParameters({{"La", 8.5}}));
+    QVERIFY(w.saveSession(path));
+    const gui::Session saved = gui::load_session(path.toStdString());
+    QCOMPARE(saved.parameters.at("continuous_torque_Nm"), 0.3);
+    QCOMPARE(saved.parameters.at("gear_ratio"), 2.0);
+    QCOMPARE(saved.parameters.at("La"), 8.5);
+  }
+
   void theCameraFollowsTheSizeUntilTheUserMovesIt() {
     MechanismWindow w(load_preset("parallel-12r"));
     QVERIFY(show_settled(w));
