@@ -153,7 +153,13 @@ TEST_P(EveryDescribedPreset, LinkscapesInverseKinematicsClosesMuJoCosLoops) {
   EXPECT_GE(checked, 3) << GetParam() << ": too few poses around home are reachable";
 }
 
-TEST_P(EveryDescribedPreset, MuJoCoClosesADisturbedMechanismAtLinkscapesPose) {
+// MuJoCo's own dynamics closing the loops. The 3-RRR and the 6-RUS hexapod
+// are left out: there its soft constraints stop with the loops open by
+// 0.2-0.4 (docs/model-export.md), although Linkscape's poses close them
+// exactly (the test above).
+class SettlingPreset : public EveryDescribedPreset {};
+
+TEST_P(SettlingPreset, MuJoCoClosesADisturbedMechanismAtLinkscapesPose) {
   const auto l = load(GetParam());
   ASSERT_NE(l->m, nullptr);
   const Kinematics& kin = *l->kin;
@@ -192,14 +198,21 @@ TEST_P(EveryDescribedPreset, MuJoCoClosesADisturbedMechanismAtLinkscapesPose) {
   EXPECT_LT((platform_position(*l) - kin.pose(x).p * l->metres).norm(), 1e-8) << GetParam();
 }
 
+std::string test_name(const ::testing::TestParamInfo<std::string>& info) {
+  std::string name = info.param;
+  for (char& c : name)
+    if (c == '-') c = '_';
+  return name;
+}
+
 INSTANTIATE_TEST_SUITE_P(Shipped, EveryDescribedPreset,
-                         ::testing::Values("delta-described", "pathos2-described", "five-bar", "stewart", "falcon"),
-                         [](const auto& info) {
-                           std::string name = info.param;
-                           for (char& c : name)
-                             if (c == '-') c = '_';
-                           return name;
-                         });
+                         ::testing::Values("delta-described", "pathos2-described", "five-bar", "stewart", "falcon",
+                                           "three-rrr", "linear-delta", "hexapod-rus"),
+                         test_name);
+INSTANTIATE_TEST_SUITE_P(Shipped, SettlingPreset,
+                         ::testing::Values("delta-described", "pathos2-described", "five-bar", "stewart", "falcon",
+                                           "linear-delta"),
+                         test_name);
 
 TEST(ModelExport, ACompiledDeviceIsRefusedWithAReason) {
   try {
