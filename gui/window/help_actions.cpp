@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 
 #include "core/simd.h"
+#include "core/mechanisms/described/mechanism.h"
 #include "render/workspace_mesh.h"
 
 namespace linkscape::gui {
@@ -25,6 +26,25 @@ void show_about(QWidget* parent) {
           .arg(QString::fromStdString(render::openmesh_version()), QString::fromStdString(simd::highway_version()),
                QString::fromStdString(simd::current_target()));
   QMessageBox::about(parent, QObject::tr("About Linkscape"), text);
+}
+
+std::string mechanism_summary(const Preset& preset) {
+  if (!preset.description.empty()) return described::describe(preset);
+  return preset.title + "\n\ncompiled in C++: core/mechanisms/" + preset.mechanism +
+         "/ (closed forms and SIMD field kernels; docs/mechanisms/" + preset.mechanism + ".md)\n";
+}
+
+void show_mechanism(QWidget* parent, const Preset& preset) {
+  QMessageBox box(parent);
+  box.setWindowTitle(QObject::tr("About this mechanism"));
+  box.setTextFormat(Qt::PlainText);
+  box.setText(QString::fromStdString(preset.title));
+  try {
+    box.setInformativeText(QString::fromStdString(mechanism_summary(preset)));
+  } catch (const std::exception& e) {
+    box.setInformativeText(QString::fromStdString(e.what()));
+  }
+  box.exec();
 }
 
 void show_documentation(QWidget* parent) {

@@ -1,13 +1,22 @@
-// Help menu: the versions of the program and its libraries; where the
-// documentation is (the docs folder of the source tree when there is one,
-// else the manual page).
+// Help menu: the versions of the program and its libraries; how the device
+// in the window is solved; where the documentation is (the docs folder of the
+// source tree when there is one, else the manual page).
 #pragma once
+
+#include <string>
+
+#include "core/preset.h"
 
 class QWidget;
 
 namespace linkscape::gui {
 
 void show_about(QWidget* parent);
+// About this mechanism: for a described device what `linkscape describe`
+// prints (each leg's pattern or "numeric", travel, branch rules, reach
+// bounds, mobility); for a compiled one, that it is C++ and where.
+std::string mechanism_summary(const Preset& preset);
+void show_mechanism(QWidget* parent, const Preset& preset);
 void show_documentation(QWidget* parent);
 
 }  // namespace linkscape::gui

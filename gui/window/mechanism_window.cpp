@@ -19,6 +19,7 @@
 #include "gui/window/docks.h"
 #include "gui/window/error_panel.h"
 #include "gui/window/export_actions.h"
+#include "gui/window/help_actions.h"
 #include "gui/window/field_panel.h"
 #include "gui/window/file_actions.h"
 #include "gui/window/fit_panel.h"
@@ -225,6 +226,7 @@ void MechanismWindow::buildMenus() {
   };
   a.export_field = [this] { export_volume(this, fields_->surfaces().volume.get()); };
   a.export_model = [this] { export_model(this, state_.preset()); };
+  a.about_mechanism = [this] { show_mechanism(this, state_.preset()); };
   a.save_screenshot = [this] { export_screenshot(this); };
   a.save_view_image = [this] {
     const QString suggested = QString("%1x%2").arg(2 * view_->width()).arg(2 * view_->height());

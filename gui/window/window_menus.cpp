@@ -75,6 +75,8 @@ void add_menus(QMainWindow* window, const MenuActions& actions) {
 
   QMenu* help = window->menuBar()->addMenu(QObject::tr("&Help"));
   help->addAction(QObject::tr("&Documentation"), window, [window] { show_documentation(window); });
+  help->addAction(QObject::tr("About this &mechanism…"), window, actions.about_mechanism)
+      ->setObjectName("aboutMechanismAction");
   help->addAction(QObject::tr("&About Linkscape"), window, [window] { show_about(window); });
 }
 

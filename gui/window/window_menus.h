@@ -21,6 +21,7 @@ struct MenuActions {
   QUndoStack* undo_stack = nullptr;
   std::function<void()> reset_camera, reset_layout;
   std::function<void(bool)> exact_transparency;
+  std::function<void()> about_mechanism;
 };
 
 // The menus of `window` (its docks' toggles from the docks it has now).

@@ -82,7 +82,7 @@ class DescribedMechanism final : public Mechanism {
     else
       i.measures = {{"cond", "c(J)", "sigma_max / sigma_min of J = dx/dq"}};
     for (const Leg& l : m.legs)
-      i.singular_sets.push_back({"leg-" + l.name + "-serial", "leg " + l.name + " (type I)",
+      i.singular_sets.push_back({"leg-" + l.name + "-serial", l.label() + " (type I)",
                                  "Leg " + l.name + "'s actuator loses its hold: Jq entry zero"});
     i.singular_sets.push_back({"parallel", "parallel (type II)", "Jx singular"});
     for (int b = 0; b < kin_.branches(); ++b) {

@@ -672,4 +672,9 @@ Model build_model(const std::string& description_json, const std::map<std::strin
   return m;
 }
 
+std::string Leg::label() const {
+  const bool says_leg = name.size() >= 3 && (name.compare(0, 3, "leg") == 0 || name.compare(0, 3, "Leg") == 0);
+  return says_leg ? name : "leg " + name;
+}
+
 }  // namespace linkscape::described

@@ -46,6 +46,9 @@ struct BranchRule {
 
 struct Leg {
   std::string name;
+  // How messages name the leg: "leg 2" for a leg named "2", the name itself
+  // where it already says so ("leg 1", "Leg A").
+  std::string label() const;
   Eigen::Isometry3d base = Eigen::Isometry3d::Identity();  // base frame <- leg base anchor
   std::vector<Step> steps;
   int platform = 0;                                        // platform body index

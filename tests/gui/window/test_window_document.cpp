@@ -20,6 +20,7 @@
 #include <vtkRendererCollection.h>
 
 #include "core/preset.h"
+#include "gui/window/help_actions.h"
 #include "gui/window/mechanism_window.h"
 #include "gui/window/session.h"
 #include "gui/window/session_history.h"
@@ -176,6 +177,19 @@ class WindowDocumentTest : public QObject {
     QCOMPARE(saved.parameters.at("continuous_torque_Nm"), 0.3);
     QCOMPARE(saved.parameters.at("gear_ratio"), 2.0);
     QCOMPARE(saved.parameters.at("La"), 8.5);
+  }
+
+  // Help > About this mechanism: how the device in the window is solved.
+  void aboutThisMechanismSaysHowTheDeviceIsSolved() {
+    MechanismWindow w(load_preset("falcon"));
+    QVERIFY(show_settled(w));
+    QVERIFY(w.findChild<QAction*>("aboutMechanismAction"));
+    const std::string falcon = gui::mechanism_summary(w.preset());
+    QVERIFY(falcon.find("leg 1: numeric") != std::string::npos);
+    QVERIFY(falcon.find("travel -60 .. 105 deg") != std::string::npos);
+    const std::string stewart = gui::mechanism_summary(load_preset("stewart"));
+    QVERIFY(stewart.find("extensible") != std::string::npos);
+    QVERIFY(gui::mechanism_summary(load_preset("delta")).find("compiled in C++") != std::string::npos);
   }
 
   void theCameraFollowsTheSizeUntilTheUserMovesIt() {

@@ -29,7 +29,7 @@ TEST(DescribedDescribe, FiveBarLegsPatternsRulesAndReach) {
 
 TEST(DescribedDescribe, StewartAndPathosLegs) {
   const std::string stewart = describe(load_preset("stewart"));
-  EXPECT_TRUE(has(stewart, "  leg leg 6: extensible\n")) << stewart;
+  EXPECT_TRUE(has(stewart, "  leg 6: extensible\n")) << stewart;  // named "leg 6": not "leg leg 6"
   EXPECT_TRUE(has(stewart, "actuator l6 (prismatic), travel 10 .. 18 cm")) << stewart;
   EXPECT_TRUE(has(stewart, "branch: none")) << stewart;
   EXPECT_TRUE(has(stewart, "reach: 0 .. unbounded cm")) << stewart;
