@@ -125,7 +125,7 @@ void write_leg(Writer& w, const Model& model, const Leg& leg, const LegState& ho
       t = t * step.transform;
       continue;
     }
-    const double value = home.values.size() > step.variable ? home.values[step.variable] : 0.0;
+    const double value = home.values[step.variable];  // a spherical step's slot is unused
     std::string joint = "<joint name=\"" + escaped(step.name) + "\" ";
     switch (step.kind) {
       case Step::Kind::Revolute:

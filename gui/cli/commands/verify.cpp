@@ -21,12 +21,8 @@ struct VerifyOptions {
 };
 
 int run_verify(const VerifyOptions& o, std::ostream& out) {
-  if (o.criteria.empty())
-    throw std::invalid_argument("verify: give at least one --criterion, e.g. --criterion 'cond<3' (or reach)");
+  // verify::verify refuses a task without its centre and an empty list of criteria.
   const task::TaskVolume task = task::parse_task(o.task);
-  if (!task.centre)
-    throw std::invalid_argument("verify: the task needs its centre (append ,centre=x,y,z): a proof is about one place; "
-                                "fit places a task where it fits best");
   std::vector<task::Criterion> criteria;
   for (const std::string& c : o.criteria) criteria.push_back(task::parse_criterion(c));
   verify::Options limits = o.limits;

@@ -43,27 +43,26 @@ int main(int argc, char** argv) {
     verify::write_report(std::cout, r);
     return verify::exit_status(r.verdict);
   }
-  if (mode == "size" && argc >= 8) {
-    options.threads = argc > 8 ? std::atoi(argv[8]) : 2;
+  // The 12R with L1 = L2 between argv[2] and argv[3], to argv[4], the task argv[5] meeting argv[6].
+  auto twelve_r_sizing = [&] {
     verify::SizingProblem sizing;
     sizing.preset = load_preset("parallel-12r");
     sizing.variable = {{"L1", "L2"}, std::atof(argv[2]), std::atof(argv[3])};
     sizing.tolerance = std::atof(argv[4]);
     sizing.task = task::parse_task(argv[5]);
     sizing.criteria = {task::parse_criterion(argv[6])};
-    sizing.centre_scales_from = std::atof(argv[7]);
     sizing.options = options;
+    return sizing;
+  };
+  if (mode == "size" && argc >= 8) {
+    options.threads = argc > 8 ? std::atoi(argv[8]) : 2;
+    verify::SizingProblem sizing = twelve_r_sizing();
+    sizing.centre_scales_from = std::atof(argv[7]);
     return run_sizing(sizing);
   }
   if (mode == "size-fit" && argc >= 7) {
     options.threads = argc > 7 ? std::atoi(argv[7]) : 2;
-    verify::SizingProblem sizing;
-    sizing.preset = load_preset("parallel-12r");
-    sizing.variable = {{"L1", "L2"}, std::atof(argv[2]), std::atof(argv[3])};
-    sizing.tolerance = std::atof(argv[4]);
-    sizing.task = task::parse_task(argv[5]);
-    sizing.criteria = {task::parse_criterion(argv[6])};
-    sizing.options = options;
+    verify::SizingProblem sizing = twelve_r_sizing();
     fit::Problem placement;
     placement.preset = sizing.preset;
     placement.variables = {sizing.variable};
