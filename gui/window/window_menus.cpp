@@ -6,6 +6,7 @@
 #include <QMenuBar>
 #include <QUndoStack>
 
+#include "gui/window/documentation.h"
 #include "gui/window/help_actions.h"
 
 namespace linkscape::gui {
@@ -49,7 +50,8 @@ void add_menus(QMainWindow* window, const MenuActions& actions) {
   add(file, QObject::tr("Save screens&hot…"), {}, window, actions.save_screenshot);
   add(file, QObject::tr("Save &view image…"), {}, window, actions.save_view_image);
   file->addSeparator();
-  add(file, QObject::tr("&Quit"), QKeySequence::Quit, window, [window] { window->close(); });
+  // Explicit keys where Qt's standard ones depend on the desktop (empty on plain X11).
+  add(file, QObject::tr("&Quit"), QKeySequence(Qt::CTRL | Qt::Key_Q), window, [window] { window->close(); });
 
   QMenu* edit = window->menuBar()->addMenu(QObject::tr("&Edit"));
   QAction* undo = actions.undo_stack->createUndoAction(window, QObject::tr("&Undo"));
@@ -74,7 +76,11 @@ void add_menus(QMainWindow* window, const MenuActions& actions) {
   QObject::connect(exact, &QAction::toggled, window, actions.exact_transparency);
 
   QMenu* help = window->menuBar()->addMenu(QObject::tr("&Help"));
-  help->addAction(QObject::tr("&Documentation"), window, [window] { show_documentation(window); });
+  add(help, QObject::tr("&Documentation"), QKeySequence(Qt::Key_F1), window, [window] { show_documentation(window); })
+      ->setObjectName("documentationAction");
+  add(help, QObject::tr("&Keyboard shortcuts"), {}, window,
+      [window] { show_shortcuts(window, window->menuBar()); })
+      ->setObjectName("shortcutsAction");
   help->addAction(QObject::tr("About this &mechanism…"), window, actions.about_mechanism)
       ->setObjectName("aboutMechanismAction");
   help->addAction(QObject::tr("&About Linkscape"), window, [window] { show_about(window); });

@@ -187,7 +187,11 @@ TEST(Cli, HelpListsEveryCommandInItsOrderWithAnExample) {
     const std::size_t next = r.out.find(std::string("\n  ") + command + " ", at);
     ASSERT_NE(next, std::string::npos) << command << " after position " << at << ":\n" << r.out;
     at = next + 1;
-    EXPECT_NE(r.out.find(std::string("linkscape ") + command + " ", at), std::string::npos) << command;
+    // The example: its command line on a line of its own, what it does indented below.
+    const std::size_t example = r.out.find(std::string("\n  linkscape ") + command, at);
+    ASSERT_NE(example, std::string::npos) << command;
+    const std::size_t end = r.out.find('\n', example + 1);
+    EXPECT_EQ(r.out.compare(end, 7, "\n      "), 0) << command << ": no description below its example";
   }
 }
 
@@ -419,4 +423,36 @@ TEST(CliSlice, MethodFieldShowsWhichIkMethodServedEachSample) {
   EXPECT_TRUE(used.count(2)) << "newton";  // IkMethod::Newton, where planar missed the tolerance
   r = run_linkscape("slice --field method --figure -q --output " + (kOut / "never.svg").string(), kNoDisplay);
   EXPECT_EQ(r.exit_code, 2) << r.out;
+}
+
+// The shell's completion asks the program for an option's values: the lists
+// the commands check against.
+TEST(Cli, CompletesTheValuesAnOptionAccepts) {
+  const CommandResult maps = run_linkscape("--complete-values=colour-map");
+  ASSERT_EQ(maps.exit_code, 0) << maps.out;
+  EXPECT_EQ(maps.out, "viridis\ncividis\ndiverging\n");
+  const CommandResult methods = run_linkscape("--complete-values=method");
+  for (const char* method : {"planar", "newton", "closed"})
+    EXPECT_NE(methods.out.find(std::string(method) + "\n"), std::string::npos) << method << " in\n" << methods.out;
+  const CommandResult criteria = run_linkscape("--complete-values=criterion");
+  EXPECT_NE(criteria.out.find("cond<\n"), std::string::npos) << criteria.out;
+  EXPECT_NE(criteria.out.find("force_iso>\n"), std::string::npos) << criteria.out;
+  const CommandResult free = run_linkscape("--complete-values=output");  // a file: no list
+  EXPECT_EQ(free.exit_code, 0);
+  EXPECT_EQ(free.out, "");
+}
+
+// linkscape --shortcuts: the window's menu keys, made without a display (the
+// manual page's WINDOW section).
+TEST(Cli, PrintsTheWindowsShortcuts) {
+  const CommandResult r = run_linkscape("--shortcuts", "DISPLAY=");
+  if (!kWindowBuilt) {
+    EXPECT_EQ(r.exit_code, 1) << r.out;
+    EXPECT_NE(r.out.find("no window"), std::string::npos) << r.out;
+    return;
+  }
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.out.find("File > Save session"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("Help > Documentation"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("F1\n"), std::string::npos) << r.out;
 }
