@@ -43,6 +43,8 @@ std::vector<std::string> completion_values(const std::string& option, const Devi
     values = render::colour_maps();
   } else if (name == "torque") {
     values = {"continuous", "peak"};
+  } else if (name == "unit") {
+    values = {"mm", "cm", "m", "in"};
   } else if (name == "plane") {
     values = {"x=", "y=", "z="};
   } else if (name == "surface" || name == "criterion") {

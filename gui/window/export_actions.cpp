@@ -57,8 +57,19 @@ void export_surface_mesh(QWidget* parent, const Field* volume, vtkPolyData* reac
     request.surface = render::Surface::WellConditioned;
     request.cond_threshold = cond_threshold;
   }
+  // CAD tools read bare numbers: the unit is the user's choice (the device's by default).
+  QString unit = QString::fromStdString(volume->length_unit);
+  QStringList units{"mm", "cm", "m", "in"};
+  if (units.contains(unit)) {
+    units.move(units.indexOf(unit), 0);
+    bool ok = false;
+    unit = QInputDialog::getItem(parent, QObject::tr("Export workspace mesh"),
+                                 QObject::tr("Length unit of the mesh's points (the device's is %1):").arg(unit), units,
+                                 0, false, &ok);
+    if (!ok) return;
+  }
   try {
-    render::write_mesh(well_conditioned ? well : reach, path.toStdString(), *volume, request);
+    render::write_mesh(well_conditioned ? well : reach, path.toStdString(), *volume, request, unit.toStdString());
   } catch (const std::exception& e) {
     QMessageBox::warning(parent, QObject::tr("Export failed"), QString::fromStdString(e.what()));
   }

@@ -328,6 +328,28 @@ TEST(CliMesh, ReachMeshIsWatertightWithTheAnalyticVolume) {
   EXPECT_TRUE(fs::exists(stl));
 }
 
+// --unit mm: the 12R's reach in cm written in mm, said in the file.
+TEST(CliMesh, WritesTheUnitAsked) {
+  const fs::path obj = kOut / "reach-mm.obj";
+  const CommandResult r = run_linkscape("mesh --param L1=1 --param L2=0.6 --resolution 32 -q --unit mm --output " +
+                                        obj.string(), kNoDisplay);
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.out.find("(points in mm)"), std::string::npos) << r.out;
+  std::ifstream in(obj);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "# length unit: mm");
+  double largest = 0;  // the outer radius 1.6 cm is 16 mm
+  while (std::getline(in, line))
+    if (line.rfind("v ", 0) == 0) {
+      std::istringstream v(line.substr(2));
+      double x, y, z;
+      v >> x >> y >> z;
+      largest = std::max(largest, std::sqrt(x * x + y * y + z * z));
+    }
+  EXPECT_NEAR(largest, 16.0, 0.5);
+}
+
 TEST(CliFieldCommands, BadArgumentsExitWithTwoAndWriteNothing) {
   const fs::path out = kOut / "never.png";
   fs::remove(out);
@@ -348,6 +370,7 @@ TEST(CliFieldCommands, BadArgumentsExitWithTwoAndWriteNothing) {
       {"mesh --surface volume --output " + (kOut / "never.stl").string(), "--surface"},
       {"mesh --output " + (kOut / "never.3mf").string(), ".stl, .obj, .ply, .off or .vtp"},
       {"mesh --decimate -1 --output " + (kOut / "never.stl").string(), "--decimate"},
+      {"mesh --unit furlong --output " + (kOut / "never.stl").string(), "--unit expects mm, cm, m or in"},
   };
   for (const auto& [args, message] : cases) {
     const CommandResult r = run_linkscape(args + " -q", kNoDisplay);
