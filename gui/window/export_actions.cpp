@@ -15,6 +15,7 @@
 #include "gui/figures/slice_figure.h"
 #include "gui/window/vtk_widget.h"
 #include "render/field_vtk.h"
+#include "render/scene_export.h"
 #include "render/workspace_mesh.h"
 
 namespace linkscape::gui {
@@ -82,6 +83,17 @@ void export_volume(QWidget* parent, const Field* volume) {
   if (path.isEmpty()) return;
   try {
     render::write_vti(*volume, path.toStdString());
+  } catch (const std::exception& e) {
+    QMessageBox::warning(parent, QObject::tr("Export failed"), QString::fromStdString(e.what()));
+  }
+}
+
+void export_scene(QWidget* parent, vtkRenderWindow* window) {
+  const QString path = QFileDialog::getSaveFileName(parent, QObject::tr("Export scene"), "scene.gltf",
+                                                    QObject::tr("glTF 2.0 scene (*.gltf)"));
+  if (path.isEmpty()) return;
+  try {
+    render::write_gltf(window, path.toStdString());
   } catch (const std::exception& e) {
     QMessageBox::warning(parent, QObject::tr("Export failed"), QString::fromStdString(e.what()));
   }

@@ -8,6 +8,7 @@
 #include <QLabel>
 #include <QStatusBar>
 #include <QTimer>
+#include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkPolyData.h>
 #include <vtkRenderer.h>
 
@@ -226,6 +227,7 @@ void MechanismWindow::buildMenus() {
   };
   a.export_field = [this] { export_volume(this, fields_->surfaces().volume.get()); };
   a.export_model = [this] { export_model(this, state_.preset()); };
+  a.export_scene = [this] { export_scene(this, view_->renderWindow()); };
   a.about_mechanism = [this] { show_mechanism(this, state_.preset()); };
   a.save_screenshot = [this] { export_screenshot(this); };
   a.save_view_image = [this] {

@@ -47,6 +47,8 @@ void add_menus(QMainWindow* window, const MenuActions& actions) {
   model->setObjectName("exportModelAction");
   model->setStatusTip(QObject::tr("The design as a MuJoCo model: legs as body chains welded to the platform, "
                                   "motors on the actuators (docs/model-export.md)"));
+  add(file, QObject::tr("Export s&cene (glTF)…"), {}, window, actions.export_scene)
+      ->setStatusTip(QObject::tr("The 3-D view's meshes with their colours, for presentation tools"));
   add(file, QObject::tr("Save screens&hot…"), {}, window, actions.save_screenshot);
   add(file, QObject::tr("Save &view image…"), {}, window, actions.save_view_image);
   file->addSeparator();
