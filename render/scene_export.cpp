@@ -12,6 +12,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "core/atomic_file.h"
 
 namespace linkscape::render {
@@ -31,6 +33,22 @@ int visible_actors(vtkRenderWindow* window) {
   return count;
 }
 
+// VTK writes every material opaque (glTF's default alphaMode): the view's
+// translucent surfaces would hide the device in any viewer. Each material
+// whose colour has alpha < 1 blends, and every material shows both faces
+// (the slice is a single open sheet).
+std::string blended(const std::string& gltf) {
+  nlohmann::json scene = nlohmann::json::parse(gltf);
+  for (nlohmann::json& material : scene["materials"]) {
+    const nlohmann::json& pbr = material["pbrMetallicRoughness"];
+    if (pbr.contains("baseColorFactor") && pbr["baseColorFactor"].size() == 4 &&
+        pbr["baseColorFactor"][3].get<double>() < 1.0)
+      material["alphaMode"] = "BLEND";
+    material["doubleSided"] = true;
+  }
+  return scene.dump();
+}
+
 }  // namespace
 
 void write_gltf(vtkRenderWindow* window, const std::filesystem::path& path) {
@@ -42,7 +60,7 @@ void write_gltf(vtkRenderWindow* window, const std::filesystem::path& path) {
   exporter->SetRenderWindow(window);
   exporter->InlineDataOn();  // one self-contained file
   exporter->SaveNormalOn();
-  const std::string scene = exporter->WriteToString();
+  const std::string scene = blended(exporter->WriteToString());
   write_atomically(path, [&](const std::filesystem::path& tmp) {
     std::ofstream out(tmp, std::ios::binary);
     if (!out.write(scene.data(), std::streamsize(scene.size())) || !out.flush())

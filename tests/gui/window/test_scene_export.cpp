@@ -77,10 +77,18 @@ class SceneExportTest : public QObject {
     std::ifstream file(path);
     const nlohmann::json gltf = nlohmann::json::parse(file);
     QCOMPARE(gltf.at("materials").size(), gltf.at("meshes").size());
-    int textured = 0;
-    for (const auto& material : gltf.at("materials"))
-      textured += material.at("pbrMetallicRoughness").contains("baseColorTexture") ? 1 : 0;
+    int textured = 0, translucent = 0;
+    for (const auto& material : gltf.at("materials")) {
+      const auto& pbr = material.at("pbrMetallicRoughness");
+      textured += pbr.contains("baseColorTexture") ? 1 : 0;
+      // A translucent surface blends in a viewer too (glTF's default is opaque).
+      if (pbr.at("baseColorFactor").at(3).get<double>() < 1) {
+        ++translucent;
+        QCOMPARE(material.value("alphaMode", std::string("OPAQUE")), std::string("BLEND"));
+      }
+    }
     QVERIFY(textured >= 1);
+    QVERIFY(translucent >= 1);  // the 12R's workspace surfaces
     QVERIFY(gltf.at("images").size() >= 1);
     QVERIFY2(meshes >= 3, qPrintable(QString("%1 meshes read back, %2 drawn").arg(meshes).arg(drawn)));
     // The scene spans the view's own extent (to 1 % of its size).
