@@ -179,7 +179,7 @@ TEST(DescribedStops, FalconJointMarginAndStatusesMatchHandGeometry) {
 // the same, and the reach margin turns negative with it.
 TEST(DescribedStops, FalconIkAndFkNameTheJointBeyondItsStop) {
   const auto falcon = make_mechanism(without_links("falcon"));
-  const Vector3d p(0, 0, 60);  // every knee folded (hand: below 10 deg)
+  const Vector3d p(0, 0, 60);  // every knee folded back beyond 170 deg (by hand)
   const auto legs = falcon_by_hand(p);
   ASSERT_TRUE(legs);
   ASSERT_LT(falcon_joint_margin(*legs), 0);
@@ -263,6 +263,41 @@ TEST(DescribedStops, DeltaBallJointConesMatchHandGeometryInBothSolvers) {
 TEST(DescribedStops, DeltaHomeIsWithinItsCones) {
   const auto described = make_mechanism(load_preset("delta-described"));
   EXPECT_EQ(described->inverse(described->home_task()).status, Status::Ok);
+}
+
+// A universal joint's two axis ranges: the Stewart platform's leg 1 with
+// U1 limited to +-25 deg on each axis, against the angles that point the
+// axis of its slide along the leg by hand (R_x(a) R_y(b) z = leg direction).
+TEST(DescribedStops, UniversalJointRangesMatchHandGeometry) {
+  const auto stewart = make_mechanism(edited("stewart", [](json& d) {
+    d["legs"][0]["chain"][0]["ranges_deg"] = {{-25, 25}, {-25, 25}};
+  }));
+  const auto prm = stewart->parameters();
+  const double rb = prm.at("rb"), rp = prm.at("rp"), sb = prm.at("sb"), sp = prm.at("sp");
+  const Grid g = Grid::box({-15, -15, 5}, {15, 15, 22}, {8, 8, 8});
+  const Field field = field_of(*stewart, g, "closed");
+  const Field::NamedArray& margin = extra(field, "joint_margin");
+  const Eigen::Matrix3d to_leg = Eigen::AngleAxisd(sb / 2 * kDeg, Vector3d::UnitZ()).toRotationMatrix();
+  const Vector3d B = to_leg.transpose() * Vector3d(rb, 0, 0);
+  int compared = 0, beyond = 0;
+  for (int k = 0; k < g.dims[2]; ++k)
+    for (int j = 0; j < g.dims[1]; ++j)
+      for (int i = 0; i < g.dims[0]; ++i) {
+        const Vector3d p = g.point(i, j, k);
+        const std::size_t at = g.index(i, j, k);
+        if (std::isnan(margin.values[at])) continue;  // does not assemble
+        const Vector3d P = p + Eigen::AngleAxisd((-60 + sp / 2) * kDeg, Vector3d::UnitZ()) * Vector3d(rp, 0, 0);
+        const Vector3d dir = (to_leg * (P - B)).normalized();
+        const double alpha = std::atan2(-dir.y(), dir.z()) / kDeg, beta = std::asin(dir.x()) / kDeg;
+        const double expected = std::min({alpha + 25, 25 - alpha, beta + 25, 25 - beta});
+        ASSERT_NEAR(margin.values[at], expected, 1e-4) << p.transpose();
+        if (expected < -1e-6) EXPECT_EQ(Status(field.status[at]), Status::OutOfLimits) << p.transpose();
+        ++compared;
+        beyond += expected < 0;
+      }
+  std::printf("Stewart U1 ranges: %d samples, %d beyond\n", compared, beyond);
+  EXPECT_GT(compared, 100);
+  EXPECT_GT(beyond, 10);
 }
 
 // ---- Link interference -----------------------------------------------------------------------
