@@ -214,6 +214,46 @@ INSTANTIATE_TEST_SUITE_P(Shipped, SettlingPreset,
                                            "linear-delta"),
                          test_name);
 
+// The Falcon's passive-joint limits become its hinges' ranges (the turn
+// holding the joint's home value), and its links capsules of their radii:
+// every chain link's geom in the body of the joint before it, as long as the
+// link, and at home every stated hinge within its range.
+TEST(ModelExport, PassiveLimitsAndLinkRadiiReachMuJoCo) {
+  const auto l = load("falcon");
+  ASSERT_NE(l->m, nullptr);
+  const Model& model = l->kin->model();
+  const PoseSolution home = l->kin->inverse(model.home, 0, 1e-12);
+  int ranges = 0, links = 0;
+  for (std::size_t leg = 0; leg < model.legs.size(); ++leg) {
+    const Leg& lg = model.legs[leg];
+    for (const JointLimit& lim : lg.limits) {
+      const int j = joint(l->m, lg.steps[std::size_t(lim.step)].name);
+      ASSERT_TRUE(l->m->jnt_limited[j]) << lg.steps[std::size_t(lim.step)].name;
+      const double lo = l->m->jnt_range[2 * j], hi = l->m->jnt_range[2 * j + 1];
+      EXPECT_NEAR(hi - lo, lim.range.hi - lim.range.lo, 1e-12);
+      EXPECT_NEAR(std::remainder(lo - lim.range.lo, 2 * M_PI), 0, 1e-12);
+      const double v = home.legs[leg].state.values[lg.steps[std::size_t(lim.step)].variable];
+      EXPECT_TRUE(lo <= v && v <= hi) << lg.steps[std::size_t(lim.step)].name << " at " << v;
+      ++ranges;
+    }
+    // Chain links: the geom in the joint's body with the description's radius and length.
+    for (const LinkCapsule& c : lg.capsules) {
+      if (c.on != LinkCapsule::On::Chain) continue;
+      const int body = mj_name2id(l->m, mjOBJ_BODY, lg.steps[std::size_t(c.frame)].name.c_str());
+      bool found = false;
+      for (int g = 0; g < l->m->ngeom; ++g)
+        if (l->m->geom_bodyid[g] == body && l->m->geom_type[g] == mjGEOM_CAPSULE &&
+            std::abs(l->m->geom_size[3 * g] - c.radius * l->metres) < 1e-12 &&
+            std::abs(2 * l->m->geom_size[3 * g + 1] - (c.b - c.a).norm() * l->metres) < 1e-12)
+          found = true;
+      EXPECT_TRUE(found) << lg.label() << " " << c.name;
+      links += found;
+    }
+  }
+  EXPECT_EQ(ranges, 9);
+  EXPECT_EQ(links, 12);
+}
+
 TEST(ModelExport, ACompiledDeviceIsRefusedWithAReason) {
   try {
     mjcf_model(load_preset("parallel-12r"));
