@@ -261,12 +261,17 @@ class DescribedMechanism final : public Mechanism {
   }
 
   // Sweeps towards the geometry's singular sets, on the device without
-  // actuator ranges (they would cut the rays first), as for the compiled Delta.
+  // actuator ranges, passive-joint limits or links (they would cut the rays
+  // first), as for the compiled Delta.
   std::vector<stability::SweepRow> stability_sweeps(const stability::SweepOptions& options) const override {
     Model free = kin_.model();
     for (Actuator& a : free.actuators) {
       a.limited = false;
       if (!a.prismatic) a.range = {-M_PI, M_PI};
+    }
+    for (Leg& l : free.legs) {
+      l.limits.clear();
+      l.capsules.clear();
     }
     return DescribedMechanism(preset_, std::move(free)).Mechanism::stability_sweeps(options);
   }

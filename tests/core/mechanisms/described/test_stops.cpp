@@ -14,6 +14,7 @@
 #include "core/interference.h"
 #include "core/mechanism.h"
 #include "core/preset.h"
+#include "core/stability.h"
 #include "tests/core/mechanisms/described/without_stops.h"
 
 namespace linkscape {
@@ -298,6 +299,24 @@ TEST(DescribedStops, UniversalJointRangesMatchHandGeometry) {
   std::printf("Stewart U1 ranges: %d samples, %d beyond\n", compared, beyond);
   EXPECT_GT(compared, 100);
   EXPECT_GT(beyond, 10);
+}
+
+// The sweeps towards the singular sets follow the geometry: the cones that
+// cut the described Delta's workspace do not cut them (the same rows as the
+// Delta without cones).
+TEST(DescribedStops, StabilitySweepsIgnoreTheStops) {
+  stability::SweepOptions o;
+  o.eps_min = 1e-4;
+  o.base_points = 1;
+  const auto with = make_mechanism(load_preset("delta-described"))->stability_sweeps(o);
+  const auto without =
+      make_mechanism(testing_support::without_stops(load_preset("delta-described")))->stability_sweeps(o);
+  ASSERT_EQ(with.size(), without.size());
+  ASSERT_FALSE(with.empty());
+  for (std::size_t i = 0; i < with.size(); ++i) {
+    EXPECT_EQ(with[i].distance, without[i].distance) << i;
+    EXPECT_EQ(with[i].status, without[i].status) << i;
+  }
 }
 
 // ---- Link interference -----------------------------------------------------------------------
