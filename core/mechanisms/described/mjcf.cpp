@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/haptics.h"
+#include "core/mechanism.h"
 #include "core/mechanisms/described/kinematics.h"
 #include "core/mechanisms/described/model.h"
 
@@ -139,7 +140,8 @@ std::string hinge_range(const Range& r, double home) {
 // A leg as nested bodies from the world, one per joint, at its home state;
 // a slide's `ref` in metres, a hinge's in radians. The description's links
 // are capsules of their radii; a leg without them is drawn with the default.
-void write_leg(Writer& w, const Model& model, const Leg& leg, const LegState& home, double metres) {
+void write_leg(Writer& w, const Model& model, const Leg& leg, const LegState& home, double metres,
+               const std::vector<double>& armature) {
   int open = 0, sphere = 0, frame = -1;
   Eigen::Isometry3d t = leg.base;  // in the current body
   bool in_world = true;            // the base steps are the frame, not links
@@ -176,6 +178,7 @@ void write_leg(Writer& w, const Model& model, const Leg& leg, const LegState& ho
       const double scale = step.kind == Step::Kind::Prismatic ? metres : 1.0;
       joint += " range=\"" + number(range.lo * scale) + " " + number(range.hi * scale) + "\"";
     }
+    if (step.actuator >= 0) joint += " armature=\"" + number(armature[std::size_t(step.actuator)]) + "\"";
     // A passive revolute's limit; a ball's cone has no MuJoCo counterpart
     // (a ball's range bounds its whole rotation from home, twist included).
     for (const JointLimit& l : leg.limits)
@@ -191,6 +194,24 @@ void write_leg(Writer& w, const Model& model, const Leg& leg, const LegState& ho
   w.open(mjcf_leg_end(leg.name), t);
   w.close();
   for (int k = 0; k < open; ++k) w.close();
+}
+
+// Each actuator's motor rotor reflected to its joint (MJCF armature: kg m²,
+// or kg through a prismatic actuator's lead): the preset's rating, else
+// Linkscape's default one. Without it the actuated joints have only their
+// links' small inertia, and MuJoCo's loop constraints drive them unstably
+// (docs/model-export.md).
+std::vector<double> armatures(const Preset& preset) {
+  const auto mechanism = make_mechanism(preset);
+  const haptics::DeviceData data = haptics::device_data(preset, mechanism->info());
+  std::vector<double> out;
+  for (std::size_t a = 0; a < data.actuators.size(); ++a) {
+    const haptics::Rating& r = data.actuators[a];
+    const bool prismatic = r.lead_m_per_rev.has_value();
+    const double inertia = r.rotor_inertia_kgm2.value_or(*haptics::default_rating(prismatic).rotor_inertia_kgm2);
+    out.push_back(prismatic ? inertia * std::pow(2 * M_PI / *r.lead_m_per_rev, 2) : inertia);
+  }
+  return out;
 }
 
 // The motor's force or torque limit at the joint, where the preset rates it.
@@ -251,7 +272,9 @@ std::string mjcf_model(const Preset& preset) {
 
   Writer w(metres);
   write_platform(w, model, coordinates, model.platform_frames(extras), metres);
-  for (std::size_t l = 0; l < model.legs.size(); ++l) write_leg(w, model, model.legs[l], home.legs[l].state, metres);
+  const std::vector<double> armature = armatures(preset);
+  for (std::size_t l = 0; l < model.legs.size(); ++l)
+    write_leg(w, model, model.legs[l], home.legs[l].state, metres, armature);
 
   const double radius = model.size * metres / 60.0;  // drawing and mass only: links are not modelled as solids yet
   std::ostringstream out;
