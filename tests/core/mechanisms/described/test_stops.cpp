@@ -367,6 +367,11 @@ TEST_P(FalconClearance, MatchesHandGeometry) {
   if (shin == 4) return;
   EXPECT_GT(colliding, 10);
   ASSERT_TRUE(collision.allFinite()) << "no collision within the actuators' travel";
+  // The window's readouts name the nearest pair at a pose that holds.
+  bool readout = false;
+  for (const auto& [name, text] : links_only->readouts(links_only->home_actuators(), links_only->home_task()))
+    readout |= name == "clearance" && text.find(" mm (leg ") != std::string::npos && text.find(" to leg ") != std::string::npos;
+  EXPECT_TRUE(readout);
   const IkResult ik = links_only->inverse(collision);
   EXPECT_EQ(ik.status, Status::OutOfLimits);
   EXPECT_NE(ik.status_text.find(" hits leg "), std::string::npos) << ik.status_text;
