@@ -319,6 +319,30 @@ TEST(DescribedStops, StabilitySweepsIgnoreTheStops) {
   }
 }
 
+// A planar device's field is one layer copied along z: its joint margin too.
+TEST(DescribedStops, APlanarDevicesMarginIsExtrudedWithItsField) {
+  const auto five_bar = make_mechanism(edited("five-bar", [](json& d) {
+    d["legs"][0]["chain"][2]["range_deg"] = {20, 160};  // elbow1
+  }));
+  const Grid g = Grid::box({-12, 2, -1}, {12, 26, 1}, {16, 16, 3});
+  const Field f = field_of(*five_bar, g, "closed");
+  const Field::NamedArray& margin = extra(f, "joint_margin");
+  ASSERT_EQ(margin.values.size(), g.size());
+  int finite = 0, beyond = 0;
+  for (int j = 0; j < g.dims[1]; ++j)
+    for (int i = 0; i < g.dims[0]; ++i) {
+      const float m0 = margin.values[g.index(i, j, 0)];
+      for (int k = 1; k < g.dims[2]; ++k) {
+        const float mk = margin.values[g.index(i, j, k)];
+        EXPECT_TRUE(mk == m0 || (std::isnan(mk) && std::isnan(m0)));
+      }
+      finite += std::isfinite(m0);
+      beyond += m0 < 0;
+    }
+  EXPECT_GT(finite, 50);
+  EXPECT_GT(beyond, 5);
+}
+
 // ---- Link interference -----------------------------------------------------------------------
 
 // The Falcon's clearance in the field is the hand geometry's smallest gap
