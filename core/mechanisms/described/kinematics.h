@@ -145,7 +145,7 @@ class Kinematics {
   Stops stops(const PlatformPose& pose, const std::vector<LegState>& legs) const;
   Stops stops(const PlatformPose& pose, const PoseSolution& solved) const;
   // Why stops do not hold, naming the leg and joint or the two links:
-  // "leg 2 ball joint elbow2 at 38.2 deg, beyond its 35 deg cone"; "" where they hold.
+  // "leg 2 ball joint elbow2 at 38.2 deg beyond its 35.0 deg cone"; "" where they hold.
   std::string stop_reason(const Stops& s, const std::vector<LegState>& legs) const;
   // Each link's capsule at an assembly (base frame), leg by leg, for drawing and tests.
   std::vector<std::vector<interference::Capsule>> capsules(const PlatformPose& pose,

@@ -126,10 +126,11 @@ std::string Kinematics::stop_reason(const Stops& s, const std::vector<LegState>&
     const Leg& leg = model_.legs[std::size_t(s.joint_leg)];
     const JointLimit& l = leg.limits[std::size_t(s.joint_limit)];
     const double angle = joint_angle_deg(l, leg, legs[std::size_t(s.joint_leg)]);
+    // No commas: the text may stand in a CSV cell.
     const std::string limit = l.kind == JointLimit::Kind::Cone
                                   ? degrees(l.half_angle * kDeg) + " cone"
                                   : "range " + degrees(l.range.lo * kDeg) + " to " + degrees(l.range.hi * kDeg);
-    return leg.label() + " " + l.label + " at " + degrees(angle) + ", beyond its " + limit;
+    return leg.label() + " " + l.label + " at " + degrees(angle) + " beyond its " + limit;
   }
   if (s.clearance < 0) {
     const auto name = [&](int leg, int capsule) {

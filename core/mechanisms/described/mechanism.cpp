@@ -158,13 +158,11 @@ class DescribedMechanism final : public Mechanism {
     out.status = f.status;
     // As the compiled devices: an assembly with an actuator outside its travel.
     if (out.status == Status::Ok && kin_.limits_margin(q) < 0) out.status = Status::OutOfLimits;
-    if (out.status == Status::Ok && (kin_.has_joint_limits() || kin_.has_capsules())) {
-      const Stops stops = kin_.stops(kin_.pose(f.x), f.legs);
-      if (!stops.hold()) {
-        out.status = Status::OutOfLimits;
-        out.status_text = "out-of-limits: " + kin_.stop_reason(stops, f.legs);
-      }
-    }
+    // A passive joint beyond its limit, or two links overlapping. The reason
+    // is not the status text: that replaces the status token in eval's CSV.
+    if (out.status == Status::Ok && (kin_.has_joint_limits() || kin_.has_capsules()) &&
+        !kin_.stops(kin_.pose(f.x), f.legs).hold())
+      out.status = Status::OutOfLimits;
     out.x = to_interface(f.x);
     // An assembly where J is singular (type I or II) is singular, as measures() says there.
     if (out.status == Status::Ok) {
