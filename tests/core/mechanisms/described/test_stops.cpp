@@ -259,8 +259,7 @@ TEST(DescribedStops, DeltaBallJointConesMatchHandGeometryInBothSolvers) {
   EXPECT_GT(beyond, 30);
 }
 
-// The hand geometry's socket direction matches the file's elbow axis at
-// home: a check of the test's own frames (the home pose is inside both cones).
+// The cones are centred on the rods' directions at home: home stays ok.
 TEST(DescribedStops, DeltaHomeIsWithinItsCones) {
   const auto described = make_mechanism(load_preset("delta-described"));
   EXPECT_EQ(described->inverse(described->home_task()).status, Status::Ok);
