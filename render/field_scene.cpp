@@ -53,7 +53,6 @@ FieldScene::FieldScene() {
   sp->SetSpecular(0);
   sp->LightingOff();
   sp->BackfaceCullingOff();
-  slice_actor_->PickableOff();
   slice_actor_->VisibilityOff();
 
   // Isosurfaces: translucent, smooth-shaded from the mesh's point normals.
@@ -81,7 +80,6 @@ FieldScene::FieldScene() {
     p->BackfaceCullingOn();
     p->SetSpecular(0.1);
     p->SetSpecularPower(20);
-    surface_actors_[k]->PickableOff();
     surface_actors_[k]->VisibilityOff();
   }
 

@@ -95,6 +95,9 @@ class FieldScene {
   std::string colour_bar_title() const;
   // The colour range the bar was last built for (the data's units, not log10), if any.
   std::optional<std::array<double, 2>> colour_bar_range() const { return bar_range_; }
+  // The props a pick can land on: the slice and each full surface.
+  vtkActor* slice_actor() const { return slice_actor_; }
+  vtkActor* surface_actor(Surface which) const { return surface_actors_[index(which)]; }
   // World bounds of the slice rectangle (xmin, xmax, ymin, ymax, zmin, zmax);
   // all zero without a slice.
   std::array<double, 6> slice_bounds() const;

@@ -61,6 +61,17 @@ class SkeletonScene {
   // Camera from the front-left, above, framing `workspace_box` (base frame)
   // together with the device's base.
   void reset_camera(vtkRenderer* renderer, const Eigen::AlignedBox3d& workspace_box) const;
+  // The camera looking along -`back` (focal point -> camera is `back`) with
+  // `up` up, framing `box` with the device's base. Throws
+  // std::invalid_argument for a null renderer, an empty or non-finite box, or
+  // `up` parallel to `back`.
+  void frame(vtkRenderer* renderer, const Eigen::AlignedBox3d& box, const Eigen::Vector3d& back,
+             const Eigen::Vector3d& up) const;
+  // The device's own extent in its current pose: every body's polylines and
+  // faces (empty for a model without geometry).
+  Eigen::AlignedBox3d device_box() const;
+  // The actors a pick can land on: tubes, plates, knuckles, the endpoint.
+  std::vector<vtkActor*> pickable_actors() const;
 
   // The props, for tests and picking: per body its tube and plate actors
   // (null where the body has no polylines or no faces), per joint its knuckle

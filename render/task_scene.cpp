@@ -61,7 +61,6 @@ TaskScene::TaskScene() {
   task_actor_->GetProperty()->SetOpacity(0.8);
   task_actor_->GetProperty()->SetAmbient(0.5);
   task_actor_->GetProperty()->SetDiffuse(0.5);
-  task_actor_->PickableOff();
   vtkNew<vtkPolyDataMapper> inscribed_mapper;
   inscribed_mapper->ScalarVisibilityOff();
   inscribed_actor_->SetMapper(inscribed_mapper);

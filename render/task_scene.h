@@ -42,6 +42,8 @@ class TaskScene {
   void set_inscribed(vtkPolyData* surface);
   void set_visible(bool visible);
   bool visible() const;
+  // The task surface's actor (picking, tests).
+  vtkActor* task_actor() const { return task_actor_; }
   // Points of the shown task surface coloured as failing (tests).
   std::size_t failing_points() const { return failing_; }
 

@@ -1,0 +1,123 @@
+#include "gui/window/view_tools.h"
+
+#include <QAction>
+#include <QKeySequence>
+#include <QMenu>
+#include <vtkCamera.h>
+#include <vtkRenderer.h>
+
+#include "gui/window/device_state.h"
+#include "gui/window/field_display.h"
+#include "gui/window/pick_tool.h"
+#include "gui/window/probe_panel.h"
+#include "gui/window/vtk_widget.h"
+#include "render/field_probe.h"
+#include "render/field_scene.h"
+#include "render/mark_scene.h"
+#include "render/skeleton_scene.h"
+#include "render/task_scene.h"
+
+namespace linkscape::gui {
+
+ViewTools::ViewTools(const Scene& scene, QObject* parent)
+    : QObject(parent),
+      scene_(scene),
+      marks_(std::make_unique<render::MarkScene>()),
+      picker_(std::make_unique<PickTool>(scene.view->interactor(), scene.renderer)) {
+  marks_->add_to(scene.renderer);
+  ProbePanel::Hooks hooks;
+  hooks.field_at = [this](const Eigen::Vector3d& p, QString* source) -> const Field* {
+    const Field* slice = scene_.display->slice();
+    if (slice && render::inside_cells(slice->grid, p)) {
+      *source = tr("slice");
+      return slice;
+    }
+    const Field* volume = scene_.display->surfaces().volume.get();
+    if (volume && render::inside_cells(volume->grid, p)) {
+      *source = tr("sampled volume");
+      return volume;
+    }
+    return nullptr;
+  };
+  hooks.pose_status = [this] {
+    const std::string& why = scene_.state->refusal();
+    return why.empty() ? tr("ok") : tr("the last target was refused: %1").arg(QString::fromStdString(why));
+  };
+  hooks.marks_changed = [this] { scene_.view->requestRender(); };
+  panel_ = new ProbePanel(marks_.get(), hooks, QString::fromStdString(scene.state->mechanism().info().length_unit));
+  picker_->setTargets([this] {
+    PickTool::Targets t;
+    t.opaque.push_back({scene_.fields->slice_actor(), tr("slice")});
+    for (vtkActor* a : scene_.skeleton->pickable_actors()) t.opaque.push_back({a, tr("linkage")});
+    t.translucent = {{scene_.fields->surface_actor(render::Surface::WellConditioned), tr("well-conditioned surface")},
+                     {scene_.fields->surface_actor(render::Surface::Reach), tr("reach surface")},
+                     {scene_.task->task_actor(), tr("task volume")}};
+    marks_->set_marker_size(0.012 * scene_.skeleton->model().scale);
+    return t;
+  });
+  auto pick = [this](const PickTool::Hit& hit, bool click, bool shift) { panel_->pick(hit.point, hit.what, click, shift); };
+  connect(picker_.get(), &PickTool::clicked, this, [pick](const PickTool::Hit& h, bool shift) { pick(h, true, shift); });
+  connect(picker_.get(), &PickTool::hovered, this, [pick](const PickTool::Hit& h) { pick(h, false, false); });
+  connect(panel_, &ProbePanel::hoverToggled, picker_.get(), &PickTool::setHover);
+  // New samples: the read-out and the profile show them.
+  connect(scene.display, &FieldDisplay::fieldsUpdated, panel_, [this](bool fine) {
+    if (fine) panel_->refresh();
+  });
+}
+
+ViewTools::~ViewTools() = default;
+
+void ViewTools::frame(const Eigen::AlignedBox3d& workspace, std::optional<render::StandardView> view) {
+  view_ = view;
+  const Eigen::AlignedBox3d device = scene_.skeleton->device_box();
+  const Eigen::AlignedBox3d& box = frame_device_ && !device.isEmpty() ? device : workspace;
+  if (!view) {
+    scene_.skeleton->reset_camera(scene_.renderer, box);
+    return;
+  }
+  const render::ViewDirection d = render::view_direction(*view);
+  scene_.skeleton->frame(scene_.renderer, box, d.back, d.up);
+}
+
+void ViewTools::setParallel(bool on) {
+  scene_.renderer->GetActiveCamera()->SetParallelProjection(on);
+  scene_.view->requestRender();
+}
+
+bool ViewTools::parallel() const { return scene_.renderer->GetActiveCamera()->GetParallelProjection() != 0; }
+
+void ViewTools::addViewActions(QMenu* menu, std::function<Eigen::AlignedBox3d()> workspace,
+                               std::function<void()> framed) {
+  const std::pair<QString, render::StandardView> views[] = {{tr("&Front view"), render::StandardView::Front},
+                                                            {tr("&Top view"), render::StandardView::Top},
+                                                            {tr("&Side view"), render::StandardView::Side},
+                                                            {tr("&Isometric view"), render::StandardView::Iso}};
+  int key = Qt::Key_1;
+  for (const auto& [text, view] : views) {
+    QAction* a = menu->addAction(text);
+    a->setShortcut(QKeySequence(Qt::CTRL | Qt::Key(key++)));
+    connect(a, &QAction::triggered, this, [this, view, workspace, framed] {
+      frame(workspace(), view);
+      framed();
+      scene_.view->requestRender();
+    });
+  }
+  QAction* parallel = menu->addAction(tr("&Parallel projection"));
+  parallel->setObjectName("parallelProjectionAction");
+  parallel->setCheckable(true);
+  parallel->setShortcut(QKeySequence(Qt::CTRL | Qt::Key_5));
+  connect(parallel, &QAction::toggled, this, &ViewTools::setParallel);
+  QAction* device = menu->addAction(tr("Frame the &device, not its workspace"));
+  device->setObjectName("frameDeviceAction");
+  device->setCheckable(true);
+  device->setStatusTip(tr("Reset camera and the standard views frame the device in its pose instead of the middle "
+                          "of its sampling box"));
+  connect(device, &QAction::toggled, this, [this, workspace, framed](bool on) {
+    setFrameDevice(on);
+    reframe(workspace());
+    framed();
+    scene_.view->requestRender();
+  });
+}
+
+}  // namespace linkscape::gui

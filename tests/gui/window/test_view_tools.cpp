@@ -1,0 +1,213 @@
+// The view as an instrument: a click on the slice reads the field there, two
+// Shift+clicks measure a distance, two clicks in Line probe mode plot a
+// field and export it as CSV, the standard views look along their axes, and
+// a refused target puts the sliders back on the pose the device holds.
+// LINKSCAPE_SCREENSHOTS=<folder> saves the window after the picks, to look at.
+#include <QAction>
+#include <QApplication>
+#include <QDir>
+#include <QDockWidget>
+#include <QDoubleSpinBox>
+#include <QStatusBar>
+#include <QTemporaryDir>
+#include <QtTest>
+#include <vtkCamera.h>
+#include <vtkGenericOpenGLRenderWindow.h>
+#include <vtkRendererCollection.h>
+#include <vtkCommand.h>
+#include <vtkRenderWindowInteractor.h>
+#include <vtkRenderer.h>
+
+#include <fstream>
+
+#include "core/csv.h"
+#include "core/preset.h"
+#include "gui/window/device_state.h"
+#include "gui/window/field_display.h"
+#include "gui/window/mechanism_window.h"
+#include "gui/window/pick_tool.h"
+#include "gui/window/probe_panel.h"
+#include "gui/window/profile_chart.h"
+#include "gui/window/view_tools.h"
+#include "gui/window/vtk_widget.h"
+#include "render/field_scene.h"
+#include "render/mark_scene.h"
+#include "window_checks.h"
+
+using namespace linkscape;
+using linkscape::gui::MechanismWindow;
+
+namespace {
+
+// Display pixel (VTK's, origin bottom left) of a world point.
+std::array<int, 2> to_display(vtkRenderer* r, const Eigen::Vector3d& p) {
+  r->SetWorldPoint(p.x(), p.y(), p.z(), 1.0);
+  r->WorldToDisplay();
+  const double* d = r->GetDisplayPoint();
+  return {int(std::lround(d[0])), int(std::lround(d[1]))};
+}
+
+// A click as the view hands it to VTK: press and release at one pixel.
+void click(vtkRenderWindowInteractor* i, std::array<int, 2> at, bool shift = false) {
+  i->SetEventInformation(at[0], at[1], 0, shift ? 1 : 0);
+  i->InvokeEvent(vtkCommand::LeftButtonPressEvent);
+  i->InvokeEvent(vtkCommand::LeftButtonReleaseEvent);
+}
+
+vtkRenderer* scene_renderer(MechanismWindow& w) { return w.view()->renderWindow()->GetRenderers()->GetFirstRenderer(); }
+
+// Reachable sample centres of the slice that a click lands on (the linkage
+// may stand in front of some), with the pixel to click.
+struct Target {
+  std::size_t sample;
+  Eigen::Vector3d point;
+  std::array<int, 2> pixel;
+};
+std::vector<Target> slice_targets(MechanismWindow& w, const Field& slice) {
+  std::vector<Target> out;
+  vtkRenderer* r = scene_renderer(w);
+  const Grid& g = slice.grid;
+  // Every third sample along the slice's axes, away from its edges.
+  auto from = [&](int a) { return g.dims[a] == 1 ? 0 : 1; };
+  auto below = [&](int a) { return g.dims[a] == 1 ? 1 : g.dims[a] - 1; };
+  for (int k = from(2); k < below(2); k += 3)
+    for (int j = from(1); j < below(1); j += 3)
+      for (int i = from(0); i < below(0); i += 3) {
+        const std::size_t s = g.index(i, j, k);
+        if (!slice.reachable[s]) continue;
+        const Eigen::Vector3d p = g.point(i, j, k);
+        const auto px = to_display(r, p);
+        const auto hit = w.viewTools()->picker()->pickAt(px[0], px[1]);
+        if (hit && hit->what == "slice") out.push_back({s, p, px});
+      }
+  return out;
+}
+
+}  // namespace
+
+class ViewToolsTest : public QObject {
+  Q_OBJECT
+
+ private slots:
+  void clickOnTheSliceReadsTheFieldThere() {
+    MechanismWindow w(load_preset("delta"));
+    w.resize(1280, 800);
+    w.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    window_checks::wait_settled(w);
+    window_checks::frame(w);
+    gui::ProbePanel* panel = w.viewTools()->panel();
+    const std::vector<Target> targets = slice_targets(w, *fieldOf(w));
+    QVERIFY2(targets.size() >= 3, "the slice is in view");
+    const Field& field = *fieldOf(w);
+    const Target& t = targets[targets.size() / 2];
+    click(w.view()->interactor(), t.pixel);
+    QVERIFY(panel->sample());
+    const render::ProbeSample& s = *panel->sample();
+    // The point hit lies on the slice within a pixel of the aimed sample,
+    // whose value the read-out gives there.
+    QCOMPARE(field.grid.index(s.nearest[0], s.nearest[1], s.nearest[2]), t.sample);
+    const double pixel = (s.point - t.point).norm();
+    QVERIFY2(pixel < 0.5 * field.grid.spacing.maxCoeff(), qPrintable(QString::number(pixel)));
+    const render::ProbeValue* cond = s.find("cond");
+    QVERIFY(cond);
+    const double expected = field.cond[t.sample];
+    QVERIFY2(std::abs(cond->value - expected) <= 0.05 * expected,
+             qPrintable(QString("cond %1 at the pick, %2 at the sample").arg(cond->value).arg(expected)));
+    if (qEnvironmentVariableIsSet("PICK_DEBUG")) qInfo("%s", qPrintable(panel->readout()));
+    QVERIFY(panel->readout().contains(QString::fromStdString(cond->title)));
+    QVERIFY(panel->readout().contains(render::to_string(cond->sampling)));
+    QVERIFY(panel->readout().contains("Device pose: ok"));
+    QVERIFY(panel->readout().contains(w.state().mechanism().info().length_unit.c_str()));
+    QVERIFY(w.viewTools()->marks().pick_visible());
+
+    // Ruler: two Shift+clicks.
+    const Target& a = targets.front();
+    const Target& b = targets.back();
+    click(w.view()->interactor(), a.pixel, true);
+    click(w.view()->interactor(), b.pixel, true);
+    QVERIFY(panel->rulerLength());
+    const double tolerance = field.grid.spacing.maxCoeff();  // a pixel is far smaller than a sample
+    QVERIFY2(std::abs(*panel->rulerLength() - (b.point - a.point).norm()) < tolerance,
+             qPrintable(QString("%1 vs %2").arg(*panel->rulerLength()).arg((b.point - a.point).norm())));
+    QVERIFY(w.viewTools()->marks().ruler_visible());
+    QVERIFY(QString::fromStdString(w.viewTools()->marks().ruler_text()).endsWith(" cm"));
+
+    // Line probe: two clicks, a plot, a CSV that reads back.
+    panel->setMode(gui::ProbePanel::Mode::Line);
+    click(w.view()->interactor(), a.pixel);
+    click(w.view()->interactor(), b.pixel);
+    QVERIFY(panel->profile());
+    QVERIFY(panel->chart()->pointCount() > 10);
+    QTemporaryDir dir;
+    const QString path = dir.filePath("probe.csv");
+    QVERIFY(panel->exportProfile(path));
+    std::ifstream in(path.toStdString());
+    const Table table = read_csv(in, path.toStdString());
+    QCOMPARE(table.rows.size(), panel->profile()->values.size());
+    const std::size_t value = table.column("cond");
+    const std::size_t distance = table.column("distance (cm)");
+    for (std::size_t k = 0; k < table.rows.size(); ++k) {
+      QCOMPARE(table.rows[k][distance], panel->profile()->distance[k]);
+      QCOMPARE(table.rows[k][value], panel->profile()->values[k]);
+    }
+    if (auto* dock = w.findChild<QDockWidget*>("probeDock")) dock->raise();
+    window_checks::frame(w);
+    window_checks::save_screenshot(w, "view-tools-probe.png");
+  }
+
+  void standardViewsLookAlongTheirAxes() {
+    MechanismWindow w(load_preset("delta"));
+    w.resize(1024, 700);
+    w.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    const std::pair<QString, Eigen::Vector3d> views[] = {{"&Front view", Eigen::Vector3d::UnitY()},
+                                                         {"&Top view", -Eigen::Vector3d::UnitZ()},
+                                                         {"&Side view", -Eigen::Vector3d::UnitX()},
+                                                         {"&Isometric view", Eigen::Vector3d(1, 1, -1).normalized()}};
+    for (const auto& [text, direction] : views) {
+      QAction* action = nullptr;
+      for (QAction* a : w.findChildren<QAction*>())
+        if (a->text() == text) action = a;
+      QVERIFY2(action, qPrintable(text));
+      QVERIFY(!action->shortcut().isEmpty());
+      action->trigger();
+      double d[3];
+      scene_renderer(w)->GetActiveCamera()->GetDirectionOfProjection(d);
+      QVERIFY2((Eigen::Vector3d(d[0], d[1], d[2]) - direction).norm() < 1e-9, qPrintable(text));
+    }
+    QAction* parallel = w.findChild<QAction*>("parallelProjectionAction");
+    QVERIFY(parallel);
+    parallel->trigger();
+    QVERIFY(scene_renderer(w)->GetActiveCamera()->GetParallelProjection());
+  }
+
+  void aRefusedTargetPutsTheSlidersBack() {
+    MechanismWindow w(load_preset("delta"));
+    w.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    const std::string x = w.mechanism().info().task[0].name;
+    auto* box = w.findChild<QDoubleSpinBox*>(QString::fromStdString(x + "Box"));
+    QVERIFY(box);
+    const double held = box->value();
+    Eigen::VectorXd far = w.task();
+    far(0) = w.mechanism().info().task[0].range.hi;  // a corner of the travel: beyond reach
+    far(2) = w.mechanism().info().task[2].range.hi;
+    box->setValue(far(0));  // what a user's edit leaves in the box
+    QVERIFY(!w.setTask(far));
+    QCOMPARE(box->value(), held);
+    QVERIFY(w.statusBar()->currentMessage().contains("Refused"));
+  }
+
+ private:
+  static const Field* fieldOf(MechanismWindow& w);
+};
+
+const Field* ViewToolsTest::fieldOf(MechanismWindow& w) { return w.fieldDisplay()->slice(); }
+
+int main(int argc, char** argv) {
+  QApplication app(argc, argv);
+  ViewToolsTest test;
+  return QTest::qExec(&test, argc, argv);
+}
+#include "test_view_tools.moc"
