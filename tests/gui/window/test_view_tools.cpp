@@ -199,6 +199,41 @@ class ViewToolsTest : public QObject {
     QVERIFY(w.statusBar()->currentMessage().contains("Refused"));
   }
 
+  void colourBarsSayWhatTheyShow() {
+    MechanismWindow w(load_preset("delta"));
+    w.resize(1280, 800);
+    w.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    window_checks::wait_settled(w);
+    auto show = [&](const std::string& field, const std::string& map) {
+      gui::FieldSettings f = w.fieldSettings();
+      f.field = field;
+      f.colour_map = map;
+      f.range_min.reset();
+      f.range_max.reset();
+      w.applyFieldSettings(f);
+      window_checks::wait_settled(w);
+      window_checks::frame(w);
+    };
+    show("status", "viridis");
+    const std::vector<std::string> names = w.fieldScene().colour_bar_labels();
+    QCOMPARE(names.size(), std::size_t(5));
+    QCOMPARE(names.front(), std::string("ok"));
+    QCOMPARE(names.back(), std::string("out-of-limits"));
+    window_checks::save_screenshot(w, "colour-status.png");
+    show("iterations", "viridis");
+    const std::vector<double> ticks = w.fieldScene().colour_bar_ticks();
+    QVERIFY(!ticks.empty());
+    for (double t : ticks) QCOMPARE(t, std::round(t));
+    show("reach", "diverging");
+    const auto range = w.fieldScene().colour_bar_range();
+    QVERIFY(range);
+    QCOMPARE((*range)[0], -(*range)[1]);
+    window_checks::save_screenshot(w, "colour-reach-diverging.png");
+    show("residual", "viridis");
+    window_checks::save_screenshot(w, "colour-residual.png");
+  }
+
  private:
   static const Field* fieldOf(MechanismWindow& w);
 };
