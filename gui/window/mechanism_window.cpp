@@ -28,7 +28,6 @@
 #include "gui/window/session_history.h"
 #include "gui/window/task_panel.h"
 #include "gui/window/view_handles.h"
-#include "gui/window/probe_panel.h"
 #include "gui/window/view_tools.h"
 #include "gui/window/window_menus.h"
 #include "gui/window/vtk_widget.h"
@@ -173,13 +172,13 @@ void MechanismWindow::buildDocks() {
   fit_panel_ = new FitPanel(task_panel_);
   QDockWidget* fit = add_dock(this, tr("Fit"), "fitDock", fit_panel_);
   tools_ = new ViewTools({&state_, view_, renderer_, scene_.get(), field_scene_.get(), task_scene_.get(), fields_}, this);
-  QDockWidget* probe = add_dock(this, tr("Probe"), "probeDock", tools_->panel());
   connect(fit_panel_, &FitPanel::applyRequested, this, [this](const std::map<std::string, double>& design) {
     if (!setParameters(design)) return;
     if (const auto centre = fit_panel_->chosenCentre()) task_panel_->setCentre(*centre);  // where it fits
   });
   // One column of tabs: the drive (with every read-out) in front.
-  for (QDockWidget* d : {design, field, animation, task, fit, probe}) tabifyDockWidget(drive, d);
+  for (QDockWidget* d : {design, field, animation, task, fit}) tabifyDockWidget(drive, d);
+  tools_->addDock(this, drive);
   methods_ = add_methods_dock(this, state_.preset(), drive);
   drive->raise();
   QTimer::singleShot(0, this, [this, drive] { resizeDocks({drive}, {std::max(drive->width(), 440)}, Qt::Horizontal); });

@@ -40,7 +40,7 @@ ProbePanel::ProbePanel(render::MarkScene* marks, Hooks hooks, const QString& len
   mode_box_->setToolTip(tr("What a click in the view does (a drag still turns the camera). "
                            "Shift+click places a ruler end in any mode."));
   form->addRow(tr("Click"), mode_box_);
-  hover_box_ = new QCheckBox(tr("Read values under the resting mouse"));
+  hover_box_ = new QCheckBox(tr("Read on hover"));
   hover_box_->setObjectName("probeHoverBox");
   hover_box_->setToolTip(tr("Read the fields wherever the mouse rests over the slice, a surface or the linkage"));
   form->addRow(QString(), hover_box_);

@@ -1,12 +1,15 @@
 #include "gui/window/view_tools.h"
 
 #include <QAction>
+#include <QDockWidget>
+#include <QMainWindow>
 #include <QKeySequence>
 #include <QMenu>
 #include <vtkCamera.h>
 #include <vtkRenderer.h>
 
 #include "gui/window/device_state.h"
+#include "gui/window/docks.h"
 #include "gui/window/field_display.h"
 #include "gui/window/pick_tool.h"
 #include "gui/window/probe_panel.h"
@@ -66,6 +69,17 @@ ViewTools::ViewTools(const Scene& scene, QObject* parent)
 }
 
 ViewTools::~ViewTools() = default;
+
+QDockWidget* ViewTools::addDock(QMainWindow* window, QDockWidget* tab_with) {
+  QDockWidget* dock = add_dock(window, tr("Probe"), "probeDock", panel_);
+  window->tabifyDockWidget(tab_with, dock);
+  dock->hide();  // its tab would widen the dock column before anything is picked
+  connect(picker_.get(), &PickTool::clicked, dock, [dock] {
+    dock->show();
+    dock->raise();
+  });
+  return dock;
+}
 
 void ViewTools::frame(const Eigen::AlignedBox3d& workspace, std::optional<render::StandardView> view) {
   view_ = view;

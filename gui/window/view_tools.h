@@ -14,6 +14,8 @@
 
 #include "render/standard_views.h"
 
+class QDockWidget;
+class QMainWindow;
 class QMenu;
 class vtkRenderer;
 
@@ -49,6 +51,9 @@ class ViewTools : public QObject {
   ~ViewTools() override;
 
   ProbePanel* panel() const { return panel_; }
+  // The Probe dock of `window`, tabbed with `tab_with`: hidden until the
+  // first click in the view picks something (or View > Probe shows it).
+  QDockWidget* addDock(QMainWindow* window, QDockWidget* tab_with);
   PickTool* picker() const { return picker_.get(); }
   const render::MarkScene& marks() const { return *marks_; }
 
