@@ -8,10 +8,13 @@
 #include <QDir>
 #include <QDockWidget>
 #include <QDoubleSpinBox>
+#include <QSlider>
 #include <QStatusBar>
 #include <QTemporaryDir>
 #include <QtTest>
+#include <vtkActor.h>
 #include <vtkCamera.h>
+#include <vtkProperty.h>
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkRendererCollection.h>
 #include <vtkCommand.h>
@@ -32,6 +35,7 @@
 #include "gui/window/vtk_widget.h"
 #include "render/field_scene.h"
 #include "render/mark_scene.h"
+#include "render/skeleton_scene.h"
 #include "window_checks.h"
 
 using namespace linkscape;
@@ -184,6 +188,7 @@ class ViewToolsTest : public QObject {
 
   void aRefusedTargetPutsTheSlidersBack() {
     MechanismWindow w(load_preset("delta"));
+    w.resize(1280, 800);
     w.show();
     QVERIFY(QTest::qWaitForWindowExposed(&w));
     const std::string x = w.mechanism().info().task[0].name;
@@ -197,6 +202,8 @@ class ViewToolsTest : public QObject {
     QVERIFY(!w.setTask(far));
     QCOMPARE(box->value(), held);
     QVERIFY(w.statusBar()->currentMessage().contains("Refused"));
+    window_checks::frame(w);
+    window_checks::save_screenshot(w, "refused-target.png");
   }
 
   void colourBarsSayWhatTheyShow() {
@@ -232,6 +239,61 @@ class ViewToolsTest : public QObject {
     window_checks::save_screenshot(w, "colour-reach-diverging.png");
     show("residual", "viridis");
     window_checks::save_screenshot(w, "colour-residual.png");
+  }
+
+  void framingTheDeviceFillsTheView() {
+    MechanismWindow w(load_preset("parallel-12r"));
+    w.resize(1920, 1080);
+    w.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    window_checks::wait_settled(w);
+    // How much of the view's height or width the device's box spans.
+    auto fill = [&] {
+      vtkRenderer* r = scene_renderer(w);
+      const Eigen::AlignedBox3d box = w.scene().device_box();
+      double lo[2] = {1e9, 1e9}, hi[2] = {-1e9, -1e9};
+      for (int k = 0; k < 8; ++k) {
+        const Eigen::Vector3d c = box.corner(Eigen::AlignedBox3d::CornerType(k));
+        r->SetWorldPoint(c.x(), c.y(), c.z(), 1.0);
+        r->WorldToView();
+        const double* v = r->GetViewPoint();  // -1..1 across the viewport
+        for (int a = 0; a < 2; ++a) lo[a] = std::min(lo[a], v[a]), hi[a] = std::max(hi[a], v[a]);
+      }
+      if (lo[0] < -1 || lo[1] < -1 || hi[0] > 1 || hi[1] > 1) return -1.0;  // cut off
+      return std::max(hi[0] - lo[0], hi[1] - lo[1]) / 2;
+    };
+    const double workspace = fill();
+    QAction* device = w.findChild<QAction*>("frameDeviceAction");
+    QVERIFY(device);
+    device->trigger();
+    const double framed = fill();
+    qInfo("the device spans %.2f of the view framing its workspace, %.2f framing itself", workspace, framed);
+    QVERIFY(framed > 0.8);
+    QVERIFY(framed > workspace + 0.1);
+    window_checks::frame(w);
+    window_checks::save_screenshot(w, "frame-device-12r.png");
+    w.findChild<QAction*>("parallelProjectionAction")->trigger();
+    for (QAction* a : w.findChildren<QAction*>())
+      if (a->text() == "&Top view") a->trigger();
+    window_checks::frame(w);
+    window_checks::save_screenshot(w, "top-parallel-12r.png");
+  }
+
+  void theSliceCanBeSeenThrough() {
+    MechanismWindow w(load_preset("delta"));
+    w.resize(1280, 800);
+    w.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    window_checks::wait_settled(w);
+    auto* slider = w.findChild<QSlider*>("sliceOpacitySlider");
+    QVERIFY(slider);
+    QVERIFY(!slider->toolTip().isEmpty());
+    QCOMPARE(w.fieldScene().slice_actor()->GetProperty()->GetOpacity(), 1.0);
+    const QImage opaque = window_checks::frame(w);
+    slider->setValue(35);
+    QCOMPARE(w.fieldScene().slice_actor()->GetProperty()->GetOpacity(), 0.35);
+    QVERIFY(window_checks::changed_fraction(opaque, window_checks::frame(w)) > 0.01);
+    window_checks::save_screenshot(w, "slice-opacity-35.png");
   }
 
  private:
