@@ -6,6 +6,7 @@
 #include <vtkCamera.h>
 #include <vtkCaptionActor2D.h>
 #include <vtkCellArray.h>
+#include <vtkCoordinate.h>
 #include <vtkCylinderSource.h>
 #include <vtkMatrix4x4.h>
 #include <vtkPoints.h>
@@ -230,6 +231,8 @@ std::vector<vtkProp*> SkeletonScene::props() const {
     if (b.plate) out.push_back(b.plate);
   for (const JointProps& j : joints_)
     if (j.label) out.push_back(j.label);
+  for (const JointProps& j : joints_)  // overlays: drawn after the scene's props
+    if (j.front_label) out.push_back(j.front_label);
   return out;
 }
 
@@ -296,6 +299,14 @@ void SkeletonScene::set_model(const SkeletonModel& model) {
       text->SetJustificationToCentered();
       text->SetVerticalJustificationToCentered();
       parts.label->PickableOff();
+      parts.front_label = vtkSmartPointer<vtkTextActor>::New();
+      parts.front_label->SetInput(joint.label.c_str());
+      vtkTextProperty* front = parts.front_label->GetTextProperty();
+      front->ShallowCopy(text);
+      front->SetBackgroundColor(1, 1, 1);
+      front->SetBackgroundOpacity(0.7);
+      parts.front_label->GetPositionCoordinate()->SetCoordinateSystemToWorld();
+      parts.front_label->PickableOff();
     }
   }
 
@@ -366,10 +377,22 @@ void SkeletonScene::apply_pose() {
       label->SetPosition(p.x(), p.y(), p.z());
       const Colour c = failing ? kFailingColour : body_colour(model_, joint.body);
       label->GetTextProperty()->SetColor(0.75 * c[0], 0.75 * c[1], 0.75 * c[2]);
+      vtkTextActor* front = joints_[j].front_label;
+      front->GetPositionCoordinate()->SetValue(p.x(), p.y(), p.z());
+      front->GetTextProperty()->SetColor(0.75 * c[0], 0.75 * c[1], 0.75 * c[2]);
+      label->SetVisibility(!labels_in_front_);
+      front->SetVisibility(labels_in_front_);
     }
   }
   endpoint_actor_->SetPosition(pose_.endpoint.x(), pose_.endpoint.y(), pose_.endpoint.z());
 }
+
+void SkeletonScene::set_labels_in_front(bool on) {
+  labels_in_front_ = on;
+  apply_pose();
+}
+
+vtkTextActor* SkeletonScene::joint_front_label(int joint) const { return joints_.at(joint).front_label; }
 
 void SkeletonScene::reset_camera(vtkRenderer* renderer, const Eigen::AlignedBox3d& workspace_box) const {
   // From the front-left, above.

@@ -121,6 +121,15 @@ void ViewTools::addViewActions(QMenu* menu, std::function<Eigen::AlignedBox3d()>
   parallel->setCheckable(true);
   parallel->setShortcut(QKeySequence(Qt::CTRL | Qt::Key_5));
   connect(parallel, &QAction::toggled, this, &ViewTools::setParallel);
+  QAction* labels = menu->addAction(tr("Joint &labels in front"));
+  labels->setObjectName("labelsInFrontAction");
+  labels->setCheckable(true);
+  labels->setShortcut(QKeySequence(Qt::CTRL | Qt::Key_6));
+  labels->setStatusTip(tr("Draw the joint labels over the slice, the surfaces and the base, on a light plate"));
+  connect(labels, &QAction::toggled, this, [this](bool on) {
+    scene_.skeleton->set_labels_in_front(on);
+    scene_.view->requestRender();
+  });
   QAction* device = menu->addAction(tr("Frame the &device, not its workspace"));
   device->setObjectName("frameDeviceAction");
   device->setCheckable(true);

@@ -294,6 +294,13 @@ class ViewToolsTest : public QObject {
     QCOMPARE(w.fieldScene().slice_actor()->GetProperty()->GetOpacity(), 0.35);
     QVERIFY(window_checks::changed_fraction(opaque, window_checks::frame(w)) > 0.01);
     window_checks::save_screenshot(w, "slice-opacity-35.png");
+    slider->setValue(100);
+    QAction* labels = w.findChild<QAction*>("labelsInFrontAction");
+    QVERIFY(labels);
+    labels->trigger();
+    QVERIFY(w.scene().labels_in_front());
+    window_checks::frame(w);
+    window_checks::save_screenshot(w, "labels-in-front.png");
   }
 
  private:
