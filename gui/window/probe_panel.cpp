@@ -137,13 +137,20 @@ void ProbePanel::read(const Eigen::Vector3d& p, const QString& what) {
                 .arg(sample->nearest[2])
                 .arg(point_text(sample->nearest_point, unit_));
     html += "<table cellspacing=4>";
-    for (const render::ProbeValue& v : sample->values) {
+    auto row = [&html](const render::ProbeValue& v, const QString& how) {
       QString value = v.label.empty() ? number(v.value) : QString::fromStdString(v.label);
       if (!v.unit.empty() && v.label.empty() && !std::isnan(v.value)) value += " " + QString::fromStdString(v.unit);
       html += QString("<tr><td>%1</td><td align=right><b>%2</b></td><td><i>%3</i></td></tr>")
                   .arg(QString::fromStdString(v.title).toHtmlEscaped(), value.toHtmlEscaped(),
-                       std::isnan(v.value) ? QString() : QString(render::to_string(v.sampling)));
-    }
+                       std::isnan(v.value) ? QString() : how);
+    };
+    for (const render::ProbeValue& v : sample->values) row(v, render::to_string(v.sampling));
+    // The haptic measures the sampled field lacks, computed at the point itself.
+    const std::optional<Field> exact = field->extras.empty() && hooks_.haptics_at ? hooks_.haptics_at(p, *field) : std::nullopt;
+    if (exact)
+      if (const auto at = render::probe_point(*exact, p))
+        for (const Field::NamedArray& e : exact->extras)
+          if (const render::ProbeValue* v = at->find(e.name)) row(*v, tr("computed at the point"));
     html += "</table>";
     if (field_box_->count() == 0) fillFields(*field);
   }

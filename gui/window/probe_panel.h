@@ -41,6 +41,9 @@ class ProbePanel : public QWidget {
     // The field holding `p` and what it is ("slice", "volume"), or null.
     std::function<const Field*(const Eigen::Vector3d& p, QString* source)> field_at;
     std::function<QString()> pose_status;  // "ok", or why the last pose was refused
+    // The haptic measures computed exactly at `p` (a one-sample field with
+    // them as extras) for a field that lacks them, or nothing.
+    std::function<std::optional<Field>(const Eigen::Vector3d& p, const Field& near)> haptics_at;
     std::function<void()> marks_changed;   // the view must draw again
   };
 

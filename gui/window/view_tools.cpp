@@ -8,6 +8,7 @@
 #include <vtkCamera.h>
 #include <vtkRenderer.h>
 
+#include "core/haptics.h"
 #include "gui/window/device_state.h"
 #include "gui/window/docks.h"
 #include "gui/window/field_display.h"
@@ -47,6 +48,21 @@ ViewTools::ViewTools(const Scene& scene, QObject* parent)
     return why.empty() ? tr("ok") : tr("the last target was refused: %1").arg(QString::fromStdString(why));
   };
   hooks.marks_changed = [this] { scene_.view->requestRender(); };
+  hooks.haptics_at = [this](const Eigen::Vector3d& p, const Field& near) -> std::optional<Field> {
+    const DeviceState& state = *scene_.state;
+    try {
+      const haptics::DeviceData data = haptics::device_data(state.preset(), state.mechanism().info());
+      IkOptions options;
+      options.method = scene_.display->settings().method;
+      options.branch = near.branch;
+      // One sample centred on p: the measures there, not between samples.
+      const Eigen::Vector3d half = Eigen::Vector3d::Constant(1e-6 * state.mechanism().size());
+      return haptics::sample_field(state.mechanism(), Grid::box(p - half, p + half, {1, 1, 1}), state.task(), options,
+                                   1, {}, &data);
+    } catch (const std::invalid_argument&) {
+      return std::nullopt;  // no actuator data, or a point the device cannot take
+    }
+  };
   panel_ = new ProbePanel(marks_.get(), hooks, QString::fromStdString(scene.state->mechanism().info().length_unit));
   picker_->setTargets([this] {
     PickTool::Targets t;

@@ -5,6 +5,7 @@
 // LINKSCAPE_SCREENSHOTS=<folder> saves the window after the picks, to look at.
 #include <QAction>
 #include <QApplication>
+#include <QCheckBox>
 #include <QDir>
 #include <QDockWidget>
 #include <QDoubleSpinBox>
@@ -122,8 +123,27 @@ class ViewToolsTest : public QObject {
     QVERIFY(panel->readout().contains(QString::fromStdString(cond->title)));
     QVERIFY(panel->readout().contains(render::to_string(cond->sampling)));
     QVERIFY(panel->readout().contains("Device pose: ok"));
+    // The haptic measures, which the cond slice was not sampled with, at the point itself.
+    QVERIFY2(panel->readout().contains("isotropic force") && panel->readout().contains("computed at the point"),
+             qPrintable(panel->readout()));
     QVERIFY(panel->readout().contains(w.state().mechanism().info().length_unit.c_str()));
     QVERIFY(w.viewTools()->marks().pick_visible());
+
+    // Hover: the resting mouse reads where it rests.
+    const Target& rest = targets.front();
+    panel->findChild<QCheckBox*>("probeHoverBox")->setChecked(true);
+    w.view()->interactor()->SetEventInformation(rest.pixel[0], rest.pixel[1], 0, 0);
+    w.view()->interactor()->InvokeEvent(vtkCommand::MouseMoveEvent);
+    QTRY_VERIFY(panel->sample() && field.grid.index(panel->sample()->nearest[0], panel->sample()->nearest[1],
+                                                    panel->sample()->nearest[2]) == rest.sample);
+    panel->findChild<QCheckBox*>("probeHoverBox")->setChecked(false);
+
+    // The linkage: its driven point.
+    const auto tip = to_display(scene_renderer(w), w.endpoint());
+    const auto on_device = w.viewTools()->picker()->pickAt(tip[0], tip[1]);
+    QVERIFY(on_device);
+    QCOMPARE(on_device->what, QString("linkage"));
+    QVERIFY((on_device->point - w.endpoint()).norm() < 0.05 * w.mechanism().size());
 
     // Ruler: two Shift+clicks.
     const Target& a = targets.front();
