@@ -10,6 +10,8 @@
 #include <vtkPointData.h>
 #include <vtkPolyData.h>
 #include <vtkPolyDataMapper.h>
+#include <vtkPolyDataNormals.h>
+#include <vtkWindowedSincPolyDataFilter.h>
 #include <vtkProperty.h>
 #include <vtkRenderer.h>
 #include <vtkScalarBarActor.h>
@@ -318,9 +320,30 @@ void take_mesh(vtkPolyData* into, vtkPolyData* mesh) {
 
 }  // namespace
 
+void FieldScene::set_surface_smoothing(int iterations) {
+  if (iterations < 0 || iterations > 200)
+    throw std::invalid_argument("field scene: expected 0..200 smoothing iterations, got " + std::to_string(iterations));
+  smoothing_ = iterations;
+}
+
 void FieldScene::set_surface(Surface which, vtkPolyData* mesh) {
   const std::size_t k = index(which);
-  take_mesh(meshes_[k], mesh);
+  vtkSmartPointer<vtkPolyData> shown = mesh;
+  if (smoothing_ > 0 && mesh && mesh->GetNumberOfCells() > 0) {
+    vtkNew<vtkWindowedSincPolyDataFilter> smooth;
+    smooth->SetInputData(mesh);
+    smooth->SetNumberOfIterations(smoothing_);
+    smooth->SetPassBand(0.1);
+    smooth->BoundarySmoothingOff();  // the box's cut edges stay where they are
+    smooth->NonManifoldSmoothingOn();
+    smooth->NormalizeCoordinatesOn();
+    vtkNew<vtkPolyDataNormals> normals;  // shading from the smoothed shape
+    normals->SetInputConnection(smooth->GetOutputPort());
+    normals->SplittingOff();
+    normals->Update();
+    shown = normals->GetOutput();
+  }
+  take_mesh(meshes_[k], shown);
   take_mesh(light_meshes_[k], nullptr);
   update_visibility();
 }

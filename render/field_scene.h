@@ -65,6 +65,12 @@ class FieldScene {
   // "Normals"). The mesh is shallow-copied. nullptr or a mesh without cells
   // clears that surface and its light mesh.
   void set_surface(Surface which, vtkPolyData* mesh);
+  // Smooths the full surfaces for display (windowed-sinc, volume-preserving,
+  // `iterations` passes; 0: as extracted, the default). A surface sampled
+  // on a grid shows the grid's facets and ripples; smoothing takes them off
+  // the picture only: exports keep the extracted mesh. Applies from the
+  // next set_surface.
+  void set_surface_smoothing(int iterations);
   // The same surface with fewer triangles (extract_light_surface), drawn
   // instead of the full mesh while set_light(true); shallow-copied. Ignored
   // while the surface has no full mesh; nullptr clears it.
@@ -136,6 +142,7 @@ class FieldScene {
   std::array<vtkSmartPointer<vtkActor>, kSurfaces> surface_actors_, light_actors_;
   std::array<bool, kSurfaces> surface_flags_{true, true};
   bool light_ = false;
+  int smoothing_ = 0;
 
   // Colour bar and the range it was last built for (rebuilt only on change).
   vtkSmartPointer<vtkLookupTable> lut_;

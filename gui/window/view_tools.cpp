@@ -6,6 +6,7 @@
 #include <QKeySequence>
 #include <QMenu>
 #include <vtkCamera.h>
+#include <vtkPolyData.h>
 #include <vtkRenderer.h>
 
 #include "core/haptics.h"
@@ -22,6 +23,10 @@
 #include "render/task_scene.h"
 
 namespace linkscape::gui {
+
+namespace {
+constexpr int kSmoothingIterations = 20;  // windowed-sinc passes: the grid's ripples gone, the shape kept
+}  // namespace
 
 ViewTools::ViewTools(const Scene& scene, QObject* parent)
     : QObject(parent),
@@ -144,6 +149,17 @@ void ViewTools::addViewActions(QMenu* menu, std::function<Eigen::AlignedBox3d()>
   labels->setStatusTip(tr("Draw the joint labels over the slice, the surfaces and the base, on a light plate"));
   connect(labels, &QAction::toggled, this, [this](bool on) {
     scene_.skeleton->set_labels_in_front(on);
+    scene_.view->requestRender();
+  });
+  QAction* smooth = menu->addAction(tr("S&mooth workspace surfaces"));
+  smooth->setObjectName("smoothSurfacesAction");
+  smooth->setCheckable(true);
+  smooth->setStatusTip(tr("Smooth the grid's facets and ripples off the drawn surfaces (exports keep the extracted mesh)"));
+  connect(smooth, &QAction::toggled, this, [this](bool on) {
+    scene_.fields->set_surface_smoothing(on ? kSmoothingIterations : 0);
+    const SurfaceResult& shown = scene_.display->surfaces();
+    scene_.fields->set_surface(render::Surface::Reach, shown.reach);
+    scene_.fields->set_surface(render::Surface::WellConditioned, shown.well_conditioned);
     scene_.view->requestRender();
   });
   QAction* device = menu->addAction(tr("Frame the &device, not its workspace"));

@@ -321,6 +321,12 @@ class ViewToolsTest : public QObject {
     QVERIFY(w.scene().labels_in_front());
     window_checks::frame(w);
     window_checks::save_screenshot(w, "labels-in-front.png");
+    QAction* smooth = w.findChild<QAction*>("smoothSurfacesAction");
+    QVERIFY(smooth);
+    const QImage rippled = window_checks::frame(w);
+    smooth->trigger();
+    QVERIFY(window_checks::changed_fraction(rippled, window_checks::frame(w)) > 0.001);
+    window_checks::save_screenshot(w, "smooth-surfaces.png");
   }
 
  private:
