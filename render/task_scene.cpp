@@ -106,6 +106,7 @@ void TaskScene::set_task(vtkPolyData* surface, const std::vector<std::uint8_t>& 
   colours->SetNumberOfComponents(3);
   colours->SetNumberOfTuples(vtkIdType(meets.size()));
   failing_ = 0;
+  points_ = meets.size();
   vtkNew<vtkPoints> failing_points;
   vtkNew<vtkCellArray> failing_verts;
   for (std::size_t i = 0; i < meets.size(); ++i) {
@@ -145,7 +146,10 @@ bool TaskScene::visible() const { return visible_ && has_task_; }
 void TaskScene::update_visibility() {
   task_actor_->SetVisibility(visible_ && has_task_);
   inscribed_actor_->SetVisibility(visible_ && has_inscribed_);
-  failing_actor_->SetVisibility(visible_ && has_task_ && failing_ > 0);
+  // Few failing samples are a speck that may sit on the far side: shown
+  // over everything. Many are a region the surface's own colours show.
+  const bool few = failing_ > 0 && double(failing_) <= kFewFailing * double(points_);
+  failing_actor_->SetVisibility(visible_ && has_task_ && few);
 }
 
 }  // namespace linkscape::render

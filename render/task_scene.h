@@ -2,7 +2,8 @@
 // mesh, each vertex coloured by whether the task's criteria hold there or
 // not in a pair told apart with any colour vision (Okabe-Ito blue and
 // vermilion), the failing vertices again as dots drawn over the whole scene
-// (seen from any side, through the device and the surfaces), and the
+// while they are few (at most kFewFailing of them: a speck on the far side
+// is seen from any side, through the device and the surfaces), and the
 // largest inscribed shape as a wireframe.
 // Props are created once; new data swaps the meshes.
 #pragma once
@@ -32,6 +33,8 @@ vtkSmartPointer<vtkPolyData> task_surface(const task::TaskVolume& task, const Ei
 // Okabe-Ito blue and vermilion.
 inline constexpr unsigned char kMeetsColour[3] = {0, 114, 178};
 inline constexpr unsigned char kFailsColour[3] = {213, 94, 0};
+// The share of failing vertices up to which they are also drawn over the scene.
+inline constexpr double kFewFailing = 0.1;
 
 class TaskScene {
  public:
@@ -61,7 +64,7 @@ class TaskScene {
   vtkNew<vtkActor> task_actor_, inscribed_actor_;
   vtkNew<vtkActor2D> failing_actor_;
   bool visible_ = false, has_task_ = false, has_inscribed_ = false;
-  std::size_t failing_ = 0;
+  std::size_t failing_ = 0, points_ = 0;
   void update_visibility();
 };
 

@@ -56,8 +56,12 @@ TEST(TaskScene, AFailingSampleOnTheFarSideShows) {
   const offscreen_view::Rgb fails = {kFailsColour[0], kFailsColour[1], kFailsColour[2]};
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(seen[c], fails[c], 12) << "channel " << c;
 
-  // All met: no dots.
+  // All met: no dots. Most failing: a region the surface's colours show, no dots over it.
   scene.set_task(surface, std::vector<std::uint8_t>(meets.size(), 1));
+  EXPECT_FALSE(scene.failing_actor()->GetVisibility());
+  std::vector<std::uint8_t> most(meets.size(), 0);
+  most[0] = 1;
+  scene.set_task(surface, most);
   EXPECT_FALSE(scene.failing_actor()->GetVisibility());
 }
 
