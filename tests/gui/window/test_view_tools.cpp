@@ -15,6 +15,8 @@
 #include <QtTest>
 #include <vtkActor.h>
 #include <vtkCamera.h>
+#include <vtkMapper.h>
+#include <vtkPolyData.h>
 #include <vtkProperty.h>
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkRendererCollection.h>
@@ -178,6 +180,39 @@ class ViewToolsTest : public QObject {
     if (auto* dock = w.findChild<QDockWidget*>("probeDock")) dock->raise();
     window_checks::frame(w);
     window_checks::save_screenshot(w, "view-tools-probe.png");
+  }
+
+  void clickOnASurfaceReadsTheSampledVolume() {
+    MechanismWindow w(load_preset("delta"));
+    w.resize(1280, 800);
+    w.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    gui::FieldSettings f = w.fieldSettings();
+    f.show_slice = false;
+    w.applyFieldSettings(f);
+    window_checks::wait_settled(w);
+    window_checks::frame(w);
+    // Points of the reach surface's mesh where a ray from the camera meets that surface first.
+    vtkPolyData* mesh = vtkPolyData::SafeDownCast(w.fieldScene().surface_actor(render::Surface::Reach)->GetMapper()->GetInput());
+    QVERIFY(mesh && mesh->GetNumberOfPoints() > 100);
+    int hits = 0;
+    for (vtkIdType i = 0; i < mesh->GetNumberOfPoints() && hits < 3; i += mesh->GetNumberOfPoints() / 97) {
+      double p[3];
+      mesh->GetPoint(i, p);
+      const auto px = to_display(scene_renderer(w), Eigen::Vector3d(p[0], p[1], p[2]));
+      const auto hit = w.viewTools()->picker()->pickAt(px[0], px[1]);
+      if (!hit || hit->what != "reach surface") continue;
+      ++hits;
+      click(w.view()->interactor(), px);
+      gui::ProbePanel* panel = w.viewTools()->panel();
+      QVERIFY(panel->readout().contains("on the reach surface"));
+      QVERIFY2(panel->readout().contains("sampled volume"), qPrintable(panel->readout()));
+      // On the reach surface the reach margin is about 0: within a sample spacing.
+      const Field* volume = w.fieldDisplay()->surfaces().volume.get();
+      QVERIFY(volume && panel->sample());
+      QVERIFY(std::abs(panel->sample()->find("reach")->value) < volume->grid.spacing.maxCoeff());
+    }
+    QVERIFY2(hits > 0, "some of the reach surface is in view");
   }
 
   void standardViewsLookAlongTheirAxes() {
