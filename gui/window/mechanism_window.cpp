@@ -29,6 +29,7 @@
 #include "gui/window/session_history.h"
 #include "gui/window/task_panel.h"
 #include "gui/window/view_handles.h"
+#include "gui/window/view_tools.h"
 #include "gui/window/window_menus.h"
 #include "gui/window/vtk_widget.h"
 #include "render/field_scene.h"
@@ -171,12 +172,14 @@ void MechanismWindow::buildDocks() {
   });
   fit_panel_ = new FitPanel(task_panel_);
   QDockWidget* fit = add_dock(this, tr("Fit"), "fitDock", fit_panel_);
+  tools_ = new ViewTools({&state_, view_, renderer_, scene_.get(), field_scene_.get(), task_scene_.get(), fields_}, this);
   connect(fit_panel_, &FitPanel::applyRequested, this, [this](const std::map<std::string, double>& design) {
     if (!setParameters(design)) return;
     if (const auto centre = fit_panel_->chosenCentre()) task_panel_->setCentre(*centre);  // where it fits
   });
   // One column of tabs: the drive (with every read-out) in front.
   for (QDockWidget* d : {design, field, animation, task, fit}) tabifyDockWidget(drive, d);
+  tools_->addDock(this, drive);
   methods_ = add_methods_dock(this, state_.preset(), drive);
   drive->raise();
   QTimer::singleShot(0, this, [this, drive] { resizeDocks({drive}, {std::max(drive->width(), 440)}, Qt::Horizontal); });
@@ -197,7 +200,8 @@ bool MechanismWindow::eventFilter(QObject* watched, QEvent* event) {
 QImage MechanismWindow::viewImage(int width, int height) { return view_->imageAt(width, height); }
 
 void MechanismWindow::fitCamera() {
-  scene_->reset_camera(renderer_, view_box(state_.mechanism()));
+  if (tools_) tools_->reframe(view_box(state_.mechanism()));  // the view and framing chosen last
+  else scene_->reset_camera(renderer_, view_box(state_.mechanism()));
   if (document_) document_->cameraFitted(camera_state(renderer_));
 }
 
@@ -236,18 +240,16 @@ void MechanismWindow::buildMenus() {
     if (!saved.isEmpty()) statusBar()->showMessage(saved, 4000);
   };
   a.undo_stack = history()->stack();
-  a.reset_camera = [this] {
-    fitCamera();
-    view_->requestRender();
-  };
+  a.reset_camera = [this] { fitCamera(), view_->requestRender(); };
   a.reset_layout = [this] {
     restoreState(initial_layout_);
     for (QDockWidget* dock : findChildren<QDockWidget*>()) dock->show();
   };
-  a.exact_transparency = [this](bool on) {
-    renderer_->SetUseDepthPeeling(on);
-    view_->requestRender();
+  a.view_tools = [this](QMenu* menu) {
+    tools_->addViewActions(menu, [this] { return view_box(state_.mechanism()); },
+                           [this] { document_->cameraFitted(camera_state(renderer_)); });
   };
+  a.exact_transparency = [this](bool on) { renderer_->SetUseDepthPeeling(on), view_->requestRender(); };
   add_menus(this, a);
 }
 
@@ -275,6 +277,8 @@ bool MechanismWindow::settle(const std::function<bool()>& change) {
     return true;
   }
   drive_panel_->showStatus(refusal(), false);
+  drive_panel_->showValues(state_);  // the sliders snap back to the pose the device holds
+  statusBar()->showMessage(tr("Refused: %1. The sliders show the pose the device holds.").arg(refusal()), 8000);
   drawPose(state_.failed());
   view_->requestRender();
   return false;
@@ -365,8 +369,6 @@ bool MechanismWindow::setActuatorLimits(const std::map<std::string, std::array<d
   return true;
 }
 
-// Fields are computed only when shown, coarse first, on worker threads; a
-// new request cancels the one in flight.
 // ---- Sessions, files ---------------------------------------------------------------
 
 Session MechanismWindow::session() const {

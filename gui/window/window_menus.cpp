@@ -67,6 +67,8 @@ void add_menus(QMainWindow* window, const MenuActions& actions) {
   add(view, QObject::tr("&Reset camera"), {}, window, actions.reset_camera);
   add(view, QObject::tr("Reset &layout"), {}, window, actions.reset_layout);
   view->addSeparator();
+  if (actions.view_tools) actions.view_tools(view);
+  view->addSeparator();
   for (QDockWidget* dock : window->findChildren<QDockWidget*>()) view->addAction(dock->toggleViewAction());
   view->addSeparator();
   // Depth peeling composites the translucent surfaces exactly but costs

@@ -21,6 +21,7 @@ struct MenuActions {
       save_view_image;
   QUndoStack* undo_stack = nullptr;
   std::function<void()> reset_camera, reset_layout;
+  std::function<void(QMenu*)> view_tools;  // the standard views, projection, framing
   std::function<void(bool)> exact_transparency;
   std::function<void()> about_mechanism;
 };
