@@ -213,15 +213,13 @@ void MechanismWindow::buildMenus() {
   MenuActions a;
   a.open_session = [this] {
     if (!maybeSave()) return;
-    const QString path = ask_session_to_open(this);
-    if (!path.isEmpty()) openSession(path);
+    if (const QString path = ask_session_to_open(this); !path.isEmpty()) openSession(path);
   };
   a.save = [this] { document_->save(); };
   a.save_as = [this] { document_->saveAs(); };
   a.recent_sessions = [this](QMenu* menu) { document_->setRecentMenu(menu); };
   a.open_mechanism = [this] {
-    const QString path = ask_mechanism_file(this, state_.preset());
-    if (!path.isEmpty()) openMechanismFile(path);
+    if (const QString path = ask_mechanism_file(this, state_.preset()); !path.isEmpty()) openMechanismFile(path);
   };
   a.reload_mechanism = [this] { reloadMechanism(); };
   a.export_slice = [this] { export_slice_image(this, fields_->slice(), fields_->sliceStyle()); };
