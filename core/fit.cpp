@@ -30,7 +30,7 @@ double halton(int i, int base) {
 // Centre fixed: the smallest ratio of bound and worst value over the
 // criteria on a measure (>= 1 where every one holds; an unreachable sample
 // makes it 0), or the fraction covered where reach is the only criterion.
-double fixed_centre_margin(const task::TaskReport& report) {
+double fixed_centre_ratio(const task::TaskReport& report) {
   double margin = kInf;
   for (const task::CriterionReport& c : report.criteria) {
     if (c.criterion.reach()) continue;
@@ -53,6 +53,7 @@ class Search {
   }
 
   bool cancelled() const { return progress_.cancel && progress_.cancel->load(); }
+  double tolerance() const { return problem_.tolerance; }
   const VectorXd& lo() const { return lo_; }
   const VectorXd& hi() const { return hi_; }
   Result& result() { return result_; }
@@ -249,6 +250,45 @@ void require_a_valid_design(const Result& r) {
     throw std::invalid_argument("fit: the bounds exclude every design (" + r.rows.front().invalid + ")");
 }
 
+// `v` rounded by `round` (std::ceil, std::round) to a multiple of `step`, a
+// power of ten, through the step's reciprocal where it is whole: 1228 / 100
+// is the double nearest 12.28, 1228 * 0.01 is not.
+template <typename Round>
+double to_step(double v, double step, Round round) {
+  const double inverse = std::round(1 / step);
+  return step < 1 ? round(v * inverse) / inverse : round(v / step) * step;
+}
+
+// `v` rounded up (towards hi) to a multiple of `step`.
+double round_up_to(double v, double step, double hi) {
+  return std::min(to_step(v, step, [](double x) { return std::ceil(x - 1e-9); }), hi);
+}
+
+// The smallest meeting design `best` in round numbers: each variable
+// rounded up to a power of ten near the tolerance, then one such step up at
+// a time (at most five) until the rounded design meets the task; the first
+// that does becomes the best. None: `best` stays as the search found it.
+void round_up(Search& search, std::size_t& best) {
+  const Row found = search.row(best);
+  const Eigen::Index k = search.lo().size();
+  VectorXd steps(k), v(k);
+  for (Eigen::Index d = 0; d < k; ++d) {
+    const double x = found.values[std::size_t(d)];
+    const double scale = x != 0 ? std::abs(x) : search.hi()(d) - search.lo()(d);
+    steps(d) = std::pow(10.0, std::floor(std::log10(std::max(search.tolerance() * scale, 1e-300))));
+    v(d) = round_up_to(x, steps(d), search.hi()(d));
+  }
+  for (int attempt = 0; attempt < 5 && !search.cancelled(); ++attempt) {
+    const std::size_t i = search.evaluate(v);
+    if (i >= search.result().rows.size()) return;
+    if (search.row(i).meets) {
+      best = i;
+      return;
+    }
+    for (Eigen::Index d = 0; d < k; ++d) v(d) = std::min(v(d) + steps(d), search.hi()(d));
+  }
+}
+
 // The smallest design meeting the task: a scan, then rays from the lower
 // corner (docs/task-volumes.md).
 void smallest_size(Search& search) {
@@ -360,6 +400,7 @@ void smallest_size(Search& search) {
     if (row.meets && (!r.best || row.size < r.rows[*r.best].size)) r.best = i;
     if (row.invalid.empty() && (!r.closest || row.fit > r.rows[*r.closest].fit)) r.closest = i;
   }
+  if (r.best && !search.cancelled()) round_up(search, *r.best);
   if (r.best) {
     r.closest.reset();
     for (Eigen::Index d = 0; d < k; ++d)
@@ -460,7 +501,7 @@ void largest_margin_at_size(const Problem& problem, Search& search) {
     throw std::invalid_argument("fit: no design within the bounds has size " + described + " = " + format_number(size) +
                                 " (they span " + format_number(smallest) + " to " + format_number(largest) + ")");
   Result& r = search.result();
-  auto margin_of = [&](std::size_t i) { return i < r.rows.size() && r.rows[i].invalid.empty() ? r.rows[i].margin : -kInf; };
+  auto margin_of = [&](std::size_t i) { return i < r.rows.size() && r.rows[i].invalid.empty() ? r.rows[i].ratio : -kInf; };
   std::optional<std::size_t> best;
   for (const VectorXd& v : scan_points(lo, hi)) {
     if (search.cancelled()) break;
@@ -507,6 +548,30 @@ Result solve(const Problem& problem, const Progress& progress) {
   else smallest_size(search);
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
+}
+
+std::string score_header(const Problem& p) {
+  std::string s = "cx,cy,cz,size,meets,samples,failing";
+  if (!p.task.centre) s += p.task.shape == task::Shape::Sphere ? ",inscribed_diameter" : ",inscribed_scale";
+  s += ",fraction,ratio";
+  for (const task::Criterion& c : p.criteria)
+    s += "," + csv_text("worst_" + c.measure) + "," + csv_text("margin_" + c.measure) + "," + csv_text("failing_" + c.measure);
+  return s;
+}
+
+std::string score_cells(const Problem& p, const Row& row) {
+  std::ostringstream s;
+  s << csv_number(row.centre.x()) << "," << csv_number(row.centre.y()) << "," << csv_number(row.centre.z()) << ","
+    << csv_number(row.size) << "," << (row.meets ? 1 : 0) << "," << row.report.samples << "," << row.report.failing;
+  if (!p.task.centre) s << "," << csv_number(p.task.shape == task::Shape::Sphere ? row.fit * p.task.diameter() : row.fit);
+  s << "," << csv_number(row.report.fraction) << "," << csv_number(row.ratio);
+  for (const task::CriterionReport& c : row.report.criteria)
+    s << "," << csv_number(c.worst) << "," << csv_number(c.margin()) << "," << c.failing;
+  return s.str();
+}
+
+double centre_step(double device_size) {
+  return std::pow(10.0, std::floor(std::log10(std::max(std::abs(device_size), 1e-300))) - 4);
 }
 
 void check_bounds(const std::vector<Variable>& variables, const std::string& command) {
@@ -559,22 +624,51 @@ std::optional<Row> evaluate(const Problem& problem, const std::vector<double>& v
   if (haptic) device.data = haptics::device_data(preset, mechanism->info());
   const std::vector<task::Criterion> criteria = task::resolve(device, problem.criteria);
   const task::TaskVolume& t = problem.task;
+  row.home = mechanism->home_task().head<3>();
   if (t.centre) {
     row.centre = *t.centre;
     row.report = task::evaluate(device, criteria, t, row.centre, problem.task_resolution);
-    row.meets = row.report.meets();
     row.fit = row.report.fraction;
   } else {
     FieldProgress fp;
     fp.cancel = cancel;
-    const auto found = task::largest_inscribed(device, criteria, t, mechanism->default_box(), problem.inscribed, fp);
-    if (!found) return std::nullopt;  // cancelled
-    row.centre = found->found ? found->centre : mechanism->default_box().center();
-    row.fit = !found->found ? 0.0 : t.shape == task::Shape::Sphere ? found->size / t.diameter() : found->size;
-    row.meets = found->found && row.fit >= 1;
-    row.report = task::evaluate(device, criteria, t, row.centre, problem.task_resolution);
+    task::InscribedOptions options = problem.inscribed;
+    options.prefer_near = row.home;
+    Eigen::AlignedBox3d box = mechanism->default_box();
+    if (options.centres)  // the shapes around every allowed centre are sampled
+      box.extend(options.centres->bounds().min() - t.size).extend(options.centres->bounds().max() + t.size);
+    const auto places = task::inscribed_places(device, criteria, t, box, options, fp);
+    if (!places) return std::nullopt;  // cancelled
+    // Each place, nearest the home point first, evaluated until one meets the
+    // task (the 12R's good region is symmetric: equal places lie on both
+    // sides); where none does, the largest. The centre is rounded to the
+    // step the report prints.
+    const double step = centre_step(row.size);
+    auto rounded = [&](double x) { return to_step(x, step, [](double y) { return std::round(y); }); };
+    std::vector<const task::Inscribed*> order;
+    for (const task::Inscribed& place : *places)
+      if (place.found) order.push_back(&place);
+    std::stable_sort(order.begin(), order.end(), [&](const task::Inscribed* a, const task::Inscribed* b) {
+      return (a->centre - row.home).norm() < (b->centre - row.home).norm();
+    });
+    for (const task::Inscribed* place : order) {
+      const Eigen::Vector3d centre(rounded(place->centre.x()), rounded(place->centre.y()), rounded(place->centre.z()));
+      task::TaskReport report = task::evaluate(device, criteria, t, centre, problem.task_resolution);
+      const bool meets = report.meets();
+      if (meets || place == &places->front()) {
+        row.centre = centre;
+        row.fit = t.shape == task::Shape::Sphere ? place->size / t.diameter() : place->size;
+        row.report = std::move(report);
+        if (meets) break;
+      }
+    }
+    if (order.empty()) {  // no sample meets every criterion
+      row.centre = options.centres ? options.centres->bounds().center() : mechanism->default_box().center();
+      row.report = task::evaluate(device, criteria, t, row.centre, problem.task_resolution);
+    }
   }
-  row.margin = t.centre ? fixed_centre_margin(row.report) : row.fit;
+  row.meets = row.report.meets();
+  row.ratio = t.centre ? fixed_centre_ratio(row.report) : row.fit;
   return row;
 }
 

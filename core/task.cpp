@@ -8,6 +8,7 @@
 #include <limits>
 #include <map>
 #include <numbers>
+#include <iomanip>
 #include <sstream>
 #include <stdexcept>
 
@@ -115,18 +116,15 @@ std::string to_text(const TaskVolume& t) {
   return text;
 }
 
-TaskVolume parse_task(const std::string& text) {
-  const std::string usage = "task '" + text + "': expected sphere:diameter=D, sphere:radius=R or box:size=X,Y,Z (or "
-                            "box:size=S), optionally followed by ,centre=x,y,z";
+namespace {
+
+// "shape:key=v[,v...],..." as the shape and the key=v[,v...] pairs: a part
+// without '=' continues the previous key's list. `what` names the text in errors.
+std::pair<std::string, std::map<std::string, std::vector<double>>> shape_and_keys(const std::string& what,
+                                                                                  const std::string& text,
+                                                                                  const std::string& usage) {
   const auto colon = text.find(':');
   if (colon == std::string::npos) throw std::invalid_argument(usage);
-  TaskVolume t;
-  t.text = text;
-  const std::string shape = text.substr(0, colon);
-  if (shape == "sphere") t.shape = Shape::Sphere;
-  else if (shape == "box") t.shape = Shape::Box;
-  else throw std::invalid_argument(usage + " (unknown shape '" + shape + "')");
-  // key=v[,v...] pairs: a part without '=' continues the previous key's list.
   std::map<std::string, std::vector<double>> keys;
   std::string key, part;
   std::stringstream parts(text.substr(colon + 1));
@@ -141,9 +139,77 @@ TaskVolume parse_task(const std::string& text) {
     if (key.empty()) throw std::invalid_argument(usage);
     const std::optional<double> v = parse_number(value);
     if (!v || !std::isfinite(*v))
-      throw std::invalid_argument("task '" + text + "': " + key + " expects finite numbers, got '" + value + "'");
+      throw std::invalid_argument(what + " '" + text + "': " + key + " expects finite numbers, got '" + value + "'");
     keys[key].push_back(*v);
   }
+  return {text.substr(0, colon), keys};
+}
+
+// The point of key `name` (three numbers), taken out of `keys`; nullopt where absent.
+std::optional<Vector3d> take_point(std::map<std::string, std::vector<double>>& keys, const std::string& name,
+                                   const std::string& usage) {
+  const auto it = keys.find(name);
+  if (it == keys.end()) return std::nullopt;
+  if (it->second.size() != 3) throw std::invalid_argument(usage + " (" + name + " expects 3 values)");
+  const Vector3d p(it->second[0], it->second[1], it->second[2]);
+  keys.erase(it);
+  return p;
+}
+
+}  // namespace
+
+bool CentreRegion::contains(const Vector3d& p) const {
+  return shape == Shape::Sphere ? (p - centre).norm() <= radius : box.contains(p);
+}
+
+Eigen::AlignedBox3d CentreRegion::bounds() const {
+  return shape == Shape::Sphere ? Eigen::AlignedBox3d(centre.array() - radius, centre.array() + radius) : box;
+}
+
+std::string to_text(const CentreRegion& r) {
+  auto point = [](const Vector3d& p) { return format_number(p.x()) + "," + format_number(p.y()) + "," + format_number(p.z()); };
+  return r.shape == Shape::Sphere ? "sphere:centre=" + point(r.centre) + ",radius=" + format_number(r.radius)
+                                  : "box:min=" + point(r.box.min()) + ",max=" + point(r.box.max());
+}
+
+CentreRegion parse_centre_region(const std::string& text) {
+  const std::string usage = "centre region '" + text + "': expected box:min=x,y,z,max=x,y,z or "
+                            "sphere:centre=x,y,z,radius=r";
+  auto [shape, keys] = shape_and_keys("centre region", text, usage);
+  CentreRegion r;
+  r.text = text;
+  if (shape == "box") {
+    const auto lo = take_point(keys, "min", usage), hi = take_point(keys, "max", usage);
+    if (!lo || !hi) throw std::invalid_argument(usage + " (give min and max)");
+    if (!(lo->array() <= hi->array()).all())
+      throw std::invalid_argument(usage + " (min must not exceed max on any axis)");
+    r.box = Eigen::AlignedBox3d(*lo, *hi);
+  } else if (shape == "sphere") {
+    r.shape = Shape::Sphere;
+    const auto c = take_point(keys, "centre", usage);
+    const auto radius = keys.find("radius");
+    if (!c || radius == keys.end() || radius->second.size() != 1)
+      throw std::invalid_argument(usage + " (give centre and one radius)");
+    r.centre = *c;
+    r.radius = radius->second[0];
+    keys.erase(radius);
+    if (!(r.radius > 0)) throw std::invalid_argument(usage + " (the radius must be positive)");
+  } else {
+    throw std::invalid_argument(usage + " (unknown shape '" + shape + "')");
+  }
+  if (!keys.empty()) throw std::invalid_argument(usage + " (unknown key '" + keys.begin()->first + "')");
+  return r;
+}
+
+TaskVolume parse_task(const std::string& text) {
+  const std::string usage = "task '" + text + "': expected sphere:diameter=D, sphere:radius=R or box:size=X,Y,Z (or "
+                            "box:size=S), optionally followed by ,centre=x,y,z";
+  auto [shape, keys] = shape_and_keys("task", text, usage);
+  TaskVolume t;
+  t.text = text;
+  if (shape == "sphere") t.shape = Shape::Sphere;
+  else if (shape == "box") t.shape = Shape::Box;
+  else throw std::invalid_argument(usage + " (unknown shape '" + shape + "')");
   auto take = [&](const std::string& name, std::size_t min_count, std::size_t max_count) -> std::optional<std::vector<double>> {
     const auto it = keys.find(name);
     if (it == keys.end()) return std::nullopt;
@@ -260,6 +326,21 @@ std::optional<Field> sample(const Device& device, const std::vector<Criterion>& 
 
 // ---- A task at a place ----------------------------------------------------------------
 
+std::string samples_text(int counted, int samples) {
+  double percent = samples > 0 ? std::round(10000.0 * counted / samples) / 100 : 0.0;  // two decimals
+  if (counted < samples) percent = std::min(percent, 99.99);
+  if (counted > 0) percent = std::max(percent, 0.01);
+  std::ostringstream s;
+  s << counted << " of " << samples << " samples (" << std::setprecision(4) << percent << " %)";
+  return s.str();
+}
+
+std::string verdict_text(const TaskReport& r) {
+  const std::string at = " (evaluated at resolution " + std::to_string(r.resolution) + ")";
+  if (r.meets()) return "meets every criterion at all " + std::to_string(r.samples) + " samples" + at;
+  return "fails: " + samples_text(r.samples - r.failing, r.samples) + " meet every criterion" + at;
+}
+
 double CriterionReport::margin() const {
   if (criterion.reach()) return worst;
   return criterion.above ? worst - criterion.threshold : criterion.threshold - worst;
@@ -336,6 +417,7 @@ TaskReport evaluate(const Device& device, const std::vector<Criterion>& criteria
 
   TaskReport r;
   r.centre = centre;
+  r.resolution = resolution;
   r.samples = int(points.size());
   std::size_t meeting = 0;
   Vector3d failing_sum = Vector3d::Zero();
@@ -359,8 +441,9 @@ TaskReport evaluate(const Device& device, const std::vector<Criterion>& criteria
     for (std::size_t i = 0; i < points.size(); ++i) {
       const double v = values[i].values[c];
       if (larger_is_worse ? v > cr.worst : v < cr.worst) cr.worst = v, cr.worst_point = points[i];
-      if (i < interior)
-        meeting_c += criteria[c].reach() ? values[i].reachable : values[i].reachable && meets(criteria[c], v);
+      const bool ok = criteria[c].reach() ? values[i].reachable : values[i].reachable && meets(criteria[c], v);
+      if (i < interior) meeting_c += ok;
+      cr.failing += !ok;
     }
     cr.fraction = interior ? double(meeting_c) / double(interior) : 0.0;
     r.criteria.push_back(cr);
@@ -525,16 +608,21 @@ std::vector<double> box_sizes(const Padded& p, const Vector3d& spacing, const Ve
 
 // The best shapes of well-separated places: samples within `slack` of the
 // largest size, taken best first, each starting a cluster unless it lies
-// within `separation` of a cluster's first sample. At most `count`.
+// within `separation` of a cluster's first sample. At most `count`, and
+// with `prefer` also the cluster nearest it.
 std::vector<Inscribed> best_places(const Grid& grid, const Padded& p, const std::vector<double>& sizes, double slack,
-                                   double separation, std::size_t count) {
+                                   double separation, std::size_t count, const CentreRegion* region,
+                                   const Vector3d* prefer) {
+  std::vector<std::uint8_t> allowed = p.good;
+  if (region)
+    for (std::size_t s = 0; s < allowed.size(); ++s) allowed[s] = allowed[s] && region->contains(point_of(grid, p, s));
   std::vector<std::size_t> order;
   double best = -1;
   for (std::size_t s = 0; s < sizes.size(); ++s)
-    if (p.good[s]) best = std::max(best, sizes[s]);
+    if (allowed[s]) best = std::max(best, sizes[s]);
   if (best < 0) return {};
   for (std::size_t s = 0; s < sizes.size(); ++s)
-    if (p.good[s] && sizes[s] >= best - slack) order.push_back(s);
+    if (allowed[s] && sizes[s] >= best - slack) order.push_back(s);
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return sizes[a] > sizes[b]; });
   std::vector<Inscribed> out;
   for (std::size_t s : order) {
@@ -543,26 +631,36 @@ std::vector<Inscribed> best_places(const Grid& grid, const Padded& p, const std:
     for (const Inscribed& o : out) near = near || (o.centre - c).norm() < separation;
     if (near) continue;
     out.push_back({true, sizes[s], c, spacing_of(grid)});
-    if (out.size() == count) break;
+    if (out.size() == count && !prefer) break;
+  }
+  if (prefer && out.size() > count) {  // the `count` largest, and the nearest of the rest
+    const auto nearest = std::min_element(out.begin() + std::ptrdiff_t(count), out.end(),
+                                          [&](const Inscribed& a, const Inscribed& b) {
+                                            return (a.centre - *prefer).norm() < (b.centre - *prefer).norm();
+                                          });
+    const Inscribed kept = *nearest;
+    out.resize(count);
+    out.push_back(kept);
   }
   return out;
 }
 
 // Candidate places for the largest shape of `task`'s kind on a sampled mask.
 std::vector<Inscribed> candidates(const Grid& grid, const std::vector<std::uint8_t>& good, const TaskVolume& task,
-                                  std::size_t count) {
+                                  std::size_t count, const CentreRegion* region = nullptr,
+                                  const Vector3d* prefer = nullptr) {
   const Padded p = padded(grid, good);
   const double h = spacing_of(grid);
   if (task.shape == Shape::Sphere) {
     const std::vector<double> sizes = sphere_sizes(p, grid.spacing);
     const double best = *std::max_element(sizes.begin(), sizes.end());
-    return best_places(grid, p, sizes, 4 * h, std::max(best / 4, 3 * h), count);
+    return best_places(grid, p, sizes, 4 * h, std::max(best / 4, 3 * h), count, region, prefer);
   }
   if (!(task.size.array() > 0).all()) throw std::invalid_argument("inscribed box: the shape must have positive edges");
   const std::vector<double> sizes = box_sizes(p, grid.spacing, task.size);
   const double best = *std::max_element(sizes.begin(), sizes.end());
   const double smallest = p.flat() ? task.size.head<2>().minCoeff() : task.size.minCoeff();
-  return best_places(grid, p, sizes, 4 * h / smallest, std::max(best * smallest / 4, 3 * h), count);
+  return best_places(grid, p, sizes, 4 * h / smallest, std::max(best * smallest / 4, 3 * h), count, region, prefer);
 }
 
 }  // namespace
@@ -581,9 +679,9 @@ Inscribed inscribed_box(const Grid& grid, const std::vector<std::uint8_t>& good,
   return c.empty() ? Inscribed{false, 0, Vector3d::Zero(), spacing_of(grid)} : c.front();
 }
 
-std::optional<Inscribed> largest_inscribed(const Device& device, const std::vector<Criterion>& criteria,
-                                           const TaskVolume& task, const Eigen::AlignedBox3d& box,
-                                           const InscribedOptions& options, const FieldProgress& progress) {
+std::optional<std::vector<Inscribed>> inscribed_places(const Device& device, const std::vector<Criterion>& criteria,
+                                                       const TaskVolume& task, const Eigen::AlignedBox3d& box,
+                                                       const InscribedOptions& options, const FieldProgress& progress) {
   if (options.resolution < 4 || options.refinements < 0 || options.refinements > kMaxRefinements || options.places < 1)
     throw std::invalid_argument("inscribed shape: resolution must be at least 4, refinements 0 to " +
                                 std::to_string(kMaxRefinements) + ", places at least 1");
@@ -608,14 +706,17 @@ std::optional<Inscribed> largest_inscribed(const Device& device, const std::vect
     if (!field) return std::nullopt;
     return std::pair{grid, good_mask(*field, criteria)};
   };
-  const double steps = 1.0 + double(options.places) * options.refinements;
+  const double steps = 1.0 + double(options.places + (options.prefer_near ? 1 : 0)) * options.refinements;
   const auto coarse = sample_region(box, 0, 1 / steps);
   if (!coarse) return std::nullopt;
-  std::vector<Inscribed> places = candidates(coarse->first, coarse->second, task, std::size_t(options.places));
-  if (places.empty()) return Inscribed{false, 0, Vector3d::Zero(), spacing_of(coarse->first)};
+  const CentreRegion* centres = options.centres ? &*options.centres : nullptr;
+  const Vector3d* prefer = options.prefer_near ? &*options.prefer_near : nullptr;
+  std::vector<Inscribed> places =
+      candidates(coarse->first, coarse->second, task, std::size_t(options.places), centres, prefer);
+  if (places.empty()) return std::vector<Inscribed>{{false, 0, Vector3d::Zero(), spacing_of(coarse->first)}};
   // Zoom onto each place in turn: a box around the shape found, three cells
   // of the grid that found it wider, sampled at the same resolution.
-  Inscribed best = places.front();
+  std::vector<Inscribed> refined;
   for (std::size_t k = 0; k < places.size(); ++k) {
     Inscribed current = places[k];
     double spacing = spacing_of(coarse->first);
@@ -626,14 +727,23 @@ std::optional<Inscribed> largest_inscribed(const Device& device, const std::vect
       const Eigen::AlignedBox3d region = Eigen::AlignedBox3d(current.centre - half, current.centre + half).intersection(box);
       const auto fine = sample_region(region, (1 + k * options.refinements + level) / steps, 1 / steps);
       if (!fine) return std::nullopt;
-      const auto found = candidates(fine->first, fine->second, task, 1);
+      const auto found = candidates(fine->first, fine->second, task, 1, centres);
       if (found.empty()) break;  // the zoom missed what the coarser grid saw: keep that
       current = found.front();
       spacing = spacing_of(fine->first);
     }
-    if (current.size > best.size || k == 0) best = current;
+    refined.push_back(current);
   }
-  return best;
+  std::stable_sort(refined.begin(), refined.end(), [](const Inscribed& a, const Inscribed& b) { return a.size > b.size; });
+  return refined;
+}
+
+std::optional<Inscribed> largest_inscribed(const Device& device, const std::vector<Criterion>& criteria,
+                                           const TaskVolume& task, const Eigen::AlignedBox3d& box,
+                                           const InscribedOptions& options, const FieldProgress& progress) {
+  const auto places = inscribed_places(device, criteria, task, box, options, progress);
+  if (!places) return std::nullopt;
+  return places->front();
 }
 
 }  // namespace linkscape::task

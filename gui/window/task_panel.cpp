@@ -15,6 +15,7 @@
 
 #include <vtkPolyData.h>
 
+#include "core/fit.h"
 #include "core/verify/verify.h"
 #include "gui/window/background.h"
 #include "render/task_scene.h"
@@ -23,7 +24,6 @@ namespace linkscape::gui {
 namespace {
 
 constexpr int kSurfaceResolution = 24;  // latitude bands of the drawn sphere, grid of each box face
-constexpr int kTaskResolution = 16;     // samples across the task for the live read-outs
 
 QString number(double v) {
   if (std::isnan(v)) return "n/a";
@@ -205,6 +205,12 @@ void TaskPanel::setDevice(std::shared_ptr<const Mechanism> mechanism, const Pres
     }
     centred_ = true;
   }
+  // Fine enough to hold a centre fit places (fit::centre_step) exactly.
+  const int decimals = std::max(2, int(std::lround(-std::log10(fit::centre_step(mechanism_->size())))));
+  for (QDoubleSpinBox* box : centre_) {
+    const QSignalBlocker b(box);
+    box->setDecimals(std::max(decimals, box->decimals()));  // never coarser: a centre set stays as set
+  }
   if (new_device) {
     largest_.reset();
     scene_->set_inscribed(nullptr);
@@ -304,7 +310,7 @@ void TaskPanel::evaluateNow() {
     const std::vector<task::Criterion> c = criteria();
     const task::TaskVolume t = volume();
     const task::Device d = device();
-    report_ = task::evaluate(d, c, t, *t.centre, kTaskResolution);
+    report_ = task::evaluate(d, c, t, *t.centre, task::kTaskResolution);  // fit's evaluation: one verdict
     const vtkSmartPointer<vtkPolyData> surface = render::task_surface(t, *t.centre, kSurfaceResolution);
     std::vector<std::uint8_t> meets(std::size_t(surface->GetNumberOfPoints()));
     for (vtkIdType i = 0; i < surface->GetNumberOfPoints(); ++i) {
@@ -327,16 +333,19 @@ QString TaskPanel::readout() const {
   if (!report_ || !mechanism_) return {};
   const task::TaskReport& r = *report_;
   const QString unit = QString::fromStdString(mechanism_->info().length_unit);
-  QString text = r.meets() ? tr("<b style='color:#1b5e20'>Meets every criterion</b>")
-                           : tr("<b style='color:#b71c1c'>Leaves the good region</b>");
-  text += tr("<br>%1 % of the volume meets every criterion").arg(number(100 * r.fraction));
+  QString text;
+  // The words of fit's report (task::verdict_text), at its resolution.
+  QString verdict = QString::fromStdString(task::verdict_text(r)).toHtmlEscaped();
+  verdict[0] = verdict[0].toUpper();
+  text = QString("<b style='color:%1'>%2</b>").arg(r.meets() ? "#1b5e20" : "#b71c1c", verdict);
   for (const task::CriterionReport& c : r.criteria) {
     QString u;
     if (c.criterion.reach()) u = " " + unit;
     for (const haptics::FieldInfo& f : haptics::all_field_infos())
       if (f.name == c.criterion.measure) u = " " + QString::fromStdString(f.unit);
-    text += tr("<br>%1: worst %2%3, margin %4%3").arg(QString::fromStdString(c.criterion.text).toHtmlEscaped(),
-                                                       number(c.worst), u, number(c.margin()));
+    text += tr("<br>%1: worst %2%3, margin %4%3, %5")
+                .arg(QString::fromStdString(c.criterion.text).toHtmlEscaped(), number(c.worst), u, number(c.margin()),
+                     QString::fromStdString(task::samples_text(r.samples - c.failing, r.samples)));
   }
   if (r.failing > 0)
     text += tr("<br>fails at %1 of %2 samples, around %3").arg(r.failing).arg(r.samples).arg(point_text(r.failing_centroid, unit));

@@ -30,7 +30,7 @@ task::TaskReport core_report(const MechanismWindow& w, task::TaskVolume t, const
   d.fixed_task = w.task();
   std::vector<task::Criterion> c = {task::parse_criterion("reach")};
   for (const std::string& text : criteria) c.push_back(task::parse_criterion(text));
-  return task::evaluate(d, task::resolve(d, c), t, *t.centre, 16);
+  return task::evaluate(d, task::resolve(d, c), t, *t.centre, task::kTaskResolution);  // fit's evaluation
 }
 
 std::string sphere_at(double diameter, const Eigen::Vector3d& c) {
@@ -59,8 +59,11 @@ class TaskPanelTest : public QObject {
       QVERIFY2(panel->report() && panel->report()->meets(), name.c_str());
       QVERIFY(w.taskScene().visible());
       QCOMPARE(w.taskScene().failing_points(), std::size_t(0));
-      QVERIFY(w.findChild<QLabel*>("taskReadout")->text().contains("Meets every criterion"));
       task::TaskReport expected = core_report(w, t, {"cond<20"});
+      // fit's words for fit's evaluation.
+      QVERIFY(w.findChild<QLabel*>("taskReadout")->text().contains(
+          QString::fromStdString("Meets every criterion at all " + std::to_string(expected.samples) + " samples")));
+      QCOMPARE(panel->report()->samples, expected.samples);
       QCOMPARE(panel->report()->fraction, expected.fraction);
       QCOMPARE(panel->report()->criteria[1].worst, expected.criteria[1].worst);
 
@@ -69,7 +72,8 @@ class TaskPanelTest : public QObject {
       cx->setValue(home.x() + 2 * size);
       QTRY_VERIFY2(panel->report() && !panel->report()->meets(), name.c_str());
       QVERIFY(w.taskScene().failing_points() > 0);
-      QVERIFY(w.findChild<QLabel*>("taskReadout")->text().contains("Leaves the good region"));
+      QVERIFY(w.findChild<QLabel*>("taskReadout")->text().contains("Fails: "));
+      QVERIFY(!w.findChild<QLabel*>("taskReadout")->text().contains("(100 %) meet every criterion"));
       cx->setValue(home.x());
       QTRY_VERIFY(panel->report() && panel->report()->meets());
 
