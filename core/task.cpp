@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cctype>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -37,9 +38,30 @@ void check_bound(const Criterion& c) {
 }  // namespace
 
 std::string quoting_hint(const std::string& text) {
-  if (text.empty() || text.find_first_of("<>") != std::string::npos) return "";
-  return " (unquoted, the shell reads the < or > of " + text + "<3 or " + text +
-         ">3 as a redirection: quote it, '" + text + "<3')";
+  if (text.empty() || text.find_first_of("<>") != std::string::npos || text == "reach" || text == "reachable") return "";
+  const std::string example = text + (text.rfind("force", 0) == 0 ? ">1" : "<3");
+  return "; quote the criterion: '" + example + "' (unquoted, a shell takes the < or > for a redirection, drops "
+         "it and the number, and may create a file named after the number)";
+}
+
+std::vector<std::string> split_criteria(const std::string& text) {
+  std::vector<std::string> out;
+  std::string part;
+  for (const char c : text + " ") {
+    if (c == ',' || c == ';' || std::isspace(static_cast<unsigned char>(c))) {
+      if (!part.empty()) out.push_back(part);
+      part.clear();
+    } else {
+      part += c;
+    }
+  }
+  return out;
+}
+
+std::vector<Criterion> parse_criteria(const std::string& text) {
+  std::vector<Criterion> out;
+  for (const std::string& part : split_criteria(text)) out.push_back(parse_criterion(part));
+  return out;
 }
 
 Criterion parse_criterion(const std::string& text) {

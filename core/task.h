@@ -41,8 +41,15 @@ struct Criterion {
 Criterion parse_criterion(const std::string& text);
 
 // For a criterion without < or > (e.g. "cond", left when a shell took an
-// unquoted cond>3 as a redirection to a file "3"): advice to quote it; else "".
+// unquoted cond>3 as a redirection to a file "3"): advice to quote it,
+// "; quote the criterion: 'cond<3' (...)"; else "".
 std::string quoting_hint(const std::string& text);
+
+// Criteria as every box and option takes them: separated by commas,
+// semicolons or spaces ("cond<3, force_iso>1"; empty parts dropped).
+std::vector<std::string> split_criteria(const std::string& text);
+// Each of split_criteria's parts parsed (parse_criterion's errors).
+std::vector<Criterion> parse_criteria(const std::string& text);
 // The criterion with its measure found on the device (its measures, and the
 // haptic fields `data` provides). Throws std::invalid_argument listing the
 // names it knows, or where the measure needs actuator data not given.

@@ -94,8 +94,9 @@ FitPanel::FitPanel(const TaskPanel* task, QWidget* parent)
   auto* form = new QFormLayout;
   equal_edit_ = new QLineEdit(this);
   equal_edit_->setObjectName("fitEqual");
-  equal_edit_->setPlaceholderText("e.g. L1,L2 (groups separated by ;)");
-  equal_edit_->setToolTip("Parameters held equal: one free variable per group");
+  equal_edit_->setPlaceholderText("e.g. L1,L2 (names separated by commas, groups by semicolons)");
+  equal_edit_->setToolTip("Parameters held equal: one free variable per group, as --equal takes them (names "
+                          "separated by commas; groups by semicolons, or one --equal each)");
   form->addRow("Hold equal", equal_edit_);
   mode_box_ = new QComboBox(this);
   mode_box_->setObjectName("fitMode");

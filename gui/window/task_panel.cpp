@@ -77,7 +77,9 @@ TaskPanel::TaskPanel(render::TaskScene* scene, QWidget* parent) : QWidget(parent
   form->addRow(tr("Centre"), centres);
   criteria_edit_ = new QLineEdit("cond<3", this);
   criteria_edit_->setObjectName("taskCriteriaEdit");
-  criteria_edit_->setToolTip(tr("Space-separated: cond<T, cond_jo<T, force_iso>F, force_max>F (N), resolution<R (mm), "
+  criteria_edit_->setPlaceholderText(tr("e.g. cond<3, force_iso>0.5 (separated by commas, semicolons or spaces)"));
+  criteria_edit_->setToolTip(tr("Separated by commas, semicolons or spaces, as the command line's --criterion takes "
+                                "them: cond<T, cond_jo<T, force_iso>F, force_max>F (N), resolution<R (mm), "
                                 "inertia<M (kg); reach is always implied"));
   form->addRow(tr("Criteria"), criteria_edit_);
   place_button_ = new QPushButton(tr("Place at the largest"), this);
@@ -225,10 +227,11 @@ void TaskPanel::setCentre(const Eigen::Vector3d& centre) {
 void TaskPanel::setTask(const std::string& text, const std::vector<std::string>& criteria_texts) {
   const task::TaskVolume t = task::parse_task(text);
   std::string joined;
-  for (const std::string& c : criteria_texts) {
-    task::parse_criterion(c);
-    joined += (joined.empty() ? "" : " ") + c;
-  }
+  for (const std::string& text : criteria_texts)
+    for (const std::string& c : task::split_criteria(text)) {
+      task::parse_criterion(c);
+      joined += (joined.empty() ? "" : ", ") + c;
+    }
   {
     const QSignalBlocker b(shape_box_);
     shape_box_->setCurrentIndex(t.shape == task::Shape::Sphere ? 0 : 1);
@@ -253,8 +256,7 @@ void TaskPanel::setTask(const std::string& text, const std::vector<std::string>&
 TaskSetting TaskPanel::setting() const {
   TaskSetting s;
   s.volume = task::to_text(volume());
-  std::stringstream words(criteria_edit_->text().toStdString());
-  for (std::string word; words >> word;) s.criteria.push_back(word);
+  s.criteria = task::split_criteria(criteria_edit_->text().toStdString());
   s.shown = show_box_->isChecked();
   return s;
 }
@@ -276,8 +278,7 @@ task::TaskVolume TaskPanel::volume() const {
 
 std::vector<task::Criterion> TaskPanel::criteria() const {
   std::vector<task::Criterion> out = {task::parse_criterion("reach")};
-  std::stringstream words(criteria_edit_->text().toStdString());
-  for (std::string word; words >> word;)
+  for (const std::string& word : task::split_criteria(criteria_edit_->text().toStdString()))
     if (word != "reach") out.push_back(task::parse_criterion(word));
   return task::resolve(device(), out);
 }

@@ -366,3 +366,18 @@ TEST(CentreRegion, TheLargestShapeIsCentredInTheRegion) {
   EXPECT_TRUE(options.centres->contains(within->centre)) << within->centre.transpose();
   EXPECT_LT(within->size, anywhere->size);
 }
+
+// One syntax everywhere: commas, semicolons or spaces; a bare name (what a
+// shell leaves of an unquoted cond>3) says to quote it.
+TEST(TaskCriteria, ListsTakeCommasSemicolonsOrSpaces) {
+  const std::vector<std::string> expected = {"cond<3", "force_iso>1", "reach"};
+  for (const std::string text : {"cond<3, force_iso>1, reach", "cond<3;force_iso>1; reach", "cond<3 force_iso>1  reach",
+                                 " cond<3,;force_iso>1 ;reach;"})
+    EXPECT_EQ(split_criteria(text), expected) << text;
+  EXPECT_TRUE(split_criteria(" ,; ").empty());
+  EXPECT_EQ(parse_criteria("cond<3, force_iso>1").size(), 2u);
+  expect_error([] { parse_criteria("cond<3, cond"); }, "quote the criterion: 'cond<3'");
+  expect_error([] { parse_criteria("force_max"); }, "quote the criterion: 'force_max>1'");
+  EXPECT_EQ(quoting_hint("cond<3"), "");
+  EXPECT_EQ(quoting_hint("reach"), "");
+}

@@ -45,7 +45,8 @@ fit::Problem make_problem(const FitOptions& o, const std::string& command) {
     throw std::invalid_argument(command + ": the task's centre has z = " + format_number(problem.task.centre->z()) +
                                 ", off " + info.name + "'s plane z = " + format_number(*info.plane_z) +
                                 ": a planar device's task lies in its plane (a sphere is a disc there)");
-  for (const std::string& c : o.criteria) problem.criteria.push_back(task::parse_criterion(c));
+  for (const std::string& c : o.criteria)
+    for (task::Criterion& parsed : task::parse_criteria(c)) problem.criteria.push_back(std::move(parsed));
   if (std::none_of(problem.criteria.begin(), problem.criteria.end(), [](const task::Criterion& c) { return c.reach(); }))
     problem.criteria.insert(problem.criteria.begin(), task::parse_criterion("reach"));
   problem.variables = fit::variables(*base, o.free, o.equal, o.bounds);
@@ -156,8 +157,10 @@ void add_problem_options(CLI::App& cmd, FitOptions& o, const DeviceHelp& devices
                  "Where the search may place the task's centre: box:min=x,y,z,max=x,y,z or "
                  "sphere:centre=x,y,z,radius=r (default: anywhere in the device's box)");
   cmd.add_option("--criterion", o.criteria,
-                 "Repeatable: cond<T (the first measure; others by name, e.g. cond_jo<T), force_iso>F, force_max>F "
-                 "(N), resolution<R (mm), inertia<M (kg); reach is always implied");
+                 "Quoted for the shell, repeatable or several separated by commas, semicolons or spaces: 'cond<T' "
+                 "(the first measure; others by name, e.g. 'cond_jo<T'), 'force_iso>F', 'force_max>F' (N), "
+                 "'resolution<R' (mm), 'inertia<M' (kg); reach is always implied")
+      ->check(criteria_check());
   cmd.add_option("--free", o.free, "Free design parameters, comma list (default: every parameter of the design panel)")
       ->delimiter(',');
   cmd.add_option("--equal", o.equal, "Parameters held equal, comma list (repeatable), e.g. L1,L2");

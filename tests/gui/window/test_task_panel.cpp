@@ -4,6 +4,7 @@
 // sphere placed on request.
 #include <QDoubleSpinBox>
 #include <QLabel>
+#include <QLineEdit>
 #include <QPushButton>
 #include <QtTest>
 
@@ -113,6 +114,32 @@ class TaskPanelTest : public QObject {
     QVERIFY(QTest::qWaitForWindowExposed(&pathos));
     QTest::mouseClick(pathos.findChild<QPushButton*>("taskVerifyButton"), Qt::LeftButton);
     QTRY_VERIFY_WITH_TIMEOUT(pathos.findChild<QLabel*>("taskVerdict")->text().contains("cannot be certified"), 30000);
+  }
+
+  // Criteria separated by commas, semicolons or spaces, as the command line
+  // takes them; the box shows the syntax as a hint; a bare name says to quote.
+  void criteriaTakeTheCommandLinesSyntax() {
+    MechanismWindow w(load_preset("parallel-12r"));
+    w.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    auto* edit = w.findChild<QLineEdit*>("taskCriteriaEdit");
+    QVERIFY(edit->placeholderText().contains("commas, semicolons or spaces"));
+    w.taskPanel()->setTask("sphere:diameter=5,centre=0,15,15", {"cond<3; force_iso>0.1", "force_max>0.1"});
+    QCOMPARE(edit->text(), QString("cond<3, force_iso>0.1, force_max>0.1"));
+    for (const QString& text : {"cond<3, force_iso>0.1;force_max>0.1", "cond<3 force_iso>0.1 force_max>0.1;"}) {
+      edit->setText(text);
+      const auto criteria = w.taskPanel()->criteria();
+      QCOMPARE(criteria.size(), std::size_t(4));
+      QCOMPARE(criteria[3].text, std::string("force_max>0.1"));
+      QCOMPARE(w.taskPanel()->setting().criteria, (std::vector<std::string>{"cond<3", "force_iso>0.1", "force_max>0.1"}));
+    }
+    edit->setText("cond");
+    try {
+      w.taskPanel()->criteria();
+      QFAIL("a bare name is refused");
+    } catch (const std::invalid_argument& e) {
+      QVERIFY2(QString(e.what()).contains("quote the criterion: 'cond<3'"), e.what());
+    }
   }
 
   void aTaskWithoutCentreIsPlacedInTheLargestSphere() {
