@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <numeric>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -82,7 +83,7 @@ class Search {
   std::optional<std::size_t> bisect(const VectorXd& w, double t_fail, double t_meet, std::size_t meet_row) {
     std::optional<double> size_fail;
     for (int it = 0; it < 60 && !cancelled(); ++it) {
-      const double size_meet = row(meet_row).size;
+      const double size_meet = row(meet_row).cost;
       if (size_fail && size_meet - *size_fail <= problem_.tolerance * size_meet) break;
       if (t_meet - t_fail <= 1e-12) break;
       const double mid = 0.5 * (t_fail + t_meet);
@@ -93,7 +94,7 @@ class Search {
         meet_row = r;
       } else {
         t_fail = mid;
-        if (row(r).invalid.empty()) size_fail = row(r).size;
+        if (row(r).invalid.empty()) size_fail = row(r).cost;
       }
     }
     return meet_row;
@@ -305,7 +306,7 @@ void smallest_size(Search& search) {
   std::vector<std::size_t> meeting;
   for (std::size_t i : scanned)
     if (i < r.rows.size() && r.rows[i].meets) meeting.push_back(i);
-  std::sort(meeting.begin(), meeting.end(), [&](std::size_t a, std::size_t b) { return r.rows[a].size < r.rows[b].size; });
+  std::sort(meeting.begin(), meeting.end(), [&](std::size_t a, std::size_t b) { return r.rows[a].cost < r.rows[b].cost; });
 
   const Eigen::Index k = lo.size();
   if (!meeting.empty() && !search.cancelled()) {
@@ -364,7 +365,7 @@ void smallest_size(Search& search) {
           Eigen::Index along = 0;
           w.cwiseAbs().maxCoeff(&along);
           known.push_back({theta, (r.rows[*found].values[std::size_t(along)] - lo(along)) / w(along)});
-          return r.rows[*found].size;
+          return r.rows[*found].cost;
         };
         const Row& b = r.rows[meeting.front()];
         const double theta_best = std::atan2((b.values[1] - lo(1)) / span(1), (b.values[0] - lo(0)) / span(0));
@@ -397,7 +398,7 @@ void smallest_size(Search& search) {
 
   for (std::size_t i = 0; i < r.rows.size(); ++i) {
     const Row& row = r.rows[i];
-    if (row.meets && (!r.best || row.size < r.rows[*r.best].size)) r.best = i;
+    if (row.meets && (!r.best || row.cost < r.rows[*r.best].cost)) r.best = i;
     if (row.invalid.empty() && (!r.closest || row.fit > r.rows[*r.closest].fit)) r.closest = i;
   }
   if (r.best && !search.cancelled()) round_up(search, *r.best);
@@ -534,12 +535,15 @@ void largest_margin_at_size(const Problem& problem, Search& search) {
 Result solve(const Problem& problem, const Progress& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   check_bounds(problem.variables, "fit");
-  for (const Variable& v : problem.variables)
-    if (motor_parameter(v.parameters.front()))
-      throw std::invalid_argument("fit: " + v.name() + " is a motor rating, which does not change the device's size; "
-                                  "fit sizes the linkage with the ratings held (--param " + v.name() +
-                                  "=...). To find the rating a design needs, sweep it: linkscape sweep --free " +
-                                  v.name() + " --bounds " + v.name() + "=LO:HI --task ... --criterion ...");
+  const auto motors = std::count_if(problem.variables.begin(), problem.variables.end(),
+                                    [](const Variable& v) { return motor_parameter(v.parameters.front()) != nullptr; });
+  if (motors > 0 && motors < std::ptrdiff_t(problem.variables.size()))
+    throw std::invalid_argument("fit: free motor ratings and free lengths together have no smallest design (the ratings "
+                                "do not change the size); fit the linkage with the ratings held (--param), or the "
+                                "ratings with the linkage held");
+  if (motors > 0 && problem.size)
+    throw std::invalid_argument("fit: --size holds the linkage's size, which motor ratings do not change; fit the "
+                                "smallest ratings without --size");
   if (!(problem.tolerance > 0 && problem.tolerance < 1))
     throw std::invalid_argument("fit: the tolerance must lie in (0, 1)");
   Search search(problem, progress);
@@ -610,6 +614,9 @@ std::optional<Row> evaluate(const Problem& problem, const std::vector<double>& v
   }
   row.parameters = design_parameters(*mechanism, preset);
   row.size = mechanism->size();
+  row.cost = row.size;
+  if (!problem.variables.empty() && motor_parameter(problem.variables.front().parameters.front()))
+    row.cost = std::accumulate(values.begin(), values.end(), 0.0);  // free ratings: the smallest ones
   task::Device device;
   device.mechanism = mechanism;
   device.fixed_task = problem.pose.size() ? problem.pose : mechanism->home_task();
@@ -621,7 +628,14 @@ std::optional<Row> evaluate(const Problem& problem, const std::vector<double>& v
   device.threads = problem.threads;
   const bool haptic = std::any_of(problem.criteria.begin(), problem.criteria.end(),
                                   [](const task::Criterion& c) { return c.haptic(); });
-  if (haptic) device.data = haptics::device_data(preset, mechanism->info());
+  if (haptic) {
+    try {
+      device.data = haptics::device_data(preset, mechanism->info());
+    } catch (const std::invalid_argument& e) {  // e.g. a continuous torque above the peak
+      row.invalid = e.what();
+      return row;
+    }
+  }
   const std::vector<task::Criterion> criteria = task::resolve(device, problem.criteria);
   const task::TaskVolume& t = problem.task;
   row.home = mechanism->home_task().head<3>();

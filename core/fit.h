@@ -1,4 +1,5 @@
-// Sizing a device to a task (`linkscape fit`): the smallest design, within
+// Sizing a device to a task (`linkscape fit`): the smallest design (or, with
+// motor ratings free, the smallest ratings), within
 // bounds on its free parameters, whose task volume meets every criterion
 // (every sample evaluated meets every one: task::TaskReport::meets), or the
 // design with the largest ratio at a given size. The size is
@@ -53,6 +54,9 @@ struct Row {
   std::vector<double> values;                // per variable
   std::map<std::string, double> parameters;  // the whole design
   double size = 0;                           // Mechanism::size()
+  // What the smallest-design search minimises: the size, or with motor
+  // ratings free (fit --free continuous_torque_Nm), the sum of their values.
+  double cost = 0;
   std::string invalid;                       // why the design cannot be built (then nothing else is set)
   bool meets = false;                        // report.meets(): every sample evaluated meets every criterion
   // Centre free: the largest shape's size over the task's (sphere:

@@ -289,13 +289,16 @@ std::string fit_report(const fit::Problem& problem, const fit::Result& r, const 
   if (problem.size) out << " held at " << short_number(*problem.size) << " " << unit;
   out << "\n";
   const std::optional<std::size_t> shown = r.best ? r.best : r.closest;
-  if (r.best) out << (problem.size ? "largest ratio at that size: " : "smallest design meeting it: ");
+  const bool ratings = !problem.variables.empty() && motor_parameter(problem.variables.front().parameters.front());
+  if (r.best)
+    out << (problem.size ? "largest ratio at that size: " : ratings ? "smallest ratings meeting it: " : "smallest design meeting it: ");
   else out << "no design in the bounds meets it; closest: ";
   if (shown) {
     const fit::Row& row = r.rows[*shown];
     out << design_text(row, columns) << " (size " << format_number(row.size) << " " << unit << ")\n"
         << "  verdict: " << task::verdict_text(row.report) << "\n"
-        << "  centre " << exact_point_text(row.centre, unit) << ", " << point_text(row.centre - row.home, unit)
+        << "  centre " << exact_point_text(row.centre, unit) << ", "
+        << point_text((row.centre - row.home).unaryExpr([&](double v) { return std::abs(v) < 1e-12 * row.size ? 0.0 : v; }), unit)
         << " from the home point " << point_text(row.home, unit) << "\n"
         << "  ratio " << short_number(row.ratio);
     if (problem.task.centre)

@@ -65,9 +65,9 @@ TEST(FitVariables, FromFreeEqualAndBounds) {
   expect_error([&] { fit::variables(*m, {}, {"L1,L2"}, {"L1=5:30", "L2=6:20"}); }, "--bounds given twice for L1=L2");
 }
 
-// Motor ratings are variables of a sweep (they need bounds), not of fit,
-// which sizes the linkage; a design's row carries the rating it was given.
-TEST(FitVariables, MotorRatingsAreSweptNotFitted) {
+// Motor ratings are variables (they need bounds); free with lengths, or
+// held at a size, they are refused; a design's row carries the rating it was given.
+TEST(FitVariables, MotorRatingsAreVariablesWithBounds) {
   const auto m = make_mechanism(load_preset("parallel-12r"));
   const auto torque = fit::variables(*m, {"continuous_torque_Nm"}, {}, {"continuous_torque_Nm=0.1:1"});
   ASSERT_EQ(torque.size(), 1u);
@@ -76,7 +76,12 @@ TEST(FitVariables, MotorRatingsAreSweptNotFitted) {
   expect_error([&] { fit::variables(*m, {}, {"L1,gear_ratio"}, {"L1=1:2"}); }, "cannot hold a motor rating equal to a length");
   fit::Problem p = problem_12r("sphere:diameter=10", {});
   p.variables = torque;
-  expect_error([&] { fit::solve(p); }, "is a motor rating, which does not change the device's size");
+  fit::Problem mixed = p;
+  mixed.variables.push_back(fit::variables(*m, {"L1"}, {}, {})[0]);
+  expect_error([&] { fit::solve(mixed); }, "free motor ratings and free lengths together");
+  fit::Problem at_size = p;
+  at_size.size = 30;
+  expect_error([&] { fit::solve(at_size); }, "motor ratings do not change");
   const std::optional<fit::Row> row = fit::evaluate(p, {0.25});
   ASSERT_TRUE(row);
   EXPECT_EQ(row->parameters.at("continuous_torque_Nm"), 0.25);
@@ -420,4 +425,42 @@ TEST(FitPlacement, NearestTheHomePointAndWithinTheRegionGiven) {
   const auto ball = fit::evaluate(p, {15.0});
   ASSERT_TRUE(ball);
   EXPECT_LE((ball->centre - Vector3d(0, 0, 20)).norm(), 2 + 1e-9) << ball->centre.transpose();
+}
+
+// "What torque is needed" is a fit: the smallest continuous torque whose
+// force_iso holds 1 N over a task at a fixed place. Forces scale with the
+// torque, so it is 1 N over the worst force at 1 N m, to the answer's
+// rounding step; the design at the answer meets the task and one step of
+// the tolerance below it does not.
+TEST(FitMotors, TheSmallestTorqueIsTheBoundOverTheWorstForcePerNewtonMetre) {
+  const auto m = make_mechanism(load_preset("parallel-12r"));
+  fit::Problem p = problem_12r("sphere:diameter=6,centre=0,15,15", {});
+  p.criteria = {task::parse_criterion("reach"), task::parse_criterion("force_iso>1")};
+  p.variables = fit::variables(*m, {"continuous_torque_Nm"}, {}, {"continuous_torque_Nm=0.01:5"});
+  p.preset.parameters["peak_torque_Nm"] = 10;  // above every continuous torque tried
+  p.tolerance = 1e-3;
+  const fit::Result r = fit::solve(p);
+  ASSERT_TRUE(r.best);
+  const fit::Row& best = r.rows[*r.best];
+  const double tau = best.parameters.at("continuous_torque_Nm");
+  EXPECT_EQ(best.cost, tau);
+  const auto unit = fit::evaluate(p, {1.0});
+  ASSERT_TRUE(unit);
+  const double needed = 1.0 / unit->report.criteria[1].worst;
+  EXPECT_GE(tau, needed * (1 - 1e-9));
+  EXPECT_LE(tau, needed * (1 + 2 * p.tolerance) + 1e-3) << "needed " << needed;
+  EXPECT_TRUE(best.meets);
+  EXPECT_FALSE(fit::evaluate(p, {needed * (1 - p.tolerance)})->meets);
+}
+
+// A rating the others contradict (a continuous torque above the peak) is a
+// design that cannot be built, not a failed search.
+TEST(FitMotors, ContradictoryRatingsAreInvalidDesigns) {
+  const auto m = make_mechanism(load_preset("parallel-12r"));
+  fit::Problem p = problem_12r("sphere:diameter=6,centre=0,15,15", {});
+  p.criteria = {task::parse_criterion("reach"), task::parse_criterion("force_iso>1")};
+  p.variables = fit::variables(*m, {"continuous_torque_Nm"}, {}, {"continuous_torque_Nm=0.01:1000"});
+  const auto row = fit::evaluate(p, {1000.0});
+  ASSERT_TRUE(row);
+  EXPECT_NE(row->invalid.find("exceeds its peak_torque_Nm"), std::string::npos) << row->invalid;
 }

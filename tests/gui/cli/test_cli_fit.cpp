@@ -287,3 +287,25 @@ TEST(CliFit, TheCentreStaysInTheRegionGiven) {
     EXPECT_NE(bad.out.find(message), std::string::npos) << bad.out;
   }
 }
+
+// "What torque is needed" is a fit: the smallest continuous torque, named in
+// the report and the CSV; at that torque, evaluated on its own, the task meets.
+TEST(CliFit, TheTorqueADesignNeedsIsAFit) {
+  const std::string csv = out("torque.csv");
+  const CommandResult r = run_linkscape("fit --task sphere:diameter=6,centre=0,15,15 --criterion 'force_iso>1' "
+                                        "--free continuous_torque_Nm --bounds continuous_torque_Nm=0.01:0.3 -q -o " + csv);
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.out.find("smallest ratings meeting it: L1 = 15, L2 = 15, continuous_torque_Nm = "), std::string::npos)
+      << r.out;
+  const auto rows = rows_of(csv);
+  ASSERT_FALSE(rows.empty());
+  EXPECT_EQ(rows[0].at("meets"), "1");
+  const std::string tau = rows[0].at("continuous_torque_Nm");
+  const CommandResult at = run_linkscape("fit --task sphere:diameter=6,centre=0,15,15 --criterion 'force_iso>1' "
+                                         "--free continuous_torque_Nm --bounds continuous_torque_Nm=" + tau + ":" + tau +
+                                         " -q");
+  EXPECT_NE(at.out.find("verdict: meets every criterion"), std::string::npos) << at.out;
+  const CommandResult mixed = run_linkscape("fit --task sphere:diameter=6 --free L1,continuous_torque_Nm "
+                                            "--bounds continuous_torque_Nm=0.01:0.3 -q");
+  EXPECT_EQ(mixed.exit_code, 2) << mixed.out;
+}
