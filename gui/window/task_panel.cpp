@@ -14,11 +14,15 @@
 #include <sstream>
 
 #include <vtkPolyData.h>
+#include <vtkGenericOpenGLRenderWindow.h>
+#include <vtkRendererCollection.h>
 
 #include "core/fit.h"
 #include "core/verify/verify.h"
 #include "gui/window/background.h"
+#include "gui/window/vtk_widget.h"
 #include "render/task_scene.h"
+#include "render/verify_regions.h"
 
 namespace linkscape::gui {
 namespace {
@@ -105,6 +109,7 @@ TaskPanel::TaskPanel(render::TaskScene* scene, QWidget* parent) : QWidget(parent
   verdict_label_->setTextInteractionFlags(Qt::TextSelectableByMouse);
   column->addWidget(verdict_label_);
   verifier_ = std::make_unique<BackgroundTask>(this, [this] { verify_button_->setText(tr("Verify (certified)")); });
+  regions_ = std::make_unique<render::VerifyRegions>();
   column->addStretch(1);
 
   debounce_ = new QTimer(this);
@@ -156,11 +161,14 @@ void TaskPanel::verifyTask() {
   verdict_label_->setStyleSheet("");
   verdict_label_->setText(tr("Verifying…"));
   verify_button_->setText(tr("Cancel verify"));
+  regions_->clear();
   verifier_->start([this, preset = preset_, volume, criteria](const BackgroundTask::Run& run) {
     verify::Options options;
     options.cancel = &run.cancelled;
     options.time_limit_seconds = 60;
+    options.keep_boxes = true;  // drawn in the view
     std::string text, colour;
+    auto result = std::make_shared<std::optional<verify::Result>>();
     try {
       const verify::Result r = verify::verify(preset, volume, criteria, options, 0);
       std::ostringstream report;
@@ -170,15 +178,26 @@ void TaskPanel::verifyTask() {
                : r.verdict == verify::Verdict::Disproved ? "#b71c1c"
                                                          : "#8d6e00";
       if (run.cancelled) text = "cancelled: " + text;
+      *result = r;
     } catch (const std::exception& e) {
       text = e.what();
       colour = "#b71c1c";
     }
-    run.finish([this, text, colour] {
+    run.finish([this, text, colour, result, size = volume.size.maxCoeff()] {
       verdict_label_->setStyleSheet(QString::fromStdString("color: " + colour));
       verdict_label_->setText(QString::fromStdString(text).trimmed());
+      if (*result) showRegions(**result, size);
     });
   });
+}
+
+void TaskPanel::showRegions(const verify::Result& result, double task_size) {
+  // The window's view: its scene renderer is the first (VtkWidget::addRenderers).
+  if (auto* view = window()->findChild<VtkWidget*>()) {
+    if (vtkRenderer* scene = view->renderWindow()->GetRenderers()->GetFirstRenderer()) regions_->add_to(scene);
+  }
+  regions_->show(result, 0.03 * task_size);
+  emit changed();
 }
 
 void TaskPanel::syncShape() {
@@ -301,6 +320,7 @@ void TaskPanel::schedule() {
   if (!verifier_->running() && !verdict_label_->text().isEmpty()) {  // a verdict is about what was verified
     verdict_label_->setStyleSheet("color: gray");
     verdict_label_->setText(tr("The design, pose or task changed since the last Verify."));
+    regions_->clear();
   }
 }
 

@@ -14,6 +14,7 @@
 #include "gui/window/task_panel.h"
 #include "gui/window/vtk_widget.h"
 #include "render/task_scene.h"
+#include "render/verify_regions.h"
 
 using namespace linkscape;
 using linkscape::gui::MechanismWindow;
@@ -106,8 +107,13 @@ class TaskPanelTest : public QObject {
       QTest::mouseClick(w.findChild<QPushButton*>("taskVerifyButton"), Qt::LeftButton);
       QTRY_VERIFY_WITH_TIMEOUT(verdict->text().contains(words), 60000);
       if (length < 12) QVERIFY(verdict->text().contains("c(J)"));
+      // In the view: the boxes proved, or the counterexample.
+      const render::VerifyRegions& regions = w.taskPanel()->verifyRegions();
+      QCOMPARE(regions.counterexample(), length < 12);
+      if (length > 12) QVERIFY(regions.proved() > 0);
       w.findChild<QDoubleSpinBox*>("taskCentreX")->setValue(0.5);
       QTRY_VERIFY(verdict->text().contains("changed since the last Verify"));
+      QVERIFY(!regions.counterexample() && regions.proved() == 0);
     }
     MechanismWindow pathos(load_preset("pathos2"));
     pathos.show();
