@@ -4,9 +4,11 @@
 // the Drive tab's force_iso and force_max at the pose follow it in
 // proportion (forces scale with the torque) and name the torque used, and a
 // rating the others contradict is refused with the old one kept.
+#include <QDockWidget>
 #include <QLabel>
 #include <QLineEdit>
 #include <QtTest>
+#include <cstdlib>
 #include <filesystem>
 
 #include "core/haptics.h"
@@ -29,6 +31,16 @@ double core_force_iso(const MechanismWindow& w) {
   return haptics::measures(m->jacobian(m->inverse(w.task(), {}).solutions.front().q, w.task()), data,
                            haptics::TorqueRating::Continuous)
       .force_iso_N;
+}
+
+// With LINKSCAPE_SCREENSHOTS=<folder>: the window with the dock `dock` in front.
+void screenshot(MechanismWindow& w, const char* dock, const std::string& name) {
+  const char* folder = std::getenv("LINKSCAPE_SCREENSHOTS");
+  if (!folder) return;
+  w.findChild<QDockWidget*>(dock)->raise();
+  QTest::qWait(300);
+  std::filesystem::create_directories(folder);
+  gui::VtkWidget::grabWindow(&w).save(QString::fromStdString(std::string(folder) + "/" + name));
 }
 
 void edit(QLineEdit* box, const QString& text) {
@@ -72,12 +84,14 @@ class DesignMotorsTest : public QObject {
     again.applySession(s);
     QCOMPARE(again.findChild<QLineEdit*>("continuous_torque_NmEdit")->text().toDouble(), before / 2);
 
+    screenshot(w, "driveDock", "window-drive-forces.png");
     // A continuous torque above the peak is refused; the rating in force stays.
     const double peak = w.findChild<QLineEdit*>("peak_torque_NmEdit")->text().toDouble();
     edit(torque, QString::number(2 * peak));
     QCOMPARE(w.preset().parameters.at("continuous_torque_Nm"), before / 2);
     QCOMPARE(torque->text().toDouble(), before / 2);
     QVERIFY(w.findChild<QLabel*>("motorsNote")->text().contains("exceeds its peak_torque_Nm"));
+    screenshot(w, "designDock", "window-design-motors.png");
     edit(torque, "abc");
     QCOMPARE(w.preset().parameters.at("continuous_torque_Nm"), before / 2);
   }
