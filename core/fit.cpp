@@ -32,13 +32,13 @@ double halton(int i, int base) {
 // criteria on a measure (>= 1 where every one holds; an unreachable sample
 // makes it 0), or the fraction covered where reach is the only criterion.
 double fixed_centre_ratio(const task::TaskReport& report) {
-  double margin = kInf;
+  double ratio_min = kInf;
   for (const task::CriterionReport& c : report.criteria) {
     if (c.criterion.reach()) continue;
     const double ratio = c.criterion.above ? c.worst / c.criterion.threshold : c.criterion.threshold / c.worst;
-    margin = std::min(margin, std::isfinite(ratio) ? std::max(ratio, 0.0) : 0.0);
+    ratio_min = std::min(ratio_min, std::isfinite(ratio) ? std::max(ratio, 0.0) : 0.0);
   }
-  return std::isinf(margin) ? report.fraction : margin;
+  return std::isinf(ratio_min) ? report.fraction : ratio_min;
 }
 
 class Search {
@@ -482,11 +482,11 @@ VectorXd onto_size(const SizeLine& line, double size, const VectorXd& u, const V
   return at(0.5 * (a + b));
 }
 
-// The largest margin among designs of the given size: the scan's designs
+// The largest ratio among designs of the given size: the scan's designs
 // moved onto the size, then a compass search from the best along each
 // variable (each step moved onto the size), halving the step (from a
 // quarter of the bounds) until it falls below the tolerance.
-void largest_margin_at_size(const Problem& problem, Search& search) {
+void largest_ratio_at_size(const Problem& problem, Search& search) {
   const double size = *problem.size;
   if (!std::isfinite(size) || size <= 0)
     throw std::invalid_argument("fit: the size must be positive and finite, got " + format_number(size));
@@ -502,12 +502,12 @@ void largest_margin_at_size(const Problem& problem, Search& search) {
     throw std::invalid_argument("fit: no design within the bounds has size " + described + " = " + format_number(size) +
                                 " (they span " + format_number(smallest) + " to " + format_number(largest) + ")");
   Result& r = search.result();
-  auto margin_of = [&](std::size_t i) { return i < r.rows.size() && r.rows[i].invalid.empty() ? r.rows[i].ratio : -kInf; };
+  auto ratio_of = [&](std::size_t i) { return i < r.rows.size() && r.rows[i].invalid.empty() ? r.rows[i].ratio : -kInf; };
   std::optional<std::size_t> best;
   for (const VectorXd& v : scan_points(lo, hi)) {
     if (search.cancelled()) break;
     const std::size_t i = search.evaluate(onto_size(line, size, v, lo, hi));
-    if (i < r.rows.size() && (!best || margin_of(i) > margin_of(*best))) best = i;
+    if (i < r.rows.size() && (!best || ratio_of(i) > ratio_of(*best))) best = i;
   }
   require_a_valid_design(r);
   const VectorXd span = hi - lo;
@@ -519,7 +519,7 @@ void largest_margin_at_size(const Problem& problem, Search& search) {
         VectorXd next = from;
         next(d) += sign * step * span(d);
         const std::size_t i = search.evaluate(onto_size(line, size, next, lo, hi));
-        if (margin_of(i) > margin_of(*best)) {
+        if (ratio_of(i) > ratio_of(*best)) {
           best = i;
           moved = true;
           break;
@@ -548,7 +548,7 @@ Result solve(const Problem& problem, const Progress& progress) {
     throw std::invalid_argument("fit: the tolerance must lie in (0, 1)");
   Search search(problem, progress);
   Result& r = search.result();
-  if (problem.size) largest_margin_at_size(problem, search);
+  if (problem.size) largest_ratio_at_size(problem, search);
   else smallest_size(search);
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;

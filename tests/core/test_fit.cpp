@@ -190,7 +190,7 @@ TEST(FitSearch, TheWidestBoundsGiveTheSameSmallestDesign) {
               2 * p.tolerance * narrow.rows[*narrow.best].size);
 }
 
-// ---- The largest margin at a given size ---------------------------------------------
+// ---- The largest ratio at a given size ---------------------------------------------
 
 namespace {
 

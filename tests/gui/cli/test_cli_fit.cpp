@@ -98,7 +98,7 @@ TEST(CliFit, BadInputsExitWithTwoAndWriteNothing) {
 }
 
 // --size: every design evaluated has the size asked for, the first row has
-// the largest margin of them and the report says which it is.
+// the largest ratio of them and the report says which it is.
 TEST(CliFit, AtASizeTheFirstRowHasTheLargestMargin) {
   const std::string csv = out("margin.csv"), chart = out("margin.pdf");
   const CommandResult r = run_linkscape("fit --task sphere:diameter=15 --criterion 'cond<3' --size 30 --output " + csv +

@@ -1,6 +1,6 @@
 // The window's Fit tab: a small fit run off the GUI thread (Run returns at
 // once) sizes the device to the Task tab's task (the answer is core's for
-// the same problem), Apply sets the design's sliders to it, the largest margin at
+// the same problem), Apply sets the design's sliders to it, the largest ratio at
 // a size keeps every design at that size, Cancel stops a run, and the chart
 // and CSV export. With LINKSCAPE_SCREENSHOTS=<folder> it also saves a
 // picture of each window with its Fit tab in front.
@@ -201,7 +201,7 @@ class FitPanelTest : public QObject {
   }
 
   // The Delta at its own size: every design evaluated has that size, and
-  // the chosen one has the largest margin of them.
+  // the chosen one has the largest ratio of them.
   void largestMarginAtASizeKeepsTheSize() {
     MechanismWindow w(load_preset("delta"));
     w.resize(1280, 800);
