@@ -28,6 +28,11 @@ double halton(int i, int base) {
   return r;
 }
 
+// Below this ratio (largest shape found over the task) a place is not
+// evaluated unless it is the largest: its shape misses the task by several
+// cells of the placement's grid, where the task fails.
+constexpr double kPlausibleRatio = 0.95;
+
 // Centre fixed: the smallest ratio of bound and worst value over the
 // criteria on a measure (>= 1 where every one holds; an unreachable sample
 // makes it 0), or the fraction covered where reach is the only criterion.
@@ -659,22 +664,34 @@ std::optional<Row> evaluate(const Problem& problem, const std::vector<double>& v
     // step the report prints.
     const double step = centre_step(row.size);
     auto rounded = [&](double x) { return to_step(x, step, [](double y) { return std::round(y); }); };
+    auto centred = [&](const task::Inscribed& place) {
+      return Eigen::Vector3d(rounded(place.centre.x()), rounded(place.centre.y()), rounded(place.centre.z()));
+    };
     std::vector<const task::Inscribed*> order;
     for (const task::Inscribed& place : *places)
       if (place.found) order.push_back(&place);
     std::stable_sort(order.begin(), order.end(), [&](const task::Inscribed* a, const task::Inscribed* b) {
       return (a->centre - row.home).norm() < (b->centre - row.home).norm();
     });
+    const task::Inscribed* chosen = nullptr;
     for (const task::Inscribed* place : order) {
-      const Eigen::Vector3d centre(rounded(place->centre.x()), rounded(place->centre.y()), rounded(place->centre.z()));
-      task::TaskReport report = task::evaluate(device, criteria, t, centre, problem.task_resolution);
-      const bool meets = report.meets();
-      if (meets || place == &places->front()) {
-        row.centre = centre;
-        row.fit = t.shape == task::Shape::Sphere ? place->size / t.diameter() : place->size;
-        row.report = std::move(report);
-        if (meets) break;
+      // A place whose shape is clearly smaller than the task cannot hold it
+      // (it would fail); the largest is evaluated whatever its size.
+      const double ratio = t.shape == task::Shape::Sphere ? place->size / t.diameter() : place->size;
+      if (place != &places->front() && ratio < kPlausibleRatio) continue;
+      if (auto report = task::evaluate_if_meets(device, criteria, t, centred(*place), problem.task_resolution)) {
+        chosen = place;
+        row.report = std::move(*report);
+        break;
       }
+    }
+    if (!order.empty()) {
+      if (!chosen) {  // none meets: the largest, fully evaluated
+        chosen = &places->front();
+        row.report = task::evaluate(device, criteria, t, centred(*chosen), problem.task_resolution);
+      }
+      row.centre = centred(*chosen);
+      row.fit = t.shape == task::Shape::Sphere ? chosen->size / t.diameter() : chosen->size;
     }
     if (order.empty()) {  // no sample meets every criterion
       row.centre = options.centres ? options.centres->bounds().center() : mechanism->default_box().center();

@@ -368,8 +368,13 @@ double CriterionReport::margin() const {
   return criterion.above ? worst - criterion.threshold : criterion.threshold - worst;
 }
 
-TaskReport evaluate(const Device& device, const std::vector<Criterion>& criteria, const TaskVolume& task,
-                    const Vector3d& at, int resolution) {
+namespace {
+
+// The task evaluated at `at`; with `give_up_on_failure`, nullopt as soon as
+// a sample fails (the surface, where failures usually are, first).
+std::optional<TaskReport> evaluate_task(const Device& device, const std::vector<Criterion>& criteria,
+                                        const TaskVolume& task, const Vector3d& at, int resolution,
+                                        bool give_up_on_failure) {
   if (resolution < 2 || resolution > kMaxTaskResolution)
     throw std::invalid_argument("task evaluation: resolution must be 2 to " + std::to_string(kMaxTaskResolution) +
                                 ", got " + std::to_string(resolution));
@@ -423,19 +428,22 @@ TaskReport evaluate(const Device& device, const std::vector<Criterion>& criteria
       }
   }
   std::vector<PointValues> values(points.size());
-  std::atomic<bool> failed{false};
+  std::atomic<bool> failed{false}, fails_task{false};
   std::string failure;
 #pragma omp parallel for schedule(dynamic, 16) num_threads(device.threads > 0 ? device.threads : omp_get_max_threads())
-  for (std::int64_t i = 0; i < std::int64_t(points.size()); ++i) {
-    if (failed) continue;
+  for (std::int64_t k = 0; k < std::int64_t(points.size()); ++k) {
+    if (failed || fails_task) continue;
+    const std::size_t i = points.size() - 1 - std::size_t(k);  // the surface first
     try {
-      values[std::size_t(i)] = evaluate_point(device, criteria, points[std::size_t(i)]);
+      values[i] = evaluate_point(device, criteria, points[i]);
+      if (give_up_on_failure && !values[i].meets) fails_task = true;
     } catch (const std::exception& e) {
 #pragma omp critical(task_failure)
       if (!failed.exchange(true)) failure = e.what();
     }
   }
   if (failed) throw std::invalid_argument("task evaluation: " + failure);
+  if (fails_task) return std::nullopt;
 
   TaskReport r;
   r.centre = centre;
@@ -471,6 +479,18 @@ TaskReport evaluate(const Device& device, const std::vector<Criterion>& criteria
     r.criteria.push_back(cr);
   }
   return r;
+}
+
+}  // namespace
+
+TaskReport evaluate(const Device& device, const std::vector<Criterion>& criteria, const TaskVolume& task,
+                    const Vector3d& at, int resolution) {
+  return *evaluate_task(device, criteria, task, at, resolution, false);
+}
+
+std::optional<TaskReport> evaluate_if_meets(const Device& device, const std::vector<Criterion>& criteria,
+                                            const TaskVolume& task, const Vector3d& at, int resolution) {
+  return evaluate_task(device, criteria, task, at, resolution, true);
 }
 
 }  // namespace linkscape::task

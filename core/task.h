@@ -187,6 +187,11 @@ inline constexpr int kMaxTaskResolution = 256;
 inline constexpr int kTaskResolution = 24;
 TaskReport evaluate(const Device& device, const std::vector<Criterion>& criteria, const TaskVolume& task,
                     const Eigen::Vector3d& centre, int resolution = kTaskResolution);
+// evaluate's report where the task meets the criteria there; nullopt,
+// sooner, where a sample fails (the same samples: the same verdict).
+std::optional<TaskReport> evaluate_if_meets(const Device& device, const std::vector<Criterion>& criteria,
+                                            const TaskVolume& task, const Eigen::Vector3d& centre,
+                                            int resolution = kTaskResolution);
 
 // ---- The largest sphere and box in the good region -------------------------------
 

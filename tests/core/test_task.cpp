@@ -381,3 +381,21 @@ TEST(TaskCriteria, ListsTakeCommasSemicolonsOrSpaces) {
   EXPECT_EQ(quoting_hint("cond<3"), "");
   EXPECT_EQ(quoting_hint("reach"), "");
 }
+
+// evaluate_if_meets gives evaluate's report where the task meets, nothing
+// where it fails: the same samples, the same verdict.
+TEST(TaskVerdict, EvaluateIfMeetsAgreesWithEvaluate) {
+  const Device d = device_of("parallel-12r");
+  const auto c = resolve(d, {parse_criterion("reach"), parse_criterion("cond<3")});
+  for (const double diameter : {4.0, 10.0, 30.0}) {
+    const TaskVolume t = parse_task("sphere:diameter=" + std::to_string(diameter));
+    const TaskReport full = evaluate(d, c, t, Vector3d(0, 15, 12), 12);
+    const std::optional<TaskReport> quick = evaluate_if_meets(d, c, t, Vector3d(0, 15, 12), 12);
+    EXPECT_EQ(quick.has_value(), full.meets()) << diameter;
+    if (quick) {
+      EXPECT_EQ(quick->samples, full.samples);
+      EXPECT_EQ(quick->criteria[1].worst, full.criteria[1].worst);
+      EXPECT_EQ(quick->fraction, full.fraction);
+    }
+  }
+}
