@@ -5,7 +5,6 @@
 #include <cmath>
 #include <numbers>
 #include <numeric>
-#include <set>
 #include <sstream>
 #include <stdexcept>
 
