@@ -4,7 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
-#include <set>
+#include <numeric>
 #include <sstream>
 #include <stdexcept>
 
@@ -27,17 +27,22 @@ double halton(int i, int base) {
   return r;
 }
 
+// Below this ratio (largest shape found over the task) a place is not
+// evaluated unless it is the largest: its shape misses the task by several
+// cells of the placement's grid, where the task fails.
+constexpr double kPlausibleRatio = 0.95;
+
 // Centre fixed: the smallest ratio of bound and worst value over the
 // criteria on a measure (>= 1 where every one holds; an unreachable sample
 // makes it 0), or the fraction covered where reach is the only criterion.
-double fixed_centre_margin(const task::TaskReport& report) {
-  double margin = kInf;
+double fixed_centre_ratio(const task::TaskReport& report) {
+  double ratio_min = kInf;
   for (const task::CriterionReport& c : report.criteria) {
     if (c.criterion.reach()) continue;
     const double ratio = c.criterion.above ? c.worst / c.criterion.threshold : c.criterion.threshold / c.worst;
-    margin = std::min(margin, std::isfinite(ratio) ? std::max(ratio, 0.0) : 0.0);
+    ratio_min = std::min(ratio_min, std::isfinite(ratio) ? std::max(ratio, 0.0) : 0.0);
   }
-  return std::isinf(margin) ? report.fraction : margin;
+  return std::isinf(ratio_min) ? report.fraction : ratio_min;
 }
 
 class Search {
@@ -53,6 +58,7 @@ class Search {
   }
 
   bool cancelled() const { return progress_.cancel && progress_.cancel->load(); }
+  double tolerance() const { return problem_.tolerance; }
   const VectorXd& lo() const { return lo_; }
   const VectorXd& hi() const { return hi_; }
   Result& result() { return result_; }
@@ -81,7 +87,7 @@ class Search {
   std::optional<std::size_t> bisect(const VectorXd& w, double t_fail, double t_meet, std::size_t meet_row) {
     std::optional<double> size_fail;
     for (int it = 0; it < 60 && !cancelled(); ++it) {
-      const double size_meet = row(meet_row).size;
+      const double size_meet = row(meet_row).cost;
       if (size_fail && size_meet - *size_fail <= problem_.tolerance * size_meet) break;
       if (t_meet - t_fail <= 1e-12) break;
       const double mid = 0.5 * (t_fail + t_meet);
@@ -92,7 +98,7 @@ class Search {
         meet_row = r;
       } else {
         t_fail = mid;
-        if (row(r).invalid.empty()) size_fail = row(r).size;
+        if (row(r).invalid.empty()) size_fail = row(r).cost;
       }
     }
     return meet_row;
@@ -136,117 +142,51 @@ std::vector<VectorXd> scan_points(const VectorXd& lo, const VectorXd& hi) {
 
 }  // namespace
 
-std::vector<std::string> size_terms(const MechanismInfo& info) {
-  std::vector<std::string> out;
-  std::stringstream terms(info.size_description);
-  for (std::string term; std::getline(terms, term, '+');) {
-    term.erase(0, term.find_first_not_of(' '));
-    term.erase(term.find_last_not_of(' ') + 1);
-    out.push_back(term);
-  }
-  return out;
-}
-
-std::string Variable::name() const {
-  std::string out;
-  for (const std::string& p : parameters) out += (out.empty() ? "" : "=") + p;
-  return out;
-}
-
-std::vector<Variable> variables(const Mechanism& mechanism, const std::vector<std::string>& free,
-                                const std::vector<std::string>& equal, const std::vector<std::string>& bounds) {
-  // The linkage's parameters, then the motor ratings (core/actuator_data.h),
-  // which have no range of their own: they need --bounds.
-  std::vector<Quantity> described = mechanism.info().parameters;
-  for (const MotorParameter& p : motor_parameters()) {
-    Quantity q;
-    q.name = p.name;
-    q.unit = p.unit;
-    q.range = {-kInf, kInf};
-    q.in_panel = false;
-    described.push_back(q);
-  }
-  auto find = [&](const std::string& name) -> const Quantity& {
-    for (const Quantity& q : described)
-      if (q.name == name) return q;
-    std::string known, motors;
-    for (const Quantity& q : described)
-      if (q.in_panel) known += (known.empty() ? "" : ", ") + q.name;
-    for (const MotorParameter& p : motor_parameters()) motors += (motors.empty() ? "" : ", ") + std::string(p.name);
-    throw std::invalid_argument("fit: unknown parameter '" + name + "' for " + mechanism.info().name +
-                                " (design parameters: " + known + "; motor ratings: " + motors + ")");
-  };
-  auto split = [](const std::string& text) {
-    std::vector<std::string> out;
-    std::stringstream ss(text);
-    for (std::string part; std::getline(ss, part, ',');) out.push_back(part);
-    return out;
-  };
-  std::vector<std::string> names;
-  for (const std::string& f : free)
-    for (const std::string& n : split(f)) names.push_back(find(n).name);
-  if (free.empty())
-    for (const Quantity& q : described)
-      if (q.in_panel) names.push_back(q.name);
-  std::vector<Variable> out;
-  std::set<std::string> taken;
-  for (const std::string& group : equal) {
-    Variable v;
-    for (const std::string& n : split(group)) {
-      find(n);
-      if (!taken.insert(n).second) throw std::invalid_argument("fit: parameter '" + n + "' is in two --equal groups");
-      v.parameters.push_back(n);
-    }
-    if (v.parameters.size() < 2) throw std::invalid_argument("fit: --equal expects two or more parameters, got '" + group + "'");
-    out.push_back(v);
-  }
-  for (const std::string& n : names)
-    if (taken.insert(n).second) out.push_back({{n}, 0, 0});
-  for (Variable& v : out) {
-    v.lo = -kInf;
-    v.hi = kInf;
-    for (const std::string& n : v.parameters) {
-      const Quantity& q = find(n);
-      v.lo = std::max(v.lo, q.range.lo);
-      v.hi = std::min(v.hi, q.range.hi);
-    }
-  }
-  std::set<std::string> bounded;  // variables given bounds
-  for (const std::string& b : bounds) {
-    const auto eq = b.find('='), colon = b.find(':');
-    if (eq == std::string::npos || colon == std::string::npos || colon < eq)
-      throw std::invalid_argument("fit: --bounds expects NAME=lo:hi, got '" + b + "'");
-    const std::string name = b.substr(0, eq);
-    const double lo = parse_number_or_throw(b.substr(eq + 1, colon - eq - 1), "--bounds " + name + " lower bound");
-    const double hi = parse_number_or_throw(b.substr(colon + 1), "--bounds " + name + " upper bound");
-    find(name);
-    auto it = std::find_if(out.begin(), out.end(), [&](const Variable& v) {
-      return std::count(v.parameters.begin(), v.parameters.end(), name) > 0;
-    });
-    if (it == out.end()) throw std::invalid_argument("fit: --bounds names '" + name + "', which is not free");
-    if (!bounded.insert(it->name()).second)
-      throw std::invalid_argument("fit: --bounds given twice for " + it->name() + " (again as '" + b + "')");
-    it->lo = lo;
-    it->hi = hi;
-  }
-  for (const Variable& v : out) {
-    const auto motors = std::count_if(v.parameters.begin(), v.parameters.end(),
-                                      [](const std::string& n) { return motor_parameter(n) != nullptr; });
-    if (motors > 0 && motors < std::ptrdiff_t(v.parameters.size()))
-      throw std::invalid_argument("fit: --equal cannot hold a motor rating equal to a length (" + v.name() + ")");
-    if (motors > 0 && !(std::isfinite(v.lo) && std::isfinite(v.hi)))
-      throw std::invalid_argument("fit: the motor rating " + v.name() + " needs --bounds " + v.parameters.front() +
-                                  "=LO:HI (it has no range of its own)");
-  }
-  return out;
-}
-
 namespace {
 
 void require_a_valid_design(const Result& r) {
   const bool any_valid = std::any_of(r.rows.begin(), r.rows.end(), [](const Row& row) { return row.invalid.empty(); });
   if (!any_valid && !r.rows.empty())
     throw std::invalid_argument("fit: the bounds exclude every design (" + r.rows.front().invalid + ")");
+}
+
+// `v` rounded by `round` (std::ceil, std::round) to a multiple of `step`, a
+// power of ten, through the step's reciprocal where it is whole: 1228 / 100
+// is the double nearest 12.28, 1228 * 0.01 is not.
+template <typename Round>
+double to_step(double v, double step, Round round) {
+  const double inverse = std::round(1 / step);
+  return step < 1 ? round(v * inverse) / inverse : round(v / step) * step;
+}
+
+// `v` rounded up (towards hi) to a multiple of `step`.
+double round_up_to(double v, double step, double hi) {
+  return std::min(to_step(v, step, [](double x) { return std::ceil(x - 1e-9); }), hi);
+}
+
+// The smallest meeting design `best` in round numbers: each variable
+// rounded up to a power of ten near the tolerance, then one such step up at
+// a time (at most five) until the rounded design meets the task; the first
+// that does becomes the best. None: `best` stays as the search found it.
+void round_up(Search& search, std::size_t& best) {
+  const Row found = search.row(best);
+  const Eigen::Index k = search.lo().size();
+  VectorXd steps(k), v(k);
+  for (Eigen::Index d = 0; d < k; ++d) {
+    const double x = found.values[std::size_t(d)];
+    const double scale = x != 0 ? std::abs(x) : search.hi()(d) - search.lo()(d);
+    steps(d) = std::pow(10.0, std::floor(std::log10(std::max(search.tolerance() * scale, 1e-300))));
+    v(d) = round_up_to(x, steps(d), search.hi()(d));
+  }
+  for (int attempt = 0; attempt < 5 && !search.cancelled(); ++attempt) {
+    const std::size_t i = search.evaluate(v);
+    if (i >= search.result().rows.size()) return;
+    if (search.row(i).meets) {
+      best = i;
+      return;
+    }
+    for (Eigen::Index d = 0; d < k; ++d) v(d) = std::min(v(d) + steps(d), search.hi()(d));
+  }
 }
 
 // The smallest design meeting the task: a scan, then rays from the lower
@@ -265,7 +205,7 @@ void smallest_size(Search& search) {
   std::vector<std::size_t> meeting;
   for (std::size_t i : scanned)
     if (i < r.rows.size() && r.rows[i].meets) meeting.push_back(i);
-  std::sort(meeting.begin(), meeting.end(), [&](std::size_t a, std::size_t b) { return r.rows[a].size < r.rows[b].size; });
+  std::sort(meeting.begin(), meeting.end(), [&](std::size_t a, std::size_t b) { return r.rows[a].cost < r.rows[b].cost; });
 
   const Eigen::Index k = lo.size();
   if (!meeting.empty() && !search.cancelled()) {
@@ -324,7 +264,7 @@ void smallest_size(Search& search) {
           Eigen::Index along = 0;
           w.cwiseAbs().maxCoeff(&along);
           known.push_back({theta, (r.rows[*found].values[std::size_t(along)] - lo(along)) / w(along)});
-          return r.rows[*found].size;
+          return r.rows[*found].cost;
         };
         const Row& b = r.rows[meeting.front()];
         const double theta_best = std::atan2((b.values[1] - lo(1)) / span(1), (b.values[0] - lo(0)) / span(0));
@@ -357,9 +297,10 @@ void smallest_size(Search& search) {
 
   for (std::size_t i = 0; i < r.rows.size(); ++i) {
     const Row& row = r.rows[i];
-    if (row.meets && (!r.best || row.size < r.rows[*r.best].size)) r.best = i;
+    if (row.meets && (!r.best || row.cost < r.rows[*r.best].cost)) r.best = i;
     if (row.invalid.empty() && (!r.closest || row.fit > r.rows[*r.closest].fit)) r.closest = i;
   }
+  if (r.best && !search.cancelled()) round_up(search, *r.best);
   if (r.best) {
     r.closest.reset();
     for (Eigen::Index d = 0; d < k; ++d)
@@ -440,11 +381,11 @@ VectorXd onto_size(const SizeLine& line, double size, const VectorXd& u, const V
   return at(0.5 * (a + b));
 }
 
-// The largest margin among designs of the given size: the scan's designs
+// The largest ratio among designs of the given size: the scan's designs
 // moved onto the size, then a compass search from the best along each
 // variable (each step moved onto the size), halving the step (from a
 // quarter of the bounds) until it falls below the tolerance.
-void largest_margin_at_size(const Problem& problem, Search& search) {
+void largest_ratio_at_size(const Problem& problem, Search& search) {
   const double size = *problem.size;
   if (!std::isfinite(size) || size <= 0)
     throw std::invalid_argument("fit: the size must be positive and finite, got " + format_number(size));
@@ -460,12 +401,12 @@ void largest_margin_at_size(const Problem& problem, Search& search) {
     throw std::invalid_argument("fit: no design within the bounds has size " + described + " = " + format_number(size) +
                                 " (they span " + format_number(smallest) + " to " + format_number(largest) + ")");
   Result& r = search.result();
-  auto margin_of = [&](std::size_t i) { return i < r.rows.size() && r.rows[i].invalid.empty() ? r.rows[i].margin : -kInf; };
+  auto ratio_of = [&](std::size_t i) { return i < r.rows.size() && r.rows[i].invalid.empty() ? r.rows[i].ratio : -kInf; };
   std::optional<std::size_t> best;
   for (const VectorXd& v : scan_points(lo, hi)) {
     if (search.cancelled()) break;
     const std::size_t i = search.evaluate(onto_size(line, size, v, lo, hi));
-    if (i < r.rows.size() && (!best || margin_of(i) > margin_of(*best))) best = i;
+    if (i < r.rows.size() && (!best || ratio_of(i) > ratio_of(*best))) best = i;
   }
   require_a_valid_design(r);
   const VectorXd span = hi - lo;
@@ -477,7 +418,7 @@ void largest_margin_at_size(const Problem& problem, Search& search) {
         VectorXd next = from;
         next(d) += sign * step * span(d);
         const std::size_t i = search.evaluate(onto_size(line, size, next, lo, hi));
-        if (margin_of(i) > margin_of(*best)) {
+        if (ratio_of(i) > ratio_of(*best)) {
           best = i;
           moved = true;
           break;
@@ -493,20 +434,47 @@ void largest_margin_at_size(const Problem& problem, Search& search) {
 Result solve(const Problem& problem, const Progress& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   check_bounds(problem.variables, "fit");
-  for (const Variable& v : problem.variables)
-    if (motor_parameter(v.parameters.front()))
-      throw std::invalid_argument("fit: " + v.name() + " is a motor rating, which does not change the device's size; "
-                                  "fit sizes the linkage with the ratings held (--param " + v.name() +
-                                  "=...). To find the rating a design needs, sweep it: linkscape sweep --free " +
-                                  v.name() + " --bounds " + v.name() + "=LO:HI --task ... --criterion ...");
+  const auto motors = std::count_if(problem.variables.begin(), problem.variables.end(),
+                                    [](const Variable& v) { return motor_parameter(v.parameters.front()) != nullptr; });
+  if (motors > 0 && motors < std::ptrdiff_t(problem.variables.size()))
+    throw std::invalid_argument("fit: free motor ratings and free lengths together have no smallest design (the ratings "
+                                "do not change the size); fit the linkage with the ratings held (--param), or the "
+                                "ratings with the linkage held");
+  if (motors > 0 && problem.size)
+    throw std::invalid_argument("fit: --size holds the linkage's size, which motor ratings do not change; fit the "
+                                "smallest ratings without --size");
   if (!(problem.tolerance > 0 && problem.tolerance < 1))
     throw std::invalid_argument("fit: the tolerance must lie in (0, 1)");
   Search search(problem, progress);
   Result& r = search.result();
-  if (problem.size) largest_margin_at_size(problem, search);
+  if (problem.size) largest_ratio_at_size(problem, search);
   else smallest_size(search);
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
+}
+
+std::string score_header(const Problem& p) {
+  std::string s = "cx,cy,cz,size,meets,samples,failing";
+  if (!p.task.centre) s += p.task.shape == task::Shape::Sphere ? ",inscribed_diameter" : ",inscribed_scale";
+  s += ",fraction,ratio";
+  for (const task::Criterion& c : p.criteria)
+    s += "," + csv_text("worst_" + c.measure) + "," + csv_text("margin_" + c.measure) + "," + csv_text("failing_" + c.measure);
+  return s;
+}
+
+std::string score_cells(const Problem& p, const Row& row) {
+  std::ostringstream s;
+  s << csv_number(row.centre.x()) << "," << csv_number(row.centre.y()) << "," << csv_number(row.centre.z()) << ","
+    << csv_number(row.size) << "," << (row.meets ? 1 : 0) << "," << row.report.samples << "," << row.report.failing;
+  if (!p.task.centre) s << "," << csv_number(p.task.shape == task::Shape::Sphere ? row.fit * p.task.diameter() : row.fit);
+  s << "," << csv_number(row.report.fraction) << "," << csv_number(row.ratio);
+  for (const task::CriterionReport& c : row.report.criteria)
+    s << "," << csv_number(c.worst) << "," << csv_number(c.margin()) << "," << c.failing;
+  return s.str();
+}
+
+double centre_step(double device_size) {
+  return std::pow(10.0, std::floor(std::log10(std::max(std::abs(device_size), 1e-300))) - 4);
 }
 
 void check_bounds(const std::vector<Variable>& variables, const std::string& command) {
@@ -545,6 +513,9 @@ std::optional<Row> evaluate(const Problem& problem, const std::vector<double>& v
   }
   row.parameters = design_parameters(*mechanism, preset);
   row.size = mechanism->size();
+  row.cost = row.size;
+  if (!problem.variables.empty() && motor_parameter(problem.variables.front().parameters.front()))
+    row.cost = std::accumulate(values.begin(), values.end(), 0.0);  // free ratings: the smallest ones
   task::Device device;
   device.mechanism = mechanism;
   device.fixed_task = problem.pose.size() ? problem.pose : mechanism->home_task();
@@ -556,25 +527,73 @@ std::optional<Row> evaluate(const Problem& problem, const std::vector<double>& v
   device.threads = problem.threads;
   const bool haptic = std::any_of(problem.criteria.begin(), problem.criteria.end(),
                                   [](const task::Criterion& c) { return c.haptic(); });
-  if (haptic) device.data = haptics::device_data(preset, mechanism->info());
+  if (haptic) {
+    try {
+      device.data = haptics::device_data(preset, mechanism->info());
+    } catch (const std::invalid_argument& e) {  // e.g. a continuous torque above the peak
+      row.invalid = e.what();
+      return row;
+    }
+  }
   const std::vector<task::Criterion> criteria = task::resolve(device, problem.criteria);
   const task::TaskVolume& t = problem.task;
+  row.home = mechanism->home_task().head<3>();
   if (t.centre) {
     row.centre = *t.centre;
     row.report = task::evaluate(device, criteria, t, row.centre, problem.task_resolution);
-    row.meets = row.report.meets();
     row.fit = row.report.fraction;
   } else {
     FieldProgress fp;
     fp.cancel = cancel;
-    const auto found = task::largest_inscribed(device, criteria, t, mechanism->default_box(), problem.inscribed, fp);
-    if (!found) return std::nullopt;  // cancelled
-    row.centre = found->found ? found->centre : mechanism->default_box().center();
-    row.fit = !found->found ? 0.0 : t.shape == task::Shape::Sphere ? found->size / t.diameter() : found->size;
-    row.meets = found->found && row.fit >= 1;
-    row.report = task::evaluate(device, criteria, t, row.centre, problem.task_resolution);
+    task::InscribedOptions options = problem.inscribed;
+    options.prefer_near = row.home;
+    Eigen::AlignedBox3d box = mechanism->default_box();
+    if (options.centres)  // the shapes around every allowed centre are sampled
+      box.extend(options.centres->bounds().min() - t.size).extend(options.centres->bounds().max() + t.size);
+    const auto places = task::inscribed_places(device, criteria, t, box, options, fp);
+    if (!places) return std::nullopt;  // cancelled
+    // Each place, nearest the home point first, evaluated until one meets the
+    // task (the 12R's good region is symmetric: equal places lie on both
+    // sides); where none does, the largest. The centre is rounded to the
+    // step the report prints.
+    const double step = centre_step(row.size);
+    auto rounded = [&](double x) { return to_step(x, step, [](double y) { return std::round(y); }); };
+    auto centred = [&](const task::Inscribed& place) {
+      return Eigen::Vector3d(rounded(place.centre.x()), rounded(place.centre.y()), rounded(place.centre.z()));
+    };
+    std::vector<const task::Inscribed*> order;
+    for (const task::Inscribed& place : *places)
+      if (place.found) order.push_back(&place);
+    std::stable_sort(order.begin(), order.end(), [&](const task::Inscribed* a, const task::Inscribed* b) {
+      return (a->centre - row.home).norm() < (b->centre - row.home).norm();
+    });
+    const task::Inscribed* chosen = nullptr;
+    for (const task::Inscribed* place : order) {
+      // A place whose shape is clearly smaller than the task cannot hold it
+      // (it would fail); the largest is evaluated whatever its size.
+      const double ratio = t.shape == task::Shape::Sphere ? place->size / t.diameter() : place->size;
+      if (place != &places->front() && ratio < kPlausibleRatio) continue;
+      if (auto report = task::evaluate_if_meets(device, criteria, t, centred(*place), problem.task_resolution)) {
+        chosen = place;
+        row.report = std::move(*report);
+        break;
+      }
+    }
+    if (!order.empty()) {
+      if (!chosen) {  // none meets: the largest, fully evaluated
+        chosen = &places->front();
+        row.report = task::evaluate(device, criteria, t, centred(*chosen), problem.task_resolution);
+      }
+      row.centre = centred(*chosen);
+      row.fit = t.shape == task::Shape::Sphere ? chosen->size / t.diameter() : chosen->size;
+    }
+    if (order.empty()) {  // no sample meets every criterion
+      row.centre = options.centres ? options.centres->bounds().center() : mechanism->default_box().center();
+      row.report = task::evaluate(device, criteria, t, row.centre, problem.task_resolution);
+    }
   }
-  row.margin = t.centre ? fixed_centre_margin(row.report) : row.fit;
+  row.meets = row.report.meets();
+  row.ratio = t.centre ? fixed_centre_ratio(row.report) : row.fit;
   return row;
 }
 

@@ -1,6 +1,8 @@
-// Sizing a device to a task (`linkscape fit`): the smallest design, within
-// bounds on its free parameters, whose task volume meets every criterion,
-// or the design with the largest margin at a given size. The size is
+// Sizing a device to a task (`linkscape fit`): the smallest design (or, with
+// motor ratings free, the smallest ratings), within
+// bounds on its free parameters, whose task volume meets every criterion
+// (every sample evaluated meets every one: task::TaskReport::meets), or the
+// design with the largest ratio at a given size. The size is
 // Mechanism::size() of the design (12R: L1 + L2; Delta: La + Lb;
 // PATHOS-II: l2 + l3). docs/task-volumes.md describes both searches.
 #pragma once
@@ -35,11 +37,14 @@ struct Problem {
   Eigen::VectorXd pose;
   IkOptions ik;
   haptics::TorqueRating torque = haptics::TorqueRating::Continuous;
-  task::InscribedOptions inscribed;  // where the centre is free
-  int task_resolution = 24;          // task::evaluate at the placed or given centre
+  // Where the centre is free: the search for the largest shape, within
+  // inscribed.centres where set, preferring among equal places the one
+  // nearest the design's home point.
+  task::InscribedOptions inscribed;
+  int task_resolution = task::kTaskResolution;  // task::evaluate at the placed or given centre
   double tolerance = 1e-3;           // relative: on the size along each ray; on the step of the margin search
   int threads = 0;
-  // Set: the largest margin among designs of this size (Mechanism::size(),
+  // Set: the largest ratio among designs of this size (Mechanism::size(),
   // the device's length unit); unset: the smallest design meeting the task.
   std::optional<double> size;
 };
@@ -49,26 +54,36 @@ struct Row {
   std::vector<double> values;                // per variable
   std::map<std::string, double> parameters;  // the whole design
   double size = 0;                           // Mechanism::size()
+  // What the smallest-design search minimises: the size, or with motor
+  // ratings free (fit --free continuous_torque_Nm), the sum of their values.
+  double cost = 0;
   std::string invalid;                       // why the design cannot be built (then nothing else is set)
-  bool meets = false;
+  bool meets = false;                        // report.meets(): every sample evaluated meets every criterion
   // Centre free: the largest shape's size over the task's (sphere:
-  // diameter ratio; box: scale), >= 1 where it fits. Centre fixed: the
-  // fraction of the task meeting every criterion.
+  // diameter ratio; box: scale) found by the placement search. Centre
+  // fixed: the fraction of the task's volume meeting every criterion.
   double fit = 0;
-  // How far inside the criteria the task is, as a ratio (>= 1 where it
-  // meets them). Centre free: `fit`. Centre fixed: the smallest over the
-  // criteria on a measure of bound / worst (bounds from above, e.g. cond)
-  // or worst / bound (from below, e.g. force_iso); with reach alone, the
-  // fraction covered.
-  double margin = 0;
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // placed or given
-  task::TaskReport report;                            // the task at the centre
+  // How far inside the criteria the task is, as a ratio (the criteria's
+  // margins are differences, in each measure's unit: CriterionReport).
+  // Centre free: `fit`. Centre fixed: the smallest over the criteria on a
+  // measure of bound / worst (bounds from above, e.g. cond) or worst / bound
+  // (from below, e.g. force_iso); with reach alone, the fraction covered.
+  double ratio = 0;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // placed (rounded to centre_step) or given
+  Eigen::Vector3d home = Eigen::Vector3d::Zero();    // the design's home point
+  task::TaskReport report;                            // the task at the centre: the verdict
 };
+
+// The step a placed centre is rounded to, about 1e-4 of the device's size
+// (a power of ten), so that the centre a report prints is the one evaluated.
+double centre_step(double device_size);
 
 struct Result {
   std::vector<Row> rows;             // every design, in the order evaluated
-  // The smallest design meeting the task; at a given size, the one with the
-  // largest margin (when it meets the task).
+  // The smallest design meeting the task, its free variables rounded up to
+  // round numbers near the tolerance where the rounded design meets it too
+  // (rounded: it was evaluated); at a given size, the one with the largest
+  // ratio (when it meets the task).
   std::optional<std::size_t> best;
   std::optional<std::size_t> closest;  // where none does: the valid design closest to meeting it
   bool at_lower_bounds = false;      // the best design sits on the lower bounds (lower them to go smaller)
@@ -109,6 +124,14 @@ Preset design_preset(const Problem& problem, const std::vector<double>& values);
 // fit the device.
 std::optional<Row> evaluate(const Problem& problem, const std::vector<double>& values,
                             const std::atomic<bool>* cancel = nullptr);
+
+// The columns every table of designs scores them by (fit's CSV, sweep's
+// table), comma-joined: cx,cy,cz,size,meets,samples,failing, the largest
+// shape (centre free: inscribed_diameter or inscribed_scale), fraction,
+// ratio, and per criterion worst_M,margin_M,failing_M.
+std::string score_header(const Problem& problem);
+// A row's cells under score_header (meets is 1 exactly when failing is 0).
+std::string score_cells(const Problem& problem, const Row& row);
 
 // The parameters Mechanism::size() sums, as its size_description names them
 // ("L1 + L2": L1, L2).

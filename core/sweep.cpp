@@ -174,11 +174,7 @@ std::string header(const Plan& plan) {
   std::ostringstream s;
   s << "design";
   for (const std::string& c : plan.columns) s << "," << csv_text(c);
-  s << ",cx,cy,cz,size,meets";
-  if (free_centre(plan)) s << (plan.problem.task.shape == task::Shape::Sphere ? ",inscribed_diameter" : ",inscribed_scale");
-  s << ",fraction,margin";
-  for (const task::Criterion& c : plan.problem.criteria)
-    s << "," << csv_text("worst_" + c.measure) << "," << csv_text("margin_" + c.measure);
+  s << "," << fit::score_header(plan.problem);
   if (plan.field_resolution > 0)
     for (const char* c : kFieldColumns) s << "," << c;
   s << ",pareto,error";
@@ -217,12 +213,7 @@ std::string evaluate_row(const Plan& plan, std::size_t index, const std::vector<
     s << ",0," << error_cell(error);
     return s.str();
   }
-  const task::TaskVolume& t = plan.problem.task;
-  s << "," << csv_number(row->centre.x()) << "," << csv_number(row->centre.y()) << "," << csv_number(row->centre.z()) << ","
-    << csv_number(row->size) << "," << (row->meets ? 1 : 0);
-  if (free_centre(plan)) s << "," << csv_number(t.shape == task::Shape::Sphere ? row->fit * t.diameter() : row->fit);
-  s << "," << csv_number(row->report.fraction) << "," << csv_number(row->margin);
-  for (const task::CriterionReport& c : row->report.criteria) s << "," << csv_number(c.worst) << "," << csv_number(c.margin());
+  s << "," << fit::score_cells(plan.problem, *row);
   if (field)
     s << "," << csv_number(field->reach_volume) << "," << csv_number(field->gci) << "," << csv_number(field->task_reach) << ","
       << csv_number(field->task_worst) << "," << csv_number(field->task_mean);
@@ -234,8 +225,9 @@ fit::Result as_fit_result(const Plan& plan, const std::map<std::size_t, std::str
   const std::vector<std::string> head = csv_cells(header(plan));
   const bool free = free_centre(plan);
   const std::size_t size_col = column_of(head, "size"), meets_col = column_of(head, "meets"),
-                    fraction_col = column_of(head, "fraction"), error_col = column_of(head, "error");
-  const std::size_t fit_col = free ? fraction_col - 1 : fraction_col, margin_col = fraction_col + 1;
+                    fraction_col = column_of(head, "fraction"), error_col = column_of(head, "error"),
+                    samples_col = column_of(head, "samples"), failing_col = column_of(head, "failing");
+  const std::size_t fit_col = free ? fraction_col - 1 : fraction_col, ratio_col = column_of(head, "ratio");
   const task::TaskVolume& t = plan.problem.task;
   fit::Result r;
   for (const auto& [index, text] : rows) {
@@ -248,11 +240,14 @@ fit::Result as_fit_result(const Plan& plan, const std::map<std::size_t, std::str
     row.fit = number_of(row_cells[fit_col]);
     if (free && t.shape == task::Shape::Sphere) row.fit /= t.diameter();
     row.report.fraction = number_of(row_cells[fraction_col]);
-    row.margin = number_of(row_cells[margin_col]);
+    row.report.samples = int(number_of(row_cells[samples_col]));
+    row.report.failing = int(number_of(row_cells[failing_col]));
+    row.ratio = number_of(row_cells[ratio_col]);
     for (std::size_t c = 0; c < plan.problem.criteria.size(); ++c) {
       task::CriterionReport report;
       report.criterion = plan.problem.criteria[c];
-      report.worst = number_of(row_cells[margin_col + 1 + 2 * c]);
+      report.worst = number_of(row_cells[ratio_col + 1 + 3 * c]);
+      report.failing = int(number_of(row_cells[ratio_col + 3 + 3 * c]));
       row.report.criteria.push_back(report);
     }
     if (row.meets && (!r.best || row.size < r.rows[*r.best].size)) r.best = r.rows.size();
@@ -268,8 +263,8 @@ std::string table(const Plan& plan, const std::map<std::size_t, std::string>& ro
   const std::size_t size_col = column_of(head, "size"), pareto_col = column_of(head, "pareto"),
                     error_col = column_of(head, "error");
   const std::optional<std::size_t> measured = measured_criterion(plan);
-  const std::size_t margin_col = column_of(head, "margin");
-  const std::size_t y_col = measured ? margin_col + 1 + 2 * *measured : margin_col;
+  const std::size_t ratio_col = column_of(head, "ratio");
+  const std::size_t y_col = measured ? ratio_col + 1 + 3 * *measured : ratio_col;
   const bool larger_is_better = !measured || plan.problem.criteria[*measured].above;
   std::vector<std::vector<std::string>> lines;
   std::vector<double> x, y;
@@ -305,7 +300,7 @@ std::string table(const Plan& plan, const std::map<std::size_t, std::string>& ro
 std::string fingerprint(const Plan& plan) {
   const fit::Problem& p = plan.problem;
   std::ostringstream s;
-  s << "linkscape sweep 1; " << p.preset.mechanism << ";";
+  s << "linkscape sweep 2; " << p.preset.mechanism << ";";
   for (const auto& [name, value] : p.preset.parameters) s << " " << name << "=" << csv_number(value);
   s << ";";
   for (const fit::Variable& v : p.variables) s << " " << v.name() << "=" << csv_number(v.lo) << ":" << csv_number(v.hi);
@@ -316,6 +311,7 @@ std::string fingerprint(const Plan& plan) {
   s << "; method " << p.ik.method << " branch " << p.ik.branch.value_or(0) << " torque " << int(p.torque) << "; inscribed "
     << p.inscribed.resolution << " " << p.inscribed.refinements << " " << p.inscribed.places << "; task resolution "
     << p.task_resolution << "; ";
+  if (p.inscribed.centres) s << "centres " << task::to_text(*p.inscribed.centres) << "; ";
   if (plan.sampling == Sampling::Grid) s << "grid " << plan.levels;
   else s << "random " << plan.count << " seed " << plan.seed;
   s << "; field " << plan.field_resolution << "; " << header(plan);

@@ -3,11 +3,13 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cctype>
 #include <atomic>
 #include <cmath>
 #include <limits>
 #include <map>
 #include <numbers>
+#include <iomanip>
 #include <sstream>
 #include <stdexcept>
 
@@ -36,9 +38,30 @@ void check_bound(const Criterion& c) {
 }  // namespace
 
 std::string quoting_hint(const std::string& text) {
-  if (text.empty() || text.find_first_of("<>") != std::string::npos) return "";
-  return " (unquoted, the shell reads the < or > of " + text + "<3 or " + text +
-         ">3 as a redirection: quote it, '" + text + "<3')";
+  if (text.empty() || text.find_first_of("<>") != std::string::npos || text == "reach" || text == "reachable") return "";
+  const std::string example = text + (text.rfind("force", 0) == 0 ? ">1" : "<3");
+  return "; quote the criterion: '" + example + "' (unquoted, a shell takes the < or > for a redirection, drops "
+         "it and the number, and may create a file named after the number)";
+}
+
+std::vector<std::string> split_criteria(const std::string& text) {
+  std::vector<std::string> out;
+  std::string part;
+  for (const char c : text + " ") {
+    if (c == ',' || c == ';' || std::isspace(static_cast<unsigned char>(c))) {
+      if (!part.empty()) out.push_back(part);
+      part.clear();
+    } else {
+      part += c;
+    }
+  }
+  return out;
+}
+
+std::vector<Criterion> parse_criteria(const std::string& text) {
+  std::vector<Criterion> out;
+  for (const std::string& part : split_criteria(text)) out.push_back(parse_criterion(part));
+  return out;
 }
 
 Criterion parse_criterion(const std::string& text) {
@@ -115,18 +138,15 @@ std::string to_text(const TaskVolume& t) {
   return text;
 }
 
-TaskVolume parse_task(const std::string& text) {
-  const std::string usage = "task '" + text + "': expected sphere:diameter=D, sphere:radius=R or box:size=X,Y,Z (or "
-                            "box:size=S), optionally followed by ,centre=x,y,z";
+namespace {
+
+// "shape:key=v[,v...],..." as the shape and the key=v[,v...] pairs: a part
+// without '=' continues the previous key's list. `what` names the text in errors.
+std::pair<std::string, std::map<std::string, std::vector<double>>> shape_and_keys(const std::string& what,
+                                                                                  const std::string& text,
+                                                                                  const std::string& usage) {
   const auto colon = text.find(':');
   if (colon == std::string::npos) throw std::invalid_argument(usage);
-  TaskVolume t;
-  t.text = text;
-  const std::string shape = text.substr(0, colon);
-  if (shape == "sphere") t.shape = Shape::Sphere;
-  else if (shape == "box") t.shape = Shape::Box;
-  else throw std::invalid_argument(usage + " (unknown shape '" + shape + "')");
-  // key=v[,v...] pairs: a part without '=' continues the previous key's list.
   std::map<std::string, std::vector<double>> keys;
   std::string key, part;
   std::stringstream parts(text.substr(colon + 1));
@@ -141,9 +161,77 @@ TaskVolume parse_task(const std::string& text) {
     if (key.empty()) throw std::invalid_argument(usage);
     const std::optional<double> v = parse_number(value);
     if (!v || !std::isfinite(*v))
-      throw std::invalid_argument("task '" + text + "': " + key + " expects finite numbers, got '" + value + "'");
+      throw std::invalid_argument(what + " '" + text + "': " + key + " expects finite numbers, got '" + value + "'");
     keys[key].push_back(*v);
   }
+  return {text.substr(0, colon), keys};
+}
+
+// The point of key `name` (three numbers), taken out of `keys`; nullopt where absent.
+std::optional<Vector3d> take_point(std::map<std::string, std::vector<double>>& keys, const std::string& name,
+                                   const std::string& usage) {
+  const auto it = keys.find(name);
+  if (it == keys.end()) return std::nullopt;
+  if (it->second.size() != 3) throw std::invalid_argument(usage + " (" + name + " expects 3 values)");
+  const Vector3d p(it->second[0], it->second[1], it->second[2]);
+  keys.erase(it);
+  return p;
+}
+
+}  // namespace
+
+bool CentreRegion::contains(const Vector3d& p) const {
+  return shape == Shape::Sphere ? (p - centre).norm() <= radius : box.contains(p);
+}
+
+Eigen::AlignedBox3d CentreRegion::bounds() const {
+  return shape == Shape::Sphere ? Eigen::AlignedBox3d(centre.array() - radius, centre.array() + radius) : box;
+}
+
+std::string to_text(const CentreRegion& r) {
+  auto point = [](const Vector3d& p) { return format_number(p.x()) + "," + format_number(p.y()) + "," + format_number(p.z()); };
+  return r.shape == Shape::Sphere ? "sphere:centre=" + point(r.centre) + ",radius=" + format_number(r.radius)
+                                  : "box:min=" + point(r.box.min()) + ",max=" + point(r.box.max());
+}
+
+CentreRegion parse_centre_region(const std::string& text) {
+  const std::string usage = "centre region '" + text + "': expected box:min=x,y,z,max=x,y,z or "
+                            "sphere:centre=x,y,z,radius=r";
+  auto [shape, keys] = shape_and_keys("centre region", text, usage);
+  CentreRegion r;
+  r.text = text;
+  if (shape == "box") {
+    const auto lo = take_point(keys, "min", usage), hi = take_point(keys, "max", usage);
+    if (!lo || !hi) throw std::invalid_argument(usage + " (give min and max)");
+    if (!(lo->array() <= hi->array()).all())
+      throw std::invalid_argument(usage + " (min must not exceed max on any axis)");
+    r.box = Eigen::AlignedBox3d(*lo, *hi);
+  } else if (shape == "sphere") {
+    r.shape = Shape::Sphere;
+    const auto c = take_point(keys, "centre", usage);
+    const auto radius = keys.find("radius");
+    if (!c || radius == keys.end() || radius->second.size() != 1)
+      throw std::invalid_argument(usage + " (give centre and one radius)");
+    r.centre = *c;
+    r.radius = radius->second[0];
+    keys.erase(radius);
+    if (!(r.radius > 0)) throw std::invalid_argument(usage + " (the radius must be positive)");
+  } else {
+    throw std::invalid_argument(usage + " (unknown shape '" + shape + "')");
+  }
+  if (!keys.empty()) throw std::invalid_argument(usage + " (unknown key '" + keys.begin()->first + "')");
+  return r;
+}
+
+TaskVolume parse_task(const std::string& text) {
+  const std::string usage = "task '" + text + "': expected sphere:diameter=D, sphere:radius=R or box:size=X,Y,Z (or "
+                            "box:size=S), optionally followed by ,centre=x,y,z";
+  auto [shape, keys] = shape_and_keys("task", text, usage);
+  TaskVolume t;
+  t.text = text;
+  if (shape == "sphere") t.shape = Shape::Sphere;
+  else if (shape == "box") t.shape = Shape::Box;
+  else throw std::invalid_argument(usage + " (unknown shape '" + shape + "')");
   auto take = [&](const std::string& name, std::size_t min_count, std::size_t max_count) -> std::optional<std::vector<double>> {
     const auto it = keys.find(name);
     if (it == keys.end()) return std::nullopt;
@@ -260,13 +348,33 @@ std::optional<Field> sample(const Device& device, const std::vector<Criterion>& 
 
 // ---- A task at a place ----------------------------------------------------------------
 
+std::string samples_text(int counted, int samples) {
+  double percent = samples > 0 ? std::round(10000.0 * counted / samples) / 100 : 0.0;  // two decimals
+  if (counted < samples) percent = std::min(percent, 99.99);
+  if (counted > 0) percent = std::max(percent, 0.01);
+  std::ostringstream s;
+  s << counted << " of " << samples << " samples (" << std::setprecision(4) << percent << " %)";
+  return s.str();
+}
+
+std::string verdict_text(const TaskReport& r) {
+  const std::string at = " (evaluated at resolution " + std::to_string(r.resolution) + ")";
+  if (r.meets()) return "meets every criterion at all " + std::to_string(r.samples) + " samples" + at;
+  return "fails: " + samples_text(r.samples - r.failing, r.samples) + " meet every criterion" + at;
+}
+
 double CriterionReport::margin() const {
   if (criterion.reach()) return worst;
   return criterion.above ? worst - criterion.threshold : criterion.threshold - worst;
 }
 
-TaskReport evaluate(const Device& device, const std::vector<Criterion>& criteria, const TaskVolume& task,
-                    const Vector3d& at, int resolution) {
+namespace {
+
+// The task evaluated at `at`; with `give_up_on_failure`, nullopt as soon as
+// a sample fails (the surface, where failures usually are, first).
+std::optional<TaskReport> evaluate_task(const Device& device, const std::vector<Criterion>& criteria,
+                                        const TaskVolume& task, const Vector3d& at, int resolution,
+                                        bool give_up_on_failure) {
   if (resolution < 2 || resolution > kMaxTaskResolution)
     throw std::invalid_argument("task evaluation: resolution must be 2 to " + std::to_string(kMaxTaskResolution) +
                                 ", got " + std::to_string(resolution));
@@ -320,22 +428,26 @@ TaskReport evaluate(const Device& device, const std::vector<Criterion>& criteria
       }
   }
   std::vector<PointValues> values(points.size());
-  std::atomic<bool> failed{false};
+  std::atomic<bool> failed{false}, fails_task{false};
   std::string failure;
 #pragma omp parallel for schedule(dynamic, 16) num_threads(device.threads > 0 ? device.threads : omp_get_max_threads())
-  for (std::int64_t i = 0; i < std::int64_t(points.size()); ++i) {
-    if (failed) continue;
+  for (std::int64_t k = 0; k < std::int64_t(points.size()); ++k) {
+    if (failed || fails_task) continue;
+    const std::size_t i = points.size() - 1 - std::size_t(k);  // the surface first
     try {
-      values[std::size_t(i)] = evaluate_point(device, criteria, points[std::size_t(i)]);
+      values[i] = evaluate_point(device, criteria, points[i]);
+      if (give_up_on_failure && !values[i].meets) fails_task = true;
     } catch (const std::exception& e) {
 #pragma omp critical(task_failure)
       if (!failed.exchange(true)) failure = e.what();
     }
   }
   if (failed) throw std::invalid_argument("task evaluation: " + failure);
+  if (fails_task) return std::nullopt;
 
   TaskReport r;
   r.centre = centre;
+  r.resolution = resolution;
   r.samples = int(points.size());
   std::size_t meeting = 0;
   Vector3d failing_sum = Vector3d::Zero();
@@ -359,8 +471,9 @@ TaskReport evaluate(const Device& device, const std::vector<Criterion>& criteria
     for (std::size_t i = 0; i < points.size(); ++i) {
       const double v = values[i].values[c];
       if (larger_is_worse ? v > cr.worst : v < cr.worst) cr.worst = v, cr.worst_point = points[i];
-      if (i < interior)
-        meeting_c += criteria[c].reach() ? values[i].reachable : values[i].reachable && meets(criteria[c], v);
+      const bool ok = criteria[c].reach() ? values[i].reachable : values[i].reachable && meets(criteria[c], v);
+      if (i < interior) meeting_c += ok;
+      cr.failing += !ok;
     }
     cr.fraction = interior ? double(meeting_c) / double(interior) : 0.0;
     r.criteria.push_back(cr);
@@ -368,272 +481,16 @@ TaskReport evaluate(const Device& device, const std::vector<Criterion>& criteria
   return r;
 }
 
-// ---- The largest sphere and box in the good region -------------------------------------
-
-namespace {
-
-// The grid with a ring of failing samples around it, so that shapes stay
-// inside the sampled box. A grid one sample thick in z is a section of a
-// planar device's plane: ringed in x and y only, its shapes are discs and
-// rectangles in it.
-struct Padded {
-  std::array<int, 3> dims;
-  std::array<int, 3> ring;  // samples added before the grid's first, per axis
-  std::vector<std::uint8_t> good;
-  bool flat() const { return ring[2] == 0; }
-  std::size_t index(int i, int j, int k) const { return i + std::size_t(dims[0]) * (j + std::size_t(dims[1]) * k); }
-  std::array<int, 3> ijk(std::size_t s) const {
-    return {int(s % std::size_t(dims[0])), int((s / std::size_t(dims[0])) % std::size_t(dims[1])),
-            int(s / (std::size_t(dims[0]) * dims[1]))};
-  }
-};
-
-Padded padded(const Grid& g, const std::vector<std::uint8_t>& good) {
-  if (good.size() != g.size())
-    throw std::invalid_argument("inscribed shape: the mask has " + std::to_string(good.size()) + " samples, the grid " +
-                                std::to_string(g.size()));
-  const int ring_z = g.dims[2] == 1 ? 0 : 1;
-  Padded p{{g.dims[0] + 2, g.dims[1] + 2, g.dims[2] + 2 * ring_z}, {1, 1, ring_z}, {}};
-  p.good.assign(std::size_t(p.dims[0]) * p.dims[1] * p.dims[2], 0);
-  for (int k = 0; k < g.dims[2]; ++k)
-    for (int j = 0; j < g.dims[1]; ++j)
-      for (int i = 0; i < g.dims[0]; ++i) p.good[p.index(i + 1, j + 1, k + ring_z)] = good[g.index(i, j, k)];
-  return p;
-}
-
-// The largest spacing of a grid across the shapes it holds (a plane's
-// section: in x and y).
-double spacing_of(const Grid& g) { return g.dims[2] == 1 ? g.spacing.head<2>().maxCoeff() : g.spacing.maxCoeff(); }
-
-Vector3d point_of(const Grid& g, const Padded& p, std::size_t s) {
-  const auto [i, j, k] = p.ijk(s);
-  return g.point(i - p.ring[0], j - p.ring[1], k - p.ring[2]);
-}
-
-// One line of the exact squared Euclidean distance transform (Felzenszwalb
-// and Huttenlocher, "Distance transforms of sampled functions", 2012):
-// f[q] <- min_p h^2 (q - p)^2 + f[p], the lower envelope of parabolas.
-void distance_line(std::vector<double>& f, int n, double h, std::vector<int>& v, std::vector<double>& z,
-                   std::vector<double>& d) {
-  const double h2 = h * h;
-  int k = -1;
-  for (int q = 0; q < n; ++q) {
-    if (f[std::size_t(q)] == kInf) continue;
-    double crossing = -kInf;
-    while (k >= 0) {
-      const int p = v[std::size_t(k)];
-      crossing = ((f[std::size_t(q)] + h2 * q * q) - (f[std::size_t(p)] + h2 * p * p)) / (2 * h2 * (q - p));
-      if (crossing > z[std::size_t(k)]) break;
-      --k;
-      crossing = -kInf;
-    }
-    ++k;
-    v[std::size_t(k)] = q;
-    z[std::size_t(k)] = crossing;
-    z[std::size_t(k) + 1] = kInf;
-  }
-  for (int q = 0, j = 0; q < n; ++q) {
-    if (k < 0) {
-      d[std::size_t(q)] = kInf;
-      continue;
-    }
-    while (z[std::size_t(j) + 1] < q) ++j;
-    const int p = v[std::size_t(j)];
-    d[std::size_t(q)] = h2 * double(q - p) * double(q - p) + f[std::size_t(p)];
-  }
-  for (int q = 0; q < n; ++q) f[std::size_t(q)] = d[std::size_t(q)];
-}
-
-// Per padded sample, the diameter of the largest sphere centred on it that
-// holds no failing sample: twice the distance to the nearest one.
-std::vector<double> sphere_sizes(const Padded& p, const Vector3d& spacing) {
-  std::vector<double> dist(p.good.size());
-  for (std::size_t s = 0; s < dist.size(); ++s) dist[s] = p.good[s] ? kInf : 0.0;
-  const auto n_max = static_cast<std::size_t>(*std::max_element(p.dims.begin(), p.dims.end()));
-  std::vector<double> line(n_max), z(n_max + 1), out(n_max);
-  std::vector<int> v(n_max);
-  for (int axis = 0; axis < 3; ++axis) {
-    const int a = (axis + 1) % 3, b = (axis + 2) % 3, n = p.dims[axis];
-    for (int jb = 0; jb < p.dims[b]; ++jb)
-      for (int ja = 0; ja < p.dims[a]; ++ja) {
-        std::array<int, 3> ijk{};
-        ijk[a] = ja;
-        ijk[b] = jb;
-        for (int q = 0; q < n; ++q) {
-          ijk[axis] = q;
-          line[std::size_t(q)] = dist[p.index(ijk[0], ijk[1], ijk[2])];
-        }
-        distance_line(line, n, spacing(axis), v, z, out);
-        for (int q = 0; q < n; ++q) {
-          ijk[axis] = q;
-          dist[p.index(ijk[0], ijk[1], ijk[2])] = line[std::size_t(q)];
-        }
-      }
-  }
-  for (double& d : dist) d = 2 * std::sqrt(d);
-  return dist;
-}
-
-// Per padded sample, the largest scale s such that the box s * shape centred
-// on it holds no failing sample strictly inside: counts of failing samples
-// in any box come from a summed-volume table, the scale by bisection.
-std::vector<double> box_sizes(const Padded& p, const Vector3d& spacing, const Vector3d& shape) {
-  const int nx = p.dims[0] + 1, ny = p.dims[1] + 1, nz = p.dims[2] + 1;
-  std::vector<int> table(std::size_t(nx) * ny * nz, 0);  // failing samples with indices < (i, j, k)
-  auto at = [&](int i, int j, int k) -> int& { return table[i + std::size_t(nx) * (j + std::size_t(ny) * k)]; };
-  for (int k = 1; k < nz; ++k)
-    for (int j = 1; j < ny; ++j)
-      for (int i = 1; i < nx; ++i)
-        at(i, j, k) = !p.good[p.index(i - 1, j - 1, k - 1)] + at(i - 1, j, k) + at(i, j - 1, k) + at(i, j, k - 1) -
-                      at(i - 1, j - 1, k) - at(i - 1, j, k - 1) - at(i, j - 1, k - 1) + at(i - 1, j - 1, k - 1);
-  // Failing samples with |offset_k| <= w_k around (i, j, k).
-  auto failing_within = [&](const std::array<int, 3>& c, const std::array<int, 3>& w) {
-    std::array<int, 3> lo{}, hi{};
-    for (int a = 0; a < 3; ++a) {
-      lo[a] = std::max(0, c[a] - w[a]);
-      hi[a] = std::min(p.dims[a], c[a] + w[a] + 1);
-    }
-    return at(hi[0], hi[1], hi[2]) - at(lo[0], hi[1], hi[2]) - at(hi[0], lo[1], hi[2]) - at(hi[0], hi[1], lo[2]) +
-           at(lo[0], lo[1], hi[2]) + at(lo[0], hi[1], lo[2]) + at(hi[0], lo[1], lo[2]) - at(lo[0], lo[1], lo[2]);
-  };
-  // The box reaches the failing ring around the grid along the axis where it
-  // is longest relative to the grid: there every window stays within the
-  // padded grid, whatever the box's aspect ratio. (A plane's section has
-  // no ring in z, nor a z extent to its rectangle.)
-  const int axes = p.flat() ? 2 : 3;
-  double top = kInf;
-  for (int a = 0; a < axes; ++a) top = std::min(top, 2 * p.dims[a] * spacing(a) / shape(a));
-  // A failing sample at offset d is strictly inside iff |d_k| h_k < s shape_k / 2 for every k.
-  auto windows = [&](double scale) {
-    std::array<int, 3> w{};
-    for (int a = 0; a < axes; ++a) w[a] = int(std::ceil(scale * shape(a) / (2 * spacing(a)))) - 1;
-    return w;
-  };
-  std::vector<double> sizes(p.good.size(), 0.0);
-  for (std::size_t s = 0; s < sizes.size(); ++s) {
-    if (!p.good[s]) continue;
-    const std::array<int, 3> c = p.ijk(s);
-    double lo = 0, hi = top;
-    for (int it = 0; it < 60 && hi - lo > 1e-10 * top; ++it) {
-      const double mid = 0.5 * (lo + hi);
-      (failing_within(c, windows(mid)) == 0 ? lo : hi) = mid;
-    }
-    sizes[s] = lo;
-  }
-  return sizes;
-}
-
-// The best shapes of well-separated places: samples within `slack` of the
-// largest size, taken best first, each starting a cluster unless it lies
-// within `separation` of a cluster's first sample. At most `count`.
-std::vector<Inscribed> best_places(const Grid& grid, const Padded& p, const std::vector<double>& sizes, double slack,
-                                   double separation, std::size_t count) {
-  std::vector<std::size_t> order;
-  double best = -1;
-  for (std::size_t s = 0; s < sizes.size(); ++s)
-    if (p.good[s]) best = std::max(best, sizes[s]);
-  if (best < 0) return {};
-  for (std::size_t s = 0; s < sizes.size(); ++s)
-    if (p.good[s] && sizes[s] >= best - slack) order.push_back(s);
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return sizes[a] > sizes[b]; });
-  std::vector<Inscribed> out;
-  for (std::size_t s : order) {
-    const Vector3d c = point_of(grid, p, s);
-    bool near = false;
-    for (const Inscribed& o : out) near = near || (o.centre - c).norm() < separation;
-    if (near) continue;
-    out.push_back({true, sizes[s], c, spacing_of(grid)});
-    if (out.size() == count) break;
-  }
-  return out;
-}
-
-// Candidate places for the largest shape of `task`'s kind on a sampled mask.
-std::vector<Inscribed> candidates(const Grid& grid, const std::vector<std::uint8_t>& good, const TaskVolume& task,
-                                  std::size_t count) {
-  const Padded p = padded(grid, good);
-  const double h = spacing_of(grid);
-  if (task.shape == Shape::Sphere) {
-    const std::vector<double> sizes = sphere_sizes(p, grid.spacing);
-    const double best = *std::max_element(sizes.begin(), sizes.end());
-    return best_places(grid, p, sizes, 4 * h, std::max(best / 4, 3 * h), count);
-  }
-  if (!(task.size.array() > 0).all()) throw std::invalid_argument("inscribed box: the shape must have positive edges");
-  const std::vector<double> sizes = box_sizes(p, grid.spacing, task.size);
-  const double best = *std::max_element(sizes.begin(), sizes.end());
-  const double smallest = p.flat() ? task.size.head<2>().minCoeff() : task.size.minCoeff();
-  return best_places(grid, p, sizes, 4 * h / smallest, std::max(best * smallest / 4, 3 * h), count);
-}
-
 }  // namespace
 
-Inscribed inscribed_sphere(const Grid& grid, const std::vector<std::uint8_t>& good) {
-  TaskVolume sphere;
-  const auto c = candidates(grid, good, sphere, 1);
-  return c.empty() ? Inscribed{false, 0, Vector3d::Zero(), spacing_of(grid)} : c.front();
+TaskReport evaluate(const Device& device, const std::vector<Criterion>& criteria, const TaskVolume& task,
+                    const Vector3d& at, int resolution) {
+  return *evaluate_task(device, criteria, task, at, resolution, false);
 }
 
-Inscribed inscribed_box(const Grid& grid, const std::vector<std::uint8_t>& good, const Vector3d& shape) {
-  TaskVolume box;
-  box.shape = Shape::Box;
-  box.size = shape;
-  const auto c = candidates(grid, good, box, 1);
-  return c.empty() ? Inscribed{false, 0, Vector3d::Zero(), spacing_of(grid)} : c.front();
-}
-
-std::optional<Inscribed> largest_inscribed(const Device& device, const std::vector<Criterion>& criteria,
-                                           const TaskVolume& task, const Eigen::AlignedBox3d& box,
-                                           const InscribedOptions& options, const FieldProgress& progress) {
-  if (options.resolution < 4 || options.refinements < 0 || options.refinements > kMaxRefinements || options.places < 1)
-    throw std::invalid_argument("inscribed shape: resolution must be at least 4, refinements 0 to " +
-                                std::to_string(kMaxRefinements) + ", places at least 1");
-  // Samples `region` at the resolution; nullopt if cancelled.
-  // A planar device's task is a section of its plane: one layer, on the plane.
-  const std::optional<double> plane = device.mechanism->info().plane_z;
-  auto sample_region = [&](Eigen::AlignedBox3d region, double done, double share)
-      -> std::optional<std::pair<Grid, std::vector<std::uint8_t>>> {
-    const double longest = plane ? region.sizes().head<2>().maxCoeff() : region.sizes().maxCoeff();
-    if (plane) {
-      region.min().z() = *plane - longest / 2;
-      region.max().z() = *plane + longest / 2;
-    }
-    const Vector3d extent = region.sizes();
-    std::array<int, 3> dims{};
-    for (int k = 0; k < 3; ++k) dims[k] = std::max(4, int(std::lround(options.resolution * extent(k) / longest)));
-    if (plane) dims[2] = 1;
-    const Grid grid = Grid::box(region.min(), region.max(), dims);
-    FieldProgress part = progress;
-    if (progress.report) part.report = [&](double f) { progress.report(done + share * f); };
-    const std::optional<Field> field = sample(device, criteria, grid, part);
-    if (!field) return std::nullopt;
-    return std::pair{grid, good_mask(*field, criteria)};
-  };
-  const double steps = 1.0 + double(options.places) * options.refinements;
-  const auto coarse = sample_region(box, 0, 1 / steps);
-  if (!coarse) return std::nullopt;
-  std::vector<Inscribed> places = candidates(coarse->first, coarse->second, task, std::size_t(options.places));
-  if (places.empty()) return Inscribed{false, 0, Vector3d::Zero(), spacing_of(coarse->first)};
-  // Zoom onto each place in turn: a box around the shape found, three cells
-  // of the grid that found it wider, sampled at the same resolution.
-  Inscribed best = places.front();
-  for (std::size_t k = 0; k < places.size(); ++k) {
-    Inscribed current = places[k];
-    double spacing = spacing_of(coarse->first);
-    for (int level = 0; level < options.refinements; ++level) {
-      const Vector3d half =
-          (task.shape == Shape::Sphere ? Vector3d::Constant(current.size / 2) : Vector3d(current.size * task.size / 2)) +
-          Vector3d::Constant(3 * spacing);
-      const Eigen::AlignedBox3d region = Eigen::AlignedBox3d(current.centre - half, current.centre + half).intersection(box);
-      const auto fine = sample_region(region, (1 + k * options.refinements + level) / steps, 1 / steps);
-      if (!fine) return std::nullopt;
-      const auto found = candidates(fine->first, fine->second, task, 1);
-      if (found.empty()) break;  // the zoom missed what the coarser grid saw: keep that
-      current = found.front();
-      spacing = spacing_of(fine->first);
-    }
-    if (current.size > best.size || k == 0) best = current;
-  }
-  return best;
+std::optional<TaskReport> evaluate_if_meets(const Device& device, const std::vector<Criterion>& criteria,
+                                            const TaskVolume& task, const Vector3d& at, int resolution) {
+  return evaluate_task(device, criteria, task, at, resolution, true);
 }
 
 }  // namespace linkscape::task

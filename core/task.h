@@ -41,8 +41,15 @@ struct Criterion {
 Criterion parse_criterion(const std::string& text);
 
 // For a criterion without < or > (e.g. "cond", left when a shell took an
-// unquoted cond>3 as a redirection to a file "3"): advice to quote it; else "".
+// unquoted cond>3 as a redirection to a file "3"): advice to quote it,
+// "; quote the criterion: 'cond<3' (...)"; else "".
 std::string quoting_hint(const std::string& text);
+
+// Criteria as every box and option takes them: separated by commas,
+// semicolons or spaces ("cond<3, force_iso>1"; empty parts dropped).
+std::vector<std::string> split_criteria(const std::string& text);
+// Each of split_criteria's parts parsed (parse_criterion's errors).
+std::vector<Criterion> parse_criteria(const std::string& text);
 // The criterion with its measure found on the device (its measures, and the
 // haptic fields `data` provides). Throws std::invalid_argument listing the
 // names it knows, or where the measure needs actuator data not given.
@@ -78,6 +85,23 @@ TaskVolume parse_task(const std::string& text);
 // The text parse_task reads back to the same volume (shortest round-trip
 // numbers): "sphere:diameter=15,centre=0,12.5,-3".
 std::string to_text(const TaskVolume& task);
+
+// Where a search may place a task's centre: anywhere in an axis-aligned box
+// or a ball (a planar device: its section by the plane).
+struct CentreRegion {
+  Shape shape = Shape::Box;
+  Eigen::AlignedBox3d box;                         // Box
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // Sphere
+  double radius = 0;                                 // Sphere
+  std::string text;                                  // as given
+  bool contains(const Eigen::Vector3d& p) const;
+  Eigen::AlignedBox3d bounds() const;
+};
+// "box:min=x,y,z,max=x,y,z" or "sphere:centre=x,y,z,radius=r". Throws
+// std::invalid_argument for another shape or key, a missing key, a min
+// above a max or a radius that is not positive and finite.
+CentreRegion parse_centre_region(const std::string& text);
+std::string to_text(const CentreRegion& region);
 
 // ---- What is sampled ----------------------------------------------------------------
 
@@ -121,6 +145,7 @@ struct CriterionReport {
   double worst = 0;
   Eigen::Vector3d worst_point = Eigen::Vector3d::Zero();
   double fraction = 0;
+  int failing = 0;  // samples (interior and surface) failing it
   // How far the worst value is inside the bound, in the measure's unit
   // (< 0: the task leaves the good region by that much).
   double margin() const;
@@ -128,14 +153,25 @@ struct CriterionReport {
 
 struct TaskReport {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-  double fraction = 0;  // of the volume where every criterion holds
+  double fraction = 0;  // of the volume (the interior samples) where every criterion holds
   std::vector<CriterionReport> criteria;
   int samples = 0;           // interior and surface samples evaluated
   int failing = 0;           // of them, failing some criterion
   Eigen::Vector3d failing_centroid = Eigen::Vector3d::Zero();  // where it fails (when failing > 0)
   Eigen::AlignedBox3d failing_bounds;
-  bool meets() const { return failing == 0; }
+  int resolution = 0;        // of the evaluation
+  // The one verdict every report gives: the task meets its criteria when
+  // every sample evaluated (interior and surface) meets every criterion.
+  bool meets() const { return samples > 0 && failing == 0; }
 };
+
+// "7783 of 7784 samples (99.99 %)": a share as counts and a percentage that
+// is 100 only when every sample is counted and 0 only when none is.
+std::string samples_text(int counted, int samples);
+// The verdict in the words every report uses: "meets every criterion at all
+// 7784 samples" or "fails: 7783 of 7784 samples (99.99 %) meet every
+// criterion", with the evaluation's resolution.
+std::string verdict_text(const TaskReport& report);
 
 // Samples the task at `centre`: cell centres of a grid with `resolution`
 // samples across its largest extent, and about resolution^2 points on its
@@ -147,8 +183,15 @@ struct TaskReport {
 // outside 2..kMaxTaskResolution.
 // The largest resolution (about resolution^3 points evaluated one by one).
 inline constexpr int kMaxTaskResolution = 256;
+// The resolution of every verdict by default: fit's, sweep's and the window's Task and Fit tabs'.
+inline constexpr int kTaskResolution = 24;
 TaskReport evaluate(const Device& device, const std::vector<Criterion>& criteria, const TaskVolume& task,
-                    const Eigen::Vector3d& centre, int resolution = 24);
+                    const Eigen::Vector3d& centre, int resolution = kTaskResolution);
+// evaluate's report where the task meets the criteria there; nullopt,
+// sooner, where a sample fails (the same samples: the same verdict).
+std::optional<TaskReport> evaluate_if_meets(const Device& device, const std::vector<Criterion>& criteria,
+                                            const TaskVolume& task, const Eigen::Vector3d& centre,
+                                            int resolution = kTaskResolution);
 
 // ---- The largest sphere and box in the good region -------------------------------
 
@@ -178,6 +221,10 @@ struct InscribedOptions {
   int resolution = 64;   // samples along the longest side of the box
   int refinements = 2;   // zooms onto each place found (docs/task-volumes.md)
   int places = 3;        // well-separated places refined (the region may have several near-best)
+  std::optional<CentreRegion> centres;  // set: the centre stays in it; else anywhere in the box searched
+  // Set: the place nearest this point (fit: the device's home point) is
+  // refined too, beside the `places` largest (inscribed_places).
+  std::optional<Eigen::Vector3d> prefer_near;
 };
 // The largest sphere (task.shape Sphere) or scaled task box (Box) inside the
 // good region within `box` (e.g. the device's default box): sampled at
@@ -185,6 +232,14 @@ struct InscribedOptions {
 // places, each refinement samples again a box around the shape found, three
 // cells wider, at the same resolution. The best after refinement wins.
 // nullopt if cancelled.
+// Every place refined as largest_inscribed refines them (the `places`
+// largest and, with options.prefer_near, the well-separated place nearest
+// it), largest first; one entry with found false where no sample meets every
+// criterion. nullopt if cancelled.
+std::optional<std::vector<Inscribed>> inscribed_places(const Device& device, const std::vector<Criterion>& criteria,
+                                                       const TaskVolume& task, const Eigen::AlignedBox3d& box,
+                                                       const InscribedOptions& options = {},
+                                                       const FieldProgress& progress = {});
 std::optional<Inscribed> largest_inscribed(const Device& device, const std::vector<Criterion>& criteria,
                                            const TaskVolume& task, const Eigen::AlignedBox3d& box,
                                            const InscribedOptions& options = {}, const FieldProgress& progress = {});

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "core/csv.h"
+#include "core/task.h"
 
 namespace linkscape::gui {
 
@@ -77,6 +78,17 @@ std::vector<double> parse_numbers(const std::string& text, std::size_t count, co
   if (v.size() != count || (!text.empty() && text.back() == ','))
     throw std::invalid_argument(what + ", got '" + text + "'");
   return v;
+}
+
+CLI::Validator criteria_check() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        for (const std::string& part : task::split_criteria(text))
+          if (const std::string hint = task::quoting_hint(part); !hint.empty())
+            return "'" + part + "' has no comparison" + hint;
+        return "";
+      },
+      "CRITERIA");
 }
 
 std::string joined_names(const std::vector<Quantity>& items, const std::string& prefix) {

@@ -56,6 +56,12 @@ IkOptions checked_ik(const MechanismInfo& info, const std::string& method, std::
 // `count` finite numbers, comma separated; else std::invalid_argument("`what`, got 'text'").
 std::vector<double> parse_numbers(const std::string& text, std::size_t count, const std::string& what);
 
+// A check for options taking criteria ('cond<3', several separated by
+// commas, semicolons or spaces): a part with no comparison, what a shell
+// leaves of an unquoted cond>3, is refused at once (before a missing
+// required option is) with advice to quote it (task::quoting_hint).
+CLI::Validator criteria_check();
+
 // "x,y,z" (with `prefix` before each: "seed_x,...").
 std::string joined_names(const std::vector<Quantity>& items, const std::string& prefix = "");
 

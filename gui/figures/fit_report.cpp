@@ -27,13 +27,15 @@ namespace {
 std::string short_number(double v) {
   if (!std::isfinite(v)) return std::isinf(v) ? (v > 0 ? "inf" : "-inf") : "?";
   std::ostringstream s;
-  s << std::setprecision(4) << v;
+  s << std::setprecision(4) << v + 0.0;  // + 0.0: no "-0"
   return s.str();
 }
 
-// A share as a percentage that never rounds a shortfall up to 100.
-std::string percent_text(double fraction) {
-  return short_number(fraction < 1 ? std::min(100 * fraction, 99.99) : 100 * fraction);
+// A point as evaluated (shortest round-trip numbers): typed back, the same point.
+std::string exact_point_text(const Eigen::Vector3d& p, const std::string& unit) {
+  std::string s = "(";
+  s += format_number(p.x() + 0.0) + ", " + format_number(p.y() + 0.0) + ", " + format_number(p.z() + 0.0) + ") " + unit;
+  return s;
 }
 
 std::string point_text(const Eigen::Vector3d& p, const std::string& unit) {
@@ -64,22 +66,11 @@ std::vector<std::size_t> csv_order(const fit::Result& r) {
 std::string rows_csv(const fit::Problem& p, const fit::Result& r, const std::vector<std::string>& columns) {
   std::ostringstream s;
   for (const std::string& c : columns) s << csv_text(c) << ",";
-  s << "cx,cy,cz,size,meets";
-  const bool free_centre = !p.task.centre;
-  if (free_centre) s << (p.task.shape == task::Shape::Sphere ? ",inscribed_diameter" : ",inscribed_scale");
-  s << ",fraction,margin";
-  for (const task::Criterion& c : p.criteria)
-    s << "," << csv_text("worst_" + c.measure) << "," << csv_text("margin_" + c.measure);
-  s << "\n";
+  s << fit::score_header(p) << "\n";
   for (std::size_t i : csv_order(r)) {
     const fit::Row& row = r.rows[i];
     for (const std::string& c : columns) s << csv_number(row.parameters.at(c)) << ",";
-    s << csv_number(row.centre.x()) << "," << csv_number(row.centre.y()) << "," << csv_number(row.centre.z()) << ","
-      << csv_number(row.size) << "," << (row.meets ? 1 : 0);
-    if (free_centre) s << "," << csv_number(p.task.shape == task::Shape::Sphere ? row.fit * p.task.diameter() : row.fit);
-    s << "," << csv_number(row.report.fraction) << "," << csv_number(row.margin);
-    for (const task::CriterionReport& c : row.report.criteria) s << "," << csv_number(c.worst) << "," << csv_number(c.margin());
-    s << "\n";
+    s << fit::score_cells(p, row) << "\n";
   }
   return s.str();
 }
@@ -97,11 +88,11 @@ void draw_pareto(QPainter& p, const QRectF& area, const fit::Problem& problem, c
   const auto measured = std::find_if(problem.criteria.begin(), problem.criteria.end(),
                                      [](const task::Criterion& c) { return !c.reach(); });
   const std::size_t ci = std::size_t(measured - problem.criteria.begin());
-  // At a given size the search maximises the margin: it is what is drawn.
+  // At a given size the search maximises the ratio: it is what is drawn.
   const bool use_fit = at_size || measured == problem.criteria.end();
   const bool above = use_fit || measured->above;  // larger is better
   const bool log = !use_fit && !measured->above;  // conditioning, resolution, inertia span decades
-  auto y_of = [&](const fit::Row& row) { return use_fit ? row.margin : row.report.criteria[ci].worst; };
+  auto y_of = [&](const fit::Row& row) { return use_fit ? row.ratio : row.report.criteria[ci].worst; };
   struct Point {
     double x, y;
     bool meets;
@@ -127,7 +118,7 @@ void draw_pareto(QPainter& p, const QRectF& area, const fit::Problem& problem, c
   const QRectF plot(area.left() + 8.5 * fh, area.top() + 3.5 * fh, area.width() - 11.5 * fh, area.height() - 8 * fh);
   double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
   for (const Point& q : pts) x0 = std::min(x0, q.x), x1 = std::max(x1, q.x), y0 = std::min(y0, q.y), y1 = std::max(y1, q.y);
-  const double bound = use_fit ? 1.0 : measured->threshold;  // a margin of 1 just meets the task
+  const double bound = use_fit ? 1.0 : measured->threshold;  // a ratio of 1 is on the bound
   y0 = std::min(y0, bound), y1 = std::max(y1, bound);
   if (pts.empty()) x0 = 0, x1 = 1, y0 = log ? 1 : 0, y1 = log ? 10 : 1;
   if (x1 <= x0) x0 -= 1, x1 += 1;
@@ -171,8 +162,8 @@ void draw_pareto(QPainter& p, const QRectF& area, const fit::Problem& problem, c
   p.save();
   p.translate(area.left() + 1.2 * fh, plot.center().y());
   p.rotate(-90);
-  const std::string ylabel = use_fit ? std::string(problem.task.centre ? "margin (bound / worst)"
-                                                                       : "margin (largest shape / task)")
+  const std::string ylabel = use_fit ? std::string(problem.task.centre ? "ratio (bound / worst)"
+                                                                       : "ratio (largest shape / task)")
                                      : "worst " + measured->measure + " over the task" +
                                            (unit_of(*measured, length_unit).empty() ? "" : " (" + unit_of(*measured, length_unit) + ")");
   p.drawText(QRectF(-plot.height() / 2, -fh / 2, plot.height(), fh), Qt::AlignCenter, QString::fromStdString(ylabel));
@@ -241,7 +232,7 @@ void draw_pareto(QPainter& p, const QRectF& area, const fit::Problem& problem, c
   };
   key(meets.darker(), QBrush(meets), 0.25 * fh, "design meeting the task");
   key(fails, Qt::NoBrush, 0.25 * fh, "design failing it");
-  key(QColor(214, 39, 40), Qt::NoBrush, 0.6 * fh, r.best ? (at_size ? "largest margin" : "smallest meeting design") : "closest design");
+  key(QColor(214, 39, 40), Qt::NoBrush, 0.6 * fh, r.best ? (at_size ? "largest ratio" : "smallest meeting design") : "closest design");
   if (!at_size) {
     p.setPen(QPen(QColor(90, 90, 90), 1.2, Qt::DashLine));
     p.drawLine(QPointF(lx - 0.6 * fh, ly), QPointF(lx + 0.6 * fh, ly));
@@ -255,12 +246,13 @@ void draw_pareto(QPainter& p, const QRectF& area, const fit::Problem& problem, c
   p.drawLine(QPointF(lx - 0.6 * fh, ly), QPointF(lx + 0.6 * fh, ly));
   p.setPen(Qt::black);
   p.drawText(QRectF(lx + fh, ly - fh / 2, 14 * fh, fh), Qt::AlignLeft | Qt::AlignVCenter,
-             QString::fromStdString(use_fit ? "margin 1: just meets" : "bound " + measured->text));
+             QString::fromStdString(use_fit ? "ratio 1" : "bound " + measured->text));
 }
 
 std::string design_text(const fit::Row& row, const std::vector<std::string>& columns) {
   std::string s;
-  for (const std::string& c : columns) s += (s.empty() ? "" : ", ") + c + " = " + short_number(row.parameters.at(c));
+  // As evaluated: typed back, the same design.
+  for (const std::string& c : columns) s += (s.empty() ? "" : ", ") + c + " = " + format_number(row.parameters.at(c));
   return s;
 }
 
@@ -288,33 +280,42 @@ std::string fit_report(const fit::Problem& problem, const fit::Result& r, const 
     free_text += (free_text.empty() ? "" : "; ") + v.name() + " in [" + short_number(v.lo) + ", " + short_number(v.hi) + "]";
   const std::string& unit = info.length_unit;
   std::ostringstream out;
-  out << "fit " << info.name << ": " << problem.task.text << " (" << (problem.task.centre ? "centre fixed" : "centre free")
+  out << "fit " << info.name << ": " << problem.task.text << " (" << (problem.task.centre                ? "centre fixed"
+                                                                            : problem.inscribed.centres
+                                                                                ? "centre free within " + task::to_text(*problem.inscribed.centres)
+                                                                                : std::string("centre free"))
       << ") meeting " << criteria_text << "\n"
       << "free: " << free_text << "; size = " << info.size_description << " (" << unit << ")";
   if (problem.size) out << " held at " << short_number(*problem.size) << " " << unit;
   out << "\n";
   const std::optional<std::size_t> shown = r.best ? r.best : r.closest;
-  if (r.best) out << (problem.size ? "largest margin at that size: " : "smallest design meeting it: ");
+  const bool ratings = !problem.variables.empty() && motor_parameter(problem.variables.front().parameters.front());
+  if (r.best)
+    out << (problem.size ? "largest ratio at that size: " : ratings ? "smallest ratings meeting it: " : "smallest design meeting it: ");
   else out << "no design in the bounds meets it; closest: ";
   if (shown) {
     const fit::Row& row = r.rows[*shown];
-    out << design_text(row, columns) << " (size " << short_number(row.size) << " " << unit << ")\n"
-        << "  margin " << short_number(row.margin)
-        << (problem.task.centre ? " (the smallest bound / worst ratio over the criteria; >= 1 meets)"
-                                : " (the largest shape over the task's size; >= 1 meets)")
-        << "\n  centre " << point_text(row.centre, unit);
-    if (!problem.task.centre)
+    out << design_text(row, columns) << " (size " << format_number(row.size) << " " << unit << ")\n"
+        << "  verdict: " << task::verdict_text(row.report) << "\n"
+        << "  centre " << exact_point_text(row.centre, unit) << ", "
+        << point_text((row.centre - row.home).unaryExpr([&](double v) { return std::abs(v) < 1e-12 * row.size ? 0.0 : v; }), unit)
+        << " from the home point " << point_text(row.home, unit) << "\n"
+        << "  ratio " << short_number(row.ratio);
+    if (problem.task.centre)
+      out << ": the smallest bound / worst over the criteria";
+    else
       out << (problem.task.shape == task::Shape::Sphere
-                  ? "; the largest " + std::string(info.plane_z ? "disc" : "sphere") + " there is " +
-                        short_number(row.fit * problem.task.diameter()) + " " + unit +
-                        " across (the task's " + short_number(problem.task.diameter()) + ")"
-                  : "; the largest box there is " + short_number(row.fit) + " times the task's");
-    out << "\n  the task there: " << percent_text(row.report.fraction) << " % meets every criterion\n";
+                  ? ": the largest " + std::string(info.plane_z ? "disc" : "sphere") + " the placement found there is " +
+                        short_number(row.fit * problem.task.diameter()) + " " + unit + " across (the task's " +
+                        short_number(problem.task.diameter()) + ")"
+                  : ": the largest box the placement found there is " + short_number(row.fit) + " times the task's");
+    out << "\n  per criterion: the worst value, its margin to the bound (the measure's unit; < 0: past it), the "
+           "samples meeting it\n";
     for (const task::CriterionReport& c : row.report.criteria) {
       const std::string u = unit_of(c.criterion, unit);
       out << "  " << c.criterion.text << ": worst " << short_number(c.worst) << (u.empty() ? "" : " " + u) << " at "
           << point_text(c.worst_point, unit) << ", margin " << short_number(c.margin()) << (u.empty() ? "" : " " + u)
-          << ", " << percent_text(c.fraction) << " % of the task\n";
+          << ", " << task::samples_text(row.report.samples - c.failing, row.report.samples) << "\n";
     }
     if (row.report.failing > 0)
       out << "  fails at " << row.report.failing << " of " << row.report.samples << " samples, around "

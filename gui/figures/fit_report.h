@@ -19,19 +19,19 @@ namespace linkscape::gui {
 // The parameters a table names: those the design panel shows and the free ones.
 std::vector<std::string> design_columns(const MechanismInfo& info, const std::vector<fit::Variable>& variables);
 
-// The chosen design (or the closest), its size, centre, margin, every
-// criterion's worst value and margin, where the task fails, the number of
+// The chosen design (or the closest), its size, the verdict (task::verdict_text),
+// its centre (also from the home point), its ratio, every criterion's worst
+// value, margin and samples meeting it, where the task fails, the number of
 // designs and the time.
 std::string fit_report(const fit::Problem& problem, const fit::Result& result, const MechanismInfo& info);
 
-// The parameters of the design panel and the free ones, cx,cy,cz, size,
-// meets, margin, the largest shape (centre free), the fraction and each
-// criterion's worst value and margin; the chosen (or closest) design first,
+// The parameters of the design panel and the free ones, then
+// fit::score_header's columns; the chosen (or closest) design first,
 // then every valid design by size.
 std::string fit_csv(const fit::Problem& problem, const fit::Result& result, const MechanismInfo& info);
 
 // Every valid design: size (at a given size, the first free variable)
-// against the worst value of the first criterion on a measure (the margin
+// against the worst value of the first criterion on a measure (the ratio
 // where there is none), meeting ones filled, the non-dominated ones joined,
 // the chosen one ringed, the bound dashed.
 void draw_fit_chart(QPainter& p, const QRectF& area, const fit::Problem& problem, const fit::Result& result,

@@ -1,6 +1,7 @@
 // The Design panel: the preset chooser, one slider per design parameter
-// the device shows, and the actuators' travel where the device takes
-// limits. Built from the device's description; the sliders' ranges come
+// the device shows, the actuators' travel where the device takes limits,
+// and the motors' ratings (core/actuator_data.h: set for every actuator,
+// as --param sets them). Built from the device's description; the sliders' ranges come
 // from the preset's device and stay while the design changes.
 #pragma once
 
@@ -14,6 +15,8 @@
 #include "core/mechanism.h"
 
 class QDoubleSpinBox;
+class QLabel;
+class QLineEdit;
 
 namespace linkscape::gui {
 
@@ -28,7 +31,8 @@ class DesignPanel : public QWidget {
   DesignPanel(const DeviceState& state, QWidget* preset_chooser, QWidget* parent = nullptr);
   ~DesignPanel() override;
 
-  // The sliders and travel boxes show `device`'s design (quietly).
+  // The sliders, travel boxes and motor ratings show `device`'s design and
+  // the state's preset (quietly).
   void showDesign(const Mechanism& device);
   // Whether the panel edits actuator travel.
   bool editsLimits() const { return !limit_boxes_.empty(); }
@@ -44,6 +48,10 @@ class DesignPanel : public QWidget {
  private:
   std::vector<std::unique_ptr<QuantityControl>> parameter_controls_;
   std::map<std::string, std::array<QDoubleSpinBox*, 2>> limit_boxes_;  // per actuator: min, max (degrees)
+  const DeviceState* state_ = nullptr;
+  std::map<std::string, QLineEdit*> motor_edits_;  // per rating
+  QLabel* motor_note_ = nullptr;                   // where the ratings come from, or why an edit was refused
+  void showMotors();
 };
 
 }  // namespace linkscape::gui

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/haptics.h"
 #include "gui/window/device_state.h"
 #include "gui/window/quantity_control.h"
 
@@ -84,6 +85,20 @@ DrivePanel::DrivePanel(const MechanismInfo& info, QWidget* parent) : QWidget(par
   det_label_->setObjectName("detLabel");
   det_label_->setToolTip(tr("Determinant of the Jacobian dx/dq where it is square (0 otherwise)"));
   form->addRow(tr("det J"), det_label_);
+  // The haptic forces at the pose, from the Design tab's motor ratings.
+  for (auto [label, name, title, tip] :
+       {std::tuple{&force_iso_label_, "forceIsoLabel", tr("force_iso"),
+                   tr("The largest force the driven point exerts in every direction, each motor at its continuous "
+                      "torque (docs/haptic-measures.md)")},
+        std::tuple{&force_max_label_, "forceMaxLabel", tr("force_max"),
+                   tr("The largest force the driven point exerts in its best direction, each motor at its "
+                      "continuous torque")}}) {
+    *label = new QLabel(state);
+    (*label)->setObjectName(name);
+    (*label)->setToolTip(tip);
+    (*label)->setTextInteractionFlags(Qt::TextSelectableByMouse);
+    form->addRow(title, *label);
+  }
   singular_label_ = new QLabel(state);
   singular_label_->setObjectName("singularLabel");
   QString sets;
@@ -105,6 +120,23 @@ DrivePanel::DrivePanel(const MechanismInfo& info, QWidget* parent) : QWidget(par
 }
 
 DrivePanel::~DrivePanel() = default;
+
+void DrivePanel::showForces(const DeviceState& state) {
+  try {
+    const haptics::DeviceData data = haptics::device_data(state.preset(), state.mechanism().info());
+    const haptics::Measures h = haptics::measures(state.mechanism().jacobian(state.actuators(), state.task()), data,
+                                                  haptics::TorqueRating::Continuous);
+    // Which torque, and where the ratings come from (the preset, parameters or defaults).
+    const QString rating = tr(" (continuous torque %1 N·m)").arg(number(data.actuators.front().continuous_torque_Nm));
+    force_iso_label_->setText(number(h.force_iso_N) + " N" + rating);
+    force_max_label_->setText((std::isfinite(h.force_max_N) ? number(h.force_max_N) + " N" : QString::fromUtf8("∞ (singular)")) +
+                              rating);
+    force_iso_label_->setToolTip(force_iso_label_->toolTip().section("\n", 0, 0) + "\n" + qs(data.source));
+  } catch (const std::invalid_argument& e) {  // e.g. a preset without a physical length unit
+    force_iso_label_->setText(tr("n/a: %1").arg(qs(e.what())));
+    force_max_label_->setText(tr("n/a"));
+  }
+}
 
 Drive DrivePanel::setDrive(Drive drive, const std::vector<std::string>& inputs) {
   const bool fk = drive == Drive::Actuators && drive_box_->isEnabled();
@@ -161,6 +193,7 @@ QString DrivePanel::showReadouts(const DeviceState& state) {
       measure_labels_[k]->setText(std::isfinite(v) ? number(v) : QString::fromUtf8("∞ (singular)"));
     }
     det_label_->setText(number(m.det));
+    showForces(state);
     const SingularityReport s = state.mechanism().nearest_singularity(state.actuators(), state.task());
     singular_label_->setText(QString("%1, %2 %3")
                                  .arg(qs(info.singular_sets.at(s.nearest).title), number(s.distance, 3),

@@ -1,8 +1,9 @@
 // The Drive panel: which sliders move the device (task coordinates by
 // inverse kinematics, or actuators by forward kinematics), the assembly
 // branch, one slider per task coordinate and per actuator, and the
-// read-outs of the pose (status, measures, nearest singular set, branch,
-// the device's own). Built from the device's description.
+// read-outs of the pose (status, measures, the haptic forces force_iso and
+// force_max at the continuous torque, nearest singular set, branch, the
+// device's own). Built from the device's description.
 #pragma once
 
 #include <QString>
@@ -63,6 +64,8 @@ class DrivePanel : public QWidget {
   QLabel *status_label_ = nullptr, *task_label_ = nullptr, *actuator_label_ = nullptr, *det_label_ = nullptr,
          *singular_label_ = nullptr, *branch_label_ = nullptr;
   std::vector<QLabel*> measure_labels_;
+  QLabel *force_iso_label_ = nullptr, *force_max_label_ = nullptr;  // at the pose, continuous torque
+  void showForces(const DeviceState& state);
   QFormLayout* extra_form_ = nullptr;  // the device's own read-outs
 };
 

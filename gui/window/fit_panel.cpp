@@ -94,18 +94,20 @@ FitPanel::FitPanel(const TaskPanel* task, QWidget* parent)
   auto* form = new QFormLayout;
   equal_edit_ = new QLineEdit(this);
   equal_edit_->setObjectName("fitEqual");
-  equal_edit_->setPlaceholderText("e.g. L1,L2 (groups separated by ;)");
-  equal_edit_->setToolTip("Parameters held equal: one free variable per group");
+  equal_edit_->setPlaceholderText("e.g. L1,L2 (names separated by commas, groups by semicolons)");
+  equal_edit_->setToolTip("Parameters held equal: one free variable per group, as --equal takes them (names "
+                          "separated by commas; groups by semicolons, or one --equal each)");
   form->addRow("Hold equal", equal_edit_);
   mode_box_ = new QComboBox(this);
   mode_box_->setObjectName("fitMode");
-  mode_box_->addItems({"Smallest size", "Largest margin at size"});
-  mode_box_->setToolTip("The smallest design meeting the task, or the design of the given size with the largest margin");
+  mode_box_->addItems({"Smallest size", "Largest ratio at size"});
+  mode_box_->setToolTip("The smallest design meeting the task (every sample evaluated meets every criterion), or the "
+                        "design of the given size whose task is furthest inside the criteria (the largest ratio)");
   size_box_ = new QDoubleSpinBox(this);
   size_box_->setObjectName("fitSize");
   size_box_->setRange(0, 1e6);
   size_box_->setDecimals(3);
-  size_box_->setToolTip("The size held in the largest-margin mode");
+  size_box_->setToolTip("The size held in the largest-ratio mode");
   auto* mode_row = new QHBoxLayout;
   mode_row->addWidget(mode_box_, 1);
   mode_row->addWidget(size_box_, 1);
@@ -115,6 +117,13 @@ FitPanel::FitPanel(const TaskPanel* task, QWidget* parent)
   centre_free_->setObjectName("fitCentreFree");
   centre_free_->setChecked(true);
   form->addRow(centre_free_);
+  region_edit_ = new QLineEdit(this);
+  region_edit_->setObjectName("fitCentreRegion");
+  region_edit_->setPlaceholderText("anywhere; or box:min=x,y,z,max=x,y,z or sphere:centre=x,y,z,radius=r");
+  region_edit_->setToolTip("Where the task's centre may go when placed (the device's length unit); among equal "
+                           "places the one nearest the home point");
+  form->addRow("Centre within", region_edit_);
+  connect(centre_free_, &QCheckBox::toggled, region_edit_, &QWidget::setEnabled);
   layout->addLayout(form);
 
   auto* bar = new QHBoxLayout;
@@ -160,8 +169,8 @@ FitPanel::FitPanel(const TaskPanel* task, QWidget* parent)
   export_chart_button_->setObjectName("fitExportChart");
   export_csv_button_ = new QPushButton("Export CSV...", this);
   export_csv_button_->setObjectName("fitExportCsv");
-  export_chart_button_->setToolTip("Save the chart of size against margin as PNG, SVG or PDF");
-  export_csv_button_->setToolTip("Save every design evaluated, with its margins, as CSV (as linkscape fit -o)");
+  export_chart_button_->setToolTip("Save the chart of size against the worst measure as PNG, SVG or PDF");
+  export_csv_button_->setToolTip("Save every design evaluated, with its verdict and margins, as CSV (as linkscape fit -o)");
   for (QPushButton* b : {apply_button_, export_chart_button_, export_csv_button_}) {
     b->setEnabled(false);
     actions->addWidget(b);
@@ -226,7 +235,7 @@ void FitPanel::setDevice(const Preset& preset, const Eigen::VectorXd& pose) {
     rows_.push_back(row);
   }
   size_box_->setSuffix(qs(" " + info.length_unit));
-  size_box_->setToolTip(qs("The size held in the largest-margin mode: " + info.size_description));
+  size_box_->setToolTip(qs("The size held in the largest-ratio mode: " + info.size_description));
   size_box_->setValue(m->size());
 }
 
@@ -256,6 +265,13 @@ void FitPanel::setMode(Mode mode, double size) {
 
 void FitPanel::setCentreFree(bool free) { centre_free_->setChecked(free); }
 
+void FitPanel::setCentreRegion(const std::string& region) {
+  if (!region.empty()) task::parse_centre_region(region);  // throws for bad text, nothing changed
+  region_edit_->setText(qs(region));
+}
+
+std::string FitPanel::centreRegion() const { return region_edit_->text().trimmed().toStdString(); }
+
 void FitPanel::setSearchSettings(const task::InscribedOptions& inscribed, int task_resolution, double tolerance) {
   inscribed_ = inscribed;
   task_resolution_ = task_resolution;
@@ -268,7 +284,11 @@ fit::Problem FitPanel::makeProblem() const {
   p.preset = preset_;
   p.pose = pose_;
   p.task = task_->volume();
-  if (centre_free_->isChecked()) p.task.centre.reset();
+  if (centre_free_->isChecked()) {
+    p.task.centre.reset();
+    const std::string region = region_edit_->text().trimmed().toStdString();
+    if (!region.empty()) p.inscribed.centres = task::parse_centre_region(region);
+  }
   p.task.text = task_text(p.task);
   p.criteria = task_->criteria();
   std::vector<std::string> free, equal;
@@ -295,7 +315,9 @@ fit::Problem FitPanel::makeProblem() const {
         v.hi = std::min(v.hi, r.hi->value());
       }
   }
-  p.inscribed = inscribed_;
+  p.inscribed.resolution = inscribed_.resolution;
+  p.inscribed.refinements = inscribed_.refinements;
+  p.inscribed.places = inscribed_.places;
   p.task_resolution = task_resolution_;
   p.tolerance = tolerance_;
   if (mode_box_->currentIndex() == 1) p.size = size_box_->value();
@@ -325,10 +347,10 @@ void FitPanel::run() {
     std::optional<double> best;
     const bool at_size = shared->size.has_value();
     progress.design = [&](const fit::Row& row, std::size_t n) {
-      if (at_size ? row.invalid.empty() && (!best || row.margin > *best) : row.meets && (!best || row.size < *best))
-        best = at_size ? row.margin : row.size;
+      if (at_size ? row.invalid.empty() && (!best || row.ratio > *best) : row.meets && (!best || row.size < *best))
+        best = at_size ? row.ratio : row.size;
       QString text = QString("%1 designs evaluated").arg(n);
-      if (best) text += QString(at_size ? ", largest margin so far %1" : ", smallest meeting size so far %1").arg(*best, 0, 'g', 4);
+      if (best) text += QString(at_size ? ", largest ratio so far %1" : ", smallest meeting size so far %1").arg(*best, 0, 'g', 4);
       run.progress([this, text] { status_->setText(text); });
     };
     try {
@@ -358,9 +380,9 @@ void FitPanel::finish(std::optional<fit::Result> result, const QString& message)
     result_ = std::move(result);
     const std::string report = fit_report(*problem_, *result_, make_mechanism(problem_->preset)->info());
     report_->setPlainText(qs(report));
-    // The line with the answer: the third of the report.
+    // The lines with the answer and its verdict: the third and fourth of the report.
     QStringList lines = qs(report).split('\n');
-    status_->setText(lines.size() > 2 ? lines[2] : lines.value(0));
+    status_->setText(lines.size() > 3 ? lines[2] + "\n" + lines[3].trimmed() : lines.value(0));
     const bool chosen = result_->best || result_->closest;
     apply_button_->setEnabled(chosen);
     export_chart_button_->setEnabled(true);

@@ -1,7 +1,7 @@
 // The window's Fit tab: sizing the window's device to the Task tab's task
 // and criteria (core/fit.h), built from the device's description: which
 // design parameters are free and their bounds, groups held equal, and the
-// mode (the smallest size, or the largest margin at a size). Run works off
+// mode (the smallest size, or the largest ratio at a size). Run works off
 // the GUI thread with progress and Cancel; the answer is shown as the same
 // report and chart as `linkscape fit` (gui/figures/fit_report.h), can be applied to
 // the window's design and exported (chart as PNG/SVG/PDF, CSV).
@@ -56,6 +56,10 @@ class FitPanel : public QWidget {
   void setEqual(const std::string& groups);  // "L1,L2" (groups separated by ';')
   void setMode(Mode mode, double size = 0);
   void setCentreFree(bool free);
+  // Where a free centre may go (core/task.h CentreRegion text; empty:
+  // anywhere). Throws std::invalid_argument for bad text.
+  void setCentreRegion(const std::string& region);
+  std::string centreRegion() const;
   // The sampling (defaults: those of linkscape fit).
   void setSearchSettings(const task::InscribedOptions& inscribed, int task_resolution, double tolerance);
 
@@ -93,7 +97,7 @@ class FitPanel : public QWidget {
   Eigen::VectorXd pose_;
   std::vector<ParameterRow> rows_;
   task::InscribedOptions inscribed_;
-  int task_resolution_ = 24;
+  int task_resolution_ = task::kTaskResolution;
   double tolerance_ = 1e-3;
 
   std::optional<fit::Problem> problem_;  // of the result shown (or the run in flight)
@@ -104,6 +108,7 @@ class FitPanel : public QWidget {
   QComboBox* mode_box_ = nullptr;
   QDoubleSpinBox* size_box_ = nullptr;
   QCheckBox* centre_free_ = nullptr;
+  QLineEdit* region_edit_ = nullptr;
   QPushButton* run_button_ = nullptr;
   QPushButton* cancel_button_ = nullptr;
   QProgressBar* progress_ = nullptr;

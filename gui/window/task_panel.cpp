@@ -14,16 +14,20 @@
 #include <sstream>
 
 #include <vtkPolyData.h>
+#include <vtkGenericOpenGLRenderWindow.h>
+#include <vtkRendererCollection.h>
 
+#include "core/fit.h"
 #include "core/verify/verify.h"
 #include "gui/window/background.h"
+#include "gui/window/vtk_widget.h"
 #include "render/task_scene.h"
+#include "render/verify_regions.h"
 
 namespace linkscape::gui {
 namespace {
 
 constexpr int kSurfaceResolution = 24;  // latitude bands of the drawn sphere, grid of each box face
-constexpr int kTaskResolution = 16;     // samples across the task for the live read-outs
 
 QString number(double v) {
   if (std::isnan(v)) return "n/a";
@@ -77,7 +81,9 @@ TaskPanel::TaskPanel(render::TaskScene* scene, QWidget* parent) : QWidget(parent
   form->addRow(tr("Centre"), centres);
   criteria_edit_ = new QLineEdit("cond<3", this);
   criteria_edit_->setObjectName("taskCriteriaEdit");
-  criteria_edit_->setToolTip(tr("Space-separated: cond<T, cond_jo<T, force_iso>F, force_max>F (N), resolution<R (mm), "
+  criteria_edit_->setPlaceholderText(tr("e.g. cond<3, force_iso>0.5 (separated by commas, semicolons or spaces)"));
+  criteria_edit_->setToolTip(tr("Separated by commas, semicolons or spaces, as the command line's --criterion takes "
+                                "them: cond<T, cond_jo<T, force_iso>F, force_max>F (N), resolution<R (mm), "
                                 "inertia<M (kg); reach is always implied"));
   form->addRow(tr("Criteria"), criteria_edit_);
   place_button_ = new QPushButton(tr("Place at the largest"), this);
@@ -103,6 +109,7 @@ TaskPanel::TaskPanel(render::TaskScene* scene, QWidget* parent) : QWidget(parent
   verdict_label_->setTextInteractionFlags(Qt::TextSelectableByMouse);
   column->addWidget(verdict_label_);
   verifier_ = std::make_unique<BackgroundTask>(this, [this] { verify_button_->setText(tr("Verify (certified)")); });
+  regions_ = std::make_unique<render::VerifyRegions>();
   column->addStretch(1);
 
   debounce_ = new QTimer(this);
@@ -154,11 +161,14 @@ void TaskPanel::verifyTask() {
   verdict_label_->setStyleSheet("");
   verdict_label_->setText(tr("Verifying…"));
   verify_button_->setText(tr("Cancel verify"));
+  regions_->clear();
   verifier_->start([this, preset = preset_, volume, criteria](const BackgroundTask::Run& run) {
     verify::Options options;
     options.cancel = &run.cancelled;
     options.time_limit_seconds = 60;
+    options.keep_boxes = true;  // drawn in the view
     std::string text, colour;
+    auto result = std::make_shared<std::optional<verify::Result>>();
     try {
       const verify::Result r = verify::verify(preset, volume, criteria, options, 0);
       std::ostringstream report;
@@ -168,15 +178,26 @@ void TaskPanel::verifyTask() {
                : r.verdict == verify::Verdict::Disproved ? "#b71c1c"
                                                          : "#8d6e00";
       if (run.cancelled) text = "cancelled: " + text;
+      *result = r;
     } catch (const std::exception& e) {
       text = e.what();
       colour = "#b71c1c";
     }
-    run.finish([this, text, colour] {
+    run.finish([this, text, colour, result, size = volume.size.maxCoeff()] {
       verdict_label_->setStyleSheet(QString::fromStdString("color: " + colour));
       verdict_label_->setText(QString::fromStdString(text).trimmed());
+      if (*result) showRegions(**result, size);
     });
   });
+}
+
+void TaskPanel::showRegions(const verify::Result& result, double task_size) {
+  // The window's view: its scene renderer is the first (VtkWidget::addRenderers).
+  if (auto* view = window()->findChild<VtkWidget*>()) {
+    if (vtkRenderer* scene = view->renderWindow()->GetRenderers()->GetFirstRenderer()) regions_->add_to(scene);
+  }
+  regions_->show(result, 0.03 * task_size);
+  emit changed();
 }
 
 void TaskPanel::syncShape() {
@@ -205,6 +226,12 @@ void TaskPanel::setDevice(std::shared_ptr<const Mechanism> mechanism, const Pres
     }
     centred_ = true;
   }
+  // Fine enough to hold a centre fit places (fit::centre_step) exactly.
+  const int decimals = std::max(2, int(std::lround(-std::log10(fit::centre_step(mechanism_->size())))));
+  for (QDoubleSpinBox* box : centre_) {
+    const QSignalBlocker b(box);
+    box->setDecimals(std::max(decimals, box->decimals()));  // never coarser: a centre set stays as set
+  }
   if (new_device) {
     largest_.reset();
     scene_->set_inscribed(nullptr);
@@ -219,10 +246,11 @@ void TaskPanel::setCentre(const Eigen::Vector3d& centre) {
 void TaskPanel::setTask(const std::string& text, const std::vector<std::string>& criteria_texts) {
   const task::TaskVolume t = task::parse_task(text);
   std::string joined;
-  for (const std::string& c : criteria_texts) {
-    task::parse_criterion(c);
-    joined += (joined.empty() ? "" : " ") + c;
-  }
+  for (const std::string& text : criteria_texts)
+    for (const std::string& c : task::split_criteria(text)) {
+      task::parse_criterion(c);
+      joined += (joined.empty() ? "" : ", ") + c;
+    }
   {
     const QSignalBlocker b(shape_box_);
     shape_box_->setCurrentIndex(t.shape == task::Shape::Sphere ? 0 : 1);
@@ -247,8 +275,7 @@ void TaskPanel::setTask(const std::string& text, const std::vector<std::string>&
 TaskSetting TaskPanel::setting() const {
   TaskSetting s;
   s.volume = task::to_text(volume());
-  std::stringstream words(criteria_edit_->text().toStdString());
-  for (std::string word; words >> word;) s.criteria.push_back(word);
+  s.criteria = task::split_criteria(criteria_edit_->text().toStdString());
   s.shown = show_box_->isChecked();
   return s;
 }
@@ -270,8 +297,7 @@ task::TaskVolume TaskPanel::volume() const {
 
 std::vector<task::Criterion> TaskPanel::criteria() const {
   std::vector<task::Criterion> out = {task::parse_criterion("reach")};
-  std::stringstream words(criteria_edit_->text().toStdString());
-  for (std::string word; words >> word;)
+  for (const std::string& word : task::split_criteria(criteria_edit_->text().toStdString()))
     if (word != "reach") out.push_back(task::parse_criterion(word));
   return task::resolve(device(), out);
 }
@@ -294,6 +320,7 @@ void TaskPanel::schedule() {
   if (!verifier_->running() && !verdict_label_->text().isEmpty()) {  // a verdict is about what was verified
     verdict_label_->setStyleSheet("color: gray");
     verdict_label_->setText(tr("The design, pose or task changed since the last Verify."));
+    regions_->clear();
   }
 }
 
@@ -304,7 +331,7 @@ void TaskPanel::evaluateNow() {
     const std::vector<task::Criterion> c = criteria();
     const task::TaskVolume t = volume();
     const task::Device d = device();
-    report_ = task::evaluate(d, c, t, *t.centre, kTaskResolution);
+    report_ = task::evaluate(d, c, t, *t.centre, task::kTaskResolution);  // fit's evaluation: one verdict
     const vtkSmartPointer<vtkPolyData> surface = render::task_surface(t, *t.centre, kSurfaceResolution);
     std::vector<std::uint8_t> meets(std::size_t(surface->GetNumberOfPoints()));
     for (vtkIdType i = 0; i < surface->GetNumberOfPoints(); ++i) {
@@ -327,16 +354,19 @@ QString TaskPanel::readout() const {
   if (!report_ || !mechanism_) return {};
   const task::TaskReport& r = *report_;
   const QString unit = QString::fromStdString(mechanism_->info().length_unit);
-  QString text = r.meets() ? tr("<b style='color:#1b5e20'>Meets every criterion</b>")
-                           : tr("<b style='color:#b71c1c'>Leaves the good region</b>");
-  text += tr("<br>%1 % of the volume meets every criterion").arg(number(100 * r.fraction));
+  QString text;
+  // The words of fit's report (task::verdict_text), at its resolution.
+  QString verdict = QString::fromStdString(task::verdict_text(r)).toHtmlEscaped();
+  verdict[0] = verdict[0].toUpper();
+  text = QString("<b style='color:%1'>%2</b>").arg(r.meets() ? "#1b5e20" : "#b71c1c", verdict);
   for (const task::CriterionReport& c : r.criteria) {
     QString u;
     if (c.criterion.reach()) u = " " + unit;
     for (const haptics::FieldInfo& f : haptics::all_field_infos())
       if (f.name == c.criterion.measure) u = " " + QString::fromStdString(f.unit);
-    text += tr("<br>%1: worst %2%3, margin %4%3").arg(QString::fromStdString(c.criterion.text).toHtmlEscaped(),
-                                                       number(c.worst), u, number(c.margin()));
+    text += tr("<br>%1: worst %2%3, margin %4%3, %5")
+                .arg(QString::fromStdString(c.criterion.text).toHtmlEscaped(), number(c.worst), u, number(c.margin()),
+                     QString::fromStdString(task::samples_text(r.samples - c.failing, r.samples)));
   }
   if (r.failing > 0)
     text += tr("<br>fails at %1 of %2 samples, around %3").arg(r.failing).arg(r.samples).arg(point_text(r.failing_centroid, unit));

@@ -16,6 +16,7 @@
 
 #include "core/preset.h"
 #include "core/task.h"
+#include "core/verify/verify.h"
 #include "gui/window/session.h"
 
 class QCheckBox;
@@ -28,6 +29,7 @@ class QTimer;
 
 namespace linkscape::render {
 class TaskScene;
+class VerifyRegions;
 }
 
 namespace linkscape::gui {
@@ -66,9 +68,12 @@ class TaskPanel : public QWidget {
 
   // Verify: a proof that every point of the task meets every criterion
   // (core/verify, on branch 0), or a counterexample, off the GUI thread;
-  // the button cancels a run under way. The verdict's words stay until the
-  // design, the pose or the task change.
+  // the button cancels a run under way. The verdict's words, and in the
+  // view the boxes proved and undecided and the counterexample
+  // (render/verify_regions.h), stay until the design, the pose or the task
+  // change.
   void verifyTask();
+  const render::VerifyRegions& verifyRegions() const { return *regions_; }
 
   const std::optional<task::TaskReport>& report() const { return report_; }
   const std::optional<task::Inscribed>& largest() const { return largest_; }
@@ -81,6 +86,7 @@ class TaskPanel : public QWidget {
   task::Device device() const;                    // throws std::invalid_argument
   void schedule();
   void placeAtLargest();
+  void showRegions(const verify::Result& result, double task_size);  // in the window's view
   void syncShape();
 
   render::TaskScene* scene_;
@@ -98,6 +104,7 @@ class TaskPanel : public QWidget {
   QPushButton* verify_button_ = nullptr;
   QLabel* verdict_label_ = nullptr;
   std::unique_ptr<BackgroundTask> verifier_;
+  std::unique_ptr<render::VerifyRegions> regions_;  // added to the window's view at the first verdict
   QTimer* debounce_ = nullptr;
   std::optional<task::TaskReport> report_;
   std::optional<task::Inscribed> largest_;

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/csv.h"
 #include "core/fit.h"
 
 using namespace linkscape;
@@ -64,9 +65,9 @@ TEST(FitVariables, FromFreeEqualAndBounds) {
   expect_error([&] { fit::variables(*m, {}, {"L1,L2"}, {"L1=5:30", "L2=6:20"}); }, "--bounds given twice for L1=L2");
 }
 
-// Motor ratings are variables of a sweep (they need bounds), not of fit,
-// which sizes the linkage; a design's row carries the rating it was given.
-TEST(FitVariables, MotorRatingsAreSweptNotFitted) {
+// Motor ratings are variables (they need bounds); free with lengths, or
+// held at a size, they are refused; a design's row carries the rating it was given.
+TEST(FitVariables, MotorRatingsAreVariablesWithBounds) {
   const auto m = make_mechanism(load_preset("parallel-12r"));
   const auto torque = fit::variables(*m, {"continuous_torque_Nm"}, {}, {"continuous_torque_Nm=0.1:1"});
   ASSERT_EQ(torque.size(), 1u);
@@ -75,7 +76,12 @@ TEST(FitVariables, MotorRatingsAreSweptNotFitted) {
   expect_error([&] { fit::variables(*m, {}, {"L1,gear_ratio"}, {"L1=1:2"}); }, "cannot hold a motor rating equal to a length");
   fit::Problem p = problem_12r("sphere:diameter=10", {});
   p.variables = torque;
-  expect_error([&] { fit::solve(p); }, "is a motor rating, which does not change the device's size");
+  fit::Problem mixed = p;
+  mixed.variables.push_back(fit::variables(*m, {"L1"}, {}, {})[0]);
+  expect_error([&] { fit::solve(mixed); }, "free motor ratings and free lengths together");
+  fit::Problem at_size = p;
+  at_size.size = 30;
+  expect_error([&] { fit::solve(at_size); }, "motor ratings do not change");
   const std::optional<fit::Row> row = fit::evaluate(p, {0.25});
   ASSERT_TRUE(row);
   EXPECT_EQ(row->parameters.at("continuous_torque_Nm"), 0.25);
@@ -101,8 +107,8 @@ TEST(FitSearch, EqualLinksGiveTheDiameterOverTheUnitSphere) {
   ASSERT_TRUE(r.best);
   const fit::Row& best = r.rows[*r.best];
   EXPECT_TRUE(best.meets);
+  EXPECT_TRUE(best.report.meets());
   EXPECT_EQ(best.parameters.at("L1"), best.parameters.at("L2"));
-  EXPECT_GE(best.fit, 1.0);
   // c(J) is scale-free and the default box scales with L: the largest
   // sphere at L is L times the one at L = 1, sampled on the same grid.
   const task::Device unit = device_12r(1, 1);
@@ -110,14 +116,18 @@ TEST(FitSearch, EqualLinksGiveTheDiameterOverTheUnitSphere) {
   const auto d1 = task::largest_inscribed(unit, criteria, p.task, unit.mechanism->default_box(), p.inscribed);
   ASSERT_TRUE(d1 && d1->found);
   const double L = best.parameters.at("L1");
-  EXPECT_NEAR(L, 15.0 / d1->size, 2 * p.tolerance * L);
-  // Every meeting design is at least as large; every smaller one fails.
+  // The verdict is the task's samples', the inscribed sphere an estimate to
+  // about its grid's spacing (1 to 3 % here).
+  EXPECT_NEAR(L, 15.0 / d1->size, (2 * d1->spacing / d1->size + 2 * p.tolerance) * L);
+  // Every meeting design is at least as large, to the round step the answer
+  // is rounded up to (0.01 on each link); every smaller one fails.
+  constexpr double kRounding = 0.02;
   for (const fit::Row& row : r.rows) {
     if (!row.invalid.empty()) continue;
     if (row.meets) {
-      EXPECT_GE(row.size, best.size);
+      EXPECT_GE(row.size, best.size - kRounding - 1e-9);
     }
-    if (row.size < best.size * (1 - 1e-12)) {
+    if (row.size < best.size - kRounding - 1e-9) {
       EXPECT_FALSE(row.meets) << row.size;
     }
   }
@@ -180,17 +190,26 @@ TEST(FitSearch, TheWidestBoundsGiveTheSameSmallestDesign) {
               2 * p.tolerance * narrow.rows[*narrow.best].size);
 }
 
-// ---- The largest margin at a given size ---------------------------------------------
+// ---- The largest ratio at a given size ---------------------------------------------
 
 namespace {
 
-// The margin of the 12R at L1, L2 for problem p (centre free: the largest
+// The ratio of the 12R at L1, L2 for problem p (centre free: the largest
 // sphere over the task's diameter, sampled as the search samples it).
 double margin_12r(const fit::Problem& p, double L1, double L2) {
   const task::Device d = device_12r(L1, L2);
   const auto criteria = task::resolve(d, p.criteria);
   const auto found = task::largest_inscribed(d, criteria, p.task, d.mechanism->default_box(), p.inscribed);
   return found && found->found ? found->size / p.task.diameter() : 0.0;
+}
+
+// A design's ratio as the search evaluates it (at the place nearest home
+// that meets the task, else the largest).
+double ratio_12r(const fit::Problem& p, double L1, double L2) {
+  fit::Problem q = p;
+  q.size.reset();
+  q.variables = fit::variables(*make_mechanism(q.preset), {"L1", "L2"}, {}, {"L1=1:40", "L2=1:40"});
+  return fit::evaluate(q, {L1, L2})->ratio;
 }
 
 }  // namespace
@@ -210,16 +229,16 @@ TEST(FitMargin, AtASizeNoScannedDesignIsClearlyBetter) {
   for (const fit::Row& row : r.rows) {
     if (!row.invalid.empty()) continue;
     EXPECT_NEAR(row.size, 30, 1e-9) << "every design evaluated has the size asked for";
-    EXPECT_LE(row.margin, best.margin) << "the answer is the best evaluated";
+    EXPECT_LE(row.ratio, best.ratio) << "the answer is the best evaluated";
   }
-  EXPECT_NEAR(best.margin, margin_12r(p, best.parameters.at("L1"), best.parameters.at("L2")), 1e-12);
+  EXPECT_NEAR(best.ratio, ratio_12r(p, best.parameters.at("L1"), best.parameters.at("L2")), 1e-12);
   constexpr double kSamplingNoise = 0.10;
   double brute = 0;
   for (int i = 0; i <= 40; ++i) {
     const double L1 = 3 + 24 * i / 40.0;
     brute = std::max(brute, margin_12r(p, L1, 30 - L1));
   }
-  EXPECT_GE(best.margin, brute - kSamplingNoise) << "brute force " << brute;
+  EXPECT_GE(best.ratio, brute - kSamplingNoise) << "brute force " << brute;
   // The 12R's reachable region and c(J) are best with equal links, as the scan shows.
   EXPECT_NEAR(best.parameters.at("L1"), 15, 0.1 * 15);
 }
@@ -239,11 +258,11 @@ TEST(FitMargin, AtTheSmallestSizeTheMarginIsAboutOne) {
   ASSERT_TRUE(chosen);
   // One cell of 32 across 3 L, over a sphere of about 1.2 L: 8 %.
   constexpr double kSamplingNoise = 0.08;
-  EXPECT_NEAR(at_min.rows[*chosen].margin, 1.0, kSamplingNoise) << "S_min = " << s_min;
+  EXPECT_NEAR(at_min.rows[*chosen].ratio, 1.0, kSamplingNoise) << "S_min = " << s_min;
   p.size = 1.5 * s_min;
   const fit::Result larger = fit::solve(p);
   ASSERT_TRUE(larger.best);
-  EXPECT_NEAR(larger.rows[*larger.best].margin, 1.5, 1.5 * kSamplingNoise);
+  EXPECT_NEAR(larger.rows[*larger.best].ratio, 1.5, 1.5 * kSamplingNoise);
 }
 
 // Centre fixed: the margin is the smallest bound / worst ratio, checked
@@ -261,8 +280,8 @@ TEST(FitMargin, FixedCentreMarginIsTheSmallestBoundOverWorstRatio) {
   const task::TaskReport report = task::evaluate(d, task::resolve(d, p.criteria), p.task, *p.task.centre, p.task_resolution);
   ASSERT_EQ(report.criteria.size(), 3u);
   const double cond_ratio = 3 / report.criteria[1].worst, force_ratio = report.criteria[2].worst / 0.5;
-  EXPECT_NEAR(best.margin, std::min(cond_ratio, force_ratio), 1e-12);
-  EXPECT_GE(best.margin, 1.0);
+  EXPECT_NEAR(best.ratio, std::min(cond_ratio, force_ratio), 1e-12);
+  EXPECT_GE(best.ratio, 1.0);
   EXPECT_TRUE(best.meets);
 }
 
@@ -349,4 +368,99 @@ TEST(FitMargin, ASizeNotInProportionToTheParametersIsRefused) {
   p.criteria = {task::parse_criterion("reach")};
   p.size = 20;
   expect_error([&] { fit::solve(p); }, "--size needs a size that changes in proportion to the free parameters");
+}
+
+// One verdict: a design meets the task exactly when every sample of the
+// evaluation it reports meets every criterion, and that evaluation is
+// reproducible from what the report prints: the design (round numbers)
+// evaluated again with its task fixed at the printed centre gives the same
+// samples and the same verdict.
+TEST(FitVerdict, TheReportedDesignMeetsAtTheEvaluationItReports) {
+  fit::Problem p = problem_12r("sphere:diameter=15", {"L1,L2"});
+  p.task_resolution = 12;
+  const fit::Result r = fit::solve(p);
+  ASSERT_TRUE(r.best);
+  for (const fit::Row& row : r.rows)
+    if (row.invalid.empty()) {
+      EXPECT_EQ(row.meets, row.report.failing == 0 && row.report.samples > 0) << row.size;
+    }
+  const fit::Row& best = r.rows[*r.best];
+  // Rounded up to a step near the tolerance (2e-3 of about 12: 0.01).
+  const double L = best.parameters.at("L1");
+  EXPECT_NEAR(L * 100, std::round(L * 100), 1e-9) << L;
+  EXPECT_EQ(format_number(L).size(), format_number(std::round(L * 100) / 100).size());
+  // The centre: a multiple of fit::centre_step.
+  const double step = fit::centre_step(best.size);
+  EXPECT_EQ(step, 1e-3);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(best.centre(k) / step, std::round(best.centre(k) / step), 1e-6);
+  // Evaluated again from the printed numbers.
+  fit::Problem fixed = p;
+  fixed.task = task::parse_task("sphere:diameter=15,centre=" + format_number(best.centre.x()) + "," +
+                                format_number(best.centre.y()) + "," + format_number(best.centre.z()));
+  const auto again = fit::evaluate(fixed, {*parse_number(format_number(L))});
+  ASSERT_TRUE(again);
+  EXPECT_TRUE(again->meets);
+  EXPECT_EQ(again->report.samples, best.report.samples);
+  EXPECT_EQ(again->report.failing, 0);
+  EXPECT_EQ(again->report.criteria[1].worst, best.report.criteria[1].worst);
+}
+
+// The 12R's good region is symmetric: a task fits on both sides of the
+// base. Among the places that meet it, the one nearest the home point
+// (0, L, L), on the +y side; a centre region on the other side keeps the
+// centre in it.
+TEST(FitPlacement, NearestTheHomePointAndWithinTheRegionGiven) {
+  fit::Problem p = problem_12r("sphere:diameter=12", {"L1,L2"});
+  p.variables[0].lo = p.variables[0].hi = 15;
+  p.inscribed = {32, 1, 3};
+  const auto near_home = fit::evaluate(p, {15.0});
+  ASSERT_TRUE(near_home && near_home->meets);
+  EXPECT_NEAR((near_home->home - Vector3d(0, 15, 15)).norm(), 0, 1e-12);
+  EXPECT_GT(near_home->centre.y(), 0) << near_home->centre.transpose();
+  p.inscribed.centres = task::parse_centre_region("box:min=-5,-30,-30,max=5,0,0");
+  const auto below = fit::evaluate(p, {15.0});
+  ASSERT_TRUE(below && below->meets);
+  EXPECT_TRUE(p.inscribed.centres->contains(below->centre)) << below->centre.transpose();
+  p.inscribed.centres = task::parse_centre_region("sphere:centre=0,0,20,radius=2");
+  const auto ball = fit::evaluate(p, {15.0});
+  ASSERT_TRUE(ball);
+  EXPECT_LE((ball->centre - Vector3d(0, 0, 20)).norm(), 2 + 1e-9) << ball->centre.transpose();
+}
+
+// "What torque is needed" is a fit: the smallest continuous torque whose
+// force_iso holds 1 N over a task at a fixed place. Forces scale with the
+// torque, so it is 1 N over the worst force at 1 N m, to the answer's
+// rounding step; the design at the answer meets the task and one step of
+// the tolerance below it does not.
+TEST(FitMotors, TheSmallestTorqueIsTheBoundOverTheWorstForcePerNewtonMetre) {
+  const auto m = make_mechanism(load_preset("parallel-12r"));
+  fit::Problem p = problem_12r("sphere:diameter=6,centre=0,15,15", {});
+  p.criteria = {task::parse_criterion("reach"), task::parse_criterion("force_iso>1")};
+  p.variables = fit::variables(*m, {"continuous_torque_Nm"}, {}, {"continuous_torque_Nm=0.01:5"});
+  p.preset.parameters["peak_torque_Nm"] = 10;  // above every continuous torque tried
+  p.tolerance = 1e-3;
+  const fit::Result r = fit::solve(p);
+  ASSERT_TRUE(r.best);
+  const fit::Row& best = r.rows[*r.best];
+  const double tau = best.parameters.at("continuous_torque_Nm");
+  EXPECT_EQ(best.cost, tau);
+  const auto unit = fit::evaluate(p, {1.0});
+  ASSERT_TRUE(unit);
+  const double needed = 1.0 / unit->report.criteria[1].worst;
+  EXPECT_GE(tau, needed * (1 - 1e-9));
+  EXPECT_LE(tau, needed * (1 + 2 * p.tolerance) + 1e-3) << "needed " << needed;
+  EXPECT_TRUE(best.meets);
+  EXPECT_FALSE(fit::evaluate(p, {needed * (1 - p.tolerance)})->meets);
+}
+
+// A rating the others contradict (a continuous torque above the peak) is a
+// design that cannot be built, not a failed search.
+TEST(FitMotors, ContradictoryRatingsAreInvalidDesigns) {
+  const auto m = make_mechanism(load_preset("parallel-12r"));
+  fit::Problem p = problem_12r("sphere:diameter=6,centre=0,15,15", {});
+  p.criteria = {task::parse_criterion("reach"), task::parse_criterion("force_iso>1")};
+  p.variables = fit::variables(*m, {"continuous_torque_Nm"}, {}, {"continuous_torque_Nm=0.01:1000"});
+  const auto row = fit::evaluate(p, {1000.0});
+  ASSERT_TRUE(row);
+  EXPECT_NE(row->invalid.find("exceeds its peak_torque_Nm"), std::string::npos) << row->invalid;
 }

@@ -99,8 +99,8 @@ TEST(SweepRows, EachRowIsFitsEvaluationOfItsDesign) {
   const auto designs = sweep::designs(plan);
   const std::vector<std::string> head = cells(sweep::header(plan));
   EXPECT_EQ(sweep::header(plan),
-            "design,L1,L2,cx,cy,cz,size,meets,inscribed_diameter,fraction,margin,worst_reach,margin_reach,"
-            "worst_cond,margin_cond,pareto,error");
+            "design,L1,L2,cx,cy,cz,size,meets,samples,failing,inscribed_diameter,fraction,ratio,worst_reach,margin_reach,"
+            "failing_reach,worst_cond,margin_cond,failing_cond,pareto,error");
   for (std::size_t i : {0u, 4u, 8u}) {
     const auto row = cells(sweep::evaluate_row(plan, i, designs[i]));
     ASSERT_EQ(row.size(), head.size());
@@ -114,7 +114,9 @@ TEST(SweepRows, EachRowIsFitsEvaluationOfItsDesign) {
     EXPECT_EQ(at("size"), fit_row->size);
     EXPECT_EQ(at("meets"), fit_row->meets ? 1 : 0);
     EXPECT_EQ(at("inscribed_diameter"), fit_row->fit * 15);
-    EXPECT_EQ(at("margin"), fit_row->margin);
+    EXPECT_EQ(at("ratio"), fit_row->ratio);
+    EXPECT_EQ(at("failing"), fit_row->report.failing);
+    EXPECT_EQ(at("meets"), at("failing") == 0 ? 1 : 0) << "one verdict: every sample meets";
     EXPECT_EQ(at("worst_cond"), fit_row->report.criteria[1].worst);
     EXPECT_EQ(row.back(), "");
   }
@@ -239,7 +241,7 @@ TEST(SweepCheckpoint, AnotherPlanOrAMalformedJournalIsRefused) {
   fs::remove(path);
   { sweep::Checkpoint(path, plan, 9, false); }
   std::ofstream(path, std::ios::app) << "3,1,2\n";
-  expect_error([&] { sweep::Checkpoint(path, plan, 9, true); }, "other.checkpoint:2: 3 cells, expected 17");
+  expect_error([&] { sweep::Checkpoint(path, plan, 9, true); }, "other.checkpoint:2: 3 cells, expected 21");
 }
 
 // A journal named through a symbolic link to a file not yet there: the

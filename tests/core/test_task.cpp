@@ -298,3 +298,104 @@ TEST(TaskPlanar, ABoxOnAPlanarDeviceIsTheRectangleOfItsXAndYEdges) {
   ASSERT_TRUE(found && found->found);
   EXPECT_GT(found->size, 1.5 * s.mechanism->default_box().sizes().z()) << "the square's side";
 }
+
+TEST(TaskVerdict, ASampleShareIsNeverRoundedToAllOrNone) {
+  EXPECT_EQ(samples_text(7783, 7784), "7783 of 7784 samples (99.99 %)");
+  EXPECT_EQ(samples_text(99999, 100000), "99999 of 100000 samples (99.99 %)");
+  EXPECT_EQ(samples_text(1, 100000), "1 of 100000 samples (0.01 %)");
+  EXPECT_EQ(samples_text(7784, 7784), "7784 of 7784 samples (100 %)");
+  EXPECT_EQ(samples_text(0, 10), "0 of 10 samples (0 %)");
+  EXPECT_EQ(samples_text(1, 3), "1 of 3 samples (33.33 %)");
+  TaskReport r;
+  r.samples = 7784;
+  r.failing = 1;
+  r.resolution = 24;
+  EXPECT_FALSE(r.meets());
+  EXPECT_EQ(verdict_text(r), "fails: 7783 of 7784 samples (99.99 %) meet every criterion (evaluated at resolution 24)");
+  r.failing = 0;
+  EXPECT_TRUE(r.meets());
+  EXPECT_EQ(verdict_text(r), "meets every criterion at all 7784 samples (evaluated at resolution 24)");
+  EXPECT_FALSE(TaskReport{}.meets()) << "nothing evaluated meets nothing";
+}
+
+// Each criterion counts the samples failing it; a sample failing any of them
+// fails the task.
+TEST(TaskVerdict, CriteriaCountTheirFailingSamples) {
+  const Device d = device_of("parallel-12r");
+  const auto c = resolve(d, {parse_criterion("reach"), parse_criterion("cond<3"), parse_criterion("cond<2")});
+  const TaskReport r = evaluate(d, c, parse_task("sphere:diameter=20"), Vector3d(0, 15, 15), 10);
+  ASSERT_EQ(r.criteria.size(), 3u);
+  int most = 0, sum = 0;
+  for (const CriterionReport& cr : r.criteria) most = std::max(most, cr.failing), sum += cr.failing;
+  EXPECT_GT(r.criteria[2].failing, r.criteria[1].failing) << "a tighter bound fails more samples";
+  EXPECT_GE(r.failing, most);
+  EXPECT_LE(r.failing, sum);
+  EXPECT_EQ(r.resolution, 10);
+}
+
+TEST(CentreRegion, ParsesBoxesAndBallsAndRefusesTheRest) {
+  const CentreRegion box = parse_centre_region("box:min=-1,2,-3,max=1,4,3");
+  EXPECT_EQ(box.shape, Shape::Box);
+  EXPECT_TRUE(box.contains(Vector3d(0, 3, 0)));
+  EXPECT_FALSE(box.contains(Vector3d(0, 5, 0)));
+  EXPECT_EQ(to_text(box), "box:min=-1,2,-3,max=1,4,3");
+  const CentreRegion ball = parse_centre_region("sphere:centre=0,15,15,radius=2.5");
+  EXPECT_TRUE(ball.contains(Vector3d(0, 15, 17.4)));
+  EXPECT_FALSE(ball.contains(Vector3d(0, 15, 17.6)));
+  EXPECT_EQ(parse_centre_region(to_text(ball)).bounds().min(), Vector3d(-2.5, 12.5, 12.5));
+  expect_error([] { parse_centre_region("box:min=1,1,1"); }, "give min and max");
+  expect_error([] { parse_centre_region("box:min=1,1,1,max=0,2,2"); }, "min must not exceed max");
+  expect_error([] { parse_centre_region("sphere:centre=0,0,0,radius=0"); }, "radius must be positive");
+  expect_error([] { parse_centre_region("sphere:centre=0,0,radius=1"); }, "centre expects 3 values");
+  expect_error([] { parse_centre_region("cone:min=0,0,0"); }, "unknown shape 'cone'");
+  expect_error([] { parse_centre_region("box:min=0,0,0,max=1,1,1,size=2"); }, "unknown key 'size'");
+  expect_error([] { parse_centre_region("box"); }, "expected box:min=x,y,z,max=x,y,z");
+}
+
+// A centre region: the shape's centre stays in it, even where a larger
+// shape fits elsewhere.
+TEST(CentreRegion, TheLargestShapeIsCentredInTheRegion) {
+  const Device d = device_of("parallel-12r");
+  const auto c = resolve(d, {parse_criterion("reach"), parse_criterion("cond<3")});
+  InscribedOptions options{32, 1, 2};
+  const auto anywhere = largest_inscribed(d, c, parse_task("sphere:diameter=5"), d.mechanism->default_box(), options);
+  ASSERT_TRUE(anywhere && anywhere->found);
+  options.centres = parse_centre_region("box:min=-2,10,10,max=2,14,14");
+  const auto within = largest_inscribed(d, c, parse_task("sphere:diameter=5"), d.mechanism->default_box(), options);
+  ASSERT_TRUE(within && within->found);
+  EXPECT_TRUE(options.centres->contains(within->centre)) << within->centre.transpose();
+  EXPECT_LT(within->size, anywhere->size);
+}
+
+// One syntax everywhere: commas, semicolons or spaces; a bare name (what a
+// shell leaves of an unquoted cond>3) says to quote it.
+TEST(TaskCriteria, ListsTakeCommasSemicolonsOrSpaces) {
+  const std::vector<std::string> expected = {"cond<3", "force_iso>1", "reach"};
+  for (const std::string text : {"cond<3, force_iso>1, reach", "cond<3;force_iso>1; reach", "cond<3 force_iso>1  reach",
+                                 " cond<3,;force_iso>1 ;reach;"})
+    EXPECT_EQ(split_criteria(text), expected) << text;
+  EXPECT_TRUE(split_criteria(" ,; ").empty());
+  EXPECT_EQ(parse_criteria("cond<3, force_iso>1").size(), 2u);
+  expect_error([] { parse_criteria("cond<3, cond"); }, "quote the criterion: 'cond<3'");
+  expect_error([] { parse_criteria("force_max"); }, "quote the criterion: 'force_max>1'");
+  EXPECT_EQ(quoting_hint("cond<3"), "");
+  EXPECT_EQ(quoting_hint("reach"), "");
+}
+
+// evaluate_if_meets gives evaluate's report where the task meets, nothing
+// where it fails: the same samples, the same verdict.
+TEST(TaskVerdict, EvaluateIfMeetsAgreesWithEvaluate) {
+  const Device d = device_of("parallel-12r");
+  const auto c = resolve(d, {parse_criterion("reach"), parse_criterion("cond<3")});
+  for (const double diameter : {4.0, 10.0, 30.0}) {
+    const TaskVolume t = parse_task("sphere:diameter=" + std::to_string(diameter));
+    const TaskReport full = evaluate(d, c, t, Vector3d(0, 15, 12), 12);
+    const std::optional<TaskReport> quick = evaluate_if_meets(d, c, t, Vector3d(0, 15, 12), 12);
+    EXPECT_EQ(quick.has_value(), full.meets()) << diameter;
+    if (quick) {
+      EXPECT_EQ(quick->samples, full.samples);
+      EXPECT_EQ(quick->criteria[1].worst, full.criteria[1].worst);
+      EXPECT_EQ(quick->fraction, full.fraction);
+    }
+  }
+}

@@ -35,18 +35,27 @@ fit::Problem make_problem(const FitOptions& o, const std::string& command) {
   const std::shared_ptr<const Mechanism> base = device.mechanism;
   const MechanismInfo& info = base->info();
   problem.task = task::parse_task(o.task);
+  if (!o.centre_region.empty()) {
+    if (problem.task.centre)
+      throw std::invalid_argument(command + ": --centre-region places a task whose centre is free; --task fixes it "
+                                  "(centre=...): give one or the other");
+    problem.inscribed.centres = task::parse_centre_region(o.centre_region);
+  }
   if (info.plane_z && problem.task.centre && problem.task.centre->z() != *info.plane_z)
     throw std::invalid_argument(command + ": the task's centre has z = " + format_number(problem.task.centre->z()) +
                                 ", off " + info.name + "'s plane z = " + format_number(*info.plane_z) +
                                 ": a planar device's task lies in its plane (a sphere is a disc there)");
-  for (const std::string& c : o.criteria) problem.criteria.push_back(task::parse_criterion(c));
+  for (const std::string& c : o.criteria)
+    for (task::Criterion& parsed : task::parse_criteria(c)) problem.criteria.push_back(std::move(parsed));
   if (std::none_of(problem.criteria.begin(), problem.criteria.end(), [](const task::Criterion& c) { return c.reach(); }))
     problem.criteria.insert(problem.criteria.begin(), task::parse_criterion("reach"));
   problem.variables = fit::variables(*base, o.free, o.equal, o.bounds);
   if (device.pose) problem.pose = *device.pose;
   problem.ik = device.ik;
   problem.torque = device.torque;
-  problem.inscribed = {o.resolution, o.refinements, o.places};
+  problem.inscribed.resolution = o.resolution;
+  problem.inscribed.refinements = o.refinements;
+  problem.inscribed.places = o.places;
   problem.task_resolution = o.task_resolution;
   // The criteria on the base design: an unknown measure is an input error.
   {
@@ -118,13 +127,13 @@ int run_fit(const FitOptions& o, std::ostream& out) {
   // far, the best of them and the time spent.
   ProgressLine line(o.quiet);
   line.step("fit");
-  std::optional<double> smallest, largest_margin;
+  std::optional<double> smallest, largest_ratio;
   progress.design = [&](const fit::Row& row, std::size_t n) {
     if (row.meets && (!smallest || row.size < *smallest)) smallest = row.size;
-    if (row.invalid.empty() && (!largest_margin || row.margin > *largest_margin)) largest_margin = row.margin;
+    if (row.invalid.empty() && (!largest_ratio || row.ratio > *largest_ratio)) largest_ratio = row.ratio;
     std::ostringstream text;
     text << std::setprecision(4) << "fit: " << n << " designs evaluated";
-    if (o.size && largest_margin) text << ", largest margin so far " << *largest_margin;
+    if (o.size && largest_ratio) text << ", largest ratio so far " << *largest_ratio;
     else if (smallest) text << ", smallest meeting so far " << info.size_description << " = " << *smallest << " " << info.length_unit;
     line.describe(text.str());
   };
@@ -141,11 +150,17 @@ void add_problem_options(CLI::App& cmd, FitOptions& o, const DeviceHelp& devices
   add_sampling_options(cmd, o.device, devices, " (default: each design's home pose)");
   cmd.add_option("--task", o.task,
                  "sphere:diameter=D (or radius=R) or box:size=X,Y,Z (or size=S), in the device's length unit; "
-                 "append ,centre=x,y,z to fix the centre, else the search places it")
+                 "append ,centre=x,y,z to fix the centre, else the search places it (nearest the home point among "
+                 "equal places)")
       ->required();
+  cmd.add_option("--centre-region", o.centre_region,
+                 "Where the search may place the task's centre: box:min=x,y,z,max=x,y,z or "
+                 "sphere:centre=x,y,z,radius=r (default: anywhere in the device's box)");
   cmd.add_option("--criterion", o.criteria,
-                 "Repeatable: cond<T (the first measure; others by name, e.g. cond_jo<T), force_iso>F, force_max>F "
-                 "(N), resolution<R (mm), inertia<M (kg); reach is always implied");
+                 "Quoted for the shell, repeatable or several separated by commas, semicolons or spaces: 'cond<T' "
+                 "(the first measure; others by name, e.g. 'cond_jo<T'), 'force_iso>F', 'force_max>F' (N), "
+                 "'resolution<R' (mm), 'inertia<M' (kg); reach is always implied")
+      ->check(criteria_check());
   cmd.add_option("--free", o.free, "Free design parameters, comma list (default: every parameter of the design panel)")
       ->delimiter(',');
   cmd.add_option("--equal", o.equal, "Parameters held equal, comma list (repeatable), e.g. L1,L2");
@@ -169,21 +184,22 @@ Command add_fit(CLI::App& program, const DeviceHelp& devices) {
   auto o = std::make_shared<FitOptions>();
   CLI::App* cmd = program.add_subcommand(
       "fit", "Size a device to a task: the smallest design (within bounds on its free parameters) whose task volume "
-             "meets every criterion, or with --size the design of that size with the largest margin; prints it with "
-             "each criterion's margin, writes every design as CSV and a Pareto chart of size against the worst "
+             "meets every criterion at every sample evaluated, or with --size the design of that size with the largest "
+             "ratio; prints it with the verdict and each criterion's margin, writes every design as CSV and a Pareto chart of size against the worst "
              "measure (docs/task-volumes.md)");
   add_problem_options(*cmd, *o, devices);
   cmd->add_option("--size", o->size,
-                  "Largest margin at this size instead of the smallest size: among designs of this size (the "
+                  "Largest ratio at this size instead of the smallest size: among designs of this size (the "
                   "device's size measure, e.g. L1 + L2 for the 12R; length unit) within the bounds, the one whose "
                   "task is furthest inside the criteria (centre free: largest shape / task size; centre fixed: "
-                  "smallest bound / worst ratio; >= 1 meets)");
+                  "smallest bound / worst)");
   cmd->add_option("--tolerance", o->tolerance,
                   "Relative tolerance: on the size (smallest size), on the search's step over the bounds (--size)")
       ->capture_default_str();
   cmd->add_option("-o,--output", o->output,
-                  "CSV: the design parameters, cx,cy,cz, size, meets, the largest shape, the fraction, each "
-                  "criterion's worst value and margin; the smallest design first, then every design by size");
+                  "CSV: the design parameters, cx,cy,cz, size, meets (1: every sample evaluated meets every "
+                  "criterion), samples, failing, the largest shape, fraction, ratio, each criterion's worst value, "
+                  "margin and failing samples; the smallest design first, then every design by size");
   cmd->add_option("--chart", o->chart, "Pareto chart, size against the worst measure (.png, .svg, .pdf)");
   cmd->add_flag("-q,--quiet", o->quiet, "No progress line on stderr");
   cmd->add_flag("--certify", o->certify,

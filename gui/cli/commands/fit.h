@@ -1,5 +1,5 @@
 // linkscape fit: the smallest design of a device whose task volume meets the
-// criteria, or the largest margin at a given size (core/fit.h), as a report, a CSV of every design evaluated and a
+// criteria, or the largest ratio at a given size (core/fit.h), as a report, a CSV of every design evaluated and a
 // Pareto chart of size against the worst measure.
 #pragma once
 
@@ -22,9 +22,10 @@ struct FitOptions {
   std::vector<std::string> equal;      // groups held equal, e.g. "L1,L2"
   std::vector<std::string> bounds;     // "NAME=lo:hi"
   int resolution = 64, refinements = 2, places = 3;  // the largest inscribed shape (docs/task-volumes.md)
-  int task_resolution = 24;            // the task evaluated at its centre
-  double tolerance = 1e-3;             // relative, on the size (or the margin search's step)
-  std::optional<double> size;          // set: the largest margin at this size
+  int task_resolution = task::kTaskResolution;  // the task evaluated at its centre
+  std::string centre_region;           // where a free centre may go (core/task.h CentreRegion); empty: anywhere
+  double tolerance = 1e-3;             // relative, on the size (or the ratio search's step)
+  std::optional<double> size;          // set: the largest ratio at this size
   std::string output;                  // CSV: the smallest design first, then every design by size
   std::string chart;                   // size against the worst measure (.png, .svg, .pdf)
   bool quiet = false;                  // no progress on stderr

@@ -105,10 +105,11 @@ Command add_mesh(CLI::App& program, const DeviceHelp& help) {
       "mesh", "Extract a workspace isosurface and write a mesh (STL, OBJ, PLY, OFF, VTP); prints its statistics");
   add_field_options(*cmd, o->sampling, help);
   cmd->add_option("--surface", o->surface,
-                  "reach (boundary of the reachable set), cond<T (well-conditioned region, e.g. 'cond<3', "
-                  "quoted for the shell), or the region meeting a haptic criterion: force_iso>F, force_max>F "
-                  "(N), resolution<R (mm), inertia<M (kg)")
-      ->capture_default_str();
+                  "reach (boundary of the reachable set), 'cond<T' (well-conditioned region, e.g. 'cond<3', "
+                  "quoted for the shell), or the region meeting a haptic criterion: 'force_iso>F', 'force_max>F' "
+                  "(N), 'resolution<R' (mm), 'inertia<M' (kg)")
+      ->capture_default_str()
+      ->check(criteria_check());
   cmd->add_option("--resolution", o->resolution, "Samples per axis: N or NXxNYxNZ")->capture_default_str();
   cmd->add_option("--box", o->box, "x_min,x_max,y_min,y_max,z_min,z_max; default the device's sampling box")
       ->delimiter(',')

@@ -257,8 +257,9 @@ Command add_sweep(CLI::App& program, const DeviceHelp& devices) {
                   "Most designs handed to a rank at a time under mpirun (never fewer than its threads)")
       ->capture_default_str();
   cmd->add_option("-o,--output", o->output,
-                  "The table (.csv): design, every design parameter, cx,cy,cz, size, meets, the largest shape (centre "
-                  "free), fraction, each criterion's worst value and margin, the field measures, pareto, error; one "
+                  "The table (.csv): design, every design parameter, cx,cy,cz, size, meets (1: every sample "
+                  "evaluated meets every criterion), samples, failing, the largest shape (centre free), fraction, "
+                  "ratio, each criterion's worst value, margin and failing samples, the field measures, pareto, error; one "
                   "row per design in design order")
       ->required();
   cmd->add_option("--checkpoint", o->checkpoint,

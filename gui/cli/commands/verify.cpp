@@ -24,7 +24,8 @@ int run_verify(const VerifyOptions& o, std::ostream& out) {
   // verify::verify refuses a task without its centre and an empty list of criteria.
   const task::TaskVolume task = task::parse_task(o.task);
   std::vector<task::Criterion> criteria;
-  for (const std::string& c : o.criteria) criteria.push_back(task::parse_criterion(c));
+  for (const std::string& c : o.criteria)
+    for (task::Criterion& parsed : task::parse_criteria(c)) criteria.push_back(std::move(parsed));
   verify::Options limits = o.limits;
   limits.torque = haptics::parse_torque_rating(o.torque);
   const verify::Result r = verify::verify(chosen_preset(o.mechanism), task, criteria, limits, o.branch);
@@ -44,7 +45,9 @@ Command add_verify(CLI::App& program, const DeviceHelp&) {
   cmd->add_option("--task", o->task, "sphere:diameter=D,centre=x,y,z or box:size=X,Y,Z,centre=x,y,z (length unit)")
       ->required();
   cmd->add_option("--criterion", o->criteria,
-                  "Repeatable, quoted for the shell: reach, cond<T, force_iso>F (N), resolution<R (mm)");
+                  "Quoted for the shell, repeatable or several separated by commas, semicolons or spaces: reach, "
+                  "'cond<T', 'force_iso>F' (N), 'resolution<R' (mm)")
+      ->check(criteria_check());
   cmd->add_option("--branch", o->branch, "The IK branch the device holds over the task")->capture_default_str();
   cmd->add_option("--torque", o->torque, "Torque the force criteria use: continuous or peak")->capture_default_str();
   cmd->add_option("--depth", o->limits.max_depth,

@@ -114,11 +114,23 @@ TEST(CliHardening, WindowFilesOfTheWrongKindAreRefusedBeforeAnyWindow) {
 TEST(CliHardening, AComparisonTheShellTookAsARedirectionIsExplained) {
   const fs::path dir = fs::temp_directory_path() / "linkscape_cli_tests";
   fs::create_directories(dir);
-  for (const std::string& args : {std::string("mesh --resolution 8 --surface cond -o ") + (dir / "m.stl").string(),
-                                  std::string("fit --task sphere:diameter=15 --criterion cond")}) {
+  // What the shell leaves (with or without the other required options), a
+  // bare name among several criteria, and a force's bound from below.
+  for (const auto& [args, quoted] : std::vector<std::pair<std::string, std::string>>{
+           {"mesh --resolution 8 --surface cond -o " + (dir / "m.stl").string(), "'cond<3'"},
+           {"mesh --surface cond", "'cond<3'"},
+           {"fit --task sphere:diameter=15 --criterion cond", "'cond<3'"},
+           {"fit --criterion cond", "'cond<3'"},
+           {"fit --task sphere:diameter=15 --criterion 'cond<3, force_iso'", "'force_iso>1'"},
+           {"verify --task sphere:diameter=15,centre=0,15,15 --criterion cond", "'cond<3'"}}) {
     const auto r = run_linkscape(args);
     EXPECT_EQ(r.exit_code, 2) << r.out;
-    EXPECT_TRUE(contains(r.out, "quote it, 'cond<3'")) << r.out;
+    EXPECT_TRUE(contains(r.out, "quote the criterion: " + quoted)) << args << ": " << r.out;
+  }
+  // The help shows criteria quoted.
+  for (const std::string command : {"fit", "sweep", "verify", "mesh"}) {
+    const auto help = run_linkscape(command + " --help");
+    EXPECT_TRUE(contains(help.out, "'cond<T'")) << command << ": " << help.out;
   }
 }
 

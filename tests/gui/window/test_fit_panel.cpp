@@ -1,16 +1,18 @@
 // The window's Fit tab: a small fit run off the GUI thread (Run returns at
 // once) sizes the device to the Task tab's task (the answer is core's for
-// the same problem), Apply sets the design's sliders to it, the largest margin at
+// the same problem), Apply sets the design's sliders to it, the largest ratio at
 // a size keeps every design at that size, Cancel stops a run, and the chart
 // and CSV export. With LINKSCAPE_SCREENSHOTS=<folder> it also saves a
 // picture of each window with its Fit tab in front.
 #include <QCheckBox>
 #include <QDockWidget>
 #include <QDoubleSpinBox>
+#include <QLabel>
 #include <QPushButton>
 #include <QSignalSpy>
 #include <QtTest>
 #include <filesystem>
+#include <fstream>
 
 #include "core/preset.h"
 #include "gui/window/fit_panel.h"
@@ -42,6 +44,17 @@ std::string sphere_at_home(const MechanismWindow& w, double fraction) {
          "," + std::to_string(home.y()) + "," + std::to_string(home.z());
 }
 
+// The window shown with seed 001's task (a 15 cm sphere, c(J) < 3) in its
+// Task tab, links held equal: its Fit tab, or null if it was not shown.
+FitPanel* seed_001(MechanismWindow& w) {
+  w.resize(1280, 800);
+  w.show();
+  if (!QTest::qWaitForWindowExposed(&w)) return nullptr;
+  w.taskPanel()->setTask("sphere:diameter=15,centre=0,15,10", {"cond<3"});
+  w.fitPanel()->setEqual("L1,L2");
+  return w.fitPanel();
+}
+
 void screenshot(MechanismWindow& w, const std::string& name) {
   const char* folder = std::getenv("LINKSCAPE_SCREENSHOTS");
   if (!folder) return;
@@ -62,13 +75,9 @@ class FitPanelTest : public QObject {
   // c(J) < 3 is found off the GUI thread; Apply puts it on the design sliders.
   void smallestSizeThenApplySetsTheDesign() {
     MechanismWindow w(load_preset("parallel-12r"));
-    w.resize(1280, 800);
-    w.show();
-    QVERIFY(QTest::qWaitForWindowExposed(&w));
-    w.taskPanel()->setTask("sphere:diameter=15,centre=0,15,10", {"cond<3"});
-    FitPanel* panel = w.fitPanel();
+    FitPanel* panel = seed_001(w);
+    QVERIFY(panel);
     coarse(panel);
-    panel->setEqual("L1,L2");
     panel->setBounds("L1", 5, 40);
     QSignalSpy finished(panel, &FitPanel::runFinished);
     panel->run();
@@ -88,13 +97,14 @@ class FitPanelTest : public QObject {
     QVERIFY(direct.best);
     QCOMPARE(direct.rows[*direct.best].size, best.size);
     QCOMPARE(best.parameters.at("L1"), best.parameters.at("L2"));
-    QVERIFY(best.meets && best.margin >= 1);
+    QVERIFY(best.meets && best.ratio >= 1);
     QVERIFY(panel->reportText().contains("smallest design meeting it: L1 = "));
     QVERIFY(panel->reportText().contains("cond<3: worst "));
     QVERIFY(panel->statusText().startsWith("smallest design meeting it"));
-    // Every valid design evaluated that is smaller fails the task.
+    // Every valid design evaluated that is smaller than the answer less its
+    // rounding up (to 0.1 on each link at a tolerance of 1e-2) fails the task.
     for (const fit::Row& row : panel->result()->rows)
-      if (row.invalid.empty() && row.size < best.size * (1 - 1e-12)) QVERIFY(!row.meets);
+      if (row.invalid.empty() && row.size < best.size - 0.2 - 1e-9) QVERIFY(!row.meets);
 
     QVERIFY(std::abs(w.preset().parameters.at("L1") - best.parameters.at("L1")) > 1e-6);  // not yet applied
     panel->findChild<QPushButton*>("fitApply")->click();
@@ -111,6 +121,73 @@ class FitPanelTest : public QObject {
     w.taskPanel()->evaluateNow();
     QVERIFY(w.taskPanel()->report());
     QVERIFY2(w.taskPanel()->report()->fraction > 0.99, "the placed task is (nearly all) in the good region");
+    screenshot(w, "12r");
+  }
+
+  // One verdict: at fit's evaluation (the Task tab's resolution), the Task
+  // tab after Apply gives the Fit tab's verdict on the same samples, in the
+  // same words; the report's words and the CSV's meets agree.
+  void theTaskTabAfterApplyGivesTheFitTabsVerdict() {
+    MechanismWindow w(load_preset("parallel-12r"));
+    FitPanel* panel = seed_001(w);
+    QVERIFY(panel);
+    panel->setSearchSettings({24, 1, 1}, task::kTaskResolution, 1e-2);
+    panel->setBounds("L1", 5, 40);
+    QVERIFY(run_and_wait(panel));
+    QVERIFY(panel->result()->best);
+    const fit::Row& best = panel->result()->rows[*panel->result()->best];
+    const QString verdict = QString::fromStdString(task::verdict_text(best.report));
+    QVERIFY2(verdict.startsWith("meets every criterion at all "), qPrintable(verdict));
+    QVERIFY2(panel->reportText().contains("verdict: " + verdict), qPrintable(panel->reportText()));
+    QVERIFY2(panel->statusText().contains(verdict), qPrintable(panel->statusText()));
+    panel->findChild<QPushButton*>("fitApply")->click();
+    w.taskPanel()->evaluateNow();
+    const task::TaskReport& shown = *w.taskPanel()->report();
+    QCOMPARE(shown.centre, best.centre);
+    QCOMPARE(shown.samples, best.report.samples);
+    QCOMPARE(shown.failing, best.report.failing);
+    QCOMPARE(shown.criteria[1].worst, best.report.criteria[1].worst);
+    QString words = verdict;
+    words[0] = words[0].toUpper();
+    QVERIFY2(w.findChild<QLabel*>("taskReadout")->text().contains(words),
+             qPrintable(w.findChild<QLabel*>("taskReadout")->text()));
+    // The CSV's meets is the same verdict.
+    const fs::path csv = fs::temp_directory_path() / "linkscape_fit_panel_verdict.csv";
+    panel->exportCsv(csv);
+    std::ifstream in(csv);
+    std::string header, first;
+    std::getline(in, header);
+    std::getline(in, first);
+    QVERIFY(header.find(",meets,samples,failing,") != std::string::npos);
+    QVERIFY2(first.find(",1," + std::to_string(best.report.samples) + ",0,") != std::string::npos, first.c_str());
+  }
+
+  // Placement: the centre within the region the tab gives, on the far side
+  // of the base from the home point; bad region text is refused.
+  void theCentreStaysWithinTheRegionGiven() {
+    MechanismWindow w(load_preset("parallel-12r"));
+    FitPanel* panel = seed_001(w);
+    QVERIFY(panel);
+    coarse(panel);
+    panel->setBounds("L1", 10, 20);
+    QVERIFY_THROWS_EXCEPTION(std::invalid_argument, panel->setCentreRegion("box:min=0,0,0"));
+    QCOMPARE(panel->centreRegion(), std::string());
+    panel->setCentreRegion("box:min=-5,-30,-30,max=5,0,0");
+    QVERIFY(run_and_wait(panel));
+    QCOMPARE(panel->problem()->inscribed.centres->text, std::string("box:min=-5,-30,-30,max=5,0,0"));
+    const auto centre = panel->chosenCentre();
+    QVERIFY(centre);
+    QVERIFY2(panel->problem()->inscribed.centres->contains(*centre), qPrintable(panel->reportText()));
+    QVERIFY(panel->reportText().contains("centre free within box:min=-5,-30,-30,max=5,0,0"));
+    QVERIFY(panel->reportText().contains("from the home point"));
+  }
+
+  void exportsAfterTheSmallestSize() {
+    MechanismWindow w(load_preset("parallel-12r"));
+    FitPanel* panel = seed_001(w);
+    QVERIFY(panel);
+    coarse(panel);
+    QVERIFY(run_and_wait(panel));
 
     const fs::path dir = fs::temp_directory_path() / "linkscape_fit_panel";
     fs::create_directories(dir);
@@ -121,11 +198,10 @@ class FitPanelTest : public QObject {
       QVERIFY2(fs::file_size(dir / file) > 100, file);
     }
     QVERIFY_THROWS_EXCEPTION(std::invalid_argument, panel->exportCsv(dir / "designs.txt"));
-    screenshot(w, "12r");
   }
 
   // The Delta at its own size: every design evaluated has that size, and
-  // the chosen one has the largest margin of them.
+  // the chosen one has the largest ratio of them.
   void largestMarginAtASizeKeepsTheSize() {
     MechanismWindow w(load_preset("delta"));
     w.resize(1280, 800);
@@ -143,7 +219,7 @@ class FitPanelTest : public QObject {
     for (const fit::Row& row : r.rows) {
       if (!row.invalid.empty()) continue;
       QVERIFY(std::abs(row.size - size) < 1e-9 * size);
-      QVERIFY(row.margin <= r.rows[*chosen].margin);
+      QVERIFY(row.ratio <= r.rows[*chosen].ratio);
     }
     QVERIFY(panel->reportText().contains("held at"));
     panel->applyDesign();
@@ -175,7 +251,7 @@ class FitPanelTest : public QObject {
       QVERIFY2(run_and_wait(panel), name.c_str());
       const fit::Result& r = *panel->result();
       QVERIFY2(r.best, qPrintable(panel->reportText()));  // the device's own design meets a small task at home
-      QVERIFY(r.rows[*r.best].margin >= 1);
+      QVERIFY(r.rows[*r.best].ratio >= 1);
       if (name == "pathos2") screenshot(w, name);
     }
   }

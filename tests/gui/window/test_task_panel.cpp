@@ -4,6 +4,7 @@
 // sphere placed on request.
 #include <QDoubleSpinBox>
 #include <QLabel>
+#include <QLineEdit>
 #include <QPushButton>
 #include <QtTest>
 
@@ -13,6 +14,7 @@
 #include "gui/window/task_panel.h"
 #include "gui/window/vtk_widget.h"
 #include "render/task_scene.h"
+#include "render/verify_regions.h"
 
 using namespace linkscape;
 using linkscape::gui::MechanismWindow;
@@ -30,7 +32,7 @@ task::TaskReport core_report(const MechanismWindow& w, task::TaskVolume t, const
   d.fixed_task = w.task();
   std::vector<task::Criterion> c = {task::parse_criterion("reach")};
   for (const std::string& text : criteria) c.push_back(task::parse_criterion(text));
-  return task::evaluate(d, task::resolve(d, c), t, *t.centre, 16);
+  return task::evaluate(d, task::resolve(d, c), t, *t.centre, task::kTaskResolution);  // fit's evaluation
 }
 
 std::string sphere_at(double diameter, const Eigen::Vector3d& c) {
@@ -59,8 +61,11 @@ class TaskPanelTest : public QObject {
       QVERIFY2(panel->report() && panel->report()->meets(), name.c_str());
       QVERIFY(w.taskScene().visible());
       QCOMPARE(w.taskScene().failing_points(), std::size_t(0));
-      QVERIFY(w.findChild<QLabel*>("taskReadout")->text().contains("Meets every criterion"));
       task::TaskReport expected = core_report(w, t, {"cond<20"});
+      // fit's words for fit's evaluation.
+      QVERIFY(w.findChild<QLabel*>("taskReadout")->text().contains(
+          QString::fromStdString("Meets every criterion at all " + std::to_string(expected.samples) + " samples")));
+      QCOMPARE(panel->report()->samples, expected.samples);
       QCOMPARE(panel->report()->fraction, expected.fraction);
       QCOMPARE(panel->report()->criteria[1].worst, expected.criteria[1].worst);
 
@@ -69,7 +74,8 @@ class TaskPanelTest : public QObject {
       cx->setValue(home.x() + 2 * size);
       QTRY_VERIFY2(panel->report() && !panel->report()->meets(), name.c_str());
       QVERIFY(w.taskScene().failing_points() > 0);
-      QVERIFY(w.findChild<QLabel*>("taskReadout")->text().contains("Leaves the good region"));
+      QVERIFY(w.findChild<QLabel*>("taskReadout")->text().contains("Fails: "));
+      QVERIFY(!w.findChild<QLabel*>("taskReadout")->text().contains("(100 %) meet every criterion"));
       cx->setValue(home.x());
       QTRY_VERIFY(panel->report() && panel->report()->meets());
 
@@ -101,14 +107,45 @@ class TaskPanelTest : public QObject {
       QTest::mouseClick(w.findChild<QPushButton*>("taskVerifyButton"), Qt::LeftButton);
       QTRY_VERIFY_WITH_TIMEOUT(verdict->text().contains(words), 60000);
       if (length < 12) QVERIFY(verdict->text().contains("c(J)"));
+      // In the view: the boxes proved, or the counterexample.
+      const render::VerifyRegions& regions = w.taskPanel()->verifyRegions();
+      QCOMPARE(regions.counterexample(), length < 12);
+      if (length > 12) QVERIFY(regions.proved() > 0);
       w.findChild<QDoubleSpinBox*>("taskCentreX")->setValue(0.5);
       QTRY_VERIFY(verdict->text().contains("changed since the last Verify"));
+      QVERIFY(!regions.counterexample() && regions.proved() == 0);
     }
     MechanismWindow pathos(load_preset("pathos2"));
     pathos.show();
     QVERIFY(QTest::qWaitForWindowExposed(&pathos));
     QTest::mouseClick(pathos.findChild<QPushButton*>("taskVerifyButton"), Qt::LeftButton);
     QTRY_VERIFY_WITH_TIMEOUT(pathos.findChild<QLabel*>("taskVerdict")->text().contains("cannot be certified"), 30000);
+  }
+
+  // Criteria separated by commas, semicolons or spaces, as the command line
+  // takes them; the box shows the syntax as a hint; a bare name says to quote.
+  void criteriaTakeTheCommandLinesSyntax() {
+    MechanismWindow w(load_preset("parallel-12r"));
+    w.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    auto* edit = w.findChild<QLineEdit*>("taskCriteriaEdit");
+    QVERIFY(edit->placeholderText().contains("commas, semicolons or spaces"));
+    w.taskPanel()->setTask("sphere:diameter=5,centre=0,15,15", {"cond<3; force_iso>0.1", "force_max>0.1"});
+    QCOMPARE(edit->text(), QString("cond<3, force_iso>0.1, force_max>0.1"));
+    for (const QString& text : {"cond<3, force_iso>0.1;force_max>0.1", "cond<3 force_iso>0.1 force_max>0.1;"}) {
+      edit->setText(text);
+      const auto criteria = w.taskPanel()->criteria();
+      QCOMPARE(criteria.size(), std::size_t(4));
+      QCOMPARE(criteria[3].text, std::string("force_max>0.1"));
+      QCOMPARE(w.taskPanel()->setting().criteria, (std::vector<std::string>{"cond<3", "force_iso>0.1", "force_max>0.1"}));
+    }
+    edit->setText("cond");
+    try {
+      w.taskPanel()->criteria();
+      QFAIL("a bare name is refused");
+    } catch (const std::invalid_argument& e) {
+      QVERIFY2(QString(e.what()).contains("quote the criterion: 'cond<3'"), e.what());
+    }
   }
 
   void aTaskWithoutCentreIsPlacedInTheLargestSphere() {
