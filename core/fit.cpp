@@ -164,6 +164,14 @@ double round_up_to(double v, double step, double hi) {
   return std::min(to_step(v, step, [](double x) { return std::ceil(x - 1e-9); }), hi);
 }
 
+}  // namespace
+
+double step_up(double v, double step) {
+  return to_step(v + step, step, [](double x) { return std::round(x); });
+}
+
+namespace {
+
 // The smallest meeting design `best` in round numbers: each variable
 // rounded up to a power of ten near the tolerance, then one such step up at
 // a time (at most five) until the rounded design meets the task; the first
@@ -185,7 +193,7 @@ void round_up(Search& search, std::size_t& best) {
       best = i;
       return;
     }
-    for (Eigen::Index d = 0; d < k; ++d) v(d) = std::min(v(d) + steps(d), search.hi()(d));
+    for (Eigen::Index d = 0; d < k; ++d) v(d) = std::min(step_up(v(d), steps(d)), search.hi()(d));
   }
 }
 

@@ -78,6 +78,10 @@ struct Row {
 // (a power of ten), so that the centre a report prints is the one evaluated.
 double centre_step(double device_size);
 
+// `v`, a multiple of `step` (a power of ten), one step larger, itself a round
+// number: step_up(12.2, 0.01) is the double 12.21, not 12.2 + 0.01.
+double step_up(double v, double step);
+
 struct Result {
   std::vector<Row> rows;             // every design, in the order evaluated
   // The smallest design meeting the task, its free variables rounded up to

@@ -405,6 +405,16 @@ TEST(FitVerdict, TheReportedDesignMeetsAtTheEvaluationItReports) {
   EXPECT_EQ(again->report.criteria[1].worst, best.report.criteria[1].worst);
 }
 
+// The rounded answer stepped up stays a round number as printed.
+TEST(FitVerdict, SteppingUpKeepsRoundNumbers) {
+  EXPECT_EQ(format_number(fit::step_up(12.2, 0.01)), "12.21");
+  EXPECT_EQ(format_number(fit::step_up(0.3, 0.1)), "0.4");
+  EXPECT_EQ(format_number(fit::step_up(120, 10)), "130");
+  double v = 12.2;  // five steps, as the search takes at most
+  for (int i = 0; i < 5; ++i) v = fit::step_up(v, 0.01);
+  EXPECT_EQ(format_number(v), "12.25");
+}
+
 // The 12R's good region is symmetric: a task fits on both sides of the
 // base. Among the places that meet it, the one nearest the home point
 // (0, L, L), on the +y side; a centre region on the other side keeps the
