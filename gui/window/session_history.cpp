@@ -32,7 +32,7 @@ class SnapshotCommand : public QUndoCommand {
 bool same_document(const Session& a, const Session& b) {
   return a.mechanism == b.mechanism && a.parameters == b.parameters && a.actuator_limits_deg == b.actuator_limits_deg &&
          same_vector(a.pose, b.pose) && same_vector(a.task, b.task) && a.field == b.field &&
-         a.task_volume == b.task_volume;
+         a.task_volume == b.task_volume && a.fit == b.fit;
 }
 
 QString change_text(const Session& before, const Session& after) {
@@ -50,6 +50,7 @@ QString change_text(const Session& before, const Session& after) {
   if (!parts.isEmpty()) field_before.position = after.field.position;
   if (!(field_before == after.field)) parts << QObject::tr("field settings");
   if (!(before.task_volume == after.task_volume)) parts << QObject::tr("task volume");
+  if (!(before.fit == after.fit)) parts << QObject::tr("fit settings");
   return parts.isEmpty() ? QObject::tr("change") : parts.join(", ");
 }
 
@@ -63,7 +64,21 @@ SessionHistory::SessionHistory(std::function<Session()> capture, std::function<v
 }
 
 void SessionHistory::noteChange() {
-  if (!restoring_) settle_.start();
+  if (restoring_) return;
+  if (held_) changed_while_held_ = true;
+  else settle_.start();
+}
+
+void SessionHistory::hold(bool held) {
+  if (held == held_) return;
+  held_ = held;
+  if (held) {
+    if (settle_.isActive()) flush();  // a change before the press is a step of its own
+    changed_while_held_ = false;
+  } else if (changed_while_held_) {
+    changed_while_held_ = false;
+    flush();
+  }
 }
 
 void SessionHistory::flush() {

@@ -1,8 +1,14 @@
 // The window as a document: its session file and undo/redo history
-// (SessionHistory), the modified mark in the title, Save and Save As,
-// asking before unsaved work is discarded, the recent sessions; and where
-// the camera was last fitted to the device (a camera nobody moved since
-// follows the device's size).
+// (SessionHistory, one step per drag: it watches the window's mouse
+// buttons), the modified mark in the title, Save and Save As (Ctrl+Shift+S
+// wherever the platform binds no key to it), asking before unsaved work is
+// discarded, the recent sessions; and where the camera was last fitted to
+// the device (a camera nobody moved since follows the device's size).
+//
+// Only valid input is kept: criteria the Task tab rejects stay in its box
+// but the document keeps the last valid ones; the Fit tab's settings are
+// part of the document (FitPanel::setting, which keeps the last valid Hold
+// equal groups).
 #pragma once
 
 #include <QObject>
@@ -13,6 +19,7 @@
 #include "core/preset.h"
 #include "gui/window/session.h"
 
+class QEvent;
 class QMainWindow;
 class QMenu;
 
@@ -52,6 +59,9 @@ class WindowDocument : public QObject {
   // The camera as fitted to the device; whether `now` is still there.
   void cameraFitted(const CameraState& fitted) { fitted_camera_ = fitted; }
   bool cameraUntouched(const CameraState& now) const;
+
+ protected:
+  bool eventFilter(QObject* watched, QEvent* event) override;
 
  private:
   void addRecent(const QString& path);
