@@ -17,6 +17,8 @@ class SnapshotCommand : public QUndoCommand {
  public:
   SnapshotCommand(SessionHistory* history, Session before, Session after)
       : QUndoCommand(change_text(before, after)), history_(history), before_(std::move(before)), after_(std::move(after)) {}
+  const Session& before() const { return before_; }
+  const Session& after() const { return after_; }
   void undo() override { history_->restore(before_); }
   void redo() override {
     if (done_) history_->restore(after_);
@@ -116,6 +118,32 @@ void SessionHistory::markSaved(const QString& path) {
 void SessionHistory::markModified() {
   flush();
   stack_.resetClean();  // emits cleanChanged, hence modifiedChanged, if it was clean
+}
+
+void SessionHistory::adopt(const SessionHistory& previous, const QString& what) {
+  settle_.stop();
+  stack_.clear();
+  const int clean = previous.stack_.cleanIndex(), steps = previous.stack_.index();
+  if (clean < 0 || clean > steps) stack_.resetClean();  // the file's state is not among the steps kept
+  for (int i = 0; i < steps; ++i) {
+    if (i == clean) stack_.setClean();
+    const auto* step = static_cast<const SnapshotCommand*>(previous.stack_.command(i));
+    stack_.push(new SnapshotCommand(this, step->before(), step->after()));
+  }
+  if (steps == clean) stack_.setClean();
+  Session now = capture_();
+  now.camera.reset();
+  if (!same_document(previous.last_, now)) {
+    auto* reload = new SnapshotCommand(this, previous.last_, now);
+    reload->setText(what);
+    stack_.push(reload);
+  }
+  last_ = now;
+  if (previous.path_ != path_) {
+    path_ = previous.path_;
+    emit pathChanged(path_);
+  }
+  emit modifiedChanged(modified());
 }
 
 void SessionHistory::restore(const Session& s) {

@@ -43,6 +43,11 @@ class SessionHistory : public QObject {
   // The state as it is now differs from the document's file, though no step
   // led here (a reloaded preset changed the design).
   void markModified();
+  // The history of `previous` carried over to the device made again from
+  // its reloaded file: its steps up to its current one, then the step from
+  // its state to this one's, named `what` (none where nothing changed).
+  // The path, and the clean mark where it still applies, come along.
+  void adopt(const SessionHistory& previous, const QString& what);
   const QString& path() const { return path_; }
   bool modified() const { return !stack_.isClean(); }
   static constexpr int kSettleMs = 350;  // a change (not a drag) is a step once nothing moved this long

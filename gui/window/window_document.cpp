@@ -104,6 +104,15 @@ bool WindowDocument::maybeSave() {
   return answer == QMessageBox::Discard;
 }
 
+bool WindowDocument::mayReload() {
+  history_->flush();
+  if (!interactive_ || !history_->modified()) return true;
+  return QMessageBox::question(window_, tr("Reload mechanism"),
+                               tr("The design in the window has changes the file does not have. Reload the file? "
+                                  "The changes stay in Edit > Undo."),
+                               QMessageBox::Yes | QMessageBox::Cancel, QMessageBox::Cancel) == QMessageBox::Yes;
+}
+
 bool WindowDocument::save() {
   if (history_->path().isEmpty()) return saveAs();
   return saveSession(history_->path());

@@ -46,6 +46,11 @@ class WindowDocument : public QObject {
   bool interactive() const { return interactive_; }
   // Asks to save unsaved changes (only when interactive); false: the user cancelled.
   bool maybeSave();
+  // Before File > Reload mechanism replaces a design changed since the
+  // document was opened or saved: asks whether to reload (only when
+  // interactive); false: the user keeps the window as it is. The changes
+  // stay in the undo history (SessionHistory::adopt) either way.
+  bool mayReload();
   bool save();    // to the document's file, else as Save As
   bool saveAs();  // asks for the file
   bool saveSession(const QString& path);

@@ -6,6 +6,9 @@
 #include <QDockWidget>
 #include <QFileDialog>
 #include <QLineEdit>
+#include <QMainWindow>
+#include <QMessageBox>
+#include <QPushButton>
 #include <QSlider>
 #include <QTemporaryDir>
 #include <QUndoStack>
@@ -16,6 +19,7 @@
 #include "gui/window/mechanism_window.h"
 #include "gui/window/session.h"
 #include "gui/window/session_history.h"
+#include "gui/window/window_document.h"
 #include "settled.h"
 
 using namespace linkscape;
@@ -127,6 +131,65 @@ class WindowSessionTest : public QObject {
     for (int k = 1; k <= 2; ++k) {
       slider->setValue(slider->value() - step);
       QVERIFY2(QTest::qWaitFor([&] { return stack->count() == before + 1 + k; }, 5000), qPrintable(w.refusal()));
+    }
+  }
+
+  // A device made again from its reloaded file takes the history over:
+  // the steps before the reload, the reload itself, and the saved mark.
+  void aReloadedDeviceTakesTheUndoHistoryOver() {
+    gui::Session state;  // what the window holds
+    const auto capture = [&] { return state; };
+    const auto restore = [&](const gui::Session& s) { state = s; };
+    gui::SessionHistory before(capture, restore);
+    before.reset("doc.json");
+    for (double L1 : {10.0, 11.0}) {
+      state.parameters["L1"] = L1;
+      before.flush();
+    }
+    before.markSaved("doc.json");
+    state.parameters["L1"] = 12.0;
+    before.flush();
+    state.parameters["L1"] = 11.5;  // the file's design, read again
+    gui::SessionHistory after(capture, restore);
+    after.reset({});
+    after.adopt(before, "reload");
+    QCOMPARE(after.stack()->count(), 4);
+    QCOMPARE(after.stack()->undoText(), QString("reload"));
+    QCOMPARE(after.path(), QString("doc.json"));
+    QVERIFY(after.modified());
+    for (double L1 : {12.0, 11.0}) {
+      after.stack()->undo();
+      QCOMPARE(state.parameters.at("L1"), L1);
+    }
+    QVERIFY(!after.modified());  // the state that was saved
+    after.stack()->undo();
+    QCOMPARE(state.parameters.at("L1"), 10.0);
+  }
+
+  // Reloading over changes the file does not have asks first.
+  void reloadingOverChangesAsks() {
+    QMainWindow window;
+    gui::Session state;
+    gui::WindowDocument document(&window, {[&] { return state; }, [&](const gui::Session& s) { state = s; },
+                                           [](const gui::Session&, const Preset&, const QString&) {},
+                                           [] { return QString("device"); }});
+    QVERIFY(document.mayReload());  // nothing changed: no question
+    state.parameters["L1"] = 12;
+    document.history()->noteChange();
+    document.setInteractive(true);
+    for (const QMessageBox::StandardButton answer : {QMessageBox::Cancel, QMessageBox::Yes}) {
+      int asked = 0;
+      QTimer click;
+      connect(&click, &QTimer::timeout, [&] {
+        for (QWidget* top : QApplication::topLevelWidgets())
+          if (auto* box = qobject_cast<QMessageBox*>(top); box && box->isVisible()) {
+            ++asked;
+            box->button(answer)->click();
+          }
+      });
+      click.start(50);
+      QCOMPARE(document.mayReload(), answer == QMessageBox::Yes);
+      QCOMPARE(asked, 1);
     }
   }
 
