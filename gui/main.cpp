@@ -6,13 +6,15 @@
 #include "core/atomic_file.h"
 #include "gui/cli/cli.h"
 #ifdef LINKSCAPE_WITH_WINDOW
+#include "gui/window/documentation.h"
 #include "gui/window/launch.h"
 #endif
 
 int main(int argc, char** argv) {
   try {
 #ifdef LINKSCAPE_WITH_WINDOW
-    const linkscape::gui::WindowLauncher window{linkscape::gui::prepare_window, linkscape::gui::run_window};
+    const linkscape::gui::WindowLauncher window{linkscape::gui::prepare_window, linkscape::gui::run_window,
+                                                linkscape::gui::print_shortcuts};
     const linkscape::gui::WindowLauncher* launcher = &window;
 #else
     const linkscape::gui::WindowLauncher* launcher = nullptr;  // a build for cluster nodes: the commands alone

@@ -117,6 +117,9 @@ for f in ./usr/bin/linkscape \
          ./usr/share/bash-completion/completions/linkscape \
          ./usr/share/doc/linkscape/copyright \
          ./usr/share/doc/linkscape/changelog.gz \
+         ./usr/share/doc/linkscape/README.md \
+         ./usr/share/doc/linkscape/docs/architecture.md \
+         ./usr/share/doc/linkscape/docs/images/window-12r.png \
          ./usr/share/applications/linkscape.desktop \
          ./usr/share/icons/hicolor/scalable/apps/linkscape.svg \
          ./usr/share/icons/hicolor/256x256/apps/linkscape.png; do
@@ -153,6 +156,13 @@ if grep -q '^\.TH LINKSCAPE 1' <<<"$(sed -n 1p <<<"$page")" && [ "$(grep -c '^\.
 else
   fail "manual page is missing its title or its command sections"
 fi
+for section in EXAMPLES WINDOW ENVIRONMENT FILES "EXIT STATUS" "SEE ALSO"; do
+  if grep -qx "\.SH \"\?$section\"\?" <<<"$page"; then pass "manual page has $section"
+  else fail "manual page lacks its $section section"; fi
+done
+# The window's shortcuts, from the program itself (linkscape --shortcuts).
+if grep -q '^Help > Documentation  *F1$' <<<"$page"; then pass "manual page lists the window's shortcuts"
+else fail "manual page lists no window shortcuts (F1)"; fi
 # The help text is preformatted on the page and indented by 7: within 80
 # columns when each of its lines is at most 73 (the page's own lines fill).
 wide=$(zcat "$man" 2>/dev/null | awk '/^\.nf/ {pre = 1; next} /^\.fi/ {pre = 0} pre && length($0) > 73 {n++} END {print n + 0}')
@@ -175,6 +185,15 @@ if [[ " $completed " == *" delta "* ]]; then
   pass "bash completion offers the presets after -m ($completed)"
 else
   fail "bash completion after '-m del' gave '$completed', expected delta among them"
+fi
+# ... and the values of an enumerated option, from linkscape --complete-values.
+completed=$(bash -c 'source /usr/share/bash-completion/bash_completion 2>/dev/null; source "$1"
+  PATH="$2:$PATH"; COMP_WORDS=(linkscape slice --colour-map ci); COMP_CWORD=3; COMP_LINE="linkscape slice --colour-map ci"
+  COMP_POINT=${#COMP_LINE}; _linkscape linkscape ci --colour-map; echo "${COMPREPLY[*]}"' _ "$completion" "$build/gui" 2>/dev/null)
+if [ "$completed" = "cividis" ]; then
+  pass "bash completion offers an option's values (--colour-map ci: $completed)"
+else
+  fail "bash completion after '--colour-map ci' gave '$completed', expected cividis"
 fi
 if command -v lintian >/dev/null; then
   # lintian warns when run as root; that is about the checker, not the package.

@@ -38,7 +38,7 @@ trap 'rm -f "$tmp"' EXIT
   echo "\\fIFILE\\fR, a saved session or a preset. With a command it runs headless."
   echo ".PP"
   echo ".nf"
-  roff <<<"$help"
+  awk '/^Examples/ {exit} {print}' <<<"$help" | roff
   echo ".fi"
   echo ".SH COMMANDS"
   for c in $commands; do
@@ -47,6 +47,16 @@ trap 'rm -f "$tmp"' EXIT
     "$exe" "$c" --help | roff
     echo ".fi"
   done
+  echo ".SH EXAMPLES"
+  echo ".nf"
+  awk '/^Examples/ {on = 1; next} on && /^$/ {exit} on {print}' <<<"$help" | roff
+  echo ".fi"
+  echo ".SH WINDOW"
+  echo "The window's keyboard shortcuts (Help > Keyboard shortcuts lists the same):"
+  echo ".PP"
+  echo ".nf"
+  { "$exe" --shortcuts 2>/dev/null || echo "(this build has no window)"; } | roff
+  echo ".fi"
   echo ".SH ENVIRONMENT"
   echo ".TP"
   echo ".B LINKSCAPE_SIMD_TARGET"
@@ -61,9 +71,19 @@ trap 'rm -f "$tmp"' EXIT
   echo ".TP"
   echo ".I /usr/share/linkscape/mechanisms/*.json"
   echo "The shipped mechanism presets."
+  echo ".TP"
+  echo ".I /usr/share/doc/linkscape/"
+  echo "The user guide (Markdown), which Help > Documentation (F1) shows in the window."
   echo ".SH EXIT STATUS"
   echo "0 on success, 2 for bad input or usage (the message names the file, line or option),"
-  echo "1 for any other failure."
+  echo "1 for any other failure. \\fBverify\\fR exits 3 when the task is disproved and 4 when it stays"
+  echo "undecided; \\fBfit --certify\\fR exits 0 with a certified bracket, 3 when every design it tried"
+  echo "was disproved, 4 otherwise."
+  echo ".SH SEE ALSO"
+  echo ".BR paraview (1)"
+  echo "for the .vti volumes and meshes,"
+  echo ".BR mpirun (1)"
+  echo "for distributed sweeps; the MuJoCo documentation for the models \\fBexport-model\\fR writes."
 } | gzip -9n >"$tmp"
 mv -f "$tmp" "$out"
 trap - EXIT

@@ -10,14 +10,20 @@
 #include <vtkPointData.h>
 #include <vtkPolyData.h>
 #include <vtkPolyDataMapper.h>
+#include <vtkPolyDataNormals.h>
+#include <vtkWindowedSincPolyDataFilter.h>
 #include <vtkProperty.h>
 #include <vtkRenderer.h>
 #include <vtkScalarBarActor.h>
 #include <vtkTextProperty.h>
+#include <vtkTextActor.h>
 #include <vtkTexture.h>
+#include <vtkVariant.h>
 
 #include <algorithm>
 #include <stdexcept>
+
+#include "render/colour_scale.h"
 
 namespace linkscape::render {
 namespace {
@@ -53,7 +59,6 @@ FieldScene::FieldScene() {
   sp->SetSpecular(0);
   sp->LightingOff();
   sp->BackfaceCullingOff();
-  slice_actor_->PickableOff();
   slice_actor_->VisibilityOff();
 
   // Isosurfaces: translucent, smooth-shaded from the mesh's point normals.
@@ -81,7 +86,6 @@ FieldScene::FieldScene() {
     p->BackfaceCullingOn();
     p->SetSpecular(0.1);
     p->SetSpecularPower(20);
-    surface_actors_[k]->PickableOff();
     surface_actors_[k]->VisibilityOff();
   }
 
@@ -139,8 +143,10 @@ void FieldScene::add_to(vtkRenderer* renderer, vtkRenderer* legend) {
     colour_bar_->SetHeight(0.86);
     colour_bar_->SetBarRatio(0.28);
     legend->AddViewProp(colour_bar_);
+    legend_renderer_ = legend;
   } else {
     renderer->AddViewProp(colour_bar_);
+    legend_renderer_ = renderer;
   }
   // Order-independent transparency for the translucent surfaces against the
   // opaque linkage and slice. Needs a render window with AlphaBitPlanes on
@@ -180,29 +186,108 @@ void FieldScene::update_colour_bar(const Field& slice, const SliceStyle& resolve
   const std::array<double, 2> range = {*resolved.min, *resolved.max};
   const bool log = uses_log_scale(resolved);
   const std::string title = field_title(slice, resolved.field);
-  if (bar_range_ && *bar_range_ == range && bar_log_ == log && bar_title_ == title && bar_map_ == resolved.colour_map)
+  const std::vector<LegendEntry> legend = categorical_legend(slice, resolved);
+  const bool categorical = !legend.empty();
+  if (!categorical && !bar_categorical_ && bar_range_ && *bar_range_ == range && bar_log_ == log &&
+      bar_title_ == title && bar_map_ == resolved.colour_map && clip_shown_ == std::array<bool, 2>{clip_low_, clip_high_})
     return;
-  if (bar_map_ != resolved.colour_map) {
-    lut_->DeepCopy(colour_lookup_table(resolved.colour_map, 256));
-    bar_map_ = resolved.colour_map;
+  // A fresh table: no annotations or indexed lookup left from a categorical bar.
+  lut_->DeepCopy(colour_lookup_table(resolved.colour_map, 256));
+  bar_map_ = resolved.colour_map;
+  colour_bar_->SetDrawBelowRangeSwatch(false);
+  colour_bar_->SetDrawAboveRangeSwatch(false);
+  if (categorical) {
+    // One swatch per code, named.
+    lut_->IndexedLookupOn();
+    lut_->SetNumberOfTableValues(vtkIdType(legend.size()));
+    for (std::size_t k = 0; k < legend.size(); ++k) {
+      lut_->SetTableValue(vtkIdType(k), legend[k].rgb[0], legend[k].rgb[1], legend[k].rgb[2], 1.0);
+      lut_->SetAnnotation(vtkVariant(legend[k].value), legend[k].label);
+    }
+    build_legend(title, legend);
+  } else {
+    colour_bar_->DrawAnnotationsOff();  // the strip has no room left of the bar; the title says what is clipped
+    // The table's own range and scale make the bar's colours and tick labels
+    // match normalised_value(): log10 spacing for cond and residual.
+    if (log) lut_->SetScaleToLog10();
+    else lut_->SetScaleToLinear();
+    lut_->SetTableRange(range[0], range[1]);
+    vtkNew<vtkDoubleArray> ticks;
+    const std::vector<double> values =
+        is_integer(resolved.field) ? integer_ticks(range[0], range[1]) : render::colour_bar_ticks(range[0], range[1], log);
+    for (double t : values) ticks->InsertNextValue(t);
+    colour_bar_->SetUseCustomLabels(true);
+    colour_bar_->SetCustomLabels(ticks);
+    // Values beyond a clipped end are drawn in the end colour: say so past that end.
+    const auto low = colour_of(0, bar_map_), high = colour_of(1, bar_map_);
+    lut_->SetBelowRangeColor(low[0], low[1], low[2], 1);
+    lut_->SetAboveRangeColor(high[0], high[1], high[2], 1);
+    lut_->SetUseBelowRangeColor(clip_low_);
+    lut_->SetUseAboveRangeColor(clip_high_);
+    colour_bar_->SetDrawBelowRangeSwatch(clip_low_);
+    colour_bar_->SetDrawAboveRangeSwatch(clip_high_);
   }
-  // The table's own range and scale make the bar's colours and tick labels
-  // match normalised_value(): log10 spacing for cond and residual.
-  if (log) lut_->SetScaleToLog10();
-  else lut_->SetScaleToLinear();
-  lut_->SetTableRange(range[0], range[1]);
-  vtkNew<vtkDoubleArray> ticks;
-  for (double t : colour_bar_ticks(range[0], range[1], log)) ticks->InsertNextValue(t);
-  colour_bar_->SetCustomLabels(ticks);
+  clip_shown_ = {clip_low_, clip_high_};
   // Long titles ("isotropic force (N)") put their unit on a second line,
   // within the bar's narrow strip at the view's edge.
   std::string shown = title;
   if (const auto unit = shown.rfind(" ("); shown.size() > 12 && unit != std::string::npos) shown[unit] = '\n';
+  if (!categorical && (clip_low_ || clip_high_))
+    shown += clip_low_ && clip_high_ ? "\nboth ends clipped" : clip_high_ ? "\ntop clipped" : "\nbottom clipped";
   colour_bar_->SetTitle(shown.c_str());
   colour_bar_->Modified();
   bar_range_ = range;
   bar_log_ = log;
   bar_title_ = title;
+  bar_categorical_ = categorical;
+}
+
+// A categorical legend: the title, then one name per code on its colour,
+// stacked down the legend's strip (a scalar bar puts its names outside it).
+void FieldScene::build_legend(const std::string& title, const std::vector<LegendEntry>& entries) {
+  for (auto& a : legend_entries_)
+    if (legend_renderer_) legend_renderer_->RemoveViewProp(a);
+  legend_entries_.clear();
+  auto add = [&](const std::string& text, const std::array<double, 3>* rgb, int row) {
+    auto a = vtkSmartPointer<vtkTextActor>::New();
+    a->SetInput(text.c_str());
+    vtkTextProperty* t = a->GetTextProperty();
+    t->SetFontSize(13);
+    t->SetBold(rgb == nullptr);
+    const bool dark = rgb && 0.3 * (*rgb)[0] + 0.59 * (*rgb)[1] + 0.11 * (*rgb)[2] < 0.5;
+    t->SetColor(dark ? 1.0 : 0.1, dark ? 1.0 : 0.1, dark ? 1.0 : 0.15);
+    if (rgb) {
+      t->SetBackgroundColor((*rgb)[0], (*rgb)[1], (*rgb)[2]);
+      t->SetBackgroundOpacity(1.0);
+    }
+    a->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
+    a->SetPosition(0.04, 0.92 - 0.05 * row);
+    a->PickableOff();
+    if (legend_renderer_) legend_renderer_->AddViewProp(a);
+    legend_entries_.push_back(a);
+  };
+  add(title, nullptr, 0);
+  for (std::size_t k = 0; k < entries.size(); ++k) add(" " + entries[k].label + " ", &entries[k].rgb, int(k) + 1);
+}
+
+void FieldScene::set_clipped_ends(bool low, bool high) {
+  clip_low_ = low;
+  clip_high_ = high;
+}
+
+std::vector<std::string> FieldScene::colour_bar_labels() const {
+  std::vector<std::string> out;
+  if (!bar_categorical_) return out;
+  for (vtkIdType k = 0; k < lut_->GetNumberOfAnnotatedValues(); ++k) out.push_back(lut_->GetAnnotation(k));
+  return out;
+}
+
+std::vector<double> FieldScene::colour_bar_ticks() const {
+  std::vector<double> out;
+  if (bar_categorical_ || !colour_bar_->GetCustomLabels()) return out;
+  vtkDoubleArray* t = colour_bar_->GetCustomLabels();
+  for (vtkIdType k = 0; k < t->GetNumberOfTuples(); ++k) out.push_back(t->GetValue(k));
+  return out;
 }
 
 void FieldScene::set_slice_visible(bool visible) {
@@ -235,9 +320,30 @@ void take_mesh(vtkPolyData* into, vtkPolyData* mesh) {
 
 }  // namespace
 
+void FieldScene::set_surface_smoothing(int iterations) {
+  if (iterations < 0 || iterations > 200)
+    throw std::invalid_argument("field scene: expected 0..200 smoothing iterations, got " + std::to_string(iterations));
+  smoothing_ = iterations;
+}
+
 void FieldScene::set_surface(Surface which, vtkPolyData* mesh) {
   const std::size_t k = index(which);
-  take_mesh(meshes_[k], mesh);
+  vtkSmartPointer<vtkPolyData> shown = mesh;
+  if (smoothing_ > 0 && mesh && mesh->GetNumberOfCells() > 0) {
+    vtkNew<vtkWindowedSincPolyDataFilter> smooth;
+    smooth->SetInputData(mesh);
+    smooth->SetNumberOfIterations(smoothing_);
+    smooth->SetPassBand(0.1);
+    smooth->BoundarySmoothingOff();  // the box's cut edges stay where they are
+    smooth->NonManifoldSmoothingOn();
+    smooth->NormalizeCoordinatesOn();
+    vtkNew<vtkPolyDataNormals> normals;  // shading from the smoothed shape
+    normals->SetInputConnection(smooth->GetOutputPort());
+    normals->SplittingOff();
+    normals->Update();
+    shown = normals->GetOutput();
+  }
+  take_mesh(meshes_[k], shown);
   take_mesh(light_meshes_[k], nullptr);
   update_visibility();
 }
@@ -291,7 +397,8 @@ void FieldScene::update_visibility() {
     surface_actors_[index(s)]->SetVisibility(surface_visible(s) && !light);
     light_actors_[index(s)]->SetVisibility(light);
   }
-  colour_bar_->SetVisibility(colour_bar_visible());
+  colour_bar_->SetVisibility(colour_bar_visible() && !bar_categorical_);
+  for (auto& a : legend_entries_) a->SetVisibility(colour_bar_visible() && bar_categorical_);
 }
 
 bool FieldScene::slice_visible() const { return slice_flag_ && has_slice_; }

@@ -9,13 +9,16 @@
 
 #include <vtkNew.h>
 #include <vtkSmartPointer.h>
+#include <vtkWeakPointer.h>
 
 #include <array>
 #include <cstddef>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/field.h"
+#include "render/colour_scale.h"
 #include "render/slice_image.h"
 #include "render/workspace_mesh.h"
 
@@ -26,6 +29,7 @@ class vtkPlaneSource;
 class vtkPolyData;
 class vtkRenderer;
 class vtkScalarBarActor;
+class vtkTextActor;
 class vtkTexture;
 
 namespace linkscape::render {
@@ -61,6 +65,12 @@ class FieldScene {
   // "Normals"). The mesh is shallow-copied. nullptr or a mesh without cells
   // clears that surface and its light mesh.
   void set_surface(Surface which, vtkPolyData* mesh);
+  // Smooths the full surfaces for display (windowed-sinc, volume-preserving,
+  // `iterations` passes; 0: as extracted, the default). A surface sampled
+  // on a grid shows the grid's facets and ripples; smoothing takes them off
+  // the picture only: exports keep the extracted mesh. Applies from the
+  // next set_surface.
+  void set_surface_smoothing(int iterations);
   // The same surface with fewer triangles (extract_light_surface), drawn
   // instead of the full mesh while set_light(true); shallow-copied. Ignored
   // while the surface has no full mesh; nullptr clears it.
@@ -81,6 +91,10 @@ class FieldScene {
   // the round ticks of colour_bar_ticks() (as the figures), titled by the
   // quantity and unit. Shown only while the slice is shown. Default on.
   void set_colour_bar_visible(bool visible);
+  // Marks the ends of the colour bar beyond which the slice has values
+  // drawn in the end colours (a robust automatic range clipped them): a
+  // swatch with "clipped" past each such end. Taken at the next set_slice.
+  void set_clipped_ends(bool low, bool high);
 
   // Hides everything and drops all field data (visibility and opacity
   // settings are kept for the next data).
@@ -93,8 +107,17 @@ class FieldScene {
   std::size_t surface_faces(Surface which) const;
   bool colour_bar_visible() const;
   std::string colour_bar_title() const;
+  // The bar's discrete entries (categorical fields: status and method by
+  // name), empty for a continuous bar.
+  std::vector<std::string> colour_bar_labels() const;
+  // The ticks of a continuous bar.
+  std::vector<double> colour_bar_ticks() const;
+  std::array<bool, 2> clipped_ends() const { return {clip_low_, clip_high_}; }
   // The colour range the bar was last built for (the data's units, not log10), if any.
   std::optional<std::array<double, 2>> colour_bar_range() const { return bar_range_; }
+  // The props a pick can land on: the slice and each full surface.
+  vtkActor* slice_actor() const { return slice_actor_; }
+  vtkActor* surface_actor(Surface which) const { return surface_actors_[index(which)]; }
   // World bounds of the slice rectangle (xmin, xmax, ymin, ymax, zmin, zmax);
   // all zero without a slice.
   std::array<double, 6> slice_bounds() const;
@@ -104,6 +127,7 @@ class FieldScene {
   static std::size_t index(Surface which);
   void update_visibility();
   void update_colour_bar(const Field& slice, const SliceStyle& resolved);
+  void build_legend(const std::string& title, const std::vector<LegendEntry>& entries);
 
   // Slice: a textured plane.
   vtkNew<vtkPlaneSource> plane_;
@@ -118,13 +142,18 @@ class FieldScene {
   std::array<vtkSmartPointer<vtkActor>, kSurfaces> surface_actors_, light_actors_;
   std::array<bool, kSurfaces> surface_flags_{true, true};
   bool light_ = false;
+  int smoothing_ = 0;
 
   // Colour bar and the range it was last built for (rebuilt only on change).
   vtkSmartPointer<vtkLookupTable> lut_;
   vtkNew<vtkScalarBarActor> colour_bar_;
   bool colour_bar_flag_ = true;
   std::optional<std::array<double, 2>> bar_range_;
-  bool bar_log_ = false;
+  bool bar_log_ = false, bar_categorical_ = false;
+  bool clip_low_ = false, clip_high_ = false;
+  std::array<bool, 2> clip_shown_{false, false};
+  std::vector<vtkSmartPointer<vtkTextActor>> legend_entries_;  // a categorical legend, title first
+  vtkWeakPointer<vtkRenderer> legend_renderer_;  // the marks the bar was last built with
   std::string bar_title_, bar_map_;
 };
 

@@ -6,6 +6,7 @@
 #include <vtkCamera.h>
 #include <vtkCaptionActor2D.h>
 #include <vtkCellArray.h>
+#include <vtkCoordinate.h>
 #include <vtkCylinderSource.h>
 #include <vtkMatrix4x4.h>
 #include <vtkPoints.h>
@@ -230,6 +231,8 @@ std::vector<vtkProp*> SkeletonScene::props() const {
     if (b.plate) out.push_back(b.plate);
   for (const JointProps& j : joints_)
     if (j.label) out.push_back(j.label);
+  for (const JointProps& j : joints_)  // overlays: drawn after the scene's props
+    if (j.front_label) out.push_back(j.front_label);
   return out;
 }
 
@@ -296,6 +299,14 @@ void SkeletonScene::set_model(const SkeletonModel& model) {
       text->SetJustificationToCentered();
       text->SetVerticalJustificationToCentered();
       parts.label->PickableOff();
+      parts.front_label = vtkSmartPointer<vtkTextActor>::New();
+      parts.front_label->SetInput(joint.label.c_str());
+      vtkTextProperty* front = parts.front_label->GetTextProperty();
+      front->ShallowCopy(text);
+      front->SetBackgroundColor(1, 1, 1);
+      front->SetBackgroundOpacity(0.7);
+      parts.front_label->GetPositionCoordinate()->SetCoordinateSystemToWorld();
+      parts.front_label->PickableOff();
     }
   }
 
@@ -366,18 +377,61 @@ void SkeletonScene::apply_pose() {
       label->SetPosition(p.x(), p.y(), p.z());
       const Colour c = failing ? kFailingColour : body_colour(model_, joint.body);
       label->GetTextProperty()->SetColor(0.75 * c[0], 0.75 * c[1], 0.75 * c[2]);
+      vtkTextActor* front = joints_[j].front_label;
+      front->GetPositionCoordinate()->SetValue(p.x(), p.y(), p.z());
+      front->GetTextProperty()->SetColor(0.75 * c[0], 0.75 * c[1], 0.75 * c[2]);
+      label->SetVisibility(!labels_in_front_);
+      front->SetVisibility(labels_in_front_);
     }
   }
   endpoint_actor_->SetPosition(pose_.endpoint.x(), pose_.endpoint.y(), pose_.endpoint.z());
 }
 
+void SkeletonScene::set_labels_in_front(bool on) {
+  labels_in_front_ = on;
+  apply_pose();
+}
+
+vtkTextActor* SkeletonScene::joint_front_label(int joint) const { return joints_.at(joint).front_label; }
+
 void SkeletonScene::reset_camera(vtkRenderer* renderer, const Eigen::AlignedBox3d& workspace_box) const {
-  if (!renderer) throw std::invalid_argument("SkeletonScene::reset_camera: renderer is null");
-  if (workspace_box.isEmpty() || !workspace_box.min().allFinite() || !workspace_box.max().allFinite())
-    throw std::invalid_argument("SkeletonScene::reset_camera: the workspace box is empty or not finite");
+  // From the front-left, above.
+  frame(renderer, workspace_box, Eigen::Vector3d(-0.95, -1.45, 0.85), Eigen::Vector3d::UnitZ());
+}
+
+Eigen::AlignedBox3d SkeletonScene::device_box() const {
+  Eigen::AlignedBox3d box;
+  for (std::size_t b = 0; b < model_.bodies.size() && b < pose_.body_frames.size(); ++b) {
+    const Eigen::Isometry3d& T = pose_.body_frames[b];
+    for (const auto& line : model_.bodies[b].polylines)
+      for (const Eigen::Vector3d& p : line) box.extend(T * p);
+    for (const auto& face : model_.bodies[b].faces)
+      for (const Eigen::Vector3d& p : face) box.extend(T * p);
+  }
+  return box;
+}
+
+std::vector<vtkActor*> SkeletonScene::pickable_actors() const {
+  std::vector<vtkActor*> out;
+  for (const BodyProps& b : bodies_)
+    for (vtkActor* a : {b.tube.Get(), b.plate.Get()})
+      if (a) out.push_back(a);
+  for (const JointProps& j : joints_) out.push_back(j.knuckle);
+  out.push_back(endpoint_actor_);
+  return out;
+}
+
+void SkeletonScene::frame(vtkRenderer* renderer, const Eigen::AlignedBox3d& box, const Eigen::Vector3d& back_in,
+                          const Eigen::Vector3d& up_in) const {
+  if (!renderer) throw std::invalid_argument("SkeletonScene::frame: renderer is null");
+  if (box.isEmpty() || !box.min().allFinite() || !box.max().allFinite())
+    throw std::invalid_argument("SkeletonScene::frame: the box is empty or not finite");
+  const Eigen::Vector3d back = back_in.normalized();
+  if (!back.allFinite() || (up_in - up_in.dot(back) * back).norm() < 1e-9 * up_in.norm())
+    throw std::invalid_argument("SkeletonScene::frame: expected a view direction and an up vector not parallel to it");
   // The base does not move: framing it with the box keeps the view steady
   // while the device moves.
-  Eigen::AlignedBox3d frame_box = workspace_box;
+  Eigen::AlignedBox3d frame_box = box;
   for (std::size_t b = 0; b < model_.bodies.size(); ++b) {
     if (!model_.bodies[b].ground) continue;
     const Eigen::Isometry3d& T = pose_.body_frames[b];
@@ -391,10 +445,9 @@ void SkeletonScene::reset_camera(vtkRenderer* renderer, const Eigen::AlignedBox3
   const Eigen::Vector3d half_scale = Eigen::Vector3d::Constant(0.5 * model_.scale);
   frame_box.extend(focal - half_scale);
   frame_box.extend(focal + half_scale);
-  // From the front-left, above; the distance (or parallel scale) fits every
-  // corner of the box into the view with a small margin.
-  const Eigen::Vector3d back = Eigen::Vector3d(-0.95, -1.45, 0.85).normalized();  // focal -> camera
-  const Eigen::Vector3d up = (Eigen::Vector3d::UnitZ() - back.z() * back).normalized();
+  // The distance (or parallel scale) fits every corner of the box into the
+  // view with a small margin.
+  const Eigen::Vector3d up = (up_in - up_in.dot(back) * back).normalized();
   const Eigen::Vector3d right = up.cross(back);
   double aspect = 1.0;  // width / height of the viewport, where it has a window
   if (renderer->GetRenderWindow()) {
@@ -414,7 +467,7 @@ void SkeletonScene::reset_camera(vtkRenderer* renderer, const Eigen::AlignedBox3
   const Eigen::Vector3d position = focal + distance * back;
   camera->SetFocalPoint(focal.data());
   camera->SetPosition(position.data());
-  camera->SetViewUp(0.0, 0.0, 1.0);
+  camera->SetViewUp(up.data());
   camera->SetParallelScale(half_height);
   renderer->ResetCameraClippingRange();
 }

@@ -29,6 +29,7 @@ class vtkProp;
 class vtkPolyDataMapper;
 class vtkRenderer;
 class vtkSphereSource;
+class vtkTextActor;
 
 namespace linkscape::render {
 
@@ -61,6 +62,23 @@ class SkeletonScene {
   // Camera from the front-left, above, framing `workspace_box` (base frame)
   // together with the device's base.
   void reset_camera(vtkRenderer* renderer, const Eigen::AlignedBox3d& workspace_box) const;
+  // The camera looking along -`back` (focal point -> camera is `back`) with
+  // `up` up, framing `box` with the device's base. Throws
+  // std::invalid_argument for a null renderer, an empty or non-finite box, or
+  // `up` parallel to `back`.
+  void frame(vtkRenderer* renderer, const Eigen::AlignedBox3d& box, const Eigen::Vector3d& back,
+             const Eigen::Vector3d& up) const;
+  // The device's own extent in its current pose: every body's polylines and
+  // faces (empty for a model without geometry).
+  Eigen::AlignedBox3d device_box() const;
+  // Joint labels drawn over the scene (on a light plate) instead of in it,
+  // so a slice, a surface or the base in front never hides them. Default off.
+  void set_labels_in_front(bool on);
+  bool labels_in_front() const { return labels_in_front_; }
+  // A joint's label drawn over the scene (null where the label is empty).
+  vtkTextActor* joint_front_label(int joint) const;
+  // The actors a pick can land on: tubes, plates, knuckles, the endpoint.
+  std::vector<vtkActor*> pickable_actors() const;
 
   // The props, for tests and picking: per body its tube and plate actors
   // (null where the body has no polylines or no faces), per joint its knuckle
@@ -83,6 +101,7 @@ class SkeletonScene {
     Eigen::Matrix4d knuckle_in_body;  // scaled unit source -> body frame
     vtkSmartPointer<vtkActor> knuckle;
     vtkSmartPointer<vtkBillboardTextActor3D> label;
+    vtkSmartPointer<vtkTextActor> front_label;  // the same, drawn over the scene
   };
 
   std::vector<vtkProp*> props() const;
@@ -93,6 +112,7 @@ class SkeletonScene {
   std::vector<BodyProps> bodies_;
   std::vector<JointProps> joints_;
   std::vector<vtkWeakPointer<vtkRenderer>> renderers_;
+  bool labels_in_front_ = false;
 
   vtkNew<vtkCylinderSource> cylinder_;  // unit height along y, radius 0.5
   vtkNew<vtkSphereSource> sphere_;      // radius 0.5

@@ -1,11 +1,17 @@
 #include "render/task_scene.h"
 
 #include <vtkActor.h>
+#include <vtkActor2D.h>
 #include <vtkAppendPolyData.h>
+#include <vtkCellArray.h>
+#include <vtkCoordinate.h>
 #include <vtkPlaneSource.h>
 #include <vtkPointData.h>
 #include <vtkPolyData.h>
 #include <vtkPolyDataMapper.h>
+#include <vtkPolyDataMapper2D.h>
+#include <vtkPoints.h>
+#include <vtkProperty2D.h>
 #include <vtkProperty.h>
 #include <vtkRenderer.h>
 #include <vtkSphereSource.h>
@@ -61,7 +67,16 @@ TaskScene::TaskScene() {
   task_actor_->GetProperty()->SetOpacity(0.8);
   task_actor_->GetProperty()->SetAmbient(0.5);
   task_actor_->GetProperty()->SetDiffuse(0.5);
-  task_actor_->PickableOff();
+  // Failing samples again as dots over everything, so the far side's show too.
+  vtkNew<vtkCoordinate> world;
+  world->SetCoordinateSystemToWorld();
+  vtkNew<vtkPolyDataMapper2D> failing_mapper;
+  failing_mapper->SetTransformCoordinate(world);
+  failing_mapper->ScalarVisibilityOff();
+  failing_actor_->SetMapper(failing_mapper);
+  failing_actor_->GetProperty()->SetColor(kFailsColour[0] / 255.0, kFailsColour[1] / 255.0, kFailsColour[2] / 255.0);
+  failing_actor_->GetProperty()->SetPointSize(6);
+  failing_actor_->PickableOff();
   vtkNew<vtkPolyDataMapper> inscribed_mapper;
   inscribed_mapper->ScalarVisibilityOff();
   inscribed_actor_->SetMapper(inscribed_mapper);
@@ -78,6 +93,7 @@ void TaskScene::add_to(vtkRenderer* renderer) {
   if (!renderer) throw std::invalid_argument("task scene: null renderer");
   if (!renderer->HasViewProp(task_actor_)) renderer->AddActor(task_actor_);
   if (!renderer->HasViewProp(inscribed_actor_)) renderer->AddActor(inscribed_actor_);
+  if (!renderer->HasViewProp(failing_actor_)) renderer->AddViewProp(failing_actor_);
 }
 
 void TaskScene::set_task(vtkPolyData* surface, const std::vector<std::uint8_t>& meets) {
@@ -90,12 +106,21 @@ void TaskScene::set_task(vtkPolyData* surface, const std::vector<std::uint8_t>& 
   colours->SetNumberOfComponents(3);
   colours->SetNumberOfTuples(vtkIdType(meets.size()));
   failing_ = 0;
+  points_ = meets.size();
+  vtkNew<vtkPoints> failing_points;
+  vtkNew<vtkCellArray> failing_verts;
   for (std::size_t i = 0; i < meets.size(); ++i) {
-    const unsigned char good[3] = {60, 170, 90}, bad[3] = {220, 50, 40};
-    colours->SetTypedTuple(vtkIdType(i), meets[i] ? good : bad);
-    failing_ += !meets[i];
+    colours->SetTypedTuple(vtkIdType(i), meets[i] ? kMeetsColour : kFailsColour);
+    if (meets[i]) continue;
+    failing_verts->InsertNextCell(1);
+    failing_verts->InsertCellPoint(failing_points->InsertNextPoint(surface->GetPoint(vtkIdType(i))));
+    ++failing_;
   }
   copy->GetPointData()->SetScalars(colours);
+  vtkNew<vtkPolyData> failing;
+  failing->SetPoints(failing_points);
+  failing->SetVerts(failing_verts);
+  vtkPolyDataMapper2D::SafeDownCast(failing_actor_->GetMapper())->SetInputData(failing);
   vtkPolyDataMapper::SafeDownCast(task_actor_->GetMapper())->SetInputData(copy);
   has_task_ = true;
   update_visibility();
@@ -121,6 +146,10 @@ bool TaskScene::visible() const { return visible_ && has_task_; }
 void TaskScene::update_visibility() {
   task_actor_->SetVisibility(visible_ && has_task_);
   inscribed_actor_->SetVisibility(visible_ && has_inscribed_);
+  // Few failing samples are a speck that may sit on the far side: shown
+  // over everything. Many are a region the surface's own colours show.
+  const bool few = failing_ > 0 && double(failing_) <= kFewFailing * double(points_);
+  failing_actor_->SetVisibility(visible_ && has_task_ && few);
 }
 
 }  // namespace linkscape::render

@@ -36,11 +36,13 @@
 #include <functional>
 #include <limits>
 #include <numeric>
+#include <sstream>
 #include <stdexcept>
 #include <unordered_map>
 #include <vector>
 
 #include "core/atomic_file.h"
+#include "core/haptics.h"
 #include "render/field_vtk.h"
 
 namespace linkscape::render {
@@ -433,13 +435,51 @@ MeshStats mesh_stats(vtkPolyData* mesh) {
   return stats;
 }
 
-void write_mesh(vtkPolyData* mesh, const std::filesystem::path& path, const Field& for_metadata,
-                const SurfaceRequest& request) {
-  if (!mesh) throw std::invalid_argument("write_mesh: expected a mesh, got null");
+namespace {
+
+// `mesh` with its points in `unit` instead of `field_unit` (itself when the
+// two are the same).
+vtkSmartPointer<vtkPolyData> in_unit(vtkPolyData* mesh, const std::string& field_unit, const std::string& unit) {
+  vtkSmartPointer<vtkPolyData> out = mesh;
+  if (unit == field_unit) return out;
+  const auto known = [](const std::string& u) { return u == "m" || u == "cm" || u == "mm" || u == "in"; };
+  if (!known(unit)) throw std::invalid_argument("mesh unit: expected mm, cm, m or in, got '" + unit + "'");
+  if (!known(field_unit))
+    throw std::invalid_argument("mesh unit: the device's length unit '" + field_unit + "' has no conversion to " + unit);
+  const double scale = haptics::metres_per(field_unit) / haptics::metres_per(unit);
+  out = vtkSmartPointer<vtkPolyData>::New();
+  out->ShallowCopy(mesh);
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(mesh->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < mesh->GetNumberOfPoints(); ++i) {
+    double p[3];
+    mesh->GetPoint(i, p);
+    points->SetPoint(i, scale * p[0], scale * p[1], scale * p[2]);
+  }
+  out->SetPoints(points);
+  return out;
+}
+
+// The file's text with its unit as a comment where readers skip it: OBJ's
+// first line; in a PLY header after "ply" and the format line.
+std::string with_unit_comment(const std::string& file, const std::string& ext, const std::string& unit) {
+  if (ext == ".obj") return "# length unit: " + unit + "\n" + file;
+  const std::size_t format_end = file.find('\n', file.find('\n') + 1);
+  return file.substr(0, format_end + 1) + "comment length unit: " + unit + "\n" + file.substr(format_end + 1);
+}
+
+}  // namespace
+
+void write_mesh(vtkPolyData* mesh_in_field_unit, const std::filesystem::path& path, const Field& for_metadata,
+                const SurfaceRequest& request, const std::string& unit_asked) {
+  if (!mesh_in_field_unit) throw std::invalid_argument("write_mesh: expected a mesh, got null");
   const std::string ext = lower(path.extension().string());
   if (ext != ".stl" && ext != ".obj" && ext != ".ply" && ext != ".off" && ext != ".vtp")
     throw std::invalid_argument("write_mesh: expected a path ending in .stl, .obj, .ply, .off or .vtp, got '" +
                                 path.string() + "'");
+  const std::string unit = unit_asked.empty() ? for_metadata.length_unit : unit_asked;
+  const vtkSmartPointer<vtkPolyData> mesh = in_unit(mesh_in_field_unit, for_metadata.length_unit, unit);
   if (ext == ".stl") {
     // An STL file holds bare triangles: VTK writes them straight from `mesh`,
     // without building OpenMesh's connectivity first.
@@ -448,6 +488,8 @@ void write_mesh(vtkPolyData* mesh, const std::filesystem::path& path, const Fiel
       writer->SetFileName(tmp.c_str());
       writer->SetInputData(mesh);
       writer->SetFileTypeToBinary();
+      // The 80-byte header, which readers skip: where the unit can be said.
+      writer->SetHeader(("Linkscape workspace mesh, length unit: " + unit).c_str());
       check_written(writer.Get(), path, "STL");
     });
     return;
@@ -458,6 +500,11 @@ void write_mesh(vtkPolyData* mesh, const std::filesystem::path& path, const Fiel
     vtkNew<vtkFieldData> metadata;
     add_metadata(metadata, for_metadata);
     add_surface_metadata(metadata, request);
+    metadata->RemoveArray("length_unit");  // the points' unit, which may differ from the field's
+    vtkNew<vtkStringArray> unit_array;
+    unit_array->SetName("length_unit");
+    unit_array->InsertNextValue(unit);
+    metadata->AddArray(unit_array);
     copy->SetFieldData(metadata);
     write_atomically(path, [&](const std::filesystem::path& tmp) {
       vtkNew<vtkXMLPolyDataWriter> writer;
@@ -506,9 +553,15 @@ void write_mesh(vtkPolyData* mesh, const std::filesystem::path& path, const Fiel
       if (was) ::omlog().enable();
     }
   } quiet;
+  // The format from the target's extension, not tmp's; the unit as a
+  // comment where the format has them (PLY, OBJ; OFF has none every reader takes).
+  std::ostringstream text;
+  if (!OpenMesh::IO::write_mesh(om, text, ext, options, 9))
+    throw std::runtime_error("cannot write mesh '" + path.string() + "'");
+  const std::string file = ext == ".off" ? text.str() : with_unit_comment(text.str(), ext, unit);
   write_atomically(path, [&](const std::filesystem::path& tmp) {
-    std::ofstream out(tmp, std::ios::binary);  // the format from the target's extension, not tmp's
-    if (!OpenMesh::IO::write_mesh(om, out, ext, options, 9) || !out.flush())
+    std::ofstream out(tmp, std::ios::binary);
+    if (!out.write(file.data(), std::streamsize(file.size())) || !out.flush())
       throw std::runtime_error("cannot write mesh '" + path.string() + "'");
   });
 }

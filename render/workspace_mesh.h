@@ -79,7 +79,10 @@ MeshStats mesh_stats(vtkPolyData* mesh);
 // field data. Atomic. Throws std::invalid_argument for an unknown extension
 // (the message lists the supported ones) or a null mesh, std::runtime_error
 // if the file cannot be written (the target is then untouched).
+// `unit` (mm, cm, m or in; empty: the field's length unit) scales the
+// points and is written where the format has room: the STL header, a PLY
+// comment, an OBJ comment, the VTP's length_unit (OFF has no place for it).
 void write_mesh(vtkPolyData* mesh, const std::filesystem::path& path, const Field& for_metadata,
-                const SurfaceRequest& request);
+                const SurfaceRequest& request, const std::string& unit = {});
 
 }  // namespace linkscape::render

@@ -18,6 +18,7 @@
 
 #include "core/spelling.h"
 #include "gui/cli/command.h"
+#include "gui/cli/completion.h"
 #include "gui/cli/sampling.h"
 #include "gui/cli/terminal.h"
 #include "gui/cli/window_request.h"
@@ -56,14 +57,25 @@ class WrappingFormatter : public CLI::Formatter {
   std::size_t width_;
 };
 
-// The program's footer: every command's example, then the devices.
+// The program's footer: every command's example (the command line, then
+// what it does, indented below it), then the devices. The man page's
+// EXAMPLES section is read from here.
 std::string headless_hint(const DeviceHelp& help, const std::vector<Command>& commands) {
-  std::string hint = "Headless commands (no display needed):\n";
-  for (const Command& command : commands)
-    hint += "  " + (command.example.empty() ? "linkscape " + command.app->get_name() + "   " +
-                                                   command.app->get_description()
-                                             : command.example) + "\n";
-  hint += "Devices (--mechanism NAME): " + help.per_device([](const MechanismInfo& i) { return i.title; }) + "\n";
+  std::string hint = "Examples (headless: no display needed):\n";
+  for (const Command& command : commands) {
+    if (command.example.empty()) {
+      hint += "  linkscape " + command.app->get_name() + "\n      " + command.app->get_description() + "\n";
+      continue;
+    }
+    // Each example line is "linkscape ... <three or more spaces> what it does".
+    std::istringstream examples(command.example);
+    for (std::string example; std::getline(examples, example);) {
+      const std::size_t gap = example.find("   ");
+      hint += "  " + example.substr(0, gap) + "\n";
+      if (gap != std::string::npos) hint += "      " + example.substr(example.find_first_not_of(' ', gap)) + "\n";
+    }
+  }
+  hint += "\nDevices (--mechanism NAME): " + help.per_device([](const MechanismInfo& i) { return i.title; }) + "\n";
   return hint + "Run 'linkscape --help' or 'linkscape eval --help' for every option.\n";
 }
 
@@ -185,6 +197,10 @@ int run(int argc, char** argv, const WindowLauncher* launcher) {
                  "Show a task volume in the Task tab: sphere:diameter=D or box:size=X,Y,Z, optionally ,centre=x,y,z "
                  "(else placed in the largest sphere or box where the criteria hold)");
   app.add_option("--criterion", window.criteria, "Criteria of --task (repeatable), quoted for the shell, e.g. 'cond<3' 'force_iso>1'");
+  std::string complete_option;  // for the shell's completion script; not in --help
+  app.add_option("--complete-values", complete_option, "The values an option takes, one per line")->group("");
+  bool shortcuts = false;
+  app.add_flag("--shortcuts", shortcuts, "Print the window's keyboard shortcuts and exit");
   app.add_flag("--latency", window.latency,
                "Open the window, measure slider-to-frame, link-length-to-slice and isosurface latencies, print them and exit");
 
@@ -217,6 +233,18 @@ int run(int argc, char** argv, const WindowLauncher* launcher) {
     return command.run(std::cin, std::cout);
   }
 
+  if (!complete_option.empty()) {
+    for (const std::string& value : completion_values(complete_option, help)) std::cout << value << "\n";
+    return 0;
+  }
+  if (shortcuts) {
+    if (!launcher) {
+      std::cerr << "linkscape: this build has no window (built with -DLINKSCAPE_WINDOW=OFF), so no shortcuts\n";
+      return 1;
+    }
+    ensure_runtime_dir();
+    return launcher->print_shortcuts(argc, argv);
+  }
   check_file_argument(app, window);
   check_image_outputs(window);
   if (!launcher) {

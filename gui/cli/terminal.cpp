@@ -133,14 +133,20 @@ std::string wrap_text(const std::string& text, std::size_t width) {
   std::string out, line;
   std::istringstream paragraphs(text);
   for (std::string paragraph; std::getline(paragraphs, paragraph);) {
+    // An indented paragraph keeps its indentation, and its continuation
+    // lines hang two columns further in (an example's command line).
+    const std::size_t first = std::min(paragraph.find_first_not_of(' '), paragraph.size());
+    const std::string indent(first, ' '), hanging = first == 0 ? indent : indent + "  ";
     std::istringstream words(paragraph);
     line.clear();
+    bool first_line = true;
     for (std::string word; words >> word;) {
       if (!line.empty() && line.size() + 1 + word.size() > width) {
         out += line + '\n';
         line.clear();
+        first_line = false;
       }
-      line += (line.empty() ? "" : " ") + word;
+      line += (line.empty() ? (first_line ? indent : hanging) : " ") + word;
     }
     out += line + '\n';
   }

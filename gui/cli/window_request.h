@@ -33,6 +33,8 @@ struct WindowLauncher {
   void (*prepare)(WindowOptions& options);
   // Opens the window (QApplication lives there). Returns the exit code.
   int (*run)(const WindowOptions& options, int argc, char** argv);
+  // Prints the window's keyboard shortcuts (--shortcuts). Returns the exit code.
+  int (*print_shortcuts)(int argc, char** argv);
 };
 
 }  // namespace linkscape::gui

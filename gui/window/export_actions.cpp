@@ -15,6 +15,7 @@
 #include "gui/figures/slice_figure.h"
 #include "gui/window/vtk_widget.h"
 #include "render/field_vtk.h"
+#include "render/scene_export.h"
 #include "render/workspace_mesh.h"
 
 namespace linkscape::gui {
@@ -57,8 +58,19 @@ void export_surface_mesh(QWidget* parent, const Field* volume, vtkPolyData* reac
     request.surface = render::Surface::WellConditioned;
     request.cond_threshold = cond_threshold;
   }
+  // CAD tools read bare numbers: the unit is the user's choice (the device's by default).
+  QString unit = QString::fromStdString(volume->length_unit);
+  QStringList units{"mm", "cm", "m", "in"};
+  if (units.contains(unit)) {
+    units.move(units.indexOf(unit), 0);
+    bool ok = false;
+    unit = QInputDialog::getItem(parent, QObject::tr("Export workspace mesh"),
+                                 QObject::tr("Length unit of the mesh's points (the device's is %1):").arg(unit), units,
+                                 0, false, &ok);
+    if (!ok) return;
+  }
   try {
-    render::write_mesh(well_conditioned ? well : reach, path.toStdString(), *volume, request);
+    render::write_mesh(well_conditioned ? well : reach, path.toStdString(), *volume, request, unit.toStdString());
   } catch (const std::exception& e) {
     QMessageBox::warning(parent, QObject::tr("Export failed"), QString::fromStdString(e.what()));
   }
@@ -71,6 +83,17 @@ void export_volume(QWidget* parent, const Field* volume) {
   if (path.isEmpty()) return;
   try {
     render::write_vti(*volume, path.toStdString());
+  } catch (const std::exception& e) {
+    QMessageBox::warning(parent, QObject::tr("Export failed"), QString::fromStdString(e.what()));
+  }
+}
+
+void export_scene(QWidget* parent, vtkRenderWindow* window) {
+  const QString path = QFileDialog::getSaveFileName(parent, QObject::tr("Export scene"), "scene.gltf",
+                                                    QObject::tr("glTF 2.0 scene (*.gltf)"));
+  if (path.isEmpty()) return;
+  try {
+    render::write_gltf(window, path.toStdString());
   } catch (const std::exception& e) {
     QMessageBox::warning(parent, QObject::tr("Export failed"), QString::fromStdString(e.what()));
   }

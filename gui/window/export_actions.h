@@ -1,7 +1,7 @@
 // The window's exports (File menu): the slice, the workspace meshes, the
 // volume field, the device as a MuJoCo model, a screenshot and the view
 // alone at a chosen size, through
-// the headless commands' writers (atomic). Each asks for its file; a
+// the headless commands' writers (atomic); the 3-D scene as glTF. Each asks for its file; a
 // failure is shown in a message box; without data, nothing happens.
 #pragma once
 
@@ -15,6 +15,7 @@
 
 class QWidget;
 class vtkPolyData;
+class vtkRenderWindow;
 
 namespace linkscape::gui {
 
@@ -26,6 +27,8 @@ void export_screenshot(QWidget* window);
 // The design as a MuJoCo model (MJCF; a compiled device through its described
 // twin, docs/model-export.md); a device that cannot be written says why.
 void export_model(QWidget* parent, const Preset& preset);
+// The view's meshes as glTF (render/scene_export.h).
+void export_scene(QWidget* parent, vtkRenderWindow* window);
 // Asks for a size (suggested: `suggested`, "WIDTHxHEIGHT") and a file, then
 // saves draw(width, height) there. Returns the message for the status bar
 // (empty when the user cancelled or it failed).

@@ -10,6 +10,7 @@
 #include "gui/window/device_state.h"
 #include "gui/window/field_panel.h"
 #include "gui/window/vtk_widget.h"
+#include "render/colour_scale.h"
 #include "render/field_scene.h"
 
 namespace linkscape::gui {
@@ -159,15 +160,22 @@ void FieldDisplay::restyle() {
   // The range boxes show the range in use: typed, or the automatic one.
   panel_->enableColourRange(!automatic);
   if (!slice_field_) return;
-  render::SliceStyle style = sliceStyle();
-  if (automatic) {
+  render::SliceStyle style = render::categorical_style(sliceStyle());  // each status its own colour
+  bool clipped_low = false, clipped_high = false;
+  if (automatic && !render::is_categorical(style.field)) {
     try {
-      const auto [lo, hi] = render::colour_range(*slice_field_, style);
-      panel_->showColourRange(lo, hi);
+      // Percentiles, so one spike does not wash out the rest; the bar marks what it clips.
+      const render::AutoRange range = render::robust_range(*slice_field_, style);
+      style.min = range.lo;
+      style.max = range.hi;
+      clipped_low = range.clipped_low;
+      clipped_high = range.clipped_high;
+      panel_->showColourRange(range.lo, range.hi);
     } catch (const std::invalid_argument&) {
-      // categorical fields have no range; the error is shown below
+      // shown below, where set_slice refuses the same style
     }
   }
+  scene_->set_clipped_ends(clipped_low, clipped_high);
   style.scale = std::max(1, 768 / f.slice_resolution);
   style.unreachable_alpha = 50;
   try {
@@ -183,8 +191,8 @@ void FieldDisplay::applyVisibility() {
   const FieldSettings f = settings();
   const bool slice = f.show_slice && slice_field_ != nullptr;
   scene_->set_slice_visible(slice);
-  // The method field is categorical: its colours are not on a scale.
-  scene_->set_colour_bar_visible(slice && f.field != "method");
+  scene_->set_slice_opacity(panel_->sliceOpacity());
+  scene_->set_colour_bar_visible(slice);  // categorical fields get a legend of names
   placeLegend();
   scene_->set_surface_visible(render::Surface::Reach, f.show_reach);
   scene_->set_surface_visible(render::Surface::WellConditioned, f.show_well_conditioned);

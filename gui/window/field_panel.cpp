@@ -128,7 +128,10 @@ FieldPanel::FieldPanel(const Mechanism& device, QWidget* parent) : QWidget(paren
   show_well_box_->setObjectName("showWellBox");
   reach_opacity_slider_ = new QSlider(Qt::Horizontal, w);
   well_opacity_slider_ = new QSlider(Qt::Horizontal, w);
-  for (QSlider* s : {reach_opacity_slider_, well_opacity_slider_}) s->setRange(0, 100);
+  slice_opacity_slider_ = new QSlider(Qt::Horizontal, w);
+  slice_opacity_slider_->setObjectName("sliceOpacitySlider");
+  for (QSlider* s : {reach_opacity_slider_, well_opacity_slider_, slice_opacity_slider_}) s->setRange(0, 100);
+  slice_opacity_slider_->setValue(100);
   reach_opacity_slider_->setValue(10);
   well_opacity_slider_->setValue(22);
   for (QCheckBox* c : {show_slice_box_, show_reach_box_, show_well_box_}) c->setChecked(true);
@@ -136,8 +139,9 @@ FieldPanel::FieldPanel(const Mechanism& device, QWidget* parent) : QWidget(paren
   show_reach_box_->setToolTip(tr("The boundary of the reachable set, translucent; the slider sets its opacity"));
   show_well_box_->setToolTip(tr("The region where the main measure is below the threshold; the slider sets its opacity"));
   reach_opacity_slider_->setToolTip(tr("Opacity of the reachable workspace"));
+  slice_opacity_slider_->setToolTip(tr("Opacity of the slice: lower it to see the linkage through it"));
   well_opacity_slider_->setToolTip(tr("Opacity of the well-conditioned workspace"));
-  form->addRow(show_slice_box_);
+  form->addRow(show_slice_box_, slice_opacity_slider_);
   form->addRow(show_reach_box_, reach_opacity_slider_);
   form->addRow(show_well_box_, well_opacity_slider_);
   if (info.task.size() > 3)
@@ -178,9 +182,11 @@ FieldPanel::FieldPanel(const Mechanism& device, QWidget* parent) : QWidget(paren
       emit visibilityChanged();
       emit volumeChanged();
     });
-  for (QSlider* s : {reach_opacity_slider_, well_opacity_slider_})
+  for (QSlider* s : {reach_opacity_slider_, well_opacity_slider_, slice_opacity_slider_})
     connect(s, &QSlider::valueChanged, this, &FieldPanel::visibilityChanged);
 }
+
+double FieldPanel::sliceOpacity() const { return slice_opacity_slider_->value() / 100.0; }
 
 FieldSettings FieldPanel::settings(const Mechanism& device, const Eigen::VectorXd& x) const {
   FieldSettings f;

@@ -38,6 +38,8 @@ class FieldPanel : public QWidget {
   // The colour range in use shown in the range boxes (quietly).
   void showColourRange(double lo, double hi);
   void enableColourRange(bool typed);
+  // The slice's opacity, 0..1 (the view's own setting: not in FieldSettings).
+  double sliceOpacity() const;
 
  signals:
   void sliceChanged();       // the slice must be sampled again
@@ -55,7 +57,7 @@ class FieldPanel : public QWidget {
   QCheckBox *log_scale_box_ = nullptr, *follow_box_ = nullptr, *auto_range_box_ = nullptr, *show_slice_box_ = nullptr,
             *show_reach_box_ = nullptr, *show_well_box_ = nullptr;
   QDoubleSpinBox *threshold_box_ = nullptr, *range_min_box_ = nullptr, *range_max_box_ = nullptr;
-  QSlider *reach_opacity_slider_ = nullptr, *well_opacity_slider_ = nullptr;
+  QSlider *reach_opacity_slider_ = nullptr, *well_opacity_slider_ = nullptr, *slice_opacity_slider_ = nullptr;
   bool has_methods_ = false;
 };
 

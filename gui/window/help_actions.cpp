@@ -1,9 +1,6 @@
 #include "gui/window/help_actions.h"
 
-#include <QDesktopServices>
 #include <QMessageBox>
-#include <QUrl>
-#include <filesystem>
 #include <vtkVersion.h>
 #include <Eigen/Core>
 
@@ -45,18 +42,6 @@ void show_mechanism(QWidget* parent, const Preset& preset) {
     box.setInformativeText(QString::fromStdString(e.what()));
   }
   box.exec();
-}
-
-void show_documentation(QWidget* parent) {
-  // A build's source tree has the docs; an installed copy elsewhere has the manual page.
-  const std::filesystem::path docs = LINKSCAPE_SOURCE_DOCS;
-  std::error_code ec;
-  if (std::filesystem::is_directory(docs, ec) &&
-      QDesktopServices::openUrl(QUrl::fromLocalFile(QString::fromStdString(docs.string()))))
-    return;
-  QMessageBox::information(parent, QObject::tr("Documentation"),
-                           QObject::tr("Run 'man linkscape' for every command and option, and "
-                                       "'linkscape --help' for a summary."));
 }
 
 }  // namespace linkscape::gui

@@ -1,6 +1,5 @@
 // Help menu: the versions of the program and its libraries; how the device
-// in the window is solved; where the documentation is (the docs folder of the
-// source tree when there is one, else the manual page).
+// in the window is solved. The guide itself is gui/window/documentation.h.
 #pragma once
 
 #include <string>
@@ -17,6 +16,5 @@ void show_about(QWidget* parent);
 // bounds, mobility); for a compiled one, that it is C++ and where.
 std::string mechanism_summary(const Preset& preset);
 void show_mechanism(QWidget* parent, const Preset& preset);
-void show_documentation(QWidget* parent);
 
 }  // namespace linkscape::gui

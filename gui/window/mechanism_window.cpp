@@ -8,6 +8,7 @@
 #include <QLabel>
 #include <QStatusBar>
 #include <QTimer>
+#include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkPolyData.h>
 #include <vtkRenderer.h>
 
@@ -28,6 +29,7 @@
 #include "gui/window/session_history.h"
 #include "gui/window/task_panel.h"
 #include "gui/window/view_handles.h"
+#include "gui/window/view_tools.h"
 #include "gui/window/window_menus.h"
 #include "gui/window/vtk_widget.h"
 #include "render/field_scene.h"
@@ -170,12 +172,14 @@ void MechanismWindow::buildDocks() {
   });
   fit_panel_ = new FitPanel(task_panel_);
   QDockWidget* fit = add_dock(this, tr("Fit"), "fitDock", fit_panel_);
+  tools_ = new ViewTools({&state_, view_, renderer_, scene_.get(), field_scene_.get(), task_scene_.get(), fields_}, this);
   connect(fit_panel_, &FitPanel::applyRequested, this, [this](const std::map<std::string, double>& design) {
     if (!setParameters(design)) return;
     if (const auto centre = fit_panel_->chosenCentre()) task_panel_->setCentre(*centre);  // where it fits
   });
   // One column of tabs: the drive (with every read-out) in front.
   for (QDockWidget* d : {design, field, animation, task, fit}) tabifyDockWidget(drive, d);
+  tools_->addDock(this, drive);
   methods_ = add_methods_dock(this, state_.preset(), drive);
   drive->raise();
   QTimer::singleShot(0, this, [this, drive] { resizeDocks({drive}, {std::max(drive->width(), 440)}, Qt::Horizontal); });
@@ -196,7 +200,8 @@ bool MechanismWindow::eventFilter(QObject* watched, QEvent* event) {
 QImage MechanismWindow::viewImage(int width, int height) { return view_->imageAt(width, height); }
 
 void MechanismWindow::fitCamera() {
-  scene_->reset_camera(renderer_, view_box(state_.mechanism()));
+  if (tools_) tools_->reframe(view_box(state_.mechanism()));  // the view and framing chosen last
+  else scene_->reset_camera(renderer_, view_box(state_.mechanism()));
   if (document_) document_->cameraFitted(camera_state(renderer_));
 }
 
@@ -208,15 +213,13 @@ void MechanismWindow::buildMenus() {
   MenuActions a;
   a.open_session = [this] {
     if (!maybeSave()) return;
-    const QString path = ask_session_to_open(this);
-    if (!path.isEmpty()) openSession(path);
+    if (const QString path = ask_session_to_open(this); !path.isEmpty()) openSession(path);
   };
   a.save = [this] { document_->save(); };
   a.save_as = [this] { document_->saveAs(); };
   a.recent_sessions = [this](QMenu* menu) { document_->setRecentMenu(menu); };
   a.open_mechanism = [this] {
-    const QString path = ask_mechanism_file(this, state_.preset());
-    if (!path.isEmpty()) openMechanismFile(path);
+    if (const QString path = ask_mechanism_file(this, state_.preset()); !path.isEmpty()) openMechanismFile(path);
   };
   a.reload_mechanism = [this] { reloadMechanism(); };
   a.export_slice = [this] { export_slice_image(this, fields_->slice(), fields_->sliceStyle()); };
@@ -226,6 +229,7 @@ void MechanismWindow::buildMenus() {
   };
   a.export_field = [this] { export_volume(this, fields_->surfaces().volume.get()); };
   a.export_model = [this] { export_model(this, state_.preset()); };
+  a.export_scene = [this] { export_scene(this, view_->renderWindow()); };
   a.about_mechanism = [this] { show_mechanism(this, state_.preset()); };
   a.save_screenshot = [this] { export_screenshot(this); };
   a.save_view_image = [this] {
@@ -234,18 +238,16 @@ void MechanismWindow::buildMenus() {
     if (!saved.isEmpty()) statusBar()->showMessage(saved, 4000);
   };
   a.undo_stack = history()->stack();
-  a.reset_camera = [this] {
-    fitCamera();
-    view_->requestRender();
-  };
+  a.reset_camera = [this] { fitCamera(), view_->requestRender(); };
   a.reset_layout = [this] {
     restoreState(initial_layout_);
     for (QDockWidget* dock : findChildren<QDockWidget*>()) dock->show();
   };
-  a.exact_transparency = [this](bool on) {
-    renderer_->SetUseDepthPeeling(on);
-    view_->requestRender();
+  a.view_tools = [this](QMenu* menu) {
+    tools_->addViewActions(menu, [this] { return view_box(state_.mechanism()); },
+                           [this] { document_->cameraFitted(camera_state(renderer_)); });
   };
+  a.exact_transparency = [this](bool on) { renderer_->SetUseDepthPeeling(on), view_->requestRender(); };
   add_menus(this, a);
 }
 
@@ -273,6 +275,8 @@ bool MechanismWindow::settle(const std::function<bool()>& change) {
     return true;
   }
   drive_panel_->showStatus(refusal(), false);
+  drive_panel_->showValues(state_);  // the sliders snap back to the pose the device holds
+  statusBar()->showMessage(tr("Refused: %1. The sliders show the pose the device holds.").arg(refusal()), 8000);
   drawPose(state_.failed());
   view_->requestRender();
   return false;
@@ -363,8 +367,6 @@ bool MechanismWindow::setActuatorLimits(const std::map<std::string, std::array<d
   return true;
 }
 
-// Fields are computed only when shown, coarse first, on worker threads; a
-// new request cancels the one in flight.
 // ---- Sessions, files ---------------------------------------------------------------
 
 Session MechanismWindow::session() const {

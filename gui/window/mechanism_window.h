@@ -53,6 +53,7 @@ class PresetWatcher;
 class SessionHistory;
 class TaskPanel;
 class ViewHandles;
+class ViewTools;
 class VtkWidget;
 
 class MechanismWindow : public QMainWindow {
@@ -78,6 +79,8 @@ class MechanismWindow : public QMainWindow {
   const render::SkeletonScene& scene() const { return *scene_; }
   const render::TaskScene& taskScene() const { return *task_scene_; }
   TaskPanel* taskPanel() const { return task_panel_; }
+  ViewTools* viewTools() const { return tools_; }
+  FieldDisplay* fieldDisplay() const { return fields_; }
   FitPanel* fitPanel() const { return fit_panel_; }
   // True once the latest field request has been answered at full resolution.
   bool fieldsSettled() const { return fields_->settled(); }
@@ -201,6 +204,7 @@ class MechanismWindow : public QMainWindow {
   vtkRenderer* legend_ = nullptr;    // the colour bar's strip, likewise
   VtkWidget* view_ = nullptr;
   std::unique_ptr<ViewHandles> handles_;
+  ViewTools* tools_ = nullptr;  // picking, ruler, line probe, standard views
   Drive drive_ = Drive::Task;
   DrivePanel* drive_panel_ = nullptr;
   DesignPanel* design_panel_ = nullptr;

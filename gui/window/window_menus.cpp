@@ -6,6 +6,7 @@
 #include <QMenuBar>
 #include <QUndoStack>
 
+#include "gui/window/documentation.h"
 #include "gui/window/help_actions.h"
 
 namespace linkscape::gui {
@@ -46,10 +47,13 @@ void add_menus(QMainWindow* window, const MenuActions& actions) {
   model->setObjectName("exportModelAction");
   model->setStatusTip(QObject::tr("The design as a MuJoCo model: legs as body chains welded to the platform, "
                                   "motors on the actuators (docs/model-export.md)"));
+  add(file, QObject::tr("Export s&cene (glTF)…"), {}, window, actions.export_scene)
+      ->setStatusTip(QObject::tr("The 3-D view's meshes with their colours, for presentation tools"));
   add(file, QObject::tr("Save screens&hot…"), {}, window, actions.save_screenshot);
   add(file, QObject::tr("Save &view image…"), {}, window, actions.save_view_image);
   file->addSeparator();
-  add(file, QObject::tr("&Quit"), QKeySequence::Quit, window, [window] { window->close(); });
+  // Explicit keys where Qt's standard ones depend on the desktop (empty on plain X11).
+  add(file, QObject::tr("&Quit"), QKeySequence(Qt::CTRL | Qt::Key_Q), window, [window] { window->close(); });
 
   QMenu* edit = window->menuBar()->addMenu(QObject::tr("&Edit"));
   QAction* undo = actions.undo_stack->createUndoAction(window, QObject::tr("&Undo"));
@@ -63,6 +67,8 @@ void add_menus(QMainWindow* window, const MenuActions& actions) {
   add(view, QObject::tr("&Reset camera"), {}, window, actions.reset_camera);
   add(view, QObject::tr("Reset &layout"), {}, window, actions.reset_layout);
   view->addSeparator();
+  if (actions.view_tools) actions.view_tools(view);
+  view->addSeparator();
   for (QDockWidget* dock : window->findChildren<QDockWidget*>()) view->addAction(dock->toggleViewAction());
   view->addSeparator();
   // Depth peeling composites the translucent surfaces exactly but costs
@@ -74,7 +80,11 @@ void add_menus(QMainWindow* window, const MenuActions& actions) {
   QObject::connect(exact, &QAction::toggled, window, actions.exact_transparency);
 
   QMenu* help = window->menuBar()->addMenu(QObject::tr("&Help"));
-  help->addAction(QObject::tr("&Documentation"), window, [window] { show_documentation(window); });
+  add(help, QObject::tr("&Documentation"), QKeySequence(Qt::Key_F1), window, [window] { show_documentation(window); })
+      ->setObjectName("documentationAction");
+  add(help, QObject::tr("&Keyboard shortcuts"), {}, window,
+      [window] { show_shortcuts(window, window->menuBar()); })
+      ->setObjectName("shortcutsAction");
   help->addAction(QObject::tr("About this &mechanism…"), window, actions.about_mechanism)
       ->setObjectName("aboutMechanismAction");
   help->addAction(QObject::tr("&About Linkscape"), window, [window] { show_about(window); });

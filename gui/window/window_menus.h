@@ -17,9 +17,11 @@ struct MenuActions {
   std::function<void()> open_session, save, save_as;
   std::function<void(QMenu*)> recent_sessions;  // fills the submenu
   std::function<void()> open_mechanism, reload_mechanism;
-  std::function<void()> export_slice, export_mesh, export_field, export_model, save_screenshot, save_view_image;
+  std::function<void()> export_slice, export_mesh, export_field, export_model, export_scene, save_screenshot,
+      save_view_image;
   QUndoStack* undo_stack = nullptr;
   std::function<void()> reset_camera, reset_layout;
+  std::function<void(QMenu*)> view_tools;  // the standard views, projection, framing
   std::function<void(bool)> exact_transparency;
   std::function<void()> about_mechanism;
 };

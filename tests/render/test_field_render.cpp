@@ -670,6 +670,68 @@ TEST(WorkspaceMesh, ExportsReadBackWithVtkReaders) {
   }
 }
 
+// A mesh written in another length unit: its points scaled (read back with
+// VTK's readers against the mesh in the field's unit) and the unit said in
+// each format that has room for it; a unit without a conversion is refused.
+TEST(WorkspaceMesh, WritesPointsInTheUnitAsked) {
+  Folder dir;
+  const Field f = cube_ball(16);  // in mm
+  auto mesh = render::extract_surface(f, surface_request(render::Surface::Reach));
+  const auto s = render::mesh_stats(mesh);
+  for (const char* name : {"m.stl", "m.obj", "m.ply", "m.vtp"}) render::write_mesh(mesh, dir / name, f, {}, "cm");
+  auto bounds_in_cm = [&](vtkPolyData* read, const char* what) {
+    const auto r = render::mesh_stats(read);
+    EXPECT_NEAR(r.max.x(), 0.1 * s.max.x(), 1e-6) << what;
+    EXPECT_NEAR(r.volume, 1e-3 * s.volume, 1e-6 * s.volume) << what;
+  };
+  {
+    vtkNew<vtkSTLReader> reader;
+    reader->SetFileName((dir / "m.stl").c_str());
+    reader->Update();
+    bounds_in_cm(reader->GetOutput(), "stl");
+    std::ifstream stl(dir / "m.stl", std::ios::binary);
+    std::string header(80, '\0');
+    stl.read(header.data(), 80);
+    EXPECT_NE(header.find("length unit: cm"), std::string::npos) << header;
+  }
+  {
+    vtkNew<vtkOBJReader> reader;
+    reader->SetFileName((dir / "m.obj").c_str());
+    reader->Update();
+    bounds_in_cm(reader->GetOutput(), "obj");
+    std::ifstream obj(dir / "m.obj");
+    std::string first;
+    std::getline(obj, first);
+    EXPECT_EQ(first, "# length unit: cm");
+  }
+  {
+    vtkNew<vtkPLYReader> reader;
+    reader->SetFileName((dir / "m.ply").c_str());
+    reader->Update();
+    bounds_in_cm(reader->GetOutput(), "ply");
+    std::ifstream ply(dir / "m.ply", std::ios::binary);
+    std::string magic, format, comment;
+    std::getline(ply, magic);
+    std::getline(ply, format);
+    std::getline(ply, comment);
+    EXPECT_EQ(magic, "ply");
+    EXPECT_EQ(format.rfind("format ", 0), 0u) << format;
+    EXPECT_EQ(comment, "comment length unit: cm");
+  }
+  {
+    vtkNew<vtkXMLPolyDataReader> reader;
+    reader->SetFileName((dir / "m.vtp").c_str());
+    reader->Update();
+    bounds_in_cm(reader->GetOutput(), "vtp");
+    EXPECT_EQ(string_of(reader->GetOutput()->GetFieldData(), "length_unit"), "cm");
+  }
+  EXPECT_THROW(render::write_mesh(mesh, dir / "x.stl", f, {}, "furlong"), std::invalid_argument);
+  Field unitless = f;
+  unitless.length_unit = "unit";
+  EXPECT_THROW(render::write_mesh(mesh, dir / "x.stl", unitless, {}, "mm"), std::invalid_argument);
+  EXPECT_FALSE(fs::exists(dir / "x.stl"));
+}
+
 // ---------------------------------------------------------------- errors
 
 TEST(FieldRenderErrors, BadArgumentsThrowInvalidArgument) {

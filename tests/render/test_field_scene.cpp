@@ -1,7 +1,9 @@
 // FieldScene: slice texture colours and orientation, surfaces, colour bar and
 // prop bookkeeping, checked on offscreen renders (tests/with-xvfb.sh in ctest).
 #include <gtest/gtest.h>
+#include <vtkActor.h>
 #include <vtkCamera.h>
+#include <vtkMapper.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
 #include <vtkPolyData.h>
@@ -460,4 +462,45 @@ TEST(FieldScene, CombinedSceneScreenshot) {
   props->InitTraversal();
   while (vtkProp* p = props->GetNextProp()) translucent += p->GetVisibility() && p->HasTranslucentPolygonalGeometry();
   EXPECT_EQ(translucent, 2);
+}
+
+namespace {
+
+// The spread of the distance to the origin over a mesh's points, relative
+// to the mean: 0 for a perfect sphere.
+double radial_roughness(vtkPolyData* mesh) {
+  double sum = 0, sum2 = 0;
+  const vtkIdType n = mesh->GetNumberOfPoints();
+  for (vtkIdType i = 0; i < n; ++i) {
+    double p[3];
+    mesh->GetPoint(i, p);
+    const double r = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+    sum += r;
+    sum2 += r * r;
+  }
+  const double mean = sum / double(n);
+  return std::sqrt(std::max(0.0, sum2 / double(n) - mean * mean)) / mean;
+}
+
+}  // namespace
+
+TEST(FieldScene, SmoothingTakesTheGridsStaircaseOffTheSurface) {
+  // A ball of radius 1 whose margin only says in or out (as a margin that
+  // is not a distance does): the extracted surface follows the grid's cells.
+  const Grid g = Grid::box({-1.5, -1.5, -1.5}, {1.5, 1.5, 1.5}, {24, 24, 24});
+  Field f = ball_field(g);
+  const float half = float(0.5 * g.spacing.x());
+  for (std::size_t s = 0; s < g.size(); ++s) f.reach_margin[s] = f.reach_margin[s] > 0 ? half : -half;
+  vtkSmartPointer<vtkPolyData> stairs = render::extract_surface(f, {});
+  FieldScene scene;
+  scene.set_surface(Surface::Reach, stairs);
+  auto shown = [&] { return vtkPolyData::SafeDownCast(scene.surface_actor(Surface::Reach)->GetMapper()->GetInput()); };
+  const double rough = radial_roughness(shown());
+  scene.set_surface_smoothing(20);
+  scene.set_surface(Surface::Reach, stairs);
+  const double smooth = radial_roughness(shown());
+  std::printf("radial roughness %.4f as extracted, %.4f smoothed\n", rough, smooth);
+  EXPECT_LT(smooth, 0.5 * rough);
+  EXPECT_EQ(shown()->GetNumberOfCells(), stairs->GetNumberOfCells());  // the same triangles, moved
+  EXPECT_THROW(scene.set_surface_smoothing(-1), std::invalid_argument);
 }

@@ -10,12 +10,15 @@
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
 #include <vtkPNGReader.h>
+#include <vtkPlaneSource.h>
 #include <vtkPointData.h>
+#include <vtkProperty.h>
 #include <vtkPolyData.h>
 #include <vtkPolyDataMapper.h>
 #include <vtkPropCollection.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
+#include <vtkTextActor.h>
 #include <vtkTubeFilter.h>
 #include <vtkWindowToImageFilter.h>
 
@@ -150,8 +153,9 @@ TEST(SkeletonScene, OnePropPerBodyPartJointLabelEndpointAndAxes) {
   vtkNew<vtkRenderer> renderer;
   scene.add_to(renderer);
   scene.add_to(renderer);  // idempotent
-  // ground tube + ground plate + link tube + 2 knuckles + 1 label + endpoint + axes
-  EXPECT_EQ(view_prop_count(renderer), 8);
+  // ground tube + ground plate + link tube + 2 knuckles + 1 label (and its
+  // overlay twin) + endpoint + axes
+  EXPECT_EQ(view_prop_count(renderer), 9);
   EXPECT_NE(scene.body_tube_actor(0), nullptr);
   EXPECT_NE(scene.body_face_actor(0), nullptr);
   EXPECT_NE(scene.body_tube_actor(1), nullptr);
@@ -179,7 +183,7 @@ TEST(SkeletonScene, OnePropPerBodyPartJointLabelEndpointAndAxes) {
   second.label = "q2";
   three.joints.push_back(second);
   scene.set_model(three);
-  EXPECT_EQ(view_prop_count(renderer), 8 + 1 + 1 + 1);  // tube, knuckle, label
+  EXPECT_EQ(view_prop_count(renderer), 9 + 1 + 1 + 2);  // tube, knuckle, label and its overlay
   EXPECT_FALSE(has_view_prop(renderer, old_link));
   EXPECT_TRUE(has_view_prop(renderer, scene.body_tube_actor(2)));
   EXPECT_EQ(scene.joint_actor(2)->GetMapper()->GetInputAlgorithm(), hinge_source);  // still shared
@@ -195,7 +199,7 @@ TEST(SkeletonScene, DestroyedSceneLeavesTheRendererEmpty) {
     SkeletonScene scene;
     scene.set_model(two_bodies());
     scene.add_to(renderer);
-    ASSERT_EQ(view_prop_count(renderer), 8);
+    ASSERT_EQ(view_prop_count(renderer), 9);
   }
   EXPECT_EQ(view_prop_count(renderer), 0);
   // And a renderer destroyed before the scene is forgotten.
@@ -272,6 +276,41 @@ TEST(SkeletonScene, PoseSetsMatricesOnlyAndPlacesGeometryInTheBodyFrame) {
   EXPECT_NEAR(label[0], 0.0, 1e-12);
   EXPECT_NEAR(label[1], 0.0, 1e-12);
   EXPECT_GT(label[2], 0.0);  // on the base z axis: straight up
+}
+
+TEST(SkeletonScene, LabelsInFrontShowThroughWhatCoversThem) {
+  if (!have_display()) GTEST_SKIP() << "needs a display";
+  TopView view;
+  SkeletonScene scene;
+  scene.set_model(two_bodies());
+  scene.set_pose(link_at(0.0));
+  scene.add_to(view.renderer);
+  // An opaque red sheet between the camera and the hinge's label (above
+  // the whole device).
+  double label[3];
+  scene.joint_label(0)->GetPosition(label);
+  vtkNew<vtkPlaneSource> sheet;
+  const double z = 5.0;
+  ASSERT_GT(z, label[2]);
+  sheet->SetOrigin(-1, -1, z);
+  sheet->SetPoint1(1, -1, z);
+  sheet->SetPoint2(-1, 1, z);
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputConnection(sheet->GetOutputPort());
+  vtkNew<vtkActor> cover;
+  cover->SetMapper(mapper);
+  cover->GetProperty()->SetColor(1, 0, 0);
+  cover->GetProperty()->LightingOff();
+  view.renderer->AddActor(cover);
+  constexpr int kHalf = 10, kSquare = (2 * kHalf + 1) * (2 * kHalf + 1);
+  // Hidden (but for the axes' own overlay captions at the origin).
+  const int hidden = red_pixels_around(view.grab(), label[0], label[1], kHalf);
+  EXPECT_GT(hidden, 0.9 * kSquare);
+  scene.set_labels_in_front(true);
+  EXPECT_FALSE(scene.joint_label(0)->GetVisibility());
+  EXPECT_TRUE(scene.joint_front_label(0)->GetVisibility());
+  const int shown = red_pixels_around(view.grab(), label[0], label[1], kHalf);
+  EXPECT_LT(shown, hidden - kSquare / 4);  // on its plate, over the sheet
 }
 
 TEST(SkeletonScene, SizesScaleWithTheModelScale) {
@@ -358,7 +397,7 @@ TEST(SkeletonScene, BadModelsThrowAndLeaveTheSceneUnchanged) {
     EXPECT_THROW(scene.set_model(bad[k]), std::invalid_argument) << k;
     EXPECT_EQ(scene.model().scale, kScale) << k;
     EXPECT_EQ(scene.body_tube_actor(1), link) << k;
-    EXPECT_EQ(view_prop_count(renderer), 8) << k;
+    EXPECT_EQ(view_prop_count(renderer), 9) << k;
   }
   // A zero axis means nothing for a ball joint.
   SkeletonModel ball_without_axis = two_bodies();

@@ -27,6 +27,14 @@ std::string rule_text(const Leg& l, const BranchRule& r) {
   return s.str();
 }
 
+std::string limit_text(const JointLimit& l) {
+  std::ostringstream s;
+  s << l.label << ": ";
+  if (l.kind == JointLimit::Kind::Cone) s << l.half_angle * 180 / M_PI << " deg cone";
+  else s << l.range.lo * 180 / M_PI << " .. " << l.range.hi * 180 / M_PI << " deg";
+  return s.str();
+}
+
 }  // namespace
 
 std::string describe(const Preset& preset) {
@@ -65,7 +73,13 @@ std::string describe(const Preset& preset) {
     if (std::isinf(reach.hi)) s << "unbounded";
     else s << reach.hi;
     s << " " << unit << " from its base to its anchor\n";
+    for (const JointLimit& j : l.limits) s << "    limit: " << limit_text(j) << "\n";
+    for (const LinkCapsule& c : l.capsules)
+      s << "    link: " << c.name << ", radius " << c.radius << " " << unit << ", length " << (c.b - c.a).norm() << " "
+        << unit << "\n";
   }
+  if (!m.has_joint_limits()) s << "passive-joint limits: none stated\n";
+  if (!m.has_capsules()) s << "links: none given a radius (no interference checked)\n";
   return s.str();
 }
 

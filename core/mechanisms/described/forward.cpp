@@ -195,6 +195,8 @@ ForwardSolution Kinematics::forward_from(const VectorXd& q, const VectorXd& seed
 // ---- Construction: home on every branch, mobility ---------------------------------------------
 
 Kinematics::Kinematics(Model model) : model_(std::move(model)), id_(next_id++) {
+  has_joint_limits_ = model_.has_joint_limits();
+  has_capsules_ = model_.has_capsules();
   // Each leg's longest and shortest reach from its base: the chain's end is
   // the base plus its fixed translations, each turned by the joints before
   // it, so by the triangle inequality its distance lies between the longest

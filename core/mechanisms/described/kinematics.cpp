@@ -324,6 +324,14 @@ PoseSolution Kinematics::inverse(const VectorXd& x, int branch, double tolerance
     }
     out.legs.push_back(std::move(s));
   }
+  if ((has_joint_limits_ || has_capsules_) && assembled(out)) {
+    out.stops = stops(p, out);
+    if (out.status == Status::Ok && !out.stops.hold()) {
+      out.status = Status::OutOfLimits;
+      out.failing_leg = out.stops.leg_at_fault();
+      out.stopped = true;
+    }
+  }
   return out;
 }
 
@@ -542,6 +550,8 @@ double Kinematics::reach_margin(const PoseSolution& s, const JacobianParts* part
     if (l.status != Status::Ok && l.status != Status::OutOfLimits) margin = std::min(margin, -l.residual);
   if (!parts) return margin;
   for (double m : parts->serial_margin) margin = std::min(margin, m);
+  // A passive joint's margin as an actuator's: the size times the angle.
+  margin = std::min({margin, s.stops.joint_margin_deg * kPi / 180 * model_.size, s.stops.clearance});
   return std::min(margin, limits_margin(s.q));
 }
 

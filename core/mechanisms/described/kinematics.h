@@ -13,11 +13,14 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "core/interference.h"
 #include "core/mechanisms/described/closed_form.h"
 #include "core/mechanisms/described/model.h"
 #include "core/range.h"
@@ -40,6 +43,18 @@ struct LegSolution {
   int iterations = 0;
 };
 
+// What bounds an assembly beyond its actuators' travel: its passive joints'
+// limits and its links' interference (limits.cpp). +inf where the device
+// states none.
+struct Stops {
+  double joint_margin_deg = std::numeric_limits<double>::infinity();  // the nearest passive joint to its limit; < 0 beyond
+  int joint_leg = -1, joint_limit = -1;  // that joint: the leg, the index in its limits
+  double clearance = std::numeric_limits<double>::infinity();  // the smallest gap between two links (length unit); < 0: they overlap
+  std::array<int, 4> pair{-1, -1, -1, -1};  // that pair: leg and capsule of each
+  bool hold() const { return joint_margin_deg >= 0 && clearance >= 0; }
+  int leg_at_fault() const { return joint_margin_deg < 0 ? joint_leg : clearance < 0 ? pair[0] : -1; }
+};
+
 struct PoseSolution {
   std::vector<LegSolution> legs;
   Status status = Status::Ok;
@@ -47,6 +62,8 @@ struct PoseSolution {
   double residual = 0.0;  // largest leg residual
   int iterations = 0;     // summed over the legs
   Eigen::VectorXd q;      // actuators (revolute angles wrapped to (-pi, pi])
+  Stops stops;            // where every leg assembles and the device states limits or links
+  bool stopped = false;   // out-of-limits by a passive joint or two links rather than an actuator
 };
 
 // Every leg closes (ok, or ok but outside its actuator's travel).
@@ -121,6 +138,19 @@ class Kinematics {
   double reach_margin(const PoseSolution& s, const JacobianParts* parts) const;
   double limits_margin(const Eigen::VectorXd& q) const;
 
+  // Whether the device states passive-joint limits, link capsules.
+  bool has_joint_limits() const { return has_joint_limits_; }
+  bool has_capsules() const { return has_capsules_; }
+  // The passive joints' and the links' margins of an assembly (its legs' states).
+  Stops stops(const PlatformPose& pose, const std::vector<LegState>& legs) const;
+  Stops stops(const PlatformPose& pose, const PoseSolution& solved) const;
+  // Why stops do not hold, naming the leg and joint or the two links:
+  // "leg 2 ball joint elbow2 at 38.2 deg beyond its 35.0 deg cone"; "" where they hold.
+  std::string stop_reason(const Stops& s, const std::vector<LegState>& legs) const;
+  // Each link's capsule at an assembly (base frame), leg by leg, for drawing and tests.
+  std::vector<std::vector<interference::Capsule>> capsules(const PlatformPose& pose,
+                                                           const std::vector<LegState>& legs) const;
+
   // The frames of a leg's steps (base frame), for drawing.
   struct LegDrawing {
     std::vector<Eigen::Isometry3d> frames;  // per step: the frame after it
@@ -160,6 +190,7 @@ class Kinematics {
   // wrenches the leg transmits: the actuation wrench and any constraint ones).
   std::vector<int> passive_rank_;
   std::vector<std::optional<ClosedFormLeg>> closed_;
+  bool has_joint_limits_ = false, has_capsules_ = false;
 };
 
 }  // namespace linkscape::described

@@ -130,6 +130,7 @@ class DescribedMechanism final : public Mechanism {
         if (out.status != Status::Ok) {
           out.status = s.status;
           out.failing_part = s.failing_leg >= 0 ? kin_.model().legs[std::size_t(s.failing_leg)].name : "";
+          out.status_text = s.stopped ? "out-of-limits: " + kin_.stop_reason(s.stops, leg_states(s)) : "";
         }
       }
       if (s.status == Status::Ok || s.status == Status::OutOfLimits)
@@ -138,7 +139,10 @@ class DescribedMechanism final : public Mechanism {
                                      ? std::string()
                                      : kin_.model().legs[std::size_t(s.failing_leg)].name});
     }
-    if (out.status == Status::Ok) out.failing_part.clear();
+    if (out.status == Status::Ok) {
+      out.failing_part.clear();
+      out.status_text.clear();
+    }
     return out;
   }
 
@@ -154,6 +158,11 @@ class DescribedMechanism final : public Mechanism {
     out.status = f.status;
     // As the compiled devices: an assembly with an actuator outside its travel.
     if (out.status == Status::Ok && kin_.limits_margin(q) < 0) out.status = Status::OutOfLimits;
+    // A passive joint beyond its limit, or two links overlapping. The reason
+    // is not the status text: that replaces the status token in eval's CSV.
+    if (out.status == Status::Ok && (kin_.has_joint_limits() || kin_.has_capsules()) &&
+        !kin_.stops(kin_.pose(f.x), f.legs).hold())
+      out.status = Status::OutOfLimits;
     out.x = to_interface(f.x);
     // An assembly where J is singular (type I or II) is singular, as measures() says there.
     if (out.status == Status::Ok) {
@@ -250,23 +259,37 @@ class DescribedMechanism final : public Mechanism {
   }
 
   // Sweeps towards the geometry's singular sets, on the device without
-  // actuator ranges (they would cut the rays first), as for the compiled Delta.
+  // actuator ranges, passive-joint limits or links (they would cut the rays
+  // first), as for the compiled Delta.
   std::vector<stability::SweepRow> stability_sweeps(const stability::SweepOptions& options) const override {
     Model free = kin_.model();
     for (Actuator& a : free.actuators) {
       a.limited = false;
       if (!a.prismatic) a.range = {-M_PI, M_PI};
     }
+    for (Leg& l : free.legs) {
+      l.limits.clear();
+      l.capsules.clear();
+    }
     return DescribedMechanism(preset_, std::move(free)).Mechanism::stability_sweeps(options);
   }
 
-  std::vector<std::pair<std::string, std::string>> readouts(const VectorXd&, const VectorXd&) const override {
+  std::vector<std::pair<std::string, std::string>> readouts(const VectorXd& q, const VectorXd& x) const override {
     const Mobility& mb = kin_.mobility();
     std::ostringstream s;
     s << mb.freedoms << " (Gruebler-Kutzbach " << mb.gruebler << ", " << mb.fixed << " held, " << mb.idle << " idle";
     if (!kin_.model().extras.empty()) s << ", " << kin_.model().extras.size() << " extra";
     s << ")";
-    return {{"mobility", s.str()}};
+    std::vector<std::pair<std::string, std::string>> out{{"mobility", s.str()}};
+    if (kin_.has_joint_limits() || kin_.has_capsules()) {
+      const VectorXd xm = to_model(x, "x");
+      const PoseSolution solved = kin_.inverse_near(xm, q);
+      if (solved.status == Status::Ok) {
+        const std::vector<LegState> legs = leg_states(solved);
+        for (const auto& [name, text] : stop_readouts(kin_.stops(kin_.pose(xm), legs), legs)) out.push_back({name, text});
+      }
+    }
+    return out;
   }
 
   SkeletonModel skeleton_model() const override { return skeleton_; }
@@ -412,6 +435,16 @@ class DescribedMechanism final : public Mechanism {
     f.method = method_name(solver);
     f.branch = branch;
     for (const NamedItem& n : info_.measures) f.measure_titles.push_back(n.title);
+    float* joint_margin = nullptr;
+    float* clearance = nullptr;
+    f.extras.reserve(2);  // the pointers below stay valid
+    if (kin_.has_joint_limits())
+      joint_margin = add_extra(f, "joint_margin", "joint margin", "deg",
+                               "The nearest passive joint's distance to its limit (< 0 beyond it; NaN: no assembly)");
+    if (kin_.has_capsules())
+      clearance = add_extra(f, "clearance", "clearance", kin_.model().length_unit,
+                            "The smallest gap between two legs' links, or a leg's link and the base or platform "
+                            "(< 0: they overlap; NaN: no assembly)");
     const double tolerance = o.tolerance;
     const bool complete = detail::fill_field_rows(
         f, second, threads, progress, [&](const detail::GridRow& row, const detail::FieldRowOut& out) {
@@ -421,7 +454,10 @@ class DescribedMechanism final : public Mechanism {
             x(0) = p.x();
             x(1) = p.y();
             if (!kin_.model().planar) x(2) = p.z();
-            out.store(t, sample(x, branch, tolerance, solver));
+            Stops stops;
+            out.store(t, sample(x, branch, tolerance, solver, stops));
+            if (joint_margin) joint_margin[row.index + std::size_t(t)] = float(stops.joint_margin_deg);
+            if (clearance) clearance[row.index + std::size_t(t)] = float(stops.clearance);
           }
         });
     if (!complete) return std::nullopt;
@@ -452,6 +488,7 @@ class DescribedMechanism final : public Mechanism {
     extrude(f->iterations);
     extrude(f->method_used);
     extrude(f->cond_orientation);
+    for (Field::NamedArray& a : f->extras) extrude(a.values);
     f->grid = grid;
     return f;
   }
@@ -460,7 +497,8 @@ class DescribedMechanism final : public Mechanism {
     int leg, step, body;
   };
 
-  FieldSample sample(const VectorXd& xm, int branch, double tolerance, LegSolver solver) const {
+  // `stops` gets the pose's stops, NaN where it does not assemble.
+  FieldSample sample(const VectorXd& xm, int branch, double tolerance, LegSolver solver, Stops& stops) const {
     FieldSample s;
     const float inf = std::numeric_limits<float>::infinity();
     s.cond = s.cond_orientation = inf;
@@ -482,9 +520,50 @@ class DescribedMechanism final : public Mechanism {
       }
     }
     s.reach_margin = float(margin);
+    stops = ik.stops;
+    if (!closes) stops.joint_margin_deg = stops.clearance = std::numeric_limits<double>::quiet_NaN();
     s.status = std::uint8_t(status);
     s.reachable = status == Status::Ok;
     return s;
+  }
+
+  static std::vector<LegState> leg_states(const PoseSolution& s) {
+    std::vector<LegState> out;
+    for (const LegSolution& l : s.legs) out.push_back(l.state);
+    return out;
+  }
+
+  // The window's readouts of a pose's stops: each margin and where it is least.
+  std::vector<std::pair<std::string, std::string>> stop_readouts(const Stops& st, const std::vector<LegState>& legs) const {
+    std::vector<std::pair<std::string, std::string>> out;
+    const Model& m = kin_.model();
+    auto number = [](double v, const std::string& unit) {
+      std::ostringstream s;
+      s.precision(3);
+      s << v << " " << unit;
+      return s.str();
+    };
+    if (kin_.has_joint_limits() && st.joint_leg >= 0) {
+      const Leg& leg = m.legs[std::size_t(st.joint_leg)];
+      out.push_back({"joint margin", number(st.joint_margin_deg, "deg") + " (" + leg.label() + " " +
+                                         leg.limits[std::size_t(st.joint_limit)].label + ")"});
+    }
+    if (kin_.has_capsules() && st.pair[0] >= 0) {
+      auto link = [&](int leg, int c) {
+        const Leg& l = m.legs[std::size_t(leg)];
+        return l.label() + " " + l.capsules[std::size_t(c)].name;
+      };
+      out.push_back({"clearance", number(st.clearance, m.length_unit) + " (" + link(st.pair[0], st.pair[1]) + " to " +
+                                      link(st.pair[2], st.pair[3]) + ")"});
+    }
+    if (!st.hold()) out.push_back({"stops", kin_.stop_reason(st, legs)});
+    return out;
+  }
+
+  static float* add_extra(Field& f, const char* name, const char* title, const std::string& unit, const char* description) {
+    f.extras.push_back({name, title, unit, description, {}});
+    f.extras.back().values.resize(f.grid.size());
+    return f.extras.back().values.data();
   }
 
   std::vector<double> measure_values(const JacobianParts& parts) const {

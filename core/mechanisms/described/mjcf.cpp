@@ -1,12 +1,14 @@
 #include "core/mechanisms/described/mjcf.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
 
 #include "core/haptics.h"
+#include "core/mechanism.h"
 #include "core/mechanisms/described/kinematics.h"
 #include "core/mechanisms/described/model.h"
 
@@ -60,10 +62,16 @@ class Writer {
     --depth_;
     line("</body>");
   }
-  void capsule(const Eigen::Vector3d& from, const Eigen::Vector3d& to, const char* cls) {
+  // radius > 0: the description's (length unit), else the class's.
+  void capsule(const Eigen::Vector3d& from, const Eigen::Vector3d& to, const char* cls, double radius = 0) {
     if ((to - from).norm() * metres_ < 1e-9) return;
     line(std::string("<geom class=\"") + cls + "\" type=\"capsule\" fromto=\"" + vector(from) + " " + vector(to) +
-         "\"/>");
+         "\"" + (radius > 0 ? " size=\"" + number(radius * metres_) + "\"" : std::string()) + "/>");
+  }
+  // The description's links held in one frame (`on`, for a chain link its frame's step).
+  void links(const Leg& leg, LinkCapsule::On on, int frame, const Eigen::Isometry3d& placed, const char* cls) {
+    for (const LinkCapsule& c : leg.capsules)
+      if (c.on == on && (on != LinkCapsule::On::Chain || c.frame == frame)) capsule(placed * c.a, placed * c.b, cls, c.radius);
   }
   void ball(const char* cls) { line(std::string("<geom class=\"") + cls + "\" type=\"sphere\"/>"); }
   void line(const std::string& text) { out_ << std::string(2 * depth_ + 4, ' ') << text << "\n"; }
@@ -74,6 +82,12 @@ class Writer {
   int depth_ = 0;
   std::ostringstream out_;
 };
+
+bool has_links(const Leg& leg, LinkCapsule::On on, int frame) {
+  for (const LinkCapsule& c : leg.capsules)
+    if (c.on == on && (on != LinkCapsule::On::Chain || c.frame == frame)) return true;
+  return false;
+}
 
 Eigen::Isometry3d rotation(const Eigen::Vector3d& axis, double angle) {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
@@ -107,21 +121,37 @@ void write_platform(Writer& w, const Model& model, const std::array<double, 6>& 
     w.open(model.platform_names[b], bodies[b]);
     w.ball("platform");
     for (const Leg& leg : model.legs)
-      if (leg.platform == int(b)) w.capsule(Eigen::Vector3d::Zero(), leg.anchor.translation(), "platform");
+      if (leg.platform == int(b)) {
+        if (has_links(leg, LinkCapsule::On::Platform, -1)) w.links(leg, LinkCapsule::On::Platform, -1, Eigen::Isometry3d::Identity(), "platform");
+        else w.capsule(Eigen::Vector3d::Zero(), leg.anchor.translation(), "platform");
+      }
     w.close();
   }
   for (int k = 0; k < 4; ++k) w.close();
 }
 
+// A revolute's limit as a hinge's range: the turn of it nearest the joint's
+// value at home (MuJoCo's range is literal, Linkscape's any turn of it).
+std::string hinge_range(const Range& r, double home) {
+  const double turn = 2 * M_PI * std::round((home - 0.5 * (r.lo + r.hi)) / (2 * M_PI));
+  return " range=\"" + number(r.lo + turn) + " " + number(r.hi + turn) + "\"";
+}
+
 // A leg as nested bodies from the world, one per joint, at its home state;
-// a slide's `ref` in metres, a hinge's in radians.
-void write_leg(Writer& w, const Model& model, const Leg& leg, const LegState& home, double metres) {
-  int open = 0, sphere = 0;
+// a slide's `ref` in metres, a hinge's in radians. The description's links
+// are capsules of their radii; a leg without them is drawn with the default.
+void write_leg(Writer& w, const Model& model, const Leg& leg, const LegState& home, double metres,
+               const std::vector<double>& armature) {
+  int open = 0, sphere = 0, frame = -1;
   Eigen::Isometry3d t = leg.base;  // in the current body
   bool in_world = true;            // the base steps are the frame, not links
-  for (const Step& step : leg.steps) {
+  w.links(leg, LinkCapsule::On::Base, -1, Eigen::Isometry3d::Identity(), "link");
+  w.links(leg, LinkCapsule::On::Chain, -1, leg.base, "link");
+  for (std::size_t s = 0; s < leg.steps.size(); ++s) {
+    const Step& step = leg.steps[s];
     if (step.kind == Step::Kind::Fixed) {
-      if (!in_world) w.capsule(t.translation(), (t * step.transform).translation(), "link");
+      if (!in_world && !has_links(leg, LinkCapsule::On::Chain, frame))
+        w.capsule(t.translation(), (t * step.transform).translation(), "link");
       t = t * step.transform;
       continue;
     }
@@ -148,8 +178,15 @@ void write_leg(Writer& w, const Model& model, const Leg& leg, const LegState& ho
       const double scale = step.kind == Step::Kind::Prismatic ? metres : 1.0;
       joint += " range=\"" + number(range.lo * scale) + " " + number(range.hi * scale) + "\"";
     }
+    if (step.actuator >= 0) joint += " armature=\"" + number(armature[std::size_t(step.actuator)]) + "\"";
+    // A passive revolute's limit; a ball's cone has no MuJoCo counterpart
+    // (a ball's range bounds its whole rotation from home, twist included).
+    for (const JointLimit& l : leg.limits)
+      if (l.kind == JointLimit::Kind::Range && l.step == int(s)) joint += hinge_range(l.range, value);
     w.line(joint + "/>");
     w.ball("joint");
+    w.links(leg, LinkCapsule::On::Chain, int(s), Eigen::Isometry3d::Identity(), "link");
+    frame = int(s);
     ++open;
     in_world = false;
     t = Eigen::Isometry3d::Identity();
@@ -157,6 +194,24 @@ void write_leg(Writer& w, const Model& model, const Leg& leg, const LegState& ho
   w.open(mjcf_leg_end(leg.name), t);
   w.close();
   for (int k = 0; k < open; ++k) w.close();
+}
+
+// Each actuator's motor rotor reflected to its joint (MJCF armature: kg m²,
+// or kg through a prismatic actuator's lead): the preset's rating, else
+// Linkscape's default one. Without it the actuated joints have only their
+// links' small inertia, and MuJoCo's loop constraints drive them unstably
+// (docs/model-export.md).
+std::vector<double> armatures(const Preset& preset) {
+  const auto mechanism = make_mechanism(preset);
+  const haptics::DeviceData data = haptics::device_data(preset, mechanism->info());
+  std::vector<double> out;
+  for (std::size_t a = 0; a < data.actuators.size(); ++a) {
+    const haptics::Rating& r = data.actuators[a];
+    const bool prismatic = r.lead_m_per_rev.has_value();
+    const double inertia = r.rotor_inertia_kgm2.value_or(*haptics::default_rating(prismatic).rotor_inertia_kgm2);
+    out.push_back(prismatic ? inertia * std::pow(2 * M_PI / *r.lead_m_per_rev, 2) : inertia);
+  }
+  return out;
 }
 
 // The motor's force or torque limit at the joint, where the preset rates it.
@@ -217,7 +272,9 @@ std::string mjcf_model(const Preset& preset) {
 
   Writer w(metres);
   write_platform(w, model, coordinates, model.platform_frames(extras), metres);
-  for (std::size_t l = 0; l < model.legs.size(); ++l) write_leg(w, model, model.legs[l], home.legs[l].state, metres);
+  const std::vector<double> armature = armatures(preset);
+  for (std::size_t l = 0; l < model.legs.size(); ++l)
+    write_leg(w, model, model.legs[l], home.legs[l].state, metres, armature);
 
   const double radius = model.size * metres / 60.0;  // drawing and mass only: links are not modelled as solids yet
   std::ostringstream out;

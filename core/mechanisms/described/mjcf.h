@@ -9,7 +9,8 @@
 // every hinge and slide has `ref` = its value there, so MuJoCo's joint values
 // are Linkscape's (a ball joint's quaternion is its rotation relative to the
 // home assembly). Lengths in metres, angles in radians, motor torque ranges
-// from the preset's actuator data.
+// from the preset's actuator data, and the motors' rotor inertia on the
+// actuated joints (armature).
 #pragma once
 
 #include <string>

@@ -1,39 +1,16 @@
 #include "core/mechanisms/described/model.h"
 
-#include "core/json_checked.h"
-
-#include <muParser.h>
-
 #include <atomic>
-#include <cmath>
 #include <cstdint>
-#include <cstdio>
-#include <memory>
-#include <nlohmann/json.hpp>
 #include <regex>
-#include <set>
-#include <sstream>
-#include <stdexcept>
+
+#include "core/mechanisms/described/reader.h"
 
 namespace linkscape::described {
+using namespace reader;
 namespace {
 
-using nlohmann::json;
-using Eigen::Isometry3d;
-using Eigen::Vector3d;
-
-constexpr double kPi = 3.14159265358979323846;
 const char* const kPlatformCoordinates[6] = {"x", "y", "z", "rx", "ry", "rz"};
-
-[[noreturn]] void fail(const std::string& where, const std::string& what) {
-  throw std::invalid_argument(where + ": " + what);
-}
-
-std::string replace_hash(std::string text, int number) {
-  for (std::size_t at = text.find('#'); at != std::string::npos; at = text.find('#', at))
-    text.replace(at, 1, std::to_string(number));
-  return text;
-}
 
 // Names the expressions define themselves (pi, deg, the copy index k and
 // muparser's functions and constants): a parameter or extra of the same name
@@ -49,143 +26,6 @@ const std::set<std::string>& reserved_names() {
   return names;
 }
 
-std::string comma_list(const std::set<std::string>& names) {
-  std::string list;
-  for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
-  return list;
-}
-
-// Evaluates the numbers of a description: JSON numbers, or muparser
-// expressions over the parameters, pi, deg, the copy index k and (platform
-// frames only) the extras. Every name is a constant, so an expression cannot
-// assign: it only computes a value.
-class Evaluator {
- public:
-  explicit Evaluator(const std::map<std::string, double>& parameters) : parameters_(parameters) {}
-
-  // The leg copy being read: k = copy, and '#' in strings stands for first + copy.
-  void set_copy(int copy, int first) {
-    if (copy == copy_ && first == first_) return;
-    copy_ = copy;
-    first_ = first;
-    parser_.reset();
-  }
-  void set_extra(const std::string& name, double value) {
-    extra_values_[name] = value;
-    parser_.reset();
-  }
-  int hash_number() const { return first_ + copy_; }
-
-  double number(const json& value, const std::string& where) {
-    if (value.is_number()) {
-      const double v = value.get<double>();
-      if (!std::isfinite(v)) fail(where, "must be finite");
-      return v;
-    }
-    if (!value.is_string()) fail(where, "must be a number or an expression string, got " + value.dump());
-    const std::string& written = value.get_ref<const std::string&>();
-    if (written.size() > kMaxExpressionLength)
-      fail(where, "an expression of " + std::to_string(written.size()) + " characters (at most " +
-                      std::to_string(kMaxExpressionLength) + ")");
-    for (std::size_t i = 0; i < written.size(); ++i)
-      if (const auto c = static_cast<unsigned char>(written[i]); c < 0x20 || c == 0x7f) {
-        char code[8];
-        std::snprintf(code, sizeof code, "0x%02x", c);
-        fail(where, "the expression holds the control character " + std::string(code) + " at " + std::to_string(i) +
-                        " (an expression is one line of text)");
-      }
-    const std::string text = replace_hash(written, hash_number());
-    try {
-      mu::Parser& p = parser();
-      p.SetExpr(text);
-      const double v = p.Eval();
-      if (p.GetNumResults() != 1)
-        fail(where, "'" + text + "' is " + std::to_string(p.GetNumResults()) +
-                        " expressions (a comma separates only a function's arguments)");
-      if (!std::isfinite(v)) fail(where, "'" + text + "' evaluates to " + std::to_string(v));
-      return v;
-    } catch (const mu::Parser::exception_type& e) {
-      if (e.GetCode() == mu::ecUNEXPECTED_OPERATOR && e.GetToken() == "=")
-        fail(where, "'" + text + "' assigns with '=': an expression only computes a value (compare with '==')");
-      fail(where, "cannot evaluate '" + text + "': " + e.GetMsg() + known_names());
-    }
-  }
-
-  Vector3d vector(const json& value, const std::string& where) {
-    if (!value.is_array() || value.size() != 3) fail(where, "must be [x, y, z], got " + value.dump());
-    return {number(value[0], where + "[0]"), number(value[1], where + "[1]"), number(value[2], where + "[2]")};
-  }
-
-  // [lo, hi] with lo < hi, each times `scale`.
-  Range range(const json& value, const std::string& where, double scale = 1.0) {
-    if (!value.is_array() || value.size() != 2) fail(where, "must be [lo, hi]");
-    const Range r{scale * number(value[0], where + "[0]"), scale * number(value[1], where + "[1]")};
-    if (!(r.lo < r.hi)) fail(where, "needs lo < hi");
-    return r;
-  }
-
-  Vector3d unit_axis(const json& value, const std::string& where) {
-    const Vector3d a = vector(value, where);
-    const double n = a.norm();
-    if (std::abs(n - 1) > 1e-9) {
-      std::ostringstream s;
-      s << "axis [" << a.x() << ", " << a.y() << ", " << a.z() << "] is not a unit vector (norm " << n << ")";
-      fail(where, s.str());
-    }
-    return a / n;
-  }
-
- private:
-  // One parser for every number while the copy and the extras stay: the
-  // names are its constants.
-  mu::Parser& parser() {
-    if (!parser_) {
-      auto p = std::make_unique<mu::Parser>();
-      p->DefineConst("pi", kPi);
-      p->DefineConst("deg", kPi / 180);
-      p->DefineConst("k", copy_);
-      for (const auto& [name, v] : parameters_) p->DefineConst(name, v);
-      for (const auto& [name, v] : extra_values_) p->DefineConst(name, v);
-      parser_ = std::move(p);
-    }
-    return *parser_;
-  }
-  std::string known_names() const {
-    std::string s = " (variables: pi, deg, k";
-    for (const auto& [name, v] : parameters_) s += ", " + name;
-    for (const auto& [name, v] : extra_values_) s += ", " + name;
-    return s + ")";
-  }
-  std::map<std::string, double> parameters_;
-  std::map<std::string, double> extra_values_;
-  int copy_ = 0, first_ = 1;
-  std::unique_ptr<mu::Parser> parser_;
-};
-
-void check_keys(const json& object, const std::set<std::string>& known, const std::string& where) {
-  if (!object.is_object()) fail(where, "must be an object, got " + object.dump());
-  for (const auto& [key, value] : object.items())
-    if (!known.count(key)) {
-      std::string list;
-      for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
-      fail(where, "unknown key '" + key + "' (known: " + list + ")");
-    }
-}
-
-const json& require(const json& object, const std::string& key, const std::string& where) {
-  if (!object.contains(key)) fail(where, "missing key '" + key + "'");
-  return object.at(key);
-}
-
-// An optional string or flag of an object, or its default.
-std::string string_or(const json& object, const std::string& key, const std::string& fallback,
-                      const std::string& where) {
-  return object.contains(key) ? string_at(object.at(key), where + "." + key) : fallback;
-}
-bool bool_or(const json& object, const std::string& key, bool fallback, const std::string& where) {
-  return object.contains(key) ? bool_at(object.at(key), where + "." + key) : fallback;
-}
-
 // A whole number from lo to hi (lo >= 0), refused rather than wrapped when it
 // is beyond an int.
 int whole_number(const json& value, int lo, int hi, const std::string& where) {
@@ -195,47 +35,6 @@ int whole_number(const json& value, int lo, int hi, const std::string& where) {
     fail(where, "must be a whole number from " + std::to_string(lo) + " to " + std::to_string(hi) + ", got " +
                     value.dump());
   return int(value.get<std::int64_t>());
-}
-
-// A fixed transform step; returns false if `step` is not one.
-bool transform_step(const json& step, Evaluator& eval, const std::string& where, Isometry3d& out) {
-  out = Isometry3d::Identity();
-  if (step.contains("translate")) {
-    check_keys(step, {"translate"}, where);
-    out.translation() = eval.vector(step.at("translate"), where + ".translate");
-    return true;
-  }
-  for (int a = 0; a < 3; ++a) {
-    const std::string key = std::string("r") + "xyz"[a];
-    if (step.contains(key)) {
-      check_keys(step, {key}, where);
-      out.linear() = Eigen::AngleAxisd(eval.number(step.at(key), where + "." + key), Vector3d::Unit(a)).matrix();
-      return true;
-    }
-  }
-  if (step.contains("rotate")) {
-    check_keys(step, {"rotate"}, where);
-    const json& r = step.at("rotate");
-    check_keys(r, {"axis", "angle"}, where + ".rotate");
-    const Vector3d axis = eval.unit_axis(require(r, "axis", where + ".rotate"), where + ".rotate.axis");
-    out.linear() =
-        Eigen::AngleAxisd(eval.number(require(r, "angle", where + ".rotate"), where + ".rotate.angle"), axis).matrix();
-    return true;
-  }
-  return false;
-}
-
-Isometry3d transform_steps(const json& steps, Evaluator& eval, const std::string& where) {
-  if (!steps.is_array()) fail(where, "must be a list of steps, got " + steps.dump());
-  Isometry3d t = Isometry3d::Identity();
-  for (std::size_t i = 0; i < steps.size(); ++i) {
-    const std::string at = where + "[" + std::to_string(i) + "]";
-    Isometry3d s;
-    if (!transform_step(steps[i], eval, at, s))
-      fail(at, "expected a transform (translate, rx, ry, rz, rotate), got " + steps[i].dump());
-    t = t * s;
-  }
-  return t;
 }
 
 bool valid_name(const std::string& name) {
@@ -250,6 +49,20 @@ void check_variable_name(const std::string& name, const std::string& where) {
   if (reserved_names().count(name))
     fail(where, "'" + name + "' is a name the expressions define themselves (reserved: " +
                     comma_list(reserved_names()) + ")");
+}
+
+// A chain link without a name is named by the joints at its ends.
+void name_chain_links(Leg& leg) {
+  for (LinkCapsule& c : leg.capsules) {
+    if (c.on != LinkCapsule::On::Chain || !c.name.empty()) continue;
+    std::string next = "anchor";
+    for (std::size_t s = std::size_t(c.frame + 1); s < leg.steps.size(); ++s)
+      if (leg.steps[s].kind != Step::Kind::Fixed) {
+        next = leg.steps[s].joint;
+        break;
+      }
+    c.name = "link " + (c.frame >= 0 ? leg.steps[std::size_t(c.frame)].joint : std::string("base anchor")) + "-" + next;
+  }
 }
 
 }  // namespace
@@ -459,8 +272,11 @@ Model build_model(const std::string& description_json, const std::map<std::strin
       leg.name = replace_hash(string_or(spec, "name", std::to_string(m.legs.size() + 1), leg_where), eval.hash_number());
       const std::string where = leg_where + " \"" + leg.name + "\"";
       if (!leg_names.insert(leg.name).second) fail(where, "leg name '" + leg.name + "' is used twice");
-      leg.base = transform_steps(spec.value("base", json::array()), eval, where + ": base");
-      leg.anchor = transform_steps(spec.value("anchor", json::array()), eval, where + ": anchor");
+      leg.base = transform_steps(spec.value("base", json::array()), eval, where + ": base", &leg.capsules);
+      leg.anchor = transform_steps(spec.value("anchor", json::array()), eval, where + ": anchor", &leg.capsules,
+                                   LinkCapsule::On::Platform);
+      for (LinkCapsule& c : leg.capsules)
+        if (c.name.empty()) c.name = c.on == LinkCapsule::On::Base ? "base link" : "platform link";
       if (spec.contains("platform")) {
         const std::string body = string_at(spec.at("platform"), where + ": platform");
         leg.platform = -1;
@@ -484,7 +300,9 @@ Model build_model(const std::string& description_json, const std::map<std::strin
         const json& step = chain[i];
         std::string at = where + ": chain[" + std::to_string(i) + "]";
         Isometry3d t;
-        if (transform_step(step, eval, at, t)) {
+        if (transform_step(step, eval, at, t, true)) {
+          read_capsule(step, eval, at, pending, pending * t, LinkCapsule::On::Chain, int(leg.steps.size()) - 1,
+                       leg.capsules);
           pending = pending * t;
           have_pending = true;
           continue;
@@ -500,6 +318,7 @@ Model build_model(const std::string& description_json, const std::map<std::strin
         if (actuated && type != "revolute" && type != "prismatic")
           fail(at, "only revolute and prismatic joints can be actuated");
         flush();
+        const std::size_t first_step = leg.steps.size();
         auto add = [&](Step::Kind kind, const Vector3d& axis, const std::string& step_name) {
           if (leg.variables + (kind == Step::Kind::Spherical ? 3 : 1) > kMaxLegVariables)
             fail(at, "the leg has more than " + std::to_string(kMaxLegVariables) +
@@ -545,7 +364,7 @@ Model build_model(const std::string& description_json, const std::map<std::strin
             m.actuators.push_back({name, int(m.legs.size()), int(leg.steps.size()) - 1, prismatic, range, limited});
           }
         } else if (type == "universal") {
-          check_keys(step, {"joint", "name", "axes"}, at);
+          check_keys(step, {"joint", "name", "axes", "ranges_deg"}, at);
           const json& axes = require(step, "axes", at);
           if (!axes.is_array() || axes.size() != 2) fail(at + ".axes", "must be two axes [[x, y, z], [x, y, z]]");
           const Vector3d a1 = eval.unit_axis(axes[0], at + ".axes[0]"), a2 = eval.unit_axis(axes[1], at + ".axes[1]");
@@ -554,14 +373,16 @@ Model build_model(const std::string& description_json, const std::map<std::strin
           add(Step::Kind::Revolute, a1, name + ".1");
           add(Step::Kind::Revolute, a2, name + ".2");
         } else if (type == "spherical") {
-          check_keys(step, {"joint", "name"}, at);
+          check_keys(step, {"joint", "name", "cone"}, at);
           if (m.planar) fail(at, "a planar device has no spherical joints");
           add(Step::Kind::Spherical, Vector3d::UnitZ(), name);
         } else {
           fail(at + ".joint", "unknown joint type '" + type + "' (known: revolute, prismatic, universal, spherical)");
         }
+        read_joint_limits(step, type, actuated, eval, at, leg, first_step);
       }
       flush();
+      name_chain_links(leg);
       if (spec.contains("pattern")) leg.pattern = string_at(spec.at("pattern"), where + ": pattern");
       if (leg.variables == 0) fail(where + ": chain", "has no joints");
       if (leg.actuators.size() != 1)

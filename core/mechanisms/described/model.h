@@ -44,6 +44,34 @@ struct BranchRule {
   int free_index = -1;                   // bit in the device's branch number (free rules)
 };
 
+// A passive joint's limit (docs/described-mechanisms.md, "Joint limits").
+struct JointLimit {
+  enum class Kind { Range, Cone };
+  Kind kind = Kind::Range;
+  int step = -1;    // the limited step in Leg::steps (a revolute, a universal's half, a spherical joint)
+  int sphere = -1;  // Cone: the spherical joint's index in LegState::spheres
+  Range range;      // Range: radians, of the angle from the chain as written
+  // Cone: the socket's axis (frame before the joint) and the link's axis
+  // (frame after it; the same as written); the angle between them stays
+  // within half_angle (radians).
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ(), link_axis = Eigen::Vector3d::UnitZ();
+  double half_angle = 0.0;
+  std::string label;  // as messages name it: "joint knee2", "ball joint elbow2"
+};
+
+// A link as a capsule: the segment a-b swept by a ball of `radius`
+// (docs/described-mechanisms.md, "Link interference").
+struct LinkCapsule {
+  enum class On { Chain, Base, Platform };
+  On on = On::Chain;
+  // Chain: the step whose frame holds a and b (-1: the leg's base anchor);
+  // Base: a and b in the base frame; Platform: in the leg's platform body's frame.
+  int frame = -1;
+  Eigen::Vector3d a = Eigen::Vector3d::Zero(), b = Eigen::Vector3d::Zero();
+  double radius = 0.0;
+  std::string name;  // "thigh", "link q1-knee1", "base link", "platform link"
+};
+
 struct Leg {
   std::string name;
   // How messages name the leg: "leg 2" for a leg named "2", the name itself
@@ -58,6 +86,8 @@ struct Leg {
   std::vector<BranchRule> rules;
   std::vector<int> actuators;  // indices into Model::actuators, in chain order
   std::string pattern;  // the closed-form pattern the description asserts ("": none)
+  std::vector<JointLimit> limits;     // its passive joints' limits
+  std::vector<LinkCapsule> capsules;  // its links, base and platform links included
 };
 
 struct Actuator {
@@ -110,6 +140,8 @@ struct Model {
   const std::vector<Eigen::Isometry3d>& platform_frames(const Eigen::VectorXd& extras) const;
 
   int driven() const;  // task coordinates that are not extras
+  bool has_joint_limits() const;
+  bool has_capsules() const;
 };
 
 // The format's limits (docs/described-mechanisms.md, "Limits"), far above

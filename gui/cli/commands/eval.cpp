@@ -254,7 +254,7 @@ Command add_eval(CLI::App& program, const DeviceHelp& help) {
   cmd->add_flag("-q,--quiet", o->quiet, "No summary on stderr (there is none when the rows go to stdout)");
   return {cmd, Runs::Headless,
           "linkscape eval --mechanism NAME --ik targets.csv     inverse kinematics of each row's task coordinates\n"
-          "  linkscape eval --mechanism NAME --fk actuators.csv   forward kinematics of each row's actuator values",
+          "linkscape eval --mechanism NAME --fk actuators.csv   forward kinematics of each row's actuator values",
           [o](std::istream& in, std::ostream& out) {
             run_eval(*o, in, out);
             return 0;

@@ -29,6 +29,7 @@ struct MeshOptions {
   std::vector<double> box;
   double decimate = 0;             // max decimation error, length unit; 0 = off
   std::string output;              // .stl .obj .ply .off .vtp
+  std::string unit;                // of the written points; empty: the device's length unit
 };
 
 // reach, cond<T (the device's first measure; both measures for six-DOF
@@ -64,6 +65,8 @@ void run_mesh(const MeshOptions& o, std::ostream& out) {
     throw std::invalid_argument("mesh: --output must end in .stl, .obj, .ply, .off or .vtp, got '" + o.output + "'");
   if (!(o.decimate >= 0) || !std::isfinite(o.decimate))
     throw std::invalid_argument("--decimate must be a finite number >= 0, got " + format_number(o.decimate));
+  if (!o.unit.empty() && o.unit != "mm" && o.unit != "cm" && o.unit != "m" && o.unit != "in")
+    throw std::invalid_argument("mesh: --unit expects mm, cm, m or in, got '" + o.unit + "'");
   Sampling sampling = make_sampling(o.sampling, "mesh");
   render::SurfaceRequest request = parse_surface(o.surface, sampling.mechanism->info());
   request.decimate_error = o.decimate;
@@ -81,9 +84,10 @@ void run_mesh(const MeshOptions& o, std::ostream& out) {
   const render::MeshStats s = render::mesh_stats(mesh);
   if (s.faces == 0) throw std::invalid_argument("mesh: the surface does not occur in the box (nothing written)");
   line.step("writing " + o.output);
-  render::write_mesh(mesh, o.output, field, request);
+  render::write_mesh(mesh, o.output, field, request, o.unit);
   line.clear();
-  out << "wrote " << o.output << ": " << s.vertices << " vertices, " << s.faces << " triangles, "
+  out << "wrote " << o.output << " (points in " << (o.unit.empty() ? sampling.length_unit() : o.unit)
+      << "): " << s.vertices << " vertices, " << s.faces << " triangles, "
       << (s.boundary_edges == 0 && s.non_manifold_edges == 0 ? "watertight" : "NOT watertight")
       << ", Euler characteristic " << s.euler_characteristic << "\n"
       << "volume " << s.volume << " " << sampling.length_unit() << "^3, area " << s.area << " " << sampling.length_unit()
@@ -113,6 +117,9 @@ Command add_mesh(CLI::App& program, const DeviceHelp& help) {
                   "Simplify the mesh; the largest allowed deviation in the length unit (0 = off)")
       ->capture_default_str();
   cmd->add_option("-o,--output", o->output, "Output: .stl, .obj, .ply, .off or .vtp")->required();
+  cmd->add_option("--unit", o->unit,
+                  "Length unit of the written points: mm, cm, m or in (default: the device's); said in the STL "
+                  "header, a PLY or OBJ comment and the VTP's length_unit. The statistics stay in the device's unit");
 
   return {cmd, Runs::Headless, "linkscape mesh --surface 'cond<3' --output ws.stl    workspace isosurface mesh",
           [o](std::istream&, std::ostream& out) {

@@ -58,7 +58,9 @@ int joint(const mjModel* m, const std::string& name) {
   return id;
 }
 
-// Linkscape's pose (task x) and its IK solution as MuJoCo joint values.
+// Linkscape's pose (task x) and its IK solution as MuJoCo joint values: a
+// hinge's the turn of Linkscape's angle nearest its home value (MuJoCo's
+// angles run on from each hinge's ref, and its ranges are literal).
 void set_pose(LoadedModel& l, const Eigen::VectorXd& x, const PoseSolution& s, const PoseSolution& home) {
   const Model& model = l.kin->model();
   static const char* names[6] = {"x", "y", "z", "rx", "ry", "rz"};
@@ -82,7 +84,11 @@ void set_pose(LoadedModel& l, const Eigen::VectorXd& x, const PoseSolution& s, c
         const double wxyz[4] = {q.w(), q.x(), q.y(), q.z()};
         for (int i = 0; i < 4; ++i) l.d->qpos[adr + i] = wxyz[i];
       } else {
-        const double v = state.values[step.variable];
+        double v = state.values[step.variable];
+        if (step.kind == Step::Kind::Revolute) {
+          const double h = home.legs[leg].state.values[step.variable];
+          v = h + std::remainder(v - h, 2 * M_PI);
+        }
         l.d->qpos[adr] = step.kind == Step::Kind::Prismatic ? v * l.metres : v;
       }
     }
@@ -153,10 +159,9 @@ TEST_P(EveryDescribedPreset, LinkscapesInverseKinematicsClosesMuJoCosLoops) {
   EXPECT_GE(checked, 3) << GetParam() << ": too few poses around home are reachable";
 }
 
-// MuJoCo's own dynamics closing the loops. The 3-RRR and the 6-RUS hexapod
-// are left out: there its soft constraints stop with the loops open by
-// 0.2-0.4 (docs/model-export.md), although Linkscape's poses close them
-// exactly (the test above).
+// MuJoCo's own dynamics closing the loops, every shipped device (the
+// actuated joints carry their motors' rotor inertia: without it the 6-RUS
+// hexapod's loops do not close, docs/model-export.md).
 class SettlingPreset : public EveryDescribedPreset {};
 
 TEST_P(SettlingPreset, MuJoCoClosesADisturbedMechanismAtLinkscapesPose) {
@@ -193,7 +198,7 @@ TEST_P(SettlingPreset, MuJoCoClosesADisturbedMechanismAtLinkscapesPose) {
   }
   mj_forward(l->m, l->d);
   EXPECT_GT(disturbed, 1e-5) << "the disturbance did not open the loops";
-  // MuJoCo's constraints are soft, but settle: to 3e-10 m for PATHOS-II, 1e-14 for the others.
+  // MuJoCo's constraints are soft, but settle: to 2e-10 m for PATHOS-II, 1e-14 for the others.
   EXPECT_LT(loop_residual(*l), 1e-8) << GetParam();
   EXPECT_LT((platform_position(*l) - kin.pose(x).p * l->metres).norm(), 1e-8) << GetParam();
 }
@@ -211,8 +216,48 @@ INSTANTIATE_TEST_SUITE_P(Shipped, EveryDescribedPreset,
                          test_name);
 INSTANTIATE_TEST_SUITE_P(Shipped, SettlingPreset,
                          ::testing::Values("delta-described", "pathos2-described", "five-bar", "stewart", "falcon",
-                                           "linear-delta"),
+                                           "three-rrr", "linear-delta", "hexapod-rus"),
                          test_name);
+
+// The Falcon's passive-joint limits become its hinges' ranges (the turn
+// holding the joint's home value), and its links capsules of their radii:
+// every chain link's geom in the body of the joint before it, as long as the
+// link, and at home every stated hinge within its range.
+TEST(ModelExport, PassiveLimitsAndLinkRadiiReachMuJoCo) {
+  const auto l = load("falcon");
+  ASSERT_NE(l->m, nullptr);
+  const Model& model = l->kin->model();
+  const PoseSolution home = l->kin->inverse(model.home, 0, 1e-12);
+  int ranges = 0, links = 0;
+  for (std::size_t leg = 0; leg < model.legs.size(); ++leg) {
+    const Leg& lg = model.legs[leg];
+    for (const JointLimit& lim : lg.limits) {
+      const int j = joint(l->m, lg.steps[std::size_t(lim.step)].name);
+      ASSERT_TRUE(l->m->jnt_limited[j]) << lg.steps[std::size_t(lim.step)].name;
+      const double lo = l->m->jnt_range[2 * j], hi = l->m->jnt_range[2 * j + 1];
+      EXPECT_NEAR(hi - lo, lim.range.hi - lim.range.lo, 1e-12);
+      EXPECT_NEAR(std::remainder(lo - lim.range.lo, 2 * M_PI), 0, 1e-12);
+      const double v = home.legs[leg].state.values[lg.steps[std::size_t(lim.step)].variable];
+      EXPECT_TRUE(lo <= v && v <= hi) << lg.steps[std::size_t(lim.step)].name << " at " << v;
+      ++ranges;
+    }
+    // Chain links: the geom in the joint's body with the description's radius and length.
+    for (const LinkCapsule& c : lg.capsules) {
+      if (c.on != LinkCapsule::On::Chain) continue;
+      const int body = mj_name2id(l->m, mjOBJ_BODY, lg.steps[std::size_t(c.frame)].name.c_str());
+      bool found = false;
+      for (int g = 0; g < l->m->ngeom; ++g)
+        if (l->m->geom_bodyid[g] == body && l->m->geom_type[g] == mjGEOM_CAPSULE &&
+            std::abs(l->m->geom_size[3 * g] - c.radius * l->metres) < 1e-12 &&
+            std::abs(2 * l->m->geom_size[3 * g + 1] - (c.b - c.a).norm() * l->metres) < 1e-12)
+          found = true;
+      EXPECT_TRUE(found) << lg.label() << " " << c.name;
+      links += found;
+    }
+  }
+  EXPECT_EQ(ranges, 9);
+  EXPECT_EQ(links, 12);
+}
 
 TEST(ModelExport, ACompiledDeviceIsRefusedWithAReason) {
   try {

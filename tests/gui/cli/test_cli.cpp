@@ -187,7 +187,11 @@ TEST(Cli, HelpListsEveryCommandInItsOrderWithAnExample) {
     const std::size_t next = r.out.find(std::string("\n  ") + command + " ", at);
     ASSERT_NE(next, std::string::npos) << command << " after position " << at << ":\n" << r.out;
     at = next + 1;
-    EXPECT_NE(r.out.find(std::string("linkscape ") + command + " ", at), std::string::npos) << command;
+    // The example: its command line on a line of its own, what it does indented below.
+    const std::size_t example = r.out.find(std::string("\n  linkscape ") + command, at);
+    ASSERT_NE(example, std::string::npos) << command;
+    const std::size_t end = r.out.find('\n', example + 1);
+    EXPECT_EQ(r.out.compare(end, 7, "\n      "), 0) << command << ": no description below its example";
   }
 }
 
@@ -324,6 +328,28 @@ TEST(CliMesh, ReachMeshIsWatertightWithTheAnalyticVolume) {
   EXPECT_TRUE(fs::exists(stl));
 }
 
+// --unit mm: the 12R's reach in cm written in mm, said in the file.
+TEST(CliMesh, WritesTheUnitAsked) {
+  const fs::path obj = kOut / "reach-mm.obj";
+  const CommandResult r = run_linkscape("mesh --param L1=1 --param L2=0.6 --resolution 32 -q --unit mm --output " +
+                                        obj.string(), kNoDisplay);
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.out.find("(points in mm)"), std::string::npos) << r.out;
+  std::ifstream in(obj);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "# length unit: mm");
+  double largest = 0;  // the outer radius 1.6 cm is 16 mm
+  while (std::getline(in, line))
+    if (line.rfind("v ", 0) == 0) {
+      std::istringstream v(line.substr(2));
+      double x, y, z;
+      v >> x >> y >> z;
+      largest = std::max(largest, std::sqrt(x * x + y * y + z * z));
+    }
+  EXPECT_NEAR(largest, 16.0, 0.5);
+}
+
 TEST(CliFieldCommands, BadArgumentsExitWithTwoAndWriteNothing) {
   const fs::path out = kOut / "never.png";
   fs::remove(out);
@@ -344,6 +370,7 @@ TEST(CliFieldCommands, BadArgumentsExitWithTwoAndWriteNothing) {
       {"mesh --surface volume --output " + (kOut / "never.stl").string(), "--surface"},
       {"mesh --output " + (kOut / "never.3mf").string(), ".stl, .obj, .ply, .off or .vtp"},
       {"mesh --decimate -1 --output " + (kOut / "never.stl").string(), "--decimate"},
+      {"mesh --unit furlong --output " + (kOut / "never.stl").string(), "--unit expects mm, cm, m or in"},
   };
   for (const auto& [args, message] : cases) {
     const CommandResult r = run_linkscape(args + " -q", kNoDisplay);
@@ -420,4 +447,36 @@ TEST(CliSlice, MethodFieldShowsWhichIkMethodServedEachSample) {
   EXPECT_TRUE(used.count(2)) << "newton";  // IkMethod::Newton, where planar missed the tolerance
   r = run_linkscape("slice --field method --figure -q --output " + (kOut / "never.svg").string(), kNoDisplay);
   EXPECT_EQ(r.exit_code, 2) << r.out;
+}
+
+// The shell's completion asks the program for an option's values: the lists
+// the commands check against.
+TEST(Cli, CompletesTheValuesAnOptionAccepts) {
+  const CommandResult maps = run_linkscape("--complete-values=colour-map");
+  ASSERT_EQ(maps.exit_code, 0) << maps.out;
+  EXPECT_EQ(maps.out, "viridis\ncividis\ndiverging\n");
+  const CommandResult methods = run_linkscape("--complete-values=method");
+  for (const char* method : {"planar", "newton", "closed"})
+    EXPECT_NE(methods.out.find(std::string(method) + "\n"), std::string::npos) << method << " in\n" << methods.out;
+  const CommandResult criteria = run_linkscape("--complete-values=criterion");
+  EXPECT_NE(criteria.out.find("cond<\n"), std::string::npos) << criteria.out;
+  EXPECT_NE(criteria.out.find("force_iso>\n"), std::string::npos) << criteria.out;
+  const CommandResult free = run_linkscape("--complete-values=output");  // a file: no list
+  EXPECT_EQ(free.exit_code, 0);
+  EXPECT_EQ(free.out, "");
+}
+
+// linkscape --shortcuts: the window's menu keys, made without a display (the
+// manual page's WINDOW section).
+TEST(Cli, PrintsTheWindowsShortcuts) {
+  const CommandResult r = run_linkscape("--shortcuts", "DISPLAY=");
+  if (!kWindowBuilt) {
+    EXPECT_EQ(r.exit_code, 1) << r.out;
+    EXPECT_NE(r.out.find("no window"), std::string::npos) << r.out;
+    return;
+  }
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.out.find("File > Save session"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("Help > Documentation"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("F1\n"), std::string::npos) << r.out;
 }

@@ -25,5 +25,7 @@ TEST(TerminalText, WrapsAtSpacesAndKeepsLineBreaks) {
   EXPECT_EQ(wrap_text("a\nb c", 80), "a\nb c");
   EXPECT_EQ(wrap_text("averyveryverylongword x", 5), "averyveryverylongword\nx");  // a long word stands alone
   EXPECT_EQ(wrap_text("", 10), "");
+  // An indented line keeps its indentation; its continuation hangs two further in.
+  EXPECT_EQ(wrap_text("  cmd one two\n      what it does", 12), "  cmd one\n    two\n      what\n        it\n        does");
   EXPECT_EQ(wrap_text("ends in a break\n", 80), "ends in a break\n");
 }

@@ -19,6 +19,14 @@
 
 namespace window_checks {
 
+// With LINKSCAPE_SCREENSHOTS=<folder>, the window (its views painted in)
+// saved there as `name`, to look at.
+inline void save_screenshot(QWidget& w, const QString& name) {
+  const QByteArray folder = qgetenv("LINKSCAPE_SCREENSHOTS");
+  if (!folder.isEmpty())
+    linkscape::gui::VtkWidget::grabWindow(&w).save(QDir(QString::fromLocal8Bit(folder)).filePath(name));
+}
+
 // Fraction of pixels that differ by more than a small tolerance per channel.
 inline double changed_fraction(const QImage& a, const QImage& b) {
   if (a.size() != b.size()) return 1.0;

@@ -13,6 +13,7 @@
 #include "core/mechanism.h"
 #include "core/mechanisms/described/kinematics.h"
 #include "core/preset.h"
+#include "tests/core/mechanisms/described/without_stops.h"
 
 namespace linkscape {
 namespace {
@@ -51,7 +52,7 @@ void expect_agreement(const char* name, const Worst& w) {
 
 TEST(DescribedDelta, AgreesWithTheCompiledDeltaAt1e5Poses) {
   const auto compiled = make_mechanism(load_preset("delta"));
-  const auto described = make_mechanism(load_preset("delta-described"));
+  const auto described = make_mechanism(testing_support::without_stops(load_preset("delta-described")));
   ASSERT_EQ(described->info().actuators.size(), 3u);
   const double size = compiled->size();
   EXPECT_DOUBLE_EQ(described->size(), size);
@@ -107,7 +108,7 @@ TEST(DescribedDelta, AgreesWithTheCompiledDeltaAt1e5Poses) {
 // (docs/described-mechanisms.md quotes these figures).
 TEST(DescribedDelta, AtHomeTheConditionNumberIsSettledByALongDoubleSvd) {
   const auto compiled = make_mechanism(load_preset("delta"));
-  const auto described = make_mechanism(load_preset("delta-described"));
+  const auto described = make_mechanism(testing_support::without_stops(load_preset("delta-described")));
   const VectorXd x = compiled->home_task(), q = compiled->home_actuators();
   const long double ref = reference_cond(compiled->jacobian(q, x));
   const double c = compiled->measures(q, x).values[0], d = described->measures(q, x).values[0];
@@ -122,7 +123,7 @@ TEST(DescribedDelta, AtHomeTheConditionNumberIsSettledByALongDoubleSvd) {
 // shell |La - Lb| - distance, and the compiled Delta agrees it is
 // unreachable, by the same leg, with a miss no smaller.
 TEST(DescribedDelta, ALegNearerItsBaseThanItsShortestReachIsUnreachableBeforeIterating) {
-  const Preset preset = load_preset("delta-described");
+  const Preset preset = testing_support::without_stops(load_preset("delta-described"));
   const described::Kinematics kinematics(
       described::build_model(preset.description, preset.parameters, preset.limits_deg, preset.length_unit));
   const auto compiled = make_mechanism(load_preset("delta"));

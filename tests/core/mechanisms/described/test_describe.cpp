@@ -126,3 +126,22 @@ TEST(DescribedDescribe, APresetWithoutADescriptionIsRefused) {
 
 }  // namespace
 }  // namespace linkscape::described
+
+namespace linkscape {
+namespace {
+
+// describe lists each leg's passive-joint limits and links, or says there are none.
+TEST(DescribedDescribe, LimitsAndLinks) {
+  const std::string falcon = described::describe(load_preset("falcon"));
+  EXPECT_NE(falcon.find("    limit: joint knee2: 10 .. 170 deg\n"), std::string::npos) << falcon;
+  EXPECT_NE(falcon.find("    link: thigh, radius 5 mm, length 60 mm\n"), std::string::npos) << falcon;
+  EXPECT_NE(falcon.find("    link: motor arm, radius 12 mm"), std::string::npos) << falcon;
+  const std::string delta = described::describe(load_preset("delta-described"));
+  EXPECT_NE(delta.find("    limit: ball joint wrist3: 45 deg cone\n"), std::string::npos) << delta;
+  EXPECT_NE(delta.find("links: none given a radius"), std::string::npos) << delta;
+  const std::string five_bar = described::describe(load_preset("five-bar"));
+  EXPECT_NE(five_bar.find("passive-joint limits: none stated"), std::string::npos) << five_bar;
+}
+
+}  // namespace
+}  // namespace linkscape

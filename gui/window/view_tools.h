@@ -1,0 +1,85 @@
+// The view as an instrument: picking (the Probe panel's read-out, ruler and
+// line probe, drawn by a MarkScene), the standard views, parallel
+// projection and what the camera frames. The window hands it its scene and
+// adds its panel and menu entries.
+#pragma once
+
+#include <QObject>
+#include <QString>
+#include <functional>
+#include <memory>
+#include <optional>
+
+#include <Eigen/Geometry>
+
+#include "render/standard_views.h"
+
+class QDockWidget;
+class QMainWindow;
+class QMenu;
+class vtkRenderer;
+
+namespace linkscape::render {
+class FieldScene;
+class MarkScene;
+class SkeletonScene;
+class TaskScene;
+}  // namespace linkscape::render
+
+namespace linkscape::gui {
+
+class DeviceState;
+class FieldDisplay;
+class PickTool;
+class ProbePanel;
+class VtkWidget;
+
+class ViewTools : public QObject {
+  Q_OBJECT
+
+ public:
+  struct Scene {
+    const DeviceState* state;
+    VtkWidget* view;
+    vtkRenderer* renderer;
+    render::SkeletonScene* skeleton;
+    render::FieldScene* fields;
+    render::TaskScene* task;
+    FieldDisplay* display;
+  };
+  ViewTools(const Scene& scene, QObject* parent = nullptr);
+  ~ViewTools() override;
+
+  ProbePanel* panel() const { return panel_; }
+  // The Probe dock of `window`, tabbed with `tab_with`: hidden until the
+  // first click in the view picks something (or View > Probe shows it).
+  QDockWidget* addDock(QMainWindow* window, QDockWidget* tab_with);
+  PickTool* picker() const { return picker_.get(); }
+  const render::MarkScene& marks() const { return *marks_; }
+
+  // The camera along `view` (none: the default view from the front-left,
+  // above) framing the device's workspace box or, while frameDevice(), the
+  // device itself in its pose. Keeps the projection.
+  void frame(const Eigen::AlignedBox3d& workspace, std::optional<render::StandardView> view);
+  // Frames as the last frame() did, from the direction last chosen.
+  void reframe(const Eigen::AlignedBox3d& workspace) { frame(workspace, view_); }
+  bool frameDevice() const { return frame_device_; }
+  void setFrameDevice(bool on) { frame_device_ = on; }
+  void setParallel(bool on);
+  bool parallel() const;
+
+  // View menu entries: the standard views (Ctrl+1..4), parallel projection
+  // (Ctrl+5) and the framing toggle. `workspace` gives the box to frame;
+  // `framed` runs after the camera moved (the window notes its fitted camera).
+  void addViewActions(QMenu* menu, std::function<Eigen::AlignedBox3d()> workspace, std::function<void()> framed);
+
+ private:
+  Scene scene_;
+  std::unique_ptr<render::MarkScene> marks_;
+  std::unique_ptr<PickTool> picker_;
+  ProbePanel* panel_ = nullptr;
+  bool frame_device_ = false;
+  std::optional<render::StandardView> view_;  // the direction last framed from
+};
+
+}  // namespace linkscape::gui
