@@ -1,5 +1,6 @@
 #include "gui/window/window_document.h"
 
+#include <QAction>
 #include <QApplication>
 #include <QFileInfo>
 #include <QShortcut>
@@ -69,13 +70,16 @@ WindowDocument::WindowDocument(QMainWindow* window, Hooks hooks)
       history_(new SessionHistory(hooks_.capture, hooks_.restore, this)) {
   connect(history_, &SessionHistory::modifiedChanged, this, &WindowDocument::updateTitle);
   connect(history_, &SessionHistory::pathChanged, this, &WindowDocument::updateTitle);
-  // Save As, bound explicitly: QKeySequence::SaveAs is empty on plain X11.
-  const QKeySequence save_as(Qt::CTRL | Qt::SHIFT | Qt::Key_S);
-  if (!QKeySequence::keyBindings(QKeySequence::SaveAs).contains(save_as)) {
+  // Save As on Ctrl+Shift+S (QKeySequence::SaveAs is empty on plain X11),
+  // once the menus are built, unless an action has the key already.
+  QTimer::singleShot(0, this, [this] {
+    const QKeySequence save_as(Qt::CTRL | Qt::SHIFT | Qt::Key_S);
+    for (const QAction* a : window_->findChildren<QAction*>())
+      if (a->shortcuts().contains(save_as)) return;
     auto* shortcut = new QShortcut(save_as, window_);
     shortcut->setObjectName("saveAsShortcut");
     connect(shortcut, &QShortcut::activated, this, [this] { saveAs(); });
-  }
+  });
   qApp->installEventFilter(this);  // the window's mouse buttons: one undo step per drag
 }
 

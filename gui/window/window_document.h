@@ -1,7 +1,7 @@
 // The window as a document: its session file and undo/redo history
 // (SessionHistory, one step per drag: it watches the window's mouse
 // buttons), the modified mark in the title, Save and Save As (Ctrl+Shift+S
-// wherever the platform binds no key to it), asking before unsaved work is
+// where no menu action has that key), asking before unsaved work is
 // discarded, the recent sessions; and where the camera was last fitted to
 // the device (a camera nobody moved since follows the device's size).
 //
