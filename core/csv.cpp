@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -103,6 +104,10 @@ Table read_csv(std::istream& in, const std::string& origin) {
     std::vector<double> row;
     row.reserve(fields.size());
     for (std::size_t i = 0; i < fields.size(); ++i) {
+      if (fields[i].empty()) {  // no value, as csv_number writes NaN
+        row.push_back(std::numeric_limits<double>::quiet_NaN());
+        continue;
+      }
       bool out_of_range = false;
       const std::optional<double> v = parse_number(fields[i], &out_of_range);
       if (!v)
@@ -124,6 +129,12 @@ std::string format_number(double value) {
 }
 
 std::string csv_number(double value) { return std::isnan(value) ? std::string() : format_number(value); }
+
+std::string csv_column(std::string_view name, std::string_view unit) {
+  std::string column(name);
+  if (!unit.empty()) (column += '_') += unit;
+  return column;
+}
 
 std::string csv_text(std::string_view text) {
   const bool plain = text.find_first_of(",\"\r\n") == std::string_view::npos &&

@@ -1,7 +1,9 @@
 // Numeric CSV tables with a header row, for the headless commands.
 #pragma once
 
+#include <charconv>
 #include <istream>
+#include <type_traits>
 #include <optional>
 #include <string_view>
 #include <string>
@@ -22,8 +24,9 @@ struct Table {
 
 // Reads a header row then rows of numbers. Blank lines and lines starting
 // with '#' are skipped, as is a UTF-8 byte-order mark. Numbers may carry a
-// sign ('+' or '-'); "inf" and "nan" are read as such (callers that need
-// finite values check them). Throws std::invalid_argument with
+// sign ('+' or '-'); "inf" and "nan" are read as such, and an empty cell
+// as NaN (no value, as csv_number writes it); callers that need finite
+// values check them. Throws std::invalid_argument with
 // "origin:line: ..." for an empty or repeated column name, a wrong field
 // count or a field that is not a number.
 Table read_csv(std::istream& in, const std::string& origin);
@@ -44,7 +47,24 @@ std::string format_number(double value);
 
 // A number cell as every table writes it: format_number's exact round trip
 // ("inf" and "-inf" for infinities), an empty cell for NaN (no value).
+// A missing value is written as NaN through it, never as a stand-in (0, inf).
 std::string csv_number(double value);
+
+// Appends a number cell as csv_number writes it: a float as its own
+// shortest text (0.1f as "0.1"), an integer as it is, NaN as nothing.
+template <class T>
+void append_csv_number(std::string& out, T value) {
+  if constexpr (std::is_floating_point_v<T>)
+    if (value != value) return;  // NaN: no value
+  char buffer[64];               // enough for any number
+  const auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, value);
+  out.append(buffer, ec == std::errc() ? end : buffer);
+}
+
+// A column's name in a header: `name` followed by "_" and its unit where it
+// has one (x_cm, reach_margin_cm, force_iso_N); a column without a unit
+// suffix holds a ratio, a count, a code or a label.
+std::string csv_column(std::string_view name, std::string_view unit);
 
 // A text cell as RFC 4180 writes it: quoted (inner quotes doubled) when it
 // holds a comma, a quote, a line break or leading or trailing spaces; as it

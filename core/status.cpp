@@ -13,4 +13,11 @@ std::string_view to_string(Status status) {
   return "unknown";
 }
 
+std::string status_codes() {
+  std::string out;
+  for (Status s : {Status::Ok, Status::Unreachable, Status::Singular, Status::NotConverged, Status::OutOfLimits})
+    out += (out.empty() ? "" : ", ") + std::to_string(int(s)) + " " + std::string(to_string(s));
+  return out;
+}
+
 }  // namespace linkscape

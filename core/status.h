@@ -2,6 +2,7 @@
 // instead of returning NaN or throwing for a target it cannot serve.
 #pragma once
 
+#include <string>
 #include <string_view>
 
 namespace linkscape {
@@ -16,5 +17,9 @@ enum class Status {
 };
 
 std::string_view to_string(Status status);
+
+// The legend of status codes as files store them (a field's status array):
+// "0 ok, 1 unreachable, 2 singular, 3 not-converged, 4 out-of-limits".
+std::string status_codes();
 
 }  // namespace linkscape

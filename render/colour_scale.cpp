@@ -15,13 +15,7 @@ namespace {
 constexpr int kStatuses = 5;  // linkscape::Status, Ok .. OutOfLimits
 
 double sample_value(const Field& f, const std::string& name, std::size_t s) {
-  switch (field_array(name).value_or(FieldArray::Cond)) {
-    case FieldArray::Reach: return f.reach_margin[s];
-    case FieldArray::Residual: return f.residual[s];
-    case FieldArray::Iterations: return f.iterations[s];
-    case FieldArray::CondOrientation: return f.cond_orientation[s];
-    default: break;
-  }
+  if (const auto a = field_array(name)) return field_value(f, field_array_info(*a), s);
   if (const Field::NamedArray* a = f.extra(name)) return a->values[s];
   return f.cond[s];
 }

@@ -32,36 +32,16 @@ struct Array {
 std::vector<Array> arrays(const Field& f) {
   std::vector<Array> out;
   const std::string length = f.length_unit;
-  for (const FieldArrayName& a : kFieldArrays) {
-    const std::string name(a.name);
-    switch (a.array) {
-      case FieldArray::Cond: out.push_back({name, "", true, true, [&f](std::size_t s) { return double(f.cond[s]); }, {}}); break;
-      case FieldArray::CondOrientation:
-        if (!f.cond_orientation.empty())
-          out.push_back({name, "", true, true, [&f](std::size_t s) { return double(f.cond_orientation[s]); }, {}});
-        break;
-      case FieldArray::Reach:
-        out.push_back({name, length, true, false, [&f](std::size_t s) { return double(f.reach_margin[s]); }, {}});
-        break;
-      case FieldArray::Residual:
-        out.push_back({name, length, true, true, [&f](std::size_t s) { return double(f.residual[s]); }, {}});
-        break;
-      case FieldArray::Iterations:
-        out.push_back({name, "", false, false, [&f](std::size_t s) { return double(f.iterations[s]); }, {}});
-        break;
-      case FieldArray::Status:
-        out.push_back({name, "", false, false, [&f](std::size_t s) { return double(f.status[s]); },
-                       [](double v) { return std::string(to_string(Status(int(v)))); }});
-        break;
-      case FieldArray::Method:
-        if (!f.method_used.empty())
-          out.push_back({name, "", false, false, [&f](std::size_t s) { return double(f.method_used[s]); },
-                         [](double v) { return method_label(int(v)); }});
-        break;
-    }
+  for (const FieldArrayInfo& a : kFieldArrays) {  // core/field_names.h: the member, unit and reach of each
+    if (!field_has(f, a)) continue;
+    const bool code = a.array == FieldArray::Status || a.array == FieldArray::Method || a.array == FieldArray::Reachable;
+    std::function<std::string(double)> label;
+    if (a.array == FieldArray::Status) label = [](double v) { return std::string(to_string(Status(int(v)))); };
+    if (a.array == FieldArray::Method) label = [](double v) { return method_label(int(v)); };
+    if (a.array == FieldArray::Reachable) label = [](double v) { return std::string(v != 0 ? "yes" : "no"); };
+    out.push_back({std::string(a.name), a.length ? length : "", !code && a.array != FieldArray::Iterations,
+                   a.needs_solution && !code, [&f, &a](std::size_t s) { return field_value(f, a, s); }, label});
   }
-  out.push_back({"reachable", "", false, false, [&f](std::size_t s) { return double(f.reachable[s]); },
-                 [](double v) { return std::string(v != 0 ? "yes" : "no"); }});
   for (const Field::NamedArray& e : f.extras)
     out.push_back({e.name, e.unit, true, true, [&e](std::size_t s) { return double(e.values[s]); }, {}});
   return out;

@@ -17,16 +17,17 @@
 #include <algorithm>
 #include <charconv>
 #include <fstream>
+#include <functional>
+#include <type_traits>
+#include <vector>
 #include <stdexcept>
 #include <string>
 
 #include "core/atomic_file.h"
+#include "core/csv.h"
 
 namespace linkscape::render {
 namespace {
-
-// The name a file stores an array under (core/field_names.h).
-const char* file_name(FieldArray array) { return field_array_name(array).file_name.data(); }
 
 // A VTK array with the values of `values`: a copy, or a view of them (VTK
 // neither writes nor frees them; they must outlive the array).
@@ -59,13 +60,20 @@ void add_numbers(vtkFieldData* out, const std::string& name, std::initializer_li
   out->AddArray(array);
 }
 
-// Appends the shortest round-trip text of `v` (std::to_chars; inf -> "inf").
+// A VTK array of the sample type of `values`, named `name` (a copy or a view, as vtk_array).
 template <class T>
-void append_number(std::string& out, T v) {
-  char buffer[64];
-  const auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, v);
-  if (ec != std::errc()) throw std::runtime_error("cannot format a number for CSV");
-  out.append(buffer, end);
+vtkSmartPointer<vtkDataArray> typed_vtk_array(const char* name, const SampleArray<T>& values, bool copy) {
+  if constexpr (std::is_same_v<T, float>) return vtk_array<vtkFloatArray>(name, values, copy);
+  else if constexpr (std::is_same_v<T, std::uint16_t>) return vtk_array<vtkUnsignedShortArray>(name, values, copy);
+  else return vtk_array<vtkUnsignedCharArray>(name, values, copy);
+}
+
+// The kinematic arrays `field` holds (core/field_names.h).
+std::vector<const FieldArrayInfo*> held_arrays(const Field& field) {
+  std::vector<const FieldArrayInfo*> held;
+  for (const FieldArrayInfo& a : kFieldArrays)
+    if (!a.may_be_empty || !visit_field_array(field, a, [](const auto& v) { return v.empty(); })) held.push_back(&a);
+  return held;
 }
 
 }  // namespace
@@ -82,14 +90,8 @@ void check_field(const Field& field) {
                                   "' (grid " + std::to_string(d[0]) + "x" + std::to_string(d[1]) + "x" +
                                   std::to_string(d[2]) + "), got " + std::to_string(size));
   };
-  check("cond", field.cond.size());
-  check("reach_margin", field.reach_margin.size());
-  check("residual", field.residual.size());
-  check("reachable", field.reachable.size());
-  check("status", field.status.size());
-  check("iterations", field.iterations.size());
-  if (!field.method_used.empty()) check("method_used", field.method_used.size());  // empty: not recorded
-  if (!field.cond_orientation.empty()) check("cond_orientation", field.cond_orientation.size());  // six-DOF only
+  for (const FieldArrayInfo* a : held_arrays(field))  // method_used empty: not recorded; cond_orientation: six-DOF only
+    check(a->file_name.data(), visit_field_array(field, *a, [](const auto& v) { return v.size(); }));
   for (const Field::NamedArray& a : field.extras) check(a.name.c_str(), a.values.size());
   if (!(field.grid.spacing.array() > 0).all() || !field.grid.spacing.allFinite() || !field.grid.origin.allFinite())
     throw std::invalid_argument("field: expected finite origin and positive finite spacing");
@@ -121,22 +123,14 @@ vtkSmartPointer<vtkImageData> image_data(const Field& field, bool copy) {
   const Eigen::Vector3d first = g.origin + 0.5 * g.spacing;
   image->SetOrigin(first.x(), first.y(), first.z());
   vtkPointData* pd = image->GetPointData();
-  pd->AddArray(vtk_array<vtkFloatArray>(file_name(FieldArray::Cond), field.cond, copy));
-  if (!field.cond_orientation.empty())
-    pd->AddArray(vtk_array<vtkFloatArray>(file_name(FieldArray::CondOrientation), field.cond_orientation, copy));
-  pd->AddArray(vtk_array<vtkFloatArray>(file_name(FieldArray::Reach), field.reach_margin, copy));
-  pd->AddArray(vtk_array<vtkFloatArray>(file_name(FieldArray::Residual), field.residual, copy));
-  pd->AddArray(vtk_array<vtkUnsignedCharArray>("reachable", field.reachable, copy));
-  pd->AddArray(vtk_array<vtkUnsignedCharArray>(file_name(FieldArray::Status), field.status, copy));
-  pd->AddArray(vtk_array<vtkUnsignedShortArray>(file_name(FieldArray::Iterations), field.iterations, copy));
-  if (!field.method_used.empty())
-    pd->AddArray(vtk_array<vtkUnsignedCharArray>(file_name(FieldArray::Method), field.method_used, copy));
+  for (const FieldArrayInfo* a : held_arrays(field))
+    pd->AddArray(visit_field_array(field, *a, [&](const auto& v) { return typed_vtk_array(a->file_name.data(), v, copy); }));
   for (const Field::NamedArray& a : field.extras) {
     pd->AddArray(vtk_array<vtkFloatArray>(a.name.c_str(), a.values, copy));
     // The unit also as the component name, which ParaView shows beside the array.
     pd->GetArray(a.name.c_str())->SetComponentName(0, a.unit.c_str());
   }
-  pd->SetActiveScalars(file_name(FieldArray::Cond));
+  pd->SetActiveScalars(field_array_info(FieldArray::Cond).file_name.data());
   add_metadata(image->GetFieldData(), field);
   return image;
 }
@@ -172,56 +166,62 @@ void write_image_data(vtkImageData* image, const std::filesystem::path& path, co
   });
 }
 
+namespace {
+
+// One CSV column of a field: its header, and its cell of a sample.
+struct CsvColumn {
+  std::string header;
+  std::function<void(std::string&, std::size_t)> cell;
+};
+
+// The columns after x, y, z: the kinematic arrays, then the named ones. A
+// value that needs a solution is left empty where the device does not
+// reach the sample, as is a code that means "no value".
+std::vector<CsvColumn> csv_columns(const Field& field) {
+  std::vector<CsvColumn> columns;
+  const auto& reachable = field.reachable;
+  for (const FieldArrayInfo* a : held_arrays(field))
+    visit_field_array(field, *a, [&](const auto& values) {
+      columns.push_back({csv_column(a->file_name, a->length ? field.length_unit : ""),
+                         [&values, &reachable, a](std::string& out, std::size_t s) {
+                           if ((a->needs_solution && !reachable[s]) || double(values[s]) == a->no_value) return;
+                           append_csv_number(out, values[s]);
+                         }});
+    });
+  for (const Field::NamedArray& n : field.extras)
+    columns.push_back({csv_column(n.name, n.unit), [&n, &reachable](std::string& out, std::size_t s) {
+                         if (reachable[s]) append_csv_number(out, n.values[s]);
+                       }});
+  return columns;
+}
+
+}  // namespace
+
 void write_field_csv(const Field& field, const std::filesystem::path& path) {
   check_field(field);
   const Grid& g = field.grid;
+  const std::vector<CsvColumn> columns = csv_columns(field);
   write_atomically(path, [&](const std::filesystem::path& tmp) {
     std::ofstream out(tmp, std::ios::binary);
     if (!out) throw std::runtime_error("cannot open '" + tmp.string() + "' for writing");
-    const bool with_method = !field.method_used.empty(), with_orientation = !field.cond_orientation.empty();
-    // The columns in the order the rows below write them.
-    std::string chunk = std::string("x,y,z,") + file_name(FieldArray::Cond) + ",";
-    if (with_orientation) chunk += std::string(file_name(FieldArray::CondOrientation)) + ",";
-    chunk += std::string(file_name(FieldArray::Reach)) + "," + file_name(FieldArray::Residual) + ",reachable," +
-             file_name(FieldArray::Status) + "," + file_name(FieldArray::Iterations);
-    if (with_method) chunk += std::string(",") + file_name(FieldArray::Method);
-    for (const Field::NamedArray& a : field.extras) chunk += "," + a.name;
-    chunk += '\n';
+    std::string chunk;
+    for (const char* axis : {"x", "y", "z"}) chunk += csv_column(axis, field.length_unit) + ",";
+    for (const CsvColumn& c : columns) chunk += c.header + ",";
+    chunk.back() = '\n';
     for (int k = 0; k < g.dims[2]; ++k)
       for (int j = 0; j < g.dims[1]; ++j)
         for (int i = 0; i < g.dims[0]; ++i) {
           const std::size_t s = g.index(i, j, k);
           const Eigen::Vector3d p = g.point(i, j, k);
-          append_number(chunk, p.x());
-          chunk += ',';
-          append_number(chunk, p.y());
-          chunk += ',';
-          append_number(chunk, p.z());
-          chunk += ',';
-          append_number(chunk, field.cond[s]);
-          chunk += ',';
-          if (with_orientation) {
-            append_number(chunk, field.cond_orientation[s]);
+          for (int axis = 0; axis < 3; ++axis) {
+            append_csv_number(chunk, p(axis));
             chunk += ',';
           }
-          append_number(chunk, field.reach_margin[s]);
-          chunk += ',';
-          append_number(chunk, field.residual[s]);
-          chunk += ',';
-          append_number(chunk, unsigned(field.reachable[s]));
-          chunk += ',';
-          append_number(chunk, unsigned(field.status[s]));
-          chunk += ',';
-          append_number(chunk, unsigned(field.iterations[s]));
-          if (with_method) {
+          for (const CsvColumn& c : columns) {
+            c.cell(chunk, s);
             chunk += ',';
-            append_number(chunk, unsigned(field.method_used[s]));
           }
-          for (const Field::NamedArray& a : field.extras) {
-            chunk += ',';
-            append_number(chunk, a.values[s]);
-          }
-          chunk += '\n';
+          chunk.back() = '\n';
           if (chunk.size() > (1u << 20)) {
             out.write(chunk.data(), std::streamsize(chunk.size()));
             chunk.clear();

@@ -20,12 +20,13 @@ namespace linkscape::render {
 // grid.size() values. Throws std::invalid_argument otherwise.
 void check_field(const Field& field);
 
-// The field as image data with point arrays "cond", "reach_margin",
-// "residual" (float), "reachable", "status" (unsigned char) and "iterations"
-// (unsigned short), "method_used" (unsigned char: the device's method code,
-// 255 = none; only when the field records it), each named array of
-// Field::extras (float, its unit as the component name), active scalars
-// "cond", and the metadata of add_metadata(). The arrays are COPIED (about 2x the field's memory for a
+// The field as image data with a point array per kinematic array it holds
+// (core/field_names.h, under its file name: "cond", "cond_orientation",
+// "reach_margin", "residual", "reachable", "iterations", "status",
+// "method_used", of the Field's sample types; method_used is the device's
+// method code, 255 = none), each named array of Field::extras (float, its
+// unit as the component name), active scalars "cond", and the metadata of
+// add_metadata(). The arrays are COPIED (about 2x the field's memory for a
 // moment), so the image is independent of the Field's lifetime.
 // Throws std::invalid_argument as check_field.
 vtkSmartPointer<vtkImageData> to_image_data(const Field& field);
@@ -56,12 +57,16 @@ void write_vti(const Field& field, const std::filesystem::path& path, const VtiC
 void write_image_data(vtkImageData* image, const std::filesystem::path& path, const VtiCompression& compression = {});
 
 // Writes one CSV row per sample, x fastest:
-//   x,y,z,cond,reach_margin,residual,reachable,status,iterations[,method_used][,<named arrays>]
-// (method_used when the field records it: every field from compute_field;
-// the named arrays of Field::extras, e.g. force_iso, in their units).
-// x, y, z are the sample's cell centre (length unit); numbers use the
-// shortest text that reads back to the same value (floats as floats),
-// infinities as "inf"/"-inf". Atomic; throws as write_vti.
+//   x_U,y_U,z_U,cond[,cond_orientation],reach_margin_U,residual_U,reachable,iterations,status[,method_used][,<name>_<unit>...]
+// where U is the field's length unit (core/csv.h's csv_column: a unit
+// suffix; no suffix: a ratio, count or code), method_used when the field
+// records it (every field from compute_field) and the named arrays of
+// Field::extras (e.g. force_iso_N). x, y, z are the sample's cell centre.
+// A value with no meaning is an empty cell: cond, cond_orientation,
+// residual, method_used and the named arrays where the sample is not
+// reachable, method_used where no method served. Numbers use the shortest
+// text that reads back to the same value (floats as floats); cond is "inf"
+// at a reachable singular sample. Atomic; throws as write_vti.
 void write_field_csv(const Field& field, const std::filesystem::path& path);
 
 }  // namespace linkscape::render

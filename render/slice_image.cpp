@@ -111,7 +111,7 @@ std::string field_title(const Field& field, const std::string& name) {
 
 std::string contour_field(const std::string& name) {
   const FieldArray shown = field_array(name) == FieldArray::CondOrientation ? FieldArray::CondOrientation : FieldArray::Cond;
-  return std::string(field_array_name(shown).name);
+  return std::string(field_array_info(shown).name);
 }
 
 bool uses_log_scale(const SliceStyle& style) { return is_log(style, parse_quantity(style.field)); }
@@ -120,16 +120,8 @@ namespace {
 
 double value_at(const Field& f, Quantity q, std::size_t s, const Field::NamedArray* extra = nullptr) {
   if (!q) return extra->values[s];
-  switch (*q) {
-    case FieldArray::Cond: return f.cond[s];
-    case FieldArray::CondOrientation: return f.cond_orientation[s];
-    case FieldArray::Reach: return f.reach_margin[s];
-    case FieldArray::Residual: return f.residual[s];
-    case FieldArray::Iterations: return f.iterations[s];
-    case FieldArray::Status: return f.status[s];
-    case FieldArray::Method: return f.method_used.empty() ? 255.0 : double(f.method_used[s]);
-  }
-  return 0;
+  if (*q == FieldArray::Method && f.method_used.empty()) return Field::kNoMethod;  // not recorded
+  return field_value(f, field_array_info(*q), s);
 }
 
 void check_range(double lo, double hi, bool log) {

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "core/csv.h"
+#include "core/status.h"
 #include "core/size_text.h"
 
 namespace linkscape::gui {
@@ -107,6 +108,16 @@ Grid box_grid(const Sampling& sampling, const std::vector<double>& box_option, c
            sampling.box_max().y(), sampling.box_min().z(), sampling.box_max().z()};
   if (box.size() != 6) throw std::invalid_argument("--box expects x_min,x_max,y_min,y_max,z_min,z_max");
   return Grid::box({box[0], box[2], box[4]}, {box[1], box[3], box[5]}, parse_grid_size(resolution, "--resolution"));
+}
+
+std::string field_csv_legend() {
+  return "CSV: a column's unit is its suffix (x_cm, reach_margin_cm, force_iso_N); no\n"
+         "suffix: a ratio, count or code. An empty cell has no value: cond, residual,\n"
+         "method_used and the haptic arrays where the sample is unreachable.\n"
+         "status: " + status_codes() + ".\n"
+         "method_used: the device's code of the IK method that served (12R: 0 paper,\n"
+         "1 planar, 2 newton, 3 dls; Delta: 0 closed, 1 newton; others 0).\n"
+         "See docs/file-formats.md.";
 }
 
 }  // namespace linkscape::gui

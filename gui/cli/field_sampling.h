@@ -23,6 +23,10 @@ struct FieldOptions {
 // The shared six, --tolerance and -q.
 void add_field_options(CLI::App& app, FieldOptions& options, const DeviceHelp& devices);
 
+// The footer of the commands that write field CSVs: the units convention
+// and the legend of the status and method_used codes.
+std::string field_csv_legend();
+
 // What the sampling commands need of the chosen mechanism.
 struct Sampling {
   Preset preset;

@@ -1,42 +1,19 @@
 #include "gui/window/background.h"
 
+#include <QApplication>
 #include <QEventLoop>
+#include <QProgressDialog>
 #include <QTimer>
-#include <chrono>
-#include <future>
 
 #include "core/mechanism.h"
 
 namespace linkscape::gui {
 
-void run_off_gui_thread(const std::function<void()>& work) {
-  auto job = std::async(std::launch::async, work);
-  const auto ready = [&job] { return job.wait_for(std::chrono::seconds(0)) == std::future_status::ready; };
-  if (!ready()) {
-    QEventLoop loop;
-    QTimer poll;
-    QObject::connect(&poll, &QTimer::timeout, &loop, [&] {
-      if (ready()) loop.quit();
-    });
-    poll.start(10);
-    loop.exec(QEventLoop::ExcludeUserInputEvents);
-  }
-  job.get();
-}
-
-Preset load_checked_preset(const std::string& name_or_path) {
-  Preset preset;
-  run_off_gui_thread([&] {
-    preset = load_preset(name_or_path);
-    make_mechanism(preset);
-  });
-  return preset;
-}
-
 BackgroundTask::BackgroundTask(QObject* context, std::function<void()> finished)
     : context_(context), finished_(std::move(finished)) {}
 
 BackgroundTask::~BackgroundTask() {
+  alive_.reset();  // posts still queued find the task gone
   if (cancel_) cancel_->store(true);
   join();
 }
@@ -50,32 +27,38 @@ bool BackgroundTask::start(std::function<void(const Run&)> work) {
   join();  // a finished worker may still be unwinding
   running_ = true;
   const unsigned generation = ++generation_;
-  cancel_ = std::make_shared<std::atomic<bool>>(false);
+  auto cancel = cancel_ = std::make_shared<std::atomic<bool>>(false);
+  auto ended = std::make_shared<std::atomic<bool>>(false);  // the work posted `finish`
+  auto last = std::make_shared<std::function<void()>>();    // what it posted (read after the join)
   // Posts are queued calls with the context as receiver: Qt drops them if
-  // it is gone, and the destructor joins the thread before it goes.
+  // it is gone, and they check that the task is still there.
   QObject* context = context_;
-  auto progress = [this, context, generation](std::function<void()> f) {
+  const std::weak_ptr<bool> alive = alive_;
+  auto current = [this, alive, generation] { return !alive.expired() && generation == generation_; };
+  auto progress = [context, current, cancel, ended, this](std::function<void()> f) {
+    if (ended->load()) return;
     QMetaObject::invokeMethod(
         context,
-        [this, generation, f = std::move(f)] {
-          if (generation == generation_ && running_) f();
+        [this, current, cancel, f = std::move(f)] {
+          if (current() && running_ && !cancel->load()) f();
         },
         Qt::QueuedConnection);
   };
-  auto finish = [this, context, generation](std::function<void()> f) {
+  auto finish = [ended, last](std::function<void()> f) {
+    if (!ended->exchange(true)) *last = std::move(f);
+  };
+  worker_ = std::thread([this, work = std::move(work), cancel, progress, finish, last, context, current] {
+    work(Run{*cancel, progress, finish});
     QMetaObject::invokeMethod(
         context,
-        [this, generation, f = std::move(f)] {
-          if (generation != generation_) return;
+        [this, current, last] {
+          if (!current()) return;
           running_ = false;
           join();
           if (finished_) finished_();
-          f();
+          if (*last) (*last)();
         },
         Qt::QueuedConnection);
-  };
-  worker_ = std::thread([work = std::move(work), cancel = cancel_, progress, finish] {
-    work(Run{*cancel, progress, finish});
   });
   return true;
 }
@@ -84,6 +67,78 @@ bool BackgroundTask::cancel() {
   if (!running_ || !cancel_) return false;
   cancel_->store(true);
   return true;
+}
+
+namespace {
+
+// One waited-for run. A run the caller stopped waiting for (Cancel) keeps
+// it until its work returns, then deletes it.
+class WaitedRun : public QObject {
+ public:
+  WaitedRun()
+      : task(this, [this] {
+          done = true;
+          if (abandoned) deleteLater();
+          else if (on_done) on_done();
+        }) {}
+  BackgroundTask task;
+  bool done = false, abandoned = false;
+  std::function<void()> on_done;
+  std::exception_ptr error;  // written by the worker, read after its join
+};
+
+}  // namespace
+
+void wait_off_gui_thread(const std::function<void(const std::atomic<bool>& cancelled)>& work, const QString& what) {
+  auto* run = new WaitedRun;
+  run->task.start([run, work](const BackgroundTask::Run& r) {
+    try {
+      work(r.cancelled);
+    } catch (...) {
+      run->error = std::current_exception();
+    }
+  });
+  QEventLoop loop;
+  run->on_done = [&loop] { loop.quit(); };
+  // First without a dialog: most reads end before one would be seen.
+  QTimer::singleShot(kDialogAfterMs, &loop, &QEventLoop::quit);
+  loop.exec(QEventLoop::ExcludeUserInputEvents);
+  if (!run->done && qobject_cast<QApplication*>(QCoreApplication::instance())) {
+    QProgressDialog dialog(what.isEmpty() ? QObject::tr("Working…") : what, QObject::tr("Cancel"), 0, 0,
+                           QApplication::activeWindow());
+    dialog.setObjectName("waitDialog");
+    dialog.setWindowModality(Qt::ApplicationModal);
+    dialog.setMinimumDuration(0);
+    QObject::connect(&dialog, &QProgressDialog::canceled, &loop, &QEventLoop::quit);
+    dialog.show();
+    if (!run->done) loop.exec();  // the modal dialog takes the user's input
+    if (!run->done) {
+      run->abandoned = true;
+      run->task.cancel();
+      throw Cancelled();
+    }
+  }
+  while (!run->done) loop.exec(QEventLoop::ExcludeUserInputEvents);
+  const std::exception_ptr error = run->error;
+  delete run;
+  if (error) std::rethrow_exception(error);
+}
+
+void run_off_gui_thread(const std::function<void()>& work, const QString& what) {
+  wait_off_gui_thread([work](const std::atomic<bool>&) { work(); }, what);
+}
+
+Preset load_checked_preset(const std::string& name_or_path) {
+  auto read = std::make_shared<Preset>();  // the work may outlive this call (Cancel)
+  wait_off_gui_thread(
+      [name_or_path, read](const std::atomic<bool>& cancelled) {
+        Preset preset = load_preset(name_or_path);
+        if (cancelled) return;
+        make_mechanism(preset);
+        *read = std::move(preset);
+      },
+      QObject::tr("Reading %1…").arg(QString::fromStdString(name_or_path)));
+  return std::move(*read);
 }
 
 }  // namespace linkscape::gui

@@ -36,20 +36,17 @@ SliceResult slice_result(Field&& field, bool fine, std::chrono::steady_clock::ti
 FieldJobRunner::FieldJobRunner(QObject* parent) : QObject(parent) {
   qRegisterMetaType<SliceResult>("linkscape::gui::SliceResult");
   qRegisterMetaType<SurfaceResult>("linkscape::gui::SurfaceResult");
-  pool_.setMaxThreadCount(1);  // one job at a time; OpenMP parallelises inside it
 }
 
-FieldJobRunner::~FieldJobRunner() {
-  cancel();
-  pool_.waitForDone();
-}
+FieldJobRunner::~FieldJobRunner() { cancel(); }  // worker_ then joins
 
 void FieldJobRunner::cancel() {
-  if (cancel_) cancel_->store(true);
-  ++generation_;
+  waiting_job_.reset();
+  waiting_light_.reset();
+  worker_.cancel();
 }
 
-bool FieldJobRunner::busy() const { return pool_.activeThreadCount() > 0; }
+bool FieldJobRunner::busy() const { return worker_.running(); }
 
 void FieldJobRunner::submit(const FieldJob& job) {
   cancel();
@@ -68,16 +65,27 @@ void FieldJobRunner::submit(const FieldJob& job) {
       return;
     }
   }
-  auto cancel_flag = std::make_shared<std::atomic<bool>>(false);
-  cancel_ = cancel_flag;
-  const std::uint64_t generation = generation_.load();
-  pool_.start([this, job, cancel_flag, generation] {
-    auto current = [&] { return !cancel_flag->load() && generation_.load() == generation; };
+  if (worker_.running()) waiting_job_ = job;  // starts when the cancelled run has stopped
+  else startJob(job);
+}
+
+void FieldJobRunner::startWaiting() {
+  if (waiting_job_) {
+    const FieldJob job = std::move(*waiting_job_);
+    waiting_job_.reset();
+    startJob(job);
+  } else if (waiting_light_) {
+    const SurfaceResult full = std::move(*waiting_light_);
+    waiting_light_.reset();
+    startLight(full);
+  }
+}
+
+void FieldJobRunner::startJob(const FieldJob& job) {
+  worker_.start([this, job](const BackgroundTask::Run& run) {
     FieldProgress progress;
-    progress.cancel = cancel_flag.get();
-    progress.report = [this, &current](double f) {
-      if (current()) QMetaObject::invokeMethod(this, [this, f] { emit this->progress(f); }, Qt::QueuedConnection);
-    };
+    progress.cancel = &run.cancelled;
+    progress.report = [this, &run](double f) { run.progress([this, f] { emit this->progress(f); }); };
     try {
       const bool coarse_slice = last_slice_seconds_.load() >= kCoarseWhenSlowerThan;
       const bool coarse_volume = last_volume_seconds_.load() >= kCoarseWhenSlowerThan;
@@ -87,38 +95,32 @@ void FieldJobRunner::submit(const FieldJob& job) {
           const Grid grid = fine ? *job.slice : coarsen(*job.slice, job.coarse_divisor);
           const auto t0 = std::chrono::steady_clock::now();
           std::optional<Field> field = job.sampler(grid, progress);
-          if (!field || !current()) return;
+          if (!field || run.cancelled) return;
           const SliceResult sr = slice_result(std::move(*field), fine, t0);
           if (fine) last_slice_seconds_.store(sr.seconds);
-          QMetaObject::invokeMethod(this, [this, sr, generation] {
-            if (generation_.load() == generation) emit sliceReady(sr);
-          }, Qt::QueuedConnection);
+          run.progress([this, sr] { emit sliceReady(sr); });
         }
         if (!job.volume || (!fine && !coarse_volume)) continue;
         const Grid volume = fine ? *job.volume : coarsen(*job.volume, job.coarse_divisor);
         const auto t1 = std::chrono::steady_clock::now();
         std::optional<Field> vol = job.sampler(volume, progress);
-        if (!vol || !current()) return;
+        if (!vol || run.cancelled) return;
         SurfaceResult su;
         su.volume = std::make_shared<const Field>(std::move(*vol));
         render::SurfaceRequest reach_request, cond_request;
         cond_request.surface = render::Surface::WellConditioned;
         cond_request.cond_threshold = job.cond_threshold;
         su.reach = render::extract_surface(*su.volume, reach_request);
-        if (!current()) return;
+        if (run.cancelled) return;
         su.well_conditioned = render::extract_surface(*su.volume, cond_request);
         su.cond_threshold = job.cond_threshold;
         su.fine = fine;
         su.seconds = seconds_since(t1);
         if (fine) last_volume_seconds_.store(su.seconds);
-        if (!current()) return;
-        QMetaObject::invokeMethod(this, [this, su, generation] {
-          if (generation_.load() == generation) emit surfacesReady(su);
-        }, Qt::QueuedConnection);
+        run.progress([this, su] { emit surfacesReady(su); });
       }
     } catch (const std::exception& e) {
-      const QString message = QString::fromStdString(e.what());
-      QMetaObject::invokeMethod(this, [this, message] { emit failed(message); }, Qt::QueuedConnection);
+      run.progress([this, message = QString::fromStdString(e.what())] { emit failed(message); });
     }
   });
 }
@@ -127,13 +129,18 @@ void FieldJobRunner::submitLight(const SurfaceResult& full) {
   if (!full.fine || !full.volume) return;
   const auto& dims = full.volume->grid.dims;
   if (*std::min_element(dims.begin(), dims.end()) < kLightFromSamples) return;
+  if (worker_.running()) {
+    if (!waiting_job_) waiting_light_ = full;  // after the job in flight (a waiting job would supersede it)
+  } else {
+    startLight(full);
+  }
+}
+
+void FieldJobRunner::startLight(const SurfaceResult& full) {
   const bool reach = full.reach && full.reach->GetNumberOfCells() > 0;
   const bool well = full.well_conditioned && full.well_conditioned->GetNumberOfCells() > 0;
   if (!reach && !well) return;
-  const std::uint64_t generation = generation_.load();  // a later submit() supersedes this too
-  pool_.start([this, volume = full.volume, threshold = full.cond_threshold, reach, well, generation] {
-    auto current = [&] { return generation_.load() == generation; };
-    if (!current()) return;  // superseded while it waited behind another job
+  worker_.start([this, volume = full.volume, threshold = full.cond_threshold, reach, well](const BackgroundTask::Run& run) {
     try {
       const auto t0 = std::chrono::steady_clock::now();
       SurfaceResult light;
@@ -144,13 +151,10 @@ void FieldJobRunner::submitLight(const SurfaceResult& full) {
       cond_request.surface = render::Surface::WellConditioned;
       cond_request.cond_threshold = threshold;
       if (reach) light.reach_light = render::extract_light_surface(*volume, reach_request);
-      if (!current()) return;
+      if (run.cancelled) return;
       if (well) light.well_conditioned_light = render::extract_light_surface(*volume, cond_request);
       light.seconds = seconds_since(t0);
-      if (!current()) return;
-      QMetaObject::invokeMethod(this, [this, light, generation] {
-        if (generation_.load() == generation) emit lightSurfacesReady(light);
-      }, Qt::QueuedConnection);
+      run.progress([this, light] { emit lightSurfacesReady(light); });
     } catch (const std::exception&) {
       // Light meshes only save time: the full ones stay drawn.
     }

@@ -1,18 +1,20 @@
-// Field computations for the window, off the GUI thread. A new request
-// cancels the one in flight; each request is answered coarse first (fast),
-// then at full resolution. Results of superseded requests are dropped.
+// Field computations for the window, off the GUI thread (on the window's
+// Run/Cancel worker, BackgroundTask). A new request cancels the one in
+// flight; each request is answered coarse first (fast), then at full
+// resolution. Results of superseded requests are dropped.
 #pragma once
 
 #include <QObject>
-#include <QThreadPool>
 #include <atomic>
-#include <limits>
 #include <functional>
+#include <limits>
 #include <memory>
+#include <optional>
 
 #include <vtkSmartPointer.h>
 
 #include "core/field.h"
+#include "gui/window/background.h"
 #include "render/workspace_mesh.h"
 
 class vtkPolyData;
@@ -72,13 +74,15 @@ class FieldJobRunner : public QObject {
   // of the frame after (seconds).
   static constexpr double kAnswerNowWhenFasterThan = 0.005;
 
-  // Starts `job`, cancelling any earlier one (or answers it at once, above).
+  // Starts `job`, cancelling any earlier one (it starts once that one has
+  // stopped), or answers it at once (above).
   void submit(const FieldJob& job);
   // Makes the light meshes of a full pass's surfaces (from a volume with at
   // least kLightFromSamples samples along each axis, else nothing) and emits
   // lightSurfacesReady; after any running job, superseded by a later submit.
   // Asked for when a drag starts, so that no frame waits on them otherwise.
   void submitLight(const SurfaceResult& full);
+  // Stops the job in flight (its results are dropped) and forgets waiting ones.
   void cancel();
   bool busy() const;
 
@@ -91,12 +95,19 @@ class FieldJobRunner : public QObject {
   void failed(const QString& message);
 
  private:
-  QThreadPool pool_;
-  std::shared_ptr<std::atomic<bool>> cancel_;
-  std::atomic<std::uint64_t> generation_{0};
+  void startJob(const FieldJob& job);
+  void startLight(const SurfaceResult& full);
+  void startWaiting();  // when a run has ended
+
   // The last full passes' times; a first request (infinity) goes coarse first.
   std::atomic<double> last_slice_seconds_{std::numeric_limits<double>::infinity()};
   std::atomic<double> last_volume_seconds_{std::numeric_limits<double>::infinity()};
+  // What starts when the run in flight ends: a job (it cancelled that run),
+  // else the light meshes.
+  std::optional<FieldJob> waiting_job_;
+  std::optional<SurfaceResult> waiting_light_;
+  // Last: destroyed (cancelled and joined) before what its work reads.
+  BackgroundTask worker_{this, [this] { startWaiting(); }};
 };
 
 }  // namespace linkscape::gui

@@ -18,6 +18,9 @@ bool open_session_file(QMainWindow* window, const QString& path,
   try {
     const Session s = load_session(path.toStdString());
     open(s, load_checked_preset(s.mechanism));
+  } catch (const Cancelled&) {
+    window->statusBar()->showMessage(QObject::tr("Opening %1 cancelled").arg(path), 4000);
+    return false;
   } catch (const std::exception& e) {
     QMessageBox::warning(window, QObject::tr("Cannot open session"), QString::fromStdString(e.what()));
     return false;

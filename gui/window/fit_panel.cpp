@@ -98,6 +98,7 @@ FitPanel::FitPanel(const TaskPanel* task, QWidget* parent)
   equal_edit_->setToolTip("Parameters held equal: one free variable per group, as --equal takes them (names "
                           "separated by commas; groups by semicolons, or one --equal each)");
   form->addRow("Hold equal", equal_edit_);
+  connect(equal_edit_, &QLineEdit::editingFinished, this, &FitPanel::keepValidEqualGroups);  // for setting()
   mode_box_ = new QComboBox(this);
   mode_box_->setObjectName("fitMode");
   mode_box_->addItems({"Smallest size", "Largest ratio at size"});
@@ -271,6 +272,48 @@ void FitPanel::setCentreRegion(const std::string& region) {
 }
 
 std::string FitPanel::centreRegion() const { return region_edit_->text().trimmed().toStdString(); }
+
+FitSetting FitPanel::setting() const {
+  FitSetting s;
+  for (const ParameterRow& r : rows_) {
+    if (r.free->isChecked()) s.free.push_back(r.name);
+    if (r.lo->value() < r.hi->value()) s.bounds[r.name] = {r.lo->value(), r.hi->value()};
+  }
+  keepValidEqualGroups();
+  s.equal = last_valid_equal_;
+  s.largest_margin = mode_box_->currentIndex() == 1;
+  s.size = size_box_->value();
+  s.centre_free = centre_free_->isChecked();
+  return s;
+}
+
+void FitPanel::keepValidEqualGroups() const {
+  const std::string equal = equal_edit_->text().toStdString();
+  bool known = true;  // every name in the groups is a design parameter
+  std::string name;
+  for (const char c : equal + ";") {
+    if (c == ';' || c == ',') {
+      known = known && (name.empty() || std::any_of(rows_.begin(), rows_.end(),
+                                                    [&](const ParameterRow& r) { return r.name == name; }));
+      name.clear();
+    } else if (c != ' ') {
+      name += c;
+    }
+  }
+  if (known) last_valid_equal_ = equal;
+}
+
+void FitPanel::applySetting(const FitSetting& s) {
+  for (const auto& [name, range] : s.bounds)  // checked before anything changes (setFree checks its own)
+    if (std::none_of(rows_.begin(), rows_.end(), [&name = name](const ParameterRow& r) { return r.name == name; }))
+      throw std::invalid_argument("fit panel: no design parameter '" + name + "'");
+  setFree(s.free);
+  for (const auto& [name, range] : s.bounds) setBounds(name, range[0], range[1]);
+  setEqual(s.equal);
+  last_valid_equal_ = s.equal;
+  setMode(s.largest_margin ? Mode::LargestMarginAtSize : Mode::SmallestSize, s.size);
+  setCentreFree(s.centre_free);
+}
 
 void FitPanel::setSearchSettings(const task::InscribedOptions& inscribed, int task_resolution, double tolerance) {
   inscribed_ = inscribed;

@@ -19,6 +19,7 @@
 
 #include "core/fit.h"
 #include "gui/window/background.h"
+#include "gui/window/session.h"
 
 class QCheckBox;
 class QComboBox;
@@ -60,6 +61,13 @@ class FitPanel : public QWidget {
   // anywhere). Throws std::invalid_argument for bad text.
   void setCentreRegion(const std::string& region);
   std::string centreRegion() const;
+  // What a session keeps of the tab, and back: the free parameters, their
+  // bounds, the groups held equal (the last valid text: groups of the
+  // device's parameters), the mode, the size and whether the centre is free.
+  // applySetting throws std::invalid_argument (nothing changed) for a
+  // parameter the device does not have.
+  FitSetting setting() const;
+  void applySetting(const FitSetting& setting);
   // The sampling (defaults: those of linkscape fit).
   void setSearchSettings(const task::InscribedOptions& inscribed, int task_resolution, double tolerance);
 
@@ -100,6 +108,8 @@ class FitPanel : public QWidget {
   int task_resolution_ = task::kTaskResolution;
   double tolerance_ = 1e-3;
 
+  void keepValidEqualGroups() const;      // the box's groups, when they name the device's parameters
+  mutable std::string last_valid_equal_;  // setting()'s Hold equal groups
   std::optional<fit::Problem> problem_;  // of the result shown (or the run in flight)
   std::optional<fit::Result> result_;
 

@@ -48,11 +48,16 @@ QComboBox* make_preset_chooser(QWidget* window, const Preset& current, const std
       box->setCurrentText(current_name);
       return;
     }
-    try {
-      open(load_checked_preset(chosen.toStdString()));
-    } catch (const std::invalid_argument& e) {
+    const auto keep_current = [box, current_name] {
       const QSignalBlocker block(box);
       box->setCurrentText(current_name);
+    };
+    try {
+      open(load_checked_preset(chosen.toStdString()));
+    } catch (const Cancelled&) {
+      keep_current();
+    } catch (const std::invalid_argument& e) {
+      keep_current();
       QMessageBox::warning(window, QObject::tr("Cannot open preset"), QString::fromStdString(e.what()));
     }
   });
@@ -99,6 +104,8 @@ std::optional<Preset> PresetReader::read(const QString& file, QString& error) {
   QString why;
   try {
     next = load_checked_preset(file.toStdString());
+  } catch (const Cancelled&) {
+    // the user's choice: nothing to say
   } catch (const std::exception& e) {
     why = QString::fromStdString(e.what());
   }

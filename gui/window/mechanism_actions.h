@@ -53,7 +53,8 @@ class PresetReader {
  public:
   explicit PresetReader(QObject* owner) : owner_(owner) {}
   // The preset in `file`, or nothing: then `error` says why (empty when
-  // busy or the owner went; then touch nothing of the owner).
+  // busy, cancelled by the user or the owner went; then touch nothing of
+  // the owner).
   std::optional<Preset> read(const QString& file, QString& error);
 
  private:

@@ -88,6 +88,10 @@ void save_session(const Session& s, const std::filesystem::path& path) {
   if (f.range_max) j["field"]["range_max"] = *f.range_max;
   if (s.task_volume)
     j["task_volume"] = {{"volume", s.task_volume->volume}, {"criteria", s.task_volume->criteria}, {"shown", s.task_volume->shown}};
+  if (s.fit)
+    j["fit"] = {{"free", s.fit->free},         {"bounds", s.fit->bounds},
+                {"equal", s.fit->equal},       {"mode", s.fit->largest_margin ? "largest-margin" : "smallest-size"},
+                {"size", s.fit->size},         {"centre_free", s.fit->centre_free}};
   const std::string text = j.dump(2) + "\n";
   write_text_atomically(path, text);
 }
@@ -226,6 +230,46 @@ bool is_session_file(const std::filesystem::path& path) {
   }
 }
 
+namespace {
+
+// The texts --task and --criterion take, checked the same way.
+void check_task_setting(const TaskSetting& setting) {
+  task::parse_task(setting.volume);
+  for (const std::string& c : setting.criteria) task::parse_criterion(c);
+}
+
+// The Fit tab's settings; the device's own checks (parameter names) are the
+// tab's, when it applies them.
+FitSetting parse_fit(const json& f) {
+  check_keys(f, "fit", {"free", "bounds", "equal", "mode", "size", "centre_free"});
+  FitSetting fit;
+  fit.free = f.value("free", std::vector<std::string>{});
+  fit.bounds = f.value("bounds", std::map<std::string, std::array<double, 2>>{});
+  for (const auto& [name, range] : fit.bounds)
+    if (!(range[0] < range[1]) || !std::isfinite(range[0]) || !std::isfinite(range[1]))
+      throw std::invalid_argument("fit.bounds." + name + " must be two finite numbers, the first below the second");
+  fit.equal = f.value("equal", std::string());
+  const std::string mode = f.value("mode", std::string("smallest-size"));
+  if (mode != "smallest-size" && mode != "largest-margin")
+    throw std::invalid_argument("fit.mode must be smallest-size or largest-margin, got '" + mode + "'");
+  fit.largest_margin = mode == "largest-margin";
+  if (f.contains("size")) fit.size = finite(f["size"], "fit.size");
+  if (fit.size < 0) throw std::invalid_argument("fit.size must not be negative");
+  fit.centre_free = f.value("centre_free", true);
+  return fit;
+}
+
+}  // namespace
+
+bool valid_task_setting(const TaskSetting& setting) {
+  try {
+    check_task_setting(setting);
+    return true;
+  } catch (const std::invalid_argument&) {
+    return false;
+  }
+}
+
 Session parse_session(const std::string& text, const std::string& origin) {
   Session s;
   try {
@@ -234,7 +278,7 @@ Session parse_session(const std::string& text, const std::string& origin) {
     if (!j.is_object() || j.value("format", "") != "linkscape-session")
       throw std::invalid_argument("not a Linkscape session (no \"format\": \"linkscape-session\")");
     check_keys(j, "", {"format", "version", "mechanism", "parameters", "actuator_limits_deg", "actuators", "task",
-                       "pose_rad", "platform_pose", "camera", "field", "task_volume"});
+                       "pose_rad", "platform_pose", "camera", "field", "task_volume", "fit"});
     if (j.contains("version") && whole_number(j["version"], "version") != 1)
       throw std::invalid_argument("version " + j["version"].dump() + " is not supported (this program reads 1)");
     s.mechanism = portable_mechanism(j.at("mechanism").get<std::string>());
@@ -371,14 +415,14 @@ Session parse_session(const std::string& text, const std::string& origin) {
       setting.volume = t.at("volume").get<std::string>();
       setting.criteria = t.value("criteria", std::vector<std::string>{});
       setting.shown = t.value("shown", true);
-      try {  // the texts --task and --criterion take, checked the same way
-        task::parse_task(setting.volume);
-        for (const std::string& c : setting.criteria) task::parse_criterion(c);
+      try {
+        check_task_setting(setting);
       } catch (const std::invalid_argument& e) {
         throw std::invalid_argument(std::string("task_volume: ") + e.what());
       }
       s.task_volume = setting;
     }
+    if (j.contains("fit")) s.fit = parse_fit(j["fit"]);
   } catch (const json::exception& e) {
     throw std::invalid_argument("session '" + origin + "': " + json_error_text(e));
   } catch (const std::invalid_argument& e) {

@@ -52,6 +52,22 @@ struct TaskSetting {
   bool operator==(const TaskSetting&) const = default;
 };
 
+// Whether the texts are ones --task and --criterion take (what a session
+// file must hold to be read again).
+bool valid_task_setting(const TaskSetting& setting);
+
+// The Fit tab: what its next Run searches. Bounds per parameter, [lo, hi]
+// in its unit; `equal` as the Hold equal box takes it ("L1,L2;L3,L4").
+struct FitSetting {
+  std::vector<std::string> free;
+  std::map<std::string, std::array<double, 2>> bounds;
+  std::string equal;
+  bool largest_margin = false;  // the mode: false, the smallest size; true, the largest margin at `size`
+  double size = 0;              // the device's size unit
+  bool centre_free = true;
+  bool operator==(const FitSetting&) const = default;
+};
+
 struct Session {
   std::string mechanism = default_mechanism();  // preset name or path
   std::map<std::string, double> parameters;  // overrides, e.g. L1, L2
@@ -63,6 +79,7 @@ struct Session {
   std::optional<CameraState> camera;
   FieldSettings field;
   std::optional<TaskSetting> task_volume;  // none: the Task tab as it starts
+  std::optional<FitSetting> fit;           // none: the Fit tab as it starts
 };
 
 // The camera of a renderer, and back.

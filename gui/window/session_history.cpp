@@ -17,6 +17,8 @@ class SnapshotCommand : public QUndoCommand {
  public:
   SnapshotCommand(SessionHistory* history, Session before, Session after)
       : QUndoCommand(change_text(before, after)), history_(history), before_(std::move(before)), after_(std::move(after)) {}
+  const Session& before() const { return before_; }
+  const Session& after() const { return after_; }
   void undo() override { history_->restore(before_); }
   void redo() override {
     if (done_) history_->restore(after_);
@@ -32,7 +34,7 @@ class SnapshotCommand : public QUndoCommand {
 bool same_document(const Session& a, const Session& b) {
   return a.mechanism == b.mechanism && a.parameters == b.parameters && a.actuator_limits_deg == b.actuator_limits_deg &&
          same_vector(a.pose, b.pose) && same_vector(a.task, b.task) && a.field == b.field &&
-         a.task_volume == b.task_volume;
+         a.task_volume == b.task_volume && a.fit == b.fit;
 }
 
 QString change_text(const Session& before, const Session& after) {
@@ -50,6 +52,7 @@ QString change_text(const Session& before, const Session& after) {
   if (!parts.isEmpty()) field_before.position = after.field.position;
   if (!(field_before == after.field)) parts << QObject::tr("field settings");
   if (!(before.task_volume == after.task_volume)) parts << QObject::tr("task volume");
+  if (!(before.fit == after.fit)) parts << QObject::tr("fit settings");
   return parts.isEmpty() ? QObject::tr("change") : parts.join(", ");
 }
 
@@ -63,7 +66,21 @@ SessionHistory::SessionHistory(std::function<Session()> capture, std::function<v
 }
 
 void SessionHistory::noteChange() {
-  if (!restoring_) settle_.start();
+  if (restoring_) return;
+  if (held_) changed_while_held_ = true;
+  else settle_.start();
+}
+
+void SessionHistory::hold(bool held) {
+  if (held == held_) return;
+  held_ = held;
+  if (held) {
+    if (settle_.isActive()) flush();  // a change before the press is a step of its own
+    changed_while_held_ = false;
+  } else if (changed_while_held_) {
+    changed_while_held_ = false;
+    flush();
+  }
 }
 
 void SessionHistory::flush() {
@@ -101,6 +118,32 @@ void SessionHistory::markSaved(const QString& path) {
 void SessionHistory::markModified() {
   flush();
   stack_.resetClean();  // emits cleanChanged, hence modifiedChanged, if it was clean
+}
+
+void SessionHistory::adopt(const SessionHistory& previous, const QString& what) {
+  settle_.stop();
+  stack_.clear();
+  const int clean = previous.stack_.cleanIndex(), steps = previous.stack_.index();
+  if (clean < 0 || clean > steps) stack_.resetClean();  // the file's state is not among the steps kept
+  for (int i = 0; i < steps; ++i) {
+    if (i == clean) stack_.setClean();
+    const auto* step = static_cast<const SnapshotCommand*>(previous.stack_.command(i));
+    stack_.push(new SnapshotCommand(this, step->before(), step->after()));
+  }
+  if (steps == clean) stack_.setClean();
+  Session now = capture_();
+  now.camera.reset();
+  if (!same_document(previous.last_, now)) {
+    auto* reload = new SnapshotCommand(this, previous.last_, now);
+    reload->setText(what);
+    stack_.push(reload);
+  }
+  last_ = now;
+  if (previous.path_ != path_) {
+    path_ = previous.path_;
+    emit pathChanged(path_);
+  }
+  emit modifiedChanged(modified());
 }
 
 void SessionHistory::restore(const Session& s) {

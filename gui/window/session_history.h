@@ -2,8 +2,10 @@
 // whether it changed since, and undo/redo of every change to the design,
 // the pose, the actuator travel and the field settings. The camera is a
 // view of the document, not part of it. Each step is a pair of session
-// snapshots taken once the window has been still for a moment, so that a
-// slider drag is one step, not a hundred.
+// snapshots: what changed while a mouse button was held (a slider or handle
+// dragged from press to release) is one step, taken at the release; other
+// changes (keys, typed values) become a step once nothing changed for a
+// moment.
 #pragma once
 
 #include <QObject>
@@ -30,6 +32,9 @@ class SessionHistory : public QObject {
   void noteChange();
   // Takes a pending snapshot now (before saving, or in tests).
   void flush();
+  // A mouse button went down (true) or up (false) in the window: while it is
+  // held changes wait, and its release takes them as one step.
+  void hold(bool held);
   // The state as it is now is the document's: opened from `path` (empty: a
   // new, unsaved document). Clears the history.
   void reset(const QString& path);
@@ -38,9 +43,14 @@ class SessionHistory : public QObject {
   // The state as it is now differs from the document's file, though no step
   // led here (a reloaded preset changed the design).
   void markModified();
+  // The history of `previous` carried over to the device made again from
+  // its reloaded file: its steps up to its current one, then the step from
+  // its state to this one's, named `what` (none where nothing changed).
+  // The path, and the clean mark where it still applies, come along.
+  void adopt(const SessionHistory& previous, const QString& what);
   const QString& path() const { return path_; }
   bool modified() const { return !stack_.isClean(); }
-  static constexpr int kSettleMs = 350;  // a change is a step once nothing moved this long
+  static constexpr int kSettleMs = 350;  // a change (not a drag) is a step once nothing moved this long
 
  signals:
   void modifiedChanged(bool modified);
@@ -57,6 +67,7 @@ class SessionHistory : public QObject {
   Session last_;  // the state the top of the stack ends in
   QString path_;
   bool restoring_ = false;
+  bool held_ = false, changed_while_held_ = false;
 };
 
 // Whether two sessions hold the same document (the camera is ignored).

@@ -1,13 +1,21 @@
 #include "gui/window/window_document.h"
 
+#include <QAction>
+#include <QApplication>
 #include <QFileInfo>
+#include <QShortcut>
+#include <QStatusBar>
+#include <QTimer>
 #include <QMainWindow>
 #include <QMenu>
 #include <QMessageBox>
 #include <QSettings>
 #include <cmath>
+#include <memory>
+#include <stdexcept>
 
 #include "gui/window/file_actions.h"
+#include "gui/window/fit_panel.h"
 #include "gui/window/session_history.h"
 
 namespace linkscape::gui {
@@ -20,15 +28,74 @@ bool same_camera(const CameraState& a, const CameraState& b) {
          (a.view_up - b.view_up).norm() <= 1e-9 && std::abs(a.view_angle - b.view_angle) <= 1e-9;
 }
 
+// The window's hooks with what the document keeps of its panels: the last
+// valid task setting in place of one the Task tab rejected, and the Fit
+// tab's settings.
+WindowDocument::Hooks with_panels(WindowDocument::Hooks hooks, QMainWindow* window) {
+  auto last_valid = std::make_shared<std::optional<TaskSetting>>();
+  hooks.capture = [capture = hooks.capture, window, last_valid] {
+    Session s = capture();
+    if (s.task_volume && !valid_task_setting(*s.task_volume)) s.task_volume = *last_valid;
+    else *last_valid = s.task_volume;
+    if (const FitPanel* fit = window->findChild<FitPanel*>()) s.fit = fit->setting();
+    return s;
+  };
+  const auto apply_fit = [window](const Session& s) {
+    FitPanel* fit = window->findChild<FitPanel*>();
+    if (!fit || !s.fit) return;
+    try {
+      fit->applySetting(*s.fit);
+    } catch (const std::invalid_argument& e) {  // e.g. a parameter this device does not have
+      window->statusBar()->showMessage(
+          QObject::tr("The session's fit settings were not applied: %1").arg(QString::fromStdString(e.what())), 8000);
+    }
+  };
+  hooks.restore = [restore = hooks.restore, apply_fit](const Session& s) {
+    restore(s);
+    apply_fit(s);
+  };
+  hooks.open = [open = hooks.open, apply_fit](const Session& s, const Preset& preset, const QString& path) {
+    open(s, preset, path);
+    apply_fit(s);  // (a session of another device opens in a window of its own, with its Fit tab as it starts)
+  };
+  return hooks;
+}
+
 }  // namespace
 
 WindowDocument::WindowDocument(QMainWindow* window, Hooks hooks)
     : QObject(window),
       window_(window),
-      hooks_(std::move(hooks)),
+      hooks_(with_panels(std::move(hooks), window)),
       history_(new SessionHistory(hooks_.capture, hooks_.restore, this)) {
   connect(history_, &SessionHistory::modifiedChanged, this, &WindowDocument::updateTitle);
   connect(history_, &SessionHistory::pathChanged, this, &WindowDocument::updateTitle);
+  // Save As on Ctrl+Shift+S (QKeySequence::SaveAs is empty on plain X11),
+  // once the menus are built, unless an action has the key already.
+  QTimer::singleShot(0, this, [this] {
+    const QKeySequence save_as(Qt::CTRL | Qt::SHIFT | Qt::Key_S);
+    for (const QAction* a : window_->findChildren<QAction*>())
+      if (a->shortcuts().contains(save_as)) return;
+    auto* shortcut = new QShortcut(save_as, window_);
+    shortcut->setObjectName("saveAsShortcut");
+    connect(shortcut, &QShortcut::activated, this, [this] { saveAs(); });
+  });
+  qApp->installEventFilter(this);  // the window's mouse buttons: one undo step per drag
+}
+
+bool WindowDocument::eventFilter(QObject* watched, QEvent* event) {
+  const QEvent::Type type = event->type();
+  if (type != QEvent::MouseButtonPress && type != QEvent::MouseButtonRelease) return false;
+  if (type == QEvent::MouseButtonPress) {
+    const auto* widget = qobject_cast<QWidget*>(watched);
+    if (widget && widget->window() == window_) history_->hold(true);
+  } else {  // anywhere: a press may open a popup that takes the release
+    // After the widget has taken the release (a slider's last value comes with it).
+    QTimer::singleShot(0, this, [this] {
+      if (QGuiApplication::mouseButtons() == Qt::NoButton) history_->hold(false);
+    });
+  }
+  return false;
 }
 
 bool WindowDocument::maybeSave() {
@@ -39,6 +106,15 @@ bool WindowDocument::maybeSave() {
       QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel, QMessageBox::Save);
   if (answer == QMessageBox::Save) return save();
   return answer == QMessageBox::Discard;
+}
+
+bool WindowDocument::mayReload() {
+  history_->flush();
+  if (!interactive_ || !history_->modified()) return true;
+  return QMessageBox::question(window_, tr("Reload mechanism"),
+                               tr("The design in the window has changes the file does not have. Reload the file? "
+                                  "The changes stay in Edit > Undo."),
+                               QMessageBox::Yes | QMessageBox::Cancel, QMessageBox::Cancel) == QMessageBox::Yes;
 }
 
 bool WindowDocument::save() {

@@ -1,8 +1,14 @@
 // The window as a document: its session file and undo/redo history
-// (SessionHistory), the modified mark in the title, Save and Save As,
-// asking before unsaved work is discarded, the recent sessions; and where
-// the camera was last fitted to the device (a camera nobody moved since
-// follows the device's size).
+// (SessionHistory, one step per drag: it watches the window's mouse
+// buttons), the modified mark in the title, Save and Save As (Ctrl+Shift+S
+// where no menu action has that key), asking before unsaved work is
+// discarded, the recent sessions; and where the camera was last fitted to
+// the device (a camera nobody moved since follows the device's size).
+//
+// Only valid input is kept: criteria the Task tab rejects stay in its box
+// but the document keeps the last valid ones; the Fit tab's settings are
+// part of the document (FitPanel::setting, which keeps the last valid Hold
+// equal groups).
 #pragma once
 
 #include <QObject>
@@ -13,6 +19,7 @@
 #include "core/preset.h"
 #include "gui/window/session.h"
 
+class QEvent;
 class QMainWindow;
 class QMenu;
 
@@ -39,6 +46,11 @@ class WindowDocument : public QObject {
   bool interactive() const { return interactive_; }
   // Asks to save unsaved changes (only when interactive); false: the user cancelled.
   bool maybeSave();
+  // Before File > Reload mechanism replaces a design changed since the
+  // document was opened or saved: asks whether to reload (only when
+  // interactive); false: the user keeps the window as it is. The changes
+  // stay in the undo history (SessionHistory::adopt) either way.
+  bool mayReload();
   bool save();    // to the document's file, else as Save As
   bool saveAs();  // asks for the file
   bool saveSession(const QString& path);
@@ -52,6 +64,9 @@ class WindowDocument : public QObject {
   // The camera as fitted to the device; whether `now` is still there.
   void cameraFitted(const CameraState& fitted) { fitted_camera_ = fitted; }
   bool cameraUntouched(const CameraState& now) const;
+
+ protected:
+  bool eventFilter(QObject* watched, QEvent* event) override;
 
  private:
   void addRecent(const QString& path);

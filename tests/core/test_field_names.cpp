@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 #include "core/field_names.h"
@@ -13,15 +14,80 @@ namespace {
 
 TEST(FieldNames, EveryArrayHasOneUserNameAndOneFileName) {
   std::set<std::string_view> names, file_names;
-  for (const FieldArrayName& a : kFieldArrays) {
+  for (const FieldArrayInfo& a : kFieldArrays) {
     EXPECT_TRUE(names.insert(a.name).second) << a.name;
     EXPECT_TRUE(file_names.insert(a.file_name).second) << a.file_name;
-    EXPECT_EQ(field_array(a.name), a.array) << a.name;
-    EXPECT_EQ(field_array_name(a.array).name, a.name);
+    if (a.shown != FieldShown::Never) {
+      EXPECT_EQ(field_array(a.name), a.array) << a.name;
+    }
+    EXPECT_EQ(field_array_info(a.array).name, a.name);
   }
   EXPECT_FALSE(field_array("force_iso"));  // a haptic array: named in core/haptics.h
   EXPECT_FALSE(field_array("reach_margin"));  // a file's name, not a user's
+  EXPECT_FALSE(field_array("reachable"));     // written to files, not offered to show
   EXPECT_EQ(field_array_names(), "cond, cond_jo, reach, residual, iterations, status, method");
+}
+
+// The member each row names, read by a switch written here (the table's
+// accessor must agree with it at every sample of a device's field).
+std::size_t by_hand_size(const Field& f, FieldArray a) {
+  switch (a) {
+    case FieldArray::Cond: return f.cond.size();
+    case FieldArray::CondOrientation: return f.cond_orientation.size();
+    case FieldArray::Reach: return f.reach_margin.size();
+    case FieldArray::Residual: return f.residual.size();
+    case FieldArray::Reachable: return f.reachable.size();
+    case FieldArray::Iterations: return f.iterations.size();
+    case FieldArray::Status: return f.status.size();
+    case FieldArray::Method: return f.method_used.size();
+  }
+  return 0;
+}
+
+double by_hand(const Field& f, FieldArray a, std::size_t s) {
+  switch (a) {
+    case FieldArray::Cond: return f.cond[s];
+    case FieldArray::CondOrientation: return f.cond_orientation[s];
+    case FieldArray::Reach: return f.reach_margin[s];
+    case FieldArray::Residual: return f.residual[s];
+    case FieldArray::Reachable: return f.reachable[s];
+    case FieldArray::Iterations: return f.iterations[s];
+    case FieldArray::Status: return f.status[s];
+    case FieldArray::Method: return f.method_used[s];
+  }
+  return std::nan("");
+}
+
+TEST(FieldNames, EveryRowReadsItsOwnMemberOfTheField) {
+  for (const char* device : {"pathos2", "delta"}) {  // with and without a second measure
+    const auto m = make_mechanism(load_preset(device));
+    const Grid grid = Grid::box(m->default_box().min(), m->default_box().max(), {6, 5, 4});
+    const Field f = *m->compute_field(grid, m->home_task(), {}, 1, {});
+    for (const FieldArrayInfo& a : kFieldArrays) {
+      const bool held = by_hand_size(f, a.array) == f.grid.size();
+      EXPECT_EQ(field_has(f, a), held) << device << " " << a.name;
+      if (!held) {
+        EXPECT_TRUE(a.may_be_empty) << device << " " << a.name;
+        continue;
+      }
+      for (std::size_t s = 0; s < f.grid.size(); ++s) {
+        const double want = by_hand(f, a.array, s), got = field_value(f, a, s);
+        ASSERT_TRUE(want == got || (std::isnan(want) && std::isnan(got))) << device << " " << a.name << " at " << s;
+      }
+    }
+  }
+}
+
+TEST(FieldNames, AnEmptyOptionalArrayIsNotHeld) {
+  Field f;
+  f.grid.dims = {2, 1, 1};
+  f.cond.assign(2, 1.0f);
+  EXPECT_TRUE(field_has(f, field_array_info(FieldArray::Cond)));
+  EXPECT_FALSE(field_has(f, field_array_info(FieldArray::Method)));
+  EXPECT_FALSE(field_has(f, field_array_info(FieldArray::CondOrientation)));
+  EXPECT_EQ(field_array_info(FieldArray::Method).no_value, Field::kNoMethod);
+  EXPECT_TRUE(field_array_info(FieldArray::Reach).length);
+  EXPECT_FALSE(field_array_info(FieldArray::Cond).length);
 }
 
 TEST(FieldNames, EachDeviceListsItsOwnFields) {

@@ -198,6 +198,42 @@ TEST(Csv, NumberCellsRoundTripWithSignedInfinitiesAndEmptyForNaN) {
   EXPECT_EQ(csv_number(std::nan("")), "");
 }
 
+// The fast writers' cells: the same text as csv_number for doubles, a
+// float's own shortest text (that reads back to the same float), integers
+// as they are, and nothing for NaN.
+TEST(Csv, AppendedCellsMatchCsvNumberAndKeepFloatsShort) {
+  const auto cell = [](auto v) {
+    std::string out;
+    append_csv_number(out, v);
+    return out;
+  };
+  for (double v : {0.1, -2.5e-300, 1e308, 3.0, std::numeric_limits<double>::infinity(),
+                   -std::numeric_limits<double>::infinity(), std::nan("")})
+    EXPECT_EQ(cell(v), csv_number(v)) << v;
+  EXPECT_EQ(cell(0.1f), "0.1");
+  EXPECT_EQ(cell(std::numeric_limits<float>::quiet_NaN()), "");
+  EXPECT_EQ(cell(-std::numeric_limits<float>::infinity()), "-inf");
+  for (float v : {1e-30f, 3.4e38f, 0.3f, -7.123457f}) EXPECT_EQ(float(*parse_number(cell(v))), v) << v;
+  EXPECT_EQ(cell(std::uint8_t(255)), "255");
+  EXPECT_EQ(cell(std::uint16_t(50)), "50");
+}
+
+// What the writers leave empty reads back as no value.
+TEST(Csv, AnEmptyCellReadsAsNoValue) {
+  std::istringstream in("x,cond,status\n1,,0\n2,inf,2\n");
+  const Table t = read_csv(in, "t.csv");
+  ASSERT_EQ(t.rows.size(), 2u);
+  EXPECT_TRUE(std::isnan(t.rows[0][1]));
+  EXPECT_EQ(t.rows[0][2], 0.0);
+  EXPECT_TRUE(std::isinf(t.rows[1][1]));
+}
+
+TEST(Csv, ColumnsCarryTheirUnitAsASuffix) {
+  EXPECT_EQ(csv_column("reach_margin", "cm"), "reach_margin_cm");
+  EXPECT_EQ(csv_column("force_iso", "N"), "force_iso_N");
+  EXPECT_EQ(csv_column("cond", ""), "cond");  // a ratio: no unit
+}
+
 TEST(Csv, TextCellsAreQuotedWhereRfc4180NeedsIt) {
   EXPECT_EQ(csv_text("leg 3"), "leg 3");
   EXPECT_EQ(csv_text(""), "");

@@ -215,18 +215,19 @@ TEST(FieldVtk, CsvHasOneShortestRowPerSampleXFastest) {
   Folder dir;
   Field f = ball_field({0, 0, 0}, {3, 2, 2}, {3, 2, 2});
   f.cond[1] = 0.1f;
+  f.reachable[1] = 1;  // cond is written where the sample is reachable
   render::write_field_csv(f, dir / "field.csv");
   std::ifstream in(dir / "field.csv");
   std::vector<std::string> lines;
   for (std::string line; std::getline(in, line);) lines.push_back(line);
   ASSERT_EQ(lines.size(), 1u + 12u);
-  EXPECT_EQ(lines[0], "x,y,z,cond,reach_margin,residual,reachable,status,iterations");
+  EXPECT_EQ(lines[0], "x_mm,y_mm,z_mm,cond,reach_margin_mm,residual_mm,reachable,iterations,status");
   EXPECT_EQ(lines[1].substr(0, 12), "0.5,0.5,0.5,");
   EXPECT_EQ(lines[2].substr(0, 16), "1.5,0.5,0.5,0.1,");  // x fastest; 0.1f written as 0.1
   EXPECT_EQ(lines[4].substr(0, 12), "0.5,1.5,0.5,");
-  // The far corner (2.5, 1.5, 1.5) is unreachable: inf cond and residual.
-  EXPECT_EQ(lines[12].substr(0, 16), "2.5,1.5,1.5,inf,");
-  EXPECT_NE(lines[12].find(",inf,0,3,50"), std::string::npos) << lines[12];
+  // The far corner (2.5, 1.5, 1.5) is unreachable: no cond and no residual.
+  EXPECT_EQ(lines[12].substr(0, 13), "2.5,1.5,1.5,,");
+  EXPECT_NE(lines[12].find(",,0,50,3"), std::string::npos) << lines[12];
   EXPECT_EQ(dir.names(), std::vector<std::string>{"field.csv"});
 }
 

@@ -78,7 +78,7 @@ TEST(HapticExport, CsvHasTheArraysAsColumns) {
   std::ifstream in(path);
   std::string header;
   std::getline(in, header);
-  EXPECT_NE(header.find(",force_iso,force_max,resolution,inertia"), std::string::npos) << header;
+  EXPECT_NE(header.find(",force_iso_N,force_max_N,resolution_mm,inertia_kg"), std::string::npos) << header;
 }
 
 TEST(HapticExport, SliceColoursTheArrayWithItsTitleAndLogScale) {

@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <limits>
+#include <map>
 #include <iomanip>
 #include <numbers>
 #include <ostream>
@@ -64,6 +66,44 @@ struct Row {
   double value;
   std::string unit;
 };
+
+// The bench's tables (docs/file-formats.md): a unit suffix where a column
+// has one unit; unit columns where it varies by row; no value empty.
+std::string measurements_csv(const std::vector<Row>& rows) {
+  std::string csv = "measurement,value,unit\n";
+  for (const Row& r : rows) csv += csv_text(r.what) + "," + csv_number(r.value) + "," + csv_text(r.unit) + "\n";
+  return csv;
+}
+
+std::string methods_csv(const std::vector<methods::MethodRow>& table) {
+  std::string csv = "family,method,parameter,samples,not_ok," + csv_column("time_per_evaluation", "s") +
+                    ",error_median,error_p99,error_max,error_unit,mechanism\n";
+  for (const auto& r : table)
+    csv += csv_text(r.family) + ',' + csv_text(r.method) + ',' + csv_text(r.parameter) + ',' +
+           std::to_string(r.samples) + ',' + std::to_string(r.failures) + ',' + csv_number(r.seconds_per_evaluation) +
+           ',' + csv_number(r.error_median) + ',' + csv_number(r.error_p99) + ',' + csv_number(r.error_max) + ',' +
+           csv_text(r.error_unit) + ',' + csv_text(r.mechanism) + "\n";
+  return csv;
+}
+
+// distance, sigma_min (per rad) and residual are in the row's device's
+// length unit; error in rad for ik, relative otherwise (core/stability.h).
+std::string sweeps_csv(const std::vector<stability::SweepRow>& sweeps,
+                       const std::map<std::string, std::string>& length_unit) {
+  std::string csv = "path,base_point,eps,distance,cond,sigma_min,predicted,family,method,status,error,residual,"
+                    "iterations,mechanism,length_unit,error_unit\n";
+  for (const auto& r : sweeps) {
+    const auto unit = length_unit.find(r.mechanism);
+    csv += csv_text(stability::path_label(r)) + ',' + std::to_string(r.base_point) + ',' + csv_number(r.eps) + ',' +
+           csv_number(r.distance) + ',' + csv_number(r.cond) + ',' + csv_number(r.sigma_min) + ',' +
+           csv_number(r.predicted) + ',' + csv_text(r.family) + ',' + csv_text(r.method) + ',' +
+           std::string(to_string(r.status)) + ',' + csv_number(r.error) + ',' + csv_number(r.residual) + ',' +
+           std::to_string(r.iterations) + ',' + csv_text(r.mechanism) + ',' +
+           csv_text(unit == length_unit.end() ? std::string() : unit->second) + ',' +
+           (r.family == "ik" ? "rad" : "relative") + "\n";
+  }
+  return csv;
+}
 
 void run_bench(const BenchOptions& o, std::ostream& out) {
   for (const std::string* chart : {&o.chart, &o.sweeps}) {
@@ -208,18 +248,21 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
     if (std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
   }
   for (const auto& [mechanism, path, method] : keys) {
-    double smallest = 0, ratio = 0;
+    double smallest = std::numeric_limits<double>::quiet_NaN(), ratio = 0;  // NaN: no ok result
     for (const auto& r : sweeps) {
       if (r.mechanism != mechanism || stability::path_label(r) != path || r.method != method) continue;
       if (r.family != "ik" && r.family != "fk") continue;
       if (r.status == Status::Ok && std::isfinite(r.error)) {
-        if (smallest == 0 || r.eps < smallest) smallest = r.eps;
+        if (!(r.eps >= smallest)) smallest = r.eps;
         if (std::isfinite(r.predicted)) ratio = std::max(ratio, r.error / (r.predicted + r.residual / r.sigma_min));
       }
     }
     const std::string prefix = mechanism == devices.front()->info().name ? "" : mechanism + " ";
     out << "  " << prefix << std::left << std::setw(15) << path << std::setw(13) << method << "ok down to eps "
-        << std::setw(10) << std::setprecision(2) << smallest << " error/bound <= " << ratio << "\n";
+        << std::setw(10) << std::setprecision(2);
+    if (std::isnan(smallest)) out << "none";
+    else out << smallest;
+    out << " error/bound <= " << ratio << "\n";
     rows.push_back({"sweep " + prefix + path + "/" + method + ": smallest eps with an ok result", smallest, ""});
   }
 
@@ -243,26 +286,11 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
     // The three tables replace the old ones together or not at all.
     const std::filesystem::path base(o.csv);
     const std::string stem = (base.parent_path() / base.stem()).string();
-    std::ostringstream table_csv;
-    table_csv << "family,method,parameter,samples,not_ok,seconds_per_evaluation,error_median,error_p99,error_max,"
-                 "error_unit,mechanism\n"
-              << std::setprecision(6);
-    for (const auto& r : table)
-      table_csv << csv_text(r.family) << ',' << csv_text(r.method) << ',' << csv_text(r.parameter) << ',' << r.samples
-                << ',' << r.failures << ',' << r.seconds_per_evaluation << ',' << r.error_median << ',' << r.error_p99
-                << ',' << r.error_max << ',' << csv_text(r.error_unit) << ',' << csv_text(r.mechanism) << "\n";
-    std::ostringstream sweep_csv;
-    sweep_csv << "path,base_point,eps,distance,cond,sigma_min,predicted,family,method,status,error,residual,iterations,mechanism\n"
-              << std::setprecision(6);
-    for (const auto& r : sweeps)
-      sweep_csv << csv_text(stability::path_label(r)) << ',' << r.base_point << ',' << r.eps << ',' << r.distance << ','
-                << r.cond << ',' << r.sigma_min << ',' << r.predicted << ',' << csv_text(r.family) << ','
-                << csv_text(r.method) << ',' << to_string(r.status) << ',' << r.error << ',' << r.residual << ','
-                << r.iterations << ',' << csv_text(r.mechanism) << "\n";
-    std::ostringstream csv;
-    csv << "measurement,value,unit\n";
-    for (const Row& r : rows) csv << csv_text(r.what) << "," << std::setprecision(10) << r.value << "," << csv_text(r.unit) << "\n";
-    write_texts_atomically({{o.csv, csv.str()}, {stem + ".methods.csv", table_csv.str()}, {stem + ".sweeps.csv", sweep_csv.str()}});
+    std::map<std::string, std::string> length_unit;  // of each device's rows
+    for (const auto& device : devices) length_unit[device->info().name] = device->info().length_unit;
+    write_texts_atomically({{o.csv, measurements_csv(rows)},
+                            {stem + ".methods.csv", methods_csv(table)},
+                            {stem + ".sweeps.csv", sweeps_csv(sweeps, length_unit)}});
     out << "wrote " << o.csv << ", " << stem << ".methods.csv, " << stem << ".sweeps.csv\n";
   }
 }

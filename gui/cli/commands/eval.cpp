@@ -46,7 +46,9 @@ void require_finite(const Table& table, const std::vector<std::size_t>& columns)
     for (std::size_t c : columns)
       if (!std::isfinite(table.rows[r][c]))
         throw std::invalid_argument(table.where(r) + ": column '" + table.columns[c] + "': " +
-                                    format_number(table.rows[r][c]) + " is not a finite number");
+                                    (std::isnan(table.rows[r][c]) ? std::string("no value (an empty cell or nan)")
+                                                                  : format_number(table.rows[r][c])) +
+                                    " is not a finite number");
 }
 
 // Runs `body` for each row; an invalid_argument thrown for a row is reported

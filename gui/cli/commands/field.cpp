@@ -80,6 +80,7 @@ Command add_field(CLI::App& program, const DeviceHelp& help) {
                   "inertia (kg); the kinematic arrays are always written")
       ->delimiter(',');
   cmd->add_option("-o,--output", o->output, "Output: .vti (ParaView) or .csv")->required();
+  cmd->footer(field_csv_legend());
 
   return {cmd, Runs::Headless, "linkscape field --resolution 128 --output volume.vti    sampled volume for ParaView",
           [o](std::istream&, std::ostream&) {

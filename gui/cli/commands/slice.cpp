@@ -80,7 +80,7 @@ void run_slice(const SliceOptions& o) {
     throw std::invalid_argument("--field for " + info.name + " must be one of " + known + ", got '" + style.field + "'");
   }
   if (info.measures.size() > 1 && style.field == info.measures[1].name)
-    style.field = field_array_name(FieldArray::CondOrientation).name;  // the renderer's name for the second measure
+    style.field = field_array_info(FieldArray::CondOrientation).name;  // the renderer's name for the second measure
   // The figure's colour bar is continuous; the categorical method colours
   // are written as a plain image or CSV (column method_used).
   if (style.field == "method" && o.figure)
@@ -145,6 +145,7 @@ Command add_slice(CLI::App& program, const DeviceHelp& help) {
   cmd->add_flag("--figure", o->figure, "Add axes with units, colour bar, legend and title (PNG, SVG or PDF)");
   cmd->add_option("-o,--output", o->output, "Output: .png or .csv; with --figure .png, .svg or .pdf")
       ->required();
+  cmd->footer(field_csv_legend());
 
   return {cmd, Runs::Painting,  // figures draw text with QPainter
           "linkscape slice --plane x=0.25 --output slice.png    condition-number slice image",

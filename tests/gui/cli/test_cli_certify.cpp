@@ -111,7 +111,7 @@ TEST(CliMotorRatings, AParameterRatingScalesTheForces) {
     text << in.rdbuf();
     double largest = 0;
     for (const auto& row : parse_cells(text.str()))
-      if (row.count("force_iso") && !row.at("force_iso").empty()) largest = std::max(largest, std::stod(row.at("force_iso")));
+      if (row.count("force_iso_N") && !row.at("force_iso_N").empty()) largest = std::max(largest, std::stod(row.at("force_iso_N")));
     return largest;
   };
   const double base = force_at_home(" --param continuous_torque_Nm=0.1");

@@ -36,7 +36,7 @@ TEST(CliHaptics, PeakTorqueScalesTheForces) {
   ASSERT_EQ(run_linkscape("slice --field force_iso --torque peak --size 24x24 -q -o " + peak).exit_code, 0);
   std::ifstream a(continuous), b(peak);
   const linkscape::Table ta = linkscape::read_csv(a, continuous), tb = linkscape::read_csv(b, peak);
-  const std::size_t col = ta.column("force_iso"), reach = ta.column("reachable");
+  const std::size_t col = ta.column("force_iso_N"), reach = ta.column("reachable");
   int compared = 0;
   for (std::size_t r = 0; r < ta.rows.size(); ++r) {
     if (ta.rows[r][reach] != 1) continue;
@@ -53,7 +53,7 @@ TEST(CliHaptics, FieldWritesTheRequestedArraysAndMeshBoundsACriterion) {
   std::ifstream in(csv);
   std::string header;
   std::getline(in, header);
-  EXPECT_NE(header.find(",force_iso,resolution"), std::string::npos) << header;
+  EXPECT_NE(header.find(",force_iso_N,resolution_mm"), std::string::npos) << header;
   EXPECT_EQ(header.find("force_max"), std::string::npos) << header;
 
   const CommandResult mesh = run_linkscape("mesh --surface 'force_iso>1' --resolution 32 -q -o " + out("iso.stl"));

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "cli_runner.h"
+#include "core/csv.h"
 #include "core/mechanisms/pathos2/pathos2.h"
 
 using namespace linkscape;
@@ -78,7 +79,7 @@ TEST(CliPathos2, SliceFieldAndMeshAtAPose) {
   const Table t = read_csv(in, "slice");
   EXPECT_EQ(t.rows.size(), 24u * 20u);
   EXPECT_NO_THROW(t.column("cond_orientation"));
-  for (const auto& row : t.rows) EXPECT_DOUBLE_EQ(row[t.column("z")], 23.0);  // the plane through the pose
+  for (const auto& row : t.rows) EXPECT_DOUBLE_EQ(row[t.column("z_cm")], 23.0);  // the plane through the pose
 
   const auto mesh = run_linkscape("mesh -m pathos2 --resolution 48 -o " + (dir / "p2_reach.stl").string());
   ASSERT_EQ(mesh.exit_code, 0) << mesh.out;
@@ -97,7 +98,7 @@ TEST(CliPathos2, QuickDesignStudyWritesTablesAndChart) {
   std::ifstream sweep_file(dir / "l0.csv");
   std::string header;
   std::getline(sweep_file, header);
-  EXPECT_EQ(header, "l0,status,dLx,dLy,dLz,dRx,dRy,dRz");
+  EXPECT_EQ(header, "l0_cm,status,dLx_cm,dLy_cm,dLz_cm,dRx_rad,dRy_rad,dRz_rad");
   // The workspace grows as l0 shrinks (paper Fig. 6): dLx + dLy + dLz falls with l0.
   std::vector<double> total;
   for (std::string line; std::getline(sweep_file, line);) {
@@ -109,6 +110,22 @@ TEST(CliPathos2, QuickDesignStudyWritesTablesAndChart) {
   ASSERT_GE(total.size(), 3u);
   for (std::size_t i = 1; i < total.size(); ++i) EXPECT_LT(total[i], total[i - 1]);
   EXPECT_GT(fs::file_size(dir / "design.png"), 30000u);
+  // The search: a design not evaluated has no ranges and no G (empty, not 0).
+  std::ifstream table_file(dir / "t2.csv");
+  std::getline(table_file, header);
+  EXPECT_EQ(header, "l2_cm,l3_cm,lp_cm,rz_deg,outcome,dLx_cm,dLy_cm,dLz_cm,G");
+  int evaluated = 0, not_evaluated = 0;
+  for (std::string line; std::getline(table_file, line);) {
+    const std::vector<std::string> c = csv_cells(line);
+    ASSERT_EQ(c.size(), 9u) << line;
+    for (int k = 5; k < 9; ++k) {
+      if (c[4] == "evaluated") EXPECT_TRUE(parse_number(c[k])) << line;
+      else EXPECT_EQ(c[k], "") << line;
+    }
+    (c[4] == "evaluated" ? evaluated : not_evaluated) += 1;
+  }
+  EXPECT_GT(evaluated, 0);
+  EXPECT_GT(not_evaluated, 0);  // the grid starts at l2 = 0: legs without an elbow
 }
 
 TEST(CliPathos2, BadArgumentsExitWithTwo) {

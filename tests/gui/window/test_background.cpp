@@ -1,6 +1,6 @@
-// The panels' shared Run/Cancel worker: one run at a time, progress and the
+// The window's shared Run/Cancel worker: one run at a time, progress and the
 // end delivered on the GUI thread, Cancel seen by the work, and a task
-// destroyed mid-run cancelling and joining it.
+// destroyed mid-run cancelling and joining it; the field jobs on it.
 #include <gtest/gtest.h>
 
 #include <QCoreApplication>
@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "gui/window/background.h"
+#include "gui/window/field_job.h"
 
 namespace linkscape::gui {
 namespace {
@@ -88,6 +89,92 @@ TEST(BackgroundTask, DestroyedMidRunCancelsAndJoins) {
     }));
   }
   EXPECT_TRUE(stopped);  // joined before the task went
+}
+
+TEST(BackgroundTask, ARunEndsWhenItsWorkReturnsWithoutFinishing) {
+  QObject context;
+  int finished_calls = 0;
+  BackgroundTask task(&context, [&] { ++finished_calls; });
+  ASSERT_TRUE(task.start([](const BackgroundTask::Run&) {}));
+  ASSERT_TRUE(wait_for([&] { return !task.running(); }));
+  EXPECT_EQ(finished_calls, 1);
+  EXPECT_TRUE(task.start([](const BackgroundTask::Run&) {}));  // free for the next
+  ASSERT_TRUE(wait_for([&] { return !task.running(); }));
+}
+
+TEST(BackgroundTask, ProgressOfACancelledRunIsDroppedItsEndIsNot) {
+  QObject context;
+  BackgroundTask task(&context);
+  std::atomic<bool> posted{false};
+  int progress = 0;
+  bool ended = false;
+  ASSERT_TRUE(task.start([&](const BackgroundTask::Run& run) {
+    while (!run.cancelled) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    run.progress([&] { ++progress; });
+    posted = true;
+    run.finish([&] { ended = true; });
+  }));
+  EXPECT_TRUE(task.cancel());
+  ASSERT_TRUE(wait_for([&] { return ended; }));
+  EXPECT_TRUE(posted);
+  EXPECT_EQ(progress, 0);
+}
+
+// A field of `grid` whose first cond sample says which job made it.
+Field marked_field(const Grid& grid, double mark) {
+  Field f;
+  f.grid = grid;
+  f.cond.assign(grid.size(), mark);
+  return f;
+}
+
+TEST(FieldJobRunner, ANewJobCancelsTheOneInFlightAndOnlyItsResultsArrive) {
+  FieldJobRunner runner;
+  std::vector<double> marks;  // of the slices that arrived
+  QObject::connect(&runner, &FieldJobRunner::sliceReady, &runner,
+                   [&](const SliceResult& r) { marks.push_back(r.field->cond.front()); });
+  std::atomic<bool> first_started{false}, first_saw_cancel{false};
+  FieldJob first;
+  first.slice = Grid::slice(Axis::Z, 0.0, -1, 1, -1, 1, 32, 32);
+  first.sampler = [&](const Grid& grid, const FieldProgress& p) -> std::optional<Field> {
+    first_started = true;
+    // A long computation that stops when asked to, as compute_field does.
+    for (int i = 0; i < 10000 && !p.cancel->load(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    first_saw_cancel = p.cancel->load();
+    return marked_field(grid, 1.0);  // a result the cancel must drop
+  };
+  runner.submit(first);
+  ASSERT_TRUE(wait_for([&] { return first_started.load(); }));
+  EXPECT_TRUE(runner.busy());
+  FieldJob second = first;
+  second.sampler = [](const Grid& grid, const FieldProgress&) -> std::optional<Field> {
+    return marked_field(grid, 2.0);
+  };
+  runner.submit(second);
+  ASSERT_TRUE(wait_for([&] { return !runner.busy(); }));
+  EXPECT_TRUE(first_saw_cancel);
+  ASSERT_FALSE(marks.empty());
+  for (double m : marks) EXPECT_EQ(m, 2.0);  // nothing of the first job
+}
+
+TEST(FieldJobRunner, CancelStopsTheJobAndNothingArrives) {
+  FieldJobRunner runner;
+  int slices = 0;
+  QObject::connect(&runner, &FieldJobRunner::sliceReady, &runner, [&](const SliceResult&) { ++slices; });
+  std::atomic<bool> started{false};
+  FieldJob job;
+  job.slice = Grid::slice(Axis::Z, 0.0, -1, 1, -1, 1, 32, 32);
+  job.sampler = [&](const Grid& grid, const FieldProgress& p) -> std::optional<Field> {
+    started = true;
+    while (!p.cancel->load()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    return marked_field(grid, 1.0);
+  };
+  runner.submit(job);
+  ASSERT_TRUE(wait_for([&] { return started.load(); }));
+  runner.cancel();
+  ASSERT_TRUE(wait_for([&] { return !runner.busy(); }));
+  for (int i = 0; i < 20; ++i) QCoreApplication::processEvents();
+  EXPECT_EQ(slices, 0);
 }
 
 }  // namespace

@@ -137,6 +137,32 @@ TEST(Session, TheTaskVolumeIsCheckedAsTheCommandLineChecksIt) {
   EXPECT_NE(error_of(unknown).find("task_volume.colour"), std::string::npos) << error_of(unknown);
 }
 
+TEST(Session, TheFitTabsSettingsRoundTripAndAreChecked) {
+  Session s = parse_session(good_12r().dump(), "s.json");
+  s.fit = FitSetting{{"L1", "L2"}, {{"L1", {5.0, 25.0}}, {"L2", {6.0, 20.0}}}, "L1,L2", true, 31.5, false};
+  const auto file = std::filesystem::temp_directory_path() / "linkscape_session_fit.json";
+  save_session(s, file);
+  const Session back = load_session(file);
+  std::filesystem::remove(file);
+  ASSERT_TRUE(back.fit);
+  EXPECT_EQ(*back.fit, *s.fit);
+  json with_fit = good_12r();
+  with_fit["fit"] = {{"free", {"L1"}}, {"bounds", {{"L1", {5, 25}}}}, {"mode", "smallest-size"}};
+  EXPECT_EQ(error_of(with_fit), "");
+  for (const auto& [key, bad] : std::vector<std::pair<std::string, json>>{
+           {"bounds", {{"L1", {25, 5}}}}, {"mode", "fastest"}, {"size", -1}, {"colour", "red"}}) {
+    json b = with_fit;
+    b["fit"][key] = bad;
+    EXPECT_NE(error_of(b).find("fit"), std::string::npos) << key << ": " << error_of(b);
+  }
+}
+
+TEST(Session, OnlyTextsTheCommandLineTakesAreValidTaskSettings) {
+  EXPECT_TRUE(valid_task_setting({"sphere:diameter=12", {"cond<3", "force_iso>1"}, true}));
+  EXPECT_FALSE(valid_task_setting({"sphere:diameter=12", {"cond<3;"}, true}));
+  EXPECT_FALSE(valid_task_setting({"cube:1", {}, true}));
+}
+
 TEST(Session, Pathos2SessionsAreCheckedAgainstTheirOwnChoices) {
   json s = json::parse(R"({"format": "linkscape-session", "version": 1, "mechanism": "pathos2",
     "parameters": {"l2": 14}, "platform_pose": [0, 0, 22.5, 0, 0, 0.52, 7],

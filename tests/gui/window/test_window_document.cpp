@@ -24,6 +24,7 @@
 #include "gui/window/mechanism_window.h"
 #include "gui/window/session.h"
 #include "gui/window/session_history.h"
+#include "settled.h"
 #include "gui/window/task_panel.h"
 #include "gui/window/vtk_widget.h"
 #include "render/field_scene.h"
@@ -33,12 +34,7 @@ using linkscape::gui::MechanismWindow;
 
 namespace {
 
-bool show_settled(MechanismWindow& w) {
-  w.resize(1200, 800);
-  w.show();
-  if (!QTest::qWaitForWindowExposed(&w)) return false;
-  return QTest::qWaitFor([&] { return w.fieldsSettled(); }, 30000);
-}
+using window_tests::show_settled;
 
 QAction* action(MechanismWindow& w, const QString& text) {
   for (QAction* a : w.findChildren<QAction*>())

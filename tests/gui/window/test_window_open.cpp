@@ -9,8 +9,10 @@
 #include <QAction>
 #include <QApplication>
 #include <QDir>
+#include <QElapsedTimer>
 #include <QLabel>
 #include <QPointer>
+#include <QProgressDialog>
 #include <QPushButton>
 #include <QStatusBar>
 #include <QTemporaryDir>
@@ -355,6 +357,38 @@ class WindowOpenTest : public QObject {
                              gui::run_off_gui_thread([] { throw std::invalid_argument("a bad file"); }));
     QVERIFY_THROWS_EXCEPTION(std::invalid_argument, gui::load_checked_preset("/no/such/preset.json"));
     QCOMPARE(gui::load_checked_preset("delta").mechanism, std::string("delta"));
+  }
+
+  // Work that outlasts a moment shows a dialog whose Cancel hands the window
+  // back at once, even when the work itself never looks at the flag.
+  void cancellingASlowReadReturnsAtOnce() {
+    auto stopped = std::make_shared<std::atomic<bool>>(false);
+    QTimer clicker;  // presses Cancel as soon as the dialog is up
+    connect(&clicker, &QTimer::timeout, [] {
+      for (QWidget* w : QApplication::topLevelWidgets())
+        if (auto* dialog = qobject_cast<QProgressDialog*>(w); dialog && dialog->isVisible())
+          dialog->findChild<QPushButton*>()->click();
+    });
+    clicker.start(20);
+    QElapsedTimer clock;
+    clock.start();
+    QVERIFY_THROWS_EXCEPTION(gui::Cancelled, gui::run_off_gui_thread(
+                                                 [stopped] {
+                                                   std::this_thread::sleep_for(std::chrono::seconds(3));
+                                                   *stopped = true;
+                                                 },
+                                                 "Reading a slow file"));
+    const qint64 waited = clock.elapsed();
+    QVERIFY2(waited >= gui::kDialogAfterMs && waited < 2000, qPrintable(QString("returned after %1 ms").arg(waited)));
+    QVERIFY(!*stopped);  // the work runs on, unwaited, and ends by itself
+    QVERIFY(QTest::qWaitFor([&] { return stopped->load(); }, 10000));
+    // Work that polls the flag sees the Cancel.
+    auto saw = std::make_shared<std::atomic<bool>>(false);
+    QVERIFY_THROWS_EXCEPTION(gui::Cancelled, gui::wait_off_gui_thread([saw](const std::atomic<bool>& cancelled) {
+      while (!cancelled) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      *saw = true;
+    }));
+    QVERIFY(QTest::qWaitFor([&] { return saw->load(); }, 5000));
   }
 };
 

@@ -59,25 +59,30 @@ void write_text(const std::string& path, const std::string& text) {
   write_text_atomically(path, text);
 }
 
+// The design tables (docs/file-formats.md): lengths in cm, angles in deg or
+// rad as their suffix says, G a ratio; a design or start pose that was not
+// evaluated has no ranges and no G (empty cells; its outcome or status says why).
 std::string table_csv(const pathos2::DesignSearchResult& r) {
-  std::ostringstream s;
-  s << "l2,l3,lp,rz_deg,outcome,dLx,dLy,dLz,G\n";
-  for (const DesignRow& row : r.rows)
-    s << format_number(row.l2) << "," << format_number(row.l3) << "," << format_number(row.lp) << ","
-      << format_number(row.rz_deg) << "," << to_string(row.outcome) << "," << format_number(row.dLx) << ","
-      << format_number(row.dLy) << "," << format_number(row.dLz) << "," << format_number(row.G) << "\n";
-  return s.str();
+  std::string s = "l2_cm,l3_cm,lp_cm,rz_deg,outcome,dLx_cm,dLy_cm,dLz_cm,G\n";
+  for (const DesignRow& row : r.rows) {
+    const bool evaluated = row.outcome == DesignOutcome::Evaluated;
+    const auto value = [evaluated](double v) { return csv_number(evaluated ? v : std::nan("")); };
+    s += csv_number(row.l2) + "," + csv_number(row.l3) + "," + csv_number(row.lp) + "," + csv_number(row.rz_deg) +
+         "," + to_string(row.outcome) + "," + value(row.dLx) + "," + value(row.dLy) + "," + value(row.dLz) + "," +
+         value(row.G) + "\n";
+  }
+  return s;
 }
 
 std::string sweep_csv(const std::vector<pathos2::L0Row>& rows) {
-  std::ostringstream s;
-  s << "l0,status,dLx,dLy,dLz,dRx,dRy,dRz\n";
+  std::string s = "l0_cm,status,dLx_cm,dLy_cm,dLz_cm,dRx_rad,dRy_rad,dRz_rad\n";
   for (const auto& r : rows) {
-    s << format_number(r.l0) << "," << linkscape::to_string(r.ranges.start_status);
-    for (int a = 0; a < 6; ++a) s << "," << format_number(r.ranges.delta(a));
-    s << "\n";
+    const bool ok = r.ranges.start_status == Status::Ok;  // else no ranges were measured
+    s += csv_number(r.l0) + "," + std::string(linkscape::to_string(r.ranges.start_status));
+    for (int a = 0; a < 6; ++a) s += "," + csv_number(ok ? r.ranges.delta(a) : std::nan(""));
+    s += "\n";
   }
-  return s.str();
+  return s;
 }
 
 // ---- Chart ------------------------------------------------------------------------
