@@ -48,6 +48,7 @@ std::vector<std::string> device_fields(const MechanismInfo& info, bool diagnosti
       case FieldShown::Never: break;
     }
   }
+  for (const NamedItem& extra : info.extra_fields) out.push_back(extra.name);  // joint_margin, clearance
   return out;
 }
 

@@ -88,8 +88,9 @@ decltype(auto) visit_field_array(const Field& field, const FieldArrayInfo& array
 
 // The fields a device's fields have, as a user names them: cond (its first
 // measure), its second measure under that measure's own name, reach, residual
-// and iterations (where `diagnostics`), status, and method where it has
-// several IK methods. The haptic fields follow in core/haptics.h.
+// and iterations (where `diagnostics`), status, method where it has
+// several IK methods, and the device's own extra fields (joint_margin,
+// clearance). The haptic fields follow in core/haptics.h.
 std::vector<std::string> device_fields(const MechanismInfo& info, bool diagnostics = true);
 
 }  // namespace linkscape

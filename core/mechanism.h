@@ -73,6 +73,10 @@ struct MechanismInfo {
   // one, where defined, fills the fields' second condition array.
   std::vector<NamedItem> measures;
   std::vector<NamedItem> singular_sets;
+  // Per-sample arrays the device's fields always carry as Field::extras
+  // besides the kinematic ones: a described device's joint_margin (deg) and
+  // clearance (length unit) where its description states stops or links.
+  std::vector<NamedItem> extra_fields;
   std::vector<std::string> branches;  // assembly branches (IK), at least one
   // Task coordinates that forward kinematics reads rather than computes (a
   // grip measured by its own sensor): eval --fk reads them beside q.

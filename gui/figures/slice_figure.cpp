@@ -2,6 +2,7 @@
 
 #include <QFont>
 #include <QImage>
+#include <QFontMetricsF>
 #include <QPainter>
 #include <QPainterPath>
 #include <vtkImageData.h>
@@ -55,6 +56,19 @@ void draw_lines(QPainter& p, const QRectF& plot, int nu, int nv, const render::S
   p.setPen(QPen(QColor(60, 60, 60), 2.2, Qt::SolidLine, Qt::RoundCap, Qt::RoundJoin));
   p.drawPath(path_of(lines.boundary));
   p.restore();
+}
+
+// `text` centred in `box` in the painter's font, made smaller (to two
+// thirds at most) where it is wider than the box, then elided in the middle.
+void draw_fitting(QPainter& p, const QRectF& box, const QString& text) {
+  const QFont original = p.font();
+  QFont font = original;
+  const int smallest = std::max(8, original.pixelSize() * 2 / 3);
+  while (QFontMetricsF(font).horizontalAdvance(text) > box.width() && font.pixelSize() > smallest)
+    font.setPixelSize(font.pixelSize() - 1);
+  p.setFont(font);
+  p.drawText(box, Qt::AlignCenter, QFontMetricsF(font).elidedText(text, Qt::ElideMiddle, box.width()));
+  p.setFont(original);
 }
 
 void draw(QPainter& p, const QSize& page, const Field& field, const render::SliceStyle& style, const QImage& image) {
@@ -115,7 +129,8 @@ void draw(QPainter& p, const QSize& page, const Field& field, const render::Slic
   QFont title_font = font;
   title_font.setBold(true);
   p.setFont(title_font);
-  p.drawText(QRectF(0, 0.6 * fh, page.width(), 1.5 * fh), Qt::AlignCenter,
+  // A described device's title names every parameter: it shrinks to the page.
+  draw_fitting(p, QRectF(0.5 * fh, 0.6 * fh, page.width() - fh, 1.5 * fh),
              QString("%1 (%2): %3 on the plane %4 = %5 %6")
                  .arg(QString::fromStdString(field.mechanism), params, QString::fromStdString(render::field_title(field, style.field)), axis_name(normal))
                  .arg(position)
@@ -123,7 +138,7 @@ void draw(QPainter& p, const QSize& page, const Field& field, const render::Slic
   p.setFont(font);
   // A haptic field says how it was computed (torque rating, data source).
   const Field::NamedArray* extra = field.extra(style.field);
-  p.drawText(QRectF(0, 2.0 * fh, page.width(), 1.2 * fh), Qt::AlignCenter,
+  draw_fitting(p, QRectF(0.5 * fh, 2.0 * fh, page.width() - fh, 1.2 * fh),
              QString("%1, %2 x %3 samples%4")
                  .arg(how)
                  .arg(g.dims[iu])

@@ -20,6 +20,12 @@ using Eigen::Vector3d;
 using Eigen::VectorXd;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// The stops' arrays, as fields and the device's info describe them.
+constexpr const char* kJointMarginText =
+    "The nearest passive joint's distance to its limit (< 0 beyond it, none where the device does not assemble)";
+constexpr const char* kClearanceText =
+    "The smallest gap between two legs' links, or a leg's link and the base or platform (< 0 where they overlap, "
+    "none where the device does not assemble)";
 // A planar device moves in the base frame's xy plane (docs/described-mechanisms.md).
 constexpr double kPlaneZ = 0.0;
 
@@ -97,6 +103,8 @@ class DescribedMechanism final : public Mechanism {
       i.branches.push_back(name);
     }
     for (const Extra& e : m.extras) i.fk_inputs.push_back(e.name);
+    if (kin_.has_joint_limits()) i.extra_fields.push_back({"joint_margin", "joint margin (deg)", kJointMarginText});
+    if (kin_.has_capsules()) i.extra_fields.push_back({"clearance", "clearance (" + m.length_unit + ")", kClearanceText});
     i.eval_columns = {kin_.branches() > 1, "failing_leg", true, true, true, true, true};
     skeleton_ = build_skeleton();
   }
@@ -439,12 +447,9 @@ class DescribedMechanism final : public Mechanism {
     float* clearance = nullptr;
     f.extras.reserve(2);  // the pointers below stay valid
     if (kin_.has_joint_limits())
-      joint_margin = add_extra(f, "joint_margin", "joint margin", "deg",
-                               "The nearest passive joint's distance to its limit (< 0 beyond it; NaN: no assembly)");
+      joint_margin = add_extra(f, "joint_margin", "joint margin", "deg", kJointMarginText);
     if (kin_.has_capsules())
-      clearance = add_extra(f, "clearance", "clearance", kin_.model().length_unit,
-                            "The smallest gap between two legs' links, or a leg's link and the base or platform "
-                            "(< 0: they overlap; NaN: no assembly)");
+      clearance = add_extra(f, "clearance", "clearance", kin_.model().length_unit, kClearanceText);
     const double tolerance = o.tolerance;
     const bool complete = detail::fill_field_rows(
         f, second, threads, progress, [&](const detail::GridRow& row, const detail::FieldRowOut& out) {

@@ -41,8 +41,8 @@ void run_field(const FieldCommandOptions& o) {
   Sampling sampling = make_sampling(o.sampling, "field");
   for (const std::string& name : o.fields)
     if (!haptics::is_haptic_field(name))
-      throw std::invalid_argument("field: --field adds force_iso, force_max, resolution or inertia (the other arrays "
-                                  "are always written), got '" + name + "'");
+      throw std::invalid_argument("field: --field adds force_iso, force_max, resolution or inertia (the other arrays, "
+                                  "and a device's joint_margin and clearance, are always written), got '" + name + "'");
   if (!o.fields.empty()) sampling.with_haptics();
   if (std::count(o.fields.begin(), o.fields.end(), "inertia") && !sampling.device_data().has_inertia())
     throw std::invalid_argument("--field inertia: the preset gives no rotor_inertia_kgm2 for every actuator");
@@ -51,8 +51,9 @@ void run_field(const FieldCommandOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   ProgressLine line(o.sampling.quiet);
   Field field = sample(sampling, grid, line);
+  // The haptic arrays asked for; the device's own (its stops) always.
   std::erase_if(field.extras, [&](const Field::NamedArray& a) {
-    return std::find(o.fields.begin(), o.fields.end(), a.name) == o.fields.end();
+    return haptics::is_haptic_field(a.name) && std::find(o.fields.begin(), o.fields.end(), a.name) == o.fields.end();
   });
   line.step("writing " + o.output);
   if (ext == ".vti") render::write_vti(field, o.output);

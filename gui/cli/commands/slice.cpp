@@ -86,6 +86,9 @@ void run_slice(const SliceOptions& o) {
   if (style.field == "method" && o.figure)
     throw std::invalid_argument("--field method is written without --figure (.png image or .csv)");
   if (style.field == "method") style.log_scale = false;
+  // A joint margin or clearance is signed (< 0 past the stop): linear.
+  for (const NamedItem& extra : info.extra_fields)
+    if (style.field == extra.name) style.log_scale = false;
   if (haptics::is_haptic_field(style.field)) {
     sampling.with_haptics();
     if (style.field == "inertia" && !sampling.device_data().has_inertia())

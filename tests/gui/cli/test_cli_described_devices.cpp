@@ -208,3 +208,31 @@ TEST(CliDescribedDevices, AnOutOfLimitsRowNamesTheLegBeyondItsTravel) {
     EXPECT_TRUE(length < lmin || length > lmax) << leg << " has length " << length << " within [" << lmin << ", " << lmax << "]";
   }
 }
+
+// A device's stops are fields like any other: the Falcon (passive ranges and
+// link capsules) slices its joint margin and clearance, and `field` writes
+// both, with units, without being asked; the described Delta has cones but
+// no link radii, so it has no clearance to show.
+TEST(CliDescribedDevices, TheStopsFieldsAreSlicedAndWritten) {
+  const fs::path dir = fs::temp_directory_path() / "linkscape_cli_tests";
+  fs::create_directories(dir);
+  for (const char* field : {"joint_margin", "clearance"}) {
+    const fs::path png = dir / (std::string("falcon_") + field + ".png");
+    const CommandResult r = run_linkscape(std::string("slice -m falcon -q --size 48x48 --field ") + field + " -o " +
+                                          png.string(), "QT_QPA_PLATFORM=offscreen");
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    EXPECT_TRUE(fs::exists(png)) << field;
+  }
+  const fs::path csv = dir / "falcon_stops.csv";
+  const CommandResult f = run_linkscape("field -m falcon -q --resolution 8 -o " + csv.string());
+  ASSERT_EQ(f.exit_code, 0) << f.out;
+  std::ifstream in(csv);
+  std::string header;
+  std::getline(in, header);
+  EXPECT_TRUE(contains(header, ",joint_margin_deg")) << header;
+  EXPECT_TRUE(contains(header, ",clearance_mm")) << header;
+  const CommandResult delta = run_linkscape("slice -m delta-described -q --field clearance -o " +
+                                            (dir / "never.png").string(), "QT_QPA_PLATFORM=offscreen");
+  EXPECT_EQ(delta.exit_code, 2) << delta.out;
+  EXPECT_TRUE(contains(delta.out, "joint_margin")) << delta.out;  // what it has, listed
+}
