@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <charconv>
 #include <fstream>
+#include <limits>
 #include <functional>
 #include <type_traits>
 #include <vector>
@@ -25,6 +26,7 @@
 
 #include "core/atomic_file.h"
 #include "core/csv.h"
+#include "core/haptics.h"
 
 namespace linkscape::render {
 namespace {
@@ -104,7 +106,8 @@ void add_metadata(vtkFieldData* out, const Field& field) {
   add_numbers(out, "branch", {double(field.branch)});
   for (const auto& [name, value] : field.parameters) add_numbers(out, "param_" + name, {value});
   const auto& d = field.grid.dims;
-  add_numbers(out, "resolution", {double(d[0]), double(d[1]), double(d[2])});
+  // Not "resolution", the haptic array's name: one name, one meaning.
+  add_numbers(out, "grid_samples", {double(d[0]), double(d[1]), double(d[2])});
   for (const Field::NamedArray& a : field.extras) {
     add_string(out, (a.name + "_unit").c_str(), a.unit);
     add_string(out, (a.name + "_title").c_str(), a.title);
@@ -123,10 +126,26 @@ vtkSmartPointer<vtkImageData> image_data(const Field& field, bool copy) {
   const Eigen::Vector3d first = g.origin + 0.5 * g.spacing;
   image->SetOrigin(first.x(), first.y(), first.z());
   vtkPointData* pd = image->GetPointData();
+  // A value that exists only where the device reaches the sample (c(J), the
+  // residual, the haptic measures) is NaN elsewhere, so that no reader takes
+  // it for a value (c(J) would read +inf, a force 0: weak, not unreachable);
+  // `reachable` beside them says where. Such arrays are copied; the others
+  // are read in place where `copy` is off.
+  const auto with_nan = [&](const char* name, const SampleArray<float>& values) {
+    SampleArray<float> masked = values;
+    for (std::size_t s = 0; s < masked.size(); ++s)
+      if (!field.reachable[s]) masked[s] = std::numeric_limits<float>::quiet_NaN();
+    return vtk_array<vtkFloatArray>(name, masked, true);
+  };
   for (const FieldArrayInfo* a : held_arrays(field))
-    pd->AddArray(visit_field_array(field, *a, [&](const auto& v) { return typed_vtk_array(a->file_name.data(), v, copy); }));
+    pd->AddArray(visit_field_array(field, *a, [&](const auto& v) -> vtkSmartPointer<vtkDataArray> {
+      if constexpr (std::is_same_v<std::decay_t<decltype(v)>, SampleArray<float>>)
+        if (a->needs_solution) return with_nan(a->file_name.data(), v);
+      return typed_vtk_array(a->file_name.data(), v, copy);
+    }));
   for (const Field::NamedArray& a : field.extras) {
-    pd->AddArray(vtk_array<vtkFloatArray>(a.name.c_str(), a.values, copy));
+    pd->AddArray(haptics::is_haptic_field(a.name) ? with_nan(a.name.c_str(), a.values)
+                                                  : vtk_array<vtkFloatArray>(a.name.c_str(), a.values, copy));
     // The unit also as the component name, which ParaView shows beside the array.
     pd->GetArray(a.name.c_str())->SetComponentName(0, a.unit.c_str());
   }

@@ -26,14 +26,16 @@ void check_field(const Field& field);
 // "method_used", of the Field's sample types; method_used is the device's
 // method code, 255 = none), each named array of Field::extras (float, its
 // unit as the component name), active scalars "cond", and the metadata of
-// add_metadata(). The arrays are COPIED (about 2x the field's memory for a
-// moment), so the image is independent of the Field's lifetime.
+// add_metadata(). A real value that needs a solution (cond, the residual,
+// the haptic measures) is NaN where `reachable` is 0, never +inf or 0. The
+// arrays are COPIED (about 2x the field's memory for a moment), so the image
+// is independent of the Field's lifetime.
 // Throws std::invalid_argument as check_field.
 vtkSmartPointer<vtkImageData> to_image_data(const Field& field);
 
 // Adds the field's provenance to `out`: "mechanism", "length_unit",
 // "method" (string arrays), "branch", "param_<name>" for every parameter
-// (one-value double arrays), "resolution" (three doubles: grid.dims), and
+// (one-value double arrays), "grid_samples" (three doubles: grid.dims), and
 // per named array "<name>_unit", "<name>_title", "<name>_description".
 void add_metadata(vtkFieldData* out, const Field& field);
 

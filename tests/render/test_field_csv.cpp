@@ -119,7 +119,10 @@ TEST(FieldCsv, VtiHoldsEveryArrayOfTheTable) {
     ASSERT_NE(array, nullptr) << a.file_name;
     ++written;
     for (vtkIdType i = 0; i < array->GetNumberOfTuples(); ++i) {
-      const double want = field_value(f, a, std::size_t(i)), got = array->GetTuple1(i);
+      // A real value that needs a solution is NaN where the device does not
+      // reach the sample (a code array keeps its "no value" code).
+      const bool none = a.needs_solution && array->IsA("vtkFloatArray") && !f.reachable[std::size_t(i)];
+      const double want = none ? std::nan("") : field_value(f, a, std::size_t(i)), got = array->GetTuple1(i);
       ASSERT_TRUE(want == got || (std::isnan(want) && std::isnan(got))) << a.file_name << " sample " << i;
     }
   }
