@@ -433,6 +433,7 @@ MechanismWindow* MechanismWindow::reloadMechanism() {
     showLoadError(tr("Cannot reload the mechanism"), QString(), tr("This device was not read from a file."));
     return nullptr;
   }
+  if (!document_->mayReload()) return nullptr;  // asks before an applied design is replaced
   const std::optional<Preset> read = readPresetFile(file, tr("Cannot reload the mechanism"));
   if (!read) return nullptr;
   try {
@@ -446,7 +447,7 @@ MechanismWindow* MechanismWindow::reloadMechanism() {
     shown->setDrive(drive_);
     // A camera nobody moved still follows the device's size.
     if (document_->cameraUntouched(*kept.camera)) shown->document_->cameraFitted(*kept.camera);
-    if (history()->modified() || !same_document(before, shown->session())) shown->history()->markModified();
+    shown->history()->adopt(*history(), tr("reload"));  // undo reaches back across the reload
     const bool pose_kept = same_task && (shown->task() - kept.task).norm() <= 1e-9;
     shown->statusBar()->showMessage(
         pose_kept || !same_task ? tr("Reloaded %1").arg(file)
