@@ -6,7 +6,7 @@
 #include "core/atomic_file.h"
 #include "gui/cli/cli.h"
 #ifdef LINKSCAPE_WITH_WINDOW
-#include "gui/window/documentation.h"
+#include "gui/window/window_menus.h"
 #include "gui/window/launch.h"
 #endif
 

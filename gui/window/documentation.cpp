@@ -1,11 +1,9 @@
 #include "gui/window/documentation.h"
 
-#include <QApplication>
 #include <QCoreApplication>
 #include <QDesktopServices>
 #include <QDialogButtonBox>
 #include <QHBoxLayout>
-#include <QMainWindow>
 #include <QMenu>
 #include <QMenuBar>
 #include <QMessageBox>
@@ -14,12 +12,8 @@
 #include <QTextBrowser>
 #include <QTextCursor>
 #include <QTextDocument>
-#include <QUndoStack>
 #include <QVBoxLayout>
-#include <cstdlib>
-#include <iostream>
 
-#include "gui/window/window_menus.h"
 
 namespace linkscape::gui {
 
@@ -144,23 +138,6 @@ void show_shortcuts(QWidget* parent, const QMenuBar* menus) {
   box.setText(QObject::tr("Keyboard shortcuts"));
   box.setInformativeText("<pre>" + shortcut_table(menus).toHtmlEscaped() + "</pre>");
   box.exec();
-}
-
-std::unique_ptr<QMainWindow> window_with_menus() {
-  auto window = std::make_unique<QMainWindow>();
-  MenuActions none;
-  none.undo_stack = new QUndoStack(window.get());
-  none.recent_sessions = [](QMenu*) {};
-  add_menus(window.get(), none);
-  return window;
-}
-
-int print_shortcuts(int argc, char** argv) {
-  // Off-screen: the table needs no display, only the menus.
-  setenv("QT_QPA_PLATFORM", "offscreen", 1);
-  QApplication app(argc, argv);
-  std::cout << shortcut_table(window_with_menus()->menuBar()).toStdString();
-  return 0;
 }
 
 }  // namespace linkscape::gui

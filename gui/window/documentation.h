@@ -7,9 +7,7 @@
 #include <QDialog>
 #include <QString>
 #include <filesystem>
-#include <memory>
 
-class QMainWindow;
 class QMenuBar;
 class QTextBrowser;
 
@@ -38,12 +36,5 @@ void show_documentation(QWidget* parent);
 // in menu order.
 QString shortcut_table(const QMenuBar* menus);
 void show_shortcuts(QWidget* parent, const QMenuBar* menus);
-
-// A window with the menus alone, their entries doing nothing.
-std::unique_ptr<QMainWindow> window_with_menus();
-
-// linkscape --shortcuts: the window's menus built off-screen and their table
-// printed (the manual page's WINDOW section is made from it).
-int print_shortcuts(int argc, char** argv);
 
 }  // namespace linkscape::gui

@@ -121,53 +121,59 @@ void ViewTools::setParallel(bool on) {
 
 bool ViewTools::parallel() const { return scene_.renderer->GetActiveCamera()->GetParallelProjection() != 0; }
 
+ViewTools::ViewActions ViewTools::addViewMenu(QMenu* menu) {
+  ViewActions a;
+  const QString views[] = {tr("&Front view"), tr("&Top view"), tr("&Side view"), tr("&Isometric view")};
+  int key = Qt::Key_1;
+  for (int i = 0; i < 4; ++i) {
+    a.views[std::size_t(i)] = menu->addAction(views[i]);
+    a.views[std::size_t(i)]->setShortcut(QKeySequence(Qt::CTRL | Qt::Key(key++)));
+  }
+  a.parallel = menu->addAction(tr("&Parallel projection"));
+  a.parallel->setObjectName("parallelProjectionAction");
+  a.parallel->setCheckable(true);
+  a.parallel->setShortcut(QKeySequence(Qt::CTRL | Qt::Key_5));
+  a.labels = menu->addAction(tr("Joint &labels in front"));
+  a.labels->setObjectName("labelsInFrontAction");
+  a.labels->setCheckable(true);
+  a.labels->setShortcut(QKeySequence(Qt::CTRL | Qt::Key_6));
+  a.labels->setStatusTip(tr("Draw the joint labels over the slice, the surfaces and the base, on a light plate"));
+  a.smooth = menu->addAction(tr("S&mooth workspace surfaces"));
+  a.smooth->setObjectName("smoothSurfacesAction");
+  a.smooth->setCheckable(true);
+  a.smooth->setStatusTip(tr("Smooth the grid's facets and ripples off the drawn surfaces (exports keep the extracted mesh)"));
+  a.device = menu->addAction(tr("Frame the &device, not its workspace"));
+  a.device->setObjectName("frameDeviceAction");
+  a.device->setCheckable(true);
+  a.device->setStatusTip(tr("Reset camera and the standard views frame the device in its pose instead of the middle "
+                            "of its sampling box"));
+  return a;
+}
+
 void ViewTools::addViewActions(QMenu* menu, std::function<Eigen::AlignedBox3d()> workspace,
                                std::function<void()> framed) {
-  const std::pair<QString, render::StandardView> views[] = {{tr("&Front view"), render::StandardView::Front},
-                                                            {tr("&Top view"), render::StandardView::Top},
-                                                            {tr("&Side view"), render::StandardView::Side},
-                                                            {tr("&Isometric view"), render::StandardView::Iso}};
-  int key = Qt::Key_1;
-  for (const auto& [text, view] : views) {
-    QAction* a = menu->addAction(text);
-    a->setShortcut(QKeySequence(Qt::CTRL | Qt::Key(key++)));
-    connect(a, &QAction::triggered, this, [this, view, workspace, framed] {
+  const ViewActions a = addViewMenu(menu);
+  const render::StandardView views[] = {render::StandardView::Front, render::StandardView::Top,
+                                        render::StandardView::Side, render::StandardView::Iso};
+  for (int i = 0; i < 4; ++i)
+    connect(a.views[std::size_t(i)], &QAction::triggered, this, [this, view = views[i], workspace, framed] {
       frame(workspace(), view);
       framed();
       scene_.view->requestRender();
     });
-  }
-  QAction* parallel = menu->addAction(tr("&Parallel projection"));
-  parallel->setObjectName("parallelProjectionAction");
-  parallel->setCheckable(true);
-  parallel->setShortcut(QKeySequence(Qt::CTRL | Qt::Key_5));
-  connect(parallel, &QAction::toggled, this, &ViewTools::setParallel);
-  QAction* labels = menu->addAction(tr("Joint &labels in front"));
-  labels->setObjectName("labelsInFrontAction");
-  labels->setCheckable(true);
-  labels->setShortcut(QKeySequence(Qt::CTRL | Qt::Key_6));
-  labels->setStatusTip(tr("Draw the joint labels over the slice, the surfaces and the base, on a light plate"));
-  connect(labels, &QAction::toggled, this, [this](bool on) {
+  connect(a.parallel, &QAction::toggled, this, &ViewTools::setParallel);
+  connect(a.labels, &QAction::toggled, this, [this](bool on) {
     scene_.skeleton->set_labels_in_front(on);
     scene_.view->requestRender();
   });
-  QAction* smooth = menu->addAction(tr("S&mooth workspace surfaces"));
-  smooth->setObjectName("smoothSurfacesAction");
-  smooth->setCheckable(true);
-  smooth->setStatusTip(tr("Smooth the grid's facets and ripples off the drawn surfaces (exports keep the extracted mesh)"));
-  connect(smooth, &QAction::toggled, this, [this](bool on) {
+  connect(a.smooth, &QAction::toggled, this, [this](bool on) {
     scene_.fields->set_surface_smoothing(on ? kSmoothingIterations : 0);
     const SurfaceResult& shown = scene_.display->surfaces();
     scene_.fields->set_surface(render::Surface::Reach, shown.reach);
     scene_.fields->set_surface(render::Surface::WellConditioned, shown.well_conditioned);
     scene_.view->requestRender();
   });
-  QAction* device = menu->addAction(tr("Frame the &device, not its workspace"));
-  device->setObjectName("frameDeviceAction");
-  device->setCheckable(true);
-  device->setStatusTip(tr("Reset camera and the standard views frame the device in its pose instead of the middle "
-                          "of its sampling box"));
-  connect(device, &QAction::toggled, this, [this, workspace, framed](bool on) {
+  connect(a.device, &QAction::toggled, this, [this, workspace, framed](bool on) {
     setFrameDevice(on);
     reframe(workspace());
     framed();

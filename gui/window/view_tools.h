@@ -6,6 +6,7 @@
 
 #include <QObject>
 #include <QString>
+#include <array>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -16,6 +17,7 @@
 
 class QDockWidget;
 class QMainWindow;
+class QAction;
 class QMenu;
 class vtkRenderer;
 
@@ -72,6 +74,12 @@ class ViewTools : public QObject {
   // (Ctrl+5) and the framing toggle. `workspace` gives the box to frame;
   // `framed` runs after the camera moved (the window notes its fitted camera).
   void addViewActions(QMenu* menu, std::function<Eigen::AlignedBox3d()> workspace, std::function<void()> framed);
+  // The same entries, not connected (the shortcut table's menus).
+  struct ViewActions {
+    std::array<QAction*, 4> views{};  // front, top, side, iso
+    QAction *parallel = nullptr, *labels = nullptr, *smooth = nullptr, *device = nullptr;
+  };
+  static ViewActions addViewMenu(QMenu* menu);
 
  private:
   Scene scene_;

@@ -1,13 +1,18 @@
 #include "gui/window/window_menus.h"
 
 #include <QAction>
+#include <QApplication>
 #include <QDockWidget>
 #include <QMainWindow>
 #include <QMenuBar>
 #include <QUndoStack>
+#include <cstdlib>
+#include <iostream>
+#include <memory>
 
 #include "gui/window/documentation.h"
 #include "gui/window/help_actions.h"
+#include "gui/window/view_tools.h"
 
 namespace linkscape::gui {
 
@@ -26,7 +31,8 @@ void add_menus(QMainWindow* window, const MenuActions& actions) {
   QMenu* file = window->menuBar()->addMenu(QObject::tr("&File"));
   add(file, QObject::tr("&Open session…"), QKeySequence::Open, window, actions.open_session);
   add(file, QObject::tr("&Save session"), QKeySequence::Save, window, actions.save);
-  add(file, QObject::tr("Save session &as…"), QKeySequence::SaveAs, window, actions.save_as);
+  // Explicit: QKeySequence::SaveAs is empty on plain X11.
+  add(file, QObject::tr("Save session &as…"), QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_S), window, actions.save_as);
   actions.recent_sessions(file->addMenu(QObject::tr("Recent sessions")));
   file->addSeparator();
   QAction* open_mechanism = add(file, QObject::tr("Open &mechanism…"), QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_O),
@@ -88,6 +94,24 @@ void add_menus(QMainWindow* window, const MenuActions& actions) {
   help->addAction(QObject::tr("About this &mechanism…"), window, actions.about_mechanism)
       ->setObjectName("aboutMechanismAction");
   help->addAction(QObject::tr("&About Linkscape"), window, [window] { show_about(window); });
+}
+
+std::unique_ptr<QMainWindow> window_with_menus() {
+  auto window = std::make_unique<QMainWindow>();
+  MenuActions none;
+  none.undo_stack = new QUndoStack(window.get());
+  none.recent_sessions = [](QMenu*) {};
+  none.view_tools = [](QMenu* menu) { ViewTools::addViewMenu(menu); };
+  add_menus(window.get(), none);
+  return window;
+}
+
+int print_shortcuts(int argc, char** argv) {
+  // Off-screen: the table needs no display, only the menus.
+  setenv("QT_QPA_PLATFORM", "offscreen", 1);
+  QApplication app(argc, argv);
+  std::cout << shortcut_table(window_with_menus()->menuBar()).toStdString();
+  return 0;
 }
 
 }  // namespace linkscape::gui

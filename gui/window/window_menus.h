@@ -6,6 +6,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 
 class QMainWindow;
 class QMenu;
@@ -28,5 +29,12 @@ struct MenuActions {
 
 // The menus of `window` (its docks' toggles from the docks it has now).
 void add_menus(QMainWindow* window, const MenuActions& actions);
+
+// A window with the menus alone, their entries doing nothing.
+std::unique_ptr<QMainWindow> window_with_menus();
+
+// linkscape --shortcuts: the window's menus built off-screen and their table
+// printed (the manual page's WINDOW section is made from it).
+int print_shortcuts(int argc, char** argv);
 
 }  // namespace linkscape::gui
