@@ -174,8 +174,8 @@ struct Joint {
   std::string name;
   JointType type = JointType::Revolute;
   int body = 0;                       // the body it is drawn with
-  Eigen::Vector3d point_in_body = Eigen::Vector3d::Zero();  // p_body_joint
-  Eigen::Vector3d axis_in_body = Eigen::Vector3d::UnitZ();   // axis_body_joint (unit)
+  Eigen::Vector3d p_body_joint = Eigen::Vector3d::Zero();        // in the body's frame
+  Eigen::Vector3d axis_body_joint = Eigen::Vector3d::UnitZ();    // in the body's frame (unit)
   bool actuated = false;
   std::string label;  // drawn beside the joint where not empty (actuator names, leg numbers)
 };
@@ -189,9 +189,9 @@ struct SkeletonModel {
 enum class BodyState { Normal, Failing };
 
 struct SkeletonPose {
-  std::vector<Eigen::Isometry3d> body_frames;  // X_world_body, per SkeletonModel::bodies
-  std::vector<BodyState> states;               // per body
-  Eigen::Vector3d endpoint = Eigen::Vector3d::Zero();  // p_world_endpoint: the driven point
+  std::vector<Eigen::Isometry3d> X_world_body;  // per SkeletonModel::bodies
+  std::vector<BodyState> states;                 // per body
+  Eigen::Vector3d p_world_endpoint = Eigen::Vector3d::Zero();  // the driven point
 };
 
 // ---- The interface --------------------------------------------------------------

@@ -98,10 +98,10 @@ void validate(const SkeletonModel& model) {
     if (joint.body < 0 || joint.body >= int(model.bodies.size()))
       throw std::invalid_argument(where + "body " + std::to_string(joint.body) + " does not exist (" +
                                   std::to_string(model.bodies.size()) + " bodies)");
-    if (!finite(joint.point_in_body) || !finite(joint.axis_in_body))
+    if (!finite(joint.p_body_joint) || !finite(joint.axis_body_joint))
       throw std::invalid_argument(where + "non-finite point or axis");
     const bool has_axis = joint.type == JointType::Revolute || joint.type == JointType::Prismatic;
-    if (has_axis && joint.axis_in_body.norm() == 0.0) throw std::invalid_argument(where + "zero axis");
+    if (has_axis && joint.axis_body_joint.norm() == 0.0) throw std::invalid_argument(where + "zero axis");
   }
 }
 
@@ -140,14 +140,14 @@ vtkSmartPointer<vtkPolyData> faces_of(const Body& body) {
 Eigen::Matrix4d knuckle_matrix(const Joint& joint, double scale) {
   const double grow = joint.actuated ? kActuatedGrowth : 1.0;
   Eigen::Affine3d T = Eigen::Affine3d::Identity();
-  T.translate(joint.point_in_body);
+  T.translate(joint.p_body_joint);
   switch (joint.type) {
     case JointType::Revolute:
     case JointType::Prismatic: {
       const bool revolute = joint.type == JointType::Revolute;
       const double length = grow * scale * (revolute ? kRevoluteLength : kPrismaticLength);
       const double diameter = grow * scale * (revolute ? kRevoluteDiameter : kPrismaticDiameter);
-      T.rotate(Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitY(), joint.axis_in_body.normalized()));
+      T.rotate(Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitY(), joint.axis_body_joint.normalized()));
       T.scale(Eigen::Vector3d(diameter, length, diameter));
       break;
     }
@@ -323,23 +323,23 @@ void SkeletonScene::set_model(const SkeletonModel& model) {
   endpoint_source_->SetRadius(kEndpointRadius * s);
   axes_->SetTotalLength(kAxesLength * s, kAxesLength * s, kAxesLength * s);
 
-  if (pose_.body_frames.size() != model_.bodies.size()) {
-    pose_.body_frames.assign(model_.bodies.size(), Eigen::Isometry3d::Identity());
+  if (pose_.X_world_body.size() != model_.bodies.size()) {
+    pose_.X_world_body.assign(model_.bodies.size(), Eigen::Isometry3d::Identity());
     pose_.states.assign(model_.bodies.size(), BodyState::Normal);
-    pose_.endpoint.setZero();
+    pose_.p_world_endpoint.setZero();
   }
   apply_pose();
 }
 
 void SkeletonScene::set_pose(const SkeletonPose& pose) {
   const std::size_t n = model_.bodies.size();
-  if (pose.body_frames.size() != n || pose.states.size() != n)
-    throw std::invalid_argument("skeleton pose: " + std::to_string(pose.body_frames.size()) + " frames and " +
+  if (pose.X_world_body.size() != n || pose.states.size() != n)
+    throw std::invalid_argument("skeleton pose: " + std::to_string(pose.X_world_body.size()) + " frames and " +
                                 std::to_string(pose.states.size()) + " states for " + std::to_string(n) +
                                 " bodies");
-  for (const Eigen::Isometry3d& frame : pose.body_frames)
+  for (const Eigen::Isometry3d& frame : pose.X_world_body)
     if (!frame.matrix().allFinite()) throw std::invalid_argument("skeleton pose: non-finite body frame");
-  if (!pose.endpoint.allFinite()) throw std::invalid_argument("skeleton pose: non-finite endpoint");
+  if (!pose.p_world_endpoint.allFinite()) throw std::invalid_argument("skeleton pose: non-finite endpoint");
   pose_ = pose;
   apply_pose();
 }
@@ -347,7 +347,7 @@ void SkeletonScene::set_pose(const SkeletonPose& pose) {
 void SkeletonScene::apply_pose() {
   const double s = model_.scale;
   for (std::size_t b = 0; b < bodies_.size(); ++b) {
-    const Eigen::Matrix4d frame = pose_.body_frames[b].matrix();
+    const Eigen::Matrix4d frame = pose_.X_world_body[b].matrix();
     const bool failing = pose_.states[b] == BodyState::Failing;
     const Colour colour = failing ? kFailingColour : body_colour(model_, int(b));
     if (vtkActor* tube = bodies_[b].tube) {
@@ -363,13 +363,13 @@ void SkeletonScene::apply_pose() {
   }
   for (std::size_t j = 0; j < joints_.size(); ++j) {
     const Joint& joint = model_.joints[j];
-    const Eigen::Isometry3d& frame = pose_.body_frames[joint.body];
+    const Eigen::Isometry3d& frame = pose_.X_world_body[joint.body];
     const bool failing = pose_.states[joint.body] == BodyState::Failing;
     set_matrix(joints_[j].knuckle, frame.matrix() * joints_[j].knuckle_in_body);
     // Motors stay dark so they can be found; passive joints share their body's failure.
     set_colour(joints_[j].knuckle, joint.actuated ? kActuatedColour : failing ? kFailingColour : kJointColour);
     if (vtkBillboardTextActor3D* label = joints_[j].label) {
-      const Eigen::Vector3d at = frame * joint.point_in_body;
+      const Eigen::Vector3d at = frame * joint.p_body_joint;
       // Beside the joint, away from the base z axis (straight up on the axis).
       Eigen::Vector3d away(at.x(), at.y(), 0.0);
       away = away.norm() > 1e-9 * s ? away.normalized() : Eigen::Vector3d::UnitZ();
@@ -384,7 +384,7 @@ void SkeletonScene::apply_pose() {
       front->SetVisibility(labels_in_front_);
     }
   }
-  endpoint_actor_->SetPosition(pose_.endpoint.x(), pose_.endpoint.y(), pose_.endpoint.z());
+  endpoint_actor_->SetPosition(pose_.p_world_endpoint.x(), pose_.p_world_endpoint.y(), pose_.p_world_endpoint.z());
 }
 
 void SkeletonScene::set_labels_in_front(bool on) {
@@ -401,8 +401,8 @@ void SkeletonScene::reset_camera(vtkRenderer* renderer, const Eigen::AlignedBox3
 
 Eigen::AlignedBox3d SkeletonScene::device_box() const {
   Eigen::AlignedBox3d box;
-  for (std::size_t b = 0; b < model_.bodies.size() && b < pose_.body_frames.size(); ++b) {
-    const Eigen::Isometry3d& T = pose_.body_frames[b];
+  for (std::size_t b = 0; b < model_.bodies.size() && b < pose_.X_world_body.size(); ++b) {
+    const Eigen::Isometry3d& T = pose_.X_world_body[b];
     for (const auto& line : model_.bodies[b].polylines)
       for (const Eigen::Vector3d& p : line) box.extend(T * p);
     for (const auto& face : model_.bodies[b].faces)
@@ -434,7 +434,7 @@ void SkeletonScene::frame(vtkRenderer* renderer, const Eigen::AlignedBox3d& box,
   Eigen::AlignedBox3d frame_box = box;
   for (std::size_t b = 0; b < model_.bodies.size(); ++b) {
     if (!model_.bodies[b].ground) continue;
-    const Eigen::Isometry3d& T = pose_.body_frames[b];
+    const Eigen::Isometry3d& T = pose_.X_world_body[b];
     for (const auto& line : model_.bodies[b].polylines)
       for (const Eigen::Vector3d& p : line) frame_box.extend(T * p);
     for (const auto& face : model_.bodies[b].faces)

@@ -186,13 +186,13 @@ TEST_P(EveryDevice, SkeletonFitsItsModel) {
   const auto m = shipped(GetParam());
   const SkeletonModel model = m->skeleton_model();
   const SkeletonPose pose = m->skeleton_pose(m->home_actuators(), m->home_task());
-  ASSERT_EQ(pose.body_frames.size(), model.bodies.size());
+  ASSERT_EQ(pose.X_world_body.size(), model.bodies.size());
   ASSERT_EQ(pose.states.size(), model.bodies.size());
   for (const Joint& j : model.joints) {
     ASSERT_GE(j.body, 0);
     ASSERT_LT(j.body, int(model.bodies.size()));
   }
-  EXPECT_LT((pose.endpoint - m->home_task().head<3>()).norm(), 1e-9 * m->size());
+  EXPECT_LT((pose.p_world_endpoint - m->home_task().head<3>()).norm(), 1e-9 * m->size());
   EXPECT_GT(model.scale, 0);
 }
 

@@ -63,14 +63,14 @@ SkeletonModel two_bodies(double scale = kScale) {
   hinge.name = "hinge";
   hinge.type = JointType::Revolute;
   hinge.body = 1;
-  hinge.axis_in_body = Eigen::Vector3d::UnitZ();
+  hinge.axis_body_joint = Eigen::Vector3d::UnitZ();
   hinge.actuated = true;
   hinge.label = "q1";
   Joint tip;
   tip.name = "tip";
   tip.type = JointType::Spherical;
   tip.body = 1;
-  tip.point_in_body = {1, 0, 0};
+  tip.p_body_joint = {1, 0, 0};
   m.joints = {hinge, tip};
   return m;
 }
@@ -78,9 +78,9 @@ SkeletonModel two_bodies(double scale = kScale) {
 // The link turned by `angle` about z; the endpoint at its tip.
 SkeletonPose link_at(double angle, BodyState link_state = BodyState::Normal) {
   SkeletonPose p;
-  p.body_frames = {Eigen::Isometry3d::Identity(), Eigen::Isometry3d(Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitZ()))};
+  p.X_world_body = {Eigen::Isometry3d::Identity(), Eigen::Isometry3d(Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitZ()))};
   p.states = {BodyState::Normal, link_state};
-  p.endpoint = p.body_frames[1] * Eigen::Vector3d(1, 0, 0);
+  p.p_world_endpoint = p.X_world_body[1] * Eigen::Vector3d(1, 0, 0);
   return p;
 }
 
@@ -248,7 +248,7 @@ TEST(SkeletonScene, PoseSetsMatricesOnlyAndPlacesGeometryInTheBodyFrame) {
   EXPECT_EQ(vtkPolyData::SafeDownCast(hinge_source->GetOutputDataObject(0))->GetMTime(), source_output_time);
 
   // The matrices are the body frames.
-  EXPECT_TRUE(to_eigen(link->GetUserMatrix()).isApprox(pose.body_frames[1].matrix(), 1e-12));
+  EXPECT_TRUE(to_eigen(link->GetUserMatrix()).isApprox(pose.X_world_body[1].matrix(), 1e-12));
   EXPECT_TRUE(to_eigen(ground->GetUserMatrix()).isApprox(Eigen::Matrix4d::Identity(), 1e-12));
   // The ball knuckle sits at the link's tip in the base frame: (0, 1, 0).
   const Eigen::Vector3d ball = to_eigen(scene.joint_actor(1)->GetUserMatrix()).block<3, 1>(0, 3);
@@ -338,8 +338,8 @@ TEST(SkeletonScene, KnucklesLieAlongTheirAxesInTheBodyFrame) {
   // about z: in the base frame it lies along -x.
   SkeletonModel m = two_bodies(1.0);
   m.joints[0].type = JointType::Prismatic;
-  m.joints[0].axis_in_body = {0, 2, 0};  // not unit: only the direction counts
-  m.joints[0].point_in_body = {0.5, 0, 0};
+  m.joints[0].axis_body_joint = {0, 2, 0};  // not unit: only the direction counts
+  m.joints[0].p_body_joint = {0.5, 0, 0};
   SkeletonScene scene;
   scene.set_model(m);
   scene.set_pose(link_at(0.5 * std::numbers::pi));
@@ -361,18 +361,18 @@ TEST(SkeletonScene, BadPosesThrowAndLeaveTheSceneUnchanged) {
   const Eigen::Matrix4d before = to_eigen(scene.body_tube_actor(1)->GetUserMatrix());
 
   SkeletonPose few_frames = link_at(1.0);
-  few_frames.body_frames.pop_back();
+  few_frames.X_world_body.pop_back();
   SkeletonPose many_frames = link_at(1.0);
-  many_frames.body_frames.push_back(Eigen::Isometry3d::Identity());
+  many_frames.X_world_body.push_back(Eigen::Isometry3d::Identity());
   SkeletonPose few_states = link_at(1.0);
   few_states.states.pop_back();
   SkeletonPose nan_frame = link_at(1.0);
-  nan_frame.body_frames[1].translation().x() = std::nan("");
+  nan_frame.X_world_body[1].translation().x() = std::nan("");
   SkeletonPose nan_endpoint = link_at(1.0);
-  nan_endpoint.endpoint.z() = std::nan("");
+  nan_endpoint.p_world_endpoint.z() = std::nan("");
   for (const SkeletonPose* bad : {&few_frames, &many_frames, &few_states, &nan_frame, &nan_endpoint}) {
     EXPECT_THROW(scene.set_pose(*bad), std::invalid_argument);
-    EXPECT_TRUE(scene.pose().body_frames[1].isApprox(good.body_frames[1]));
+    EXPECT_TRUE(scene.pose().X_world_body[1].isApprox(good.X_world_body[1]));
     EXPECT_EQ(to_eigen(scene.body_tube_actor(1)->GetUserMatrix()), before);
   }
 }
@@ -387,7 +387,7 @@ TEST(SkeletonScene, BadModelsThrowAndLeaveTheSceneUnchanged) {
   std::vector<SkeletonModel> bad(8, two_bodies());
   bad[0].joints[1].body = 2;
   bad[1].joints[1].body = -1;
-  bad[2].joints[0].axis_in_body.setZero();
+  bad[2].joints[0].axis_body_joint.setZero();
   bad[3].bodies[1].polylines[0].resize(1);
   bad[4].bodies[0].faces[0].resize(2);
   bad[5].scale = 0.0;
@@ -401,7 +401,7 @@ TEST(SkeletonScene, BadModelsThrowAndLeaveTheSceneUnchanged) {
   }
   // A zero axis means nothing for a ball joint.
   SkeletonModel ball_without_axis = two_bodies();
-  ball_without_axis.joints[1].axis_in_body.setZero();
+  ball_without_axis.joints[1].axis_body_joint.setZero();
   EXPECT_NO_THROW(scene.set_model(ball_without_axis));
 }
 
@@ -411,11 +411,11 @@ TEST(SkeletonScene, NewModelKeepsAPoseThatFits) {
   const SkeletonPose pose = link_at(0.7);
   scene.set_pose(pose);
   scene.set_model(two_bodies(2.0));  // same bodies: pose kept
-  EXPECT_TRUE(to_eigen(scene.body_tube_actor(1)->GetUserMatrix()).isApprox(pose.body_frames[1].matrix(), 1e-12));
+  EXPECT_TRUE(to_eigen(scene.body_tube_actor(1)->GetUserMatrix()).isApprox(pose.X_world_body[1].matrix(), 1e-12));
   SkeletonModel three = two_bodies();
   three.bodies.push_back(three.bodies[1]);
   scene.set_model(three);  // does not fit: every body at the base frame
-  ASSERT_EQ(scene.pose().body_frames.size(), 3u);
+  ASSERT_EQ(scene.pose().X_world_body.size(), 3u);
   for (int b = 0; b < 3; ++b)
     EXPECT_TRUE(to_eigen(scene.body_tube_actor(b)->GetUserMatrix()).isApprox(Eigen::Matrix4d::Identity(), 1e-15));
   EXPECT_NO_THROW(scene.set_pose({{Eigen::Isometry3d::Identity(), Eigen::Isometry3d::Identity(),
@@ -508,7 +508,7 @@ std::pair<SkeletonModel, SkeletonPose> delta_like() {
   base.polylines = {rim};
   base.faces = {{rim.begin(), rim.end() - 1}};
   m.bodies.push_back(base);
-  pose.body_frames.push_back(Eigen::Isometry3d::Identity());
+  pose.X_world_body.push_back(Eigen::Isometry3d::Identity());
   pose.states.push_back(BodyState::Normal);
 
   Body plate;
@@ -525,12 +525,12 @@ std::pair<SkeletonModel, SkeletonPose> delta_like() {
     upper.name = "arm " + std::to_string(i + 1);
     upper.polylines = {{{0, 0, 0}, {arm, 0, 0}}, {{arm, -rod_gap, 0}, {arm, rod_gap, 0}}};
     m.bodies.push_back(upper);
-    pose.body_frames.push_back(arm_frame);
+    pose.X_world_body.push_back(arm_frame);
     pose.states.push_back(i == 2 ? BodyState::Failing : BodyState::Normal);
     Joint motor;
     motor.name = "motor " + std::to_string(i + 1);
     motor.body = int(m.bodies.size()) - 1;
-    motor.axis_in_body = Eigen::Vector3d::UnitY();
+    motor.axis_body_joint = Eigen::Vector3d::UnitY();
     motor.actuated = true;
     motor.label = "q" + std::to_string(i + 1);
     m.joints.push_back(motor);
@@ -548,7 +548,7 @@ std::pair<SkeletonModel, SkeletonPose> delta_like() {
     const Eigen::Vector3d end(d.norm(), 0, 0);
     fore.polylines = {{side, end + side}, {-side, end - side}};
     m.bodies.push_back(fore);
-    pose.body_frames.push_back(fore_frame);
+    pose.X_world_body.push_back(fore_frame);
     pose.states.push_back(BodyState::Normal);
     for (const Eigen::Vector3d& p : {Eigen::Vector3d(side), Eigen::Vector3d(-side), Eigen::Vector3d(end + side),
                                      Eigen::Vector3d(end - side)}) {
@@ -556,7 +556,7 @@ std::pair<SkeletonModel, SkeletonPose> delta_like() {
       ball.name = "ball";
       ball.type = JointType::Spherical;
       ball.body = int(m.bodies.size()) - 1;
-      ball.point_in_body = p;
+      ball.p_body_joint = p;
       m.joints.push_back(ball);
     }
     plate.faces.resize(1);
@@ -567,9 +567,9 @@ std::pair<SkeletonModel, SkeletonPose> delta_like() {
   plate.polylines = {plate.faces[0]};
   plate.polylines[0].push_back(plate.faces[0].front());
   m.bodies.push_back(plate);
-  pose.body_frames.push_back(Eigen::Isometry3d(Eigen::Translation3d(platform)));
+  pose.X_world_body.push_back(Eigen::Isometry3d(Eigen::Translation3d(platform)));
   pose.states.push_back(BodyState::Normal);
-  pose.endpoint = platform;
+  pose.p_world_endpoint = platform;
   return {m, pose};
 }
 

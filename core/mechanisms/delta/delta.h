@@ -315,7 +315,7 @@ struct BodyShape {
 };
 
 struct Skeleton {
-  std::array<Eigen::Isometry3d, kBodyCount> body_frames;     // base <- body
+  std::array<Eigen::Isometry3d, kBodyCount> X_world_body;     // base <- body
   std::array<Eigen::Vector3d, kJointCount> joint_positions;  // base frame, from body_a
   std::array<Eigen::Vector3d, kJointCount> joint_axes;       // base frame, unit
   Eigen::Vector3d p_base_platform = Eigen::Vector3d::Zero();

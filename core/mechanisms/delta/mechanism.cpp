@@ -179,8 +179,8 @@ class DeltaMechanism final : public Mechanism {
       j.name = d.name;
       j.type = d.type == delta::JointType::Revolute ? linkscape::JointType::Revolute : linkscape::JointType::Spherical;
       j.body = d.body_a;
-      j.point_in_body = d.point_in_a;
-      j.axis_in_body = d.axis_in_a;
+      j.p_body_joint = d.point_in_a;
+      j.axis_body_joint = d.axis_in_a;
       j.actuated = d.name.rfind("motor", 0) == 0;
       if (j.actuated) j.label = std::string(1, 'q') + d.name.back();  // "q1" from "motor1"
       sk.joints.push_back(std::move(j));
@@ -192,13 +192,13 @@ class DeltaMechanism final : public Mechanism {
   SkeletonPose skeleton_pose(const VectorXd& q, const VectorXd& x, const linkscape::IkResult* failed) const override {
     const Skeleton s = skeleton(model_, three(q, "q"), three(x, "x"));
     SkeletonPose p;
-    p.body_frames.assign(s.body_frames.begin(), s.body_frames.end());
+    p.X_world_body.assign(s.X_world_body.begin(), s.X_world_body.end());
     p.states.assign(kBodyCount, BodyState::Normal);
     if (failed && !failed->failing_part.empty()) {
       const int leg = std::stoi(failed->failing_part) - 1;
       if (leg >= 0 && leg < kLegCount) p.states[1 + leg] = p.states[4 + leg] = BodyState::Failing;
     }
-    p.endpoint = s.p_base_platform;
+    p.p_world_endpoint = s.p_base_platform;
     return p;
   }
 

@@ -66,13 +66,13 @@ Skeleton skeleton(const Model& m, const Vector3d& q, const Vector3d& p) {
   require_closure(m, q, p, "skeleton");
   Skeleton sk;
   sk.p_base_platform = p;
-  sk.body_frames[0].setIdentity();
+  sk.X_world_body[0].setIdentity();
   for (int i = 0; i < kLegCount; ++i) {
     Eigen::Isometry3d arm = Eigen::Isometry3d::Identity();
     arm.translation() = motor_position(m, i);
     arm.linear() = (Eigen::AngleAxisd(leg_angle(i), Vector3d::UnitZ()) *
                     Eigen::AngleAxisd(q(i), Vector3d::UnitY())).toRotationMatrix();
-    sk.body_frames[1 + i] = arm;
+    sk.X_world_body[1 + i] = arm;
 
     const Vector3d B = elbow_position(m, i, q(i));
     const Vector3d x = (p + m.r * leg_radial(i) - B).normalized();
@@ -81,13 +81,13 @@ Skeleton skeleton(const Model& m, const Vector3d& q, const Vector3d& p) {
     Eigen::Isometry3d forearm = Eigen::Isometry3d::Identity();
     forearm.translation() = B;
     forearm.linear() << x, y, x.cross(y);
-    sk.body_frames[4 + i] = forearm;
+    sk.X_world_body[4 + i] = forearm;
   }
-  sk.body_frames[7].setIdentity();
-  sk.body_frames[7].translation() = p;
+  sk.X_world_body[7].setIdentity();
+  sk.X_world_body[7].translation() = p;
   const auto joints = joint_definitions(m);
   for (int j = 0; j < kJointCount; ++j) {
-    const Eigen::Isometry3d& T = sk.body_frames[joints[j].body_a];
+    const Eigen::Isometry3d& T = sk.X_world_body[joints[j].body_a];
     sk.joint_positions[j] = T * joints[j].point_in_a;
     sk.joint_axes[j] = T.linear() * joints[j].axis_in_a;
   }

@@ -348,8 +348,8 @@ class DescribedMechanism final : public Mechanism {
                                                       : JointType::Spherical;
         // The joint, drawn with the body before it.
         j.body = body;
-        j.point_in_body = joint_point;
-        j.axis_in_body = frame.linear().transpose() * before_frame.linear() * step.axis;
+        j.p_body_joint = joint_point;
+        j.axis_body_joint = frame.linear().transpose() * before_frame.linear() * step.axis;
         j.actuated = step.actuator >= 0;
         if (j.actuated) j.label = step.name;
         sk.joints.push_back(j);
@@ -366,7 +366,7 @@ class DescribedMechanism final : public Mechanism {
           // shows whole at any extension.
           const Actuator* act = step.actuator >= 0 ? &m.actuators[std::size_t(step.actuator)] : nullptr;
           const double length = act && act->range.lo > 0 ? act->range.lo : 0.5 * m.size;
-          sk.bodies[std::size_t(previous)].polylines.push_back({joint_point, joint_point + length * j.axis_in_body});
+          sk.bodies[std::size_t(previous)].polylines.push_back({joint_point, joint_point + length * j.axis_body_joint});
           sk.bodies[std::size_t(body)].polylines.push_back({Vector3d::Zero(), -length * step.axis});
         }
       }
@@ -393,19 +393,19 @@ class DescribedMechanism final : public Mechanism {
                                   kin_.model().legs[std::size_t(std::max(0, s.failing_leg))].name + ")");
     SkeletonPose p;
     const std::size_t bodies = std::size_t(platform_body_) + kin_.model().platform_names.size();
-    p.body_frames.assign(bodies, Eigen::Isometry3d::Identity());
+    p.X_world_body.assign(bodies, Eigen::Isometry3d::Identity());
     p.states.assign(bodies, BodyState::Normal);
     std::vector<Kinematics::LegDrawing> drawings;
     for (std::size_t leg = 0; leg < kin_.model().legs.size(); ++leg)
       drawings.push_back(kin_.draw_leg(int(leg), s.legs[leg].state));
     for (const LinkBody& lb : link_bodies_) {
-      p.body_frames[std::size_t(lb.body)] = drawings[std::size_t(lb.leg)].frames[std::size_t(lb.step)];
+      p.X_world_body[std::size_t(lb.body)] = drawings[std::size_t(lb.leg)].frames[std::size_t(lb.step)];
       if (ik && ik->failing_part == kin_.model().legs[std::size_t(lb.leg)].name)
         p.states[std::size_t(lb.body)] = BodyState::Failing;
     }
     const PlatformPose pose = kin_.pose(xm);
-    for (std::size_t b = 0; b < pose.bodies.size(); ++b) p.body_frames[std::size_t(platform_body_) + b] = pose.bodies[b];
-    p.endpoint = pose.p;
+    for (std::size_t b = 0; b < pose.bodies.size(); ++b) p.X_world_body[std::size_t(platform_body_) + b] = pose.bodies[b];
+    p.p_world_endpoint = pose.p;
     return p;
   }
 

@@ -153,8 +153,8 @@ class Parallel12rMechanism final : public Mechanism {
       j.name = d.name;
       j.type = JointType::Revolute;
       j.body = d.link_a - 1;
-      j.point_in_body = d.point_in_a;
-      j.axis_in_body = d.axis_in_a;
+      j.p_body_joint = d.point_in_a;
+      j.axis_body_joint = d.axis_in_a;
       j.actuated = d.name == "A" || d.name == "B" || d.name == "C";
       if (j.actuated) j.label = d.name;
       sk.joints.push_back(std::move(j));
@@ -166,9 +166,9 @@ class Parallel12rMechanism final : public Mechanism {
   SkeletonPose skeleton_pose(const VectorXd& q, const VectorXd&, const linkscape::IkResult*) const override {
     const Skeleton s = parallel12r::skeleton(model_, three(q, "q"));
     SkeletonPose p;
-    p.body_frames.assign(s.link_frames.begin(), s.link_frames.end());
+    p.X_world_body.assign(s.link_frames.begin(), s.link_frames.end());
     p.states.assign(kLinkCount, BodyState::Normal);
-    p.endpoint = s.endpoint;
+    p.p_world_endpoint = s.endpoint;
     return p;
   }
 

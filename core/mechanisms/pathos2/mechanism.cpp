@@ -267,7 +267,7 @@ class Pathos2Mechanism final : public Mechanism {
                                   " cannot reach (" + std::string(to_string(ik.status)) + ")");
     const Model& m = geometry_.model;
     SkeletonPose p;
-    p.body_frames.assign(kUpperPlate + 1, Eigen::Isometry3d::Identity());
+    p.X_world_body.assign(kUpperPlate + 1, Eigen::Isometry3d::Identity());
     p.states.assign(kUpperPlate + 1, BodyState::Normal);
     for (int leg = 0; leg < kLegCount; ++leg) {
       const LegSolution& s = ik.legs[leg];
@@ -278,13 +278,13 @@ class Pathos2Mechanism final : public Mechanism {
       const Matrix3d Rs[] = {R1, R2, R3};
       const Vector3d ps[] = {r1, r2, r3};
       for (int link = 0; link < 3; ++link) {
-        Eigen::Isometry3d& f = p.body_frames[link_body(leg, link)];
+        Eigen::Isometry3d& f = p.X_world_body[link_body(leg, link)];
         f.linear() = Rs[link];
         f.translation() = ps[link];
       }
     }
     for (int plate = 0; plate < 2; ++plate) {
-      Eigen::Isometry3d& f = p.body_frames[plate == 0 ? kLowerPlate : kUpperPlate];
+      Eigen::Isometry3d& f = p.X_world_body[plate == 0 ? kLowerPlate : kUpperPlate];
       f.linear() = pose.R_world_E;
       f.translation() = pose.p_world_E + pose.R_world_E * Vector3d(0, 0, (plate == 0 ? -1.0 : 1.0) * pose.h0);
     }
@@ -293,7 +293,7 @@ class Pathos2Mechanism final : public Mechanism {
       if (leg >= 0 && leg < kLegCount)
         for (int link = 0; link < 3; ++link) p.states[link_body(leg, link)] = BodyState::Failing;
     }
-    p.endpoint = pose.p_world_E;
+    p.p_world_endpoint = pose.p_world_E;
     return p;
   }
 

@@ -159,7 +159,7 @@ class MechanismWindowTest : public QObject {
       QVERIFY((w.mechanism().forward(w.actuators(), fo).x - w.task()).norm() < 1e-8);
       QVERIFY(actuators->text() != actuators_before);
       // The picture shows it: the drawn driven point is the task's.
-      QVERIFY((w.scene().pose().endpoint - w.endpoint()).norm() < 1e-9);
+      QVERIFY((w.scene().pose().p_world_endpoint - w.endpoint()).norm() < 1e-9);
       QVERIFY2(changed_fraction(before, frame(w)) > 0.002, device);
       // The slider moves it too.
       auto* slider = w.findChild<QSlider*>("xSlider");

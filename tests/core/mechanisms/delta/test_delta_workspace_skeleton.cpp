@@ -191,8 +191,8 @@ TEST(DeltaSkeleton, EveryJointClosesAtEveryPose) {
     EXPECT_LT((sk.p_base_platform - fk.p_base_platform).norm(), 1e-15 * m.size() + 1e-300);
     for (int j = 0; j < kJointCount; ++j) {
       const JointDefinition& d = joints[j];
-      const Eigen::Isometry3d& A = sk.body_frames[d.body_a];
-      const Eigen::Isometry3d& B = sk.body_frames[d.body_b];
+      const Eigen::Isometry3d& A = sk.X_world_body[d.body_a];
+      const Eigen::Isometry3d& B = sk.X_world_body[d.body_b];
       ASSERT_LT((A * d.point_in_a - B * d.point_in_b).norm(), 1e-12 * m.size()) << d.name;
       EXPECT_LT((sk.joint_positions[j] - A * d.point_in_a).norm(), 1e-12 * m.size());
       EXPECT_NEAR(sk.joint_axes[j].norm(), 1.0, 1e-12);
@@ -204,7 +204,7 @@ TEST(DeltaSkeleton, EveryJointClosesAtEveryPose) {
     }
     first = false;
     for (int b = 0; b < kBodyCount; ++b)
-      EXPECT_LT((sk.body_frames[b].linear().transpose() * sk.body_frames[b].linear() - Eigen::Matrix3d::Identity())
+      EXPECT_LT((sk.X_world_body[b].linear().transpose() * sk.X_world_body[b].linear() - Eigen::Matrix3d::Identity())
                     .norm(),
                 1e-12);
     for (int i = 0; i < kLegCount; ++i) {
