@@ -43,6 +43,9 @@ FieldStatus add_field_status(QMainWindow* window, VtkWidget* view, std::initiali
   window->statusBar()->addPermanentWidget(s.compute);
   window->statusBar()->addPermanentWidget(s.progress);
   window->statusBar()->addPermanentWidget(s.frame);
+  // Timings are for whoever tunes the program: shown from View > Show timings.
+  s.compute->setVisible(false);
+  s.frame->setVisible(false);
   QObject::connect(view, &VtkWidget::rendered, s.frame,
                    [label = s.frame](double ms) { label->setText(QObject::tr("frame %1 ms").arg(ms, 0, 'f', 1)); });
   // The bar shows only work that lasts (a job's first report starts the

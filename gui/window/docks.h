@@ -27,7 +27,8 @@ QDockWidget* add_dock(QMainWindow* window, const QString& title, const QString& 
 // when the user presses Run (keep it current with MethodsPanel::setMechanism).
 MethodsPanel* add_methods_dock(QMainWindow* window, const Preset& preset, QDockWidget* tab_with);
 
-// The status bar of a window with fields: compute time (set by the window),
+// The status bar of a window with fields: compute time (set by the window; it
+// and the frame time hidden until View > Show timings),
 // a progress bar fed by the runners and the frame time of the view.
 struct FieldStatus {
   QLabel* compute = nullptr;

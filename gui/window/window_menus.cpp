@@ -3,6 +3,7 @@
 #include <QAction>
 #include <QApplication>
 #include <QDockWidget>
+#include <QLabel>
 #include <QMainWindow>
 #include <QMenuBar>
 #include <QUndoStack>
@@ -84,6 +85,14 @@ void add_menus(QMainWindow* window, const MenuActions& actions) {
   exact->setObjectName("exactTransparencyAction");
   exact->setCheckable(true);
   QObject::connect(exact, &QAction::toggled, window, actions.exact_transparency);
+  // The status bar's compute and frame times (gui/window/docks.h), hidden by default.
+  QAction* timings = view->addAction(QObject::tr("Show &timings"));
+  timings->setObjectName("showTimingsAction");
+  timings->setCheckable(true);
+  QObject::connect(timings, &QAction::toggled, window, [window](bool on) {
+    for (const char* name : {"computeLabel", "frameLabel"})
+      if (auto* label = window->findChild<QLabel*>(name)) label->setVisible(on);
+  });
 
   QMenu* help = window->menuBar()->addMenu(QObject::tr("&Help"));
   add(help, QObject::tr("&Documentation"), QKeySequence(Qt::Key_F1), window, [window] { show_documentation(window); })

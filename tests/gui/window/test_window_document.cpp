@@ -274,6 +274,23 @@ class WindowDocumentTest : public QObject {
     action(w, "Reset &layout")->trigger();
     for (QDockWidget* dock : docks) QVERIFY(dock->isVisible());
   }
+
+  // The status bar is the user's: compute and frame times only from View > Show timings.
+  void timingsShowOnlyWhenAsked() {
+    MechanismWindow w(load_preset("parallel-12r"));
+    QVERIFY(show_settled(w));
+    auto* compute = w.findChild<QLabel*>("computeLabel");
+    auto* frame = w.findChild<QLabel*>("frameLabel");
+    QVERIFY(compute && frame);
+    QVERIFY(!compute->isVisible() && !frame->isVisible());
+    auto* timings = w.findChild<QAction*>("showTimingsAction");
+    QVERIFY(timings);
+    timings->trigger();
+    QVERIFY(compute->isVisible() && frame->isVisible());
+    QVERIFY(frame->text().contains("ms"));
+    timings->trigger();
+    QVERIFY(!compute->isVisible() && !frame->isVisible());
+  }
 };
 
 QTEST_MAIN(WindowDocumentTest)
