@@ -44,6 +44,8 @@ DrivePanel::DrivePanel(const MechanismInfo& info, QWidget* parent) : QWidget(par
   for (std::size_t k = 0; k < info.task.size(); ++k)
     task_controls_.push_back(make_control(task_group_, task_form, info.task[k],
                                           [this, k] { emit taskEdited(int(k), task_controls_[k]->value()); }));
+  // A planar device's z is its plane, not a freedom: no control for it.
+  planar_ = info.plane_z.has_value();
   column->addWidget(task_group_);
   const auto drags_pose = [this](const QuantityControl& c) {
     connect(c.slider, &QSlider::sliderPressed, this, [this] { emit sliderHeld(true); });
@@ -147,7 +149,8 @@ Drive DrivePanel::setDrive(Drive drive, const std::vector<std::string>& inputs) 
   // The panel that drives is shown; the other one's values are in the read-outs.
   bool any_task = false;
   for (const auto& c : task_controls_) {
-    const bool input = !fk || std::find(inputs.begin(), inputs.end(), c->quantity.name) != inputs.end();
+    const bool in_plane = !(planar_ && c->quantity.name == "z");
+    const bool input = in_plane && (!fk || std::find(inputs.begin(), inputs.end(), c->quantity.name) != inputs.end());
     c->set_enabled(input);
     any_task = any_task || input;
   }

@@ -58,6 +58,7 @@ class DrivePanel : public QWidget {
   void sliderHeld(bool held);
 
  private:
+  bool planar_ = false;  // the task's z is the device's plane: no slider for it
   std::vector<std::unique_ptr<QuantityControl>> task_controls_, actuator_controls_;
   QComboBox *drive_box_ = nullptr, *branch_box_ = nullptr;
   QGroupBox *task_group_ = nullptr, *actuator_group_ = nullptr;

@@ -10,6 +10,7 @@
 #include <QLabel>
 #include <QMenuBar>
 #include <QRegularExpression>
+#include <QSlider>
 #include <QTemporaryDir>
 #include <QUndoStack>
 #include <QWindow>
@@ -273,6 +274,24 @@ class WindowDocumentTest : public QObject {
     for (QDockWidget* dock : docks) dock->close();
     action(w, "Reset &layout")->trigger();
     for (QDockWidget* dock : docks) QVERIFY(dock->isVisible());
+  }
+
+  // A planar device's plane is not a freedom: the five-bar has x and y sliders, no z.
+  void aPlanarDeviceHasNoOutOfPlaneSlider() {
+    MechanismWindow w(load_preset("five-bar"));
+    w.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    for (const char* name : {"xSlider", "ySlider"}) {
+      auto* slider = w.findChild<QSlider*>(name);
+      QVERIFY2(slider && slider->isVisible(), name);
+    }
+    auto* z = w.findChild<QSlider*>("zSlider");
+    QVERIFY(z && !z->isVisible());
+    MechanismWindow spatial(load_preset("delta"));  // a spatial device keeps its z
+    spatial.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&spatial));
+    auto* delta_z = spatial.findChild<QSlider*>("zSlider");
+    QVERIFY(delta_z && delta_z->isVisible());
   }
 
   // The status bar is the user's: compute and frame times only from View > Show timings.
