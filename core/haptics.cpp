@@ -143,6 +143,15 @@ TorqueRating parse_torque_rating(const std::string& text) {
 
 const char* to_string(TorqueRating rating) { return rating == TorqueRating::Peak ? "peak" : "continuous"; }
 
+const std::vector<std::string>& length_units() {
+  static const std::vector<std::string> units{"mm", "cm", "m", "in"};
+  return units;
+}
+
+bool is_length_unit(const std::string& unit) {
+  return std::find(length_units().begin(), length_units().end(), unit) != length_units().end();
+}
+
 double metres_per(const std::string& length_unit) {
   if (length_unit == "m") return 1.0;
   if (length_unit == "cm") return 0.01;

@@ -58,6 +58,10 @@ enum class TorqueRating { Continuous, Peak };
 TorqueRating parse_torque_rating(const std::string& text);
 const char* to_string(TorqueRating rating);
 
+// The physical length units: mm, cm, m, in (what meshes may be written in).
+const std::vector<std::string>& length_units();
+bool is_length_unit(const std::string& unit);
+
 // Metres per unit of a preset length unit: m, cm, mm, in. Throws
 // std::invalid_argument for another (e.g. "unit": forces need a real length).
 double metres_per(const std::string& length_unit);

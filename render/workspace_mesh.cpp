@@ -442,9 +442,8 @@ namespace {
 vtkSmartPointer<vtkPolyData> in_unit(vtkPolyData* mesh, const std::string& field_unit, const std::string& unit) {
   vtkSmartPointer<vtkPolyData> out = mesh;
   if (unit == field_unit) return out;
-  const auto known = [](const std::string& u) { return u == "m" || u == "cm" || u == "mm" || u == "in"; };
-  if (!known(unit)) throw std::invalid_argument("mesh unit: expected mm, cm, m or in, got '" + unit + "'");
-  if (!known(field_unit))
+  if (!haptics::is_length_unit(unit)) throw std::invalid_argument("mesh unit: expected mm, cm, m or in, got '" + unit + "'");
+  if (!haptics::is_length_unit(field_unit))
     throw std::invalid_argument("mesh unit: the device's length unit '" + field_unit + "' has no conversion to " + unit);
   const double scale = haptics::metres_per(field_unit) / haptics::metres_per(unit);
   out = vtkSmartPointer<vtkPolyData>::New();

@@ -44,7 +44,7 @@ std::vector<std::string> completion_values(const std::string& option, const Devi
   } else if (name == "torque") {
     values = {"continuous", "peak"};
   } else if (name == "unit") {
-    values = {"mm", "cm", "m", "in"};
+    values = haptics::length_units();
   } else if (name == "plane") {
     values = {"x=", "y=", "z="};
   } else if (name == "surface" || name == "criterion") {

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "core/atomic_file.h"
+#include "core/haptics.h"
 #include "core/mechanisms/described/mjcf.h"
 #include "core/size_text.h"
 #include "gui/figures/slice_figure.h"
@@ -60,7 +61,8 @@ void export_surface_mesh(QWidget* parent, const Field* volume, vtkPolyData* reac
   }
   // CAD tools read bare numbers: the unit is the user's choice (the device's by default).
   QString unit = QString::fromStdString(volume->length_unit);
-  QStringList units{"mm", "cm", "m", "in"};
+  QStringList units;
+  for (const std::string& u : haptics::length_units()) units << QString::fromStdString(u);
   if (units.contains(unit)) {
     units.move(units.indexOf(unit), 0);
     bool ok = false;

@@ -65,7 +65,7 @@ void run_mesh(const MeshOptions& o, std::ostream& out) {
     throw std::invalid_argument("mesh: --output must end in .stl, .obj, .ply, .off or .vtp, got '" + o.output + "'");
   if (!(o.decimate >= 0) || !std::isfinite(o.decimate))
     throw std::invalid_argument("--decimate must be a finite number >= 0, got " + format_number(o.decimate));
-  if (!o.unit.empty() && o.unit != "mm" && o.unit != "cm" && o.unit != "m" && o.unit != "in")
+  if (!o.unit.empty() && !haptics::is_length_unit(o.unit))
     throw std::invalid_argument("mesh: --unit expects mm, cm, m or in, got '" + o.unit + "'");
   Sampling sampling = make_sampling(o.sampling, "mesh");
   render::SurfaceRequest request = parse_surface(o.surface, sampling.mechanism->info());
