@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "core/field.h"
+#include "core/mechanisms/described/mechanism.h"
 #include "tests/core/described/described_devices_support.h"
 
 namespace linkscape {
@@ -148,6 +149,17 @@ TEST_F(Haply2diy, TheFileStatesThePublishedGeometry) {
   EXPECT_EQ(g.L, 90);
   EXPECT_EQ(g.d, 38);
   EXPECT_EQ(load_preset("haply-2diy").length_unit, "mm");
+}
+
+// What `linkscape describe -m haply-2diy` prints of the legs and their bounds.
+TEST_F(Haply2diy, DescribeListsTheLegsTravelStopsAndArms) {
+  const std::string text = described::describe(load_preset("haply-2diy"));
+  for (const char* line : {"space: planar, size 179 mm\n", "branches: 1\n", "  leg left: planar-dyad\n",
+                           "    actuator q2 (revolute), travel 12 .. 168 deg\n",
+                           "    reach: 20 .. 160 mm from its base to its anchor\n",
+                           "    limit: joint elbow1: -170 .. -10 deg\n",
+                           "    link: arm2, radius 6 mm, length 70 mm\n"})
+    EXPECT_NE(text.find(line), std::string::npos) << line << " in\n" << text;
 }
 
 TEST_F(Haply2diy, InverseKinematicsMatchesTheClosedFormAndItsStops) {
