@@ -46,6 +46,7 @@ QDoubleSpinBox* length_box(QWidget* parent) {
   box->setDecimals(2);
   box->setSingleStep(0.5);
   box->setKeyboardTracking(false);
+  box->setMinimumWidth(56);  // three in a row (with their axis labels) fit a narrow dock
   return box;
 }
 

@@ -3,6 +3,7 @@
 // over its columns', the Task tab's centre boxes labelled with their axis
 // and unit, and the task's centre from the device's home point.
 // LINKSCAPE_SCREENSHOTS=<folder> saves the window at each, to look at.
+#include <QCheckBox>
 #include <QDockWidget>
 #include <QDoubleSpinBox>
 #include <QLabel>
@@ -104,7 +105,7 @@ class WindowReadoutsTest : public QObject {
   // against the determinant itself: the 12R scaled 10 times has det J
   // 10^p times larger at the same actuator angles, p the unit's power.
   void theDriveReadoutGivesDetJWithItsUnit() {
-    for (const std::string& name : {"parallel-12r", "delta", "five-bar", "linear-delta"}) {
+    for (const std::string name : {"parallel-12r", "delta", "five-bar", "linear-delta"}) {
       MechanismWindow w(load_preset(name));
       show(w);
       const MechanismInfo& info = w.mechanism().info();
@@ -160,10 +161,18 @@ class WindowReadoutsTest : public QObject {
     QVERIFY(region_labelled);
     // The centre from the home point, in the read-out.
     const Eigen::Vector3d home = w.mechanism().home_task().head<3>();
+    w.findChild<QCheckBox*>("taskShowBox")->setChecked(true);  // the read-outs follow a task shown
     w.taskPanel()->setCentre(home + Eigen::Vector3d(1, -2, 0.5));
     w.taskPanel()->evaluateNow();
     const QString text = w.taskPanel()->readout();
     QVERIFY2(text.contains("centre = home + (1, -2, 0.5) " + unit), qPrintable(text));
+    // Every box inside the dock at the window's width.
+    QWidget* dock = w.findChild<QDockWidget*>("taskDock")->widget();
+    for (const char axis : {'X', 'Y', 'Z'}) {
+      const QWidget* box = w.findChild<QDoubleSpinBox*>(QString("taskCentre%1").arg(axis));
+      QVERIFY(box->mapTo(dock, QPoint(box->width(), 0)).x() <= dock->width());
+    }
+    QTest::qWait(100);  // the read-out laid out
     window_checks::save_screenshot(w, "readouts-task-centre.png");
   }
 };
