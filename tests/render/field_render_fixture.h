@@ -43,11 +43,8 @@ inline Field ball_field(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, st
   f.grid.dims = dims;
   for (int a = 0; a < 3; ++a) f.grid.spacing[a] = (hi[a] - lo[a]) / dims[a];
   const std::size_t n = f.grid.size();
-  f.cond.resize(n);
-  f.reach_margin.resize(n);
-  f.residual.resize(n);
-  f.reachable.resize(n);
-  f.status.resize(n);
+  for (auto* a : {&f.cond, &f.reach_margin, &f.residual}) a->resize(n);
+  for (auto* a : {&f.reachable, &f.status}) a->resize(n);  // no method_used: "not recorded"
   f.iterations.resize(n);
   for (int k = 0; k < dims[2]; ++k)
     for (int j = 0; j < dims[1]; ++j)
