@@ -1,5 +1,7 @@
-// A saved exploration: mechanism, parameters, pose, camera and field
-// settings, as JSON. Everything the window needs to come back as it was.
+// A saved exploration: mechanism, parameters, pose, camera, field settings
+// (slice opacity included), the Task and Fit tabs (the Fit tab's last result
+// too) and the View menu's toggles, as JSON. Everything the window needs to
+// come back as it was.
 // Generic over devices: the pose is saved as the device's task coordinates
 // and actuator values by name (core/mechanism.h); older files with pose_rad
 // (the actuator values) or platform_pose (the task coordinates) still open.

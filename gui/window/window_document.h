@@ -8,7 +8,9 @@
 // Only valid input is kept: criteria the Task tab rejects stay in its box
 // but the document keeps the last valid ones; the Fit tab's settings are
 // part of the document (FitPanel::setting, which keeps the last valid Hold
-// equal groups).
+// equal groups and centre region). Its last result and the View menu's
+// toggles are saved with it and set again when a session opens
+// (apply_window_session), but make no undo step.
 #pragma once
 
 #include <QObject>
