@@ -1,6 +1,7 @@
 #include "render/field_vtk.h"
 
 #include "core/field_names.h"
+#include "core/status.h"
 
 #include <vtkErrorCode.h>
 #include <vtkDoubleArray.h>
@@ -108,6 +109,14 @@ void add_metadata(vtkFieldData* out, const Field& field) {
   const auto& d = field.grid.dims;
   // Not "resolution", the haptic array's name: one name, one meaning.
   add_numbers(out, "grid_samples", {double(d[0]), double(d[1]), double(d[2])});
+  // The coded arrays' legends, so a reader needs no manual to name a code.
+  add_string(out, "status_codes", status_codes());
+  if (!field.method_names.empty()) {
+    std::string codes;
+    for (std::size_t k = 0; k < field.method_names.size(); ++k)
+      codes += (k ? ", " : "") + std::to_string(k) + " " + field.method_names[k];
+    add_string(out, "method_used_codes", codes);
+  }
   for (const Field::NamedArray& a : field.extras) {
     add_string(out, (a.name + "_unit").c_str(), a.unit);
     add_string(out, (a.name + "_title").c_str(), a.title);

@@ -67,7 +67,8 @@ class FieldVtkCompression : public ::testing::TestWithParam<render::VtiCompressi
 
 TEST_P(FieldVtkCompression, VtiRoundTripCarriesArraysAndMetadata) {
   Folder dir;
-  const Field f = cube_ball(12);
+  Field f = cube_ball(12);
+  f.method_names = {"closed", "newton"};
   render::write_vti(f, dir / "field.vti", GetParam());
   vtkNew<vtkXMLImageDataReader> reader;
   reader->SetFileName((dir / "field.vti").c_str());
@@ -116,6 +117,8 @@ TEST_P(FieldVtkCompression, VtiRoundTripCarriesArraysAndMetadata) {
   EXPECT_EQ(number_of(fd, "grid_samples", 0), 12);
   EXPECT_EQ(number_of(fd, "grid_samples", 2), 12);
   EXPECT_EQ(fd->GetArray("resolution"), nullptr);  // the haptic array's name is not reused
+  EXPECT_EQ(string_of(fd, "status_codes"), "0 ok, 1 unreachable, 2 singular, 3 not-converged, 4 out-of-limits");
+  EXPECT_EQ(string_of(fd, "method_used_codes"), "0 closed, 1 newton");
   EXPECT_EQ(dir.names(), std::vector<std::string>{"field.vti"});
 }
 
