@@ -105,13 +105,24 @@ struct Result {
   bool box_limit = false;       // open boxes left when a generation outgrew Options::max_open_boxes
   double seconds = 0;
   std::vector<Box> proved_boxes, undecided_boxes;  // with Options::keep_boxes
+  // What the device states that the verdict does not cover (a described
+  // device's passive-joint limits, link interference): the verdict is about
+  // the device without them. Empty: it covers everything the device checks.
+  std::string not_covered;
+  // Where not_covered is set: the device's own evaluation (with them) at the
+  // counterexample search's samples of the task, not certified: how many
+  // assemble but are stopped by them, and the first such sample's words.
+  int stop_samples = 0, stop_failures = 0;
+  std::string stop_example;
 };
 
 // Proves or disproves that every point of `task` (with its centre) meets
 // every criterion on the preset's device in the IK branch `branch`.
-// Certifiable: the devices parallel-12r and delta; the criteria reach,
+// Certifiable: the devices parallel-12r and delta, with the criteria reach,
 // cond<T (the device's first measure), force_iso>F and resolution<R (with
-// the preset's actuator data). Throws Uncertifiable for others,
+// the preset's actuator data); described devices whose legs are all
+// crank-rod, slide-rod or extensible (legs.h), with reach and cond<T, their
+// passive-joint limits and link interference not covered (Result::not_covered). Throws Uncertifiable for others,
 // std::invalid_argument for bad input (a task without a centre, an unknown
 // or malformed criterion, a branch the device does not have, a depth
 // outside 1..200, threads < 0).
