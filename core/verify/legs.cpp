@@ -4,6 +4,8 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <array>
+#include <functional>
+#include <nlohmann/json.hpp>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -449,6 +451,25 @@ LegGeometry leg_geometry(const described::Kinematics& kin, int leg, const descri
 }
 
 }  // namespace
+
+Preset without_stops(const Preset& preset) {
+  nlohmann::json description = nlohmann::json::parse(preset.description);
+  // A passive joint's range_deg, ranges_deg or cone, and a link's radius and name.
+  const std::function<void(nlohmann::json&)> strip = [&](nlohmann::json& j) {
+    if (j.is_object()) {
+      if (j.contains("joint") && !j.value("actuated", false))
+        for (const char* key : {"range_deg", "ranges_deg", "cone"}) j.erase(key);
+      if (j.contains("translate"))
+        for (const char* key : {"radius", "link"}) j.erase(key);
+    }
+    if (j.is_structured())
+      for (nlohmann::json& child : j) strip(child);
+  };
+  strip(description);
+  Preset out = preset;
+  out.description = description.dump();
+  return out;
+}
 
 std::shared_ptr<const LegsCertifier> LegsCertifier::from_preset(const Preset& preset, int branch) {
   const std::string device = preset.source.empty() ? std::string(described::kMechanismName) : preset.source.stem().string();

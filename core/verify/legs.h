@@ -24,6 +24,10 @@
 
 namespace linkscape::verify {
 
+// The preset with its passive-joint limits and its links' radii removed:
+// the device the verdict is about, which confirms counterexamples.
+Preset without_stops(const Preset& preset);
+
 class LegsCertifier {
  public:
   // Throws Uncertifiable naming the legs (and their patterns) or the

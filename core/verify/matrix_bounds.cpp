@@ -74,15 +74,18 @@ SpectrumBounds spectrum_bounds(const MatrixXd& A_given) {
   };
   SpectrumBounds b;
   // mu I - G positive definite: every eigenvalue below mu; G - nu I: above nu.
+  // Each shift relative to the eigenvalue and, for the rounding of G's
+  // entries (about n eps |G|), absolute: first tight, then looser.
+  const double rounding = double(n) * 0x1p-52 * G_mid.cwiseAbs().maxCoeff();
   for (double slack : {1e-9, 1e-6, 1e-3}) {
-    const double mu = values(n - 1) * (1 + slack) + kTiny;
+    const double mu = values(n - 1) * (1 + slack) + 1e3 * slack * rounding + kTiny;
     if (certainly_positive_definite(shifted(mu, -1.0))) {
       b.largest_upper = up(std::sqrt(up(mu)));
       break;
     }
   }
   for (double slack : {1e-9, 1e-6, 1e-3}) {
-    const double nu = values(0) * (1 - slack);
+    const double nu = values(0) * (1 - slack) - 1e3 * slack * rounding;
     if (nu > 0 && certainly_positive_definite(shifted(nu, 1.0))) {
       b.smallest_lower = down(std::sqrt(down(nu)));
       break;

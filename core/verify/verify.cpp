@@ -412,6 +412,11 @@ Result verify(const Preset& preset, const task::TaskVolume& task, const std::vec
   const TaskGeometry geometry{task, *task.centre};
   result.task_volume = task.volume();
 
+  // The device the verdict is about: a described device's stops removed.
+  task::Device evaluated = device;
+  if (certifier.legs && !certifier.legs->not_covered().empty())
+    evaluated.mechanism = make_mechanism(without_stops(preset));
+
   // A certain failure there, confirmed in long double and by the device itself.
   const std::function<std::optional<Counterexample>(const Vector3d&)> confirm =
       [&](const Vector3d& p) -> std::optional<Counterexample> {
@@ -420,7 +425,7 @@ Result verify(const Preset& preset, const task::TaskVolume& task, const std::vec
     if (!failure) return std::nullopt;
     long double reference = 0;
     if (!reference_fails(certifier, *failure, p, reference)) return std::nullopt;  // the evaluations disagree: no claim
-    const task::PointValues device_values = task::evaluate_point(device, resolved, p);
+    const task::PointValues device_values = task::evaluate_point(evaluated, resolved, p);
     if (device_values.meets) return std::nullopt;
     const int k = failing_criterion(criteria, certifier, *failure);
     Counterexample ce;
