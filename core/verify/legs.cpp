@@ -491,8 +491,8 @@ std::shared_ptr<const LegsCertifier> LegsCertifier::from_preset(const Preset& pr
       blocked += (blocked.empty() ? "" : ", ") + model.legs[i].label() + " (" + described::pattern_name(p) + ")";
   }
   if (!blocked.empty())
-    throw Uncertifiable(refused + "its legs " + blocked +
-                        " are not of a certified pattern (certified: crank-rod, slide-rod and extensible legs)");
+    throw Uncertifiable(refused + "not every leg is of a certified pattern: " + blocked +
+                        " (certified: crank-rod, slide-rod and extensible legs)");
   if (int(model.actuators.size()) != model.driven() || model.legs.size() != model.actuators.size())
     throw Uncertifiable(refused + "it does not have one actuator per leg and per driven task coordinate");
   if (branch < 0 || branch >= kin.branches())
