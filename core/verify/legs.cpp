@@ -325,14 +325,16 @@ F measure_of(const Model& m, const std::vector<F>& flat) {
   return condition(Jp);
 }
 
-// Bounds on the measure for every M within spectral distance r of M_c:
-// [lower, upper] (lower 0, upper +inf where the enclosure cannot tell).
+// Bounds on the measure for every M whose entries are within `deviation`
+// (magnitudes) of M_c's: [lower, upper] (lower 0, upper +inf where the
+// enclosure cannot tell).
 struct MeasureBounds {
   double lower = 0, upper = kInf;
   double condition_M = kInf;  // an upper bound on c(M)
 };
-MeasureBounds measure_bounds(const Model& m, const MatrixXd& M_c, double r) {
+MeasureBounds measure_bounds(const Model& m, const MatrixXd& M_c, const MatrixXd& deviation) {
   MeasureBounds out;
+  const double r = spectral_norm_bound(deviation);
   const SpectrumBounds s = spectrum_bounds(M_c);
   const double smallest = down(s.smallest_lower - r);
   if (smallest > 0) out.condition_M = up(up(s.largest_upper + r) / smallest);
@@ -345,14 +347,26 @@ MeasureBounds measure_bounds(const Model& m, const MatrixXd& M_c, double r) {
     ratio_bounds(s, r);
     return out;
   }
-  // J(p) - X = M(p)^-1 (I - M(p) X) for X ~ M_c^-1: its norm is at most
-  // (|I - M_c X| + r |X|) / sigma_min(M(p)), and sigma_min(M(p)) >= smallest.
+  // With X ~ M_c^-1 and rho >= |I - M(p) X| (|I - M_c X| plus |M(p) - M_c| |X|
+  // entry by entry): J(p) - X = M(p)^-1 (I - M(p) X) has norm at most
+  // rho / sigma_min(M(p)), and its translational rows Jp(p) - Xp =
+  // Jp(p) (I - M(p) X) at most sigma_1(Xp) rho / (1 - rho).
   if (!(smallest > 0)) return out;
   const MatrixXd X = M_c.fullPivLu().inverse();
-  const double spread = up(up(inverse_residual_bound(M_c, X) + up(r * spectral_norm_bound(X.cwiseAbs()))) / smallest);
+  MatrixXd spread_of_product(m.n, m.n);
+  for (int i = 0; i < m.n; ++i)
+    for (int j = 0; j < m.n; ++j) {
+      Interval sum(0.0);
+      for (int k = 0; k < m.n; ++k) sum += Interval(deviation(i, k)) * Interval(std::abs(X(k, j)));
+      spread_of_product(i, j) = sum.hi;
+    }
+  const double rho = up(inverse_residual_bound(M_c, X) + spectral_norm_bound(spread_of_product));
   MatrixXd Xp(Eigen::Index(m.translation_rows.size()), m.n);
   for (std::size_t k = 0; k < m.translation_rows.size(); ++k) Xp.row(Eigen::Index(k)) = X.row(m.translation_rows[k]);
-  ratio_bounds(spectrum_bounds(Xp), spread);
+  const SpectrumBounds sp = spectrum_bounds(Xp);
+  double spread = up(rho / smallest);
+  if (rho < 1) spread = std::min(spread, up(up(sp.largest_upper * rho) / down(1 - rho)));
+  ratio_bounds(sp, spread);
   return out;
 }
 
@@ -549,7 +563,7 @@ std::optional<double> LegsCertifier::condition_bound(const Vector3d& lo, const V
       for (int a = 0; a < 3; ++a) mean_value += box.M[k].d[a] * Interval(-half_width[a], half_width[a]);
       deviation(i, j) = intersect(box.M[k].v - Interval(M_c(i, j)), mean_value).mag();
     }
-  const MeasureBounds b = measure_bounds(m, M_c, spectral_norm_bound(deviation));
+  const MeasureBounds b = measure_bounds(m, M_c, deviation);
   if (!(b.upper < bound)) return std::nullopt;
   // Away from where the device's estimate of c(Jx) calls the pose singular.
   double held_most = 0, held_least = kInf;
@@ -576,7 +590,7 @@ std::optional<LegsCertifier::Failure> LegsCertifier::certain_failure(const Vecto
       const Interval& e = at.M[std::size_t(i * m.n + j)];
       mid(i, j) = e.mid(), radius(i, j) = e.rad();
     }
-  const double lower = measure_bounds(m, mid, spectral_norm_bound(radius)).lower;
+  const double lower = measure_bounds(m, mid, radius).lower;
   if (!(lower >= bound)) return std::nullopt;
   std::ostringstream reason;
   reason.precision(6);

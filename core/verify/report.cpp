@@ -102,10 +102,11 @@ void write_report(std::ostream& out, const Result& r) {
   }
   if (!r.not_covered.empty()) {
     out << "  not covered: " << r.not_covered << " (the verdict is about the device without them)\n";
-    out << "    the device's own evaluation with them, not certified: ";
-    if (r.stop_failures == 0) out << "they stop none of " << r.stop_samples << " samples of the task\n";
-    else
-      out << "they stop " << r.stop_failures << " of " << r.stop_samples << " samples of the task, e.g. at "
+    const std::string sampled = "    the device's own evaluation with them, not certified: ";
+    if (r.stop_samples > 0 && r.stop_failures == 0)
+      out << sampled << "they stop none of " << r.stop_samples << " samples of the task\n";
+    else if (r.stop_failures > 0)
+      out << sampled << "they stop " << r.stop_failures << " of " << r.stop_samples << " samples of the task, e.g. at "
           << r.stop_example << "\n";
   }
   out << "  " << r.boxes << " boxes, " << r.deepest << " bisections deep, " << short_number(r.seconds) << " s\n";

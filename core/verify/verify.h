@@ -74,8 +74,10 @@ struct Counterexample {
   // The failing measure there: a certified bound (interval arithmetic; at
   // least it for c(J) and resolution, at most it for force_iso), an
   // independent evaluation in long double (the paper's angles and J for the
-  // 12R, the tangent half-angle leg solution for the Delta), and the
-  // device's own evaluation through the mechanism interface. Out of reach
+  // 12R, the tangent half-angle leg solution for the Delta; for a described
+  // device its legs' closed forms in long double), and the device's own
+  // evaluation through the mechanism interface (a described device without
+  // its stops: what the verdict is about). Out of reach
   // or singular: bound +inf, and the values are the measure's failing
   // extreme (c(J) +inf) or the device's reach margin.
   double bound = 0;
