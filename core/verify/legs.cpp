@@ -40,6 +40,9 @@ constexpr double kTravelMargin = 1e-12;       // of the size: a slide's travel
 
 enum class Tri { Yes, No, Maybe };
 
+// The enclosure sign and travel tests read. A point's value is its own
+// (long double rounded to double: only the reference evaluation uses it,
+// which decides nothing a proof rests on).
 Interval enclosure(const Interval& v) { return v; }
 Interval enclosure(const Dual& v) { return v.v; }
 Interval enclosure(double v) { return Interval(v); }
@@ -567,7 +570,10 @@ std::optional<double> LegsCertifier::condition_bound(const Vector3d& lo, const V
   if (!(b.upper < bound)) return std::nullopt;
   // Away from where the device's estimate of c(Jx) calls the pose singular.
   double held_most = 0, held_least = kInf;
-  for (const Dual& jq : box.jq) held_most = std::max(held_most, jq.v.mag()), held_least = std::min(held_least, std::min(std::abs(jq.v.lo), std::abs(jq.v.hi)));
+  for (const Dual& jq : box.jq) {  // each certainly away from 0 (the kernel checked)
+    held_most = std::max(held_most, jq.v.mag());
+    held_least = std::min({held_least, std::abs(jq.v.lo), std::abs(jq.v.hi)});
+  }
   const double jq_condition = up(held_most / held_least);
   if (!(up(up(double(m.n) * jq_condition) * b.condition_M) < kJxConditionBound)) return std::nullopt;
   return b.upper;
