@@ -11,6 +11,8 @@
 #include "core/conditioning.h"
 #include "core/mechanisms/delta/delta.h"
 #include "core/mechanisms/parallel12r/mechanism.h"
+#include "core/mechanisms/described/mechanism.h"
+#include "core/verify/legs.h"
 #include "core/verify/verify.h"
 
 namespace linkscape::verify {
@@ -50,6 +52,8 @@ std::vector<double> turns(bool wraps, const Interval& a, const Range& range) {
   return {base - 2 * kPi, base, base + 2 * kPi};
 }
 
+}  // namespace
+
 bool certainly_within(Interval c, Interval s, const Range& range, bool wraps) {
   const std::optional<Interval> a = angle_enclosure(c, s);
   if (!a) return false;
@@ -67,6 +71,8 @@ bool certainly_outside(Interval c, Interval s, const Range& range, bool wraps) {
     if (a->hi + shift >= range.lo - kAngleMargin && a->lo + shift <= range.hi + kAngleMargin) return false;
   return true;
 }
+
+namespace {
 
 // Whether no range cuts the workspace: each holds `full` (or, where angles
 // wrap, spans a whole turn).
@@ -284,12 +290,19 @@ Certifier Certifier::from_preset(const Preset& preset, int branch, double cond_b
     c.check_ranges = !full_turns(c.ranges, {Range{-kPi, kPi}, Range{-kPi, kPi}, Range{-kPi, kPi}}, true);
     return c;
   }
+  if (preset.mechanism == described::kMechanismName) {
+    c.device = Device::Described;
+    c.legs = LegsCertifier::from_preset(preset, branch);
+    return c;
+  }
   throw Uncertifiable("verify: '" + preset.mechanism +
                       "' cannot be certified (certified checks need closed-form kinematics written for interval "
-                      "arithmetic; they exist for parallel-12r and delta)");
+                      "arithmetic; they exist for parallel-12r, delta and described devices whose legs are "
+                      "crank-rod, slide-rod or extensible)");
 }
 
 std::optional<double> Certifier::condition_bound(const Vector3d& lo, const Vector3d& hi) const {
+  if (legs) return legs->condition_bound(lo, hi, cond_bound);
   const KernelResult<Dual> box = kernel(Dual::variable({lo.x(), hi.x()}, 0), Dual::variable({lo.y(), hi.y()}, 1),
                                         Dual::variable({lo.z(), hi.z()}, 2));
   if (box.failure != KernelFailure::None) return std::nullopt;
@@ -326,6 +339,11 @@ std::optional<double> Certifier::condition_bound(const Vector3d& lo, const Vecto
 }
 
 std::optional<Certifier::PointFailure> Certifier::certain_failure(const Vector3d& p) const {
+  if (legs) {
+    const std::optional<LegsCertifier::Failure> f = legs->certain_failure(p, cond_bound);
+    if (!f) return std::nullopt;
+    return PointFailure{-1, f->value, f->reason};
+  }
   if (device == Device::Parallel12r && p.y() == 0.0) return PointFailure{-1, kInf, "on the actuator plane y = 0 (singular)"};
   const KernelResult<Interval> at = kernel(Interval(p.x()), Interval(p.y()), Interval(p.z()));
   if (at.failure == KernelFailure::Unreachable) return PointFailure{-1, kInf, "out of reach"};
@@ -354,6 +372,7 @@ std::optional<Certifier::PointFailure> Certifier::certain_failure(const Vector3d
 }
 
 double Certifier::badness(const Vector3d& p) const {
+  if (legs) return legs->badness(p, cond_bound);
   const KernelResult<double> at = kernel(p.x(), p.y(), p.z());
   if (at.failure != KernelFailure::None) return kInf;
   if (check_ranges)

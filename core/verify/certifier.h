@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -15,12 +16,21 @@
 
 namespace linkscape::verify {
 
-enum class Device { Parallel12r, Delta };
+class LegsCertifier;  // legs.h
+
+enum class Device { Parallel12r, Delta, Described };
+
+// Whether every angle atan2(s, c) of the enclosures is certainly within a
+// range of actuator angles (rad), or certainly outside it; `wraps`: an angle
+// counts as inside if some q + 2 pi k is.
+bool certainly_within(Interval c, Interval s, const Range& range, bool wraps);
+bool certainly_outside(Interval c, Interval s, const Range& range, bool wraps);
 
 struct Certifier {
   Device device = Device::Parallel12r;
   double L1 = 0, L2 = 0;  // 12R
   DeltaGeometry delta;    // Delta
+  std::shared_ptr<const LegsCertifier> legs;  // Described (legs.h)
   int branch = 0;
   // Actuator ranges (rad) checked on the solution, when some range cuts the
   // workspace; `wraps`: an angle counts as inside if some q + 2 pi k is (Delta).
@@ -43,7 +53,8 @@ struct Certifier {
   };
   std::vector<ColumnCriterion> columns;
 
-  // From a parallel-12r or delta preset; throws Uncertifiable otherwise and
+  // From a parallel-12r, delta or described preset (legs.h says which
+  // described devices); throws Uncertifiable otherwise and
   // std::invalid_argument for a branch the device does not have.
   static Certifier from_preset(const Preset& preset, int branch, double cond_bound);
 
@@ -79,7 +90,8 @@ struct Certifier {
 // J at p evaluated independently of the kernels, in long double: the 12R's
 // planar angles and the paper's J (Eqs. 11-13); the Delta's tangent
 // half-angle leg solution and J = -Jx^-1 Jq. nullopt where the point is out
-// of reach (or the ranges) or J is singular.
+// of reach (or the ranges) or J is singular, and for described devices,
+// whose reference is their measure in long double (LegsCertifier).
 std::optional<Eigen::Matrix<long double, 3, 3>> reference_jacobian(const Certifier& certifier, const Eigen::Vector3d& p);
 // From it: c(J) (by an SVD; +inf without J), and a column criterion's measure
 // (force_iso 0, resolution +inf without J).

@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "core/verify/certifier.h"
+#include "core/verify/legs.h"
 
 namespace linkscape::verify {
 namespace {
@@ -88,11 +89,13 @@ std::optional<Matrix3L> jacobian_delta(const Certifier& c, const Vector3L& p) {
 }  // namespace
 
 std::optional<Matrix3L> reference_jacobian(const Certifier& certifier, const Eigen::Vector3d& p) {
+  if (certifier.legs) return std::nullopt;  // a described device: reference_condition alone
   const Vector3L pl = p.cast<LD>();
   return certifier.device == Device::Parallel12r ? jacobian_12r(certifier, pl) : jacobian_delta(certifier, pl);
 }
 
 long double reference_condition(const Certifier& certifier, const Eigen::Vector3d& p) {
+  if (certifier.legs) return certifier.legs->reference_measure(p);
   const std::optional<Matrix3L> J = reference_jacobian(certifier, p);
   if (!J) return kInfL;
   const Vector3L s = Eigen::JacobiSVD<Matrix3L>(*J).singularValues();

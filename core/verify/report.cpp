@@ -67,6 +67,11 @@ json result_json(const Result& r) {
             {"timed_out", r.timed_out},
             {"box_limit", r.box_limit},
             {"seconds", r.seconds}};
+  if (!r.not_covered.empty())
+    j["not_covered"] = {{"what", r.not_covered},
+                        {"samples", r.stop_samples},
+                        {"stopped", r.stop_failures},
+                        {"example", r.stop_example}};
   return j;
 }
 
@@ -94,6 +99,15 @@ void write_report(std::ostream& out, const Result& r) {
           << " % of the task's volume is not proved ("
           << (r.timed_out ? "time limit reached" : r.box_limit ? "too many open boxes" : "depth limit reached") << ")\n";
       break;
+  }
+  if (!r.not_covered.empty()) {
+    out << "  not covered: " << r.not_covered << " (the verdict is about the device without them)\n";
+    const std::string sampled = "    the device's own evaluation with them, not certified: ";
+    if (r.stop_samples > 0 && r.stop_failures == 0)
+      out << sampled << "they stop none of " << r.stop_samples << " samples of the task\n";
+    else if (r.stop_failures > 0)
+      out << sampled << "they stop " << r.stop_failures << " of " << r.stop_samples << " samples of the task, e.g. at "
+          << r.stop_example << "\n";
   }
   out << "  " << r.boxes << " boxes, " << r.deepest << " bisections deep, " << short_number(r.seconds) << " s\n";
 }

@@ -11,7 +11,9 @@
 #include <numbers>
 #include <sstream>
 
+#include "core/mechanisms/described/mechanism.h"
 #include "core/verify/certifier.h"
+#include "core/verify/legs.h"
 
 namespace linkscape::verify {
 namespace {
@@ -291,6 +293,9 @@ Certifier certifier_for(const Preset& preset, const task::Device& device, const 
   for (const task::Criterion& given : criteria) {
     const task::Criterion c = task::resolve(given, info, device.data ? &*device.data : nullptr);
     if (c.reach()) continue;
+    if ((c.measure == "force_iso" || c.measure == "resolution") && preset.mechanism == described::kMechanismName)
+      throw Uncertifiable("verify: criterion '" + c.text + "' cannot be certified on a described device (reach and " +
+                          info.measures.front().name + "<T can)");
     if (c.measure == "force_iso" || c.measure == "resolution") {
       Certifier::ColumnCriterion column{c.text, c.measure == "force_iso", c.threshold, {}};
       for (std::size_t i = 0; i < 3; ++i) {
@@ -339,6 +344,25 @@ bool reference_fails(const Certifier& certifier, const Certifier::PointFailure& 
   return c.force ? value <= c.threshold : value >= c.threshold;
 }
 
+// The device's own evaluation, stops included, at the search's samples:
+// how many assemble on the branch but are stopped by a passive joint or
+// two links (not certified; the verdict does not cover them).
+void sample_stops(const Mechanism& mechanism, const task::Device& device, const std::vector<Vector3d>& points,
+                  Result& result) {
+  result.stop_samples = int(points.size());
+  for (const Vector3d& p : points) {
+    Eigen::VectorXd x = device.fixed_task;
+    x.head<3>() = p;
+    const IkResult ik = mechanism.inverse(x, device.ik);
+    if (ik.status != Status::OutOfLimits || ik.status_text.empty()) continue;
+    if (result.stop_failures++ == 0) {
+      std::ostringstream example;
+      example << "(" << p.x() << ", " << p.y() << ", " << p.z() << "): " << ik.status_text;
+      result.stop_example = example.str();
+    }
+  }
+}
+
 }  // namespace
 
 std::string_view to_string(Verdict verdict) {
@@ -381,12 +405,17 @@ Result verify(const Preset& preset, const task::TaskVolume& task, const std::vec
   const std::vector<task::Criterion> resolved = task::resolve(device, criteria);
 
   Result result;
-  result.mechanism = preset.mechanism;
+  result.mechanism = mechanism->info().name;  // a described device by its file's name
   result.parameters = mechanism->parameters();
   result.task = task::to_text(task);
   for (const task::Criterion& c : criteria) result.criteria.push_back(c.text);
   const TaskGeometry geometry{task, *task.centre};
   result.task_volume = task.volume();
+
+  // The device the verdict is about: a described device's stops removed.
+  task::Device evaluated = device;
+  if (certifier.legs && !certifier.legs->not_covered().empty())
+    evaluated.mechanism = make_mechanism(without_stops(preset));
 
   // A certain failure there, confirmed in long double and by the device itself.
   const std::function<std::optional<Counterexample>(const Vector3d&)> confirm =
@@ -396,7 +425,7 @@ Result verify(const Preset& preset, const task::TaskVolume& task, const std::vec
     if (!failure) return std::nullopt;
     long double reference = 0;
     if (!reference_fails(certifier, *failure, p, reference)) return std::nullopt;  // the evaluations disagree: no claim
-    const task::PointValues device_values = task::evaluate_point(device, resolved, p);
+    const task::PointValues device_values = task::evaluate_point(evaluated, resolved, p);
     if (device_values.meets) return std::nullopt;
     const int k = failing_criterion(criteria, certifier, *failure);
     Counterexample ce;
@@ -433,6 +462,10 @@ Result verify(const Preset& preset, const task::TaskVolume& task, const std::vec
         std::chrono::duration<double>(std::clamp(options.time_limit_seconds, 0.0, 1e9)));
     Search search{certifier, geometry, options, confirm, start + limit, options.time_limit_seconds > 0, result};
     search.run();
+  }
+  if (certifier.legs && !certifier.legs->not_covered().empty()) {
+    result.not_covered = certifier.legs->not_covered();
+    sample_stops(*mechanism, device, points, result);
   }
   if (result.counterexample) {
     result.verdict = Verdict::Disproved;

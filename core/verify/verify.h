@@ -74,8 +74,10 @@ struct Counterexample {
   // The failing measure there: a certified bound (interval arithmetic; at
   // least it for c(J) and resolution, at most it for force_iso), an
   // independent evaluation in long double (the paper's angles and J for the
-  // 12R, the tangent half-angle leg solution for the Delta), and the
-  // device's own evaluation through the mechanism interface. Out of reach
+  // 12R, the tangent half-angle leg solution for the Delta; for a described
+  // device its legs' closed forms in long double), and the device's own
+  // evaluation through the mechanism interface (a described device without
+  // its stops: what the verdict is about). Out of reach
   // or singular: bound +inf, and the values are the measure's failing
   // extreme (c(J) +inf) or the device's reach margin.
   double bound = 0;
@@ -105,13 +107,24 @@ struct Result {
   bool box_limit = false;       // open boxes left when a generation outgrew Options::max_open_boxes
   double seconds = 0;
   std::vector<Box> proved_boxes, undecided_boxes;  // with Options::keep_boxes
+  // What the device states that the verdict does not cover (a described
+  // device's passive-joint limits, link interference): the verdict is about
+  // the device without them. Empty: it covers everything the device checks.
+  std::string not_covered;
+  // Where not_covered is set: the device's own evaluation (with them) at the
+  // counterexample search's samples of the task, not certified: how many
+  // assemble but are stopped by them, and the first such sample's words.
+  int stop_samples = 0, stop_failures = 0;
+  std::string stop_example;
 };
 
 // Proves or disproves that every point of `task` (with its centre) meets
 // every criterion on the preset's device in the IK branch `branch`.
-// Certifiable: the devices parallel-12r and delta; the criteria reach,
+// Certifiable: the devices parallel-12r and delta, with the criteria reach,
 // cond<T (the device's first measure), force_iso>F and resolution<R (with
-// the preset's actuator data). Throws Uncertifiable for others,
+// the preset's actuator data); described devices whose legs are all
+// crank-rod, slide-rod or extensible (legs.h), with reach and cond<T, their
+// passive-joint limits and link interference not covered (Result::not_covered). Throws Uncertifiable for others,
 // std::invalid_argument for bad input (a task without a centre, an unknown
 // or malformed criterion, a branch the device does not have, a depth
 // outside 1..200, threads < 0).

@@ -258,7 +258,7 @@ TEST(VerifyCertifier, CertainFailuresFailForTheDeviceAndInLongDouble) {
 }
 
 TEST(VerifyCertifier, OtherDevicesCannotBeCertified) {
-  for (const char* name : {"pathos2", "five-bar", "delta-described"})
+  for (const char* name : {"pathos2", "five-bar", "pathos2-described"})
     EXPECT_THROW(Certifier::from_preset(load_preset(name), 0, 3), Uncertifiable) << name;
   EXPECT_THROW(Certifier::from_preset(load_preset("parallel-12r"), 2, 3), std::invalid_argument);
   EXPECT_THROW(Certifier::from_preset(load_preset("delta"), 8, 3), std::invalid_argument);

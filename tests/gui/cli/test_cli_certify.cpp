@@ -59,6 +59,38 @@ TEST(CliVerify, BadInputAndWhatCannotBeCertifiedExitTwo) {
   }
 }
 
+// A described device whose legs are closed forms: each verdict with its exit
+// status, the stops it does not cover named, and the devices it cannot
+// certify refused naming their legs.
+TEST(CliVerify, DescribedDevicesWithClosedFormLegsHaveTheThreeVerdicts) {
+  const std::string delta = "verify -m delta-described --task sphere:diameter=5,centre=0,0,-20 --criterion ";
+  const CommandResult proved = run_linkscape(delta + "'cond<5'");
+  EXPECT_EQ(proved.exit_code, 0) << proved.out;
+  EXPECT_NE(proved.out.find("proved: every point"), std::string::npos) << proved.out;
+  EXPECT_NE(proved.out.find("not covered: its passive-joint limits"), std::string::npos) << proved.out;
+  const CommandResult disproved = run_linkscape(delta + "'cond<1.5'");
+  EXPECT_EQ(disproved.exit_code, 3) << disproved.out;
+  EXPECT_NE(disproved.out.find("c(J) >="), std::string::npos) << disproved.out;
+  const CommandResult undecided = run_linkscape(delta + "'cond<3' --depth 2");
+  EXPECT_EQ(undecided.exit_code, 4) << undecided.out;
+  EXPECT_NE(undecided.out.find("undecided"), std::string::npos) << undecided.out;
+  const CommandResult hexapod = run_linkscape(
+      "verify -m hexapod-rus --task sphere:diameter=1,centre=0,0,11.1 --criterion 'cond<5' --json", "", "2>/dev/null");
+  ASSERT_EQ(hexapod.exit_code, 0) << hexapod.out;
+  const nlohmann::json j = nlohmann::json::parse(hexapod.out);
+  EXPECT_EQ(j.at("verdict"), "proved");
+  EXPECT_EQ(j.at("mechanism"), "hexapod-rus");
+  EXPECT_FALSE(j.contains("not_covered"));
+  for (const auto& [args, words] : {std::pair<std::string, std::string>{"-m pathos2-described --task "
+                                                                        "sphere:diameter=2,centre=0,0,22",
+                                                                        "leg 1 (three-revolute)"},
+                                    {"-m five-bar --task sphere:diameter=2,centre=0,10,0", "planar"}}) {
+    const CommandResult r = run_linkscape("verify " + args + " --criterion 'cond<3'");
+    EXPECT_EQ(r.exit_code, 2) << r.out;
+    EXPECT_NE(r.out.find(words), std::string::npos) << r.out;
+  }
+}
+
 TEST(CliFitCertify, BracketsSeed001sAnswerBetweenAProofAndACounterexample) {
   const CommandResult r = run_linkscape(
       "fit -m parallel-12r --task sphere:diameter=15 --criterion 'cond<3' --equal L1,L2 --bounds L1=11:14 "
