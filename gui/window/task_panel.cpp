@@ -119,7 +119,8 @@ TaskPanel::TaskPanel(render::TaskScene* scene, QWidget* parent) : QWidget(parent
   verify_button_ = new QPushButton(tr("Verify (certified)"), this);
   verify_button_->setObjectName("taskVerifyButton");
   verify_button_->setToolTip(tr("Prove by interval arithmetic that every point of the task meets every criterion, "
-                                "or find a point that fails; the 12R and the Delta, IK branch 0 "
+                                "or find a point that fails; the 12R, the Delta and described devices with crank-rod, "
+                                "slide-rod or extensible legs, IK branch 0 "
                                 "(docs/task-volumes.md, \"Certified verdicts\")"));
   column->addWidget(verify_button_);
   verdict_label_ = new QLabel(this);

@@ -205,7 +205,7 @@ Command add_fit(CLI::App& program, const DeviceHelp& devices) {
   cmd->add_flag("--certify", o->certify,
                 "Certified sizing instead of the sampled search: the smallest design bracketed between one proved "
                 "to meet the task everywhere (interval arithmetic) and one disproved by a counterexample; one free "
-                "variable; the 12R and the Delta (docs/task-volumes.md)");
+                "variable; the devices verify certifies (docs/task-volumes.md)");
   cmd->add_option("--bracket", o->bracket, "Width of the certified bracket, in the variable's unit (with --certify)")
       ->capture_default_str();
   return {cmd, Runs::Painting,  // the Pareto chart draws with QPainter
