@@ -106,7 +106,8 @@ TEST(CliDescribedStops, ASwitchedOffStopHoldsNoSampleBack) {
 }
 
 // slice and mesh take the switches too: a slice of a switched-off stop's
-// field is refused listing the fields left, and the reach mesh grows.
+// field is refused listing the fields left, and the reach mesh grows; a
+// mesh's surface may bound a margin to the stops.
 TEST(CliDescribedStops, SliceAndMeshTakeTheSwitches) {
   const CommandResult slice = run_linkscape("slice -m falcon -q --joint-limits off --field joint_margin -o " +
                                             path("never.png"), "QT_QPA_PLATFORM=offscreen");
@@ -123,6 +124,16 @@ TEST(CliDescribedStops, SliceAndMeshTakeTheSwitches) {
     volume[k] = std::stod(mesh.out.substr(at + 8));
   }
   EXPECT_GT(volume[1], 1.02 * volume[0]) << "the stops bound the Falcon's reach";
+  // The region keeping 10 deg from every joint stop lies inside the reach.
+  const CommandResult margin = run_linkscape("mesh -m falcon --resolution 24 --surface 'joint_margin>10' -o " +
+                                             path("margin.stl"));
+  ASSERT_EQ(margin.exit_code, 0) << margin.out;
+  const double inside = std::stod(margin.out.substr(margin.out.find("\nvolume ") + 8));
+  EXPECT_GT(inside, 0.2 * volume[0]);
+  EXPECT_LT(inside, 0.98 * volume[0]);
+  const CommandResult wrong = run_linkscape("mesh -m falcon --surface 'joint_margin<10' -o " + path("never.stl"));
+  EXPECT_EQ(wrong.exit_code, 2) << wrong.out;
+  EXPECT_TRUE(contains(wrong.out, "joint_margin is bounded from below")) << wrong.out;
 }
 
 // fit and sweep take joint_margin and clearance as criteria: the report
