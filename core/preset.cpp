@@ -233,6 +233,17 @@ std::vector<std::string> parameter_names(const Preset& preset) {
   return names;
 }
 
+StopChecks stated_stops(const Preset& preset) {
+  Preset all = preset;
+  all.checks = {};
+  const auto mechanism = make_mechanism(all);
+  const std::vector<NamedItem>& fields = mechanism->info().extra_fields;
+  const auto lists = [&](const char* name) {
+    return std::any_of(fields.begin(), fields.end(), [&](const NamedItem& f) { return f.name == name; });
+  };
+  return {lists("joint_margin"), lists("clearance")};
+}
+
 void validate(const Preset& preset) { make_mechanism(preset); }
 
 }  // namespace linkscape

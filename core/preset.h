@@ -12,6 +12,17 @@
 
 namespace linkscape {
 
+// Which bounds beyond its actuators' travel a device checks where it states
+// them: its passive joints' limits and its links' interference
+// (docs/described-mechanisms.md, "Joint limits" and "Link interference").
+// Both on by default; one off, the device is made as if it stated none of
+// that kind (no status, field or criterion of it).
+struct StopChecks {
+  bool joint_limits = true;
+  bool interference = true;
+  bool operator==(const StopChecks&) const = default;
+};
+
 struct Preset {
   std::string mechanism;    // the registered device it describes (core/mechanisms/registry.cpp)
   std::string title;        // human-readable description
@@ -23,6 +34,7 @@ struct Preset {
   // empty for the compiled devices.
   std::string description;
   std::filesystem::path source;             // file it was read from
+  StopChecks checks;                        // as the user switched them (not read from the file)
 };
 
 // Folders searched for preset names, in order: $LINKSCAPE_ASSETS/mechanisms,
@@ -57,6 +69,10 @@ void apply_overrides(Preset& preset, const std::vector<std::string>& overrides);
 
 // Names --param accepts for the preset's mechanism.
 std::vector<std::string> parameter_names(const Preset& preset);
+// What the preset's device states of StopChecks' bounds (each true where it
+// states it), whatever preset.checks asks.
+StopChecks stated_stops(const Preset& preset);
+
 // Builds the preset's model; throws std::invalid_argument if it is invalid.
 void validate(const Preset& preset);
 

@@ -303,6 +303,9 @@ std::string fingerprint(const Plan& plan) {
   s << "linkscape sweep 2; " << p.preset.mechanism << ";";
   for (const auto& [name, value] : p.preset.parameters) s << " " << name << "=" << csv_number(value);
   s << ";";
+  // A stop switched off changes every answer (named only then: older journals still resume).
+  if (!p.preset.checks.joint_limits) s << " joint limits off;";
+  if (!p.preset.checks.interference) s << " interference off;";
   for (const fit::Variable& v : p.variables) s << " " << v.name() << "=" << csv_number(v.lo) << ":" << csv_number(v.hi);
   s << "; task " << p.task.text << ";";
   for (const task::Criterion& c : p.criteria) s << " " << c.text;

@@ -22,14 +22,18 @@ using Eigen::Vector3d;
 namespace {
 
 // Conditioning measures are bounded from above by a number > 1, forces from
-// below and resolution and inertia from above by a positive number.
+// below and resolution and inertia from above by a positive number, and an
+// extra field (a margin to a stop) from below by a positive number.
 void check_bound(const Criterion& c) {
-  const bool larger_is_better = c.measure == "force_iso" || c.measure == "force_max";
+  const bool larger_is_better = c.extra || c.measure == "force_iso" || c.measure == "force_max";
   if (c.above != larger_is_better)
     throw std::invalid_argument("criterion '" + c.text + "': " + c.measure + " is bounded " +
                                 (larger_is_better ? "from below (" + c.measure + ">VALUE)"
                                                   : "from above (" + c.measure + "<VALUE)"));
-  if (!c.haptic() && !(c.threshold > 1))
+  if (c.extra && !(c.threshold > 0))
+    throw std::invalid_argument("criterion '" + c.text + "': the threshold must be positive (a pose beyond a stop "
+                                "is already out of limits, so reach keeps " + c.measure + " at 0 or more)");
+  if (!c.haptic() && !c.extra && !(c.threshold > 1))
     throw std::invalid_argument("criterion '" + c.text + "': no pose meets it (condition numbers are at least 1)");
   if (!(c.threshold > 0))
     throw std::invalid_argument("criterion '" + c.text + "': no pose meets it (the threshold must be positive)");
@@ -102,6 +106,15 @@ Criterion resolve(const Criterion& c, const MechanismInfo& info, const haptics::
       return out;
     }
     if (info.measures[k].name != "cond") known += ", " + info.measures[k].name;
+  }
+  for (const NamedItem& f : info.extra_fields) {
+    if (f.name == c.measure) {
+      out.extra = true;
+      out.measure_index = -1;  // no conditioning measure: whatever indexes them refuses it
+      check_bound(out);
+      return out;
+    }
+    known += ", " + f.name;
   }
   if (c.haptic()) {
     if (!data) throw std::invalid_argument("criterion '" + c.text + "': haptic measures need the preset's actuator data");
@@ -270,12 +283,24 @@ bool meets(const Criterion& c, double value) { return c.above ? value > c.thresh
 // The value of a resolved criterion's measure at sample s of a field.
 double value_of(const Field& f, const Criterion& c, std::size_t s) {
   if (c.reach()) return f.reach_margin[s];
-  if (c.haptic()) return f.extra(c.measure)->values[s];
+  if (c.haptic() || c.extra) return f.extra(c.measure)->values[s];
   return c.measure_index == 0 ? f.cond[s] : f.cond_orientation[s];
 }
 
 bool needs_haptics(const std::vector<Criterion>& criteria) {
   return std::any_of(criteria.begin(), criteria.end(), [](const Criterion& c) { return c.haptic(); });
+}
+
+// The device's field at the one sample `p`: its extra fields as fields show
+// them (they have no point-wise call).
+Field field_at(const Device& device, const Vector3d& p) {
+  Grid grid;
+  grid.origin = p - grid.spacing / 2;  // the cell centred on p
+  std::optional<Field> f = device.mechanism->compute_field(grid, device.fixed_task, device.ik, 1, {});
+  if (!f) throw std::logic_error("a one-sample field was cancelled with no way to cancel it");
+  for (const NamedItem& e : device.mechanism->info().extra_fields)
+    if (!f->extra(e.name)) throw std::logic_error(e.name + " is listed by the device but missing from its field");
+  return std::move(*f);
 }
 
 }  // namespace
@@ -298,9 +323,12 @@ PointValues evaluate_point(const Device& device, const std::vector<Criterion>& c
     if (s.branch == branch && s.status == Status::Ok) solution = &s;
   Measures measures;
   std::optional<haptics::Measures> h;
+  std::optional<Field> extras;
   if (solution) {
     measures = m.measures(solution->q, x);
     if (needs_haptics(criteria)) h = haptics::measures(m.jacobian(solution->q, x), *device.data, device.torque);
+    if (std::any_of(criteria.begin(), criteria.end(), [](const Criterion& c) { return c.extra; }))
+      extras = field_at(device, p);
   }
   PointValues out;
   out.reachable = solution != nullptr;
@@ -314,6 +342,7 @@ PointValues evaluate_point(const Device& device, const std::vector<Criterion>& c
           : c.measure == "force_max"  ? h->force_max_N
           : c.measure == "resolution" ? h->resolution_mm
                                       : *h->inertia_kg;
+    else if (c.extra) v = value_of(*extras, c, 0);
     else v = std::size_t(c.measure_index) < measures.values.size() ? measures.values[std::size_t(c.measure_index)] : kInf;
     out.values.push_back(v);
     if (!c.reach()) out.meets = out.meets && meets(c, v);
@@ -323,9 +352,9 @@ PointValues evaluate_point(const Device& device, const std::vector<Criterion>& c
 
 std::vector<std::uint8_t> good_mask(const Field& field, const std::vector<Criterion>& criteria) {
   for (const Criterion& c : criteria) {
-    if (c.haptic() && !field.extra(c.measure))
+    if ((c.haptic() || c.extra) && !field.extra(c.measure))
       throw std::invalid_argument("criterion '" + c.text + "': the field has no " + c.measure + " array");
-    if (!c.reach() && !c.haptic() && c.measure_index == 1 && field.cond_orientation.size() != field.grid.size())
+    if (!c.reach() && !c.haptic() && !c.extra && c.measure_index == 1 && field.cond_orientation.size() != field.grid.size())
       throw std::invalid_argument("criterion '" + c.text + "': the field has no second condition array");
   }
   std::vector<std::uint8_t> good(field.grid.size());

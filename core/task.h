@@ -24,13 +24,17 @@ namespace linkscape::task {
 // "reach" (the point is reachable in the sampled branch), or a bound on a
 // measure: "cond<3" (the device's first measure, also by its name, e.g.
 // cond_jp; its other measures by name, e.g. "cond_jo<5"), "force_iso>2" (N), "force_max>5" (N),
-// "resolution<0.5" (mm), "inertia<0.2" (kg). Every criterion includes reach.
+// "resolution<0.5" (mm), "inertia<0.2" (kg), or on one of the device's
+// extra fields (MechanismInfo::extra_fields, margins bounded from below):
+// "joint_margin>5" (deg), "clearance>0.5" (length unit). Every criterion includes reach.
 struct Criterion {
   std::string text;      // as given
-  std::string measure;   // "reach", "cond", a measure name or a haptic field name
-  bool above = false;    // the value must exceed the threshold (forces) rather than stay below it
+  std::string measure;   // "reach", "cond", a measure name, a haptic or an extra field's name
+  bool above = false;    // the value must exceed the threshold (forces, margins) rather than stay below it
   double threshold = 0;  // in the measure's unit
-  int measure_index = 0; // into info().measures, for a conditioning measure (set by resolve)
+  // Into info().measures, for a conditioning measure; -1 for an extra field (set by resolve).
+  int measure_index = 0;
+  bool extra = false;    // one of the device's extra fields (set by resolve)
   bool reach() const { return measure == "reach"; }
   bool haptic() const { return haptics::is_haptic_field(measure); }
 };
@@ -50,9 +54,10 @@ std::string quoting_hint(const std::string& text);
 std::vector<std::string> split_criteria(const std::string& text);
 // Each of split_criteria's parts parsed (parse_criterion's errors).
 std::vector<Criterion> parse_criteria(const std::string& text);
-// The criterion with its measure found on the device (its measures, and the
-// haptic fields `data` provides). Throws std::invalid_argument listing the
-// names it knows, or where the measure needs actuator data not given.
+// The criterion with its measure found on the device (its measures, its
+// extra fields, and the haptic fields `data` provides). Throws
+// std::invalid_argument listing the names it knows, or where the measure
+// needs actuator data not given.
 Criterion resolve(const Criterion& c, const MechanismInfo& info, const haptics::DeviceData* data);
 
 // ---- Task volumes -----------------------------------------------------------------
@@ -120,8 +125,9 @@ struct Device {
 std::vector<Criterion> resolve(const Device& device, const std::vector<Criterion>& criteria);
 
 // Values of every criterion's measure at one position (point-wise, through
-// the interface): reach is the reach margin; measures are +inf (forces 0)
-// where the branch has no solution. `meets` is whether all criteria hold.
+// the interface): reach is the reach margin; measures are +inf (forces and
+// margins 0) where the branch has no solution. An extra field's value is the
+// device's field kernel's at that one sample. `meets` is whether all criteria hold.
 struct PointValues {
   bool reachable = false;
   std::vector<double> values;  // per criterion

@@ -18,8 +18,12 @@ std::vector<std::string> criterion_stems(const DeviceHelp& help) {
   std::vector<std::string> stems{"reach"};
   for (const auto& device : help.devices) {
     add_unique(stems, "cond<");
-    for (const std::string& field : device_fields(device->info(), false))
-      if (field != "cond" && field != "reach" && field != "status" && field != "method") add_unique(stems, field + "<");
+    const std::vector<NamedItem>& stops = device->info().extra_fields;  // margins: bounded from below
+    for (const std::string& field : device_fields(device->info(), false)) {
+      const bool margin = std::any_of(stops.begin(), stops.end(), [&](const NamedItem& f) { return f.name == field; });
+      if (field != "cond" && field != "reach" && field != "status" && field != "method")
+        add_unique(stems, field + (margin ? ">" : "<"));
+    }
   }
   for (const haptics::FieldInfo& f : haptics::all_field_infos()) add_unique(stems, f.name + (f.larger_is_better ? ">" : "<"));
   return stems;

@@ -19,8 +19,34 @@ void add_mechanism_options(CLI::App& app, PresetChoice& choice) {
                  "Override a model parameter, key=value in the preset's unit (repeatable), e.g. L1=1");
 }
 
+void add_stop_options(CLI::App& app, StopSwitches& switches) {
+  app.add_option("--joint-limits", switches.joint_limits,
+                 "on or off: whether a pose with a passive joint beyond its limit is out of limits (default on where "
+                 "the device states limits; off, the device is taken as stating none: no joint_margin field)")
+      ->check(CLI::IsMember({"on", "off"}));
+  app.add_option("--interference", switches.interference,
+                 "on or off: whether a pose with two links overlapping is out of limits (default on where the device "
+                 "gives its links a radius; off, the device is taken as giving none: no clearance field)")
+      ->check(CLI::IsMember({"on", "off"}));
+}
+
+void apply_stop_switches(const StopSwitches& switches, Preset& preset, const std::string& command) {
+  if (switches.joint_limits.empty() && switches.interference.empty()) return;
+  const StopChecks stated = stated_stops(preset);
+  const auto take = [&](const std::string& value, bool states, const char* option, const char* what, bool& check) {
+    if (value.empty()) return;
+    if (!states)
+      throw std::invalid_argument(command + ": " + option + " " + value + ": " + preset_reference(preset) +
+                                  " states no " + what + " (docs/described-mechanisms.md)");
+    check = value == "on";
+  };
+  take(switches.joint_limits, stated.joint_limits, "--joint-limits", "passive-joint limits", preset.checks.joint_limits);
+  take(switches.interference, stated.interference, "--interference", "link radii (capsules)", preset.checks.interference);
+}
+
 void add_sampling_options(CLI::App& app, SamplingOptions& s, const DeviceHelp& help, const std::string& pose_default) {
   add_mechanism_options(app, s.mechanism);
+  add_stop_options(app, s.stops);
   app.add_option("--method", s.method,
                  "IK method per sample, one of the device's (default: its first; " +
                      help.per_device([](const MechanismInfo& i) { return names(i.ik_methods, ", "); }) +
@@ -53,6 +79,7 @@ IkOptions checked_ik(const MechanismInfo& info, const std::string& method, std::
 SampledDevice check_sampling_options(const SamplingOptions& s, const std::string& command) {
   SampledDevice out;
   out.preset = chosen_preset(s.mechanism);
+  apply_stop_switches(s.stops, out.preset, command);
   out.mechanism = make_mechanism(out.preset);
   out.torque = haptics::parse_torque_rating(s.torque);
   const MechanismInfo& info = out.mechanism->info();

@@ -16,8 +16,15 @@
 
 namespace linkscape::gui {
 
+// --joint-limits and --interference: "on", "off", or empty (on where the
+// device states them).
+struct StopSwitches {
+  std::string joint_limits, interference;
+};
+
 struct SamplingOptions {
   PresetChoice mechanism;
+  StopSwitches stops;
   std::string method;  // empty: the device's first IK method
   int branch = 0;
   // The task pose, every coordinate: all but x, y, z are held fixed over a
@@ -31,7 +38,14 @@ struct SamplingOptions {
 // sampling it (eval, bench, design) and for the window.
 void add_mechanism_options(CLI::App& app, PresetChoice& choice);
 
-// All six. `pose_default` ends the --pose help: what an absent pose means.
+// --joint-limits and --interference, for every command that evaluates a device.
+void add_stop_options(CLI::App& app, StopSwitches& switches);
+// Sets preset.checks from the switches. Throws std::invalid_argument
+// ("`command`: --joint-limits: ...") for a switch given for a device that
+// states nothing of its kind.
+void apply_stop_switches(const StopSwitches& switches, Preset& preset, const std::string& command);
+
+// The six and the stop switches. `pose_default` ends the --pose help: what an absent pose means.
 void add_sampling_options(CLI::App& app, SamplingOptions& options, const DeviceHelp& devices,
                           const std::string& pose_default);
 
@@ -46,7 +60,8 @@ struct SampledDevice {
 
 // Throws std::invalid_argument, its message starting with "`command`: ",
 // for an unknown preset, parameter, method or torque rating, a branch the
-// device lacks or a pose that is not all of its task coordinates.
+// device lacks, a stop switch for stops it does not state or a pose that is
+// not all of its task coordinates.
 SampledDevice check_sampling_options(const SamplingOptions& options, const std::string& command);
 
 // The IK method and branch of `info`'s, checked (eval's optional branch included).

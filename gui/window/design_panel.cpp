@@ -1,5 +1,6 @@
 #include "gui/window/design_panel.h"
 
+#include <QCheckBox>
 #include <QDoubleSpinBox>
 #include <QFormLayout>
 #include <QGridLayout>
@@ -7,6 +8,7 @@
 #include <QLabel>
 #include <QLineEdit>
 #include <QSignalBlocker>
+#include <QVBoxLayout>
 #include <algorithm>
 #include <numbers>
 #include <optional>
@@ -97,6 +99,7 @@ DesignPanel::DesignPanel(const DeviceState& state, QWidget* preset_chooser, QWid
   motor_form->addRow(motor_note_);
   form->addRow(motors);
   showMotors();
+  addStopSwitches(form);
   if (!state.takes_limits()) return;
   auto* grid = new QGridLayout;
   int row = 0;
@@ -121,6 +124,48 @@ DesignPanel::DesignPanel(const DeviceState& state, QWidget* preset_chooser, QWid
 
 DesignPanel::~DesignPanel() = default;
 
+void DesignPanel::addStopSwitches(QFormLayout* form) {
+  const StopChecks stated = stated_stops(state_->preset());
+  if (!stated.joint_limits && !stated.interference) return;
+  auto* group = new QGroupBox(tr("Stops"), this);
+  group->setObjectName("stopsGroup");
+  auto* layout = new QVBoxLayout(group);
+  const auto add = [&](bool states, const QString& text, const QString& tip, const char* name) -> QCheckBox* {
+    if (!states) return nullptr;
+    auto* box = new QCheckBox(text, group);
+    box->setObjectName(name);
+    box->setToolTip(tip);
+    layout->addWidget(box);
+    connect(box, &QCheckBox::toggled, this, [this] {
+      StopChecks checks = state_->preset().checks;
+      if (joint_limits_box_) checks.joint_limits = joint_limits_box_->isChecked();
+      if (interference_box_) checks.interference = interference_box_->isChecked();
+      emit stopChecksEdited(checks);
+    });
+    return box;
+  };
+  joint_limits_box_ = add(stated.joint_limits, tr("Passive-joint limits"),
+                          tr("A pose with a passive joint beyond its limit is out of limits; off, the device is "
+                             "taken as stating no limits (as --joint-limits off)"),
+                          "jointLimitsCheck");
+  interference_box_ = add(stated.interference, tr("Link interference"),
+                          tr("A pose where two links overlap is out of limits; off, the device is taken as giving "
+                             "its links no radius (as --interference off)"),
+                          "interferenceCheck");
+  form->addRow(group);
+  showStops();
+}
+
+void DesignPanel::showStops() {
+  const auto show = [](QCheckBox* box, bool on) {
+    if (!box) return;
+    const QSignalBlocker block(box);
+    box->setChecked(on);
+  };
+  show(joint_limits_box_, state_->preset().checks.joint_limits);
+  show(interference_box_, state_->preset().checks.interference);
+}
+
 void DesignPanel::showMotors() {
   const Preset& preset = state_->preset();
   const MechanismInfo& info = state_->mechanism().info();
@@ -143,6 +188,7 @@ void DesignPanel::showMotors() {
 
 void DesignPanel::showDesign(const Mechanism& device) {
   showMotors();
+  showStops();
   const auto p = device.parameters();
   for (const auto& c : parameter_controls_)
     if (p.count(c->quantity.name)) c->set(p.at(c->quantity.name));

@@ -1,7 +1,9 @@
 // The Design panel: the preset chooser, one slider per design parameter
 // the device shows, the actuators' travel where the device takes limits,
-// and the motors' ratings (core/actuator_data.h: set for every actuator,
-// as --param sets them). Built from the device's description; the sliders' ranges come
+// the motors' ratings (core/actuator_data.h: set for every actuator,
+// as --param sets them), and switches for the stops the device states
+// (passive-joint limits, link interference; as --joint-limits and
+// --interference set them). Built from the device's description; the sliders' ranges come
 // from the preset's device and stay while the design changes.
 #pragma once
 
@@ -13,8 +15,11 @@
 #include <vector>
 
 #include "core/mechanism.h"
+#include "core/preset.h"
 
+class QCheckBox;
 class QDoubleSpinBox;
+class QFormLayout;
 class QLabel;
 class QLineEdit;
 
@@ -44,6 +49,8 @@ class DesignPanel : public QWidget {
   void parametersEdited(const std::map<std::string, double>& parameters);
   // Every actuator's travel in degrees, by name.
   void limitsEdited(const std::map<std::string, std::array<double, 2>>& limits_deg);
+  // The Stops group's switches: which stated stops the device checks.
+  void stopChecksEdited(const StopChecks& checks);
 
  private:
   std::vector<std::unique_ptr<QuantityControl>> parameter_controls_;
@@ -52,6 +59,11 @@ class DesignPanel : public QWidget {
   std::map<std::string, QLineEdit*> motor_edits_;  // per rating
   QLabel* motor_note_ = nullptr;                   // where the ratings come from, or why an edit was refused
   void showMotors();
+  // One per kind of stop the preset's device states (else none).
+  QCheckBox* joint_limits_box_ = nullptr;
+  QCheckBox* interference_box_ = nullptr;
+  void addStopSwitches(QFormLayout* form);
+  void showStops();
 };
 
 }  // namespace linkscape::gui

@@ -148,6 +148,7 @@ void MechanismWindow::buildDocks() {
   design_panel_ = new DesignPanel(state_, chooser);
   connect(design_panel_, &DesignPanel::parametersEdited, this, &MechanismWindow::setParameters);
   connect(design_panel_, &DesignPanel::limitsEdited, this, &MechanismWindow::setActuatorLimits);
+  connect(design_panel_, &DesignPanel::stopChecksEdited, this, &MechanismWindow::setStopChecks);
   field_panel_ = new FieldPanel(state_.mechanism());
   fields_ = new FieldDisplay(state_, field_panel_, field_scene_.get(), view_, renderer_, legend_, this);
   connect(fields_, &FieldDisplay::changed, this, &MechanismWindow::noteChange);
@@ -369,6 +370,13 @@ bool MechanismWindow::setActuatorLimits(const std::map<std::string, std::array<d
   return true;
 }
 
+void MechanismWindow::setStopChecks(const StopChecks& checks) {
+  Preset next = state_.preset();
+  next.checks = checks;
+  adoptDesign(state_.with_saved_pose(next, state_.actuators(), state_.task()));
+  fields_->request(true, true);
+}
+
 // ---- Sessions, files ---------------------------------------------------------------
 
 Session MechanismWindow::session() const {
@@ -376,6 +384,7 @@ Session MechanismWindow::session() const {
   s.mechanism = preset_reference(state_.preset());
   s.parameters = design_parameters(state_.mechanism(), state_.preset());  // motor ratings set as parameters too
   if (design_panel_->editsLimits()) s.actuator_limits_deg = state_.limits_deg();
+  s.checks = state_.preset().checks;
   s.pose = state_.actuators();
   s.task = state_.task();
   s.camera = camera_state(renderer_);
@@ -387,7 +396,8 @@ Session MechanismWindow::session() const {
 void MechanismWindow::applySession(const Session& s) {
   // Refuse before changing anything: a value outside a slider's range would be clamped.
   design_panel_->checkParameters(s.parameters);
-  const Preset next = state_.design_with(s.parameters, s.actuator_limits_deg);
+  Preset next = state_.design_with(s.parameters, s.actuator_limits_deg);
+  next.checks = s.checks;
   const DesignPlan plan = state_.with_saved_pose(next, s.pose, s.task);  // throws: nothing changed
   scene_->set_model(plan.mechanism->skeleton_model());
   adoptDesign(plan);

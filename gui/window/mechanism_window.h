@@ -112,6 +112,8 @@ class MechanismWindow : public QMainWindow {
   // Actuator limits in degrees by actuator name (devices that take them);
   // the pose is clamped into them. Refused (false) when the device rejects them.
   bool setActuatorLimits(const std::map<std::string, std::array<double, 2>>& limits_deg);
+  // Which stops the device states it checks (StopChecks); the pose is kept as a session's is.
+  void setStopChecks(const StopChecks& checks);
   // Field settings the window offers are taken; the others stay.
   void applyFieldSettings(const FieldSettings& settings) { fields_->apply(settings); }
   // Throws std::invalid_argument (nothing changed) for a session the window

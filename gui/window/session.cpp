@@ -63,6 +63,8 @@ void save_session(const Session& s, const std::filesystem::path& path) {
   j["mechanism"] = s.mechanism;
   j["parameters"] = s.parameters;
   if (!s.actuator_limits_deg.empty()) j["actuator_limits_deg"] = s.actuator_limits_deg;
+  if (s.checks != StopChecks{})
+    j["stops"] = {{"joint_limits", s.checks.joint_limits}, {"interference", s.checks.interference}};
   // By name, in the device's own terms (its description lists the order).
   const auto mechanism = session_mechanism(s);  // kept alive while its description is read
   const MechanismInfo& info = mechanism->info();
@@ -161,6 +163,22 @@ void check_keys(const json& object, const std::string& where, const std::vector<
     if (std::find(known.begin(), known.end(), key) == known.end())
       throw std::invalid_argument("unknown key '" + (where.empty() ? "" : where + ".") + key + "' (known: " +
                                   joined(known) + ")");
+}
+
+// "stops": a switch for each kind of stop the device states, as booleans.
+StopChecks read_stop_checks(const json& j, const Preset& preset) {
+  check_keys(j, "stops", {"joint_limits", "interference"});
+  const StopChecks stated = stated_stops(preset);
+  StopChecks out;
+  const auto take = [&](const char* key, bool states, const char* what, bool& check) {
+    if (!j.contains(key)) return;
+    if (!j[key].is_boolean()) throw std::invalid_argument(std::string("stops.") + key + " must be true or false");
+    if (!states) throw std::invalid_argument(std::string("stops.") + key + ": the device states no " + what);
+    check = j[key].get<bool>();
+  };
+  take("joint_limits", stated.joint_limits, "passive-joint limits", out.joint_limits);
+  take("interference", stated.interference, "link radii", out.interference);
+  return out;
 }
 
 // An integer the file gives as an integer within int's range: 1e300 or 100.7
@@ -330,9 +348,9 @@ Session parse_session(const std::string& text, const std::string& origin) {
     const json j = parse_json_checked(text, kMaxPresetNesting);
     if (!j.is_object() || j.value("format", "") != "linkscape-session")
       throw std::invalid_argument("not a Linkscape session (no \"format\": \"linkscape-session\")");
-    check_keys(j, "", {"format", "version", "mechanism", "parameters", "actuator_limits_deg", "actuators", "task",
-                       "pose_rad", "platform_pose", "camera", "field", "task_volume", "fit",
-                       "fit_result", "view"});
+    check_keys(j, "", {"format", "version", "mechanism", "parameters", "actuator_limits_deg", "stops", "actuators",
+                       "task", "pose_rad", "platform_pose", "camera", "field", "task_volume", "fit", "fit_result",
+                       "view"});
     if (j.contains("version") && whole_number(j["version"], "version") != 1)
       throw std::invalid_argument("version " + j["version"].dump() + " is not supported (this program reads 1)");
     s.mechanism = portable_mechanism(j.at("mechanism").get<std::string>());
@@ -369,6 +387,7 @@ Session parse_session(const std::string& text, const std::string& origin) {
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(std::string("actuator_limits_deg: ") + e.what());
     }
+    if (j.contains("stops")) s.checks = read_stop_checks(j["stops"], preset);
     const MechanismInfo& info = mechanism->info();
     // The pose: by name, or as the arrays of older files.
     if (j.contains("actuators") && j.contains("pose_rad"))

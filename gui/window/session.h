@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "core/mechanism.h"
+#include "core/preset.h"
 
 class vtkRenderer;
 
@@ -86,6 +87,7 @@ struct Session {
   std::string mechanism = default_mechanism();  // preset name or path
   std::map<std::string, double> parameters;  // overrides, e.g. L1, L2
   std::map<std::string, std::array<double, 2>> actuator_limits_deg;  // per actuator name: [lo, hi]
+  StopChecks checks;  // "stops": {"joint_limits": false, ...}, written where one is off
   // The pose in the device's order (info().actuators, info().task; rad and
   // length unit). Either may be empty: the window solves for the other.
   Eigen::VectorXd pose;  // actuator values

@@ -33,6 +33,7 @@ class SnapshotCommand : public QUndoCommand {
 
 bool same_document(const Session& a, const Session& b) {
   return a.mechanism == b.mechanism && a.parameters == b.parameters && a.actuator_limits_deg == b.actuator_limits_deg &&
+         a.checks == b.checks &&
          same_vector(a.pose, b.pose) && same_vector(a.task, b.task) && a.field == b.field &&
          a.task_volume == b.task_volume && a.fit == b.fit;
 }
@@ -44,6 +45,7 @@ QString change_text(const Session& before, const Session& after) {
     if (it == before.parameters.end() || it->second != value) parts << QString::fromStdString(name);
   }
   if (before.actuator_limits_deg != after.actuator_limits_deg) parts << QObject::tr("actuator travel");
+  if (before.checks != after.checks) parts << QObject::tr("stops");
   if (parts.isEmpty() && (!same_vector(before.pose, after.pose) || !same_vector(before.task, after.task)))
     parts << QObject::tr("pose");
   // The slice keeps its place relative to the sampling box, so a new

@@ -664,8 +664,9 @@ class DescribedMechanism final : public Mechanism {
 std::shared_ptr<const Mechanism> make_mechanism(const Preset& preset) {
   if (preset.description.empty())
     throw std::invalid_argument("a described mechanism needs a \"description\" (docs/described-mechanisms.md)");
-  return std::make_shared<DescribedMechanism>(
-      preset, build_model(preset.description, preset.parameters, preset.limits_deg, preset.length_unit));
+  Model model = build_model(preset.description, preset.parameters, preset.limits_deg, preset.length_unit);
+  switch_off_stops(model, preset.checks);
+  return std::make_shared<DescribedMechanism>(preset, std::move(model));
 }
 
 }  // namespace linkscape::described

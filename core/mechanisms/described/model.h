@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "core/preset.h"
 #include "core/range.h"
 
 namespace linkscape::described {
@@ -162,5 +163,8 @@ inline constexpr int kMaxFirstNumber = 1000000;      // a leg's "first"
 // ("description.legs[2] \"3\": chain[4] (joint \"s3\"): ...").
 Model build_model(const std::string& description_json, const std::map<std::string, double>& parameters,
                   const std::map<std::string, Range>& limits_deg, const std::string& length_unit);
+
+// Drops the passive-joint limits or the link capsules that `checks` turns off.
+void switch_off_stops(Model& model, const StopChecks& checks);
 
 }  // namespace linkscape::described

@@ -95,6 +95,13 @@ bool Model::has_joint_limits() const {
   return false;
 }
 
+void switch_off_stops(Model& model, const StopChecks& checks) {
+  for (Leg& l : model.legs) {
+    if (!checks.joint_limits) l.limits.clear();
+    if (!checks.interference) l.capsules.clear();
+  }
+}
+
 bool Model::has_capsules() const {
   for (const Leg& l : legs)
     if (!l.capsules.empty()) return true;

@@ -21,6 +21,7 @@ namespace {
 
 struct EvalOptions {
   PresetChoice mechanism;
+  StopSwitches stops;
   std::string ik_file;  // CSV of task coordinates ("-" = stdin); exclusive with fk_file
   std::string fk_file;  // CSV of actuator values
   std::string method;   // empty: the device's first IK method
@@ -184,7 +185,9 @@ void run_eval(const EvalOptions& o, std::istream& stdin_stream, std::ostream& st
     throw std::invalid_argument("eval: --tolerance must be a positive finite number, got " + format_number(o.tolerance));
   if (o.max_iterations < 1)
     throw std::invalid_argument("eval: --max-iterations must be at least 1, got " + std::to_string(o.max_iterations));
-  const std::shared_ptr<const Mechanism> m = make_mechanism(chosen_preset(o.mechanism));
+  Preset preset = chosen_preset(o.mechanism);
+  apply_stop_switches(o.stops, preset, "eval");
+  const std::shared_ptr<const Mechanism> m = make_mechanism(preset);
   const MechanismInfo& info = m->info();
   IkOptions ik = checked_ik(info, o.method, o.branch, "eval");  // before reading input
   if (!o.seed.empty()) {
@@ -220,6 +223,7 @@ Command add_eval(CLI::App& program, const DeviceHelp& help) {
   auto o = std::make_shared<EvalOptions>();
   CLI::App* cmd = program.add_subcommand("eval", "Evaluate kinematics for each CSV row; writes CSV (stdout by default)");
   add_mechanism_options(*cmd, o->mechanism);
+  add_stop_options(*cmd, o->stops);
   auto* ik = cmd->add_option(
       "--ik", o->ik_file,
       "Inverse kinematics of the targets in a CSV whose header names the device's task coordinates (" +

@@ -159,7 +159,8 @@ void add_problem_options(CLI::App& cmd, FitOptions& o, const DeviceHelp& devices
   cmd.add_option("--criterion", o.criteria,
                  "Quoted for the shell, repeatable or several separated by commas, semicolons or spaces: 'cond<T' "
                  "(the first measure; others by name, e.g. 'cond_jo<T'), 'force_iso>F', 'force_max>F' (N), "
-                 "'resolution<R' (mm), 'inertia<M' (kg); reach is always implied")
+                 "'resolution<R' (mm), 'inertia<M' (kg), and where the device states stops 'joint_margin>D' (deg), "
+                 "'clearance>C' (length unit); reach is always implied")
       ->check(criteria_check());
   cmd.add_option("--free", o.free, "Free design parameters, comma list (default: every parameter of the design panel)")
       ->delimiter(',');

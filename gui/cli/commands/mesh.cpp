@@ -33,22 +33,32 @@ struct MeshOptions {
 };
 
 // reach, cond<T (the device's first measure; both measures for six-DOF
-// devices), or a haptic criterion such as force_iso>2 (core/task.h).
+// devices), a haptic criterion such as force_iso>2, or one on the device's
+// stops such as clearance>2 (core/task.h).
 render::SurfaceRequest parse_surface(const std::string& text, const MechanismInfo& info) {
   render::SurfaceRequest r;
   task::Criterion c;
+  const auto on_a_stop = [&info](const std::string& measure) {
+    return std::any_of(info.extra_fields.begin(), info.extra_fields.end(),
+                       [&](const NamedItem& f) { return f.name == measure; });
+  };
   try {
     c = task::parse_criterion(text);
-    if (c.measure != "reach" && c.measure != "cond" && !c.haptic()) throw std::invalid_argument("not a surface");
+    if (c.measure != "reach" && c.measure != "cond" && !c.haptic() && !on_a_stop(c.measure))
+      throw std::invalid_argument("not a surface");
   } catch (const std::invalid_argument&) {
-    throw std::invalid_argument("--surface expects reach, cond<T with T > 1 (e.g. cond<3) or a haptic criterion "
-                                "(force_iso>F, force_max>F in N, resolution<R in mm, inertia<M in kg) for " +
+    std::string stops;
+    for (const NamedItem& f : info.extra_fields) stops += ", " + f.name + ">M";
+    throw std::invalid_argument("--surface expects reach, cond<T with T > 1 (e.g. cond<3), a haptic criterion "
+                                "(force_iso>F, force_max>F in N, resolution<R in mm, inertia<M in kg)" +
+                                (stops.empty() ? "" : " or a margin to a stop (" + stops.substr(2) + ")") + " for " +
                                 info.name + ", got '" + text + "'" + task::quoting_hint(text));
   }
+  if (on_a_stop(c.measure)) c = task::resolve(c, info, nullptr);  // its side and a positive margin
   if (c.measure == "cond") {
     r.surface = render::Surface::WellConditioned;
     r.cond_threshold = c.threshold;
-  } else if (c.haptic()) {
+  } else if (c.haptic() || c.extra) {
     r.surface = render::Surface::Threshold;
     r.field = c.measure;
     r.above = c.above;
@@ -70,7 +80,7 @@ void run_mesh(const MeshOptions& o, std::ostream& out) {
   Sampling sampling = make_sampling(o.sampling, "mesh");
   render::SurfaceRequest request = parse_surface(o.surface, sampling.mechanism->info());
   request.decimate_error = o.decimate;
-  if (request.surface == render::Surface::Threshold) {
+  if (request.surface == render::Surface::Threshold && haptics::is_haptic_field(request.field)) {
     sampling.with_haptics();
     if (request.field == "inertia" && !sampling.device_data().has_inertia())
       throw std::invalid_argument("--surface inertia<M: the preset gives no rotor_inertia_kgm2 for every actuator");
@@ -107,7 +117,8 @@ Command add_mesh(CLI::App& program, const DeviceHelp& help) {
   cmd->add_option("--surface", o->surface,
                   "reach (boundary of the reachable set), 'cond<T' (well-conditioned region, e.g. 'cond<3', "
                   "quoted for the shell), or the region meeting a haptic criterion: 'force_iso>F', 'force_max>F' "
-                  "(N), 'resolution<R' (mm), 'inertia<M' (kg)")
+                  "(N), 'resolution<R' (mm), 'inertia<M' (kg), or a margin to the device's stops: 'joint_margin>D' "
+                  "(deg), 'clearance>C' (length unit)")
       ->capture_default_str()
       ->check(criteria_check());
   cmd->add_option("--resolution", o->resolution, "Samples per axis: N or NXxNYxNZ")->capture_default_str();
