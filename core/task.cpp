@@ -68,6 +68,14 @@ std::vector<Criterion> parse_criteria(const std::string& text) {
   return out;
 }
 
+std::string criterion_unit(const Criterion& c, const std::string& length_unit) {
+  if (c.reach() || c.measure == "clearance") return length_unit;
+  if (c.measure == "joint_margin") return "deg";
+  for (const haptics::FieldInfo& f : haptics::all_field_infos())
+    if (f.name == c.measure) return f.unit;
+  return "";
+}
+
 Criterion parse_criterion(const std::string& text) {
   Criterion c;
   c.text = text;

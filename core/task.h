@@ -39,6 +39,11 @@ struct Criterion {
   bool haptic() const { return haptics::is_haptic_field(measure); }
 };
 
+// The unit of a criterion's values ("" for a ratio such as c(J)): the
+// device's length unit for reach and clearance, deg for joint_margin, a
+// haptic field's own.
+std::string criterion_unit(const Criterion& c, const std::string& length_unit);
+
 // Parses one criterion. Throws std::invalid_argument for a malformed text,
 // a threshold no pose can meet (cond below 1, a force or threshold <= 0), or
 // a bound on a measure's wrong side (cond>3).

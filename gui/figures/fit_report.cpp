@@ -44,13 +44,6 @@ std::string point_text(const Eigen::Vector3d& p, const std::string& unit) {
   return s;
 }
 
-// The unit a criterion's values are in.
-std::string unit_of(const task::Criterion& c, const std::string& length_unit) {
-  if (c.reach()) return length_unit;
-  for (const haptics::FieldInfo& f : haptics::all_field_infos())
-    if (f.name == c.measure) return f.unit;
-  return "";
-}
 
 // The best or closest row first, then every valid design by size.
 std::vector<std::size_t> csv_order(const fit::Result& r) {
@@ -165,7 +158,7 @@ void draw_pareto(QPainter& p, const QRectF& area, const fit::Problem& problem, c
   const std::string ylabel = use_fit ? std::string(problem.task.centre ? "ratio (bound / worst)"
                                                                        : "ratio (largest shape / task)")
                                      : "worst " + measured->measure + " over the task" +
-                                           (unit_of(*measured, length_unit).empty() ? "" : " (" + unit_of(*measured, length_unit) + ")");
+                                           (task::criterion_unit(*measured, length_unit).empty() ? "" : " (" + task::criterion_unit(*measured, length_unit) + ")");
   p.drawText(QRectF(-plot.height() / 2, -fh / 2, plot.height(), fh), Qt::AlignCenter, QString::fromStdString(ylabel));
   p.restore();
   p.setClipRect(plot);
@@ -288,6 +281,12 @@ std::string fit_report(const fit::Problem& problem, const fit::Result& r, const 
       << "free: " << free_text << "; size = " << info.size_description << " (" << unit << ")";
   if (problem.size) out << " held at " << short_number(*problem.size) << " " << unit;
   out << "\n";
+  // A stop the device states but the designer switched off changes every verdict: say so.
+  const StopChecks stated = stated_stops(problem.preset), on = problem.preset.checks;
+  std::string off;
+  if (stated.joint_limits && !on.joint_limits) off = "passive-joint limits";
+  if (stated.interference && !on.interference) off += (off.empty() ? "" : ", ") + std::string("link interference");
+  if (!off.empty()) out << "stops off: " << off << " (the device states them; the verdict ignores them)\n";
   const std::optional<std::size_t> shown = r.best ? r.best : r.closest;
   const bool ratings = !problem.variables.empty() && motor_parameter(problem.variables.front().parameters.front());
   if (r.best)
@@ -312,7 +311,7 @@ std::string fit_report(const fit::Problem& problem, const fit::Result& r, const 
     out << "\n  per criterion: the worst value, its margin to the bound (the measure's unit; < 0: past it), the "
            "samples meeting it\n";
     for (const task::CriterionReport& c : row.report.criteria) {
-      const std::string u = unit_of(c.criterion, unit);
+      const std::string u = task::criterion_unit(c.criterion, unit);
       out << "  " << c.criterion.text << ": worst " << short_number(c.worst) << (u.empty() ? "" : " " + u) << " at "
           << point_text(c.worst_point, unit) << ", margin " << short_number(c.margin()) << (u.empty() ? "" : " " + u)
           << ", " << task::samples_text(row.report.samples - c.failing, row.report.samples) << "\n";

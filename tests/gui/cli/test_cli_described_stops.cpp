@@ -150,6 +150,13 @@ TEST(CliDescribedStops, FitAndSweepTakeTheStopsAsCriteria) {
   ASSERT_EQ(fit.exit_code, 0) << fit.out;
   EXPECT_TRUE(contains(fit.out, "joint_margin>26: worst ")) << fit.out;
   EXPECT_TRUE(contains(fit.out, "clearance>2: worst ")) << fit.out;
+  // Each margin in its unit; with every stop on, no "stops off" line.
+  EXPECT_TRUE(contains(fit.out, " deg, ") && contains(fit.out, " mm, ")) << fit.out;
+  EXPECT_FALSE(contains(fit.out, "stops off")) << fit.out;
+  const CommandResult without = run_linkscape("fit -m falcon --free b --bounds b=80:130 --tolerance 0.05 "
+                                              "--interference off --criterion 'joint_margin>26'" + task + " -o " + path("off.csv"));
+  ASSERT_EQ(without.exit_code, 0) << without.out;
+  EXPECT_TRUE(contains(without.out, "stops off: link interference (the device states them")) << without.out;
   const auto rows = parse_cells(text_of(csv));
   ASSERT_GT(rows.size(), 2u);
   int met = 0;
