@@ -5,7 +5,10 @@
 #include <vtkCoordinate.h>
 #include <vtkLineSource.h>
 #include <vtkMatrix4x4.h>
+#include <vtkActor2D.h>
 #include <vtkPolyDataMapper.h>
+#include <vtkPolyDataMapper2D.h>
+#include <vtkProperty2D.h>
 #include <vtkProperty.h>
 #include <vtkRenderer.h>
 #include <vtkSphereSource.h>
@@ -74,10 +77,15 @@ std::string gap_text(const interference::LinkCapsules& c, CapsuleScene::Gap gap,
 }  // namespace
 
 CapsuleScene::CapsuleScene() {
-  line_actor_->SetMapper(vtkNew<vtkPolyDataMapper>());
-  line_actor_->GetMapper()->SetInputConnection(line_->GetOutputPort());
+  // Drawn over the scene: the gap often lies inside the translucent capsules.
+  vtkNew<vtkCoordinate> world;
+  world->SetCoordinateSystemToWorld();
+  vtkNew<vtkPolyDataMapper2D> line_mapper;
+  line_mapper->SetInputConnection(line_->GetOutputPort());
+  line_mapper->SetTransformCoordinate(world);
+  line_actor_->SetMapper(line_mapper);
+  line_actor_->GetProperty()->SetColor(kGapColour[0], kGapColour[1], kGapColour[2]);
   line_actor_->GetProperty()->SetLineWidth(3);
-  style(line_actor_, kGapColour, 1.0);
   for (int k = 0; k < 2; ++k) {
     end_sources_[k]->SetThetaResolution(12);
     end_sources_[k]->SetPhiResolution(8);
@@ -168,7 +176,7 @@ vtkActor* CapsuleScene::link_actor(int link) const {
 
 std::array<vtkProp*, 4> CapsuleScene::gap_props() const { return {line_actor_, ends_[0], ends_[1], label_}; }
 
-vtkActor* CapsuleScene::gap_line() const { return line_actor_; }
+vtkActor2D* CapsuleScene::gap_line() const { return line_actor_; }
 
 std::string CapsuleScene::label_text() const { return label_->GetInput() ? label_->GetInput() : ""; }
 

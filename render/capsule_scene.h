@@ -22,6 +22,7 @@
 #include "core/interference.h"
 
 class vtkActor;
+class vtkActor2D;
 class vtkCapsuleSource;
 class vtkLineSource;
 class vtkProp;
@@ -54,7 +55,7 @@ class CapsuleScene {
   // Introspection (tests).
   int link_count() const { return shown_; }
   vtkActor* link_actor(int link) const;  // std::out_of_range outside link_count()
-  vtkActor* gap_line() const;
+  vtkActor2D* gap_line() const;  // drawn over the scene
   Gap gap() const { return gap_; }
   std::string label_text() const;
 
@@ -72,7 +73,7 @@ class CapsuleScene {
   Gap gap_ = Gap::None;
   std::vector<vtkWeakPointer<vtkRenderer>> renderers_;
   vtkNew<vtkLineSource> line_;
-  vtkNew<vtkActor> line_actor_;
+  vtkNew<vtkActor2D> line_actor_;
   vtkNew<vtkSphereSource> end_sources_[2];
   vtkNew<vtkActor> ends_[2];
   vtkNew<vtkTextActor> label_;

@@ -6,9 +6,11 @@
 // no display needed.
 #include <gtest/gtest.h>
 #include <vtkActor.h>
+#include <vtkActor2D.h>
 #include <vtkAlgorithm.h>
 #include <vtkLineSource.h>
 #include <vtkMapper.h>
+#include <vtkMapper2D.h>
 #include <vtkMatrix4x4.h>
 #include <vtkPolyData.h>
 #include <vtkProperty.h>
