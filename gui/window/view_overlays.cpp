@@ -15,7 +15,7 @@ namespace linkscape::gui {
 
 namespace {
 // The ellipsoid's largest semi-axis, where the scale is chosen, as a fraction of the device's size.
-constexpr double kEllipsoidSize = 0.35;
+constexpr double kEllipsoidSize = 0.25;
 constexpr haptics::TorqueRating kRating = haptics::TorqueRating::Continuous;  // as the Drive tab's forces
 }  // namespace
 
