@@ -88,7 +88,11 @@ TEST_P(ForceEllipsoidRandom, SemiAxesAreTheForceMapsSingularValues) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Shapes, ForceEllipsoidRandom, ::testing::Values(Case{3, 3}, Case{3, 4}, Case{2, 2}, Case{2, 3}));
+INSTANTIATE_TEST_SUITE_P(Shapes, ForceEllipsoidRandom, ::testing::Values(Case{3, 3}, Case{3, 4}, Case{2, 2}, Case{2, 3}),
+                         [](const auto& info) {
+                           return std::to_string(info.param.rows) + "rows" + std::to_string(info.param.actuators) +
+                                  "actuators";
+                         });
 
 // Orthogonal columns: the polytope is a box whose inscribed ball is the
 // ellipsoid's smallest axis, force_iso exactly.
