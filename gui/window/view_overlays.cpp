@@ -60,7 +60,10 @@ void ViewOverlays::connectActions(QAction* capsules, QAction* ellipsoid) {
     show_ellipsoid_ = on;
     update();
   });
-  capsules->setChecked(has_links);
+  // Checked on every device (disabled where it states no link radii): a
+  // window hands its toggles to the next one (sessions, another device),
+  // and a device that states link radii then keeps its default.
+  capsules->setChecked(true);
   ellipsoid->setChecked(false);
 }
 

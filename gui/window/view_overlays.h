@@ -36,7 +36,7 @@ class ViewOverlays : public QObject {
   // The two toggles added to `menu`, unconnected and unchecked.
   static std::pair<QAction*, QAction*> addActions(QMenu* menu);
   // Connects the toggles and sets them for this device: the capsules on
-  // where it states link radii (else off and disabled), the ellipsoid off.
+  // (disabled, drawing nothing, where it states no link radii), the ellipsoid off.
   void connectActions(QAction* capsules, QAction* ellipsoid);
 
   const render::CapsuleScene& capsules() const { return *capsules_; }
