@@ -1,6 +1,8 @@
 #include "core/interference.h"
 
 #include <algorithm>
+#include <stdexcept>
+#include <string>
 
 namespace linkscape::interference {
 
@@ -44,6 +46,26 @@ SegmentPair closest_points(const Vector3d& a0, const Vector3d& a1, const Vector3
 
 double clearance(const Capsule& p, const Capsule& q) {
   return closest_points(p.a, p.b, q.a, q.b).distance - p.radius - q.radius;
+}
+
+void set_closest(LinkCapsules& c, int a, int b) {
+  const int n = int(c.links.size());
+  if (a < 0 || b < 0 || a >= n || b >= n || a == b)
+    throw std::invalid_argument("link capsules: the closest pair must be two different links of 0.." +
+                                std::to_string(n - 1) + ", got " + std::to_string(a) + " and " + std::to_string(b));
+  const Capsule &p = c.links[std::size_t(a)].capsule, &q = c.links[std::size_t(b)].capsule;
+  c.closest = {a, b};
+  c.axes = closest_points(p.a, p.b, q.a, q.b);
+  c.clearance = c.axes.distance - p.radius - q.radius;
+}
+
+std::array<Vector3d, 2> LinkCapsules::gap() const {
+  if (!has_pair()) throw std::logic_error("link capsules: no closest pair");
+  const Vector3d along = axes.on_b - axes.on_a;
+  // Axes that meet: any direction serves; both points are then that point.
+  const Vector3d u = axes.distance > 0 ? Vector3d(along / axes.distance) : Vector3d::Zero();
+  return {axes.on_a + links[std::size_t(closest[0])].capsule.radius * u,
+          axes.on_b - links[std::size_t(closest[1])].capsule.radius * u};
 }
 
 }  // namespace linkscape::interference

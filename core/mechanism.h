@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "core/field.h"
+#include "core/interference.h"
 #include "core/method_harness.h"
 #include "core/range.h"
 #include "core/stability.h"
@@ -245,6 +246,15 @@ class Mechanism {
   // Throws std::invalid_argument where q, x do not assemble (a drawing would lie).
   virtual SkeletonPose skeleton_pose(const Eigen::VectorXd& q, const Eigen::VectorXd& x,
                                      const IkResult* ik = nullptr) const = 0;
+
+  // The links as capsules at a pose and the pair that sets the clearance
+  // (the view draws them); nullopt for a device that states no link radii.
+  // Throws std::invalid_argument where q, x do not assemble.
+  virtual std::optional<interference::LinkCapsules> link_capsules(const Eigen::VectorXd& q,
+                                                                  const Eigen::VectorXd& x) const {
+    (void)q, (void)x;
+    return std::nullopt;
+  }
 
   // The default sampling box (x, y, z) of fields and meshes, and the slice
   // plane shown first (normal axis, position) for the task pose `x`.

@@ -29,6 +29,7 @@
 #include "gui/window/session_history.h"
 #include "gui/window/task_panel.h"
 #include "gui/window/view_handles.h"
+#include "gui/window/view_overlays.h"
 #include "gui/window/view_tools.h"
 #include "gui/window/window_menus.h"
 #include "gui/window/vtk_widget.h"
@@ -176,6 +177,7 @@ void MechanismWindow::buildDocks() {
   fit_panel_ = new FitPanel(task_panel_);
   QDockWidget* fit = add_dock(this, tr("Fit"), "fitDock", fit_panel_);
   tools_ = new ViewTools({&state_, view_, renderer_, scene_.get(), field_scene_.get(), task_scene_.get(), fields_}, this);
+  connect(this, &MechanismWindow::poseChanged, tools_->overlays(), &ViewOverlays::update);
   connect(fit_panel_, &FitPanel::applyRequested, this, [this](const std::map<std::string, double>& design) {
     if (!setParameters(design)) return;
     if (const auto centre = fit_panel_->chosenCentre()) task_panel_->setCentre(*centre);  // where it fits

@@ -5,6 +5,7 @@
 #include <QMainWindow>
 #include <QKeySequence>
 #include <QMenu>
+#include <tuple>
 #include <vtkCamera.h>
 #include <vtkPolyData.h>
 #include <vtkRenderer.h>
@@ -15,6 +16,7 @@
 #include "gui/window/field_display.h"
 #include "gui/window/pick_tool.h"
 #include "gui/window/probe_panel.h"
+#include "gui/window/view_overlays.h"
 #include "gui/window/vtk_widget.h"
 #include "render/field_probe.h"
 #include "render/field_scene.h"
@@ -34,6 +36,7 @@ ViewTools::ViewTools(const Scene& scene, QObject* parent)
       marks_(std::make_unique<render::MarkScene>()),
       picker_(std::make_unique<PickTool>(scene.view->interactor(), scene.renderer)) {
   marks_->add_to(scene.renderer);
+  overlays_ = new ViewOverlays(*scene.state, scene.renderer, scene.view, this);
   ProbePanel::Hooks hooks;
   hooks.field_at = [this](const Eigen::Vector3d& p, QString* source) -> const Field* {
     const Field* slice = scene_.display->slice();
@@ -147,6 +150,7 @@ ViewTools::ViewActions ViewTools::addViewMenu(QMenu* menu) {
   a.device->setCheckable(true);
   a.device->setStatusTip(tr("Reset camera and the standard views frame the device in its pose instead of the middle "
                             "of its sampling box"));
+  std::tie(a.capsules, a.ellipsoid) = ViewOverlays::addActions(menu);
   return a;
 }
 
@@ -173,6 +177,7 @@ void ViewTools::addViewActions(QMenu* menu, std::function<Eigen::AlignedBox3d()>
     scene_.fields->set_surface(render::Surface::WellConditioned, shown.well_conditioned);
     scene_.view->requestRender();
   });
+  overlays_->connectActions(a.capsules, a.ellipsoid);
   connect(a.device, &QAction::toggled, this, [this, workspace, framed](bool on) {
     setFrameDevice(on);
     reframe(workspace());

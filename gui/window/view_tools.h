@@ -34,6 +34,7 @@ class DeviceState;
 class FieldDisplay;
 class PickTool;
 class ProbePanel;
+class ViewOverlays;
 class VtkWidget;
 
 class ViewTools : public QObject {
@@ -58,6 +59,8 @@ class ViewTools : public QObject {
   QDockWidget* addDock(QMainWindow* window, QDockWidget* tab_with);
   PickTool* picker() const { return picker_.get(); }
   const render::MarkScene& marks() const { return *marks_; }
+  // The link capsules and the force ellipsoid (view_overlays.h).
+  ViewOverlays* overlays() const { return overlays_; }
 
   // The camera along `view` (none: the default view from the front-left,
   // above) framing the device's workspace box or, while frameDevice(), the
@@ -71,13 +74,14 @@ class ViewTools : public QObject {
   bool parallel() const;
 
   // View menu entries: the standard views (Ctrl+1..4), parallel projection
-  // (Ctrl+5) and the framing toggle. `workspace` gives the box to frame;
+  // (Ctrl+5), the framing toggle and the overlays' toggles. `workspace` gives the box to frame;
   // `framed` runs after the camera moved (the window notes its fitted camera).
   void addViewActions(QMenu* menu, std::function<Eigen::AlignedBox3d()> workspace, std::function<void()> framed);
   // The same entries, not connected (the shortcut table's menus).
   struct ViewActions {
     std::array<QAction*, 4> views{};  // front, top, side, iso
     QAction *parallel = nullptr, *labels = nullptr, *smooth = nullptr, *device = nullptr;
+    QAction *capsules = nullptr, *ellipsoid = nullptr;  // ViewOverlays
   };
   static ViewActions addViewMenu(QMenu* menu);
 
@@ -86,6 +90,7 @@ class ViewTools : public QObject {
   std::unique_ptr<render::MarkScene> marks_;
   std::unique_ptr<PickTool> picker_;
   ProbePanel* panel_ = nullptr;
+  ViewOverlays* overlays_ = nullptr;
   bool frame_device_ = false;
   std::optional<render::StandardView> view_;  // the direction last framed from
 };

@@ -387,10 +387,7 @@ class DescribedMechanism final : public Mechanism {
 
   SkeletonPose skeleton_pose(const VectorXd& q, const VectorXd& x, const IkResult* ik) const override {
     const VectorXd xm = to_model(x, "x");
-    const PoseSolution s = kin_.inverse_near(xm, q);
-    if (s.status != Status::Ok)
-      throw std::invalid_argument("described: the pose does not assemble (leg " +
-                                  kin_.model().legs[std::size_t(std::max(0, s.failing_leg))].name + ")");
+    const PoseSolution s = assembly(xm, q);
     SkeletonPose p;
     const std::size_t bodies = std::size_t(platform_body_) + kin_.model().platform_names.size();
     p.X_world_body.assign(bodies, Eigen::Isometry3d::Identity());
@@ -407,6 +404,29 @@ class DescribedMechanism final : public Mechanism {
     for (std::size_t b = 0; b < pose.bodies.size(); ++b) p.X_world_body[std::size_t(platform_body_) + b] = pose.bodies[b];
     p.p_world_endpoint = pose.p;
     return p;
+  }
+
+  std::optional<interference::LinkCapsules> link_capsules(const VectorXd& q, const VectorXd& x) const override {
+    if (!kin_.has_capsules()) return std::nullopt;
+    const VectorXd xm = to_model(x, "x");
+    const PoseSolution s = assembly(xm, q);
+    const PlatformPose pose = kin_.pose(xm);
+    const std::vector<LegState> legs = leg_states(s);
+    const auto placed = kin_.capsules(pose, legs);
+    interference::LinkCapsules out;
+    std::vector<int> first;  // per leg: its first link in out.links
+    for (std::size_t l = 0; l < placed.size(); ++l) {
+      first.push_back(int(out.links.size()));
+      const Leg& leg = kin_.model().legs[l];
+      for (std::size_t c = 0; c < placed[l].size(); ++c)
+        out.links.push_back({placed[l][c], leg.label() + " " + leg.capsules[c].name, int(l),
+                             leg.capsules[c].on == LinkCapsule::On::Chain});
+    }
+    // The pair the device's stops name, so the view agrees with the clearance field.
+    const Stops st = kin_.stops(pose, legs);
+    if (st.pair[0] >= 0)
+      interference::set_closest(out, first[std::size_t(st.pair[0])] + st.pair[1], first[std::size_t(st.pair[2])] + st.pair[3]);
+    return out;
   }
 
   Eigen::AlignedBox3d default_box() const override {
@@ -530,6 +550,16 @@ class DescribedMechanism final : public Mechanism {
     if (!closes) stops.joint_margin_deg = stops.clearance = std::numeric_limits<double>::quiet_NaN();
     s.status = std::uint8_t(status);
     s.reachable = status == Status::Ok;
+    return s;
+  }
+
+  // The assembly at xm (model order) nearest the actuators q, for drawing;
+  // throws std::invalid_argument naming the leg where it does not assemble.
+  PoseSolution assembly(const VectorXd& xm, const VectorXd& q) const {
+    PoseSolution s = kin_.inverse_near(xm, q);
+    if (s.status != Status::Ok)
+      throw std::invalid_argument("described: the pose does not assemble (leg " +
+                                  kin_.model().legs[std::size_t(std::max(0, s.failing_leg))].name + ")");
     return s;
   }
 
