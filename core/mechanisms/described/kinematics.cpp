@@ -187,8 +187,11 @@ std::optional<LegSolution> Kinematics::solve_leg_closed(int leg, const Isometry3
     if (!outside) outside = &s;
   }
   out.state = outside ? *outside : candidates.states[0];
-  // Ok outside the travel (inverse() says out-of-limits), or closing only on another branch.
-  out.status = outside ? Status::Ok : Status::NotConverged;
+  // Ok outside the travel (inverse() says out-of-limits). Closing only on
+  // another branch, the leg does not reach the anchor on this one (decided:
+  // every solution is known), by a distance the closed form does not give.
+  out.status = outside ? Status::Ok : Status::Unreachable;
+  if (!outside) out.residual = std::numeric_limits<double>::quiet_NaN();
   return out;
 }
 
@@ -547,7 +550,10 @@ bool assembled(const PoseSolution& s) {
 double Kinematics::reach_margin(const PoseSolution& s, const JacobianParts* parts) const {
   double margin = kInf;
   for (const LegSolution& l : s.legs)
-    if (l.status != Status::Ok && l.status != Status::OutOfLimits) margin = std::min(margin, -l.residual);
+    if (l.status != Status::Ok && l.status != Status::OutOfLimits) {
+      if (std::isnan(l.residual)) return l.residual;  // out of the branch's reach by an unknown distance
+      margin = std::min(margin, -l.residual);
+    }
   if (!parts) return margin;
   for (double m : parts->serial_margin) margin = std::min(margin, m);
   // A passive joint's margin as an actuator's: the size times the angle.
