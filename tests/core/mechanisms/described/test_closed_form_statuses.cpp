@@ -117,6 +117,38 @@ TEST(DescribedClosedForm, FalconFieldHasNoNotConvergedSample) {
   EXPECT_GT(reference_open, 0);  // the samples the closed form decides
 }
 
+// The closed form fills in every passive joint, so the stops see the same
+// assembly: over the default box, the joint margin and the clearance of the
+// closed-form field are the numerical solver's, and so are the statuses but
+// where the closed form decides what the solver leaves open.
+TEST(DescribedClosedForm, FalconStopsAgreeWithTheNumericalSolver) {
+  const auto falcon = make_mechanism(load_preset("falcon"));
+  const Eigen::AlignedBox3d box = falcon->default_box();
+  const Grid g = Grid::box(box.min(), box.max(), {14, 14, 14});
+  IkOptions newton;
+  newton.method = "newton";
+  const auto closed = falcon->compute_field(g, falcon->home_task(), {}, 2, {});
+  const auto reference = falcon->compute_field(g, falcon->home_task(), newton, 2, {});
+  int compared = 0, stopped = 0;
+  double worst_margin = 0, worst_clearance = 0;
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    const Status a = Status(closed->status[i]), b = Status(reference->status[i]);
+    if (!(a == Status::Unreachable && b == Status::NotConverged)) EXPECT_EQ(a, b) << "sample " << i;
+    const float m = closed->extra("joint_margin")->values[i], c = closed->extra("clearance")->values[i];
+    if (std::isnan(m) || a != b) continue;
+    worst_margin = std::max(worst_margin, double(std::abs(m - reference->extra("joint_margin")->values[i])));
+    worst_clearance = std::max(worst_clearance, double(std::abs(c - reference->extra("clearance")->values[i])));
+    ++compared;
+    stopped += a == Status::OutOfLimits && m < 0;
+  }
+  std::printf("Falcon stops: %d assemblies, %d beyond a passive joint's stop; worst joint margin %.2e deg, "
+              "clearance %.2e mm\n", compared, stopped, worst_margin, worst_clearance);
+  EXPECT_GT(compared, 1000);
+  EXPECT_GT(stopped, 20);
+  EXPECT_LT(worst_margin, 1e-4);     // float storage
+  EXPECT_LT(worst_clearance, 1e-4);
+}
+
 // Targets within 2 % of the size of the compiled Delta's reach boundary
 // (found by bisection along random rays from home): the described Delta
 // calls unreachable exactly those the compiled one does. (Out-of-limits may
