@@ -189,9 +189,9 @@ std::optional<LegSolution> Kinematics::solve_leg_closed(int leg, const Isometry3
   out.state = outside ? *outside : candidates.states[0];
   // Ok outside the travel (inverse() says out-of-limits). Closing only on
   // another branch, the leg does not reach the anchor on this one (decided:
-  // every solution is known), by a distance the closed form does not give.
+  // every solution is known); its miss stays 0, a lower bound (the closed
+  // form does not give the distance to the branch's reach).
   out.status = outside ? Status::Ok : Status::Unreachable;
-  if (!outside) out.residual = std::numeric_limits<double>::quiet_NaN();
   return out;
 }
 
@@ -550,10 +550,7 @@ bool assembled(const PoseSolution& s) {
 double Kinematics::reach_margin(const PoseSolution& s, const JacobianParts* parts) const {
   double margin = kInf;
   for (const LegSolution& l : s.legs)
-    if (l.status != Status::Ok && l.status != Status::OutOfLimits) {
-      if (std::isnan(l.residual)) return l.residual;  // out of the branch's reach by an unknown distance
-      margin = std::min(margin, -l.residual);
-    }
+    if (l.status != Status::Ok && l.status != Status::OutOfLimits) margin = std::min(margin, -l.residual);
   if (!parts) return margin;
   for (double m : parts->serial_margin) margin = std::min(margin, m);
   // A passive joint's margin as an actuator's: the size times the angle.

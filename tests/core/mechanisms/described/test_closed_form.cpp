@@ -81,14 +81,14 @@ double closure_miss(const Kinematics& k, const VectorXd& x, const PoseSolution& 
   return worst;
 }
 
-// Every leg the closed form calls unreachable by an unknown distance (NaN)
-// closes its anchor, on another branch: its chain ends there, its signs do not match.
+// Every leg the closed form calls unreachable with no miss (0: it closes
+// only on another branch) does close its anchor: its chain ends there.
 bool closes_off_branch(const Kinematics& k, const VectorXd& x, const PoseSolution& s) {
   const PlatformPose p = k.pose(x);
   bool any = false;
   for (std::size_t l = 0; l < s.legs.size(); ++l) {
     if (s.legs[l].status != Status::Unreachable) continue;
-    if (!std::isnan(s.legs[l].residual)) return false;
+    if (s.legs[l].residual != 0) return false;
     const Eigen::Isometry3d end = k.draw_leg(int(l), s.legs[l].state).frames.back(), anchor = k.anchor(int(l), p);
     if ((end.translation() - anchor.translation()).norm() > 1e-12 * k.model().size) return false;
     any = true;
