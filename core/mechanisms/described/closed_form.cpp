@@ -303,8 +303,9 @@ struct Builder {
     const double c = std::clamp(h / g.side, -1.0, 1.0), s = std::sqrt(1 - c * c);
     for (double upper_sign : {1.0, -1.0}) {
       const double x = g.bar - g.side * upper_sign * s;  // the parallelogram's reach along n
-      if (std::abs(x) <= 1e-12 * model.size) {  // the 2R's second link vanishes: every knee angle or none
-        out.undecided = true;
+      if (std::abs(x) <= 1e-12 * model.size) {  // the 2R's second link vanishes
+        if (std::abs(rho - r1) > 1e-9 * model.size) continue;  // the end off the thigh's circle: no knee
+        out.undecided = true;  // on it: every knee angle
         return;
       }
       const double cos_elbow = (rho * rho - r1 * r1 - x * x) / (2 * r1 * x);

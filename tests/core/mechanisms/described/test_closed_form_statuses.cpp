@@ -89,6 +89,36 @@ TEST(DescribedClosedForm, FalconMissIsTheDistanceToTheLegsReach) {
   EXPECT_EQ(checked, 24);
 }
 
+// Where a crank-parallelogram leg has a continuum of solutions (or its end
+// is turned so that it closes only by luck), the closed form does not
+// decide: the numerical solver does.
+TEST(DescribedClosedForm, CrankParallelogramHandsDegeneratePosesToTheNumericalSolver) {
+  const Kinematics k = load("falcon");
+  const Leg& l = k.model().legs[0];
+  const ClosedFormLeg& f = *k.closed_form(0);
+  const ClosedFormLeg::Parallelogram& g = f.parallelogram;
+  const Vector3d A = f.actuator_axis, across = g.across;
+  const double r1 = g.thigh.norm();
+  auto undecided = [&](const Vector3d& local, const Eigen::Matrix3d& turn) {
+    Isometry3d anchor = f.base * Isometry3d(turn);
+    anchor.translation() = f.base * local;
+    LegCandidates c;
+    solve_closed(f, k.model(), l, anchor, c);
+    return c.undecided && c.miss == 0;
+  };
+  const Eigen::Matrix3d level = Eigen::Matrix3d::Identity();
+  // On the crank's axis, where the parallelogram's reach equals the thigh: every crank angle.
+  const double on_axis = std::sqrt(g.side * g.side - (r1 - g.bar) * (r1 - g.bar));
+  EXPECT_TRUE(undecided(A * (g.height + on_axis), level));
+  // The parallelogram's reach across A zero, the end at the thigh's length: every knee angle.
+  const double s = g.bar / g.side, h = g.side * std::sqrt(1 - s * s);
+  EXPECT_TRUE(undecided(A * (g.height + h) + r1 * across, level));
+  // A reachable point, the end level, is decided; turned off the crank's axis, it is not.
+  EXPECT_FALSE(undecided(A * (g.height + h) + 0.9 * r1 * across, level));
+  EXPECT_TRUE(undecided(A * (g.height + h) + 0.9 * r1 * across,
+                        Eigen::AngleAxisd(0.1, across).toRotationMatrix()));
+}
+
 // The default box at a moderate resolution: every sample decided; where the
 // closed form says unreachable, the numerical reference does not close the
 // pose on the design's branch either.
