@@ -109,6 +109,9 @@ struct Field {
   // hand may leave it empty ("not recorded").
   SampleArray<std::uint8_t> method_used;
   static constexpr std::uint8_t kNoMethod = 255;
+  // The name of each method code (index: the code), as the device's IK
+  // methods are named (eval --method); empty where not recorded.
+  std::vector<std::string> method_names;
   // Devices with a second measure only (a six-DOF device's orientation
   // block), else empty: cond holds the first measure and this the second;
   // +inf where singular or unreachable.

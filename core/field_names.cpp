@@ -31,6 +31,13 @@ double field_value(const Field& field, const FieldArrayInfo& array, std::size_t 
   return visit_field_array(field, array, [s](const auto& values) { return double(values[s]); });
 }
 
+std::string method_code_name(const Field& field, int code) {
+  if (code == Field::kNoMethod) return "none";
+  if (code >= 0 && std::size_t(code) < field.method_names.size() && !field.method_names[std::size_t(code)].empty())
+    return field.method_names[std::size_t(code)];
+  return "method code " + std::to_string(code);
+}
+
 std::vector<std::string> device_fields(const MechanismInfo& info, bool diagnostics) {
   std::vector<std::string> out;
   for (const FieldArrayInfo& a : kFieldArrays) {

@@ -86,6 +86,11 @@ decltype(auto) visit_field_array(const Field& field, const FieldArrayInfo& array
   return std::visit([&](auto member) -> decltype(auto) { return f(field.*member); }, array.member);
 }
 
+// A method code's name (Field::method_used): the device's name for it
+// (Field::method_names, as eval --method lists them), "none" for
+// Field::kNoMethod, else "method code N" (a field that did not record names).
+std::string method_code_name(const Field& field, int code);
+
 // The fields a device's fields have, as a user names them: cond (its first
 // measure), its second measure under that measure's own name, reach, residual
 // and iterations (where `diagnostics`), status, method where it has

@@ -7,7 +7,6 @@
 
 #include "core/field_names.h"
 #include "core/status.h"
-#include "render/field_probe.h"
 
 namespace linkscape::render {
 
@@ -88,7 +87,7 @@ std::vector<LegendEntry> categorical_legend(const Field& field, const SliceStyle
     std::set<int> codes;
     for (std::size_t s = 0; s < field.method_used.size(); ++s)
       if (field.reachable[s]) codes.insert(field.method_used[s]);
-    for (int code : codes) out.push_back({double(code), method_label(code), method_colour(std::uint8_t(code))});
+    for (int code : codes) out.push_back({double(code), method_code_name(field, code), method_colour(std::uint8_t(code))});
   }
   return out;
 }

@@ -43,7 +43,8 @@ struct LegendEntry {
   std::array<double, 3> rgb;  // as the slice draws it
 };
 // The discrete legend of a categorical field: every status by name, or
-// every method code that some reachable sample of `field` holds. Empty for
+// every method that some reachable sample of `field` used, by its name
+// (core/field_names.h: method_code_name). Empty for
 // other fields. The slice must be drawn with categorical_style() so the
 // colours match.
 std::vector<LegendEntry> categorical_legend(const Field& field, const SliceStyle& style);

@@ -37,7 +37,7 @@ std::vector<Array> arrays(const Field& f) {
     const bool code = a.array == FieldArray::Status || a.array == FieldArray::Method || a.array == FieldArray::Reachable;
     std::function<std::string(double)> label;
     if (a.array == FieldArray::Status) label = [](double v) { return std::string(to_string(Status(int(v)))); };
-    if (a.array == FieldArray::Method) label = [](double v) { return method_label(int(v)); };
+    if (a.array == FieldArray::Method) label = [&f](double v) { return method_code_name(f, int(v)); };
     if (a.array == FieldArray::Reachable) label = [](double v) { return std::string(v != 0 ? "yes" : "no"); };
     out.push_back({std::string(a.name), a.length ? length : "", !code && a.array != FieldArray::Iterations,
                    a.needs_solution && !code, [&f, &a](std::size_t s) { return field_value(f, a, s); }, label});
@@ -116,10 +116,6 @@ ProbeValue read(const Field& f, const Array& a, const Stencil& st) {
 }  // namespace
 
 const char* to_string(Sampling sampling) { return sampling == Sampling::Trilinear ? "trilinear" : "nearest sample"; }
-
-std::string method_label(int code) {
-  return code == Field::kNoMethod ? std::string("none") : "method code " + std::to_string(code);
-}
 
 const ProbeValue* ProbeSample::find(const std::string& name) const {
   for (const ProbeValue& v : values)

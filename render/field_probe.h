@@ -25,9 +25,6 @@ namespace linkscape::render {
 
 enum class Sampling { Nearest, Trilinear };
 const char* to_string(Sampling sampling);
-// A method code's name in read-outs and legends: "none" for Field::kNoMethod,
-// else "method code N" (the code is the device's own, core/field.h).
-std::string method_label(int code);
 
 struct ProbeValue {
   std::string name;   // as users name the field: "cond", "reach", "force_iso", ...

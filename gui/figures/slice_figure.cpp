@@ -88,8 +88,9 @@ void draw(QPainter& p, const QSize& page, const Field& field, const render::Slic
   p.setFont(font);
   const int fh = p.fontMetrics().height();
 
-  // Plot area keeps the data's aspect ratio.
-  const int left = 5 * fh, right = 9 * fh, top = 4 * fh, bottom = 4 * fh;
+  // Plot area keeps the data's aspect ratio; the right margin holds the
+  // colour bar and the legend's longest line ("reach boundary").
+  const int left = 5 * fh, right = 12 * fh, top = 4 * fh, bottom = 4 * fh;
   const double avail_w = page.width() - left - right, avail_h = page.height() - top - bottom;
   const double aspect = (u1 - u0) / (v1 - v0);
   const double w = std::min(avail_w, avail_h * aspect), h = w / aspect;
@@ -199,7 +200,8 @@ void draw(QPainter& p, const QSize& page, const Field& field, const render::Slic
     p.setPen(QPen(colour, width));
     p.drawLine(QPointF(bar.left(), y), QPointF(bar.left() + 1.5 * fh, y));
     p.setPen(Qt::black);
-    p.drawText(QRectF(bar.left() + 2 * fh, y - fh / 2.0, 8 * fh, fh), Qt::AlignLeft | Qt::AlignVCenter, text);
+    p.drawText(QRectF(bar.left() + 2 * fh, y - fh / 2.0, page.width() - bar.left() - 2 * fh, fh),
+               Qt::AlignLeft | Qt::AlignVCenter, text);
     y += 1.2 * fh;
   };
   // The legend names only the lines the plot has.

@@ -85,7 +85,8 @@ DrivePanel::DrivePanel(const MechanismInfo& info, QWidget* parent) : QWidget(par
   }
   det_label_ = new QLabel(state);
   det_label_->setObjectName("detLabel");
-  det_label_->setToolTip(tr("Determinant of the Jacobian dx/dq where it is square (0 otherwise)"));
+  det_label_->setToolTip(tr("Determinant of the Jacobian J = dx/dq where it is square, in the units of its rows (task "
+                            "coordinates) over those of its columns (actuators)"));
   form->addRow(tr("det J"), det_label_);
   // The haptic forces at the pose, from the Design tab's motor ratings.
   for (auto [label, name, title, tip] :
@@ -195,7 +196,11 @@ QString DrivePanel::showReadouts(const DeviceState& state) {
       const double v = k < m.values.size() ? m.values[k] : NAN;
       measure_labels_[k]->setText(std::isfinite(v) ? number(v) : QString::fromUtf8("∞ (singular)"));
     }
-    det_label_->setText(number(m.det));
+    // In the units of J = dx/dq's rows over its columns' (e.g. cm³/rad³).
+    const Eigen::MatrixXd J = state.mechanism().jacobian(state.actuators(), state.task());
+    const QString unit = determinant_unit(info, int(J.rows()), int(J.cols()));
+    det_label_->setText(J.rows() != J.cols() ? tr("n/a (J is %1×%2)").arg(J.rows()).arg(J.cols())
+                                             : number(m.det) + (unit.isEmpty() ? QString() : " " + unit));
     showForces(state);
     const SingularityReport s = state.mechanism().nearest_singularity(state.actuators(), state.task());
     singular_label_->setText(QString("%1, %2 %3")

@@ -213,6 +213,7 @@ FieldSettings FieldPanel::settings(const Mechanism& device, const Eigen::VectorX
   f.show_well_conditioned = show_well_box_->isChecked();
   f.reach_opacity = reach_opacity_slider_->value() / 100.0;
   f.well_conditioned_opacity = well_opacity_slider_->value() / 100.0;
+  f.slice_opacity = sliceOpacity();
   return f;
 }
 
@@ -220,7 +221,8 @@ void FieldPanel::apply(const FieldSettings& f, const Mechanism& device) {
   const QSignalBlocker b1(field_box_), b2(normal_box_), b3(position_slider_), b4(follow_box_), b5(threshold_box_),
       b6(auto_range_box_), b7(slice_resolution_box_), b8(volume_resolution_box_), b9(show_slice_box_),
       b10(show_reach_box_), b11(show_well_box_), b12(reach_opacity_slider_), b13(well_opacity_slider_),
-      b14(method_box_), b15(range_min_box_), b16(range_max_box_), b17(colour_map_box_), b18(log_scale_box_);
+      b14(method_box_), b15(range_min_box_), b16(range_max_box_), b17(colour_map_box_), b18(log_scale_box_),
+      b19(slice_opacity_slider_);
   auto choose = [](QComboBox* box, int index) {
     if (index >= 0) box->setCurrentIndex(index);
   };
@@ -241,6 +243,7 @@ void FieldPanel::apply(const FieldSettings& f, const Mechanism& device) {
   show_well_box_->setChecked(f.show_well_conditioned);
   reach_opacity_slider_->setValue(int(std::lround(f.reach_opacity * 100)));
   well_opacity_slider_->setValue(int(std::lround(f.well_conditioned_opacity * 100)));
+  slice_opacity_slider_->setValue(int(std::lround(f.slice_opacity * 100)));
   const Eigen::AlignedBox3d box = device.default_box();
   const int n = normal_box_->currentIndex();
   const double half = 0.5 * (box.max()(n) - box.min()(n));

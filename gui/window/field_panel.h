@@ -38,7 +38,7 @@ class FieldPanel : public QWidget {
   // The colour range in use shown in the range boxes (quietly).
   void showColourRange(double lo, double hi);
   void enableColourRange(bool typed);
-  // The slice's opacity, 0..1 (the view's own setting: not in FieldSettings).
+  // The slice's opacity, 0..1 (FieldSettings::slice_opacity).
   double sliceOpacity() const;
 
  signals:

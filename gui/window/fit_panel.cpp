@@ -53,7 +53,9 @@ class FitChart : public QWidget {
       p.fillRect(rect(), Qt::white);
       p.setPen(QColor(110, 110, 110));
       p.drawText(rect(), Qt::AlignCenter | Qt::TextWordWrap,
-                 "Run sizes the device to the Task tab's task and criteria;\nevery design evaluated is charted here.");
+                 panel_->showsSavedOutcome()
+                     ? "The result above is the session's; Run again to chart every design evaluated."
+                     : "Run sizes the device to the Task tab's task and criteria;\nevery design evaluated is charted here.");
       return;
     }
     draw_fit_chart(p, QRectF(rect()), *panel_->problem(), *panel_->result(),
@@ -123,7 +125,8 @@ FitPanel::FitPanel(const TaskPanel* task, QWidget* parent)
   region_edit_->setPlaceholderText("anywhere; or box:min=x,y,z,max=x,y,z or sphere:centre=x,y,z,radius=r");
   region_edit_->setToolTip("Where the task's centre may go when placed (the device's length unit); among equal "
                            "places the one nearest the home point");
-  form->addRow("Centre within", region_edit_);
+  region_label_ = new QLabel("Centre within", this);
+  form->addRow(region_label_, region_edit_);
   connect(centre_free_, &QCheckBox::toggled, region_edit_, &QWidget::setEnabled);
   layout->addLayout(form);
 
@@ -236,6 +239,7 @@ void FitPanel::setDevice(const Preset& preset, const Eigen::VectorXd& pose) {
     rows_.push_back(row);
   }
   size_box_->setSuffix(qs(" " + info.length_unit));
+  region_label_->setText(qs("Centre within (" + info.length_unit + ")"));
   size_box_->setToolTip(qs("The size held in the largest-ratio mode: " + info.size_description));
   size_box_->setValue(m->size());
 }
@@ -284,6 +288,13 @@ FitSetting FitPanel::setting() const {
   s.largest_margin = mode_box_->currentIndex() == 1;
   s.size = size_box_->value();
   s.centre_free = centre_free_->isChecked();
+  try {  // the region's text as typed, where it reads; else the last that did
+    const std::string region = centreRegion();
+    if (!region.empty()) task::parse_centre_region(region);
+    last_valid_region_ = region;
+  } catch (const std::invalid_argument&) {
+  }
+  s.centre_region = last_valid_region_;
   return s;
 }
 
@@ -304,6 +315,7 @@ void FitPanel::keepValidEqualGroups() const {
 }
 
 void FitPanel::applySetting(const FitSetting& s) {
+  if (!s.centre_region.empty()) task::parse_centre_region(s.centre_region);  // throws before anything changes
   for (const auto& [name, range] : s.bounds)  // checked before anything changes (setFree checks its own)
     if (std::none_of(rows_.begin(), rows_.end(), [&name = name](const ParameterRow& r) { return r.name == name; }))
       throw std::invalid_argument("fit panel: no design parameter '" + name + "'");
@@ -313,6 +325,26 @@ void FitPanel::applySetting(const FitSetting& s) {
   last_valid_equal_ = s.equal;
   setMode(s.largest_margin ? Mode::LargestMarginAtSize : Mode::SmallestSize, s.size);
   setCentreFree(s.centre_free);
+  setCentreRegion(s.centre_region);
+  last_valid_region_ = s.centre_region;
+}
+
+std::optional<FitOutcome> FitPanel::outcome() const {
+  if (!result_ || !problem_) return saved_;
+  return FitOutcome{reportText().toStdString(), statusText().toStdString(), chosenDesign(), chosenCentre()};
+}
+
+void FitPanel::applyOutcome(const FitOutcome& outcome) {
+  if (worker_.running()) return;  // the run's result is the newer
+  result_.reset();
+  problem_.reset();
+  saved_ = outcome;
+  report_->setPlainText(qs(outcome.report));
+  status_->setText(qs(outcome.status));
+  apply_button_->setEnabled(!outcome.design.empty());
+  export_chart_button_->setEnabled(false);
+  export_csv_button_->setEnabled(false);
+  chart_->update();
 }
 
 void FitPanel::setSearchSettings(const task::InscribedOptions& inscribed, int task_resolution, double tolerance) {
@@ -420,14 +452,21 @@ void FitPanel::finish(std::optional<fit::Result> result, const QString& message)
   progress_->setValue(result ? 1 : 0);
   const bool completed = result.has_value();
   if (completed) {
+    saved_.reset();
     result_ = std::move(result);
     const std::string report = fit_report(*problem_, *result_, make_mechanism(problem_->preset)->info());
     report_->setPlainText(qs(report));
     // The lines with the answer and its verdict: the third and fourth of the report.
     QStringList lines = qs(report).split('\n');
-    status_->setText(lines.size() > 3 ? lines[2] + "\n" + lines[3].trimmed() : lines.value(0));
-    const bool chosen = result_->best || result_->closest;
-    apply_button_->setEnabled(chosen);
+    QString status = lines.size() > 3 ? lines[2] + "\n" + lines[3].trimmed() : lines.value(0);
+    const std::optional<std::size_t> chosen = result_->best ? result_->best : result_->closest;
+    if (chosen) {  // where the task sits for that design, from its home point
+      const fit::Row& row = result_->rows[*chosen];
+      status += "\n" + centre_from_home_text(row.centre, row.home, row.size,
+                                             qs(make_mechanism(problem_->preset)->info().length_unit));
+    }
+    status_->setText(status);
+    apply_button_->setEnabled(chosen.has_value());
     export_chart_button_->setEnabled(true);
     export_csv_button_->setEnabled(true);
     chart_->update();
@@ -438,7 +477,7 @@ void FitPanel::finish(std::optional<fit::Result> result, const QString& message)
 }
 
 std::map<std::string, double> FitPanel::chosenDesign() const {
-  if (!result_ || !problem_) return {};
+  if (!result_ || !problem_) return saved_ ? saved_->design : std::map<std::string, double>{};
   const std::optional<std::size_t> chosen = result_->best ? result_->best : result_->closest;
   if (!chosen) return {};
   std::map<std::string, double> out;
@@ -448,7 +487,8 @@ std::map<std::string, double> FitPanel::chosenDesign() const {
 }
 
 std::optional<Eigen::Vector3d> FitPanel::chosenCentre() const {
-  if (!result_ || !problem_ || problem_->task.centre) return std::nullopt;
+  if (!result_ || !problem_) return saved_ ? saved_->centre : std::nullopt;
+  if (problem_->task.centre) return std::nullopt;
   const std::optional<std::size_t> chosen = result_->best ? result_->best : result_->closest;
   if (!chosen) return std::nullopt;
   return result_->rows[*chosen].centre;

@@ -63,11 +63,18 @@ class FitPanel : public QWidget {
   std::string centreRegion() const;
   // What a session keeps of the tab, and back: the free parameters, their
   // bounds, the groups held equal (the last valid text: groups of the
-  // device's parameters), the mode, the size and whether the centre is free.
-  // applySetting throws std::invalid_argument (nothing changed) for a
-  // parameter the device does not have.
+  // device's parameters), the mode, the size, whether the centre is free
+  // and where (the last valid region text). applySetting throws
+  // std::invalid_argument (nothing changed) for a parameter the device does
+  // not have or a bad region.
   FitSetting setting() const;
   void applySetting(const FitSetting& setting);
+  // The last result as a session keeps it (none before a run), and back:
+  // a result from a session shows its report and verdict and Apply sets its
+  // design; the chart and the exports need a Run.
+  std::optional<FitOutcome> outcome() const;
+  void applyOutcome(const FitOutcome& outcome);
+  bool showsSavedOutcome() const { return saved_.has_value(); }
   // The sampling (defaults: those of linkscape fit).
   void setSearchSettings(const task::InscribedOptions& inscribed, int task_resolution, double tolerance);
 
@@ -110,6 +117,8 @@ class FitPanel : public QWidget {
 
   void keepValidEqualGroups() const;      // the box's groups, when they name the device's parameters
   mutable std::string last_valid_equal_;  // setting()'s Hold equal groups
+  mutable std::string last_valid_region_;  // setting()'s centre region
+  std::optional<FitOutcome> saved_;       // a session's result shown, until the next run
   std::optional<fit::Problem> problem_;  // of the result shown (or the run in flight)
   std::optional<fit::Result> result_;
 
@@ -119,6 +128,7 @@ class FitPanel : public QWidget {
   QDoubleSpinBox* size_box_ = nullptr;
   QCheckBox* centre_free_ = nullptr;
   QLineEdit* region_edit_ = nullptr;
+  QLabel* region_label_ = nullptr;
   QPushButton* run_button_ = nullptr;
   QPushButton* cancel_button_ = nullptr;
   QProgressBar* progress_ = nullptr;

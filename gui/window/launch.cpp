@@ -4,6 +4,7 @@
 
 #include <QApplication>
 #include <QDockWidget>
+#include <QFileInfo>
 #include <QSettings>
 #include <QSurfaceFormat>
 #include <array>
@@ -17,6 +18,7 @@
 #include "gui/window/latency_probe.h"
 #include "gui/window/mechanism_window.h"
 #include "gui/window/screenshot.h"
+#include "gui/window/session_history.h"
 #include "gui/window/task_panel.h"
 #include "gui/window/vtk_widget.h"
 
@@ -58,7 +60,11 @@ int run_window(const WindowOptions& options, int argc, char** argv) {
   QApplication::setApplicationName("Linkscape");
   QApplication::setOrganizationName("Linkscape");
   MechanismWindow window(preset);
-  if (session) window.applySession(*session);
+  if (session) {  // as File > Open session: the session's file is the document
+    window.applySession(*session);
+    window.applyViewSession(*session);
+    window.history()->reset(QFileInfo(QString::fromStdString(options.session)).absoluteFilePath());
+  }
   if (!options.task.empty()) {
     window.taskPanel()->setTask(options.task, options.criteria);
     if (auto* dock = window.findChild<QDockWidget*>("taskDock")) dock->raise();

@@ -94,12 +94,14 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
                                       return;
                                     }
                                     applySession(s);
+                                    applyViewSession(s);
                                     history()->reset(path);
                                   },
                                   [this] {
                                     const Preset& p = state_.preset();
                                     return qs(p.title.empty() ? state_.mechanism().info().title : p.title);
-                                  }});
+                                  },
+                                  [this] { return preset_file(state_.preset()); }});
   document_->cameraFitted(camera_state(renderer_));  // as fitCamera() put it above
   buildMenus();
   compute_label_ = add_field_status(this, view_, {fields_->sliceRunner(), fields_->volumeRunner()}, [this] {
@@ -404,6 +406,12 @@ void MechanismWindow::applySession(const Session& s) {
   fields_->request(true, true);
 }
 
+void MechanismWindow::applyViewSession(const Session& s) {
+  apply_window_session(this, s);
+  if (s.camera) apply_camera(renderer_, *s.camera);  // as saved, after toggles that frame the view
+  view_->requestRender();
+}
+
 std::optional<Preset> MechanismWindow::readPresetFile(const QString& file, const QString& failure_title) {
   QString error;
   std::optional<Preset> next = preset_reader_.read(file, error);
@@ -471,6 +479,15 @@ MechanismWindow* MechanismWindow::replaceWith(const Preset& preset, const std::o
   auto next = std::make_unique<MechanismWindow>(preset);
   if (session) next->applySession(*session);
   else next->applyFieldSettings(fieldSettings());
+  // The View menu and, for the same device (a reload), the Fit tab: the
+  // session's, else as they are here.
+  Session shown_as = session ? *session : Session{};
+  if (shown_as.view.empty()) shown_as.view = view_toggles(this);
+  if (!shown_as.fit && preset.mechanism == state_.preset().mechanism) {
+    shown_as.fit = fit_panel_->setting();
+    shown_as.fit_result = fit_panel_->outcome();
+  }
+  next->applyViewSession(shown_as);
   next->history()->reset(session ? session_path : QString());
   next->restoreState(saveState());  // the same panels where the user put them
   next->setInteractive(interactive());

@@ -117,6 +117,10 @@ class MechanismWindow : public QMainWindow {
   // Throws std::invalid_argument (nothing changed) for a session the window
   // cannot honour, e.g. a parameter outside its slider's range.
   void applySession(const Session& session);
+  // What an opened session sets beyond applySession (apply_window_session:
+  // the Fit tab's settings and result, the View menu's toggles), then its
+  // camera again (a toggle may have framed the view).
+  void applyViewSession(const Session& session);
   bool openSession(const QString& path) { return document_->openSession(path); }
   bool saveSession(const QString& path) { return document_->saveSession(path); }
   // File > Open mechanism: the preset file at `path` in a window of its

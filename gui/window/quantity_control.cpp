@@ -6,7 +6,9 @@
 #include <QLabel>
 #include <QSignalBlocker>
 #include <QSlider>
+#include <QStringList>
 #include <cmath>
+#include <map>
 #include <numbers>
 
 namespace linkscape::gui {
@@ -36,6 +38,41 @@ QString display_suffix(const Quantity& q) {
 QString value_text(const Quantity& q, double v) {
   return QString("%1 = %2%3").arg(qs(q.name), fixed(v * display_scale(q), q.unit == "rad" || q.unit == "deg" ? 1 : 3),
                                   display_suffix(q));
+}
+
+QString determinant_unit(const std::vector<std::string>& row_units, const std::vector<std::string>& column_units) {
+  std::map<std::string, int> power;  // by unit, in the order of the names
+  for (const std::string& u : row_units)
+    if (!u.empty()) ++power[u];
+  for (const std::string& u : column_units)
+    if (!u.empty()) --power[u];
+  auto term = [](const std::string& unit, int p) {
+    static const char* const kSuperscript[] = {"⁰", "¹", "²", "³", "⁴", "⁵", "⁶", "⁷", "⁸", "⁹"};
+    QString text = qs(unit);
+    if (p > 1) {
+      const std::string digits = std::to_string(p);
+      for (char d : digits) text += QString::fromUtf8(kSuperscript[d - '0']);
+    }
+    return text;
+  };
+  QStringList above, below;
+  for (const auto& [unit, p] : power) {
+    if (p > 0) above << term(unit, p);
+    if (p < 0) below << term(unit, -p);
+  }
+  const QString dot = QString::fromUtf8("·");
+  if (below.isEmpty()) return above.join(dot);
+  const QString denominator = below.size() > 1 ? "(" + below.join(dot) + ")" : below.front();
+  return (above.isEmpty() ? QString("1") : above.join(dot)) + "/" + denominator;
+}
+
+QString determinant_unit(const MechanismInfo& info, int rows, int cols) {
+  std::vector<std::string> row_units, column_units;
+  for (std::size_t k = 0; k < info.task.size() && int(row_units.size()) < rows; ++k)
+    if (!(info.plane_z && k == 2)) row_units.push_back(info.task[k].unit);  // a planar device's J has no z row
+  for (std::size_t k = 0; k < info.actuators.size() && int(column_units.size()) < cols; ++k)
+    column_units.push_back(info.actuators[k].unit);
+  return determinant_unit(row_units, column_units);
 }
 
 double QuantityControl::value() const { return box->value() / scale; }

@@ -29,6 +29,17 @@ QString display_suffix(const Quantity& q);
 // "name = value unit", in display units.
 QString value_text(const Quantity& q, double v);
 
+// The unit of det J for a J whose rows are in `row_units` and columns in
+// `column_units`: every term of the determinant takes one entry of each
+// row and each column, so its unit is the product of the rows' units over
+// the product of the columns', with common units cancelled ("cm³/rad³" for
+// three lengths over three angles); empty where everything cancels.
+QString determinant_unit(const std::vector<std::string>& row_units, const std::vector<std::string>& column_units);
+// The same for a device's J = dx/dq of `rows` x `cols` (core/mechanism.h):
+// rows the task coordinates it drives (a planar device's without z), columns
+// its actuators.
+QString determinant_unit(const MechanismInfo& info, int rows, int cols);
+
 // A slider and a spin box showing one quantity (the spin box carries the
 // unit; angles in degrees); `changed` runs when the user moves either.
 struct QuantityControl {

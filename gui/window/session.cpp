@@ -48,6 +48,12 @@ json by_name(const Eigen::VectorXd& values, const std::vector<Quantity>& names, 
   return j;
 }
 
+json fit_outcome_json(const FitOutcome& r) {
+  json j = {{"report", r.report}, {"status", r.status}, {"design", r.design}};
+  if (r.centre) j["centre"] = vec(*r.centre);
+  return j;
+}
+
 }  // namespace
 
 void save_session(const Session& s, const std::filesystem::path& path) {
@@ -86,12 +92,16 @@ void save_session(const Session& s, const std::filesystem::path& path) {
   if (!f.method.empty()) j["field"]["method"] = f.method;
   if (f.range_min) j["field"]["range_min"] = *f.range_min;
   if (f.range_max) j["field"]["range_max"] = *f.range_max;
+  j["field"]["slice_opacity"] = f.slice_opacity;
   if (s.task_volume)
     j["task_volume"] = {{"volume", s.task_volume->volume}, {"criteria", s.task_volume->criteria}, {"shown", s.task_volume->shown}};
   if (s.fit)
     j["fit"] = {{"free", s.fit->free},         {"bounds", s.fit->bounds},
                 {"equal", s.fit->equal},       {"mode", s.fit->largest_margin ? "largest-margin" : "smallest-size"},
                 {"size", s.fit->size},         {"centre_free", s.fit->centre_free}};
+  if (s.fit && !s.fit->centre_region.empty()) j["fit"]["centre_region"] = s.fit->centre_region;
+  if (s.fit_result) j["fit_result"] = fit_outcome_json(*s.fit_result);
+  if (!s.view.empty()) j["view"] = s.view;
   const std::string text = j.dump(2) + "\n";
   write_text_atomically(path, text);
 }
@@ -241,7 +251,7 @@ void check_task_setting(const TaskSetting& setting) {
 // The Fit tab's settings; the device's own checks (parameter names) are the
 // tab's, when it applies them.
 FitSetting parse_fit(const json& f) {
-  check_keys(f, "fit", {"free", "bounds", "equal", "mode", "size", "centre_free"});
+  check_keys(f, "fit", {"free", "bounds", "equal", "mode", "size", "centre_free", "centre_region"});
   FitSetting fit;
   fit.free = f.value("free", std::vector<std::string>{});
   fit.bounds = f.value("bounds", std::map<std::string, std::array<double, 2>>{});
@@ -256,7 +266,50 @@ FitSetting parse_fit(const json& f) {
   if (f.contains("size")) fit.size = finite(f["size"], "fit.size");
   if (fit.size < 0) throw std::invalid_argument("fit.size must not be negative");
   fit.centre_free = f.value("centre_free", true);
+  fit.centre_region = f.value("centre_region", std::string());
+  if (!fit.centre_region.empty()) {
+    try {
+      task::parse_centre_region(fit.centre_region);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string("fit.centre_region: ") + e.what());
+    }
+  }
   return fit;
+}
+
+// The Fit tab's last result: texts, the design's finite parameter values and its centre.
+FitOutcome parse_fit_outcome(const json& r) {
+  check_keys(r, "fit_result", {"report", "status", "design", "centre"});
+  FitOutcome out;
+  for (const char* key : {"report", "status"})
+    if (r.contains(key) && !r[key].is_string())
+      throw std::invalid_argument(std::string("fit_result.") + key + " must be text");
+  out.report = r.value("report", std::string());
+  out.status = r.value("status", std::string());
+  if (r.contains("design")) {
+    // Its names are the device's parameters, checked when Apply sets them.
+    if (!r["design"].is_object()) throw std::invalid_argument("fit_result.design must be a JSON object");
+    for (const auto& [name, value] : r["design"].items()) {
+      if (!value.is_number() || !std::isfinite(value.get<double>()))
+        throw std::invalid_argument("fit_result.design." + name + " must be a finite number");
+      out.design[name] = value.get<double>();
+    }
+  }
+  if (r.contains("centre")) out.centre = finite_vec(r["centre"], "fit_result.centre");
+  return out;
+}
+
+// The View menu's toggles: names (the window ignores one it has no action
+// for, e.g. from a later version) with true or false.
+std::map<std::string, bool> parse_view(const json& v) {
+  if (!v.is_object()) throw std::invalid_argument("view must be a JSON object of toggles");
+  std::map<std::string, bool> out;
+  for (const auto& [name, on] : v.items()) {
+    if (name.empty() || !on.is_boolean())
+      throw std::invalid_argument("view." + name + " must be true or false, got " + on.dump());
+    out[name] = on.get<bool>();
+  }
+  return out;
 }
 
 }  // namespace
@@ -278,7 +331,8 @@ Session parse_session(const std::string& text, const std::string& origin) {
     if (!j.is_object() || j.value("format", "") != "linkscape-session")
       throw std::invalid_argument("not a Linkscape session (no \"format\": \"linkscape-session\")");
     check_keys(j, "", {"format", "version", "mechanism", "parameters", "actuator_limits_deg", "actuators", "task",
-                       "pose_rad", "platform_pose", "camera", "field", "task_volume", "fit"});
+                       "pose_rad", "platform_pose", "camera", "field", "task_volume", "fit",
+                       "fit_result", "view"});
     if (j.contains("version") && whole_number(j["version"], "version") != 1)
       throw std::invalid_argument("version " + j["version"].dump() + " is not supported (this program reads 1)");
     s.mechanism = portable_mechanism(j.at("mechanism").get<std::string>());
@@ -365,7 +419,7 @@ Session parse_session(const std::string& text, const std::string& origin) {
       check_keys(f, "field", {"field", "normal", "position", "follow_endpoint", "threshold", "slice_resolution",
                               "volume_resolution", "show_slice", "show_reach", "show_well_conditioned",
                               "reach_opacity", "well_conditioned_opacity", "method", "range_min", "range_max",
-                              "colour_map", "log_scale"});
+                              "colour_map", "log_scale", "slice_opacity"});
       d.field = f.value("field", d.field);
       d.normal = f.value("normal", d.normal);
       if (f.contains("position")) d.position = finite(f["position"], "field.position");
@@ -385,6 +439,7 @@ Session parse_session(const std::string& text, const std::string& origin) {
       if (f.contains("range_max")) d.range_max = finite(f["range_max"], "field.range_max");
       d.colour_map = f.value("colour_map", d.colour_map);
       d.log_scale = f.value("log_scale", d.log_scale);
+      if (f.contains("slice_opacity")) d.slice_opacity = finite(f["slice_opacity"], "field.slice_opacity");
     }
     check_offered(d.colour_map, render::colour_maps(), "field.colour_map");
     check_offered(d.field, choices.fields, "field.field");
@@ -402,7 +457,7 @@ Session parse_session(const std::string& text, const std::string& origin) {
     check_offered(d.slice_resolution, choices.slice_resolutions, "field.slice_resolution");
     check_offered(d.volume_resolution, choices.volume_resolutions, "field.volume_resolution");
     if (!(d.threshold >= 1.05 && d.threshold <= 100)) throw std::invalid_argument("field.threshold must be in [1.05, 100]");
-    for (double o : {d.reach_opacity, d.well_conditioned_opacity})
+    for (double o : {d.reach_opacity, d.well_conditioned_opacity, d.slice_opacity})
       if (!(o >= 0 && o <= 1)) throw std::invalid_argument("field opacities must be in [0, 1]");
     if (d.range_min.has_value() != d.range_max.has_value())
       throw std::invalid_argument("field.range_min and field.range_max come together");
@@ -423,6 +478,8 @@ Session parse_session(const std::string& text, const std::string& origin) {
       s.task_volume = setting;
     }
     if (j.contains("fit")) s.fit = parse_fit(j["fit"]);
+    if (j.contains("fit_result")) s.fit_result = parse_fit_outcome(j["fit_result"]);
+    if (j.contains("view")) s.view = parse_view(j["view"]);
   } catch (const json::exception& e) {
     throw std::invalid_argument("session '" + origin + "': " + json_error_text(e));
   } catch (const std::invalid_argument& e) {

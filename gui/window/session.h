@@ -1,5 +1,7 @@
-// A saved exploration: mechanism, parameters, pose, camera and field
-// settings, as JSON. Everything the window needs to come back as it was.
+// A saved exploration: mechanism, parameters, pose, camera, field settings
+// (slice opacity included), the Task and Fit tabs (the Fit tab's last result
+// too) and the View menu's toggles, as JSON. Everything the window needs to
+// come back as it was.
 // Generic over devices: the pose is saved as the device's task coordinates
 // and actuator values by name (core/mechanism.h); older files with pose_rad
 // (the actuator values) or platform_pose (the task coordinates) still open.
@@ -37,6 +39,7 @@ struct FieldSettings {
   int volume_resolution = 64;  // samples per axis
   bool show_slice = true, show_reach = true, show_well_conditioned = true;
   double reach_opacity = 0.10, well_conditioned_opacity = 0.22;
+  double slice_opacity = 1.0;  // lower: the linkage shows through the slice
   std::string method;  // IK method per sample; empty: the device's default
   std::string colour_map = "viridis";  // render::colour_maps()
   bool log_scale = true;               // for the fields drawn on a log scale by default (c(J), residual, haptic)
@@ -65,7 +68,18 @@ struct FitSetting {
   bool largest_margin = false;  // the mode: false, the smallest size; true, the largest margin at `size`
   double size = 0;              // the device's size unit
   bool centre_free = true;
+  std::string centre_region;  // where a free centre may go (as --centre-region takes it); empty: anywhere
   bool operator==(const FitSetting&) const = default;
+};
+
+// The Fit tab's last result as a session keeps it: the report and the
+// verdict as shown, and the design chosen (the parameters Apply sets, and
+// where the search placed the task when the centre was free).
+struct FitOutcome {
+  std::string report, status;
+  std::map<std::string, double> design;
+  std::optional<Eigen::Vector3d> centre;
+  bool operator==(const FitOutcome&) const = default;
 };
 
 struct Session {
@@ -80,6 +94,9 @@ struct Session {
   FieldSettings field;
   std::optional<TaskSetting> task_volume;  // none: the Task tab as it starts
   std::optional<FitSetting> fit;           // none: the Fit tab as it starts
+  // How the window shows things, beyond the document's values:
+  std::optional<FitOutcome> fit_result;  // the Fit tab's last result; none: not run
+  std::map<std::string, bool> view;      // the View menu's checkable toggles, by their actions' object names
 };
 
 // The camera of a renderer, and back.

@@ -9,6 +9,7 @@
 #include <QLabel>
 #include <QLineEdit>
 #include <QPushButton>
+#include <QStringList>
 #include <QTimer>
 #include <QVBoxLayout>
 #include <sstream>
@@ -45,10 +46,21 @@ QDoubleSpinBox* length_box(QWidget* parent) {
   box->setDecimals(2);
   box->setSingleStep(0.5);
   box->setKeyboardTracking(false);
+  box->setMinimumWidth(56);  // three in a row (with their axis labels) fit a narrow dock
   return box;
 }
 
 }  // namespace
+
+QString centre_from_home_text(const Eigen::Vector3d& centre, const Eigen::Vector3d& home, double size,
+                              const QString& unit) {
+  QStringList d;
+  for (int k = 0; k < 3; ++k) {
+    const double v = centre(k) - home(k);
+    d << number(std::abs(v) < 1e-12 * size ? 0.0 : v);
+  }
+  return QString("centre = home + (%1) %2").arg(d.join(", "), unit);
+}
 
 TaskPanel::TaskPanel(render::TaskScene* scene, QWidget* parent) : QWidget(parent), scene_(scene) {
   auto* column = new QVBoxLayout(this);
@@ -73,12 +85,19 @@ TaskPanel::TaskPanel(render::TaskScene* scene, QWidget* parent) : QWidget(parent
     sizes->addWidget(size_[k]);
     centre_[k] = length_box(this);
     centre_[k]->setObjectName(QString("taskCentre%1").arg("XYZ"[k]));
-    centre_[k]->setToolTip(tr("Centre, %1").arg(QChar("xyz"[k])));
-    centres->addWidget(centre_[k]);
+    centre_[k]->setToolTip(tr("The task's centre, %1 in the base frame").arg(QChar("xyz"[k])));
+    // Each box named by its axis (the unit is its suffix, and the row's label).
+    auto* axis = new QLabel(QString(QChar("xyz"[k])), this);
+    axis->setObjectName(QString("taskCentreLabel%1").arg("XYZ"[k]));
+    axis->setBuddy(centre_[k]);
+    centres->addWidget(axis);
+    centres->addWidget(centre_[k], 1);
   }
   size_label_ = new QLabel(this);
   form->addRow(size_label_, sizes);
-  form->addRow(tr("Centre"), centres);
+  centre_label_ = new QLabel(tr("Centre"), this);
+  centre_label_->setObjectName("taskCentreRowLabel");
+  form->addRow(centre_label_, centres);
   criteria_edit_ = new QLineEdit("cond<3", this);
   criteria_edit_->setObjectName("taskCriteriaEdit");
   criteria_edit_->setPlaceholderText(tr("e.g. cond<3, force_iso>0.5 (separated by commas, semicolons or spaces)"));
@@ -224,6 +243,7 @@ void TaskPanel::setDevice(std::shared_ptr<const Mechanism> mechanism, const Pres
       size_[k]->setSuffix(" " + QString::fromStdString(mechanism_->info().length_unit));
       centre_[k]->setSuffix(" " + QString::fromStdString(mechanism_->info().length_unit));
     }
+    centre_label_->setText(tr("Centre (%1)").arg(QString::fromStdString(mechanism_->info().length_unit)));
     centred_ = true;
   }
   // Fine enough to hold a centre fit places (fit::centre_step) exactly.
@@ -359,6 +379,11 @@ QString TaskPanel::readout() const {
   QString verdict = QString::fromStdString(task::verdict_text(r)).toHtmlEscaped();
   verdict[0] = verdict[0].toUpper();
   text = QString("<b style='color:%1'>%2</b>").arg(r.meets() ? "#1b5e20" : "#b71c1c", verdict);
+  if (const std::optional<Eigen::Vector3d> centre = volume().centre) {
+    const Eigen::Vector3d home = mechanism_->home_task().head<3>();
+    text += "<br>" + centre_from_home_text(*centre, home, mechanism_->size(), unit) +
+            tr(", the home point at %1").arg(point_text(home, unit));
+  }
   for (const task::CriterionReport& c : r.criteria) {
     QString u;
     if (c.criterion.reach()) u = " " + unit;

@@ -36,6 +36,11 @@ namespace linkscape::gui {
 
 class BackgroundTask;
 
+// "centre = home + (dx, dy, dz) unit": where a task's centre sits from the
+// device's home point; differences below 1e-12 of `size` print as 0.
+QString centre_from_home_text(const Eigen::Vector3d& centre, const Eigen::Vector3d& home, double size,
+                              const QString& unit);
+
 class TaskPanel : public QWidget {
   Q_OBJECT
 
@@ -97,6 +102,7 @@ class TaskPanel : public QWidget {
   QComboBox* shape_box_ = nullptr;
   QDoubleSpinBox* size_[3] = {};
   QDoubleSpinBox* centre_[3] = {};
+  QLabel* centre_label_ = nullptr;
   QLabel* size_label_ = nullptr;
   QLineEdit* criteria_edit_ = nullptr;
   QPushButton* place_button_ = nullptr;

@@ -17,6 +17,7 @@
 #include "gui/window/file_actions.h"
 #include "gui/window/fit_panel.h"
 #include "gui/window/session_history.h"
+#include "gui/window/window_menus.h"
 
 namespace linkscape::gui {
 
@@ -28,40 +29,53 @@ bool same_camera(const CameraState& a, const CameraState& b) {
          (a.view_up - b.view_up).norm() <= 1e-9 && std::abs(a.view_angle - b.view_angle) <= 1e-9;
 }
 
+void apply_fit_setting(QMainWindow* window, const Session& s) {
+  FitPanel* fit = window->findChild<FitPanel*>();
+  if (!fit || !s.fit) return;
+  try {
+    fit->applySetting(*s.fit);
+  } catch (const std::invalid_argument& e) {  // e.g. a parameter this device does not have
+    window->statusBar()->showMessage(
+        QObject::tr("The session's fit settings were not applied: %1").arg(QString::fromStdString(e.what())), 8000);
+  }
+}
+
 // The window's hooks with what the document keeps of its panels: the last
-// valid task setting in place of one the Task tab rejected, and the Fit
-// tab's settings.
+// valid task setting in place of one the Task tab rejected, the Fit tab's
+// settings and last result, and the View menu's toggles. Undo and redo
+// restore the settings; the result and the toggles come with an opened
+// session (apply_window_session; neither makes an undo step).
 WindowDocument::Hooks with_panels(WindowDocument::Hooks hooks, QMainWindow* window) {
   auto last_valid = std::make_shared<std::optional<TaskSetting>>();
   hooks.capture = [capture = hooks.capture, window, last_valid] {
     Session s = capture();
     if (s.task_volume && !valid_task_setting(*s.task_volume)) s.task_volume = *last_valid;
     else *last_valid = s.task_volume;
-    if (const FitPanel* fit = window->findChild<FitPanel*>()) s.fit = fit->setting();
+    if (const FitPanel* fit = window->findChild<FitPanel*>()) {
+      s.fit = fit->setting();
+      s.fit_result = fit->outcome();
+    }
+    s.view = view_toggles(window);
     return s;
   };
-  const auto apply_fit = [window](const Session& s) {
-    FitPanel* fit = window->findChild<FitPanel*>();
-    if (!fit || !s.fit) return;
-    try {
-      fit->applySetting(*s.fit);
-    } catch (const std::invalid_argument& e) {  // e.g. a parameter this device does not have
-      window->statusBar()->showMessage(
-          QObject::tr("The session's fit settings were not applied: %1").arg(QString::fromStdString(e.what())), 8000);
-    }
-  };
-  hooks.restore = [restore = hooks.restore, apply_fit](const Session& s) {
+  hooks.restore = [restore = hooks.restore, window](const Session& s) {
     restore(s);
-    apply_fit(s);
-  };
-  hooks.open = [open = hooks.open, apply_fit](const Session& s, const Preset& preset, const QString& path) {
-    open(s, preset, path);
-    apply_fit(s);  // (a session of another device opens in a window of its own, with its Fit tab as it starts)
+    apply_fit_setting(window, s);
   };
   return hooks;
 }
 
 }  // namespace
+
+void apply_window_session(QMainWindow* window, const Session& s) {
+  apply_fit_setting(window, s);
+  FitPanel* fit = window->findChild<FitPanel*>();
+  if (fit && s.fit_result) fit->applyOutcome(*s.fit_result);
+  const QStringList unknown = apply_view_toggles(window, s.view);
+  if (!unknown.isEmpty())
+    window->statusBar()->showMessage(
+        QObject::tr("The session's view toggles %1 are not in this window's View menu").arg(unknown.join(", ")), 8000);
+}
 
 WindowDocument::WindowDocument(QMainWindow* window, Hooks hooks)
     : QObject(window),
@@ -155,7 +169,8 @@ void WindowDocument::addRecent(const QString& path) {
 }
 
 void WindowDocument::updateTitle() {
-  const QString document = !history_->path().isEmpty() ? QFileInfo(history_->path()).fileName() : tr("Untitled");
+  const QString file = !history_->path().isEmpty() ? history_->path() : hooks_.device_file ? hooks_.device_file() : QString();
+  const QString document = !file.isEmpty() ? QFileInfo(file).fileName() : tr("Untitled");
   // [*] is where Qt shows the modified mark.
   window_->setWindowTitle(QString("%1[*] — %2 — Linkscape").arg(document, hooks_.device_title()));
   window_->setWindowModified(history_->modified());

@@ -8,7 +8,9 @@
 // Only valid input is kept: criteria the Task tab rejects stay in its box
 // but the document keeps the last valid ones; the Fit tab's settings are
 // part of the document (FitPanel::setting, which keeps the last valid Hold
-// equal groups).
+// equal groups and centre region). Its last result and the View menu's
+// toggles are saved with it and set again when a session opens
+// (apply_window_session), but make no undo step.
 #pragma once
 
 #include <QObject>
@@ -27,6 +29,12 @@ namespace linkscape::gui {
 
 class SessionHistory;
 
+// What an opened session sets beyond the device, the pose and the panels
+// the window restores itself: the Fit tab's settings and last result and the
+// View menu's toggles (window_menus.h). A part the window cannot take is
+// said in its status bar.
+void apply_window_session(QMainWindow* window, const Session& session);
+
 class WindowDocument : public QObject {
  public:
   struct Hooks {
@@ -36,6 +44,9 @@ class WindowDocument : public QObject {
     // opened in a window of its own. May throw std::invalid_argument.
     std::function<void(const Session&, const Preset&, const QString& path)> open;
     std::function<QString()> device_title;  // for the window's title
+    // The device's preset file (empty: none): the title names it while the
+    // document has no session file.
+    std::function<QString()> device_file;
   };
   WindowDocument(QMainWindow* window, Hooks hooks);
 

@@ -5,9 +5,13 @@
 #include <QDockWidget>
 #include <QLabel>
 #include <QMainWindow>
+#include <QMenu>
 #include <QMenuBar>
 #include <QUndoStack>
+#include <algorithm>
 #include <cstdlib>
+#include <functional>
+#include <vector>
 #include <iostream>
 #include <memory>
 
@@ -18,6 +22,23 @@
 namespace linkscape::gui {
 
 namespace {
+
+// The View menu's checkable actions, its submenus' too, without the docks' toggles.
+std::vector<QAction*> toggles_of(const QMainWindow* window) {
+  std::vector<QAction*> out;
+  const QMenu* view = window->findChild<QMenu*>("viewMenu");
+  if (!view) return out;
+  std::vector<const QAction*> docks;
+  for (const QDockWidget* dock : window->findChildren<QDockWidget*>()) docks.push_back(dock->toggleViewAction());
+  std::function<void(const QMenu*)> walk = [&](const QMenu* menu) {
+    for (QAction* a : menu->actions()) {
+      if (a->menu()) walk(a->menu());
+      else if (a->isCheckable() && std::find(docks.begin(), docks.end(), a) == docks.end()) out.push_back(a);
+    }
+  };
+  walk(view);
+  return out;
+}
 
 QAction* add(QMenu* menu, const QString& text, const QKeySequence& key, QObject* context,
              const std::function<void()>& run) {
@@ -71,6 +92,7 @@ void add_menus(QMainWindow* window, const MenuActions& actions) {
   edit->addAction(redo);
 
   QMenu* view = window->menuBar()->addMenu(QObject::tr("&View"));
+  view->setObjectName("viewMenu");  // sessions find its toggles here (view_toggles)
   add(view, QObject::tr("&Reset camera"), {}, window, actions.reset_camera);
   add(view, QObject::tr("Reset &layout"), {}, window, actions.reset_layout);
   view->addSeparator();
@@ -103,6 +125,25 @@ void add_menus(QMainWindow* window, const MenuActions& actions) {
   help->addAction(QObject::tr("About this &mechanism…"), window, actions.about_mechanism)
       ->setObjectName("aboutMechanismAction");
   help->addAction(QObject::tr("&About Linkscape"), window, [window] { show_about(window); });
+}
+
+std::map<std::string, bool> view_toggles(const QMainWindow* window) {
+  std::map<std::string, bool> out;
+  for (const QAction* a : toggles_of(window))
+    if (!a->objectName().isEmpty()) out[a->objectName().toStdString()] = a->isChecked();
+  return out;
+}
+
+QStringList apply_view_toggles(QMainWindow* window, const std::map<std::string, bool>& toggles) {
+  const std::vector<QAction*> actions = toggles_of(window);
+  QStringList unknown;
+  for (const auto& [name, on] : toggles) {
+    const auto it = std::find_if(actions.begin(), actions.end(),
+                                 [&name = name](const QAction* a) { return a->objectName().toStdString() == name; });
+    if (it == actions.end()) unknown << QString::fromStdString(name);
+    else (*it)->setChecked(on);  // toggled runs its effect
+  }
+  return unknown;
 }
 
 std::unique_ptr<QMainWindow> window_with_menus() {

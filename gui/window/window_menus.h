@@ -5,8 +5,11 @@
 // export_actions.h and help_actions.h.
 #pragma once
 
+#include <QStringList>
 #include <functional>
+#include <map>
 #include <memory>
+#include <string>
 
 class QMainWindow;
 class QMenu;
@@ -29,6 +32,15 @@ struct MenuActions {
 
 // The menus of `window` (its docks' toggles from the docks it has now).
 void add_menus(QMainWindow* window, const MenuActions& actions);
+
+// The View menu's checkable toggles (labels in front, smoothing, parallel
+// projection, timings, ...) by their actions' object names, and back: what
+// sessions keep, so a toggle added to the menu with an object name is kept
+// without more code. The docks' toggles are the layout's and left out.
+// apply_view_toggles sets the toggles the window has (each runs as if
+// clicked) and returns the names it has no toggle for.
+std::map<std::string, bool> view_toggles(const QMainWindow* window);
+QStringList apply_view_toggles(QMainWindow* window, const std::map<std::string, bool>& toggles);
 
 // A window with the menus alone, their entries doing nothing.
 std::unique_ptr<QMainWindow> window_with_menus();

@@ -7,6 +7,7 @@
 #include <set>
 
 #include "core/field_names.h"
+#include "core/mechanism.h"
 #include "core/preset.h"
 
 namespace linkscape {
@@ -107,6 +108,39 @@ TEST(FieldNames, EachDeviceListsItsOwnFields) {
     const std::vector<std::string> plain = device_fields(info, false);
     EXPECT_EQ(plain.size() + 2, fields.size()) << device << ": without diagnostics, no residual or iterations";
     EXPECT_EQ(std::count(plain.begin(), plain.end(), "residual"), 0) << device;
+  }
+}
+
+TEST(FieldNames, AMethodCodeIsNamedAsTheDeviceNamesItsMethods) {
+  Field unnamed;
+  EXPECT_EQ(method_code_name(unnamed, Field::kNoMethod), "none");
+  EXPECT_EQ(method_code_name(unnamed, 3), "method code 3");  // a field that recorded no names
+  for (const std::string& device : registered_mechanisms()) {
+    const auto m = make_mechanism(load_preset(device));
+    const MechanismInfo& info = m->info();
+    if (info.ik_methods.size() < 2) continue;  // no method field offered (device_fields)
+    std::set<std::string> known;
+    for (const NamedItem& method : info.ik_methods) known.insert(method.name);
+    const Eigen::VectorXd home = m->home_task();
+    const Eigen::Vector3d centre(home(0), home(1), home(2));
+    const Grid grid = Grid::box(centre.array() - 1.0, centre.array() + 1.0, {3, 3, 1});
+    for (const NamedItem& method : info.ik_methods) {
+      IkOptions options;
+      options.method = method.name;
+      const std::optional<Field> f = m->compute_field(grid, home, options, 1, {});
+      ASSERT_TRUE(f) << device;
+      ASSERT_EQ(f->method_used.size(), f->grid.size()) << device;
+      int named = 0;
+      for (std::size_t s = 0; s < f->grid.size(); ++s) {
+        if (f->method_used[s] == Field::kNoMethod) continue;
+        const std::string name = method_code_name(*f, f->method_used[s]);
+        EXPECT_TRUE(known.count(name)) << device << ": " << name << " is not one of its IK methods";
+        // A method that serves itself is named as asked (a fallback names the one that served).
+        if (method.name != "fallback") EXPECT_EQ(name, method.name) << device;
+        ++named;
+      }
+      EXPECT_GT(named, 0) << device << " " << method.name << ": no sample solved near home";
+    }
   }
 }
 

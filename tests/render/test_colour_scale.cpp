@@ -78,7 +78,7 @@ TEST(ColourScale, CountsGetWholeNumbers) {
 }
 
 TEST(ColourScale, CategoricalLegendsNameTheirCodes) {
-  const Field f = spiky_field();
+  Field f = spiky_field();
   SliceStyle style;
   style.field = "status";
   const std::vector<LegendEntry> status = categorical_legend(f, style);
@@ -92,8 +92,14 @@ TEST(ColourScale, CategoricalLegendsNameTheirCodes) {
   style.field = "method";
   const std::vector<LegendEntry> methods = categorical_legend(f, style);
   ASSERT_EQ(methods.size(), 2u);  // the codes reachable samples hold
-  EXPECT_EQ(methods[0].label, "method code 0");
+  EXPECT_EQ(methods[0].label, "method code 0");  // no names recorded
   EXPECT_EQ(methods[1].label, "method code 1");
+  f.method_names = {"closed", "newton"};  // as a device's sampler names its codes
+  const std::vector<LegendEntry> named = categorical_legend(f, style);
+  ASSERT_EQ(named.size(), 2u);
+  EXPECT_EQ(named[0].label, "closed");
+  EXPECT_EQ(named[1].label, "newton");
+  EXPECT_EQ(named[1].rgb, methods[1].rgb);  // the code keeps its colour
   style.field = "cond";
   EXPECT_TRUE(categorical_legend(f, style).empty());
 }

@@ -36,6 +36,7 @@ Field linear_field() {
         f.iterations[s] = std::uint16_t(i + 10 * j);
         f.method_used[s] = 1;
       }
+  f.method_names = {"paper", "planar"};  // as a device's sampler names its codes
   Field::NamedArray force{"force_iso", "isotropic force", "N", "", {}};
   force.values.assign(f.cond.begin(), f.cond.end());
   f.extras.push_back(force);
@@ -60,7 +61,7 @@ TEST(FieldProbe, TrilinearInsideReachableCellsReproducesALinearField) {
   EXPECT_EQ(s->find("iterations")->sampling, Sampling::Nearest);
   EXPECT_EQ(s->find("iterations")->value, 11);
   EXPECT_EQ(s->find("status")->label, "ok");
-  EXPECT_EQ(s->find("method")->label, "method code 1");
+  EXPECT_EQ(s->find("method")->label, "planar");
 }
 
 TEST(FieldProbe, AnUnreachableNeighbourFallsBackToTheNearestSample) {

@@ -49,6 +49,7 @@ std::optional<Field> compute_field(const Model& m, const FieldRequest& req, cons
   f.length_unit = m.length_unit;
   f.parameters = m.to_parameters();
   f.method = std::string(to_string(req.method));
+  for (IkMethod k : {IkMethod::Closed, IkMethod::Newton}) f.method_names.emplace_back(to_string(k));  // by IkMethod value
   f.branch = req.ik.branch;
   const Grid& g = req.grid;
   const bool fast = kernel != FieldKernel::Scalar && req.method == IkMethod::Closed;

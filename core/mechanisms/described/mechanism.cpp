@@ -441,6 +441,7 @@ class DescribedMechanism final : public Mechanism {
     f.length_unit = kin_.model().length_unit;
     f.parameters = parameters();
     f.method = method_name(solver);
+    for (LegSolver k : {LegSolver::Fastest, LegSolver::Numeric}) f.method_names.emplace_back(method_name(k));  // by LegSolver
     f.branch = branch;
     for (const NamedItem& n : info_.measures) f.measure_titles.push_back(n.title);
     float* joint_margin = nullptr;
@@ -521,7 +522,7 @@ class DescribedMechanism final : public Mechanism {
         const std::vector<double> v = measure_values(*parts);
         s.cond = float(v[0]);
         if (v.size() > 1) s.cond_orientation = float(v[1]);
-        s.method_used = 0;
+        s.method_used = std::uint8_t(solver);  // the code method_names names
       }
     }
     s.reach_margin = float(margin);

@@ -228,6 +228,9 @@ std::optional<Field> compute_field(const Model& m, const FieldRequest& req, cons
   f.parameters = {{"L1", m.L1}, {"L2", m.L2}};
   f.measure_titles = {"c(J)"};
   f.method = std::string(parallel12r::to_string(req.method));
+  using parallel12r::IkMethod;
+  for (IkMethod k : {IkMethod::Paper, IkMethod::Planar, IkMethod::Newton, IkMethod::DampedLeastSquares, IkMethod::Fallback})
+    f.method_names.emplace_back(parallel12r::to_string(k));  // method_used holds the IkMethod's value
   f.branch = req.branch;
 
   const Grid& g = req.grid;

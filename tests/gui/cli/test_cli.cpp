@@ -266,6 +266,24 @@ TEST(CliSlice, FigureLinesAreVectorPathsAndTheLegendNamesOnlyDrawnOnes) {
   EXPECT_NE(text.find("reach boundary"), std::string::npos);
 }
 
+TEST(CliSlice, AWidePlotLeavesTheLegendOnThePage) {
+  fs::create_directories(kOut);
+  const fs::path svg = kOut / "wide.svg";
+  // 360 x 240 mm: the plot takes the page's whole width, so the legend has only the right margin.
+  const CommandResult r = run_linkscape("slice -m haply-2diy --plane z=0 --extent -160,200,-60,180 --size 36x24 "
+                                        "--figure -q --output " + svg.string(), kNoDisplay);
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  std::ifstream in(svg);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::size_t label = text.find(">reach boundary<");
+  ASSERT_NE(label, std::string::npos);
+  const std::size_t tag = text.rfind("<text", label);
+  const double x = std::stod(text.substr(text.find(" x=\"", tag) + 4));
+  const double font_px = std::stod(text.substr(text.find("font-size=\"", tag) + 11));
+  // DejaVu Sans averages under 0.6 em a character; the page is 1400 wide.
+  EXPECT_LE(x + 0.6 * font_px * std::string("reach boundary").size(), 1400.0) << "x = " << x;
+}
+
 TEST(CliSlice, CsvHasOneRowPerSampleAndAgreesWithEval) {
   const fs::path csv = kOut / "slice.csv";
   const CommandResult r = run_linkscape("slice --param L1=1 --param L2=1 --plane x=0.25 --extent 0.2,1.8,-1,1 "

@@ -157,6 +157,52 @@ TEST(Session, TheFitTabsSettingsRoundTripAndAreChecked) {
   }
 }
 
+// Slice opacity, the centre region, the Fit tab's last result and the View
+// menu's toggles: saved, read back equal, and checked like every key.
+TEST(Session, TheViewTheRegionAndTheFitResultRoundTripAndAreChecked) {
+  Session s = parse_session(good_12r().dump(), "s.json");
+  s.field.slice_opacity = 0.35;
+  s.fit = FitSetting{{"L1"}, {}, "", false, 0, true, "box:min=-5,-30,-30,max=5,0,0"};
+  s.fit_result = FitOutcome{"the report\nline 2", "smallest design meeting it", {{"L1", 12.25}, {"L2", 12.25}},
+                            Eigen::Vector3d(0.5, 14.0, 9.75)};
+  s.view = {{"parallelProjectionAction", true}, {"showTimingsAction", false}};
+  const auto file = std::filesystem::temp_directory_path() / "linkscape_session_view.json";
+  save_session(s, file);
+  const Session back = load_session(file);
+  std::filesystem::remove(file);
+  EXPECT_EQ(back.field.slice_opacity, 0.35);
+  EXPECT_TRUE(back.field == s.field);
+  ASSERT_TRUE(back.fit && back.fit_result);
+  EXPECT_EQ(back.fit->centre_region, s.fit->centre_region);
+  EXPECT_TRUE(*back.fit_result == *s.fit_result);
+  EXPECT_EQ(back.view, s.view);
+  // Without them (older files): the defaults.
+  const Session plain = parse_session(good_12r().dump(), "s.json");
+  EXPECT_EQ(plain.field.slice_opacity, 1.0);
+  EXPECT_FALSE(plain.fit_result);
+  EXPECT_TRUE(plain.view.empty());
+  struct Case {
+    const char* pointer;
+    json value;
+    const char* expected;
+  };
+  const Case cases[] = {
+      {"/field/slice_opacity", 1.5, "opacities"},
+      {"/fit", {{"centre_region", "box:min=0,0,0"}}, "fit.centre_region"},
+      {"/fit_result", {{"design", {{"L1", "twelve"}}}}, "fit_result"},
+      {"/fit_result", {{"centre", {1, 2}}}, "array of 3"},
+      {"/fit_result", {{"chart", true}}, "fit_result.chart"},
+      {"/view", {{"parallelProjectionAction", "yes"}}, "view.parallelProjectionAction"},
+      {"/view", json::array({true}), "view"},
+  };
+  for (const Case& c : cases) {
+    json bad = good_12r();
+    bad[json::json_pointer(c.pointer)] = c.value;
+    const std::string message = error_of(bad);
+    EXPECT_NE(message.find(c.expected), std::string::npos) << c.pointer << ": " << message;
+  }
+}
+
 TEST(Session, OnlyTextsTheCommandLineTakesAreValidTaskSettings) {
   EXPECT_TRUE(valid_task_setting({"sphere:diameter=12", {"cond<3", "force_iso>1"}, true}));
   EXPECT_FALSE(valid_task_setting({"sphere:diameter=12", {"cond<3;"}, true}));

@@ -141,7 +141,7 @@ class WindowDocumentTest : public QObject {
     const QString path = dir.filePath("design.json");
     MechanismWindow w(load_preset("parallel-12r"));
     QVERIFY(show_settled(w));
-    QVERIFY(w.windowTitle().startsWith("Untitled[*]"));
+    QVERIFY2(w.windowTitle().startsWith("parallel-12r.json[*]"), qPrintable(w.windowTitle()));  // the preset's file
     QVERIFY(w.setParameters({{"L2", 17.0}}));
     w.history()->flush();
     QVERIFY(w.isWindowModified());

@@ -148,6 +148,13 @@ class WindowOpenTest : public QObject {
     QCOMPARE(next->history()->stack()->count(), 0);
     QVERIFY(w.isNull() || !w->isVisible());  // it made way
     QCOMPARE(visible_windows(), 1);
+    // The title names the file and the device, not "Untitled"; a session saved takes its place.
+    const QString title = next->windowTitle();
+    QVERIFY2(title.startsWith("my-delta.json[*]"), qPrintable(title));
+    QVERIFY2(title.contains(QString::fromStdString(next->preset().title)), qPrintable(title));
+    QVERIFY2(!title.contains("Untitled"), qPrintable(title));
+    QVERIFY(next->saveSession(dir.filePath("study.json")));
+    QVERIFY2(next->windowTitle().startsWith("study.json[*]"), qPrintable(next->windowTitle()));
   }
 
   void aMalformedPresetLeavesTheDeviceAndSaysWhy_data() {

@@ -1,25 +1,37 @@
 // The window's document keeps only valid input and whole gestures: criteria
 // the Task tab rejects and Hold equal groups the Fit tab cannot use stay in
-// their boxes but are not saved; the Fit tab's settings travel in the
-// session; a drag is one undo step from press to release, however slowly it
+// their boxes but are not saved; the Fit tab's settings and last result, the
+// slice's opacity and the View menu's toggles travel in the session; a drag is one undo step from press to release, however slowly it
 // goes; Ctrl+Shift+S is Save As on plain X11 too.
+#include <QAction>
 #include <QDockWidget>
 #include <QFileDialog>
 #include <QLineEdit>
 #include <QMainWindow>
+#include <QMenu>
 #include <QMessageBox>
 #include <QPushButton>
 #include <QSlider>
 #include <QTemporaryDir>
 #include <QUndoStack>
 #include <QtTest>
+#include <vtkCamera.h>
+#include <vtkGenericOpenGLRenderWindow.h>
+#include <vtkRenderer.h>
+#include <vtkRendererCollection.h>
+
+#include <algorithm>
+#include <map>
 
 #include "core/preset.h"
 #include "gui/window/fit_panel.h"
 #include "gui/window/mechanism_window.h"
 #include "gui/window/session.h"
 #include "gui/window/session_history.h"
+#include "gui/window/task_panel.h"
+#include "gui/window/vtk_widget.h"
 #include "gui/window/window_document.h"
+#include "gui/window/window_menus.h"
 #include "settled.h"
 
 using namespace linkscape;
@@ -95,6 +107,117 @@ class WindowSessionTest : public QObject {
     QVERIFY(back.fitPanel()->setting() != chosen);  // a new window starts elsewhere
     QVERIFY(back.openSession(path));
     QVERIFY(back.fitPanel()->setting() == chosen);
+  }
+
+  // The slice's opacity and every checkable View-menu toggle, found by its
+  // action's object name: saved, and set again (with their effect) when the
+  // session opens; a toggle added later is kept with no more code.
+  void sliceOpacityAndEveryViewToggleRoundTrip() {
+    QTemporaryDir dir;
+    const QString path = dir.filePath("view.json");
+    std::map<std::string, bool> flipped;
+    auto add_later_toggle = [](MechanismWindow& w) {
+      QAction* later = w.findChild<QMenu*>("viewMenu")->addAction("A toggle added later");
+      later->setObjectName("laterToggleAction");
+      later->setCheckable(true);
+      return later;
+    };
+    {
+      MechanismWindow w(load_preset("parallel-12r"));
+      QVERIFY(show_settled(w));
+      auto* menu = w.findChild<QMenu*>("viewMenu");
+      QVERIFY(menu);
+      // Every checkable entry but the docks' has a stable name (what sessions key it by).
+      std::vector<const QAction*> docks;
+      for (const QDockWidget* d : w.findChildren<QDockWidget*>()) docks.push_back(d->toggleViewAction());
+      int toggles = 0;
+      for (const QAction* a : menu->actions())
+        if (a->isCheckable() && std::find(docks.begin(), docks.end(), a) == docks.end()) {
+          QVERIFY2(!a->objectName().isEmpty(), qPrintable(a->text()));
+          ++toggles;
+        }
+      add_later_toggle(w);
+      const std::map<std::string, bool> before = gui::view_toggles(&w);
+      QCOMPARE(int(before.size()), toggles + 1);
+      for (const char* name : {"labelsInFrontAction", "smoothSurfacesAction", "parallelProjectionAction",
+                               "showTimingsAction", "laterToggleAction"})
+        QVERIFY2(before.count(name), name);
+      for (const auto& [name, on] : before) flipped[name] = !on;
+      QVERIFY(gui::apply_view_toggles(&w, flipped).isEmpty());
+      w.findChild<QSlider*>("sliceOpacitySlider")->setValue(40);
+      QCOMPARE(w.fieldSettings().slice_opacity, 0.4);
+      QVERIFY(w.saveSession(path));
+    }
+    const gui::Session saved = gui::load_session(path.toStdString());
+    QCOMPARE(saved.field.slice_opacity, 0.4);
+    QVERIFY(saved.view == flipped);
+    MechanismWindow back(load_preset("parallel-12r"));
+    QVERIFY(show_settled(back));
+    QAction* later = add_later_toggle(back);
+    QVERIFY(gui::view_toggles(&back) != flipped);  // a new window starts as it starts
+    QVERIFY(back.openSession(path));
+    QVERIFY(gui::view_toggles(&back) == flipped);
+    QCOMPARE(later->isChecked(), flipped.at("laterToggleAction"));
+    QCOMPARE(back.findChild<QSlider*>("sliceOpacitySlider")->value(), 40);
+    QCOMPARE(back.fieldSettings().slice_opacity, 0.4);
+    // The toggles took effect: the camera's projection follows its toggle.
+    vtkCamera* camera = back.view()->renderWindow()->GetRenderers()->GetFirstRenderer()->GetActiveCamera();
+    QCOMPARE(bool(camera->GetParallelProjection()), flipped.at("parallelProjectionAction"));
+  }
+
+  // The Fit tab's centre region and its last result: saved, and shown again
+  // when the session opens (the report, the verdict, Apply's design).
+  void theFitRegionAndLastResultRoundTrip() {
+    QTemporaryDir dir;
+    const QString path = dir.filePath("fit-result.json");
+    QString report, status;
+    std::map<std::string, double> design;
+    std::optional<Eigen::Vector3d> centre;
+    const std::string region = "box:min=-8,0,0,max=8,30,30";
+    {
+      MechanismWindow w(load_preset("parallel-12r"));
+      QVERIFY(show_settled(w));
+      w.taskPanel()->setTask("sphere:diameter=8", {"cond<3"});
+      gui::FitPanel* fit = w.fitPanel();
+      fit->setSearchSettings({24, 1, 1}, 8, 1e-2);  // coarse: the session is tested, not the search
+      fit->setEqual("L1,L2");
+      fit->setCentreFree(true);
+      fit->setCentreRegion(region);
+      QSignalSpy finished(fit, &gui::FitPanel::runFinished);
+      fit->run();
+      QVERIFY(finished.wait(120000));
+      QVERIFY(finished.front().front().toBool());
+      report = fit->reportText();
+      status = fit->statusText();
+      design = fit->chosenDesign();
+      centre = fit->chosenCentre();
+      QVERIFY(!design.empty() && centre);
+      QVERIFY2(status.contains("centre = home + ("), qPrintable(status));
+      QVERIFY(w.saveSession(path));
+    }
+    const gui::Session saved = gui::load_session(path.toStdString());
+    QVERIFY(saved.fit && saved.fit_result);
+    QCOMPARE(saved.fit->centre_region, region);
+    MechanismWindow back(load_preset("parallel-12r"));
+    QVERIFY(show_settled(back));
+    QVERIFY(back.fitPanel()->reportText().isEmpty());
+    QVERIFY(back.openSession(path));
+    gui::FitPanel* fit = back.fitPanel();
+    QCOMPARE(fit->centreRegion(), region);
+    QCOMPARE(fit->reportText(), report);
+    QCOMPARE(fit->statusText(), status);
+    QVERIFY(fit->showsSavedOutcome());
+    QVERIFY(fit->chosenDesign() == design);
+    QVERIFY(fit->chosenCentre() && (*fit->chosenCentre() - *centre).norm() == 0);
+    // Apply sets the saved design and moves the task to where the search placed it.
+    auto* apply = fit->findChild<QPushButton*>("fitApply");
+    QVERIFY(apply->isEnabled());
+    apply->click();
+    for (const auto& [name, value] : design) QCOMPARE(back.mechanism().parameters().at(name), value);
+    QVERIFY((*back.taskPanel()->volume().centre - *centre).norm() < 1e-9);
+    // Saved again, the result is the same (not lost for want of a run).
+    QVERIFY(back.saveSession(dir.filePath("again.json")));
+    QVERIFY(*gui::load_session(dir.filePath("again.json").toStdString()).fit_result == *saved.fit_result);
   }
 
   void aDragIsOneUndoStepFromPressToRelease() {

@@ -39,6 +39,7 @@ TEST(DescribedClosedForm, RecognisesTheShippedLegs) {
   EXPECT_EQ(patterns(load("delta-described")), std::vector<std::string>(3, "crank-rod"));
   EXPECT_EQ(patterns(load("pathos2-described")), std::vector<std::string>(6, "three-revolute"));
   EXPECT_EQ(patterns(load("five-bar")), std::vector<std::string>(2, "planar-dyad"));
+  EXPECT_EQ(patterns(load("haply-2diy")), std::vector<std::string>(2, "planar-dyad"));
   EXPECT_EQ(patterns(load("stewart")), std::vector<std::string>(6, "extensible"));
   EXPECT_EQ(patterns(load("three-rrr")), std::vector<std::string>(3, "planar-dyad"));
   EXPECT_EQ(patterns(load("linear-delta")), std::vector<std::string>(3, "slide-rod"));
@@ -165,6 +166,7 @@ Tally compare(const Kinematics& k, const std::string& name, int poses) {
 TEST(DescribedClosedForm, DeltaAgreesWithTheNumericalSolver) { compare("delta-described", 20000); }
 TEST(DescribedClosedForm, PathosAgreesWithTheNumericalSolver) { compare("pathos2-described", 4000); }
 TEST(DescribedClosedForm, FiveBarAgreesWithTheNumericalSolver) { compare("five-bar", 20000); }
+TEST(DescribedClosedForm, Haply2diyAgreesWithTheNumericalSolver) { compare("haply-2diy", 20000); }
 TEST(DescribedClosedForm, StewartAgreesWithTheNumericalSolver) { compare("stewart", 6000); }
 TEST(DescribedClosedForm, ThreeRrrAgreesWithTheNumericalSolver) { compare("three-rrr", 10000); }
 TEST(DescribedClosedForm, LinearDeltaAgreesWithTheNumericalSolver) { compare("linear-delta", 10000); }
@@ -194,7 +196,8 @@ std::vector<Kinematics> random_designs(const std::string& name, int count, std::
 TEST(DescribedClosedForm, RandomDesignsAgreeWithTheNumericalSolver) {
   std::mt19937_64 rng(11);
   int ok = 0, mismatches = 0;
-  for (const char* name : {"delta-described", "pathos2-described", "five-bar", "stewart", "three-rrr", "linear-delta", "hexapod-rus", "falcon"})
+  for (const char* name : {"delta-described", "pathos2-described", "five-bar", "stewart", "three-rrr", "linear-delta",
+                           "hexapod-rus", "haply-2diy", "falcon"})
     for (const Kinematics& k : random_designs(name, 6, rng)) {
       const Tally t = compare(k, name, 400);
       ok += t.ok;
@@ -211,7 +214,8 @@ TEST(DescribedClosedForm, ReachBoundsNeverRefuseAReachableAnchor) {
   std::mt19937_64 rng(13);
   std::uniform_real_distribution<double> unit(-1, 1);
   int refused = 0, checked = 0;
-  for (const char* name : {"delta-described", "pathos2-described", "five-bar", "stewart", "three-rrr", "linear-delta", "hexapod-rus", "falcon"}) {
+  for (const char* name : {"delta-described", "pathos2-described", "five-bar", "stewart", "three-rrr", "linear-delta",
+                           "hexapod-rus", "haply-2diy", "falcon"}) {
     std::vector<Kinematics> designs = random_designs(name, 4, rng);
     designs.push_back(load(name));
     for (const Kinematics& k : designs) {
