@@ -163,7 +163,9 @@ TEST(DescribedClosedForm, FalconStopsAgreeWithTheNumericalSolver) {
   double worst_margin = 0, worst_clearance = 0;
   for (std::size_t i = 0; i < g.size(); ++i) {
     const Status a = Status(closed->status[i]), b = Status(reference->status[i]);
-    if (!(a == Status::Unreachable && b == Status::NotConverged)) EXPECT_EQ(a, b) << "sample " << i;
+    if (!(a == Status::Unreachable && b == Status::NotConverged)) {
+      EXPECT_EQ(a, b) << "sample " << i;
+    }
     const float m = closed->extra("joint_margin")->values[i], c = closed->extra("clearance")->values[i];
     if (std::isnan(m) || a != b) continue;
     worst_margin = std::max(worst_margin, double(std::abs(m - reference->extra("joint_margin")->values[i])));
