@@ -14,8 +14,11 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "core/mechanisms/described/kinematics.h"
 #include "core/preset.h"
+#include "tests/core/mechanisms/described/without_stops.h"
 
 namespace linkscape::described {
 namespace {
@@ -128,7 +131,9 @@ Tally compare(const Kinematics& k, const std::string& name, int poses) {
     ++t.poses;
     EXPECT_EQ(fast.iterations, 0) << name << ": every leg in closed form";
     // The closed form's assemblies checked on their own: every leg closes.
-    if (assembled(fast)) EXPECT_LE(closure_miss(k, x, fast), 1e-12 * m.size) << name << " pose " << i;
+    if (assembled(fast)) {
+      EXPECT_LE(closure_miss(k, x, fast), 1e-12 * m.size) << name << " pose " << i;
+    }
     if (fast.status == Status::Unreachable && slow.status == Status::NotConverged && closes_off_branch(k, x, fast)) {
       ++t.off_branch;  // decided by the closed form, left open by the reference
       continue;
@@ -172,6 +177,24 @@ TEST(DescribedClosedForm, ThreeRrrAgreesWithTheNumericalSolver) { compare("three
 TEST(DescribedClosedForm, LinearDeltaAgreesWithTheNumericalSolver) { compare("linear-delta", 10000); }
 TEST(DescribedClosedForm, HexapodRusAgreesWithTheNumericalSolver) { compare("hexapod-rus", 4000); }
 TEST(DescribedClosedForm, FalconAgreesWithTheNumericalSolver) { compare("falcon", 6000); }
+
+// The pattern is the leg's joints', not the device's: the Falcon's leg with
+// its knee, lower joint and grip turning the other way and links with parts
+// along the motor axis (passive stops removed: they are written for the
+// joints as shipped).
+TEST(DescribedClosedForm, AMirroredCrankParallelogramAgreesWithTheNumericalSolver) {
+  Preset p = testing_support::without_stops(load_preset("falcon"));
+  nlohmann::json d = nlohmann::json::parse(p.description);
+  nlohmann::json& chain = d["legs"][0]["chain"];
+  chain[1]["translate"] = {"a", 7, 0};
+  chain[2]["axis"] = {0, 1, 0};
+  chain[3]["translate"] = {"e", -4, 0};
+  chain[6]["axis"] = {0, 0, -1};
+  chain[8]["axis"] = {0, -1, 0};
+  const Kinematics k(build_model(d.dump(), p.parameters, p.limits_deg, p.length_unit));
+  EXPECT_EQ(patterns(k), std::vector<std::string>(3, "crank-parallelogram"));
+  EXPECT_GT(compare(k, "mirrored falcon", 4000).ok, 400);
+}
 
 // Random designs: every panel parameter drawn within its slider span; a
 // design that does not assemble at home (or changes its mobility) is skipped.
