@@ -68,6 +68,8 @@ int main(int argc, char** argv) {
   add("Stewart", "", "stewart", 192, true);
   add("Stewart", "", "stewart", 64, false);
   add("FiveBar", "", "five-bar", 192, true);
+  add("Falcon", "", "falcon", 96, true);
+  add("Falcon", "", "falcon", 24, false);
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -268,7 +269,112 @@ struct Builder {
       }
     }
   }
+
+  void crank_parallelogram(LegState& partial) {
+    const ClosedFormLeg::Parallelogram& g = form.parallelogram;
+    const Vector3d A = form.actuator_axis;
+    // The grip's frame in the actuator's: the chain turns it only about A.
+    const Isometry3d N = form.base.inverse() * anchor * form.tail.inverse();
+    if (!((N.linear() * A - A).norm() <= 1e-12)) {  // an end turned off A: the leg cannot close (or only by luck)
+      out.undecided = true;
+      return;
+    }
+    const double level = turn(A, g.across, N.linear() * g.across);
+    const Vector3d w = N.translation(), across = w - A * A.dot(w);
+    const double h = A.dot(w) - g.height, rho = across.norm(), r1 = g.thigh.norm();
+    // The end's distance from the reachable set, exactly: the thigh's circle
+    // swept by the circle (bar +- side sin, side cos) about A's direction, in
+    // the plane of (distance from A's line, height).
+    const double lo = std::abs(rho - r1), hi = rho + r1;
+    double miss = std::numeric_limits<double>::infinity();
+    for (double centre : {g.bar, -g.bar}) {
+      const double nearest = std::hypot(std::clamp(centre, lo, hi) - centre, h);
+      const double farthest = std::max(std::hypot(lo - centre, h), std::hypot(hi - centre, h));
+      miss = std::min(miss, std::max({0.0, nearest - g.side, g.side - farthest}));
+    }
+    if (miss > 0) {
+      out.miss = miss;
+      return;
+    }
+    if (rho <= 1e-12 * model.size) {  // the end on the crank's axis: every crank angle or none
+      out.undecided = true;
+      return;
+    }
+    const double c = std::clamp(h / g.side, -1.0, 1.0), s = std::sqrt(1 - c * c);
+    for (double upper_sign : {1.0, -1.0}) {
+      const double x = g.bar - g.side * upper_sign * s;  // the parallelogram's reach along n
+      if (std::abs(x) <= 1e-12 * model.size) {  // the 2R's second link vanishes
+        if (std::abs(rho - r1) > 1e-9 * model.size) continue;  // the end off the thigh's circle: no knee
+        out.undecided = true;  // on it: every knee angle
+        return;
+      }
+      const double cos_elbow = (rho * rho - r1 * r1 - x * x) / (2 * r1 * x);
+      if (std::abs(cos_elbow) > 1 + 1e-9) continue;
+      const double elbow = std::acos(std::clamp(cos_elbow, -1.0, 1.0));
+      const double upper = std::atan2(upper_sign * s, c) + g.phase;
+      for (double e : {elbow, -elbow}) {
+        const double knee = e - g.thigh_phase;  // about A
+        const double q = turn(A, g.thigh + x * (Eigen::AngleAxisd(knee, A) * g.across), across);
+        LegState& st = fresh(partial);
+        st.values(var(form.actuator_step)) = q;
+        st.values(var(g.knee_step)) = g.knee_sign * knee;
+        st.values(var(g.upper_step)) = upper;
+        st.values(var(g.lower_step)) = -g.lower_sign * upper;
+        st.values(var(form.end_step)) = g.grip_sign * (level - q - knee);
+        if (elbow == 0) break;
+      }
+      if (s == 0) break;
+    }
+    if (out.count == 0) out.undecided = true;  // reached by the distance, missed by rounding: let the solver decide
+  }
 };
+
+// An actuated revolute, a thigh, a knee parallel to it, a parallelogram
+// (two parallel revolutes square to the knee, a side between them) and a grip
+// parallel to the knee: the Falcon's leg, its links any vectors whose sum
+// after the knee (knee bar, side, lower bar) has no part along the
+// parallelogram's axis, so that the leg's reach is the closed form's.
+std::optional<ClosedFormLeg> crank_parallelogram(const Leg& leg, const std::vector<Token>& tokens, double tiny) {
+  std::vector<const Token*> j;
+  std::vector<Isometry3d> f;
+  const std::vector<Type> five(5, Type::Revolute);
+  if (!match(tokens, five, j, f) || !j[0]->actuated) return std::nullopt;
+  for (int i = 1; i <= 4; ++i)
+    if (!pure_translation(f[std::size_t(i)])) return std::nullopt;
+  auto axis = [&](int i) { return leg.steps[std::size_t(j[std::size_t(i)]->step)].axis; };
+  // +-1 where the axes are parallel, 0 where they are not.
+  auto parallel = [](const Vector3d& a, const Vector3d& b) {
+    const double c = a.dot(b);
+    return std::abs(c) >= 1 - 1e-12 ? (c > 0 ? 1.0 : -1.0) : 0.0;
+  };
+  const Vector3d A = axis(0), B = axis(2), n = A.cross(B);
+  const Vector3d t1 = f[1].translation(), t2 = f[2].translation(), t3 = f[3].translation(), t4 = f[4].translation();
+  ClosedFormLeg c;
+  ClosedFormLeg::Parallelogram& g = c.parallelogram;
+  g.knee_sign = parallel(A, axis(1));
+  g.lower_sign = parallel(B, axis(3));
+  g.grip_sign = parallel(A, axis(4));
+  g.thigh = t1 - A * A.dot(t1);
+  g.side = std::hypot(t3.dot(A), t3.dot(n));
+  if (!g.knee_sign || !g.lower_sign || !g.grip_sign || std::abs(A.dot(B)) > 1e-12 || g.thigh.norm() <= tiny ||
+      g.side <= tiny || std::abs((t2 + t3 + t4).dot(B)) > tiny)
+    return std::nullopt;
+  c.pattern = LegPattern::CrankParallelogram;
+  c.base = leg.base * f[0];
+  c.actuator_step = j[0]->step;
+  c.actuator_axis = A;
+  c.end_step = j[4]->step;
+  c.tail = f[5];
+  g.knee_step = j[1]->step;
+  g.upper_step = j[2]->step;
+  g.lower_step = j[3]->step;
+  g.across = n;
+  g.thigh_phase = turn(A, g.thigh, n);
+  g.height = A.dot(t1 + t2 + t4);
+  g.phase = std::atan2(t3.dot(n), t3.dot(A));
+  g.bar = (t2 + t4).dot(n);
+  return c;
+}
 
 }  // namespace
 
@@ -279,6 +385,7 @@ std::string pattern_name(LegPattern p) {
     case LegPattern::Extensible: return "extensible";
     case LegPattern::PlanarDyad: return "planar-dyad";
     case LegPattern::ThreeRevolute: return "three-revolute";
+    case LegPattern::CrankParallelogram: return "crank-parallelogram";
     case LegPattern::Numeric: break;
   }
   return "numeric";
@@ -286,10 +393,10 @@ std::string pattern_name(LegPattern p) {
 
 LegPattern pattern_of_name(const std::string& name) {
   for (LegPattern p : {LegPattern::Numeric, LegPattern::CrankRod, LegPattern::SlideRod, LegPattern::Extensible,
-                       LegPattern::PlanarDyad, LegPattern::ThreeRevolute})
+                       LegPattern::PlanarDyad, LegPattern::ThreeRevolute, LegPattern::CrankParallelogram})
     if (pattern_name(p) == name) return p;
   throw std::invalid_argument("unknown pattern \"" + name +
-                              "\" (known: crank-rod, slide-rod, extensible, planar-dyad, three-revolute, numeric)");
+                              "\" (known: crank-rod, slide-rod, extensible, planar-dyad, three-revolute, crank-parallelogram, numeric)");
 }
 
 std::optional<ClosedFormLeg> recognise(const Model& model, const Leg& leg) {
@@ -369,6 +476,7 @@ std::optional<ClosedFormLeg> recognise(const Model& model, const Leg& leg) {
     c.third_link = f[3].translation();
     return c;
   }
+  if (std::optional<ClosedFormLeg> p = crank_parallelogram(leg, tokens, tiny)) return p;
   return std::nullopt;
 }
 
@@ -387,6 +495,7 @@ void solve_closed(const ClosedFormLeg& form, const Model& model, const Leg& leg,
     case LegPattern::SlideRod: b.slide_rod(partial); break;
     case LegPattern::Extensible: b.extensible(partial); break;
     case LegPattern::ThreeRevolute: b.three_revolute(partial); break;
+    case LegPattern::CrankParallelogram: b.crank_parallelogram(partial); break;
     case LegPattern::Numeric: out.undecided = true; break;
   }
 }

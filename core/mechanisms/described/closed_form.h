@@ -31,6 +31,7 @@ enum class LegPattern {
   Extensible,     // ball, prismatic actuator, spherical (Gough-Stewart UPS/SPS)
   PlanarDyad,     // planar: revolute actuator, link, revolute, link, revolute (five-bar, 3-RRR)
   ThreeRevolute,  // revolute actuator whose axis holds the second joint, two revolutes, spherical (PATHOS-II)
+  CrankParallelogram,  // revolute actuator, knee, parallelogram (two revolutes), revolute grip: the end kept level (Falcon)
 };
 
 // The pattern's name as a description names it ("crank-rod", ..., "numeric").
@@ -59,6 +60,22 @@ struct ClosedFormLeg {
   Eigen::Vector3d second_link = Eigen::Vector3d::Zero(), third_link = Eigen::Vector3d::Zero();
   int end_step = -1;  // the last joint (spherical; planar: revolute)
   double offset = 0;  // Extensible: the fixed length along the slide
+  // CrankParallelogram, in the actuator's frame (A its axis, B the
+  // parallelogram's, n = A x B): the knee about +-A, the parallelogram's
+  // joints about B (upper) and +-B (lower), the grip (end_step) about +-A.
+  // Closed, the parallelogram keeps the knee bar's direction (lower = -upper)
+  // and the grip undoes the crank's and knee's turns; the end then lies at
+  // height + side cos(upper - phase) along A, and across A at the end of a
+  // planar 2R: the thigh, then the parallelogram's reach along n turned by
+  // the knee, bar - side sin(upper - phase).
+  struct Parallelogram {
+    int knee_step = -1, upper_step = -1, lower_step = -1;
+    double knee_sign = 1, lower_sign = 1, grip_sign = 1;
+    Eigen::Vector3d across = Eigen::Vector3d::UnitX();  // n
+    Eigen::Vector3d thigh = Eigen::Vector3d::Zero();    // the first link's part across A
+    double thigh_phase = 0;  // the angle from the thigh to n about A
+    double height = 0, side = 0, phase = 0, bar = 0;
+  } parallelogram;
 };
 
 // The leg's pattern, or nullopt (numeric). Only structure that the closed

@@ -187,8 +187,11 @@ std::optional<LegSolution> Kinematics::solve_leg_closed(int leg, const Isometry3
     if (!outside) outside = &s;
   }
   out.state = outside ? *outside : candidates.states[0];
-  // Ok outside the travel (inverse() says out-of-limits), or closing only on another branch.
-  out.status = outside ? Status::Ok : Status::NotConverged;
+  // Ok outside the travel (inverse() says out-of-limits). Closing only on
+  // another branch, the leg does not reach the anchor on this one (decided:
+  // every solution is known); its miss stays 0, a lower bound (the closed
+  // form does not give the distance to the branch's reach).
+  out.status = outside ? Status::Ok : Status::Unreachable;
   return out;
 }
 

@@ -178,14 +178,14 @@ class WindowDocumentTest : public QObject {
 
   // Help > About this mechanism: how the device in the window is solved.
   void aboutThisMechanismSaysHowTheDeviceIsSolved() {
-    // The menu is there at once; the Falcon's fields (numeric legs with stops
-    // and links) need not be finished for it.
+    // The menu is there at once; the Falcon's fields (legs with stops and
+    // links) need not be finished for it.
     MechanismWindow w(load_preset("falcon"));
     w.show();
     QVERIFY(QTest::qWaitForWindowExposed(&w));
     QVERIFY(w.findChild<QAction*>("aboutMechanismAction"));
     const std::string falcon = gui::mechanism_summary(w.preset());
-    QVERIFY(falcon.find("leg 1: numeric") != std::string::npos);
+    QVERIFY(falcon.find("leg 1: crank-parallelogram") != std::string::npos);
     QVERIFY(falcon.find("travel -60 .. 105 deg") != std::string::npos);
     const std::string stewart = gui::mechanism_summary(load_preset("stewart"));
     QVERIFY(stewart.find("extensible") != std::string::npos);
