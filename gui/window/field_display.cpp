@@ -114,9 +114,10 @@ void FieldDisplay::request(bool slice, bool volume) {
 void FieldDisplay::onSlice(const SliceResult& result) {
   slice_field_ = result.field;
   restyle();
-  emit computed(tr("slice %1 ms, %2 M points/s")
-                              .arg(result.seconds * 1e3, 0, 'f', 1)
-                              .arg(result.points_per_second / 1e6, 0, 'f', 2));
+  slice_time_ = tr("slice %1 ms, %2 M points/s")
+                    .arg(result.seconds * 1e3, 0, 'f', 1)
+                    .arg(result.points_per_second / 1e6, 0, 'f', 2);
+  emit computed(surfaces_time_.isEmpty() ? slice_time_ : slice_time_ + "; " + surfaces_time_);
   if (result.fine) slice_settled_ = true;
   emit sliceUpdated(result.fine);
   emit fieldsUpdated(result.fine);
@@ -132,10 +133,9 @@ void FieldDisplay::onSurfaces(const SurfaceResult& result) {
     volume_runner_.submitLight(result);
   }
   applyVisibility();
-  emit message(tr("isosurfaces (%1) in %2 ms")
-                               .arg(result.fine ? tr("full") : tr("coarse"))
-                               .arg(result.seconds * 1e3, 0, 'f', 0),
-                           4000);
+  // A developer's number: with the slice's, behind View > Show timings.
+  surfaces_time_ = tr("isosurfaces (%1) %2 ms").arg(result.fine ? tr("full") : tr("coarse")).arg(result.seconds * 1e3, 0, 'f', 0);
+  emit computed(slice_time_.isEmpty() ? surfaces_time_ : slice_time_ + "; " + surfaces_time_);
   if (result.fine) surfaces_settled_ = true;
   emit surfacesUpdated(result.fine);
   emit fieldsUpdated(result.fine);

@@ -67,7 +67,7 @@ class FieldDisplay : public QObject {
   void surfacesUpdated(bool fine);
   void fieldsUpdated(bool fine);
   void changed();                               // a setting of the document changed
-  void computed(const QString& text);           // how long the slice took
+  void computed(const QString& text);           // how long the slice and the surfaces took (View > Show timings)
   void message(const QString& text, int msecs);  // for the status bar
 
  private:
@@ -86,6 +86,7 @@ class FieldDisplay : public QObject {
   bool slice_settled_ = false, surfaces_settled_ = false;
   unsigned moving_ = 0;       // Moving flags
   bool light_asked_ = false;  // the light meshes of the surfaces shown are made or being made
+  QString slice_time_, surfaces_time_;  // the last of each, for computed()
 };
 
 }  // namespace linkscape::gui

@@ -178,6 +178,10 @@ void ViewTools::addViewActions(QMenu* menu, std::function<Eigen::AlignedBox3d()>
     scene_.view->requestRender();
   });
   overlays_->connectActions(a.capsules, a.ellipsoid);
+  // On from the start: labels hidden behind the slice and staircased surfaces
+  // are what a new user would otherwise see first.
+  a.labels->setChecked(true);
+  a.smooth->setChecked(true);
   connect(a.device, &QAction::toggled, this, [this, workspace, framed](bool on) {
     setFrameDevice(on);
     reframe(workspace());

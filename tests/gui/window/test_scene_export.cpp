@@ -4,7 +4,7 @@
 #include <QTemporaryDir>
 #include <QtTest>
 #include <vtkActor.h>
-#include <vtkActorCollection.h>
+#include <vtkPropCollection.h>
 #include <vtkBoundingBox.h>
 #include <vtkCompositeDataIterator.h>
 #include <vtkDataSet.h>
@@ -39,15 +39,17 @@ class SceneExportTest : public QObject {
     vtkRenderWindow* window = w.view()->renderWindow();
 
     // What the view draws: its visible actors with data, and their bounds.
+    // The renderer's own props, not GetActors(): that also lists the parts
+    // of composite props (a hidden 3-D label's quad, never laid out).
     int drawn = 0;
     vtkBoundingBox view_bounds;
     vtkRendererCollection* renderers = window->GetRenderers();
     renderers->InitTraversal();
     while (vtkRenderer* r = renderers->GetNextItem()) {
-      vtkActorCollection* actors = r->GetActors();
-      actors->InitTraversal();
-      while (vtkActor* a = actors->GetNextActor())
-        if (a->GetVisibility() && a->GetMapper() && a->GetMapper()->GetInput() &&
+      vtkPropCollection* props = r->GetViewProps();
+      props->InitTraversal();
+      while (vtkProp* prop = props->GetNextProp())
+        if (auto* a = vtkActor::SafeDownCast(prop); a && a->GetVisibility() && a->GetMapper() && a->GetMapper()->GetInput() &&
             a->GetMapper()->GetInput()->GetNumberOfCells() > 0) {
           ++drawn;
           view_bounds.AddBounds(a->GetBounds());

@@ -350,18 +350,22 @@ class ViewToolsTest : public QObject {
     QVERIFY(window_checks::changed_fraction(opaque, window_checks::frame(w)) > 0.01);
     window_checks::save_screenshot(w, "slice-opacity-35.png");
     slider->setValue(100);
+    // Labels in front and smooth surfaces are on from the start; each can be turned off.
     QAction* labels = w.findChild<QAction*>("labelsInFrontAction");
     QVERIFY(labels);
-    labels->trigger();
+    QVERIFY(labels->isChecked());
     QVERIFY(w.scene().labels_in_front());
-    window_checks::frame(w);
     window_checks::save_screenshot(w, "labels-in-front.png");
+    labels->trigger();
+    QVERIFY(!w.scene().labels_in_front());
+    labels->trigger();
     QAction* smooth = w.findChild<QAction*>("smoothSurfacesAction");
     QVERIFY(smooth);
-    const QImage rippled = window_checks::frame(w);
-    smooth->trigger();
-    QVERIFY(window_checks::changed_fraction(rippled, window_checks::frame(w)) > 0.001);
+    QVERIFY(smooth->isChecked());
+    const QImage smoothed = window_checks::frame(w);
     window_checks::save_screenshot(w, "smooth-surfaces.png");
+    smooth->trigger();
+    QVERIFY(window_checks::changed_fraction(smoothed, window_checks::frame(w)) > 0.001);
   }
 
  private:

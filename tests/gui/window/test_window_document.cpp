@@ -14,6 +14,7 @@
 #include <QTemporaryDir>
 #include <QUndoStack>
 #include <QWindow>
+#include <QStatusBar>
 #include <QtTest>
 #include <vtkCamera.h>
 #include <vtkGenericOpenGLRenderWindow.h>
@@ -302,6 +303,9 @@ class WindowDocumentTest : public QObject {
     auto* frame = w.findChild<QLabel*>("frameLabel");
     QVERIFY(compute && frame);
     QVERIFY(!compute->isVisible() && !frame->isVisible());
+    // The isosurfaces' time is there too, not in the status bar's message.
+    QVERIFY2(compute->text().contains("isosurfaces (full)"), qPrintable(compute->text()));
+    QVERIFY2(!w.statusBar()->currentMessage().contains("ms"), qPrintable(w.statusBar()->currentMessage()));
     auto* timings = w.findChild<QAction*>("showTimingsAction");
     QVERIFY(timings);
     timings->trigger();
