@@ -36,9 +36,7 @@ ViewOverlays::~ViewOverlays() = default;
 std::pair<QAction*, QAction*> ViewOverlays::addActions(QMenu* menu) {
   QAction* capsules = menu->addAction(tr("Show link &capsules"));
   capsules->setObjectName("showLinkCapsules");
-  capsules->setCheckable(true);
-  capsules->setStatusTip(tr("The links as the capsules interference is checked with, the closest pair highlighted "
-                            "with its clearance"));
+  capsules->setCheckable(true);  // its status tip follows the device (followDevice)
   QAction* ellipsoid = menu->addAction(tr("Show force &ellipsoid"));
   ellipsoid->setObjectName("showForceEllipsoid");
   ellipsoid->setCheckable(true);
@@ -48,10 +46,8 @@ std::pair<QAction*, QAction*> ViewOverlays::addActions(QMenu* menu) {
 }
 
 void ViewOverlays::connectActions(QAction* capsules, QAction* ellipsoid) {
-  const Mechanism& m = state_.mechanism();
-  const bool has_links = m.link_capsules(state_.actuators(), state_.task()).has_value();
-  capsules->setEnabled(has_links);
-  if (!has_links) capsules->setStatusTip(tr("This device states no link radii"));
+  capsules_action_ = capsules;
+  followDevice();
   connect(capsules, &QAction::toggled, this, [this](bool on) {
     show_capsules_ = on;
     update();
@@ -67,7 +63,23 @@ void ViewOverlays::connectActions(QAction* capsules, QAction* ellipsoid) {
   ellipsoid->setChecked(false);
 }
 
+// The capsules are offered while the device states link radii: a design
+// switched to --interference off and back takes the toggle with it.
+void ViewOverlays::followDevice() {
+  bool has_links = false;
+  try {
+    has_links = state_.mechanism().link_capsules(state_.actuators(), state_.task()).has_value();
+  } catch (const std::invalid_argument&) {
+    return;  // a pose that does not assemble says nothing about the device
+  }
+  capsules_action_->setEnabled(has_links);
+  capsules_action_->setStatusTip(has_links ? tr("The links as the capsules interference is checked with, the closest "
+                                                "pair highlighted with its clearance")
+                                           : tr("This device states no link radii"));
+}
+
 void ViewOverlays::update() {
+  if (capsules_action_) followDevice();
   capsules_->set_visible(show_capsules_);
   ellipsoid_->set_visible(show_ellipsoid_);
   if (show_capsules_) drawCapsules();

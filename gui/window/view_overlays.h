@@ -49,6 +49,7 @@ class ViewOverlays : public QObject {
   void update();
 
  private:
+  void followDevice();
   void drawCapsules();
   void drawEllipsoid();
 
@@ -57,6 +58,7 @@ class ViewOverlays : public QObject {
   std::unique_ptr<render::CapsuleScene> capsules_;
   std::unique_ptr<render::ForceEllipsoidScene> ellipsoid_;
   bool show_capsules_ = false, show_ellipsoid_ = false;
+  QAction* capsules_action_ = nullptr;  // enabled while the device states link radii
   // The force scale holds for a design, so the ellipsoid's size reads across poses.
   std::weak_ptr<const Mechanism> scaled_for_;
   double length_per_N_ = 0;

@@ -4,6 +4,7 @@
 // --joint-limits off does (its field gone, so the Task tab's bound on it is
 // refused), and a session keeps the switch through its file and gives it
 // back to a new window.
+#include <QAction>
 #include <QCheckBox>
 #include <QGroupBox>
 #include <QLabel>
@@ -87,6 +88,15 @@ class DesignStopsTest : public QObject {
     joints->click();
     QVERIFY(w.preset().checks.joint_limits);
     QVERIFY(lists_field(w, "joint_margin"));
+
+    // View > Show link capsules follows the interference switch, off and on again.
+    auto* capsules = w.findChild<QAction*>("showLinkCapsules");
+    QVERIFY(capsules && capsules->isEnabled());
+    links->click();
+    QVERIFY(!w.preset().checks.interference);
+    QVERIFY(!capsules->isEnabled());
+    links->click();
+    QVERIFY(capsules->isEnabled());
   }
 
   void aSessionsStopsAreChecked() {
