@@ -386,8 +386,8 @@ QString TaskPanel::readout() const {
             tr(", the home point at %1").arg(point_text(home, unit));
   }
   for (const task::CriterionReport& c : r.criteria) {
-    const std::string criterion_unit = task::criterion_unit(c.criterion, mechanism_->info().length_unit);
-    const QString u = criterion_unit.empty() ? QString() : " " + QString::fromStdString(criterion_unit);
+    const std::string unit_text = task::criterion_unit(c.criterion, mechanism_->info().length_unit);
+    const QString u = unit_text.empty() ? QString() : " " + QString::fromStdString(unit_text);
     text += tr("<br>%1: worst %2%3, margin %4%3, %5")
                 .arg(QString::fromStdString(c.criterion.text).toHtmlEscaped(), number(c.worst), u, number(c.margin()),
                      QString::fromStdString(task::samples_text(r.samples - c.failing, r.samples)));

@@ -1,5 +1,7 @@
 #include "gui/window/view_overlays.h"
 
+#include <algorithm>
+
 #include <QAction>
 #include <QMenu>
 
@@ -63,15 +65,13 @@ void ViewOverlays::connectActions(QAction* capsules, QAction* ellipsoid) {
   ellipsoid->setChecked(false);
 }
 
-// The capsules are offered while the device states link radii: a design
-// switched to --interference off and back takes the toggle with it.
+// The capsules are offered while the device checks link radii (its
+// clearance field): a design switched to --interference off and back takes
+// the toggle with it.
 void ViewOverlays::followDevice() {
-  bool has_links = false;
-  try {
-    has_links = state_.mechanism().link_capsules(state_.actuators(), state_.task()).has_value();
-  } catch (const std::invalid_argument&) {
-    return;  // a pose that does not assemble says nothing about the device
-  }
+  const std::vector<NamedItem>& extras = state_.mechanism().info().extra_fields;
+  const bool has_links =
+      std::any_of(extras.begin(), extras.end(), [](const NamedItem& f) { return f.name == "clearance"; });
   capsules_action_->setEnabled(has_links);
   capsules_action_->setStatusTip(has_links ? tr("The links as the capsules interference is checked with, the closest "
                                                 "pair highlighted with its clearance")

@@ -11,6 +11,7 @@
 #include "core/field_sampling.h"
 #include "core/mechanisms/described/chain.h"
 #include "core/mechanisms/described/kinematics.h"
+#include "core/mechanisms/described/skeleton.h"
 #include "core/preset.h"
 
 namespace linkscape::described {
@@ -106,7 +107,7 @@ class DescribedMechanism final : public Mechanism {
     if (kin_.has_joint_limits()) i.extra_fields.push_back({"joint_margin", "joint margin (deg)", kJointMarginText});
     if (kin_.has_capsules()) i.extra_fields.push_back({"clearance", "clearance (" + m.length_unit + ")", kClearanceText});
     i.eval_columns = {kin_.branches() > 1, "failing_leg", true, true, true, true, true};
-    skeleton_ = build_skeleton();
+    skeleton_ = Skeleton(kin_);
   }
 
   const MechanismInfo& info() const override { return info_; }
@@ -300,110 +301,11 @@ class DescribedMechanism final : public Mechanism {
     return out;
   }
 
-  SkeletonModel skeleton_model() const override { return skeleton_; }
-
-  SkeletonModel build_skeleton() {
-    const Model& m = kin_.model();
-    SkeletonModel sk;
-    sk.scale = m.size / 3;
-    Body ground{"base", {}, {}, true};
-    std::vector<Vector3d> base_points;
-    for (const Leg& l : m.legs) base_points.push_back(l.base.translation());
-    if (base_points.size() >= 2) {
-      std::vector<Vector3d> ring = base_points;
-      if (ring.size() >= 3) ring.push_back(ring.front());
-      ground.polylines.push_back(ring);
-    }
-    sk.bodies.push_back(ground);
-    for (std::size_t leg = 0; leg < m.legs.size(); ++leg) {
-      const Leg& l = m.legs[leg];
-      // Zero-state frames give each link's geometry in its own frame.
-      LegState zero;
-      zero.values = VectorXd::Zero(l.variables);
-      zero.spheres.assign(std::size_t(l.spheres), Eigen::Matrix3d::Identity());
-      const Kinematics::LegDrawing d = kin_.draw_leg(int(leg), zero);
-      int body = 0;  // the ground until the first joint
-      std::vector<Vector3d> line{l.base.translation()};
-      Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();
-      for (std::size_t s = 0; s < l.steps.size(); ++s) {
-        const Step& step = l.steps[s];
-        if (step.kind == Step::Kind::Fixed) {
-          line.push_back(frame.inverse() * d.frames[s].translation());
-          continue;
-        }
-        const bool second_half = s > 0 && l.steps[s - 1].kind != Step::Kind::Fixed && l.steps[s - 1].joint == step.joint;
-        if (second_half) {
-          link_bodies_.back().step = int(s);
-          continue;
-        }
-        if (line.size() >= 2) sk.bodies[std::size_t(body)].polylines.push_back(line);
-        const Eigen::Isometry3d before_frame = s == 0 ? l.base : d.frames[s - 1];
-        const Vector3d joint_point = frame.inverse() * before_frame.translation();
-        Joint j;
-        j.name = step.joint;
-        j.type = step.kind == Step::Kind::Revolute
-                     ? (s + 1 < l.steps.size() && l.steps[s + 1].joint == step.joint ? JointType::Universal
-                                                                                       : JointType::Revolute)
-                 : step.kind == Step::Kind::Prismatic ? JointType::Prismatic
-                                                      : JointType::Spherical;
-        // The joint, drawn with the body before it.
-        j.body = body;
-        j.p_body_joint = joint_point;
-        j.axis_body_joint = frame.linear().transpose() * before_frame.linear() * step.axis;
-        j.actuated = step.actuator >= 0;
-        if (j.actuated) j.label = step.name;
-        sk.joints.push_back(j);
-        // A new link after the joint.
-        sk.bodies.push_back({l.name + ":" + step.joint, {}, {}, false});
-        const int previous = body;
-        body = int(sk.bodies.size()) - 1;
-        link_bodies_.push_back({int(leg), int(s), body});
-        frame = d.frames[s];
-        line = {Vector3d::Zero()};
-        if (step.kind == Step::Kind::Prismatic) {
-          // A slide drawn telescopic: a sleeve on the body before it, a rod on
-          // the body after, each as long as the shortest travel, so the leg
-          // shows whole at any extension.
-          const Actuator* act = step.actuator >= 0 ? &m.actuators[std::size_t(step.actuator)] : nullptr;
-          const double length = act && act->range.lo > 0 ? act->range.lo : 0.5 * m.size;
-          sk.bodies[std::size_t(previous)].polylines.push_back({joint_point, joint_point + length * j.axis_body_joint});
-          sk.bodies[std::size_t(body)].polylines.push_back({Vector3d::Zero(), -length * step.axis});
-        }
-      }
-      if (line.size() >= 2) sk.bodies[std::size_t(body)].polylines.push_back(line);
-    }
-    platform_body_ = int(sk.bodies.size());
-    for (std::size_t b = 0; b < m.platform_names.size(); ++b) {
-      Body plate{m.platform_names[b], {}, {}, false};
-      std::vector<Vector3d> corners;
-      for (const Leg& l : m.legs)
-        if (l.platform == int(b)) corners.push_back(l.anchor.translation());
-      if (corners.size() >= 3) plate.faces.push_back(corners);
-      else if (corners.size() == 2) plate.polylines.push_back(corners);
-      sk.bodies.push_back(plate);
-    }
-    return sk;
-  }
+  SkeletonModel skeleton_model() const override { return skeleton_.model; }
 
   SkeletonPose skeleton_pose(const VectorXd& q, const VectorXd& x, const IkResult* ik) const override {
     const VectorXd xm = to_model(x, "x");
-    const PoseSolution s = assembly(xm, q);
-    SkeletonPose p;
-    const std::size_t bodies = std::size_t(platform_body_) + kin_.model().platform_names.size();
-    p.X_world_body.assign(bodies, Eigen::Isometry3d::Identity());
-    p.states.assign(bodies, BodyState::Normal);
-    std::vector<Kinematics::LegDrawing> drawings;
-    for (std::size_t leg = 0; leg < kin_.model().legs.size(); ++leg)
-      drawings.push_back(kin_.draw_leg(int(leg), s.legs[leg].state));
-    for (const LinkBody& lb : link_bodies_) {
-      p.X_world_body[std::size_t(lb.body)] = drawings[std::size_t(lb.leg)].frames[std::size_t(lb.step)];
-      if (ik && ik->failing_part == kin_.model().legs[std::size_t(lb.leg)].name)
-        p.states[std::size_t(lb.body)] = BodyState::Failing;
-    }
-    const PlatformPose pose = kin_.pose(xm);
-    for (std::size_t b = 0; b < pose.bodies.size(); ++b) p.X_world_body[std::size_t(platform_body_) + b] = pose.bodies[b];
-    p.p_world_endpoint = pose.p;
-    return p;
+    return skeleton_.pose(kin_, assembly(xm, q), kin_.pose(xm), ik ? ik->failing_part : std::string());
   }
 
   std::optional<interference::LinkCapsules> link_capsules(const VectorXd& q, const VectorXd& x) const override {
@@ -518,10 +420,6 @@ class DescribedMechanism final : public Mechanism {
     f->grid = grid;
     return f;
   }
-
-  struct LinkBody {
-    int leg, step, body;
-  };
 
   // `stops` gets the pose's stops, NaN where it does not assemble.
   FieldSample sample(const VectorXd& xm, int branch, double tolerance, LegSolver solver, Stops& stops) const {
@@ -684,9 +582,7 @@ class DescribedMechanism final : public Mechanism {
   VectorXd home_q_;  // the actuators at the home task, branch 0 (solved once)
   int rotations_ = 0;
   // The drawing: which link body follows which leg step, where the platform bodies start.
-  std::vector<LinkBody> link_bodies_;
-  int platform_body_ = 0;
-  SkeletonModel skeleton_;
+  Skeleton skeleton_;
 };
 
 }  // namespace
