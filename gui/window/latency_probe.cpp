@@ -1,5 +1,6 @@
 #include "gui/window/latency_probe.h"
 
+#include <QAction>
 #include <QApplication>
 #include <QCheckBox>
 #include <QElapsedTimer>
@@ -96,13 +97,23 @@ int run_latency_probe(MechanismWindow& w, std::ostream& out) {
   if (!wait_settled(w)) return 1;
   add("actuator slider -> frame (slice + isosurfaces)", slider_to_frame(w, kMoves));
 
-  // A design parameter: coarse slice on screen, full slice on screen, full isosurfaces on screen.
-  std::vector<double> coarse, full, surfaces;
+  // A design parameter: coarse slice on screen, full slice on screen, full
+  // isosurfaces on screen. The surfaces' time with and without View > Smooth
+  // workspace surfaces, alternating pair by pair in one run, so that what the
+  // smoothing costs is a ratio measured side by side.
+  std::vector<double> coarse, full, surfaces, unsmoothed;
   std::string parameter;
   for (const auto& q : w.mechanism().info().parameters)
     if (q.in_panel && parameter.empty()) parameter = q.name;
   const double value = w.mechanism().parameters().at(parameter);
-  for (int i = 0; i < kLengthChanges; ++i) {
+  auto* smooth = w.findChild<QAction*>("smoothSurfacesAction");
+  const bool smooth_before = smooth && smooth->isChecked();
+  for (int i = 0; i < (smooth ? 2 : 1) * kLengthChanges; ++i) {
+    const bool smoothed = smooth ? (i / 2) % 2 == 0 : false;
+    if (smooth && smooth->isChecked() != smoothed) {
+      smooth->setChecked(smoothed);  // redraws the shown surfaces now
+      wait_for(w.view(), &VtkWidget::rendered, 5000);
+    }
     double coarse_ms = -1, full_ms = -1, surfaces_ms = -1;
     QElapsedTimer t;
     // Stamps the time of the first frame rendered after `flag` was raised.
@@ -128,19 +139,21 @@ int run_latency_probe(MechanismWindow& w, std::ostream& out) {
     QObject::disconnect(c3);
     if (coarse_ms >= 0) coarse.push_back(coarse_ms);
     if (full_ms >= 0) full.push_back(full_ms);
-    if (surfaces_ms >= 0) surfaces.push_back(surfaces_ms);
+    if (surfaces_ms >= 0) (smoothed || !smooth ? surfaces : unsmoothed).push_back(surfaces_ms);
   }
+  if (smooth) smooth->setChecked(smooth_before);
   // A fast device's slice has no coarse pass (gui/window/field_job.h): nothing to list.
   if (!coarse.empty()) add(parameter + " -> coarse slice on screen", coarse);
   add(parameter + " -> full slice on screen", full);
-  add(parameter + " -> full isosurfaces on screen", surfaces);
+  add(parameter + (smooth ? " -> full isosurfaces on screen, smoothed" : " -> full isosurfaces on screen"), surfaces);
+  if (smooth) add(parameter + " -> full isosurfaces on screen, unsmoothed", unsmoothed);
 
   out << "Linkscape window latency (" << w.width() << "x" << w.height() << " window, milliseconds)\n";
-  out << std::left << std::setw(48) << "what" << std::right << std::setw(9) << "median" << std::setw(9) << "p90"
+  out << std::left << std::setw(52) << "what" << std::right << std::setw(9) << "median" << std::setw(9) << "p90"
       << std::setw(9) << "max" << std::setw(5) << "n" << "\n";
   out << std::fixed << std::setprecision(1);
   for (const Row& r : rows)
-    out << std::left << std::setw(48) << r.what << std::right << std::setw(9) << r.s.median << std::setw(9)
+    out << std::left << std::setw(52) << r.what << std::right << std::setw(9) << r.s.median << std::setw(9)
         << r.s.p90 << std::setw(9) << r.s.max << std::setw(5) << r.n << "\n";
   return 0;
 }

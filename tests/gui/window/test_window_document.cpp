@@ -16,6 +16,7 @@
 #include <QWindow>
 #include <QStatusBar>
 #include <QtTest>
+#include <sstream>
 #include <vtkCamera.h>
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkRenderer.h>
@@ -23,6 +24,7 @@
 
 #include "core/preset.h"
 #include "gui/window/help_actions.h"
+#include "gui/window/latency_probe.h"
 #include "gui/window/mechanism_window.h"
 #include "gui/window/session.h"
 #include "gui/window/session_history.h"
@@ -313,6 +315,28 @@ class WindowDocumentTest : public QObject {
     QVERIFY(frame->text().contains("ms"));
     timings->trigger();
     QVERIFY(!compute->isVisible() && !frame->isVisible());
+  }
+
+  // --latency times the surfaces with and without smoothing in one run
+  // (alternating), and leaves the View toggle as the user had it.
+  void latencyProbeTimesTheSurfacesSmoothedAndNot() {
+    MechanismWindow w(load_preset("parallel-12r"));
+    QVERIFY(show_settled(w));
+    auto* smooth = w.findChild<QAction*>("smoothSurfacesAction");
+    QVERIFY(smooth && smooth->isChecked());
+    for (const bool before : {true, false}) {
+      smooth->setChecked(before);
+      std::ostringstream out;
+      QCOMPARE(gui::run_latency_probe(w, out), 0);
+      const QString table = QString::fromStdString(out.str());
+      for (const char* row : {"full isosurfaces on screen, smoothed ", "full isosurfaces on screen, unsmoothed "}) {
+        const auto m = QRegularExpression(QString(row) + "\\s+([0-9.]+)\\s+[0-9.]+\\s+[0-9.]+\\s+(\\d+)").match(table);
+        QVERIFY2(m.hasMatch(), qPrintable(table));
+        QVERIFY(m.captured(1).toDouble() > 0);
+        QCOMPARE(m.captured(2).toInt(), 6);
+      }
+      QCOMPARE(smooth->isChecked(), before);
+    }
   }
 };
 
