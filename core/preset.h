@@ -33,6 +33,10 @@ struct Preset {
   // A described mechanism's "description" as JSON text (docs/described-mechanisms.md);
   // empty for the compiled devices.
   std::string description;
+  // A compiled device's assumed or published "stops" (its passive joints'
+  // limits, its links' radii) as JSON text; the device reads it
+  // (docs/mechanisms/); empty where the file has none.
+  std::string stops;
   std::filesystem::path source;             // file it was read from
   StopChecks checks;                        // as the user switched them (not read from the file)
 };
