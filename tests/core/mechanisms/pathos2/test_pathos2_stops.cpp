@@ -316,6 +316,48 @@ TEST(Pathos2Stops, LinkCapsulesNameTheClosestPair) {
   EXPECT_THROW(mech->link_capsules(mech->home_actuators(), task(0, 0, 80, 0, 0, 0, 7)), std::invalid_argument);
 }
 
+// The Table 2 study under the stops: a movable range ends where a stop is
+// hit, and a design whose Table 1 pose overlaps is not evaluated.
+TEST(Pathos2Stops, DesignRangesEndAtTheStops) {
+  // A long-legged design, a 105 deg cone, 1 cm links.
+  Model m = make_pathos2(preset_with(true, true));
+  m.l0 = table1_model().l0;
+  m.l2 = 20, m.l3 = 12, m.lp = 2;
+  m.cone_limit = 105 * kDeg;
+  m.link_radius = 1.0;
+  const Geometry g = make_geometry(m);
+  Model plain_model = m;
+  plain_model.cone_limit = std::numbers::pi;
+  plain_model.link_radius = plain_model.grip_radius = 0;
+  const Geometry plain = make_geometry(plain_model);
+  const Pose start = table1_pose(m, 30 * kDeg);
+  RangeOptions o;
+  const MovableRanges stopped = movable_ranges(g, start, o, true), free = movable_ranges(plain, start, o, true);
+  ASSERT_EQ(stopped.start_status, Status::Ok);
+  int shorter = 0;
+  for (int axis = 0; axis < 3; ++axis)
+    for (double sign : {-1.0, 1.0}) {
+      const double reach = sign < 0 ? stopped.minus[axis] : stopped.plus[axis];
+      const double linkage = sign < 0 ? free.minus[axis] : free.plus[axis];
+      EXPECT_LE(reach, linkage + o.tolerance_cm);
+      if (reach >= linkage - o.tolerance_cm) continue;
+      ++shorter;
+      // Just beyond the end the linkage closes, and a stop does not hold.
+      Pose beyond = start;
+      beyond.p_world_E[axis] += sign * (reach + 2 * o.tolerance_cm);
+      EXPECT_TRUE(pose_inside(plain, beyond));
+      const Stops st = stops(g, beyond, inverse(g, beyond));
+      EXPECT_FALSE(st.hold()) << axis;
+    }
+  EXPECT_GT(shorter, 0);
+  // lp = 0: the link-3 ends of a plate meet, so the Table 1 pose overlaps.
+  DesignGrid grid{{14, 14, 1}, {6, 6, 1}, {0, 2, 2}, {30, 30, 15}};  // l2, l3 as the paper's; lp 0 and 2
+  const DesignSearchResult r = design_search(m, grid);
+  ASSERT_EQ(r.rows.size(), 2u);
+  EXPECT_EQ(r.rows[0].outcome, DesignOutcome::StartInfeasible);
+  EXPECT_EQ(r.rows[1].outcome, DesignOutcome::Evaluated);
+}
+
 TEST(Pathos2Stops, PresetStopsBlockIsChecked) {
   Preset p = load_preset("pathos2");
   const auto refused = [&](const std::string& stops, const std::string& words) {
