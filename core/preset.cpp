@@ -250,6 +250,25 @@ StopChecks stated_stops(const Preset& preset) {
   return {lists("joint_margin"), lists("clearance")};
 }
 
+std::map<std::string, double> stops_numbers(const Preset& preset, const std::vector<std::string>& known) {
+  std::map<std::string, double> out;
+  if (preset.stops.empty()) return out;
+  const nlohmann::json doc = nlohmann::json::parse(preset.stops);
+  for (const auto& [key, value] : doc.items()) {
+    if (key == "source") {
+      string_at(value, "stops.source");
+      continue;
+    }
+    if (std::find(known.begin(), known.end(), key) == known.end()) {
+      std::string names = "source";
+      for (const std::string& k : known) names += ", " + k;
+      throw std::invalid_argument("unknown key 'stops." + key + "' (known: " + names + ")");
+    }
+    out[key] = number_at(value, "stops." + key);
+  }
+  return out;
+}
+
 void validate(const Preset& preset) { make_mechanism(preset); }
 
 }  // namespace linkscape

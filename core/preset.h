@@ -77,6 +77,11 @@ std::vector<std::string> parameter_names(const Preset& preset);
 // states it), whatever preset.checks asks.
 StopChecks stated_stops(const Preset& preset);
 
+// A compiled device's "stops" block as numbers by key (its "source" text
+// skipped); throws std::invalid_argument naming a key not in `known` (listed)
+// or a value that is not a number.
+std::map<std::string, double> stops_numbers(const Preset& preset, const std::vector<std::string>& known);
+
 // Builds the preset's model; throws std::invalid_argument if it is invalid.
 void validate(const Preset& preset);
 

@@ -26,7 +26,7 @@ const std::vector<Device>& registry() {
   static const std::vector<Device> devices = {
       {"parallel-12r", &parallel12r::make_mechanism, false},
       {"pathos2", &pathos2::make_mechanism, true},
-      {"delta", &delta::make_mechanism, false},
+      {"delta", &delta::make_mechanism, true},
   };
   return devices;
 }

@@ -2,7 +2,6 @@
 
 #include <Eigen/SVD>
 #include <cmath>
-#include <nlohmann/json.hpp>
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
@@ -11,7 +10,6 @@
 #include "core/mechanisms/pathos2/methods.h"
 #include "core/mechanisms/pathos2/stability.h"
 #include "core/mechanisms/pathos2/stops.h"
-#include "core/json_checked.h"
 #include "core/preset.h"
 
 namespace linkscape::pathos2 {
@@ -424,23 +422,16 @@ namespace {
 
 // "stops": {"source": text, "globular_cone_deg": a, "link_radius": r, "grip_radius": g}
 // (docs/mechanisms/pathos2.md, "Stops"); a cone_limit parameter replaces the cone.
-void read_pathos2_stops(const std::string& text, bool cone_given, pathos2::Model& m) {
-  const nlohmann::json doc = nlohmann::json::parse(text);
-  for (const auto& [key, value] : doc.items()) {
-    const std::string where = "stops." + key;
-    if (key == "source") {
-      string_at(value, where);
-      continue;
-    }
-    if (key != "globular_cone_deg" && key != "link_radius" && key != "grip_radius")
-      throw std::invalid_argument("unknown key '" + where + "' (known: source, globular_cone_deg, link_radius, grip_radius)");
-    const double v = number_at(value, where);
+void read_pathos2_stops(const Preset& preset, pathos2::Model& m) {
+  for (const auto& [key, v] : stops_numbers(preset, {"globular_cone_deg", "link_radius", "grip_radius"})) {
+    std::ostringstream given;
+    given << v;
     if (key == "globular_cone_deg") {
-      if (!(v > 0 && v < 180)) throw std::invalid_argument(where + " must be in (0, 180) deg, got " + value.dump());
-      if (!cone_given) m.cone_limit = v * std::numbers::pi / 180.0;
+      if (!(v > 0 && v < 180)) throw std::invalid_argument("stops." + key + " must be in (0, 180) deg, got " + given.str());
+      if (!preset.parameters.contains("cone_limit")) m.cone_limit = v * std::numbers::pi / 180.0;
     } else {
       if (!(v > 0 && v <= pathos2::kMaxLength))
-        throw std::invalid_argument(where + " must be a positive length (cm), got " + value.dump());
+        throw std::invalid_argument("stops." + key + " must be a positive length (cm), got " + given.str());
       (key == "link_radius" ? m.link_radius : m.grip_radius) = v;
     }
   }
@@ -458,7 +449,7 @@ pathos2::Model make_pathos2(const Preset& preset) {
     throw std::invalid_argument("pathos2 takes no actuator_limits_deg; its joint limits are the parameters "
                                 "t2_limit, t3_limit and cone_limit (degrees)");
   pathos2::Model m = pathos2::Model::from_parameters(preset.parameters);
-  if (!preset.stops.empty()) read_pathos2_stops(preset.stops, preset.parameters.contains("cone_limit"), m);
+  read_pathos2_stops(preset, m);
   // A stop switched off: the device as if it stated none of that kind.
   if (!preset.checks.joint_limits) m.cone_limit = m.t2_limit = m.t3_limit = std::numbers::pi;
   if (!preset.checks.interference) m.link_radius = m.grip_radius = 0.0;
