@@ -17,19 +17,26 @@ namespace {
 
 // A scalar pass over a row the kernel filled, where the model states cones
 // (stops.h): each sample's joint margin (NaN where a leg does not close on
-// the branch); an ok sample beyond a cone becomes out-of-limits, its reach
-// margin at most the size times the cone's margin (as Mechanism::reach_margin).
+// the field's branch, which a Newton field's samples are taken on too); an
+// ok sample beyond a cone becomes out-of-limits, its reach margin at most
+// the size times the cone's margin (as Mechanism::reach_margin).
 void cones_of_row(const Model& m, const FieldRequest& req, const detail::GridRow& row, const detail::FieldRowOut& out,
                   float* joint_margin) {
   std::atomic_thread_fence(std::memory_order_seq_cst);  // after the kernel's streaming stores
-  IkOptions closed = req.ik;
   for (int t = 0; t < row.count; ++t) {
     float margin = std::numeric_limits<float>::quiet_NaN();
     if (out.status[t] != std::uint8_t(Status::Unreachable)) {
+      // Each leg's closed form on the field's branch, as inverse() solves it.
       const Eigen::Vector3d p = row.point(req.grid, t);
-      const IkResult r = inverse(m, p, IkMethod::Closed, closed);
-      if (r.status != Status::Unreachable && r.status != Status::Singular) {
-        const JointStops st = joint_stops(m, r.q_actuated, p);
+      Eigen::Vector3d q;
+      bool closes = true;
+      for (int leg = 0; leg < kLegCount && closes; ++leg) {
+        const LegSolution s = leg_inverse(m, leg, p, (req.ik.branch >> leg) & 1);
+        closes = s.status != Status::Unreachable;
+        q(leg) = s.q;
+      }
+      if (closes) {
+        const JointStops st = joint_stops(m, q, p);
         margin = float(st.margin_deg);
         out.reach_margin[t] = std::min(out.reach_margin[t], float(m.size() * st.margin_deg * std::numbers::pi / 180));
         if (!st.hold() && out.status[t] == std::uint8_t(Status::Ok)) {

@@ -15,22 +15,41 @@ double angle_between(const Vector3d& a, const Vector3d& b) { return std::atan2(a
 
 }  // namespace
 
-BallAngles ball_angles(const Model& m, int leg, double q, const Vector3d& p) {
-  const Vector3d e = leg_radial(leg), z = Vector3d::UnitZ();
+namespace {
+
+// The sockets' axes as cosine and sine pairs, and the legs' radial units:
+// computed once per call of joint_stops rather than per leg.
+struct Sockets {
+  double elbow_cos, elbow_sin, wrist_cos, wrist_sin;
+  explicit Sockets(const Model& m)
+      : elbow_cos(std::cos(m.elbow_axis)), elbow_sin(std::sin(m.elbow_axis)), wrist_cos(std::cos(m.wrist_axis)),
+        wrist_sin(std::sin(m.wrist_axis)) {}
+};
+
+BallAngles angles_at(const Model& m, const Sockets& k, const Vector3d& e, double q, const Vector3d& p) {
+  const Vector3d z = Vector3d::UnitZ();
   // The upper arm's frame Rz(phi) Ry(q): x along the arm, z normal to it in the leg's plane.
-  const Vector3d arm = std::cos(q) * e - std::sin(q) * z, normal = std::sin(q) * e + std::cos(q) * z;
-  const Vector3d rod = p + m.r * e - elbow_position(m, leg, q);
+  const double c = std::cos(q), s = std::sin(q);
+  const Vector3d arm = c * e - s * z, normal = s * e + c * z;
+  const Vector3d rod = p + (m.r - m.R) * e - m.La * arm;  // C_i - B_i
   BallAngles out;
-  out.elbow = angle_between(std::cos(m.elbow_axis) * arm - std::sin(m.elbow_axis) * normal, rod);
-  out.wrist = angle_between(rod, -std::cos(m.wrist_axis) * e - std::sin(m.wrist_axis) * z);
+  out.elbow = angle_between(k.elbow_cos * arm - k.elbow_sin * normal, rod);
+  out.wrist = angle_between(rod, -k.wrist_cos * e - k.wrist_sin * z);
   return out;
+}
+
+}  // namespace
+
+BallAngles ball_angles(const Model& m, int leg, double q, const Vector3d& p) {
+  return angles_at(m, Sockets(m), leg_radial(leg), q, p);
 }
 
 JointStops joint_stops(const Model& m, const Vector3d& q, const Vector3d& p) {
   JointStops out;
   if (!m.has_cones()) return out;
+  const Sockets sockets(m);
   for (int leg = 0; leg < kLegCount; ++leg) {
-    const BallAngles a = ball_angles(m, leg, q(leg), p);
+    const BallAngles a = angles_at(m, sockets, leg_radial(leg), q(leg), p);
     const double angles[] = {a.elbow, a.wrist}, limits[] = {m.elbow_cone, m.wrist_cone};
     for (int joint = 0; joint < 2; ++joint) {
       if (!(limits[joint] < kPi)) continue;
