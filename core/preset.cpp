@@ -132,10 +132,10 @@ Preset parse_preset(const std::string& text, const std::string& origin) {
     if (!doc.is_object()) throw std::invalid_argument("top level must be a JSON object");
     for (const auto& [key, value] : doc.items())
       if (key != "mechanism" && key != "title" && key != "length_unit" && key != "parameters" &&
-          key != "actuator_limits_deg" && key != "actuator_data" && key != "description")
-        throw std::invalid_argument(
-            "unknown key '" + key +
-            "' (known: mechanism, title, length_unit, parameters, actuator_limits_deg, actuator_data, description)");
+          key != "actuator_limits_deg" && key != "actuator_data" && key != "description" && key != "stops")
+        throw std::invalid_argument("unknown key '" + key +
+                                    "' (known: mechanism, title, length_unit, parameters, actuator_limits_deg, "
+                                    "actuator_data, description, stops)");
     for (const char* key : {"mechanism", "parameters"})
       if (!doc.contains(key)) throw std::invalid_argument(std::string("missing key '") + key + "'");
     p.mechanism = string_at(doc.at("mechanism"), "mechanism");
@@ -160,6 +160,12 @@ Preset parse_preset(const std::string& text, const std::string& origin) {
       if (p.mechanism != "described")
         throw std::invalid_argument("a \"description\" belongs to a preset whose mechanism is \"described\"");
       p.description = doc.at("description").dump();
+    }
+    if (doc.contains("stops")) {
+      if (p.mechanism == "described")
+        throw std::invalid_argument("a described device states its stops in its description (\"cone\", \"radius\")");
+      if (!doc.at("stops").is_object()) throw std::invalid_argument("stops must be an object {name: value}");
+      p.stops = doc.at("stops").dump();
     }
   } catch (const nlohmann::json::exception& e) {
     throw std::invalid_argument("preset " + origin + ": " + json_error_text(e));
@@ -242,6 +248,25 @@ StopChecks stated_stops(const Preset& preset) {
     return std::any_of(fields.begin(), fields.end(), [&](const NamedItem& f) { return f.name == name; });
   };
   return {lists("joint_margin"), lists("clearance")};
+}
+
+std::map<std::string, double> stops_numbers(const Preset& preset, const std::vector<std::string>& known) {
+  std::map<std::string, double> out;
+  if (preset.stops.empty()) return out;
+  const nlohmann::json doc = nlohmann::json::parse(preset.stops);
+  for (const auto& [key, value] : doc.items()) {
+    if (key == "source") {
+      string_at(value, "stops.source");
+      continue;
+    }
+    if (std::find(known.begin(), known.end(), key) == known.end()) {
+      std::string names = "source";
+      for (const std::string& k : known) names += ", " + k;
+      throw std::invalid_argument("unknown key 'stops." + key + "' (known: " + names + ")");
+    }
+    out[key] = number_at(value, "stops." + key);
+  }
+  return out;
 }
 
 void validate(const Preset& preset) { make_mechanism(preset); }

@@ -33,6 +33,10 @@ struct Preset {
   // A described mechanism's "description" as JSON text (docs/described-mechanisms.md);
   // empty for the compiled devices.
   std::string description;
+  // A compiled device's assumed or published "stops" (its passive joints'
+  // limits, its links' radii) as JSON text; the device reads it
+  // (docs/mechanisms/); empty where the file has none.
+  std::string stops;
   std::filesystem::path source;             // file it was read from
   StopChecks checks;                        // as the user switched them (not read from the file)
 };
@@ -72,6 +76,11 @@ std::vector<std::string> parameter_names(const Preset& preset);
 // What the preset's device states of StopChecks' bounds (each true where it
 // states it), whatever preset.checks asks.
 StopChecks stated_stops(const Preset& preset);
+
+// A compiled device's "stops" block as numbers by key (its "source" text
+// skipped); throws std::invalid_argument naming a key not in `known` (listed)
+// or a value that is not a number.
+std::map<std::string, double> stops_numbers(const Preset& preset, const std::vector<std::string>& known);
 
 // Builds the preset's model; throws std::invalid_argument if it is invalid.
 void validate(const Preset& preset);

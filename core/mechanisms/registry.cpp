@@ -16,11 +16,17 @@ namespace {
 
 using Factory = std::shared_ptr<const Mechanism> (*)(const Preset&);
 
-const std::vector<std::pair<std::string, Factory>>& registry() {
-  static const std::vector<std::pair<std::string, Factory>> devices = {
-      {"parallel-12r", &parallel12r::make_mechanism},
-      {"pathos2", &pathos2::make_mechanism},
-      {"delta", &delta::make_mechanism},
+struct Device {
+  std::string name;
+  Factory factory;
+  bool reads_stops;  // its factory reads a preset's "stops" block
+};
+
+const std::vector<Device>& registry() {
+  static const std::vector<Device> devices = {
+      {"parallel-12r", &parallel12r::make_mechanism, false},
+      {"pathos2", &pathos2::make_mechanism, true},
+      {"delta", &delta::make_mechanism, true},
   };
   return devices;
 }
@@ -29,7 +35,7 @@ const std::vector<std::pair<std::string, Factory>>& registry() {
 
 std::vector<std::string> registered_mechanisms() {
   std::vector<std::string> names;
-  for (const auto& [name, factory] : registry()) names.push_back(name);
+  for (const Device& d : registry()) names.push_back(d.name);
   return names;
 }
 
@@ -38,8 +44,12 @@ namespace {
 std::shared_ptr<const Mechanism> make_linkage(const Preset& preset) {
   // Described devices are files, not entries of the list (docs/described-mechanisms.md).
   if (preset.mechanism == described::kMechanismName) return described::make_mechanism(preset);
-  for (const auto& [name, factory] : registry())
-    if (name == preset.mechanism) return factory(preset);
+  for (const Device& d : registry()) {
+    if (d.name != preset.mechanism) continue;
+    if (!d.reads_stops && !preset.stops.empty())
+      throw std::invalid_argument(d.name + " takes no \"stops\" block (its links and passive joints are not modelled)");
+    return d.factory(preset);
+  }
   std::string known;
   for (const auto& n : registered_mechanisms()) known += (known.empty() ? "" : ", ") + n;
   throw std::invalid_argument("unsupported mechanism '" + preset.mechanism + "' (supported: " + known +
@@ -57,7 +67,7 @@ std::shared_ptr<const Mechanism> make_mechanism(const Preset& preset) {
   return make_linkage(linkage);
 }
 
-std::string default_mechanism() { return registry().front().first; }
+std::string default_mechanism() { return registry().front().name; }
 
 std::map<std::string, double> design_parameters(const Mechanism& mechanism, const Preset& preset) {
   std::map<std::string, double> out = mechanism.parameters();

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "core/mechanisms/described/mechanism.h"
+#include "core/preset.h"
 #include "core/verify/certifier.h"
 #include "core/verify/legs.h"
 
@@ -344,6 +345,17 @@ bool reference_fails(const Certifier& certifier, const Certifier::PointFailure& 
   return c.force ? value <= c.threshold : value >= c.threshold;
 }
 
+// What the verdict does not cover: the stops a described device's legs
+// certifier names, or those a compiled device states and checks.
+std::string stops_not_covered(const Certifier& certifier, const Preset& preset) {
+  if (certifier.legs) return certifier.legs->not_covered();
+  const StopChecks stated = stated_stops(preset);
+  std::string out;
+  if (stated.joint_limits && preset.checks.joint_limits) out = "its passive-joint limits";
+  if (stated.interference && preset.checks.interference) out += (out.empty() ? "" : " and ") + std::string("link interference");
+  return out;
+}
+
 // The device's own evaluation, stops included, at the search's samples:
 // how many assemble on the branch but are stopped by a passive joint or
 // two links (not certified; the verdict does not cover them).
@@ -412,10 +424,14 @@ Result verify(const Preset& preset, const task::TaskVolume& task, const std::vec
   const TaskGeometry geometry{task, *task.centre};
   result.task_volume = task.volume();
 
-  // The device the verdict is about: a described device's stops removed.
+  // The device the verdict is about: its stops removed.
+  const std::string not_covered = stops_not_covered(certifier, preset);
   task::Device evaluated = device;
-  if (certifier.legs && !certifier.legs->not_covered().empty())
-    evaluated.mechanism = make_mechanism(without_stops(preset));
+  if (!not_covered.empty()) {
+    Preset plain = certifier.legs ? without_stops(preset) : preset;
+    plain.checks = {false, false};
+    evaluated.mechanism = make_mechanism(plain);
+  }
 
   // A certain failure there, confirmed in long double and by the device itself.
   const std::function<std::optional<Counterexample>(const Vector3d&)> confirm =
@@ -463,8 +479,8 @@ Result verify(const Preset& preset, const task::TaskVolume& task, const std::vec
     Search search{certifier, geometry, options, confirm, start + limit, options.time_limit_seconds > 0, result};
     search.run();
   }
-  if (certifier.legs && !certifier.legs->not_covered().empty()) {
-    result.not_covered = certifier.legs->not_covered();
+  if (!not_covered.empty()) {
+    result.not_covered = not_covered;
     sample_stops(*mechanism, device, points, result);
   }
   if (result.counterexample) {

@@ -10,8 +10,11 @@
 #include <QTextDocument>
 #include <QVBoxLayout>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
+
+#include "core/haptics.h"
 
 #include "gui/window/profile_chart.h"
 #include "render/mark_scene.h"
@@ -145,12 +148,16 @@ void ProbePanel::read(const Eigen::Vector3d& p, const QString& what) {
                        std::isnan(v.value) ? QString() : how);
     };
     for (const render::ProbeValue& v : sample->values) row(v, render::to_string(v.sampling));
-    // The haptic measures the sampled field lacks, computed at the point itself.
-    const std::optional<Field> exact = field->extras.empty() && hooks_.haptics_at ? hooks_.haptics_at(p, *field) : std::nullopt;
+    // The haptic measures the sampled field lacks (its extras may be the
+    // device's stops alone), computed at the point itself.
+    const auto haptic = [](const Field::NamedArray& e) { return haptics::is_haptic_field(e.name); };
+    const bool sampled_haptics = std::any_of(field->extras.begin(), field->extras.end(), haptic);
+    const std::optional<Field> exact = !sampled_haptics && hooks_.haptics_at ? hooks_.haptics_at(p, *field) : std::nullopt;
     if (exact)
       if (const auto at = render::probe_point(*exact, p))
         for (const Field::NamedArray& e : exact->extras)
-          if (const render::ProbeValue* v = at->find(e.name)) row(*v, tr("computed at the point"));
+          if (haptic(e))
+            if (const render::ProbeValue* v = at->find(e.name)) row(*v, tr("computed at the point"));
     html += "</table>";
     if (field_box_->count() == 0) fillFields(*field);
   }

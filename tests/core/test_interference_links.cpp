@@ -126,10 +126,15 @@ TEST(LinkCapsules, FalconsChainLinksEndAtTheSkeletonsVertices) {
 }
 
 TEST(LinkCapsules, DevicesWithoutLinkRadiiHaveNone) {
-  for (const char* name : {"parallel-12r", "delta", "pathos2", "five-bar", "delta-described"}) {
+  for (const char* name : {"parallel-12r", "delta", "five-bar", "delta-described"}) {
     const auto m = make_mechanism(load_preset(name));
     EXPECT_FALSE(m->link_capsules(m->home_actuators(), m->home_task())) << name;
   }
+  // PATHOS-II's assumed radii switched off.
+  Preset pathos2 = load_preset("pathos2");
+  pathos2.checks.interference = false;
+  const auto m = make_mechanism(pathos2);
+  EXPECT_FALSE(m->link_capsules(m->home_actuators(), m->home_task()));
 }
 
 TEST(LinkCapsules, APoseThatDoesNotAssembleIsRefused) {

@@ -265,6 +265,7 @@ TEST_P(EveryDevice, StatusesAreSingularWhereJIsReportedSingular) {
 TEST(DeltaDevice, InverseIsSingularOnTheParallelSet) {
   Preset full_circle = load_preset("delta");
   for (const char* name : {"q1", "q2", "q3"}) full_circle.limits_deg[name] = {-180, 180};
+  full_circle.checks.joint_limits = false;  // the linkage's own set: its ball joints' cones cut it first
   const auto m = make_mechanism(full_circle);
   std::mt19937_64 rng(31);
   std::uniform_real_distribution<double> angle(-0.5, 1.2);

@@ -71,6 +71,7 @@ TEST(TaskStops, ExtraFieldsAreCriteriaBoundedFromBelow) {
 // and a Falcon with its joint limits switched off has none to bound.
 TEST(TaskStops, AFieldTheDeviceLacksIsRefusedListingItsFields) {
   Preset delta = load_preset("delta");
+  delta.checks.joint_limits = false;  // its cones off: no joint_margin
   Device d;
   d.mechanism = make_mechanism(delta);
   expect_error([&] { criteria_on(d, {"joint_margin>5"}); },

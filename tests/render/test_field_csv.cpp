@@ -64,7 +64,7 @@ TEST(FieldCsv, HeaderCarriesUnitsAndMissingValuesAreEmptyCells) {
                           std::string("status")})
       want.push_back(c);
     if (!f.method_used.empty()) want.push_back("method_used");
-    want.push_back("force_iso_N");
+    for (const Field::NamedArray& e : f.extras) want.push_back(e.name + "_" + e.unit);  // the stops' arrays, then force_iso
     ASSERT_EQ(rows[0], want) << device;
     const auto col = [&](const std::string& name) { return std::size_t(std::find(want.begin(), want.end(), name) - want.begin()); };
     int unreachable = 0, reachable = 0;

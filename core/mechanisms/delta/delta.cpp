@@ -254,6 +254,9 @@ void Model::validate() const {
       throw std::invalid_argument(msg.str());
     }
   }
+  if (!std::isfinite(elbow_axis) || !std::isfinite(wrist_axis)) fail("a ball joint's cone axis must be finite", elbow_axis + wrist_axis);
+  if (!(elbow_cone > 0.0 && elbow_cone <= kPi)) fail("the elbow's cone must be in (0, pi] rad", elbow_cone);
+  if (!(wrist_cone > 0.0 && wrist_cone <= kPi)) fail("the wrist's cone must be in (0, pi] rad", wrist_cone);
 }
 
 Model Model::from_parameters(const std::map<std::string, double>& parameters,

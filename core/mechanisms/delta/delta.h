@@ -64,10 +64,18 @@ struct Model {
                                             {-0.7853981633974483, 1.5707963267948966},
                                             {-0.7853981633974483, 1.5707963267948966}}};
 
+  // The forearm's ball-joint cones (stops.h), rad: each socket's axis and
+  // half angle; a half angle of pi states no cone. Set by a preset's "stops"
+  // block, not parameters.
+  double elbow_axis = 0.0, elbow_cone = 3.141592653589793;
+  double wrist_axis = 0.0, wrist_cone = 3.141592653589793;
+  bool has_cones() const { return elbow_cone < 3.141592653589793 || wrist_cone < 3.141592653589793; }
+
   // Reach of one leg, La + Lb: the scale every tolerance is relative to.
   double size() const { return La + Lb; }
   // Throws std::invalid_argument for a non-finite or non-positive R, La, Lb,
-  // a negative r, or a range that is not finite with lo < hi <= lo + 2 pi.
+  // a negative r, a range that is not finite with lo < hi <= lo + 2 pi, a
+  // cone's half angle outside (0, pi] or a non-finite axis.
   void validate() const;
 
   // Parameters "R", "r", "La", "Lb" (length unit), ranges "q1", "q2", "q3"

@@ -3,9 +3,11 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <sstream>
 #include <stdexcept>
 
 #include "core/mechanisms/delta/field.h"
+#include "core/mechanisms/delta/stops.h"
 #include "core/preset.h"
 
 namespace linkscape::delta {
@@ -58,6 +60,10 @@ class DeltaMechanism final : public Mechanism {
                        {"leg-2", "leg 2 (type I)", "Leg 2's forearm normal to its elbow's motion"},
                        {"leg-3", "leg 3 (type I)", "Leg 3's forearm normal to its elbow's motion"},
                        {"parallel", "parallel (type II)", "The three forearms coplanar: det Jx = 0"}};
+    if (model_.has_cones())
+      i.extra_fields.push_back({"joint_margin", "joint margin (deg)",
+                                "How far the nearest ball joint is from its cone (< 0 beyond it; none where a leg "
+                                "does not close)"});
     for (int b = 0; b < kBranchCount; ++b) {
       std::string name = std::to_string(b) + ": elbows ";
       for (int k = 0; k < kLegCount; ++k) name += (b >> k) & 1 ? "i" : "o";
@@ -84,12 +90,23 @@ class DeltaMechanism final : public Mechanism {
       throw std::invalid_argument("delta: branch must be 0..7, got " + std::to_string(*o.branch));
     const Vector3d target = three(x, "x");
     delta::IkResult r = delta::inverse(model_, target, method, io);
+    linkscape::IkResult out;
+    // A ball joint beyond its cone: out of limits, the leg and joint named.
+    int stopped_leg = -1;
+    if (r.status == Status::Ok) {
+      const JointStops st = joint_stops(model_, r.q_actuated, target);
+      if (!st.hold()) {
+        r.status = Status::OutOfLimits;
+        stopped_leg = st.leg;
+        out.status_text = "out-of-limits: " + stop_reason(st);
+      }
+    }
     // Each leg is regular at a type II singularity, but J is singular there:
     // singular wherever measures() says so.
     if (r.status == Status::Ok && delta::jacobian(model_, r.q_actuated, target).status != Status::Ok)
       r.status = Status::Singular;
-    linkscape::IkResult out;
     out.status = r.status;
+    if (stopped_leg >= 0) out.failing_part = std::to_string(stopped_leg + 1);
     for (int k = 0; k < kLegCount; ++k)
       if (r.leg_status[k] != Status::Ok && out.failing_part.empty()) out.failing_part = std::to_string(k + 1);
     // Newton reports the branch it reached; a requested branch is kept only if met.
@@ -110,6 +127,8 @@ class DeltaMechanism final : public Mechanism {
     const delta::FkResult r = delta::forward(model_, three(q, "q"), parse_fk_method(o.method.empty() ? "closed" : o.method), fo);
     linkscape::FkResult out;
     out.status = r.status;
+    // A pose beyond a ball joint's cone is out of limits, as IK says of it.
+    if (r.status == Status::Ok && !joint_stops(model_, three(q, "q"), r.p_base_platform).hold()) out.status = Status::OutOfLimits;
     out.x = r.p_base_platform;
     out.residual = r.residual;
     out.iterations = r.iterations;
@@ -129,8 +148,16 @@ class DeltaMechanism final : public Mechanism {
     return m;
   }
 
+  // With cones, at most the size times the nearest cone's margin (as an
+  // actuator's range counts), so that its sign agrees with the status.
   double reach_margin(const VectorXd& x, int branch) const override {
-    return delta::reach_margin(model_, three(x, "x"), branch).value;
+    const double margin = delta::reach_margin(model_, three(x, "x"), branch).value;
+    if (!model_.has_cones()) return margin;
+    delta::IkOptions o;
+    o.branch = branch;
+    const delta::IkResult r = delta::inverse(model_, three(x, "x"), IkMethod::Closed, o);
+    if (r.status == Status::Unreachable || r.status == Status::Singular) return margin;
+    return std::min(margin, size() * joint_stops(model_, r.q_actuated, three(x, "x")).margin_deg * std::numbers::pi / 180);
   }
 
   linkscape::SingularityReport nearest_singularity(const VectorXd& q, const VectorXd& x) const override {
@@ -237,10 +264,26 @@ class DeltaMechanism final : public Mechanism {
 
 std::shared_ptr<const Mechanism> make_mechanism(const Model& model) { return std::make_shared<DeltaMechanism>(model); }
 
-std::shared_ptr<const Mechanism> make_mechanism(const Preset& preset) {
+std::shared_ptr<const Mechanism> make_mechanism(const Preset& preset) { return make_mechanism(make_delta_model(preset)); }
+
+Model make_delta_model(const Preset& preset) {
   std::map<std::string, Interval> limits;
   for (const auto& [name, range] : preset.limits_deg) limits[name] = {range.lo, range.hi};
-  return make_mechanism(Model::from_parameters(preset.parameters, limits, preset.length_unit));
+  Model m = Model::from_parameters(preset.parameters, limits, preset.length_unit);
+  // "stops": the forearm's ball-joint cones (stops.h), degrees; off, none.
+  constexpr double deg = std::numbers::pi / 180;
+  for (const auto& [key, v] : stops_numbers(preset, {"elbow_axis_deg", "elbow_cone_deg", "wrist_axis_deg", "wrist_cone_deg"})) {
+    const bool cone = key.ends_with("cone_deg");
+    if (cone ? !(v > 0 && v < 180) : !std::isfinite(v)) {
+      std::ostringstream msg;
+      msg << "stops." << key << (cone ? " must be in (0, 180) deg" : " must be a finite angle (deg)") << ", got " << v;
+      throw std::invalid_argument(msg.str());
+    }
+    (key == "elbow_axis_deg" ? m.elbow_axis : key == "elbow_cone_deg" ? m.elbow_cone : key == "wrist_axis_deg" ? m.wrist_axis : m.wrist_cone) = v * deg;
+  }
+  if (!preset.checks.joint_limits) m.elbow_cone = m.wrist_cone = std::numbers::pi;
+  m.validate();
+  return m;
 }
 
 }  // namespace linkscape::delta

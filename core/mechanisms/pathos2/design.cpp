@@ -1,5 +1,6 @@
 #include "core/mechanisms/pathos2/design.h"
 
+#include "core/mechanisms/pathos2/stops.h"
 #include <omp.h>
 
 #include <cmath>
@@ -49,8 +50,10 @@ double march(const Geometry& g, const Pose& start, int axis, double sign, double
 }  // namespace
 
 bool pose_inside(const Geometry& g, const Pose& pose, double cond_limit) {
+  // The links' clearance needs the leg angles' cosines only: ActiveOnly has them.
   const PoseIkResult ik = inverse(g, pose, IkDetail::ActiveOnly);
   if (ik.status != Status::Ok) return false;
+  if (has_capsules(g.model) && stops(g, pose, ik).clearance < 0) return false;
   if (!(cond_limit > 0.0) || std::isinf(cond_limit)) return true;
   const JacobianResult jr = jacobian(g, pose, ik);
   return jr.status == Status::Ok && jr.cond_p <= cond_limit && jr.cond_o <= cond_limit;

@@ -14,7 +14,8 @@
 namespace linkscape::pathos2 {
 
 // A pose counts as inside when every leg is Ok (reachable, not singular,
-// within the model's joint limits) and, if cond_limit is finite, both
+// within the model's joint limits), no two links' capsules overlap where the
+// model gives them a radius (stops.h) and, if cond_limit is finite, both
 // cond(Jp) and cond(Jo) are at most cond_limit.
 struct RangeOptions {
   double step_cm = 0.25;       // march step along a translation axis

@@ -1,11 +1,15 @@
 #include "core/mechanisms/pathos2/field.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
 
+#include <atomic>
+
 #include "core/field_sampling.h"
+#include "core/mechanisms/pathos2/stops.h"
 #include "core/simd.h"
 
 namespace linkscape::pathos2 {
@@ -156,6 +160,71 @@ FieldSetup field_setup(const Geometry& g, const Pose& oriented, const GlobularOf
   return s;
 }
 
+namespace {
+
+// The stops' arrays of a field (stops.h): null where the model states none.
+struct StopArrays {
+  float* joint_margin = nullptr;
+  float* clearance = nullptr;
+  bool any() const { return joint_margin || clearance; }
+};
+
+float* add_extra(Field& f, const char* name, const char* title, const char* unit, const char* description) {
+  f.extras.push_back({name, title, unit, description, {}});
+  f.extras.back().values.resize(f.grid.size());
+  return f.extras.back().values.data();
+}
+
+StopArrays add_stop_arrays(Field& f, const Model& m) {
+  f.extras.reserve(2);  // the pointers stay valid
+  StopArrays a;
+  if (has_joint_limits(m))
+    a.joint_margin = add_extra(f, "joint_margin", "joint margin", "deg",
+                               "How far the nearest limited joint is from its limit (< 0 beyond it; none where a leg "
+                               "does not close)");
+  if (has_capsules(m))
+    a.clearance = add_extra(f, "clearance", "clearance", "cm",
+                            "The smallest gap between two legs' links or a link and the grip (< 0 where they overlap; "
+                            "none where a leg does not close)");
+  return a;
+}
+
+// A scalar pass over a row the kernel filled: each assembled sample's stops
+// (NaN where a leg does not close), and an ok sample whose links overlap
+// becomes out-of-limits with its reach margin at most the clearance (its
+// joint limits are the kernel's already).
+void stops_of_row(const Geometry& g, const Pose& oriented, const GlobularOffsets& offsets, const Grid& grid,
+                  const detail::GridRow& row, const detail::FieldRowOut& out, const StopArrays& arrays) {
+  constexpr float nan = std::numeric_limits<float>::quiet_NaN();
+  std::atomic_thread_fence(std::memory_order_seq_cst);  // after the kernel's streaming stores
+  Pose pose = oriented;
+  for (int t = 0; t < row.count; ++t) {
+    const std::size_t i = row.index + std::size_t(t);
+    float margin = nan, gap = nan;
+    if (out.status[t] != std::uint8_t(Status::Unreachable)) {
+      pose.p_world_E = row.point(grid, t);
+      const PoseIkResult ik = inverse_field_sample(g, pose, offsets);
+      const bool closes = std::none_of(ik.legs.begin(), ik.legs.end(),
+                                       [](const LegSolution& l) { return l.status == Status::Unreachable; });
+      if (closes) {
+        const Stops st = stops(g, pose, ik);
+        margin = float(st.joint_margin_deg), gap = float(st.clearance);
+        if (arrays.clearance) out.reach_margin[t] = std::min(out.reach_margin[t], gap);
+        if (st.clearance < 0 && out.status[t] == std::uint8_t(Status::Ok)) {
+          out.status[t] = std::uint8_t(Status::OutOfLimits);
+          out.reachable[t] = 0;
+          out.cond[t] = kInf;
+          if (out.cond_orientation) out.cond_orientation[t] = kInf;
+        }
+      }
+    }
+    if (arrays.joint_margin) arrays.joint_margin[i] = margin;
+    if (arrays.clearance) arrays.clearance[i] = gap;
+  }
+}
+
+}  // namespace
+
 FieldSample sample_position(const Geometry& g, const Eigen::Vector3d& p, const FieldRequest& req) {
   const Pose pose = Pose::from_xyz_rpy(p.x(), p.y(), p.z(), req.rpy.x(), req.rpy.y(), req.rpy.z(), req.h0);
   return sample_pose(g, pose, nullptr);
@@ -165,7 +234,8 @@ std::optional<Field> compute_field(const Model& model, const FieldRequest& req, 
   if (!req.rpy.allFinite() || !std::isfinite(req.h0) || !(req.h0 > 0))
     throw std::invalid_argument("pathos2 field: orientation must be finite and the grip h0 > 0");
   const Geometry g = make_geometry(model);  // validates the model
-  detail::check_grid(req.grid, Field::bytes_per_sample() + sizeof(float), req.memory_limit_bytes);
+  const std::size_t stop_bytes = sizeof(float) * (std::size_t(has_joint_limits(model)) + std::size_t(has_capsules(model)));
+  detail::check_grid(req.grid, Field::bytes_per_sample() + sizeof(float) + stop_bytes, req.memory_limit_bytes);
   Field f;
   f.grid = req.grid;
   f.mechanism = std::string(kMechanismName);
@@ -183,17 +253,28 @@ std::optional<Field> compute_field(const Model& model, const FieldRequest& req, 
   const Pose oriented = Pose::from_xyz_rpy(0.0, 0.0, 0.0, req.rpy.x(), req.rpy.y(), req.rpy.z(), req.h0);
   inverse(g, oriented, IkDetail::ActiveOnly);  // checks the rotation and grip once: IkDetail::Field does not
   const GlobularOffsets offsets = globular_offsets(g, oriented);
+  const StopArrays stop_arrays = add_stop_arrays(f, g.model);
+  const auto with_stops = [&](auto&& kernel_row) {
+    return [&, kernel_row](const detail::GridRow& row, const detail::FieldRowOut& out) {
+      kernel_row(row, out);
+      if (stop_arrays.any()) stops_of_row(g, oriented, offsets, req.grid, row, out, stop_arrays);
+    };
+  };
   bool complete = false;
   if (kernel == FieldKernel::Scalar) {
-    complete = detail::fill_field(f, true, req.threads, progress,
-                                  [&](const Eigen::Vector3d& p) { return sample_position(g, p, req); });
+    complete = detail::fill_field_rows(f, true, req.threads, progress,
+                                       with_stops([&](const detail::GridRow& row, const detail::FieldRowOut& out) {
+                                         for (int t = 0; t < row.count; ++t)
+                                           out.store(t, sample_position(g, row.point(req.grid, t), req));
+                                       }));
   } else {
     simd::apply_environment();
     const FieldSetup setup = field_setup(g, oriented, offsets);
     complete = detail::fill_field_rows(f, true, req.threads, progress,
-                                       [&](const detail::GridRow& row, const detail::FieldRowOut& out) {
+                                       with_stops([&](const detail::GridRow& row, const detail::FieldRowOut& out) {
                                          sample_row_vector(g, setup, oriented, offsets, req.grid, row, out);
-                                       }, detail::kVectorChunkSamples);
+                                       }),
+                                       detail::kVectorChunkSamples);
   }
   if (!complete) return std::nullopt;
   return f;

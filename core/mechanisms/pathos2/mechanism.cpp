@@ -9,6 +9,7 @@
 #include "core/mechanisms/pathos2/field.h"
 #include "core/mechanisms/pathos2/methods.h"
 #include "core/mechanisms/pathos2/stability.h"
+#include "core/mechanisms/pathos2/stops.h"
 #include "core/preset.h"
 
 namespace linkscape::pathos2 {
@@ -19,6 +20,13 @@ using Eigen::Vector3d;
 using Eigen::VectorXd;
 constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180.0;
+// The stops' arrays, as fields and the device's info describe them (stops.h).
+constexpr const char* kJointMarginText =
+    "How far the nearest limited joint (globular cone, R2, R3) is from its limit (< 0 beyond it, none where a leg "
+    "does not close)";
+constexpr const char* kClearanceText =
+    "The smallest gap between the capsules of two legs' links or of a link and the grip (< 0 where they overlap, "
+    "none where a leg does not close)";
 
 Pose pose_of(const VectorXd& x) {
   if (x.size() != 7) throw std::invalid_argument("pathos2: the task needs x, y, z, rx, ry, rz, h0");
@@ -87,6 +95,8 @@ class Pathos2Mechanism final : public Mechanism {
     i.branches = {"preset (branch_1..branch_6)"};
     i.fk_inputs = {"h0"};
     i.eval_columns = {false, "failing_leg", false, false, true, false, true};
+    if (has_joint_limits(m)) i.extra_fields.push_back({"joint_margin", "joint margin (deg)", kJointMarginText});
+    if (has_capsules(m)) i.extra_fields.push_back({"clearance", "clearance (cm)", kClearanceText});
   }
 
   const MechanismInfo& info() const override { return info_; }
@@ -107,7 +117,13 @@ class Pathos2Mechanism final : public Mechanism {
       out.status_text = "invalid-grip";
       return out;
     }
-    const PoseIkResult ik = pathos2::inverse(geometry_, pose_of(x));
+    const Pose pose = pose_of(x);
+    PoseIkResult ik = pathos2::inverse(geometry_, pose);
+    if (const std::optional<Stops> st = stopped(pose, ik)) {
+      ik.status = Status::OutOfLimits;
+      ik.failing_leg = st->leg_at_fault();
+      out.status_text = "out-of-limits: " + stop_reason(*st);
+    }
     out.status = ik.status;
     if (ik.failing_leg >= 0) out.failing_part = std::to_string(ik.failing_leg + 1);
     if (ik.status == Status::Ok) out.solutions.push_back(linkscape::IkSolution{ik.q_active, 0, Status::Ok, 0.0, 0, "closed", {}});
@@ -133,6 +149,8 @@ class Pathos2Mechanism final : public Mechanism {
     fo.tolerance = o.tolerance;
     const pathos2::FkResult fk = forward_numeric(geometry_, qa, h0, pose_of(seed_x), fo);
     r.status = fk.status;
+    // A pose beyond a stop is out of limits, as IK says of it.
+    if (fk.status == Status::Ok && stopped(fk.pose, pathos2::inverse(geometry_, fk.pose))) r.status = Status::OutOfLimits;
     r.x = task_of(fk.pose);
     r.residual = fk.residual;
     r.iterations = fk.iterations;
@@ -156,8 +174,12 @@ class Pathos2Mechanism final : public Mechanism {
     return m;
   }
 
+  // At most the clearance, so that its sign agrees with the status.
   double reach_margin(const VectorXd& x, int) const override {
-    return pathos2::reach_margin(geometry_, pathos2::inverse(geometry_, pose_of(x)));
+    const Pose pose = pose_of(x);
+    const PoseIkResult ik = pathos2::inverse(geometry_, pose);
+    const double margin = pathos2::reach_margin(geometry_, ik);
+    return assembles(ik) && has_capsules(geometry_.model) ? std::min(margin, stops(geometry_, pose, ik).clearance) : margin;
   }
 
   // Distance-like measures (cm): per leg l3 |sin t3| and l2 |sin t2| (the
@@ -217,7 +239,18 @@ class Pathos2Mechanism final : public Mechanism {
       text << "agrees to " << std::scientific << (nine.pose.p_world_E - pose.p_world_E).norm() << " cm";
     else
       text << to_string(nine.status);
-    return {{"Nine-sensor FK", text.str()}};
+    std::vector<std::pair<std::string, std::string>> out{{"Nine-sensor FK", text.str()}};
+    const Stops st = stops(geometry_, pose, ik);
+    std::ostringstream margin;
+    margin.precision(3);
+    if (st.joint_leg >= 0)
+      margin << st.joint_margin_deg << " deg (leg " << st.joint_leg + 1 << (st.joint == 0 ? " globular joint)" : st.joint == 1 ? " R2)" : " R3)");
+    if (st.joint_leg >= 0) out.push_back({"joint margin", margin.str()});
+    std::ostringstream gap;
+    gap.precision(3);
+    if (st.pair[0] >= 0) gap << st.clearance << " cm (" << capsule_name(st.pair[0]) << " to " << capsule_name(st.pair[1]) << ")";
+    if (st.pair[0] >= 0) out.push_back({"clearance", gap.str()});
+    return out;
   }
 
   SkeletonModel skeleton_model() const override {
@@ -297,6 +330,21 @@ class Pathos2Mechanism final : public Mechanism {
     return p;
   }
 
+  std::optional<interference::LinkCapsules> link_capsules(const VectorXd&, const VectorXd& x) const override {
+    if (!has_capsules(geometry_.model)) return std::nullopt;
+    const Pose pose = pose_of(x);
+    const PoseIkResult ik = pathos2::inverse(geometry_, pose);
+    if (!assembles(ik))
+      throw std::invalid_argument("pathos2: the pose does not assemble (leg " + std::to_string(ik.failing_leg + 1) + ")");
+    interference::LinkCapsules out;
+    const std::vector<interference::Capsule> placed = capsules(geometry_, pose, ik);
+    for (int c = 0; c < int(placed.size()); ++c)
+      out.links.push_back({placed[std::size_t(c)], capsule_name(c), c < kGripCapsule ? c / 3 : -1, c < kGripCapsule});
+    const Stops st = stops(geometry_, pose, ik);
+    if (st.pair[0] >= 0) interference::set_closest(out, st.pair[0], st.pair[1]);
+    return out;
+  }
+
   Eigen::AlignedBox3d default_box() const override {
     // The workspace spans about half the leg reach each way; 0.6 (l2 + l3)
     // leaves room, and mesh reports a surface cut by the box.
@@ -340,6 +388,21 @@ class Pathos2Mechanism final : public Mechanism {
   }
 
  private:
+  // Every leg closes (the stops are defined).
+  static bool assembles(const PoseIkResult& ik) {
+    return std::none_of(ik.legs.begin(), ik.legs.end(), [](const LegSolution& l) { return l.status == Status::Unreachable; });
+  }
+  // The stops of a pose whose legs all close but that a stop bounds (the
+  // IK's own joint limits or two links overlapping); nullopt otherwise.
+  std::optional<Stops> stopped(const Pose& pose, const PoseIkResult& ik) const {
+    const Model& m = geometry_.model;
+    if ((!has_joint_limits(m) && !has_capsules(m)) || !assembles(ik)) return std::nullopt;
+    if (ik.status != Status::Ok && ik.status != Status::OutOfLimits) return std::nullopt;
+    const Stops st = stops(geometry_, pose, ik);
+    if (st.hold()) return std::nullopt;
+    return st;
+  }
+
   Geometry geometry_;
   MechanismInfo info_;
 };
@@ -355,6 +418,28 @@ std::shared_ptr<const Mechanism> make_mechanism(const Preset& preset) { return m
 }  // namespace linkscape::pathos2
 
 namespace linkscape {
+namespace {
+
+// "stops": {"source": text, "globular_cone_deg": a, "link_radius": r, "grip_radius": g}
+// (docs/mechanisms/pathos2.md, "Stops"); a cone_limit parameter replaces the cone.
+void read_pathos2_stops(const Preset& preset, pathos2::Model& m) {
+  for (const auto& [key, v] : stops_numbers(preset, {"globular_cone_deg", "link_radius", "grip_radius"})) {
+    std::ostringstream given;
+    given << v;
+    if (key == "globular_cone_deg") {
+      if (!(v > 0 && v < 180)) throw std::invalid_argument("stops." + key + " must be in (0, 180) deg, got " + given.str());
+      if (!preset.parameters.contains("cone_limit")) m.cone_limit = v * std::numbers::pi / 180.0;
+    } else {
+      if (!(v > 0 && v <= pathos2::kMaxLength))
+        throw std::invalid_argument("stops." + key + " must be a positive length (cm), got " + given.str());
+      (key == "link_radius" ? m.link_radius : m.grip_radius) = v;
+    }
+  }
+  if (m.grip_radius > 0 && !(m.link_radius > 0))
+    throw std::invalid_argument("stops.grip_radius needs stops.link_radius (the grip is checked against the links)");
+}
+
+}  // namespace
 
 pathos2::Model make_pathos2(const Preset& preset) {
   if (preset.mechanism != pathos2::kMechanismName)
@@ -363,7 +448,13 @@ pathos2::Model make_pathos2(const Preset& preset) {
   if (!preset.limits_deg.empty())
     throw std::invalid_argument("pathos2 takes no actuator_limits_deg; its joint limits are the parameters "
                                 "t2_limit, t3_limit and cone_limit (degrees)");
-  return pathos2::Model::from_parameters(preset.parameters);
+  pathos2::Model m = pathos2::Model::from_parameters(preset.parameters);
+  read_pathos2_stops(preset, m);
+  // A stop switched off: the device as if it stated none of that kind.
+  if (!preset.checks.joint_limits) m.cone_limit = m.t2_limit = m.t3_limit = std::numbers::pi;
+  if (!preset.checks.interference) m.link_radius = m.grip_radius = 0.0;
+  m.validate();
+  return m;
 }
 
 }  // namespace linkscape

@@ -112,6 +112,10 @@ void Model::validate() const {
   require_limit(cone_limit, "cone_limit");
   require_limit(t2_limit, "t2_limit");
   require_limit(t3_limit, "t3_limit");
+  for (const auto& [radius, name] : {std::pair{link_radius, "link_radius"}, std::pair{grip_radius, "grip_radius"}})
+    if (!(radius >= 0.0 && radius <= kMaxLength))
+      throw std::invalid_argument("pathos2: " + std::string(name) + " must be in [0, " + std::to_string(kMaxLength) +
+                                  "] cm, got " + std::to_string(radius));
 }
 
 std::vector<std::string> Model::parameter_names() {

@@ -70,11 +70,16 @@ struct Model {
   double cone_limit = 3.141592653589793;
   double t2_limit = 3.141592653589793;
   double t3_limit = 3.141592653589793;
+  // Link interference (stops.h): the radius of every leg link's capsule and
+  // of the grip volume's between the top plates, cm; 0: not checked. Stated
+  // by a preset's "stops" block, not parameters.
+  double link_radius = 0.0;
+  double grip_radius = 0.0;
 
   // Throws std::invalid_argument for non-finite values, l0, lb, l1, l2, l3,
   // h0 outside [kMinLength, kMaxLength], negative lp, |lp|, |db| or |lx|
-  // above kMaxLength, |tilt_sign| != 1, a branch not +-1, or a limit outside
-  // (0, pi].
+  // above kMaxLength, |tilt_sign| != 1, a branch not +-1, a limit outside
+  // (0, pi], or a radius negative or above kMaxLength.
   void validate() const;
 
   // Paper names: l0 lb l1 l2 l3 lp h0 db lx (cm); theta_t theta_g base_phase

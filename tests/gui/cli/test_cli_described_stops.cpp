@@ -201,9 +201,9 @@ TEST(CliDescribedStops, RefusalsNameWhatIsWrong) {
                                              path("never.csv"));
   EXPECT_EQ(stated.exit_code, 2) << stated.out;
   EXPECT_TRUE(contains(stated.out, "field: --interference off: delta-described states no link radii")) << stated.out;
-  const CommandResult compiled = run_linkscape("eval -m delta --joint-limits on --ik -", "", "</dev/null");
+  const CommandResult compiled = run_linkscape("eval -m delta --interference on --ik -", "", "</dev/null");
   EXPECT_EQ(compiled.exit_code, 2) << compiled.out;
-  EXPECT_TRUE(contains(compiled.out, "eval: --joint-limits on: delta states no passive-joint limits")) << compiled.out;
+  EXPECT_TRUE(contains(compiled.out, "eval: --interference on: delta states no link radii")) << compiled.out;
   const CommandResult word = run_linkscape("field -m falcon --joint-limits no -q --resolution 4 -o " + path("never.csv"));
   EXPECT_EQ(word.exit_code, 2) << word.out;
   EXPECT_TRUE(contains(word.out, "--joint-limits")) << word.out;

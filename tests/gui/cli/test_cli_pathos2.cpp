@@ -34,7 +34,9 @@ TEST(CliPathos2, EvalInverseThenForwardRecoversThePose) {
              number(0.1 * u(rng)) + "," + number(0.1 * u(rng)) + "," + number(std::numbers::pi / 6 + 0.1 * u(rng)) +
              ",7\n";
   poses += "0,0,80,0,0,0,7\n";  // far above the upper plate
-  const auto ik = run_linkscape("eval -m pathos2 --ik " + temp_file("p2_poses.csv", poses).string());
+  // Poses over the paper's workspace: the preset's assumed stops off (its globular cones bind first).
+  const std::string stops_off = " --joint-limits off --interference off";
+  const auto ik = run_linkscape("eval -m pathos2 --ik " + temp_file("p2_poses.csv", poses).string() + stops_off);
   ASSERT_EQ(ik.exit_code, 0) << ik.out;
   const auto rows = parse_cells(ik.out);
   ASSERT_EQ(rows.size(), 41u);
@@ -52,7 +54,7 @@ TEST(CliPathos2, EvalInverseThenForwardRecoversThePose) {
                         std::stod(row.at("rx")), std::stod(row.at("ry")), std::stod(row.at("rz"))});
   }
   ASSERT_GT(expected.size(), 30u);
-  const auto fk = run_linkscape("eval -m pathos2 --fk " + temp_file("p2_angles.csv", angles).string());
+  const auto fk = run_linkscape("eval -m pathos2 --fk " + temp_file("p2_angles.csv", angles).string() + stops_off);
   ASSERT_EQ(fk.exit_code, 0) << fk.out;
   const auto f = parse_cells(fk.out);
   ASSERT_EQ(f.size(), expected.size());
@@ -90,7 +92,8 @@ TEST(CliPathos2, SliceFieldAndMeshAtAPose) {
 TEST(CliPathos2, QuickDesignStudyWritesTablesAndChart) {
   const fs::path dir = fs::temp_directory_path() / "linkscape_cli_tests";
   fs::create_directories(dir);
-  const auto r = run_linkscape("design --quick -q --table " + (dir / "t2.csv").string() + " --sweep " +
+  // Fig. 6's trend is the paper's, without the preset's assumed stops.
+  const auto r = run_linkscape("design --quick -q --joint-limits off --interference off --table " + (dir / "t2.csv").string() + " --sweep " +
                                (dir / "l0.csv").string() + " --chart " + (dir / "design.png").string(),
                                "env -u DISPLAY -u WAYLAND_DISPLAY -u QT_QPA_PLATFORM");
   ASSERT_EQ(r.exit_code, 0) << r.out;

@@ -86,6 +86,13 @@ class ViewOverlaysTest : public QObject {
     QVERIFY(!action(delta, "showLinkCapsules")->isEnabled());
     QVERIFY(!overlays(delta).capsules().visible());
     QCOMPARE(overlays(delta).capsules().link_count(), 0);
+    // A compiled device with assumed link radii (PATHOS-II's stops): its 18 links and the grip.
+    MechanismWindow pathos2(load_preset("pathos2"));
+    show_settled(pathos2);
+    QVERIFY(action(pathos2, "showLinkCapsules")->isEnabled());
+    QVERIFY(overlays(pathos2).capsules().visible());
+    QCOMPARE(overlays(pathos2).capsules().link_count(), 19);
+    save_view(pathos2, "pathos2-capsules.png");
   }
 
   void capsulesFollowThePoseAndCanBeHidden() {

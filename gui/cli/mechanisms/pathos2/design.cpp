@@ -14,6 +14,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <numbers>
 #include <ostream>
 #include <sstream>
 #include <stdexcept>
@@ -43,6 +44,7 @@ struct DesignOptions {
   std::string chart;   // both as a chart (.png, .svg, .pdf)
   bool quick = false;  // a coarse grid (a smoke test, not the paper's Table 2)
   bool quiet = false;  // no progress on stderr
+  StopSwitches stops;  // the preset's assumed stops, on unless switched off
 };
 
 const char* to_string(DesignOutcome o) {
@@ -208,6 +210,7 @@ void run_design(const DesignOptions& o, std::ostream& out) {
     throw std::invalid_argument("design: the Table 2 study is for pathos2, got '" + preset.mechanism + "'");
   preset.parameters["l0"] = pathos2::table1_model().l0;  // Table 1 optimises at l0 = 50
   apply_overrides(preset, o.mechanism.params);
+  apply_stop_switches(o.stops, preset, "design");
   const pathos2::Model base = make_pathos2(preset);
   for (const std::string* file : {&o.table, &o.sweep, &o.chart}) check_output(*file);  // before the search
 
@@ -232,6 +235,7 @@ void run_design(const DesignOptions& o, std::ostream& out) {
                             .arg(base.l0).arg(base.lb).arg(base.l1).arg(o.quick ? "  [quick grid]" : ""));
     });
 
+  out << "stops: globular cone " << base.cone_limit * 180 / std::numbers::pi << " deg (180: none), link radius " << base.link_radius << " cm, grip radius " << base.grip_radius << " cm (0: none)\n";
   out << "designs " << search.rows.size() << ", evaluated " << search.evaluated << "\n";
   if (search.best >= 0) {
     const DesignRow& b = search.rows[std::size_t(search.best)];
@@ -257,6 +261,7 @@ Command add_design(CLI::App& program, const DeviceHelp&) {
       "design", "PATHOS-II design study: the Table 2 grid search (cost G of Eq. 21 over l2, l3, lp, Rz) and the "
                 "l0 sweep of Fig. 6; writes CSV tables and a chart, prints the best design");
   add_mechanism_options(*cmd, options->mechanism);
+  add_stop_options(*cmd, options->stops);
   cmd->add_option("--table", options->table, "The search, one row per design (.csv)");
   cmd->add_option("--sweep", options->sweep, "Movable ranges against l0 from 40 to 55 cm (.csv)");
   cmd->add_option("--chart", options->chart, "Both as a chart (.png, .svg, .pdf)");

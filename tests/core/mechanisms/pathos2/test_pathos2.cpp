@@ -113,7 +113,13 @@ TEST(Pathos2Preset, LoadPresetBuildsTheTableModel) {
   Preset preset = load_preset("pathos2");
   EXPECT_EQ(preset.mechanism, "pathos2");
   EXPECT_EQ(preset.length_unit, "cm");
-  expect_same_parameters(make_pathos2(preset).to_parameters(), Model{}.to_parameters());
+  // The paper's model with its assumed stops switched off; on, the stops block's cone.
+  Preset plain = preset;
+  plain.checks = {false, false};
+  expect_same_parameters(make_pathos2(plain).to_parameters(), Model{}.to_parameters());
+  EXPECT_EQ(make_pathos2(plain).link_radius, 0.0);
+  EXPECT_LT(make_pathos2(preset).cone_limit, std::numbers::pi);
+  EXPECT_GT(make_pathos2(preset).link_radius, 0.0);
   // db and lx follow lb and theta_t unless given: the preset leaves them out.
   apply_overrides(preset, {"theta_t=20", "l2=12"});
   const Model m = make_pathos2(preset);
