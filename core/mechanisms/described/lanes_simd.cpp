@@ -134,6 +134,15 @@ HWY_INLINE LegLanes SolveLeg(D d, const LaneLeg& g, double size, const V3& p) {
   M missed = None(d);
   V miss = zero;
   Candidate c[2];
+  // Where no lane's leg closes, its candidates are not needed (the residual is).
+  const auto none_closes = [&] {
+    if (!hn::AllFalse(d, hn::AndNot(bound, hn::Not(missed)))) return false;
+    out.to_scalar = hn::Or(out.to_scalar, hn::AndNot(bound, band));
+    out.unreachable = hn::Not(None(d));
+    out.outside_travel = None(d);
+    out.residual = hn::IfThenElse(bound, outside, miss);
+    return true;
+  };
   if (g.pattern == LegPattern::CrankRod) {
     const V3 dv = w - Splat(d, g.origin);
     const V du = Dot(Splat(d, g.u), dv), dw = Dot(Splat(d, g.v), dv);
@@ -144,6 +153,7 @@ HWY_INLINE LegLanes SolveLeg(D d, const LaneLeg& g, double size, const V3& p) {
     miss = hn::Max(nearest - L, L - farthest);
     const V tiny = hn::Set(d, 1e-9 * size);
     band = hn::Or(hn::Or(hn::Abs(L - nearest) < tiny, hn::Abs(L - farthest) < tiny), R < tiny);
+    if (none_closes()) return out;
     const V inv_R = one / R;
     const V cr = hn::Min(one, hn::Max(hn::Neg(one), (dd - L * L) * hn::Set(d, 0.5 / g.rho) * inv_R));
     const V sr = hn::Sqrt(hn::Max(zero, (one - cr) * (one + cr)));
@@ -163,6 +173,7 @@ HWY_INLINE LegLanes SolveLeg(D d, const LaneLeg& g, double size, const V3& p) {
     missed = h2 > L2;
     miss = hn::Sqrt(hn::Max(zero, h2)) - hn::Set(d, g.rod);
     band = hn::Abs(h2 - L2) < hn::Set(d, 1e-9 * size * size);
+    if (none_closes()) return out;
     const V root = hn::Sqrt(hn::Max(zero, L2 - h2));
     for (int k = 0; k < 2; ++k) {
       c[k].q = hn::Neg(b) + (k == 0 ? root : hn::Neg(root));
@@ -175,6 +186,7 @@ HWY_INLINE LegLanes SolveLeg(D d, const LaneLeg& g, double size, const V3& p) {
     const V3 dv = w - Splat(d, g.origin);
     const V n = hn::Sqrt(Dot(dv, dv));
     band = n < hn::Set(d, 1e-9 * size);
+    if (none_closes()) return out;
     const V inv_n = one / n;
     for (int k = 0; k < 2; ++k) {
       c[k].sigma = hn::Set(d, k == 0 ? 1.0 : -1.0);
