@@ -7,7 +7,7 @@
 // and the whole list three times over (rounds), so that a change of the
 // machine's load shows in every column alike. Fields over the device's
 // default box (n^3) and slices on its default plane (n x n), at the home
-// task, 2 threads. The newton cases run once, in the first round (they take
+// task, 2 threads (compiled and lanes also on one). The newton cases run once, in the first round (they take
 // seconds). The CPU column is every thread's time; the rate is per
 // wall-clock second.
 // Run: build/tests/bench/bench_described (--benchmark_filter=Stewart etc.)
@@ -31,7 +31,8 @@ Grid grid_of(const linkscape::Mechanism& m, int n, bool slice) {
                      n);
 }
 
-void field(benchmark::State& state, const std::string& preset, const std::string& method, int n, bool slice) {
+void field(benchmark::State& state, const std::string& preset, const std::string& method, int n, bool slice,
+           int threads) {
   const auto mechanism = linkscape::make_mechanism(linkscape::load_preset(preset));
   // The compiled devices' grids are those of the described copies, so both sample the same points.
   const std::string grid_preset = preset == "delta" ? "delta-described" : preset == "pathos2" ? "pathos2-described" : preset;
@@ -40,7 +41,7 @@ void field(benchmark::State& state, const std::string& preset, const std::string
   o.method = method;
   std::size_t reachable = 0, in_lanes = 0;
   for (auto _ : state) {
-    const auto f = mechanism->compute_field(g, mechanism->home_task(), o, 2, {});
+    const auto f = mechanism->compute_field(g, mechanism->home_task(), o, threads, {});
     reachable = in_lanes = 0;
     for (std::uint8_t r : f->reachable) reachable += r;
     for (std::uint8_t m : f->method_used) in_lanes += f->method == "lanes" && m == 2;
@@ -53,9 +54,10 @@ void field(benchmark::State& state, const std::string& preset, const std::string
 void add(const std::string& name, const std::string& compiled, const std::string& described, int n, bool slice,
          int round) {
   const std::string shape = slice ? "Slice" + std::to_string(n) : "Box" + std::to_string(n);
-  auto reg = [&](const std::string& label, const std::string& preset, const std::string& method) {
-    auto* b = benchmark::RegisterBenchmark(("BM_" + name + shape + "/" + label + "/round:" + std::to_string(round)).c_str(),
-                                           field, preset, method, n, slice)
+  auto reg = [&](const std::string& label, const std::string& preset, const std::string& method, int threads = 2) {
+    auto* b = benchmark::RegisterBenchmark(
+                  ("BM_" + name + shape + "/" + label + (threads == 1 ? "-1thread" : "") + "/round:" + std::to_string(round)).c_str(),
+                  field, preset, method, n, slice, threads)
                   ->Unit(benchmark::kMillisecond)
                   ->MeasureProcessCPUTime()
                   ->UseRealTime();
@@ -63,6 +65,10 @@ void add(const std::string& name, const std::string& compiled, const std::string
   };
   if (!compiled.empty()) reg("compiled", compiled, "");
   reg("described-lanes", described, "closed");
+  // On one thread: the kernels' own cost, which a loaded machine's scheduling
+  // of two threads (a sub-millisecond field waits for the second) does not blur.
+  if (!compiled.empty()) reg("compiled", compiled, "", 1);
+  reg("described-lanes", described, "closed", 1);
   reg("described-closed", described, "closed-scalar");
   if (round == 0) reg("described-newton", described, "newton");
 }

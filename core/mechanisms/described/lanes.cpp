@@ -88,6 +88,10 @@ std::string build(const Kinematics& kin, const VectorXd& fixed, int branch, Lane
     g.hi = act.range.hi;
     g.mid = 0.5 * (act.range.lo + act.range.hi);
     g.half_width = 0.5 * (act.range.hi - act.range.lo);
+    g.cos_mid = std::cos(g.mid);
+    g.sin_mid = std::sin(g.mid);
+    g.cos_half_width = std::cos(g.half_width);
+    g.sin_half_width = std::sin(g.half_width);
     // A turn's travel as the representative nearest its middle (within_travel's w, w +- 2 pi).
     if (g.limited && !g.prismatic && (std::abs(g.mid) > 2 * internal::kPi || g.half_width > internal::kPi))
       return leg + "a revolute travel wider than a turn or centred beyond two";

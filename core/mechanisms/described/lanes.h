@@ -45,6 +45,7 @@ struct LaneLeg {
   double rho = 0, rod = 0, offset = 0;
   bool prismatic = false, limited = false;
   double lo = 0, hi = 0, mid = 0, half_width = 0;  // the travel (revolute: mid +- half_width)
+  double cos_mid = 1, sin_mid = 0, cos_half_width = 1, sin_half_width = 0;
   bool universal = false;
   Eigen::Vector3d universal_axis;  // its first axis (a crank's at q = 0)
   struct Rule {

@@ -65,8 +65,9 @@ HWY_INLINE V3 Turn(D d, const Eigen::Vector3d& a, const Eigen::Vector3d& x, V c,
 struct Candidate {
   V3 ball;     // the ball joint's centre
   V3 axis;     // the actuator's axis (an extensible leg's turns with the ball)
-  V q;         // the actuator: angle in (-pi, pi] or length
+  V q;         // a slide's length
   V c, s;      // a crank's cos q, sin q
+  V rc, rs;    // a limited crank's q - mid as a direction
   V sigma;     // an extensible leg's side: +-1
   M match, inside;
 };
@@ -107,29 +108,46 @@ HWY_INLINE void Decide(D d, const LaneLeg& g, double size, const V3& end, const 
     const V band = hn::Set(d, 1e-9 * size);
     to_scalar = hn::Or(to_scalar, hn::Or(hn::Abs(c.q - hn::Set(d, g.lo)) < band, hn::Abs(c.q - hn::Set(d, g.hi)) < band));
   } else {
-    const V offset = hn::Abs(c.q - hn::Set(d, g.mid));  // wrapped below
-    const V wrapped = hn::IfThenElse(offset > hn::Set(d, M_PI), hn::Abs(hn::Set(d, 2 * M_PI) - offset), offset);
-    c.inside = wrapped <= hn::Set(d, g.half_width);
-    to_scalar = hn::Or(to_scalar, hn::Or(hn::Abs(wrapped - hn::Set(d, g.half_width)) < hn::Set(d, 1e-9),
-                                         hn::Abs(wrapped - hn::Set(d, M_PI)) < hn::Set(d, 1e-9)));
-    c.q = wrapped;  // from here on: |q - mid|, for the travel margin
+    // theta = q - mid as a direction (rc, rs); |theta| <= w (the half width)
+    // where sin(|theta| - w) = |rs| cos w - rc sin w <= 0, without an angle.
+    const V cm = hn::Set(d, g.cos_mid), sm = hn::Set(d, g.sin_mid);
+    c.rc = hn::MulAdd(c.c, cm, c.s * sm);
+    c.rs = hn::MulSub(c.s, cm, c.c * sm);
+    const V excess = hn::MulSub(hn::Abs(c.rs), hn::Set(d, g.cos_half_width), c.rc * hn::Set(d, g.sin_half_width));
+    c.inside = excess <= zero;
+    const V band = hn::Set(d, 1e-9);
+    // Near a travel end, or theta near +-pi (where the wrap picks the representative).
+    to_scalar = hn::Or(to_scalar, hn::Or(hn::Abs(excess) < band, hn::And(hn::Abs(c.rs) < band, c.rc < zero)));
   }
 }
 
 // Leg `g` at platform positions p: its candidates, the one the branch and
-// travel choose, or why it is unreachable.
-HWY_INLINE LegLanes SolveLeg(D d, const LaneLeg& g, double size, const V3& p) {
+// travel choose, or why it is unreachable (the square roots taken only
+// where some lane needs them).
+HWY_INLINE void SolveLeg(D d, const LaneLeg& g, double size, const V3& p, LegLanes& out) {
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0);
-  LegLanes out;
   const V3 anchor = p + Splat(d, g.anchor_offset);
   out.end = p + Splat(d, g.end_offset);
   const V3& w = out.end;
-  // The reach bounds, as solve_leg_on takes them first.
+  // The reach bounds, as solve_leg_on takes them first: outside = max(|a -
+  // base| - hi, lo - |a - base|) > 1e-9 size, decided on the squares away
+  // from the band (0.5e-9, 2e-9] size, which goes to the scalar path.
   const V3 from_base = anchor - Splat(d, g.leg_base);
-  const V distance = hn::Sqrt(Dot(from_base, from_base));
-  const V outside = hn::Max(distance - hn::Set(d, g.reach.hi), hn::Set(d, g.reach.lo) - distance);
-  const M bound = outside > hn::Set(d, 1e-9 * size);
-  out.to_scalar = hn::And(outside > hn::Set(d, 0.5e-9 * size), outside <= hn::Set(d, 2e-9 * size));
+  const V distance2 = Dot(from_base, from_base);
+  const auto square = [&](double v) { return hn::Set(d, v > 0 ? v * v : -1.0); };
+  const double hi = g.reach.hi, lo = g.reach.lo;
+  const M bound = hn::Or(distance2 > square(hi + 2e-9 * size), distance2 < square(lo - 2e-9 * size));
+  const M kept = hn::And(distance2 <= square(hi + 0.5e-9 * size), distance2 >= square(lo - 0.5e-9 * size));
+  out.to_scalar = hn::Not(hn::Or(bound, kept));
+  V outside = zero;
+  if (!hn::AllFalse(d, bound)) {
+    const V distance = hn::Sqrt(distance2);
+    outside = hn::Max(distance - hn::Set(d, hi), hn::Set(d, lo) - distance);
+  }
+  out.unreachable = hn::Not(None(d));
+  out.outside_travel = None(d);
+  out.residual = outside;
+  if (hn::AllTrue(d, bound)) return;
   M band = None(d);  // the closed form's, rules' and travel's: where the closed form decides
   M missed = None(d);
   V miss = zero;
@@ -138,8 +156,6 @@ HWY_INLINE LegLanes SolveLeg(D d, const LaneLeg& g, double size, const V3& p) {
   const auto none_closes = [&] {
     if (!hn::AllFalse(d, hn::AndNot(bound, hn::Not(missed)))) return false;
     out.to_scalar = hn::Or(out.to_scalar, hn::AndNot(bound, band));
-    out.unreachable = hn::Not(None(d));
-    out.outside_travel = None(d);
     out.residual = hn::IfThenElse(bound, outside, miss);
     return true;
   };
@@ -148,12 +164,18 @@ HWY_INLINE LegLanes SolveLeg(D d, const LaneLeg& g, double size, const V3& p) {
     const V du = Dot(Splat(d, g.u), dv), dw = Dot(Splat(d, g.v), dv);
     const V R = hn::Sqrt(du * du + dw * dw), dd = Dot(dv, dv) + hn::Set(d, g.rho * g.rho);
     const V two_rho_R = hn::Set(d, 2 * g.rho) * R, L = hn::Set(d, g.rod);
-    const V nearest = hn::Sqrt(hn::Max(zero, dd - two_rho_R)), farthest = hn::Sqrt(dd + two_rho_R);
-    missed = hn::Or(L < nearest, L > farthest);
-    miss = hn::Max(nearest - L, L - farthest);
-    const V tiny = hn::Set(d, 1e-9 * size);
-    band = hn::Or(hn::Or(hn::Abs(L - nearest) < tiny, hn::Abs(L - farthest) < tiny), R < tiny);
-    if (none_closes()) return out;
+    // L < nearest = sqrt(dd - 2 rho R) or L > farthest = sqrt(dd + 2 rho R),
+    // on the squares; |L - nearest| < 1e-9 size implies |L^2 - nearest^2| <
+    // 1e-9 size (2 L + 1e-9 size) (the band, likewise for farthest).
+    const V near2 = dd - two_rho_R, far2 = dd + two_rho_R, L2 = hn::Set(d, g.rod * g.rod);
+    missed = hn::Or(L2 < near2, L2 > far2);
+    const V tiny2 = hn::Set(d, 1e-9 * size * (2 * g.rod + 1e-9 * size));
+    band = hn::Or(hn::Or(hn::Abs(L2 - near2) < tiny2, hn::Abs(L2 - far2) < tiny2), R < hn::Set(d, 1e-9 * size));
+    if (!hn::AllFalse(d, missed)) {
+      const V nearest = hn::Sqrt(hn::Max(zero, near2)), farthest = hn::Sqrt(far2);
+      miss = hn::Max(nearest - L, L - farthest);
+    }
+    if (none_closes()) return;
     const V inv_R = one / R;
     const V cr = hn::Min(one, hn::Max(hn::Neg(one), (dd - L * L) * hn::Set(d, 0.5 / g.rho) * inv_R));
     const V sr = hn::Sqrt(hn::Max(zero, (one - cr) * (one + cr)));
@@ -164,16 +186,16 @@ HWY_INLINE LegLanes SolveLeg(D d, const LaneLeg& g, double size, const V3& p) {
       c[k].s = sphi * cr + sign * cphi * sr;
       c[k].ball = Splat(d, g.origin) + hn::Set(d, g.rho) * (c[k].c * Splat(d, g.u) + c[k].s * Splat(d, g.v));
       c[k].axis = Splat(d, g.axis);
-      c[k].q = Atan2(d, c[k].s, c[k].c);
+      c[k].q = zero;
       c[k].sigma = one;
     }
   } else if (g.pattern == LegPattern::SlideRod) {
     const V3 gap = Splat(d, g.origin) - w;
     const V b = Dot(Splat(d, g.axis), gap), h2 = Dot(gap, gap) - b * b, L2 = hn::Set(d, g.rod * g.rod);
     missed = h2 > L2;
-    miss = hn::Sqrt(hn::Max(zero, h2)) - hn::Set(d, g.rod);
+    if (!hn::AllFalse(d, missed)) miss = hn::Sqrt(hn::Max(zero, h2)) - hn::Set(d, g.rod);
     band = hn::Abs(h2 - L2) < hn::Set(d, 1e-9 * size * size);
-    if (none_closes()) return out;
+    if (none_closes()) return;
     const V root = hn::Sqrt(hn::Max(zero, L2 - h2));
     for (int k = 0; k < 2; ++k) {
       c[k].q = hn::Neg(b) + (k == 0 ? root : hn::Neg(root));
@@ -186,7 +208,7 @@ HWY_INLINE LegLanes SolveLeg(D d, const LaneLeg& g, double size, const V3& p) {
     const V3 dv = w - Splat(d, g.origin);
     const V n = hn::Sqrt(Dot(dv, dv));
     band = n < hn::Set(d, 1e-9 * size);
-    if (none_closes()) return out;
+    if (none_closes()) return;
     const V inv_n = one / n;
     for (int k = 0; k < 2; ++k) {
       c[k].sigma = hn::Set(d, k == 0 ? 1.0 : -1.0);
@@ -197,7 +219,10 @@ HWY_INLINE LegLanes SolveLeg(D d, const LaneLeg& g, double size, const V3& p) {
     }
   }
   M decided_band = band;
-  for (Candidate& k : c) Decide(d, g, size, w, anchor, k, decided_band);
+  for (Candidate& k : c) {
+    k.rc = k.rs = zero;
+    Decide(d, g, size, w, anchor, k, decided_band);
+  }
   const M closes = hn::AndNot(bound, hn::Not(missed));
   // Bands count only where they could decide: the closed form's where the
   // bounds let it run, the rules' and travel's where it closes.
@@ -214,8 +239,9 @@ HWY_INLINE LegLanes SolveLeg(D d, const LaneLeg& g, double size, const V3& p) {
   a.q = hn::IfThenElse(take1, c[1].q, c[0].q);
   a.c = hn::IfThenElse(take1, c[1].c, c[0].c);
   a.s = hn::IfThenElse(take1, c[1].s, c[0].s);
+  a.rc = hn::IfThenElse(take1, c[1].rc, c[0].rc);
+  a.rs = hn::IfThenElse(take1, c[1].rs, c[0].rs);
   a.sigma = hn::IfThenElse(take1, c[1].sigma, c[0].sigma);
-  return out;
 }
 
 // Gauss-Jordan with partial pivoting (each column's largest entry by
@@ -315,7 +341,7 @@ void Geometry(const LaneDevice& dev, const Grid& g, const detail::GridRow& row, 
     V unreachable_margin = inf;
     LegLanes legs[N];
     for (int i = 0; i < N; ++i) {
-      legs[i] = SolveLeg(d, dev.legs[std::size_t(i)], size, p);
+      SolveLeg(d, dev.legs[std::size_t(i)], size, p, legs[i]);
       to_scalar = hn::Or(to_scalar, legs[i].to_scalar);
       unreachable = hn::Or(unreachable, legs[i].unreachable);
       outside_travel = hn::Or(outside_travel, legs[i].outside_travel);
@@ -372,7 +398,7 @@ void Geometry(const LaneDevice& dev, const Grid& g, const detail::GridRow& row, 
         serial = hn::Min(serial, hn::Abs(jq[i]) * hn::Set(d, g.prismatic ? size * size : size));
         if (g.limited) {
           const V left = g.prismatic ? hn::Min(a.q - hn::Set(d, g.lo), hn::Set(d, g.hi) - a.q)
-                                     : (hn::Set(d, g.half_width) - a.q) * hn::Set(d, size);
+                                     : (hn::Set(d, g.half_width) - Atan2(d, hn::Abs(a.rs), a.rc)) * hn::Set(d, size);
           travel = hn::Min(travel, left);
         }
       }
