@@ -86,6 +86,7 @@ int main(int argc, char** argv) {
     add("HexapodRus", "", "hexapod-rus", 96, true, round);
     add("LinearDelta", "", "linear-delta", 96, true, round);
     add("FiveBar", "", "five-bar", 192, true, round);
+    add("ThreeRrr", "", "three-rrr", 192, true, round);
     add("Falcon", "", "falcon", 96, true, round);
     add("Falcon", "", "falcon", 24, false, round);
   }

@@ -80,7 +80,7 @@ std::string describe(const Preset& preset) {
         << unit << "\n";
   }
   const std::string refusal = lanes_refusal(k);
-  if (refusal.empty()) s << "field: lanes (the point legs' closed forms in SIMD lanes, the scalar closed forms near thresholds)\n";
+  if (refusal.empty()) s << "field: lanes (the legs' closed forms in SIMD lanes; the scalar closed forms near thresholds)\n";
   else s << "field: closed, one pose at a time (not in lanes: " << refusal << ")\n";
   if (!m.has_joint_limits()) s << "passive-joint limits: none stated\n";
   if (!m.has_capsules()) s << "links: none given a radius (no interference checked)\n";

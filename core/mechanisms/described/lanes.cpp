@@ -13,7 +13,8 @@ using Eigen::Isometry3d;
 using Eigen::Vector3d;
 using Eigen::VectorXd;
 
-bool point_leg(LegPattern p) {
+bool point_leg(LegPattern p, bool planar) {
+  if (planar) return p == LegPattern::PlanarDyad;
   return p == LegPattern::CrankRod || p == LegPattern::SlideRod || p == LegPattern::Extensible;
 }
 
@@ -26,31 +27,38 @@ bool parallel(const Vector3d& a, const Vector3d& b, double& sign) {
 // device, else why not.
 std::string build(const Kinematics& kin, const VectorXd& fixed, int branch, LaneDevice* out) {
   const Model& m = kin.model();
-  if (m.planar) return "a planar device";
   if (!m.extras.empty()) return "extras";
   if (kin.has_capsules()) return "link capsules";
   LaneDevice device;
   device.size = m.size;
   device.branch = branch;
+  device.planar = m.planar;
   for (const TaskCoordinate& t : m.task)
     if (t.platform_coordinate >= 0) device.coordinate.push_back(t.platform_coordinate);
   const int driven = int(device.coordinate.size());
-  const bool translations = m.free[0] && m.free[1] && m.free[2];
-  const bool rotations = m.free[3] && m.free[4] && m.free[5];
-  if (!translations || !(driven == 3 || (driven == 6 && rotations)))
-    return "a task other than x, y, z (and rx, ry, rz)";
+  if (m.planar) {
+    if (!m.free[0] || !m.free[1] || !(driven == 2 || (driven == 3 && m.free[5])))
+      return "a planar task other than x, y (and rz)";
+  } else {
+    const bool translations = m.free[0] && m.free[1] && m.free[2];
+    const bool rotations = m.free[3] && m.free[4] && m.free[5];
+    if (!translations || !(driven == 3 || (driven == 6 && rotations)))
+      return "a task other than x, y, z (and rx, ry, rz)";
+  }
   if (int(m.legs.size()) != driven || int(m.actuators.size()) != driven) return "a leg count other than the task's";
   VectorXd at_origin = fixed;
-  at_origin.head(3).setZero();
+  at_origin.head(m.planar ? 2 : 3).setZero();
   const PlatformPose pose = kin.pose(at_origin);
   for (std::size_t i = 0; i < m.legs.size(); ++i) {
     const Leg& l = m.legs[i];
     const ClosedFormLeg* form = kin.closed_form(int(i));
     const std::string leg = l.label() + ": ";
-    if (!form || !point_leg(form->pattern) || l.actuators.size() != 1) return leg + "not a point leg (crank-rod, slide-rod, extensible)";
-    if (kin.passive_rank(int(i)) != 5) return leg + "holds more than one wrench";
+    if (!form || !point_leg(form->pattern, m.planar) || l.actuators.size() != 1)
+      return leg + (m.planar ? "not a planar dyad" : "not a point leg (crank-rod, slide-rod, extensible)");
+    if (kin.passive_rank(int(i)) != (m.planar ? 2 : 5)) return leg + "holds more than one wrench";
     LaneLeg g;
-    g.pattern = form->pattern;
+    // A planar dyad is a crank and rod in the plane.
+    g.pattern = form->pattern == LegPattern::PlanarDyad ? LegPattern::CrankRod : form->pattern;
     const Isometry3d anchor = kin.anchor(int(i), pose);
     g.anchor_offset = anchor.translation();
     g.end_offset = (anchor * form->tail.inverse()).translation();
@@ -65,13 +73,13 @@ std::string build(const Kinematics& kin, const VectorXd& fixed, int branch, Lane
     // The ball's link in its own frame: the rod, or an extensible leg's slide.
     Vector3d link = form->rod.translation();
     Eigen::Matrix3d before_ball = R * form->after_actuator.linear();  // a crank's at q = 0
-    if (form->pattern == LegPattern::CrankRod) {
+    if (g.pattern == LegPattern::CrankRod) {
       const Vector3d p0 = form->base * form->after_actuator.translation();
       g.origin = g.actuator_centre + a * a.dot(p0 - g.actuator_centre);
       g.rho = (p0 - g.origin).norm();
       g.u = (p0 - g.origin) / g.rho;
       g.v = a.cross(g.u);
-    } else if (form->pattern == LegPattern::SlideRod) {
+    } else if (g.pattern == LegPattern::SlideRod) {
       g.origin = form->base * form->after_actuator.translation();
     } else {
       g.origin = g.actuator_centre;
@@ -106,8 +114,17 @@ std::string build(const Kinematics& kin, const VectorXd& fixed, int branch, Lane
     for (const BranchRule& r : l.rules) {
       LaneLeg::Rule rule;
       rule.triple = r.kind == BranchRule::Kind::Triple;
-      if (r.kind == BranchRule::Kind::Angle || (rule.triple && r.steps[0] != form->actuator_step))
-        return leg + "a branch rule on other joints than the actuator, ball, end and anchor";
+      // A triple's axis: the actuator's (an extensible leg's turns with its
+      // ball), or in a plane any revolute's, the plane's normal whatever the joints.
+      if (rule.triple && r.steps[0] != form->actuator_step) {
+        if (!m.planar || r.steps[0] < 0) return leg + "a triple rule led by a joint other than the actuator";
+        LegState rest;
+        rest.values = VectorXd::Zero(l.variables);
+        rest.spheres.assign(std::size_t(l.spheres), Eigen::Matrix3d::Identity());
+        rule.axis = internal::walk(l, rest).step_axis[std::size_t(r.steps[0])];
+        rule.fixed_axis = true;
+      }
+      if (r.kind == BranchRule::Kind::Angle) return leg + "an angle rule";
       for (int k = 0; k < (rule.triple ? 3 : 2); ++k)
         if (!point_of(r.steps[std::size_t(k)], rule.points[k]))
           return leg + "a branch rule on other joints than the actuator, ball, end and anchor";

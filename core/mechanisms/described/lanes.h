@@ -1,6 +1,6 @@
 // A described device's field in SIMD lanes (docs/described-mechanisms.md,
-// "How each leg is solved"): for spatial devices whose legs are all point
-// legs (crank-rod, slide-rod, extensible). In a field the platform's rotation
+// "Fields in SIMD lanes"): for spatial devices whose legs are all point
+// legs (crank-rod, slide-rod, extensible) and planar ones of dyads. In a field the platform's rotation
 // is fixed, so each leg's platform joint centre is p plus a fixed vector and
 // its closed form is a scalar equation in its actuator: the kernel
 // (lanes_simd.cpp, Highway, chosen at run time) solves it for 4-8 poses at
@@ -23,9 +23,9 @@
 
 namespace linkscape::described {
 
-// Why the lanes cannot serve this device ("" where they can): a planar
-// device, extras, link capsules, a leg of another pattern, a rule, limit or
-// task the kernel does not express.
+// Why the lanes cannot serve this device ("" where they can): extras, link
+// capsules, a leg of another pattern, a rule, limit or task the kernel does
+// not express.
 std::string lanes_refusal(const Kinematics& kin);
 
 // Where a rule's or Jacobian's point is, per candidate.
@@ -52,6 +52,8 @@ struct LaneLeg {
     bool triple = true;  // else along
     LanePoint points[3] = {LanePoint::Actuator, LanePoint::Actuator, LanePoint::Actuator};
     Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();
+    bool fixed_axis = false;  // a triple's axis: `axis`, else the candidate's actuator axis
+    Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
     double wanted = 1;  // the branch's sign
   };
   std::vector<Rule> rules;
@@ -71,7 +73,8 @@ struct LaneDevice {
   std::vector<int> coordinate;  // per Jacobian row (task order): platform coordinate 0..5
   double size = 1;
   int branch = 0;
-  bool cones = false;  // joint margins stored
+  bool planar = false;  // z is the plane's, whatever the grid's
+  bool cones = false;   // joint margins stored
 };
 
 // The device's lane constants for a field at the fixed task `fixed` (model

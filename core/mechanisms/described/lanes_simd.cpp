@@ -96,7 +96,7 @@ HWY_INLINE void Decide(D d, const LaneLeg& g, double size, const V3& end, const 
   for (const LaneLeg::Rule& r : g.rules) {
     const V3 a = PointOf(r.points[0], g, c, end, anchor, d), b = PointOf(r.points[1], g, c, end, anchor, d);
     V v;
-    if (r.triple) v = Dot(Cross(b - a, PointOf(r.points[2], g, c, end, anchor, d) - b), c.axis);
+    if (r.triple) v = Dot(Cross(b - a, PointOf(r.points[2], g, c, end, anchor, d) - b), r.fixed_axis ? Splat(d, r.axis) : c.axis);
     else v = Dot(b - a, Splat(d, r.direction));
     c.match = hn::And(c.match, hn::Not(v * hn::Set(d, r.wanted) < zero));
     to_scalar = hn::Or(to_scalar, hn::Abs(v) < hn::Set(d, 1e-9 * (r.triple ? size * size : size)));
@@ -336,7 +336,7 @@ void Geometry(const LaneDevice& dev, const Grid& g, const detail::GridRow& row, 
     // Grid::point's coordinates, bit for bit.
     const V along = origin + (hn::Iota(d, double(row.start[axis] + first + t)) + hn::Set(d, 0.5)) * spacing;
     const V3 p{axis == 0 ? along : hn::Set(d, p0.x()), axis == 1 ? along : hn::Set(d, p0.y()),
-               axis == 2 ? along : hn::Set(d, p0.z())};
+               dev.planar ? zero : axis == 2 ? along : hn::Set(d, p0.z())};
     M to_scalar = None(d), unreachable = None(d), outside_travel = None(d);
     V unreachable_margin = inf;
     LegLanes legs[N];
@@ -416,7 +416,17 @@ void Geometry(const LaneDevice& dev, const Grid& g, const detail::GridRow& row, 
         for (int c = 0; c < N; ++c) J[r][c] = hn::Neg(inv[r][c] * jq[c]);
       const M ok = status == StatusCode(d, Status::Ok);
       if (!hn::AllFalse(d, ok)) {
-        if constexpr (N == 3) {
+        if constexpr (N == 2) {
+          // sigma_1^2 = (|J|_F^2 + sqrt((|J|_F^2 - 2 det)(|J|_F^2 + 2 det))) / 2, c(J) = sigma_1^2 / |det|,
+          // both factors as sums of squares (no cancellation).
+          const V a = J[0][0], b2 = J[0][1], c2 = J[1][0], e = J[1][1];
+          const V det = a * e - b2 * c2;
+          const V minus = (a - e) * (a - e) + (b2 + c2) * (b2 + c2), plus = (a + e) * (a + e) + (b2 - c2) * (b2 - c2);
+          const V largest = hn::Set(d, 0.5) * (hn::Set(d, 0.5) * (minus + plus) + hn::Sqrt(minus * plus));
+          const V c = largest / hn::Abs(det);
+          near = hn::Or(near, hn::And(ok, hn::Not(hn::And(hn::IsFinite(c), det != zero))));
+          cond = hn::IfThenElse(ok, c, inf);
+        } else if constexpr (N == 3) {
           V c0[3] = {J[0][0], J[1][0], J[2][0]}, c1[3] = {J[0][1], J[1][1], J[2][1]}, c2[3] = {J[0][2], J[1][2], J[2][2]};
           near = hn::Or(near, hn::And(ok, hn::Not(UnitRange(d, c0, c1, c2))));
           cond = hn::IfThenElse(ok, ConditionNumber(d, c0, c1, c2), inf);
@@ -455,7 +465,8 @@ void SampleRowLanes(const LaneDevice& dev, const Grid& g, const detail::GridRow&
   Extras e;
   for (int first = 0; first < row.count; first += kBlock) {
     const int n = std::min(kBlock, row.count - first);
-    if (dev.legs.size() == 3) Geometry<3>(dev, g, row, first, n, b, e);
+    if (dev.legs.size() == 2) Geometry<2>(dev, g, row, first, n, b, e);
+    else if (dev.legs.size() == 3) Geometry<3>(dev, g, row, first, n, b, e);
     else Geometry<6>(dev, g, row, first, n, b, e);
     if (joint_margin)
       for (int t = 0; t < n; ++t) joint_margin[first + t] = float(e.joint_margin[t]);
