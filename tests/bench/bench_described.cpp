@@ -76,20 +76,21 @@ void add(const std::string& name, const std::string& compiled, const std::string
 }  // namespace
 
 int main(int argc, char** argv) {
-  for (int round = 0; round < 3; ++round) {
-    add("Delta", "delta", "delta-described", 96, true, round);
-    add("Delta", "delta", "delta-described", 64, false, round);
-    add("Pathos2", "pathos2", "pathos2-described", 96, true, round);
-    add("Pathos2", "pathos2", "pathos2-described", 64, false, round);
-    add("Stewart", "", "stewart", 192, true, round);
-    add("Stewart", "", "stewart", 64, false, round);
-    add("HexapodRus", "", "hexapod-rus", 96, true, round);
-    add("LinearDelta", "", "linear-delta", 96, true, round);
-    add("FiveBar", "", "five-bar", 192, true, round);
-    add("ThreeRrr", "", "three-rrr", 192, true, round);
-    add("Falcon", "", "falcon", 96, true, round);
-    add("Falcon", "", "falcon", 24, false, round);
-  }
+  struct Case {
+    const char *name, *compiled, *described;
+    int n;
+    bool slice;
+  };
+  const Case cases[] = {
+      {"Delta", "delta", "delta-described", 96, true},      {"Delta", "delta", "delta-described", 64, false},
+      {"Pathos2", "pathos2", "pathos2-described", 96, true}, {"Pathos2", "pathos2", "pathos2-described", 64, false},
+      {"Stewart", "", "stewart", 192, true},                {"Stewart", "", "stewart", 64, false},
+      {"HexapodRus", "", "hexapod-rus", 96, true},          {"LinearDelta", "", "linear-delta", 96, true},
+      {"FiveBar", "", "five-bar", 192, true},               {"ThreeRrr", "", "three-rrr", 192, true},
+      {"Falcon", "", "falcon", 96, true},                   {"Falcon", "", "falcon", 24, false},
+  };
+  for (int round = 0; round < 3; ++round)
+    for (const Case& c : cases) add(c.name, c.compiled, c.described, c.n, c.slice, round);
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();
