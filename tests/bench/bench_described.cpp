@@ -44,7 +44,8 @@ void field(benchmark::State& state, const std::string& preset, const std::string
     const auto f = mechanism->compute_field(g, mechanism->home_task(), o, threads, {});
     reachable = in_lanes = 0;
     for (std::uint8_t r : f->reachable) reachable += r;
-    for (std::uint8_t m : f->method_used) in_lanes += f->method == "lanes" && m == 2;
+    if (f->method == "lanes")
+      for (std::uint8_t m : f->method_used) in_lanes += m == 2;
   }
   state.SetItemsProcessed(state.iterations() * std::int64_t(g.size()));
   state.counters["reachable"] = double(reachable);
