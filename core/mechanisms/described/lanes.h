@@ -85,11 +85,19 @@ std::optional<LaneDevice> lane_device(const Kinematics& kin, const Eigen::Vector
 // where it does not assemble).
 using LaneFallback = std::function<FieldSample(int t, double& joint_margin_deg)>;
 
+// The lanes' own values in double before the Field's floats, per row sample
+// (NaN where the scalar path decided): for tests that compare them finer
+// than a float.
+struct LaneValues {
+  std::vector<double> cond, cond_orientation, reach_margin;
+};
+
 // One grid row in lanes with the CPU's best instruction set (core/simd.h);
 // `joint_margin` the row's joint-margin array (null: none). Samples the lanes
-// serve take method code `method`; the others are `fallback`'s.
+// serve take method code `method`; the others are `fallback`'s. With
+// `values`, also their doubles.
 void sample_row_lanes(const LaneDevice& device, const Grid& grid, const detail::GridRow& row,
                       const detail::FieldRowOut& out, float* joint_margin, std::uint8_t method,
-                      const LaneFallback& fallback);
+                      const LaneFallback& fallback, LaneValues* values = nullptr);
 
 }  // namespace linkscape::described

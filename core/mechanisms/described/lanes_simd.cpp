@@ -29,6 +29,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/mechanisms/described/lanes.h"
 #include "core/simd.h"
@@ -288,6 +289,26 @@ HWY_INLINE V NormOne(D d, const V (&a)[N][N]) {
   return largest;
 }
 
+// Whether two eigenvalues of M^T M, M = [c0 c1 c2], lie within about 1e-4
+// of their spread of each other: there ConditionNumber's quadratic for the two
+// smaller ones keeps only about the square root of the rounding (1e-8), so
+// such lanes go to the scalar path. The test: the discriminant of the
+// characteristic polynomial of B = M^T M - q I (q the eigenvalues' mean),
+// the product of the squared differences of the eigenvalues, against p^6
+// (p^2 their variance over two).
+HWY_INLINE M NearDoubleEigenvalue(D d, const V* c0, const V* c1, const V* c2) {
+  const auto dot = [](const V* a, const V* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+  const V g00 = dot(c0, c0), g11 = dot(c1, c1), g22 = dot(c2, c2), g01 = dot(c0, c1), g02 = dot(c0, c2), g12 = dot(c1, c2);
+  const V q = (g00 + g11 + g22) * hn::Set(d, 1.0 / 3.0);
+  const V b0 = g00 - q, b1 = g11 - q, b2 = g22 - q;
+  const V off = g01 * g01 + g02 * g02 + g12 * g12;
+  const V p2 = (b0 * b0 + b1 * b1 + b2 * b2 + hn::Set(d, 2.0) * off) * hn::Set(d, 1.0 / 6.0);
+  const V minors = b0 * b1 + b0 * b2 + b1 * b2 - off;
+  const V det = b0 * (b1 * b2 - g12 * g12) - g01 * (g01 * b2 - g12 * g02) + g02 * (g01 * g12 - b1 * g02);
+  const V discriminant = hn::Neg(hn::Set(d, 4.0) * minors * minors * minors) - hn::Set(d, 27.0) * det * det;
+  return hn::Not(discriminant >= hn::Set(d, 1e-6) * p2 * p2 * p2);
+}
+
 // c(M) of the 3 x n matrix with rows r0, r1, r2 as c(R), R its transpose's
 // QR factor by modified Gram-Schmidt; `to_scalar` where R is far from unit scale.
 template <int N>
@@ -314,7 +335,7 @@ HWY_INLINE V RowsCondition(D d, V (&r)[3][N], M& to_scalar) {
   c2[1] = dot(1, 2);
   for (int j = 0; j < N; ++j) r[2][j] = hn::NegMulAdd(c2[1], r[1][j], r[2][j]);
   c2[2] = hn::Sqrt(dot(2, 2));
-  to_scalar = hn::Or(to_scalar, hn::Not(UnitRange(d, c0, c1, c2)));
+  to_scalar = hn::Or(to_scalar, hn::Or(hn::Not(UnitRange(d, c0, c1, c2)), NearDoubleEigenvalue(d, c0, c1, c2)));
   return ConditionNumber(d, c0, c1, c2);
 }
 
@@ -428,7 +449,7 @@ void Geometry(const LaneDevice& dev, const Grid& g, const detail::GridRow& row, 
           cond = hn::IfThenElse(ok, c, inf);
         } else if constexpr (N == 3) {
           V c0[3] = {J[0][0], J[1][0], J[2][0]}, c1[3] = {J[0][1], J[1][1], J[2][1]}, c2[3] = {J[0][2], J[1][2], J[2][2]};
-          near = hn::Or(near, hn::And(ok, hn::Not(UnitRange(d, c0, c1, c2))));
+          near = hn::Or(near, hn::And(ok, hn::Or(hn::Not(UnitRange(d, c0, c1, c2)), NearDoubleEigenvalue(d, c0, c1, c2))));
           cond = hn::IfThenElse(ok, ConditionNumber(d, c0, c1, c2), inf);
         } else {
           V rows[2][3][N];
@@ -459,10 +480,13 @@ void Geometry(const LaneDevice& dev, const Grid& g, const detail::GridRow& row, 
 }
 
 void SampleRowLanes(const LaneDevice& dev, const Grid& g, const detail::GridRow& row, const detail::FieldRowOut& out,
-                    float* joint_margin, std::uint8_t method, const LaneFallback& fallback) {
+                    float* joint_margin, std::uint8_t method, const LaneFallback& fallback, LaneValues* values) {
   const MethodRule rule{double(method), false};
   Block b;
   Extras e;
+  if (values)
+    for (auto* v : {&values->cond, &values->cond_orientation, &values->reach_margin})
+      v->assign(std::size_t(row.count), std::numeric_limits<double>::quiet_NaN());
   for (int first = 0; first < row.count; first += kBlock) {
     const int n = std::min(kBlock, row.count - first);
     if (dev.legs.size() == 2) Geometry<2>(dev, g, row, first, n, b, e);
@@ -470,6 +494,14 @@ void SampleRowLanes(const LaneDevice& dev, const Grid& g, const detail::GridRow&
     else Geometry<6>(dev, g, row, first, n, b, e);
     if (joint_margin)
       for (int t = 0; t < n; ++t) joint_margin[first + t] = float(e.joint_margin[t]);
+    if (values)
+      for (int t = 0; t < n; ++t) {
+        if (b.to_scalar[t] != 0.0) continue;
+        const std::size_t i = std::size_t(first + t);
+        values->cond[i] = b.cond[t];
+        values->cond_orientation[i] = b.cond_orientation[t];
+        values->reach_margin[i] = b.reach_margin[t];
+      }
     StoreBlock(b, first, n, row.count, false, rule, out, [&](int i) {
       double jm = 0;
       const FieldSample s = fallback(i, jm);
@@ -489,8 +521,8 @@ HWY_EXPORT(SampleRowLanes);
 
 void sample_row_lanes(const LaneDevice& device, const Grid& grid, const detail::GridRow& row,
                       const detail::FieldRowOut& out, float* joint_margin, std::uint8_t method,
-                      const LaneFallback& fallback) {
-  HWY_DYNAMIC_DISPATCH(SampleRowLanes)(device, grid, row, out, joint_margin, method, fallback);
+                      const LaneFallback& fallback, LaneValues* values) {
+  HWY_DYNAMIC_DISPATCH(SampleRowLanes)(device, grid, row, out, joint_margin, method, fallback, values);
 }
 
 }  // namespace linkscape::described
