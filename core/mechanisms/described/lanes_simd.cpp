@@ -9,17 +9,19 @@
 // actuator, ball, end and anchor points, the travel, the ball joints' cones,
 // the Jacobian row (the force along the rod), J = -Jx^-1 Jq by Gauss-Jordan
 // with partial pivoting, the serial and travel margins, and the measures:
-// c(J) of a 3x3 J in closed form (core/simd_field-inl.h), cond(Jp) and
-// cond(Jo) of a 6x6 J as c(R) of the QR factor (modified Gram-Schmidt) of
-// their 3x6 rows, no general SVD. A lane decides only clearly away from every
+// c(J) of a 2x2 or 3x3 J in closed form (core/simd_field-inl.h's for 3x3),
+// cond(Jp) and cond(Jo) of a 6x6 J as c(R) of the QR factor (modified
+// Gram-Schmidt) of their 3x6 rows, no general SVD. A planar dyad is a crank
+// in the plane. A lane decides only clearly away from every
 // threshold the scalar path decides at: reach bounds within 1e-9 of the size
 // of their cut, a closed form within 1e-9 of its discriminant's zero or a
 // degenerate pose, a rule's value within 1e-9 size^k of 0, an actuator within
 // 1e-9 of a travel end, a cone within 1e-7 deg of its limit, a rod or a Jq
 // entry within 1e-6 of zero, a universal joint within 1e-6 of gimbal lock,
 // Jx's 1-norm condition number over 1e8 (the scalar path's type II test is
-// the LU's estimate over 1e12, at most this), a Jacobian far from unit scale:
-// those lanes are the scalar closed path's.
+// the LU's estimate over 1e12, at most this), a Jacobian far from unit scale,
+// two of its singular values within about 1e-4 of each other (where the
+// closed-form c(J) is inexact): those lanes are the scalar closed path's.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "core/mechanisms/described/lanes_simd.cpp"
 #include <hwy/foreach_target.h>  // must come before highway.h
