@@ -1,11 +1,15 @@
 // Described devices against the compiled ones, side by side in one run: each
 // case is registered as compiled (where the device exists in C++), described
-// with its closed-form legs (IK method "closed", the default), and described
-// through the numerical reference (IK method "newton"), one after another.
-// Fields over the device's default box (n^3) and slices on its default plane
-// (n x n), at the home task, 2 threads. The newton cases run once (they take
-// seconds). The CPU column is every thread's time; the rate is per wall-clock
-// second.
+// in SIMD lanes (IK method "closed", the default: lanes where the device's
+// legs allow, counter in_lanes the samples they decided), described with the
+// closed forms one pose at a time (IK method "closed-scalar") and described
+// through the numerical reference (IK method "newton"), one after another,
+// and the whole list three times over (rounds), so that a change of the
+// machine's load shows in every column alike. Fields over the device's
+// default box (n^3) and slices on its default plane (n x n), at the home
+// task, 2 threads (compiled and lanes also on one). The newton cases run once, in the first round (they take
+// seconds). The CPU column is every thread's time; the rate is per
+// wall-clock second.
 // Run: build/tests/bench/bench_described (--benchmark_filter=Stewart etc.)
 #include <benchmark/benchmark.h>
 
@@ -27,49 +31,67 @@ Grid grid_of(const linkscape::Mechanism& m, int n, bool slice) {
                      n);
 }
 
-void field(benchmark::State& state, const std::string& preset, const std::string& method, int n, bool slice) {
+void field(benchmark::State& state, const std::string& preset, const std::string& method, int n, bool slice,
+           int threads) {
   const auto mechanism = linkscape::make_mechanism(linkscape::load_preset(preset));
   // The compiled devices' grids are those of the described copies, so both sample the same points.
   const std::string grid_preset = preset == "delta" ? "delta-described" : preset == "pathos2" ? "pathos2-described" : preset;
   const Grid g = grid_of(*linkscape::make_mechanism(linkscape::load_preset(grid_preset)), n, slice);
   linkscape::IkOptions o;
   o.method = method;
-  std::size_t reachable = 0;
+  std::size_t reachable = 0, in_lanes = 0;
   for (auto _ : state) {
-    const auto f = mechanism->compute_field(g, mechanism->home_task(), o, 2, {});
-    reachable = 0;
+    const auto f = mechanism->compute_field(g, mechanism->home_task(), o, threads, {});
+    reachable = in_lanes = 0;
     for (std::uint8_t r : f->reachable) reachable += r;
+    if (f->method == "lanes")
+      for (std::uint8_t m : f->method_used) in_lanes += m == 2;
   }
   state.SetItemsProcessed(state.iterations() * std::int64_t(g.size()));
   state.counters["reachable"] = double(reachable);
+  state.counters["in_lanes"] = double(in_lanes);
 }
 
-void add(const std::string& name, const std::string& compiled, const std::string& described, int n, bool slice) {
+void add(const std::string& name, const std::string& compiled, const std::string& described, int n, bool slice,
+         int round) {
   const std::string shape = slice ? "Slice" + std::to_string(n) : "Box" + std::to_string(n);
-  auto reg = [&](const std::string& label, const std::string& preset, const std::string& method) {
-    auto* b = benchmark::RegisterBenchmark(("BM_" + name + shape + "/" + label).c_str(), field, preset, method, n, slice)
+  auto reg = [&](const std::string& label, const std::string& preset, const std::string& method, int threads = 2) {
+    auto* b = benchmark::RegisterBenchmark(
+                  ("BM_" + name + shape + "/" + label + (threads == 1 ? "-1thread" : "") + "/round:" + std::to_string(round)).c_str(),
+                  field, preset, method, n, slice, threads)
                   ->Unit(benchmark::kMillisecond)
                   ->MeasureProcessCPUTime()
                   ->UseRealTime();
     if (method == "newton") b->Iterations(1);
   };
   if (!compiled.empty()) reg("compiled", compiled, "");
-  reg("described-closed", described, "closed");
-  reg("described-newton", described, "newton");
+  reg("described-lanes", described, "closed");
+  // On one thread: the kernels' own cost, which a loaded machine's scheduling
+  // of two threads (a sub-millisecond field waits for the second) does not blur.
+  if (!compiled.empty()) reg("compiled", compiled, "", 1);
+  reg("described-lanes", described, "closed", 1);
+  reg("described-closed", described, "closed-scalar");
+  if (round == 0) reg("described-newton", described, "newton");
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  add("Delta", "delta", "delta-described", 96, true);
-  add("Delta", "delta", "delta-described", 64, false);
-  add("Pathos2", "pathos2", "pathos2-described", 96, true);
-  add("Pathos2", "pathos2", "pathos2-described", 64, false);
-  add("Stewart", "", "stewart", 192, true);
-  add("Stewart", "", "stewart", 64, false);
-  add("FiveBar", "", "five-bar", 192, true);
-  add("Falcon", "", "falcon", 96, true);
-  add("Falcon", "", "falcon", 24, false);
+  struct Case {
+    const char *name, *compiled, *described;
+    int n;
+    bool slice;
+  };
+  const Case cases[] = {
+      {"Delta", "delta", "delta-described", 96, true},      {"Delta", "delta", "delta-described", 64, false},
+      {"Pathos2", "pathos2", "pathos2-described", 96, true}, {"Pathos2", "pathos2", "pathos2-described", 64, false},
+      {"Stewart", "", "stewart", 192, true},                {"Stewart", "", "stewart", 64, false},
+      {"HexapodRus", "", "hexapod-rus", 96, true},          {"LinearDelta", "", "linear-delta", 96, true},
+      {"FiveBar", "", "five-bar", 192, true},               {"ThreeRrr", "", "three-rrr", 192, true},
+      {"Falcon", "", "falcon", 96, true},                   {"Falcon", "", "falcon", 24, false},
+  };
+  for (int round = 0; round < 3; ++round)
+    for (const Case& c : cases) add(c.name, c.compiled, c.described, c.n, c.slice, round);
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();

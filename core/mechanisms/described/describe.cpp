@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "core/mechanisms/described/kinematics.h"
+#include "core/mechanisms/described/lanes.h"
 #include "core/mechanisms/described/mechanism.h"
 #include "core/preset.h"
 
@@ -78,6 +79,9 @@ std::string describe(const Preset& preset) {
       s << "    link: " << c.name << ", radius " << c.radius << " " << unit << ", length " << (c.b - c.a).norm() << " "
         << unit << "\n";
   }
+  const std::string refusal = lanes_refusal(k);
+  if (refusal.empty()) s << "field: lanes (the legs' closed forms in SIMD lanes; the scalar closed forms near thresholds)\n";
+  else s << "field: closed, one pose at a time (not in lanes: " << refusal << ")\n";
   if (!m.has_joint_limits()) s << "passive-joint limits: none stated\n";
   if (!m.has_capsules()) s << "links: none given a radius (no interference checked)\n";
   return s.str();

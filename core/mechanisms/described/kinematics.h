@@ -125,6 +125,9 @@ class Kinematics {
   // distance from its base to its anchor (outside them it cannot close).
   const ClosedFormLeg* closed_form(int leg) const;
   const Range& reach(int leg) const { return leg_reach_[std::size_t(leg)]; }
+  // The rank of the leg's passive joints' twists at home: one less than the
+  // closure's rows where the leg transmits one wrench (its closed wrench serves).
+  int passive_rank(int leg) const { return passive_rank_[std::size_t(leg)]; }
   // At a solved pose (its legs' states).
   // Solver Fastest: each recognised leg's reciprocal wrench in closed form.
   JacobianParts jacobian(const Eigen::VectorXd& x, const PoseSolution& solved,

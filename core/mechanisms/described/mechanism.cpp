@@ -11,8 +11,10 @@
 #include "core/field_sampling.h"
 #include "core/mechanisms/described/chain.h"
 #include "core/mechanisms/described/kinematics.h"
+#include "core/mechanisms/described/lanes.h"
 #include "core/mechanisms/described/skeleton.h"
 #include "core/preset.h"
+#include "core/simd.h"
 
 namespace linkscape::described {
 namespace {
@@ -29,6 +31,9 @@ constexpr const char* kClearanceText =
     "none where the device does not assemble)";
 // A planar device moves in the base frame's xy plane (docs/described-mechanisms.md).
 constexpr double kPlaneZ = 0.0;
+// The method code and name of the samples a field's SIMD lanes decide (after LegSolver's).
+constexpr std::uint8_t kLanesCode = 2;
+constexpr const char* kLanesName = "lanes";
 
 class DescribedMechanism final : public Mechanism {
  public:
@@ -79,6 +84,8 @@ class DescribedMechanism final : public Mechanism {
     }
     if (m.planar) i.plane_z = kPlaneZ;
     i.ik_methods = {{"closed", "closed", "Closed form per recognised leg (describe), Gauss-Newton for the others"},
+                    {"closed-scalar", "closed-scalar",
+                     "The closed forms one pose at a time: in fields, the reference of the SIMD lanes"},
                     {"newton", "newton", "Damped Gauss-Newton per leg from seeds, branch by the leg's rules (the reference)"}};
     i.fk_methods = {{"newton", "newton", "Gauss-Newton on every loop closure from a seed pose"}};
     rotations_ = 0;
@@ -345,8 +352,8 @@ class DescribedMechanism final : public Mechanism {
   std::optional<Field> compute_field(const Grid& grid, const VectorXd& fixed_task, const IkOptions& o, int threads,
                                      const FieldProgress& progress) const override {
     // The numerical reference where asked for, by method or LINKSCAPE_FIELD_KERNEL=scalar.
-    const LegSolver solver =
-        field_kernel_from_environment() == FieldKernel::Scalar ? LegSolver::Numeric : solver_of(o.method);
+    const FieldKernel kernel = field_kernel_from_environment();
+    const LegSolver solver = kernel == FieldKernel::Scalar ? LegSolver::Numeric : solver_of(o.method);
     const int branch = o.branch.value_or(0);
     if (branch < 0 || branch >= kin_.branches())
       throw std::invalid_argument("described: branch must be 0.." + std::to_string(kin_.branches() - 1));
@@ -357,13 +364,18 @@ class DescribedMechanism final : public Mechanism {
     VectorXd fixed = fixed_task.size() == Eigen::Index(info_.task.size()) ? fixed_task : home_task();
     if (kin_.model().planar) fixed(2) = kPlaneZ;
     const VectorXd base = to_model(fixed, "fixed task");
+    // Point legs in SIMD lanes where the device allows (decided once per field).
+    std::optional<LaneDevice> lanes;
+    if (solver == LegSolver::Fastest && o.method != "closed-scalar") lanes = lane_device(kin_, base, branch);
+    if (lanes) simd::apply_environment();
     Field f;
     f.grid = grid;
     f.mechanism = info_.name;
     f.length_unit = kin_.model().length_unit;
     f.parameters = parameters();
-    f.method = method_name(solver);
+    f.method = lanes ? kLanesName : method_name(solver);
     for (LegSolver k : {LegSolver::Fastest, LegSolver::Numeric}) f.method_names.emplace_back(method_name(k));  // by LegSolver
+    f.method_names.emplace_back(kLanesName);  // kLanesCode
     f.branch = branch;
     for (const NamedItem& n : info_.measures) f.measure_titles.push_back(n.title);
     float* joint_margin = nullptr;
@@ -375,19 +387,34 @@ class DescribedMechanism final : public Mechanism {
       clearance = add_extra(f, "clearance", "clearance", kin_.model().length_unit, kClearanceText);
     const double tolerance = o.tolerance;
     const bool complete = detail::fill_field_rows(
-        f, second, threads, progress, [&](const detail::GridRow& row, const detail::FieldRowOut& out) {
+        f, second, threads, progress,
+        [&](const detail::GridRow& row, const detail::FieldRowOut& out) {
           VectorXd x = base;
-          for (int t = 0; t < row.count; ++t) {
+          auto at = [&](int t) -> const VectorXd& {
             const Vector3d p = row.point(grid, t);
             x(0) = p.x();
             x(1) = p.y();
             if (!kin_.model().planar) x(2) = p.z();
+            return x;
+          };
+          if (lanes) {
+            sample_row_lanes(*lanes, grid, row, out, joint_margin ? joint_margin + row.index : nullptr, kLanesCode,
+                             [&](int t, double& margin) {
+                               Stops stops;
+                               const FieldSample s = sample(at(t), branch, tolerance, solver, stops);
+                               margin = stops.joint_margin_deg;
+                               return s;
+                             });
+            return;
+          }
+          for (int t = 0; t < row.count; ++t) {
             Stops stops;
-            out.store(t, sample(x, branch, tolerance, solver, stops));
+            out.store(t, sample(at(t), branch, tolerance, solver, stops));
             if (joint_margin) joint_margin[row.index + std::size_t(t)] = float(stops.joint_margin_deg);
             if (clearance) clearance[row.index + std::size_t(t)] = float(stops.clearance);
           }
-        });
+        },
+        lanes ? detail::kVectorChunkSamples : detail::kChunkSamples);
     if (!complete) return std::nullopt;
     return f;
   }
@@ -546,9 +573,9 @@ class DescribedMechanism final : public Mechanism {
       throw std::invalid_argument(std::string("described: unknown ") + what + " method '" + method + "' (known: newton)");
   }
   static LegSolver solver_of(const std::string& method) {
-    if (method.empty() || method == "closed") return LegSolver::Fastest;
+    if (method.empty() || method == "closed" || method == "closed-scalar") return LegSolver::Fastest;
     if (method == "newton") return LegSolver::Numeric;
-    throw std::invalid_argument("described: unknown IK method '" + method + "' (known: closed, newton)");
+    throw std::invalid_argument("described: unknown IK method '" + method + "' (known: closed, closed-scalar, newton)");
   }
   static const char* method_name(LegSolver s) { return s == LegSolver::Numeric ? "newton" : "closed"; }
 

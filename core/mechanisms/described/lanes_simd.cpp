@@ -1,0 +1,531 @@
+// Point legs' closed forms and the measures in SIMD lanes (lanes.h), compiled
+// once per instruction set and chosen at run time (core/simd.h).
+//
+// Lane for lane it is the scalar closed path (Kinematics::inverse with the
+// closed forms, jacobian, reach_margin) with the early returns replaced by
+// masks: each leg's reach bounds, its closed form's two candidates (a crank's
+// cos q, sin q from A cos q + B sin q = C without an angle; a slide's
+// quadratic; an extensible leg's distance), the branch rules' signs on the
+// actuator, ball, end and anchor points, the travel, the ball joints' cones,
+// the Jacobian row (the force along the rod), J = -Jx^-1 Jq by Gauss-Jordan
+// with partial pivoting, the serial and travel margins, and the measures:
+// c(J) of a 2x2 or 3x3 J in closed form (core/simd_field-inl.h's for 3x3),
+// cond(Jp) and cond(Jo) of a 6x6 J as c(R) of the QR factor (modified
+// Gram-Schmidt) of their 3x6 rows, no general SVD. A planar dyad is a crank
+// in the plane. A lane decides only clearly away from every
+// threshold the scalar path decides at: reach bounds within 1e-9 of the size
+// of their cut, a closed form within 1e-9 of its discriminant's zero or a
+// degenerate pose, a rule's value within 1e-9 size^k of 0, an actuator within
+// 1e-9 of a travel end, a cone within 1e-7 deg of its limit, a rod or a Jq
+// entry within 1e-6 of zero, a universal joint within 1e-6 of gimbal lock,
+// Jx's 1-norm condition number over 1e8 (the scalar path's type II test is
+// the LU's estimate over 1e12, at most this), a Jacobian far from unit scale,
+// two of its singular values within about 1e-4 of each other (where the
+// closed-form c(J) is inexact): those lanes are the scalar closed path's.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "core/mechanisms/described/lanes_simd.cpp"
+#include <hwy/foreach_target.h>  // must come before highway.h
+#include <hwy/highway.h>
+
+#include "core/simd_field-inl.h"  // per target, like this file
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/mechanisms/described/lanes.h"
+#include "core/simd.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace linkscape::described::HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+using namespace linkscape::simd::HWY_NAMESPACE;  // D, V, M, Block and the shared helpers
+
+struct V3 {
+  V x, y, z;
+};
+HWY_INLINE V3 Splat(D d, const Eigen::Vector3d& v) { return {hn::Set(d, v.x()), hn::Set(d, v.y()), hn::Set(d, v.z())}; }
+HWY_INLINE V3 operator+(const V3& a, const V3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+HWY_INLINE V3 operator-(const V3& a, const V3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+HWY_INLINE V3 operator*(V s, const V3& a) { return {s * a.x, s * a.y, s * a.z}; }
+HWY_INLINE V Dot(const V3& a, const V3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+HWY_INLINE V3 Cross(const V3& a, const V3& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+HWY_INLINE V3 Select(M m, const V3& a, const V3& b) {
+  return {hn::IfThenElse(m, a.x, b.x), hn::IfThenElse(m, a.y, b.y), hn::IfThenElse(m, a.z, b.z)};
+}
+HWY_INLINE V Get(const V3& a, int i) { return i == 0 ? a.x : i == 1 ? a.y : a.z; }
+HWY_INLINE M None(D d) { return hn::FirstN(d, 0); }
+// Fixed vector x turned about unit a by the angle of (c, s).
+HWY_INLINE V3 Turn(D d, const Eigen::Vector3d& a, const Eigen::Vector3d& x, V c, V s) {
+  const V3 along = hn::Set(d, a.dot(x)) * Splat(d, a);
+  return hn::Set(d, 1.0) * along + c * (Splat(d, x) - along) + s * Splat(d, a.cross(x));
+}
+
+// One closed-form solution of a leg.
+struct Candidate {
+  V3 ball;     // the ball joint's centre
+  V3 axis;     // the actuator's axis (an extensible leg's turns with the ball)
+  V q;         // a slide's length
+  V c, s;      // a crank's cos q, sin q
+  V rc, rs;    // a limited crank's q - mid as a direction
+  V sigma;     // an extensible leg's side: +-1
+  M match, inside;
+};
+
+struct LegLanes {
+  M unreachable, outside_travel, to_scalar;
+  V residual;  // where unreachable
+  Candidate at;
+  V3 end;
+};
+
+HWY_INLINE V3 PointOf(LanePoint p, const LaneLeg& g, const Candidate& c, const V3& end, const V3& anchor, D d) {
+  switch (p) {
+    case LanePoint::Actuator: return g.pattern == LegPattern::Extensible ? c.ball : Splat(d, g.actuator_centre);
+    case LanePoint::Ball: return c.ball;
+    case LanePoint::End: return end;
+    case LanePoint::Anchor: break;
+  }
+  return anchor;
+}
+
+// The candidate's rules and travel; bands near their thresholds go to `to_scalar`.
+HWY_INLINE void Decide(D d, const LaneLeg& g, double size, const V3& end, const V3& anchor, Candidate& c, M& to_scalar) {
+  const V zero = hn::Zero(d);
+  c.match = hn::Not(None(d));
+  for (const LaneLeg::Rule& r : g.rules) {
+    const V3 a = PointOf(r.points[0], g, c, end, anchor, d), b = PointOf(r.points[1], g, c, end, anchor, d);
+    V v;
+    if (r.triple) v = Dot(Cross(b - a, PointOf(r.points[2], g, c, end, anchor, d) - b), r.fixed_axis ? Splat(d, r.axis) : c.axis);
+    else v = Dot(b - a, Splat(d, r.direction));
+    c.match = hn::And(c.match, hn::Not(v * hn::Set(d, r.wanted) < zero));
+    to_scalar = hn::Or(to_scalar, hn::Abs(v) < hn::Set(d, 1e-9 * (r.triple ? size * size : size)));
+  }
+  if (!g.limited) {
+    c.inside = hn::Not(None(d));
+  } else if (g.prismatic) {
+    c.inside = hn::And(c.q >= hn::Set(d, g.lo), c.q <= hn::Set(d, g.hi));
+    const V band = hn::Set(d, 1e-9 * size);
+    to_scalar = hn::Or(to_scalar, hn::Or(hn::Abs(c.q - hn::Set(d, g.lo)) < band, hn::Abs(c.q - hn::Set(d, g.hi)) < band));
+  } else {
+    // theta = q - mid as a direction (rc, rs); |theta| <= w (the half width)
+    // where sin(|theta| - w) = |rs| cos w - rc sin w <= 0, without an angle.
+    const V cm = hn::Set(d, g.cos_mid), sm = hn::Set(d, g.sin_mid);
+    c.rc = hn::MulAdd(c.c, cm, c.s * sm);
+    c.rs = hn::MulSub(c.s, cm, c.c * sm);
+    const V excess = hn::MulSub(hn::Abs(c.rs), hn::Set(d, g.cos_half_width), c.rc * hn::Set(d, g.sin_half_width));
+    c.inside = excess <= zero;
+    const V band = hn::Set(d, 1e-9);
+    // Near a travel end, or theta near +-pi (where the wrap picks the representative).
+    to_scalar = hn::Or(to_scalar, hn::Or(hn::Abs(excess) < band, hn::And(hn::Abs(c.rs) < band, c.rc < zero)));
+  }
+}
+
+// Leg `g` at platform positions p: its candidates, the one the branch and
+// travel choose, or why it is unreachable (the square roots taken only
+// where some lane needs them).
+HWY_INLINE void SolveLeg(D d, const LaneLeg& g, double size, const V3& p, LegLanes& out) {
+  const V zero = hn::Zero(d), one = hn::Set(d, 1.0);
+  const V3 anchor = p + Splat(d, g.anchor_offset);
+  out.end = p + Splat(d, g.end_offset);
+  const V3& w = out.end;
+  // The reach bounds, as solve_leg_on takes them first: outside = max(|a -
+  // base| - hi, lo - |a - base|) > 1e-9 size, decided on the squares away
+  // from the band (0.5e-9, 2e-9] size, which goes to the scalar path.
+  const V3 from_base = anchor - Splat(d, g.leg_base);
+  const V distance2 = Dot(from_base, from_base);
+  const auto square = [&](double v) { return hn::Set(d, v > 0 ? v * v : -1.0); };
+  const double hi = g.reach.hi, lo = g.reach.lo;
+  const M bound = hn::Or(distance2 > square(hi + 2e-9 * size), distance2 < square(lo - 2e-9 * size));
+  const M kept = hn::And(distance2 <= square(hi + 0.5e-9 * size), distance2 >= square(lo - 0.5e-9 * size));
+  out.to_scalar = hn::Not(hn::Or(bound, kept));
+  V outside = zero;
+  if (!hn::AllFalse(d, bound)) {
+    const V distance = hn::Sqrt(distance2);
+    outside = hn::Max(distance - hn::Set(d, hi), hn::Set(d, lo) - distance);
+  }
+  out.unreachable = hn::Not(None(d));
+  out.outside_travel = None(d);
+  out.residual = outside;
+  if (hn::AllTrue(d, bound)) return;
+  M band = None(d);  // the closed form's, rules' and travel's: where the closed form decides
+  M missed = None(d);
+  V miss = zero;
+  Candidate c[2];
+  // Where no lane's leg closes, its candidates are not needed (the residual is).
+  const auto none_closes = [&] {
+    if (!hn::AllFalse(d, hn::AndNot(bound, hn::Not(missed)))) return false;
+    out.to_scalar = hn::Or(out.to_scalar, hn::AndNot(bound, band));
+    out.residual = hn::IfThenElse(bound, outside, miss);
+    return true;
+  };
+  if (g.pattern == LegPattern::CrankRod) {
+    const V3 dv = w - Splat(d, g.origin);
+    const V du = Dot(Splat(d, g.u), dv), dw = Dot(Splat(d, g.v), dv);
+    const V R = hn::Sqrt(du * du + dw * dw), dd = Dot(dv, dv) + hn::Set(d, g.rho * g.rho);
+    const V two_rho_R = hn::Set(d, 2 * g.rho) * R, L = hn::Set(d, g.rod);
+    // L < nearest = sqrt(dd - 2 rho R) or L > farthest = sqrt(dd + 2 rho R),
+    // on the squares; |L - nearest| < 1e-9 size implies |L^2 - nearest^2| <
+    // 1e-9 size (2 L + 1e-9 size) (the band, likewise for farthest).
+    const V near2 = dd - two_rho_R, far2 = dd + two_rho_R, L2 = hn::Set(d, g.rod * g.rod);
+    missed = hn::Or(L2 < near2, L2 > far2);
+    const V tiny2 = hn::Set(d, 1e-9 * size * (2 * g.rod + 1e-9 * size));
+    band = hn::Or(hn::Or(hn::Abs(L2 - near2) < tiny2, hn::Abs(L2 - far2) < tiny2), R < hn::Set(d, 1e-9 * size));
+    if (!hn::AllFalse(d, missed)) {
+      const V nearest = hn::Sqrt(hn::Max(zero, near2)), farthest = hn::Sqrt(far2);
+      miss = hn::Max(nearest - L, L - farthest);
+    }
+    if (none_closes()) return;
+    const V inv_R = one / R;
+    const V cr = hn::Min(one, hn::Max(hn::Neg(one), (dd - L * L) * hn::Set(d, 0.5 / g.rho) * inv_R));
+    const V sr = hn::Sqrt(hn::Max(zero, (one - cr) * (one + cr)));
+    const V cphi = du * inv_R, sphi = dw * inv_R;
+    for (int k = 0; k < 2; ++k) {
+      const V sign = hn::Set(d, k == 0 ? 1.0 : -1.0);
+      c[k].c = cphi * cr - sign * sphi * sr;
+      c[k].s = sphi * cr + sign * cphi * sr;
+      c[k].ball = Splat(d, g.origin) + hn::Set(d, g.rho) * (c[k].c * Splat(d, g.u) + c[k].s * Splat(d, g.v));
+      c[k].axis = Splat(d, g.axis);
+      c[k].q = zero;
+      c[k].sigma = one;
+    }
+  } else if (g.pattern == LegPattern::SlideRod) {
+    const V3 gap = Splat(d, g.origin) - w;
+    const V b = Dot(Splat(d, g.axis), gap), h2 = Dot(gap, gap) - b * b, L2 = hn::Set(d, g.rod * g.rod);
+    missed = h2 > L2;
+    if (!hn::AllFalse(d, missed)) miss = hn::Sqrt(hn::Max(zero, h2)) - hn::Set(d, g.rod);
+    band = hn::Abs(h2 - L2) < hn::Set(d, 1e-9 * size * size);
+    if (none_closes()) return;
+    const V root = hn::Sqrt(hn::Max(zero, L2 - h2));
+    for (int k = 0; k < 2; ++k) {
+      c[k].q = hn::Neg(b) + (k == 0 ? root : hn::Neg(root));
+      c[k].ball = Splat(d, g.origin) + c[k].q * Splat(d, g.axis);
+      c[k].axis = Splat(d, g.axis);
+      c[k].c = c[k].s = zero;
+      c[k].sigma = one;
+    }
+  } else {  // extensible
+    const V3 dv = w - Splat(d, g.origin);
+    const V n = hn::Sqrt(Dot(dv, dv));
+    band = n < hn::Set(d, 1e-9 * size);
+    if (none_closes()) return;
+    const V inv_n = one / n;
+    for (int k = 0; k < 2; ++k) {
+      c[k].sigma = hn::Set(d, k == 0 ? 1.0 : -1.0);
+      c[k].q = c[k].sigma * n - hn::Set(d, g.offset);
+      c[k].ball = Splat(d, g.origin);
+      c[k].axis = (c[k].sigma * inv_n) * dv;
+      c[k].c = c[k].s = zero;
+    }
+  }
+  M decided_band = band;
+  for (Candidate& k : c) {
+    k.rc = k.rs = zero;
+    Decide(d, g, size, w, anchor, k, decided_band);
+  }
+  const M closes = hn::AndNot(bound, hn::Not(missed));
+  // Bands count only where they could decide: the closed form's where the
+  // bounds let it run, the rules' and travel's where it closes.
+  out.to_scalar = hn::Or(out.to_scalar, hn::AndNot(bound, hn::Or(band, hn::And(closes, decided_band))));
+  const M within0 = hn::And(c[0].match, c[0].inside), within1 = hn::And(c[1].match, c[1].inside);
+  const M take1 = hn::AndNot(within0, hn::Or(within1, hn::AndNot(c[0].match, c[1].match)));
+  const M on_branch = hn::Or(c[0].match, c[1].match);
+  out.unreachable = hn::Or(bound, hn::Or(missed, hn::Not(on_branch)));
+  out.outside_travel = hn::AndNot(hn::Or(within0, within1), hn::Not(out.unreachable));
+  out.residual = hn::IfThenElse(bound, outside, hn::IfThenElse(missed, miss, zero));
+  Candidate& a = out.at;
+  a.ball = Select(take1, c[1].ball, c[0].ball);
+  a.axis = Select(take1, c[1].axis, c[0].axis);
+  a.q = hn::IfThenElse(take1, c[1].q, c[0].q);
+  a.c = hn::IfThenElse(take1, c[1].c, c[0].c);
+  a.s = hn::IfThenElse(take1, c[1].s, c[0].s);
+  a.rc = hn::IfThenElse(take1, c[1].rc, c[0].rc);
+  a.rs = hn::IfThenElse(take1, c[1].rs, c[0].rs);
+  a.sigma = hn::IfThenElse(take1, c[1].sigma, c[0].sigma);
+}
+
+// Gauss-Jordan with partial pivoting (each column's largest entry by
+// compare-and-swap): inv = a^-1.
+template <int N>
+HWY_INLINE void Invert(D d, V (&a)[N][N], V (&inv)[N][N]) {
+  for (int i = 0; i < N; ++i)
+    for (int j = 0; j < N; ++j) inv[i][j] = hn::Set(d, i == j ? 1.0 : 0.0);
+  for (int k = 0; k < N; ++k) {
+    for (int i = k + 1; i < N; ++i) {
+      const M swap = hn::Abs(a[i][k]) > hn::Abs(a[k][k]);
+      for (int j = 0; j < N; ++j) {
+        const V ak = a[k][j], ik = inv[k][j];
+        a[k][j] = hn::IfThenElse(swap, a[i][j], ak);
+        a[i][j] = hn::IfThenElse(swap, ak, a[i][j]);
+        inv[k][j] = hn::IfThenElse(swap, inv[i][j], ik);
+        inv[i][j] = hn::IfThenElse(swap, ik, inv[i][j]);
+      }
+    }
+    const V scale = hn::Set(d, 1.0) / a[k][k];
+    for (int j = 0; j < N; ++j) {
+      a[k][j] = a[k][j] * scale;
+      inv[k][j] = inv[k][j] * scale;
+    }
+    for (int i = 0; i < N; ++i) {
+      if (i == k) continue;
+      const V factor = a[i][k];
+      for (int j = 0; j < N; ++j) {
+        a[i][j] = hn::NegMulAdd(factor, a[k][j], a[i][j]);
+        inv[i][j] = hn::NegMulAdd(factor, inv[k][j], inv[i][j]);
+      }
+    }
+  }
+}
+
+template <int N>
+HWY_INLINE V NormOne(D d, const V (&a)[N][N]) {
+  V largest = hn::Zero(d);
+  for (int j = 0; j < N; ++j) {
+    V sum = hn::Abs(a[0][j]);
+    for (int i = 1; i < N; ++i) sum = sum + hn::Abs(a[i][j]);
+    largest = hn::Max(largest, sum);
+  }
+  return largest;
+}
+
+// Whether two eigenvalues of M^T M, M = [c0 c1 c2], lie within about 1e-4
+// of their spread of each other: there ConditionNumber's quadratic for the two
+// smaller ones keeps only about the square root of the rounding (1e-8), so
+// such lanes go to the scalar path. The test: the discriminant of the
+// characteristic polynomial of B = M^T M - q I (q the eigenvalues' mean),
+// the product of the squared differences of the eigenvalues, against p^6
+// (p^2 their variance over two).
+HWY_INLINE M NearDoubleEigenvalue(D d, const V* c0, const V* c1, const V* c2) {
+  const auto dot = [](const V* a, const V* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+  const V g00 = dot(c0, c0), g11 = dot(c1, c1), g22 = dot(c2, c2), g01 = dot(c0, c1), g02 = dot(c0, c2), g12 = dot(c1, c2);
+  const V q = (g00 + g11 + g22) * hn::Set(d, 1.0 / 3.0);
+  const V b0 = g00 - q, b1 = g11 - q, b2 = g22 - q;
+  const V off = g01 * g01 + g02 * g02 + g12 * g12;
+  const V p2 = (b0 * b0 + b1 * b1 + b2 * b2 + hn::Set(d, 2.0) * off) * hn::Set(d, 1.0 / 6.0);
+  const V minors = b0 * b1 + b0 * b2 + b1 * b2 - off;
+  const V det = b0 * (b1 * b2 - g12 * g12) - g01 * (g01 * b2 - g12 * g02) + g02 * (g01 * g12 - b1 * g02);
+  const V discriminant = hn::Neg(hn::Set(d, 4.0) * minors * minors * minors) - hn::Set(d, 27.0) * det * det;
+  return hn::Not(discriminant >= hn::Set(d, 1e-6) * p2 * p2 * p2);
+}
+
+// c(M) of the 3 x n matrix with rows r0, r1, r2 as c(R), R its transpose's
+// QR factor by modified Gram-Schmidt; `to_scalar` where R is far from unit scale.
+template <int N>
+HWY_INLINE V RowsCondition(D d, V (&r)[3][N], M& to_scalar) {
+  const auto dot = [&](int a, int b) {
+    V s = r[a][0] * r[b][0];
+    for (int j = 1; j < N; ++j) s = hn::MulAdd(r[a][j], r[b][j], s);
+    return s;
+  };
+  const V zero = hn::Zero(d);
+  V c0[3] = {zero, zero, zero}, c1[3] = {zero, zero, zero}, c2[3] = {zero, zero, zero};
+  c0[0] = hn::Sqrt(dot(0, 0));
+  V inv = hn::Set(d, 1.0) / c0[0];
+  for (int j = 0; j < N; ++j) r[0][j] = r[0][j] * inv;
+  c1[0] = dot(0, 1);
+  c2[0] = dot(0, 2);
+  for (int j = 0; j < N; ++j) {
+    r[1][j] = hn::NegMulAdd(c1[0], r[0][j], r[1][j]);
+    r[2][j] = hn::NegMulAdd(c2[0], r[0][j], r[2][j]);
+  }
+  c1[1] = hn::Sqrt(dot(1, 1));
+  inv = hn::Set(d, 1.0) / c1[1];
+  for (int j = 0; j < N; ++j) r[1][j] = r[1][j] * inv;
+  c2[1] = dot(1, 2);
+  for (int j = 0; j < N; ++j) r[2][j] = hn::NegMulAdd(c2[1], r[1][j], r[2][j]);
+  c2[2] = hn::Sqrt(dot(2, 2));
+  to_scalar = hn::Or(to_scalar, hn::Or(hn::Not(UnitRange(d, c0, c1, c2)), NearDoubleEigenvalue(d, c0, c1, c2)));
+  return ConditionNumber(d, c0, c1, c2);
+}
+
+struct Extras {  // per block sample, beside simd::Block
+  double joint_margin[kBlock];
+};
+
+template <int N>
+void Geometry(const LaneDevice& dev, const Grid& g, const detail::GridRow& row, int first, int count, Block& b,
+              Extras& e) {
+  const D d;
+  const double size = dev.size;
+  const V zero = hn::Zero(d), one = hn::Set(d, 1.0), inf = hn::Inf(d);
+  const Eigen::Vector3d p0 = row.point(g, 0);
+  const int axis = row.axis;
+  const V origin = hn::Set(d, g.origin(axis)), spacing = hn::Set(d, g.spacing(axis));
+  constexpr double kDeg = 180 / M_PI;
+  for (int t = 0; t < count; t += int(hn::Lanes(d))) {
+    // Grid::point's coordinates, bit for bit.
+    const V along = origin + (hn::Iota(d, double(row.start[axis] + first + t)) + hn::Set(d, 0.5)) * spacing;
+    const V3 p{axis == 0 ? along : hn::Set(d, p0.x()), axis == 1 ? along : hn::Set(d, p0.y()),
+               dev.planar ? zero : axis == 2 ? along : hn::Set(d, p0.z())};
+    M to_scalar = None(d), unreachable = None(d), outside_travel = None(d);
+    V unreachable_margin = inf;
+    LegLanes legs[N];
+    for (int i = 0; i < N; ++i) {
+      SolveLeg(d, dev.legs[std::size_t(i)], size, p, legs[i]);
+      to_scalar = hn::Or(to_scalar, legs[i].to_scalar);
+      unreachable = hn::Or(unreachable, legs[i].unreachable);
+      outside_travel = hn::Or(outside_travel, legs[i].outside_travel);
+      unreachable_margin = hn::Min(unreachable_margin, hn::IfThenElse(legs[i].unreachable, hn::Neg(legs[i].residual), inf));
+    }
+    const M assembled = hn::Not(unreachable);
+    V status = hn::IfThenElse(unreachable, StatusCode(d, Status::Unreachable),
+                              hn::IfThenElse(outside_travel, StatusCode(d, Status::OutOfLimits), StatusCode(d, Status::Ok)));
+    V margin = unreachable_margin, joint_margin = hn::NaN(d);
+    V cond = inf, cond_orientation = inf;
+    if (!hn::AllFalse(d, assembled)) {
+      M near = None(d);  // a threshold the scalar path decides at, where the device assembles
+      V Jx[N][N], jq[N];
+      V serial = inf, travel = inf, cones = inf;
+      for (int i = 0; i < N; ++i) {
+        const LaneLeg& g = dev.legs[std::size_t(i)];
+        const Candidate& a = legs[i].at;
+        const V3 f = legs[i].end - a.ball;
+        const V f_norm = hn::Sqrt(Dot(f, f)), inv_f = one / f_norm;
+        near = hn::Or(near, f_norm < hn::Set(d, 1e-6 * size));
+        const V3 pointing = (a.sigma * inv_f) * f;  // where the ball points its link
+        if (g.universal) {
+          const V3 first_axis = g.pattern == LegPattern::CrankRod ? Turn(d, g.axis, g.universal_axis, a.c, a.s)
+                                                                   : Splat(d, g.universal_axis);
+          const V3 k = Cross(first_axis, pointing);
+          near = hn::Or(near, Dot(k, k) < hn::Set(d, 1e-12));
+        }
+        for (const LaneLeg::Cone& cone : g.cones) {
+          const V3 rod = hn::Set(d, cone.along) * pointing;
+          V3 socket = rod, link = Splat(d, cone.fixed);
+          if (cone.at_ball) {
+            socket = g.pattern == LegPattern::CrankRod ? Turn(d, g.axis, cone.fixed, a.c, a.s) : Splat(d, cone.fixed);
+            link = rod;
+          }
+          const V3 k = Cross(socket, link);
+          const V m = hn::Set(d, cone.half_angle_deg) - Atan2(d, hn::Sqrt(Dot(k, k)), Dot(socket, link)) * hn::Set(d, kDeg);
+          near = hn::Or(near, hn::Abs(m) < hn::Set(d, 1e-7));
+          cones = hn::Min(cones, m);
+        }
+        // The force along the rod through the end's centre, as closure rows
+        // [(w - r) x f; f size] of unit norm; Jx's row and Jq's entry.
+        const V3 moment = Cross(Splat(d, g.end_offset - g.anchor_offset), f);
+        const V inv_N = one / hn::Sqrt(Dot(moment, moment) + hn::Set(d, size * size) * Dot(f, f));
+        const V3 turning = Cross(Splat(d, g.end_offset), f);
+        for (int j = 0; j < N; ++j) {
+          const int c = dev.coordinate[std::size_t(j)];
+          Jx[i][j] = (c < 3 ? Get(f, c) : Get(turning, c - 3)) * inv_N;
+        }
+        if (g.pattern == LegPattern::CrankRod)
+          jq[i] = Dot(a.axis, Cross(legs[i].end - Splat(d, g.actuator_centre), f)) * inv_N;
+        else
+          jq[i] = Dot(a.axis, f) * inv_N;
+        near = hn::Or(near, hn::Abs(jq[i]) < hn::Set(d, 1e-6));
+        serial = hn::Min(serial, hn::Abs(jq[i]) * hn::Set(d, g.prismatic ? size * size : size));
+        if (g.limited) {
+          const V left = g.prismatic ? hn::Min(a.q - hn::Set(d, g.lo), hn::Set(d, g.hi) - a.q)
+                                     : (hn::Set(d, g.half_width) - Atan2(d, hn::Abs(a.rs), a.rc)) * hn::Set(d, size);
+          travel = hn::Min(travel, left);
+        }
+      }
+      if (dev.cones) {
+        joint_margin = hn::IfThenElse(assembled, cones, joint_margin);
+        status = hn::IfThenElse(hn::And(assembled, cones < zero), StatusCode(d, Status::OutOfLimits), status);
+      }
+      V inv[N][N];
+      const V norm = NormOne(d, Jx);
+      Invert(d, Jx, inv);
+      const V kappa = norm * NormOne(d, inv);
+      near = hn::Or(near, hn::Not(kappa < hn::Set(d, 1e8)));
+      V J[N][N];  // -Jx^-1 Jq
+      for (int r = 0; r < N; ++r)
+        for (int c = 0; c < N; ++c) J[r][c] = hn::Neg(inv[r][c] * jq[c]);
+      const M ok = status == StatusCode(d, Status::Ok);
+      if (!hn::AllFalse(d, ok)) {
+        if constexpr (N == 2) {
+          // sigma_1^2 = (|J|_F^2 + sqrt((|J|_F^2 - 2 det)(|J|_F^2 + 2 det))) / 2, c(J) = sigma_1^2 / |det|,
+          // both factors as sums of squares (no cancellation).
+          const V a = J[0][0], b2 = J[0][1], c2 = J[1][0], e = J[1][1];
+          const V det = a * e - b2 * c2;
+          const V minus = (a - e) * (a - e) + (b2 + c2) * (b2 + c2), plus = (a + e) * (a + e) + (b2 - c2) * (b2 - c2);
+          const V largest = hn::Set(d, 0.5) * (hn::Set(d, 0.5) * (minus + plus) + hn::Sqrt(minus * plus));
+          const V c = largest / hn::Abs(det);
+          near = hn::Or(near, hn::And(ok, hn::Not(hn::And(hn::IsFinite(c), det != zero))));
+          cond = hn::IfThenElse(ok, c, inf);
+        } else if constexpr (N == 3) {
+          V c0[3] = {J[0][0], J[1][0], J[2][0]}, c1[3] = {J[0][1], J[1][1], J[2][1]}, c2[3] = {J[0][2], J[1][2], J[2][2]};
+          near = hn::Or(near, hn::And(ok, hn::Or(hn::Not(UnitRange(d, c0, c1, c2)), NearDoubleEigenvalue(d, c0, c1, c2))));
+          cond = hn::IfThenElse(ok, ConditionNumber(d, c0, c1, c2), inf);
+        } else {
+          V rows[2][3][N];
+          int counts[2] = {0, 0};
+          for (int r = 0; r < N; ++r) {
+            const int part = dev.coordinate[std::size_t(r)] < 3 ? 0 : 1;
+            for (int c = 0; c < N; ++c) rows[part][counts[part]][c] = J[r][c];
+            ++counts[part];
+          }
+          M scale = None(d);
+          cond = hn::IfThenElse(ok, RowsCondition(d, rows[0], scale), inf);
+          cond_orientation = hn::IfThenElse(ok, RowsCondition(d, rows[1], scale), inf);
+          near = hn::Or(near, hn::And(ok, scale));
+        }
+      }
+      to_scalar = hn::Or(to_scalar, hn::And(assembled, near));
+      const V joints = dev.cones ? cones * hn::Set(d, M_PI / 180 * size) : inf;
+      margin = hn::IfThenElse(assembled, hn::Min(hn::Min(serial, travel), joints), margin);
+    }
+    hn::Store(status, d, b.status + t);
+    hn::Store(margin, d, b.reach_margin + t);
+    hn::Store(hn::IfThenElse(assembled, zero, inf), d, b.residual + t);
+    hn::Store(cond, d, b.cond + t);
+    hn::Store(cond_orientation, d, b.cond_orientation + t);
+    hn::Store(joint_margin, d, e.joint_margin + t);
+    hn::Store(Flag(d, to_scalar), d, b.to_scalar + t);
+  }
+}
+
+void SampleRowLanes(const LaneDevice& dev, const Grid& g, const detail::GridRow& row, const detail::FieldRowOut& out,
+                    float* joint_margin, std::uint8_t method, const LaneFallback& fallback, LaneValues* values) {
+  const MethodRule rule{double(method), false};
+  Block b;
+  Extras e;
+  if (values)
+    for (auto* v : {&values->cond, &values->cond_orientation, &values->reach_margin})
+      v->assign(std::size_t(row.count), std::numeric_limits<double>::quiet_NaN());
+  for (int first = 0; first < row.count; first += kBlock) {
+    const int n = std::min(kBlock, row.count - first);
+    if (dev.legs.size() == 2) Geometry<2>(dev, g, row, first, n, b, e);
+    else if (dev.legs.size() == 3) Geometry<3>(dev, g, row, first, n, b, e);
+    else Geometry<6>(dev, g, row, first, n, b, e);
+    if (joint_margin)
+      for (int t = 0; t < n; ++t) joint_margin[first + t] = float(e.joint_margin[t]);
+    if (values)
+      for (int t = 0; t < n; ++t) {
+        if (b.to_scalar[t] != 0.0) continue;
+        const std::size_t i = std::size_t(first + t);
+        values->cond[i] = b.cond[t];
+        values->cond_orientation[i] = b.cond_orientation[t];
+        values->reach_margin[i] = b.reach_margin[t];
+      }
+    StoreBlock(b, first, n, row.count, false, rule, out, [&](int i) {
+      double jm = 0;
+      const FieldSample s = fallback(i, jm);
+      if (joint_margin) joint_margin[i] = float(jm);
+      return s;
+    });
+  }
+}
+
+}  // namespace linkscape::described::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace linkscape::described {
+
+HWY_EXPORT(SampleRowLanes);
+
+void sample_row_lanes(const LaneDevice& device, const Grid& grid, const detail::GridRow& row,
+                      const detail::FieldRowOut& out, float* joint_margin, std::uint8_t method,
+                      const LaneFallback& fallback, LaneValues* values) {
+  HWY_DYNAMIC_DISPATCH(SampleRowLanes)(device, grid, row, out, joint_margin, method, fallback, values);
+}
+
+}  // namespace linkscape::described
+#endif  // HWY_ONCE

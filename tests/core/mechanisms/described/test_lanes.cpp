@@ -1,0 +1,305 @@
+// The SIMD lanes of described devices' fields against the scalar closed path
+// (IK method closed-scalar): on every shipped point-leg and planar-dyad description and on
+// random designs (parameters drawn within their ranges), each branch, a box
+// reaching past the workspace and a slice, on the best instruction set and
+// on the portable baseline: statuses identical sample for sample, c(J),
+// cond(Jo), reach margin, residual and joint margin within 1e-9 relative in
+// double, so as stored (float) equal or one float step apart. And which
+// devices the lanes serve, and that they do serve.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <random>
+#include <string>
+
+#include "core/field.h"
+#include "core/mechanism.h"
+#include "core/mechanisms/described/chain.h"
+#include "core/mechanisms/described/kinematics.h"
+#include "core/mechanisms/described/lanes.h"
+#include "core/mechanisms/described/mechanism.h"
+#include "core/preset.h"
+#include "core/simd.h"
+
+namespace linkscape {
+namespace {
+
+constexpr std::uint8_t kLanesCode = 2;  // method_names: closed, newton, lanes
+
+// Equal, within 1e-9 relative, or one float step apart (each side rounds its
+// double to float once); NaN matches NaN.
+bool agree(float a, float b) {
+  if (std::isnan(a) || std::isnan(b)) return std::isnan(a) && std::isnan(b);
+  if (a == b) return true;
+  if (std::isinf(a) || std::isinf(b)) return false;
+  return std::abs(double(a) - double(b)) <= 1e-9 * std::max(std::abs(double(a)), std::abs(double(b))) ||
+         std::nextafter(a, b) == b;
+}
+
+Field field(const Mechanism& m, const Grid& g, const Eigen::VectorXd& fixed, const std::string& method, int branch) {
+  IkOptions o;
+  o.method = method;
+  o.branch = branch;
+  std::optional<Field> f = m.compute_field(g, fixed, o, 2, {});
+  if (!f) throw std::runtime_error("field cancelled");
+  return *f;
+}
+
+struct Tally {
+  std::size_t ok = 0, lanes = 0;  // samples ok, and of them decided in lanes (the others carry no method)
+};
+
+// Lanes against the scalar closed path, sample for sample; returns how many samples the lanes served.
+void compare(const Field& lanes, const Field& scalar, const std::string& what, Tally& tally) {
+  ASSERT_EQ(lanes.method, "lanes") << what;
+  ASSERT_EQ(scalar.method, "closed") << what;
+  const std::size_t n = lanes.grid.size();
+  int reported = 0;
+  auto report = [&](std::size_t i, const char* name, double a, double b) {
+    if (reported++ < 5)
+      ADD_FAILURE() << what << " sample " << i << " at " << lanes.grid.point(int(i % std::size_t(lanes.grid.dims[0])),
+                                                                               int(i / std::size_t(lanes.grid.dims[0]) % std::size_t(lanes.grid.dims[1])),
+                                                                               int(i / std::size_t(lanes.grid.dims[0] * lanes.grid.dims[1])))
+                                                                   .transpose()
+                    << ": " << name << " lanes " << a << ", scalar " << b;
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    if (lanes.status[i] != scalar.status[i]) report(i, "status", lanes.status[i], scalar.status[i]);
+    if (!agree(lanes.cond[i], scalar.cond[i])) report(i, "cond", lanes.cond[i], scalar.cond[i]);
+    if (!agree(lanes.reach_margin[i], scalar.reach_margin[i])) report(i, "reach margin", lanes.reach_margin[i], scalar.reach_margin[i]);
+    if (!agree(lanes.residual[i], scalar.residual[i])) report(i, "residual", lanes.residual[i], scalar.residual[i]);
+    if (!lanes.cond_orientation.empty() && !agree(lanes.cond_orientation[i], scalar.cond_orientation[i]))
+      report(i, "cond(Jo)", lanes.cond_orientation[i], scalar.cond_orientation[i]);
+    for (std::size_t e = 0; e < lanes.extras.size(); ++e)
+      if (!agree(lanes.extras[e].values[i], scalar.extras[e].values[i]))
+        report(i, lanes.extras[e].name.c_str(), lanes.extras[e].values[i], scalar.extras[e].values[i]);
+    if (lanes.reachable[i] != scalar.reachable[i]) report(i, "reachable", lanes.reachable[i], scalar.reachable[i]);
+    tally.ok += lanes.status[i] == std::uint8_t(Status::Ok);
+    tally.lanes += lanes.method_used[i] == kLanesCode;
+  }
+}
+
+// The default box, a box about home (mostly inside the workspace) and a
+// slice through home, every branch.
+void check_device(const Mechanism& m, const std::string& what, Tally& tally, bool turned = false) {
+  Eigen::VectorXd fixed = m.home_task();
+  if (turned && fixed.size() == 6) fixed.tail(3) << 0.08, -0.05, 0.12;
+  const Eigen::AlignedBox3d box = m.default_box();
+  const Eigen::Vector3d home = m.home_task().head(3), near = Eigen::Vector3d::Constant(0.3 * m.size());
+  const Grid whole = Grid::box(box.min(), box.max(), {14, 13, 12});
+  const Grid inside = Grid::box(home - near, home + near, {12, 11, 10});
+  const auto [normal, position] = m.default_slice_plane(m.home_task());
+  const std::array<Axis, 2> axes = Grid::slice_axes(normal);
+  const int u = int(axes[0]), v = int(axes[1]);
+  const Grid slice = Grid::slice(normal, position, box.min()(u), box.max()(u), box.min()(v), box.max()(v), 48, 48);
+  const int branches = int(m.info().branches.size());
+  for (int b = 0; b < branches; ++b)
+    for (const Grid* g : {&whole, &inside, &slice}) {
+      const Field scalar = field(m, *g, fixed, "closed-scalar", b);
+      for (const char* target : {"", "baseline"}) {
+        simd::limit_targets(target);
+        const Field lanes = field(m, *g, fixed, "closed", b);
+        compare(lanes, scalar, what + " branch " + std::to_string(b) + (g == &whole ? " box" : g == &inside ? " inside" : " slice") +
+                                   " on " + simd::current_target(), tally);
+      }
+      simd::limit_targets("");
+    }
+}
+
+const char* const kPointLegDevices[] = {"delta-described", "hexapod-rus", "stewart", "linear-delta", "five-bar", "three-rrr"};
+
+TEST(DescribedLanes, ShippedPointLegDevicesAgreeWithTheScalarClosedPath) {
+  for (const char* name : kPointLegDevices) {
+    Tally tally;
+    const auto m = make_mechanism(load_preset(name));
+    check_device(*m, name, tally);
+    if (std::string(name) == "stewart") check_device(*m, "stewart turned", tally, true);
+    // The lanes decide most samples; the scalar path only a band near thresholds.
+    EXPECT_GT(double(tally.lanes), 0.95 * double(tally.ok)) << name;
+    std::printf("%s: %zu samples ok, %zu of them in lanes\n", name, tally.ok, tally.lanes);
+  }
+}
+
+// The lanes' doubles (before the Field's floats) against the scalar closed
+// path's own, computed here from Kinematics: inverse, jacobian, reach margin
+// and the condition numbers by SVD, on the default box and a box about
+// home, every branch. Returns the worst relative differences.
+struct Worst {
+  double cond = 0, margin = 0;
+  double cond_clustered = 0;  // where two singular values lie within 1e-3 relative of each other
+  double at_cond = 0;         // c(J) where the worst c(J) difference is
+  std::size_t compared = 0;
+};
+Worst compare_doubles(const Preset& preset) {
+  using namespace described;
+  const Kinematics kin(build_model(preset.description, preset.parameters, preset.limits_deg, preset.length_unit));
+  const Model& model = kin.model();
+  const auto mechanism = linkscape::make_mechanism(preset);
+  const Eigen::AlignedBox3d box = mechanism->default_box();
+  const Eigen::Vector3d home = mechanism->home_task().head(3), about = Eigen::Vector3d::Constant(0.3 * model.size);
+  const int rows_of_task = model.planar ? 2 : 3;
+  Worst worst;
+  for (int branch = 0; branch < kin.branches(); ++branch) {
+    const std::optional<LaneDevice> device = lane_device(kin, model.home, branch);
+    if (!device) throw std::runtime_error("not in lanes");
+    for (const Grid& g : {Grid::box(box.min(), box.max(), {17, 15, model.planar ? 1 : 13}),
+                          Grid::box(home - about, home + about, {16, 14, model.planar ? 1 : 12})}) {
+      const std::size_t n = std::size_t(g.dims[0]);
+      std::vector<float> cond(n), margin(n), residual(n), orientation(n);
+      std::vector<std::uint8_t> reachable(n), status(n), method(n);
+      std::vector<std::uint16_t> iterations(n);
+      const detail::FieldRowOut out{cond.data(), margin.data(), residual.data(), reachable.data(),
+                                    status.data(), iterations.data(), method.data(), orientation.data()};
+      for (int k = 0; k < g.dims[2]; ++k)
+        for (int j = 0; j < g.dims[1]; ++j) {
+          const detail::GridRow row{0, {0, j, k}, g.dims[0], g.index(0, j, k)};
+          LaneValues values;
+          sample_row_lanes(*device, g, row, out, nullptr, kLanesCode,
+                           [](int, double& jm) { return jm = 0, FieldSample{}; }, &values);
+          for (int t = 0; t < row.count; ++t) {
+            if (std::isnan(values.reach_margin[std::size_t(t)])) continue;  // the scalar path's sample
+            Eigen::VectorXd x = model.home;
+            x.head(rows_of_task) = row.point(g, t).head(rows_of_task);
+            const PoseSolution solved = kin.inverse(x, branch, 1e-10);
+            std::optional<JacobianParts> parts;
+            if (assembled(solved)) parts = kin.jacobian(x, solved);
+            const double margin_ref = kin.reach_margin(solved, parts ? &*parts : nullptr);
+            const double lane_margin = values.reach_margin[std::size_t(t)];
+            worst.margin = std::max(worst.margin, std::abs(lane_margin - margin_ref) / std::max(std::abs(margin_ref), 1e-6 * model.size));
+            ++worst.compared;
+            if (status[std::size_t(t)] != std::uint8_t(Status::Ok)) continue;
+            EXPECT_EQ(parts ? parts->status : Status::Unreachable, Status::Ok);
+            std::vector<Eigen::MatrixXd> blocks;
+            if (parts->J.rows() == 6) {
+              Eigen::MatrixXd Jp(3, 6), Jo(3, 6);
+              int p = 0, o = 0, r = 0;
+              for (const TaskCoordinate& c : model.task)
+                if (c.platform_coordinate >= 0) (c.platform_coordinate < 3 ? Jp.row(p++) : Jo.row(o++)) = parts->J.row(r++);
+              blocks = {Jp, Jo};
+            } else {
+              blocks = {parts->J};
+            }
+            const double lane[2] = {values.cond[std::size_t(t)], values.cond_orientation[std::size_t(t)]};
+            for (std::size_t e = 0; e < blocks.size(); ++e) {
+              const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXd>(blocks[e]).singularValues();
+              const double ref = sv(0) / sv(sv.size() - 1);
+              double gap = 1;
+              for (Eigen::Index i = 0; i + 1 < sv.size(); ++i) gap = std::min(gap, (sv(i) - sv(i + 1)) / sv(i));
+              const double d = std::abs(lane[e] - ref) / ref;
+              if (gap < 1e-3) worst.cond_clustered = std::max(worst.cond_clustered, d);
+              else if (d > worst.cond) worst.cond = d, worst.at_cond = ref;
+            }
+          }
+        }
+    }
+  }
+  return worst;
+}
+
+// Where two singular values coincide (symmetric poses: the Stewart
+// platform's and the Delta's axis) c(J) in closed form would keep only about
+// the square root of the rounding; the lanes hand those samples to the
+// scalar path, and the test checks them apart.
+TEST(DescribedLanes, DoublesAgreeWithTheScalarClosedPath) {
+  for (const char* name : kPointLegDevices) {
+    const Worst w = compare_doubles(load_preset(name));
+    std::printf("%s: %zu samples, worst c(J) %.2e (at c(J) %.3g), %.2e where two singular values coincide, worst reach "
+                "margin %.2e (relative)\n",
+                name, w.compared, w.cond, w.at_cond, w.cond_clustered, w.margin);
+    EXPECT_GT(w.compared, 1000u) << name;
+    EXPECT_LE(w.cond, 1e-9) << name;
+    EXPECT_LE(w.cond_clustered, 1e-9) << name;
+    EXPECT_LE(w.margin, 1e-9) << name;
+  }
+}
+
+TEST(DescribedLanes, RandomDesignsAgreeWithTheScalarClosedPath) {
+  std::mt19937_64 rng(2811);
+  for (const char* name : kPointLegDevices) {
+    const Preset shipped = load_preset(name);
+    const auto base = make_mechanism(shipped);
+    Tally tally;
+    int designs = 0;
+    for (int attempt = 0; attempt < 40 && designs < 4; ++attempt) {
+      Preset p = shipped;
+      for (const Quantity& q : base->info().parameters)
+        p.parameters[q.name] = std::uniform_real_distribution<double>(q.range.lo, q.range.hi)(rng);
+      std::shared_ptr<const Mechanism> m;
+      try {
+        m = make_mechanism(p);  // a design whose home does not assemble is refused
+      } catch (const std::invalid_argument&) {
+        continue;
+      }
+      ++designs;
+      check_device(*m, std::string(name) + " design " + std::to_string(designs), tally, true);
+      const Worst w = compare_doubles(p);
+      std::printf("%s design %d: worst c(J) %.2e (at c(J) %.3g), %.2e where two singular values coincide, worst reach "
+                  "margin %.2e\n", name, designs, w.cond, w.at_cond, w.cond_clustered, w.margin);
+      EXPECT_LE(w.cond, 1e-9) << name << " design " << designs;
+      EXPECT_LE(w.cond_clustered, 1e-9) << name << " design " << designs;
+      EXPECT_LE(w.margin, 1e-9) << name << " design " << designs;
+    }
+    EXPECT_GE(designs, 2) << name;
+    EXPECT_GT(double(tally.lanes), 0.9 * double(tally.ok)) << name;
+    std::printf("%s: %d random designs, %zu samples ok, %zu of them in lanes\n", name, designs, tally.ok, tally.lanes);
+  }
+}
+
+TEST(DescribedLanes, WhichDevicesTheLanesServe) {
+  for (const char* name : kPointLegDevices) {
+    const Preset p = load_preset(name);
+    EXPECT_NE(described::describe(p).find("field: lanes"), std::string::npos) << name;
+  }
+  // Other patterns, capsules: the scalar closed path for the whole field, and describe says why.
+  for (const char* name : {"pathos2-described", "falcon"}) {
+    const Preset p = load_preset(name);
+    EXPECT_NE(described::describe(p).find("field: closed, one pose at a time (not in lanes: "), std::string::npos) << name;
+    const auto m = make_mechanism(p);
+    const auto [normal, position] = m->default_slice_plane(m->home_task());
+    const Eigen::AlignedBox3d box = m->default_box();
+    const std::array<Axis, 2> axes = Grid::slice_axes(normal);
+    const int u = int(axes[0]), v = int(axes[1]);
+    const Field f = field(*m, Grid::slice(normal, position, box.min()(u), box.max()(u), box.min()(v), box.max()(v), 8, 8),
+                          m->home_task(), "closed", 0);
+    EXPECT_EQ(f.method, "closed") << name;
+    for (std::uint8_t code : f.method_used) EXPECT_NE(code, kLanesCode) << name;
+  }
+}
+
+// The described Delta's leg 0 with its platform joint on the crank's axis at
+// the rod's length from the crank circle: every crank angle closes (the
+// closed form cannot decide, the scalar path solves it numerically). The
+// lanes hand such a sample to the scalar path; its neighbours stay in lanes.
+TEST(DescribedLanes, ADegeneratePoseGoesToTheScalarPath) {
+  const auto m = make_mechanism(load_preset("delta-described"));
+  const auto p = m->parameters();
+  const double x = p.at("R") - p.at("r");
+  const double y = std::sqrt(p.at("Lb") * p.at("Lb") - p.at("La") * p.at("La"));  // |w - crank circle| = Lb
+  const Grid g = Grid::slice(Axis::Z, 0, x - 0.3, x + 0.3, y - 0.3, y + 0.3, 3, 3);  // the middle sample on the axis
+  ASSERT_LT((g.point(1, 1, 0) - Eigen::Vector3d(x, y, 0)).norm(), 1e-14);
+  const Field lanes = field(*m, g, m->home_task(), "closed", 0);
+  const Field scalar = field(*m, g, m->home_task(), "closed-scalar", 0);
+  EXPECT_EQ(lanes.method, "lanes");
+  const std::size_t middle = g.index(1, 1, 0);
+  EXPECT_NE(lanes.method_used[middle], kLanesCode);
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    EXPECT_EQ(lanes.status[i], scalar.status[i]) << i;
+    EXPECT_EQ(lanes.method_used[i], scalar.method_used[i] == 0 && i != middle ? kLanesCode : scalar.method_used[i]) << i;
+  }
+}
+
+TEST(DescribedLanes, TheKernelVariableStillSelectsTheNumericalReference) {
+  const auto m = make_mechanism(load_preset("delta-described"));
+  const Grid g = Grid::slice(Axis::Y, 0, -10, 10, -25, -5, 6, 6);
+  ::setenv("LINKSCAPE_FIELD_KERNEL", "scalar", 1);
+  const Field reference = field(*m, g, m->home_task(), "closed", 0);
+  ::unsetenv("LINKSCAPE_FIELD_KERNEL");
+  EXPECT_EQ(reference.method, "newton");
+  const Field lanes = field(*m, g, m->home_task(), "closed", 0);
+  EXPECT_EQ(lanes.method, "lanes");
+  for (std::size_t i = 0; i < g.size(); ++i) EXPECT_EQ(lanes.status[i], reference.status[i]) << i;
+}
+
+}  // namespace
+}  // namespace linkscape
