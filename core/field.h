@@ -110,7 +110,8 @@ struct Field {
   SampleArray<std::uint8_t> method_used;
   static constexpr std::uint8_t kNoMethod = 255;
   // The name of each method code (index: the code), as the device's IK
-  // methods are named (eval --method); empty where not recorded.
+  // methods are named (eval --method), and "lanes" for the samples a
+  // described device's SIMD lanes decided; empty where not recorded.
   std::vector<std::string> method_names;
   // Devices with a second measure only (a six-DOF device's orientation
   // block), else empty: cond holds the first measure and this the second;

@@ -301,5 +301,17 @@ TEST(DescribedLanes, TheKernelVariableStillSelectsTheNumericalReference) {
   for (std::size_t i = 0; i < g.size(); ++i) EXPECT_EQ(lanes.status[i], reference.status[i]) << i;
 }
 
+// A method the device does not have is refused naming the three it has.
+TEST(DescribedLanes, AnUnknownMethodNamesTheThreeMethods) {
+  const auto m = make_mechanism(load_preset("delta-described"));
+  const Grid g = Grid::slice(Axis::Y, 0, -10, 10, -25, -5, 4, 4);
+  try {
+    field(*m, g, m->home_task(), "magic", 0);
+    FAIL() << "an unknown method was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("(known: closed, closed-scalar, newton)"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace linkscape
