@@ -4,7 +4,6 @@
 #include <limits>
 #include <stdexcept>
 
-#include <atomic>
 #include <cmath>
 #include <numbers>
 
@@ -13,45 +12,6 @@
 #include "core/simd.h"
 
 namespace linkscape::delta {
-namespace {
-
-// A scalar pass over a row the kernel filled, where the model states cones
-// (stops.h): each sample's joint margin (NaN where a leg does not close on
-// the field's branch, which a Newton field's samples are taken on too); an
-// ok sample beyond a cone becomes out-of-limits, its reach margin at most
-// the size times the cone's margin (as Mechanism::reach_margin).
-void cones_of_row(const Model& m, const FieldRequest& req, const detail::GridRow& row, const detail::FieldRowOut& out,
-                  float* joint_margin) {
-  std::atomic_thread_fence(std::memory_order_seq_cst);  // after the kernel's streaming stores
-  for (int t = 0; t < row.count; ++t) {
-    float margin = std::numeric_limits<float>::quiet_NaN();
-    if (out.status[t] != std::uint8_t(Status::Unreachable)) {
-      // Each leg's closed form on the field's branch, as inverse() solves it.
-      const Eigen::Vector3d p = row.point(req.grid, t);
-      Eigen::Vector3d q;
-      bool closes = true;
-      for (int leg = 0; leg < kLegCount && closes; ++leg) {
-        const LegSolution s = leg_inverse(m, leg, p, (req.ik.branch >> leg) & 1);
-        closes = s.status != Status::Unreachable;
-        q(leg) = s.q;
-      }
-      if (closes) {
-        const JointStops st = joint_stops(m, q, p);
-        margin = float(st.margin_deg);
-        out.reach_margin[t] = std::min(out.reach_margin[t], float(m.size() * st.margin_deg * std::numbers::pi / 180));
-        if (!st.hold() && out.status[t] == std::uint8_t(Status::Ok)) {
-          out.status[t] = std::uint8_t(Status::OutOfLimits);
-          out.reachable[t] = 0;
-          out.cond[t] = std::numeric_limits<float>::infinity();
-        }
-      }
-    }
-    joint_margin[row.index + std::size_t(t)] = margin;
-  }
-}
-
-}  // namespace
-
 FieldSample sample_point(const Model& m, const Eigen::Vector3d& p, const FieldRequest& req) {
   const int branch = req.ik.branch;
   FieldSample s;
@@ -67,6 +27,25 @@ FieldSample sample_point(const Model& m, const Eigen::Vector3d& p, const FieldRe
     s.method_used = req.method == IkMethod::Closed ? 0 : 1;
   }
   return s;
+}
+
+float cones_of_sample(const Model& m, const Eigen::Vector3d& p, const FieldRequest& req, FieldSample& s) {
+  if (s.status == std::uint8_t(Status::Unreachable)) return std::numeric_limits<float>::quiet_NaN();
+  // Each leg's closed form on the field's branch, as inverse() solves it.
+  Eigen::Vector3d q;
+  for (int leg = 0; leg < kLegCount; ++leg) {
+    const LegSolution l = leg_inverse(m, leg, p, (req.ik.branch >> leg) & 1);
+    if (l.status == Status::Unreachable) return std::numeric_limits<float>::quiet_NaN();
+    q(leg) = l.q;
+  }
+  const JointStops st = joint_stops(m, q, p);
+  s.reach_margin = std::min(s.reach_margin, float(m.size() * st.margin_deg * std::numbers::pi / 180));
+  if (!st.hold() && s.status == std::uint8_t(Status::Ok)) {
+    s.status = std::uint8_t(Status::OutOfLimits);
+    s.reachable = 0;
+    s.cond = std::numeric_limits<float>::infinity();
+  }
+  return float(st.margin_deg);
 }
 
 bool mirror_holds(const Model& m, const FieldRequest& req) {
@@ -107,7 +86,9 @@ std::optional<Field> compute_field(const Model& m, const FieldRequest& req, cons
     f.extras.back().values.resize(g.size());
     joint_margin = f.extras.back().values.data();
   }
-  const auto kernel_row = [&](const detail::GridRow& row, const detail::FieldRowOut& out) {
+  const bool complete = detail::fill_field_rows(
+      f, false, req.threads, progress,
+      [&](const detail::GridRow& row, const detail::FieldRowOut& out) {
         if (mirrored) {
           // A row of the lower half in y also fills its mirror row; the upper half's rows are left to them.
           const int j = row.start[1], mirror_j = g.dims[1] - 1 - j;
@@ -116,30 +97,19 @@ std::optional<Field> compute_field(const Model& m, const FieldRequest& req, cons
             RowMirror mirror{row, out.shifted(std::ptrdiff_t(mirror_j - j) * g.dims[0])};
             mirror.row.start[1] = mirror_j;
             mirror.row.index += std::size_t(mirror_j - j) * std::size_t(g.dims[0]);
-            sample_row_vector(m, legs, req, g, row, out, &mirror);
+            sample_row_vector(m, legs, req, g, row, out, &mirror, joint_margin);
             return;
           }
         }
         if (fast) {
-          sample_row_vector(m, legs, req, g, row, out);
+          sample_row_vector(m, legs, req, g, row, out, nullptr, joint_margin);
           return;
         }
-        for (int t = 0; t < row.count; ++t) out.store(t, sample_point(m, row.point(g, t), req));
-      };
-  const bool complete = detail::fill_field_rows(
-      f, false, req.threads, progress,
-      [&](const detail::GridRow& row, const detail::FieldRowOut& out) {
-        kernel_row(row, out);
-        if (!joint_margin) return;
-        // A mirrored kernel fills a row's mirror with it: its cones too.
-        const int j = row.start[1], mirror_j = g.dims[1] - 1 - j;
-        if (mirrored && j > mirror_j) return;
-        cones_of_row(m, req, row, out, joint_margin);
-        if (mirrored && j < mirror_j) {
-          detail::GridRow mirror = row;
-          mirror.start[1] = mirror_j;
-          mirror.index += std::size_t(mirror_j - j) * std::size_t(g.dims[0]);
-          cones_of_row(m, req, mirror, out.shifted(std::ptrdiff_t(mirror_j - j) * g.dims[0]), joint_margin);
+        for (int t = 0; t < row.count; ++t) {
+          const Eigen::Vector3d p = row.point(g, t);
+          FieldSample s = sample_point(m, p, req);
+          if (joint_margin) joint_margin[row.index + std::size_t(t)] = cones_of_sample(m, p, req, s);
+          out.store(t, s);
         }
       },
       fast ? detail::kVectorChunkSamples : detail::kChunkSamples);

@@ -55,6 +55,13 @@ std::optional<Field> compute_field(const Model& model, const FieldRequest& reque
 // The reference: one sample through inverse, reach_margin and jacobian.
 FieldSample sample_point(const Model& model, const Eigen::Vector3d& p_base_platform, const FieldRequest& request);
 
+// The reference's cones (stops.h) on a sample of it: returns the joint margin
+// in degrees where every leg closes on the request's branch (NaN elsewhere);
+// an Ok sample beyond a cone becomes out-of-limits (not reachable, c(J)
+// +inf), and the reach margin is at most the size times the margin in rad.
+float cones_of_sample(const Model& model, const Eigen::Vector3d& p_base_platform, const FieldRequest& request,
+                      FieldSample& sample);
+
 // ---- The fast kernel ----------------------------------------------------------
 
 // The legs' constant geometry: cos and sin of phi_i, as leg_radial computes
@@ -80,8 +87,11 @@ struct RowMirror {
 // The closed-IK samples of a grid row in SIMD vectors (field_simd.cpp) with
 // the best instruction set of the CPU (core/simd.h): sample_point's, but for
 // the last bits of c(J), the reach margin and the residual; the statuses are
-// its exactly. With `mirror`, also the mirror row's (mirror_holds).
+// its exactly. With `mirror`, also the mirror row's (mirror_holds). Where
+// the model states cones, `joint_margin` (the grid's array) gets the row's
+// joint margins and the samples cones_of_sample's changes.
 void sample_row_vector(const Model& model, const FieldLegs& legs, const FieldRequest& request, const Grid& grid,
-                       const detail::GridRow& row, const detail::FieldRowOut& out, const RowMirror* mirror = nullptr);
+                       const detail::GridRow& row, const detail::FieldRowOut& out, const RowMirror* mirror = nullptr,
+                       float* joint_margin = nullptr);
 
 }  // namespace linkscape::delta

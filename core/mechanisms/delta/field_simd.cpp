@@ -29,7 +29,12 @@
 // - the closure error | |s_i| - Lb | is | |s_i|^2 - Lb^2 | / (2 Lb), and
 //   |s_i|^2 - Lb^2 is the leg's closure C - A cos q - B sin q;
 // - c(J) is condition_number_fast's closed form (core/simd_field-inl.h)
-//   where the reference takes condition_number_closed_form.
+//   where the reference takes condition_number_closed_form;
+// - where the model states ball-joint cones (stops.h), the six joints'
+//   angles come from each leg's cos q and sin q and its coordinates
+//   (ConeMargin), and only the largest per joint type is taken as an angle
+//   (two arctangents a sample where cones_of_sample solves the legs again
+//   and takes six).
 // So J differs from the reference's in its last bits, and c(J) by about its
 // own size times an ulp (a relative change of J moves c(J) by at most about
 // twice c(J) times as much), more near a leg's serial singular surface and
@@ -39,8 +44,9 @@
 // the singular tolerance and a band around it, an angle within 1e-12 rad of a
 // range end (wider near a leg's serial singular surface, where the angle is
 // ill-conditioned), a residual near the IK tolerance, a J^-1 row near zero, a
-// circumcircle near the type II test, a non-finite coordinate or a J far from
-// unit scale -- is recomputed by the reference, so the statuses are the
+// circumcircle near the type II test, a cone's margin within its band of 0
+// (below), a non-finite coordinate or a J far from unit scale -- is
+// recomputed by the reference, so the statuses are the
 // reference's exactly. The reach margin's range term La theta carries the
 // same conditioning near such a surface, in the reference as here.
 #undef HWY_TARGET_INCLUDE
@@ -52,6 +58,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "core/mechanisms/delta/field.h"
 
@@ -74,16 +81,75 @@ HWY_INLINE M AngleGreater(D d, V c1, V s1, V c2, V s2) {
 
 constexpr double kSmallestLa = 0x1p-50;
 
+// The ball-joint sockets' axes (stops.cpp's Sockets), where the model states cones.
+struct Cones {
+  bool elbow = false, wrist = false;  // whether each joint type has a cone
+  double elbow_cos = 0, elbow_sin = 0, wrist_cos = 0, wrist_sin = 0;
+  explicit Cones(const Model& m)
+      : elbow(m.elbow_cone < std::numbers::pi), wrist(m.wrist_cone < std::numbers::pi), elbow_cos(std::cos(m.elbow_axis)),
+        elbow_sin(std::sin(m.elbow_axis)), wrist_cos(std::cos(m.wrist_axis)), wrist_sin(std::sin(m.wrist_axis)) {}
+  bool any() const { return elbow || wrist; }
+};
+
 struct Setup {
   const Model& m;
   const FieldLegs& legs;
   int branch;
   double tolerance;  // the IK's, relative to size()
+  Cones cones;
 };
 
+constexpr double kDegrees = 180.0 / std::numbers::pi;
+
+// min over the six ball joints of (cone - angle), deg, as joint_stops
+// (stops.cpp, angles_at), in each leg's frame (e radial, t, z up): the arm
+// (cos q, 0, -sin q), the rod C - B = (u - La cos q, v, w + La sin q), the
+// elbow's socket axis elbow_cos arm - elbow_sin normal = (cos(q + a), 0,
+// -sin(q + a)), the wrist's (-wrist_cos, 0, -wrist_sin). A joint's angle is
+// atan2(|axis x rod|, axis . rod); the margin needs per joint type only the
+// largest, found by comparing the directions (axis . rod, |axis x rod|),
+// whose angle alone is taken.
+HWY_INLINE V ConeMargin(const Setup& s, V z, const V* u, const V* v, const V* qc, const V* qs, const V* inv_norm) {
+  const D d;
+  const Cones& k = s.cones;
+  const V zero = hn::Zero(d), one = hn::Set(d, 1.0), La = hn::Set(d, s.m.La);
+  const V ec = hn::Set(d, k.elbow_cos), es = hn::Set(d, k.elbow_sin), wc = hn::Set(d, k.wrist_cos), ws = hn::Set(d, k.wrist_sin);
+  const V wrist_norm2 = hn::Set(d, k.wrist_cos * k.wrist_cos + k.wrist_sin * k.wrist_sin);
+  V elbow_dot = one, elbow_perp = zero, wrist_dot = one, wrist_perp = zero;  // angle 0
+  // Whether direction (dot, perp) (perp >= 0) has the larger angle than the best so far; then it is.
+  const auto keep_largest = [&](V dot, V perp, V& best_dot, V& best_perp) {
+    const M larger = hn::MulSub(best_dot, perp, best_perp * dot) > zero;
+    best_dot = hn::IfThenElse(larger, dot, best_dot);
+    best_perp = hn::IfThenElse(larger, perp, best_perp);
+  };
+#pragma GCC unroll 3
+  for (int i = 0; i < kLegCount; ++i) {
+    const V cos_q = qc[i] * inv_norm[i], sin_q = qs[i] * inv_norm[i];
+    const V re = hn::NegMulAdd(La, cos_q, u[i]), rz = hn::MulAdd(La, sin_q, z), rt2 = v[i] * v[i];
+    // |a x rod|^2 = |a|^2 rt^2 + (az re - ax rz)^2 for a = (ax, 0, az).
+    if (k.elbow) {
+      const V ax = hn::MulSub(ec, cos_q, es * sin_q), az = hn::Neg(hn::MulAdd(ec, sin_q, es * cos_q));
+      const V cross = hn::MulSub(az, re, ax * rz);
+      keep_largest(hn::MulAdd(ax, re, az * rz), hn::Sqrt(hn::MulAdd(rt2, hn::MulAdd(ax, ax, az * az), cross * cross)),
+                   elbow_dot, elbow_perp);
+    }
+    if (k.wrist) {
+      const V cross = hn::MulSub(wc, rz, ws * re);
+      keep_largest(hn::Neg(hn::MulAdd(wc, re, ws * rz)), hn::Sqrt(hn::MulAdd(rt2, wrist_norm2, cross * cross)), wrist_dot,
+                   wrist_perp);
+    }
+  }
+  V margin = hn::Inf(d);
+  if (k.elbow) margin = (hn::Set(d, s.m.elbow_cone) - Atan2(d, elbow_perp, elbow_dot)) * hn::Set(d, kDegrees);
+  if (k.wrist) margin = hn::Min(margin, (hn::Set(d, s.m.wrist_cone) - Atan2(d, wrist_perp, wrist_dot)) * hn::Set(d, kDegrees));
+  return margin;
+}
+
 // The samples [first, first + count) of the row: statuses without c(J),
-// reach margins, residuals, the rows of J = -diag(1 / Jq) S, and the flags.
-void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int first, int count, Block& b) {
+// reach margins, residuals, the rows of J = -diag(1 / Jq) S, and the flags;
+// where the model states cones, their joint margins in `joint_deg`.
+void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int first, int count, Block& b,
+              double* joint_deg) {
   const D d;
   const Model& m = s.m;
   const double size = m.size(), tol = kSingularTolerance * size;
@@ -145,16 +211,17 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
     V smallest_root = inf, largest_C = hn::Neg(inf);
     // Each leg's closure A cos q + B sin q = C; B = -2 La w, w = z for every leg.
     V A[kLegCount], C[kLegCount], norm[kLegCount];  // norm = A^2 + B^2
+    V u[kLegCount], v[kLegCount];
     const V B = hn::Set(d, -2.0 * m.La) * z, w2 = z * z;
     M leg_unreachable[kLegCount];
 #pragma GCC unroll 3
     for (int i = 0; i < kLegCount; ++i) {
       // leg_coordinates and leg_reach
-      const V u = hn::MulAdd(hn::Set(d, u_slope[i]), along, hn::Set(d, u_offset[i]));
-      const V v = hn::MulAdd(hn::Set(d, v_slope[i]), along, hn::Set(d, v_offset[i]));
-      const V rho2 = hn::MulAdd(u, u, w2);
-      A[i] = hn::Set(d, 2.0 * m.La) * u;
-      C[i] = hn::MulAdd(v, v, rho2 + hn::Set(d, m.La * m.La - m.Lb * m.Lb));
+      u[i] = hn::MulAdd(hn::Set(d, u_slope[i]), along, hn::Set(d, u_offset[i]));
+      v[i] = hn::MulAdd(hn::Set(d, v_slope[i]), along, hn::Set(d, v_offset[i]));
+      const V rho2 = hn::MulAdd(u[i], u[i], w2);
+      A[i] = hn::Set(d, 2.0 * m.La) * u[i];
+      C[i] = hn::MulAdd(v[i], v[i], rho2 + hn::Set(d, m.La * m.La - m.Lb * m.Lb));
       norm[i] = hn::Set(d, 4.0 * m.La * m.La) * rho2;
       // d_min^2 = (rho - La)^2 + v^2 and d_max^2 = (rho + La)^2 + v^2, rho from
       // S = 2 La rho = sqrt(A^2 + B^2). The leg's margin min(Lb - d_min,
@@ -166,7 +233,7 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
       // size La^2 whose difference can be about -Lb^2.)
       const V S = hn::Sqrt(norm[i]);
       const M zone = hn::Abs(S - hn::Abs(C[i])) <= zone_half_width;
-      const V rho = S * hn::Set(d, 0.5 / m.La), v2 = v * v;
+      const V rho = S * hn::Set(d, 0.5 / m.La), v2 = v[i] * v[i];
       largest_X = hn::Max(largest_X, hn::MulAdd(rho - La, rho - La, v2));
       smallest_Y = hn::Min(smallest_Y, hn::MulAdd(rho + La, rho + La, v2));
       largest_C = hn::Max(largest_C, C[i]);
@@ -260,6 +327,7 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
     V status = StatusCode(d, Status::Unreachable);  // solved samples below
     V residual = inf;
     M wants_cond = hn::FirstN(d, 0);
+    V joint = hn::NaN(d);  // the cones' margin, deg, on solved samples
     if (!hn::AllFalse(d, solved)) {
       // Near a leg's serial singular surface its angle is ill-conditioned: it
       // moves by about 1 / root per unit of C, so the rounding of C and of the
@@ -284,12 +352,28 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
       for (int i = 0; i < kLegCount; ++i)
         closure = hn::Max(closure, hn::Abs(hn::NegMulAdd(B, qs[i], hn::MulSub(C[i], norm[i], A[i] * qc[i]))) * inv_norm[i]);
       residual = hn::IfThenElse(solved, closure * hn::Set(d, 0.5 / m.Lb), inf);
+      M beyond = outside_range;
+      if (s.cones.any()) {
+        joint = ConeMargin(s, z, u, v, qc, qs, inv_norm);
+        // The band round 0 where the reference decides: the angles' rounding
+        // here and there (the rod's components to some ulps of the size, the
+        // arctangent to a few ulps: about 1e-15 size / Lb rad) with a margin
+        // of a thousand, and near a leg's serial singular surface its angle's
+        // error (16 u (that) / root, as above) times how much it turns a
+        // joint's angle: the socket axis by as much, the rod by La / Lb of it,
+        // twice over.
+        const double band = 1e-12 * size / m.Lb * kDegrees, turn = 2 * 16 * 0x1p-53 * (1 + m.La / m.Lb) * kDegrees;
+        const M clear = hn::Abs(joint) * smallest_root > hn::MulAdd(hn::Set(d, band), smallest_root, hn::Set(d, turn) * ill_scale);
+        to_scalar = hn::Or(to_scalar, hn::AndNot(clear, solved));
+        beyond = hn::Or(beyond, joint < zero);
+        joint = hn::IfThenElse(solved, joint, hn::NaN(d));
+      }
       status = hn::IfThenElse(
-          solved, hn::IfThenElse(outside_range, StatusCode(d, Status::OutOfLimits), StatusCode(d, Status::Ok)), status);
+          solved, hn::IfThenElse(beyond, StatusCode(d, Status::OutOfLimits), StatusCode(d, Status::Ok)), status);
       // NotConverged (a residual over the IK tolerance) comes before the range test.
       const M near_closure = hn::Not(residual <= residual_limit);  // NaN included
       to_scalar = hn::Or(to_scalar, hn::And(solved, near_closure));
-      const M ok = hn::AndNot(outside_range, solved);
+      const M ok = hn::AndNot(beyond, solved);
       if (!hn::AllFalse(d, ok)) {
         // The sphere centres c_i = B_i - r e_i, S's rows s_i = p - c_i and
         // Jq_i = -La s_i . dB_i/dq_i.
@@ -352,6 +436,12 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
     }
     V margin = geometric;
     if (!hn::AllTrue(d, below_alpha)) margin = hn::Min(geometric, La * hn::Neg(Atan2(d, excess_s, excess_c)));
+    if (joint_deg) {
+      // As cones_of_sample: at most the size times the cones' margin in rad.
+      const V cone_reach = hn::Set(d, size) * joint * hn::Set(d, std::numbers::pi) / hn::Set(d, 180.0);
+      margin = hn::IfThenElse(hn::IsNaN(joint), margin, hn::Min(margin, cone_reach));
+      hn::Store(joint, d, joint_deg + t);
+    }
     hn::Store(status, d, b.status + t);
     hn::Store(margin, d, b.reach_margin + t);
     hn::Store(residual, d, b.residual + t);
@@ -361,26 +451,40 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
 }
 
 void SampleRow(const Model& m, const FieldLegs& legs, const FieldRequest& request, const Grid& g,
-               const detail::GridRow& row, const detail::FieldRowOut& out, const RowMirror* mirror) {
-  const Setup setup{m, legs, request.ik.branch, request.ik.tolerance};
+               const detail::GridRow& row, const detail::FieldRowOut& out, const RowMirror* mirror, float* joint_margin) {
+  const Setup setup{m, legs, request.ik.branch, request.ik.tolerance, Cones(m)};
   const MethodRule rule{0.0 /* IkMethod::Closed */, false};
   Block b;
+  HWY_ALIGN double joint[kBlock];
+  // The reference at a point of the row or of its mirror, cones included.
+  const auto reference = [&](const detail::GridRow& at, int i) {
+    const Eigen::Vector3d p = at.point(g, i);
+    FieldSample sample = sample_point(m, p, request);
+    if (joint_margin) joint_margin[at.index + std::size_t(i)] = cones_of_sample(m, p, request, sample);
+    return sample;
+  };
   for (int first = 0; first < row.count; first += kBlock) {
     const int n = std::min(kBlock, row.count - first);
-    Geometry(setup, g, row, first, n, b);
+    Geometry(setup, g, row, first, n, b, joint_margin ? joint : nullptr);
+    // The joint margins are mirror-symmetric too: the six angles depend on
+    // v only through v^2, and legs 1 and 2 swap.
+    for (int t = 0; joint_margin && t < n; ++t) {
+      joint_margin[row.index + std::size_t(first + t)] = float(joint[t]);
+      if (mirror) joint_margin[mirror->row.index + std::size_t(first + t)] = float(joint[t]);
+    }
     // J's rows are s_i / Jq_i with |s_i| = Lb (to the closure check) and
     // 1e-12 La Lb < |Jq_i| <= La |s_i| (nearer 0 goes to the reference), so
     // its largest entry is between 1 / (sqrt 3 La) and about 1e12 / La:
     // within UnitRange's 2^+-100 for La in [2^-50, 2^70] (Geometry sends
     // other designs to the reference).
     BlockConditioning(n, b, std::nullopt, true);
-    StoreBlock(b, first, n, row.count, false, rule, out, [&](int i) { return sample_point(m, row.point(g, i), request); });
+    StoreBlock(b, first, n, row.count, false, rule, out, [&](int i) { return reference(row, i); });
     // The mirror row takes the same values; the lanes the reference decides
     // are decided at the mirror row's own points.
     if (mirror) {
       CopySamples(out, mirror->out, first, n);
       ForEachHandedOff(b, n, [&](int t) {
-        mirror->out.store(first + t, sample_point(m, mirror->row.point(g, first + t), request));
+        mirror->out.store(first + t, reference(mirror->row, first + t));
       });
     }
   }
@@ -395,8 +499,9 @@ namespace linkscape::delta {
 HWY_EXPORT(SampleRow);
 
 void sample_row_vector(const Model& m, const FieldLegs& legs, const FieldRequest& request, const Grid& g,
-                       const detail::GridRow& row, const detail::FieldRowOut& out, const RowMirror* mirror) {
-  HWY_DYNAMIC_DISPATCH(SampleRow)(m, legs, request, g, row, out, mirror);
+                       const detail::GridRow& row, const detail::FieldRowOut& out, const RowMirror* mirror,
+                       float* joint_margin) {
+  HWY_DYNAMIC_DISPATCH(SampleRow)(m, legs, request, g, row, out, mirror, joint_margin);
 }
 
 }  // namespace linkscape::delta

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <numbers>
+#include <random>
 #include <sstream>
 
 #include "core/mechanism.h"
@@ -14,8 +15,10 @@
 #include "core/mechanisms/delta/mechanism.h"
 #include "core/mechanisms/delta/stops.h"
 #include "core/preset.h"
+#include "core/simd.h"
 #include "core/task.h"
 #include "core/verify/verify.h"
+#include "tests/core/simd_targets.h"
 
 namespace linkscape::delta {
 namespace {
@@ -142,6 +145,161 @@ TEST(DeltaStops, FieldJointMarginIsEachPosesAndTheSwitchRestoresTheField) {
     EXPECT_EQ(plain->status, today->status);
   }
   unsetenv("LINKSCAPE_FIELD_KERNEL");
+}
+
+// The vector kernels' cones (field_simd.cpp) against the scalar kernel's
+// (cones_of_sample, the reference), on the best target and the portable
+// baseline (the last of simd::available_targets): random designs, branches
+// and cones (some narrow enough to cut most of the workspace, some on one
+// joint type only), boxes over the workspace and rows across a cone's
+// boundary in steps of 1e-12 of the size and of a few ulps. Statuses
+// identical, joint margins and the reach margins the cones decide equal or
+// one float step apart, or near 0 within 1e-14 size / Lb rad (the rounding
+// of the angles, here and in the reference alike); the other reach margins
+// within the kernel's own tolerance (tests/core/mechanisms/delta/test_field.cpp).
+using ConeCase = simd_test::FieldCase<Model, FieldRequest>;
+
+Model random_coned_model(std::mt19937_64& rng, int c) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  Model m;
+  m.R = 4 + 8 * unit(rng);
+  m.r = 6 * unit(rng);
+  m.La = 4 + 8 * unit(rng);
+  m.Lb = m.La * (0.8 + 1.5 * unit(rng));
+  for (auto& range : m.q_limits) range = c % 3 == 0 ? Interval{-std::numbers::pi, std::numbers::pi} : Interval{-2 * unit(rng), 2 * unit(rng)};
+  if (c % 2 == 0) m.q_limits[2] = m.q_limits[1];  // the mirror in y holds with branches 0, 1, 6, 7
+  const bool narrow = c % 4 == 0;
+  m.elbow_axis = std::numbers::pi * unit(rng);
+  m.wrist_axis = std::numbers::pi * unit(rng);
+  m.elbow_cone = (narrow ? 15 + 20 * unit(rng) : 40 + 80 * unit(rng)) * kDeg;
+  m.wrist_cone = (narrow ? 15 + 20 * unit(rng) : 40 + 80 * unit(rng)) * kDeg;
+  if (c % 5 == 1) m.elbow_cone = std::numbers::pi;  // no elbow cone
+  if (c % 5 == 2) m.wrist_cone = std::numbers::pi;  // no wrist cone
+  return m;
+}
+
+// The reference's cone outcome at p: NaN margin (no pose), within or beyond.
+int cone_side(const Model& m, const FieldRequest& r, const Vector3d& p) {
+  FieldSample s = sample_point(m, p, r);
+  const float margin = cones_of_sample(m, p, r, s);
+  return std::isnan(margin) ? 0 : margin < 0 ? 1 : 2;
+}
+
+std::vector<ConeCase> cone_cases(int& beyond_rows) {
+  std::vector<ConeCase> out;
+  std::mt19937_64 rng(20261128);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  beyond_rows = 0;
+  for (int c = 0; c < 16; ++c) {
+    const Model m = random_coned_model(rng, c);
+    FieldRequest r;
+    // Even designs have legs 1 and 2 alike: branches with their elbows alike too, where the mirror holds.
+    r.ik.branch = c % 2 == 0 ? std::array{0, 1, 6, 7}[c / 2 % 4] : c % kBranchCount;
+    const double s = m.size();
+    const Vector3d centre(0, 0, -0.5 * s), half(0.8 * s, 0.8 * s, 0.8 * s);
+    const int n = 15 + c % 3;
+    r.grid = Grid::box(centre - half, centre + half, {n, n, n});
+    // y = -+y_j exactly (a spacing of 40 bits): the mirrored kernel's rows.
+    r.grid.spacing.y() = std::ldexp(std::round(std::ldexp(2 * half.y() / n, 40)), -40);
+    r.grid.origin.y() = -0.5 * n * r.grid.spacing.y();
+    out.push_back({"design " + std::to_string(c), m, r});
+    int rows = 0;
+    for (int k = 0; k < 3000 && rows < 3; ++k) {
+      const auto random = [&] { return Vector3d(2 * unit(rng) - 1, 2 * unit(rng) - 1, 2 * unit(rng) - 1); };
+      Vector3d a = centre + half.cwiseProduct(random()), b = a + 0.3 * s * random();
+      const int sa = cone_side(m, r, a), sb = cone_side(m, r, b);
+      if (sa == 0 || sb == 0 || sa == sb) continue;
+      const auto same_as_a = [&](const Vector3d& p) { return cone_side(m, r, p) == sa; };
+      simd_test::bisect(a, b, same_as_a, 200, 1e-14 * s);
+      ConeCase row{"design " + std::to_string(c) + " cone boundary " + std::to_string(k), m, r};
+      row.request.grid = simd_test::row_through(0.5 * (a + b), 0, 1e-12 * s, 41);
+      out.push_back(row);
+      simd_test::bisect(a, b, same_as_a, 80);
+      row.name += ", ulp steps";
+      row.request.grid = simd_test::row_through(0.5 * (a + b), 0, 4 * simd_test::kUlp * std::max(std::abs(a.x()), 1e-3 * s), 41);
+      out.push_back(row);
+      ++rows;
+    }
+    beyond_rows += rows;
+  }
+  return out;
+}
+
+bool same_or_next(float a, float b) { return a == b || std::nextafter(a, b) == b || (std::isnan(a) && std::isnan(b)); }
+
+// Equal or one float step apart, or near 0 within an absolute `slack` (the
+// kernel's angles and the reference's differ by rounding: about 1e-15 size
+// / Lb rad).
+bool same_to(float a, float b, double slack) { return same_or_next(a, b) || std::abs(double(a) - double(b)) <= slack; }
+
+// Compares f with the reference field `want`; returns the number of failures (the first few reported).
+int compare_cones(const ConeCase& c, const Field& f, const Field& want, const std::string& label, long& beyond) {
+  const Field::NamedArray *joint = f.extra("joint_margin"), *joint_want = want.extra("joint_margin");
+  if (!joint || !joint_want) {
+    ADD_FAILURE() << label << ", " << c.name << ": no joint margin";
+    return 1;
+  }
+  const double size = c.model.size();
+  const double slack_rad = 1e-14 * size / c.model.Lb;  // a hundredth of the band where the reference decides
+  int failures = 0;
+  for (std::size_t i = 0; i < f.status.size(); ++i) {
+    const float jm = joint_want->values[i], rm = want.reach_margin[i];
+    beyond += jm < 0;
+    // Where the cone decides the reach margin, one float step; elsewhere the kernel's own tolerance.
+    const bool cone_decides = !std::isnan(jm) && float(size * jm * std::numbers::pi / 180) == rm;
+    const bool reach_ok = same_to(f.reach_margin[i], rm, size * slack_rad) ||
+                          (!cone_decides && simd_test::rounds_within(f.reach_margin[i], rm, 1e-13 * size + std::abs(rm) * 0x1p-24));
+    const bool ok = f.status[i] == want.status[i] && f.reachable[i] == want.reachable[i] &&
+                    std::isinf(f.cond[i]) == std::isinf(want.cond[i]) &&
+                    same_to(joint->values[i], jm, slack_rad * 180 / std::numbers::pi) && reach_ok;
+    const auto& dims = c.request.grid.dims;
+    const int x = int(i % dims[0]), y = int(i / dims[0] % dims[1]), z = int(i / dims[0] / dims[1]);
+    if (!ok && ++failures <= 5)
+      ADD_FAILURE() << label << ", " << c.name << ": sample " << i << " at " << c.request.grid.point(x, y, z).transpose()
+                    << ": status " << int(f.status[i]) << " vs " << int(want.status[i]) << ", joint margin "
+                    << joint->values[i] << " vs " << jm << ", reach margin " << f.reach_margin[i] << " vs " << rm;
+  }
+  return failures;
+}
+
+TEST(DeltaStops, VectorKernelsConesAreTheReferences) {
+  int boundary_rows = 0;
+  const std::vector<ConeCase> all = cone_cases(boundary_rows);
+  EXPECT_GT(boundary_rows, 20);
+  RecordProperty("rows across a cone's boundary", std::to_string(boundary_rows));
+  std::vector<Field> reference;
+  for (const ConeCase& c : all) reference.push_back(simd_test::field_of(c, FieldKernel::Scalar));
+  const std::vector<std::string> targets = simd::available_targets();
+  ASSERT_FALSE(targets.empty());
+  std::vector<std::string> chosen{targets.front()};
+  if (targets.back() != targets.front()) chosen.push_back(targets.back());  // the portable baseline (EMU128 or SCALAR)
+  RecordProperty("targets", chosen.size() == 2 ? chosen[0] + " " + chosen[1] : chosen[0]);
+  for (const std::string& target : chosen) {
+    const simd_test::TargetLimit limit(target);
+    long beyond = 0, samples = 0, narrow_beyond = 0, narrow_samples = 0;
+    int mirrored = 0;
+    for (std::size_t k = 0; k < all.size(); ++k) {
+      const ConeCase& c = all[k];
+      const long before = beyond;
+      EXPECT_EQ(compare_cones(c, simd_test::field_of(c, FieldKernel::Vector), reference[k], target, beyond), 0);
+      samples += long(reference[k].status.size());
+      // The design boxes with narrow cones: most solved samples beyond one.
+      if (c.name == "design 0" || c.name == "design 4" || c.name == "design 8" || c.name == "design 12") {
+        narrow_beyond += beyond - before;
+        narrow_samples += std::count_if(reference[k].status.begin(), reference[k].status.end(),
+                                        [](std::uint8_t s) { return s != std::uint8_t(Status::Unreachable); });
+      }
+      if (!mirror_holds(c.model, c.request)) continue;
+      ++mirrored;
+      long ignored = 0;
+      EXPECT_EQ(compare_cones(c, simd_test::field_of(c, FieldKernel::VectorMirrored), reference[k], target + " mirrored", ignored), 0);
+    }
+    EXPECT_GE(mirrored, 4) << target;
+    EXPECT_GT(beyond, samples / 20) << target;
+    EXPECT_GT(narrow_beyond, narrow_samples / 2) << target;
+    RecordProperty(target + " samples", std::to_string(samples));
+    RecordProperty(target + " beyond a cone", std::to_string(beyond));
+  }
 }
 
 TEST(DeltaStops, PresetStatesTheDescribedDeltasCones) {
