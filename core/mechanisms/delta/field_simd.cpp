@@ -147,7 +147,10 @@ HWY_INLINE V ConeMargin(const Setup& s, V z, const V* u, const V* v, const V* qc
 
 // The samples [first, first + count) of the row: statuses without c(J),
 // reach margins, residuals, the rows of J = -diag(1 / Jq) S, and the flags;
-// where the model states cones, their joint margins in `joint_deg`.
+// with kCones (the model states cones), their joint margins in `joint_deg`
+// (a parameter of the template, so that the kernel without them is
+// compiled as before: keeping the legs' coordinates costs it 5%).
+template <bool kCones>
 void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int first, int count, Block& b,
               double* joint_deg) {
   const D d;
@@ -353,7 +356,7 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
         closure = hn::Max(closure, hn::Abs(hn::NegMulAdd(B, qs[i], hn::MulSub(C[i], norm[i], A[i] * qc[i]))) * inv_norm[i]);
       residual = hn::IfThenElse(solved, closure * hn::Set(d, 0.5 / m.Lb), inf);
       M beyond = outside_range;
-      if (s.cones.any()) {
+      if constexpr (kCones) {
         joint = ConeMargin(s, z, u, v, qc, qs, inv_norm);
         // The band round 0 where the reference decides: the angles' rounding
         // here and there (the rod's components to some ulps of the size, the
@@ -436,7 +439,7 @@ void Geometry(const Setup& s, const Grid& g, const detail::GridRow& row, int fir
     }
     V margin = geometric;
     if (!hn::AllTrue(d, below_alpha)) margin = hn::Min(geometric, La * hn::Neg(Atan2(d, excess_s, excess_c)));
-    if (joint_deg) {
+    if constexpr (kCones) {
       // As cones_of_sample: at most the size times the cones' margin in rad.
       const V cone_reach = hn::Set(d, size) * joint * hn::Set(d, std::numbers::pi) / hn::Set(d, 180.0);
       margin = hn::IfThenElse(hn::IsNaN(joint), margin, hn::Min(margin, cone_reach));
@@ -465,7 +468,10 @@ void SampleRow(const Model& m, const FieldLegs& legs, const FieldRequest& reques
   };
   for (int first = 0; first < row.count; first += kBlock) {
     const int n = std::min(kBlock, row.count - first);
-    Geometry(setup, g, row, first, n, b, joint_margin ? joint : nullptr);
+    if (joint_margin)
+      Geometry<true>(setup, g, row, first, n, b, joint);
+    else
+      Geometry<false>(setup, g, row, first, n, b, nullptr);
     // The joint margins are mirror-symmetric too: the six angles depend on
     // v only through v^2, and legs 1 and 2 swap.
     for (int t = 0; joint_margin && t < n; ++t) {
