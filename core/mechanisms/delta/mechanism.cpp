@@ -197,6 +197,20 @@ class DeltaMechanism final : public Mechanism {
     return make_mechanism(without_ranges(model_))->Mechanism::stability_sweeps(options);
   }
 
+  // The nearest ball joint to its cone, read out as the described Delta reads it.
+  std::vector<std::pair<std::string, std::string>> readouts(const VectorXd& q, const VectorXd& x) const override {
+    if (!model_.has_cones()) return {};
+    const JointStops st = joint_stops(model_, three(q, "q"), three(x, "x"));
+    if (st.leg < 0) return {};
+    std::ostringstream margin;
+    margin.precision(3);
+    margin << st.margin_deg << " deg (leg " << st.leg + 1 << " ball joint " << (st.joint == 0 ? "elbow" : "wrist")
+           << st.leg + 1 << ")";
+    std::vector<std::pair<std::string, std::string>> out{{"joint margin", margin.str()}};
+    if (!st.hold()) out.push_back({"stops", stop_reason(st)});
+    return out;
+  }
+
   SkeletonModel skeleton_model() const override {
     SkeletonModel sk;
     const auto shapes = body_shapes(model_);

@@ -62,6 +62,36 @@ TEST(DeltaStops, ConesAgreeWithTheDescribedDelta) {
   EXPECT_GT(beyond, 20);
 }
 
+// The window's read-out of the nearest cone: the described Delta's, word for
+// word, at poses within and beyond the cones; none with the cones off.
+TEST(DeltaStops, ReadoutIsTheDescribedDeltas) {
+  const auto compiled = linkscape::make_mechanism(delta_preset(true));
+  const auto described = linkscape::make_mechanism(load_preset("delta-described"));
+  const Vector3d home = compiled->home_task();
+  int compared = 0, beyond = 0;
+  for (int i = -4; i <= 4; i += 2)
+    for (int j = -4; j <= 4; j += 2)
+      for (int k = -4; k <= 4; k += 2) {
+        // Off the device's mirror planes, where two legs' cones tie and either may be named.
+        const VectorXd x = home + Vector3d(i, j, k) * 1.5 + Vector3d(0.37, 0.23, 0);
+        const linkscape::IkResult ik = compiled->inverse(x, {});
+        if (ik.solutions.empty()) continue;
+        const VectorXd q = ik.solutions[0].q;
+        const auto mine = compiled->readouts(q, x);
+        auto theirs = described->readouts(q, x);
+        std::erase_if(theirs, [](const auto& r) { return r.first == "mobility"; });
+        ASSERT_FALSE(mine.empty()) << x.transpose();
+        EXPECT_EQ(mine, theirs) << x.transpose();
+        EXPECT_EQ(mine[0].first, "joint margin");
+        ++compared;
+        beyond += ik.status == Status::OutOfLimits && mine.size() == 2;
+      }
+  EXPECT_GE(compared, 20);
+  EXPECT_GE(beyond, 3);
+  const auto plain = linkscape::make_mechanism(delta_preset(false));
+  EXPECT_TRUE(plain->readouts(plain->home_actuators(), home).empty());
+}
+
 TEST(DeltaStops, AnglesAreThoseOfTheDrawnJoints) {
   const Model m = make_delta_model(delta_preset(true));
   const Vector3d p = home_position(m) + Vector3d(2, -3, 1.5);
