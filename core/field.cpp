@@ -7,9 +7,20 @@
 #include <mutex>
 #include <new>
 #include <stdexcept>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace linkscape {
+
+// add_extra's pointers survive the vector's growth only if it moves, not copies, its arrays.
+static_assert(std::is_nothrow_move_constructible_v<Field::NamedArray>);
+
+float* Field::add_extra(std::string name, std::string title, std::string unit, std::string description) {
+  extras.push_back({std::move(name), std::move(title), std::move(unit), std::move(description), {}});
+  extras.back().values.resize(grid.size());
+  return extras.back().values.data();
+}
 
 using Eigen::Vector3d;
 

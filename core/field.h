@@ -130,6 +130,9 @@ struct Field {
       if (a.name == name) return &a;
     return nullptr;
   }
+  // Adds an array of grid.size() samples (unset) and returns its samples,
+  // which stay where they are as further arrays are added.
+  float* add_extra(std::string name, std::string title, std::string unit, std::string description);
   // What was computed, for the metadata of exported files.
   std::string mechanism;
   std::string length_unit;

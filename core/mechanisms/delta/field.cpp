@@ -78,14 +78,10 @@ std::optional<Field> compute_field(const Model& m, const FieldRequest& req, cons
   const FieldLegs legs = field_legs(m);
   if (fast) simd::apply_environment();
   const bool mirrored = fast && kernel == FieldKernel::VectorMirrored && mirror_holds(m, req);
-  float* joint_margin = nullptr;
-  if (m.has_cones()) {
-    f.extras.push_back({"joint_margin", "joint margin", "deg",
-                        "How far the nearest ball joint is from its cone (< 0 beyond it; none where a leg does not "
-                        "close)", {}});
-    f.extras.back().values.resize(g.size());
-    joint_margin = f.extras.back().values.data();
-  }
+  float* joint_margin = m.has_cones() ? f.add_extra("joint_margin", "joint margin", "deg",
+                                                   "How far the nearest ball joint is from its cone (< 0 beyond it; "
+                                                   "none where a leg does not close)")
+                                      : nullptr;
   const bool complete = detail::fill_field_rows(
       f, false, req.threads, progress,
       [&](const detail::GridRow& row, const detail::FieldRowOut& out) {

@@ -380,11 +380,10 @@ class DescribedMechanism final : public Mechanism {
     for (const NamedItem& n : info_.measures) f.measure_titles.push_back(n.title);
     float* joint_margin = nullptr;
     float* clearance = nullptr;
-    f.extras.reserve(2);  // the pointers below stay valid
     if (kin_.has_joint_limits())
-      joint_margin = add_extra(f, "joint_margin", "joint margin", "deg", kJointMarginText);
+      joint_margin = f.add_extra("joint_margin", "joint margin", "deg", kJointMarginText);
     if (kin_.has_capsules())
-      clearance = add_extra(f, "clearance", "clearance", kin_.model().length_unit, kClearanceText);
+      clearance = f.add_extra("clearance", "clearance", kin_.model().length_unit, kClearanceText);
     const double tolerance = o.tolerance;
     const bool complete = detail::fill_field_rows(
         f, second, threads, progress,
@@ -519,12 +518,6 @@ class DescribedMechanism final : public Mechanism {
     }
     if (!st.hold()) out.push_back({"stops", kin_.stop_reason(st, legs)});
     return out;
-  }
-
-  static float* add_extra(Field& f, const char* name, const char* title, const std::string& unit, const char* description) {
-    f.extras.push_back({name, title, unit, description, {}});
-    f.extras.back().values.resize(f.grid.size());
-    return f.extras.back().values.data();
   }
 
   std::vector<double> measure_values(const JacobianParts& parts) const {

@@ -169,21 +169,14 @@ struct StopArrays {
   bool any() const { return joint_margin || clearance; }
 };
 
-float* add_extra(Field& f, const char* name, const char* title, const char* unit, const char* description) {
-  f.extras.push_back({name, title, unit, description, {}});
-  f.extras.back().values.resize(f.grid.size());
-  return f.extras.back().values.data();
-}
-
 StopArrays add_stop_arrays(Field& f, const Model& m) {
-  f.extras.reserve(2);  // the pointers stay valid
   StopArrays a;
   if (has_joint_limits(m))
-    a.joint_margin = add_extra(f, "joint_margin", "joint margin", "deg",
+    a.joint_margin = f.add_extra("joint_margin", "joint margin", "deg",
                                "How far the nearest limited joint is from its limit (< 0 beyond it; none where a leg "
                                "does not close)");
   if (has_capsules(m))
-    a.clearance = add_extra(f, "clearance", "clearance", "cm",
+    a.clearance = f.add_extra("clearance", "clearance", "cm",
                             "The smallest gap between two legs' links or a link and the grip (< 0 where they overlap; "
                             "none where a leg does not close)");
   return a;
