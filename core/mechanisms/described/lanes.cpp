@@ -15,7 +15,106 @@ using Eigen::VectorXd;
 
 bool point_leg(LegPattern p, bool planar) {
   if (planar) return p == LegPattern::PlanarDyad;
-  return p == LegPattern::CrankRod || p == LegPattern::SlideRod || p == LegPattern::Extensible;
+  return p == LegPattern::CrankRod || p == LegPattern::SlideRod || p == LegPattern::Extensible ||
+         p == LegPattern::CrankParallelogram;
+}
+
+// A crank-parallelogram's constants (closed_form.h) in its actuator's frame,
+// its links from the chain at rest; "" or why the lanes cannot serve it.
+std::string parallelogram(const Leg& l, const ClosedFormLeg& form, const Eigen::Isometry3d& anchor, LaneLeg& g) {
+  const ClosedFormLeg::Parallelogram& P = form.parallelogram;
+  const Isometry3d N = form.base.inverse() * anchor * form.tail.inverse();
+  const Vector3d A = form.actuator_axis;
+  if (!((N.linear() * A - A).norm() <= 1e-12)) return "the end turned off the motor axis";
+  g.parallelogram = true;
+  g.frame = form.base.linear();
+  g.end_local = g.frame.transpose() * (g.end_offset - g.actuator_centre);
+  g.local_axis = A;
+  g.across = P.across;
+  g.thigh = P.thigh;
+  LegState rest;
+  rest.values = VectorXd::Zero(l.variables);
+  rest.spheres.assign(std::size_t(l.spheres), Eigen::Matrix3d::Identity());
+  const internal::Chain c = internal::walk(l, rest);
+  const auto at = [&](int step) { return g.frame.transpose() * (c.step_centre[std::size_t(step)] - g.actuator_centre); };
+  g.knee_rest = at(P.knee_step);
+  g.to_upper = at(P.upper_step) - at(P.knee_step);
+  g.side_link = at(P.lower_step) - at(P.upper_step);
+  g.to_grip = at(form.end_step) - at(P.lower_step);
+  g.upper_axis = l.steps[std::size_t(P.upper_step)].axis;
+  g.knee_sign = P.knee_sign;
+  g.lower_sign = P.lower_sign;
+  g.grip_sign = P.grip_sign;
+  g.height = P.height;
+  g.side = P.side;
+  g.bar = P.bar;
+  g.cos_phase = std::cos(P.phase);
+  g.sin_phase = std::sin(P.phase);
+  g.cos_thigh_phase = std::cos(P.thigh_phase);
+  g.sin_thigh_phase = std::sin(P.thigh_phase);
+  const Vector3d n = N.linear() * P.across;  // closed_form.cpp's level: the turn of n about A
+  const Vector3d nn = n - A * A.dot(n);
+  const double level = std::atan2(A.dot(P.across.cross(nn)), P.across.dot(nn));
+  g.cos_level = std::cos(level);
+  g.sin_level = std::sin(level);
+  return "";
+}
+
+// The leg's link capsules on the bodies the lanes place, appended to
+// `device.capsules`; "" or the capsule they cannot place.
+std::string capsules(const Leg& l, int leg, const ClosedFormLeg& form, const PlatformPose& pose, LaneDevice& device) {
+  const Eigen::Matrix3d R = form.base.linear();
+  for (const LinkCapsule& k : l.capsules) {
+    LaneCapsule c;
+    c.leg = leg;
+    c.radius = k.radius;
+    c.a = R * k.a;
+    c.b = R * k.b;
+    if ((k.b - k.a).norm() <= 1e-9 * device.size) return "a link capsule of no length (" + k.name + ")";
+    if (k.on == LinkCapsule::On::Base) {
+      c.body = LaneBody::Fixed;
+      c.a = k.a;
+      c.b = k.b;
+    } else if (k.on == LinkCapsule::On::Platform) {
+      c.body = LaneBody::Platform;
+      c.a = pose.bodies[std::size_t(l.platform)] * k.a;
+      c.b = pose.bodies[std::size_t(l.platform)] * k.b;
+    } else if (k.frame < 0) {
+      c.body = LaneBody::Fixed;
+      c.a = l.base * k.a;
+      c.b = l.base * k.b;
+    } else if (k.frame == form.actuator_step && (form.pattern == LegPattern::PlanarDyad || form.pattern == LegPattern::CrankParallelogram)) {
+      c.body = LaneBody::Crank;
+    } else if (form.pattern == LegPattern::CrankParallelogram && k.frame == form.parallelogram.knee_step) {
+      c.body = LaneBody::Knee;
+    } else if (form.pattern == LegPattern::CrankParallelogram && k.frame == form.parallelogram.upper_step) {
+      c.body = LaneBody::Shin;
+    } else if (form.pattern == LegPattern::CrankParallelogram && k.frame == form.parallelogram.lower_step) {
+      c.body = LaneBody::Ankle;
+    } else {
+      return "a link capsule on a body the lanes do not place (" + k.name + ")";
+    }
+    device.capsules.push_back(c);
+  }
+  return "";
+}
+
+// The pairs Kinematics::stops checks: every chain link against the links of
+// the other legs, a pair of chain links once.
+void capsule_pairs(const Model& m, LaneDevice& device) {
+  std::vector<int> first(m.legs.size() + 1, 0);
+  for (std::size_t l = 0; l < m.legs.size(); ++l) first[l + 1] = first[l] + int(m.legs[l].capsules.size());
+  for (std::size_t l = 0; l < m.legs.size(); ++l)
+    for (std::size_t i = 0; i < m.legs[l].capsules.size(); ++i) {
+      if (m.legs[l].capsules[i].on != LinkCapsule::On::Chain) continue;
+      for (std::size_t o = 0; o < m.legs.size(); ++o) {
+        if (o == l) continue;
+        for (std::size_t j = 0; j < m.legs[o].capsules.size(); ++j) {
+          if (m.legs[o].capsules[j].on == LinkCapsule::On::Chain && o < l) continue;
+          device.pairs.push_back({first[l] + int(i), first[o] + int(j)});
+        }
+      }
+    }
 }
 
 bool parallel(const Vector3d& a, const Vector3d& b, double& sign) {
@@ -28,7 +127,6 @@ bool parallel(const Vector3d& a, const Vector3d& b, double& sign) {
 std::string build(const Kinematics& kin, const VectorXd& fixed, int branch, LaneDevice* out) {
   const Model& m = kin.model();
   if (!m.extras.empty()) return "extras";
-  if (kin.has_capsules()) return "link capsules";
   LaneDevice device;
   device.size = m.size;
   device.branch = branch;
@@ -54,8 +152,12 @@ std::string build(const Kinematics& kin, const VectorXd& fixed, int branch, Lane
     const ClosedFormLeg* form = kin.closed_form(int(i));
     const std::string leg = l.label() + ": ";
     if (!form || !point_leg(form->pattern, m.planar) || l.actuators.size() != 1)
-      return leg + (m.planar ? "not a planar dyad" : "not a point leg (crank-rod, slide-rod, extensible)");
-    if (kin.passive_rank(int(i)) != (m.planar ? 2 : 5)) return leg + "holds more than one wrench";
+      return leg + (m.planar ? "not a planar dyad" : "not a point leg (crank-rod, slide-rod, extensible) or crank-parallelogram");
+    const bool four_bar = form->pattern == LegPattern::CrankParallelogram;
+    // A parallelogram leg holds two wrenches: its row is the actuator's
+    // twist off its four passive twists (Kinematics::jacobian), in a task of translations.
+    if (kin.passive_rank(int(i)) != (m.planar ? 2 : four_bar ? 4 : 5)) return leg + "holds more than one wrench";
+    if (four_bar && driven != 3) return leg + "a crank-parallelogram in a task with rotations";
     LaneLeg g;
     // A planar dyad is a crank and rod in the plane.
     g.pattern = form->pattern == LegPattern::PlanarDyad ? LegPattern::CrankRod : form->pattern;
@@ -68,17 +170,29 @@ std::string build(const Kinematics& kin, const VectorXd& fixed, int branch, Lane
     const Vector3d a = R * form->actuator_axis;
     g.actuator_centre = form->base.translation();
     g.axis = a;
-    const Step& ball = l.steps[std::size_t(form->ball_step)];
+    if (const std::string why = capsules(l, int(i), *form, pose, device); !why.empty()) return leg + why;
+    if (four_bar) {
+      if (const std::string why = parallelogram(l, *form, anchor, g); !why.empty()) return leg + why;
+      g.pattern = LegPattern::CrankParallelogram;
+    }
+    const Step no_ball;
+    const Step& ball = four_bar ? no_ball : l.steps[std::size_t(form->ball_step)];
     g.universal = form->ball_joints == 2;
     // The ball's link in its own frame: the rod, or an extensible leg's slide.
     Vector3d link = form->rod.translation();
     Eigen::Matrix3d before_ball = R * form->after_actuator.linear();  // a crank's at q = 0
-    if (g.pattern == LegPattern::CrankRod) {
+    if (four_bar) {
+      g.origin = g.actuator_centre;
+    } else if (g.pattern == LegPattern::CrankRod) {
       const Vector3d p0 = form->base * form->after_actuator.translation();
       g.origin = g.actuator_centre + a * a.dot(p0 - g.actuator_centre);
       g.rho = (p0 - g.origin).norm();
       g.u = (p0 - g.origin) / g.rho;
       g.v = a.cross(g.u);
+      g.ball_link = before_ball * link;
+      g.ball_normal = before_ball * ball.axis;
+      double sign = 1;
+      if (m.planar && !parallel(g.ball_normal, a, sign)) return leg + "an elbow not parallel to its crank";
     } else if (g.pattern == LegPattern::SlideRod) {
       g.origin = form->base * form->after_actuator.translation();
     } else {
@@ -103,11 +217,26 @@ std::string build(const Kinematics& kin, const VectorXd& fixed, int branch, Lane
     // A turn's travel as the representative nearest its middle (within_travel's w, w +- 2 pi).
     if (g.limited && !g.prismatic && (std::abs(g.mid) > 2 * internal::kPi || g.half_width > internal::kPi))
       return leg + "a revolute travel wider than a turn or centred beyond two";
+    const ClosedFormLeg::Parallelogram& P = form->parallelogram;
     auto point_of = [&](int step, LanePoint& p) {
       if (step == -2) p = LanePoint::Anchor;
       else if (step == form->actuator_step) p = LanePoint::Actuator;
-      else if (step == form->ball_step || (g.universal && step == form->ball_step + 1)) p = LanePoint::Ball;
+      else if (!four_bar && (step == form->ball_step || (g.universal && step == form->ball_step + 1))) p = LanePoint::Ball;
       else if (step == form->end_step) p = LanePoint::End;
+      else if (four_bar && step == P.knee_step) p = LanePoint::Knee;
+      else if (four_bar && step == P.upper_step) p = LanePoint::Upper;
+      else if (four_bar && step == P.lower_step) p = LanePoint::Lower;
+      else return false;
+      return true;
+    };
+    // The passive revolutes whose angles the lanes know: a planar dyad's
+    // ball (elbow), a parallelogram's knee, upper, lower and grip joints.
+    auto joint_of = [&](int step, LaneJoint& j) {
+      if (m.planar && step == form->ball_step) j = LaneJoint::Ball;
+      else if (four_bar && step == P.knee_step) j = LaneJoint::Knee;
+      else if (four_bar && step == P.upper_step) j = LaneJoint::Upper;
+      else if (four_bar && step == P.lower_step) j = LaneJoint::Lower;
+      else if (four_bar && step == form->end_step) j = LaneJoint::Grip;
       else return false;
       return true;
     };
@@ -124,15 +253,34 @@ std::string build(const Kinematics& kin, const VectorXd& fixed, int branch, Lane
         rule.axis = internal::walk(l, rest).step_axis[std::size_t(r.steps[0])];
         rule.fixed_axis = true;
       }
-      if (r.kind == BranchRule::Kind::Angle) return leg + "an angle rule";
+      rule.wanted = r.fixed_sign != 0 ? r.fixed_sign : ((branch >> r.free_index) & 1) ? -1 : 1;
+      if (r.kind == BranchRule::Kind::Angle) {
+        // Its angle in closed form: a parallelogram's joints.
+        rule.angle = true;
+        if (!four_bar || !joint_of(r.steps[0], rule.joint)) return leg + "an angle rule on a joint other than a parallelogram's";
+        g.rules.push_back(rule);
+        continue;
+      }
       for (int k = 0; k < (rule.triple ? 3 : 2); ++k)
         if (!point_of(r.steps[std::size_t(k)], rule.points[k]))
           return leg + "a branch rule on other joints than the actuator, ball, end and anchor";
       rule.direction = r.direction;
-      rule.wanted = r.fixed_sign != 0 ? r.fixed_sign : ((branch >> r.free_index) & 1) ? -1 : 1;
       g.rules.push_back(rule);
     }
     for (const JointLimit& j : l.limits) {
+      if (j.kind == JointLimit::Kind::Range) {
+        LaneLeg::Stop stop;
+        if (!joint_of(j.step, stop.joint)) return leg + "a revolute stop on a joint other than a planar elbow or a parallelogram's";
+        constexpr double kDeg = 180 / internal::kPi;
+        stop.lo_deg = j.range.lo * kDeg;
+        stop.hi_deg = j.range.hi * kDeg;
+        stop.mid = 0.5 * (j.range.lo + j.range.hi);
+        stop.cos_mid = std::cos(stop.mid);
+        stop.sin_mid = std::sin(stop.mid);
+        g.stops.push_back(stop);
+        device.cones = true;
+        continue;
+      }
       LaneLeg::Cone cone;
       cone.half_angle_deg = j.half_angle * 180 / internal::kPi;
       const bool spherical_ball = ball.kind == Step::Kind::Spherical && j.step == form->ball_step;
@@ -152,6 +300,7 @@ std::string build(const Kinematics& kin, const VectorXd& fixed, int branch, Lane
     }
     device.legs.push_back(g);
   }
+  capsule_pairs(m, device);
   if (out) *out = std::move(device);
   return "";
 }

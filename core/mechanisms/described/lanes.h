@@ -1,17 +1,19 @@
 // A described device's field in SIMD lanes (docs/described-mechanisms.md,
 // "Fields in SIMD lanes"): for spatial devices whose legs are all point
-// legs (crank-rod, slide-rod, extensible) and planar ones of dyads. In a field the platform's rotation
-// is fixed, so each leg's platform joint centre is p plus a fixed vector and
-// its closed form is a scalar equation in its actuator: the kernel
+// legs (crank-rod, slide-rod, extensible) or crank-parallelograms, and planar
+// ones of dyads. In a field the platform's rotation is fixed, so each leg's
+// platform joint centre is p plus a fixed vector and its closed form is a
+// scalar equation in its actuator (a parallelogram's, two): the kernel
 // (lanes_simd.cpp, Highway, chosen at run time) solves it for 4-8 poses at
-// once with the leg's two candidates, branch rules, travel, cones, Jacobian
-// row, serial margin and the measures. A lane decides only where it is
+// once with the leg's candidates, branch rules, travel, cones, revolute
+// stops, link capsules, Jacobian row, serial margin and the measures. A lane decides only where it is
 // clearly away from every threshold the scalar closed path decides at; every
 // other lane is that path's (DescribedMechanism::sample), so the statuses are
 // its exactly.
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <functional>
 #include <optional>
 #include <string>
@@ -23,13 +25,31 @@
 
 namespace linkscape::described {
 
-// Why the lanes cannot serve this device ("" where they can): extras, link
-// capsules, a leg of another pattern, a rule, limit or task the kernel does
-// not express.
+// Why the lanes cannot serve this device ("" where they can): extras, a leg
+// of another pattern, a rule, limit, capsule or task the kernel does not express.
 std::string lanes_refusal(const Kinematics& kin);
 
-// Where a rule's or Jacobian's point is, per candidate.
-enum class LanePoint { Actuator, Ball, End, Anchor };
+// Where a rule's or Jacobian's point is, per candidate (a parallelogram's
+// joints: knee, upper, lower).
+enum class LanePoint { Actuator, Ball, End, Anchor, Knee, Upper, Lower };
+
+// The passive revolute a stop limits, its angle known per candidate.
+enum class LaneJoint { Ball, Knee, Upper, Lower, Grip };
+
+// The body a link capsule rides on: its points turn with the actuator
+// (Crank), with the actuator and knee (Knee, and a parallelogram's lower bar:
+// Ankle), with those and the upper joint (Shin), or stay: Fixed (base frame),
+// Platform (p + a fixed vector).
+enum class LaneBody { Fixed, Platform, Crank, Knee, Shin, Ankle };
+
+struct LaneCapsule {
+  int leg = 0;
+  LaneBody body = LaneBody::Fixed;
+  // Fixed: base frame; Platform: from p; Crank, Knee, Ankle: from the body's
+  // joint at its angles 0, in the base frame; Shin: likewise, its upper joint at 0.
+  Eigen::Vector3d a, b;
+  double radius = 0;
+};
 
 // One point leg's constants in the base frame for one field (the platform's
 // rotation fixed). Offsets are from the platform position p.
@@ -49,7 +69,9 @@ struct LaneLeg {
   bool universal = false;
   Eigen::Vector3d universal_axis;  // its first axis (a crank's at q = 0)
   struct Rule {
-    bool triple = true;  // else along
+    bool triple = true;  // else along, or with `angle` the sign of sin(joint)
+    bool angle = false;
+    LaneJoint joint = LaneJoint::Upper;
     LanePoint points[3] = {LanePoint::Actuator, LanePoint::Actuator, LanePoint::Actuator};
     Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();
     bool fixed_axis = false;  // a triple's axis: `axis`, else the candidate's actuator axis
@@ -66,6 +88,22 @@ struct LaneLeg {
     double half_angle_deg = 0;
   };
   std::vector<Cone> cones;
+  struct Stop {  // a passive revolute's range (Kinematics::stops: degrees, the angle nearest its middle)
+    LaneJoint joint = LaneJoint::Ball;
+    double lo_deg = 0, hi_deg = 0, mid = 0, cos_mid = 1, sin_mid = 0;
+  };
+  std::vector<Stop> stops;
+  // A planar ball's angle: the one from `ball_link` (the rod at q = 0,
+  // turned with the crank) to the rod, about `ball_normal`.
+  Eigen::Vector3d ball_link = Eigen::Vector3d::UnitX(), ball_normal = Eigen::Vector3d::UnitZ();
+  // A crank-parallelogram (closed_form.h's Parallelogram) in its actuator's
+  // frame: `origin` and `frame` take it to the base frame; `end_local` =
+  // frame^T (end - origin) at p = 0.
+  bool parallelogram = false;
+  Eigen::Matrix3d frame = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d end_local, local_axis, across, thigh, knee_rest, to_upper, side_link, to_grip, upper_axis;
+  double knee_sign = 1, lower_sign = 1, grip_sign = 1, thigh_phase = 0, height = 0, side = 0, phase = 0, bar = 0;
+  double cos_phase = 1, sin_phase = 0, cos_thigh_phase = 1, sin_thigh_phase = 0, cos_level = 1, sin_level = 0;
 };
 
 struct LaneDevice {
@@ -74,30 +112,37 @@ struct LaneDevice {
   double size = 1;
   int branch = 0;
   bool planar = false;  // z is the plane's, whatever the grid's
-  bool cones = false;   // joint margins stored
+  bool cones = false;   // joint margins stored (cones or revolute stops)
+  std::vector<LaneCapsule> capsules;
+  std::vector<std::array<int, 2>> pairs;  // the capsules Kinematics::stops checks against each other
 };
 
 // The device's lane constants for a field at the fixed task `fixed` (model
 // order; its x, y, z unused) on `branch`; nullopt where lanes_refusal says why.
 std::optional<LaneDevice> lane_device(const Kinematics& kin, const Eigen::VectorXd& fixed, int branch);
 
-// The scalar closed path at a row's sample t (its joint margin, degrees, NaN
-// where it does not assemble).
-using LaneFallback = std::function<FieldSample(int t, double& joint_margin_deg)>;
+// The scalar closed path at a row's sample t (its joint margin, degrees, and
+// clearance, NaN where it does not assemble).
+using LaneFallback = std::function<FieldSample(int t, double& joint_margin_deg, double& clearance)>;
 
 // The lanes' own values in double before the Field's floats, per row sample
 // (NaN where the scalar path decided): for tests that compare them finer
 // than a float.
 struct LaneValues {
-  std::vector<double> cond, cond_orientation, reach_margin;
+  std::vector<double> cond, cond_orientation, reach_margin, joint_margin, clearance;
 };
 
-// One grid row in lanes with the CPU's best instruction set (core/simd.h);
-// `joint_margin` the row's joint-margin array (null: none). Samples the lanes
-// serve take method code `method`; the others are `fallback`'s. With
-// `values`, also their doubles.
+// The row's arrays of the stops (null: the device has none).
+struct LaneStopsOut {
+  float* joint_margin = nullptr;
+  float* clearance = nullptr;
+};
+
+// One grid row in lanes with the CPU's best instruction set (core/simd.h).
+// Samples the lanes serve take method code `method`; the others are
+// `fallback`'s. With `values`, also their doubles.
 void sample_row_lanes(const LaneDevice& device, const Grid& grid, const detail::GridRow& row,
-                      const detail::FieldRowOut& out, float* joint_margin, std::uint8_t method,
+                      const detail::FieldRowOut& out, const LaneStopsOut& stops, std::uint8_t method,
                       const LaneFallback& fallback, LaneValues* values = nullptr);
 
 }  // namespace linkscape::described

@@ -1,33 +1,45 @@
-// Point legs' closed forms and the measures in SIMD lanes (lanes.h), compiled
-// once per instruction set and chosen at run time (core/simd.h).
+// Point legs' and crank-parallelograms' closed forms and the measures in
+// SIMD lanes (lanes.h), compiled once per instruction set and chosen at run
+// time (core/simd.h); the per-leg geometry is lanes_legs-inl.h's.
 //
 // Lane for lane it is the scalar closed path (Kinematics::inverse with the
-// closed forms, jacobian, reach_margin) with the early returns replaced by
-// masks: each leg's reach bounds, its closed form's two candidates (a crank's
-// cos q, sin q from A cos q + B sin q = C without an angle; a slide's
-// quadratic; an extensible leg's distance), the branch rules' signs on the
-// actuator, ball, end and anchor points, the travel, the ball joints' cones,
-// the Jacobian row (the force along the rod), J = -Jx^-1 Jq by Gauss-Jordan
-// with partial pivoting, the serial and travel margins, and the measures:
-// c(J) of a 2x2 or 3x3 J in closed form (core/simd_field-inl.h's for 3x3),
-// cond(Jp) and cond(Jo) of a 6x6 J as c(R) of the QR factor (modified
-// Gram-Schmidt) of their 3x6 rows, no general SVD. A planar dyad is a crank
-// in the plane. A lane decides only clearly away from every
-// threshold the scalar path decides at: reach bounds within 1e-9 of the size
-// of their cut, a closed form within 1e-9 of its discriminant's zero or a
-// degenerate pose, a rule's value within 1e-9 size^k of 0, an actuator within
-// 1e-9 of a travel end, a cone within 1e-7 deg of its limit, a rod or a Jq
-// entry within 1e-6 of zero, a universal joint within 1e-6 of gimbal lock,
-// Jx's 1-norm condition number over 1e8 (the scalar path's type II test is
-// the LU's estimate over 1e12, at most this), a Jacobian far from unit scale,
-// two of its singular values within about 1e-4 of each other (where the
-// closed-form c(J) is inexact): those lanes are the scalar closed path's.
+// closed forms, stops, jacobian, reach_margin) with the early returns
+// replaced by masks: each leg's reach bounds, its closed form's candidates (a
+// crank's cos q, sin q from A cos q + B sin q = C without an angle; a slide's
+// quadratic; an extensible leg's distance; a parallelogram's four, its
+// upper joint's and elbow's signs), the branch rules' signs on the actuator,
+// ball, end, anchor and a parallelogram's joints (and the sine of a
+// parallelogram joint's angle), the travel, the ball joints' cones, the
+// passive revolutes' stops (their angles as directions from the joints'
+// points), the links' clearance (capsule segments from the joints' points,
+// segment-segment distance as interference::closest_points takes it), the
+// Jacobian row (the force along the rod; a parallelogram's actuator twist
+// off its passive twists), J = -Jx^-1 Jq by Gauss-Jordan with partial
+// pivoting, the serial and travel margins, and the measures: c(J) of a 2x2
+// or 3x3 J in closed form (core/simd_field-inl.h's for 3x3), cond(Jp) and
+// cond(Jo) of a 6x6 J as c(R) of the QR factor (modified Gram-Schmidt) of
+// their 3x6 rows, no general SVD. A planar dyad is a crank in the plane. A
+// lane decides only clearly away from every threshold the scalar path
+// decides at: reach bounds within 1e-9 of the size of their cut, a closed
+// form within 1e-9 of its discriminant's zero or a degenerate pose (a
+// parallelogram: its miss within 1e-9 of the size of zero, its side or elbow
+// within 1e-6 of straight), a rule's value within 1e-9 size^k of 0, an
+// actuator within 1e-9 of a travel end, a cone or a revolute stop within
+// 1e-7 deg of its limit, two capsules within 1e-9 of the size of touching
+// or nearly parallel, a rod or a Jq entry within 1e-6 of zero, a universal
+// joint within 1e-6 of gimbal lock, a parallelogram's passive twists within
+// 1e-6 of losing their rank, Jx's 1-norm condition number over 1e8 (the
+// scalar path's type II test is the LU's estimate over 1e12, at most this),
+// a Jacobian far from unit scale, two of its singular values within about
+// 1e-4 of each other (where the closed-form c(J) is inexact): those lanes are
+// the scalar closed path's.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "core/mechanisms/described/lanes_simd.cpp"
 #include <hwy/foreach_target.h>  // must come before highway.h
 #include <hwy/highway.h>
 
 #include "core/simd_field-inl.h"  // per target, like this file
+#include "core/mechanisms/described/lanes_legs-inl.h"  // likewise
 
 #include <algorithm>
 #include <cmath>
@@ -42,51 +54,14 @@ namespace hn = hwy::HWY_NAMESPACE;
 
 using namespace linkscape::simd::HWY_NAMESPACE;  // D, V, M, Block and the shared helpers
 
-struct V3 {
-  V x, y, z;
-};
-HWY_INLINE V3 Splat(D d, const Eigen::Vector3d& v) { return {hn::Set(d, v.x()), hn::Set(d, v.y()), hn::Set(d, v.z())}; }
-HWY_INLINE V3 operator+(const V3& a, const V3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-HWY_INLINE V3 operator-(const V3& a, const V3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-HWY_INLINE V3 operator*(V s, const V3& a) { return {s * a.x, s * a.y, s * a.z}; }
-HWY_INLINE V Dot(const V3& a, const V3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-HWY_INLINE V3 Cross(const V3& a, const V3& b) {
-  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-HWY_INLINE V3 Select(M m, const V3& a, const V3& b) {
-  return {hn::IfThenElse(m, a.x, b.x), hn::IfThenElse(m, a.y, b.y), hn::IfThenElse(m, a.z, b.z)};
-}
-HWY_INLINE V Get(const V3& a, int i) { return i == 0 ? a.x : i == 1 ? a.y : a.z; }
-HWY_INLINE M None(D d) { return hn::FirstN(d, 0); }
-// Fixed vector x turned about unit a by the angle of (c, s).
-HWY_INLINE V3 Turn(D d, const Eigen::Vector3d& a, const Eigen::Vector3d& x, V c, V s) {
-  const V3 along = hn::Set(d, a.dot(x)) * Splat(d, a);
-  return hn::Set(d, 1.0) * along + c * (Splat(d, x) - along) + s * Splat(d, a.cross(x));
-}
-
-// One closed-form solution of a leg.
-struct Candidate {
-  V3 ball;     // the ball joint's centre
-  V3 axis;     // the actuator's axis (an extensible leg's turns with the ball)
-  V q;         // a slide's length
-  V c, s;      // a crank's cos q, sin q
-  V rc, rs;    // a limited crank's q - mid as a direction
-  V sigma;     // an extensible leg's side: +-1
-  M match, inside;
-};
-
-struct LegLanes {
-  M unreachable, outside_travel, to_scalar;
-  V residual;  // where unreachable
-  Candidate at;
-  V3 end;
-};
-
 HWY_INLINE V3 PointOf(LanePoint p, const LaneLeg& g, const Candidate& c, const V3& end, const V3& anchor, D d) {
   switch (p) {
     case LanePoint::Actuator: return g.pattern == LegPattern::Extensible ? c.ball : Splat(d, g.actuator_centre);
     case LanePoint::Ball: return c.ball;
     case LanePoint::End: return end;
+    case LanePoint::Knee: return c.knee;
+    case LanePoint::Upper: return c.upper;
+    case LanePoint::Lower: return c.lower;
     case LanePoint::Anchor: break;
   }
   return anchor;
@@ -97,6 +72,12 @@ HWY_INLINE void Decide(D d, const LaneLeg& g, double size, const V3& end, const 
   const V zero = hn::Zero(d);
   c.match = hn::Not(None(d));
   for (const LaneLeg::Rule& r : g.rules) {
+    if (r.angle) {  // sin of the joint's angle
+      const V v = c.js[int(r.joint)];
+      c.match = hn::And(c.match, hn::Not(v * hn::Set(d, r.wanted) < zero));
+      to_scalar = hn::Or(to_scalar, hn::Abs(v) < hn::Set(d, 1e-9));
+      continue;
+    }
     const V3 a = PointOf(r.points[0], g, c, end, anchor, d), b = PointOf(r.points[1], g, c, end, anchor, d);
     V v;
     if (r.triple) v = Dot(Cross(b - a, PointOf(r.points[2], g, c, end, anchor, d) - b), r.fixed_axis ? Splat(d, r.axis) : c.axis);
@@ -130,6 +111,7 @@ HWY_INLINE void Decide(D d, const LaneLeg& g, double size, const V3& end, const 
 HWY_INLINE void SolveLeg(D d, const LaneLeg& g, double size, const V3& p, LegLanes& out) {
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0);
   const V3 anchor = p + Splat(d, g.anchor_offset);
+  out.anchor = anchor;
   out.end = p + Splat(d, g.end_offset);
   const V3& w = out.end;
   // The reach bounds, as solve_leg_on takes them first: outside = max(|a -
@@ -154,7 +136,8 @@ HWY_INLINE void SolveLeg(D d, const LaneLeg& g, double size, const V3& p, LegLan
   M band = None(d);  // the closed form's, rules' and travel's: where the closed form decides
   M missed = None(d);
   V miss = zero;
-  Candidate c[2];
+  Candidate c[4];
+  int count = 2;
   // Where no lane's leg closes, its candidates are not needed (the residual is).
   const auto none_closes = [&] {
     if (!hn::AllFalse(d, hn::AndNot(bound, hn::Not(missed)))) return false;
@@ -162,7 +145,16 @@ HWY_INLINE void SolveLeg(D d, const LaneLeg& g, double size, const V3& p, LegLan
     out.residual = hn::IfThenElse(bound, outside, miss);
     return true;
   };
-  if (g.pattern == LegPattern::CrankRod) {
+  if (g.parallelogram) {
+    const ParallelogramReach reach = ParallelogramMiss(d, g, size, w, missed, miss, band);
+    if (none_closes()) return;
+    ParallelogramCandidates(d, g, size, reach, c, band);
+    count = 4;
+    // Within reach but no candidate (rounding): the scalar path's.
+    M any = None(d);
+    for (const Candidate& k : c) any = hn::Or(any, k.valid);
+    band = hn::Or(band, hn::AndNot(missed, hn::Not(any)));
+  } else if (g.pattern == LegPattern::CrankRod) {
     const V3 dv = w - Splat(d, g.origin);
     const V du = Dot(Splat(d, g.u), dv), dw = Dot(Splat(d, g.v), dv);
     const V R = hn::Sqrt(du * du + dw * dw), dd = Dot(dv, dv) + hn::Set(d, g.rho * g.rho);
@@ -222,29 +214,41 @@ HWY_INLINE void SolveLeg(D d, const LaneLeg& g, double size, const V3& p, LegLan
     }
   }
   M decided_band = band;
-  for (Candidate& k : c) {
-    k.rc = k.rs = zero;
-    Decide(d, g, size, w, anchor, k, decided_band);
+  for (int k = 0; k < count; ++k) {
+    Candidate& x = c[k];
+    if (!g.parallelogram) {
+      x.valid = hn::Not(None(d));
+      x.knee = x.upper = x.lower = x.ball;
+      x.cqk = x.sqk = zero;
+      for (int j = 0; j < 5; ++j) x.jc[j] = x.js[j] = zero;
+    }
+    x.rc = x.rs = zero;
+    M candidate_band = None(d);
+    Decide(d, g, size, w, anchor, x, candidate_band);
+    decided_band = hn::Or(decided_band, hn::And(x.valid, candidate_band));
   }
   const M closes = hn::AndNot(bound, hn::Not(missed));
   // Bands count only where they could decide: the closed form's where the
   // bounds let it run, the rules' and travel's where it closes.
   out.to_scalar = hn::Or(out.to_scalar, hn::AndNot(bound, hn::Or(band, hn::And(closes, decided_band))));
-  const M within0 = hn::And(c[0].match, c[0].inside), within1 = hn::And(c[1].match, c[1].inside);
-  const M take1 = hn::AndNot(within0, hn::Or(within1, hn::AndNot(c[0].match, c[1].match)));
-  const M on_branch = hn::Or(c[0].match, c[1].match);
-  out.unreachable = hn::Or(bound, hn::Or(missed, hn::Not(on_branch)));
-  out.outside_travel = hn::AndNot(hn::Or(within0, within1), hn::Not(out.unreachable));
-  out.residual = hn::IfThenElse(bound, outside, hn::IfThenElse(missed, miss, zero));
+  // As the scalar path: the first candidate on the branch within the travel,
+  // else the first on the branch.
   Candidate& a = out.at;
-  a.ball = Select(take1, c[1].ball, c[0].ball);
-  a.axis = Select(take1, c[1].axis, c[0].axis);
-  a.q = hn::IfThenElse(take1, c[1].q, c[0].q);
-  a.c = hn::IfThenElse(take1, c[1].c, c[0].c);
-  a.s = hn::IfThenElse(take1, c[1].s, c[0].s);
-  a.rc = hn::IfThenElse(take1, c[1].rc, c[0].rc);
-  a.rs = hn::IfThenElse(take1, c[1].rs, c[0].rs);
-  a.sigma = hn::IfThenElse(take1, c[1].sigma, c[0].sigma);
+  a = c[0];
+  M within = None(d), on_branch = None(d);
+  for (int k = 0; k < count; ++k) {
+    const M take = hn::AndNot(within, hn::And(hn::And(c[k].valid, c[k].match), c[k].inside));
+    Pick(take, c[k], a);
+    within = hn::Or(within, take);
+  }
+  for (int k = 0; k < count; ++k) {
+    const M matched = hn::And(c[k].valid, c[k].match);
+    Pick(hn::AndNot(hn::Or(within, on_branch), matched), c[k], a);
+    on_branch = hn::Or(on_branch, matched);
+  }
+  out.unreachable = hn::Or(bound, hn::Or(missed, hn::Not(on_branch)));
+  out.outside_travel = hn::AndNot(within, hn::Not(out.unreachable));
+  out.residual = hn::IfThenElse(bound, outside, hn::IfThenElse(missed, miss, zero));
 }
 
 // Gauss-Jordan with partial pivoting (each column's largest entry by
@@ -342,7 +346,7 @@ HWY_INLINE V RowsCondition(D d, V (&r)[3][N], M& to_scalar) {
 }
 
 struct Extras {  // per block sample, beside simd::Block
-  double joint_margin[kBlock];
+  double joint_margin[kBlock], clearance[kBlock];
 };
 
 template <int N>
@@ -373,7 +377,7 @@ void Geometry(const LaneDevice& dev, const Grid& g, const detail::GridRow& row, 
     const M assembled = hn::Not(unreachable);
     V status = hn::IfThenElse(unreachable, StatusCode(d, Status::Unreachable),
                               hn::IfThenElse(outside_travel, StatusCode(d, Status::OutOfLimits), StatusCode(d, Status::Ok)));
-    V margin = unreachable_margin, joint_margin = hn::NaN(d);
+    V margin = unreachable_margin, joint_margin = hn::NaN(d), clearance = hn::NaN(d);
     V cond = inf, cond_orientation = inf;
     if (!hn::AllFalse(d, assembled)) {
       M near = None(d);  // a threshold the scalar path decides at, where the device assembles
@@ -382,6 +386,24 @@ void Geometry(const LaneDevice& dev, const Grid& g, const detail::GridRow& row, 
       for (int i = 0; i < N; ++i) {
         const LaneLeg& g = dev.legs[std::size_t(i)];
         const Candidate& a = legs[i].at;
+        for (const LaneLeg::Stop& stop : g.stops) {
+          V c = a.jc[int(stop.joint)], s = a.js[int(stop.joint)];
+          if (stop.joint == LaneJoint::Ball) {  // a planar elbow: from the crank's rod at q = 0 to the rod
+            const V3 link = Turn(d, g.axis, g.ball_link, a.c, a.s), rod = legs[i].end - a.ball;
+            c = Dot(link, rod);
+            s = Dot(Splat(d, g.ball_normal), Cross(link, rod));
+          }
+          const V m = StopMargin(d, stop, c, s);
+          near = hn::Or(near, hn::Abs(m) < hn::Set(d, 1e-7));
+          cones = hn::Min(cones, m);
+        }
+        if (g.parallelogram) {
+          ParallelogramRow<N>(d, g, dev.coordinate, size, legs[i], Jx[i], jq[i], near);
+          near = hn::Or(near, jq[i] < hn::Set(d, 1e-6));
+          serial = hn::Min(serial, jq[i] * hn::Set(d, size));
+          if (g.limited) travel = hn::Min(travel, (hn::Set(d, g.half_width) - Atan2(d, hn::Abs(a.rs), a.rc)) * hn::Set(d, size));
+          continue;
+        }
         const V3 f = legs[i].end - a.ball;
         const V f_norm = hn::Sqrt(Dot(f, f)), inv_f = one / f_norm;
         near = hn::Or(near, f_norm < hn::Set(d, 1e-6 * size));
@@ -429,6 +451,11 @@ void Geometry(const LaneDevice& dev, const Grid& g, const detail::GridRow& row, 
         joint_margin = hn::IfThenElse(assembled, cones, joint_margin);
         status = hn::IfThenElse(hn::And(assembled, cones < zero), StatusCode(d, Status::OutOfLimits), status);
       }
+      if (!dev.capsules.empty()) {
+        const V gap = Clearance<N>(d, dev, p, legs, near);
+        clearance = hn::IfThenElse(assembled, gap, clearance);
+        status = hn::IfThenElse(hn::And(assembled, gap < zero), StatusCode(d, Status::OutOfLimits), status);
+      }
       V inv[N][N];
       const V norm = NormOne(d, Jx);
       Invert(d, Jx, inv);
@@ -469,7 +496,8 @@ void Geometry(const LaneDevice& dev, const Grid& g, const detail::GridRow& row, 
       }
       to_scalar = hn::Or(to_scalar, hn::And(assembled, near));
       const V joints = dev.cones ? cones * hn::Set(d, M_PI / 180 * size) : inf;
-      margin = hn::IfThenElse(assembled, hn::Min(hn::Min(serial, travel), joints), margin);
+      const V gaps = dev.capsules.empty() ? inf : clearance;
+      margin = hn::IfThenElse(assembled, hn::Min(hn::Min(serial, travel), hn::Min(joints, gaps)), margin);
     }
     hn::Store(status, d, b.status + t);
     hn::Store(margin, d, b.reach_margin + t);
@@ -477,25 +505,28 @@ void Geometry(const LaneDevice& dev, const Grid& g, const detail::GridRow& row, 
     hn::Store(cond, d, b.cond + t);
     hn::Store(cond_orientation, d, b.cond_orientation + t);
     hn::Store(joint_margin, d, e.joint_margin + t);
+    hn::Store(clearance, d, e.clearance + t);
     hn::Store(Flag(d, to_scalar), d, b.to_scalar + t);
   }
 }
 
 void SampleRowLanes(const LaneDevice& dev, const Grid& g, const detail::GridRow& row, const detail::FieldRowOut& out,
-                    float* joint_margin, std::uint8_t method, const LaneFallback& fallback, LaneValues* values) {
+                    const LaneStopsOut& stops, std::uint8_t method, const LaneFallback& fallback, LaneValues* values) {
   const MethodRule rule{double(method), false};
   Block b;
   Extras e;
   if (values)
-    for (auto* v : {&values->cond, &values->cond_orientation, &values->reach_margin})
+    for (auto* v : {&values->cond, &values->cond_orientation, &values->reach_margin, &values->joint_margin, &values->clearance})
       v->assign(std::size_t(row.count), std::numeric_limits<double>::quiet_NaN());
   for (int first = 0; first < row.count; first += kBlock) {
     const int n = std::min(kBlock, row.count - first);
     if (dev.legs.size() == 2) Geometry<2>(dev, g, row, first, n, b, e);
     else if (dev.legs.size() == 3) Geometry<3>(dev, g, row, first, n, b, e);
     else Geometry<6>(dev, g, row, first, n, b, e);
-    if (joint_margin)
-      for (int t = 0; t < n; ++t) joint_margin[first + t] = float(e.joint_margin[t]);
+    if (stops.joint_margin)
+      for (int t = 0; t < n; ++t) stops.joint_margin[first + t] = float(e.joint_margin[t]);
+    if (stops.clearance)
+      for (int t = 0; t < n; ++t) stops.clearance[first + t] = float(e.clearance[t]);
     if (values)
       for (int t = 0; t < n; ++t) {
         if (b.to_scalar[t] != 0.0) continue;
@@ -503,11 +534,14 @@ void SampleRowLanes(const LaneDevice& dev, const Grid& g, const detail::GridRow&
         values->cond[i] = b.cond[t];
         values->cond_orientation[i] = b.cond_orientation[t];
         values->reach_margin[i] = b.reach_margin[t];
+        values->joint_margin[i] = e.joint_margin[t];
+        values->clearance[i] = e.clearance[t];
       }
     StoreBlock(b, first, n, row.count, false, rule, out, [&](int i) {
-      double jm = 0;
-      const FieldSample s = fallback(i, jm);
-      if (joint_margin) joint_margin[i] = float(jm);
+      double jm = 0, gap = 0;
+      const FieldSample s = fallback(i, jm, gap);
+      if (stops.joint_margin) stops.joint_margin[i] = float(jm);
+      if (stops.clearance) stops.clearance[i] = float(gap);
       return s;
     });
   }
@@ -522,9 +556,9 @@ namespace linkscape::described {
 HWY_EXPORT(SampleRowLanes);
 
 void sample_row_lanes(const LaneDevice& device, const Grid& grid, const detail::GridRow& row,
-                      const detail::FieldRowOut& out, float* joint_margin, std::uint8_t method,
+                      const detail::FieldRowOut& out, const LaneStopsOut& stops, std::uint8_t method,
                       const LaneFallback& fallback, LaneValues* values) {
-  HWY_DYNAMIC_DISPATCH(SampleRowLanes)(device, grid, row, out, joint_margin, method, fallback, values);
+  HWY_DYNAMIC_DISPATCH(SampleRowLanes)(device, grid, row, out, stops, method, fallback, values);
 }
 
 }  // namespace linkscape::described

@@ -397,13 +397,15 @@ class DescribedMechanism final : public Mechanism {
             return x;
           };
           if (lanes) {
-            sample_row_lanes(*lanes, grid, row, out, joint_margin ? joint_margin + row.index : nullptr, kLanesCode,
-                             [&](int t, double& margin) {
-                               Stops stops;
-                               const FieldSample s = sample(at(t), branch, tolerance, solver, stops);
-                               margin = stops.joint_margin_deg;
-                               return s;
-                             });
+            const LaneStopsOut row_stops{joint_margin ? joint_margin + row.index : nullptr,
+                                         clearance ? clearance + row.index : nullptr};
+            sample_row_lanes(*lanes, grid, row, out, row_stops, kLanesCode, [&](int t, double& margin, double& gap) {
+              Stops stops;
+              const FieldSample s = sample(at(t), branch, tolerance, solver, stops);
+              margin = stops.joint_margin_deg;
+              gap = stops.clearance;
+              return s;
+            });
             return;
           }
           for (int t = 0; t < row.count; ++t) {

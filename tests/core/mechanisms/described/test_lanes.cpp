@@ -48,6 +48,7 @@ Field field(const Mechanism& m, const Grid& g, const Eigen::VectorXd& fixed, con
 
 struct Tally {
   std::size_t ok = 0, lanes = 0;  // samples ok, and of them decided in lanes (the others carry no method)
+  std::size_t stopped = 0;        // beyond a passive joint's stop or with links overlapping
 };
 
 // Lanes against the scalar closed path, sample for sample; returns how many samples the lanes served.
@@ -77,6 +78,9 @@ void compare(const Field& lanes, const Field& scalar, const std::string& what, T
     if (lanes.reachable[i] != scalar.reachable[i]) report(i, "reachable", lanes.reachable[i], scalar.reachable[i]);
     tally.ok += lanes.status[i] == std::uint8_t(Status::Ok);
     tally.lanes += lanes.method_used[i] == kLanesCode;
+    bool stopped = false;
+    for (const Field::NamedArray& e : lanes.extras) stopped = stopped || e.values[i] < 0;
+    tally.stopped += stopped;
   }
 }
 
@@ -107,17 +111,22 @@ void check_device(const Mechanism& m, const std::string& what, Tally& tally, boo
     }
 }
 
-const char* const kPointLegDevices[] = {"delta-described", "hexapod-rus", "stewart", "linear-delta", "five-bar", "three-rrr"};
+// The last two with passive revolutes' stops and link capsules: a planar
+// dyad's elbows; a crank-parallelogram's knee, upper and grip joints.
+const char* const kLaneDevices[] = {"delta-described", "hexapod-rus", "stewart", "linear-delta",
+                                    "five-bar",        "three-rrr",   "haply-2diy", "falcon"};
+bool has_stops(const std::string& name) { return name == "haply-2diy" || name == "falcon"; }
 
-TEST(DescribedLanes, ShippedPointLegDevicesAgreeWithTheScalarClosedPath) {
-  for (const char* name : kPointLegDevices) {
+TEST(DescribedLanes, ShippedDevicesAgreeWithTheScalarClosedPath) {
+  for (const char* name : kLaneDevices) {
     Tally tally;
     const auto m = make_mechanism(load_preset(name));
     check_device(*m, name, tally);
     if (std::string(name) == "stewart") check_device(*m, "stewart turned", tally, true);
     // The lanes decide most samples; the scalar path only a band near thresholds.
     EXPECT_GT(double(tally.lanes), 0.95 * double(tally.ok)) << name;
-    std::printf("%s: %zu samples ok, %zu of them in lanes\n", name, tally.ok, tally.lanes);
+    if (has_stops(name)) EXPECT_GT(tally.stopped, 100u) << name;
+    std::printf("%s: %zu samples ok, %zu of them in lanes; %zu stopped\n", name, tally.ok, tally.lanes, tally.stopped);
   }
 }
 
@@ -127,6 +136,8 @@ TEST(DescribedLanes, ShippedPointLegDevicesAgreeWithTheScalarClosedPath) {
 // home, every branch. Returns the worst relative differences.
 struct Worst {
   double cond = 0, margin = 0;
+  double joint_margin = 0, clearance = 0;  // relative to max(|value|, 1e-6 deg or size)
+  std::size_t stopped = 0, overlapping = 0;  // samples beyond a passive joint's stop, with links overlapping
   double cond_clustered = 0;  // where two singular values lie within 1e-3 relative of each other
   double at_cond = 0;         // c(J) where the worst c(J) difference is
   std::size_t compared = 0;
@@ -143,8 +154,8 @@ Worst compare_doubles(const Preset& preset) {
   for (int branch = 0; branch < kin.branches(); ++branch) {
     const std::optional<LaneDevice> device = lane_device(kin, model.home, branch);
     if (!device) throw std::runtime_error("not in lanes");
-    for (const Grid& g : {Grid::box(box.min(), box.max(), {17, 15, model.planar ? 1 : 13}),
-                          Grid::box(home - about, home + about, {16, 14, model.planar ? 1 : 12})}) {
+    for (const Grid& g : {Grid::box(box.min(), box.max(), model.planar ? std::array<int, 3>{41, 37, 1} : std::array<int, 3>{17, 15, 13}),
+                          Grid::box(home - about, home + about, model.planar ? std::array<int, 3>{38, 35, 1} : std::array<int, 3>{16, 14, 12})}) {
       const std::size_t n = std::size_t(g.dims[0]);
       std::vector<float> cond(n), margin(n), residual(n), orientation(n);
       std::vector<std::uint8_t> reachable(n), status(n), method(n);
@@ -155,8 +166,8 @@ Worst compare_doubles(const Preset& preset) {
         for (int j = 0; j < g.dims[1]; ++j) {
           const detail::GridRow row{0, {0, j, k}, g.dims[0], g.index(0, j, k)};
           LaneValues values;
-          sample_row_lanes(*device, g, row, out, nullptr, kLanesCode,
-                           [](int, double& jm) { return jm = 0, FieldSample{}; }, &values);
+          sample_row_lanes(*device, g, row, out, {}, kLanesCode,
+                           [](int, double& jm, double& gap) { return jm = gap = 0, FieldSample{}; }, &values);
           for (int t = 0; t < row.count; ++t) {
             if (std::isnan(values.reach_margin[std::size_t(t)])) continue;  // the scalar path's sample
             Eigen::VectorXd x = model.home;
@@ -168,6 +179,19 @@ Worst compare_doubles(const Preset& preset) {
             const double lane_margin = values.reach_margin[std::size_t(t)];
             worst.margin = std::max(worst.margin, std::abs(lane_margin - margin_ref) / std::max(std::abs(margin_ref), 1e-6 * model.size));
             ++worst.compared;
+            const double lane_stops[2] = {values.joint_margin[std::size_t(t)], values.clearance[std::size_t(t)]};
+            const bool closes = assembled(solved);
+            const double ref_stops[2] = {closes && kin.has_joint_limits() ? solved.stops.joint_margin_deg : NAN,
+                                         closes && kin.has_capsules() ? solved.stops.clearance : NAN};
+            const double floor[2] = {1e-6, 1e-6 * model.size};
+            double* worst_stops[2] = {&worst.joint_margin, &worst.clearance};
+            for (int k = 0; k < 2; ++k) {
+              EXPECT_EQ(std::isnan(lane_stops[k]), std::isnan(ref_stops[k])) << k;
+              if (!std::isnan(ref_stops[k]))
+                *worst_stops[k] = std::max(*worst_stops[k], std::abs(lane_stops[k] - ref_stops[k]) / std::max(std::abs(ref_stops[k]), floor[k]));
+            }
+            worst.stopped += closes && solved.stops.joint_margin_deg < 0;
+            worst.overlapping += closes && solved.stops.clearance < 0;
             if (status[std::size_t(t)] != std::uint8_t(Status::Ok)) continue;
             EXPECT_EQ(parts ? parts->status : Status::Unreachable, Status::Ok);
             std::vector<Eigen::MatrixXd> blocks;
@@ -202,12 +226,16 @@ Worst compare_doubles(const Preset& preset) {
 // the square root of the rounding; the lanes hand those samples to the
 // scalar path, and the test checks them apart.
 TEST(DescribedLanes, DoublesAgreeWithTheScalarClosedPath) {
-  for (const char* name : kPointLegDevices) {
+  for (const char* name : kLaneDevices) {
     const Worst w = compare_doubles(load_preset(name));
     std::printf("%s: %zu samples, worst c(J) %.2e (at c(J) %.3g), %.2e where two singular values coincide, worst reach "
-                "margin %.2e (relative)\n",
-                name, w.compared, w.cond, w.at_cond, w.cond_clustered, w.margin);
+                "margin %.2e, joint margin %.2e, clearance %.2e (relative); %zu beyond a stop, %zu overlapping\n",
+                name, w.compared, w.cond, w.at_cond, w.cond_clustered, w.margin, w.joint_margin, w.clearance, w.stopped,
+                w.overlapping);
     EXPECT_GT(w.compared, 1000u) << name;
+    EXPECT_LE(w.joint_margin, 1e-9) << name;
+    EXPECT_LE(w.clearance, 1e-9) << name;
+    if (has_stops(name)) EXPECT_GT(w.stopped, 20u) << name;  // decided in lanes (overlaps: the random designs)
     EXPECT_LE(w.cond, 1e-9) << name;
     EXPECT_LE(w.cond_clustered, 1e-9) << name;
     EXPECT_LE(w.margin, 1e-9) << name;
@@ -216,11 +244,12 @@ TEST(DescribedLanes, DoublesAgreeWithTheScalarClosedPath) {
 
 TEST(DescribedLanes, RandomDesignsAgreeWithTheScalarClosedPath) {
   std::mt19937_64 rng(2811);
-  for (const char* name : kPointLegDevices) {
+  for (const char* name : kLaneDevices) {
     const Preset shipped = load_preset(name);
     const auto base = make_mechanism(shipped);
     Tally tally;
     int designs = 0;
+    std::size_t stopped = 0, overlapping = 0;
     for (int attempt = 0; attempt < 40 && designs < 4; ++attempt) {
       Preset p = shipped;
       for (const Quantity& q : base->info().parameters)
@@ -235,24 +264,33 @@ TEST(DescribedLanes, RandomDesignsAgreeWithTheScalarClosedPath) {
       check_device(*m, std::string(name) + " design " + std::to_string(designs), tally, true);
       const Worst w = compare_doubles(p);
       std::printf("%s design %d: worst c(J) %.2e (at c(J) %.3g), %.2e where two singular values coincide, worst reach "
-                  "margin %.2e\n", name, designs, w.cond, w.at_cond, w.cond_clustered, w.margin);
+                  "margin %.2e, joint margin %.2e, clearance %.2e; %zu beyond a stop, %zu overlapping\n", name, designs, w.cond,
+                  w.at_cond, w.cond_clustered, w.margin, w.joint_margin, w.clearance, w.stopped, w.overlapping);
+      stopped += w.stopped;
+      overlapping += w.overlapping;
+      EXPECT_LE(w.joint_margin, 1e-9) << name << " design " << designs;
+      EXPECT_LE(w.clearance, 1e-9) << name << " design " << designs;
       EXPECT_LE(w.cond, 1e-9) << name << " design " << designs;
       EXPECT_LE(w.cond_clustered, 1e-9) << name << " design " << designs;
       EXPECT_LE(w.margin, 1e-9) << name << " design " << designs;
     }
     EXPECT_GE(designs, 2) << name;
+    if (has_stops(name)) {  // decided in lanes
+      EXPECT_GT(stopped, 20u) << name;
+      EXPECT_GT(overlapping, 20u) << name;
+    }
     EXPECT_GT(double(tally.lanes), 0.9 * double(tally.ok)) << name;
     std::printf("%s: %d random designs, %zu samples ok, %zu of them in lanes\n", name, designs, tally.ok, tally.lanes);
   }
 }
 
 TEST(DescribedLanes, WhichDevicesTheLanesServe) {
-  for (const char* name : kPointLegDevices) {
+  for (const char* name : kLaneDevices) {
     const Preset p = load_preset(name);
     EXPECT_NE(described::describe(p).find("field: lanes"), std::string::npos) << name;
   }
-  // Other patterns, capsules: the scalar closed path for the whole field, and describe says why.
-  for (const char* name : {"pathos2-described", "falcon"}) {
+  // Another pattern: the scalar closed path for the whole field, and describe says why.
+  for (const char* name : {"pathos2-described"}) {
     const Preset p = load_preset(name);
     EXPECT_NE(described::describe(p).find("field: closed, one pose at a time (not in lanes: "), std::string::npos) << name;
     const auto m = make_mechanism(p);
