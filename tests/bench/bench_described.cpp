@@ -89,6 +89,7 @@ int main(int argc, char** argv) {
       {"HexapodRus", "", "hexapod-rus", 96, true},          {"LinearDelta", "", "linear-delta", 96, true},
       {"FiveBar", "", "five-bar", 192, true},               {"ThreeRrr", "", "three-rrr", 192, true},
       {"Falcon", "", "falcon", 96, true},                   {"Falcon", "", "falcon", 24, false},
+      {"Falcon", "", "falcon", 48, false},                  {"Haply2diy", "", "haply-2diy", 192, true},
   };
   for (int round = 0; round < 3; ++round)
     for (const Case& c : cases) add(c.name, c.compiled, c.described, c.n, c.slice, round);

@@ -68,6 +68,8 @@ std::string capsules(const Leg& l, int leg, const ClosedFormLeg& form, const Pla
     LaneCapsule c;
     c.leg = leg;
     c.radius = k.radius;
+    c.reach = 0.5 * (k.b - k.a).norm() + k.radius;
+    if (device.capsules.size() == kMaxLaneCapsules) return "more than " + std::to_string(kMaxLaneCapsules) + " link capsules";
     c.a = R * k.a;
     c.b = R * k.b;
     if ((k.b - k.a).norm() <= 1e-9 * device.size) return "a link capsule of no length (" + k.name + ")";

@@ -42,6 +42,8 @@ enum class LaneJoint { Ball, Knee, Upper, Lower, Grip };
 // Platform (p + a fixed vector).
 enum class LaneBody { Fixed, Platform, Crank, Knee, Shin, Ankle };
 
+inline constexpr std::size_t kMaxLaneCapsules = 64;
+
 struct LaneCapsule {
   int leg = 0;
   LaneBody body = LaneBody::Fixed;
@@ -49,6 +51,7 @@ struct LaneCapsule {
   // joint at its angles 0, in the base frame; Shin: likewise, its upper joint at 0.
   Eigen::Vector3d a, b;
   double radius = 0;
+  double reach = 0;  // from its segment's middle: half its length and its radius
 };
 
 // One point leg's constants in the base frame for one field (the platform's

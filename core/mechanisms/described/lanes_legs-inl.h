@@ -266,39 +266,53 @@ HWY_INLINE void ParallelogramRow(D d, const LaneLeg& g, const std::vector<int>& 
 }
 
 // The smallest gap between the capsules of the pairs the scalar path checks,
-// at the chosen candidates; `near` within 1e-9 of the size of a touch.
+// at the chosen candidates; `near` where it is within 1e-9 of the size of
+// zero (which pair sets it does not change it). Each capsule is placed once;
+// a pair whose bounding spheres lie no nearer than the smallest gap so far,
+// in every lane, is passed over, the pair that set it last time (`first`)
+// taken first.
 template <int N>
-HWY_INLINE V Clearance(D d, const LaneDevice& dev, const V3& p, const LegLanes (&legs)[N], M& near) {
-  V smallest = hn::Inf(d);
-  const auto ends = [&](const LaneCapsule& k, V3 (&e)[2]) {
+HWY_INLINE V Clearance(D d, const LaneDevice& dev, const V3& p, const LegLanes (&legs)[N], M& near, std::size_t& first) {
+  V3 ends[kMaxLaneCapsules][2];
+  for (std::size_t c = 0; c < dev.capsules.size(); ++c) {
+    const LaneCapsule& k = dev.capsules[c];
     const LaneLeg& g = dev.legs[std::size_t(k.leg)];
     const Candidate& a = legs[k.leg].at;
     const Eigen::Vector3d* points[2] = {&k.a, &k.b};
     for (int i = 0; i < 2; ++i) {
       const Eigen::Vector3d& x = *points[i];
+      V3& e = ends[c][i];
       switch (k.body) {
-        case LaneBody::Fixed: e[i] = Splat(d, x); break;
-        case LaneBody::Platform: e[i] = p + Splat(d, x); break;
-        case LaneBody::Crank: e[i] = Splat(d, g.actuator_centre) + Turn(d, g.axis, x, a.c, a.s); break;
-        case LaneBody::Knee: e[i] = a.knee + Turn(d, g.axis, x, a.cqk, a.sqk); break;
-        case LaneBody::Ankle: e[i] = a.lower + Turn(d, g.axis, x, a.cqk, a.sqk); break;
+        case LaneBody::Fixed: e = Splat(d, x); break;
+        case LaneBody::Platform: e = p + Splat(d, x); break;
+        case LaneBody::Crank: e = Splat(d, g.actuator_centre) + Turn(d, g.axis, x, a.c, a.s); break;
+        case LaneBody::Knee: e = a.knee + Turn(d, g.axis, x, a.cqk, a.sqk); break;
+        case LaneBody::Ankle: e = a.lower + Turn(d, g.axis, x, a.cqk, a.sqk); break;
         case LaneBody::Shin: {
           const Eigen::Vector3d upper = g.frame * g.upper_axis;
-          e[i] = a.upper + Turn(d, g.axis, Turn(d, upper, x, a.jc[int(LaneJoint::Upper)], a.js[int(LaneJoint::Upper)]), a.cqk, a.sqk);
+          e = a.upper + Turn(d, g.axis, Turn(d, upper, x, a.jc[int(LaneJoint::Upper)], a.js[int(LaneJoint::Upper)]), a.cqk, a.sqk);
           break;
         }
       }
     }
-  };
-  for (const std::array<int, 2>& pair : dev.pairs) {
-    const LaneCapsule &k0 = dev.capsules[std::size_t(pair[0])], &k1 = dev.capsules[std::size_t(pair[1])];
-    V3 e0[2], e1[2];
-    ends(k0, e0);
-    ends(k1, e1);
-    const V gap = SegmentDistance(d, e0[0], e0[1], e1[0], e1[1], near) - hn::Set(d, k0.radius) - hn::Set(d, k1.radius);
-    near = hn::Or(near, hn::Abs(gap) < hn::Set(d, 1e-9 * dev.size));
+  }
+  V smallest = hn::Inf(d);
+  const std::size_t pairs = dev.pairs.size();
+  std::size_t setter = first;
+  for (std::size_t step = 0; step < pairs; ++step) {
+    const std::size_t i = (first + step) % pairs;
+    const std::size_t c0 = std::size_t(dev.pairs[i][0]), c1 = std::size_t(dev.pairs[i][1]);
+    const LaneCapsule &k0 = dev.capsules[c0], &k1 = dev.capsules[c1];
+    const V3 between = hn::Set(d, 0.5) * ((ends[c0][0] + ends[c0][1]) - (ends[c1][0] + ends[c1][1]));
+    const V bound = hn::Sqrt(Dot(between, between)) - hn::Set(d, k0.reach + k1.reach);
+    if (hn::AllTrue(d, bound >= smallest)) continue;
+    const V gap = SegmentDistance(d, ends[c0][0], ends[c0][1], ends[c1][0], ends[c1][1], near) -
+                  hn::Set(d, k0.radius + k1.radius);
+    if (!hn::AllFalse(d, gap < smallest)) setter = i;
     smallest = hn::Min(smallest, gap);
   }
+  first = setter;
+  near = hn::Or(near, hn::Abs(smallest) < hn::Set(d, 1e-9 * dev.size));
   return smallest;
 }
 

@@ -359,6 +359,7 @@ void Geometry(const LaneDevice& dev, const Grid& g, const detail::GridRow& row, 
   const int axis = row.axis;
   const V origin = hn::Set(d, g.origin(axis)), spacing = hn::Set(d, g.spacing(axis));
   constexpr double kDeg = 180 / M_PI;
+  std::size_t closest_pair = 0;  // the pair that set the last clearance: likely the next one's
   for (int t = 0; t < count; t += int(hn::Lanes(d))) {
     // Grid::point's coordinates, bit for bit.
     const V along = origin + (hn::Iota(d, double(row.start[axis] + first + t)) + hn::Set(d, 0.5)) * spacing;
@@ -452,7 +453,7 @@ void Geometry(const LaneDevice& dev, const Grid& g, const detail::GridRow& row, 
         status = hn::IfThenElse(hn::And(assembled, cones < zero), StatusCode(d, Status::OutOfLimits), status);
       }
       if (!dev.capsules.empty()) {
-        const V gap = Clearance<N>(d, dev, p, legs, near);
+        const V gap = Clearance<N>(d, dev, p, legs, near, closest_pair);
         clearance = hn::IfThenElse(assembled, gap, clearance);
         status = hn::IfThenElse(hn::And(assembled, gap < zero), StatusCode(d, Status::OutOfLimits), status);
       }
