@@ -135,6 +135,7 @@ HWY_INLINE void SolveLeg(D d, const LaneLeg& g, double size, const V3& p, LegLan
   if (hn::AllTrue(d, bound)) return;
   M band = None(d);  // the closed form's, rules' and travel's: where the closed form decides
   M missed = None(d);
+  M closed_band = None(d);  // a parallelogram's candidates': where the leg closes
   V miss = zero;
   Candidate c[4];
   int count = 2;
@@ -148,12 +149,12 @@ HWY_INLINE void SolveLeg(D d, const LaneLeg& g, double size, const V3& p, LegLan
   if (g.parallelogram) {
     const ParallelogramReach reach = ParallelogramMiss(d, g, size, w, missed, miss, band);
     if (none_closes()) return;
-    ParallelogramCandidates(d, g, size, reach, c, band);
+    ParallelogramCandidates(d, g, size, reach, c, closed_band);
     count = 4;
     // Within reach but no candidate (rounding): the scalar path's.
     M any = None(d);
     for (const Candidate& k : c) any = hn::Or(any, k.valid);
-    band = hn::Or(band, hn::AndNot(missed, hn::Not(any)));
+    closed_band = hn::Or(closed_band, hn::Not(any));
   } else if (g.pattern == LegPattern::CrankRod) {
     const V3 dv = w - Splat(d, g.origin);
     const V du = Dot(Splat(d, g.u), dv), dw = Dot(Splat(d, g.v), dv);
@@ -213,7 +214,7 @@ HWY_INLINE void SolveLeg(D d, const LaneLeg& g, double size, const V3& p, LegLan
       c[k].c = c[k].s = zero;
     }
   }
-  M decided_band = band;
+  M decided_band = closed_band;
   for (int k = 0; k < count; ++k) {
     Candidate& x = c[k];
     if (!g.parallelogram) {
