@@ -100,7 +100,7 @@ struct Candidate {
   V3 knee, upper, lower;
   V cqk, sqk;
   V jc[5], js[5];
-  M valid, match, inside;  // valid: the closed form gives this candidate
+  M valid, match, inside;  // valid (a parallelogram's): the closed form gives this candidate
 };
 
 HWY_INLINE void Pick(M take, const Candidate& from, Candidate& to) {

@@ -217,16 +217,10 @@ HWY_INLINE void SolveLeg(D d, const LaneLeg& g, double size, const V3& p, LegLan
   M decided_band = closed_band;
   for (int k = 0; k < count; ++k) {
     Candidate& x = c[k];
-    if (!g.parallelogram) {
-      x.valid = hn::Not(None(d));
-      x.knee = x.upper = x.lower = x.ball;
-      x.cqk = x.sqk = zero;
-      for (int j = 0; j < 5; ++j) x.jc[j] = x.js[j] = zero;
-    }
     x.rc = x.rs = zero;
     M candidate_band = None(d);
     Decide(d, g, size, w, anchor, x, candidate_band);
-    decided_band = hn::Or(decided_band, hn::And(x.valid, candidate_band));
+    decided_band = hn::Or(decided_band, g.parallelogram ? hn::And(x.valid, candidate_band) : candidate_band);
   }
   const M closes = hn::AndNot(bound, hn::Not(missed));
   // Bands count only where they could decide: the closed form's where the
@@ -235,17 +229,32 @@ HWY_INLINE void SolveLeg(D d, const LaneLeg& g, double size, const V3& p, LegLan
   // As the scalar path: the first candidate on the branch within the travel,
   // else the first on the branch.
   Candidate& a = out.at;
-  a = c[0];
   M within = None(d), on_branch = None(d);
-  for (int k = 0; k < count; ++k) {
-    const M take = hn::AndNot(within, hn::And(hn::And(c[k].valid, c[k].match), c[k].inside));
-    Pick(take, c[k], a);
-    within = hn::Or(within, take);
-  }
-  for (int k = 0; k < count; ++k) {
-    const M matched = hn::And(c[k].valid, c[k].match);
-    Pick(hn::AndNot(hn::Or(within, on_branch), matched), c[k], a);
-    on_branch = hn::Or(on_branch, matched);
+  if (!g.parallelogram) {  // two candidates, the fields a point leg has
+    const M within0 = hn::And(c[0].match, c[0].inside), within1 = hn::And(c[1].match, c[1].inside);
+    const M take1 = hn::AndNot(within0, hn::Or(within1, hn::AndNot(c[0].match, c[1].match)));
+    within = hn::Or(within0, within1);
+    on_branch = hn::Or(c[0].match, c[1].match);
+    a.ball = Select(take1, c[1].ball, c[0].ball);
+    a.axis = Select(take1, c[1].axis, c[0].axis);
+    a.q = hn::IfThenElse(take1, c[1].q, c[0].q);
+    a.c = hn::IfThenElse(take1, c[1].c, c[0].c);
+    a.s = hn::IfThenElse(take1, c[1].s, c[0].s);
+    a.rc = hn::IfThenElse(take1, c[1].rc, c[0].rc);
+    a.rs = hn::IfThenElse(take1, c[1].rs, c[0].rs);
+    a.sigma = hn::IfThenElse(take1, c[1].sigma, c[0].sigma);
+  } else {
+    a = c[0];
+    for (int k = 0; k < count; ++k) {
+      const M take = hn::AndNot(within, hn::And(hn::And(c[k].valid, c[k].match), c[k].inside));
+      Pick(take, c[k], a);
+      within = hn::Or(within, take);
+    }
+    for (int k = 0; k < count; ++k) {
+      const M matched = hn::And(c[k].valid, c[k].match);
+      Pick(hn::AndNot(hn::Or(within, on_branch), matched), c[k], a);
+      on_branch = hn::Or(on_branch, matched);
+    }
   }
   out.unreachable = hn::Or(bound, hn::Or(missed, hn::Not(on_branch)));
   out.outside_travel = hn::AndNot(within, hn::Not(out.unreachable));
