@@ -168,6 +168,11 @@ std::string build(const Kinematics& kin, const VectorXd& fixed, int branch, Lane
     g.end_offset = (anchor * form->tail.inverse()).translation();
     g.leg_base = l.base.translation();
     g.reach = kin.reach(int(i));
+    const auto square = [](double v) { return v > 0 ? v * v : -1.0; };
+    g.far_out2 = square(g.reach.hi + 2e-9 * m.size);
+    g.far_in2 = square(g.reach.hi + 0.5e-9 * m.size);
+    g.near_out2 = square(g.reach.lo - 2e-9 * m.size);
+    g.near_in2 = square(g.reach.lo - 0.5e-9 * m.size);
     const Eigen::Matrix3d R = form->base.linear();
     const Vector3d a = R * form->actuator_axis;
     g.actuator_centre = form->base.translation();

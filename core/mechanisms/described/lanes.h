@@ -61,6 +61,10 @@ struct LaneLeg {
   Eigen::Vector3d anchor_offset, end_offset;  // anchor point and end joint centre: p + offset
   Eigen::Vector3d leg_base;                   // the reach bounds' centre
   Range reach;
+  // The reach bounds' cuts on the squared distance (-1: none): beyond
+  // `far_out` or within `near_out` decided unreachable, between `near_in`
+  // and `far_in` kept (lanes_simd.cpp's band between).
+  double far_out2 = 0, far_in2 = 0, near_out2 = -1, near_in2 = -1;
   // Crank: its circle's centre `origin`, axis, radius rho and plane (u, v);
   // slide: the ball at q = 0 (`origin`) and the slide's axis; extensible:
   // `origin` the ball's centre.

@@ -133,7 +133,7 @@ struct ParallelogramReach {
   V3 w, across;
   V h, rho;
 };
-HWY_INLINE ParallelogramReach ParallelogramMiss(D d, const LaneLeg& g, double size, const V3& end, M& missed, V& miss,
+HWY_NOINLINE ParallelogramReach ParallelogramMiss(D d, const LaneLeg& g, double size, const V3& end, M& missed, V& miss,
                                                 M& band) {
   ParallelogramReach r;
   r.w = Times(d, g.frame.transpose(), end - Splat(d, g.actuator_centre));
@@ -160,7 +160,7 @@ HWY_INLINE ParallelogramReach ParallelogramMiss(D d, const LaneLeg& g, double si
 // Its four candidates in the scalar path's order (the upper joint's sign,
 // then the elbow's), their joints' centres (base frame) and angles; `band`
 // near the closed form's ties (a straight elbow or side, a vanishing reach).
-HWY_INLINE void ParallelogramCandidates(D d, const LaneLeg& g, double size, const ParallelogramReach& r, Candidate (&c)[4],
+HWY_NOINLINE void ParallelogramCandidates(D d, const LaneLeg& g, double size, const ParallelogramReach& r, Candidate (&c)[4],
                                         M& band) {
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0);
   const double r1 = g.thigh.norm();
@@ -224,7 +224,7 @@ HWY_INLINE void ParallelogramCandidates(D d, const LaneLeg& g, double size, cons
 // sigma_min / sigma_max from below by it over |T|_F^4; the scalar path calls
 // the leg singular below 1e-10).
 template <int N>
-HWY_INLINE void ParallelogramRow(D d, const LaneLeg& g, const std::vector<int>& coordinate, double size,
+HWY_NOINLINE void ParallelogramRow(D d, const LaneLeg& g, const std::vector<int>& coordinate, double size,
                                  const LegLanes& leg, V (&row)[N], V& jq, M& near) {
   const Candidate& a = leg.at;
   const V inv_size = hn::Set(d, 1 / size), zero = hn::Zero(d);
@@ -272,7 +272,7 @@ HWY_INLINE void ParallelogramRow(D d, const LaneLeg& g, const std::vector<int>& 
 // in every lane, is passed over, the pair that set it last time (`first`)
 // taken first.
 template <int N>
-HWY_INLINE V Clearance(D d, const LaneDevice& dev, const V3& p, const LegLanes (&legs)[N], M& near, std::size_t& first) {
+HWY_NOINLINE V Clearance(D d, const LaneDevice& dev, const V3& p, const LegLanes (&legs)[N], M& near, std::size_t& first) {
   V3 ends[kMaxLaneCapsules][2];
   for (std::size_t c = 0; c < dev.capsules.size(); ++c) {
     const LaneCapsule& k = dev.capsules[c];

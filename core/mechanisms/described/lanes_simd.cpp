@@ -119,10 +119,9 @@ HWY_INLINE void SolveLeg(D d, const LaneLeg& g, double size, const V3& p, LegLan
   // from the band (0.5e-9, 2e-9] size, which goes to the scalar path.
   const V3 from_base = anchor - Splat(d, g.leg_base);
   const V distance2 = Dot(from_base, from_base);
-  const auto square = [&](double v) { return hn::Set(d, v > 0 ? v * v : -1.0); };
   const double hi = g.reach.hi, lo = g.reach.lo;
-  const M bound = hn::Or(distance2 > square(hi + 2e-9 * size), distance2 < square(lo - 2e-9 * size));
-  const M kept = hn::And(distance2 <= square(hi + 0.5e-9 * size), distance2 >= square(lo - 0.5e-9 * size));
+  const M bound = hn::Or(distance2 > hn::Set(d, g.far_out2), distance2 < hn::Set(d, g.near_out2));
+  const M kept = hn::And(distance2 <= hn::Set(d, g.far_in2), distance2 >= hn::Set(d, g.near_in2));
   out.to_scalar = hn::Not(hn::Or(bound, kept));
   V outside = zero;
   if (!hn::AllFalse(d, bound)) {
@@ -137,8 +136,7 @@ HWY_INLINE void SolveLeg(D d, const LaneLeg& g, double size, const V3& p, LegLan
   M missed = None(d);
   M closed_band = None(d);  // a parallelogram's candidates': where the leg closes
   V miss = zero;
-  Candidate c[4];
-  int count = 2;
+  Candidate c[4];  // a point leg's two, a parallelogram's four
   // Where no lane's leg closes, its candidates are not needed (the residual is).
   const auto none_closes = [&] {
     if (!hn::AllFalse(d, hn::AndNot(bound, hn::Not(missed)))) return false;
@@ -150,7 +148,6 @@ HWY_INLINE void SolveLeg(D d, const LaneLeg& g, double size, const V3& p, LegLan
     const ParallelogramReach reach = ParallelogramMiss(d, g, size, w, missed, miss, band);
     if (none_closes()) return;
     ParallelogramCandidates(d, g, size, reach, c, closed_band);
-    count = 4;
     // Within reach but no candidate (rounding): the scalar path's.
     M any = None(d);
     for (const Candidate& k : c) any = hn::Or(any, k.valid);
@@ -215,12 +212,18 @@ HWY_INLINE void SolveLeg(D d, const LaneLeg& g, double size, const V3& p, LegLan
     }
   }
   M decided_band = closed_band;
-  for (int k = 0; k < count; ++k) {
-    Candidate& x = c[k];
-    x.rc = x.rs = zero;
-    M candidate_band = None(d);
-    Decide(d, g, size, w, anchor, x, candidate_band);
-    decided_band = hn::Or(decided_band, g.parallelogram ? hn::And(x.valid, candidate_band) : candidate_band);
+  if (!g.parallelogram) {
+    for (int k = 0; k < 2; ++k) {
+      c[k].rc = c[k].rs = zero;
+      Decide(d, g, size, w, anchor, c[k], decided_band);
+    }
+  } else {
+    for (Candidate& x : c) {
+      x.rc = x.rs = zero;
+      M candidate_band = None(d);
+      Decide(d, g, size, w, anchor, x, candidate_band);
+      decided_band = hn::Or(decided_band, hn::And(x.valid, candidate_band));
+    }
   }
   const M closes = hn::AndNot(bound, hn::Not(missed));
   // Bands count only where they could decide: the closed form's where the
@@ -245,12 +248,12 @@ HWY_INLINE void SolveLeg(D d, const LaneLeg& g, double size, const V3& p, LegLan
     a.sigma = hn::IfThenElse(take1, c[1].sigma, c[0].sigma);
   } else {
     a = c[0];
-    for (int k = 0; k < count; ++k) {
+    for (int k = 0; k < 4; ++k) {
       const M take = hn::AndNot(within, hn::And(hn::And(c[k].valid, c[k].match), c[k].inside));
       Pick(take, c[k], a);
       within = hn::Or(within, take);
     }
-    for (int k = 0; k < count; ++k) {
+    for (int k = 0; k < 4; ++k) {
       const M matched = hn::And(c[k].valid, c[k].match);
       Pick(hn::AndNot(hn::Or(within, on_branch), matched), c[k], a);
       on_branch = hn::Or(on_branch, matched);
