@@ -124,6 +124,15 @@ bool parallel(const Vector3d& a, const Vector3d& b, double& sign) {
   return a.normalized().cross(b.normalized()).norm() <= 1e-12;
 }
 
+// The index of `value` in `sizes`, added where new; -1 past kMaxLaneSizes.
+int size_index(std::vector<double>& sizes, double value) {
+  for (std::size_t i = 0; i < sizes.size(); ++i)
+    if (sizes[i] == value) return int(i);
+  if (sizes.size() == kMaxLaneSizes) return -1;
+  sizes.push_back(value);
+  return int(sizes.size()) - 1;
+}
+
 // Fills `out` (when given) and returns "" where the kernel expresses the
 // device, else why not.
 std::string build(const Kinematics& kin, const VectorXd& fixed, int branch, LaneDevice* out) {
@@ -221,6 +230,7 @@ std::string build(const Kinematics& kin, const VectorXd& fixed, int branch, Lane
     g.sin_mid = std::sin(g.mid);
     g.cos_half_width = std::cos(g.half_width);
     g.sin_half_width = std::sin(g.half_width);
+    if (g.limited && !g.prismatic) g.width = size_index(device.travel_widths, g.half_width);
     // A turn's travel as the representative nearest its middle (within_travel's w, w +- 2 pi).
     if (g.limited && !g.prismatic && (std::abs(g.mid) > 2 * internal::kPi || g.half_width > internal::kPi))
       return leg + "a revolute travel wider than a turn or centred beyond two";
@@ -302,6 +312,7 @@ std::string build(const Kinematics& kin, const VectorXd& fixed, int branch, Lane
         cone.fixed = anchor.linear() * form->tail.linear().transpose() * j.link_axis;
         if (!parallel(form->rod.linear() * j.axis, link, cone.along)) return leg + "a cone whose socket is not along the rod";
       }
+      cone.size = size_index(device.cone_sizes, cone.half_angle_deg);
       g.cones.push_back(cone);
       device.cones = true;
     }

@@ -43,6 +43,7 @@ enum class LaneJoint { Ball, Knee, Upper, Lower, Grip };
 enum class LaneBody { Fixed, Platform, Crank, Knee, Shin, Ankle };
 
 inline constexpr std::size_t kMaxLaneCapsules = 64;
+inline constexpr std::size_t kMaxLaneSizes = 4;  // cone sizes, travel widths
 
 struct LaneCapsule {
   int leg = 0;
@@ -72,6 +73,7 @@ struct LaneLeg {
   double rho = 0, rod = 0, offset = 0;
   bool prismatic = false, limited = false;
   double lo = 0, hi = 0, mid = 0, half_width = 0;  // the travel (revolute: mid +- half_width)
+  int width = -1;  // a revolute travel's index in LaneDevice::travel_widths (-1: its own arctangent)
   double cos_mid = 1, sin_mid = 0, cos_half_width = 1, sin_half_width = 0;
   bool universal = false;
   Eigen::Vector3d universal_axis;  // its first axis (a crank's at q = 0)
@@ -93,6 +95,7 @@ struct LaneLeg {
     Eigen::Vector3d fixed;
     double along = 1;  // the rod-aligned axis's sign
     double half_angle_deg = 0;
+    int size = -1;  // its index in LaneDevice::cone_sizes (-1: its own arctangent)
   };
   std::vector<Cone> cones;
   struct Stop {  // a passive revolute's range (Kinematics::stops: degrees, the angle nearest its middle)
@@ -120,6 +123,9 @@ struct LaneDevice {
   int branch = 0;
   bool planar = false;  // z is the plane's, whatever the grid's
   bool cones = false;   // joint margins stored (cones or revolute stops)
+  // The cones' half angles (deg) and the revolute travels' half widths, each
+  // once: the margins of one size take one arctangent, of the widest angle.
+  std::vector<double> cone_sizes, travel_widths;
   std::vector<LaneCapsule> capsules;
   std::vector<std::array<int, 2>> pairs;  // the capsules Kinematics::stops checks against each other
 };

@@ -59,6 +59,19 @@ HWY_INLINE V3 Times(D d, const Eigen::Matrix3d& m, const V3& x) {
 }
 HWY_INLINE V Clamp(V x, V lo, V hi) { return hn::Min(hi, hn::Max(lo, x)); }
 
+// The widest of angles in [0, pi] given as (sin, cos) up to a common
+// positive scale: arctangent is monotonic, so the margins of one size (the
+// cones of one half angle, the travels of one half width) take one, of the
+// widest.
+struct Widest {
+  V s, c;
+};
+HWY_INLINE void Widen(Widest& w, V s, V c) {
+  const M wider = hn::MulSub(s, w.c, c * w.s) > hn::Zero(hn::DFromV<V>());
+  w.s = hn::IfThenElse(wider, s, w.s);
+  w.c = hn::IfThenElse(wider, c, w.c);
+}
+
 // A passive revolute's margin to its stop, degrees, from its angle's
 // direction (c, s): Kinematics::stops' angle nearest the range's middle.
 HWY_INLINE V StopMargin(D d, const LaneLeg::Stop& stop, V c, V s) {

@@ -397,6 +397,13 @@ void Geometry(const LaneDevice& dev, const Grid& g, const detail::GridRow& row, 
       M near = None(d);  // a threshold the scalar path decides at, where the device assembles
       V Jx[N][N], jq[N];
       V serial = inf, travel = inf, cones = inf;
+      Widest widest_cone[kMaxLaneSizes], widest_travel[kMaxLaneSizes];
+      for (std::size_t k = 0; k < kMaxLaneSizes; ++k) widest_cone[k] = widest_travel[k] = {zero, one};
+      // A revolute travel's margin, or its angle kept for its width's.
+      const auto travel_of = [&](const LaneLeg& g, const Candidate& a) {
+        if (g.width >= 0) Widen(widest_travel[g.width], hn::Abs(a.rs), a.rc);
+        else travel = hn::Min(travel, (hn::Set(d, g.half_width) - Atan2(d, hn::Abs(a.rs), a.rc)) * hn::Set(d, size));
+      };
       for (int i = 0; i < N; ++i) {
         const LaneLeg& g = dev.legs[std::size_t(i)];
         const Candidate& a = legs[i].at;
@@ -407,15 +414,13 @@ void Geometry(const LaneDevice& dev, const Grid& g, const detail::GridRow& row, 
             c = Dot(link, rod);
             s = Dot(Splat(d, g.ball_normal), Cross(link, rod));
           }
-          const V m = StopMargin(d, stop, c, s);
-          near = hn::Or(near, hn::Abs(m) < hn::Set(d, 1e-7));
-          cones = hn::Min(cones, m);
+          cones = hn::Min(cones, StopMargin(d, stop, c, s));
         }
         if (g.parallelogram) {
           ParallelogramRow<N>(d, g, dev.coordinate, size, legs[i], Jx[i], jq[i], near);
           near = hn::Or(near, jq[i] < hn::Set(d, 1e-6));
           serial = hn::Min(serial, jq[i] * hn::Set(d, size));
-          if (g.limited) travel = hn::Min(travel, (hn::Set(d, g.half_width) - Atan2(d, hn::Abs(a.rs), a.rc)) * hn::Set(d, size));
+          if (g.limited) travel_of(g, a);
           continue;
         }
         const V3 f = legs[i].end - a.ball;
@@ -436,9 +441,9 @@ void Geometry(const LaneDevice& dev, const Grid& g, const detail::GridRow& row, 
             link = rod;
           }
           const V3 k = Cross(socket, link);
-          const V m = hn::Set(d, cone.half_angle_deg) - Atan2(d, hn::Sqrt(Dot(k, k)), Dot(socket, link)) * hn::Set(d, kDeg);
-          near = hn::Or(near, hn::Abs(m) < hn::Set(d, 1e-7));
-          cones = hn::Min(cones, m);
+          const V sine = hn::Sqrt(Dot(k, k)), cosine = Dot(socket, link);
+          if (cone.size >= 0) Widen(widest_cone[cone.size], sine, cosine);
+          else cones = hn::Min(cones, hn::Set(d, cone.half_angle_deg) - Atan2(d, sine, cosine) * hn::Set(d, kDeg));
         }
         // The force along the rod through the end's centre, as closure rows
         // [(w - r) x f; f size] of unit norm; Jx's row and Jq's entry.
@@ -455,12 +460,16 @@ void Geometry(const LaneDevice& dev, const Grid& g, const detail::GridRow& row, 
           jq[i] = Dot(a.axis, f) * inv_N;
         near = hn::Or(near, hn::Abs(jq[i]) < hn::Set(d, 1e-6));
         serial = hn::Min(serial, hn::Abs(jq[i]) * hn::Set(d, g.prismatic ? size * size : size));
-        if (g.limited) {
-          const V left = g.prismatic ? hn::Min(a.q - hn::Set(d, g.lo), hn::Set(d, g.hi) - a.q)
-                                     : (hn::Set(d, g.half_width) - Atan2(d, hn::Abs(a.rs), a.rc)) * hn::Set(d, size);
-          travel = hn::Min(travel, left);
-        }
+        if (g.limited && g.prismatic) travel = hn::Min(travel, hn::Min(a.q - hn::Set(d, g.lo), hn::Set(d, g.hi) - a.q));
+        else if (g.limited) travel_of(g, a);
       }
+      for (std::size_t k = 0; k < dev.cone_sizes.size(); ++k)
+        cones = hn::Min(cones, hn::Set(d, dev.cone_sizes[k]) - Atan2(d, widest_cone[k].s, widest_cone[k].c) * hn::Set(d, kDeg));
+      for (std::size_t k = 0; k < dev.travel_widths.size(); ++k)
+        travel = hn::Min(travel, (hn::Set(d, dev.travel_widths[k]) - Atan2(d, widest_travel[k].s, widest_travel[k].c)) *
+                                     hn::Set(d, size));
+      // Near a stop: only the smallest margin decides (the status, the joint margin).
+      if (dev.cones) near = hn::Or(near, hn::Abs(cones) < hn::Set(d, 1e-7));
       if (dev.cones) {
         joint_margin = hn::IfThenElse(assembled, cones, joint_margin);
         status = hn::IfThenElse(hn::And(assembled, cones < zero), StatusCode(d, Status::OutOfLimits), status);
