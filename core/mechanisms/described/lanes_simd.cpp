@@ -14,8 +14,8 @@
 // points), the links' clearance (capsule segments from the joints' points,
 // segment-segment distance as interference::closest_points takes it), the
 // Jacobian row (the force along the rod; a parallelogram's actuator twist
-// off its passive twists), J = -Jx^-1 Jq by Gauss-Jordan with partial
-// pivoting, the serial and travel margins, and the measures: c(J) of a 2x2
+// off its passive twists), J = -Jx^-1 Jq (Jx^-1 by cofactors for 2x2 and
+// 3x3, by Gauss-Jordan with partial pivoting for 6x6), the serial and travel margins, and the measures: c(J) of a 2x2
 // or 3x3 J in closed form (core/simd_field-inl.h's for 3x3), cond(Jp) and
 // cond(Jo) of a 6x6 J as c(R) of the QR factor (modified Gram-Schmidt) of
 // their 3x6 rows, no general SVD. A planar dyad is a crank in the plane. A
@@ -265,7 +265,7 @@ HWY_INLINE void SolveLeg(D d, const LaneLeg& g, double size, const V3& p, LegLan
 }
 
 // Gauss-Jordan with partial pivoting (each column's largest entry by
-// compare-and-swap): inv = a^-1.
+// compare-and-swap): inv = a^-1 (6x6).
 template <int N>
 HWY_INLINE void Invert(D d, V (&a)[N][N], V (&inv)[N][N]) {
   for (int i = 0; i < N; ++i)
@@ -295,6 +295,31 @@ HWY_INLINE void Invert(D d, V (&a)[N][N], V (&inv)[N][N]) {
       }
     }
   }
+}
+
+// 2x2 and 3x3 inverses by cofactors (no pivoting: Jx is well conditioned
+// where the lanes keep it, kappa_1 < 1e8; the scalar path's LU agrees to
+// about kappa_1 u there as Gauss-Jordan's did).
+HWY_INLINE void Invert(D d, V (&a)[2][2], V (&inv)[2][2]) {
+  const V scale = hn::Set(d, 1.0) / (a[0][0] * a[1][1] - a[0][1] * a[1][0]);
+  inv[0][0] = a[1][1] * scale;
+  inv[0][1] = hn::Neg(a[0][1]) * scale;
+  inv[1][0] = hn::Neg(a[1][0]) * scale;
+  inv[1][1] = a[0][0] * scale;
+}
+HWY_INLINE void Invert(D d, V (&a)[3][3], V (&inv)[3][3]) {
+  const V c00 = a[1][1] * a[2][2] - a[1][2] * a[2][1], c01 = a[1][2] * a[2][0] - a[1][0] * a[2][2],
+          c02 = a[1][0] * a[2][1] - a[1][1] * a[2][0];
+  const V scale = hn::Set(d, 1.0) / (a[0][0] * c00 + a[0][1] * c01 + a[0][2] * c02);
+  inv[0][0] = c00 * scale;
+  inv[1][0] = c01 * scale;
+  inv[2][0] = c02 * scale;
+  inv[0][1] = (a[0][2] * a[2][1] - a[0][1] * a[2][2]) * scale;
+  inv[1][1] = (a[0][0] * a[2][2] - a[0][2] * a[2][0]) * scale;
+  inv[2][1] = (a[0][1] * a[2][0] - a[0][0] * a[2][1]) * scale;
+  inv[0][2] = (a[0][1] * a[1][2] - a[0][2] * a[1][1]) * scale;
+  inv[1][2] = (a[0][2] * a[1][0] - a[0][0] * a[1][2]) * scale;
+  inv[2][2] = (a[0][0] * a[1][1] - a[0][1] * a[1][0]) * scale;
 }
 
 template <int N>
