@@ -4,10 +4,33 @@
 #include <QEventLoop>
 #include <QProgressDialog>
 #include <QTimer>
+#include <algorithm>
+#include <cerrno>
 
 #include "core/mechanism.h"
 
+#ifdef __linux__
+#include <sys/resource.h>
+#include <unistd.h>
+#endif
+
 namespace linkscape::gui {
+namespace {
+
+// Background work yields the cores to the window's own threads (the GUI's
+// and the software rasteriser's) when both want them: a frame under way
+// then costs what it costs on an idle machine, and the work takes whatever
+// the frames leave. Threads the work starts (OpenMP's) inherit it.
+void yield_to_the_window() {
+#ifdef __linux__
+  const id_t self = id_t(gettid());
+  errno = 0;
+  const int nice = getpriority(PRIO_PROCESS, self);
+  if (errno == 0) setpriority(PRIO_PROCESS, self, std::min(nice + 10, 19));
+#endif
+}
+
+}  // namespace
 
 BackgroundTask::BackgroundTask(QObject* context, std::function<void()> finished)
     : context_(context), finished_(std::move(finished)) {}
@@ -48,6 +71,7 @@ bool BackgroundTask::start(std::function<void(const Run&)> work) {
     if (!ended->exchange(true)) *last = std::move(f);
   };
   worker_ = std::thread([this, work = std::move(work), cancel, progress, finish, last, context, current] {
+    yield_to_the_window();
     work(Run{*cancel, progress, finish});
     QMetaObject::invokeMethod(
         context,

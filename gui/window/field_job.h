@@ -69,10 +69,11 @@ class FieldJobRunner : public QObject {
   // Light surfaces are made for volumes of at least this many samples a side.
   static constexpr int kLightFromSamples = 48;
   static constexpr double kCoarseWhenSlowerThan = 0.03;  // seconds: about one software-rendered frame
-  // A slice-only job whose last full pass took less than this is answered
-  // at once, on the calling thread: the next frame then shows it, instead
-  // of the frame after (seconds).
-  static constexpr double kAnswerNowWhenFasterThan = 0.005;
+  // A slice-only job whose last full pass took less than a frame is
+  // answered at once, on the calling thread: the frame drawn for the change
+  // then shows it, instead of the frame after, which would also share the
+  // cores with the volume's pass (seconds).
+  static constexpr double kAnswerNowWhenFasterThan = kCoarseWhenSlowerThan;
 
   // Starts `job`, cancelling any earlier one (it starts once that one has
   // stopped), or answers it at once (above).

@@ -7,9 +7,15 @@
 #include <QElapsedTimer>
 #include <QObject>
 #include <QThread>
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <thread>
+
+#ifdef __linux__
+#include <sys/resource.h>
+#include <unistd.h>
+#endif
 
 #include "gui/window/background.h"
 #include "gui/window/field_job.h"
@@ -57,6 +63,29 @@ TEST(BackgroundTask, RunsOneAtATimeAndPostsOnTheGuiThread) {
   ASSERT_TRUE(wait_for([&] { return ended == 2; }));
   EXPECT_EQ(finished_calls, 2);
 }
+
+#ifdef __linux__
+// The work yields the cores to the window's threads: it runs ten nice levels
+// below the thread that started it (at most 19), and threads it starts (as
+// OpenMP's) inherit that.
+TEST(BackgroundTask, WorkRunsBelowTheWindowsPriority) {
+  const auto nice_of_this_thread = [] { return getpriority(PRIO_PROCESS, id_t(gettid())); };
+  const int gui = nice_of_this_thread();
+  QObject context;
+  BackgroundTask task(&context);
+  std::atomic<int> work = -100, started = -100;
+  std::atomic<bool> done{false};
+  ASSERT_TRUE(task.start([&](const BackgroundTask::Run&) {
+    work = nice_of_this_thread();
+    std::thread([&] { started = nice_of_this_thread(); }).join();
+    done = true;
+  }));
+  ASSERT_TRUE(wait_for([&] { return done.load() && !task.running(); }));
+  EXPECT_EQ(work.load(), std::min(gui + 10, 19));
+  EXPECT_EQ(started.load(), work.load());
+  EXPECT_EQ(nice_of_this_thread(), gui);  // the GUI thread's own is untouched
+}
+#endif
 
 TEST(BackgroundTask, CancelIsSeenByTheWorkAndLaterProgressIsDropped) {
   QObject context;
