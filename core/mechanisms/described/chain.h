@@ -212,7 +212,8 @@ inline int free_rules_of(const Leg& l) {
 // The platform's twists about r for each driven coordinate (translation:
 // [0; e]; rotation: [w; w x (r - p)], w the angular velocity of a unit rate:
 // the base axes where all three rotations are free, else the Euler rates).
-MatrixXd platform_columns(const Model& m, const PlatformPose& pose, const Vector3d& r);
+using PlatformColumns = Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, 6>;  // at most six driven coordinates
+PlatformColumns platform_columns(const Model& m, const PlatformPose& pose, const Vector3d& r);
 
 // sigma_max / sigma_min (+inf where singular), by a fixed-size SVD for the
 // shapes devices have (no allocation): 2x2, 3x3, 3x6, 6x6.

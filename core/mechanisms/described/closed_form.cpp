@@ -107,6 +107,7 @@ struct Builder {
   const Leg& leg;
   const Isometry3d& anchor;
   LegCandidates& out;
+  bool leave_ends_open = false;
 
   int var(int step) const { return leg.steps[std::size_t(step)].variable; }
   int sphere_index(int step) const {
@@ -115,10 +116,18 @@ struct Builder {
     return k;
   }
   LegState& fresh(const LegState& from) {
+    out.open[std::size_t(out.count)] = false;
     LegState& s = out.states[std::size_t(out.count++)];
     s.values = from.values;
     s.spheres = from.spheres;
     return s;
+  }
+  // Closes the last joint of the candidate just made, or leaves it open.
+  void end_at(LegState& s, const Isometry3d& at) {
+    if (!leave_ends_open) return close_end(s, at);
+    const std::size_t i = std::size_t(out.count - 1);
+    out.end_frames[i] = at;
+    out.open[i] = true;
   }
   // Sets the last joint so that the chain's end frame is the anchor frame;
   // `at` is the frame at the last joint before it turns.
@@ -138,14 +147,14 @@ struct Builder {
       LegState& s = fresh(partial);
       const Matrix3d Rb = Eigen::Quaterniond::FromTwoVectors(link, wanted).toRotationMatrix();
       s.spheres[std::size_t(sphere_index(form.ball_step))] = Rb;
-      close_end(s, at * Isometry3d(Rb) * after);
+      end_at(s, at * Isometry3d(Rb) * after);
       return;
     }
     if (form.ball_joints == 1) {  // planar revolute about z
       LegState& s = fresh(partial);
       const double angle = std::atan2(link.x() * wanted.y() - link.y() * wanted.x(), link.dot(wanted));
       s.values(var(form.ball_step)) = angle;
-      close_end(s, at * Eigen::AngleAxisd(angle, first.axis) * after);
+      end_at(s, at * Eigen::AngleAxisd(angle, first.axis) * after);
       return;
     }
     const Step& second = leg.steps[std::size_t(form.ball_step + 1)];
@@ -161,7 +170,7 @@ struct Builder {
       const Matrix3d Rb = (Eigen::AngleAxisd(angles[std::size_t(k)][0], first.axis) *
                            Eigen::AngleAxisd(angles[std::size_t(k)][1], second.axis))
                               .toRotationMatrix();
-      close_end(s, at * Isometry3d(Rb) * after);
+      end_at(s, at * Isometry3d(Rb) * after);
     }
   }
   // The rod from the ball at `at` to the last joint's centre w.
@@ -262,12 +271,20 @@ struct Builder {
         s.values(var(form.actuator_step)) = angles[std::size_t(j)][0];
         s.values(var(form.second_step)) = angles[std::size_t(j)][1];
         s.values(var(form.third_step)) = t[std::size_t(k)];
-        const Isometry3d at = form.base * Eigen::AngleAxisd(angles[std::size_t(j)][0], a1) * form.after_actuator *
-                              Eigen::AngleAxisd(angles[std::size_t(j)][1], a2) * Eigen::Translation3d(t2) * R3 *
-                              Eigen::Translation3d(t3);
-        close_end(s, at);
+        // Left open, the frame at the spherical joint follows from the three
+        // angles when the candidate is kept.
+        if (leave_ends_open) out.open[std::size_t(out.count - 1)] = true;
+        else close_end(s, three_revolute_end(s));
       }
     }
+  }
+  // The frame at a three-revolute leg's spherical joint, from its angles.
+  Isometry3d three_revolute_end(const LegState& s) const {
+    const Vector3d a1 = form.actuator_axis, a2 = leg.steps[std::size_t(form.second_step)].axis;
+    const Vector3d a3 = leg.steps[std::size_t(form.third_step)].axis;
+    return form.base * Eigen::AngleAxisd(s.values(var(form.actuator_step)), a1) * form.after_actuator *
+           Eigen::AngleAxisd(s.values(var(form.second_step)), a2) * Eigen::Translation3d(form.second_link) *
+           Eigen::AngleAxisd(s.values(var(form.third_step)), a3) * Eigen::Translation3d(form.third_link);
   }
 
   void crank_parallelogram(LegState& partial) {
@@ -399,7 +416,8 @@ LegPattern pattern_of_name(const std::string& name) {
                               "\" (known: crank-rod, slide-rod, extensible, planar-dyad, three-revolute, crank-parallelogram, numeric)");
 }
 
-std::optional<ClosedFormLeg> recognise(const Model& model, const Leg& leg) {
+namespace {
+std::optional<ClosedFormLeg> recognise_pattern(const Model& model, const Leg& leg) {
   if (leg.actuators.size() != 1) return std::nullopt;
   const std::vector<Token> tokens = tokens_of(leg);
   std::vector<const Token*> j;
@@ -479,16 +497,28 @@ std::optional<ClosedFormLeg> recognise(const Model& model, const Leg& leg) {
   if (std::optional<ClosedFormLeg> p = crank_parallelogram(leg, tokens, tiny)) return p;
   return std::nullopt;
 }
+}  // namespace
+
+std::optional<ClosedFormLeg> recognise(const Model& model, const Leg& leg) {
+  std::optional<ClosedFormLeg> c = recognise_pattern(model, leg);
+  // An angle rule reads its joint's value; the others read joint centres and
+  // axes, which a joint's own value does not move.
+  if (c)
+    for (const BranchRule& r : leg.rules)
+      for (int step : r.steps)
+        c->end_read = c->end_read || step > c->end_step || (step == c->end_step && r.kind == BranchRule::Kind::Angle);
+  return c;
+}
 
 void solve_closed(const ClosedFormLeg& form, const Model& model, const Leg& leg, const Isometry3d& anchor,
-                  LegCandidates& out) {
+                  LegCandidates& out, bool leave_ends_open) {
   out.count = 0;
   out.miss = 0;
   out.undecided = false;
   thread_local LegState partial;
   partial.values.setZero(leg.variables);
   partial.spheres.assign(std::size_t(leg.spheres), Matrix3d::Identity());
-  Builder b{form, model, leg, anchor, out};
+  Builder b{form, model, leg, anchor, out, leave_ends_open && !form.end_read};
   switch (form.pattern) {
     case LegPattern::CrankRod:
     case LegPattern::PlanarDyad: b.crank_rod(partial); break;
@@ -498,6 +528,15 @@ void solve_closed(const ClosedFormLeg& form, const Model& model, const Leg& leg,
     case LegPattern::CrankParallelogram: b.crank_parallelogram(partial); break;
     case LegPattern::Numeric: out.undecided = true; break;
   }
+}
+
+void close_candidate(const ClosedFormLeg& form, const Model& model, const Leg& leg, const Isometry3d& anchor,
+                     LegCandidates& out, int i) {
+  if (!out.open[std::size_t(i)]) return;
+  const Builder b{form, model, leg, anchor, out};
+  LegState& s = out.states[std::size_t(i)];
+  b.close_end(s, form.pattern == LegPattern::ThreeRevolute ? b.three_revolute_end(s) : out.end_frames[std::size_t(i)]);
+  out.open[std::size_t(i)] = false;
 }
 
 }  // namespace linkscape::described

@@ -59,6 +59,9 @@ struct ClosedFormLeg {
   int second_step = -1, third_step = -1;
   Eigen::Vector3d second_link = Eigen::Vector3d::Zero(), third_link = Eigen::Vector3d::Zero();
   int end_step = -1;  // the last joint (spherical; planar: revolute)
+  // A branch rule reads the last joint or a step after it: a candidate is
+  // judged only once its last joint is closed.
+  bool end_read = false;
   double offset = 0;  // Extensible: the fixed length along the slide
   // CrankParallelogram, in the actuator's frame (A its axis, B the
   // parallelogram's, n = A x B): the knee about +-A, the parallelogram's
@@ -90,8 +93,17 @@ struct LegCandidates {
   std::array<LegState, 4> states;
   double miss = 0;        // length unit, where count == 0
   bool undecided = false;  // a degenerate pose (the anchor on an axis): use the numerical solver
+  // Per candidate, where its last joint is left open: the frame at that joint.
+  std::array<Eigen::Isometry3d, 4> end_frames;
+  std::array<bool, 4> open{};
 };
+// With `leave_ends_open` (and no branch rule reading the last joint), each
+// candidate's last joint is left for close_candidate: a caller that keeps
+// one candidate closes only that one.
 void solve_closed(const ClosedFormLeg& form, const Model& model, const Leg& leg, const Eigen::Isometry3d& anchor,
-                  LegCandidates& out);
+                  LegCandidates& out, bool leave_ends_open = false);
+// Closes candidate i's last joint where solve_closed left it open.
+void close_candidate(const ClosedFormLeg& form, const Model& model, const Leg& leg, const Eigen::Isometry3d& anchor,
+                     LegCandidates& out, int i);
 
 }  // namespace linkscape::described

@@ -30,8 +30,13 @@ thread_local ThreadSeeds thread_seeds;
 
 PlatformPose Kinematics::pose(const VectorXd& x) const {
   PlatformPose p;
+  pose_into(x, p);
+  return p;
+}
+
+void Kinematics::pose_into(const VectorXd& x, PlatformPose& p) const {
   std::array<double, 6> c = model_.fixed;
-  p.extras = VectorXd::Zero(Index(model_.extras.size()));
+  p.extras.setZero(Index(model_.extras.size()));
   for (std::size_t i = 0; i < model_.task.size(); ++i) {
     const TaskCoordinate& t = model_.task[i];
     if (t.platform_coordinate >= 0) c[std::size_t(t.platform_coordinate)] = x(Index(i));
@@ -40,8 +45,8 @@ PlatformPose Kinematics::pose(const VectorXd& x) const {
   p.p = {c[0], c[1], c[2]};
   p.R = euler_zyx(c[3], c[4], c[5]);
   const Isometry3d platform = Eigen::Translation3d(p.p) * Isometry3d(p.R);
+  p.bodies.clear();
   for (const Isometry3d& body : model_.platform_frames(p.extras)) p.bodies.push_back(platform * body);
-  return p;
 }
 
 Isometry3d Kinematics::anchor(int leg, const PlatformPose& pose) const {
@@ -84,8 +89,10 @@ std::vector<int> Kinematics::rule_signs(int leg, const LegState& state, const Is
 bool Kinematics::signs_match(int leg, const LegState& state, const Isometry3d& anchor, int branch) const {
   const Leg& l = model_.legs[std::size_t(leg)];
   if (l.rules.empty()) return true;  // no chain to walk
+  // Angle rules read the joint values alone: the chain is walked only for the others.
   thread_local Chain c;
-  walk_into(l, state, c);
+  if (std::any_of(l.rules.begin(), l.rules.end(), [](const BranchRule& r) { return r.kind != BranchRule::Kind::Angle; }))
+    walk_into(l, state, c);
   for (const BranchRule& r : l.rules) {
     const int wanted = r.fixed_sign != 0 ? r.fixed_sign : ((branch >> r.free_index) & 1) ? -1 : 1;
     if (rule_sign(r, l, c, state, anchor) * wanted < 0) return false;
@@ -162,42 +169,72 @@ const ClosedFormLeg* Kinematics::closed_form(int leg) const {
   return c ? &*c : nullptr;
 }
 
-std::optional<LegSolution> Kinematics::solve_leg_closed(int leg, const Isometry3d& anchor, int branch) const {
+bool Kinematics::solve_leg_closed(int leg, const Isometry3d& anchor, int branch, LegSolution& out) const {
   const Leg& l = model_.legs[std::size_t(leg)];
+  const ClosedFormLeg& form = *closed_[std::size_t(leg)];
   thread_local LegCandidates candidates;
-  solve_closed(*closed_[std::size_t(leg)], model_, l, anchor, candidates);
-  if (candidates.undecided) return std::nullopt;
-  LegSolution out;
+  // Candidates judged on their joint values and centres; only the one kept is closed.
+  solve_closed(form, model_, l, anchor, candidates, true);
+  if (candidates.undecided) return false;
+  out.residual = 0.0;
+  out.iterations = 0;
   if (candidates.count == 0) {
     out.state = spread_seeds_[std::size_t(leg)].front();
     out.residual = candidates.miss;
-    return out;  // unreachable
+    out.status = Status::Unreachable;
+    return true;
   }
+  auto keep = [&](int i, Status status) {
+    close_candidate(form, model_, l, anchor, candidates, i);
+    out.state = candidates.states[std::size_t(i)];
+    out.status = status;
+    return true;
+  };
   // On the branch, within the travel first (as the numerical solver: a leg
   // that closes its anchor twice on one branch is ok if either is in travel).
-  const LegState* outside = nullptr;
+  int outside = -1;
   for (int i = 0; i < candidates.count; ++i) {
     const LegState& s = candidates.states[std::size_t(i)];
-    if (!signs_match(leg, s, anchor, branch)) continue;
-    if (within_travel(leg, s)) {
-      out.state = s;
-      out.status = Status::Ok;
-      return out;
-    }
-    if (!outside) outside = &s;
+    if (!within_travel(leg, s)) continue;
+    if (signs_match(leg, s, anchor, branch)) return keep(i, Status::Ok);
   }
-  out.state = outside ? *outside : candidates.states[0];
+  for (int i = 0; i < candidates.count && outside < 0; ++i)
+    if (!within_travel(leg, candidates.states[std::size_t(i)]) &&
+        signs_match(leg, candidates.states[std::size_t(i)], anchor, branch))
+      outside = i;
   // Ok outside the travel (inverse() says out-of-limits). Closing only on
   // another branch, the leg does not reach the anchor on this one (decided:
   // every solution is known); its miss stays 0, a lower bound (the closed
   // form does not give the distance to the branch's reach).
-  out.status = outside ? Status::Ok : Status::Unreachable;
-  return out;
+  return outside >= 0 ? keep(outside, Status::Ok) : keep(0, Status::Unreachable);
 }
 
-LegSolution Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int branch, double tolerance,
-                                     const LegState* extra_seed, LegSolver solver) const {
+void Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int branch, double tolerance,
+                              const LegState* extra_seed, LegSolver solver, LegSolution& out) const {
   const Leg& l = model_.legs[std::size_t(leg)];
+  // Beyond the leg's longest reach (its links end to end), or nearer than
+  // its shortest, no seed can help: the miss is at least the distance
+  // outside that shell, exactly that for a leg that can point its stretched
+  // (or folded) chain at the anchor.
+  const double distance = (anchor.translation() - l.base.translation()).norm();
+  const Range& reach = leg_reach_[std::size_t(leg)];
+  const double outside = std::max(distance - reach.hi, reach.lo - distance);
+  if (outside > 1e-9 * model_.size) {
+    out.state = spread_seeds_[std::size_t(leg)].front();
+    out.residual = outside;
+    out.status = Status::Unreachable;
+    out.iterations = 0;
+    return;
+  }
+  if (solver == LegSolver::Fastest && closed_[std::size_t(leg)] && solve_leg_closed(leg, anchor, branch, out)) return;
+  out = solve_leg_numeric(leg, anchor, branch, tolerance, extra_seed);
+}
+
+LegSolution Kinematics::solve_leg_numeric(int leg, const Isometry3d& anchor, int branch, double tolerance,
+                                          const LegState* extra_seed) const {
+  const Leg& l = model_.legs[std::size_t(leg)];
+  LegSolution best;
+  best.residual = kInf;
   const int combo = leg_combination(l, branch);
   ThreadSeeds& tls = thread_seeds;
   if (tls.id != id_) {
@@ -220,23 +257,6 @@ LegSolution Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int bran
     if (homes[other] && other != std::size_t(combo)) fixed.push_back(&*homes[other]);
   for (const LegState& s : spread_seeds_[std::size_t(leg)]) fixed.push_back(&s);
 
-  LegSolution best;
-  best.residual = kInf;
-  // Beyond the leg's longest reach (its links end to end), or nearer than
-  // its shortest, no seed can help: the miss is at least the distance
-  // outside that shell, exactly that for a leg that can point its stretched
-  // (or folded) chain at the anchor.
-  const double distance = (anchor.translation() - l.base.translation()).norm();
-  const Range& reach = leg_reach_[std::size_t(leg)];
-  const double outside = std::max(distance - reach.hi, reach.lo - distance);
-  if (outside > 1e-9 * model_.size) {
-    best.state = spread_seeds_[std::size_t(leg)].front();
-    best.residual = outside;
-    best.status = Status::Unreachable;
-    return best;
-  }
-  if (solver == LegSolver::Fastest && closed_[std::size_t(leg)])
-    if (std::optional<LegSolution> s = solve_leg_closed(leg, anchor, branch)) return *std::move(s);
   bool found_other_branch = false;
   // A solution on the branch whose actuator is outside its travel: the answer
   // only if the first fixed seed (the leg at home on the branch) does not
@@ -298,9 +318,21 @@ LegSolution Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int bran
 }
 
 PoseSolution Kinematics::inverse(const VectorXd& x, int branch, double tolerance, LegSolver solver) const {
-  const PlatformPose p = pose(x);
   PoseSolution out;
-  out.q = VectorXd::Zero(Index(model_.actuators.size()));
+  inverse_into(pose(x), branch, tolerance, solver, out);
+  return out;
+}
+
+void Kinematics::inverse_into(const PlatformPose& p, int branch, double tolerance, LegSolver solver,
+                              PoseSolution& out) const {
+  out.status = Status::Ok;
+  out.failing_leg = -1;
+  out.residual = 0.0;
+  out.iterations = 0;
+  out.q.setZero(Index(model_.actuators.size()));
+  out.stops = Stops();
+  out.stopped = false;
+  out.legs.resize(model_.legs.size());
   auto rank = [](Status s) {
     switch (s) {
       case Status::Unreachable: return 4;
@@ -311,7 +343,8 @@ PoseSolution Kinematics::inverse(const VectorXd& x, int branch, double tolerance
     }
   };
   for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
-    LegSolution s = solve_leg_on(int(leg), anchor(int(leg), p), branch, tolerance, nullptr, solver);
+    LegSolution& s = out.legs[leg];
+    solve_leg_on(int(leg), anchor(int(leg), p), branch, tolerance, nullptr, solver, s);
     out.iterations += s.iterations;
     out.residual = std::max(out.residual, s.residual);
     const Leg& l = model_.legs[leg];
@@ -325,7 +358,6 @@ PoseSolution Kinematics::inverse(const VectorXd& x, int branch, double tolerance
       out.status = s.status;
       out.failing_leg = int(leg);
     }
-    out.legs.push_back(std::move(s));
   }
   if ((has_joint_limits_ || has_capsules_) && assembled(out)) {
     out.stops = stops(p, out);
@@ -335,7 +367,6 @@ PoseSolution Kinematics::inverse(const VectorXd& x, int branch, double tolerance
       out.stopped = true;
     }
   }
-  return out;
 }
 
 PoseSolution Kinematics::inverse_near(const VectorXd& x, const VectorXd& q, LegSolver solver) const {
@@ -349,7 +380,8 @@ PoseSolution Kinematics::inverse_near(const VectorXd& x, const VectorXd& q, LegS
     LegSolution best;
     double best_distance = kInf;
     for (int combo = 0; combo < (1 << free_rules_of(l)); ++combo) {
-      LegSolution s = solve_leg_on(int(leg), anchor(int(leg), p), device_branch(l, combo), 1e-10, nullptr, solver);
+      LegSolution s;
+      solve_leg_on(int(leg), anchor(int(leg), p), device_branch(l, combo), 1e-10, nullptr, solver, s);
       if (s.status != Status::Ok) continue;
       const double v = s.state.values(var);
       const double distance = act.prismatic ? std::abs(v - q(l.actuators.front()))
@@ -391,11 +423,11 @@ double condition_number(const MatrixXd& M) {
   return fixed_condition<Eigen::Dynamic, Eigen::Dynamic>(M);
 }
 
-MatrixXd platform_columns(const Model& m, const PlatformPose& pose, const Vector3d& r) {
+PlatformColumns platform_columns(const Model& m, const PlatformPose& pose, const Vector3d& r) {
   const bool all_rotations = m.free[3] && m.free[4] && m.free[5];
   // The Euler angles, for the rates (not needed where all three rotations are free).
   const Vector3d e = all_rotations ? Vector3d::Zero() : euler_of(pose.R);
-  MatrixXd cols(6, m.driven());
+  PlatformColumns cols(6, m.driven());
   int col = 0;
   for (const TaskCoordinate& t : m.task) {
     if (t.extra >= 0) continue;
@@ -453,13 +485,20 @@ bool closed_wrench(const ClosedFormLeg& form, const Leg& l, const Chain& c, cons
 }  // namespace
 
 JacobianParts Kinematics::jacobian(const VectorXd& x, const PoseSolution& solved, LegSolver solver) const {
-  const PlatformPose p = pose(x);
+  JacobianParts out;
+  jacobian_into(pose(x), solved, solver, out);
+  return out;
+}
+
+void Kinematics::jacobian_into(const PlatformPose& p, const PoseSolution& solved, LegSolver solver,
+                               JacobianParts& out) const {
   const int n = model_.driven();
   const int a_count = int(model_.actuators.size());
-  JacobianParts out;
-  out.Jx = MatrixXd::Zero(a_count, n);
-  out.Jq = MatrixXd::Zero(a_count, a_count);
+  out.Jx.setZero(a_count, n);
+  out.Jq.setZero(a_count, a_count);
   out.serial_margin.assign(model_.legs.size(), kInf);
+  out.status = Status::Ok;
+  out.singular_leg = -1;
   const int m = model_.planar ? 3 : 6;
   thread_local Chain c;
   Rows w(m);
@@ -500,7 +539,7 @@ JacobianParts Kinematics::jacobian(const VectorXd& x, const PoseSolution& solved
                                : VectorXd(reciprocal.col(reciprocal.cols() - 1));
       passive_singular = rank < expected_rank;
     }
-    const MatrixXd cols = platform_columns(model_, p, r);
+    const PlatformColumns cols = platform_columns(model_, p, r);
     for (Index j = 0; j < cols.cols(); ++j) out.Jx(row, j) = w.dot(rows_of(cols.col(j), model_.planar));
     const double jq = w.dot(rows_of(twist(c, act_var, r, model_.size), model_.planar));
     out.Jq(row, actuator) = jq;
@@ -513,13 +552,13 @@ JacobianParts Kinematics::jacobian(const VectorXd& x, const PoseSolution& solved
     }
     ++row;
   }
-  const Eigen::PartialPivLU<MatrixXd> lu(out.Jx);
+  thread_local Eigen::PartialPivLU<MatrixXd> lu;
+  lu.compute(out.Jx);
   // The closed forms take the LU's estimate (1-norm, within a small factor of
   // the 2-norm's): an SVD of Jx would cost more than the rest of the sample.
   out.jx_condition = solver == LegSolver::Fastest ? 1 / lu.rcond() : condition_number(out.Jx);
   if (!(out.jx_condition <= 1e12)) out.status = Status::Singular;
   out.J = lu.solve(out.Jq);
-  return out;
 }
 
 // ---- Margins -------------------------------------------------------------------------

@@ -110,6 +110,7 @@ class Kinematics {
   int branches() const { return 1 << model_.free_rules; }
 
   PlatformPose pose(const Eigen::VectorXd& x) const;
+  void pose_into(const Eigen::VectorXd& x, PlatformPose& out) const;
   // The leg's anchor frame in the base frame at this pose.
   Eigen::Isometry3d anchor(int leg, const PlatformPose& pose) const;
 
@@ -117,6 +118,9 @@ class Kinematics {
   // solution, the leg at home on the branch, spread seeds.
   PoseSolution inverse(const Eigen::VectorXd& x, int branch, double tolerance,
                        LegSolver solver = LegSolver::Fastest) const;
+  // The same at a pose, into `out` (its storage reused: a field's samples
+  // allocate nothing once the thread's first has run).
+  void inverse_into(const PlatformPose& pose, int branch, double tolerance, LegSolver solver, PoseSolution& out) const;
   // Each leg on the solution whose actuator is nearest q (q, x consistent).
   PoseSolution inverse_near(const Eigen::VectorXd& x, const Eigen::VectorXd& q,
                             LegSolver solver = LegSolver::Fastest) const;
@@ -132,6 +136,8 @@ class Kinematics {
   // Solver Fastest: each recognised leg's reciprocal wrench in closed form.
   JacobianParts jacobian(const Eigen::VectorXd& x, const PoseSolution& solved,
                          LegSolver solver = LegSolver::Fastest) const;
+  // The same at the pose `solved` was solved at, into `out` (storage reused).
+  void jacobian_into(const PlatformPose& pose, const PoseSolution& solved, LegSolver solver, JacobianParts& out) const;
   ForwardSolution forward(const Eigen::VectorXd& q, const Eigen::VectorXd& seed, double tolerance,
                           int max_iterations) const;
 
@@ -172,10 +178,14 @@ class Kinematics {
   // `crawl` (relative) away from a solution.
   LegSolveResult solve_leg(int leg, const Eigen::Isometry3d& anchor, LegState state, int max_iterations,
                            double crawl) const;
-  LegSolution solve_leg_on(int leg, const Eigen::Isometry3d& anchor, int branch, double tolerance,
-                           const LegState* extra_seed, LegSolver solver) const;
-  // The closed form's solution on the branch; nullopt where it cannot decide.
-  std::optional<LegSolution> solve_leg_closed(int leg, const Eigen::Isometry3d& anchor, int branch) const;
+  // Into `out` (its state's storage reused).
+  void solve_leg_on(int leg, const Eigen::Isometry3d& anchor, int branch, double tolerance,
+                    const LegState* extra_seed, LegSolver solver, LegSolution& out) const;
+  // The numerical solver from seeds (after the reach bounds).
+  LegSolution solve_leg_numeric(int leg, const Eigen::Isometry3d& anchor, int branch, double tolerance,
+                                const LegState* extra_seed) const;
+  // The closed form's solution on the branch into `out`; false where it cannot decide.
+  bool solve_leg_closed(int leg, const Eigen::Isometry3d& anchor, int branch, LegSolution& out) const;
   bool signs_match(int leg, const LegState& state, const Eigen::Isometry3d& anchor, int branch) const;
   // Whether the leg's actuator lies within its travel (a revolute one: some turn of it).
   bool within_travel(int leg, const LegState& state) const;
