@@ -108,6 +108,21 @@ struct Builder {
   const Isometry3d& anchor;
   LegCandidates& out;
   bool leave_ends_open = false;
+  int branch = -1;  // >= 0: leave out the solutions its angle rules reject
+
+  // Whether `value` of the joint at `step` keeps the branch's angle rules on it.
+  bool angle_kept(int step, double value) {
+    if (branch < 0) return true;
+    for (const BranchRule& r : leg.rules) {
+      if (r.kind != BranchRule::Kind::Angle || r.steps[0] != step) continue;
+      const double v = std::sin(value);  // as the rule reads it
+      if ((v > 0 ? 1 : v < 0 ? -1 : 0) * wanted_sign(r, branch) < 0) {
+        out.dropped = true;
+        return false;
+      }
+    }
+    return true;
+  }
 
   int var(int step) const { return leg.steps[std::size_t(step)].variable; }
   int sphere_index(int step) const {
@@ -262,11 +277,15 @@ struct Builder {
     }
     const Vector3d a1 = form.actuator_axis, a2 = leg.steps[std::size_t(form.second_step)].axis;
     for (int k = 0; k < m; ++k) {
+      if (!angle_kept(form.third_step, t[std::size_t(k)])) continue;
       const Eigen::AngleAxisd R3(t[std::size_t(k)], a3);
       const Vector3d v = t2 + R3 * t3;
       std::array<std::array<double, 2>, 2> angles{};
       const int p = two_axes(a1, a2, v, g * (v.norm() / n), angles);
       for (int j = 0; j < p; ++j) {
+        if (!angle_kept(form.actuator_step, angles[std::size_t(j)][0]) ||
+            !angle_kept(form.second_step, angles[std::size_t(j)][1]))
+          continue;
         LegState& s = fresh(partial);
         s.values(var(form.actuator_step)) = angles[std::size_t(j)][0];
         s.values(var(form.second_step)) = angles[std::size_t(j)][1];
@@ -511,14 +530,15 @@ std::optional<ClosedFormLeg> recognise(const Model& model, const Leg& leg) {
 }
 
 void solve_closed(const ClosedFormLeg& form, const Model& model, const Leg& leg, const Isometry3d& anchor,
-                  LegCandidates& out, bool leave_ends_open) {
+                  LegCandidates& out, bool leave_ends_open, int branch) {
   out.count = 0;
   out.miss = 0;
   out.undecided = false;
+  out.dropped = false;
   thread_local LegState partial;
   partial.values.setZero(leg.variables);
   partial.spheres.assign(std::size_t(leg.spheres), Matrix3d::Identity());
-  Builder b{form, model, leg, anchor, out, leave_ends_open && !form.end_read};
+  Builder b{form, model, leg, anchor, out, leave_ends_open && !form.end_read, branch};
   switch (form.pattern) {
     case LegPattern::CrankRod:
     case LegPattern::PlanarDyad: b.crank_rod(partial); break;
@@ -530,13 +550,11 @@ void solve_closed(const ClosedFormLeg& form, const Model& model, const Leg& leg,
   }
 }
 
-void close_candidate(const ClosedFormLeg& form, const Model& model, const Leg& leg, const Isometry3d& anchor,
-                     LegCandidates& out, int i) {
-  if (!out.open[std::size_t(i)]) return;
-  const Builder b{form, model, leg, anchor, out};
-  LegState& s = out.states[std::size_t(i)];
-  b.close_end(s, form.pattern == LegPattern::ThreeRevolute ? b.three_revolute_end(s) : out.end_frames[std::size_t(i)]);
-  out.open[std::size_t(i)] = false;
+void close_open_end(const ClosedFormLeg& form, const Model& model, const Leg& leg, const Isometry3d& anchor,
+                    LegState& s, const Isometry3d& frame) {
+  thread_local LegCandidates unused;
+  const Builder b{form, model, leg, anchor, unused};
+  b.close_end(s, form.pattern == LegPattern::ThreeRevolute ? b.three_revolute_end(s) : frame);
 }
 
 }  // namespace linkscape::described

@@ -86,6 +86,11 @@ struct ClosedFormLeg {
 // length, a rod of zero length) stays numeric.
 std::optional<ClosedFormLeg> recognise(const Model& model, const Leg& leg);
 
+// The sign a branch rule asks for on a device branch.
+inline int wanted_sign(const BranchRule& r, int branch) {
+  return r.fixed_sign != 0 ? r.fixed_sign : ((branch >> r.free_index) & 1) ? -1 : 1;
+}
+
 // Every solution of the leg's closure for `anchor` (base frame), or the
 // distance by which the anchor is out of the leg's reach.
 struct LegCandidates {
@@ -96,14 +101,18 @@ struct LegCandidates {
   // Per candidate, where its last joint is left open: the frame at that joint.
   std::array<Eigen::Isometry3d, 4> end_frames;
   std::array<bool, 4> open{};
+  bool dropped = false;  // some solution left out by the branch's angle rules
 };
 // With `leave_ends_open` (and no branch rule reading the last joint), each
 // candidate's last joint is left for close_candidate: a caller that keeps
-// one candidate closes only that one.
+// one candidate closes only that one. With a branch >= 0, a three-revolute
+// leg's solutions whose angles break an angle rule of that branch are left
+// out (`dropped`).
 void solve_closed(const ClosedFormLeg& form, const Model& model, const Leg& leg, const Eigen::Isometry3d& anchor,
-                  LegCandidates& out, bool leave_ends_open = false);
-// Closes candidate i's last joint where solve_closed left it open.
-void close_candidate(const ClosedFormLeg& form, const Model& model, const Leg& leg, const Eigen::Isometry3d& anchor,
-                     LegCandidates& out, int i);
+                  LegCandidates& out, bool leave_ends_open = false, int branch = -1);
+// Closes the last joint of a candidate that solve_closed left open (`frame`:
+// its end_frames entry).
+void close_open_end(const ClosedFormLeg& form, const Model& model, const Leg& leg, const Eigen::Isometry3d& anchor,
+                    LegState& s, const Eigen::Isometry3d& frame);
 
 }  // namespace linkscape::described

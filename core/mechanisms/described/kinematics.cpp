@@ -94,8 +94,7 @@ bool Kinematics::signs_match(int leg, const LegState& state, const Isometry3d& a
   if (std::any_of(l.rules.begin(), l.rules.end(), [](const BranchRule& r) { return r.kind != BranchRule::Kind::Angle; }))
     walk_into(l, state, c);
   for (const BranchRule& r : l.rules) {
-    const int wanted = r.fixed_sign != 0 ? r.fixed_sign : ((branch >> r.free_index) & 1) ? -1 : 1;
-    if (rule_sign(r, l, c, state, anchor) * wanted < 0) return false;
+    if (rule_sign(r, l, c, state, anchor) * wanted_sign(r, branch) < 0) return false;
   }
   return true;
 }
@@ -169,48 +168,55 @@ const ClosedFormLeg* Kinematics::closed_form(int leg) const {
   return c ? &*c : nullptr;
 }
 
-bool Kinematics::solve_leg_closed(int leg, const Isometry3d& anchor, int branch, LegSolution& out) const {
+bool Kinematics::solve_leg_closed(int leg, const Isometry3d& anchor, int branch, LegSolution& out, bool close) const {
   const Leg& l = model_.legs[std::size_t(leg)];
   const ClosedFormLeg& form = *closed_[std::size_t(leg)];
   thread_local LegCandidates candidates;
-  // Candidates judged on their joint values and centres; only the one kept is closed.
-  solve_closed(form, model_, l, anchor, candidates, true);
+  // Candidates judged on their joint values and centres; only the one kept
+  // is closed. Those the branch's angle rules reject are not made at all.
+  solve_closed(form, model_, l, anchor, candidates, true, branch);
   if (candidates.undecided) return false;
+  // On the branch, within the travel first (as the numerical solver: a leg
+  // that closes its anchor twice on one branch is ok if either is in travel),
+  // else outside it (ok: inverse() says out-of-limits).
+  int kept = -1;
+  for (int i = 0; i < candidates.count && kept < 0; ++i)
+    if (within_travel(leg, candidates.states[std::size_t(i)]) &&
+        signs_match(leg, candidates.states[std::size_t(i)], anchor, branch))
+      kept = i;
+  for (int i = 0; i < candidates.count && kept < 0; ++i)
+    if (signs_match(leg, candidates.states[std::size_t(i)], anchor, branch)) kept = i;
+  // None on the branch: the state reported is the first of all solutions.
+  if (kept < 0 && candidates.dropped) solve_closed(form, model_, l, anchor, candidates, true);
   out.residual = 0.0;
   out.iterations = 0;
+  out.open_end = false;
   if (candidates.count == 0) {
     out.state = spread_seeds_[std::size_t(leg)].front();
     out.residual = candidates.miss;
     out.status = Status::Unreachable;
     return true;
   }
-  auto keep = [&](int i, Status status) {
-    close_candidate(form, model_, l, anchor, candidates, i);
-    out.state = candidates.states[std::size_t(i)];
-    out.status = status;
-    return true;
-  };
-  // On the branch, within the travel first (as the numerical solver: a leg
-  // that closes its anchor twice on one branch is ok if either is in travel).
-  int outside = -1;
-  for (int i = 0; i < candidates.count; ++i) {
-    const LegState& s = candidates.states[std::size_t(i)];
-    if (!within_travel(leg, s)) continue;
-    if (signs_match(leg, s, anchor, branch)) return keep(i, Status::Ok);
-  }
-  for (int i = 0; i < candidates.count && outside < 0; ++i)
-    if (!within_travel(leg, candidates.states[std::size_t(i)]) &&
-        signs_match(leg, candidates.states[std::size_t(i)], anchor, branch))
-      outside = i;
-  // Ok outside the travel (inverse() says out-of-limits). Closing only on
-  // another branch, the leg does not reach the anchor on this one (decided:
-  // every solution is known); its miss stays 0, a lower bound (the closed
-  // form does not give the distance to the branch's reach).
-  return outside >= 0 ? keep(outside, Status::Ok) : keep(0, Status::Unreachable);
+  // Closing only on another branch, the leg does not reach the anchor on
+  // this one (decided: every solution is known); its miss stays 0, a lower
+  // bound (the closed form does not give the distance to the branch's reach).
+  out.status = kept >= 0 ? Status::Ok : Status::Unreachable;
+  kept = std::max(kept, 0);
+  out.state = candidates.states[std::size_t(kept)];
+  out.open_end = candidates.open[std::size_t(kept)];
+  out.end_frame = candidates.end_frames[std::size_t(kept)];
+  if (close) close_end(leg, anchor, out);
+  return true;
+}
+
+void Kinematics::close_end(int leg, const Isometry3d& anchor, LegSolution& s) const {
+  if (!s.open_end) return;
+  close_open_end(*closed_[std::size_t(leg)], model_, model_.legs[std::size_t(leg)], anchor, s.state, s.end_frame);
+  s.open_end = false;
 }
 
 void Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int branch, double tolerance,
-                              const LegState* extra_seed, LegSolver solver, LegSolution& out) const {
+                              const LegState* extra_seed, LegSolver solver, LegSolution& out, bool close) const {
   const Leg& l = model_.legs[std::size_t(leg)];
   // Beyond the leg's longest reach (its links end to end), or nearer than
   // its shortest, no seed can help: the miss is at least the distance
@@ -224,9 +230,11 @@ void Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int branch, dou
     out.residual = outside;
     out.status = Status::Unreachable;
     out.iterations = 0;
+    out.open_end = false;
     return;
   }
-  if (solver == LegSolver::Fastest && closed_[std::size_t(leg)] && solve_leg_closed(leg, anchor, branch, out)) return;
+  if (solver == LegSolver::Fastest && closed_[std::size_t(leg)] && solve_leg_closed(leg, anchor, branch, out, close))
+    return;
   out = solve_leg_numeric(leg, anchor, branch, tolerance, extra_seed);
 }
 
@@ -324,7 +332,7 @@ PoseSolution Kinematics::inverse(const VectorXd& x, int branch, double tolerance
 }
 
 void Kinematics::inverse_into(const PlatformPose& p, int branch, double tolerance, LegSolver solver,
-                              PoseSolution& out) const {
+                              PoseSolution& out, bool close_every_leg) const {
   out.status = Status::Ok;
   out.failing_leg = -1;
   out.residual = 0.0;
@@ -344,7 +352,7 @@ void Kinematics::inverse_into(const PlatformPose& p, int branch, double toleranc
   };
   for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
     LegSolution& s = out.legs[leg];
-    solve_leg_on(int(leg), anchor(int(leg), p), branch, tolerance, nullptr, solver, s);
+    solve_leg_on(int(leg), anchor(int(leg), p), branch, tolerance, nullptr, solver, s, close_every_leg);
     out.iterations += s.iterations;
     out.residual = std::max(out.residual, s.residual);
     const Leg& l = model_.legs[leg];
@@ -359,6 +367,8 @@ void Kinematics::inverse_into(const PlatformPose& p, int branch, double toleranc
       out.failing_leg = int(leg);
     }
   }
+  if (!close_every_leg && assembled(out))
+    for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) close_end(int(leg), anchor(int(leg), p), out.legs[leg]);
   if ((has_joint_limits_ || has_capsules_) && assembled(out)) {
     out.stops = stops(p, out);
     if (out.status == Status::Ok && !out.stops.hold()) {

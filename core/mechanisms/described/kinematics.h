@@ -41,6 +41,10 @@ struct LegSolution {
   Status status = Status::Unreachable;
   double residual = 0.0;  // length unit
   int iterations = 0;
+  // The state's last joint left open (inverse_into where the pose does not
+  // assemble): the frame at that joint, from which it closes.
+  bool open_end = false;
+  Eigen::Isometry3d end_frame = Eigen::Isometry3d::Identity();
 };
 
 // What bounds an assembly beyond its actuators' travel: its passive joints'
@@ -119,8 +123,12 @@ class Kinematics {
   PoseSolution inverse(const Eigen::VectorXd& x, int branch, double tolerance,
                        LegSolver solver = LegSolver::Fastest) const;
   // The same at a pose, into `out` (its storage reused: a field's samples
-  // allocate nothing once the thread's first has run).
-  void inverse_into(const PlatformPose& pose, int branch, double tolerance, LegSolver solver, PoseSolution& out) const;
+  // allocate nothing once the thread's first has run). Without
+  // `close_every_leg`, where the pose does not assemble, a closed-form leg's
+  // last joint may be left open (LegSolution::open_end): the states of such
+  // a pose serve nothing but their actuators.
+  void inverse_into(const PlatformPose& pose, int branch, double tolerance, LegSolver solver, PoseSolution& out,
+                    bool close_every_leg = true) const;
   // Each leg on the solution whose actuator is nearest q (q, x consistent).
   PoseSolution inverse_near(const Eigen::VectorXd& x, const Eigen::VectorXd& q,
                             LegSolver solver = LegSolver::Fastest) const;
@@ -180,12 +188,15 @@ class Kinematics {
                            double crawl) const;
   // Into `out` (its state's storage reused).
   void solve_leg_on(int leg, const Eigen::Isometry3d& anchor, int branch, double tolerance,
-                    const LegState* extra_seed, LegSolver solver, LegSolution& out) const;
+                    const LegState* extra_seed, LegSolver solver, LegSolution& out, bool close = true) const;
   // The numerical solver from seeds (after the reach bounds).
   LegSolution solve_leg_numeric(int leg, const Eigen::Isometry3d& anchor, int branch, double tolerance,
                                 const LegState* extra_seed) const;
   // The closed form's solution on the branch into `out`; false where it cannot decide.
-  bool solve_leg_closed(int leg, const Eigen::Isometry3d& anchor, int branch, LegSolution& out) const;
+  // Its last joint left open (out.open_end) unless `close`.
+  bool solve_leg_closed(int leg, const Eigen::Isometry3d& anchor, int branch, LegSolution& out, bool close) const;
+  // Closes the leg's last joint where solve_leg_closed left it open.
+  void close_end(int leg, const Eigen::Isometry3d& anchor, LegSolution& s) const;
   bool signs_match(int leg, const LegState& state, const Eigen::Isometry3d& anchor, int branch) const;
   // Whether the leg's actuator lies within its travel (a revolute one: some turn of it).
   bool within_travel(int leg, const LegState& state) const;

@@ -458,7 +458,7 @@ class DescribedMechanism final : public Mechanism {
     thread_local PoseSolution ik;
     thread_local JacobianParts jacobian;
     kin_.pose_into(xm, pose);
-    kin_.inverse_into(pose, branch, tolerance, solver, ik);
+    kin_.inverse_into(pose, branch, tolerance, solver, ik, false);  // the states serve only where it assembles
     s.iterations = std::uint16_t(std::min(ik.iterations, 65535));
     const bool closes = assembled(ik);
     Status status = ik.status;
