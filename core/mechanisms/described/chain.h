@@ -63,8 +63,10 @@ struct Chain {
   std::vector<Isometry3d> step_frame;            // per step: the frame after it
 };
 
-// Fills `c` (its vectors keep their capacity: no allocation in a solver's loop).
-inline void walk_into(const Leg& leg, const LegState& s, Chain& c) {
+// Fills `c` (its vectors keep their capacity: no allocation in a solver's
+// loop). With `through` >= 0, only the steps up to that one are walked: the
+// centres and axes of steps 0..through (the rest of `c` left stale).
+inline void walk_into(const Leg& leg, const LegState& s, Chain& c, int through = -1) {
   c.axis.resize(std::size_t(leg.variables));
   c.centre.resize(std::size_t(leg.variables));
   c.sliding.assign(std::size_t(leg.variables), false);
@@ -77,6 +79,7 @@ inline void walk_into(const Leg& leg, const LegState& s, Chain& c) {
     const Vector3d here = T.translation();
     c.step_centre.push_back(here);
     c.step_axis.push_back(T.linear() * step.axis);
+    if (int(c.step_centre.size()) > through && through >= 0) return;
     switch (step.kind) {
       case Kind::Fixed:
         T = T * step.transform;

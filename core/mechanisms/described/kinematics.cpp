@@ -89,10 +89,13 @@ std::vector<int> Kinematics::rule_signs(int leg, const LegState& state, const Is
 bool Kinematics::signs_match(int leg, const LegState& state, const Isometry3d& anchor, int branch) const {
   const Leg& l = model_.legs[std::size_t(leg)];
   if (l.rules.empty()) return true;  // no chain to walk
-  // Angle rules read the joint values alone: the chain is walked only for the others.
+  // Angle rules read the joint values alone: the chain is walked only for
+  // the others, as far as the last step they read.
   thread_local Chain c;
-  if (std::any_of(l.rules.begin(), l.rules.end(), [](const BranchRule& r) { return r.kind != BranchRule::Kind::Angle; }))
-    walk_into(l, state, c);
+  int through = -1;
+  for (const BranchRule& r : l.rules)
+    if (r.kind != BranchRule::Kind::Angle) through = std::max({through, r.steps[0], r.steps[1], r.steps[2]});
+  if (through >= 0) walk_into(l, state, c, through);
   for (const BranchRule& r : l.rules) {
     if (rule_sign(r, l, c, state, anchor) * wanted_sign(r, branch) < 0) return false;
   }
@@ -527,7 +530,10 @@ void Kinematics::jacobian_into(const PlatformPose& p, const PoseSolution& solved
     if (form) {
       passive_singular = !closed_wrench(*form, l, c, r, model_.size, model_.planar, w);
     } else {
-      MatrixXd passive(m, l.variables - 1);
+      // At most six rows and a leg's variables: on the stack.
+      using Passive = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, kMaxLegVariables>;
+      using Reciprocal = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
+      Passive passive(m, l.variables - 1);
       for (int v = 0, col = 0; v < l.variables; ++v)
         if (v != act_var) passive.col(col++) = rows_of(twist(c, v, r, model_.size), model_.planar);
       // The wrenches reciprocal to every passive twist: the last left singular
@@ -536,17 +542,17 @@ void Kinematics::jacobian_into(const PlatformPose& p, const PoseSolution& solved
       // orientation, as a Falcon's revolute legs do). Of them, the actuation
       // wrench is the one the actuator works against; the others are
       // constraint wrenches, reciprocal to the actuator too.
-      Eigen::JacobiSVD<MatrixXd> svd(passive, Eigen::ComputeFullU);
+      const Eigen::JacobiSVD<Passive> svd(passive, Eigen::ComputeFullU);
       const auto& sv = svd.singularValues();
       // A vanishing singular value beyond the leg's idle freedoms: the passive
       // joints lose a freedom, the leg is singular.
       const int expected_rank = passive_rank_[leg];
       int rank = 0;
       for (Index i = 0; i < sv.size(); ++i) rank += sv(i) > 1e-10 * sv(0);
-      const MatrixXd reciprocal = svd.matrixU().rightCols(m - expected_rank);
-      const VectorXd actuation = reciprocal.transpose() * rows_of(twist(c, act_var, r, model_.size), model_.planar);
-      w = actuation.norm() > 0 ? VectorXd(reciprocal * actuation.normalized())
-                               : VectorXd(reciprocal.col(reciprocal.cols() - 1));
+      const Reciprocal reciprocal = svd.matrixU().rightCols(m - expected_rank);
+      const Rows actuation = reciprocal.transpose() * rows_of(twist(c, act_var, r, model_.size), model_.planar);
+      if (actuation.norm() > 0) w = reciprocal * actuation.normalized();
+      else w = reciprocal.col(reciprocal.cols() - 1);
       passive_singular = rank < expected_rank;
     }
     const PlatformColumns cols = platform_columns(model_, p, r);
