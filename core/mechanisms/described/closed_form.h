@@ -101,7 +101,7 @@ struct LegCandidates {
   // Per candidate, where its last joint is left open: the frame at that joint.
   std::array<Eigen::Isometry3d, 4> end_frames;
   std::array<bool, 4> open{};
-  bool dropped = false;  // some solution left out by the branch's angle rules
+  bool dropped = false;  // the branch's angle rules left out some (possible) solution
 };
 // With `leave_ends_open` (and no branch rule reading the last joint), each
 // candidate's last joint is left for close_candidate: a caller that keeps
