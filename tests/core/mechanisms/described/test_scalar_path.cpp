@@ -19,13 +19,6 @@ namespace {
 using Eigen::Isometry3d;
 using Eigen::VectorXd;
 
-Kinematics load(const std::string& name) {
-  const Preset p = load_preset(name);
-  Model m = build_model(p.description, p.parameters, p.limits_deg, p.length_unit);
-  switch_off_stops(m, p.checks);
-  return Kinematics(std::move(m));
-}
-
 // Task vectors around home: positions within the device's size (the
 // orientation and extras as at home, then turned a little).
 std::vector<VectorXd> poses_around_home(const Model& m, int count, unsigned seed) {
@@ -40,6 +33,14 @@ std::vector<VectorXd> poses_around_home(const Model& m, int count, unsigned seed
     out.push_back(x);
   }
   return out;
+}
+
+// The device as a field samples it (its stops as the preset switches them).
+Kinematics load(const std::string& name) {
+  const Preset p = load_preset(name);
+  Model m = build_model(p.description, p.parameters, p.limits_deg, p.length_unit);
+  switch_off_stops(m, p.checks);
+  return Kinematics(std::move(m));
 }
 
 bool same_state(const LegState& a, const LegState& b) {
