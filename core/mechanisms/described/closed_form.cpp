@@ -194,7 +194,8 @@ struct Builder {
   }
 
   // The last joint's centre the anchor asks for.
-  Vector3d end_centre() const { return (anchor * form.tail.inverse()).translation(); }
+  // (The translation of anchor * tail^-1, without its rotation.)
+  Vector3d end_centre() const { return anchor.linear() * form.tail.inverse().translation() + anchor.translation(); }
 
   void crank_rod(LegState& partial) {
     const Vector3d a = form.base.linear() * form.actuator_axis, o = form.base.translation();

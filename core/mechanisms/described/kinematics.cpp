@@ -55,6 +55,7 @@ Isometry3d Kinematics::anchor(int leg, const PlatformPose& pose) const {
 }
 
 double Kinematics::wrap(double a) const {
+  if (std::abs(a) < kPi) return a;  // as remainder() leaves it (most angles the closed forms give)
   a = std::remainder(a, 2 * kPi);
   return a <= -kPi ? a + 2 * kPi : a;
 }
