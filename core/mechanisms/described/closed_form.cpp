@@ -115,8 +115,7 @@ struct Builder {
     if (branch < 0) return true;
     for (const BranchRule& r : leg.rules) {
       if (r.kind != BranchRule::Kind::Angle || r.steps[0] != step) continue;
-      const double v = std::sin(value);  // as the rule reads it
-      if ((v > 0 ? 1 : v < 0 ? -1 : 0) * wanted_sign(r, branch) < 0) {
+      if (sine_sign(value) * wanted_sign(r, branch) < 0) {
         out.dropped = true;
         return false;
       }

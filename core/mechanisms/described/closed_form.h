@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
+#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
@@ -85,6 +86,13 @@ struct ClosedFormLeg {
 // form solves exactly is recognised: a degenerate design (a crank of zero
 // length, a rod of zero length) stays numeric.
 std::optional<ClosedFormLeg> recognise(const Model& model, const Leg& leg);
+
+// The sign of sin(angle), as an angle rule reads it: the angle's own sign
+// within [-pi, pi] (where sin(pi), rounded, is still positive), else by sin.
+inline int sine_sign(double angle) {
+  const double v = std::abs(angle) <= 3.141592653589793 ? angle : std::sin(angle);
+  return v > 0 ? 1 : v < 0 ? -1 : 0;
+}
 
 // The sign a branch rule asks for on a device branch.
 inline int wanted_sign(const BranchRule& r, int branch) {

@@ -66,10 +66,9 @@ namespace {
 // The sign of one rule at a walked chain.
 int rule_sign(const BranchRule& r, const Leg& l, const Chain& c, const LegState& state, const Isometry3d& anchor) {
   auto centre = [&](int step) { return step == -2 ? anchor.translation() : c.step_centre[std::size_t(step)]; };
+  if (r.kind == BranchRule::Kind::Angle) return sine_sign(state.values(l.steps[std::size_t(r.steps[0])].variable));
   double v = 0;
-  if (r.kind == BranchRule::Kind::Angle) {
-    v = std::sin(state.values(l.steps[std::size_t(r.steps[0])].variable));
-  } else if (r.kind == BranchRule::Kind::Along) {
+  if (r.kind == BranchRule::Kind::Along) {
     v = (centre(r.steps[1]) - centre(r.steps[0])).dot(r.direction);
   } else {
     const Vector3d a = centre(r.steps[0]), b = centre(r.steps[1]);
