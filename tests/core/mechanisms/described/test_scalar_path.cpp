@@ -3,7 +3,8 @@
 // open where the pose does not assemble) against inverse(); candidates left
 // open and closed later against candidates closed at once; a three-revolute
 // leg's candidates made for a branch against all of them sifted by its angle
-// rules; a chain walked part way against the whole walk.
+// rules; a chain walked part way against the whole walk; an angle rule's
+// sign against the sine's.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -183,6 +184,19 @@ TEST(DescribedScalarPath, PartWalkMatchesTheWholeWalk) {
         }
       }
     }
+  }
+}
+
+TEST(DescribedScalarPath, SineSignIsTheSignOfTheSine) {
+  const double pi = 3.141592653589793;
+  std::vector<double> angles{0.0, -0.0, pi, -pi, std::nextafter(pi, 4.0), -std::nextafter(pi, 4.0), 2 * pi, -2 * pi,
+                             1e-300, -1e-300, 5e-324, std::nextafter(pi, 0.0), 7.0, -7.0};
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> any(-8, 8);
+  for (int i = 0; i < 100000; ++i) angles.push_back(any(rng));
+  for (double t : angles) {
+    const double v = std::sin(t);
+    EXPECT_EQ(sine_sign(t), v > 0 ? 1 : v < 0 ? -1 : 0) << t;
   }
 }
 
