@@ -112,7 +112,7 @@ struct LegCandidates {
   bool dropped = false;  // the branch's angle rules left out some (possible) solution
 };
 // With `leave_ends_open` (and no branch rule reading the last joint), each
-// candidate's last joint is left for close_candidate: a caller that keeps
+// candidate's last joint is left for close_open_end: a caller that keeps
 // one candidate closes only that one. With a branch >= 0, a three-revolute
 // leg's solutions whose angles break an angle rule of that branch are left
 // out (`dropped`).
