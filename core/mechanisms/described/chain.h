@@ -63,8 +63,10 @@ struct Chain {
   std::vector<Isometry3d> step_frame;            // per step: the frame after it
 };
 
-// Fills `c` (its vectors keep their capacity: no allocation in a solver's loop).
-inline void walk_into(const Leg& leg, const LegState& s, Chain& c) {
+// Fills `c` (its vectors keep their capacity: no allocation in a solver's
+// loop). With `through` >= 0, only the steps up to that one are walked: the
+// centres and axes of steps 0..through (the rest of `c` left stale).
+inline void walk_into(const Leg& leg, const LegState& s, Chain& c, int through = -1) {
   c.axis.resize(std::size_t(leg.variables));
   c.centre.resize(std::size_t(leg.variables));
   c.sliding.assign(std::size_t(leg.variables), false);
@@ -77,6 +79,7 @@ inline void walk_into(const Leg& leg, const LegState& s, Chain& c) {
     const Vector3d here = T.translation();
     c.step_centre.push_back(here);
     c.step_axis.push_back(T.linear() * step.axis);
+    if (int(c.step_centre.size()) > through && through >= 0) return;
     switch (step.kind) {
       case Kind::Fixed:
         T = T * step.transform;
@@ -212,7 +215,8 @@ inline int free_rules_of(const Leg& l) {
 // The platform's twists about r for each driven coordinate (translation:
 // [0; e]; rotation: [w; w x (r - p)], w the angular velocity of a unit rate:
 // the base axes where all three rotations are free, else the Euler rates).
-MatrixXd platform_columns(const Model& m, const PlatformPose& pose, const Vector3d& r);
+using PlatformColumns = Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, 6>;  // at most six driven coordinates
+PlatformColumns platform_columns(const Model& m, const PlatformPose& pose, const Vector3d& r);
 
 // sigma_max / sigma_min (+inf where singular), by a fixed-size SVD for the
 // shapes devices have (no allocation): 2x2, 3x3, 3x6, 6x6.

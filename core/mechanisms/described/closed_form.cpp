@@ -107,6 +107,21 @@ struct Builder {
   const Leg& leg;
   const Isometry3d& anchor;
   LegCandidates& out;
+  bool leave_ends_open = false;
+  int branch = -1;  // >= 0: leave out the solutions its angle rules reject
+
+  // Whether `value` of the joint at `step` keeps the branch's angle rules on it.
+  bool angle_kept(int step, double value) {
+    if (branch < 0) return true;
+    for (const BranchRule& r : leg.rules) {
+      if (r.kind != BranchRule::Kind::Angle || r.steps[0] != step) continue;
+      if (sine_sign(value) * wanted_sign(r, branch) < 0) {
+        out.dropped = true;
+        return false;
+      }
+    }
+    return true;
+  }
 
   int var(int step) const { return leg.steps[std::size_t(step)].variable; }
   int sphere_index(int step) const {
@@ -115,10 +130,18 @@ struct Builder {
     return k;
   }
   LegState& fresh(const LegState& from) {
+    out.open[std::size_t(out.count)] = false;
     LegState& s = out.states[std::size_t(out.count++)];
     s.values = from.values;
     s.spheres = from.spheres;
     return s;
+  }
+  // Closes the last joint of the candidate just made, or leaves it open.
+  void end_at(LegState& s, const Isometry3d& at) {
+    if (!leave_ends_open) return close_end(s, at);
+    const std::size_t i = std::size_t(out.count - 1);
+    out.end_frames[i] = at;
+    out.open[i] = true;
   }
   // Sets the last joint so that the chain's end frame is the anchor frame;
   // `at` is the frame at the last joint before it turns.
@@ -138,14 +161,14 @@ struct Builder {
       LegState& s = fresh(partial);
       const Matrix3d Rb = Eigen::Quaterniond::FromTwoVectors(link, wanted).toRotationMatrix();
       s.spheres[std::size_t(sphere_index(form.ball_step))] = Rb;
-      close_end(s, at * Isometry3d(Rb) * after);
+      end_at(s, at * Isometry3d(Rb) * after);
       return;
     }
     if (form.ball_joints == 1) {  // planar revolute about z
       LegState& s = fresh(partial);
       const double angle = std::atan2(link.x() * wanted.y() - link.y() * wanted.x(), link.dot(wanted));
       s.values(var(form.ball_step)) = angle;
-      close_end(s, at * Eigen::AngleAxisd(angle, first.axis) * after);
+      end_at(s, at * Eigen::AngleAxisd(angle, first.axis) * after);
       return;
     }
     const Step& second = leg.steps[std::size_t(form.ball_step + 1)];
@@ -161,7 +184,7 @@ struct Builder {
       const Matrix3d Rb = (Eigen::AngleAxisd(angles[std::size_t(k)][0], first.axis) *
                            Eigen::AngleAxisd(angles[std::size_t(k)][1], second.axis))
                               .toRotationMatrix();
-      close_end(s, at * Isometry3d(Rb) * after);
+      end_at(s, at * Isometry3d(Rb) * after);
     }
   }
   // The rod from the ball at `at` to the last joint's centre w.
@@ -170,7 +193,8 @@ struct Builder {
   }
 
   // The last joint's centre the anchor asks for.
-  Vector3d end_centre() const { return (anchor * form.tail.inverse()).translation(); }
+  // (The translation of anchor * tail^-1, without its rotation.)
+  Vector3d end_centre() const { return anchor.linear() * form.tail.inverse().translation() + anchor.translation(); }
 
   void crank_rod(LegState& partial) {
     const Vector3d a = form.base.linear() * form.actuator_axis, o = form.base.translation();
@@ -253,21 +277,33 @@ struct Builder {
     }
     const Vector3d a1 = form.actuator_axis, a2 = leg.steps[std::size_t(form.second_step)].axis;
     for (int k = 0; k < m; ++k) {
+      if (!angle_kept(form.third_step, t[std::size_t(k)])) continue;
       const Eigen::AngleAxisd R3(t[std::size_t(k)], a3);
       const Vector3d v = t2 + R3 * t3;
       std::array<std::array<double, 2>, 2> angles{};
       const int p = two_axes(a1, a2, v, g * (v.norm() / n), angles);
       for (int j = 0; j < p; ++j) {
+        if (!angle_kept(form.actuator_step, angles[std::size_t(j)][0]) ||
+            !angle_kept(form.second_step, angles[std::size_t(j)][1]))
+          continue;
         LegState& s = fresh(partial);
         s.values(var(form.actuator_step)) = angles[std::size_t(j)][0];
         s.values(var(form.second_step)) = angles[std::size_t(j)][1];
         s.values(var(form.third_step)) = t[std::size_t(k)];
-        const Isometry3d at = form.base * Eigen::AngleAxisd(angles[std::size_t(j)][0], a1) * form.after_actuator *
-                              Eigen::AngleAxisd(angles[std::size_t(j)][1], a2) * Eigen::Translation3d(t2) * R3 *
-                              Eigen::Translation3d(t3);
-        close_end(s, at);
+        // Left open, the frame at the spherical joint follows from the three
+        // angles when the candidate is kept.
+        if (leave_ends_open) out.open[std::size_t(out.count - 1)] = true;
+        else close_end(s, three_revolute_end(s));
       }
     }
+  }
+  // The frame at a three-revolute leg's spherical joint, from its angles.
+  Isometry3d three_revolute_end(const LegState& s) const {
+    const Vector3d a1 = form.actuator_axis, a2 = leg.steps[std::size_t(form.second_step)].axis;
+    const Vector3d a3 = leg.steps[std::size_t(form.third_step)].axis;
+    return form.base * Eigen::AngleAxisd(s.values(var(form.actuator_step)), a1) * form.after_actuator *
+           Eigen::AngleAxisd(s.values(var(form.second_step)), a2) * Eigen::Translation3d(form.second_link) *
+           Eigen::AngleAxisd(s.values(var(form.third_step)), a3) * Eigen::Translation3d(form.third_link);
   }
 
   void crank_parallelogram(LegState& partial) {
@@ -399,7 +435,8 @@ LegPattern pattern_of_name(const std::string& name) {
                               "\" (known: crank-rod, slide-rod, extensible, planar-dyad, three-revolute, crank-parallelogram, numeric)");
 }
 
-std::optional<ClosedFormLeg> recognise(const Model& model, const Leg& leg) {
+namespace {
+std::optional<ClosedFormLeg> recognise_pattern(const Model& model, const Leg& leg) {
   if (leg.actuators.size() != 1) return std::nullopt;
   const std::vector<Token> tokens = tokens_of(leg);
   std::vector<const Token*> j;
@@ -479,16 +516,29 @@ std::optional<ClosedFormLeg> recognise(const Model& model, const Leg& leg) {
   if (std::optional<ClosedFormLeg> p = crank_parallelogram(leg, tokens, tiny)) return p;
   return std::nullopt;
 }
+}  // namespace
+
+std::optional<ClosedFormLeg> recognise(const Model& model, const Leg& leg) {
+  std::optional<ClosedFormLeg> c = recognise_pattern(model, leg);
+  // An angle rule reads its joint's value; the others read joint centres and
+  // axes, which a joint's own value does not move.
+  if (c)
+    for (const BranchRule& r : leg.rules)
+      for (int step : r.steps)
+        c->end_read = c->end_read || step > c->end_step || (step == c->end_step && r.kind == BranchRule::Kind::Angle);
+  return c;
+}
 
 void solve_closed(const ClosedFormLeg& form, const Model& model, const Leg& leg, const Isometry3d& anchor,
-                  LegCandidates& out) {
+                  LegCandidates& out, bool leave_ends_open, int branch) {
   out.count = 0;
   out.miss = 0;
   out.undecided = false;
+  out.dropped = false;
   thread_local LegState partial;
   partial.values.setZero(leg.variables);
   partial.spheres.assign(std::size_t(leg.spheres), Matrix3d::Identity());
-  Builder b{form, model, leg, anchor, out};
+  Builder b{form, model, leg, anchor, out, leave_ends_open && !form.end_read, branch};
   switch (form.pattern) {
     case LegPattern::CrankRod:
     case LegPattern::PlanarDyad: b.crank_rod(partial); break;
@@ -498,6 +548,13 @@ void solve_closed(const ClosedFormLeg& form, const Model& model, const Leg& leg,
     case LegPattern::CrankParallelogram: b.crank_parallelogram(partial); break;
     case LegPattern::Numeric: out.undecided = true; break;
   }
+}
+
+void close_open_end(const ClosedFormLeg& form, const Model& model, const Leg& leg, const Isometry3d& anchor,
+                    LegState& s, const Isometry3d& frame) {
+  thread_local LegCandidates unused;
+  const Builder b{form, model, leg, anchor, unused};
+  b.close_end(s, form.pattern == LegPattern::ThreeRevolute ? b.three_revolute_end(s) : frame);
 }
 
 }  // namespace linkscape::described

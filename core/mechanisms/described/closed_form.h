@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
+#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
@@ -59,6 +60,9 @@ struct ClosedFormLeg {
   int second_step = -1, third_step = -1;
   Eigen::Vector3d second_link = Eigen::Vector3d::Zero(), third_link = Eigen::Vector3d::Zero();
   int end_step = -1;  // the last joint (spherical; planar: revolute)
+  // A branch rule reads the last joint or a step after it: a candidate is
+  // judged only once its last joint is closed.
+  bool end_read = false;
   double offset = 0;  // Extensible: the fixed length along the slide
   // CrankParallelogram, in the actuator's frame (A its axis, B the
   // parallelogram's, n = A x B): the knee about +-A, the parallelogram's
@@ -83,6 +87,18 @@ struct ClosedFormLeg {
 // length, a rod of zero length) stays numeric.
 std::optional<ClosedFormLeg> recognise(const Model& model, const Leg& leg);
 
+// The sign of sin(angle), as an angle rule reads it: the angle's own sign
+// within [-pi, pi] (where sin(pi), rounded, is still positive), else by sin.
+inline int sine_sign(double angle) {
+  const double v = std::abs(angle) <= 3.141592653589793 ? angle : std::sin(angle);
+  return v > 0 ? 1 : v < 0 ? -1 : 0;
+}
+
+// The sign a branch rule asks for on a device branch.
+inline int wanted_sign(const BranchRule& r, int branch) {
+  return r.fixed_sign != 0 ? r.fixed_sign : ((branch >> r.free_index) & 1) ? -1 : 1;
+}
+
 // Every solution of the leg's closure for `anchor` (base frame), or the
 // distance by which the anchor is out of the leg's reach.
 struct LegCandidates {
@@ -90,8 +106,21 @@ struct LegCandidates {
   std::array<LegState, 4> states;
   double miss = 0;        // length unit, where count == 0
   bool undecided = false;  // a degenerate pose (the anchor on an axis): use the numerical solver
+  // Per candidate, where its last joint is left open: the frame at that joint.
+  std::array<Eigen::Isometry3d, 4> end_frames;
+  std::array<bool, 4> open{};
+  bool dropped = false;  // the branch's angle rules left out some (possible) solution
 };
+// With `leave_ends_open` (and no branch rule reading the last joint), each
+// candidate's last joint is left for close_open_end: a caller that keeps
+// one candidate closes only that one. With a branch >= 0, a three-revolute
+// leg's solutions whose angles break an angle rule of that branch are left
+// out (`dropped`).
 void solve_closed(const ClosedFormLeg& form, const Model& model, const Leg& leg, const Eigen::Isometry3d& anchor,
-                  LegCandidates& out);
+                  LegCandidates& out, bool leave_ends_open = false, int branch = -1);
+// Closes the last joint of a candidate that solve_closed left open (`frame`:
+// its end_frames entry).
+void close_open_end(const ClosedFormLeg& form, const Model& model, const Leg& leg, const Eigen::Isometry3d& anchor,
+                    LegState& s, const Eigen::Isometry3d& frame);
 
 }  // namespace linkscape::described

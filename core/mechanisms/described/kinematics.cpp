@@ -30,8 +30,13 @@ thread_local ThreadSeeds thread_seeds;
 
 PlatformPose Kinematics::pose(const VectorXd& x) const {
   PlatformPose p;
+  pose_into(x, p);
+  return p;
+}
+
+void Kinematics::pose_into(const VectorXd& x, PlatformPose& p) const {
   std::array<double, 6> c = model_.fixed;
-  p.extras = VectorXd::Zero(Index(model_.extras.size()));
+  p.extras.setZero(Index(model_.extras.size()));
   for (std::size_t i = 0; i < model_.task.size(); ++i) {
     const TaskCoordinate& t = model_.task[i];
     if (t.platform_coordinate >= 0) c[std::size_t(t.platform_coordinate)] = x(Index(i));
@@ -40,8 +45,8 @@ PlatformPose Kinematics::pose(const VectorXd& x) const {
   p.p = {c[0], c[1], c[2]};
   p.R = euler_zyx(c[3], c[4], c[5]);
   const Isometry3d platform = Eigen::Translation3d(p.p) * Isometry3d(p.R);
+  p.bodies.clear();
   for (const Isometry3d& body : model_.platform_frames(p.extras)) p.bodies.push_back(platform * body);
-  return p;
 }
 
 Isometry3d Kinematics::anchor(int leg, const PlatformPose& pose) const {
@@ -50,6 +55,7 @@ Isometry3d Kinematics::anchor(int leg, const PlatformPose& pose) const {
 }
 
 double Kinematics::wrap(double a) const {
+  if (std::abs(a) < kPi) return a;  // as remainder() leaves it (most angles the closed forms give)
   a = std::remainder(a, 2 * kPi);
   return a <= -kPi ? a + 2 * kPi : a;
 }
@@ -60,10 +66,9 @@ namespace {
 // The sign of one rule at a walked chain.
 int rule_sign(const BranchRule& r, const Leg& l, const Chain& c, const LegState& state, const Isometry3d& anchor) {
   auto centre = [&](int step) { return step == -2 ? anchor.translation() : c.step_centre[std::size_t(step)]; };
+  if (r.kind == BranchRule::Kind::Angle) return sine_sign(state.values(l.steps[std::size_t(r.steps[0])].variable));
   double v = 0;
-  if (r.kind == BranchRule::Kind::Angle) {
-    v = std::sin(state.values(l.steps[std::size_t(r.steps[0])].variable));
-  } else if (r.kind == BranchRule::Kind::Along) {
+  if (r.kind == BranchRule::Kind::Along) {
     v = (centre(r.steps[1]) - centre(r.steps[0])).dot(r.direction);
   } else {
     const Vector3d a = centre(r.steps[0]), b = centre(r.steps[1]);
@@ -84,11 +89,15 @@ std::vector<int> Kinematics::rule_signs(int leg, const LegState& state, const Is
 bool Kinematics::signs_match(int leg, const LegState& state, const Isometry3d& anchor, int branch) const {
   const Leg& l = model_.legs[std::size_t(leg)];
   if (l.rules.empty()) return true;  // no chain to walk
+  // Angle rules read the joint values alone: the chain is walked only for
+  // the others, as far as the last step they read.
   thread_local Chain c;
-  walk_into(l, state, c);
+  int through = -1;
+  for (const BranchRule& r : l.rules)
+    if (r.kind != BranchRule::Kind::Angle) through = std::max({through, r.steps[0], r.steps[1], r.steps[2]});
+  if (through >= 0) walk_into(l, state, c, through);
   for (const BranchRule& r : l.rules) {
-    const int wanted = r.fixed_sign != 0 ? r.fixed_sign : ((branch >> r.free_index) & 1) ? -1 : 1;
-    if (rule_sign(r, l, c, state, anchor) * wanted < 0) return false;
+    if (rule_sign(r, l, c, state, anchor) * wanted_sign(r, branch) < 0) return false;
   }
   return true;
 }
@@ -162,42 +171,81 @@ const ClosedFormLeg* Kinematics::closed_form(int leg) const {
   return c ? &*c : nullptr;
 }
 
-std::optional<LegSolution> Kinematics::solve_leg_closed(int leg, const Isometry3d& anchor, int branch) const {
+bool Kinematics::solve_leg_closed(int leg, const Isometry3d& anchor, int branch, LegSolution& out, bool close) const {
   const Leg& l = model_.legs[std::size_t(leg)];
+  const ClosedFormLeg& form = *closed_[std::size_t(leg)];
   thread_local LegCandidates candidates;
-  solve_closed(*closed_[std::size_t(leg)], model_, l, anchor, candidates);
-  if (candidates.undecided) return std::nullopt;
-  LegSolution out;
+  // Candidates judged on their joint values and centres; only the one kept
+  // is closed. Those the branch's angle rules reject are not made at all.
+  solve_closed(form, model_, l, anchor, candidates, true, branch);
+  if (candidates.undecided) return false;
+  // On the branch, within the travel first (as the numerical solver: a leg
+  // that closes its anchor twice on one branch is ok if either is in travel),
+  // else outside it (ok: inverse() says out-of-limits).
+  int kept = -1;
+  for (int i = 0; i < candidates.count && kept < 0; ++i)
+    if (within_travel(leg, candidates.states[std::size_t(i)]) &&
+        signs_match(leg, candidates.states[std::size_t(i)], anchor, branch))
+      kept = i;
+  for (int i = 0; i < candidates.count && kept < 0; ++i)
+    if (signs_match(leg, candidates.states[std::size_t(i)], anchor, branch)) kept = i;
+  // None on the branch: the state reported is the first of all solutions.
+  if (kept < 0 && candidates.dropped) solve_closed(form, model_, l, anchor, candidates, true);
+  out.residual = 0.0;
+  out.iterations = 0;
+  out.open_end = false;
   if (candidates.count == 0) {
     out.state = spread_seeds_[std::size_t(leg)].front();
     out.residual = candidates.miss;
-    return out;  // unreachable
+    out.status = Status::Unreachable;
+    return true;
   }
-  // On the branch, within the travel first (as the numerical solver: a leg
-  // that closes its anchor twice on one branch is ok if either is in travel).
-  const LegState* outside = nullptr;
-  for (int i = 0; i < candidates.count; ++i) {
-    const LegState& s = candidates.states[std::size_t(i)];
-    if (!signs_match(leg, s, anchor, branch)) continue;
-    if (within_travel(leg, s)) {
-      out.state = s;
-      out.status = Status::Ok;
-      return out;
-    }
-    if (!outside) outside = &s;
-  }
-  out.state = outside ? *outside : candidates.states[0];
-  // Ok outside the travel (inverse() says out-of-limits). Closing only on
-  // another branch, the leg does not reach the anchor on this one (decided:
-  // every solution is known); its miss stays 0, a lower bound (the closed
-  // form does not give the distance to the branch's reach).
-  out.status = outside ? Status::Ok : Status::Unreachable;
-  return out;
+  // Closing only on another branch, the leg does not reach the anchor on
+  // this one (decided: every solution is known); its miss stays 0, a lower
+  // bound (the closed form does not give the distance to the branch's reach).
+  out.status = kept >= 0 ? Status::Ok : Status::Unreachable;
+  kept = std::max(kept, 0);
+  out.state = candidates.states[std::size_t(kept)];
+  out.open_end = candidates.open[std::size_t(kept)];
+  out.end_frame = candidates.end_frames[std::size_t(kept)];
+  if (close) close_end(leg, anchor, out);
+  return true;
 }
 
-LegSolution Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int branch, double tolerance,
-                                     const LegState* extra_seed, LegSolver solver) const {
+void Kinematics::close_end(int leg, const Isometry3d& anchor, LegSolution& s) const {
+  if (!s.open_end) return;
+  close_open_end(*closed_[std::size_t(leg)], model_, model_.legs[std::size_t(leg)], anchor, s.state, s.end_frame);
+  s.open_end = false;
+}
+
+void Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int branch, double tolerance,
+                              const LegState* extra_seed, LegSolver solver, LegSolution& out, bool close) const {
   const Leg& l = model_.legs[std::size_t(leg)];
+  // Beyond the leg's longest reach (its links end to end), or nearer than
+  // its shortest, no seed can help: the miss is at least the distance
+  // outside that shell, exactly that for a leg that can point its stretched
+  // (or folded) chain at the anchor.
+  const double distance = (anchor.translation() - l.base.translation()).norm();
+  const Range& reach = leg_reach_[std::size_t(leg)];
+  const double outside = std::max(distance - reach.hi, reach.lo - distance);
+  if (outside > 1e-9 * model_.size) {
+    out.state = spread_seeds_[std::size_t(leg)].front();
+    out.residual = outside;
+    out.status = Status::Unreachable;
+    out.iterations = 0;
+    out.open_end = false;
+    return;
+  }
+  if (solver == LegSolver::Fastest && closed_[std::size_t(leg)] && solve_leg_closed(leg, anchor, branch, out, close))
+    return;
+  out = solve_leg_numeric(leg, anchor, branch, tolerance, extra_seed);
+}
+
+LegSolution Kinematics::solve_leg_numeric(int leg, const Isometry3d& anchor, int branch, double tolerance,
+                                          const LegState* extra_seed) const {
+  const Leg& l = model_.legs[std::size_t(leg)];
+  LegSolution best;
+  best.residual = kInf;
   const int combo = leg_combination(l, branch);
   ThreadSeeds& tls = thread_seeds;
   if (tls.id != id_) {
@@ -220,23 +268,6 @@ LegSolution Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int bran
     if (homes[other] && other != std::size_t(combo)) fixed.push_back(&*homes[other]);
   for (const LegState& s : spread_seeds_[std::size_t(leg)]) fixed.push_back(&s);
 
-  LegSolution best;
-  best.residual = kInf;
-  // Beyond the leg's longest reach (its links end to end), or nearer than
-  // its shortest, no seed can help: the miss is at least the distance
-  // outside that shell, exactly that for a leg that can point its stretched
-  // (or folded) chain at the anchor.
-  const double distance = (anchor.translation() - l.base.translation()).norm();
-  const Range& reach = leg_reach_[std::size_t(leg)];
-  const double outside = std::max(distance - reach.hi, reach.lo - distance);
-  if (outside > 1e-9 * model_.size) {
-    best.state = spread_seeds_[std::size_t(leg)].front();
-    best.residual = outside;
-    best.status = Status::Unreachable;
-    return best;
-  }
-  if (solver == LegSolver::Fastest && closed_[std::size_t(leg)])
-    if (std::optional<LegSolution> s = solve_leg_closed(leg, anchor, branch)) return *std::move(s);
   bool found_other_branch = false;
   // A solution on the branch whose actuator is outside its travel: the answer
   // only if the first fixed seed (the leg at home on the branch) does not
@@ -298,9 +329,21 @@ LegSolution Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int bran
 }
 
 PoseSolution Kinematics::inverse(const VectorXd& x, int branch, double tolerance, LegSolver solver) const {
-  const PlatformPose p = pose(x);
   PoseSolution out;
-  out.q = VectorXd::Zero(Index(model_.actuators.size()));
+  inverse_into(pose(x), branch, tolerance, solver, out);
+  return out;
+}
+
+void Kinematics::inverse_into(const PlatformPose& p, int branch, double tolerance, LegSolver solver,
+                              PoseSolution& out, bool close_every_leg) const {
+  out.status = Status::Ok;
+  out.failing_leg = -1;
+  out.residual = 0.0;
+  out.iterations = 0;
+  out.q.setZero(Index(model_.actuators.size()));
+  out.stops = Stops();
+  out.stopped = false;
+  out.legs.resize(model_.legs.size());
   auto rank = [](Status s) {
     switch (s) {
       case Status::Unreachable: return 4;
@@ -311,7 +354,8 @@ PoseSolution Kinematics::inverse(const VectorXd& x, int branch, double tolerance
     }
   };
   for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
-    LegSolution s = solve_leg_on(int(leg), anchor(int(leg), p), branch, tolerance, nullptr, solver);
+    LegSolution& s = out.legs[leg];
+    solve_leg_on(int(leg), anchor(int(leg), p), branch, tolerance, nullptr, solver, s, close_every_leg);
     out.iterations += s.iterations;
     out.residual = std::max(out.residual, s.residual);
     const Leg& l = model_.legs[leg];
@@ -325,8 +369,9 @@ PoseSolution Kinematics::inverse(const VectorXd& x, int branch, double tolerance
       out.status = s.status;
       out.failing_leg = int(leg);
     }
-    out.legs.push_back(std::move(s));
   }
+  if (!close_every_leg && assembled(out))
+    for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) close_end(int(leg), anchor(int(leg), p), out.legs[leg]);
   if ((has_joint_limits_ || has_capsules_) && assembled(out)) {
     out.stops = stops(p, out);
     if (out.status == Status::Ok && !out.stops.hold()) {
@@ -335,7 +380,6 @@ PoseSolution Kinematics::inverse(const VectorXd& x, int branch, double tolerance
       out.stopped = true;
     }
   }
-  return out;
 }
 
 PoseSolution Kinematics::inverse_near(const VectorXd& x, const VectorXd& q, LegSolver solver) const {
@@ -349,7 +393,8 @@ PoseSolution Kinematics::inverse_near(const VectorXd& x, const VectorXd& q, LegS
     LegSolution best;
     double best_distance = kInf;
     for (int combo = 0; combo < (1 << free_rules_of(l)); ++combo) {
-      LegSolution s = solve_leg_on(int(leg), anchor(int(leg), p), device_branch(l, combo), 1e-10, nullptr, solver);
+      LegSolution s;
+      solve_leg_on(int(leg), anchor(int(leg), p), device_branch(l, combo), 1e-10, nullptr, solver, s);
       if (s.status != Status::Ok) continue;
       const double v = s.state.values(var);
       const double distance = act.prismatic ? std::abs(v - q(l.actuators.front()))
@@ -391,11 +436,11 @@ double condition_number(const MatrixXd& M) {
   return fixed_condition<Eigen::Dynamic, Eigen::Dynamic>(M);
 }
 
-MatrixXd platform_columns(const Model& m, const PlatformPose& pose, const Vector3d& r) {
+PlatformColumns platform_columns(const Model& m, const PlatformPose& pose, const Vector3d& r) {
   const bool all_rotations = m.free[3] && m.free[4] && m.free[5];
   // The Euler angles, for the rates (not needed where all three rotations are free).
   const Vector3d e = all_rotations ? Vector3d::Zero() : euler_of(pose.R);
-  MatrixXd cols(6, m.driven());
+  PlatformColumns cols(6, m.driven());
   int col = 0;
   for (const TaskCoordinate& t : m.task) {
     if (t.extra >= 0) continue;
@@ -453,13 +498,20 @@ bool closed_wrench(const ClosedFormLeg& form, const Leg& l, const Chain& c, cons
 }  // namespace
 
 JacobianParts Kinematics::jacobian(const VectorXd& x, const PoseSolution& solved, LegSolver solver) const {
-  const PlatformPose p = pose(x);
+  JacobianParts out;
+  jacobian_into(pose(x), solved, solver, out);
+  return out;
+}
+
+void Kinematics::jacobian_into(const PlatformPose& p, const PoseSolution& solved, LegSolver solver,
+                               JacobianParts& out) const {
   const int n = model_.driven();
   const int a_count = int(model_.actuators.size());
-  JacobianParts out;
-  out.Jx = MatrixXd::Zero(a_count, n);
-  out.Jq = MatrixXd::Zero(a_count, a_count);
+  out.Jx.setZero(a_count, n);
+  out.Jq.setZero(a_count, a_count);
   out.serial_margin.assign(model_.legs.size(), kInf);
+  out.status = Status::Ok;
+  out.singular_leg = -1;
   const int m = model_.planar ? 3 : 6;
   thread_local Chain c;
   Rows w(m);
@@ -478,7 +530,10 @@ JacobianParts Kinematics::jacobian(const VectorXd& x, const PoseSolution& solved
     if (form) {
       passive_singular = !closed_wrench(*form, l, c, r, model_.size, model_.planar, w);
     } else {
-      MatrixXd passive(m, l.variables - 1);
+      // At most six rows and a leg's variables: on the stack.
+      using Passive = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, kMaxLegVariables>;
+      using Reciprocal = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
+      Passive passive(m, l.variables - 1);
       for (int v = 0, col = 0; v < l.variables; ++v)
         if (v != act_var) passive.col(col++) = rows_of(twist(c, v, r, model_.size), model_.planar);
       // The wrenches reciprocal to every passive twist: the last left singular
@@ -487,20 +542,20 @@ JacobianParts Kinematics::jacobian(const VectorXd& x, const PoseSolution& solved
       // orientation, as a Falcon's revolute legs do). Of them, the actuation
       // wrench is the one the actuator works against; the others are
       // constraint wrenches, reciprocal to the actuator too.
-      Eigen::JacobiSVD<MatrixXd> svd(passive, Eigen::ComputeFullU);
+      const Eigen::JacobiSVD<Passive> svd(passive, Eigen::ComputeFullU);
       const auto& sv = svd.singularValues();
       // A vanishing singular value beyond the leg's idle freedoms: the passive
       // joints lose a freedom, the leg is singular.
       const int expected_rank = passive_rank_[leg];
       int rank = 0;
       for (Index i = 0; i < sv.size(); ++i) rank += sv(i) > 1e-10 * sv(0);
-      const MatrixXd reciprocal = svd.matrixU().rightCols(m - expected_rank);
-      const VectorXd actuation = reciprocal.transpose() * rows_of(twist(c, act_var, r, model_.size), model_.planar);
-      w = actuation.norm() > 0 ? VectorXd(reciprocal * actuation.normalized())
-                               : VectorXd(reciprocal.col(reciprocal.cols() - 1));
+      const Reciprocal reciprocal = svd.matrixU().rightCols(m - expected_rank);
+      const Rows actuation = reciprocal.transpose() * rows_of(twist(c, act_var, r, model_.size), model_.planar);
+      if (actuation.norm() > 0) w = reciprocal * actuation.normalized();
+      else w = reciprocal.col(reciprocal.cols() - 1);
       passive_singular = rank < expected_rank;
     }
-    const MatrixXd cols = platform_columns(model_, p, r);
+    const PlatformColumns cols = platform_columns(model_, p, r);
     for (Index j = 0; j < cols.cols(); ++j) out.Jx(row, j) = w.dot(rows_of(cols.col(j), model_.planar));
     const double jq = w.dot(rows_of(twist(c, act_var, r, model_.size), model_.planar));
     out.Jq(row, actuator) = jq;
@@ -513,13 +568,13 @@ JacobianParts Kinematics::jacobian(const VectorXd& x, const PoseSolution& solved
     }
     ++row;
   }
-  const Eigen::PartialPivLU<MatrixXd> lu(out.Jx);
+  thread_local Eigen::PartialPivLU<MatrixXd> lu;
+  lu.compute(out.Jx);
   // The closed forms take the LU's estimate (1-norm, within a small factor of
   // the 2-norm's): an SVD of Jx would cost more than the rest of the sample.
   out.jx_condition = solver == LegSolver::Fastest ? 1 / lu.rcond() : condition_number(out.Jx);
   if (!(out.jx_condition <= 1e12)) out.status = Status::Singular;
   out.J = lu.solve(out.Jq);
-  return out;
 }
 
 // ---- Margins -------------------------------------------------------------------------

@@ -41,6 +41,10 @@ struct LegSolution {
   Status status = Status::Unreachable;
   double residual = 0.0;  // length unit
   int iterations = 0;
+  // The state's last joint left open (inverse_into where the pose does not
+  // assemble): the frame at that joint, from which it closes.
+  bool open_end = false;
+  Eigen::Isometry3d end_frame = Eigen::Isometry3d::Identity();
 };
 
 // What bounds an assembly beyond its actuators' travel: its passive joints'
@@ -110,6 +114,7 @@ class Kinematics {
   int branches() const { return 1 << model_.free_rules; }
 
   PlatformPose pose(const Eigen::VectorXd& x) const;
+  void pose_into(const Eigen::VectorXd& x, PlatformPose& out) const;
   // The leg's anchor frame in the base frame at this pose.
   Eigen::Isometry3d anchor(int leg, const PlatformPose& pose) const;
 
@@ -117,6 +122,13 @@ class Kinematics {
   // solution, the leg at home on the branch, spread seeds.
   PoseSolution inverse(const Eigen::VectorXd& x, int branch, double tolerance,
                        LegSolver solver = LegSolver::Fastest) const;
+  // The same at a pose, into `out` (its storage reused: a field's samples
+  // allocate nothing once the thread's first has run). Without
+  // `close_every_leg`, where the pose does not assemble, a closed-form leg's
+  // last joint may be left open (LegSolution::open_end): the states of such
+  // a pose serve nothing but their actuators.
+  void inverse_into(const PlatformPose& pose, int branch, double tolerance, LegSolver solver, PoseSolution& out,
+                    bool close_every_leg = true) const;
   // Each leg on the solution whose actuator is nearest q (q, x consistent).
   PoseSolution inverse_near(const Eigen::VectorXd& x, const Eigen::VectorXd& q,
                             LegSolver solver = LegSolver::Fastest) const;
@@ -132,6 +144,8 @@ class Kinematics {
   // Solver Fastest: each recognised leg's reciprocal wrench in closed form.
   JacobianParts jacobian(const Eigen::VectorXd& x, const PoseSolution& solved,
                          LegSolver solver = LegSolver::Fastest) const;
+  // The same at the pose `solved` was solved at, into `out` (storage reused).
+  void jacobian_into(const PlatformPose& pose, const PoseSolution& solved, LegSolver solver, JacobianParts& out) const;
   ForwardSolution forward(const Eigen::VectorXd& q, const Eigen::VectorXd& seed, double tolerance,
                           int max_iterations) const;
 
@@ -172,10 +186,17 @@ class Kinematics {
   // `crawl` (relative) away from a solution.
   LegSolveResult solve_leg(int leg, const Eigen::Isometry3d& anchor, LegState state, int max_iterations,
                            double crawl) const;
-  LegSolution solve_leg_on(int leg, const Eigen::Isometry3d& anchor, int branch, double tolerance,
-                           const LegState* extra_seed, LegSolver solver) const;
-  // The closed form's solution on the branch; nullopt where it cannot decide.
-  std::optional<LegSolution> solve_leg_closed(int leg, const Eigen::Isometry3d& anchor, int branch) const;
+  // Into `out` (its state's storage reused).
+  void solve_leg_on(int leg, const Eigen::Isometry3d& anchor, int branch, double tolerance,
+                    const LegState* extra_seed, LegSolver solver, LegSolution& out, bool close = true) const;
+  // The numerical solver from seeds (after the reach bounds).
+  LegSolution solve_leg_numeric(int leg, const Eigen::Isometry3d& anchor, int branch, double tolerance,
+                                const LegState* extra_seed) const;
+  // The closed form's solution on the branch into `out`; false where it cannot decide.
+  // Its last joint left open (out.open_end) unless `close`.
+  bool solve_leg_closed(int leg, const Eigen::Isometry3d& anchor, int branch, LegSolution& out, bool close) const;
+  // Closes the leg's last joint where solve_leg_closed left it open.
+  void close_end(int leg, const Eigen::Isometry3d& anchor, LegSolution& s) const;
   bool signs_match(int leg, const LegState& state, const Eigen::Isometry3d& anchor, int branch) const;
   // Whether the leg's actuator lies within its travel (a revolute one: some turn of it).
   bool within_travel(int leg, const LegState& state) const;

@@ -1,6 +1,7 @@
 #include "core/mechanisms/described/mechanism.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -454,20 +455,28 @@ class DescribedMechanism final : public Mechanism {
     FieldSample s;
     const float inf = std::numeric_limits<float>::infinity();
     s.cond = s.cond_orientation = inf;
-    const PoseSolution ik = kin_.inverse(xm, branch, tolerance, solver);
+    // The thread's scratch: a field's samples reuse its storage.
+    thread_local PlatformPose pose;
+    thread_local PoseSolution ik;
+    thread_local JacobianParts jacobian;
+    kin_.pose_into(xm, pose);
+    kin_.inverse_into(pose, branch, tolerance, solver, ik, false);  // the states serve only where it assembles
     s.iterations = std::uint16_t(std::min(ik.iterations, 65535));
     const bool closes = assembled(ik);
     Status status = ik.status;
     s.residual = closes ? float(ik.residual) : inf;
-    std::optional<JacobianParts> parts;
-    if (closes) parts = kin_.jacobian(xm, ik, solver);
-    const double margin = kin_.reach_margin(ik, parts ? &*parts : nullptr);
+    const JacobianParts* parts = nullptr;
+    if (closes) {
+      kin_.jacobian_into(pose, ik, solver, jacobian);
+      parts = &jacobian;
+    }
+    const double margin = kin_.reach_margin(ik, parts);
     if (parts) {
       if (status == Status::Ok && parts->status != Status::Ok) status = Status::Singular;
       if (status == Status::Ok) {
-        const std::vector<double> v = measure_values(*parts);
+        const std::array<double, 2> v = measure_pair(*parts);
         s.cond = float(v[0]);
-        if (v.size() > 1) s.cond_orientation = float(v[1]);
+        if (info_.measures.size() > 1) s.cond_orientation = float(v[1]);
         s.method_used = std::uint8_t(solver);  // the code method_names names
       }
     }
@@ -523,12 +532,19 @@ class DescribedMechanism final : public Mechanism {
   }
 
   std::vector<double> measure_values(const JacobianParts& parts) const {
-    if (parts.status != Status::Ok) return std::vector<double>(info_.measures.size(), kInf);
+    const std::array<double, 2> v = measure_pair(parts);
+    return {v.begin(), v.begin() + std::ptrdiff_t(info_.measures.size())};
+  }
+  // The measures (the second only where there are two), +inf where J is singular.
+  std::array<double, 2> measure_pair(const JacobianParts& parts) const {
+    if (parts.status != Status::Ok) return {kInf, kInf};
     const auto cond = internal::condition_number;
-    if (info_.measures.size() == 1) return {cond(parts.J)};
+    if (info_.measures.size() == 1) return {cond(parts.J), kInf};
     // Rows of J in task order: translations first (x, y, z), then rotations.
     const Model& m = kin_.model();
-    Eigen::MatrixXd Jp(3, parts.J.cols()), Jo(rotations_, parts.J.cols());
+    thread_local Eigen::MatrixXd Jp, Jo;
+    Jp.resize(3, parts.J.cols());
+    Jo.resize(rotations_, parts.J.cols());
     int row = 0, p = 0, o = 0;
     for (const TaskCoordinate& c : m.task) {
       if (c.extra >= 0) continue;
