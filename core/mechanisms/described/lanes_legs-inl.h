@@ -241,24 +241,40 @@ HWY_INLINE void TurnDirection(D d, const Eigen::Vector3d& a, const V3& p, const 
   s = y * inv;
 }
 
-// A three-revolute leg's closed form (closed_form.cpp's three_revolute) at
-// the end's centre w, in the scalar path's order: the third angle's two
-// solutions (phi + half, phi - half), each with the two of Paden-Kahan's
-// subproblem 2 for the actuator and second angle (+-sqrt(g2)). `missed` and
-// `miss` where w is out of reach; `band` near the reach's ends, a third
-// angle's double root, or g2's zero (where the scalar path's count of
-// candidates changes), or an angle ill-defined.
-HWY_NOINLINE void ThreeRevoluteCandidates(D d, const LaneLeg& g, double size, const V3& w, Candidate (&c)[4], M& missed,
-                                        V& miss, M& band) {
-  const V zero = hn::Zero(d), one = hn::Set(d, 1.0), tiny = hn::Set(d, 1e-9 * size);
-  const V3 gl = Times(d, g.frame.transpose(), w - Splat(d, g.origin));
-  const V n2 = Dot(gl, gl), n = hn::Sqrt(n2);
+// A three-revolute leg's reach (closed_form.cpp's three_revolute): the end's
+// centre w from the second joint, in the actuator's frame (gl), its distance
+// n; `missed` and `miss` where n is beyond [nearest, farthest], `band` near
+// either or n near zero.
+struct ThreeRevoluteReach {
+  V3 gl;
+  V n2, n;
+};
+HWY_NOINLINE ThreeRevoluteReach ThreeRevoluteMiss(D d, const LaneLeg& g, double size, const V3& w, M& missed, V& miss,
+                                                M& band) {
+  ThreeRevoluteReach r;
+  const V tiny = hn::Set(d, 1e-9 * size);
+  r.gl = Times(d, g.frame.transpose(), w - Splat(d, g.origin));
+  r.n2 = Dot(r.gl, r.gl);
+  r.n = hn::Sqrt(r.n2);
   const V nearest = hn::Set(d, g.nearest), farthest = hn::Set(d, g.farthest);
-  missed = hn::Or(n < nearest, n > farthest);
-  miss = hn::Max(nearest - n, n - farthest);
-  band = hn::Or(hn::Or(hn::Abs(n - nearest) < tiny, hn::Abs(n - farthest) < tiny), n < tiny);
+  missed = hn::Or(r.n < nearest, r.n > farthest);
+  miss = hn::Max(nearest - r.n, r.n - farthest);
+  band = hn::Or(hn::Or(hn::Abs(r.n - nearest) < tiny, hn::Abs(r.n - farthest) < tiny), r.n < tiny);
+  return r;
+}
+
+// Its candidates in the scalar path's order: the third angle's two
+// solutions (phi + half, phi - half), each with the two of Paden-Kahan's
+// subproblem 2 for the actuator and second angle (+-sqrt(g2)); `band` near a
+// third angle's double root, g2's zero (where the scalar path's count of
+// candidates changes), or an angle ill-defined.
+HWY_NOINLINE void ThreeRevoluteCandidates(D d, const LaneLeg& g, const ThreeRevoluteReach& r, const V3& w, Candidate (&c)[4],
+                                        M& band) {
+  const V zero = hn::Zero(d), one = hn::Set(d, 1.0);
+  const V3& gl = r.gl;
+  const V n = r.n;
   const double R = std::hypot(g.harmonic_b, g.harmonic_c);
-  const V cr = Clamp((hn::Set(d, 0.5) * n2 - hn::Set(d, g.harmonic_k0)) * hn::Set(d, 1 / R), hn::Neg(one), one);
+  const V cr = Clamp((hn::Set(d, 0.5) * r.n2 - hn::Set(d, g.harmonic_k0)) * hn::Set(d, 1 / R), hn::Neg(one), one);
   band = hn::Or(band, one - hn::Abs(cr) < hn::Set(d, 1e-9));
   const V sr = hn::Sqrt(hn::Max(zero, (one - cr) * (one + cr)));
   const V cphi = hn::Set(d, g.harmonic_b / R), sphi = hn::Set(d, g.harmonic_c / R);

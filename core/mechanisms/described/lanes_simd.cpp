@@ -154,10 +154,10 @@ HWY_INLINE void SolveLeg(D d, const LaneLeg& g, double size, const V3& p, LegLan
     for (const Candidate& k : c) any = hn::Or(any, k.valid);
     closed_band = hn::Or(closed_band, hn::Not(any));
   } else if (g.three) {
-    // Its candidates are made before the reach is known (no square root
-    // beyond the reach's own); where none is valid it closes on no branch.
-    ThreeRevoluteCandidates(d, g, size, w, c, missed, miss, band);
+    const ThreeRevoluteReach reach = ThreeRevoluteMiss(d, g, size, w, missed, miss, band);
     if (none_closes()) return;
+    // Where no candidate is valid the leg closes on no branch (unreachable, miss 0).
+    ThreeRevoluteCandidates(d, g, reach, w, c, closed_band);
   } else if (g.pattern == LegPattern::CrankRod) {
     const V3 dv = w - Splat(d, g.origin);
     const V du = Dot(Splat(d, g.u), dv), dw = Dot(Splat(d, g.v), dv);

@@ -160,7 +160,8 @@ struct Worst {
   std::size_t stopped = 0, overlapping = 0;  // samples beyond a passive joint's stop, with links overlapping
   double cond_clustered = 0;  // where two singular values lie within 1e-3 relative of each other
   double at_cond = 0;         // c(J) where the worst c(J) difference is
-  std::size_t compared = 0;
+  std::size_t compared = 0;  // samples the lanes decided
+  std::size_t samples = 0;   // of all samples (unreachable ones too)
 };
 Worst compare_doubles(const Preset& preset) {
   using namespace described;
@@ -189,6 +190,7 @@ Worst compare_doubles(const Preset& preset) {
           sample_row_lanes(*device, g, row, out, {}, kLanesCode,
                            [](int, double& jm, double& gap) { return jm = gap = 0, FieldSample{}; }, &values);
           for (int t = 0; t < row.count; ++t) {
+            ++worst.samples;
             if (std::isnan(values.reach_margin[std::size_t(t)])) continue;  // the scalar path's sample
             Eigen::VectorXd x = model.home;
             x.head(rows_of_task) = row.point(g, t).head(rows_of_task);
@@ -253,6 +255,8 @@ TEST(DescribedLanes, DoublesAgreeWithTheScalarClosedPath) {
                 name, w.compared, w.cond, w.at_cond, w.cond_clustered, w.margin, w.joint_margin, w.clearance, w.stopped,
                 w.overlapping);
     EXPECT_GT(w.compared, 1000u) << name;
+    // Unreachable samples too: the scalar path only near thresholds.
+    EXPECT_GT(double(w.compared), 0.95 * double(w.samples)) << name << ": " << w.compared << " of " << w.samples;
     EXPECT_LE(w.joint_margin, 1e-9) << name;
     EXPECT_LE(w.clearance, 1e-9) << name;
     if (has_stops(name)) EXPECT_GT(w.stopped, 20u) << name;  // decided in lanes (overlaps: the random designs)
