@@ -1,7 +1,7 @@
 // The per-leg geometry of the described devices' SIMD lanes (lanes.h):
 // vectors per lane, a leg's candidate, the passive revolutes' stop margins,
-// the crank-parallelogram's closed form and Jacobian row, and the links'
-// clearance. Included by lanes_simd.cpp after core/simd_field-inl.h; like
+// the crank-parallelogram's and three-revolute leg's closed forms and
+// Jacobian rows, and the links' clearance. Included by lanes_simd.cpp after core/simd_field-inl.h; like
 // every Highway "-inl.h" header it is compiled once per target (the include
 // guard toggles with HWY_TARGET_TOGGLE).
 #if defined(LINKSCAPE_DESCRIBED_LANES_LEGS_INL_H_) == defined(HWY_TARGET_TOGGLE)

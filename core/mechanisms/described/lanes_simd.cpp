@@ -1,4 +1,4 @@
-// Point legs' and crank-parallelograms' closed forms and the measures in
+// Point legs', crank-parallelograms' and three-revolute legs' closed forms and the measures in
 // SIMD lanes (lanes.h), compiled once per instruction set and chosen at run
 // time (core/simd.h); the per-leg geometry is lanes_legs-inl.h's.
 //
@@ -7,13 +7,15 @@
 // replaced by masks: each leg's reach bounds, its closed form's candidates (a
 // crank's cos q, sin q from A cos q + B sin q = C without an angle; a slide's
 // quadratic; an extensible leg's distance; a parallelogram's four, its
-// upper joint's and elbow's signs), the branch rules' signs on the actuator,
+// upper joint's and elbow's signs; a three-revolute leg's four, its third
+// angle's and Paden-Kahan's signs), the branch rules' signs on the actuator,
 // ball, end, anchor and a parallelogram's joints (and the sine of a
-// parallelogram joint's angle), the travel, the ball joints' cones, the
+// parallelogram's or three-revolute leg's joint's angle), the travel, the ball joints' cones, the
 // passive revolutes' stops (their angles as directions from the joints'
 // points), the links' clearance (capsule segments from the joints' points,
 // segment-segment distance as interference::closest_points takes it), the
-// Jacobian row (the force along the rod; a parallelogram's actuator twist
+// Jacobian row (the force along the rod, or square to a three-revolute
+// leg's second and third joints' velocities; a parallelogram's actuator twist
 // off its passive twists), J = -Jx^-1 Jq (Jx^-1 by cofactors for 2x2 and
 // 3x3, by Gauss-Jordan with partial pivoting for 6x6), the serial and travel margins, and the measures: c(J) of a 2x2
 // or 3x3 J in closed form (core/simd_field-inl.h's for 3x3), cond(Jp) and
@@ -23,7 +25,9 @@
 // decides at: reach bounds within 1e-9 of the size of their cut, a closed
 // form within 1e-9 of its discriminant's zero or a degenerate pose (a
 // parallelogram: its miss within 1e-9 of the size of zero, its side or elbow
-// within 1e-6 of straight), a rule's value within 1e-9 size^k of 0, an
+// within 1e-6 of straight; a three-revolute leg's: its reach's ends, its
+// third angle's double root, Paden-Kahan's discriminant's zero, an
+// ill-defined angle, its passive joints losing a freedom), a rule's value within 1e-9 size^k of 0, an
 // actuator within 1e-9 of a travel end, a cone or a revolute stop within
 // 1e-7 deg of its limit, two capsules within 1e-9 of the size of touching
 // or nearly parallel, a rod or a Jq entry within 1e-6 of zero, a universal
