@@ -2,6 +2,7 @@
 // once per field, and each point leg's closed form in the base frame.
 #include "core/mechanisms/described/lanes.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/mechanisms/described/chain.h"
@@ -16,7 +17,7 @@ using Eigen::VectorXd;
 bool point_leg(LegPattern p, bool planar) {
   if (planar) return p == LegPattern::PlanarDyad;
   return p == LegPattern::CrankRod || p == LegPattern::SlideRod || p == LegPattern::Extensible ||
-         p == LegPattern::CrankParallelogram;
+         p == LegPattern::CrankParallelogram || p == LegPattern::ThreeRevolute;
 }
 
 // A crank-parallelogram's constants (closed_form.h) in its actuator's frame,
@@ -57,6 +58,36 @@ std::string parallelogram(const Leg& l, const ClosedFormLeg& form, const Eigen::
   const double level = std::atan2(A.dot(P.across.cross(nn)), P.across.dot(nn));
   g.cos_level = std::cos(level);
   g.sin_level = std::sin(level);
+  return "";
+}
+
+// A three-revolute leg's constants (closed_form.cpp's three_revolute) in its
+// actuator's frame; "" or why the lanes cannot serve it.
+std::string three_revolute(const Leg& l, const ClosedFormLeg& form, double size, LaneLeg& g) {
+  g.three = true;
+  g.frame = form.base.linear();
+  g.origin = form.base * form.after_actuator.translation();
+  g.local_axis = form.actuator_axis;
+  g.second_axis = l.steps[std::size_t(form.second_step)].axis;
+  g.third_axis = l.steps[std::size_t(form.third_step)].axis;
+  g.second_link = form.second_link;
+  g.third_link = form.third_link;
+  const Vector3d &a3 = g.third_axis, &t2 = g.second_link, &t3 = g.third_link;
+  const double A = t2.dot(a3) * a3.dot(t3), sum = t2.squaredNorm() + t3.squaredNorm();
+  g.harmonic_b = t2.dot(t3) - A;
+  g.harmonic_c = t2.dot(a3.cross(t3));
+  g.harmonic_k0 = 0.5 * sum + A;
+  const double R = std::hypot(g.harmonic_b, g.harmonic_c);
+  g.nearest = std::sqrt(std::max(0.0, sum + 2 * (A - R)));
+  g.farthest = std::sqrt(sum + 2 * (A + R));
+  // The closed form's own degenerate designs (its numerical fallback).
+  if (!(R > 1e-9 * size * size)) return "a third joint that does not change the leg's reach";
+  const double c = g.local_axis.dot(g.second_axis);
+  if (!(1 - c * c > 1e-6)) return "a second joint's axis along the actuator's";
+  if (!l.limits.empty()) return "a joint limit on a three-revolute leg";
+  for (const BranchRule& r : l.rules)
+    if (r.kind != BranchRule::Kind::Angle || (r.steps[0] != form.second_step && r.steps[0] != form.third_step))
+      return "a branch rule on a three-revolute leg other than an angle rule on its second or third joint";
   return "";
 }
 
@@ -137,7 +168,8 @@ int size_index(std::vector<double>& sizes, double value) {
 // device, else why not.
 std::string build(const Kinematics& kin, const VectorXd& fixed, int branch, LaneDevice* out) {
   const Model& m = kin.model();
-  if (!m.extras.empty()) return "extras";
+  // The extras move only the platform bodies' frames (model.h): fixed in a
+  // field like the rotation, they leave each anchor at p plus a constant.
   LaneDevice device;
   device.size = m.size;
   device.branch = branch;
@@ -163,8 +195,10 @@ std::string build(const Kinematics& kin, const VectorXd& fixed, int branch, Lane
     const ClosedFormLeg* form = kin.closed_form(int(i));
     const std::string leg = l.label() + ": ";
     if (!form || !point_leg(form->pattern, m.planar) || l.actuators.size() != 1)
-      return leg + (m.planar ? "not a planar dyad" : "not a point leg (crank-rod, slide-rod, extensible) or crank-parallelogram");
+      return leg + (m.planar ? "not a planar dyad"
+                             : "not a point leg (crank-rod, slide-rod, extensible), crank-parallelogram or three-revolute");
     const bool four_bar = form->pattern == LegPattern::CrankParallelogram;
+    const bool three = form->pattern == LegPattern::ThreeRevolute;
     // A parallelogram leg holds two wrenches: its row is the actuator's
     // twist off its four passive twists (Kinematics::jacobian), in a task of translations.
     if (kin.passive_rank(int(i)) != (m.planar ? 2 : four_bar ? 4 : 5)) return leg + "holds more than one wrench";
@@ -191,14 +225,17 @@ std::string build(const Kinematics& kin, const VectorXd& fixed, int branch, Lane
       if (const std::string why = parallelogram(l, *form, anchor, g); !why.empty()) return leg + why;
       g.pattern = LegPattern::CrankParallelogram;
     }
+    if (three)
+      if (const std::string why = three_revolute(l, *form, m.size, g); !why.empty()) return leg + why;
     const Step no_ball;
-    const Step& ball = four_bar ? no_ball : l.steps[std::size_t(form->ball_step)];
+    const Step& ball = four_bar || three ? no_ball : l.steps[std::size_t(form->ball_step)];
     g.universal = form->ball_joints == 2;
     // The ball's link in its own frame: the rod, or an extensible leg's slide.
     Vector3d link = form->rod.translation();
     Eigen::Matrix3d before_ball = R * form->after_actuator.linear();  // a crank's at q = 0
     if (four_bar) {
       g.origin = g.actuator_centre;
+    } else if (three) {  // its constants set above
     } else if (g.pattern == LegPattern::CrankRod) {
       const Vector3d p0 = form->base * form->after_actuator.translation();
       g.origin = g.actuator_centre + a * a.dot(p0 - g.actuator_centre);
@@ -247,9 +284,12 @@ std::string build(const Kinematics& kin, const VectorXd& fixed, int branch, Lane
       return true;
     };
     // The passive revolutes whose angles the lanes know: a planar dyad's
-    // ball (elbow), a parallelogram's knee, upper, lower and grip joints.
+    // ball (elbow), a parallelogram's knee, upper, lower and grip joints, a
+    // three-revolute leg's second and third.
     auto joint_of = [&](int step, LaneJoint& j) {
       if (m.planar && step == form->ball_step) j = LaneJoint::Ball;
+      else if (three && step == form->second_step) j = LaneJoint::Second;
+      else if (three && step == form->third_step) j = LaneJoint::Third;
       else if (four_bar && step == P.knee_step) j = LaneJoint::Knee;
       else if (four_bar && step == P.upper_step) j = LaneJoint::Upper;
       else if (four_bar && step == P.lower_step) j = LaneJoint::Lower;
@@ -272,9 +312,10 @@ std::string build(const Kinematics& kin, const VectorXd& fixed, int branch, Lane
       }
       rule.wanted = r.fixed_sign != 0 ? r.fixed_sign : ((branch >> r.free_index) & 1) ? -1 : 1;
       if (r.kind == BranchRule::Kind::Angle) {
-        // Its angle in closed form: a parallelogram's joints.
+        // Its angle in closed form: a parallelogram's joints, a three-revolute leg's.
         rule.angle = true;
-        if (!four_bar || !joint_of(r.steps[0], rule.joint)) return leg + "an angle rule on a joint other than a parallelogram's";
+        if (!(four_bar || three) || !joint_of(r.steps[0], rule.joint))
+          return leg + "an angle rule on a joint other than a parallelogram's or a three-revolute leg's";
         g.rules.push_back(rule);
         continue;
       }

@@ -1,9 +1,11 @@
 // A described device's field in SIMD lanes (docs/described-mechanisms.md,
 // "Fields in SIMD lanes"): for spatial devices whose legs are all point
 // legs (crank-rod, slide-rod, extensible) or crank-parallelograms, and planar
-// ones of dyads. In a field the platform's rotation is fixed, so each leg's
-// platform joint centre is p plus a fixed vector and its closed form is a
-// scalar equation in its actuator (a parallelogram's, two): the kernel
+// ones of dyads, and three-revolute legs. In a field the platform's rotation
+// and the extras (they move only the platform bodies' frames) are fixed, so
+// each leg's platform joint centre is p plus a fixed vector and its closed
+// form is a scalar equation in its actuator (a parallelogram's and a
+// three-revolute leg's, two): the kernel
 // (lanes_simd.cpp, Highway, chosen at run time) solves it for 4-8 poses at
 // once with the leg's candidates, branch rules, travel, cones, revolute
 // stops, link capsules, Jacobian row, serial margin and the measures. A lane decides only where it is
@@ -25,16 +27,18 @@
 
 namespace linkscape::described {
 
-// Why the lanes cannot serve this device ("" where they can): extras, a leg
-// of another pattern, a rule, limit, capsule or task the kernel does not express.
+// Why the lanes cannot serve this device ("" where they can): a leg of
+// another pattern, a rule, limit, capsule or task the kernel does not express.
 std::string lanes_refusal(const Kinematics& kin);
 
 // Where a rule's or Jacobian's point is, per candidate (a parallelogram's
 // joints: knee, upper, lower).
 enum class LanePoint { Actuator, Ball, End, Anchor, Knee, Upper, Lower };
 
-// The passive revolute a stop limits, its angle known per candidate.
-enum class LaneJoint { Ball, Knee, Upper, Lower, Grip };
+// The passive revolute a stop or angle rule reads, its angle known per
+// candidate (Second, Third: a three-revolute leg's).
+enum class LaneJoint { Ball, Knee, Upper, Lower, Grip, Second, Third };
+inline constexpr int kLaneJoints = 7;
 
 // The body a link capsule rides on: its points turn with the actuator
 // (Crank), with the actuator and knee (Knee, and a parallelogram's lower bar:
@@ -114,6 +118,15 @@ struct LaneLeg {
   Eigen::Vector3d end_local, local_axis, across, thigh, knee_rest, to_upper, side_link, to_grip, upper_axis;
   double knee_sign = 1, lower_sign = 1, grip_sign = 1, thigh_phase = 0, height = 0, side = 0, phase = 0, bar = 0;
   double cos_phase = 1, sin_phase = 0, cos_thigh_phase = 1, sin_thigh_phase = 0, cos_level = 1, sin_level = 0;
+  // A three-revolute leg (closed_form.cpp's three_revolute) in its actuator's
+  // frame (`frame` to the base frame): `origin` the second joint's centre
+  // (base frame), `local_axis` the actuator's, the second and third joints'
+  // axes and the links after them; |second_link + R3(t3) third_link| = |end -
+  // origin| is harmonic_b cos t3 + harmonic_c sin t3 = |end - origin|^2 / 2 -
+  // harmonic_k0, its reach within [nearest, farthest].
+  bool three = false;
+  Eigen::Vector3d second_axis, third_axis, second_link, third_link;
+  double harmonic_b = 0, harmonic_c = 0, harmonic_k0 = 0, nearest = 0, farthest = 0;
 };
 
 struct LaneDevice {

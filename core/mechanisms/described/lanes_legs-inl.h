@@ -1,7 +1,7 @@
 // The per-leg geometry of the described devices' SIMD lanes (lanes.h):
 // vectors per lane, a leg's candidate, the passive revolutes' stop margins,
-// the crank-parallelogram's closed form and Jacobian row, and the links'
-// clearance. Included by lanes_simd.cpp after core/simd_field-inl.h; like
+// the crank-parallelogram's and three-revolute leg's closed forms and
+// Jacobian rows, and the links' clearance. Included by lanes_simd.cpp after core/simd_field-inl.h; like
 // every Highway "-inl.h" header it is compiled once per target (the include
 // guard toggles with HWY_TARGET_TOGGLE).
 #if defined(LINKSCAPE_DESCRIBED_LANES_LEGS_INL_H_) == defined(HWY_TARGET_TOGGLE)
@@ -112,7 +112,7 @@ struct Candidate {
   // (cos, sin; indexed by LaneJoint).
   V3 knee, upper, lower;
   V cqk, sqk;
-  V jc[5], js[5];
+  V jc[kLaneJoints], js[kLaneJoints];
   M valid, match, inside;  // valid (a parallelogram's): the closed form gives this candidate
 };
 
@@ -125,7 +125,7 @@ HWY_INLINE void Pick(M take, const Candidate& from, Candidate& to) {
   for (V Candidate::*v : {&Candidate::q, &Candidate::c, &Candidate::s, &Candidate::rc, &Candidate::rs, &Candidate::sigma,
                           &Candidate::cqk, &Candidate::sqk})
     to.*v = hn::IfThenElse(take, from.*v, to.*v);
-  for (int j = 0; j < 5; ++j) {
+  for (int j = 0; j < kLaneJoints; ++j) {
     to.jc[j] = hn::IfThenElse(take, from.jc[j], to.jc[j]);
     to.js[j] = hn::IfThenElse(take, from.js[j], to.js[j]);
   }
@@ -227,6 +227,102 @@ HWY_NOINLINE void ParallelogramCandidates(D d, const LaneLeg& g, double size, co
       k.js[int(LaneJoint::Grip)] = hn::Set(d, g.grip_sign) * hn::MulSub(sl, k.cqk, cl * k.sqk);
     }
   }
+}
+
+// The angle turning p about unit a onto q (their parts across a) as a
+// direction (cos, sin); `band` where either part nearly vanishes (relative
+// to `scale2`, |p| |q|), the angle ill-defined.
+HWY_INLINE void TurnDirection(D d, const Eigen::Vector3d& a, const V3& p, const V3& q, V scale2, V& c, V& s, M& band) {
+  const V3 axis = Splat(d, a), pp = p - Dot(axis, p) * axis, qq = q - Dot(axis, q) * axis;
+  const V x = Dot(pp, qq), y = Dot(axis, Cross(pp, qq)), n2 = x * x + y * y;
+  band = hn::Or(band, n2 < hn::Set(d, 1e-12) * scale2 * scale2);
+  const V inv = hn::Set(d, 1.0) / hn::Sqrt(n2);
+  c = x * inv;
+  s = y * inv;
+}
+
+// A three-revolute leg's reach (closed_form.cpp's three_revolute): the end's
+// centre w from the second joint, in the actuator's frame (gl), its distance
+// n; `missed` and `miss` where n is beyond [nearest, farthest], `band` near
+// either or n near zero.
+struct ThreeRevoluteReach {
+  V3 gl;
+  V n2, n;
+};
+HWY_NOINLINE ThreeRevoluteReach ThreeRevoluteMiss(D d, const LaneLeg& g, double size, const V3& w, M& missed, V& miss,
+                                                M& band) {
+  ThreeRevoluteReach r;
+  const V tiny = hn::Set(d, 1e-9 * size);
+  r.gl = Times(d, g.frame.transpose(), w - Splat(d, g.origin));
+  r.n2 = Dot(r.gl, r.gl);
+  r.n = hn::Sqrt(r.n2);
+  const V nearest = hn::Set(d, g.nearest), farthest = hn::Set(d, g.farthest);
+  missed = hn::Or(r.n < nearest, r.n > farthest);
+  miss = hn::Max(nearest - r.n, r.n - farthest);
+  band = hn::Or(hn::Or(hn::Abs(r.n - nearest) < tiny, hn::Abs(r.n - farthest) < tiny), r.n < tiny);
+  return r;
+}
+
+// Its candidates in the scalar path's order: the third angle's two
+// solutions (phi + half, phi - half), each with the two of Paden-Kahan's
+// subproblem 2 for the actuator and second angle (+-sqrt(g2)); `band` near a
+// third angle's double root, g2's zero (where the scalar path's count of
+// candidates changes), or an angle ill-defined.
+HWY_NOINLINE void ThreeRevoluteCandidates(D d, const LaneLeg& g, const ThreeRevoluteReach& r, const V3& w, Candidate (&c)[4],
+                                        M& band) {
+  const V zero = hn::Zero(d), one = hn::Set(d, 1.0);
+  const V3& gl = r.gl;
+  const V n = r.n;
+  const double R = std::hypot(g.harmonic_b, g.harmonic_c);
+  const V cr = Clamp((hn::Set(d, 0.5) * r.n2 - hn::Set(d, g.harmonic_k0)) * hn::Set(d, 1 / R), hn::Neg(one), one);
+  band = hn::Or(band, one - hn::Abs(cr) < hn::Set(d, 1e-9));
+  const V sr = hn::Sqrt(hn::Max(zero, (one - cr) * (one + cr)));
+  const V cphi = hn::Set(d, g.harmonic_b / R), sphi = hn::Set(d, g.harmonic_c / R);
+  const Eigen::Vector3d &a1 = g.local_axis, &a2 = g.second_axis;
+  const double c12 = a1.dot(a2), s12 = 1 - c12 * c12;
+  const Eigen::Vector3d normal = a1.cross(a2);
+  for (int k = 0; k < 2; ++k) {
+    const V sign = hn::Set(d, k == 0 ? 1.0 : -1.0);
+    const V c3 = cphi * cr - sign * sphi * sr, s3 = sphi * cr + sign * cphi * sr;
+    const V3 p = Splat(d, g.second_link) + Turn(d, g.third_axis, g.third_link, c3, s3);
+    const V p2 = Dot(p, p);
+    const V3 q = (hn::Sqrt(p2) / n) * gl;
+    // Paden-Kahan 2: z = alpha a1 + beta a2 +- sqrt(g2) a1 x a2.
+    const V a2p = Dot(Splat(d, a2), p), a1q = Dot(Splat(d, a1), q);
+    const V alpha = (hn::Set(d, c12) * a2p - a1q) * hn::Set(d, -1 / s12);
+    const V beta = (hn::Set(d, c12) * a1q - a2p) * hn::Set(d, -1 / s12);
+    const V g2 = (p2 - alpha * alpha - beta * beta - hn::Set(d, 2 * c12) * alpha * beta) * hn::Set(d, 1 / s12);
+    band = hn::Or(band, hn::Abs(g2) < hn::Set(d, 1e-9) * p2);
+    const V root = hn::Sqrt(hn::Max(zero, g2));
+    for (int e = 0; e < 2; ++e) {
+      Candidate& x = c[2 * k + e];
+      const V3 z = alpha * Splat(d, a1) + beta * Splat(d, a2) + (e == 0 ? root : hn::Neg(root)) * Splat(d, normal);
+      TurnDirection(d, a1, z, q, p2, x.c, x.s, band);
+      TurnDirection(d, a2, p, z, p2, x.jc[int(LaneJoint::Second)], x.js[int(LaneJoint::Second)], band);
+      x.jc[int(LaneJoint::Third)] = c3;
+      x.js[int(LaneJoint::Third)] = s3;
+      x.valid = g2 > zero;
+      x.axis = Splat(d, g.axis);
+      x.ball = w;
+      x.q = zero;
+      x.sigma = one;
+    }
+  }
+}
+
+// A three-revolute leg's force (Kinematics::jacobian's closed wrench):
+// square to the velocities its second and third joints give the end's centre
+// w, u2 x u3, in the base frame; `near` within 1e-6 of the scalar path's
+// test of its passive joints losing a freedom.
+HWY_NOINLINE V3 ThreeRevoluteForce(D d, const LaneLeg& g, const Candidate& a, const V3& w, M& near) {
+  const V3 gl = Times(d, g.frame.transpose(), w - Splat(d, g.origin));  // w from the second joint
+  const V c2 = a.jc[int(LaneJoint::Second)], s2 = a.js[int(LaneJoint::Second)];
+  const V3 second = Turn(d, g.local_axis, g.second_axis, a.c, a.s);
+  const V3 third = Turn(d, g.local_axis, Turn(d, g.second_axis, g.third_axis, c2, s2), a.c, a.s);
+  const V3 link = Turn(d, g.local_axis, Turn(d, g.second_axis, g.second_link, c2, s2), a.c, a.s);
+  const V3 u2 = Cross(second, gl), u3 = Cross(third, gl - link), f = Cross(u2, u3);
+  near = hn::Or(near, Dot(f, f) < hn::Set(d, 1e-12) * Dot(u2, u2) * Dot(u3, u3));
+  return Times(d, g.frame, f);
 }
 
 // A parallelogram leg's Jacobian row as Kinematics::jacobian builds it for a

@@ -1,4 +1,4 @@
-// Point legs' and crank-parallelograms' closed forms and the measures in
+// Point legs', crank-parallelograms' and three-revolute legs' closed forms and the measures in
 // SIMD lanes (lanes.h), compiled once per instruction set and chosen at run
 // time (core/simd.h); the per-leg geometry is lanes_legs-inl.h's.
 //
@@ -7,13 +7,15 @@
 // replaced by masks: each leg's reach bounds, its closed form's candidates (a
 // crank's cos q, sin q from A cos q + B sin q = C without an angle; a slide's
 // quadratic; an extensible leg's distance; a parallelogram's four, its
-// upper joint's and elbow's signs), the branch rules' signs on the actuator,
+// upper joint's and elbow's signs; a three-revolute leg's four, its third
+// angle's and Paden-Kahan's signs), the branch rules' signs on the actuator,
 // ball, end, anchor and a parallelogram's joints (and the sine of a
-// parallelogram joint's angle), the travel, the ball joints' cones, the
+// parallelogram's or three-revolute leg's joint's angle), the travel, the ball joints' cones, the
 // passive revolutes' stops (their angles as directions from the joints'
 // points), the links' clearance (capsule segments from the joints' points,
 // segment-segment distance as interference::closest_points takes it), the
-// Jacobian row (the force along the rod; a parallelogram's actuator twist
+// Jacobian row (the force along the rod, or square to a three-revolute
+// leg's second and third joints' velocities; a parallelogram's actuator twist
 // off its passive twists), J = -Jx^-1 Jq (Jx^-1 by cofactors for 2x2 and
 // 3x3, by Gauss-Jordan with partial pivoting for 6x6), the serial and travel margins, and the measures: c(J) of a 2x2
 // or 3x3 J in closed form (core/simd_field-inl.h's for 3x3), cond(Jp) and
@@ -23,7 +25,9 @@
 // decides at: reach bounds within 1e-9 of the size of their cut, a closed
 // form within 1e-9 of its discriminant's zero or a degenerate pose (a
 // parallelogram: its miss within 1e-9 of the size of zero, its side or elbow
-// within 1e-6 of straight), a rule's value within 1e-9 size^k of 0, an
+// within 1e-6 of straight; a three-revolute leg's: its reach's ends, its
+// third angle's double root, Paden-Kahan's discriminant's zero, an
+// ill-defined angle, its passive joints losing a freedom), a rule's value within 1e-9 size^k of 0, an
 // actuator within 1e-9 of a travel end, a cone or a revolute stop within
 // 1e-7 deg of its limit, two capsules within 1e-9 of the size of touching
 // or nearly parallel, a rod or a Jq entry within 1e-6 of zero, a universal
@@ -136,7 +140,8 @@ HWY_INLINE void SolveLeg(D d, const LaneLeg& g, double size, const V3& p, LegLan
   M missed = None(d);
   M closed_band = None(d);  // a parallelogram's candidates': where the leg closes
   V miss = zero;
-  Candidate c[4];  // a point leg's two, a parallelogram's four
+  Candidate c[4];  // a point leg's two, a parallelogram's and three-revolute leg's four
+  const bool four = g.parallelogram || g.three;
   // Where no lane's leg closes, its candidates are not needed (the residual is).
   const auto none_closes = [&] {
     if (!hn::AllFalse(d, hn::AndNot(bound, hn::Not(missed)))) return false;
@@ -152,6 +157,11 @@ HWY_INLINE void SolveLeg(D d, const LaneLeg& g, double size, const V3& p, LegLan
     M any = None(d);
     for (const Candidate& k : c) any = hn::Or(any, k.valid);
     closed_band = hn::Or(closed_band, hn::Not(any));
+  } else if (g.three) {
+    const ThreeRevoluteReach reach = ThreeRevoluteMiss(d, g, size, w, missed, miss, band);
+    if (none_closes()) return;
+    // Where no candidate is valid the leg closes on no branch (unreachable, miss 0).
+    ThreeRevoluteCandidates(d, g, reach, w, c, closed_band);
   } else if (g.pattern == LegPattern::CrankRod) {
     const V3 dv = w - Splat(d, g.origin);
     const V du = Dot(Splat(d, g.u), dv), dw = Dot(Splat(d, g.v), dv);
@@ -212,7 +222,7 @@ HWY_INLINE void SolveLeg(D d, const LaneLeg& g, double size, const V3& p, LegLan
     }
   }
   M decided_band = closed_band;
-  if (!g.parallelogram) {
+  if (!four) {
     for (int k = 0; k < 2; ++k) {
       c[k].rc = c[k].rs = zero;
       Decide(d, g, size, w, anchor, c[k], decided_band);
@@ -233,7 +243,7 @@ HWY_INLINE void SolveLeg(D d, const LaneLeg& g, double size, const V3& p, LegLan
   // else the first on the branch.
   Candidate& a = out.at;
   M within = None(d), on_branch = None(d);
-  if (!g.parallelogram) {  // two candidates, the fields a point leg has
+  if (!four) {  // two candidates, the fields a point leg has
     const M within0 = hn::And(c[0].match, c[0].inside), within1 = hn::And(c[1].match, c[1].inside);
     const M take1 = hn::AndNot(within0, hn::Or(within1, hn::AndNot(c[0].match, c[1].match)));
     within = hn::Or(within0, within1);
@@ -448,27 +458,29 @@ void Geometry(const LaneDevice& dev, const Grid& g, const detail::GridRow& row, 
           if (g.limited) travel_of(g, a);
           continue;
         }
-        const V3 f = legs[i].end - a.ball;
-        const V f_norm = hn::Sqrt(Dot(f, f)), inv_f = one / f_norm;
-        near = hn::Or(near, f_norm < hn::Set(d, 1e-6 * size));
-        const V3 pointing = (a.sigma * inv_f) * f;  // where the ball points its link
-        if (g.universal) {
-          const V3 first_axis = g.pattern == LegPattern::CrankRod ? Turn(d, g.axis, g.universal_axis, a.c, a.s)
-                                                                   : Splat(d, g.universal_axis);
-          const V3 k = Cross(first_axis, pointing);
-          near = hn::Or(near, Dot(k, k) < hn::Set(d, 1e-12));
-        }
-        for (const LaneLeg::Cone& cone : g.cones) {
-          const V3 rod = hn::Set(d, cone.along) * pointing;
-          V3 socket = rod, link = Splat(d, cone.fixed);
-          if (cone.at_ball) {
-            socket = g.pattern == LegPattern::CrankRod ? Turn(d, g.axis, cone.fixed, a.c, a.s) : Splat(d, cone.fixed);
-            link = rod;
+        const V3 f = g.three ? ThreeRevoluteForce(d, g, a, legs[i].end, near) : legs[i].end - a.ball;
+        if (!g.three) {
+          const V f_norm = hn::Sqrt(Dot(f, f)), inv_f = one / f_norm;
+          near = hn::Or(near, f_norm < hn::Set(d, 1e-6 * size));
+          const V3 pointing = (a.sigma * inv_f) * f;  // where the ball points its link
+          if (g.universal) {
+            const V3 first_axis = g.pattern == LegPattern::CrankRod ? Turn(d, g.axis, g.universal_axis, a.c, a.s)
+                                                                     : Splat(d, g.universal_axis);
+            const V3 k = Cross(first_axis, pointing);
+            near = hn::Or(near, Dot(k, k) < hn::Set(d, 1e-12));
           }
-          const V3 k = Cross(socket, link);
-          const V sine = hn::Sqrt(Dot(k, k)), cosine = Dot(socket, link);
-          if (cone.size >= 0) Widen(widest_cone[cone.size], sine, cosine);
-          else cones = hn::Min(cones, hn::Set(d, cone.half_angle_deg) - Atan2(d, sine, cosine) * hn::Set(d, kDeg));
+          for (const LaneLeg::Cone& cone : g.cones) {
+            const V3 rod = hn::Set(d, cone.along) * pointing;
+            V3 socket = rod, link = Splat(d, cone.fixed);
+            if (cone.at_ball) {
+              socket = g.pattern == LegPattern::CrankRod ? Turn(d, g.axis, cone.fixed, a.c, a.s) : Splat(d, cone.fixed);
+              link = rod;
+            }
+            const V3 k = Cross(socket, link);
+            const V sine = hn::Sqrt(Dot(k, k)), cosine = Dot(socket, link);
+            if (cone.size >= 0) Widen(widest_cone[cone.size], sine, cosine);
+            else cones = hn::Min(cones, hn::Set(d, cone.half_angle_deg) - Atan2(d, sine, cosine) * hn::Set(d, kDeg));
+          }
         }
         // The force along the rod through the end's centre, as closure rows
         // [(w - r) x f; f size] of unit norm; Jx's row and Jq's entry.
@@ -479,7 +491,7 @@ void Geometry(const LaneDevice& dev, const Grid& g, const detail::GridRow& row, 
           const int c = dev.coordinate[std::size_t(j)];
           Jx[i][j] = (c < 3 ? Get(f, c) : Get(turning, c - 3)) * inv_N;
         }
-        if (g.pattern == LegPattern::CrankRod)
+        if (g.pattern == LegPattern::CrankRod || g.three)
           jq[i] = Dot(a.axis, Cross(legs[i].end - Splat(d, g.actuator_centre), f)) * inv_N;
         else
           jq[i] = Dot(a.axis, f) * inv_N;

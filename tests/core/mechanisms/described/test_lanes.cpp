@@ -1,5 +1,5 @@
 // The SIMD lanes of described devices' fields against the scalar closed path
-// (IK method closed-scalar): on every shipped point-leg and planar-dyad description and on
+// (IK method closed-scalar): on every shipped description and on
 // random designs (parameters drawn within their ranges), each branch, a box
 // reaching past the workspace and a slice, on the best instruction set and
 // on the portable baseline: statuses identical sample for sample, c(J),
@@ -8,6 +8,7 @@
 // devices the lanes serve, and that they do serve.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <random>
@@ -88,7 +89,9 @@ void compare(const Field& lanes, const Field& scalar, const std::string& what, T
 // slice through home, every branch.
 void check_device(const Mechanism& m, const std::string& what, Tally& tally, bool turned = false) {
   Eigen::VectorXd fixed = m.home_task();
-  if (turned && fixed.size() == 6) fixed.tail(3) << 0.08, -0.05, 0.12;
+  // Turned, and any extras (a grip) away from home: fixed in the field like the rotation.
+  if (turned && fixed.size() >= 6) fixed.segment(3, 3) << 0.08, -0.05, 0.12;
+  if (turned) fixed.tail(fixed.size() - std::min<Eigen::Index>(fixed.size(), 6)) *= 0.8;
   const Eigen::AlignedBox3d box = m.default_box();
   const Eigen::Vector3d home = m.home_task().head(3), near = Eigen::Vector3d::Constant(0.3 * m.size());
   const Grid whole = Grid::box(box.min(), box.max(), {14, 13, 12});
@@ -111,18 +114,35 @@ void check_device(const Mechanism& m, const std::string& what, Tally& tally, boo
     }
 }
 
-// The last two with passive revolutes' stops and link capsules: a planar
-// dyad's elbows; a crank-parallelogram's knee, upper and grip joints.
-const char* const kLaneDevices[] = {"delta-described", "hexapod-rus", "stewart", "linear-delta",
-                                    "five-bar",        "three-rrr",   "haply-2diy", "falcon"};
+// Haply and Falcon with passive revolutes' stops and link capsules: a planar
+// dyad's elbows; a crank-parallelogram's knee, upper and grip joints. The
+// described PATHOS-II: three-revolute legs with angle rules, and an extra.
+const char* const kLaneDevices[] = {"delta-described", "hexapod-rus", "stewart", "linear-delta", "five-bar",
+                                    "three-rrr",       "haply-2diy",  "falcon",  "pathos2-described"};
 bool has_stops(const std::string& name) { return name == "haply-2diy" || name == "falcon"; }
+bool turns(const std::string& name) { return name == "stewart" || name == "pathos2-described"; }
+
+// The described PATHOS-II with `edit` applied to its description (each
+// replacement must match).
+Preset pathos2_with(const std::vector<std::pair<std::string, std::string>>& edit) {
+  Preset p = load_preset("pathos2-described");
+  for (const auto& [from, to] : edit) {
+    std::size_t at = p.description.find(from);
+    if (at == std::string::npos) throw std::runtime_error("no " + from + " in the description");
+    for (; at != std::string::npos; at = p.description.find(from, at + to.size())) p.description.replace(at, from.size(), to);
+  }
+  return p;
+}
+// (The description as the preset holds it: compact JSON, keys sorted.)
+const std::pair<std::string, std::string> kActuatorTravel = {R"("name":"q#")", R"("name":"q#","range_deg":[140,220])"};
+const std::pair<std::string, std::string> kThirdJointStop = {R"("name":"t3_#")", R"("name":"t3_#","range_deg":[-170,170])"};
 
 TEST(DescribedLanes, ShippedDevicesAgreeWithTheScalarClosedPath) {
   for (const char* name : kLaneDevices) {
     Tally tally;
     const auto m = make_mechanism(load_preset(name));
     check_device(*m, name, tally);
-    if (std::string(name) == "stewart") check_device(*m, "stewart turned", tally, true);
+    if (turns(name)) check_device(*m, std::string(name) + " turned", tally, true);
     // The lanes decide most samples; the scalar path only a band near thresholds.
     EXPECT_GT(double(tally.lanes), 0.95 * double(tally.ok)) << name;
     if (has_stops(name)) EXPECT_GT(tally.stopped, 100u) << name;
@@ -140,7 +160,8 @@ struct Worst {
   std::size_t stopped = 0, overlapping = 0;  // samples beyond a passive joint's stop, with links overlapping
   double cond_clustered = 0;  // where two singular values lie within 1e-3 relative of each other
   double at_cond = 0;         // c(J) where the worst c(J) difference is
-  std::size_t compared = 0;
+  std::size_t compared = 0;  // samples the lanes decided
+  std::size_t samples = 0;   // of all samples (unreachable ones too)
 };
 Worst compare_doubles(const Preset& preset) {
   using namespace described;
@@ -169,6 +190,7 @@ Worst compare_doubles(const Preset& preset) {
           sample_row_lanes(*device, g, row, out, {}, kLanesCode,
                            [](int, double& jm, double& gap) { return jm = gap = 0, FieldSample{}; }, &values);
           for (int t = 0; t < row.count; ++t) {
+            ++worst.samples;
             if (std::isnan(values.reach_margin[std::size_t(t)])) continue;  // the scalar path's sample
             Eigen::VectorXd x = model.home;
             x.head(rows_of_task) = row.point(g, t).head(rows_of_task);
@@ -233,6 +255,8 @@ TEST(DescribedLanes, DoublesAgreeWithTheScalarClosedPath) {
                 name, w.compared, w.cond, w.at_cond, w.cond_clustered, w.margin, w.joint_margin, w.clearance, w.stopped,
                 w.overlapping);
     EXPECT_GT(w.compared, 1000u) << name;
+    // Unreachable samples too: the scalar path only near thresholds.
+    EXPECT_GT(double(w.compared), 0.95 * double(w.samples)) << name << ": " << w.compared << " of " << w.samples;
     EXPECT_LE(w.joint_margin, 1e-9) << name;
     EXPECT_LE(w.clearance, 1e-9) << name;
     if (has_stops(name)) EXPECT_GT(w.stopped, 20u) << name;  // decided in lanes (overlaps: the random designs)
@@ -284,15 +308,53 @@ TEST(DescribedLanes, RandomDesignsAgreeWithTheScalarClosedPath) {
   }
 }
 
+// The described PATHOS-II with its actuators' travel limited (part of the
+// grid beyond it) and on its other branch (each leg's third joint's sign
+// turned over), as the shipped devices are checked.
+TEST(DescribedLanes, PathosVariantsAgreeWithTheScalarClosedPath) {
+  Preset flipped = load_preset("pathos2-described");
+  for (int k = 1; k <= 6; ++k) flipped.parameters["branch_" + std::to_string(k)] *= -1;
+  const std::pair<const char*, Preset> variants[] = {{"pathos2 travel", pathos2_with({kActuatorTravel})},
+                                                     {"pathos2 other branch", flipped}};
+  for (const auto& [name, preset] : variants) {
+    Tally tally;
+    const auto m = make_mechanism(preset);
+    check_device(*m, name, tally);
+    check_device(*m, std::string(name) + " turned", tally, true);
+    EXPECT_GT(double(tally.lanes), 0.95 * double(tally.ok)) << name;
+    const Worst w = compare_doubles(preset);
+    std::printf("%s: %zu samples ok, %zu in lanes; doubles: %zu samples, worst c(J) %.2e, %.2e clustered, reach margin %.2e\n",
+                name, tally.ok, tally.lanes, w.compared, w.cond, w.cond_clustered, w.margin);
+    EXPECT_GT(w.compared, 1000u) << name;
+    EXPECT_LE(w.cond, 1e-9) << name;
+    EXPECT_LE(w.cond_clustered, 1e-9) << name;
+    EXPECT_LE(w.margin, 1e-9) << name;
+  }
+  // The travel decides: a slice through home has samples beyond it.
+  const auto m = make_mechanism(variants[0].second);
+  const auto [normal, position] = m->default_slice_plane(m->home_task());
+  const Eigen::AlignedBox3d box = m->default_box();
+  const std::array<Axis, 2> axes = Grid::slice_axes(normal);
+  const Field f = field(*m, Grid::slice(normal, position, box.min()(int(axes[0])), box.max()(int(axes[0])),
+                                        box.min()(int(axes[1])), box.max()(int(axes[1])), 48, 48),
+                        m->home_task(), "closed", 0);
+  EXPECT_GT(std::count(f.status.begin(), f.status.end(), std::uint8_t(Status::OutOfLimits)), 20);
+}
+
 TEST(DescribedLanes, WhichDevicesTheLanesServe) {
   for (const char* name : kLaneDevices) {
     const Preset p = load_preset(name);
     EXPECT_NE(described::describe(p).find("field: lanes"), std::string::npos) << name;
   }
-  // Another pattern: the scalar closed path for the whole field, and describe says why.
-  for (const char* name : {"pathos2-described"}) {
-    const Preset p = load_preset(name);
-    EXPECT_NE(described::describe(p).find("field: closed, one pose at a time (not in lanes: "), std::string::npos) << name;
+  // A stop on a three-revolute leg's joint: the scalar closed path for the
+  // whole field, and describe says why.
+  {
+    const Preset p = pathos2_with({kThirdJointStop});
+    const std::string name = "pathos2 with a stop";
+    EXPECT_NE(described::describe(p).find("field: closed, one pose at a time (not in lanes: leg 1: a joint limit on a "
+                                          "three-revolute leg)"),
+              std::string::npos)
+        << described::describe(p);
     const auto m = make_mechanism(p);
     const auto [normal, position] = m->default_slice_plane(m->home_task());
     const Eigen::AlignedBox3d box = m->default_box();
