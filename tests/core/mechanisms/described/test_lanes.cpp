@@ -451,12 +451,17 @@ int check_mirror(const Mechanism& m, const Preset& p, const std::string& what) {
       EXPECT_EQ(described::lanes_mirror_holds(*described::lane_device(kin, kin.model().home, b), g), mirror) << at;
       const Field scalar = field(m, g, m.home_task(), "closed-scalar", b);
       const Field unmirrored = field_with_kernel("vector", m, g, "closed", b);
-      for (const char* kernel : {"vector-mirrored", ""}) {
-        const Field lanes = field_with_kernel(kernel, m, g, "closed", b);
-        Tally again;
-        compare(lanes, unmirrored, at + " against the unmirrored lanes", again, "lanes");
-        compare(lanes, scalar, at + " against the scalar path", all);
+      for (const char* target : {"", "baseline"}) {
+        simd::limit_targets(target);
+        for (const char* kernel : {"vector-mirrored", ""}) {
+          const Field lanes = field_with_kernel(kernel, m, g, "closed", b);
+          Tally again;
+          const std::string on = " on " + simd::current_target();
+          compare(lanes, unmirrored, at + on + " against the unmirrored lanes", again, "lanes");
+          compare(lanes, scalar, at + on + " against the scalar path", all);
+        }
       }
+      simd::limit_targets("");
       served += mirror;
     }
   }
