@@ -11,7 +11,9 @@
 // stops, link capsules, Jacobian row, serial margin and the measures. A lane decides only where it is
 // clearly away from every threshold the scalar closed path decides at; every
 // other lane is that path's (DescribedMechanism::sample), so the statuses are
-// its exactly.
+// its exactly. A device that is its own mirror image in y (LaneDevice::mirror_y)
+// computes half the rows of a grid symmetric in y, each stored also at its
+// mirror row.
 #pragma once
 
 #include <Eigen/Core>
