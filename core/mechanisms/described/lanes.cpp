@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
+#include <utility>
 
 #include "core/mechanisms/described/chain.h"
 
@@ -162,6 +164,107 @@ int size_index(std::vector<double>& sizes, double value) {
   if (sizes.size() == kMaxLaneSizes) return -1;
   sizes.push_back(value);
   return int(sizes.size()) - 1;
+}
+
+// ---- The mirror in y -----------------------------------------------------------
+// Reflecting y (S = diag(1, -1, 1)) maps a point leg onto its partner when
+// every constant reflects: points and the directions fixed on bodies (a
+// slide's axis, cones' sockets) as S x; a crank's axis as sigma S a: -S a
+// (a turn's axis: the partner turns through the same angles, over the same
+// travel, its circle's u, v as S u, S v) or S a (the angles negated, the
+// travel too, v as -S v; the 6-RUS hexapod's alternate cranks). A triple
+// product (b - a) x (c - b) . axis of the candidate's axis takes the sign
+// -sigma (a slide's and an extensible leg's axis: sigma = +1), a rule along
+// a direction d the sign tau of its partner's d = tau S d.
+
+Vector3d reflect(const Vector3d& v) { return {v.x(), -v.y(), v.z()}; }
+
+bool near(const Vector3d& a, const Vector3d& b, double tolerance) { return (a - b).norm() <= tolerance; }
+bool near(double a, double b, double tolerance) { return a == b || std::abs(a - b) <= tolerance; }  // infinite reach too
+
+// Whether leg b is leg a reflected in y, within `tolerance` of the size
+// (lengths) or of 1 (directions, angles).
+bool reflects(const LaneLeg& a, const LaneLeg& b, double size, double tolerance) {
+  const double at = tolerance * size;
+  if (a.parallelogram || a.three || b.parallelogram || b.three || !a.stops.empty() || !b.stops.empty()) return false;
+  if (a.pattern != b.pattern || a.prismatic != b.prismatic || a.limited != b.limited || a.universal != b.universal)
+    return false;
+  const bool crank = a.pattern == LegPattern::CrankRod;
+  // A crank's axis reflects as a turn's (-S a: the same angles) or as a
+  // direction (S a: the angles negated, its partner's travel too); a
+  // slide's and an extensible leg's as a direction.
+  const double sigma = crank && near(-reflect(a.axis), b.axis, tolerance) ? -1 : 1;
+  for (const auto& [x, y] : {std::pair{a.anchor_offset, b.anchor_offset}, {a.end_offset, b.end_offset},
+                             {a.leg_base, b.leg_base}, {a.actuator_centre, b.actuator_centre}, {a.origin, b.origin}})
+    if (!near(reflect(x), y, at)) return false;
+  if (!near(sigma * reflect(a.axis), b.axis, tolerance)) return false;
+  if (crank && !(near(reflect(a.u), b.u, tolerance) && near(-sigma * reflect(a.v), b.v, tolerance))) return false;
+  if (a.universal && !(near(reflect(a.universal_axis), b.universal_axis, tolerance) ||
+                       near(-reflect(a.universal_axis), b.universal_axis, tolerance)))
+    return false;
+  for (const auto& [x, y, scale] : {std::tuple{a.reach.lo, b.reach.lo, at}, {a.reach.hi, b.reach.hi, at},
+                                    {a.rho, b.rho, at}, {a.rod, b.rod, at}, {a.offset, b.offset, at}})
+    if (!near(x, y, scale)) return false;
+  // The travel: the same, or negated with the angles.
+  const double travel = a.prismatic ? at : tolerance;
+  const bool negated = crank && sigma > 0;
+  if (a.limited && (negated ? !(near(-a.hi, b.lo, travel) && near(-a.lo, b.hi, travel))
+                            : !(near(a.lo, b.lo, travel) && near(a.hi, b.hi, travel))))
+    return false;
+  if (a.rules.size() != b.rules.size() || a.cones.size() != b.cones.size()) return false;
+  for (std::size_t k = 0; k < a.rules.size(); ++k) {
+    const LaneLeg::Rule &r = a.rules[k], &s = b.rules[k];
+    if (r.triple != s.triple || r.angle || s.angle || r.fixed_axis || s.fixed_axis) return false;
+    if (!std::equal(std::begin(r.points), std::end(r.points), std::begin(s.points))) return false;
+    if (r.triple) {
+      if (s.wanted != -sigma * r.wanted) return false;
+    } else {
+      const double tau = s.wanted * r.wanted;
+      if (!near(tau * reflect(r.direction), s.direction, tolerance)) return false;
+    }
+  }
+  for (std::size_t k = 0; k < a.cones.size(); ++k) {
+    const LaneLeg::Cone &c = a.cones[k], &e = b.cones[k];
+    if (c.at_ball != e.at_ball || c.along != e.along || !near(c.half_angle_deg, e.half_angle_deg, tolerance * 180) ||
+        !near(reflect(c.fixed), e.fixed, tolerance))
+      return false;
+  }
+  return true;
+}
+
+// Whether reflecting y maps the device onto itself: a permutation of its
+// legs, each onto a partner that reflects it (with its capsules, in order),
+// and a fixed orientation the reflection keeps (rx = rz = 0: S R(rx, ry, rz)
+// S = R(-rx, ry, -rz), and the rates of rx and rz change sign). The extras
+// reach the lanes only through the anchors and the platform's capsules,
+// compared here.
+bool mirrored(const LaneDevice& device, double rx, double rz) {
+  constexpr double kTolerance = 1e-12;  // of the size: cos 120 degrees' rounding passes
+  if (device.planar || !(std::abs(rx) <= kTolerance && std::abs(rz) <= kTolerance)) return false;
+  const std::size_t n = device.legs.size();
+  std::vector<std::vector<const LaneCapsule*>> capsules(n);
+  for (const LaneCapsule& c : device.capsules) {
+    if (c.body != LaneBody::Fixed && c.body != LaneBody::Platform) return false;
+    capsules[std::size_t(c.leg)].push_back(&c);
+  }
+  const auto capsules_reflect = [&](std::size_t i, std::size_t j) {
+    if (capsules[i].size() != capsules[j].size()) return false;
+    for (std::size_t k = 0; k < capsules[i].size(); ++k) {
+      const LaneCapsule &c = *capsules[i][k], &e = *capsules[j][k];
+      if (c.body != e.body || !near(c.radius, e.radius, kTolerance * device.size) ||
+          !near(reflect(c.a), e.a, kTolerance * device.size) || !near(reflect(c.b), e.b, kTolerance * device.size))
+        return false;
+    }
+    return true;
+  };
+  std::vector<bool> taken(n, false);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::size_t j = 0;
+    while (j < n && (taken[j] || !reflects(device.legs[i], device.legs[j], device.size, kTolerance) || !capsules_reflect(i, j))) ++j;
+    if (j == n) return false;
+    taken[j] = true;
+  }
+  return true;
 }
 
 // Fills `out` (when given) and returns "" where the kernel expresses the
@@ -360,6 +463,10 @@ std::string build(const Kinematics& kin, const VectorXd& fixed, int branch, Lane
     device.legs.push_back(g);
   }
   capsule_pairs(m, device);
+  std::array<double, 6> platform = m.fixed;  // as Kinematics::pose_into
+  for (std::size_t i = 0; i < m.task.size(); ++i)
+    if (m.task[i].platform_coordinate >= 0) platform[std::size_t(m.task[i].platform_coordinate)] = fixed(Eigen::Index(i));
+  device.mirror_y = mirrored(device, platform[3], platform[5]);
   if (out) *out = std::move(device);
   return "";
 }
@@ -372,6 +479,14 @@ std::optional<LaneDevice> lane_device(const Kinematics& kin, const VectorXd& fix
   LaneDevice d;
   if (!build(kin, fixed, branch, &d).empty()) return std::nullopt;
   return d;
+}
+
+bool lanes_mirror_holds(const LaneDevice& device, const Grid& g) {
+  if (!device.mirror_y || g.dims[0] < 2 || g.dims[1] < 2) return false;  // rows along x, more than one of them in y
+  const int n = g.dims[1];
+  for (int j = 0; j < n; ++j)
+    if (g.point(0, j, 0).y() != -g.point(0, n - 1 - j, 0).y()) return false;
+  return true;
 }
 
 }  // namespace linkscape::described

@@ -11,7 +11,9 @@
 // stops, link capsules, Jacobian row, serial margin and the measures. A lane decides only where it is
 // clearly away from every threshold the scalar closed path decides at; every
 // other lane is that path's (DescribedMechanism::sample), so the statuses are
-// its exactly.
+// its exactly. A device that is its own mirror image in y (LaneDevice::mirror_y)
+// computes half the rows of a grid symmetric in y, each stored also at its
+// mirror row.
 #pragma once
 
 #include <Eigen/Core>
@@ -141,11 +143,22 @@ struct LaneDevice {
   std::vector<double> cone_sizes, travel_widths;
   std::vector<LaneCapsule> capsules;
   std::vector<std::array<int, 2>> pairs;  // the capsules Kinematics::stops checks against each other
+  // Reflecting y maps the device onto itself (lanes.cpp's mirrored): point
+  // legs that pair up, each with a partner whose constants reflect its own
+  // within 1e-12 of the size, and a fixed orientation with rx = rz = 0. The
+  // sample at (x, -y, z) is then the one at (x, y, z) with legs swapped: the
+  // same statuses, c(J), margins and clearance, to rounding.
+  bool mirror_y = false;
 };
 
 // The device's lane constants for a field at the fixed task `fixed` (model
 // order; its x, y, z unused) on `branch`; nullopt where lanes_refusal says why.
 std::optional<LaneDevice> lane_device(const Kinematics& kin, const Eigen::VectorXd& fixed, int branch);
+
+// Whether a field of the device on `g` takes its rows of the upper half in
+// y from the lower half's: mirror_y, rows along x, more than one row in y,
+// and y coordinates that are exact negatives of each other.
+bool lanes_mirror_holds(const LaneDevice& device, const Grid& g);
 
 // The scalar closed path at a row's sample t (its joint margin, degrees, and
 // clearance, NaN where it does not assemble).
@@ -164,11 +177,22 @@ struct LaneStopsOut {
   float* clearance = nullptr;
 };
 
+// A row's mirror image in y (lanes_mirror_holds): where its samples go, and
+// the scalar closed path at its own points.
+struct LaneMirror {
+  detail::GridRow row;
+  detail::FieldRowOut out;
+  LaneStopsOut stops;
+  LaneFallback fallback;
+};
+
 // One grid row in lanes with the CPU's best instruction set (core/simd.h).
 // Samples the lanes serve take method code `method`; the others are
-// `fallback`'s. With `values`, also their doubles.
+// `fallback`'s. With `values`, also their doubles. With `mirror`, the
+// lanes' samples also go to the mirror row, and the ones handed to the
+// scalar path are computed there at the mirror row's own points.
 void sample_row_lanes(const LaneDevice& device, const Grid& grid, const detail::GridRow& row,
                       const detail::FieldRowOut& out, const LaneStopsOut& stops, std::uint8_t method,
-                      const LaneFallback& fallback, LaneValues* values = nullptr);
+                      const LaneFallback& fallback, LaneValues* values = nullptr, const LaneMirror* mirror = nullptr);
 
 }  // namespace linkscape::described

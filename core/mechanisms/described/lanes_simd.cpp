@@ -571,7 +571,8 @@ void Geometry(const LaneDevice& dev, const Grid& g, const detail::GridRow& row, 
 }
 
 void SampleRowLanes(const LaneDevice& dev, const Grid& g, const detail::GridRow& row, const detail::FieldRowOut& out,
-                    const LaneStopsOut& stops, std::uint8_t method, const LaneFallback& fallback, LaneValues* values) {
+                    const LaneStopsOut& stops, std::uint8_t method, const LaneFallback& fallback, LaneValues* values,
+                    const LaneMirror* mirror) {
   const MethodRule rule{double(method), false};
   Block b;
   Extras e;
@@ -583,10 +584,13 @@ void SampleRowLanes(const LaneDevice& dev, const Grid& g, const detail::GridRow&
     if (dev.legs.size() == 2) Geometry<2>(dev, g, row, first, n, b, e);
     else if (dev.legs.size() == 3) Geometry<3>(dev, g, row, first, n, b, e);
     else Geometry<6>(dev, g, row, first, n, b, e);
-    if (stops.joint_margin)
-      for (int t = 0; t < n; ++t) stops.joint_margin[first + t] = float(e.joint_margin[t]);
-    if (stops.clearance)
-      for (int t = 0; t < n; ++t) stops.clearance[first + t] = float(e.clearance[t]);
+    const auto store_stops = [&](const LaneStopsOut& into) {
+      if (into.joint_margin)
+        for (int t = 0; t < n; ++t) into.joint_margin[first + t] = float(e.joint_margin[t]);
+      if (into.clearance)
+        for (int t = 0; t < n; ++t) into.clearance[first + t] = float(e.clearance[t]);
+    };
+    store_stops(stops);
     if (values)
       for (int t = 0; t < n; ++t) {
         if (b.to_scalar[t] != 0.0) continue;
@@ -597,13 +601,24 @@ void SampleRowLanes(const LaneDevice& dev, const Grid& g, const detail::GridRow&
         values->joint_margin[i] = e.joint_margin[t];
         values->clearance[i] = e.clearance[t];
       }
-    StoreBlock(b, first, n, row.count, false, rule, out, [&](int i) {
+    const auto scalar = [&](const LaneFallback& path, const LaneStopsOut& into, int i) {
       double jm = 0, gap = 0;
-      const FieldSample s = fallback(i, jm, gap);
-      if (stops.joint_margin) stops.joint_margin[i] = float(jm);
-      if (stops.clearance) stops.clearance[i] = float(gap);
+      const FieldSample s = path(i, jm, gap);
+      if (into.joint_margin) into.joint_margin[i] = float(jm);
+      if (into.clearance) into.clearance[i] = float(gap);
       return s;
-    });
+    };
+    StoreBlock(b, first, n, row.count, false, rule, out, [&](int i) { return scalar(fallback, stops, i); });
+    // The mirror row takes the lanes' values (the joint margins and the
+    // clearance too: the partner legs' cones and links reflect); the lanes
+    // the scalar path decides are decided at the mirror row's own points.
+    if (mirror) {
+      CopySamples(out, mirror->out, first, n);
+      store_stops(mirror->stops);
+      ForEachHandedOff(b, n, [&](int t) {
+        mirror->out.store(first + t, scalar(mirror->fallback, mirror->stops, first + t));
+      });
+    }
   }
 }
 
@@ -617,8 +632,8 @@ HWY_EXPORT(SampleRowLanes);
 
 void sample_row_lanes(const LaneDevice& device, const Grid& grid, const detail::GridRow& row,
                       const detail::FieldRowOut& out, const LaneStopsOut& stops, std::uint8_t method,
-                      const LaneFallback& fallback, LaneValues* values) {
-  HWY_DYNAMIC_DISPATCH(SampleRowLanes)(device, grid, row, out, stops, method, fallback, values);
+                      const LaneFallback& fallback, LaneValues* values, const LaneMirror* mirror) {
+  HWY_DYNAMIC_DISPATCH(SampleRowLanes)(device, grid, row, out, stops, method, fallback, values, mirror);
 }
 
 }  // namespace linkscape::described

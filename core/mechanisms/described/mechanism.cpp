@@ -369,6 +369,8 @@ class DescribedMechanism final : public Mechanism {
     std::optional<LaneDevice> lanes;
     if (solver == LegSolver::Fastest && o.method != "closed-scalar") lanes = lane_device(kin_, base, branch);
     if (lanes) simd::apply_environment();
+    // The rows of the upper half in y from the lower half's where the device is its own mirror image.
+    const bool mirrored = lanes && kernel == FieldKernel::VectorMirrored && lanes_mirror_holds(*lanes, grid);
     Field f;
     f.grid = grid;
     f.mechanism = info_.name;
@@ -390,28 +392,46 @@ class DescribedMechanism final : public Mechanism {
         f, second, threads, progress,
         [&](const detail::GridRow& row, const detail::FieldRowOut& out) {
           VectorXd x = base;
-          auto at = [&](int t) -> const VectorXd& {
-            const Vector3d p = row.point(grid, t);
+          auto at = [&](const detail::GridRow& r, int t) -> const VectorXd& {
+            const Vector3d p = r.point(grid, t);
             x(0) = p.x();
             x(1) = p.y();
             if (!kin_.model().planar) x(2) = p.z();
             return x;
           };
           if (lanes) {
-            const LaneStopsOut row_stops{joint_margin ? joint_margin + row.index : nullptr,
-                                         clearance ? clearance + row.index : nullptr};
-            sample_row_lanes(*lanes, grid, row, out, row_stops, kLanesCode, [&](int t, double& margin, double& gap) {
-              Stops stops;
-              const FieldSample s = sample(at(t), branch, tolerance, solver, stops);
-              margin = stops.joint_margin_deg;
-              gap = stops.clearance;
-              return s;
-            });
+            const auto stops_of = [&](const detail::GridRow& r) {
+              return LaneStopsOut{joint_margin ? joint_margin + r.index : nullptr, clearance ? clearance + r.index : nullptr};
+            };
+            const auto fallback_of = [&](const detail::GridRow& r) -> LaneFallback {
+              return [&, r](int t, double& margin, double& gap) {
+                Stops stops;
+                const FieldSample s = sample(at(r, t), branch, tolerance, solver, stops);
+                margin = stops.joint_margin_deg;
+                gap = stops.clearance;
+                return s;
+              };
+            };
+            std::optional<LaneMirror> mirror;
+            if (mirrored) {
+              // A row of the lower half also fills its mirror row; the upper half's rows are left to them.
+              const int j = row.start[1], mirror_j = grid.dims[1] - 1 - j;
+              if (j > mirror_j) return;
+              if (j < mirror_j) {
+                const std::ptrdiff_t by = std::ptrdiff_t(mirror_j - j) * grid.dims[0];
+                detail::GridRow image = row;
+                image.start[1] = mirror_j;
+                image.index += std::size_t(by);
+                mirror = LaneMirror{image, out.shifted(by), stops_of(image), fallback_of(image)};
+              }
+            }
+            sample_row_lanes(*lanes, grid, row, out, stops_of(row), kLanesCode, fallback_of(row), nullptr,
+                             mirror ? &*mirror : nullptr);
             return;
           }
           for (int t = 0; t < row.count; ++t) {
             Stops stops;
-            out.store(t, sample(at(t), branch, tolerance, solver, stops));
+            out.store(t, sample(at(row, t), branch, tolerance, solver, stops));
             if (joint_margin) joint_margin[row.index + std::size_t(t)] = float(stops.joint_margin_deg);
             if (clearance) clearance[row.index + std::size_t(t)] = float(stops.clearance);
           }

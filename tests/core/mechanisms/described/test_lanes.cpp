@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <map>
 #include <random>
 #include <string>
 
@@ -53,9 +54,10 @@ struct Tally {
 };
 
 // Lanes against the scalar closed path, sample for sample; returns how many samples the lanes served.
-void compare(const Field& lanes, const Field& scalar, const std::string& what, Tally& tally) {
+void compare(const Field& lanes, const Field& scalar, const std::string& what, Tally& tally,
+             const char* reference = "closed") {
   ASSERT_EQ(lanes.method, "lanes") << what;
-  ASSERT_EQ(scalar.method, "closed") << what;
+  ASSERT_EQ(scalar.method, reference) << what;
   const std::size_t n = lanes.grid.size();
   int reported = 0;
   auto report = [&](std::size_t i, const char* name, double a, double b) {
@@ -122,16 +124,19 @@ const char* const kLaneDevices[] = {"delta-described", "hexapod-rus", "stewart",
 bool has_stops(const std::string& name) { return name == "haply-2diy" || name == "falcon"; }
 bool turns(const std::string& name) { return name == "stewart" || name == "pathos2-described"; }
 
-// The described PATHOS-II with `edit` applied to its description (each
+// A shipped preset with `edit` applied to its description (each
 // replacement must match).
-Preset pathos2_with(const std::vector<std::pair<std::string, std::string>>& edit) {
-  Preset p = load_preset("pathos2-described");
+Preset preset_with(const char* name, const std::vector<std::pair<std::string, std::string>>& edit) {
+  Preset p = load_preset(name);
   for (const auto& [from, to] : edit) {
     std::size_t at = p.description.find(from);
     if (at == std::string::npos) throw std::runtime_error("no " + from + " in the description");
     for (; at != std::string::npos; at = p.description.find(from, at + to.size())) p.description.replace(at, from.size(), to);
   }
   return p;
+}
+Preset pathos2_with(const std::vector<std::pair<std::string, std::string>>& edit) {
+  return preset_with("pathos2-described", edit);
 }
 // (The description as the preset holds it: compact JSON, keys sorted.)
 const std::pair<std::string, std::string> kActuatorTravel = {R"("name":"q#")", R"("name":"q#","range_deg":[140,220])"};
@@ -266,6 +271,18 @@ TEST(DescribedLanes, DoublesAgreeWithTheScalarClosedPath) {
   }
 }
 
+// `p` with its parameters drawn within their ranges, and its mechanism
+// (null for a design whose home does not assemble: it is refused).
+std::shared_ptr<const Mechanism> random_design(const Mechanism& base, std::mt19937_64& rng, Preset& p) {
+  for (const Quantity& q : base.info().parameters)
+    p.parameters[q.name] = std::uniform_real_distribution<double>(q.range.lo, q.range.hi)(rng);
+  try {
+    return make_mechanism(p);
+  } catch (const std::invalid_argument&) {
+    return nullptr;
+  }
+}
+
 TEST(DescribedLanes, RandomDesignsAgreeWithTheScalarClosedPath) {
   std::mt19937_64 rng(2811);
   for (const char* name : kLaneDevices) {
@@ -276,14 +293,8 @@ TEST(DescribedLanes, RandomDesignsAgreeWithTheScalarClosedPath) {
     std::size_t stopped = 0, overlapping = 0;
     for (int attempt = 0; attempt < 40 && designs < 4; ++attempt) {
       Preset p = shipped;
-      for (const Quantity& q : base->info().parameters)
-        p.parameters[q.name] = std::uniform_real_distribution<double>(q.range.lo, q.range.hi)(rng);
-      std::shared_ptr<const Mechanism> m;
-      try {
-        m = make_mechanism(p);  // a design whose home does not assemble is refused
-      } catch (const std::invalid_argument&) {
-        continue;
-      }
+      const std::shared_ptr<const Mechanism> m = random_design(*base, rng, p);
+      if (!m) continue;
       ++designs;
       check_device(*m, std::string(name) + " design " + std::to_string(designs), tally, true);
       const Worst w = compare_doubles(p);
@@ -399,6 +410,131 @@ TEST(DescribedLanes, TheKernelVariableStillSelectsTheNumericalReference) {
   const Field lanes = field(*m, g, m->home_task(), "closed", 0);
   EXPECT_EQ(lanes.method, "lanes");
   for (std::size_t i = 0; i < g.size(); ++i) EXPECT_EQ(lanes.status[i], reference.status[i]) << i;
+}
+
+// ---- The mirror in y ------------------------------------------------------------
+
+bool mirrored(const Preset& p, int branch) {
+  const described::Kinematics kin(described::build_model(p.description, p.parameters, p.limits_deg, p.length_unit));
+  const std::optional<described::LaneDevice> device = described::lane_device(kin, kin.model().home, branch);
+  if (!device) throw std::runtime_error("not in lanes");
+  return device->mirror_y;
+}
+
+// A field computed with LINKSCAPE_FIELD_KERNEL set to `kernel`.
+Field field_with_kernel(const char* kernel, const Mechanism& m, const Grid& g, const std::string& method, int branch) {
+  ::setenv("LINKSCAPE_FIELD_KERNEL", kernel, 1);
+  Field f = field(m, g, m.home_task(), method, branch);
+  ::unsetenv("LINKSCAPE_FIELD_KERNEL");
+  return f;
+}
+
+// The device's fields on grids symmetric in y about 0 (a box and a slice
+// z = home's, y exact negatives: dyadic spacings), every branch: mirrored
+// (the default) against the unmirrored lanes and the scalar closed path.
+// Returns how many of its fields the mirror served.
+int check_mirror(const Mechanism& m, const Preset& p, const std::string& what) {
+  const Eigen::AlignedBox3d box = m.default_box();
+  const Eigen::Vector3d home = m.home_task().head(3);
+  const double s = std::exp2(std::round(std::log2(m.size()))) / 32;  // the spacing in y
+  const double z = std::round(home.z() / s) * s;
+  const Grid grids[] = {Grid::box({box.min().x(), -8 * s, z - 8 * s}, {box.max().x(), 8 * s, z + 8 * s}, {13, 16, 9}),
+                        Grid::box({box.min().x(), -7.5 * s, z - 8 * s}, {box.max().x(), 7.5 * s, z + 8 * s}, {14, 15, 10}),
+                        Grid::slice(Axis::Z, z, box.min().x(), box.max().x(), -8 * s, 8 * s, 40, 16)};
+  int served = 0;
+  Tally all;
+  for (int b = 0; b < int(m.info().branches.size()); ++b) {
+    const bool mirror = mirrored(p, b);
+    for (const Grid& g : grids) {
+      const std::string at = what + " branch " + std::to_string(b) + " " + std::to_string(g.dims[1]) + " rows in y";
+      const described::Kinematics kin(described::build_model(p.description, p.parameters, p.limits_deg, p.length_unit));
+      EXPECT_EQ(described::lanes_mirror_holds(*described::lane_device(kin, kin.model().home, b), g), mirror) << at;
+      const Field scalar = field(m, g, m.home_task(), "closed-scalar", b);
+      const Field unmirrored = field_with_kernel("vector", m, g, "closed", b);
+      for (const char* target : {"", "baseline"}) {
+        simd::limit_targets(target);
+        for (const char* kernel : {"vector-mirrored", ""}) {
+          const Field lanes = field_with_kernel(kernel, m, g, "closed", b);
+          Tally again;
+          const std::string on = " on " + simd::current_target();
+          compare(lanes, unmirrored, at + on + " against the unmirrored lanes", again, "lanes");
+          compare(lanes, scalar, at + on + " against the scalar path", all);
+        }
+      }
+      simd::limit_targets("");
+      served += mirror;
+    }
+  }
+  // The grids reach the workspace, and the lanes decide most of it.
+  EXPECT_GT(all.ok, 200u) << what;
+  EXPECT_GT(double(all.lanes), 0.9 * double(all.ok)) << what;
+  return served;
+}
+
+// Which shipped devices are their own mirror image in y: the described
+// Delta, the 6-RUS hexapod, the Stewart platform and the linear Delta; not
+// the planar ones (symmetric in x, if at all), the Falcon (parallelograms)
+// or the described PATHOS-II (three-revolute legs). Their fields agree with
+// the unmirrored lanes and the scalar path.
+TEST(DescribedLanes, MirroredFieldsAgreeWithTheUnmirroredAndTheScalarPath) {
+  const std::map<std::string, bool> expected = {{"delta-described", true}, {"hexapod-rus", true}, {"stewart", true},
+                                                {"linear-delta", true},    {"five-bar", false},   {"three-rrr", false},
+                                                {"haply-2diy", false},     {"falcon", false},     {"pathos2-described", false}};
+  for (const char* name : kLaneDevices) {
+    const Preset p = load_preset(name);
+    EXPECT_EQ(mirrored(p, 0), expected.at(name)) << name;
+    if (!expected.at(name)) continue;
+    const auto m = make_mechanism(p);
+    EXPECT_GT(check_mirror(*m, p, name), 0) << name;
+  }
+}
+
+TEST(DescribedLanes, RandomDesignsMirroredAgreeWithTheUnmirroredAndTheScalarPath) {
+  std::mt19937_64 rng(2812);
+  for (const char* name : {"delta-described", "hexapod-rus", "linear-delta"}) {
+    const Preset shipped = load_preset(name);
+    const auto base = make_mechanism(shipped);
+    int designs = 0;
+    for (int attempt = 0; attempt < 20 && designs < 2; ++attempt) {
+      Preset p = shipped;
+      const std::shared_ptr<const Mechanism> m = random_design(*base, rng, p);
+      if (!m) continue;
+      ++designs;
+      check_mirror(*m, p, std::string(name) + " design " + std::to_string(designs));
+    }
+    EXPECT_GE(designs, 1) << name;
+  }
+}
+
+// A device that is not its own mirror image is not mirrored: one leg's rod
+// longer by 1e-9 (beyond the 1e-12 of the size the comparison allows; 1e-14
+// is within it, as cos 120 degrees' rounding), a branch with one leg's rule
+// turned over (legs 1 and 2 are partners), a platform turned about x. And
+// the unmirrored kernel by the variable.
+TEST(DescribedLanes, AnAsymmetricDeviceIsNotMirrored) {
+  const auto longer = [](const char* by) {
+    return preset_with("delta-described", {{R"("translate":["Lb",0,0])", std::string(R"("translate":["Lb + k * (k - 2) * )") + by + R"(",0,0])"}});
+  };
+  EXPECT_FALSE(mirrored(longer("1e-9"), 0));
+  EXPECT_TRUE(mirrored(longer("1e-14"), 0));
+  EXPECT_TRUE(mirrored(longer("0"), 0));
+  const Preset delta = load_preset("delta-described");
+  EXPECT_FALSE(mirrored(delta, 2));  // leg 1's rule turned over, not leg 2's
+  EXPECT_FALSE(mirrored(delta, 4));
+  EXPECT_TRUE(mirrored(delta, 6));
+  EXPECT_TRUE(mirrored(delta, 1));
+  // Not mirrored, the field still agrees with the scalar path.
+  const auto m = make_mechanism(longer("1e-9"));
+  EXPECT_EQ(check_mirror(*m, longer("1e-9"), "delta with a longer rod"), 0);
+  // The Stewart platform turned about x or z is not mirrored; about y it is.
+  const Preset stewart = load_preset("stewart");
+  const described::Kinematics kin(described::build_model(stewart.description, stewart.parameters, stewart.limits_deg,
+                                                         stewart.length_unit));
+  for (int axis = 3; axis < 6; ++axis) {
+    Eigen::VectorXd turned = kin.model().home;
+    turned(axis) = 0.05;
+    EXPECT_EQ(described::lane_device(kin, turned, 0)->mirror_y, axis == 4) << axis;
+  }
 }
 
 // A method the device does not have is refused naming the three it has.
