@@ -111,8 +111,10 @@ HWY_INLINE void Decide(D d, const LaneLeg& g, double size, const V3& end, const 
 
 // Leg `g` at platform positions p: its candidates, the one the branch and
 // travel choose, or why it is unreachable (the square roots taken only
-// where some lane needs them).
-HWY_INLINE void SolveLeg(D d, const LaneLeg& g, double size, const V3& p, LegLanes& out) {
+// where some lane needs them). Lanes `decided` (unreachable by an earlier
+// leg, their margin that leg's residual, < 0) need only this leg's residual
+// where it misses: where it closes there they count as closing.
+HWY_INLINE void SolveLeg(D d, const LaneLeg& g, double size, const V3& p, M decided, LegLanes& out) {
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0);
   const V3 anchor = p + Splat(d, g.anchor_offset);
   out.anchor = anchor;
@@ -142,9 +144,11 @@ HWY_INLINE void SolveLeg(D d, const LaneLeg& g, double size, const V3& p, LegLan
   V miss = zero;
   Candidate c[4];  // a point leg's two, a parallelogram's and three-revolute leg's four
   const bool four = g.parallelogram || g.three;
-  // Where no lane's leg closes, its candidates are not needed (the residual is).
+  // Where no undecided lane's leg closes, its candidates are not needed (the residual is).
   const auto none_closes = [&] {
-    if (!hn::AllFalse(d, hn::AndNot(bound, hn::Not(missed)))) return false;
+    const M closes = hn::AndNot(hn::Or(bound, missed), hn::Not(None(d)));
+    if (!hn::AllFalse(d, hn::AndNot(decided, closes))) return false;
+    out.unreachable = hn::Not(closes);
     out.to_scalar = hn::Or(out.to_scalar, hn::AndNot(bound, band));
     out.residual = hn::IfThenElse(bound, outside, miss);
     return true;
@@ -417,7 +421,7 @@ void Geometry(const LaneDevice& dev, const Grid& g, const detail::GridRow& row, 
     V unreachable_margin = inf;
     LegLanes legs[N];
     for (int i = 0; i < N; ++i) {
-      SolveLeg(d, dev.legs[std::size_t(i)], size, p, legs[i]);
+      SolveLeg(d, dev.legs[std::size_t(i)], size, p, unreachable, legs[i]);
       to_scalar = hn::Or(to_scalar, legs[i].to_scalar);
       unreachable = hn::Or(unreachable, legs[i].unreachable);
       outside_travel = hn::Or(outside_travel, legs[i].outside_travel);
