@@ -150,7 +150,9 @@ TEST(DescribedLanes, ShippedDevicesAgreeWithTheScalarClosedPath) {
     if (turns(name)) check_device(*m, std::string(name) + " turned", tally, true);
     // The lanes decide most samples; the scalar path only a band near thresholds.
     EXPECT_GT(double(tally.lanes), 0.95 * double(tally.ok)) << name;
-    if (has_stops(name)) EXPECT_GT(tally.stopped, 100u) << name;
+    if (has_stops(name)) {
+      EXPECT_GT(tally.stopped, 100u) << name;
+    }
     std::printf("%s: %zu samples ok, %zu of them in lanes; %zu stopped\n", name, tally.ok, tally.lanes, tally.stopped);
   }
 }
@@ -264,7 +266,9 @@ TEST(DescribedLanes, DoublesAgreeWithTheScalarClosedPath) {
     EXPECT_GT(double(w.compared), 0.95 * double(w.samples)) << name << ": " << w.compared << " of " << w.samples;
     EXPECT_LE(w.joint_margin, 1e-9) << name;
     EXPECT_LE(w.clearance, 1e-9) << name;
-    if (has_stops(name)) EXPECT_GT(w.stopped, 20u) << name;  // decided in lanes (overlaps: the random designs)
+    if (has_stops(name)) {  // decided in lanes (overlaps: the random designs)
+      EXPECT_GT(w.stopped, 20u) << name;
+    }
     EXPECT_LE(w.cond, 1e-9) << name;
     EXPECT_LE(w.cond_clustered, 1e-9) << name;
     EXPECT_LE(w.margin, 1e-9) << name;

@@ -128,7 +128,9 @@ TEST(DescribedScalarPath, OpenEndsCloseAsTheEagerOnes) {
         EXPECT_TRUE(same_state(s, eager.states[std::size_t(i)])) << "leg " << leg << " candidate " << i;
       }
     });
-    if (name == "pathos2-described" || name == "delta-described") EXPECT_GT(closed_later, 0);
+    if (name == "pathos2-described" || name == "delta-described") {
+      EXPECT_GT(closed_later, 0);
+    }
   }
 }
 
@@ -153,7 +155,9 @@ TEST(DescribedScalarPath, BranchCandidatesAreAllCandidatesSiftedByTheAngleRules)
       if (keeps) expected.push_back(&all.states[std::size_t(i)]);
     }
     ASSERT_EQ(sifted.count, int(expected.size()));
-    if (sifted.count < all.count) EXPECT_TRUE(sifted.dropped);  // (it may also be set where a rejected angle had no solution)
+    if (sifted.count < all.count) {  // (it may also be set where a rejected angle had no solution)
+      EXPECT_TRUE(sifted.dropped);
+    }
     for (int i = 0; i < sifted.count; ++i) EXPECT_TRUE(same_state(sifted.states[std::size_t(i)], *expected[std::size_t(i)]));
     dropped += all.count - sifted.count;
     kept += sifted.count;
