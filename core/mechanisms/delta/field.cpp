@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "core/field_sampling.h"
+#include "core/grid_mirror.h"
 #include "core/mechanisms/delta/stops.h"
 #include "core/simd.h"
 
@@ -52,12 +53,7 @@ bool mirror_holds(const Model& m, const FieldRequest& req) {
   const auto& q = m.q_limits;
   const int branch = req.ik.branch;
   if (q[1].lo != q[2].lo || q[1].hi != q[2].hi || ((branch >> 1) & 1) != ((branch >> 2) & 1)) return false;
-  const Grid& g = req.grid;
-  if (g.dims[0] < 2 || g.dims[1] < 2) return false;  // rows along x, more than one of them in y
-  const int n = g.dims[1];
-  for (int j = 0; j < n; ++j)
-    if (g.point(0, j, 0).y() != -g.point(0, n - 1 - j, 0).y()) return false;
-  return true;
+  return detail::mirrors_in_y(req.grid);
 }
 
 std::optional<Field> compute_field(const Model& m, const FieldRequest& req, const FieldProgress& progress) {
@@ -86,13 +82,10 @@ std::optional<Field> compute_field(const Model& m, const FieldRequest& req, cons
       f, false, req.threads, progress,
       [&](const detail::GridRow& row, const detail::FieldRowOut& out) {
         if (mirrored) {
-          // A row of the lower half in y also fills its mirror row; the upper half's rows are left to them.
-          const int j = row.start[1], mirror_j = g.dims[1] - 1 - j;
-          if (j > mirror_j) return;
-          if (j < mirror_j) {
-            RowMirror mirror{row, out.shifted(std::ptrdiff_t(mirror_j - j) * g.dims[0])};
-            mirror.row.start[1] = mirror_j;
-            mirror.row.index += std::size_t(mirror_j - j) * std::size_t(g.dims[0]);
+          const detail::RowImage image = detail::image_in_y(g, row);
+          if (!image.sampled) return;
+          if (image.image) {
+            RowMirror mirror{*image.image, out.shifted(image.by)};
             sample_row_vector(m, legs, req, g, row, out, &mirror, joint_margin);
             return;
           }

@@ -7,6 +7,7 @@
 #include <tuple>
 #include <utility>
 
+#include "core/grid_mirror.h"
 #include "core/mechanisms/described/chain.h"
 
 namespace linkscape::described {
@@ -482,11 +483,7 @@ std::optional<LaneDevice> lane_device(const Kinematics& kin, const VectorXd& fix
 }
 
 bool lanes_mirror_holds(const LaneDevice& device, const Grid& g) {
-  if (!device.mirror_y || g.dims[0] < 2 || g.dims[1] < 2) return false;  // rows along x, more than one of them in y
-  const int n = g.dims[1];
-  for (int j = 0; j < n; ++j)
-    if (g.point(0, j, 0).y() != -g.point(0, n - 1 - j, 0).y()) return false;
-  return true;
+  return device.mirror_y && detail::mirrors_in_y(g);
 }
 
 }  // namespace linkscape::described

@@ -10,6 +10,7 @@
 
 #include "core/field.h"
 #include "core/field_sampling.h"
+#include "core/grid_mirror.h"
 #include "core/mechanisms/described/chain.h"
 #include "core/mechanisms/described/kinematics.h"
 #include "core/mechanisms/described/lanes.h"
@@ -414,16 +415,10 @@ class DescribedMechanism final : public Mechanism {
             };
             std::optional<LaneMirror> mirror;
             if (mirrored) {
-              // A row of the lower half also fills its mirror row; the upper half's rows are left to them.
-              const int j = row.start[1], mirror_j = grid.dims[1] - 1 - j;
-              if (j > mirror_j) return;
-              if (j < mirror_j) {
-                const std::ptrdiff_t by = std::ptrdiff_t(mirror_j - j) * grid.dims[0];
-                detail::GridRow image = row;
-                image.start[1] = mirror_j;
-                image.index += std::size_t(by);
-                mirror = LaneMirror{image, out.shifted(by), stops_of(image), fallback_of(image)};
-              }
+              const detail::RowImage image = detail::image_in_y(grid, row);
+              if (!image.sampled) return;
+              if (image.image)
+                mirror = LaneMirror{*image.image, out.shifted(image.by), stops_of(*image.image), fallback_of(*image.image)};
             }
             sample_row_lanes(*lanes, grid, row, out, stops_of(row), kLanesCode, fallback_of(row), nullptr,
                              mirror ? &*mirror : nullptr);
