@@ -197,22 +197,11 @@ ForwardSolution Kinematics::forward_from(const VectorXd& q, const VectorXd& seed
 Kinematics::Kinematics(Model model) : model_(std::move(model)), id_(next_id++) {
   has_joint_limits_ = model_.has_joint_limits();
   has_capsules_ = model_.has_capsules();
-  // Each leg's longest and shortest reach from its base: the chain's end is
-  // the base plus its fixed translations, each turned by the joints before
-  // it, so by the triangle inequality its distance lies between the longest
-  // translation less all the others and their sum, whatever the joints do.
-  // Unbounded with a slide (IK solves without the travel, which makes
-  // out-of-limits).
+  // Each leg's reach bounds (reach.h). About the first joint only for a
+  // spatial device: a planar one closes x and y, not z.
   for (const Leg& l : model_.legs) {
-    double sum = 0, longest = 0;
-    bool slides = false;
-    for (const Step& step : l.steps) {
-      const double length = step.kind == Kind::Fixed ? step.transform.translation().norm() : 0.0;
-      sum += length;
-      longest = std::max(longest, length);
-      slides = slides || step.kind == Kind::Prismatic;
-    }
-    leg_reach_.push_back(slides ? Range{0.0, kInf} : Range{std::max(0.0, 2 * longest - sum), sum});
+    leg_reach_.push_back(chain_reach(l));
+    leg_reach_about_first_.push_back(model_.planar ? FirstJointReach{} : first_joint_reach(model_, l));
   }
   // Spread seeds: the chain as written, then joint values spread over a turn.
   for (const Leg& l : model_.legs) {

@@ -218,26 +218,38 @@ void Kinematics::close_end(int leg, const Isometry3d& anchor, LegSolution& s) co
   s.open_end = false;
 }
 
+double Kinematics::reach_outside(int leg, const Isometry3d& anchor) const {
+  const Leg& l = model_.legs[std::size_t(leg)];
+  const double distance = (anchor.translation() - l.base.translation()).norm();
+  const Range& reach = leg_reach_[std::size_t(leg)];
+  return std::max({distance - reach.hi, reach.lo - distance,
+                   leg_reach_about_first_[std::size_t(leg)].outside(anchor.translation())});
+}
+
 void Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int branch, double tolerance,
                               const LegState* extra_seed, LegSolver solver, LegSolution& out, bool close) const {
   const Leg& l = model_.legs[std::size_t(leg)];
-  // Beyond the leg's longest reach (its links end to end), or nearer than
-  // its shortest, no seed can help: the miss is at least the distance
-  // outside that shell, exactly that for a leg that can point its stretched
-  // (or folded) chain at the anchor.
-  const double distance = (anchor.translation() - l.base.translation()).norm();
-  const Range& reach = leg_reach_[std::size_t(leg)];
-  const double outside = std::max(distance - reach.hi, reach.lo - distance);
-  if (outside > 1e-9 * model_.size) {
+  // Outside a bound no seed can help: the miss is at least the distance
+  // outside it (exactly that from the base's shell for a leg that can point
+  // its stretched or folded chain at the anchor; from the first joint's for
+  // a crank and a rod).
+  const auto missed_by = [&](double outside) {
+    if (!(outside > 1e-9 * model_.size)) return false;
     out.state = spread_seeds_[std::size_t(leg)].front();
     out.residual = outside;
     out.status = Status::Unreachable;
     out.iterations = 0;
     out.open_end = false;
-    return;
-  }
+    return true;
+  };
+  const double distance = (anchor.translation() - l.base.translation()).norm();
+  const Range& reach = leg_reach_[std::size_t(leg)];
+  if (missed_by(std::max(distance - reach.hi, reach.lo - distance))) return;
   if (solver == LegSolver::Fastest && closed_[std::size_t(leg)] && solve_leg_closed(leg, anchor, branch, out, close))
     return;
+  // The closed forms decide exactly; before the numerical solver, the
+  // tighter bound about the first joint.
+  if (missed_by(reach_outside(leg, anchor))) return;
   out = solve_leg_numeric(leg, anchor, branch, tolerance, extra_seed);
 }
 
@@ -275,12 +287,16 @@ LegSolution Kinematics::solve_leg_numeric(int leg, const Isometry3d& anchor, int
   // anchor twice on one branch, e.g. a prismatic leg at +d and, its universal
   // joint turned over, at -d; which one a seed finds must not decide the
   // status.)
+  // Where the first joint's travel cannot carry the leg to the anchor
+  // (reach.h), no seed can find one within it.
   std::optional<LegSolution> outside_travel;
+  const bool may_close_within_travel =
+      !(leg_reach_about_first_[std::size_t(leg)].outside_travel(anchor.translation()) > 1e-9 * model_.size);
   int stationary_misses = 0;
   int iterations = 0;
   for (const auto* seeds : {&fast, &fixed}) {
     for (std::size_t i = 0; i < seeds->size(); ++i) {
-      if (outside_travel && seeds == &fixed && i >= 1) break;
+      if (outside_travel && seeds == &fixed && (i >= 1 || !may_close_within_travel)) break;
       // Towards a least-squares minimum only while it gains 0.1 % per step:
       // enough for the verdict and for the miss distance near the boundary,
       // where the residual is small and Gauss-Newton converges fast.
@@ -353,9 +369,26 @@ void Kinematics::inverse_into(const PlatformPose& p, int branch, double toleranc
       default: return 0;
     }
   };
+  // A leg that a reach bound rules out makes the pose unreachable: the legs
+  // the numerical solver would take are then not solved (their misses,
+  // which the reach margin takes the largest of, left out; where the bounds
+  // are exact, as for a crank and a rod, they would close).
+  const auto numeric = [&](std::size_t leg) { return solver == LegSolver::Numeric || !closed_[leg]; };
+  bool ruled_out = false;
+  for (std::size_t leg = 0; leg < model_.legs.size() && !ruled_out; ++leg)
+    ruled_out = numeric(leg) && reach_outside(int(leg), anchor(int(leg), p)) > 1e-9 * model_.size;
   for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
     LegSolution& s = out.legs[leg];
-    solve_leg_on(int(leg), anchor(int(leg), p), branch, tolerance, nullptr, solver, s, close_every_leg);
+    const Isometry3d at = anchor(int(leg), p);
+    if (ruled_out && numeric(leg) && !(reach_outside(int(leg), at) > 1e-9 * model_.size)) {
+      s.state = spread_seeds_[leg].front();
+      s.status = Status::NotConverged;  // not solved
+      s.residual = 0.0;
+      s.iterations = 0;
+      s.open_end = false;
+    } else {
+      solve_leg_on(int(leg), at, branch, tolerance, nullptr, solver, s, close_every_leg);
+    }
     out.iterations += s.iterations;
     out.residual = std::max(out.residual, s.residual);
     const Leg& l = model_.legs[leg];

@@ -23,6 +23,7 @@
 #include "core/interference.h"
 #include "core/mechanisms/described/closed_form.h"
 #include "core/mechanisms/described/model.h"
+#include "core/mechanisms/described/reach.h"
 #include "core/range.h"
 #include "core/status.h"
 
@@ -137,6 +138,8 @@ class Kinematics {
   // distance from its base to its anchor (outside them it cannot close).
   const ClosedFormLeg* closed_form(int leg) const;
   const Range& reach(int leg) const { return leg_reach_[std::size_t(leg)]; }
+  // The bound about its first joint, which the numerical solver takes first.
+  const FirstJointReach& reach_about_first_joint(int leg) const { return leg_reach_about_first_[std::size_t(leg)]; }
   // The rank of the leg's passive joints' twists at home: one less than the
   // closure's rows where the leg transmits one wrench (its closed wrench serves).
   int passive_rank(int leg) const { return passive_rank_[std::size_t(leg)]; }
@@ -186,6 +189,8 @@ class Kinematics {
   // `crawl` (relative) away from a solution.
   LegSolveResult solve_leg(int leg, const Eigen::Isometry3d& anchor, LegState state, int max_iterations,
                            double crawl) const;
+  // How far the anchor lies outside the leg's reach bounds (> 0: it cannot close).
+  double reach_outside(int leg, const Eigen::Isometry3d& anchor) const;
   // Into `out` (its state's storage reused).
   void solve_leg_on(int leg, const Eigen::Isometry3d& anchor, int branch, double tolerance,
                     const LegState* extra_seed, LegSolver solver, LegSolution& out, bool close = true) const;
@@ -208,8 +213,10 @@ class Kinematics {
   // Per leg, per combination of its free rules' signs: the leg at home.
   std::vector<std::vector<std::optional<LegState>>> home_states_;
   std::vector<std::vector<LegState>> spread_seeds_;
-  // Per leg: the shortest (lo) and longest (hi) distance from its base to its end.
+  // Per leg: the shortest (lo) and longest (hi) distance from its base to
+  // its end, and its reach about its first joint (reach.h).
   std::vector<Range> leg_reach_;
+  std::vector<FirstJointReach> leg_reach_about_first_;
   // Per leg: the rank of its passive joints' twists at home (6 less the
   // wrenches the leg transmits: the actuation wrench and any constraint ones).
   std::vector<int> passive_rank_;

@@ -1,0 +1,121 @@
+#include "core/mechanisms/described/reach.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace linkscape::described {
+
+namespace {
+constexpr double kInf = std::numeric_limits<double>::infinity();
+using Kind = Step::Kind;
+}  // namespace
+
+Range chain_reach(const Leg& leg, std::size_t first) {
+  double sum = 0, longest = 0;
+  for (std::size_t i = first; i < leg.steps.size(); ++i) {
+    const Step& step = leg.steps[i];
+    if (step.kind == Kind::Prismatic) return {0.0, kInf};  // IK solves without the travel
+    const double length = step.kind == Kind::Fixed ? step.transform.translation().norm() : 0.0;
+    sum += length;
+    longest = std::max(longest, length);
+  }
+  return {std::max(0.0, 2 * longest - sum), sum};
+}
+
+FirstJointReach first_joint_reach(const Model& model, const Leg& leg) {
+  FirstJointReach r;
+  Eigen::Isometry3d T = leg.base;
+  std::size_t i = 0;
+  while (i < leg.steps.size() && leg.steps[i].kind == Kind::Fixed) T = T * leg.steps[i++].transform;
+  if (i == leg.steps.size()) return r;
+  const Step& joint = leg.steps[i++];
+  // The links between the first joint and the next one, in the joint's frame at zero.
+  Eigen::Isometry3d links = Eigen::Isometry3d::Identity();
+  while (i < leg.steps.size() && leg.steps[i].kind == Kind::Fixed) links = links * leg.steps[i++].transform;
+  const Eigen::Vector3d carried = T.linear() * links.translation();  // P - the joint's point, at zero
+  r.rest = chain_reach(leg, i);
+  if (std::isinf(r.rest.hi)) return r;  // a slide further on: no bound
+  r.centre = T.translation();
+  if (joint.actuator >= 0) {
+    const Actuator& a = model.actuators[std::size_t(joint.actuator)];
+    r.limited = a.limited;
+    r.travel = a.range;
+  }
+  switch (joint.kind) {
+    case Kind::Revolute: {
+      r.motion = FirstJointReach::Motion::Turn;
+      r.axis = T.linear() * joint.axis;
+      r.height = carried.dot(r.axis);
+      r.radius = (carried - r.height * r.axis).norm();
+      if (r.radius > 0) r.radial = (carried - r.height * r.axis) / r.radius;
+      else r.limited = false;  // P on the axis: the travel does not move it
+      break;
+    }
+    case Kind::Spherical:
+      r.motion = FirstJointReach::Motion::Ball;
+      r.radius = carried.norm();
+      r.limited = false;
+      break;
+    case Kind::Prismatic:
+      r.motion = FirstJointReach::Motion::Slide;
+      r.axis = T.linear() * joint.axis;
+      r.centre += carried;
+      break;
+    case Kind::Fixed:
+      break;
+  }
+  return r;
+}
+
+double FirstJointReach::outside_over(const Eigen::Vector3d& p, bool within_travel) const {
+  const Eigen::Vector3d w = p - centre;
+  // The nearest and farthest points of P's path from p: the end is within
+  // [rest.lo, rest.hi] of one of them, so (triangle rule) at least
+  // nearest - rest.hi and rest.lo - farthest from p.
+  double nearest = 0, farthest = kInf;
+  switch (motion) {
+    case Motion::None:
+      return -kInf;
+    case Motion::Turn: {
+      const double along = w.dot(axis), z = along - height;
+      const double rho = (w - along * axis).norm();
+      nearest = std::hypot(z, rho - radius);
+      farthest = std::hypot(z, rho + radius);
+      if (!within_travel || travel.hi - travel.lo >= 2 * M_PI) break;
+      // On an arc the distance from p grows from the angle nearest p to the
+      // one opposite: where the arc misses either, its ends are the extremes.
+      const Eigen::Vector3d side = axis.cross(radial);
+      const auto on_arc = [&](double angle) {
+        return std::remainder(angle - travel.lo - M_PI, 2 * M_PI) + M_PI <= travel.hi - travel.lo;
+      };
+      const auto end = [&](double angle) {
+        const Eigen::Vector3d at = height * axis + radius * (std::cos(angle) * radial + std::sin(angle) * side);
+        return (w - at).norm();
+      };
+      const double towards = std::atan2(w.dot(side), w.dot(radial));
+      const double lo = end(travel.lo), hi = end(travel.hi);
+      if (!on_arc(towards)) nearest = std::min(lo, hi);
+      if (!on_arc(towards + M_PI)) farthest = std::max(lo, hi);
+      break;
+    }
+    case Motion::Ball: {
+      const double n = w.norm();
+      nearest = std::abs(n - radius);
+      farthest = n + radius;
+      break;
+    }
+    case Motion::Slide: {
+      // P = centre + d axis, d over the whole line or the travel.
+      const double along = w.dot(axis);
+      const double d = within_travel ? std::clamp(along, travel.lo, travel.hi) : along;
+      nearest = (w - d * axis).norm();
+      if (within_travel) farthest = std::max((w - travel.lo * axis).norm(), (w - travel.hi * axis).norm());
+      break;
+    }
+  }
+  return std::max(nearest - rest.hi, rest.lo - farthest);
+}
+
+}  // namespace linkscape::described

@@ -1,0 +1,50 @@
+// Bounds on where a leg's end can be, decided before any solver runs: from
+// its base (the triangle rule over its links) and about its first joint
+// (the point that joint carries moves on a circle, a sphere or a line, and
+// the rest of the chain reaches within a shell of that point).
+#pragma once
+
+#include <Eigen/Core>
+
+#include "core/mechanisms/described/model.h"
+#include "core/range.h"
+
+namespace linkscape::described {
+
+// The distance from the end of the steps before `first` to the leg's end:
+// at least the longest link less all the others, at most their sum,
+// whatever the joints do (unbounded with a slide).
+Range chain_reach(const Leg& leg, std::size_t first = 0);
+
+// The leg's end about its first joint: the point P the joint carries (the
+// start of the next joint's links) moves on a circle about a revolute's
+// axis, a sphere about a spherical joint or a line along a slide, and the
+// rest of the chain keeps the end within `rest` of P.
+struct FirstJointReach {
+  enum class Motion { None, Turn, Ball, Slide };
+  Motion motion = Motion::None;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // the joint's point (Slide: a point of P's line)
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();   // Turn, Slide: unit
+  double radius = 0;  // Turn: the circle's; Ball: the sphere's
+  double height = 0;  // Turn: the circle's plane along the axis from `centre`
+  Range rest;
+  // Where the first joint is a limited actuator: its travel (radians or the
+  // length unit) and, for a turn, P's direction from the axis at zero (unit).
+  bool limited = false;
+  Range travel;
+  Eigen::Vector3d radial = Eigen::Vector3d::UnitX();
+  // How far the end at p is outside the bound (> 0: the leg cannot reach p
+  // and misses it by at least that much); -inf with no bound.
+  double outside(const Eigen::Vector3d& p) const { return outside_over(p, false); }
+  // The same with the first joint kept within its travel (> 0: the leg
+  // reaches p, if at all, only with its actuator outside its travel).
+  double outside_travel(const Eigen::Vector3d& p) const { return outside_over(p, limited); }
+
+ private:
+  double outside_over(const Eigen::Vector3d& p, bool within_travel) const;
+};
+
+// Motion None for a leg without joints or one that ends in a slide's reach.
+FirstJointReach first_joint_reach(const Model& model, const Leg& leg);
+
+}  // namespace linkscape::described
