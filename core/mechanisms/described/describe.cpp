@@ -36,6 +36,28 @@ std::string limit_text(const JointLimit& l) {
   return s.str();
 }
 
+// The bound about the leg's first joint (reach.h), e.g. "within 17 .. 17 cm
+// of a circle of radius 8 cm round q1's axis (over its travel: an arc)".
+std::string first_joint_text(const Leg& l, const FirstJointReach& r, const std::string& unit) {
+  using Motion = FirstJointReach::Motion;
+  if (r.motion == Motion::None) return "";
+  std::string joint;
+  for (const Step& step : l.steps)
+    if (step.kind != Step::Kind::Fixed) {
+      joint = step.name;
+      break;
+    }
+  std::ostringstream s;
+  s << "within ";
+  if (r.motion == Motion::Slide) s << r.rest.hi << " " << unit << " of the line along " << joint;
+  else s << r.rest.lo << " .. " << r.rest.hi << " " << unit << " of ";
+  if (r.motion == Motion::Turn && r.radius > 0) s << "a circle of radius " << r.radius << " " << unit << " round " << joint << "'s axis";
+  if (r.motion == Motion::Turn && r.radius == 0) s << "a point on " << joint << "'s axis";
+  if (r.motion == Motion::Ball) s << "a sphere of radius " << r.radius << " " << unit << " round " << joint;
+  if (r.limited) s << " (of " << (r.motion == Motion::Turn ? "an arc" : "a segment") << ", within its travel)";
+  return s.str();
+}
+
 }  // namespace
 
 std::string describe(const Preset& preset) {
@@ -74,6 +96,8 @@ std::string describe(const Preset& preset) {
     if (std::isinf(reach.hi)) s << "unbounded";
     else s << reach.hi;
     s << " " << unit << " from its base to its anchor\n";
+    const std::string about = first_joint_text(l, k.reach_about_first_joint(int(leg)), unit);
+    if (!about.empty()) s << "    reach about its first joint: " << about << "\n";
     for (const JointLimit& j : l.limits) s << "    limit: " << limit_text(j) << "\n";
     for (const LinkCapsule& c : l.capsules)
       s << "    link: " << c.name << ", radius " << c.radius << " " << unit << ", length " << (c.b - c.a).norm() << " "

@@ -242,14 +242,14 @@ void Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int branch, dou
     out.open_end = false;
     return true;
   };
+  // A closed form decides exactly: before it, only the shell about the base
+  // (as the SIMD lanes take it); before the numerical solver, every bound.
+  const bool closed = solver == LegSolver::Fastest && closed_[std::size_t(leg)];
   const double distance = (anchor.translation() - l.base.translation()).norm();
   const Range& reach = leg_reach_[std::size_t(leg)];
-  if (missed_by(std::max(distance - reach.hi, reach.lo - distance))) return;
-  if (solver == LegSolver::Fastest && closed_[std::size_t(leg)] && solve_leg_closed(leg, anchor, branch, out, close))
-    return;
-  // The closed forms decide exactly; before the numerical solver, the
-  // tighter bound about the first joint.
-  if (missed_by(reach_outside(leg, anchor))) return;
+  if (missed_by(closed ? std::max(distance - reach.hi, reach.lo - distance) : reach_outside(leg, anchor))) return;
+  if (closed && solve_leg_closed(leg, anchor, branch, out, close)) return;
+  if (closed && missed_by(reach_outside(leg, anchor))) return;
   out = solve_leg_numeric(leg, anchor, branch, tolerance, extra_seed);
 }
 
@@ -311,7 +311,9 @@ LegSolution Kinematics::solve_leg_numeric(int leg, const Isometry3d& anchor, int
           solved.residual = residual;
           solved.iterations = iterations;
           if (!within_travel(leg, solved.state)) {
-            if (!outside_travel) outside_travel = std::move(solved);
+            // The first fixed seed's over a fast seed's: which solution the
+            // thread's last one leads to must not decide the margin.
+            if (!outside_travel || seeds == &fixed) outside_travel = std::move(solved);
             continue;
           }
           tls.legs[std::size_t(leg)][std::size_t(combo)] = solved.state;

@@ -18,6 +18,7 @@
 
 #include "core/mechanisms/described/kinematics.h"
 #include "core/preset.h"
+#include "tests/core/mechanisms/described/designs.h"
 #include "tests/core/mechanisms/described/without_stops.h"
 
 namespace linkscape::described {
@@ -25,6 +26,7 @@ namespace {
 
 using Eigen::MatrixXd;
 using Eigen::VectorXd;
+using testing_support::random_designs;
 
 Kinematics load(const std::string& name) {
   const Preset p = load_preset(name);
@@ -194,26 +196,6 @@ TEST(DescribedClosedForm, AMirroredCrankParallelogramAgreesWithTheNumericalSolve
   const Kinematics k(build_model(d.dump(), p.parameters, p.limits_deg, p.length_unit));
   EXPECT_EQ(patterns(k), std::vector<std::string>(3, "crank-parallelogram"));
   EXPECT_GT(compare(k, "mirrored falcon", 4000).ok, 400);
-}
-
-// Random designs: every panel parameter drawn within its slider span; a
-// design that does not assemble at home (or changes its mobility) is skipped.
-std::vector<Kinematics> random_designs(const std::string& name, int count, std::mt19937_64& rng) {
-  const Preset p = load_preset(name);
-  const Model base = build_model(p.description, p.parameters, p.limits_deg, p.length_unit);
-  std::vector<Kinematics> out;
-  for (int tries = 0; int(out.size()) < count && tries < 20 * count; ++tries) {
-    std::map<std::string, double> params = p.parameters;
-    for (const auto& [param, info] : base.parameter_info)
-      if (info.in_panel && info.range.hi > info.range.lo)
-        params[param] = std::uniform_real_distribution<double>(info.range.lo, info.range.hi)(rng);
-    try {
-      out.emplace_back(build_model(p.description, params, p.limits_deg, p.length_unit));
-    } catch (const std::invalid_argument&) {
-    }
-  }
-  EXPECT_EQ(int(out.size()), count) << name;
-  return out;
 }
 
 TEST(DescribedClosedForm, RandomDesignsAgreeWithTheNumericalSolver) {

@@ -1,0 +1,49 @@
+// The shipped described presets and random designs of them, for tests that
+// run over every description.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <map>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "core/mechanisms/described/kinematics.h"
+#include "core/preset.h"
+
+namespace linkscape::testing_support {
+
+inline const std::vector<std::string>& shipped_descriptions() {
+  static const std::vector<std::string> names{"delta-described", "pathos2-described", "five-bar",
+                                              "stewart",         "three-rrr",         "linear-delta",
+                                              "hexapod-rus",     "haply-2diy",        "falcon"};
+  return names;
+}
+
+inline described::Kinematics load_described(const std::string& name) {
+  const Preset p = load_preset(name);
+  return described::Kinematics(described::build_model(p.description, p.parameters, p.limits_deg, p.length_unit));
+}
+
+// Random designs: every panel parameter drawn within its slider span; a
+// design that does not assemble at home (or changes its mobility) is skipped.
+inline std::vector<described::Kinematics> random_designs(const std::string& name, int count, std::mt19937_64& rng) {
+  const Preset p = load_preset(name);
+  const described::Model base = described::build_model(p.description, p.parameters, p.limits_deg, p.length_unit);
+  std::vector<described::Kinematics> out;
+  for (int tries = 0; int(out.size()) < count && tries < 20 * count; ++tries) {
+    std::map<std::string, double> params = p.parameters;
+    for (const auto& [param, info] : base.parameter_info)
+      if (info.in_panel && info.range.hi > info.range.lo)
+        params[param] = std::uniform_real_distribution<double>(info.range.lo, info.range.hi)(rng);
+    try {
+      out.emplace_back(described::build_model(p.description, params, p.limits_deg, p.length_unit));
+    } catch (const std::invalid_argument&) {
+    }
+  }
+  EXPECT_EQ(int(out.size()), count) << name;
+  return out;
+}
+
+}  // namespace linkscape::testing_support

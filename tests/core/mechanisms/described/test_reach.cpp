@@ -1,0 +1,204 @@
+// The reach bounds (reach.h): sound (a chain at any joint values, and an
+// anchor the closed form reaches, lie within them; within the first joint's
+// travel too), exact for a crank and a rod, and what the numerical solver
+// leaves out because of them.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "core/mechanisms/described/chain.h"
+#include "core/mechanisms/described/closed_form.h"
+#include "core/mechanisms/described/kinematics.h"
+#include "tests/core/mechanisms/described/designs.h"
+
+namespace linkscape::described {
+namespace {
+
+using Eigen::Isometry3d;
+using Eigen::Vector3d;
+using testing_support::load_described;
+using testing_support::random_designs;
+using testing_support::shipped_descriptions;
+
+// The shipped description and four random designs of it.
+std::vector<Kinematics> designs_of(const std::string& name, std::mt19937_64& rng) {
+  std::vector<Kinematics> out = random_designs(name, 4, rng);
+  out.push_back(load_described(name));
+  return out;
+}
+
+// The variable of the leg's first joint (-1: none).
+int first_variable(const Leg& l) {
+  for (const Step& s : l.steps)
+    if (s.kind != Step::Kind::Fixed) return s.variable;
+  return -1;
+}
+
+bool within(const Range& travel, double angle, bool turn) {
+  if (!turn) return travel.contains(angle);
+  const double t = std::remainder(angle - travel.lo - M_PI, 2 * M_PI) + M_PI;
+  return t <= travel.hi - travel.lo;
+}
+
+TEST(DescribedReach, ChainsAtRandomJointValuesLieWithinTheirBounds) {
+  std::mt19937_64 rng(21);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  int bounded = 0, in_travel = 0;
+  for (const std::string& name : shipped_descriptions())
+    for (const Kinematics& k : designs_of(name, rng)) {
+      const Model& m = k.model();
+      const double tolerance = 1e-9 * m.size;
+      for (std::size_t leg = 0; leg < m.legs.size(); ++leg) {
+        const Leg& l = m.legs[leg];
+        const FirstJointReach& about = k.reach_about_first_joint(int(leg));
+        bounded += about.motion != FirstJointReach::Motion::None;
+        for (int i = 0; i < 3000; ++i) {
+          LegState s;
+          s.values.resize(l.variables);
+          for (int v = 0; v < l.variables; ++v) s.values(v) = 4 * unit(rng) * (v % 2 ? 1.0 : m.size / 4);
+          for (int b = 0; b < l.spheres; ++b)
+            s.spheres.push_back(internal::rotation_of(Vector3d(unit(rng), unit(rng), unit(rng)) * 2.0));
+          // Every other state with the first joint within its travel.
+          const int first = first_variable(l);
+          if (about.limited && i % 2 == 0)
+            s.values(first) = about.travel.lo + 0.5 * (1 + unit(rng)) * (about.travel.hi - about.travel.lo);
+          const Vector3d end = internal::walk(l, s).end.translation();
+          const double distance = (end - l.base.translation()).norm();
+          EXPECT_LE(distance, k.reach(int(leg)).hi + tolerance) << name << " leg " << l.name;
+          EXPECT_GE(distance, k.reach(int(leg)).lo - tolerance) << name << " leg " << l.name;
+          EXPECT_LE(about.outside(end), tolerance) << name << " leg " << l.name;
+          const bool turn = about.motion == FirstJointReach::Motion::Turn;
+          if (about.limited && within(about.travel, s.values(first), turn)) {
+            ++in_travel;
+            EXPECT_LE(about.outside_travel(end), tolerance) << name << " leg " << l.name;
+          }
+        }
+      }
+    }
+  std::printf("first-joint bounds on %d legs; %d states within the first joint's travel\n", bounded, in_travel);
+  EXPECT_GT(bounded, 100);
+  EXPECT_GT(in_travel, 100000);
+}
+
+// Anchors round each leg's base: where a bound refuses one, the closed form
+// (exact) finds no solution, or none within the first joint's travel, and
+// misses by at least as much as the bound says.
+TEST(DescribedReach, BoundsNeverRefuseAnAnchorTheClosedFormReaches) {
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  int refused = 0, refused_in_travel = 0;
+  for (const std::string& name : shipped_descriptions())
+    for (const Kinematics& k : designs_of(name, rng)) {
+      const Model& m = k.model();
+      for (std::size_t leg = 0; leg < m.legs.size(); ++leg) {
+        const Leg& l = m.legs[leg];
+        const FirstJointReach& about = k.reach_about_first_joint(int(leg));
+        const int first = first_variable(l);
+        for (int i = 0; i < 2000; ++i) {
+          Isometry3d anchor = Isometry3d::Identity();
+          anchor.translation() = l.base.translation() + 1.5 * m.size * Vector3d(unit(rng), unit(rng), unit(rng));
+          anchor.linear() = l.anchor.linear();  // the platform unturned
+          const double outside = about.outside(anchor.translation());
+          const double outside_travel = about.outside_travel(anchor.translation());
+          if (!(outside_travel > 1e-9 * m.size)) continue;
+          LegCandidates c;
+          solve_closed(*k.closed_form(int(leg)), m, l, anchor, c);
+          if (c.undecided) continue;
+          if (outside > 1e-9 * m.size) {
+            ++refused;
+            EXPECT_EQ(c.count, 0) << name << " leg " << l.name;
+            EXPECT_GE(c.miss, outside - 1e-12 * m.size) << name << " leg " << l.name;
+          } else {
+            ++refused_in_travel;
+            for (int j = 0; j < c.count; ++j)
+              EXPECT_FALSE(within(about.travel, c.states[std::size_t(j)].values(first),
+                                  about.motion == FirstJointReach::Motion::Turn))
+                  << name << " leg " << l.name;
+          }
+        }
+      }
+    }
+  std::printf("first-joint bounds: %d anchors refused, %d refused within the travel, each confirmed\n", refused,
+              refused_in_travel);
+  EXPECT_GT(refused, 50000);
+  EXPECT_GT(refused_in_travel, 5000);
+}
+
+// A crank and a rod reach exactly the shell round the crank's circle: the
+// bound is the closed form's miss.
+TEST(DescribedReach, ACrankAndARodAreBoundExactly) {
+  std::mt19937_64 rng(25);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  int compared = 0;
+  for (const char* name : {"delta-described", "hexapod-rus"})
+    for (const Kinematics& k : designs_of(name, rng)) {
+      const Model& m = k.model();
+      for (std::size_t leg = 0; leg < m.legs.size(); ++leg) {
+        const Leg& l = m.legs[leg];
+        ASSERT_EQ(k.reach_about_first_joint(int(leg)).motion, FirstJointReach::Motion::Turn) << name;
+        for (int i = 0; i < 2000; ++i) {
+          Isometry3d anchor = Isometry3d::Identity();
+          anchor.translation() = l.base.translation() + 1.5 * m.size * Vector3d(unit(rng), unit(rng), unit(rng));
+          anchor.linear() = l.anchor.linear();
+          LegCandidates c;
+          solve_closed(*k.closed_form(int(leg)), m, l, anchor, c);
+          const double outside = k.reach_about_first_joint(int(leg)).outside(anchor.translation());
+          if (c.undecided) continue;
+          if (c.count == 0) {
+            ++compared;
+            EXPECT_NEAR(outside, c.miss, 1e-9 * m.size) << name << " leg " << l.name;
+          } else {
+            EXPECT_LE(outside, 1e-9 * m.size) << name << " leg " << l.name;
+          }
+        }
+      }
+    }
+  EXPECT_GT(compared, 20000);
+}
+
+// The numerical solver: a pose a bound rules out costs no iteration, its
+// status is the closed forms' and, where the legs' bounds are exact (cranks
+// and rods, three-revolute legs), its miss is the largest of the legs'
+// exact misses (a leg within its bound closes there).
+TEST(DescribedReach, TheNumericalSolverDoesNotSolveWhatTheBoundsRuleOut) {
+  std::mt19937_64 rng(27);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  for (const char* name : {"delta-described", "hexapod-rus", "pathos2-described", "falcon"}) {
+    const Kinematics k = load_described(name);
+    const Model& m = k.model();
+    const bool exact = std::string(name) != "falcon";
+    int ruled_out = 0;
+    for (int i = 0; i < 3000; ++i) {
+      Eigen::VectorXd x = m.home;
+      for (int c = 0; c < 3; ++c) x(c) += 0.8 * m.size * unit(rng);
+      const PlatformPose p = k.pose(x);
+      PoseSolution numeric, closed;
+      k.inverse_into(p, 0, 1e-10, LegSolver::Numeric, numeric);
+      k.inverse_into(p, 0, 1e-10, LegSolver::Fastest, closed);
+      // Off the design's branch the closed form decides (unreachable), the
+      // numerical solver cannot (not-converged).
+      if (!(closed.status == Status::Unreachable && numeric.status == Status::NotConverged))
+        ASSERT_EQ(numeric.status, closed.status) << name << " at " << x.transpose();
+      if (numeric.status != Status::Unreachable || numeric.iterations > 0) continue;
+      ++ruled_out;
+      double miss = 0;
+      for (std::size_t leg = 0; leg < m.legs.size(); ++leg) {
+        LegCandidates c;
+        solve_closed(*k.closed_form(int(leg)), m, m.legs[leg], k.anchor(int(leg), p), c);
+        if (c.count == 0) miss = std::max(miss, c.miss);
+      }
+      if (exact) EXPECT_NEAR(numeric.residual, miss, 1e-9 * m.size) << name << " at " << x.transpose();
+      else EXPECT_LE(numeric.residual, miss + 1e-9 * m.size) << name << " at " << x.transpose();
+    }
+    std::printf("%s: %d of 3000 poses ruled out without iterating\n", name, ruled_out);
+    EXPECT_GT(ruled_out, 1000) << name;
+  }
+}
+
+}  // namespace
+}  // namespace linkscape::described
