@@ -182,8 +182,9 @@ TEST(DescribedReach, TheNumericalSolverDoesNotSolveWhatTheBoundsRuleOut) {
       k.inverse_into(p, 0, 1e-10, LegSolver::Fastest, closed);
       // Off the design's branch the closed form decides (unreachable), the
       // numerical solver cannot (not-converged).
-      if (!(closed.status == Status::Unreachable && numeric.status == Status::NotConverged))
+      if (!(closed.status == Status::Unreachable && numeric.status == Status::NotConverged)) {
         ASSERT_EQ(numeric.status, closed.status) << name << " at " << x.transpose();
+      }
       if (numeric.status != Status::Unreachable || numeric.iterations > 0) continue;
       ++ruled_out;
       double miss = 0;
