@@ -218,17 +218,17 @@ void Kinematics::close_end(int leg, const Isometry3d& anchor, LegSolution& s) co
   s.open_end = false;
 }
 
-double Kinematics::reach_outside(int leg, const Isometry3d& anchor) const {
+double Kinematics::reach_outside(int leg, const Isometry3d& anchor, bool about_first_joint) const {
   const Leg& l = model_.legs[std::size_t(leg)];
   const double distance = (anchor.translation() - l.base.translation()).norm();
   const Range& reach = leg_reach_[std::size_t(leg)];
-  return std::max({distance - reach.hi, reach.lo - distance,
-                   leg_reach_about_first_[std::size_t(leg)].outside(anchor.translation())});
+  const double from_base = std::max(distance - reach.hi, reach.lo - distance);
+  if (!about_first_joint) return from_base;
+  return std::max(from_base, leg_reach_about_first_[std::size_t(leg)].outside(anchor.translation()));
 }
 
 void Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int branch, double tolerance,
                               const LegState* extra_seed, LegSolver solver, LegSolution& out, bool close) const {
-  const Leg& l = model_.legs[std::size_t(leg)];
   // Outside a bound no seed can help: the miss is at least the distance
   // outside it (exactly that from the base's shell for a leg that can point
   // its stretched or folded chain at the anchor; from the first joint's for
@@ -245,9 +245,7 @@ void Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int branch, dou
   // A closed form decides exactly: before it, only the shell about the base
   // (as the SIMD lanes take it); before the numerical solver, every bound.
   const bool closed = solver == LegSolver::Fastest && closed_[std::size_t(leg)];
-  const double distance = (anchor.translation() - l.base.translation()).norm();
-  const Range& reach = leg_reach_[std::size_t(leg)];
-  if (missed_by(closed ? std::max(distance - reach.hi, reach.lo - distance) : reach_outside(leg, anchor))) return;
+  if (missed_by(reach_outside(leg, anchor, !closed))) return;
   if (closed && solve_leg_closed(leg, anchor, branch, out, close)) return;
   if (closed && missed_by(reach_outside(leg, anchor))) return;
   out = solve_leg_numeric(leg, anchor, branch, tolerance, extra_seed);

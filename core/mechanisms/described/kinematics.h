@@ -189,8 +189,9 @@ class Kinematics {
   // `crawl` (relative) away from a solution.
   LegSolveResult solve_leg(int leg, const Eigen::Isometry3d& anchor, LegState state, int max_iterations,
                            double crawl) const;
-  // How far the anchor lies outside the leg's reach bounds (> 0: it cannot close).
-  double reach_outside(int leg, const Eigen::Isometry3d& anchor) const;
+  // How far the anchor lies outside the leg's reach bounds (> 0: it cannot
+  // close): from its base, and about its first joint unless told not to.
+  double reach_outside(int leg, const Eigen::Isometry3d& anchor, bool about_first_joint = true) const;
   // Into `out` (its state's storage reused).
   void solve_leg_on(int leg, const Eigen::Isometry3d& anchor, int branch, double tolerance,
                     const LegState* extra_seed, LegSolver solver, LegSolution& out, bool close = true) const;
