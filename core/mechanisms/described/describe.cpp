@@ -37,7 +37,7 @@ std::string limit_text(const JointLimit& l) {
 }
 
 // The bound about the leg's first joint (reach.h), e.g. "within 17 .. 17 cm
-// of a circle of radius 8 cm round q1's axis (over its travel: an arc)".
+// of a circle of radius 8 cm round q1's axis".
 std::string first_joint_text(const Leg& l, const FirstJointReach& r, const std::string& unit) {
   using Motion = FirstJointReach::Motion;
   if (r.motion == Motion::None) return "";
@@ -54,7 +54,6 @@ std::string first_joint_text(const Leg& l, const FirstJointReach& r, const std::
   if (r.motion == Motion::Turn && r.radius > 0) s << "a circle of radius " << r.radius << " " << unit << " round " << joint << "'s axis";
   if (r.motion == Motion::Turn && r.radius == 0) s << "a point on " << joint << "'s axis";
   if (r.motion == Motion::Ball) s << "a sphere of radius " << r.radius << " " << unit << " round " << joint;
-  if (r.limited) s << " (of " << (r.motion == Motion::Turn ? "an arc" : "a segment") << ", within its travel)";
   return s.str();
 }
 

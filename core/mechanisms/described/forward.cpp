@@ -201,7 +201,7 @@ Kinematics::Kinematics(Model model) : model_(std::move(model)), id_(next_id++) {
   // spatial device: a planar one closes x and y, not z.
   for (const Leg& l : model_.legs) {
     leg_reach_.push_back(chain_reach(l));
-    leg_reach_about_first_.push_back(model_.planar ? FirstJointReach{} : first_joint_reach(model_, l));
+    leg_reach_about_first_.push_back(model_.planar ? FirstJointReach{} : first_joint_reach(l));
   }
   // Spread seeds: the chain as written, then joint values spread over a turn.
   for (const Leg& l : model_.legs) {

@@ -232,9 +232,10 @@ void Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int branch, dou
   // Outside a bound no seed can help: the miss is at least the distance
   // outside it (exactly that from the base's shell for a leg that can point
   // its stretched or folded chain at the anchor; from the first joint's for
-  // a crank and a rod).
-  const auto missed_by = [&](double outside) {
-    if (!(outside > 1e-9 * model_.size)) return false;
+  // a crank and a rod). Before the numerical solver, only beyond its
+  // tolerance (within it, it accepts).
+  const auto missed_by = [&](double outside, double cut) {
+    if (!(outside > cut)) return false;
     out.state = spread_seeds_[std::size_t(leg)].front();
     out.residual = outside;
     out.status = Status::Unreachable;
@@ -245,9 +246,10 @@ void Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int branch, dou
   // A closed form decides exactly: before it, only the shell about the base
   // (as the SIMD lanes take it); before the numerical solver, every bound.
   const bool closed = solver == LegSolver::Fastest && closed_[std::size_t(leg)];
-  if (missed_by(reach_outside(leg, anchor, !closed))) return;
+  const double numeric_cut = refusal_cut(tolerance);
+  if (missed_by(reach_outside(leg, anchor, !closed), closed ? 1e-9 * model_.size : numeric_cut)) return;
   if (closed && solve_leg_closed(leg, anchor, branch, out, close)) return;
-  if (closed && missed_by(reach_outside(leg, anchor))) return;
+  if (closed && missed_by(reach_outside(leg, anchor), numeric_cut)) return;
   out = solve_leg_numeric(leg, anchor, branch, tolerance, extra_seed);
 }
 
@@ -280,21 +282,18 @@ LegSolution Kinematics::solve_leg_numeric(int leg, const Isometry3d& anchor, int
 
   bool found_other_branch = false;
   // A solution on the branch whose actuator is outside its travel: the answer
-  // only if the first fixed seed (the leg at home on the branch) does not
-  // lead to one within it. (A leg may close the same
+  // only if the first fixed seed that closes the leg on the branch does not
+  // find one within it, and then that seed's. (A leg may close the same
   // anchor twice on one branch, e.g. a prismatic leg at +d and, its universal
   // joint turned over, at -d; which one a seed finds must not decide the
-  // status.)
-  // Where the first joint's travel cannot carry the leg to the anchor
-  // (reach.h), no seed can find one within it.
+  // status or the answer.)
   std::optional<LegSolution> outside_travel;
-  const bool may_close_within_travel =
-      !(leg_reach_about_first_[std::size_t(leg)].outside_travel(anchor.translation()) > 1e-9 * model_.size);
+  bool outside_from_fixed = false;
   int stationary_misses = 0;
   int iterations = 0;
   for (const auto* seeds : {&fast, &fixed}) {
     for (std::size_t i = 0; i < seeds->size(); ++i) {
-      if (outside_travel && seeds == &fixed && (i >= 1 || !may_close_within_travel)) break;
+      if (outside_from_fixed && seeds == &fixed) break;
       // Towards a least-squares minimum only while it gains 0.1 % per step:
       // enough for the verdict and for the miss distance near the boundary,
       // where the residual is small and Gauss-Newton converges fast.
@@ -309,9 +308,10 @@ LegSolution Kinematics::solve_leg_numeric(int leg, const Isometry3d& anchor, int
           solved.residual = residual;
           solved.iterations = iterations;
           if (!within_travel(leg, solved.state)) {
-            // The first fixed seed's over a fast seed's: which solution the
-            // thread's last one leads to must not decide the margin.
-            if (!outside_travel || seeds == &fixed) outside_travel = std::move(solved);
+            // A fixed seed's over a fast seed's: which solution the thread's
+            // last one leads to must not decide the margin.
+            if (!outside_travel || (seeds == &fixed && !outside_from_fixed)) outside_travel = std::move(solved);
+            outside_from_fixed = outside_from_fixed || seeds == &fixed;
             continue;
           }
           tls.legs[std::size_t(leg)][std::size_t(combo)] = solved.state;
@@ -374,13 +374,14 @@ void Kinematics::inverse_into(const PlatformPose& p, int branch, double toleranc
   // which the reach margin takes the largest of, left out; where the bounds
   // are exact, as for a crank and a rod, they would close).
   const auto numeric = [&](std::size_t leg) { return solver == LegSolver::Numeric || !closed_[leg]; };
+  const double cut = refusal_cut(tolerance);
   bool ruled_out = false;
   for (std::size_t leg = 0; leg < model_.legs.size() && !ruled_out; ++leg)
-    ruled_out = numeric(leg) && reach_outside(int(leg), anchor(int(leg), p)) > 1e-9 * model_.size;
+    ruled_out = numeric(leg) && reach_outside(int(leg), anchor(int(leg), p)) > cut;
   for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
     LegSolution& s = out.legs[leg];
     const Isometry3d at = anchor(int(leg), p);
-    if (ruled_out && numeric(leg) && !(reach_outside(int(leg), at) > 1e-9 * model_.size)) {
+    if (ruled_out && numeric(leg) && !(reach_outside(int(leg), at) > cut)) {
       s.state = spread_seeds_[leg].front();
       s.status = Status::NotConverged;  // not solved
       s.residual = 0.0;

@@ -13,6 +13,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <limits>
@@ -192,6 +193,9 @@ class Kinematics {
   // How far the anchor lies outside the leg's reach bounds (> 0: it cannot
   // close): from its base, and about its first joint unless told not to.
   double reach_outside(int leg, const Eigen::Isometry3d& anchor, bool about_first_joint = true) const;
+  // Beyond how far outside a bound the numerical solver's legs are refused:
+  // its tolerance (at least 1e-9), times the size.
+  double refusal_cut(double tolerance) const { return std::max(1e-9, tolerance) * model_.size; }
   // Into `out` (its state's storage reused).
   void solve_leg_on(int leg, const Eigen::Isometry3d& anchor, int branch, double tolerance,
                     const LegState* extra_seed, LegSolver solver, LegSolution& out, bool close = true) const;

@@ -24,7 +24,7 @@ Range chain_reach(const Leg& leg, std::size_t first) {
   return {std::max(0.0, 2 * longest - sum), sum};
 }
 
-FirstJointReach first_joint_reach(const Model& model, const Leg& leg) {
+FirstJointReach first_joint_reach(const Leg& leg) {
   FirstJointReach r;
   Eigen::Isometry3d T = leg.base;
   std::size_t i = 0;
@@ -38,25 +38,17 @@ FirstJointReach first_joint_reach(const Model& model, const Leg& leg) {
   r.rest = chain_reach(leg, i);
   if (std::isinf(r.rest.hi)) return r;  // a slide further on: no bound
   r.centre = T.translation();
-  if (joint.actuator >= 0) {
-    const Actuator& a = model.actuators[std::size_t(joint.actuator)];
-    r.limited = a.limited;
-    r.travel = a.range;
-  }
   switch (joint.kind) {
     case Kind::Revolute: {
       r.motion = FirstJointReach::Motion::Turn;
       r.axis = T.linear() * joint.axis;
       r.height = carried.dot(r.axis);
       r.radius = (carried - r.height * r.axis).norm();
-      if (r.radius > 0) r.radial = (carried - r.height * r.axis) / r.radius;
-      else r.limited = false;  // P on the axis: the travel does not move it
       break;
     }
     case Kind::Spherical:
       r.motion = FirstJointReach::Motion::Ball;
       r.radius = carried.norm();
-      r.limited = false;
       break;
     case Kind::Prismatic:
       r.motion = FirstJointReach::Motion::Slide;
@@ -69,7 +61,7 @@ FirstJointReach first_joint_reach(const Model& model, const Leg& leg) {
   return r;
 }
 
-double FirstJointReach::outside_over(const Eigen::Vector3d& p, bool within_travel) const {
+double FirstJointReach::outside(const Eigen::Vector3d& p) const {
   const Eigen::Vector3d w = p - centre;
   // The nearest and farthest points of P's path from p: the end is within
   // [rest.lo, rest.hi] of one of them, so (triangle rule) at least
@@ -83,21 +75,6 @@ double FirstJointReach::outside_over(const Eigen::Vector3d& p, bool within_trave
       const double rho = (w - along * axis).norm();
       nearest = std::hypot(z, rho - radius);
       farthest = std::hypot(z, rho + radius);
-      if (!within_travel || travel.hi - travel.lo >= 2 * M_PI) break;
-      // On an arc the distance from p grows from the angle nearest p to the
-      // one opposite: where the arc misses either, its ends are the extremes.
-      const Eigen::Vector3d side = axis.cross(radial);
-      const auto on_arc = [&](double angle) {
-        return std::remainder(angle - travel.lo - M_PI, 2 * M_PI) + M_PI <= travel.hi - travel.lo;
-      };
-      const auto end = [&](double angle) {
-        const Eigen::Vector3d at = height * axis + radius * (std::cos(angle) * radial + std::sin(angle) * side);
-        return (w - at).norm();
-      };
-      const double towards = std::atan2(w.dot(side), w.dot(radial));
-      const double lo = end(travel.lo), hi = end(travel.hi);
-      if (!on_arc(towards)) nearest = std::min(lo, hi);
-      if (!on_arc(towards + M_PI)) farthest = std::max(lo, hi);
       break;
     }
     case Motion::Ball: {
@@ -106,14 +83,9 @@ double FirstJointReach::outside_over(const Eigen::Vector3d& p, bool within_trave
       farthest = n + radius;
       break;
     }
-    case Motion::Slide: {
-      // P = centre + d axis, d over the whole line or the travel.
-      const double along = w.dot(axis);
-      const double d = within_travel ? std::clamp(along, travel.lo, travel.hi) : along;
-      nearest = (w - d * axis).norm();
-      if (within_travel) farthest = std::max((w - travel.lo * axis).norm(), (w - travel.hi * axis).norm());
+    case Motion::Slide:
+      nearest = (w - w.dot(axis) * axis).norm();
       break;
-    }
   }
   return std::max(nearest - rest.hi, rest.lo - farthest);
 }

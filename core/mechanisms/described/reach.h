@@ -28,23 +28,12 @@ struct FirstJointReach {
   double radius = 0;  // Turn: the circle's; Ball: the sphere's
   double height = 0;  // Turn: the circle's plane along the axis from `centre`
   Range rest;
-  // Where the first joint is a limited actuator: its travel (radians or the
-  // length unit) and, for a turn, P's direction from the axis at zero (unit).
-  bool limited = false;
-  Range travel;
-  Eigen::Vector3d radial = Eigen::Vector3d::UnitX();
   // How far the end at p is outside the bound (> 0: the leg cannot reach p
   // and misses it by at least that much); -inf with no bound.
-  double outside(const Eigen::Vector3d& p) const { return outside_over(p, false); }
-  // The same with the first joint kept within its travel (> 0: the leg
-  // reaches p, if at all, only with its actuator outside its travel).
-  double outside_travel(const Eigen::Vector3d& p) const { return outside_over(p, limited); }
-
- private:
-  double outside_over(const Eigen::Vector3d& p, bool within_travel) const;
+  double outside(const Eigen::Vector3d& p) const;
 };
 
-// Motion None for a leg without joints or one that ends in a slide's reach.
-FirstJointReach first_joint_reach(const Model& model, const Leg& leg);
+// Motion None for a leg without joints or with a slide after its first joint.
+FirstJointReach first_joint_reach(const Leg& leg);
 
 }  // namespace linkscape::described
