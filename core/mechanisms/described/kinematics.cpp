@@ -195,9 +195,7 @@ bool Kinematics::solve_leg_closed(int leg, const Isometry3d& anchor, int branch,
   out.iterations = 0;
   out.open_end = false;
   if (candidates.count == 0) {
-    out.state = spread_seeds_[std::size_t(leg)].front();
-    out.residual = candidates.miss;
-    out.status = Status::Unreachable;
+    leave_unsolved(leg, Status::Unreachable, candidates.miss, out);
     return true;
   }
   // Closing only on another branch, the leg does not reach the anchor on
@@ -210,6 +208,14 @@ bool Kinematics::solve_leg_closed(int leg, const Isometry3d& anchor, int branch,
   out.end_frame = candidates.end_frames[std::size_t(kept)];
   if (close) close_end(leg, anchor, out);
   return true;
+}
+
+void Kinematics::leave_unsolved(int leg, Status status, double residual, LegSolution& out) const {
+  out.state = spread_seeds_[std::size_t(leg)].front();
+  out.status = status;
+  out.residual = residual;
+  out.iterations = 0;
+  out.open_end = false;
 }
 
 void Kinematics::close_end(int leg, const Isometry3d& anchor, LegSolution& s) const {
@@ -236,11 +242,7 @@ void Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int branch, dou
   // tolerance (within it, it accepts).
   const auto missed_by = [&](double outside, double cut) {
     if (!(outside > cut)) return false;
-    out.state = spread_seeds_[std::size_t(leg)].front();
-    out.residual = outside;
-    out.status = Status::Unreachable;
-    out.iterations = 0;
-    out.open_end = false;
+    leave_unsolved(leg, Status::Unreachable, outside, out);
     return true;
   };
   // A closed form decides exactly: before it, only the shell about the base
@@ -375,20 +377,20 @@ void Kinematics::inverse_into(const PlatformPose& p, int branch, double toleranc
   // are exact, as for a crank and a rod, they would close).
   const auto numeric = [&](std::size_t leg) { return solver == LegSolver::Numeric || !closed_[leg]; };
   const double cut = refusal_cut(tolerance);
+  thread_local std::vector<double> outside;  // per numerically solved leg
+  outside.assign(model_.legs.size(), -kInf);
   bool ruled_out = false;
-  for (std::size_t leg = 0; leg < model_.legs.size() && !ruled_out; ++leg)
-    ruled_out = numeric(leg) && reach_outside(int(leg), anchor(int(leg), p)) > cut;
+  for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
+    if (numeric(leg)) outside[leg] = reach_outside(int(leg), anchor(int(leg), p));
+    ruled_out = ruled_out || outside[leg] > cut;
+  }
   for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
     LegSolution& s = out.legs[leg];
-    const Isometry3d at = anchor(int(leg), p);
-    if (ruled_out && numeric(leg) && !(reach_outside(int(leg), at) > cut)) {
-      s.state = spread_seeds_[leg].front();
-      s.status = Status::NotConverged;  // not solved
-      s.residual = 0.0;
-      s.iterations = 0;
-      s.open_end = false;
+    if (ruled_out && numeric(leg)) {
+      if (outside[leg] > cut) leave_unsolved(int(leg), Status::Unreachable, outside[leg], s);
+      else leave_unsolved(int(leg), Status::NotConverged, 0.0, s);  // not solved
     } else {
-      solve_leg_on(int(leg), at, branch, tolerance, nullptr, solver, s, close_every_leg);
+      solve_leg_on(int(leg), anchor(int(leg), p), branch, tolerance, nullptr, solver, s, close_every_leg);
     }
     out.iterations += s.iterations;
     out.residual = std::max(out.residual, s.residual);

@@ -205,6 +205,8 @@ class Kinematics {
   // The closed form's solution on the branch into `out`; false where it cannot decide.
   // Its last joint left open (out.open_end) unless `close`.
   bool solve_leg_closed(int leg, const Eigen::Isometry3d& anchor, int branch, LegSolution& out, bool close) const;
+  // A leg decided without a solution (its state the first spread seed).
+  void leave_unsolved(int leg, Status status, double residual, LegSolution& out) const;
   // Closes the leg's last joint where solve_leg_closed left it open.
   void close_end(int leg, const Eigen::Isometry3d& anchor, LegSolution& s) const;
   bool signs_match(int leg, const LegState& state, const Eigen::Isometry3d& anchor, int branch) const;
