@@ -78,9 +78,12 @@ FieldLegs field_legs(const Model& model);
 // are exact negatives of each other.
 bool mirror_holds(const Model& model, const FieldRequest& request);
 
-// The row y -> -y of a grid row: where the same samples go.
+// The row y -> -y of a grid row: where the same samples go. The row is
+// referred to, not copied: the copy, a load wider than the stores that had
+// just written the row, waited for every earlier store (the last row's
+// streaming stores) to drain (docs/performance.md).
 struct RowMirror {
-  detail::GridRow row;
+  const detail::GridRow& row;
   detail::FieldRowOut out;
 };
 

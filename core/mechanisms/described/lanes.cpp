@@ -268,6 +268,22 @@ bool mirrored(const LaneDevice& device, double rx, double rz) {
   return true;
 }
 
+// A crank-rod leg whose only rule is a triple on its actuator, ball and end
+// (or an anchor there), about the actuator's axis: with e_k the crank's
+// direction and t_k = axis x e_k, the triple is rho (end - origin) . t_k =
+// -sign_k rho R sin(alpha) for the closed form's candidates q = phi + sign_k
+// alpha (alpha in [0, pi]), so its sign is the candidate's, opposite, wherever
+// it is not zero (sin(alpha) = 0: both candidates one, the band the scalar
+// path decides). The candidate the branch keeps, or -1.
+int branch_candidate(const LaneLeg& g) {
+  if (g.pattern != LegPattern::CrankRod || g.rules.size() != 1) return -1;
+  const LaneLeg::Rule& r = g.rules.front();
+  const bool at_end = r.points[2] == LanePoint::End || (r.points[2] == LanePoint::Anchor && g.anchor_offset == g.end_offset);
+  if (!r.triple || r.angle || r.fixed_axis || r.points[0] != LanePoint::Actuator || r.points[1] != LanePoint::Ball || !at_end)
+    return -1;
+  return r.wanted > 0 ? 1 : 0;
+}
+
 // Fills `out` (when given) and returns "" where the kernel expresses the
 // device, else why not.
 std::string build(const Kinematics& kin, const VectorXd& fixed, int branch, LaneDevice* out) {
@@ -429,6 +445,7 @@ std::string build(const Kinematics& kin, const VectorXd& fixed, int branch, Lane
       rule.direction = r.direction;
       g.rules.push_back(rule);
     }
+    g.branch_candidate = branch_candidate(g);
     for (const JointLimit& j : l.limits) {
       if (j.kind == JointLimit::Kind::Range) {
         LaneLeg::Stop stop;

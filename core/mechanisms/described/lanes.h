@@ -94,6 +94,10 @@ struct LaneLeg {
     double wanted = 1;  // the branch's sign
   };
   std::vector<Rule> rules;
+  // A crank's one triple rule on its actuator, ball and end reads the closed
+  // form's sign (lanes.cpp's branch_candidate): the candidate it keeps (0:
+  // the + root, 1: the -), the other not computed; -1: the rules decide.
+  int branch_candidate = -1;
   struct Cone {
     bool at_ball = true;
     // At the ball: the socket (a crank's at q = 0), the link along +-the
@@ -180,7 +184,6 @@ struct LaneStopsOut {
 // A row's mirror image in y (lanes_mirror_holds): where its samples go, and
 // the scalar closed path at its own points.
 struct LaneMirror {
-  detail::GridRow row;
   detail::FieldRowOut out;
   LaneStopsOut stops;
   LaneFallback fallback;

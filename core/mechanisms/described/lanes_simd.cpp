@@ -71,11 +71,14 @@ HWY_INLINE V3 PointOf(LanePoint p, const LaneLeg& g, const Candidate& c, const V
   return anchor;
 }
 
-// The candidate's rules and travel; bands near their thresholds go to `to_scalar`.
-HWY_INLINE void Decide(D d, const LaneLeg& g, double size, const V3& end, const V3& anchor, Candidate& c, M& to_scalar) {
+// The candidate's rules (unless the branch's candidate is known) and travel;
+// bands near their thresholds go to `to_scalar`.
+HWY_INLINE void Decide(D d, const LaneLeg& g, double size, const V3& end, const V3& anchor, Candidate& c, M& to_scalar,
+                       bool rules = true) {
   const V zero = hn::Zero(d);
   c.match = hn::Not(None(d));
-  for (const LaneLeg::Rule& r : g.rules) {
+  for (std::size_t k = 0; rules && k < g.rules.size(); ++k) {
+    const LaneLeg::Rule& r = g.rules[k];
     if (r.angle) {  // sin of the joint's angle
       const V v = c.js[int(r.joint)];
       c.match = hn::And(c.match, hn::Not(v * hn::Set(d, r.wanted) < zero));
@@ -109,12 +112,39 @@ HWY_INLINE void Decide(D d, const LaneLeg& g, double size, const V3& end, const 
   }
 }
 
+// A leg's distances on one grid row, p = p0 + t e (e the row's axis, p0 its
+// point at t = 0): the anchor's from the reach bounds' centre and a crank's
+// end from its circle's centre are p + a fixed vector f, so |p + f|^2 = t (t +
+// 2 f_e) + |p0 + f|^2 and a component along a fixed direction is linear in t:
+// a multiply-add each where a dot product of three took five operations.
+// Their rounding is that of terms the size of the result (f_e is a length of
+// the device, and |p0 + f| at most the distance).
+struct RowLeg {
+  double base_linear = 0, base_constant = 0;  // |anchor - leg_base|^2
+  double end_linear = 0, end_constant = 0;    // |end - origin|^2 + rho^2
+  double u_slope = 0, u_offset = 0, v_slope = 0, v_offset = 0;  // (end - origin) . u, . v
+};
+HWY_INLINE RowLeg RowLegOf(const LaneLeg& g, const Eigen::Vector3d& p0, int axis) {
+  RowLeg r;
+  const Eigen::Vector3d from_base = p0 + g.anchor_offset - g.leg_base, from_origin = p0 + g.end_offset - g.origin;
+  r.base_linear = 2 * from_base(axis);
+  r.base_constant = from_base.squaredNorm();
+  r.end_linear = 2 * from_origin(axis);
+  r.end_constant = from_origin.squaredNorm() + g.rho * g.rho;
+  r.u_slope = g.u(axis);
+  r.u_offset = g.u.dot(from_origin);
+  r.v_slope = g.v(axis);
+  r.v_offset = g.v.dot(from_origin);
+  return r;
+}
+
 // Leg `g` at platform positions p: its candidates, the one the branch and
 // travel choose, or why it is unreachable (the square roots taken only
 // where some lane needs them). Lanes `decided` (unreachable by an earlier
 // leg, their margin that leg's residual, < 0) need only this leg's residual
 // where it misses: where it closes there they count as closing.
-HWY_INLINE void SolveLeg(D d, const LaneLeg& g, double size, const V3& p, M decided, LegLanes& out) {
+HWY_INLINE void SolveLeg(D d, const LaneLeg& g, const RowLeg& row, double size, const V3& p, V along, M decided,
+                         LegLanes& out) {
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0);
   const V3 anchor = p + Splat(d, g.anchor_offset);
   out.anchor = anchor;
@@ -123,8 +153,7 @@ HWY_INLINE void SolveLeg(D d, const LaneLeg& g, double size, const V3& p, M deci
   // The reach bounds, as solve_leg_on takes them first: outside = max(|a -
   // base| - hi, lo - |a - base|) > 1e-9 size, decided on the squares away
   // from the band (0.5e-9, 2e-9] size, which goes to the scalar path.
-  const V3 from_base = anchor - Splat(d, g.leg_base);
-  const V distance2 = Dot(from_base, from_base);
+  const V distance2 = hn::MulAdd(along, along + hn::Set(d, row.base_linear), hn::Set(d, row.base_constant));
   const double hi = g.reach.hi, lo = g.reach.lo;
   const M bound = hn::Or(distance2 > hn::Set(d, g.far_out2), distance2 < hn::Set(d, g.near_out2));
   const M kept = hn::And(distance2 <= hn::Set(d, g.far_in2), distance2 >= hn::Set(d, g.near_in2));
@@ -140,7 +169,7 @@ HWY_INLINE void SolveLeg(D d, const LaneLeg& g, double size, const V3& p, M deci
   if (hn::AllTrue(d, bound)) return;
   M band = None(d);  // the closed form's, rules' and travel's: where the closed form decides
   M missed = None(d);
-  M closed_band = None(d);  // a parallelogram's candidates': where the leg closes
+  M closed_band = None(d);  // a parallelogram's candidates', a branch candidate's: where the leg closes
   V miss = zero;
   Candidate c[4];  // a point leg's two, a parallelogram's and three-revolute leg's four
   const bool four = g.parallelogram || g.three;
@@ -167,9 +196,9 @@ HWY_INLINE void SolveLeg(D d, const LaneLeg& g, double size, const V3& p, M deci
     // Where no candidate is valid the leg closes on no branch (unreachable, miss 0).
     ThreeRevoluteCandidates(d, g, reach, w, c, closed_band);
   } else if (g.pattern == LegPattern::CrankRod) {
-    const V3 dv = w - Splat(d, g.origin);
-    const V du = Dot(Splat(d, g.u), dv), dw = Dot(Splat(d, g.v), dv);
-    const V R = hn::Sqrt(du * du + dw * dw), dd = Dot(dv, dv) + hn::Set(d, g.rho * g.rho);
+    const V du = hn::MulAdd(hn::Set(d, row.u_slope), along, hn::Set(d, row.u_offset));
+    const V dw = hn::MulAdd(hn::Set(d, row.v_slope), along, hn::Set(d, row.v_offset));
+    const V R = hn::Sqrt(du * du + dw * dw), dd = hn::MulAdd(along, along + hn::Set(d, row.end_linear), hn::Set(d, row.end_constant));
     const V two_rho_R = hn::Set(d, 2 * g.rho) * R, L = hn::Set(d, g.rod);
     // L < nearest = sqrt(dd - 2 rho R) or L > farthest = sqrt(dd + 2 rho R),
     // on the squares; |L - nearest| < 1e-9 size implies |L^2 - nearest^2| <
@@ -187,8 +216,12 @@ HWY_INLINE void SolveLeg(D d, const LaneLeg& g, double size, const V3& p, M deci
     const V cr = hn::Min(one, hn::Max(hn::Neg(one), (dd - L * L) * hn::Set(d, 0.5 / g.rho) * inv_R));
     const V sr = hn::Sqrt(hn::Max(zero, (one - cr) * (one + cr)));
     const V cphi = du * inv_R, sphi = dw * inv_R;
-    for (int k = 0; k < 2; ++k) {
-      const V sign = hn::Set(d, k == 0 ? 1.0 : -1.0);
+    // The branch's candidate alone where the rule reads the closed form's
+    // sign (lanes.cpp's branch_candidate): its triple is -sign rho R sin(alpha).
+    if (g.branch_candidate >= 0)
+      closed_band = hn::Set(d, g.rho) * R * sr < hn::Set(d, 1e-9 * size * size);
+    for (int k = 0; k < (g.branch_candidate >= 0 ? 1 : 2); ++k) {
+      const V sign = hn::Set(d, (g.branch_candidate >= 0 ? g.branch_candidate : k) == 0 ? 1.0 : -1.0);
       c[k].c = cphi * cr - sign * sphi * sr;
       c[k].s = sphi * cr + sign * cphi * sr;
       c[k].ball = Splat(d, g.origin) + hn::Set(d, g.rho) * (c[k].c * Splat(d, g.u) + c[k].s * Splat(d, g.v));
@@ -226,10 +259,11 @@ HWY_INLINE void SolveLeg(D d, const LaneLeg& g, double size, const V3& p, M deci
     }
   }
   M decided_band = closed_band;
+  const bool single = g.branch_candidate >= 0;
   if (!four) {
-    for (int k = 0; k < 2; ++k) {
+    for (int k = 0; k < (single ? 1 : 2); ++k) {
       c[k].rc = c[k].rs = zero;
-      Decide(d, g, size, w, anchor, c[k], decided_band);
+      Decide(d, g, size, w, anchor, c[k], decided_band, !single);
     }
   } else {
     for (Candidate& x : c) {
@@ -247,19 +281,26 @@ HWY_INLINE void SolveLeg(D d, const LaneLeg& g, double size, const V3& p, M deci
   // else the first on the branch.
   Candidate& a = out.at;
   M within = None(d), on_branch = None(d);
-  if (!four) {  // two candidates, the fields a point leg has
-    const M within0 = hn::And(c[0].match, c[0].inside), within1 = hn::And(c[1].match, c[1].inside);
-    const M take1 = hn::AndNot(within0, hn::Or(within1, hn::AndNot(c[0].match, c[1].match)));
-    within = hn::Or(within0, within1);
-    on_branch = hn::Or(c[0].match, c[1].match);
-    a.ball = Select(take1, c[1].ball, c[0].ball);
-    a.axis = Select(take1, c[1].axis, c[0].axis);
-    a.q = hn::IfThenElse(take1, c[1].q, c[0].q);
-    a.c = hn::IfThenElse(take1, c[1].c, c[0].c);
-    a.s = hn::IfThenElse(take1, c[1].s, c[0].s);
-    a.rc = hn::IfThenElse(take1, c[1].rc, c[0].rc);
-    a.rs = hn::IfThenElse(take1, c[1].rs, c[0].rs);
-    a.sigma = hn::IfThenElse(take1, c[1].sigma, c[0].sigma);
+  if (!four) {  // one or two candidates, the fields a point leg has
+    M take1 = None(d);
+    if (single) {  // on the branch wherever the lane decides
+      within = c[0].inside;
+      on_branch = hn::Not(None(d));
+    } else {
+      const M within0 = hn::And(c[0].match, c[0].inside), within1 = hn::And(c[1].match, c[1].inside);
+      take1 = hn::AndNot(within0, hn::Or(within1, hn::AndNot(c[0].match, c[1].match)));
+      within = hn::Or(within0, within1);
+      on_branch = hn::Or(c[0].match, c[1].match);
+    }
+    const Candidate& second = single ? c[0] : c[1];
+    a.ball = Select(take1, second.ball, c[0].ball);
+    a.axis = Select(take1, second.axis, c[0].axis);
+    a.q = hn::IfThenElse(take1, second.q, c[0].q);
+    a.c = hn::IfThenElse(take1, second.c, c[0].c);
+    a.s = hn::IfThenElse(take1, second.s, c[0].s);
+    a.rc = hn::IfThenElse(take1, second.rc, c[0].rc);
+    a.rs = hn::IfThenElse(take1, second.rs, c[0].rs);
+    a.sigma = hn::IfThenElse(take1, second.sigma, c[0].sigma);
   } else {
     a = c[0];
     for (int k = 0; k < 4; ++k) {
@@ -412,6 +453,13 @@ void Geometry(const LaneDevice& dev, const Grid& g, const detail::GridRow& row, 
   const V origin = hn::Set(d, g.origin(axis)), spacing = hn::Set(d, g.spacing(axis));
   constexpr double kDeg = 180 / M_PI;
   std::size_t closest_pair = 0;  // the pair that set the last clearance: likely the next one's
+  // The row's point at along = 0 (a planar device's z is its plane's) and each leg's distances on the row.
+  Eigen::Vector3d start = p0;
+  if (dev.planar) start.z() = 0;
+  const bool moves = !(dev.planar && axis == 2);
+  if (moves) start(axis) = 0;
+  RowLeg row_legs[N];
+  for (int i = 0; i < N; ++i) row_legs[i] = RowLegOf(dev.legs[std::size_t(i)], start, axis);
   for (int t = 0; t < count; t += int(hn::Lanes(d))) {
     // Grid::point's coordinates, bit for bit.
     const V along = origin + (hn::Iota(d, double(row.start[axis] + first + t)) + hn::Set(d, 0.5)) * spacing;
@@ -421,7 +469,7 @@ void Geometry(const LaneDevice& dev, const Grid& g, const detail::GridRow& row, 
     V unreachable_margin = inf;
     LegLanes legs[N];
     for (int i = 0; i < N; ++i) {
-      SolveLeg(d, dev.legs[std::size_t(i)], size, p, unreachable, legs[i]);
+      SolveLeg(d, dev.legs[std::size_t(i)], row_legs[i], size, p, moves ? along : zero, unreachable, legs[i]);
       to_scalar = hn::Or(to_scalar, legs[i].to_scalar);
       unreachable = hn::Or(unreachable, legs[i].unreachable);
       outside_travel = hn::Or(outside_travel, legs[i].outside_travel);

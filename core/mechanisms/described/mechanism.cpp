@@ -389,44 +389,51 @@ class DescribedMechanism final : public Mechanism {
     if (kin_.has_capsules())
       clearance = f.add_extra("clearance", "clearance", kin_.model().length_unit, kClearanceText);
     const double tolerance = o.tolerance;
+    // The sample at a row's point t; x the model's task, its x, y, z the point's.
+    const auto set_point = [&](VectorXd& x, const detail::GridRow& r, int t) {
+      const Vector3d p = r.point(grid, t);
+      x(0) = p.x();
+      x(1) = p.y();
+      if (!kin_.model().planar) x(2) = p.z();
+    };
+    // The scalar closed path at a lane it hands off (rare: built only then).
+    const auto scalar_at = [&](const detail::GridRow& r, int t, double& margin, double& gap) {
+      VectorXd x = base;
+      set_point(x, r, t);
+      Stops stops;
+      const FieldSample s = sample(x, branch, tolerance, solver, stops);
+      margin = stops.joint_margin_deg;
+      gap = stops.clearance;
+      return s;
+    };
     const bool complete = detail::fill_field_rows(
         f, second, threads, progress,
         [&](const detail::GridRow& row, const detail::FieldRowOut& out) {
-          VectorXd x = base;
-          auto at = [&](const detail::GridRow& r, int t) -> const VectorXd& {
-            const Vector3d p = r.point(grid, t);
-            x(0) = p.x();
-            x(1) = p.y();
-            if (!kin_.model().planar) x(2) = p.z();
-            return x;
-          };
           if (lanes) {
             const auto stops_of = [&](const detail::GridRow& r) {
               return LaneStopsOut{joint_margin ? joint_margin + r.index : nullptr, clearance ? clearance + r.index : nullptr};
             };
+            // Two pointers: held in the std::function itself, no allocation per row.
             const auto fallback_of = [&](const detail::GridRow& r) -> LaneFallback {
-              return [&, r](int t, double& margin, double& gap) {
-                Stops stops;
-                const FieldSample s = sample(at(r, t), branch, tolerance, solver, stops);
-                margin = stops.joint_margin_deg;
-                gap = stops.clearance;
-                return s;
-              };
+              return [at = &scalar_at, r = &r](int t, double& margin, double& gap) { return (*at)(*r, t, margin, gap); };
             };
             std::optional<LaneMirror> mirror;
+            detail::RowImage image;  // the mirror's fallback points to its row
             if (mirrored) {
-              const detail::RowImage image = detail::image_in_y(grid, row);
+              image = detail::image_in_y(grid, row);
               if (!image.sampled) return;
               if (image.image)
-                mirror = LaneMirror{*image.image, out.shifted(image.by), stops_of(*image.image), fallback_of(*image.image)};
+                mirror = LaneMirror{out.shifted(image.by), stops_of(*image.image), fallback_of(*image.image)};
             }
             sample_row_lanes(*lanes, grid, row, out, stops_of(row), kLanesCode, fallback_of(row), nullptr,
                              mirror ? &*mirror : nullptr);
             return;
           }
+          VectorXd x = base;
           for (int t = 0; t < row.count; ++t) {
             Stops stops;
-            out.store(t, sample(at(row, t), branch, tolerance, solver, stops));
+            set_point(x, row, t);
+            out.store(t, sample(x, branch, tolerance, solver, stops));
             if (joint_margin) joint_margin[row.index + std::size_t(t)] = float(stops.joint_margin_deg);
             if (clearance) clearance[row.index + std::size_t(t)] = float(stops.clearance);
           }

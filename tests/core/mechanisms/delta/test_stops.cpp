@@ -164,7 +164,9 @@ TEST(DeltaStops, FieldJointMarginIsEachPosesAndTheSwitchRestoresTheField) {
             EXPECT_EQ(f->status[n], std::uint8_t(Status::OutOfLimits)) << n;
             EXPECT_LT(f->reach_margin[n], 0.0f) << n;
           }
-          if (f->status[n] == std::uint8_t(Status::Ok)) EXPECT_EQ(ik.status, Status::Ok) << n;
+          if (f->status[n] == std::uint8_t(Status::Ok)) {
+            EXPECT_EQ(ik.status, Status::Ok) << n;
+          }
         }
     EXPECT_GT(beyond, 20);
     // Without the cones the field is today's, bit for bit.
