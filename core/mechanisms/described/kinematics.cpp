@@ -336,6 +336,10 @@ LegSolution Kinematics::solve_leg_numeric(int leg, const Isometry3d& anchor, int
     }
   }
   if (outside_travel) {
+    // The next sample starts from the fixed seeds, which decide such an
+    // answer anyway: the thread's last solution, within the travel and now
+    // behind, would mostly lead outside it again, for nothing.
+    tls.legs[std::size_t(leg)][std::size_t(combo)].reset();
     outside_travel->iterations = iterations;
     return *outside_travel;
   }
