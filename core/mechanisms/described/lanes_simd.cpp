@@ -117,8 +117,8 @@ HWY_INLINE void Decide(D d, const LaneLeg& g, double size, const V3& end, const 
 // end from its circle's centre are p + a fixed vector f, so |p + f|^2 = t (t +
 // 2 f_e) + |p0 + f|^2 and a component along a fixed direction is linear in t:
 // a multiply-add each where a dot product of three took five operations.
-// Their rounding is that of terms the size of the result (f_e is a length of
-// the device, and |p0 + f| at most the distance).
+// Their rounding is that of terms about the size of the result (f_e is a
+// length of the device, and |p0 + f|^2 at most the squared distance plus f_e^2).
 struct RowLeg {
   double base_linear = 0, base_constant = 0;  // |anchor - leg_base|^2
   double end_linear = 0, end_constant = 0;    // |end - origin|^2 + rho^2
