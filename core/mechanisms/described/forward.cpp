@@ -242,6 +242,9 @@ Kinematics::Kinematics(Model model) : model_(std::move(model)), id_(next_id++) {
         if (!home_states_[leg][std::size_t(combo)] && signs_match(int(leg), r.state, a, device_branch(l, combo)))
           home_states_[leg][std::size_t(combo)] = r.state;
     }
+    home_ends_.emplace_back(home_states_[leg].size(), Vector3d::Zero());
+    for (std::size_t combo = 0; combo < home_states_[leg].size(); ++combo)
+      if (home_states_[leg][combo]) home_ends_[leg][combo] = walk(l, *home_states_[leg][combo]).end.translation();
     std::ostringstream msg;
     if (!home_states_[leg][0]) {
       msg << "description.legs \"" << l.name << "\": the leg does not reach its anchor at home";
@@ -339,6 +342,44 @@ Kinematics::Kinematics(Model model) : model_(std::move(model)), id_(next_id++) {
         << " actuator(s)";
     throw std::invalid_argument(msg.str());
   }
+}
+
+bool Kinematics::home_toward(int leg, int combo, const Isometry3d& anchor, LegState& out) const {
+  const Leg& l = model_.legs[std::size_t(leg)];
+  const std::optional<LegState>& home = home_states_[std::size_t(leg)][std::size_t(combo)];
+  if (!home) return false;
+  // The first joint's axis and centre do not depend on the state: the steps before it are fixed.
+  Isometry3d T = l.base;
+  const Step* first = nullptr;
+  for (const Step& step : l.steps) {
+    if (step.kind != Kind::Fixed) {
+      first = &step;
+      break;
+    }
+    T = T * step.transform;
+  }
+  if (!first) return false;
+  const Vector3d to_end = home_ends_[std::size_t(leg)][std::size_t(combo)] - T.translation();
+  const Vector3d to_anchor = anchor.translation() - T.translation();
+  if (first->kind == Kind::Spherical) {  // the least turn taking the end's direction to the anchor's
+    if (to_end.norm() < 1e-9 * model_.size || to_anchor.norm() < 1e-9 * model_.size) return false;
+    const Matrix3d turn = Eigen::Quaterniond::FromTwoVectors(to_end, to_anchor).toRotationMatrix();
+    out = *home;
+    out.spheres.front() = T.linear().transpose() * turn * T.linear() * out.spheres.front();
+    return true;
+  }
+  const Vector3d a = T.linear() * first->axis;
+  double move = 0;
+  if (first->kind == Kind::Prismatic) {
+    move = a.dot(to_anchor - to_end);
+  } else {
+    const Vector3d e = to_end - a * a.dot(to_end), t = to_anchor - a * a.dot(to_anchor);
+    if (e.norm() < 1e-9 * model_.size || t.norm() < 1e-9 * model_.size) return false;
+    move = std::atan2(a.dot(e.cross(t)), e.dot(t));
+  }
+  out = *home;
+  out.values(first->variable) += move;
+  return true;
 }
 
 }  // namespace linkscape::described

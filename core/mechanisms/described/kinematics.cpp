@@ -275,8 +275,11 @@ LegSolution Kinematics::solve_leg_numeric(int leg, const Isometry3d& anchor, int
   std::vector<const LegState*> fast, fixed;
   if (tls.legs[std::size_t(leg)][std::size_t(combo)]) fast.push_back(&*tls.legs[std::size_t(leg)][std::size_t(combo)]);
   if (extra_seed) fast.push_back(extra_seed);
-  // The leg at home on this branch first, then at home on its other branches.
+  // The leg at home on this branch turned towards the anchor first, then at
+  // home on this branch, then at home on its other branches.
   const auto& homes = home_states_[std::size_t(leg)];
+  LegState toward;
+  if (home_toward(leg, combo, anchor, toward)) fixed.push_back(&toward);
   if (homes[std::size_t(combo)]) fixed.push_back(&*homes[std::size_t(combo)]);
   for (std::size_t other = 0; other < homes.size(); ++other)
     if (homes[other] && other != std::size_t(combo)) fixed.push_back(&*homes[other]);

@@ -199,6 +199,12 @@ class Kinematics {
   // Into `out` (its state's storage reused).
   void solve_leg_on(int leg, const Eigen::Isometry3d& anchor, int branch, double tolerance,
                     const LegState* extra_seed, LegSolver solver, LegSolution& out, bool close = true) const;
+  // The leg at home on combination `combo`, its first joint turned about (or
+  // slid along) its axis so that the home end comes nearest the anchor (a
+  // spherical one: by the least turn that points the end at it): a seed that
+  // depends on the anchor alone. False where the turn is not defined (the
+  // anchor or the end on the axis, or at the centre).
+  bool home_toward(int leg, int combo, const Eigen::Isometry3d& anchor, LegState& out) const;
   // The numerical solver from seeds (after the reach bounds).
   LegSolution solve_leg_numeric(int leg, const Eigen::Isometry3d& anchor, int branch, double tolerance,
                                 const LegState* extra_seed) const;
@@ -220,6 +226,8 @@ class Kinematics {
   // Per leg, per combination of its free rules' signs: the leg at home.
   std::vector<std::vector<std::optional<LegState>>> home_states_;
   std::vector<std::vector<LegState>> spread_seeds_;
+  // Per leg, per combination: the end's centre at home (home_toward).
+  std::vector<std::vector<Eigen::Vector3d>> home_ends_;
   // Per leg: the shortest (lo) and longest (hi) distance from its base to
   // its end, and its reach about its first joint (reach.h).
   std::vector<Range> leg_reach_;
