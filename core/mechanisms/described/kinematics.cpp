@@ -276,14 +276,17 @@ LegSolution Kinematics::solve_leg_numeric(int leg, const Isometry3d& anchor, int
   if (tls.legs[std::size_t(leg)][std::size_t(combo)]) fast.push_back(&*tls.legs[std::size_t(leg)][std::size_t(combo)]);
   if (extra_seed) fast.push_back(extra_seed);
   // The leg at home on this branch turned towards the anchor first, then at
-  // home on this branch, then at home on its other branches.
-  const auto& homes = home_states_[std::size_t(leg)];
-  LegState toward;
-  if (home_toward(leg, combo, anchor, toward)) fixed.push_back(&toward);
-  if (homes[std::size_t(combo)]) fixed.push_back(&*homes[std::size_t(combo)]);
-  for (std::size_t other = 0; other < homes.size(); ++other)
-    if (homes[other] && other != std::size_t(combo)) fixed.push_back(&*homes[other]);
-  for (const LegState& s : spread_seeds_[std::size_t(leg)]) fixed.push_back(&s);
+  // home on this branch, then at home on its other branches: listed only
+  // once the fast seeds have not served.
+  const auto list_fixed = [&] {
+    thread_local LegState toward;  // its storage reused
+    const auto& homes = home_states_[std::size_t(leg)];
+    if (home_toward(leg, combo, anchor, toward)) fixed.push_back(&toward);
+    if (homes[std::size_t(combo)]) fixed.push_back(&*homes[std::size_t(combo)]);
+    for (std::size_t other = 0; other < homes.size(); ++other)
+      if (homes[other] && other != std::size_t(combo)) fixed.push_back(&*homes[other]);
+    for (const LegState& s : spread_seeds_[std::size_t(leg)]) fixed.push_back(&s);
+  };
 
   bool found_other_branch = false;
   // A solution on the branch whose actuator is outside its travel: the answer
@@ -297,6 +300,7 @@ LegSolution Kinematics::solve_leg_numeric(int leg, const Isometry3d& anchor, int
   int stationary_misses = 0;
   int iterations = 0;
   for (const auto* seeds : {&fast, &fixed}) {
+    if (seeds == &fixed) list_fixed();
     for (std::size_t i = 0; i < seeds->size(); ++i) {
       if (outside_from_fixed && seeds == &fixed) break;
       // Towards a least-squares minimum only while it gains 0.1 % per step:
