@@ -48,6 +48,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "core/mechanisms/described/lanes.h"
 #include "core/simd.h"
@@ -114,27 +115,28 @@ HWY_INLINE void Decide(D d, const LaneLeg& g, double size, const V3& end, const 
 
 // A leg's distances on one grid row, p = p0 + t e (e the row's axis, p0 its
 // point at t = 0): the anchor's from the reach bounds' centre and a crank's
-// end from its circle's centre are p + a fixed vector f, so |p + f|^2 = t (t +
-// 2 f_e) + |p0 + f|^2 and a component along a fixed direction is linear in t:
-// a multiply-add each where a dot product of three took five operations.
-// Their rounding is that of terms about the size of the result (f_e is a
-// length of the device, and |p0 + f|^2 at most the squared distance plus f_e^2).
+// end from its circle's centre are p + a fixed vector f, so |p + f|^2 = (t +
+// f_e)^2 + |f_perp|^2 (f_e, f_perp: (p0 + f)'s parts along and across e) and a
+// component along a fixed direction is linear in t: a multiply-add or two
+// each where a dot product of three took five operations. Rounded as the
+// dot product was: t + f_e to about an ulp of the size, so the square to
+// about eps size |p + f| (a sum of squares: no cancellation near the centre).
 struct RowLeg {
-  double base_linear = 0, base_constant = 0;  // |anchor - leg_base|^2
-  double end_linear = 0, end_constant = 0;    // |end - origin|^2 + rho^2
+  double base_along = 0, base_across2 = 0;  // |anchor - leg_base|^2 = (t + along)^2 + across2
+  double end_along = 0, end_across2 = 0;    // |end - origin|^2 + rho^2 = (t + along)^2 + across2
   double u_slope = 0, u_offset = 0, v_slope = 0, v_offset = 0;  // (end - origin) . u, . v
 };
 HWY_INLINE RowLeg RowLegOf(const LaneLeg& g, const Eigen::Vector3d& p0, int axis) {
   RowLeg r;
-  const Eigen::Vector3d from_base = p0 + g.anchor_offset - g.leg_base, from_origin = p0 + g.end_offset - g.origin;
-  r.base_linear = 2 * from_base(axis);
-  r.base_constant = from_base.squaredNorm();
-  r.end_linear = 2 * from_origin(axis);
-  r.end_constant = from_origin.squaredNorm() + g.rho * g.rho;
-  r.u_slope = g.u(axis);
+  Eigen::Vector3d from_base = p0 + g.anchor_offset - g.leg_base, from_origin = p0 + g.end_offset - g.origin;
   r.u_offset = g.u.dot(from_origin);
-  r.v_slope = g.v(axis);
   r.v_offset = g.v.dot(from_origin);
+  r.u_slope = g.u(axis);
+  r.v_slope = g.v(axis);
+  r.base_along = std::exchange(from_base(axis), 0.0);
+  r.base_across2 = from_base.squaredNorm();
+  r.end_along = std::exchange(from_origin(axis), 0.0);
+  r.end_across2 = from_origin.squaredNorm() + g.rho * g.rho;
   return r;
 }
 
@@ -153,7 +155,8 @@ HWY_INLINE void SolveLeg(D d, const LaneLeg& g, const RowLeg& row, double size, 
   // The reach bounds, as solve_leg_on takes them first: outside = max(|a -
   // base| - hi, lo - |a - base|) > 1e-9 size, decided on the squares away
   // from the band (0.5e-9, 2e-9] size, which goes to the scalar path.
-  const V distance2 = hn::MulAdd(along, along + hn::Set(d, row.base_linear), hn::Set(d, row.base_constant));
+  const V from_base = along + hn::Set(d, row.base_along);
+  const V distance2 = hn::MulAdd(from_base, from_base, hn::Set(d, row.base_across2));
   const double hi = g.reach.hi, lo = g.reach.lo;
   const M bound = hn::Or(distance2 > hn::Set(d, g.far_out2), distance2 < hn::Set(d, g.near_out2));
   const M kept = hn::And(distance2 <= hn::Set(d, g.far_in2), distance2 >= hn::Set(d, g.near_in2));
@@ -198,7 +201,8 @@ HWY_INLINE void SolveLeg(D d, const LaneLeg& g, const RowLeg& row, double size, 
   } else if (g.pattern == LegPattern::CrankRod) {
     const V du = hn::MulAdd(hn::Set(d, row.u_slope), along, hn::Set(d, row.u_offset));
     const V dw = hn::MulAdd(hn::Set(d, row.v_slope), along, hn::Set(d, row.v_offset));
-    const V R = hn::Sqrt(du * du + dw * dw), dd = hn::MulAdd(along, along + hn::Set(d, row.end_linear), hn::Set(d, row.end_constant));
+    const V from_origin = along + hn::Set(d, row.end_along);
+    const V R = hn::Sqrt(du * du + dw * dw), dd = hn::MulAdd(from_origin, from_origin, hn::Set(d, row.end_across2));
     const V two_rho_R = hn::Set(d, 2 * g.rho) * R, L = hn::Set(d, g.rod);
     // L < nearest = sqrt(dd - 2 rho R) or L > farthest = sqrt(dd + 2 rho R),
     // on the squares; |L - nearest| < 1e-9 size implies |L^2 - nearest^2| <

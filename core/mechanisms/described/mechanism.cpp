@@ -417,8 +417,8 @@ class DescribedMechanism final : public Mechanism {
             const auto fallback_of = [&](const detail::GridRow& r) -> LaneFallback {
               return [at = &scalar_at, r = &r](int t, double& margin, double& gap) { return (*at)(*r, t, margin, gap); };
             };
+            detail::RowImage image;  // the mirror's fallback points to its row: declared first
             std::optional<LaneMirror> mirror;
-            detail::RowImage image;  // the mirror's fallback points to its row
             if (mirrored) {
               image = detail::image_in_y(grid, row);
               if (!image.sampled) return;

@@ -404,6 +404,30 @@ TEST(DescribedLanes, ADegeneratePoseGoesToTheScalarPath) {
   }
 }
 
+// A leg whose shortest reach from its base is tiny (the rod a hair longer
+// than the crank: 5e-9 of the size) and boxes round its anchor's place at its
+// base, where the bound's cut near the base decides: the lanes' squared
+// distance must round there as the scalar path's distance does.
+TEST(DescribedLanes, NearALegsBaseTheBoundDecidesAsTheScalarPath) {
+  Preset p = load_preset("delta-described");
+  p.parameters["Lb"] = p.parameters.at("La") * (1 + 1e-8);
+  const auto m = make_mechanism(p);
+  const double x = p.parameters.at("R") - p.parameters.at("r");  // leg 1's anchor at its base
+  Tally tally;
+  std::size_t unreachable = 0, samples = 0;
+  for (double half : {2e-7, 1e-7, 6e-8}) {
+    const Grid g = Grid::box({x - half, -half, -half}, {x + half, half, half}, {24, 23, 22});
+    const Field scalar = field(*m, g, m->home_task(), "closed-scalar", 0);
+    const Field lanes = field(*m, g, m->home_task(), "closed", 0);
+    compare(lanes, scalar, "half width " + std::to_string(half), tally);
+    for (std::uint8_t s : lanes.status) unreachable += s == std::uint8_t(Status::Unreachable);
+    samples += g.size();
+  }
+  // The boxes straddle the cut: anchors nearer the base than its reach and farther.
+  EXPECT_GT(unreachable, samples / 10);
+  EXPECT_LT(unreachable, samples - samples / 10);
+}
+
 TEST(DescribedLanes, TheKernelVariableStillSelectsTheNumericalReference) {
   const auto m = make_mechanism(load_preset("delta-described"));
   const Grid g = Grid::slice(Axis::Y, 0, -10, 10, -25, -5, 6, 6);
