@@ -242,6 +242,7 @@ Kinematics::Kinematics(Model model) : model_(std::move(model)), id_(next_id++) {
         if (!home_states_[leg][std::size_t(combo)] && signs_match(int(leg), r.state, a, device_branch(l, combo)))
           home_states_[leg][std::size_t(combo)] = r.state;
     }
+    first_joints_.push_back(first_joint(l));
     home_ends_.emplace_back(home_states_[leg].size(), Vector3d::Zero());
     for (std::size_t combo = 0; combo < home_states_[leg].size(); ++combo)
       if (home_states_[leg][combo]) home_ends_[leg][combo] = walk(l, *home_states_[leg][combo]).end.translation();
@@ -348,17 +349,10 @@ bool Kinematics::home_toward(int leg, int combo, const Isometry3d& anchor, LegSt
   const Leg& l = model_.legs[std::size_t(leg)];
   const std::optional<LegState>& home = home_states_[std::size_t(leg)][std::size_t(combo)];
   if (!home) return false;
-  // The first joint's axis and centre do not depend on the state: the steps before it are fixed.
-  Isometry3d T = l.base;
-  const Step* first = nullptr;
-  for (const Step& step : l.steps) {
-    if (step.kind != Kind::Fixed) {
-      first = &step;
-      break;
-    }
-    T = T * step.transform;
-  }
-  if (!first) return false;
+  const FirstJoint& joint = first_joints_[std::size_t(leg)];
+  if (joint.step == l.steps.size()) return false;
+  const Step* first = &l.steps[joint.step];
+  const Isometry3d& T = joint.frame;
   const Vector3d to_end = home_ends_[std::size_t(leg)][std::size_t(combo)] - T.translation();
   const Vector3d to_anchor = anchor.translation() - T.translation();
   if (first->kind == Kind::Spherical) {  // the least turn taking the end's direction to the anchor's

@@ -226,8 +226,10 @@ class Kinematics {
   // Per leg, per combination of its free rules' signs: the leg at home.
   std::vector<std::vector<std::optional<LegState>>> home_states_;
   std::vector<std::vector<LegState>> spread_seeds_;
-  // Per leg, per combination: the end's centre at home (home_toward).
+  // Per leg, per combination: the end's centre at home; per leg: its first
+  // joint (home_toward).
   std::vector<std::vector<Eigen::Vector3d>> home_ends_;
+  std::vector<FirstJoint> first_joints_;
   // Per leg: the shortest (lo) and longest (hi) distance from its base to
   // its end, and its reach about its first joint (reach.h).
   std::vector<Range> leg_reach_;

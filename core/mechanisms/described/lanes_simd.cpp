@@ -72,13 +72,13 @@ HWY_INLINE V3 PointOf(LanePoint p, const LaneLeg& g, const Candidate& c, const V
   return anchor;
 }
 
-// The candidate's rules (unless the branch's candidate is known) and travel;
-// bands near their thresholds go to `to_scalar`.
-HWY_INLINE void Decide(D d, const LaneLeg& g, double size, const V3& end, const V3& anchor, Candidate& c, M& to_scalar,
-                       bool rules = true) {
+// The candidate's rules (unless they pick the branch's candidate:
+// branch_candidate) and travel; bands near their thresholds go to `to_scalar`.
+HWY_INLINE void Decide(D d, const LaneLeg& g, double size, const V3& end, const V3& anchor, Candidate& c, M& to_scalar) {
   const V zero = hn::Zero(d);
   c.match = hn::Not(None(d));
-  for (std::size_t k = 0; rules && k < g.rules.size(); ++k) {
+  const std::size_t rules = g.branch_candidate >= 0 ? 0 : g.rules.size();
+  for (std::size_t k = 0; k < rules; ++k) {
     const LaneLeg::Rule& r = g.rules[k];
     if (r.angle) {  // sin of the joint's angle
       const V v = c.js[int(r.joint)];
@@ -176,6 +176,7 @@ HWY_INLINE void SolveLeg(D d, const LaneLeg& g, const RowLeg& row, double size, 
   V miss = zero;
   Candidate c[4];  // a point leg's two, a parallelogram's and three-revolute leg's four
   const bool four = g.parallelogram || g.three;
+  const bool single = g.branch_candidate >= 0;  // a crank whose rule picks one candidate
   // Where no undecided lane's leg closes, its candidates are not needed (the residual is).
   const auto none_closes = [&] {
     const M closes = hn::AndNot(hn::Or(bound, missed), hn::Not(None(d)));
@@ -222,10 +223,9 @@ HWY_INLINE void SolveLeg(D d, const LaneLeg& g, const RowLeg& row, double size, 
     const V cphi = du * inv_R, sphi = dw * inv_R;
     // The branch's candidate alone where the rule reads the closed form's
     // sign (lanes.cpp's branch_candidate): its triple is -sign rho R sin(alpha).
-    if (g.branch_candidate >= 0)
-      closed_band = hn::Set(d, g.rho) * R * sr < hn::Set(d, 1e-9 * size * size);
-    for (int k = 0; k < (g.branch_candidate >= 0 ? 1 : 2); ++k) {
-      const V sign = hn::Set(d, (g.branch_candidate >= 0 ? g.branch_candidate : k) == 0 ? 1.0 : -1.0);
+    if (single) closed_band = hn::Set(d, g.rho) * R * sr < hn::Set(d, 1e-9 * size * size);
+    for (int k = 0; k < (single ? 1 : 2); ++k) {
+      const V sign = hn::Set(d, (single ? g.branch_candidate : k) == 0 ? 1.0 : -1.0);
       c[k].c = cphi * cr - sign * sphi * sr;
       c[k].s = sphi * cr + sign * cphi * sr;
       c[k].ball = Splat(d, g.origin) + hn::Set(d, g.rho) * (c[k].c * Splat(d, g.u) + c[k].s * Splat(d, g.v));
@@ -263,11 +263,10 @@ HWY_INLINE void SolveLeg(D d, const LaneLeg& g, const RowLeg& row, double size, 
     }
   }
   M decided_band = closed_band;
-  const bool single = g.branch_candidate >= 0;
   if (!four) {
     for (int k = 0; k < (single ? 1 : 2); ++k) {
       c[k].rc = c[k].rs = zero;
-      Decide(d, g, size, w, anchor, c[k], decided_band, !single);
+      Decide(d, g, size, w, anchor, c[k], decided_band);
     }
   } else {
     for (Candidate& x : c) {

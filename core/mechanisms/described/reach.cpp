@@ -24,11 +24,18 @@ Range chain_reach(const Leg& leg, std::size_t first) {
   return {std::max(0.0, 2 * longest - sum), sum};
 }
 
+FirstJoint first_joint(const Leg& leg) {
+  FirstJoint f;
+  f.frame = leg.base;
+  while (f.step < leg.steps.size() && leg.steps[f.step].kind == Kind::Fixed) f.frame = f.frame * leg.steps[f.step++].transform;
+  return f;
+}
+
 FirstJointReach first_joint_reach(const Leg& leg) {
   FirstJointReach r;
-  Eigen::Isometry3d T = leg.base;
-  std::size_t i = 0;
-  while (i < leg.steps.size() && leg.steps[i].kind == Kind::Fixed) T = T * leg.steps[i++].transform;
+  const FirstJoint first = first_joint(leg);
+  const Eigen::Isometry3d& T = first.frame;
+  std::size_t i = first.step;
   if (i == leg.steps.size()) return r;
   const Step& joint = leg.steps[i++];
   // The links between the first joint and the next one, in the joint's frame at zero.

@@ -33,6 +33,15 @@ struct FirstJointReach {
   double outside(const Eigen::Vector3d& p) const;
 };
 
+// A leg's first joint (its first step that is not fixed; `step` ==
+// leg.steps.size() where it has none) and the frame it moves in, which no
+// joint of the leg moves.
+struct FirstJoint {
+  std::size_t step = 0;
+  Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();
+};
+FirstJoint first_joint(const Leg& leg);
+
 // Motion None for a leg without joints or with a slide after its first joint.
 FirstJointReach first_joint_reach(const Leg& leg);
 
