@@ -4,7 +4,8 @@
 // open and closed later against candidates closed at once; a three-revolute
 // leg's candidates made for a branch against all of them sifted by its angle
 // rules; a chain walked part way against the whole walk; an angle rule's
-// sign against the sine's.
+// sign against the sine's; a locked universal joint singular on both
+// paths to a leg's Jacobian row.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -201,6 +202,42 @@ TEST(DescribedScalarPath, SineSignIsTheSignOfTheSine) {
   for (double t : angles) {
     const double v = std::sin(t);
     EXPECT_EQ(sine_sign(t), v > 0 ? 1 : v < 0 ? -1 : 0) << t;
+  }
+}
+
+
+// A leg whose passive joints lose a freedom is singular whichever path gives
+// its Jacobian row: the hexapod's first leg with its universal joint locked
+// (the rod turned about the second axis onto the first, a quarter turn from
+// square to it) in the closed
+// wrench's test and in the rank of the numerical path's QR; a little off the
+// lock, in neither.
+TEST(DescribedScalarPath, LockedUniversalJointIsSingularOnBothPaths) {
+  const Kinematics k = load("hexapod-rus");
+  const Model& m = k.model();
+  const PoseSolution home = k.inverse(m.home, 0, 1e-10, LegSolver::Fastest);
+  ASSERT_EQ(home.status, Status::Ok);
+  const Leg& leg = m.legs.front();
+  int second_axis = -1;
+  for (const Step& step : leg.steps)
+    if (step.name == "U1.2") second_axis = step.variable;
+  ASSERT_GE(second_axis, 0);
+  const double quarter = 1.5707963267948966;
+  for (const double off_lock : {0.0, 0.05}) {
+    PoseSolution turned = home;
+    turned.legs.front().state.values(second_axis) = quarter - off_lock;
+    for (const LegSolver solver : {LegSolver::Fastest, LegSolver::Numeric}) {
+      SCOPED_TRACE(::testing::Message() << "off the lock " << off_lock << " rad, "
+                                        << (solver == LegSolver::Numeric ? "numerical" : "closed") << " row");
+      const JacobianParts parts = k.jacobian(m.home, turned, solver);
+      if (off_lock == 0.0) {
+        EXPECT_EQ(parts.status, Status::Singular);
+        EXPECT_EQ(parts.singular_leg, 0);
+        EXPECT_EQ(parts.serial_margin.front(), 0.0);
+      } else {
+        EXPECT_GT(parts.serial_margin.front(), 1e-3 * m.size);
+      }
+    }
   }
 }
 
