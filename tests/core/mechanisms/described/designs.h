@@ -17,7 +17,8 @@ namespace linkscape::testing_support {
 inline const std::vector<std::string>& shipped_descriptions() {
   static const std::vector<std::string> names{"delta-described", "pathos2-described", "five-bar",
                                               "stewart",         "three-rrr",         "linear-delta",
-                                              "hexapod-rus",     "haply-2diy",        "falcon"};
+                                              "hexapod-rus",     "haply-2diy",        "falcon",
+                                              "omnid-delta"};
   return names;
 }
 

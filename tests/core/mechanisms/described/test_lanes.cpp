@@ -120,7 +120,8 @@ void check_device(const Mechanism& m, const std::string& what, Tally& tally, boo
 // dyad's elbows; a crank-parallelogram's knee, upper and grip joints. The
 // described PATHOS-II: three-revolute legs with angle rules, and an extra.
 const char* const kLaneDevices[] = {"delta-described", "hexapod-rus", "stewart", "linear-delta", "five-bar",
-                                    "three-rrr",       "haply-2diy",  "falcon",  "pathos2-described"};
+                                    "three-rrr",       "haply-2diy",  "falcon",  "pathos2-described",
+                                    "omnid-delta"};
 bool has_stops(const std::string& name) { return name == "haply-2diy" || name == "falcon"; }
 bool turns(const std::string& name) { return name == "stewart" || name == "pathos2-described"; }
 
@@ -500,14 +501,15 @@ int check_mirror(const Mechanism& m, const Preset& p, const std::string& what) {
 }
 
 // Which shipped devices are their own mirror image in y: the described
-// Delta, the 6-RUS hexapod, the Stewart platform and the linear Delta; not
-// the planar ones (symmetric in x, if at all), the Falcon (parallelograms)
-// or the described PATHOS-II (three-revolute legs). Their fields agree with
-// the unmirrored lanes and the scalar path.
+// Delta, the 6-RUS hexapod, the Stewart platform, the linear Delta and the
+// Omnid's Delta; not the planar ones (symmetric in x, if at all), the Falcon
+// (parallelograms) or the described PATHOS-II (three-revolute legs). Their
+// fields agree with the unmirrored lanes and the scalar path.
 TEST(DescribedLanes, MirroredFieldsAgreeWithTheUnmirroredAndTheScalarPath) {
   const std::map<std::string, bool> expected = {{"delta-described", true}, {"hexapod-rus", true}, {"stewart", true},
                                                 {"linear-delta", true},    {"five-bar", false},   {"three-rrr", false},
-                                                {"haply-2diy", false},     {"falcon", false},     {"pathos2-described", false}};
+                                                {"haply-2diy", false},     {"falcon", false},     {"pathos2-described", false},
+                                                {"omnid-delta", true}};
   for (const char* name : kLaneDevices) {
     const Preset p = load_preset(name);
     EXPECT_EQ(mirrored(p, 0), expected.at(name)) << name;
