@@ -127,35 +127,50 @@ std::shared_ptr<const Mechanism> with_link_radii() {
   return make_mechanism(p);
 }
 
-// The firmware's workspace box (x, y within 100 mm of the base's centre, z
-// from 200 to 450 mm: parameters.h.in) in cells of 5 mm: the linkage reaches
-// every cell centre, the arms' travel of 0 to 80 deg keeps 60,910 of the
-// 80,000 (docs/mechanisms/omnid-delta.md), sample by sample as the closed
-// form says; with the links given radii, no cell changes.
+// The firmware's workspace limits (x, y within 100 mm of the base's centre,
+// z from 200 to 450 mm: parameters.h.in) in cells of 5 mm, in both readings
+// of its frame: the kinematics' (z = 0 at the arms' joint axes) and the base
+// plate's (the axes 46.375 mm above it). Sample by sample as the closed form
+// says, with the counts of docs/mechanisms/omnid-delta.md; with the links
+// given radii, no cell changes.
+struct BoxCounts {
+  int cells = 0, reached = 0, in_travel = 0, mismatches = 0, blocked = 0;
+};
+
+BoxCounts count_box(const OmnidDelta& g, const Mechanism& m, const Mechanism& capsules, double z_floor) {
+  BoxCounts n;
+  for (int i = 0; i < 40; ++i)
+    for (int j = 0; j < 40; ++j)
+      for (int k = 0; k < 50; ++k) {
+        const Vector3d p(-97.5 + 5 * i, -97.5 + 5 * j, z_floor + 2.5 + 5 * k);
+        const std::optional<Vector3r> t = g.ik(p);
+        const Status expected = !t ? Status::Unreachable : g.in_travel(*t) ? Status::Ok : Status::OutOfLimits;
+        const Status got = m.inverse(p).status;
+        ++n.cells;
+        n.reached += t.has_value();
+        n.in_travel += got == Status::Ok;
+        if (got != expected && ++n.mismatches <= 5) ADD_FAILURE() << "at " << p.transpose() << ": " << int(got);
+        n.blocked += capsules.inverse(p).status != got;
+      }
+  return n;
+}
+
 TEST(OmnidDeltaDevice, TheFirmwaresWorkspaceBoxWithAndWithoutTheTravel) {
   const OmnidDelta g = OmnidDelta::from_file();
   const auto m = load_device("omnid-delta.json");
   const auto capsules = with_link_radii();
   ASSERT_FALSE(capsules->info().extra_fields.empty());  // its clearance field: the capsules are checked
-  int cells = 0, reached = 0, in_travel = 0, mismatches = 0, blocked = 0;
-  for (int i = 0; i < 40; ++i)
-    for (int j = 0; j < 40; ++j)
-      for (int k = 0; k < 50; ++k) {
-        const Vector3d p(-97.5 + 5 * i, -97.5 + 5 * j, 202.5 + 5 * k);
-        const std::optional<Vector3r> t = g.ik(p);
-        const Status expected = !t ? Status::Unreachable : g.in_travel(*t) ? Status::Ok : Status::OutOfLimits;
-        const Status got = m->inverse(p).status;
-        ++cells;
-        reached += t.has_value();
-        in_travel += got == Status::Ok;
-        if (got != expected && ++mismatches <= 5) ADD_FAILURE() << "at " << p.transpose() << ": " << int(got);
-        blocked += capsules->inverse(p).status != got;
-      }
-  EXPECT_EQ(mismatches, 0);
-  EXPECT_EQ(blocked, 0);
-  EXPECT_EQ(cells, 80000);
-  EXPECT_EQ(reached, 80000);
-  EXPECT_EQ(in_travel, 60910);
+  const BoxCounts axes = count_box(g, *m, *capsules, 200);
+  EXPECT_EQ(axes.mismatches, 0);
+  EXPECT_EQ(axes.cells, 80000);
+  EXPECT_EQ(axes.reached, 80000);
+  EXPECT_EQ(axes.in_travel, 60910);
+  EXPECT_EQ(axes.blocked, 0);
+  const BoxCounts plate = count_box(g, *m, *capsules, 200 - 46.375);
+  EXPECT_EQ(plate.mismatches, 0);
+  EXPECT_EQ(plate.reached, 78738);
+  EXPECT_EQ(plate.in_travel, 46212);
+  EXPECT_EQ(plate.blocked, 0);
 }
 
 }  // namespace
