@@ -38,6 +38,21 @@ TEST(CliVerify, ProvesExitsZeroAndDisprovesExitsThreeWithTheCounterexample) {
   EXPECT_NE(disproved.out.find("c(J)"), std::string::npos) << disproved.out;
 }
 
+// The Omnid's Delta arm (docs/mechanisms/omnid-delta.md): its firmware's
+// 200 x 200 mm section is within the arms' travel, with c(J) < 3, at every
+// point of a 103 mm block and not of a 103.5 mm one; the firmware's whole
+// box is not.
+TEST(CliVerify, TheOmnidArmsBlockIsProvedAndTheFirmwaresBoxIsNot) {
+  const std::string omnid = "verify -m omnid-delta --criterion reach,'cond<3' --task box:size=200,200,";
+  const CommandResult block = run_linkscape(omnid + "103,centre=0,0,369.7");
+  EXPECT_EQ(block.exit_code, 0) << block.out;
+  for (const std::string& box : {std::string("103.5,centre=0,0,369.75"), std::string("250,centre=0,0,325")}) {
+    const CommandResult r = run_linkscape(omnid + box);
+    EXPECT_EQ(r.exit_code, 3) << box << "\n" << r.out;
+    EXPECT_NE(r.out.find("outside the travel"), std::string::npos) << r.out;
+  }
+}
+
 TEST(CliVerify, JsonCarriesTheVerdictAndTheCounterexample) {
   const CommandResult r = run_linkscape("verify" + twelve_r(11.5) + " --json", "", "2>/dev/null");
   ASSERT_EQ(r.exit_code, 3) << r.out;
