@@ -427,6 +427,20 @@ std::string pattern_name(LegPattern p) {
   return "numeric";
 }
 
+std::string joint_sequence(const Leg& leg) {
+  std::string out;
+  for (const Token& t : tokens_of(leg)) {
+    if (t.type == Type::Fixed) continue;
+    if (!out.empty()) out += ", ";
+    out += t.type == Type::Revolute    ? "revolute"
+           : t.type == Type::Universal ? "universal"
+           : t.type == Type::Spherical ? "spherical"
+                                       : "prismatic";
+    if (t.actuated) out += "*";
+  }
+  return out;
+}
+
 LegPattern pattern_of_name(const std::string& name) {
   for (LegPattern p : {LegPattern::Numeric, LegPattern::CrankRod, LegPattern::SlideRod, LegPattern::Extensible,
                        LegPattern::PlanarDyad, LegPattern::ThreeRevolute, LegPattern::CrankParallelogram})

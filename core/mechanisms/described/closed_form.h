@@ -39,6 +39,10 @@ enum class LegPattern {
 std::string pattern_name(LegPattern p);
 // The pattern a description names; throws std::invalid_argument listing the names.
 LegPattern pattern_of_name(const std::string& name);
+// A leg's joints in order as the patterns read them, the actuated one
+// starred, e.g. "revolute*, universal, spherical" (describe says it of a
+// numeric leg, to set beside the patterns' sequences).
+std::string joint_sequence(const Leg& leg);
 
 // A leg's closed form: where its joints are in its chain and the design's
 // constant vectors (leg base frame).

@@ -81,7 +81,9 @@ std::string describe(const Preset& preset) {
   for (std::size_t leg = 0; leg < m.legs.size(); ++leg) {
     const Leg& l = m.legs[leg];
     const ClosedFormLeg* form = k.closed_form(int(leg));
-    s << "  " << l.label() << ": " << pattern_name(form ? form->pattern : LegPattern::Numeric) << "\n";
+    s << "  " << l.label() << ": " << pattern_name(form ? form->pattern : LegPattern::Numeric);
+    if (!form) s << " (its joints: " << joint_sequence(l) << "; the closed forms' steps: docs/described-mechanisms.md)";
+    s << "\n";
     const Actuator& a = m.actuators[std::size_t(l.actuators.front())];
     s << "    actuator " << a.name << " (" << (a.prismatic ? "prismatic" : "revolute") << "), travel ";
     if (!a.limited) s << "a full turn";

@@ -73,7 +73,10 @@ TEST(DescribedDescribe, ALegOfNoKnownPatternIsNumeric) {
   p.description = d.dump();
   const std::string text = describe(p);
   EXPECT_TRUE(has(text, "legs: 6 (3 in closed form, 3 numeric)")) << text;
-  EXPECT_TRUE(has(text, "  leg 1: numeric\n")) << text;
+  // Its joints in order, the actuated one starred, beside the patterns' steps.
+  EXPECT_TRUE(has(text, "  leg 1: numeric (its joints: revolute*, revolute, revolute, spherical; the closed forms' "
+                        "steps: docs/described-mechanisms.md)\n"))
+      << text;
   EXPECT_TRUE(has(text, "  leg 4: three-revolute\n")) << text;
   // The same leg asserted numeric where it is a planar dyad is refused.
   try {
