@@ -506,6 +506,9 @@ std::shared_ptr<const LegsCertifier> LegsCertifier::from_preset(const Preset& pr
     const LegPattern p = form ? form->pattern : LegPattern::Numeric;
     if (p != LegPattern::CrankRod && p != LegPattern::SlideRod && p != LegPattern::Extensible)
       blocked += (blocked.empty() ? "" : ", ") + model.legs[i].label() + " (" + described::pattern_name(p) + ")";
+    else if (form->end_joints == 2)  // its leg also holds the platform's orientation
+      blocked += (blocked.empty() ? "" : ", ") + model.legs[i].label() + " (" + described::pattern_name(p) +
+                 " ending in a universal joint)";
   }
   if (!blocked.empty())
     throw Uncertifiable(refused + "not every leg is of a certified pattern: " + blocked +

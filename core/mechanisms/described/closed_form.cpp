@@ -136,19 +136,39 @@ struct Builder {
     s.spheres = from.spheres;
     return s;
   }
-  // Closes the last joint of the candidate just made, or leaves it open.
+  // Closes the last joint of the candidate just made (dropping it where a
+  // universal end cannot take the anchor's orientation), or leaves it open.
   void end_at(LegState& s, const Isometry3d& at) {
-    if (!leave_ends_open) return close_end(s, at);
+    if (!leave_ends_open) {
+      if (!close_end(s, at)) --out.count;
+      return;
+    }
     const std::size_t i = std::size_t(out.count - 1);
     out.end_frames[i] = at;
     out.open[i] = true;
   }
   // Sets the last joint so that the chain's end frame is the anchor frame;
-  // `at` is the frame at the last joint before it turns.
-  void close_end(LegState& s, const Isometry3d& at) const {
+  // `at` is the frame at the last joint before it turns. False where a
+  // universal end cannot turn by the rotation asked of it.
+  bool close_end(LegState& s, const Isometry3d& at) const {
     const Matrix3d M = at.linear().transpose() * anchor.linear() * form.tail.linear().transpose();
+    if (form.end_joints == 2) return close_universal_end(s, M);
     if (leg.steps[std::size_t(form.end_step)].kind == Kind::Spherical) s.spheres[std::size_t(sphere_index(form.end_step))] = M;
     else s.values(var(form.end_step)) = std::atan2(M(1, 0), M(0, 0));  // a planar revolute about z
+    return true;
+  }
+  // exp(b1 t1) exp(b2 t2) = M for the universal's square axes b1, b2: M b2 =
+  // exp(b1 t1) b2 gives t1 (b2's part along b1 must be kept), the rest is a
+  // turn about b2; within 1e-9 or none.
+  bool close_universal_end(LegState& s, const Matrix3d& M) const {
+    const Vector3d b1 = leg.steps[std::size_t(form.end_step)].axis, b2 = leg.steps[std::size_t(form.end_step + 1)].axis;
+    const double t1 = turn(b1, b2, M * b2);
+    const Matrix3d rest = Eigen::AngleAxisd(-t1, b1).toRotationMatrix() * M;
+    const double t2 = turn(b2, b1, rest * b1);
+    if (!((rest - Eigen::AngleAxisd(t2, b2).toRotationMatrix()).norm() <= 1e-9)) return false;
+    s.values(var(form.end_step)) = t1;
+    s.values(var(form.end_step + 1)) = t2;
+    return true;
   }
   // The ball at frame `at` (its centre) turned so that `link` (ball frame)
   // points along `direction` (base frame), then the last joint closed, `after`
@@ -175,8 +195,10 @@ struct Builder {
     std::array<std::array<double, 2>, 2> angles{};
     // The universal's second way to point the link differs only in its own
     // angles: needed only where a branch rule reads them.
+    // A universal end needs both where its axes cannot undo the half turn
+    // about the rod by which the two differ.
     const int n = std::min(two_axes(first.axis, second.axis, link.normalized(), wanted.normalized(), angles),
-                           form.ball_read ? 2 : 1);
+                           form.ball_read || form.end_joints == 2 ? 2 : 1);
     for (int k = 0; k < n; ++k) {
       LegState& s = fresh(partial);
       s.values(var(form.ball_step)) = angles[std::size_t(k)][0];
@@ -293,7 +315,7 @@ struct Builder {
         // Left open, the frame at the spherical joint follows from the three
         // angles when the candidate is kept.
         if (leave_ends_open) out.open[std::size_t(out.count - 1)] = true;
-        else close_end(s, three_revolute_end(s));
+        else if (!close_end(s, three_revolute_end(s))) --out.count;
       }
     }
   }
@@ -489,32 +511,43 @@ std::optional<ClosedFormLeg> recognise_pattern(const Model& model, const Leg& le
     }
     return std::nullopt;
   }
-  for (Type b : {Type::Spherical, Type::Universal}) {
-    // An actuated revolute (crank) or slide (carriage), a ball, a rod to a spherical joint.
-    auto rod_leg = [&](Type actuator, LegPattern pattern) {
-      if (!match(tokens, {actuator, b, Type::Spherical}, j, f) || !j[0]->actuated || f[2].translation().norm() <= tiny ||
-          !points_anywhere(*j[1], f[2].translation()))
-        return false;
-      start(*j[0], pattern);
-      c.after_actuator = f[1];
-      c.rod = f[2];
-      ball(*j[1]);
-      // A crank's elbow off the actuator's axis.
-      const Vector3d p = f[1].translation();
-      return actuator != Type::Revolute || (p - c.actuator_axis * c.actuator_axis.dot(p)).norm() > tiny;
-    };
-    if (rod_leg(Type::Revolute, LegPattern::CrankRod) || rod_leg(Type::Prismatic, LegPattern::SlideRod)) return c;
-    if (match(tokens, {b, Type::Prismatic, Type::Spherical}, j, f) && j[1]->actuated && f[1].isApprox(Isometry3d::Identity()) &&
-        pure_translation(f[2])) {
-      const Vector3d s = leg.steps[std::size_t(j[1]->step)].axis, t = f[2].translation();
-      if ((t - s * s.dot(t)).norm() > tiny || !points_anywhere(*j[0], s)) continue;
-      start(*j[1], LegPattern::Extensible);
-      ball(*j[0]);
-      c.rod = f[2];
-      c.offset = s.dot(t);
-      return c;
+  // A universal end with square axes (as a ball's), after a universal ball
+  // (RUU, PUU, UPU): the leg holds the platform's orientation too.
+  auto square_universal = [&](const Token& e) {
+    const Vector3d b1 = leg.steps[std::size_t(e.step)].axis, b2 = leg.steps[std::size_t(e.step + 1)].axis;
+    return std::abs(b1.dot(b2)) < 1e-12;
+  };
+  for (Type b : {Type::Spherical, Type::Universal})
+    for (Type e : {Type::Spherical, Type::Universal}) {
+      if (e == Type::Universal && b != Type::Universal) continue;
+      const auto end_ok = [&] { return e == Type::Spherical || square_universal(*j.back()); };
+      // An actuated revolute (crank) or slide (carriage), a ball, a rod to the end joint.
+      auto rod_leg = [&](Type actuator, LegPattern pattern) {
+        if (!match(tokens, {actuator, b, e}, j, f) || !j[0]->actuated || f[2].translation().norm() <= tiny ||
+            !points_anywhere(*j[1], f[2].translation()) || !end_ok())
+          return false;
+        start(*j[0], pattern);
+        c.after_actuator = f[1];
+        c.rod = f[2];
+        c.end_joints = e == Type::Universal ? 2 : 1;
+        ball(*j[1]);
+        // A crank's elbow off the actuator's axis.
+        const Vector3d p = f[1].translation();
+        return actuator != Type::Revolute || (p - c.actuator_axis * c.actuator_axis.dot(p)).norm() > tiny;
+      };
+      if (rod_leg(Type::Revolute, LegPattern::CrankRod) || rod_leg(Type::Prismatic, LegPattern::SlideRod)) return c;
+      if (match(tokens, {b, Type::Prismatic, e}, j, f) && j[1]->actuated && f[1].isApprox(Isometry3d::Identity()) &&
+          pure_translation(f[2]) && end_ok()) {
+        const Vector3d s = leg.steps[std::size_t(j[1]->step)].axis, t = f[2].translation();
+        if ((t - s * s.dot(t)).norm() > tiny || !points_anywhere(*j[0], s)) continue;
+        start(*j[1], LegPattern::Extensible);
+        ball(*j[0]);
+        c.rod = f[2];
+        c.offset = s.dot(t);
+        c.end_joints = e == Type::Universal ? 2 : 1;
+        return c;
+      }
     }
-  }
   if (match(tokens, {Type::Revolute, Type::Revolute, Type::Revolute, Type::Spherical}, j, f) && j[0]->actuated &&
       pure_translation(f[1]) && pure_translation(f[2]) && pure_translation(f[3])) {
     const Vector3d a1 = leg.steps[std::size_t(j[0]->step)].axis, t1 = f[1].translation();
@@ -552,7 +585,7 @@ void solve_closed(const ClosedFormLeg& form, const Model& model, const Leg& leg,
   thread_local LegState partial;
   partial.values.setZero(leg.variables);
   partial.spheres.assign(std::size_t(leg.spheres), Matrix3d::Identity());
-  Builder b{form, model, leg, anchor, out, leave_ends_open && !form.end_read, branch};
+  Builder b{form, model, leg, anchor, out, leave_ends_open && !form.end_read && form.end_joints == 1, branch};
   switch (form.pattern) {
     case LegPattern::CrankRod:
     case LegPattern::PlanarDyad: b.crank_rod(partial); break;
@@ -562,13 +595,17 @@ void solve_closed(const ClosedFormLeg& form, const Model& model, const Leg& leg,
     case LegPattern::CrankParallelogram: b.crank_parallelogram(partial); break;
     case LegPattern::Numeric: out.undecided = true; break;
   }
+  // Within the rod's reach but no candidate's universal end taking the
+  // anchor's orientation: a design that holds it only in part, or rounding
+  // at a lock; the numerical solver decides.
+  if (form.end_joints == 2 && out.count == 0 && out.miss == 0) out.undecided = true;
 }
 
 void close_open_end(const ClosedFormLeg& form, const Model& model, const Leg& leg, const Isometry3d& anchor,
                     LegState& s, const Isometry3d& frame) {
   thread_local LegCandidates unused;
   const Builder b{form, model, leg, anchor, unused};
-  b.close_end(s, form.pattern == LegPattern::ThreeRevolute ? b.three_revolute_end(s) : frame);
+  b.close_end(s, form.pattern == LegPattern::ThreeRevolute ? b.three_revolute_end(s) : frame);  // never a universal end (left open only where spherical)
 }
 
 }  // namespace linkscape::described

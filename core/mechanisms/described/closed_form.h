@@ -63,7 +63,11 @@ struct ClosedFormLeg {
   // ThreeRevolute: the second and third revolutes, the links after them.
   int second_step = -1, third_step = -1;
   Eigen::Vector3d second_link = Eigen::Vector3d::Zero(), third_link = Eigen::Vector3d::Zero();
-  int end_step = -1;  // the last joint (spherical; planar: revolute)
+  int end_step = -1;  // the last joint (spherical, universal; planar: revolute)
+  // 2: the rod ends in a universal joint, as it starts in one (RUU, PUU,
+  // UPU): the leg also holds the platform's orientation, and a candidate
+  // whose end cannot take the anchor's orientation is no solution.
+  int end_joints = 1;
   // A branch rule reads the last joint or a step after it: a candidate is
   // judged only once its last joint is closed.
   bool end_read = false;

@@ -83,6 +83,7 @@ std::string describe(const Preset& preset) {
     const ClosedFormLeg* form = k.closed_form(int(leg));
     s << "  " << l.label() << ": " << pattern_name(form ? form->pattern : LegPattern::Numeric);
     if (!form) s << " (its joints: " << joint_sequence(l) << "; the closed forms' steps: docs/described-mechanisms.md)";
+    if (form && form->end_joints == 2) s << " (ending in a universal joint: it holds the orientation too)";
     s << "\n";
     const Actuator& a = m.actuators[std::size_t(l.actuators.front())];
     s << "    actuator " << a.name << " (" << (a.prismatic ? "prismatic" : "revolute") << "), travel ";

@@ -7,6 +7,8 @@
 #include <Eigen/SVD>
 #include <random>
 
+#include <nlohmann/json.hpp>
+
 #include "core/verify/certifier.h"
 #include "core/verify/legs.h"
 #include "core/verify/matrix_bounds.h"
@@ -181,17 +183,27 @@ TEST(VerifyLegs, StopsAreNamedAsNotCoveredAndSampledByTheDevice) {
 }
 
 TEST(VerifyLegs, DevicesWithOtherLegsOrCriteriaAreRefusedByName) {
-  auto message = [](const char* name) {
+  auto message_of = [](const Preset& preset) {
     try {
-      Certifier::from_preset(load_preset(name), 0, 3);
+      Certifier::from_preset(preset, 0, 3);
     } catch (const Uncertifiable& e) {
       return std::string(e.what());
     }
     return std::string("certified");
   };
+  auto message = [&](const char* name) { return message_of(load_preset(name)); };
   EXPECT_NE(message("pathos2-described").find("three-revolute"), std::string::npos) << message("pathos2-described");
   EXPECT_NE(message("five-bar").find("planar"), std::string::npos) << message("five-bar");
   EXPECT_NE(message("three-rrr").find("planar"), std::string::npos) << message("three-rrr");
+  // Crank-rods whose rods end in a universal joint (the Omnid's arm with
+  // universal knees and platform joints): their legs hold the orientation too.
+  Preset ruu = load_preset("omnid-delta");
+  nlohmann::json d = nlohmann::json::parse(ruu.description);
+  d["legs"][0]["chain"][2] = {{"joint", "universal"}, {"name", "knee#"}, {"axes", {{0, 1, 0}, {0, 0, 1}}}};
+  d["legs"][0]["chain"][4] = {{"joint", "universal"}, {"name", "platform#"}, {"axes", {{0, 0, 1}, {0, 1, 0}}}};
+  ruu.description = d.dump();
+  EXPECT_NE(message_of(ruu).find("crank-rod ending in a universal joint"), std::string::npos) << message_of(ruu);
+  EXPECT_EQ(message("omnid-delta"), "certified");
   EXPECT_THROW(verify(load_preset("delta-described"), task::parse_task("sphere:diameter=2,centre=0,0,-20"),
                       {task::parse_criterion("force_iso>1")}),
                Uncertifiable);

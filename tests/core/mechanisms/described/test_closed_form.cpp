@@ -182,6 +182,80 @@ TEST(DescribedClosedForm, HexapodRusAgreesWithTheNumericalSolver) { compare("hex
 TEST(DescribedClosedForm, FalconAgreesWithTheNumericalSolver) { compare("falcon", 6000); }
 TEST(DescribedClosedForm, OmnidDeltaAgreesWithTheNumericalSolver) { compare("omnid-delta", 10000); }
 
+// Rods that end in a universal joint, as they start in one (RUU, UPU): the
+// leg holds the platform's orientation too. Tsai's translational
+// arrangements, the end's axes the start's in reverse order: the Omnid's arm
+// with universal knees and platform joints, and a 3-UPU.
+Kinematics with_universal_ends(const std::string& name) {
+  Preset p = load_preset("omnid-delta");
+  nlohmann::json d = nlohmann::json::parse(p.description);
+  nlohmann::json& chain = d["legs"][0]["chain"];
+  if (name == "ruu") {
+    chain[2] = {{"joint", "universal"}, {"name", "knee#"}, {"axes", {{0, 1, 0}, {0, 0, 1}}}};
+    chain[4] = {{"joint", "universal"}, {"name", "platform#"}, {"axes", {{0, 0, 1}, {0, 1, 0}}}};
+  } else {  // "upu": a slide of 150 to 450 mm between two universals
+    chain = nlohmann::json::array(
+        {{{"joint", "universal"}, {"name", "base#"}, {"axes", {{0, 1, 0}, {1, 0, 0}}}},
+         {{"joint", "prismatic"}, {"name", "q#"}, {"axis", {0, 0, 1}}, {"actuated", true}, {"range", {150, 450}}},
+         {{"translate", {0, 0, 20}}},
+         {{"joint", "universal"}, {"name", "top#"}, {"axes", {{1, 0, 0}, {0, 1, 0}}}}});
+    d["legs"][0].erase("branch");
+    d["home"]["z"] = 250;
+    p.limits_deg.clear();
+  }
+  return Kinematics(build_model(d.dump(), p.parameters, p.limits_deg, p.length_unit));
+}
+
+TEST(DescribedClosedForm, RodsEndingInAUniversalJointAgreeWithTheNumericalSolver) {
+  for (const std::string name : {"ruu", "upu"}) {
+    const Kinematics k = with_universal_ends(name);
+    const Model& m = k.model();
+    EXPECT_EQ(patterns(k), std::vector<std::string>(3, name == "ruu" ? "crank-rod" : "extensible")) << name;
+    for (std::size_t l = 0; l < m.legs.size(); ++l) {
+      ASSERT_TRUE(k.closed_form(int(l))) << name;
+      EXPECT_EQ(k.closed_form(int(l))->end_joints, 2) << name;
+    }
+    EXPECT_GT(compare(k, name, 4000).ok, 800) << name;
+    // The closed form's assemblies take the platform's orientation too.
+    std::mt19937_64 rng(7);
+    int assemblies = 0;
+    for (int i = 0; i < 2000; ++i) {
+      const VectorXd x = random_pose(m, 0.5, rng);
+      const PoseSolution s = k.inverse(x, 0, 1e-10, LegSolver::Fastest);
+      if (!assembled(s)) continue;
+      ++assemblies;
+      const PlatformPose pose = k.pose(x);
+      for (std::size_t l = 0; l < m.legs.size(); ++l) {
+        const Eigen::Isometry3d end = k.draw_leg(int(l), s.legs[l].state).frames.back();
+        EXPECT_LE((end.linear() - k.anchor(int(l), pose).linear()).norm(), 1e-12) << name << " pose " << i;
+      }
+    }
+    EXPECT_GT(assemblies, 200) << name;
+  }
+}
+
+// A universal end takes only the orientations its leg lets it: at the
+// anchor of home turned by 10 deg about x (no orientation a translational
+// leg reaches) no candidate closes, and the closed form leaves the leg to the
+// numerical solver rather than answer; level, it answers.
+TEST(DescribedClosedForm, AUniversalEndThatCannotTakeTheOrientationIsLeftToTheSolver) {
+  const Kinematics k = with_universal_ends("ruu");
+  const Model& m = k.model();
+  const Leg& leg = m.legs.front();
+  const ClosedFormLeg& form = *k.closed_form(0);
+  const Eigen::Isometry3d level = k.anchor(0, k.pose(m.home));
+  LegCandidates out;
+  solve_closed(form, m, leg, level, out, false, 0);
+  EXPECT_FALSE(out.undecided);
+  EXPECT_GE(out.count, 1);
+  Eigen::Isometry3d tilted = level;
+  tilted.linear() = level.linear() * Eigen::AngleAxisd(10 * M_PI / 180, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  solve_closed(form, m, leg, tilted, out, false, 0);
+  EXPECT_TRUE(out.undecided);
+  EXPECT_EQ(out.count, 0);
+  EXPECT_EQ(out.miss, 0);
+}
+
 // The pattern is the leg's joints', not the device's: the Falcon's leg with
 // its knee, lower joint and grip turning the other way and links with parts
 // along the motor axis (passive stops removed: they are written for the

@@ -62,6 +62,20 @@ Preset five_bar_with(const std::string& pattern, const nlohmann::json& steps = n
   return p;
 }
 
+// A rod ending in a universal joint (the Omnid's arm with universal knees
+// and platform joints): named, and why its fields are not in lanes.
+TEST(DescribedDescribe, ARodEndingInAUniversalJointIsNamed) {
+  Preset p = load_preset("omnid-delta");
+  nlohmann::json d = nlohmann::json::parse(p.description);
+  d["legs"][0]["chain"][2] = {{"joint", "universal"}, {"name", "knee#"}, {"axes", {{0, 1, 0}, {0, 0, 1}}}};
+  d["legs"][0]["chain"][4] = {{"joint", "universal"}, {"name", "platform#"}, {"axes", {{0, 0, 1}, {0, 1, 0}}}};
+  p.description = d.dump();
+  const std::string text = describe(p);
+  EXPECT_TRUE(has(text, "  leg 1: crank-rod (ending in a universal joint: it holds the orientation too)\n")) << text;
+  EXPECT_TRUE(has(text, "not in lanes: leg 1: holds more than one wrench")) << text;
+  EXPECT_TRUE(has(describe(load_preset("omnid-delta")), "  leg 1: crank-rod\n"));
+}
+
 TEST(DescribedDescribe, ALegOfNoKnownPatternIsNumeric) {
   // PATHOS-II with the second joint of legs 1-3 set 0.5 cm off the
   // actuator's axis: three revolutes to a spherical joint whose first two
