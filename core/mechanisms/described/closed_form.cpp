@@ -159,13 +159,13 @@ struct Builder {
   }
   // exp(b1 t1) exp(b2 t2) = M for the universal's square axes b1, b2: M b2 =
   // exp(b1 t1) b2 gives t1 (b2's part along b1 must be kept), the rest is a
-  // turn about b2; within 1e-9 or none.
+  // turn about b2; within 1e-10 (the solver's tolerance) or none.
   bool close_universal_end(LegState& s, const Matrix3d& M) const {
     const Vector3d b1 = leg.steps[std::size_t(form.end_step)].axis, b2 = leg.steps[std::size_t(form.end_step + 1)].axis;
     const double t1 = turn(b1, b2, M * b2);
     const Matrix3d rest = Eigen::AngleAxisd(-t1, b1).toRotationMatrix() * M;
     const double t2 = turn(b2, b1, rest * b1);
-    if (!((rest - Eigen::AngleAxisd(t2, b2).toRotationMatrix()).norm() <= 1e-9)) return false;
+    if (!((rest - Eigen::AngleAxisd(t2, b2).toRotationMatrix()).norm() <= 1e-10)) return false;
     s.values(var(form.end_step)) = t1;
     s.values(var(form.end_step + 1)) = t2;
     return true;

@@ -27,6 +27,8 @@ struct LegState {
 
 enum class LegPattern {
   Numeric,        // no known pattern: damped Gauss-Newton from seeds
+  // The rod patterns end in a spherical joint, or after a universal ball in a
+  // universal (RUU, PUU, UPU: end_joints).
   CrankRod,       // revolute actuator, crank, ball (spherical/universal), rod, spherical (Delta, 6-RUS)
   SlideRod,       // prismatic actuator, carriage, ball, rod, spherical (linear Delta)
   Extensible,     // ball, prismatic actuator, spherical (Gough-Stewart UPS/SPS)

@@ -184,6 +184,14 @@ bool Kinematics::solve_leg_closed(int leg, const Isometry3d& anchor, int branch,
   // that closes its anchor twice on one branch is ok if either is in travel),
   // else outside it (ok: inverse() says out-of-limits).
   int kept = -1;
+  // A rod ending in a universal joint closes each actuator value twice (the
+  // rod half a turn about itself): the one its passive limits allow first.
+  if (form.end_joints == 2 && has_joint_limits_)
+    for (int i = 0; i < candidates.count && kept < 0; ++i)
+      if (within_travel(leg, candidates.states[std::size_t(i)]) &&
+          signs_match(leg, candidates.states[std::size_t(i)], anchor, branch) &&
+          leg_limits_hold(leg, candidates.states[std::size_t(i)]))
+        kept = i;
   for (int i = 0; i < candidates.count && kept < 0; ++i)
     if (within_travel(leg, candidates.states[std::size_t(i)]) &&
         signs_match(leg, candidates.states[std::size_t(i)], anchor, branch))

@@ -218,6 +218,9 @@ class Kinematics {
   bool signs_match(int leg, const LegState& state, const Eigen::Isometry3d& anchor, int branch) const;
   // Whether the leg's actuator lies within its travel (a revolute one: some turn of it).
   bool within_travel(int leg, const LegState& state) const;
+  // Whether the leg's own passive-joint limits hold at `state` (true where it
+  // states none or they are switched off).
+  bool leg_limits_hold(int leg, const LegState& state) const;
   std::vector<int> rule_signs(int leg, const LegState& state, const Eigen::Isometry3d& anchor) const;
 
   Model model_;

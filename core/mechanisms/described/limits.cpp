@@ -68,6 +68,13 @@ std::vector<std::vector<interference::Capsule>> Kinematics::capsules(const Platf
   return out;
 }
 
+bool Kinematics::leg_limits_hold(int leg, const LegState& state) const {
+  const Leg& l = model_.legs[std::size_t(leg)];
+  for (const JointLimit& j : l.limits)
+    if (joint_margin_deg(j, joint_angle_deg(j, l, state)) < 0) return false;
+  return true;
+}
+
 Stops Kinematics::stops(const PlatformPose& pose, const std::vector<LegState>& legs) const {
   Stops out;
   const std::size_t n = model_.legs.size();

@@ -182,11 +182,20 @@ TEST(DescribedClosedForm, HexapodRusAgreesWithTheNumericalSolver) { compare("hex
 TEST(DescribedClosedForm, FalconAgreesWithTheNumericalSolver) { compare("falcon", 6000); }
 TEST(DescribedClosedForm, OmnidDeltaAgreesWithTheNumericalSolver) { compare("omnid-delta", 10000); }
 
-// Rods that end in a universal joint, as they start in one (RUU, UPU): the
-// leg holds the platform's orientation too. Tsai's translational
+// Rods that end in a universal joint, as they start in one (RUU, PUU, UPU):
+// the leg holds the platform's orientation too. Tsai's translational
 // arrangements, the end's axes the start's in reverse order: the Omnid's arm
-// with universal knees and platform joints, and a 3-UPU.
+// with universal knees and platform joints, the linear Delta with universal
+// elbows and wrists, and a 3-UPU.
 Kinematics with_universal_ends(const std::string& name) {
+  if (name == "puu") {  // the linear Delta's carriages with universal elbows and wrists
+    Preset p = load_preset("linear-delta");
+    nlohmann::json d = nlohmann::json::parse(p.description);
+    nlohmann::json& chain = d["legs"][0]["chain"];
+    chain[1] = {{"joint", "universal"}, {"name", "elbow#"}, {"axes", {{0, 1, 0}, {1, 0, 0}}}};
+    chain[3] = {{"joint", "universal"}, {"name", "wrist#"}, {"axes", {{1, 0, 0}, {0, 1, 0}}}};
+    return Kinematics(build_model(d.dump(), p.parameters, p.limits_deg, p.length_unit));
+  }
   Preset p = load_preset("omnid-delta");
   nlohmann::json d = nlohmann::json::parse(p.description);
   nlohmann::json& chain = d["legs"][0]["chain"];
@@ -207,10 +216,11 @@ Kinematics with_universal_ends(const std::string& name) {
 }
 
 TEST(DescribedClosedForm, RodsEndingInAUniversalJointAgreeWithTheNumericalSolver) {
-  for (const std::string name : {"ruu", "upu"}) {
+  const std::map<std::string, std::string> pattern = {{"ruu", "crank-rod"}, {"puu", "slide-rod"}, {"upu", "extensible"}};
+  for (const auto& [name, expected] : pattern) {
     const Kinematics k = with_universal_ends(name);
     const Model& m = k.model();
-    EXPECT_EQ(patterns(k), std::vector<std::string>(3, name == "ruu" ? "crank-rod" : "extensible")) << name;
+    EXPECT_EQ(patterns(k), std::vector<std::string>(3, expected)) << name;
     for (std::size_t l = 0; l < m.legs.size(); ++l) {
       ASSERT_TRUE(k.closed_form(int(l))) << name;
       EXPECT_EQ(k.closed_form(int(l))->end_joints, 2) << name;
@@ -232,6 +242,36 @@ TEST(DescribedClosedForm, RodsEndingInAUniversalJointAgreeWithTheNumericalSolver
     }
     EXPECT_GT(assemblies, 200) << name;
   }
+}
+
+// Each actuator value of a rod ending in a universal joint closes twice, the
+// rod half a turn about itself (the knee's second angle s or 180 deg - s):
+// with the knees' second angle limited to 120..240 deg only the second
+// assembly is within its limits, and the closed form keeps it (ok, not
+// out-of-limits) as the numerical solver's answer does.
+TEST(DescribedClosedForm, ARodEndingInAUniversalJointTakesTheAssemblyItsLimitsAllow) {
+  Preset p = load_preset("omnid-delta");
+  nlohmann::json d = nlohmann::json::parse(p.description);
+  nlohmann::json& chain = d["legs"][0]["chain"];
+  chain[2] = {{"joint", "universal"},
+              {"name", "knee#"},
+              {"axes", {{0, 1, 0}, {0, 0, 1}}},
+              {"ranges_deg", {nullptr, {120, 240}}}};
+  chain[4] = {{"joint", "universal"}, {"name", "platform#"}, {"axes", {{0, 0, 1}, {0, 1, 0}}}};
+  const Kinematics k(build_model(d.dump(), p.parameters, p.limits_deg, p.length_unit));
+  const Kinematics balls = load("omnid-delta");  // the same arm with ball joints: its statuses
+  ASSERT_TRUE(k.has_joint_limits());
+  std::mt19937_64 rng(3);
+  int ok = 0;
+  for (int i = 0; i < 400; ++i) {
+    const VectorXd x = random_pose(k.model(), 0.15, rng);
+    const PoseSolution fast = k.inverse(x, 0, 1e-10, LegSolver::Fastest);
+    EXPECT_EQ(fast.status, balls.inverse(x, 0, 1e-10, LegSolver::Fastest).status) << "pose " << i;
+    if (fast.status != Status::Ok) continue;
+    EXPECT_GE(k.stops(k.pose(x), fast).joint_margin_deg, 0) << "pose " << i;
+    ++ok;
+  }
+  EXPECT_GT(ok, 100);
 }
 
 // A universal end takes only the orientations its leg lets it: at the
