@@ -504,11 +504,12 @@ std::shared_ptr<const LegsCertifier> LegsCertifier::from_preset(const Preset& pr
   for (std::size_t i = 0; i < model.legs.size(); ++i) {
     const described::ClosedFormLeg* form = kin.closed_form(int(i));
     const LegPattern p = form ? form->pattern : LegPattern::Numeric;
+    std::string why;
     if (p != LegPattern::CrankRod && p != LegPattern::SlideRod && p != LegPattern::Extensible)
-      blocked += (blocked.empty() ? "" : ", ") + model.legs[i].label() + " (" + described::pattern_name(p) + ")";
+      why = described::pattern_name(p);
     else if (form->end_joints == 2)  // its leg also holds the platform's orientation
-      blocked += (blocked.empty() ? "" : ", ") + model.legs[i].label() + " (" + described::pattern_name(p) +
-                 " ending in a universal joint)";
+      why = described::pattern_name(p) + " ending in a universal joint";
+    if (!why.empty()) blocked += (blocked.empty() ? "" : ", ") + model.legs[i].label() + " (" + why + ")";
   }
   if (!blocked.empty())
     throw Uncertifiable(refused + "not every leg is of a certified pattern: " + blocked +

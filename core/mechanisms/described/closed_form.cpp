@@ -485,6 +485,7 @@ std::optional<ClosedFormLeg> recognise_pattern(const Model& model, const Leg& le
     c.actuator_step = actuator.step;
     c.actuator_axis = leg.steps[std::size_t(actuator.step)].axis;
     c.end_step = j.back()->step;
+    c.end_joints = j.back()->type == Type::Universal ? 2 : 1;
     c.tail = f.back();
   };
   auto ball = [&](const Token& b) {
@@ -511,16 +512,16 @@ std::optional<ClosedFormLeg> recognise_pattern(const Model& model, const Leg& le
     }
     return std::nullopt;
   }
-  // A universal end with square axes (as a ball's), after a universal ball
-  // (RUU, PUU, UPU): the leg holds the platform's orientation too.
-  auto square_universal = [&](const Token& e) {
-    const Vector3d b1 = leg.steps[std::size_t(e.step)].axis, b2 = leg.steps[std::size_t(e.step + 1)].axis;
-    return std::abs(b1.dot(b2)) < 1e-12;
-  };
   for (Type b : {Type::Spherical, Type::Universal})
     for (Type e : {Type::Spherical, Type::Universal}) {
+      // A universal end only after a universal ball (RUU, PUU, UPU: the leg
+      // holds the platform's orientation too), its axes square as a ball's.
       if (e == Type::Universal && b != Type::Universal) continue;
-      const auto end_ok = [&] { return e == Type::Spherical || square_universal(*j.back()); };
+      const auto end_ok = [&] {
+        const int step = j.back()->step;
+        return e == Type::Spherical ||
+               std::abs(leg.steps[std::size_t(step)].axis.dot(leg.steps[std::size_t(step + 1)].axis)) < 1e-12;
+      };
       // An actuated revolute (crank) or slide (carriage), a ball, a rod to the end joint.
       auto rod_leg = [&](Type actuator, LegPattern pattern) {
         if (!match(tokens, {actuator, b, e}, j, f) || !j[0]->actuated || f[2].translation().norm() <= tiny ||
@@ -529,7 +530,6 @@ std::optional<ClosedFormLeg> recognise_pattern(const Model& model, const Leg& le
         start(*j[0], pattern);
         c.after_actuator = f[1];
         c.rod = f[2];
-        c.end_joints = e == Type::Universal ? 2 : 1;
         ball(*j[1]);
         // A crank's elbow off the actuator's axis.
         const Vector3d p = f[1].translation();
@@ -544,7 +544,6 @@ std::optional<ClosedFormLeg> recognise_pattern(const Model& model, const Leg& le
         ball(*j[0]);
         c.rod = f[2];
         c.offset = s.dot(t);
-        c.end_joints = e == Type::Universal ? 2 : 1;
         return c;
       }
     }
@@ -605,7 +604,8 @@ void close_open_end(const ClosedFormLeg& form, const Model& model, const Leg& le
                     LegState& s, const Isometry3d& frame) {
   thread_local LegCandidates unused;
   const Builder b{form, model, leg, anchor, unused};
-  b.close_end(s, form.pattern == LegPattern::ThreeRevolute ? b.three_revolute_end(s) : frame);  // never a universal end (left open only where spherical)
+  // Only a spherical end is left open (solve_closed), so this one closes.
+  b.close_end(s, form.pattern == LegPattern::ThreeRevolute ? b.three_revolute_end(s) : frame);
 }
 
 }  // namespace linkscape::described

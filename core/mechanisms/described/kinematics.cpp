@@ -183,21 +183,22 @@ bool Kinematics::solve_leg_closed(int leg, const Isometry3d& anchor, int branch,
   // On the branch, within the travel first (as the numerical solver: a leg
   // that closes its anchor twice on one branch is ok if either is in travel),
   // else outside it (ok: inverse() says out-of-limits).
-  int kept = -1;
+  // The first candidate on the branch (and within the travel, and within its
+  // passive limits, where asked), or -1.
+  const auto first_on_branch = [&](bool in_travel, bool in_limits) {
+    for (int i = 0; i < candidates.count; ++i) {
+      const LegState& s = candidates.states[std::size_t(i)];
+      if ((!in_travel || within_travel(leg, s)) && signs_match(leg, s, anchor, branch) &&
+          (!in_limits || leg_limits_hold(leg, s)))
+        return i;
+    }
+    return -1;
+  };
   // A rod ending in a universal joint closes each actuator value twice (the
   // rod half a turn about itself): the one its passive limits allow first.
-  if (form.end_joints == 2 && has_joint_limits_)
-    for (int i = 0; i < candidates.count && kept < 0; ++i)
-      if (within_travel(leg, candidates.states[std::size_t(i)]) &&
-          signs_match(leg, candidates.states[std::size_t(i)], anchor, branch) &&
-          leg_limits_hold(leg, candidates.states[std::size_t(i)]))
-        kept = i;
-  for (int i = 0; i < candidates.count && kept < 0; ++i)
-    if (within_travel(leg, candidates.states[std::size_t(i)]) &&
-        signs_match(leg, candidates.states[std::size_t(i)], anchor, branch))
-      kept = i;
-  for (int i = 0; i < candidates.count && kept < 0; ++i)
-    if (signs_match(leg, candidates.states[std::size_t(i)], anchor, branch)) kept = i;
+  int kept = form.end_joints == 2 && has_joint_limits_ ? first_on_branch(true, true) : -1;
+  if (kept < 0) kept = first_on_branch(true, false);
+  if (kept < 0) kept = first_on_branch(false, false);
   // None on the branch: the state reported is the first of all solutions.
   if (kept < 0 && candidates.dropped) solve_closed(form, model_, l, anchor, candidates, true);
   out.residual = 0.0;

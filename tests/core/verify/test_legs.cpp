@@ -7,12 +7,11 @@
 #include <Eigen/SVD>
 #include <random>
 
-#include <nlohmann/json.hpp>
-
 #include "core/verify/certifier.h"
 #include "core/verify/legs.h"
 #include "core/verify/matrix_bounds.h"
 #include "core/verify/verify.h"
+#include "tests/core/mechanisms/described/designs.h"
 #include "tests/core/verify/verdict_checks.h"
 
 namespace linkscape::verify {
@@ -197,11 +196,7 @@ TEST(VerifyLegs, DevicesWithOtherLegsOrCriteriaAreRefusedByName) {
   EXPECT_NE(message("three-rrr").find("planar"), std::string::npos) << message("three-rrr");
   // Crank-rods whose rods end in a universal joint (the Omnid's arm with
   // universal knees and platform joints): their legs hold the orientation too.
-  Preset ruu = load_preset("omnid-delta");
-  nlohmann::json d = nlohmann::json::parse(ruu.description);
-  d["legs"][0]["chain"][2] = {{"joint", "universal"}, {"name", "knee#"}, {"axes", {{0, 1, 0}, {0, 0, 1}}}};
-  d["legs"][0]["chain"][4] = {{"joint", "universal"}, {"name", "platform#"}, {"axes", {{0, 0, 1}, {0, 1, 0}}}};
-  ruu.description = d.dump();
+  const Preset ruu = testing_support::omnid_with_universal_joints();
   EXPECT_NE(message_of(ruu).find("crank-rod ending in a universal joint"), std::string::npos) << message_of(ruu);
   EXPECT_EQ(message("omnid-delta"), "certified");
   EXPECT_THROW(verify(load_preset("delta-described"), task::parse_task("sphere:diameter=2,centre=0,0,-20"),

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <string>
 #include <vector>
@@ -20,6 +21,21 @@ inline const std::vector<std::string>& shipped_descriptions() {
                                               "hexapod-rus",     "haply-2diy",        "falcon",
                                               "omnid-delta"};
   return names;
+}
+
+// The Omnid's arm with universal knees and platform joints in Tsai's
+// translational arrangement (the knee's axes along the motor's and square to
+// the tube, the platform joint's the same in reverse order): rods ending in
+// a universal joint (3-RUU). `knee_ranges`: the knees' "ranges_deg", if any.
+inline Preset omnid_with_universal_joints(const nlohmann::json& knee_ranges = nullptr) {
+  Preset p = load_preset("omnid-delta");
+  nlohmann::json d = nlohmann::json::parse(p.description);
+  nlohmann::json& chain = d["legs"][0]["chain"];
+  chain[2] = {{"joint", "universal"}, {"name", "knee#"}, {"axes", {{0, 1, 0}, {0, 0, 1}}}};
+  if (!knee_ranges.is_null()) chain[2]["ranges_deg"] = knee_ranges;
+  chain[4] = {{"joint", "universal"}, {"name", "platform#"}, {"axes", {{0, 0, 1}, {0, 1, 0}}}};
+  p.description = d.dump();
+  return p;
 }
 
 inline described::Kinematics load_described(const std::string& name) {

@@ -196,13 +196,10 @@ Kinematics with_universal_ends(const std::string& name) {
     chain[3] = {{"joint", "universal"}, {"name", "wrist#"}, {"axes", {{1, 0, 0}, {0, 1, 0}}}};
     return Kinematics(build_model(d.dump(), p.parameters, p.limits_deg, p.length_unit));
   }
-  Preset p = load_preset("omnid-delta");
+  Preset p = name == "ruu" ? testing_support::omnid_with_universal_joints() : load_preset("omnid-delta");
   nlohmann::json d = nlohmann::json::parse(p.description);
   nlohmann::json& chain = d["legs"][0]["chain"];
-  if (name == "ruu") {
-    chain[2] = {{"joint", "universal"}, {"name", "knee#"}, {"axes", {{0, 1, 0}, {0, 0, 1}}}};
-    chain[4] = {{"joint", "universal"}, {"name", "platform#"}, {"axes", {{0, 0, 1}, {0, 1, 0}}}};
-  } else {  // "upu": a slide of 150 to 450 mm between two universals
+  if (name == "upu") {  // a slide of 150 to 450 mm between two universals
     chain = nlohmann::json::array(
         {{{"joint", "universal"}, {"name", "base#"}, {"axes", {{0, 1, 0}, {1, 0, 0}}}},
          {{"joint", "prismatic"}, {"name", "q#"}, {"axis", {0, 0, 1}}, {"actuated", true}, {"range", {150, 450}}},
@@ -250,15 +247,8 @@ TEST(DescribedClosedForm, RodsEndingInAUniversalJointAgreeWithTheNumericalSolver
 // assembly is within its limits, and the closed form keeps it (ok, not
 // out-of-limits) as the numerical solver's answer does.
 TEST(DescribedClosedForm, ARodEndingInAUniversalJointTakesTheAssemblyItsLimitsAllow) {
-  Preset p = load_preset("omnid-delta");
-  nlohmann::json d = nlohmann::json::parse(p.description);
-  nlohmann::json& chain = d["legs"][0]["chain"];
-  chain[2] = {{"joint", "universal"},
-              {"name", "knee#"},
-              {"axes", {{0, 1, 0}, {0, 0, 1}}},
-              {"ranges_deg", {nullptr, {120, 240}}}};
-  chain[4] = {{"joint", "universal"}, {"name", "platform#"}, {"axes", {{0, 0, 1}, {0, 1, 0}}}};
-  const Kinematics k(build_model(d.dump(), p.parameters, p.limits_deg, p.length_unit));
+  const Preset p = testing_support::omnid_with_universal_joints({nullptr, {120, 240}});
+  const Kinematics k(build_model(p.description, p.parameters, p.limits_deg, p.length_unit));
   const Kinematics balls = load("omnid-delta");  // the same arm with ball joints: its statuses
   ASSERT_TRUE(k.has_joint_limits());
   std::mt19937_64 rng(3);

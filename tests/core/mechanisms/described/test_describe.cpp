@@ -9,6 +9,7 @@
 
 #include "core/mechanisms/described/mechanism.h"
 #include "core/preset.h"
+#include "tests/core/mechanisms/described/designs.h"
 
 namespace linkscape::described {
 namespace {
@@ -65,12 +66,7 @@ Preset five_bar_with(const std::string& pattern, const nlohmann::json& steps = n
 // A rod ending in a universal joint (the Omnid's arm with universal knees
 // and platform joints): named, and why its fields are not in lanes.
 TEST(DescribedDescribe, ARodEndingInAUniversalJointIsNamed) {
-  Preset p = load_preset("omnid-delta");
-  nlohmann::json d = nlohmann::json::parse(p.description);
-  d["legs"][0]["chain"][2] = {{"joint", "universal"}, {"name", "knee#"}, {"axes", {{0, 1, 0}, {0, 0, 1}}}};
-  d["legs"][0]["chain"][4] = {{"joint", "universal"}, {"name", "platform#"}, {"axes", {{0, 0, 1}, {0, 1, 0}}}};
-  p.description = d.dump();
-  const std::string text = describe(p);
+  const std::string text = describe(testing_support::omnid_with_universal_joints());
   EXPECT_TRUE(has(text, "  leg 1: crank-rod (ending in a universal joint: it holds the orientation too)\n")) << text;
   EXPECT_TRUE(has(text, "not in lanes: leg 1: holds more than one wrench")) << text;
   EXPECT_TRUE(has(describe(load_preset("omnid-delta")), "  leg 1: crank-rod\n"));
