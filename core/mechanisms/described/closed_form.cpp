@@ -501,52 +501,55 @@ std::optional<ClosedFormLeg> recognise_pattern(const Model& model, const Leg& le
     const Vector3d a1 = leg.steps[std::size_t(b.step)].axis, a2 = leg.steps[std::size_t(b.step + 1)].axis;
     return std::abs(a1.dot(a2)) < 1e-12 && std::abs(a2.dot(link.normalized())) < 1e-12;
   };
+  // A universal end only after a universal ball (RUU, PUU, UPU: the leg
+  // holds the platform's orientation too), its axes square as a ball's.
+  const auto end_ok = [&](Type b, Type e) {
+    if (e != Type::Universal) return true;
+    const int step = j.back()->step;
+    return b == Type::Universal &&
+           std::abs(leg.steps[std::size_t(step)].axis.dot(leg.steps[std::size_t(step + 1)].axis)) < 1e-12;
+  };
+  // An actuated revolute (crank) or slide (carriage), a ball, a rod to the end joint.
+  const auto rod_leg = [&](Type actuator, Type b, Type e, LegPattern pattern) {
+    if (!match(tokens, {actuator, b, e}, j, f) || !j[0]->actuated || f[2].translation().norm() <= tiny ||
+        !points_anywhere(*j[1], f[2].translation()) || !end_ok(b, e))
+      return false;
+    start(*j[0], pattern);
+    c.after_actuator = f[1];
+    c.rod = f[2];
+    ball(*j[1]);
+    // A crank's elbow off the actuator's axis.
+    const Vector3d p = f[1].translation();
+    return actuator != Type::Revolute || (p - c.actuator_axis * c.actuator_axis.dot(p)).norm() > tiny;
+  };
+  // A ball, an actuated slide (a fixed length along it), the end joint.
+  const auto extensible_leg = [&](Type b, Type e) {
+    if (!match(tokens, {b, Type::Prismatic, e}, j, f) || !j[1]->actuated || !f[1].isApprox(Isometry3d::Identity()) ||
+        !pure_translation(f[2]) || !end_ok(b, e))
+      return false;
+    const Vector3d s = leg.steps[std::size_t(j[1]->step)].axis, t = f[2].translation();
+    if ((t - s * s.dot(t)).norm() > tiny || !points_anywhere(*j[0], s)) return false;
+    start(*j[1], LegPattern::Extensible);
+    ball(*j[0]);
+    c.rod = f[2];
+    c.offset = s.dot(t);
+    return true;
+  };
+  // In the plane a revolute stands for each ball: a crank carrying a rod (a
+  // dyad: five-bar, 3-RRR), a slide carrying one (3-PRR), a slide between two
+  // revolutes (3-RPR).
   if (model.planar) {
-    if (match(tokens, {Type::Revolute, Type::Revolute, Type::Revolute}, j, f) && j[0]->actuated &&
-        !j[1]->actuated && !j[2]->actuated && f[1].translation().norm() > tiny && f[2].translation().norm() > tiny) {
-      start(*j[0], LegPattern::PlanarDyad);
-      c.after_actuator = f[1];
-      c.rod = f[2];
-      ball(*j[1]);
+    const Type R = Type::Revolute;
+    if (rod_leg(R, R, R, LegPattern::PlanarDyad) || rod_leg(Type::Prismatic, R, R, LegPattern::SlideRod) ||
+        extensible_leg(R, R))
       return c;
-    }
     return std::nullopt;
   }
   for (Type b : {Type::Spherical, Type::Universal})
-    for (Type e : {Type::Spherical, Type::Universal}) {
-      // A universal end only after a universal ball (RUU, PUU, UPU: the leg
-      // holds the platform's orientation too), its axes square as a ball's.
-      if (e == Type::Universal && b != Type::Universal) continue;
-      const auto end_ok = [&] {
-        const int step = j.back()->step;
-        return e == Type::Spherical ||
-               std::abs(leg.steps[std::size_t(step)].axis.dot(leg.steps[std::size_t(step + 1)].axis)) < 1e-12;
-      };
-      // An actuated revolute (crank) or slide (carriage), a ball, a rod to the end joint.
-      auto rod_leg = [&](Type actuator, LegPattern pattern) {
-        if (!match(tokens, {actuator, b, e}, j, f) || !j[0]->actuated || f[2].translation().norm() <= tiny ||
-            !points_anywhere(*j[1], f[2].translation()) || !end_ok())
-          return false;
-        start(*j[0], pattern);
-        c.after_actuator = f[1];
-        c.rod = f[2];
-        ball(*j[1]);
-        // A crank's elbow off the actuator's axis.
-        const Vector3d p = f[1].translation();
-        return actuator != Type::Revolute || (p - c.actuator_axis * c.actuator_axis.dot(p)).norm() > tiny;
-      };
-      if (rod_leg(Type::Revolute, LegPattern::CrankRod) || rod_leg(Type::Prismatic, LegPattern::SlideRod)) return c;
-      if (match(tokens, {b, Type::Prismatic, e}, j, f) && j[1]->actuated && f[1].isApprox(Isometry3d::Identity()) &&
-          pure_translation(f[2]) && end_ok()) {
-        const Vector3d s = leg.steps[std::size_t(j[1]->step)].axis, t = f[2].translation();
-        if ((t - s * s.dot(t)).norm() > tiny || !points_anywhere(*j[0], s)) continue;
-        start(*j[1], LegPattern::Extensible);
-        ball(*j[0]);
-        c.rod = f[2];
-        c.offset = s.dot(t);
+    for (Type e : {Type::Spherical, Type::Universal})
+      if (rod_leg(Type::Revolute, b, e, LegPattern::CrankRod) || rod_leg(Type::Prismatic, b, e, LegPattern::SlideRod) ||
+          extensible_leg(b, e))
         return c;
-      }
-    }
   if (match(tokens, {Type::Revolute, Type::Revolute, Type::Revolute, Type::Spherical}, j, f) && j[0]->actuated &&
       pure_translation(f[1]) && pure_translation(f[2]) && pure_translation(f[3])) {
     const Vector3d a1 = leg.steps[std::size_t(j[0]->step)].axis, t1 = f[1].translation();

@@ -18,7 +18,7 @@ using Eigen::Vector3d;
 using Eigen::VectorXd;
 
 bool point_leg(LegPattern p, bool planar) {
-  if (planar) return p == LegPattern::PlanarDyad;
+  if (planar) return p == LegPattern::PlanarDyad || p == LegPattern::SlideRod || p == LegPattern::Extensible;
   return p == LegPattern::CrankRod || p == LegPattern::SlideRod || p == LegPattern::Extensible ||
          p == LegPattern::CrankParallelogram || p == LegPattern::ThreeRevolute;
 }
@@ -315,7 +315,7 @@ std::string build(const Kinematics& kin, const VectorXd& fixed, int branch, Lane
     const ClosedFormLeg* form = kin.closed_form(int(i));
     const std::string leg = l.label() + ": ";
     if (!form || !point_leg(form->pattern, m.planar) || l.actuators.size() != 1)
-      return leg + (m.planar ? "not a planar dyad"
+      return leg + (m.planar ? "not a planar dyad, slide-rod or extensible leg"
                              : "not a point leg (crank-rod, slide-rod, extensible), crank-parallelogram or three-revolute");
     const bool four_bar = form->pattern == LegPattern::CrankParallelogram;
     const bool three = form->pattern == LegPattern::ThreeRevolute;

@@ -38,6 +38,45 @@ inline Preset omnid_with_universal_joints(const nlohmann::json& knee_ranges = nu
   return p;
 }
 
+// Planar legs whose revolutes stand for the balls of the slide patterns:
+// a 3-RPR (an actuated slide between two revolutes: extensible) or, with
+// `carried`, a 3-PRR (tangential slides carrying rods: slide-rod), on
+// regular triangles of radii rb and rp (the platform's turned by 60 deg for
+// the 3-RPR, whose legs would otherwise meet at its centre), rods of length L.
+inline Preset planar_slide_legs(bool carried, double rb = 10, double rp = 3, double L = 8) {
+  nlohmann::json d = {{"space", "planar"}, {"task", {"x", "y", "rz"}}, {"home", {{"x", 0}, {"y", 0}, {"rz", 0}}}};
+  for (int k = 0; k < 3; ++k) {
+    const std::string n = std::to_string(k + 1);
+    const double turn = 120.0 * k;
+    nlohmann::json leg = {{"name", n},
+                          {"base", {{{"rz", std::to_string(turn) + " * deg"}}, {{"translate", {"rb", 0, 0}}}}},
+                          {"anchor", {{{"rz", std::to_string(turn + (carried ? 0 : 60)) + " * deg"}},
+                                      {{"translate", {"rp", 0, 0}}}}}};
+    if (carried) {
+      leg["chain"] = {{{"joint", "prismatic"}, {"name", "s" + n}, {"axis", {0, 1, 0}}, {"actuated", true}, {"range", {-8, 8}}},
+                      {{"joint", "revolute"}, {"name", "elbow" + n}, {"axis", {0, 0, 1}}},
+                      {{"translate", {"-L", 0, 0}}},
+                      {{"joint", "revolute"}, {"name", "tip" + n}, {"axis", {0, 0, 1}}}};
+      // The carriage behind the foot of the anchor on its line (the base's
+      // frame: each leg's own tangent).
+      const double a = turn * 3.14159265358979323846 / 180;
+      leg["branch"] = {{"along", {"elbow" + n, "anchor"}}, {"direction", {-std::sin(a), std::cos(a), 0}}, {"sign", "-1"}};
+    } else {
+      leg["chain"] = {{{"joint", "revolute"}, {"name", "pivot" + n}, {"axis", {0, 0, 1}}},
+                      {{"joint", "prismatic"}, {"name", "d" + n}, {"axis", {-1, 0, 0}}, {"actuated", true}, {"range", {4, 14}}},
+                      {{"joint", "revolute"}, {"name", "tip" + n}, {"axis", {0, 0, 1}}}};
+    }
+    d["legs"].push_back(leg);
+  }
+  d["size"] = "rb";
+  const nlohmann::json preset = {{"mechanism", "described"},
+                                 {"title", carried ? "3-PRR" : "3-RPR"},
+                                 {"length_unit", "cm"},
+                                 {"parameters", {{"rb", rb}, {"rp", rp}, {"L", L}}},
+                                 {"description", d}};
+  return parse_preset(preset.dump(), carried ? "3-PRR" : "3-RPR");
+}
+
 inline described::Kinematics load_described(const std::string& name) {
   const Preset p = load_preset(name);
   return described::Kinematics(described::build_model(p.description, p.parameters, p.limits_deg, p.length_unit));

@@ -12,6 +12,7 @@
 #include <map>
 #include <random>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -302,6 +303,20 @@ TEST(DescribedClosedForm, AMirroredCrankParallelogramAgreesWithTheNumericalSolve
   const Kinematics k(build_model(d.dump(), p.parameters, p.limits_deg, p.length_unit));
   EXPECT_EQ(patterns(k), std::vector<std::string>(3, "crank-parallelogram"));
   EXPECT_GT(compare(k, "mirrored falcon", 4000).ok, 400);
+}
+
+// In the plane a revolute stands for the ball: a slide between two
+// revolutes (3-RPR) is an extensible leg, an actuated slide carrying a rod
+// (3-PRR) a slide-rod; each against the numerical solver on three designs.
+TEST(DescribedClosedForm, PlanarSlideLegsAgreeWithTheNumericalSolver) {
+  for (const bool carried : {false, true})
+    for (const auto& [rb, rp, L] : {std::tuple{10.0, 3.0, 8.0}, {12.0, 5.0, 9.5}, {8.0, 2.0, 6.5}}) {
+      const Preset p = testing_support::planar_slide_legs(carried, rb, rp, L);
+      const Kinematics k(build_model(p.description, p.parameters, p.limits_deg, p.length_unit));
+      const std::string name = carried ? "3-PRR" : "3-RPR";
+      EXPECT_EQ(patterns(k), std::vector<std::string>(3, carried ? "slide-rod" : "extensible")) << name;
+      EXPECT_GT(compare(k, name, 4000).ok, 400) << name << " rb " << rb;
+    }
 }
 
 TEST(DescribedClosedForm, RandomDesignsAgreeWithTheNumericalSolver) {

@@ -23,6 +23,7 @@
 #include "core/mechanisms/described/mechanism.h"
 #include "core/preset.h"
 #include "core/simd.h"
+#include "tests/core/mechanisms/described/designs.h"
 
 namespace linkscape {
 namespace {
@@ -155,6 +156,21 @@ TEST(DescribedLanes, ShippedDevicesAgreeWithTheScalarClosedPath) {
       EXPECT_GT(tally.stopped, 100u) << name;
     }
     std::printf("%s: %zu samples ok, %zu of them in lanes; %zu stopped\n", name, tally.ok, tally.lanes, tally.stopped);
+  }
+}
+
+// In the plane, slides between revolutes (3-RPR) and slides carrying rods
+// (3-PRR) as the crank and rod of a planar dyad: each leg one force along
+// its line.
+TEST(DescribedLanes, PlanarSlideLegsAgreeWithTheScalarClosedPath) {
+  for (const bool carried : {false, true}) {
+    const Preset p = testing_support::planar_slide_legs(carried);
+    EXPECT_NE(described::describe(p).find("field: lanes"), std::string::npos) << p.title;
+    Tally tally;
+    check_device(*make_mechanism(p), p.title, tally);
+    EXPECT_GT(tally.ok, 500u) << p.title;
+    EXPECT_GT(double(tally.lanes), 0.95 * double(tally.ok)) << p.title;
+    std::printf("%s: %zu samples ok, %zu of them in lanes\n", p.title.c_str(), tally.ok, tally.lanes);
   }
 }
 
