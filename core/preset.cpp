@@ -1,6 +1,7 @@
 #include "core/preset.h"
 
 #include "core/csv.h"
+#include "core/haptics.h"
 #include "core/json_checked.h"
 #include "core/mechanism.h"
 #include "core/spelling.h"
@@ -136,11 +137,16 @@ Preset parse_preset(const std::string& text, const std::string& origin) {
         throw std::invalid_argument("unknown key '" + key +
                                     "' (known: mechanism, title, length_unit, parameters, actuator_limits_deg, "
                                     "actuator_data, description, stops)");
-    for (const char* key : {"mechanism", "parameters"})
+    for (const char* key : {"mechanism", "length_unit", "parameters"})
       if (!doc.contains(key)) throw std::invalid_argument(std::string("missing key '") + key + "'");
     p.mechanism = string_at(doc.at("mechanism"), "mechanism");
     p.title = doc.contains("title") ? string_at(doc.at("title"), "title") : p.mechanism;
-    p.length_unit = doc.contains("length_unit") ? string_at(doc.at("length_unit"), "length_unit") : "unit";
+    p.length_unit = string_at(doc.at("length_unit"), "length_unit");
+    if (!haptics::is_length_unit(p.length_unit)) {
+      std::string known;
+      for (const std::string& u : haptics::length_units()) known += (known.empty() ? "" : ", ") + u;
+      throw std::invalid_argument("length_unit must be one of " + known + ", got '" + p.length_unit + "'");
+    }
     if (!doc.at("parameters").is_object()) throw std::invalid_argument("parameters must be an object {name: number}");
     for (const auto& [key, value] : doc.at("parameters").items())
       p.parameters[key] = number_at(value, "parameters." + key);
@@ -270,5 +276,14 @@ std::map<std::string, double> stops_numbers(const Preset& preset, const std::vec
 }
 
 void validate(const Preset& preset) { make_mechanism(preset); }
+
+void require_parameters(const Preset& preset, std::initializer_list<const char*> names) {
+  std::string missing;
+  for (const char* name : names)
+    if (!preset.parameters.count(name)) missing += (missing.empty() ? "" : ", ") + std::string(name);
+  if (!missing.empty())
+    throw std::invalid_argument(preset.mechanism + ": the preset's parameters lack " + missing +
+                                " (a design states each; there is no default)");
+}
 
 }  // namespace linkscape

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <initializer_list>
 #include <map>
 #include <string>
 #include <vector>
@@ -60,6 +61,10 @@ Preset load_preset(const std::string& name_or_path);
 // block), or "" when it can.
 std::string why_not_a_readable_file(const std::filesystem::path& path);
 Preset parse_preset(const std::string& json_text, const std::string& origin);
+
+// Throws where a compiled device's preset leaves out a parameter of its
+// design (one with no default derived from the others), naming them.
+void require_parameters(const Preset& preset, std::initializer_list<const char*> names);
 
 // How a session or a report should name the preset: its name where the
 // preset search path finds this very file under it (portable between

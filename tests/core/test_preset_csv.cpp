@@ -16,6 +16,16 @@
 using namespace linkscape;
 namespace fs = std::filesystem;
 
+// parse_preset refuses the text, its message containing `words`.
+void refused(const std::string& text, const std::string& words) {
+  try {
+    parse_preset(text, "t");
+    ADD_FAILURE() << "accepted: " << text;
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+  }
+}
+
 TEST(Preset, ShippedParallel12rIsThePapersDesign) {
   const Preset p = load_preset("parallel-12r");
   EXPECT_EQ(p.mechanism, "parallel-12r");
@@ -54,10 +64,25 @@ TEST(Preset, MalformedFileNamesTheFileAndTheProblem) {
     EXPECT_NE(msg.find("parse error"), std::string::npos) << msg;
   }
   EXPECT_THROW(load_preset("no-such-mechanism"), std::invalid_argument);
-  EXPECT_THROW(parse_preset(R"({"mechanism":"parallel-12r","parameters":{"L1":"x"}})", "t"),
-               std::invalid_argument);
-  EXPECT_THROW(parse_preset(R"({"mechanism":"other","parameters":{}})", "t"), std::invalid_argument);
+  refused(R"({"mechanism":"parallel-12r","length_unit":"cm","parameters":{"L1":"x","L2":1}})", "parameters.L1");
+  refused(R"({"mechanism":"other","length_unit":"cm","parameters":{}})", "other");
   std::filesystem::remove(file);
+}
+
+// A preset states its unit (one the program converts) and every parameter
+// of a compiled device's design: nothing is taken from a default unseen.
+TEST(Preset, StatesItsUnitAndItsDesign) {
+  refused(R"({"mechanism":"delta","parameters":{"R":9.5,"r":5.4,"La":8,"Lb":17}})", "missing key 'length_unit'");
+  refused(R"({"mechanism":"delta","length_unit":"furlong","parameters":{"R":9.5,"r":5.4,"La":8,"Lb":17}})",
+          "length_unit must be one of mm, cm, m, in, got 'furlong'");
+  refused(R"({"mechanism":"delta","length_unit":"cm","parameters":{"R":9.5,"La":8}})", "lack r, Lb");
+  refused(R"({"mechanism":"parallel-12r","length_unit":"cm","parameters":{}})", "lack L1, L2");
+  refused(R"({"mechanism":"pathos2","length_unit":"cm","parameters":{"l0":45}})", "lack lb, l1, l2, l3, lp, h0, theta_t");
+  // PATHOS-II's offsets and limits follow from the rest where not given.
+  EXPECT_NO_THROW(parse_preset(
+      R"({"mechanism":"pathos2","length_unit":"cm",
+          "parameters":{"l0":45,"lb":10,"l1":7,"l2":14,"l3":6,"lp":2,"h0":7,"theta_t":30}})",
+      "t"));
 }
 
 TEST(Csv, ReadsHeaderAndRowsAndReportsLineOfBadField) {
@@ -166,18 +191,19 @@ TEST(Preset, ParamOverridesUseTheStrictNumberRules) {
 
 TEST(Preset, RefusesWhatItWouldIgnore) {
   // PATHOS-II's joint limits are parameters; a limits block would be ignored.
-  EXPECT_THROW(parse_preset(R"({"mechanism":"pathos2","parameters":{},"actuator_limits_deg":{"q1":[-90,90]}})", "t"),
-               std::invalid_argument);
+  refused(R"({"mechanism":"pathos2","length_unit":"cm","parameters":{"l0":45,"lb":10,"l1":7,"l2":14,"l3":6,"lp":2,
+              "h0":7,"theta_t":30},"actuator_limits_deg":{"q1":[-90,90]}})",
+          "pathos2 takes no actuator_limits_deg");
   // A misspelt key would be ignored too.
   try {
-    parse_preset(R"({"mechanism":"parallel-12r","parameters":{"L1":1,"L2":1},"actuator_limit_deg":{}})", "p.json");
+    parse_preset(R"({"mechanism":"parallel-12r","length_unit":"cm","parameters":{"L1":1,"L2":1},"actuator_limit_deg":{}})",
+                 "p.json");
     FAIL();
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("actuator_limit_deg"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(parse_preset(R"({"mechanism":"parallel-12r","parameters":{},"actuator_limits_deg":{"delta":[0,1]}})",
-                            "t"),
-               std::invalid_argument);
+  refused(R"({"mechanism":"parallel-12r","length_unit":"cm","parameters":{"L1":1,"L2":1},"actuator_limits_deg":{"delta":[0,1]}})",
+          "delta");
 }
 
 TEST(Preset, ReferenceIsTheNameForShippedPresetsAndThePathOtherwise) {

@@ -281,6 +281,7 @@ std::shared_ptr<const Mechanism> make_mechanism(const Model& model) { return std
 std::shared_ptr<const Mechanism> make_mechanism(const Preset& preset) { return make_mechanism(make_delta_model(preset)); }
 
 Model make_delta_model(const Preset& preset) {
+  require_parameters(preset, {"R", "r", "La", "Lb"});
   std::map<std::string, Interval> limits;
   for (const auto& [name, range] : preset.limits_deg) limits[name] = {range.lo, range.hi};
   Model m = Model::from_parameters(preset.parameters, limits, preset.length_unit);

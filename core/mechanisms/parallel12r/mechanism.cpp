@@ -236,6 +236,7 @@ namespace linkscape {
 parallel12r::Model make_parallel12r(const Preset& preset) {
   if (preset.mechanism != parallel12r::kMechanismName)
     throw std::invalid_argument("expected a parallel-12r preset, got '" + preset.mechanism + "'");
+  require_parameters(preset, {"L1", "L2"});
   std::map<std::string, parallel12r::Interval> limits_deg;
   for (const auto& [name, range] : preset.limits_deg) limits_deg[name] = {range.lo, range.hi};
   return parallel12r::Model::from_parameters(preset.parameters, limits_deg, preset.length_unit);

@@ -444,6 +444,8 @@ void read_pathos2_stops(const Preset& preset, pathos2::Model& m) {
 pathos2::Model make_pathos2(const Preset& preset) {
   if (preset.mechanism != pathos2::kMechanismName)
     throw std::invalid_argument("expected a pathos2 preset, got '" + preset.mechanism + "'");
+  // db and lx follow from lb and theta_t, the limits from the stops, where not given.
+  require_parameters(preset, {"l0", "lb", "l1", "l2", "l3", "lp", "h0", "theta_t"});
   // Its joint limits are the parameters t2_limit, t3_limit and cone_limit.
   if (!preset.limits_deg.empty())
     throw std::invalid_argument("pathos2 takes no actuator_limits_deg; its joint limits are the parameters "

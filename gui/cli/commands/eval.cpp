@@ -96,9 +96,12 @@ void write_ik(const Mechanism& m, const Table& table, const IkOptions& ik, std::
       out << to_string(s.status);
       if (!c.ik_failing_part.empty()) out << "," << csv_text(s.failing_part);
       for (Eigen::Index k = 0; k < s.q.size(); ++k) out << "," << csv_number(s.q(k));
-      const Measures meas = m.measures(s.q, x);
-      for (double v : meas.values) out << "," << csv_number(v);
-      if (c.ik_det) out << "," << csv_number(meas.det);
+      // Measures only where the legs close (not where the solver stopped short or missed).
+      const bool closes = s.status == Status::Ok || s.status == Status::OutOfLimits || s.status == Status::Singular;
+      const Measures meas = closes ? m.measures(s.q, x) : Measures{};
+      for (std::size_t k = 0; k < info.measures.size(); ++k)
+        out << "," << (k < meas.values.size() ? csv_number(meas.values[k]) : "");
+      if (c.ik_det) out << "," << (closes ? csv_number(meas.det) : "");
       if (c.ik_diagnostics) out << "," << csv_number(s.residual) << "," << s.iterations;
       out << "\n";
     }

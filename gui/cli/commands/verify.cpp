@@ -56,8 +56,11 @@ Command add_verify(CLI::App& program, const DeviceHelp&) {
       ->capture_default_str();
   cmd->add_option("--time-limit", o->limits.time_limit_seconds,
                   "Seconds before the open boxes are reported undecided (0: no limit)")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  cmd->add_option("--threads", o->limits.threads, "Threads (0: all cores)")->capture_default_str();
+  cmd->add_option("--threads", o->limits.threads, "Threads, 0 to 256 (0: all cores)")
+      ->check(CLI::Range(0, 256))
+      ->capture_default_str();
   cmd->add_flag("--json", o->json, "Print the result as one JSON object instead of the report");
   return {cmd, Runs::Headless,
           "linkscape verify --task sphere:diameter=15,centre=0.7,-13,-8.4 --criterion 'cond<3' --param L1=12.4 "

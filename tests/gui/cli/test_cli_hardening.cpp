@@ -4,6 +4,9 @@
 #include <sys/stat.h>
 
 #include <set>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "cli_runner.h"
 #include "full_disk.h"
@@ -177,6 +180,34 @@ TEST(CliHardening, NonFiniteAndOutOfRangeOptionValuesAreRefused) {
   }
   const auto big = run_linkscape("slice --param L1=1e400 -o x.png");
   EXPECT_TRUE(contains(big.out, "out of the range")) << big.out;
+}
+
+// A solver stopped short is a row's status, not the batch's end; its
+// measures stay empty (its legs do not close, so there are none).
+TEST(CliHardening, ARowTheSolverLeavesOpenIsNotConvergedWithNoMeasures) {
+  const fs::path in = temp_file("hard_delta.csv", "x,y,z\n0,0,-20\n5,5,-15\n");
+  for (const char* device : {"delta", "parallel-12r"}) {
+    const auto r = run_linkscape(std::string("eval -m ") + device + " --method newton --max-iterations 1 --ik " + in.string());
+    EXPECT_EQ(r.exit_code, 0) << device << ": " << r.out;
+    // x,y,z,branch,status,q1,q2,q3,cond,det,residual,iterations: cond and det empty.
+    std::istringstream lines(r.out);
+    int checked = 0;
+    for (std::string line; std::getline(lines, line);) {
+      if (!contains(line, "not-converged")) continue;
+      std::vector<std::string> cells;
+      std::istringstream row(line);
+      for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+      ASSERT_EQ(cells.size(), 12u) << line;
+      EXPECT_EQ(cells[8], "") << device << ": " << line;
+      EXPECT_EQ(cells[9], "") << device << ": " << line;
+      ++checked;
+    }
+    EXPECT_GE(checked, 2) << device << ": " << r.out;
+  }
+  // A bound on the threads, not a crash.
+  const auto threads = run_linkscape("verify --task sphere:diameter=15,centre=0.7,-13,-8.4 --criterion 'cond<3' --threads 100000");
+  EXPECT_EQ(threads.exit_code, 2) << threads.out;
+  EXPECT_TRUE(contains(threads.out, "--threads")) << threads.out;
 }
 
 TEST(CliHardening, WindowSizeIsBoundedBeforeAnyWindowOpens) {

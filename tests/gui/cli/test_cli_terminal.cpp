@@ -89,7 +89,7 @@ TEST(CliTerminal, AFileArgumentOpensASessionOrAMechanism) {
   SKIP_WITHOUT_WINDOW();
   fs::create_directories(kDir);
   // A preset file is opened as the mechanism: its error names it.
-  const fs::path preset = temp_file("terminal_bad_preset.json", R"({"mechanism": "parallel-12r", "parameters": {"L1": -1}})");
+  const fs::path preset = temp_file("terminal_bad_preset.json", R"({"mechanism": "parallel-12r", "length_unit": "cm", "parameters": {"L1": -1, "L2": 15}})");
   const CommandResult bad_preset = run_linkscape(preset.string() + " --screenshot " + (kDir / "w.png").string());
   EXPECT_EQ(bad_preset.exit_code, 2) << bad_preset.out;
   EXPECT_TRUE(contains(bad_preset.out, "L1")) << bad_preset.out;

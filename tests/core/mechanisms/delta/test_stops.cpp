@@ -344,7 +344,9 @@ TEST(DeltaStops, PresetStatesTheDescribedDeltasCones) {
   EXPECT_FALSE(make_delta_model(delta_preset(false)).has_cones());
   const auto refused = [](const std::string& stops, const std::string& words) {
     try {
-      parse_preset(R"({"mechanism": "delta", "parameters": {}, "stops": )" + stops + "}", "test");
+      parse_preset(R"({"mechanism": "delta", "length_unit": "cm", "parameters": {"R": 9.5, "r": 5.445, "La": 8, "Lb": 17},
+                       "stops": )" + stops + "}",
+                   "test");
       ADD_FAILURE() << stops;
     } catch (const std::invalid_argument& e) {
       EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();

@@ -361,7 +361,9 @@ TEST(Pathos2Stops, DesignRangesEndAtTheStops) {
 TEST(Pathos2Stops, PresetStopsBlockIsChecked) {
   Preset p = load_preset("pathos2");
   const auto refused = [&](const std::string& stops, const std::string& words) {
-    const std::string text = R"({"mechanism": "pathos2", "parameters": {}, "stops": )" + stops + "}";
+    const std::string text = R"({"mechanism": "pathos2", "length_unit": "cm",
+        "parameters": {"l0": 45, "lb": 10, "l1": 7, "l2": 14, "l3": 6, "lp": 2, "h0": 7, "theta_t": 30},
+        "stops": )" + stops + "}";
     try {
       parse_preset(text, "test");
       ADD_FAILURE() << stops;
