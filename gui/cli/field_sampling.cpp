@@ -116,8 +116,8 @@ std::string field_csv_legend() {
          "method_used and the haptic arrays where the sample is unreachable.\n"
          "status: " + status_codes() + ".\n"
          "method_used: the device's code of the IK method that served (12R: 0 paper,\n"
-         "1 planar, 2 newton, 3 dls; Delta and described devices: 0 closed, 1 newton;\n"
-         "PATHOS-II 0).\n"
+         "1 planar, 2 newton, 3 dls; Delta: 0 closed, 1 newton; described devices:\n"
+         "0 closed, 1 newton, 2 lanes; PATHOS-II 0).\n"
          "See docs/file-formats.md.";
 }
 

@@ -291,6 +291,12 @@ std::string fit_report(const fit::Problem& problem, const fit::Result& r, const 
   const bool ratings = !problem.variables.empty() && motor_parameter(problem.variables.front().parameters.front());
   if (r.best)
     out << (problem.size ? "largest ratio at that size: " : ratings ? "smallest ratings meeting it: " : "smallest design meeting it: ");
+  else if (problem.task.centre && !problem.size &&
+           std::any_of(problem.variables.begin(), problem.variables.end(), [](const fit::Variable& v) { return v.lo < v.hi; }))
+    // The search takes a larger design to hold more, true of a task placed
+    // at each design, not of one whose centre is fixed.
+    out << "no design evaluated meets it (with the centre fixed a larger design need not hold more, so one between "
+           "those evaluated may: narrow --bounds about the closest, or let the centre free); closest: ";
   else out << "no design in the bounds meets it; closest: ";
   if (shown) {
     const fit::Row& row = r.rows[*shown];

@@ -102,6 +102,11 @@ int run_certified(const FitOptions& o, const fit::Problem& problem, std::ostream
   });
   line.clear();
   verify::write_report(out, r);
+  // The bisection takes a larger design to hold more: true of a task placed
+  // at each design, not of one whose centre is fixed.
+  if (problem.task.centre)
+    out << "note: the task's centre is fixed, so a larger design need not hold more: a design below the bracket (or "
+           "below a disproved upper bound) may still be proved; verify it with verify --param\n";
   return verify::exit_status(r);
 }
 

@@ -72,6 +72,23 @@ TEST(CliFit, ATaskNoDesignMeetsIsAResult) {
   EXPECT_NE(r.out.find("no design in the bounds meets it; closest: L1 = 5"), std::string::npos) << r.out;
 }
 
+// With the centre fixed a larger design need not hold more (the task sits
+// ever nearer the base): the 15 cm sphere about (0.7, -13, -8.4) cm is held
+// at L1 = L2 = 12.4 (verify proves it) but not at the upper bound, so
+// neither search may say that no design in the bounds does.
+TEST(CliFit, AFixedCentreIsNotSaidToFailEverywhere) {
+  const std::string task = "fit --task sphere:diameter=15,centre=0.7,-13,-8.4 --criterion 'cond<3' --equal L1,L2";
+  const CommandResult sampled = run_linkscape(task + kCoarse);
+  EXPECT_EQ(sampled.exit_code, 0) << sampled.out;
+  EXPECT_EQ(sampled.out.find("no design in the bounds meets it"), std::string::npos) << sampled.out;
+  EXPECT_NE(sampled.out.find("no design evaluated meets it (with the centre fixed"), std::string::npos) << sampled.out;
+  const CommandResult certified = run_linkscape(task + " --certify --bracket 0.5 -q");
+  EXPECT_NE(certified.out.find("note: the task's centre is fixed"), std::string::npos) << certified.out;
+  const CommandResult proved = run_linkscape("verify --task sphere:diameter=15,centre=0.7,-13,-8.4 --criterion 'cond<3' "
+                                             "--param L1=12.4 --param L2=12.4");
+  EXPECT_EQ(proved.exit_code, 0) << proved.out;
+}
+
 TEST(CliFit, BadInputsExitWithTwoAndWriteNothing) {
   const std::string csv = out("never.csv");
   for (const auto& [args, expected] : std::vector<std::pair<std::string, std::string>>{
