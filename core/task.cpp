@@ -49,9 +49,21 @@ std::string quoting_hint(const std::string& text) {
 }
 
 std::vector<std::string> split_criteria(const std::string& text) {
+  // Spaces about a comparison belong to the criterion: 'cond < 3' is cond<3.
+  std::string joined;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const bool space = std::isspace(static_cast<unsigned char>(text[i]));
+    const auto comparison = [](char c) { return c == '<' || c == '>' || c == '='; };
+    if (space && !joined.empty() && comparison(joined.back())) continue;
+    if (space) {
+      std::size_t next = text.find_first_not_of(" \t\n\r\f\v", i);
+      if (next != std::string::npos && comparison(text[next])) continue;
+    }
+    joined += text[i];
+  }
   std::vector<std::string> out;
   std::string part;
-  for (const char c : text + " ") {
+  for (const char c : joined + " ") {
     if (c == ',' || c == ';' || std::isspace(static_cast<unsigned char>(c))) {
       if (!part.empty()) out.push_back(part);
       part.clear();
@@ -89,6 +101,9 @@ Criterion parse_criterion(const std::string& text) {
                                 "': expected reach or NAME<VALUE / NAME>VALUE, e.g. cond<3, force_iso>2, "
                                 "resolution<0.5, inertia<0.2" + quoting_hint(text));
   c.measure = text.substr(0, op);
+  if (c.measure == "reach" || c.measure == "reachable")
+    throw std::invalid_argument("criterion '" + text + "': reach takes no threshold (write reach: the pose is "
+                                "reached within the travel)");
   c.above = text[op] == '>';
   std::size_t number = op + 1;
   if (number < text.size() && text[number] == '=') ++number;  // <= and >= read as < and >

@@ -92,6 +92,12 @@ TEST(TaskCriteria, ParseBoundsOnTheGoodSideAndRefuseImpossibleOnes) {
   expect_error([] { parse_criterion("force_iso>0"); }, "no pose meets it");
   expect_error([] { parse_criterion("resolution<x"); }, "finite number");
   expect_error([] { parse_criterion("comfort"); }, "expected reach or NAME<VALUE");
+  expect_error([] { parse_criterion("reach<3"); }, "reach takes no threshold");  // not a threshold ignored
+  const std::vector<Criterion> spaced = parse_criteria("cond < 3, force_iso >= 2 reach");
+  ASSERT_EQ(spaced.size(), 3u);
+  EXPECT_EQ(spaced[0].text, "cond<3");
+  EXPECT_EQ(spaced[1].text, "force_iso>=2");
+  EXPECT_TRUE(spaced[2].reach());
 
   const auto m = make_mechanism(load_preset("pathos2"));
   EXPECT_EQ(resolve(parse_criterion("cond_jo<5"), m->info(), nullptr).measure_index, 1);

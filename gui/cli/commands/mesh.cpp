@@ -43,7 +43,9 @@ render::SurfaceRequest parse_surface(const std::string& text, const MechanismInf
                        [&](const NamedItem& f) { return f.name == measure; });
   };
   try {
-    c = task::parse_criterion(text);
+    const std::vector<std::string> parts = task::split_criteria(text);  // 'cond < 3' as cond<3
+    if (parts.size() != 1) throw std::invalid_argument("one surface");
+    c = task::parse_criterion(parts.front());
     if (c.measure != "reach" && c.measure != "cond" && !c.haptic() && !on_a_stop(c.measure))
       throw std::invalid_argument("not a surface");
   } catch (const std::invalid_argument&) {
