@@ -618,6 +618,15 @@ class DescribedMechanism final : public Mechanism {
     const Eigen::Index n = Eigen::Index(info_.task.size());
     if (x.size() != n) throw std::invalid_argument(std::string("described: ") + what + " needs " + std::to_string(n) + " values");
     if (!x.allFinite()) throw std::invalid_argument(std::string("described: ") + what + " must be finite numbers");
+    // Far beyond any device its squared distances would overflow (a slide's
+    // leg has no reach bound to stop there first).
+    const double far = 1e9 * kin_.model().size;
+    if (!(x.head(3).lpNorm<Eigen::Infinity>() <= far)) {
+      std::ostringstream msg;
+      msg << "described: " << what << " (" << x(0) << ", " << x(1) << ", " << x(2) << ") " << kin_.model().length_unit
+          << " is beyond 1e9 times the device's size (" << far << " " << kin_.model().length_unit << ")";
+      throw std::invalid_argument(msg.str());
+    }
     if (!kin_.model().planar) return x;
     if (!(std::abs(x(2) - kPlaneZ) <= 1e-12 * kin_.model().size)) {
       std::ostringstream msg;

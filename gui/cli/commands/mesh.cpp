@@ -105,6 +105,33 @@ void run_mesh(const MeshOptions& o, std::ostream& out) {
       << "volume " << s.volume << " " << sampling.length_unit() << "^3, area " << s.area << " " << sampling.length_unit()
       << "^2, bounds x [" << s.min.x() << ", " << s.max.x() << "] y [" << s.min.y() << ", " << s.max.y() << "] z ["
       << s.min.z() << ", " << s.max.z() << "]\n";
+  // A region present at the box's outermost samples may go on past the box,
+  // which closes the mesh there: say at which faces.
+  std::string faces;
+  const auto number = [](double v) {
+    std::ostringstream text;
+    text << v;
+    return text.str();
+  };
+  const Eigen::Vector3d lo = grid.origin, hi = grid.origin + grid.spacing.cwiseProduct(
+                                                  Eigen::Vector3d(grid.dims[0], grid.dims[1], grid.dims[2]));
+  const std::optional<double> plane = sampling.mechanism->info().plane_z;
+  for (int a = 0; a < (plane ? 2 : 3); ++a) {
+    if (grid.dims[std::size_t(a)] < 2) continue;
+    const double close = 0.5 * grid.spacing(a);
+    const std::string axis(1, char('x' + a));
+    if (s.min(a) <= lo(a) + close) faces += (faces.empty() ? "" : ", ") + axis + " = " + number(lo(a));
+    if (s.max(a) >= hi(a) - close) faces += (faces.empty() ? "" : ", ") + axis + " = " + number(hi(a));
+  }
+  // A planar device's field is its plane's, extruded along z: the mesh is a
+  // prism, and what it says of the plane is its area.
+  if (plane && s.max.z() > s.min.z())
+    out << "planar: the region of the plane z = " << *plane << " extruded over z from " << s.min.z() << " to "
+        << s.max.z() << "; its area in the plane " << s.volume / (s.max.z() - s.min.z()) << " "
+        << sampling.length_unit() << "^2\n";
+  if (!faces.empty())
+    out << "note: the region reaches the box's faces at " << faces << " and may go on past them; the mesh is closed "
+        << "there and its volume is the part inside the box (widen --box to see)\n";
   if (request.surface == render::Surface::Reach)
     if (const auto v = sampling.mechanism->analytic_reach_volume())
       out << "analytic volume " << *v << " " << sampling.length_unit() << "^3 (error " << 100.0 * (s.volume - *v) / *v

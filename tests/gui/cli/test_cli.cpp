@@ -346,6 +346,28 @@ TEST(CliMesh, ReachMeshIsWatertightWithTheAnalyticVolume) {
   EXPECT_TRUE(fs::exists(stl));
 }
 
+// A region cut by the box is said to be (the Falcon's reach passes its
+// file's box at x, y = +-90 mm; the Delta's lies inside its box), and a
+// planar device's mesh, its plane's region extruded along z, gives its area.
+TEST(CliMesh, SaysWhereTheBoxCutsTheRegionAndAPlanarArea) {
+  const auto run = [](const std::string& device) {
+    const CommandResult r = run_linkscape("mesh -m " + device + " --resolution 24 -q --output " +
+                                          (kOut / (device + ".stl")).string(), kNoDisplay);
+    EXPECT_EQ(r.exit_code, 0) << r.out;
+    return r.out;
+  };
+  const std::string falcon = run("falcon");
+  EXPECT_NE(falcon.find("reaches the box's faces at x = -90, x = 90, y = -90, y = 90 and may go on"), std::string::npos)
+      << falcon;
+  EXPECT_EQ(run("delta").find("reaches the box"), std::string::npos);
+  const std::string five_bar = run("five-bar");
+  EXPECT_NE(five_bar.find("planar: the region of the plane z = 0"), std::string::npos) << five_bar;
+  EXPECT_EQ(five_bar.find("faces at z"), std::string::npos) << five_bar;
+  const auto at = five_bar.find("its area in the plane ");
+  ASSERT_NE(at, std::string::npos) << five_bar;
+  EXPECT_NEAR(std::stod(five_bar.substr(at + 22)), 503.1, 1.0) << five_bar;  // at this resolution
+}
+
 // --unit mm: the 12R's reach in cm written in mm, said in the file.
 TEST(CliMesh, WritesTheUnitAsked) {
   const fs::path obj = kOut / "reach-mm.obj";
