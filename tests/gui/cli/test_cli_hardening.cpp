@@ -204,6 +204,11 @@ TEST(CliHardening, ARowTheSolverLeavesOpenIsNotConvergedWithNoMeasures) {
     }
     EXPECT_GE(checked, 2) << device << ": " << r.out;
   }
+  // A target so far that its squared distances overflow: refused, not infinite leg lengths.
+  const fs::path far = temp_file("hard_far.csv", "x,y,z,rx,ry,rz\n0,0,1e9,0,0,0\n0,0,1e200,0,0,0\n");
+  const auto beyond = run_linkscape("eval -m stewart --ik " + far.string());
+  EXPECT_EQ(beyond.exit_code, 2) << beyond.out;
+  EXPECT_TRUE(contains(beyond.out, "hard_far.csv:3: described: x (0, 0, 1e+200) cm is beyond 1e9 times")) << beyond.out;
   // A bound on the threads, not a crash.
   const auto threads = run_linkscape("verify --task sphere:diameter=15,centre=0.7,-13,-8.4 --criterion 'cond<3' --threads 100000");
   EXPECT_EQ(threads.exit_code, 2) << threads.out;
