@@ -98,6 +98,11 @@ struct MechanismInfo {
 
 // ---- Results -------------------------------------------------------------------
 
+// The tightest IK tolerance asked for: double precision closes a chain to
+// a few 1e-16 of the device's size, so a tighter one would call closing
+// poses unreachable.
+inline constexpr double kFinestTolerance = 1e-15;
+
 struct IkOptions {
   std::string method;                    // empty: the first of info().ik_methods
   std::optional<int> branch;             // only this branch

@@ -618,6 +618,12 @@ class DescribedMechanism final : public Mechanism {
     const Eigen::Index n = Eigen::Index(info_.task.size());
     if (x.size() != n) throw std::invalid_argument(std::string("described: ") + what + " needs " + std::to_string(n) + " values");
     if (!x.allFinite()) throw std::invalid_argument(std::string("described: ") + what + " must be finite numbers");
+    if (kin_.model().planar && !(std::abs(x(2) - kPlaneZ) <= 1e-12 * kin_.model().size)) {
+      std::ostringstream msg;
+      msg << "described: " << what << " has z = " << x(2) << " " << kin_.model().length_unit << ", but "
+          << info_.name << " is planar: it moves in the plane z = " << kPlaneZ << " of its base frame";
+      throw std::invalid_argument(msg.str());
+    }
     // Far beyond any device its squared distances would overflow (a slide's
     // leg has no reach bound to stop there first).
     const double far = 1e9 * kin_.model().size;
@@ -628,12 +634,6 @@ class DescribedMechanism final : public Mechanism {
       throw std::invalid_argument(msg.str());
     }
     if (!kin_.model().planar) return x;
-    if (!(std::abs(x(2) - kPlaneZ) <= 1e-12 * kin_.model().size)) {
-      std::ostringstream msg;
-      msg << "described: " << what << " has z = " << x(2) << " " << kin_.model().length_unit << ", but "
-          << info_.name << " is planar: it moves in the plane z = " << kPlaneZ << " of its base frame";
-      throw std::invalid_argument(msg.str());
-    }
     VectorXd out(n - 1);
     out << x.head(2), x.tail(n - 3);
     return out;

@@ -184,8 +184,9 @@ void write_fk(const Mechanism& m, const Table& table, std::ostream& out) {
 void run_eval(const EvalOptions& o, std::istream& stdin_stream, std::ostream& stdout_stream) {
   if (o.ik_file.empty() == o.fk_file.empty())
     throw std::invalid_argument("eval: give exactly one of --ik FILE or --fk FILE");
-  if (!(o.tolerance > 0) || !std::isfinite(o.tolerance))
-    throw std::invalid_argument("eval: --tolerance must be a positive finite number, got " + format_number(o.tolerance));
+  if (!(o.tolerance >= kFinestTolerance) || !std::isfinite(o.tolerance))
+    throw std::invalid_argument("eval: --tolerance must be a finite number of at least 1e-15 (double precision closes "
+                                "a chain to a few 1e-16 of the device's size), got " + format_number(o.tolerance));
   if (o.max_iterations < 1)
     throw std::invalid_argument("eval: --max-iterations must be at least 1, got " + std::to_string(o.max_iterations));
   Preset preset = chosen_preset(o.mechanism);
@@ -256,7 +257,10 @@ Command add_eval(CLI::App& program, const DeviceHelp& help) {
                   "comma separated (default: each branch's home pose)");
   cmd->add_option("--tolerance", o->tolerance, "Accept a solution when residual <= tolerance * the device's size")
       ->capture_default_str();
-  cmd->add_option("--max-iterations", o->max_iterations, "Iteration limit for newton/dls")->capture_default_str();
+  cmd->add_option("--max-iterations", o->max_iterations,
+                  "Iteration limit of the compiled devices' newton/dls (a described device's numerical solver takes "
+                  "up to 40 a seed, its seeds as docs/described-mechanisms.md says)")
+      ->capture_default_str();
   cmd->add_option("-o,--output", o->output, "Output CSV file (written atomically); '-' = stdout")->capture_default_str();
   cmd->add_flag("-q,--quiet", o->quiet, "No summary on stderr (there is none when the rows go to stdout)");
   return {cmd, Runs::Headless,

@@ -173,6 +173,7 @@ TEST(CliHardening, BadRowsNameTheirFileLineAndColumn) {
 TEST(CliHardening, NonFiniteAndOutOfRangeOptionValuesAreRefused) {
   const fs::path in = temp_file("hard_targets.csv", kTargets);
   for (const std::string& args : std::vector<std::string>{"eval --tolerance inf --ik " + in.string(), "eval --tolerance nan --ik " + in.string(),
+        "eval --tolerance 1e-17 --ik " + in.string(), "slice --tolerance 1e-16 -o x.png",
         "eval --max-iterations 0 --ik " + in.string(), "slice --param L1=1e400 -o x.png",
         "mesh --decimate inf -o x.stl", "slice --plane x=nan -o x.png", "mesh --surface 'cond<inf' -o x.stl"}) {
     const auto r = run_linkscape(args);
