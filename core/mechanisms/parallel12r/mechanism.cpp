@@ -58,8 +58,7 @@ class Parallel12rMechanism final : public Mechanism {
                        {"folded", "folded", "beta = gamma +- pi: inner sphere |D| = |L1 - L2|"},
                        {"z-axis", "z axis", "x = y = 0"}};
     i.branches = {"0: sin(beta - gamma) > 0", "1: sin(beta - gamma) < 0"};
-    i.eval_columns.fk_status = false;
-    i.eval_columns.fk_diagnostics = false;
+    i.eval_columns.fk_diagnostics = false;  // a closed form: no iterations
   }
 
   const MechanismInfo& info() const override { return info_; }
@@ -96,7 +95,12 @@ class Parallel12rMechanism final : public Mechanism {
       throw std::invalid_argument("parallel-12r: unknown FK method '" + o.method + "' (known: closed)");
     linkscape::FkResult r;
     r.x = parallel12r::forward(model_, three(q, "q"));
-    r.status = singular_at(three(q, "q")) ? Status::Singular : Status::Ok;
+    // As the Delta's: beyond an actuator's travel out of limits (no pose
+    // given), else singular where measures() says so.
+    const Vector3d a = three(q, "q");
+    const bool inside = model_.alpha_limits.contains(a.x()) && model_.beta_limits.contains(a.y()) &&
+                        model_.gamma_limits.contains(a.z());
+    r.status = !inside ? Status::OutOfLimits : singular_at(a) ? Status::Singular : Status::Ok;
     return r;
   }
 

@@ -95,14 +95,23 @@ TEST(Cli, EvalForwardMatchesEquations) {
   const fs::path input = temp_file("angles.csv", "alpha,beta,gamma\n0,0,1.5707963267948966\n0.3,-0.4,2.1\n");
   const CommandResult r = run_linkscape("eval -m parallel-12r --fk " + input.string());
   ASSERT_EQ(r.exit_code, 0) << r.out;
-  const linkscape::Table t = parse(r.out);
-  ASSERT_EQ(t.rows.size(), 2u);
-  const auto& row = t.rows[1];
+  const auto rows = parse_cells(r.out);
+  ASSERT_EQ(rows.size(), 2u);
+  const auto& row = rows[1];
+  EXPECT_EQ(row.at("status"), "ok");
   const Eigen::Vector3d expected = paper_forward(15, 15, 0.3, -0.4, 2.1);
-  EXPECT_NEAR(row[t.column("x")], expected.x(), 1e-12);
-  EXPECT_NEAR(row[t.column("y")], expected.y(), 1e-12);
-  EXPECT_NEAR(row[t.column("z")], expected.z(), 1e-12);
-  EXPECT_NEAR(t.rows[0][t.column("cond")], 1.0, 1e-12);  // the Fig. 5 optimum
+  EXPECT_NEAR(std::stod(row.at("x")), expected.x(), 1e-12);
+  EXPECT_NEAR(std::stod(row.at("y")), expected.y(), 1e-12);
+  EXPECT_NEAR(std::stod(row.at("z")), expected.z(), 1e-12);
+  EXPECT_NEAR(std::stod(rows[0].at("cond")), 1.0, 1e-12);  // the Fig. 5 optimum
+  // Beyond alpha's travel (+-90 deg): out of limits, as the Delta says it;
+  // at the folded, stretched pose q = 0: singular. Neither gives a pose.
+  const fs::path outside = temp_file("angles-outside.csv", "alpha,beta,gamma\n3,1,2\n0,0,0\n");
+  const auto limits = parse_cells(run_linkscape("eval -m parallel-12r --fk " + outside.string()).out);
+  ASSERT_EQ(limits.size(), 2u);
+  EXPECT_EQ(limits[0].at("status"), "out-of-limits");
+  EXPECT_EQ(limits[0].at("x"), "");
+  EXPECT_EQ(limits[1].at("status"), "singular");
 }
 
 TEST(Cli, OutputFileIsWrittenWhole) {
@@ -112,7 +121,8 @@ TEST(Cli, OutputFileIsWrittenWhole) {
   const CommandResult r = run_linkscape("eval --fk " + input.string() + " --output " + output.string());
   ASSERT_EQ(r.exit_code, 0) << r.out;
   std::ifstream in(output);
-  EXPECT_EQ(linkscape::read_csv(in, "fk_out").rows.size(), 1u);
+  const std::string written((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(parse_cells(written).size(), 1u) << written;
   for (const auto& e : fs::directory_iterator(output.parent_path()))
     EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << e.path();
 }
