@@ -84,8 +84,15 @@ std::string headless_hint(const DeviceHelp& help, const std::vector<Command>& co
 void reject_window_options(const CLI::App& app, const CLI::App& command) {
   for (const CLI::Option* option : app.get_options()) {
     if (option->count() == 0 || option->get_name() == "--help" || option->get_name() == "--version") continue;
-    throw std::invalid_argument("option " + option->get_name() + " belongs after the command: linkscape " +
-                                command.get_name() + " " + option->get_name() + " ...");
+    const std::string name = option->get_name();
+    if (name.rfind("--", 0) == 0 && command.get_option_no_throw(name))
+      throw std::invalid_argument("option " + name + " belongs after the command: linkscape " + command.get_name() +
+                                  " " + name + " ...");
+    if (!option->nonpositional())
+      throw std::invalid_argument("a file before the command opens the window; for " + command.get_name() +
+                                  " give the device after it: linkscape " + command.get_name() + " -m FILE ...");
+    throw std::invalid_argument("option " + name + " is the window's, and " + command.get_name() +
+                                " has no such option (see linkscape " + command.get_name() + " --help)");
   }
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <optional>
@@ -35,6 +36,8 @@ struct EvalOptions {
 
 Table read_input(const std::string& file, std::istream& stdin_stream) {
   if (file == "-") return read_csv(stdin_stream, "<stdin>");
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec)) throw std::invalid_argument("input '" + file + "' is a folder, not a CSV file");
   std::ifstream in(file);
   if (!in) throw std::invalid_argument("cannot open input file '" + file + "'");
   return read_csv(in, file);

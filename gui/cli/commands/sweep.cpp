@@ -104,7 +104,7 @@ void write_sweep_vti(const sweep::Plan& plan, const std::string& table, const st
 
 void run_sweep(const SweepOptions& o, std::ostream& out) {
   const auto t0 = std::chrono::steady_clock::now();
-  if ((o.grid > 0) == (o.random > 0))
+  if ((o.grid != 0) == (o.random > 0))
     throw std::invalid_argument("sweep: give either --grid N (values per parameter) or --random N (designs)");
   if (o.output.empty() || std::filesystem::path(o.output).extension() != ".csv")
     throw std::invalid_argument("sweep: --output must end in .csv, got '" + o.output + "'");
@@ -127,7 +127,7 @@ void run_sweep(const SweepOptions& o, std::ostream& out) {
   sweep::Plan plan;
   plan.problem = make_problem(o.problem, "sweep");
   plan.problem.threads = 1;  // designs run in parallel, each on one thread (gui/cli/sweep_ranks.h)
-  plan.sampling = o.grid > 0 ? sweep::Sampling::Grid : sweep::Sampling::Random;
+  plan.sampling = o.grid != 0 ? sweep::Sampling::Grid : sweep::Sampling::Random;
   plan.levels = o.grid;
   plan.count = o.random;
   plan.seed = o.seed;
@@ -232,7 +232,7 @@ Command add_sweep(CLI::App& program, const DeviceHelp& devices) {
                "field measures, as one CSV table with the Pareto front marked; runs alike on one process or under "
                "mpirun (docs/sweeps.md)");
   add_problem_options(*cmd, o->problem, devices);
-  cmd->add_option("--grid", o->grid, "Values per free parameter, its bounds included (a full grid)");
+  cmd->add_option("--grid", o->grid, "Values per free parameter, its bounds included (a full grid), at least 2");
   cmd->add_option("--random", o->random, "Or this many designs drawn uniformly within the bounds");
   cmd->add_option("--seed", o->seed, "Seed of the random designs, 0 to 2^64 - 1 (the same seed, the same designs)")
       ->check(CLI::Validator(

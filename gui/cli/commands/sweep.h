@@ -16,7 +16,7 @@ namespace linkscape::gui {
 
 struct SweepOptions {
   FitOptions problem;            // device, task, criteria, free parameters and bounds, sampling
-  int grid = 0;                  // values per free parameter, bounds included
+  int grid = 0;                  // values per free parameter, bounds included (0: not given; else at least 2)
   std::size_t random = 0;        // or this many uniform random designs
   std::uint64_t seed = 1;
   int field_resolution = 0;      // field measures over the default box (0: none)

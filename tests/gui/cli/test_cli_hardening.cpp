@@ -139,11 +139,20 @@ TEST(CliHardening, AComparisonTheShellTookAsARedirectionIsExplained) {
 
 TEST(CliHardening, OptionsBeforeTheCommandAreRefusedNotIgnored) {
   const fs::path in = temp_file("hard_targets.csv", kTargets);
-  for (const std::string& before : std::vector<std::string>{"--param L1=12", "--mechanism pathos2", "--mechanism foo", "--size 800x600"}) {
+  for (const std::string& before : std::vector<std::string>{"--param L1=12", "--mechanism pathos2", "--mechanism foo"}) {
     const auto r = run_linkscape(before + " eval --ik " + in.string());
     EXPECT_EQ(r.exit_code, 2) << before << ": " << r.out;
     EXPECT_TRUE(contains(r.out, "belongs after the command")) << r.out;
   }
+  // An option of the window alone is not sent after a command that lacks it.
+  for (const std::string& before : std::vector<std::string>{"--size 800x600", "--task sphere:diameter=3"}) {
+    const auto r = run_linkscape(before + " eval --ik " + in.string());
+    EXPECT_EQ(r.exit_code, 2) << before << ": " << r.out;
+    EXPECT_TRUE(contains(r.out, "is the window's, and eval has no such option")) << r.out;
+  }
+  const auto file = run_linkscape("delta.json eval --ik " + in.string());
+  EXPECT_EQ(file.exit_code, 2) << file.out;
+  EXPECT_TRUE(contains(file.out, "give the device after it: linkscape eval -m FILE")) << file.out;
   // After the command the same option is honoured.
   const auto after = run_linkscape("eval --param L1=12 --ik " + in.string());
   ASSERT_EQ(after.exit_code, 0) << after.out;

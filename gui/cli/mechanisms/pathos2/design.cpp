@@ -200,6 +200,8 @@ void run_design(const DesignOptions& o, std::ostream& out) {
   for (const std::string* csv : {&o.table, &o.sweep})
     if (!csv->empty() && std::filesystem::path(*csv).extension() != ".csv")
       throw std::invalid_argument("design: --table and --sweep must end in .csv, got '" + *csv + "'");
+  if (!o.table.empty() && std::filesystem::path(o.table).lexically_normal() == std::filesystem::path(o.sweep).lexically_normal())
+    throw std::invalid_argument("design: --table and --sweep name the same file '" + o.table + "' (one would overwrite the other)");
   if (!o.chart.empty()) {
     const std::string ext = std::filesystem::path(o.chart).extension().string();
     if (ext != ".png" && ext != ".svg" && ext != ".pdf")
@@ -207,7 +209,8 @@ void run_design(const DesignOptions& o, std::ostream& out) {
   }
   Preset preset = load_preset(o.mechanism.name_or_path);
   if (preset.mechanism != pathos2::kMechanismName)
-    throw std::invalid_argument("design: the Table 2 study is for pathos2, got '" + preset.mechanism + "'");
+    throw std::invalid_argument("design: the Table 2 study is for pathos2 (the compiled device), got '" +
+                                o.mechanism.name_or_path + "' (" + preset.mechanism + ")");
   preset.parameters["l0"] = pathos2::table1_model().l0;  // Table 1 optimises at l0 = 50
   apply_overrides(preset, o.mechanism.params);
   apply_stop_switches(o.stops, preset, "design");
@@ -268,7 +271,8 @@ Command add_design(CLI::App& program, const DeviceHelp&) {
   cmd->add_flag("--quick", options->quick, "A coarse grid (a smoke test, not the paper's Table 2)");
   cmd->add_flag("-q,--quiet", options->quiet, "No progress line on stderr");
   return {cmd, Runs::Painting,  // the chart draws with QPainter
-          "", [options](std::istream&, std::ostream& out) {
+          "linkscape design --table table2.csv --sweep l0.csv --chart l0.png    the Table 2 grid search and the l0 sweep",
+          [options](std::istream&, std::ostream& out) {
             run_design(*options, out);
             return 0;
           }};
