@@ -1,6 +1,7 @@
 #include "core/csv.h"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <limits>
@@ -16,12 +17,30 @@ std::string trim(const std::string& s) {
   return s.substr(b, s.find_last_not_of(" \t\r") - b + 1);
 }
 
+// Fields as RFC 4180 writes them: a field in double quotes may hold commas,
+// and "" within it is one quote (spreadsheets quote cells: "0").
 std::vector<std::string> split(const std::string& line) {
   std::vector<std::string> fields;
-  std::stringstream ss(line);
   std::string field;
-  while (std::getline(ss, field, ',')) fields.push_back(trim(field));
-  if (!line.empty() && line.back() == ',') fields.push_back("");
+  bool quoted = false, was_quoted = false;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (quoted) {
+      if (c != '"') field += c;
+      else if (i + 1 < line.size() && line[i + 1] == '"') field += line[++i];
+      else quoted = false;
+    } else if (c == '"' && trim(field).empty()) {
+      field.clear();
+      quoted = was_quoted = true;
+    } else if (c == ',') {
+      fields.push_back(was_quoted ? field : trim(field));
+      field.clear();
+      was_quoted = false;
+    } else if (!(was_quoted && std::isspace(static_cast<unsigned char>(c)))) {
+      field += c;
+    }
+  }
+  fields.push_back(was_quoted ? field : trim(field));
   return fields;
 }
 

@@ -123,6 +123,23 @@ TEST(Csv, AcceptsAByteOrderMarkAndAPlusSignAndKeepsLineNumbers) {
     EXPECT_FALSE(parse_number(not_numbers).has_value()) << not_numbers;
 }
 
+// Cells in double quotes, as spreadsheets save them (RFC 4180): the quotes
+// are not part of the value, a quoted name may hold a comma, "" is a quote.
+TEST(Csv, ReadsQuotedCells) {
+  std::istringstream in("\"x\", \"a, b\" ,z\n\"0\", \"15\" ,+1.5\n\"\",2,3\n");
+  const Table t = read_csv(in, "quoted.csv");
+  ASSERT_EQ(t.columns, (std::vector<std::string>{"x", "a, b", "z"}));
+  ASSERT_EQ(t.rows.size(), 2u);
+  EXPECT_EQ(t.rows[0][0], 0.0);
+  EXPECT_EQ(t.rows[0][1], 15.0);  // spaces outside the quotes are not the cell's
+  EXPECT_EQ(t.rows[0][2], 1.5);
+  EXPECT_TRUE(std::isnan(t.rows[1][0]));  // "": no value, as an empty cell
+  std::istringstream space_inside("x\n\" 15\"\n");  // inside quotes a space is the cell's: not a number
+  EXPECT_THROW(read_csv(space_inside, "q.csv"), std::invalid_argument);
+  std::istringstream open_quote("x,y\n\"1,2\n");  // an unclosed quote takes the rest of the line
+  EXPECT_THROW(read_csv(open_quote, "q.csv"), std::invalid_argument);
+}
+
 // A name the file system refuses (longer than NAME_MAX) is an unknown preset,
 // not a std::filesystem::filesystem_error (found by fuzzing sessions).
 TEST(Preset, AnOverlongNameIsAnUnknownPreset) {

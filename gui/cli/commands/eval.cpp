@@ -209,7 +209,13 @@ void run_eval(const EvalOptions& o, std::istream& stdin_stream, std::ostream& st
   ik.tolerance = o.tolerance;
   ik.max_iterations = o.max_iterations;
   const auto start = std::chrono::steady_clock::now();
-  const Table table = read_input(o.ik_file.empty() ? o.fk_file : o.ik_file, stdin_stream);
+  Table table = read_input(o.ik_file.empty() ? o.fk_file : o.ik_file, stdin_stream);
+  // A planar device's targets may leave z out: it is the plane's.
+  if (!o.ik_file.empty() && m->info().plane_z &&
+      std::find(table.columns.begin(), table.columns.end(), "z") == table.columns.end()) {
+    table.columns.push_back("z");
+    for (std::vector<double>& row : table.rows) row.push_back(*m->info().plane_z);
+  }
   std::ostringstream result;
   if (!o.ik_file.empty()) write_ik(*m, table, ik, result);
   else write_fk(*m, table, result);

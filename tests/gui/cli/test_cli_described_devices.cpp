@@ -187,6 +187,12 @@ TEST(CliDescribedDevices, FiveBarRefusesATargetOffItsPlane) {
   EXPECT_TRUE(contains(off.out, "z = 1e+300") && contains(off.out, "five-bar is planar") &&
               contains(off.out, "plane z = 0"))
       << off.out;
+  // Without a z column its targets lie in its plane: the same rows as with z = 0.
+  const auto in_plane = run_linkscape("eval -m " + kFiveBar + " --ik " + temp_file("five_bar_xy.csv", "x,y\n0,15\n").string());
+  const auto with_z = run_linkscape("eval -m " + kFiveBar + " --ik " + temp_file("five_bar_xyz.csv", "x,y,z\n0,15,0\n").string());
+  EXPECT_EQ(in_plane.exit_code, 0) << in_plane.out;
+  EXPECT_EQ(in_plane.out, with_z.out);
+  EXPECT_TRUE(contains(in_plane.out, "0,15,0,0,ok,")) << in_plane.out;
 }
 
 // A pose the Stewart reaches only with a leg beyond its travel: the row names
