@@ -114,9 +114,21 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
   // Fields are measured for the chosen device; methods and sweeps for it and
   // every registered device (its shipped preset; --mechanism/--param set the
   // parameters of the one they name), or for it and the --compare presets.
+  if (!o.csv.empty() && std::filesystem::path(o.csv).extension() != ".csv")
+    throw std::invalid_argument("bench: --csv must end in .csv (its two companions are STEM.methods.csv and "
+                                "STEM.sweeps.csv), got '" + o.csv + "'");
   Preset chosen = load_preset(o.mechanism.name_or_path);
   apply_overrides(chosen, o.mechanism.params);
   const std::shared_ptr<const Mechanism> m = make_mechanism(chosen);
+  // Every device compared and every output checked before the minutes of measuring.
+  std::vector<std::shared_ptr<const Mechanism>> compared;
+  for (const std::string& name : o.compare) {
+    auto device = make_mechanism(load_preset(name));
+    const auto same = [&](const auto& d) { return d->info().name == device->info().name; };
+    if (device->info().name != m->info().name && std::none_of(compared.begin(), compared.end(), same))
+      compared.push_back(std::move(device));  // each device once
+  }
+  for (const std::string* file : {&o.csv, &o.chart, &o.sweeps}) check_output(*file);
   const MechanismInfo& info = m->info();
   const std::string unit = info.length_unit;
   const int repeats = o.quick ? 1 : 5;
@@ -194,7 +206,7 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
   std::vector<std::shared_ptr<const Mechanism>> devices;
   if (!o.compare.empty()) {
     devices.push_back(m);
-    for (const std::string& name : o.compare) devices.push_back(make_mechanism(load_preset(name)));
+    devices.insert(devices.end(), compared.begin(), compared.end());
   } else {
     const std::vector<std::string> registered = registered_mechanisms();
     if (std::find(registered.begin(), registered.end(), info.name) == registered.end()) devices.push_back(m);
