@@ -6,6 +6,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "cli_runner.h"
@@ -223,6 +224,22 @@ TEST(CliHardening, ARowTheSolverLeavesOpenIsNotConvergedWithNoMeasures) {
   const auto threads = run_linkscape("verify --task sphere:diameter=15,centre=0.7,-13,-8.4 --criterion 'cond<3' --threads 100000");
   EXPECT_EQ(threads.exit_code, 2) << threads.out;
   EXPECT_TRUE(contains(threads.out, "--threads")) << threads.out;
+}
+
+// bench measures for minutes: what it would fail on afterwards is refused first.
+TEST(CliHardening, BenchRefusesBadDevicesAndOutputsBeforeMeasuring) {
+  // Exit 2 for bad input, 1 for an output that cannot be written (README).
+  const std::tuple<std::string, std::string, int> cases[] = {
+      {"bench --quick --compare bogus", "unknown mechanism 'bogus'", 2},
+      {"bench --quick --csv no-such-folder/b.csv", "folder 'no-such-folder' does not exist", 1},
+      {"bench --quick --csv b.txt", "--csv must end in .csv", 2},
+  };
+  for (const auto& [args, message, code] : cases) {
+    const auto r = run_linkscape(args);
+    EXPECT_EQ(r.exit_code, code) << args << ": " << r.out;
+    EXPECT_TRUE(contains(r.out, message)) << args << ": " << r.out;
+    EXPECT_FALSE(contains(r.out, "peak resident memory")) << "measured first: " << r.out;
+  }
 }
 
 TEST(CliHardening, WindowSizeIsBoundedBeforeAnyWindowOpens) {
