@@ -261,9 +261,11 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
   }
   for (const auto& [mechanism, path, method] : keys) {
     double smallest = std::numeric_limits<double>::quiet_NaN(), ratio = 0;  // NaN: no ok result
+    std::map<Status, int> statuses;  // of the samples, where none is ok: what they were
     for (const auto& r : sweeps) {
       if (r.mechanism != mechanism || stability::path_label(r) != path || r.method != method) continue;
       if (r.family != "ik" && r.family != "fk") continue;
+      ++statuses[r.status];
       if (r.status == Status::Ok && std::isfinite(r.error)) {
         if (!(r.eps >= smallest)) smallest = r.eps;
         if (std::isfinite(r.predicted)) ratio = std::max(ratio, r.error / (r.predicted + r.residual / r.sigma_min));
@@ -272,9 +274,14 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
     const std::string prefix = mechanism == devices.front()->info().name ? "" : mechanism + " ";
     out << "  " << prefix << std::left << std::setw(15) << path << std::setw(13) << method << "ok down to eps "
         << std::setw(10) << std::setprecision(2);
-    if (std::isnan(smallest)) out << "none";
-    else out << smallest;
-    out << " error/bound <= " << ratio << "\n";
+    if (std::isnan(smallest)) {
+      // Nothing measured: say what the samples were instead of a bound of 0.
+      out << "none (no sample ok:";
+      for (const auto& [status, count] : statuses) out << " " << count << " " << to_string(status);
+      out << ")\n";
+    } else {
+      out << smallest << " error/bound <= " << ratio << "\n";
+    }
     rows.push_back({"sweep " + prefix + path + "/" + method + ": smallest eps with an ok result", smallest, ""});
   }
 
