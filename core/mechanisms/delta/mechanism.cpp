@@ -17,8 +17,11 @@ using Eigen::Vector3d;
 using Eigen::VectorXd;
 
 // The same device with every motor free over a full turn.
+// The linkage alone: no actuator ranges, no ball-joint cones (the stability
+// sweeps approach singular sets the stops may keep the device from).
 Model without_ranges(Model m) {
   for (Interval& r : m.q_limits) r = {-std::numbers::pi, std::numbers::pi};
+  m.elbow_cone = m.wrist_cone = std::numbers::pi;
   return m;
 }
 
@@ -191,8 +194,8 @@ class DeltaMechanism final : public Mechanism {
     return out;
   }
 
-  // Sweeps towards the geometry's singular sets, on the device without
-  // actuator ranges (the default sweeps of core/generic_methods.cpp).
+  // Sweeps towards the geometry's singular sets, on the linkage without
+  // actuator ranges or cones (the default sweeps of core/generic_methods.cpp).
   std::vector<stability::SweepRow> stability_sweeps(const stability::SweepOptions& options) const override {
     return make_mechanism(without_ranges(model_))->Mechanism::stability_sweeps(options);
   }

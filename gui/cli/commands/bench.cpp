@@ -261,6 +261,7 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
   }
   for (const auto& [mechanism, path, method] : keys) {
     double smallest = std::numeric_limits<double>::quiet_NaN(), ratio = 0;  // NaN: no ok result
+    bool bounded = false;  // a first-order bound predicted for some ok sample
     std::map<Status, int> statuses;  // of the samples, where none is ok: what they were
     for (const auto& r : sweeps) {
       if (r.mechanism != mechanism || stability::path_label(r) != path || r.method != method) continue;
@@ -268,7 +269,10 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
       ++statuses[r.status];
       if (r.status == Status::Ok && std::isfinite(r.error)) {
         if (!(r.eps >= smallest)) smallest = r.eps;
-        if (std::isfinite(r.predicted)) ratio = std::max(ratio, r.error / (r.predicted + r.residual / r.sigma_min));
+        if (std::isfinite(r.predicted)) {
+          bounded = true;
+          ratio = std::max(ratio, r.error / (r.predicted + r.residual / r.sigma_min));
+        }
       }
     }
     const std::string prefix = mechanism == devices.front()->info().name ? "" : mechanism + " ";
@@ -280,7 +284,9 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
       for (const auto& [status, count] : statuses) out << " " << count << " " << to_string(status);
       out << ")\n";
     } else {
-      out << smallest << " error/bound <= " << ratio << "\n";
+      out << smallest;
+      if (bounded) out << " error/bound <= " << ratio << "\n";
+      else out << " (no first-order bound: the residual is the measure)\n";
     }
     rows.push_back({"sweep " + prefix + path + "/" + method + ": smallest eps with an ok result", smallest, ""});
   }
