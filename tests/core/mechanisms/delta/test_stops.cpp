@@ -7,6 +7,7 @@
 #include <cstring>
 #include <numbers>
 #include <random>
+#include <map>
 #include <sstream>
 
 #include "core/mechanism.h"
@@ -16,6 +17,7 @@
 #include "core/mechanisms/delta/stops.h"
 #include "core/preset.h"
 #include "core/simd.h"
+#include "core/stability.h"
 #include "core/task.h"
 #include "core/verify/verify.h"
 #include "tests/core/simd_targets.h"
@@ -373,3 +375,20 @@ TEST(DeltaStops, VerifySaysItsConesAreNotCovered) {
 
 }  // namespace
 }  // namespace linkscape::delta
+
+// The stability sweeps approach the legs' singular sets on the linkage
+// alone: with the shipped cones every sample was out of limits and the
+// bench measured nothing. Each set's sweep must reach down to small eps.
+TEST(DeltaStops, StabilitySweepsMeasureTheLinkageNotItsStops) {
+  const auto device = linkscape::make_mechanism(linkscape::load_preset("delta"));
+  ASSERT_TRUE(device->info().extra_fields.size() > 0);  // the preset states its cones
+  const std::vector<linkscape::stability::SweepRow> rows = device->stability_sweeps({});
+  std::map<std::string, double> smallest_ok;
+  for (const linkscape::stability::SweepRow& r : rows) {
+    if (r.status != linkscape::Status::Ok) continue;
+    auto [it, added] = smallest_ok.emplace(linkscape::stability::path_label(r), r.eps);
+    if (!added) it->second = std::min(it->second, r.eps);
+  }
+  ASSERT_EQ(smallest_ok.size(), 3u);  // leg-1, leg-2, leg-3
+  for (const auto& [path, eps] : smallest_ok) EXPECT_LE(eps, 1e-8) << path;
+}
