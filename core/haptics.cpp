@@ -222,6 +222,11 @@ DeviceData device_data(const Preset& preset, const MechanismInfo& info) {
       for (ActuatorRating& r : ratings) r.*(p.field) = it->second;
       from_parameters += std::string(from_parameters.empty() ? "" : ", ") + p.name + " " + number_text(it->second);
     }
+  // A lead for every actuator (--param lead_m_per_rev=...) needs a slide to drive.
+  if (preset.parameters.count("lead_m_per_rev") &&
+      std::none_of(info.actuators.begin(), info.actuators.end(), [&](const Quantity& a) { return prismatic(a); }))
+    throw std::invalid_argument("parameter lead_m_per_rev is for prismatic actuators; " + info.name +
+                                "'s are all revolute");
   for (std::size_t i = 0; i < info.actuators.size(); ++i) {
     const Quantity& a = info.actuators[i];
     const ActuatorRating& given = ratings[i];
