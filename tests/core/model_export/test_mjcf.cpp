@@ -212,11 +212,13 @@ std::string test_name(const ::testing::TestParamInfo<std::string>& info) {
 
 INSTANTIATE_TEST_SUITE_P(Shipped, EveryDescribedPreset,
                          ::testing::Values("delta-described", "pathos2-described", "five-bar", "stewart", "falcon",
-                                           "haply-2diy", "three-rrr", "linear-delta", "hexapod-rus", "omnid-delta"),
+                                           "haply-2diy", "three-rrr", "linear-delta", "hexapod-rus", "omnid-delta",
+                                           "three-rpr"),
                          test_name);
 INSTANTIATE_TEST_SUITE_P(Shipped, SettlingPreset,
                          ::testing::Values("delta-described", "pathos2-described", "five-bar", "stewart", "falcon",
-                                           "haply-2diy", "three-rrr", "linear-delta", "hexapod-rus", "omnid-delta"),
+                                           "haply-2diy", "three-rrr", "linear-delta", "hexapod-rus", "omnid-delta",
+                                           "three-rpr"),
                          test_name);
 
 // The Falcon's passive-joint limits become its hinges' ranges (the turn

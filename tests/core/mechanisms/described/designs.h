@@ -19,7 +19,7 @@ inline const std::vector<std::string>& shipped_descriptions() {
   static const std::vector<std::string> names{"delta-described", "pathos2-described", "five-bar",
                                               "stewart",         "three-rrr",         "linear-delta",
                                               "hexapod-rus",     "haply-2diy",        "falcon",
-                                              "omnid-delta"};
+                                              "omnid-delta",     "three-rpr"};
   return names;
 }
 

@@ -48,6 +48,7 @@ TEST(DescribedClosedForm, RecognisesTheShippedLegs) {
   EXPECT_EQ(patterns(load("haply-2diy")), std::vector<std::string>(2, "planar-dyad"));
   EXPECT_EQ(patterns(load("stewart")), std::vector<std::string>(6, "extensible"));
   EXPECT_EQ(patterns(load("three-rrr")), std::vector<std::string>(3, "planar-dyad"));
+  EXPECT_EQ(patterns(load("three-rpr")), std::vector<std::string>(3, "extensible"));
   EXPECT_EQ(patterns(load("linear-delta")), std::vector<std::string>(3, "slide-rod"));
   EXPECT_EQ(patterns(load("omnid-delta")), std::vector<std::string>(3, "crank-rod"));
   EXPECT_EQ(patterns(load("hexapod-rus")), std::vector<std::string>(6, "crank-rod"));
@@ -178,6 +179,7 @@ TEST(DescribedClosedForm, FiveBarAgreesWithTheNumericalSolver) { compare("five-b
 TEST(DescribedClosedForm, Haply2diyAgreesWithTheNumericalSolver) { compare("haply-2diy", 20000); }
 TEST(DescribedClosedForm, StewartAgreesWithTheNumericalSolver) { compare("stewart", 6000); }
 TEST(DescribedClosedForm, ThreeRrrAgreesWithTheNumericalSolver) { compare("three-rrr", 10000); }
+TEST(DescribedClosedForm, ThreeRprAgreesWithTheNumericalSolver) { compare("three-rpr", 10000); }
 TEST(DescribedClosedForm, LinearDeltaAgreesWithTheNumericalSolver) { compare("linear-delta", 10000); }
 TEST(DescribedClosedForm, HexapodRusAgreesWithTheNumericalSolver) { compare("hexapod-rus", 4000); }
 TEST(DescribedClosedForm, FalconAgreesWithTheNumericalSolver) { compare("falcon", 6000); }
@@ -323,7 +325,7 @@ TEST(DescribedClosedForm, RandomDesignsAgreeWithTheNumericalSolver) {
   std::mt19937_64 rng(11);
   int ok = 0, mismatches = 0;
   for (const char* name : {"delta-described", "pathos2-described", "five-bar", "stewart", "three-rrr", "linear-delta",
-                           "hexapod-rus", "haply-2diy", "falcon", "omnid-delta"})
+                           "hexapod-rus", "haply-2diy", "falcon", "omnid-delta", "three-rpr"})
     for (const Kinematics& k : random_designs(name, 6, rng)) {
       const Tally t = compare(k, name, 400);
       ok += t.ok;
@@ -341,7 +343,7 @@ TEST(DescribedClosedForm, ReachBoundsNeverRefuseAReachableAnchor) {
   std::uniform_real_distribution<double> unit(-1, 1);
   int refused = 0, checked = 0;
   for (const char* name : {"delta-described", "pathos2-described", "five-bar", "stewart", "three-rrr", "linear-delta",
-                           "hexapod-rus", "haply-2diy", "falcon", "omnid-delta"}) {
+                           "hexapod-rus", "haply-2diy", "falcon", "omnid-delta", "three-rpr"}) {
     std::vector<Kinematics> designs = random_designs(name, 4, rng);
     designs.push_back(load(name));
     for (const Kinematics& k : designs) {

@@ -122,7 +122,7 @@ void check_device(const Mechanism& m, const std::string& what, Tally& tally, boo
 // described PATHOS-II: three-revolute legs with angle rules, and an extra.
 const char* const kLaneDevices[] = {"delta-described", "hexapod-rus", "stewart", "linear-delta", "five-bar",
                                     "three-rrr",       "haply-2diy",  "falcon",  "pathos2-described",
-                                    "omnid-delta"};
+                                    "omnid-delta",     "three-rpr"};
 bool has_stops(const std::string& name) { return name == "haply-2diy" || name == "falcon"; }
 bool turns(const std::string& name) { return name == "stewart" || name == "pathos2-described"; }
 
@@ -525,7 +525,7 @@ TEST(DescribedLanes, MirroredFieldsAgreeWithTheUnmirroredAndTheScalarPath) {
   const std::map<std::string, bool> expected = {{"delta-described", true}, {"hexapod-rus", true}, {"stewart", true},
                                                 {"linear-delta", true},    {"five-bar", false},   {"three-rrr", false},
                                                 {"haply-2diy", false},     {"falcon", false},     {"pathos2-described", false},
-                                                {"omnid-delta", true}};
+                                                {"omnid-delta", true},     {"three-rpr", false}};
   for (const char* name : kLaneDevices) {
     const Preset p = load_preset(name);
     EXPECT_EQ(mirrored(p, 0), expected.at(name)) << name;
