@@ -52,6 +52,15 @@ inline int measure_index(const Mechanism& m, const std::string& name) {
 // Wraps an angle difference into (-pi, pi].
 inline double angle_difference(double a, double b) { return std::remainder(a - b, 2 * std::numbers::pi); }
 
+// The planar triangle devices' (3-RRR, 3-RPR): the unit vector at an angle,
+// and a pose (x, y, rz) as the device's task (x, y, the plane's z, rz).
+inline Eigen::Vector2d unit_at(double angle) { return {std::cos(angle), std::sin(angle)}; }
+inline Eigen::VectorXd planar_task(const Eigen::Vector3d& pose) {
+  Eigen::VectorXd x(4);
+  x << pose.x(), pose.y(), 0.0, pose.z();
+  return x;
+}
+
 // 2-norm condition number from an SVD.
 template <typename Matrix>
 double svd_condition(const Matrix& j) {

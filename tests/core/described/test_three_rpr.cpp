@@ -34,10 +34,9 @@ struct ThreeRpr {
     const auto j = read_asset("three-rpr.json").at("parameters");
     return {j.at("Rb").get<double>(), j.at("rp").get<double>(), j.at("lo").get<double>(), j.at("hi").get<double>()};
   }
-  static Vector2d at(double angle) { return {std::cos(angle), std::sin(angle)}; }
-  Vector2d base(int k) const { return Rb * at(120 * k * kDeg); }
+  Vector2d base(int k) const { return Rb * unit_at(120 * k * kDeg); }
   Vector2d joint(int k, const Vector3d& pose) const {
-    return pose.head<2>() + rp * at((120 * k + 60) * kDeg + pose.z());
+    return pose.head<2>() + rp * unit_at((120 * k + 60) * kDeg + pose.z());
   }
   Vector3d ik(const Vector3d& pose) const {
     Vector3d d;
@@ -55,12 +54,6 @@ struct ThreeRpr {
   }
 };
 
-VectorXd task(const Vector3d& pose) {
-  VectorXd x(4);
-  x << pose.x(), pose.y(), 0.0, pose.z();  // x, y, the plane's z, rz
-  return x;
-}
-
 TEST(ThreeRprDevice, InverseKinematicsAndJacobianMatchTheGeometry) {
   const ThreeRpr g = ThreeRpr::from_file();
   const auto m = load_device("three-rpr.json");
@@ -72,7 +65,7 @@ TEST(ThreeRprDevice, InverseKinematicsAndJacobianMatchTheGeometry) {
   for (int i = 0; i < 4000; ++i) {
     const Vector3d pose(pos(rng), pos(rng), turn(rng));
     const Vector3d d = g.ik(pose);
-    const IkResult r = m->inverse(task(pose), {});
+    const IkResult r = m->inverse(planar_task(pose), {});
     if (!g.within_travel(d)) {
       // A slide always closes its leg: beyond its travel the pose is out of limits, never unreachable.
       EXPECT_EQ(r.status, Status::OutOfLimits) << "pose " << i;
@@ -83,7 +76,7 @@ TEST(ThreeRprDevice, InverseKinematicsAndJacobianMatchTheGeometry) {
     ASSERT_EQ(r.status, Status::Ok) << "pose " << i;
     ++solved;
     worst_q = std::max(worst_q, (r.solutions[0].q - d).cwiseAbs().maxCoeff() / d.maxCoeff());
-    const Eigen::MatrixXd J = m->jacobian(r.solutions[0].q, task(pose));
+    const Eigen::MatrixXd J = m->jacobian(r.solutions[0].q, planar_task(pose));
     const Matrix3d expected = g.jacobian(pose);
     worst_j = std::max(worst_j, (J - expected).norm() / expected.norm());
   }

@@ -37,10 +37,9 @@ struct ThreeRrr {
     const auto j = read_asset("three-rrr.json").at("parameters");
     return {j.at("Rb").get<double>(), j.at("rp").get<double>(), j.at("a").get<double>(), j.at("b").get<double>()};
   }
-  static Vector2d at(double angle) { return {std::cos(angle), std::sin(angle)}; }
-  Vector2d base(int k) const { return Rb * at(120 * k * kDeg); }
+  Vector2d base(int k) const { return Rb * unit_at(120 * k * kDeg); }
   Vector2d joint(int k, const Vector3d& pose) const {
-    return pose.head<2>() + rp * at(120 * k * kDeg + pose.z());
+    return pose.head<2>() + rp * unit_at(120 * k * kDeg + pose.z());
   }
   // Crank angles (q, relative to the leg's base frame) on the + branch, or nullopt.
   std::optional<Vector3d> ik(const Vector3d& pose) const {
@@ -51,7 +50,7 @@ struct ThreeRrr {
       if (!(std::abs(c) <= 1)) return std::nullopt;
       for (double s : {1.0, -1.0}) {
         const double t = std::atan2(d.y(), d.x()) + s * std::acos(c);
-        const Vector2d e = a * at(t), f = joint(k, pose) - base(k) - e;
+        const Vector2d e = a * unit_at(t), f = joint(k, pose) - base(k) - e;
         if (e.x() * f.y() - e.y() * f.x() > 0) q(k) = std::remainder(t - 120 * k * kDeg, 2 * std::numbers::pi);
       }
     }
@@ -60,7 +59,7 @@ struct ThreeRrr {
   Matrix3d jacobian(const Vector3d& pose, const Vector3d& q) const {
     Matrix3d Jx, Jq = Matrix3d::Zero();
     for (int k = 0; k < 3; ++k) {
-      const Vector2d e = a * at(120 * k * kDeg + q(k)), p = joint(k, pose), f = p - base(k) - e;
+      const Vector2d e = a * unit_at(120 * k * kDeg + q(k)), p = joint(k, pose), f = p - base(k) - e;
       const Vector2d r = p - pose.head<2>();
       Jx.row(k) << f.x(), f.y(), f.x() * -r.y() + f.y() * r.x();
       Jq(k, k) = f.x() * -e.y() + f.y() * e.x();
@@ -68,12 +67,6 @@ struct ThreeRrr {
     return Jx.inverse() * Jq;
   }
 };
-
-VectorXd task(const Vector3d& pose) {
-  VectorXd x(4);
-  x << pose.x(), pose.y(), 0.0, pose.z();  // x, y, the plane's z, rz
-  return x;
-}
 
 TEST(ThreeRrrDevice, InverseKinematicsAndJacobianMatchTheGeometry) {
   const ThreeRrr g = ThreeRrr::from_file();
@@ -88,7 +81,7 @@ TEST(ThreeRrrDevice, InverseKinematicsAndJacobianMatchTheGeometry) {
     const std::optional<Vector3d> q = g.ik(pose);
     IkOptions o;
     o.branch = 0;
-    const IkResult r = m->inverse(task(pose), o);
+    const IkResult r = m->inverse(planar_task(pose), o);
     if (!q) {
       EXPECT_EQ(r.status, Status::Unreachable) << "pose " << i;
       ++unreachable;
@@ -98,7 +91,7 @@ TEST(ThreeRrrDevice, InverseKinematicsAndJacobianMatchTheGeometry) {
     ASSERT_EQ(r.status, Status::Ok) << "pose " << i;
     ++solved;
     for (int k = 0; k < 3; ++k) worst_q = std::max(worst_q, std::abs(angle_difference(r.solutions[0].q(k), (*q)(k))));
-    const Eigen::MatrixXd J = m->jacobian(r.solutions[0].q, task(pose));
+    const Eigen::MatrixXd J = m->jacobian(r.solutions[0].q, planar_task(pose));
     const Matrix3d expected = g.jacobian(pose, *q);
     worst_j = std::max(worst_j, (J - expected).norm() / expected.norm());
   }
