@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -94,6 +95,13 @@ void run_mesh(const MeshOptions& o, std::ostream& out) {
   line.step("extracting the surface");
   const vtkSmartPointer<vtkPolyData> mesh = render::extract_surface(field, request);
   const render::MeshStats s = render::mesh_stats(mesh);
+  // What the decimation changed, against the surface it simplified.
+  std::optional<render::MeshStats> full;
+  if (o.decimate > 0) {
+    render::SurfaceRequest undecimated = request;
+    undecimated.decimate_error = 0;
+    full = render::mesh_stats(render::extract_surface(field, undecimated));
+  }
   if (s.faces == 0) throw std::invalid_argument("mesh: the surface does not occur in the box (nothing written)");
   line.step("writing " + o.output);
   render::write_mesh(mesh, o.output, field, request, o.unit);
@@ -105,6 +113,14 @@ void run_mesh(const MeshOptions& o, std::ostream& out) {
       << "volume " << s.volume << " " << sampling.length_unit() << "^3, area " << s.area << " " << sampling.length_unit()
       << "^2, bounds x [" << s.min.x() << ", " << s.max.x() << "] y [" << s.min.y() << ", " << s.max.y() << "] z ["
       << s.min.z() << ", " << s.max.z() << "]\n";
+  if (full) {
+    const double change = full->volume != 0 ? 100.0 * (s.volume - full->volume) / std::abs(full->volume) : 0.0;
+    out << "decimated from " << full->faces << " to " << s.faces << " triangles, volume change " << change << " %\n";
+    if (std::abs(change) > 5)
+      out << "note: the decimation changed the volume by more than 5 %: --decimate " << o.decimate << " "
+          << sampling.length_unit() << " is coarse for a region of " << (full->max - full->min).maxCoeff() << " "
+          << sampling.length_unit() << "; a smaller value keeps its shape\n";
+  }
   // A region present at the box's outermost samples may go on past the box,
   // which closes the mesh there: say at which faces.
   std::string faces;
@@ -116,18 +132,19 @@ void run_mesh(const MeshOptions& o, std::ostream& out) {
   const Eigen::Vector3d lo = grid.origin, hi = grid.origin + grid.spacing.cwiseProduct(
                                                   Eigen::Vector3d(grid.dims[0], grid.dims[1], grid.dims[2]));
   const std::optional<double> plane = sampling.mechanism->info().plane_z;
+  const render::MeshStats& region = full ? *full : s;  // where the surface is, before any decimation
   for (int a = 0; a < (plane ? 2 : 3); ++a) {
     if (grid.dims[std::size_t(a)] < 2) continue;
     const double close = 0.5 * grid.spacing(a);
     const std::string axis(1, char('x' + a));
-    if (s.min(a) <= lo(a) + close) faces += (faces.empty() ? "" : ", ") + axis + " = " + number(lo(a));
-    if (s.max(a) >= hi(a) - close) faces += (faces.empty() ? "" : ", ") + axis + " = " + number(hi(a));
+    if (region.min(a) <= lo(a) + close) faces += (faces.empty() ? "" : ", ") + axis + " = " + number(lo(a));
+    if (region.max(a) >= hi(a) - close) faces += (faces.empty() ? "" : ", ") + axis + " = " + number(hi(a));
   }
   // A planar device's field is its plane's, extruded along z: the mesh is a
   // prism, and what it says of the plane is its area.
-  if (plane && s.max.z() > s.min.z())
-    out << "planar: the region of the plane z = " << *plane << " extruded over z from " << s.min.z() << " to "
-        << s.max.z() << "; its area in the plane " << s.volume / (s.max.z() - s.min.z()) << " "
+  if (plane && region.max.z() > region.min.z())
+    out << "planar: the region of the plane z = " << *plane << " extruded over z from " << region.min.z() << " to "
+        << region.max.z() << "; its area in the plane " << region.volume / (region.max.z() - region.min.z()) << " "
         << sampling.length_unit() << "^2\n";
   if (!faces.empty())
     out << "note: the region reaches the box's faces at " << faces << " and may go on past them; the mesh is closed "

@@ -376,6 +376,15 @@ TEST(CliMesh, SaysWhereTheBoxCutsTheRegionAndAPlanarArea) {
   const auto at = five_bar.find("its area in the plane ");
   ASSERT_NE(at, std::string::npos) << five_bar;
   EXPECT_NEAR(std::stod(five_bar.substr(at + 22)), 503.1, 1.0) << five_bar;  // at this resolution
+  // A decimation that loses the shape says so (the 12R's reach to a few triangles).
+  const CommandResult coarse = run_linkscape("mesh --resolution 24 --decimate 100 -q --output " +
+                                             (kOut / "coarse.stl").string(), kNoDisplay);
+  EXPECT_EQ(coarse.exit_code, 0) << coarse.out;
+  EXPECT_NE(coarse.out.find("decimated from "), std::string::npos) << coarse.out;
+  EXPECT_NE(coarse.out.find("note: the decimation changed the volume by more than 5 %"), std::string::npos) << coarse.out;
+  const CommandResult fine = run_linkscape("mesh --resolution 24 --decimate 0.05 -q --output " +
+                                           (kOut / "fine.stl").string(), kNoDisplay);
+  EXPECT_EQ(fine.out.find("note: the decimation"), std::string::npos) << fine.out;
 }
 
 // --unit mm: the 12R's reach in cm written in mm, said in the file.
