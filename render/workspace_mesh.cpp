@@ -79,9 +79,13 @@ SurfaceScalar surface_scalar(const Field& field, const SurfaceRequest& request) 
   std::function<double(std::size_t)> decades;
   if (request.surface == Surface::WellConditioned) {
     const double top = std::log10(request.cond_threshold);
-    decades = [&field, top](std::size_t i) {
-      // Six-DOF mechanisms: well conditioned in position and orientation.
-      const double c = field.cond_orientation.empty() ? field.cond[i] : std::max(field.cond[i], field.cond_orientation[i]);
+    if (request.measure == 1 && field.cond_orientation.size() != field.grid.size())
+      throw std::invalid_argument("surface: the field has no second measure (cond_orientation)");
+    decades = [&field, top, measure = request.measure](std::size_t i) {
+      // Six-DOF mechanisms: by default well conditioned in position and orientation.
+      const double c = measure == 0 || field.cond_orientation.empty() ? field.cond[i]
+                       : measure == 1                                ? field.cond_orientation[i]
+                                                                     : std::max(field.cond[i], field.cond_orientation[i]);
       return top - std::log10(std::isnan(c) ? kCondCap : std::clamp(c, 1.0, kCondCap));
     };
   } else {

@@ -34,6 +34,10 @@ std::string openmesh_version();
 struct SurfaceRequest {
   Surface surface = Surface::Reach;
   double cond_threshold = 3.0;  // for WellConditioned, > 1
+  // For WellConditioned: -1 the worst of the device's measures (a six-DOF
+  // device well conditioned in position and orientation), 0 its first
+  // (Field::cond) alone, 1 its second (Field::cond_orientation) alone.
+  int measure = -1;
   // 0 = no decimation; else the largest distance (length unit) a decimated
   // vertex may lie from the original surface (OpenMesh quadric decimation
   // bounded by a Hausdorff-distance module).

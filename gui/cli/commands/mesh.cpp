@@ -34,11 +34,18 @@ struct MeshOptions {
 };
 
 // reach, cond<T (the device's first measure; both measures for six-DOF
-// devices), a haptic criterion such as force_iso>2, or one on the device's
+// devices, or one of them by name: cond_jp<T, cond_jo<T), a haptic criterion such as force_iso>2, or one on the device's
 // stops such as clearance>2 (core/task.h).
 render::SurfaceRequest parse_surface(const std::string& text, const MechanismInfo& info) {
   render::SurfaceRequest r;
   task::Criterion c;
+  // A device's conditioning measure by name, where it has two (0, 1), else -1.
+  const auto measure_of = [&info](const std::string& measure) {
+    if (info.measures.size() < 2) return -1;
+    for (int k = 0; k < 2; ++k)
+      if (info.measures[std::size_t(k)].name == measure && measure != "cond") return k;
+    return -1;
+  };
   const auto on_a_stop = [&info](const std::string& measure) {
     return std::any_of(info.extra_fields.begin(), info.extra_fields.end(),
                        [&](const NamedItem& f) { return f.name == measure; });
@@ -47,12 +54,15 @@ render::SurfaceRequest parse_surface(const std::string& text, const MechanismInf
     const std::vector<std::string> parts = task::split_criteria(text);  // 'cond < 3' as cond<3
     if (parts.size() != 1) throw std::invalid_argument("one surface");
     c = task::parse_criterion(parts.front());
-    if (c.measure != "reach" && c.measure != "cond" && !c.haptic() && !on_a_stop(c.measure))
+    if (c.measure != "reach" && c.measure != "cond" && !c.haptic() && !on_a_stop(c.measure) && measure_of(c.measure) < 0)
       throw std::invalid_argument("not a surface");
+    if (measure_of(c.measure) >= 0) c = task::resolve(c, info, nullptr);  // its side and bound
   } catch (const std::invalid_argument&) {
-    std::string stops;
+    std::string stops, measures;
     for (const NamedItem& f : info.extra_fields) stops += ", " + f.name + ">M";
-    throw std::invalid_argument("--surface expects reach, cond<T with T > 1 (e.g. cond<3), a haptic criterion "
+    if (info.measures.size() >= 2)
+      measures = " (both measures; " + info.measures[0].name + "<T or " + info.measures[1].name + "<T for one)";
+    throw std::invalid_argument("--surface expects reach, cond<T with T > 1 (e.g. cond<3)" + measures + ", a haptic criterion "
                                 "(force_iso>F, force_max>F in N, resolution<R in mm, inertia<M in kg)" +
                                 (stops.empty() ? "" : " or a margin to a stop (" + stops.substr(2) + ")") + " for " +
                                 info.name + ", got '" + text + "'" + task::quoting_hint(text));
@@ -61,6 +71,10 @@ render::SurfaceRequest parse_surface(const std::string& text, const MechanismInf
   if (c.measure == "cond") {
     r.surface = render::Surface::WellConditioned;
     r.cond_threshold = c.threshold;
+  } else if (measure_of(c.measure) >= 0) {  // one of a six-DOF device's two, by name (cond_jp, cond_jo)
+    r.surface = render::Surface::WellConditioned;
+    r.cond_threshold = c.threshold;
+    r.measure = measure_of(c.measure);
   } else if (c.haptic() || c.extra) {
     r.surface = render::Surface::Threshold;
     r.field = c.measure;
@@ -162,7 +176,8 @@ Command add_mesh(CLI::App& program, const DeviceHelp& help) {
   add_field_options(*cmd, o->sampling, help);
   cmd->add_option("--surface", o->surface,
                   "reach (boundary of the reachable set), 'cond<T' (well-conditioned region, e.g. 'cond<3', "
-                  "quoted for the shell), or the region meeting a haptic criterion: 'force_iso>F', 'force_max>F' "
+                  "quoted for the shell; a six-DOF device's both measures, or one by name: 'cond_jp<T', "
+                  "'cond_jo<T'), or the region meeting a haptic criterion: 'force_iso>F', 'force_max>F' "
                   "(N), 'resolution<R' (mm), 'inertia<M' (kg), or a margin to the device's stops: 'joint_margin>D' "
                   "(deg), 'clearance>C' (length unit)")
       ->capture_default_str()

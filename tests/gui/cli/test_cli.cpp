@@ -387,6 +387,25 @@ TEST(CliMesh, SaysWhereTheBoxCutsTheRegionAndAPlanarArea) {
   EXPECT_EQ(fine.out.find("note: the decimation"), std::string::npos) << fine.out;
 }
 
+// A six-DOF device's well-conditioned region: both measures by default, or
+// one by name; the region of both lies within each one's.
+TEST(CliMesh, ASixDofDevicesMeasuresOneByOneOrBoth) {
+  const auto volume = [](const std::string& surface) {
+    const CommandResult r = run_linkscape("mesh -m pathos2 --resolution 16 -q --surface '" + surface + "' --output " +
+                                          (kOut / "pathos2-cond.stl").string(), kNoDisplay);
+    EXPECT_EQ(r.exit_code, 0) << surface << ": " << r.out;
+    const auto at = r.out.find("volume ");
+    return at == std::string::npos ? -1.0 : std::stod(r.out.substr(at + 7));
+  };
+  const double both = volume("cond<4"), position = volume("cond_jp<4"), orientation = volume("cond_jo<4");
+  EXPECT_GT(both, 0);
+  EXPECT_GT(position, 10 * both);  // cond(Jp) alone holds far more
+  EXPECT_LE(both, orientation * (1 + 1e-9));
+  const CommandResult one = run_linkscape("mesh -m delta --surface 'cond_jo<3' -q --output " +
+                                          (kOut / "never.stl").string(), kNoDisplay);
+  EXPECT_EQ(one.exit_code, 2) << one.out;  // a device of one measure has no cond_jo
+}
+
 // --unit mm: the 12R's reach in cm written in mm, said in the file.
 TEST(CliMesh, WritesTheUnitAsked) {
   const fs::path obj = kOut / "reach-mm.obj";
