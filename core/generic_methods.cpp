@@ -7,6 +7,7 @@
 // error of a method is the joint distance of its solution to q* (the
 // solution on q*'s branch, the nearest of those returned), and the FK error
 // is the task distance to the target, relative to size().
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <optional>
@@ -20,12 +21,23 @@ namespace {
 
 using Eigen::VectorXd;
 
-// Largest wrapped angle difference (actuators are angles).
-double joint_distance(const VectorXd& a, const VectorXd& b) {
+// Largest actuator difference: an angle's wrapped (rad), a slide's plain
+// (the length unit).
+double joint_distance(const MechanismInfo& info, const VectorXd& a, const VectorXd& b) {
   double worst = 0;
-  for (Eigen::Index k = 0; k < a.size(); ++k)
-    worst = std::max(worst, std::abs(std::remainder(a(k) - b(k), 2 * std::numbers::pi)));
+  for (Eigen::Index k = 0; k < a.size(); ++k) {
+    const bool angle = info.actuators[std::size_t(k)].unit == "rad";
+    worst = std::max(worst, std::abs(angle ? std::remainder(a(k) - b(k), 2 * std::numbers::pi) : a(k) - b(k)));
+  }
   return worst;
+}
+
+// The unit of joint_distance: rad, the length unit, or both where a device mixes them.
+std::string joint_unit(const MechanismInfo& info) {
+  const auto angle = [](const Quantity& q) { return q.unit == "rad"; };
+  if (std::all_of(info.actuators.begin(), info.actuators.end(), angle)) return "rad";
+  if (std::none_of(info.actuators.begin(), info.actuators.end(), angle)) return info.length_unit;
+  return "rad or " + info.length_unit;
 }
 
 struct Sample {
@@ -111,10 +123,10 @@ std::vector<methods::MethodRow> Mechanism::measure_methods(const methods::Harnes
     io.method = method.name;
     io.tolerance = options.ik.tolerance;
     io.max_iterations = options.ik.max_iterations;
-    const bool going = measure("ik", method.name, "rad", [&](const Sample& s) -> std::optional<double> {
+    const bool going = measure("ik", method.name, joint_unit(info), [&](const Sample& s) -> std::optional<double> {
       double best = INFINITY;
       for (const IkSolution& sol : inverse(s.x, io).solutions)
-        if (sol.status == Status::Ok) best = std::min(best, joint_distance(sol.q, s.q));
+        if (sol.status == Status::Ok) best = std::min(best, joint_distance(info, sol.q, s.q));
       if (!std::isfinite(best)) return std::nullopt;
       return best;
     });
@@ -168,6 +180,7 @@ std::vector<stability::SweepRow> Mechanism::stability_sweeps(const stability::Sw
             row.cond = meas.values.empty() ? INFINITY : meas.values[0];
           }
           row.error = std::isfinite(row.residual) ? row.residual / size() : NAN;
+          row.ik_error_unit = "relative";
           row.predicted = NAN;
           rows.push_back(row);
         }

@@ -42,7 +42,7 @@ struct MethodRow {
   std::size_t failures = 0;  // evaluations with a non-ok status (not in the error statistics)
   double seconds_per_evaluation = 0;  // median over repeats; per field for "field"
   double error_median = 0, error_p99 = 0, error_max = 0;
-  std::string error_unit;  // "rad" or "relative"
+  std::string error_unit;  // "rad", a length unit (slides' IK), "rad or cm" (both), or "relative"
 };
 
 // When an iterative IK method stops (the defaults of every device's IK).

@@ -62,6 +62,9 @@ struct SweepRow {
   std::string method;
   Status status = Status::Ok;
   double error = 0;     // ik: joint error (rad); others: relative; NaN if status != ok or no reference
+  // Of an ik row's error: "rad", or "relative" where the sweep has no
+  // reference and the residual over the size stands for it (the default sweeps).
+  std::string ik_error_unit = "rad";
   double residual = 0;  // ik: |forward(q) - target| (length unit); 0 otherwise
   int iterations = 0;
 };

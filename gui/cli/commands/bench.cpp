@@ -100,7 +100,7 @@ std::string sweeps_csv(const std::vector<stability::SweepRow>& sweeps,
            std::string(to_string(r.status)) + ',' + csv_number(r.error) + ',' + csv_number(r.residual) + ',' +
            std::to_string(r.iterations) + ',' + csv_text(r.mechanism) + ',' +
            csv_text(unit == length_unit.end() ? std::string() : unit->second) + ',' +
-           (r.family == "ik" ? "rad" : "relative") + "\n";
+           (r.family == "ik" ? r.ik_error_unit : "relative") + "\n";
   }
   return csv;
 }
