@@ -143,6 +143,25 @@ class StewartDevice : public ::testing::Test {
   std::vector<int> index;
 };
 
+// bench's accuracy table: a leg's IK error is its length difference in cm
+// (an angle's would be wrapped by 2 pi and read in rad).
+TEST(StewartDevice, BenchMeasuresItsLegsInItsLengthUnit) {
+  const auto m = load_device("stewart.json");
+  methods::HarnessOptions o;
+  o.samples = 40;
+  o.repeats = 1;
+  o.include_field = false;
+  int ik_rows = 0;
+  for (const methods::MethodRow& row : m->measure_methods(o)) {
+    if (row.family != "ik") continue;
+    ++ik_rows;
+    EXPECT_EQ(row.error_unit, "cm") << row.method;
+    EXPECT_EQ(row.failures, 0u) << row.method;
+    EXPECT_LE(row.error_max, 1e-9) << row.method;  // cm, legs of about 20 cm
+  }
+  EXPECT_GE(ik_rows, 2);
+}
+
 }  // namespace
 
 // The description: l1..l6 in the length unit with the file's travel, the
