@@ -104,7 +104,7 @@ void write_sweep_vti(const sweep::Plan& plan, const std::string& table, const st
 
 void run_sweep(const SweepOptions& o, std::ostream& out) {
   const auto t0 = std::chrono::steady_clock::now();
-  if ((o.grid != 0) == (o.random > 0))
+  if (o.grid.has_value() == (o.random > 0))
     throw std::invalid_argument("sweep: give either --grid N (values per parameter) or --random N (designs)");
   if (o.output.empty() || std::filesystem::path(o.output).extension() != ".csv")
     throw std::invalid_argument("sweep: --output must end in .csv, got '" + o.output + "'");
@@ -127,8 +127,8 @@ void run_sweep(const SweepOptions& o, std::ostream& out) {
   sweep::Plan plan;
   plan.problem = make_problem(o.problem, "sweep");
   plan.problem.threads = 1;  // designs run in parallel, each on one thread (gui/cli/sweep_ranks.h)
-  plan.sampling = o.grid != 0 ? sweep::Sampling::Grid : sweep::Sampling::Random;
-  plan.levels = o.grid;
+  plan.sampling = o.grid ? sweep::Sampling::Grid : sweep::Sampling::Random;
+  plan.levels = o.grid.value_or(0);
   plan.count = o.random;
   plan.seed = o.seed;
   plan.field_resolution = o.field_resolution;

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <iosfwd>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "gui/cli/commands/fit.h"
@@ -16,7 +17,7 @@ namespace linkscape::gui {
 
 struct SweepOptions {
   FitOptions problem;            // device, task, criteria, free parameters and bounds, sampling
-  int grid = 0;                  // values per free parameter, bounds included (0: not given; else at least 2)
+  std::optional<int> grid;       // values per free parameter, bounds included (at least 2)
   std::size_t random = 0;        // or this many uniform random designs
   std::uint64_t seed = 1;
   int field_resolution = 0;      // field measures over the default box (0: none)

@@ -157,6 +157,7 @@ TEST(CliSweep, BadInputsExitWithTwoAndWriteNothing) {
       {"sweep --task sphere:diameter=15 -o " + file, "either --grid N"},
       {base + " --grid 3 --random 5", "either --grid N"},
       {base + " --grid 1", "at least 2 values"},
+      {base + " --grid 0", "at least 2 values"},
       {"sweep --task sphere:diameter=15 --grid 3 -o " + (kOut / "bad.txt").string(), "--output must end in .csv"},
       {base + " --grid 3 --chart c.bmp", "--chart must end in"},
       {base + " --grid 3 --field-resolution 2", "--field-resolution"},
