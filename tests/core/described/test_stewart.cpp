@@ -145,7 +145,7 @@ class StewartDevice : public ::testing::Test {
 
 // bench's accuracy table: a leg's IK error is its length difference in cm
 // (an angle's would be wrapped by 2 pi and read in rad).
-TEST(StewartDevice, BenchMeasuresItsLegsInItsLengthUnit) {
+TEST(StewartBench, MeasuresItsLegsInItsLengthUnit) {
   const auto m = load_device("stewart.json");
   methods::HarnessOptions o;
   o.samples = 40;
