@@ -147,8 +147,9 @@ std::vector<std::string> size_terms(const MechanismInfo& info);
 // bounds "NAME=lo:hi" (default: the parameter's range in the device's
 // description; a group takes the intersection). Throws
 // std::invalid_argument naming an unknown parameter, a malformed bound or
-// a variable bounded twice.
+// a variable bounded twice, each message headed by `command` (fit, sweep).
 std::vector<Variable> variables(const Mechanism& mechanism, const std::vector<std::string>& free,
-                                const std::vector<std::string>& equal, const std::vector<std::string>& bounds);
+                                const std::vector<std::string>& equal, const std::vector<std::string>& bounds,
+                                const std::string& command = "fit");
 
 }  // namespace linkscape::fit

@@ -33,7 +33,8 @@ std::string Variable::name() const {
 }
 
 std::vector<Variable> variables(const Mechanism& mechanism, const std::vector<std::string>& free,
-                                const std::vector<std::string>& equal, const std::vector<std::string>& bounds) {
+                                const std::vector<std::string>& equal, const std::vector<std::string>& bounds,
+                                const std::string& command) {
   // The linkage's parameters, then the motor ratings (core/actuator_data.h),
   // which have no range of their own: they need --bounds.
   std::vector<Quantity> described = mechanism.info().parameters;
@@ -52,7 +53,7 @@ std::vector<Variable> variables(const Mechanism& mechanism, const std::vector<st
     for (const Quantity& q : described)
       if (q.in_panel) known += (known.empty() ? "" : ", ") + q.name;
     for (const MotorParameter& p : motor_parameters()) motors += (motors.empty() ? "" : ", ") + std::string(p.name);
-    throw std::invalid_argument("fit: unknown parameter '" + name + "' for " + mechanism.info().name +
+    throw std::invalid_argument(command + ": unknown parameter '" + name + "' for " + mechanism.info().name +
                                 " (design parameters: " + known + "; motor ratings: " + motors + ")");
   };
   auto split = [](const std::string& text) {
@@ -73,10 +74,10 @@ std::vector<Variable> variables(const Mechanism& mechanism, const std::vector<st
     Variable v;
     for (const std::string& n : split(group)) {
       find(n);
-      if (!taken.insert(n).second) throw std::invalid_argument("fit: parameter '" + n + "' is in two --equal groups");
+      if (!taken.insert(n).second) throw std::invalid_argument(command + ": parameter '" + n + "' is in two --equal groups");
       v.parameters.push_back(n);
     }
-    if (v.parameters.size() < 2) throw std::invalid_argument("fit: --equal expects two or more parameters, got '" + group + "'");
+    if (v.parameters.size() < 2) throw std::invalid_argument(command + ": --equal expects two or more parameters, got '" + group + "'");
     out.push_back(v);
   }
   for (const std::string& n : names)
@@ -94,7 +95,7 @@ std::vector<Variable> variables(const Mechanism& mechanism, const std::vector<st
   for (const std::string& b : bounds) {
     const auto eq = b.find('='), colon = b.find(':');
     if (eq == std::string::npos || colon == std::string::npos || colon < eq)
-      throw std::invalid_argument("fit: --bounds expects NAME=lo:hi, got '" + b + "'");
+      throw std::invalid_argument(command + ": --bounds expects NAME=lo:hi, got '" + b + "'");
     const std::string name = b.substr(0, eq);
     const double lo = parse_number_or_throw(b.substr(eq + 1, colon - eq - 1), "--bounds " + name + " lower bound");
     const double hi = parse_number_or_throw(b.substr(colon + 1), "--bounds " + name + " upper bound");
@@ -102,9 +103,9 @@ std::vector<Variable> variables(const Mechanism& mechanism, const std::vector<st
     auto it = std::find_if(out.begin(), out.end(), [&](const Variable& v) {
       return std::count(v.parameters.begin(), v.parameters.end(), name) > 0;
     });
-    if (it == out.end()) throw std::invalid_argument("fit: --bounds names '" + name + "', which is not free");
+    if (it == out.end()) throw std::invalid_argument(command + ": --bounds names '" + name + "', which is not free");
     if (!bounded.insert(it->name()).second)
-      throw std::invalid_argument("fit: --bounds given twice for " + it->name() + " (again as '" + b + "')");
+      throw std::invalid_argument(command + ": --bounds given twice for " + it->name() + " (again as '" + b + "')");
     it->lo = lo;
     it->hi = hi;
   }
@@ -112,9 +113,9 @@ std::vector<Variable> variables(const Mechanism& mechanism, const std::vector<st
     const auto motors = std::count_if(v.parameters.begin(), v.parameters.end(),
                                       [](const std::string& n) { return motor_parameter(n) != nullptr; });
     if (motors > 0 && motors < std::ptrdiff_t(v.parameters.size()))
-      throw std::invalid_argument("fit: --equal cannot hold a motor rating equal to a length (" + v.name() + ")");
+      throw std::invalid_argument(command + ": --equal cannot hold a motor rating equal to a length (" + v.name() + ")");
     if (motors > 0 && !(std::isfinite(v.lo) && std::isfinite(v.hi)))
-      throw std::invalid_argument("fit: the motor rating " + v.name() + " needs --bounds " + v.parameters.front() +
+      throw std::invalid_argument(command + ": the motor rating " + v.name() + " needs --bounds " + v.parameters.front() +
                                   "=LO:HI (it has no range of its own)");
   }
   return out;

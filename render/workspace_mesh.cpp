@@ -359,7 +359,8 @@ std::string to_string(Surface surface) {
 
 namespace {
 
-vtkSmartPointer<vtkPolyData> extract(const Field& field, const SurfaceRequest& request, int stride) {
+vtkSmartPointer<vtkPolyData> extract(const Field& field, const SurfaceRequest& request, int stride,
+                                     MeshStats* before_decimation) {
   check_field(field);
   const auto& d = field.grid.dims;
   if (d[0] < 2 || d[1] < 2 || d[2] < 2)
@@ -389,7 +390,10 @@ vtkSmartPointer<vtkPolyData> extract(const Field& field, const SurfaceRequest& r
   // single global flip makes them outward; per-component flips would be
   // wrong for cavities, whose surfaces must face inward (negative volume).
   Mesh mesh = to_openmesh(raw, signed_volume(raw) < 0);
-  if (request.decimate_error > 0 && mesh.n_faces() > 0) decimate(mesh, request.decimate_error);
+  if (request.decimate_error > 0 && mesh.n_faces() > 0) {
+    if (before_decimation) *before_decimation = mesh_stats(to_polydata(mesh));
+    decimate(mesh, request.decimate_error);
+  }
   vtkSmartPointer<vtkPolyData> out = to_polydata(mesh);
   add_metadata(out->GetFieldData(), field);
   add_surface_metadata(out->GetFieldData(), request);
@@ -398,15 +402,16 @@ vtkSmartPointer<vtkPolyData> extract(const Field& field, const SurfaceRequest& r
 
 }  // namespace
 
-vtkSmartPointer<vtkPolyData> extract_surface(const Field& field, const SurfaceRequest& request) {
-  return extract(field, request, 1);
+vtkSmartPointer<vtkPolyData> extract_surface(const Field& field, const SurfaceRequest& request,
+                                             MeshStats* before_decimation) {
+  return extract(field, request, 1, before_decimation);
 }
 
 vtkSmartPointer<vtkPolyData> extract_light_surface(const Field& field, const SurfaceRequest& request, int stride) {
   if (stride < 1) throw std::invalid_argument("surface: expected a stride >= 1, got " + std::to_string(stride));
   SurfaceRequest undecimated = request;
   undecimated.decimate_error = 0;
-  return extract(field, undecimated, stride);
+  return extract(field, undecimated, stride, nullptr);
 }
 
 MeshStats mesh_stats(vtkPolyData* mesh) {

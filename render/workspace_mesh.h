@@ -49,21 +49,6 @@ struct SurfaceRequest {
   double threshold = 1.0;
 };
 
-// The requested isosurface as triangles with point normals ("Normals"), the
-// field's metadata (see add_metadata) plus "surface" and "cond_threshold" as
-// field data. Empty (no points) if the surface does not occur. Throws
-// std::invalid_argument for a bad field (fewer than 2 samples along an axis)
-// or request (cond_threshold <= 1, a threshold <= 0 or an array the field
-// lacks, negative decimate_error).
-vtkSmartPointer<vtkPolyData> extract_surface(const Field& field, const SurfaceRequest& request);
-
-// The same surface from every `stride`-th sample along each axis (the first
-// included), undecimated: about stride^2 fewer triangles, for drawing while
-// the view changes every frame. Where it leaves the sampled box it is closed
-// up to half a sample beyond the full surface's face. Throws as
-// extract_surface, and for a stride below 1.
-vtkSmartPointer<vtkPolyData> extract_light_surface(const Field& field, const SurfaceRequest& request, int stride = 2);
-
 struct MeshStats {
   std::size_t vertices = 0;  // points used by triangles
   std::size_t faces = 0;     // triangles (larger polygons count as fans)
@@ -76,6 +61,23 @@ struct MeshStats {
 };
 // Throws std::invalid_argument for a null mesh.
 MeshStats mesh_stats(vtkPolyData* mesh);
+
+// The requested isosurface as triangles with point normals ("Normals"), the
+// field's metadata (see add_metadata) plus "surface" and "cond_threshold" as
+// field data. Empty (no points) if the surface does not occur. Throws
+// std::invalid_argument for a bad field (fewer than 2 samples along an axis)
+// or request (cond_threshold <= 1, a threshold <= 0 or an array the field
+// lacks, negative decimate_error). With `before_decimation` and a
+// decimation asked for, the statistics of the surface it simplified.
+vtkSmartPointer<vtkPolyData> extract_surface(const Field& field, const SurfaceRequest& request,
+                                             MeshStats* before_decimation = nullptr);
+
+// The same surface from every `stride`-th sample along each axis (the first
+// included), undecimated: about stride^2 fewer triangles, for drawing while
+// the view changes every frame. Where it leaves the sampled box it is closed
+// up to half a sample beyond the full surface's face. Throws as
+// extract_surface, and for a stride below 1.
+vtkSmartPointer<vtkPolyData> extract_light_surface(const Field& field, const SurfaceRequest& request, int stride = 2);
 
 // Writes `mesh` by the extension of `path`: .stl (binary) through VTK,
 // .ply (binary), .obj, .off through OpenMesh; .vtp (binary, compressed) through VTK with

@@ -16,7 +16,6 @@ namespace {
 using Eigen::Vector3d;
 using Eigen::VectorXd;
 
-// The same device with every motor free over a full turn.
 // The linkage alone: no actuator ranges, no ball-joint cones (the stability
 // sweeps approach singular sets the stops may keep the device from).
 Model without_ranges(Model m) {

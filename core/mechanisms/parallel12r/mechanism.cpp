@@ -98,9 +98,7 @@ class Parallel12rMechanism final : public Mechanism {
     // As the Delta's: beyond an actuator's travel out of limits (no pose
     // given), else singular where measures() says so.
     const Vector3d a = three(q, "q");
-    const bool inside = model_.alpha_limits.contains(a.x()) && model_.beta_limits.contains(a.y()) &&
-                        model_.gamma_limits.contains(a.z());
-    r.status = !inside ? Status::OutOfLimits : singular_at(a) ? Status::Singular : Status::Ok;
+    r.status = !model_.within_limits(a) ? Status::OutOfLimits : singular_at(a) ? Status::Singular : Status::Ok;
     return r;
   }
 

@@ -64,11 +64,7 @@ LinkDirection link_direction(double sa, double ca, double t) {
   return r;
 }
 
-Status limits_status(const Model& m, const Vector3d& q) {
-  const bool inside = m.alpha_limits.contains(q.x()) && m.beta_limits.contains(q.y()) &&
-                      m.gamma_limits.contains(q.z());
-  return inside ? Status::Ok : Status::OutOfLimits;
-}
+Status limits_status(const Model& m, const Vector3d& q) { return m.within_limits(q) ? Status::Ok : Status::OutOfLimits; }
 
 // Fills residual, branch and status of a candidate; keeps the best per branch.
 void offer(const Model& m, const Vector3d& target, const Vector3d& q, int iterations,

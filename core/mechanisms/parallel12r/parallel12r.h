@@ -49,6 +49,10 @@ struct Model {
   Interval gamma_limits{-3.141592653589793, 3.141592653589793};
 
   double reach() const { return L1 + L2; }
+  // Whether (alpha, beta, gamma) lies within the actuator ranges.
+  bool within_limits(const Eigen::Vector3d& q) const {
+    return alpha_limits.contains(q.x()) && beta_limits.contains(q.y()) && gamma_limits.contains(q.z());
+  }
   double inner_reach() const { return L1 > L2 ? L1 - L2 : L2 - L1; }
   // Throws std::invalid_argument for a length outside [kMinLength,
   // kMaxLength] (or not finite) or an empty range.

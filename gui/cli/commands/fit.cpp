@@ -49,13 +49,7 @@ fit::Problem make_problem(const FitOptions& o, const std::string& command) {
     for (task::Criterion& parsed : task::parse_criteria(c)) problem.criteria.push_back(std::move(parsed));
   if (std::none_of(problem.criteria.begin(), problem.criteria.end(), [](const task::Criterion& c) { return c.reach(); }))
     problem.criteria.insert(problem.criteria.begin(), task::parse_criterion("reach"));
-  try {
-    problem.variables = fit::variables(*base, o.free, o.equal, o.bounds);
-  } catch (const std::invalid_argument& e) {  // named after the command that read the options
-    const std::string what = e.what();
-    if (command == "fit" || what.rfind("fit: ", 0) != 0) throw;
-    throw std::invalid_argument(command + ": " + what.substr(5));
-  }
+  problem.variables = fit::variables(*base, o.free, o.equal, o.bounds, command);
   if (device.pose) problem.pose = *device.pose;
   problem.ik = device.ik;
   problem.torque = device.torque;

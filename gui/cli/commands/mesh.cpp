@@ -107,15 +107,11 @@ void run_mesh(const MeshOptions& o, std::ostream& out) {
   ProgressLine line(o.sampling.quiet);
   const Field field = sample(sampling, grid, line);
   line.step("extracting the surface");
-  const vtkSmartPointer<vtkPolyData> mesh = render::extract_surface(field, request);
-  const render::MeshStats s = render::mesh_stats(mesh);
-  // What the decimation changed, against the surface it simplified.
+  // What a decimation changed: against the surface it simplified.
   std::optional<render::MeshStats> full;
-  if (o.decimate > 0) {
-    render::SurfaceRequest undecimated = request;
-    undecimated.decimate_error = 0;
-    full = render::mesh_stats(render::extract_surface(field, undecimated));
-  }
+  if (o.decimate > 0) full.emplace();
+  const vtkSmartPointer<vtkPolyData> mesh = render::extract_surface(field, request, full ? &*full : nullptr);
+  const render::MeshStats s = render::mesh_stats(mesh);
   if (s.faces == 0) throw std::invalid_argument("mesh: the surface does not occur in the box (nothing written)");
   line.step("writing " + o.output);
   render::write_mesh(mesh, o.output, field, request, o.unit);

@@ -50,6 +50,8 @@ inline int measure_index(const Mechanism& m, const std::string& name) {
 }
 
 // Wraps an angle difference into (-pi, pi].
+inline constexpr double kDeg = std::numbers::pi / 180.0;
+
 inline double angle_difference(double a, double b) { return std::remainder(a - b, 2 * std::numbers::pi); }
 
 // The planar triangle devices' (3-RRR, 3-RPR): the unit vector at an angle,

@@ -34,8 +34,6 @@ using Eigen::VectorXd;
 
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
-
 // The design as the file gives it, read without the preset loader.
 struct FiveBar {
   double d = 0, a = 0, b = 0;

@@ -28,7 +28,6 @@ using Vector6d = Eigen::Matrix<double, 6, 1>;
 
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
 using Eigen::Matrix3d;
 using Eigen::Vector3d;
 using Eigen::VectorXd;

@@ -21,7 +21,6 @@ using namespace linkscape;
 using namespace linkscape::described_test;
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
 using Eigen::Matrix3d;
 using Eigen::Vector3d;
 

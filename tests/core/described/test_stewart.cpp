@@ -34,8 +34,6 @@ using Vector6d = Eigen::Matrix<double, 6, 1>;
 
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
-
 struct Pose {
   Vector3d p;
   Vector3d angles;  // rx, ry, rz

@@ -25,8 +25,6 @@ using Eigen::VectorXd;
 
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
-
 struct ThreeRpr {
   double Rb = 0, rp = 0, lo = 0, hi = 0;
 

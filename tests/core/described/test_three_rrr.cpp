@@ -28,8 +28,6 @@ using Eigen::VectorXd;
 
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
-
 struct ThreeRrr {
   double Rb = 0, rp = 0, a = 0, b = 0;
 
