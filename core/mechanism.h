@@ -102,6 +102,9 @@ struct MechanismInfo {
 // a few 1e-16 of the device's size, so a tighter one would call closing
 // poses unreachable.
 inline constexpr double kFinestTolerance = 1e-15;
+// The loosest: past a thousandth of the size an "ok" answer is no longer
+// the device's pose.
+inline constexpr double kCoarsestTolerance = 1e-3;
 
 struct IkOptions {
   std::string method;                    // empty: the first of info().ik_methods

@@ -215,11 +215,16 @@ std::string preset_reference(const Preset& preset) {
 
 void apply_overrides(Preset& preset, const std::vector<std::string>& overrides) {
   const std::vector<std::string> names = overrides.empty() ? std::vector<std::string>{} : parameter_names(preset);
+  std::vector<std::string> given;
   for (const std::string& pair : overrides) {
     const auto eq = pair.find('=');
     if (eq == std::string::npos || eq == 0)
       throw std::invalid_argument("--param expects key=value, got '" + pair + "'");
     const std::string key = pair.substr(0, eq), text = pair.substr(eq + 1);
+    // As a key given twice in a preset: which value counts would be a guess.
+    if (std::find(given.begin(), given.end(), key) != given.end())
+      throw std::invalid_argument("--param " + key + " is given twice");
+    given.push_back(key);
     if (motor_parameter(key)) {  // a motor rating, for every actuator (core/actuator_data.h)
       const double value = parse_number_or_throw(text, "parameter " + key);
       check_rating("parameter " + key, value);
@@ -235,7 +240,13 @@ void apply_overrides(Preset& preset, const std::vector<std::string>& overrides) 
     }
     preset.parameters[key] = parse_number_or_throw(text, "parameter " + key);
   }
-  validate(preset);  // the new values
+  try {
+    validate(preset);  // the new values
+  } catch (const std::invalid_argument& e) {
+    std::string with;
+    for (const std::string& pair : overrides) with += (with.empty() ? "" : " ") + ("--param " + pair);
+    throw std::invalid_argument(preset_reference(preset) + " with " + with + ": " + e.what());
+  }
 }
 
 std::vector<std::string> parameter_names(const Preset& preset) {

@@ -64,9 +64,7 @@ Sampling make_sampling(const FieldOptions& o, const std::string& command) {
   out.torque = device.torque;
   out.task = device.pose ? *device.pose : out.mechanism->home_task();
   out.ik = device.ik;
-  if (!(o.tolerance >= kFinestTolerance) || !std::isfinite(o.tolerance))
-    throw std::invalid_argument(command + ": --tolerance must be a finite number of at least 1e-15 (double precision "
-                                "closes a chain to a few 1e-16 of the device's size), got " + format_number(o.tolerance));
+  check_ik_tolerance(o.tolerance, command);
   out.ik.tolerance = o.tolerance;
   // Field arrays: a second condition array where the device has a second
   // measure, the method used per sample where it has several methods.

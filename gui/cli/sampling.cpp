@@ -93,6 +93,13 @@ SampledDevice check_sampling_options(const SamplingOptions& s, const std::string
   return out;
 }
 
+void check_ik_tolerance(double tolerance, const std::string& command) {
+  if (!(tolerance >= kFinestTolerance && tolerance <= kCoarsestTolerance))
+    throw std::invalid_argument(command + ": --tolerance must lie between 1e-15 (double precision closes a chain to a "
+                                "few 1e-16 of the device's size) and 1e-3 (an ok answer further off is not the "
+                                "device's pose), got " + format_number(tolerance));
+}
+
 std::vector<double> parse_numbers(const std::string& text, std::size_t count, const std::string& what) {
   std::vector<double> v;
   std::stringstream ss(text);

@@ -68,6 +68,10 @@ SampledDevice check_sampling_options(const SamplingOptions& options, const std::
 IkOptions checked_ik(const MechanismInfo& info, const std::string& method, std::optional<int> branch,
                      const std::string& command);
 
+// The IK --tolerance: kFinestTolerance..kCoarsestTolerance (core/mechanism.h),
+// else std::invalid_argument("`command`: --tolerance ...").
+void check_ik_tolerance(double tolerance, const std::string& command);
+
 // `count` finite numbers, comma separated; else std::invalid_argument("`what`, got 'text'").
 std::vector<double> parse_numbers(const std::string& text, std::size_t count, const std::string& what);
 

@@ -343,6 +343,24 @@ Kinematics::Kinematics(Model model) : model_(std::move(model)), id_(next_id++) {
         << " actuator(s)";
     throw std::invalid_argument(msg.str());
   }
+  // The count can hold where the actuators hold nothing: a crank of zero
+  // length turns without moving its rod. At a singular home the device does
+  // not do what its actuators say.
+  const PoseSolution at_home = inverse(model_.home, 0, 1e-10);
+  if (at_home.status == Status::Ok) {
+    const JacobianParts parts = jacobian(model_.home, at_home);
+    if (parts.status == Status::Singular) {
+      std::ostringstream msg;
+      msg << "description: the device is singular at home: ";
+      if (parts.singular_leg >= 0)
+        msg << "leg \"" << model_.legs[std::size_t(parts.singular_leg)].name
+            << "\"'s actuator does not move its anchor there (type I; a crank or a slide of no length?)";
+      else
+        msg << "its actuators do not hold the platform there (type II: Jx singular)";
+      msg << "; move home or change the design";
+      throw std::invalid_argument(msg.str());
+    }
+  }
 }
 
 bool Kinematics::home_toward(int leg, int combo, const Isometry3d& anchor, LegState& out) const {

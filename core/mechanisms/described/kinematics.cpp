@@ -418,8 +418,7 @@ void Kinematics::inverse_into(const PlatformPose& p, int branch, double toleranc
     const Leg& l = model_.legs[leg];
     for (int a : l.actuators) {
       const Actuator& act = model_.actuators[std::size_t(a)];
-      const double v = s.state.values(l.steps[std::size_t(act.step)].variable);
-      out.q(a) = act.prismatic ? v : wrap(v);
+      out.q(a) = reported(act, s.state.values(l.steps[std::size_t(act.step)].variable));
     }
     if (s.status == Status::Ok && !within_travel(int(leg), s.state)) s.status = Status::OutOfLimits;
     if (rank(s.status) > rank(out.status)) {
@@ -466,8 +465,7 @@ PoseSolution Kinematics::inverse_near(const VectorXd& x, const VectorXd& q, LegS
       out.failing_leg = int(leg);
     }
     out.residual = std::max(out.residual, best.residual);
-    out.q(l.actuators.front()) = act.prismatic ? best.state.values.size() ? best.state.values(var) : 0.0
-                                               : best.state.values.size() ? wrap(best.state.values(var)) : 0.0;
+    out.q(l.actuators.front()) = best.state.values.size() ? reported(act, best.state.values(var)) : 0.0;
     out.legs.push_back(std::move(best));
   }
   return out;
@@ -639,17 +637,22 @@ void Kinematics::jacobian_into(const PlatformPose& p, const PoseSolution& solved
 
 // ---- Margins -------------------------------------------------------------------------
 
+double Kinematics::reported(const Actuator& act, double v) const {
+  if (act.prismatic) return v;
+  if (!act.limited) return wrap(v);
+  // The representative of the angle nearest the range's middle: within the
+  // travel where the angle is (a five-bar's crank at 186 deg of 0..210 deg,
+  // not -174 deg).
+  const double mid = 0.5 * (act.range.lo + act.range.hi);
+  return mid + wrap(v - mid);
+}
+
 double Kinematics::limits_margin(const VectorXd& q) const {
   double margin = kInf;
   for (std::size_t a = 0; a < model_.actuators.size(); ++a) {
     const Actuator& act = model_.actuators[a];
     if (!act.limited) continue;
-    double v = q(Index(a));
-    if (!act.prismatic) {
-      // The representative of the angle nearest the range's middle.
-      const double mid = 0.5 * (act.range.lo + act.range.hi);
-      v = mid + wrap(v - mid);
-    }
+    const double v = reported(act, q(Index(a)));
     const double d = std::min(v - act.range.lo, act.range.hi - v);
     margin = std::min(margin, act.prismatic ? d : d * model_.size);
   }

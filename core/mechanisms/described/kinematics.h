@@ -67,7 +67,7 @@ struct PoseSolution {
   int failing_leg = -1;
   double residual = 0.0;  // largest leg residual
   int iterations = 0;     // summed over the legs
-  Eigen::VectorXd q;      // actuators (revolute angles wrapped to (-pi, pi])
+  Eigen::VectorXd q;      // actuators as reported (Kinematics::reported)
   Stops stops;            // where every leg assembles and the device states limits or links
   bool stopped = false;   // out-of-limits by a passive joint or two links rather than an actuator
 };
@@ -179,6 +179,9 @@ class Kinematics {
   LegDrawing draw_leg(int leg, const LegState& state) const;
 
   double wrap(double angle) const;
+  // An actuator's value as reported: a revolute's angle in (-pi, pi], or,
+  // where its travel is limited, within a turn centred on the travel.
+  double reported(const Actuator& act, double value) const;
 
  private:
   struct LegSolveResult;

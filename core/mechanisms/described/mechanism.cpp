@@ -11,6 +11,7 @@
 #include "core/field.h"
 #include "core/field_sampling.h"
 #include "core/grid_mirror.h"
+#include "core/mechanisms/described/approaches.h"
 #include "core/mechanisms/described/chain.h"
 #include "core/mechanisms/described/kinematics.h"
 #include "core/mechanisms/described/lanes.h"
@@ -136,9 +137,13 @@ class DescribedMechanism final : public Mechanism {
     for (int b = first; b <= last; ++b) {
       PoseSolution s = kin_.inverse(xm, b, o.tolerance, solver);
       // Singular at a type I (a leg's) or a type II (the platform's)
-      // singularity: wherever measures() reports J singular.
+      // singularity: wherever measures() reports J singular. It takes the
+      // solution nearest q with each leg closed on the fastest path; so
+      // here, for the numerical solver, which at a stretched leg stops
+      // about sqrt(residual) short of it (an ok row never carries c(J) = inf).
       if (s.status == Status::Ok) {
-        const JacobianParts parts = kin_.jacobian(xm, s);
+        const PoseSolution near = solver == LegSolver::Numeric ? kin_.inverse_near(xm, s.q) : PoseSolution{};
+        const JacobianParts parts = kin_.jacobian(xm, near.status == Status::Ok && !near.legs.empty() ? near : s);
         if (parts.status != Status::Ok) {
           s.status = Status::Singular;
           s.failing_leg = parts.singular_leg;
@@ -151,7 +156,9 @@ class DescribedMechanism final : public Mechanism {
           out.status_text = s.stopped ? "out-of-limits: " + kin_.stop_reason(s.stops, leg_states(s)) : "";
         }
       }
-      if (s.status == Status::Ok || s.status == Status::OutOfLimits)
+      // Every assembly found, with its actuators (a singular one too: its q
+      // is the device's there, its c(J) infinite).
+      if (s.status == Status::Ok || s.status == Status::OutOfLimits || s.status == Status::Singular)
         out.solutions.push_back({s.q, b, s.status, s.residual, s.iterations, method_name(solver),
                                  s.status == Status::Ok || s.failing_leg < 0
                                      ? std::string()
@@ -233,38 +240,14 @@ class DescribedMechanism final : public Mechanism {
     return r;
   }
 
-  // Towards each leg's serial set: rays from home along the base axes to the
-  // last reachable point (bisection on the IK status); each ray's end is
-  // assigned to the leg with the smallest serial margin there.
+  // Towards each leg's serial set and the parallel set, from home
+  // (approaches.h); a planar device's targets in its plane.
   std::vector<SingularApproach> singular_approaches() const override {
     std::vector<SingularApproach> out;
-    const Model& m = kin_.model();
-    std::vector<std::vector<VectorXd>> ends(m.legs.size());
-    for (int dir = 0; dir < 6; ++dir) {
-      VectorXd d = VectorXd::Zero(m.home.size());
-      if (m.planar && dir / 2 == 2) continue;
-      d(dir / 2 == 2 ? 2 : dir / 2) = dir % 2 ? -1.0 : 1.0;
-      double lo = 0, hi = 2 * m.size;
-      if (kin_.inverse(m.home + hi * d, 0, 1e-10).status == Status::Ok) continue;
-      for (int it = 0; it < 60; ++it) {
-        const double mid = 0.5 * (lo + hi);
-        // Ok only: beyond an actuator's range the sweep would test the range, not the set.
-        (kin_.inverse(m.home + mid * d, 0, 1e-10).status == Status::Ok ? lo : hi) = mid;
-      }
-      const VectorXd end = m.home + lo * d;
-      const PoseSolution s = kin_.inverse(end, 0, 1e-10);
-      if (s.status != Status::Ok) continue;
-      const JacobianParts parts = kin_.jacobian(end, s);
-      const int leg = int(std::min_element(parts.serial_margin.begin(), parts.serial_margin.end()) -
-                          parts.serial_margin.begin());
-      ends[std::size_t(leg)].push_back(end);
-    }
-    for (std::size_t leg = 0; leg < ends.size(); ++leg) {
-      if (ends[leg].empty()) continue;
-      const std::vector<VectorXd> points = ends[leg];
-      const VectorXd home = m.home;
-      const bool planar = m.planar;
-      out.push_back({int(leg), [points, home, planar](double eps, int k) -> VectorXd {
+    const VectorXd home = kin_.model().home;
+    const bool planar = kin_.model().planar;
+    for (ApproachEnds& a : singular_approach_ends(kin_)) {
+      out.push_back({a.set, [points = std::move(a.ends), home, planar](double eps, int k) -> VectorXd {
                        const VectorXd& end = points[std::size_t(k) % points.size()];
                        const VectorXd xm = home + (1 - eps) * (end - home);
                        if (!planar) return xm;

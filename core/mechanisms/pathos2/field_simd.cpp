@@ -11,7 +11,7 @@
 //   no status depends on them), the cone's cos t5 summed in Eigen's order.
 //   So every leg's status -- Unreachable on kRootSlack, Singular on
 //   kLegSingularTolerance, OutOfLimits on the limits' cosines -- and so the
-//   pose's (the first failing leg's, in leg order) has the reference's bits;
+//   pose's (its most severe leg's) has the reference's bits;
 // - the reach margin as the fast path takes it (sqrt for hypot, c1y from
 //   the IK) with Highway's arctangent (a few ulps from libm's) for the
 //   angles of the limit margins; the residual from the legs' cosines;
@@ -149,7 +149,6 @@ void Samples(const Model& m, const FieldSetup& fs, const Grid& g, const detail::
     const V z = axis == 2 ? along : hn::Set(d, p0.z());
     M to_scalar = hn::Not(hn::And(hn::IsFinite(x), hn::And(hn::IsFinite(y), hn::IsFinite(z))));
     V status = ok_code;
-    M failed = hn::FirstN(d, 0);
     V margin = inf, closure = zero;
     // What the Jacobian needs of each leg.
     V ax[kLegCount], ay[kLegCount], az[kLegCount], c1v[kLegCount], s1v[kLegCount], c2v[kLegCount], s2v[kLegCount];
@@ -181,10 +180,10 @@ void Samples(const Model& m, const FieldSetup& fs, const Grid& g, const detail::
       const V shell = hn::Min(reach - rho, rho - inner);
       const V c1y_kept = hn::IfThenElse(unreachable_y, zero, c1y);  // 0 where c2z's root failed
       margin = hn::Min(margin, hn::Min(shell, hn::Sqrt(rxy2) - hn::Abs(c1y_kept)));
-      // Where an earlier leg made every lane Unreachable or Singular and no
-      // limit margin is asked for, nothing else of this leg shows.
+      // Where an earlier leg made every lane Unreachable and no limit margin
+      // is asked for, nothing else of this leg shows.
       ax[i] = a_x, ay[i] = a_y, az[i] = a_z;
-      if (!any_limit && hn::AllTrue(d, hn::And(failed, status != StatusCode(d, Status::OutOfLimits)))) {
+      if (!any_limit && hn::AllTrue(d, status == StatusCode(d, Status::Unreachable))) {
         c1v[i] = c2v[i] = one, s1v[i] = s2v[i] = zero;
         continue;
       }
@@ -239,16 +238,14 @@ void Samples(const Model& m, const FieldSetup& fs, const Grid& g, const detail::
           limit_margin = hn::Min(limit_margin, (hn::Set(d, m.t3_limit) - hn::Abs(t3)) * l3);
         }
       }
-      // The leg's status, and the pose's: the first failing leg's.
+      // The pose's status: its most severe leg's (inverse_with).
       const M leg_ok = hn::Not(hn::Or(unreachable, singular));
       out_of_limits = hn::And(leg_ok, out_of_limits);
-      const V leg_status = hn::IfThenElse(
-          unreachable, StatusCode(d, Status::Unreachable),
-          hn::IfThenElse(singular, StatusCode(d, Status::Singular),
-                         hn::IfThenElse(out_of_limits, StatusCode(d, Status::OutOfLimits), ok_code)));
-      const M fails = hn::Not(hn::And(leg_ok, hn::Not(out_of_limits)));
-      status = hn::IfThenElse(hn::AndNot(failed, fails), leg_status, status);
-      failed = hn::Or(failed, fails);
+      const V unreachable_code = StatusCode(d, Status::Unreachable), singular_code = StatusCode(d, Status::Singular);
+      status = hn::IfThenElse(unreachable, unreachable_code,
+                              hn::IfThenElse(hn::And(singular, status != unreachable_code), singular_code,
+                                             hn::IfThenElse(hn::And(out_of_limits, status == ok_code),
+                                                            StatusCode(d, Status::OutOfLimits), status)));
       if (any_limit) margin = hn::Min(margin, hn::IfThenElse(unreachable, inf, limit_margin));
       // The unreachable legs keep LegSolution's cosines and sines (1 and 0).
       c1v[i] = hn::IfThenElse(unreachable, one, c1);

@@ -299,6 +299,15 @@ GlobularOffsets globular_offsets(const Geometry& g, const Pose& pose) {
 
 namespace {
 
+int severity(Status s) {
+  switch (s) {
+    case Status::Unreachable: return 3;
+    case Status::Singular: return 2;
+    case Status::OutOfLimits: return 1;
+    default: return 0;
+  }
+}
+
 PoseIkResult inverse_with(const Geometry& g, const Pose& pose, IkDetail detail, const GlobularOffsets& offsets) {
   const Model& m = g.model;
   PoseIkResult out;
@@ -370,7 +379,9 @@ PoseIkResult inverse_with(const Geometry& g, const Pose& pose, IkDetail detail, 
         leg.status = Status::OutOfLimits;
     }
     out.q_active[i] = leg.t1;
-    if (leg.status != Status::Ok && out.failing_leg < 0) {
+    // The pose's status is its most severe leg's (the first such leg named):
+    // a pose that some leg cannot close is unreachable, never out of limits.
+    if (severity(leg.status) > severity(out.status)) {
       out.failing_leg = i;
       out.status = leg.status;
     }

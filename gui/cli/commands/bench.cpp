@@ -259,6 +259,13 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
     const auto key = std::make_tuple(r.mechanism, stability::path_label(r), r.method);
     if (std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
   }
+  // Columns as wide as their longest entry (device and path names are the files').
+  std::size_t path_width = 0, method_width = 0;
+  for (const auto& [mechanism, path, method] : keys) {
+    const std::string prefix = mechanism == devices.front()->info().name ? "" : mechanism + " ";
+    path_width = std::max(path_width, prefix.size() + path.size() + 1);
+    method_width = std::max(method_width, method.size() + 1);
+  }
   for (const auto& [mechanism, path, method] : keys) {
     double smallest = std::numeric_limits<double>::quiet_NaN(), ratio = 0;  // NaN: no ok result
     bool bounded = false;  // a first-order bound predicted for some ok sample
@@ -276,7 +283,8 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
       }
     }
     const std::string prefix = mechanism == devices.front()->info().name ? "" : mechanism + " ";
-    out << "  " << prefix << std::left << std::setw(15) << path << std::setw(13) << method << "ok down to eps "
+    out << "  " << std::left << std::setw(int(path_width)) << prefix + path << std::setw(int(method_width)) << method
+        << "ok down to eps "
         << std::setw(10) << std::setprecision(2);
     if (std::isnan(smallest)) {
       // Nothing measured: say what the samples were instead of a bound of 0.

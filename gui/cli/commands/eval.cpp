@@ -133,15 +133,23 @@ void write_fk(const Mechanism& m, const Table& table, std::ostream& out) {
     (input ? input_index : result_index).push_back(int(k));
     if (input) used.push_back(input_col.emplace_back(table.column(info.task[k].name)));
   }
-  // Seeds: all of seed_<result coordinate> or none.
+  // Seeds: all of seed_<result coordinate> or none (a planar device's
+  // seed_z may be left out, as its targets' z: it is the plane's).
   std::vector<std::size_t> seed_col;
+  std::vector<int> seed_index;  // into info.task
   std::string seed_names;
+  std::size_t wanted = 0;
   for (int k : result_index) {
     const std::string name = "seed_" + info.task[std::size_t(k)].name;
+    const bool given = std::count(table.columns.begin(), table.columns.end(), name) > 0;
+    if (info.plane_z && name == "seed_z" && !given) continue;
     seed_names += (seed_names.empty() ? "" : ",") + name;
-    if (std::count(table.columns.begin(), table.columns.end(), name)) seed_col.push_back(table.column(name));
+    ++wanted;
+    if (!given) continue;
+    seed_col.push_back(table.column(name));
+    seed_index.push_back(k);
   }
-  if (!seed_col.empty() && seed_col.size() != result_index.size())
+  if (!seed_col.empty() && seed_col.size() != wanted)
     throw std::invalid_argument(table.origin + ": give all of the seed columns (" + seed_names + ") or none");
   used.insert(used.end(), seed_col.begin(), seed_col.end());
   require_finite(table, used);
@@ -162,11 +170,14 @@ void write_fk(const Mechanism& m, const Table& table, std::ostream& out) {
     FkOptions fo;
     fo.seed = home;
     for (std::size_t k = 0; k < input_index.size(); ++k) (*fo.seed)(input_index[k]) = row[input_col[k]];
-    for (std::size_t k = 0; k < seed_col.size(); ++k) (*fo.seed)(result_index[k]) = row[seed_col[k]];
+    for (std::size_t k = 0; k < seed_col.size(); ++k) (*fo.seed)(seed_index[k]) = row[seed_col[k]];
     for (std::size_t k = 0; k < q_col.size(); ++k) out << (k ? "," : "") << csv_number(row[q_col[k]]);
     for (std::size_t k = 0; k < input_col.size(); ++k) out << "," << csv_number(row[input_col[k]]);
     const FkResult r = m.forward(q, fo);
-    const bool ok = r.status == Status::Ok;
+    // The pose and its measures wherever the device assembles there (out of
+    // limits or singular too), as IK's rows give them.
+    const bool ok = (r.status == Status::Ok || r.status == Status::OutOfLimits || r.status == Status::Singular) &&
+                    r.x.size() == Eigen::Index(info.task.size()) && r.x.allFinite();
     if (c.fk_status) out << "," << (r.status_text.empty() ? std::string(to_string(r.status)) : r.status_text);
     for (int k : result_index) out << "," << (ok ? csv_number(r.x(k)) : "");
     if (c.fk_measures) {
@@ -187,9 +198,15 @@ void write_fk(const Mechanism& m, const Table& table, std::ostream& out) {
 void run_eval(const EvalOptions& o, std::istream& stdin_stream, std::ostream& stdout_stream) {
   if (o.ik_file.empty() == o.fk_file.empty())
     throw std::invalid_argument("eval: give exactly one of --ik FILE or --fk FILE");
-  if (!(o.tolerance >= kFinestTolerance) || !std::isfinite(o.tolerance))
-    throw std::invalid_argument("eval: --tolerance must be a finite number of at least 1e-15 (double precision closes "
-                                "a chain to a few 1e-16 of the device's size), got " + format_number(o.tolerance));
+  check_ik_tolerance(o.tolerance, "eval");
+  // Forward kinematics has one answer a row, from the row's seed columns:
+  // the options of IK would be quietly ignored.
+  if (!o.fk_file.empty())
+    for (const auto& [given, option] : {std::pair{!o.method.empty(), "--method"}, {o.branch.has_value(), "--branch"},
+                                        {!o.seed.empty(), "--seed"}})
+      if (given)
+        throw std::invalid_argument(std::string("eval: ") + option + " applies to --ik; forward kinematics starts from "
+                                    "the home pose or the row's seed_<coordinate> columns");
   if (o.max_iterations < 1)
     throw std::invalid_argument("eval: --max-iterations must be at least 1, got " + std::to_string(o.max_iterations));
   Preset preset = chosen_preset(o.mechanism);
@@ -198,12 +215,10 @@ void run_eval(const EvalOptions& o, std::istream& stdin_stream, std::ostream& st
   const MechanismInfo& info = m->info();
   IkOptions ik = checked_ik(info, o.method, o.branch, "eval");  // before reading input
   if (!o.seed.empty()) {
-    std::vector<double> seed;
-    std::stringstream ss(o.seed);
-    for (std::string part; std::getline(ss, part, ',');) seed.push_back(parse_number_or_throw(part, "--seed"));
-    if (seed.size() != info.actuators.size())
-      throw std::invalid_argument("eval: --seed expects " + joined_names(info.actuators) + " (" +
-                                  std::to_string(info.actuators.size()) + " values) for " + info.name);
+    const std::vector<double> seed =
+        parse_numbers(o.seed, info.actuators.size(),
+                      "eval: --seed expects " + joined_names(info.actuators) + " (" +
+                          std::to_string(info.actuators.size()) + " finite values, comma separated) for " + info.name);
     ik.seed = Eigen::Map<const Eigen::VectorXd>(seed.data(), Eigen::Index(seed.size()));
   }
   ik.tolerance = o.tolerance;

@@ -1,5 +1,6 @@
 // linkscape slice: a field sampled on a plane, as a colour-mapped image, a figure or CSV.
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <filesystem>
 #include <iomanip>
@@ -57,7 +58,9 @@ void run_slice(const SliceOptions& o) {
   if (extent.empty())
     extent = {sampling.box_min()(int(au)), sampling.box_max()(int(au)), sampling.box_min()(int(av)),
               sampling.box_max()(int(av))};
-  if (extent.size() != 4) throw std::invalid_argument("--extent expects u_min,u_max,v_min,v_max");
+  if (extent.size() != 4 || !(extent[0] < extent[1] && extent[2] < extent[3]) ||
+      !std::all_of(extent.begin(), extent.end(), [](double v) { return std::abs(v) <= 1e300; }))
+    throw std::invalid_argument("--extent expects u_min,u_max,v_min,v_max: finite, min < max on each axis");
   const auto size = parse_width_height(o.size, "--size");
   const Grid grid = Grid::slice(normal, position, extent[0], extent[1], extent[2], extent[3], size[0], size[1]);
 
@@ -66,8 +69,13 @@ void run_slice(const SliceOptions& o) {
   style.log_scale = !o.linear;
   style.colour_map = o.colour_map;
   style.contour_levels = o.contours;
+  for (const double level : o.contours)
+    if (!(std::isfinite(level) && level > 0))
+      throw std::invalid_argument("--contour levels are condition numbers, finite and positive, got " +
+                                  format_number(level));
   if (!o.range.empty()) {
-    if (o.range.size() != 2) throw std::invalid_argument("--range expects min,max");
+    if (o.range.size() != 2 || !std::isfinite(o.range[0]) || !std::isfinite(o.range[1]) || !(o.range[0] < o.range[1]))
+      throw std::invalid_argument("--range expects min,max, finite, min below max");
     style.min = o.range[0];
     style.max = o.range[1];
   }

@@ -249,6 +249,9 @@ TEST_F(FiveBarDevice, InverseMatchesCircleIntersectionOnEveryBranch) {
         EXPECT_LT(e, 1e-9) << "branch " << branch << " at " << p.transpose() << ": q " << qs.transpose()
                            << " against " << q.transpose();
         worst = std::max(worst, e);
+        // Reported within the travel as stated (186 deg of 0..210, not -174).
+        for (int i = 0; i < 2; ++i)
+          EXPECT_TRUE(geometry.limits[std::size_t(i)].contains(qs(i))) << "q" << i + 1 << " = " << qs(i);
         ++ok;
         ++ok_per_branch[std::size_t(branch)];
       } else if (outside) {

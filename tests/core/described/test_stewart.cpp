@@ -17,11 +17,14 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 #include "core/haptics.h"
+#include "core/stability.h"
 #include "described_devices_support.h"
 
 using namespace linkscape;
@@ -508,4 +511,48 @@ TEST(StewartReference, InverseJacobianIsTheRateOfTheLegLengths) {
     EXPECT_NEAR(g.base[std::size_t(i)].norm(), g.rb, 1e-12);
     EXPECT_NEAR(g.platform[std::size_t(i)].norm(), g.rp, 1e-12);
   }
+}
+
+// The stability sweeps reach the platform's parallel (type II) set: where
+// their path ends, the leg screws written here lose rank (their smallest
+// singular value shrinking in proportion to eps along the path) and det
+// changes sign across it; IK along the path stays ok with its legs closed
+// until the set is near.
+TEST_F(StewartDevice, StabilitySweepsApproachTheParallelSet) {
+  const auto& sets = m->info().singular_sets;
+  const int parallel = int(std::find_if(sets.begin(), sets.end(), [](const auto& s) { return s.name == "parallel"; }) -
+                           sets.begin());
+  ASSERT_LT(parallel, int(sets.size()));
+  const auto screws = [&](const VectorXd& x) { return geometry.inverse_jacobian(pose(x)); };
+  const auto smallest = [&](const VectorXd& x) { return Eigen::JacobiSVD<Matrix6d>(screws(x)).singularValues()(5); };
+  const double home_det = screws(m->home_task()).determinant();
+  int paths = 0;
+  for (const SingularApproach& a : m->singular_approaches()) {
+    if (a.set != parallel) continue;
+    for (int k = 0; k < 3; ++k, ++paths) {
+      const Pose end = pose(a.target(0, k));
+      std::printf("parallel set at p = (%g, %g, %g), angles (%g, %g, %g) deg\n", end.p(0), end.p(1), end.p(2),
+                  end.angles(0) / kDeg, end.angles(1) / kDeg, end.angles(2) / kDeg);
+      const double far = smallest(a.target(1e-2, k));
+      for (const double eps : {1e-4, 1e-6})
+        EXPECT_NEAR(smallest(a.target(eps, k)) / far, eps / 1e-2, 0.05 * eps / 1e-2) << "path " << k << " eps " << eps;
+      EXPECT_GT(screws(a.target(1e-2, k)).determinant() * home_det, 0.0) << "path " << k << " starts on home's side";
+      EXPECT_LT(screws(a.target(-1e-3, k)).determinant() * home_det, 0.0) << "path " << k << " crosses the set";
+    }
+  }
+  EXPECT_GE(paths, 3);
+
+  stability::SweepOptions o;
+  o.eps_min = 1e-8;
+  o.base_points = 2;
+  int ok_rows = 0;
+  for (const stability::SweepRow& r : m->stability_sweeps(o)) {
+    if (r.path_name != sets[std::size_t(parallel)].name) continue;
+    if (r.eps >= 1e-2) EXPECT_EQ(r.status, Status::Ok) << r.method << " eps " << r.eps;
+    if (r.status != Status::Ok) continue;
+    ++ok_rows;
+    EXPECT_LE(r.residual, 1e-9 * m->size()) << r.method << " eps " << r.eps;
+    EXPECT_GT(r.cond, 1.0);
+  }
+  EXPECT_GT(ok_rows, 4);
 }

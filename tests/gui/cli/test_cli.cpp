@@ -104,13 +104,16 @@ TEST(Cli, EvalForwardMatchesEquations) {
   EXPECT_NEAR(std::stod(row.at("y")), expected.y(), 1e-12);
   EXPECT_NEAR(std::stod(row.at("z")), expected.z(), 1e-12);
   EXPECT_NEAR(std::stod(rows[0].at("cond")), 1.0, 1e-12);  // the Fig. 5 optimum
-  // Beyond alpha's travel (+-90 deg): out of limits, as the Delta says it;
-  // at the folded, stretched pose q = 0: singular. Neither gives a pose.
+  // Beyond alpha's travel (+-90 deg): out of limits, as the Delta says it,
+  // with the pose the linkage takes there (the equations' still); at the
+  // folded, stretched pose q = 0: singular.
   const fs::path outside = temp_file("angles-outside.csv", "alpha,beta,gamma\n3,1,2\n0,0,0\n");
   const auto limits = parse_cells(run_linkscape("eval -m parallel-12r --fk " + outside.string()).out);
   ASSERT_EQ(limits.size(), 2u);
   EXPECT_EQ(limits[0].at("status"), "out-of-limits");
-  EXPECT_EQ(limits[0].at("x"), "");
+  const Eigen::Vector3d beyond = paper_forward(15, 15, 3, 1, 2);
+  EXPECT_NEAR(std::stod(limits[0].at("x")), beyond.x(), 1e-12);
+  EXPECT_NEAR(std::stod(limits[0].at("z")), beyond.z(), 1e-12);
   EXPECT_EQ(limits[1].at("status"), "singular");
 }
 

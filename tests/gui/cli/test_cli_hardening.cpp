@@ -193,6 +193,43 @@ TEST(CliHardening, NonFiniteAndOutOfRangeOptionValuesAreRefused) {
   EXPECT_TRUE(contains(big.out, "out of the range")) << big.out;
 }
 
+// Values that would be quietly ignored, taken twice or read past their
+// meaning are refused, naming the option (and the preset a --param broke).
+TEST(CliHardening, OptionsThatWouldBeIgnoredOrMeaninglessAreRefused) {
+  const fs::path in = temp_file("hard_round.csv", kTargets);
+  const fs::path q = temp_file("hard_round_q.csv", "q1,q2,q3\n0.1,0.2,0.3\n");
+  const std::vector<std::pair<std::string, std::string>> refused{
+      {"eval -m delta --fk " + q.string() + " --branch 5", "--branch applies to --ik"},
+      {"eval -m delta --fk " + q.string() + " --method newton", "--method applies to --ik"},
+      {"eval -m delta --fk " + q.string() + " --seed 1,2,3", "--seed applies to --ik"},
+      {"eval --ik " + in.string() + " --param L1=12 --param L1=13", "--param L1 is given twice"},
+      {"eval --ik " + in.string() + " --method newton --tolerance 1e300", "--tolerance must lie between"},
+      {"slice --tolerance 0.01 -o x.png", "--tolerance must lie between"},
+      {"eval -m delta --ik " + in.string() + " --method newton --seed 0.4,0.4,0.4,", "--seed expects q1,q2,q3"},
+      {"slice --size 32x32 --contour nan --figure -o x.png", "--contour levels are condition numbers"},
+      {"slice --size 32x32 --contour -5 -o x.png", "--contour levels are condition numbers"},
+      {"slice --size 32x32 --range 5,1 -o x.png", "--range expects min,max"},
+      {"slice --size 32x32 --extent -1e308,1e308,0,2 -o x.png", "--extent expects"},
+      {"eval -m five-bar --param a=50 --ik " + in.string(), "five-bar with --param a=50: "},
+      {"sweep --task sphere:diameter=4 --bounds L1=5:5 --grid 3 -o x.csv", "holds it at one value"}};
+  for (const auto& [args, why] : refused) {
+    const auto r = run_linkscape(args);
+    EXPECT_EQ(r.exit_code, 2) << args << ": " << r.out;
+    EXPECT_TRUE(contains(r.out, why)) << args << ": " << r.out;
+  }
+  // Out of limits, the pose exists: FK gives it, as IK gives such a row's actuators.
+  const fs::path beyond = temp_file("hard_round_beyond.csv", "q1,q2,q3\n1.5,1.5,1.5\n");
+  const auto out = run_linkscape("eval -m delta --fk " + beyond.string());
+  EXPECT_EQ(out.exit_code, 0) << out.out;
+  EXPECT_TRUE(contains(out.out, "1.5,1.5,1.5,out-of-limits,")) << out.out;
+  EXPECT_FALSE(contains(out.out, "out-of-limits,,")) << out.out;
+  // A planar device's FK seed may leave z out, as its targets may.
+  const fs::path planar = temp_file("hard_planar_fk.csv", "q1,q2,seed_x,seed_y\n1.8,1.2,-3,10\n");
+  const auto fk = run_linkscape("eval -m five-bar --fk " + planar.string());
+  EXPECT_EQ(fk.exit_code, 0) << fk.out;
+  EXPECT_TRUE(contains(fk.out, "1.8,1.2,ok,")) << fk.out;
+}
+
 // A solver stopped short is a row's status, not the batch's end; its
 // measures stay empty (its legs do not close, so there are none).
 TEST(CliHardening, ARowTheSolverLeavesOpenIsNotConvergedWithNoMeasures) {

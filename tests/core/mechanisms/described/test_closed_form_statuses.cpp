@@ -225,5 +225,31 @@ TEST(DescribedClosedForm, DeltaNearItsReachIsUnreachableWhereTheCompiledDeltaIs)
   EXPECT_GT(outside, 1000);
 }
 
+// The five-bar's left leg folded at (-3, -4) (|P - A1| = b - a): both
+// solvers call every branch that assembles there singular, and eval's rows
+// (IkResult::solutions) keep each such assembly with its actuators. The
+// numerical solver stops about sqrt(residual) short of the folded leg,
+// where J is still finite; it is the pose, not that stop, that is singular.
+TEST(DescribedStatuses, AFoldedLegIsSingularForBothSolversAndKeepsItsRows) {
+  const auto m = make_mechanism(load_preset("five-bar"));
+  const VectorXd x = (VectorXd(3) << -3, -4, 0).finished();
+  for (const char* method : {"closed", "newton"}) {
+    IkOptions o;
+    o.method = method;
+    const IkResult r = m->inverse(x, o);
+    ASSERT_EQ(r.solutions.size(), 4u) << method;
+    int singular = 0;
+    for (const IkSolution& s : r.solutions) {
+      EXPECT_NE(s.status, Status::Ok) << method << " branch " << s.branch;
+      if (s.status != Status::Singular) continue;
+      ++singular;
+      EXPECT_EQ(s.failing_part, "left") << method;
+      EXPECT_NEAR(s.q(0), M_PI / 2, 1e-6) << method;  // the crank up, P below its base: folded
+      EXPECT_TRUE(std::isinf(m->measures(s.q, x).values.at(0))) << method;
+    }
+    EXPECT_EQ(singular, 2) << method;
+  }
+}
+
 }  // namespace
 }  // namespace linkscape::described

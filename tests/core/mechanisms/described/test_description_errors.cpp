@@ -139,6 +139,16 @@ TEST(DescriptionErrors, WrongDegreeOfFreedomCount) {
   expect_contains(m, {"broken.json", "freedom", "3 actuator"});
 }
 
+// A crank of no length turns without moving its rod: three actuators that
+// hold nothing pass the freedom count (each counts as a freedom) but leave
+// home singular, where the device is refused.
+TEST(DescriptionErrors, ADeviceSingularAtHomeIsRefused) {
+  const std::string crank = error_after([](json& d) { d["parameters"]["La"] = 0; });
+  expect_contains(crank, {"broken.json", "singular at home", "actuator does not move its anchor", "move home"});
+  // The shipped design is not: this is the crank's length, not the check.
+  EXPECT_EQ(error_after([](json&) {}), "no error");
+}
+
 TEST(DescriptionErrors, UnknownKeyIsNamedWithTheKnownOnes) {
   const std::string m = error_after([](json& d) { d["description"]["legs"][0]["anchors"] = json::array(); });
   expect_contains(m, {"description.legs[0]", "unknown key 'anchors'", "anchor"});

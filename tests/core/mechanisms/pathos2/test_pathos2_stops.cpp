@@ -86,6 +86,31 @@ TEST(Pathos2Stops, PoseBeyondTheConeIsOutOfLimitsNamingTheJoint) {
   EXPECT_EQ(off->inverse(x, {}).status, Status::Ok);
 }
 
+// A pose that a leg cannot close is unreachable, naming that leg, though
+// an earlier leg's globular joint lies beyond its cone: the most severe leg
+// decides, in IK and in the field (SIMD kernel) alike.
+TEST(Pathos2Stops, ALegThatCannotCloseOutranksAConeAnotherLegExceeds) {
+  const auto on = linkscape::make_mechanism(preset_with(true, true));
+  const auto off = linkscape::make_mechanism(preset_with(false, false));
+  const VectorXd x = task(2.8014905594027457, -2.775921310550774, 17.630142137623885, -0.22690461925011063,
+                          -0.030311746045453558, 0.5650717203516837, 6.530792824547183);
+  const linkscape::IkResult without = off->inverse(x, {});
+  ASSERT_EQ(without.status, Status::Unreachable);
+  ASSERT_EQ(without.failing_part, "6");
+  // Leg by leg: leg 1 beyond its cone, leg 6 not closing.
+  const Model m = make_pathos2(preset_with(true, true));
+  const PoseIkResult legs = inverse(make_geometry(m), Pose::from_xyz_rpy(x(0), x(1), x(2), x(3), x(4), x(5), x(6)));
+  ASSERT_EQ(legs.legs[0].status, Status::OutOfLimits);
+  ASSERT_EQ(legs.legs[5].status, Status::Unreachable);
+  const linkscape::IkResult r = on->inverse(x, {});
+  EXPECT_EQ(r.status, Status::Unreachable);
+  EXPECT_EQ(r.failing_part, "6");
+  const Vector3d p = x.head<3>(), h(1e-3, 1e-3, 1e-3);
+  const auto field = on->compute_field(Grid::box(p - h, p + h, {1, 1, 1}), x, {}, 0, {});
+  ASSERT_TRUE(field);
+  EXPECT_EQ(int(field->status.at(0)), int(Status::Unreachable));
+}
+
 // The smallest distance between two segments by sampling both, refined
 // around the best pair: independent of the closed form.
 double brute_distance(const interference::Capsule& p, const interference::Capsule& q) {
