@@ -171,7 +171,9 @@ std::vector<stability::SweepRow> Mechanism::stability_sweeps(const stability::Sw
           row.method = method.name;
           row.status = r.status;
           row.error = NAN;  // no independent reference: the residual is the measure
-          row.residual = INFINITY;
+          row.residual = INFINITY;  // the least of the ok solutions'; none: no value (NaN, below)
+          row.cond = NAN;
+          row.sigma_min = NAN;  // not measured here
           for (const IkSolution& sol : r.solutions) {
             if (sol.status != Status::Ok || !(sol.residual < row.residual)) continue;
             row.residual = sol.residual;
@@ -180,6 +182,7 @@ std::vector<stability::SweepRow> Mechanism::stability_sweeps(const stability::Sw
             row.cond = meas.values.empty() ? INFINITY : meas.values[0];
           }
           row.error = std::isfinite(row.residual) ? row.residual / size() : NAN;
+          if (!std::isfinite(row.residual)) row.residual = NAN;
           row.ik_error_unit = "relative";
           row.predicted = NAN;
           rows.push_back(row);

@@ -55,8 +55,8 @@ struct SweepRow {
   int base_point = 0;
   double eps = 0;
   double distance = 0;  // Cartesian distance of the target from the singular set, length unit
-  double cond = 0;      // c(J) at the reference solution (+inf if none)
-  double sigma_min = 0; // smallest singular value of J there, length unit per rad
+  double cond = 0;      // c(J) at the reference solution (+inf if none; NaN: the default sweeps, no ok solution)
+  double sigma_min = 0; // smallest singular value of J there, length unit per rad (NaN: not measured)
   double predicted = 0; // u B(q) / sigma_min for ik; u c(J) for conditioning; NaN for jacobian
   std::string family;   // "ik", "jacobian", "conditioning"
   std::string method;
@@ -65,7 +65,7 @@ struct SweepRow {
   // Of an ik row's error: "rad", or "relative" where the sweep has no
   // reference and the residual over the size stands for it (the default sweeps).
   std::string ik_error_unit = "rad";
-  double residual = 0;  // ik: |forward(q) - target| (length unit); 0 otherwise
+  double residual = 0;  // ik: |forward(q) - target| (length unit), NaN with no ok solution; 0 otherwise
   int iterations = 0;
 };
 // The row's path_name, else to_string(path).
