@@ -106,9 +106,16 @@ Table read_csv(std::istream& in, const std::string& origin) {
     if (line.find("\xEF\xBB\xBF") != std::string::npos)
       throw std::invalid_argument(at(number) + "byte-order mark (U+FEFF) inside the text; only the file's first bytes may hold one");
     const std::string content = trim(line);
+    if (content.find('\r') != std::string::npos)
+      throw std::invalid_argument(at(number) + "lines end in a lone carriage return (CR); save the file with LF or CR LF "
+                                  "line ends");
     if (content.empty() || content[0] == '#') continue;
     const auto fields = split(content);
     if (t.columns.empty()) {
+      // numpy's savetxt writes its header as a comment ("# x,y,z"), which is skipped.
+      if (std::all_of(fields.begin(), fields.end(), [](const std::string& f) { return parse_number(f).has_value(); }))
+        throw std::invalid_argument(at(number) + "the header holds numbers ('" + content +
+                                    "'); the first line that is not a comment (#) must name the columns");
       for (std::size_t i = 0; i < fields.size(); ++i) {
         if (fields[i].empty()) throw std::invalid_argument(at(number) + "column " + std::to_string(i + 1) + " of the header has no name");
         for (std::size_t j = 0; j < i; ++j)

@@ -176,6 +176,26 @@ TEST(Csv, RefusesRepeatedAndUnnamedColumns) {
   EXPECT_THROW(read_csv(unnamed, "u.csv"), std::invalid_argument);
 }
 
+// numpy's savetxt writes the header as a comment, which is skipped: the
+// first row of numbers is then named as the header's mistake; a file whose
+// lines end in a lone CR (one line to getline) is named as such.
+TEST(Csv, AHeaderOfNumbersOrLoneCarriageReturnsAreNamed) {
+  const auto message = [](const std::string& text) {
+    std::istringstream in(text);
+    try {
+      read_csv(in, "in.csv");
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(message("# x,y,z\n0,0,-16.5\n1,2,3\n").find("in.csv:2: the header holds numbers ('0,0,-16.5')"),
+            std::string::npos);
+  EXPECT_NE(message("x,y,z\r0,0,-16.5\r").find("in.csv:1: lines end in a lone carriage return"), std::string::npos);
+  EXPECT_EQ(message("x,y,z\r\n0,0,-16.5\r\n"), "accepted");  // CR LF, as spreadsheets save
+  EXPECT_EQ(message("# a comment\nx,y,z\n0,0,-16.5\n"), "accepted");
+}
+
 TEST(Csv, SaysOutOfRangeRatherThanNotANumber) {
   bool out_of_range = false;
   EXPECT_FALSE(parse_number("1e400", &out_of_range).has_value());
