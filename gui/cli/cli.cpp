@@ -173,6 +173,28 @@ void check_file_argument(const CLI::App& app, const WindowOptions& window) {
     throw std::invalid_argument("give a file to open, --session or --mechanism, not two of them");
 }
 
+// The window's options that ask for one run (a screenshot, a view image, the
+// latency, the shortcuts) exclude each other; options that serve another
+// would be quietly dropped.
+void check_window_options(const CLI::App& app, const WindowOptions& window, bool shortcuts) {
+  const auto given = [&](const char* option) { return app.get_option(option)->count() > 0; };
+  for (const char* option : {"--screenshot", "--view-image", "--session"})
+    if (given(option) && app.get_option(option)->as<std::string>().empty())
+      throw std::invalid_argument(std::string(option) + " is empty; give a file");
+  std::string runs;
+  for (const auto& [option, asked] : {std::pair{"--screenshot", !window.screenshot.empty()},
+                                      {"--view-image", !window.view_image.empty()},
+                                      {"--latency", window.latency},
+                                      {"--shortcuts", shortcuts}})
+    if (asked) runs += (runs.empty() ? "" : " and ") + std::string(option);
+  if (runs.find(" and ") != std::string::npos) throw std::invalid_argument(runs + " each ask for a run of their own; give one");
+  if (given("--criterion") && window.task.empty())
+    throw std::invalid_argument("--criterion sets the criteria of --task, which is not given");
+  if (!window.session.empty() && (given("--mechanism") || given("--param")))
+    throw std::invalid_argument("a session brings its own mechanism and design: give --session without --mechanism or "
+                                "--param, and change the design in the window");
+}
+
 void check_image_outputs(const WindowOptions& window) {
   for (const auto& [option, path] : {std::pair{"--view-image", window.view_image}, {"--screenshot", window.screenshot}})
     if (!path.empty() && std::filesystem::path(path).extension() != ".png")
@@ -244,6 +266,7 @@ int run(int argc, char** argv, const WindowLauncher* launcher) {
     for (const std::string& value : completion_values(complete_option, help)) std::cout << value << "\n";
     return 0;
   }
+  check_window_options(app, window, shortcuts);
   if (shortcuts) {
     if (!launcher) {
       std::cerr << "linkscape: this build has no window (built with -DLINKSCAPE_WINDOW=OFF), so no shortcuts\n";

@@ -40,6 +40,8 @@ void prepare_window(WindowOptions& options) {
     if (is_session_file(options.file)) options.session = options.file;
     else options.mechanism.name_or_path = options.file;
   }
+  if (!options.session.empty() && !options.mechanism.params.empty())
+    throw std::invalid_argument("--param: a session brings its own design; open it and change the design in the window");
   if (!options.session.empty()) load_session(options.session);
   else make_mechanism(chosen_preset(options.mechanism));
 }

@@ -27,6 +27,9 @@ Command add_describe(CLI::App& program, const DeviceHelp&) {
                 throw std::invalid_argument("describe: give the device as FILE or --mechanism, not both");
               c.name_or_path = *file;
             }
+            if (file->empty() && cmd->get_option("--mechanism")->count() == 0)
+              throw std::invalid_argument("describe: which device? Give a described preset, e.g. 'linkscape describe "
+                                          "stewart' or a .json file");
             const Preset preset = chosen_preset(c);
             if (preset.description.empty())
               throw std::invalid_argument("describe: " + preset.mechanism +

@@ -1,8 +1,10 @@
 // linkscape verify: a proof that every point of a task volume meets every
 // criterion, or a counterexample (core/verify/verify.h, docs/task-volumes.md).
 #include <iostream>
+#include <optional>
 #include <stdexcept>
 
+#include "core/csv.h"
 #include "core/verify/verify.h"
 #include "gui/cli/command.h"
 #include "gui/cli/sampling.h"
@@ -56,7 +58,12 @@ Command add_verify(CLI::App& program, const DeviceHelp&) {
       ->capture_default_str();
   cmd->add_option("--time-limit", o->limits.time_limit_seconds,
                   "Seconds before the open boxes are reported undecided (0: no limit)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            const std::optional<double> v = parse_number(text);
+            return v && *v >= 0 && *v <= 1e9 ? "" : "must be a number of seconds from 0 to 1e9, got '" + text + "'";
+          },
+          "SECONDS"))
       ->capture_default_str();
   cmd->add_option("--threads", o->limits.threads, "Threads, 0 to 256 (0: all cores)")
       ->check(CLI::Range(0, 256))

@@ -211,7 +211,15 @@ TEST(CliHardening, OptionsThatWouldBeIgnoredOrMeaninglessAreRefused) {
       {"slice --size 32x32 --range 5,1 -o x.png", "--range expects min,max"},
       {"slice --size 32x32 --extent -1e308,1e308,0,2 -o x.png", "--extent expects"},
       {"eval -m five-bar --param a=50 --ik " + in.string(), "five-bar with --param a=50: "},
-      {"sweep --task sphere:diameter=4 --bounds L1=5:5 --grid 3 -o x.csv", "holds it at one value"}};
+      {"sweep --task sphere:diameter=4 --bounds L1=5:5 --grid 3 -o x.csv", "holds it at one value"},
+      {"verify --task sphere:diameter=5 --criterion 'cond<3' --time-limit inf", "seconds from 0 to 1e9"},
+      {"describe", "which device?"},
+      // The window's: refused before any window opens (no display needed).
+      {"--screenshot ''", "--screenshot is empty"},
+      {"--screenshot a.png --latency", "each ask for a run of their own"},
+      {"--shortcuts --view-image v.png", "each ask for a run of their own"},
+      {"--screenshot a.png --criterion 'cond<3'", "--criterion sets the criteria of --task"},
+      {"--session s.json -m delta", "a session brings its own mechanism and design"}};
   for (const auto& [args, why] : refused) {
     const auto r = run_linkscape(args);
     EXPECT_EQ(r.exit_code, 2) << args << ": " << r.out;
