@@ -330,10 +330,17 @@ std::string fit_report(const fit::Problem& problem, const fit::Result& r, const 
   }
   if (r.at_lower_bounds) out << "the design sits on a lower bound: lower it (--bounds) to look for smaller ones\n";
   std::size_t invalid = 0;
-  for (const fit::Row& row : r.rows) invalid += !row.invalid.empty();
+  const fit::Row* first_invalid = nullptr;
+  for (const fit::Row& row : r.rows)
+    if (!row.invalid.empty() && invalid++ == 0) first_invalid = &row;
   out << "evaluated " << r.rows.size() << (r.rows.size() == 1 ? " design" : " designs");
   if (invalid) out << " (" << invalid << " could not be built)";
   out << " in " << short_number(r.seconds) << " s\n";
+  // Designs that cannot be built bound the search as the bounds do: a
+  // smaller design that meets the task may lie among them (a description's
+  // home every design must reach, say).
+  if (first_invalid)
+    out << "  the first not built: " << first_invalid->invalid << "\n";
   return out.str();
 }
 

@@ -177,6 +177,10 @@ TEST(CliFit, APlanarDeviceIsSizedByTheDiscInItsPlane) {
   ASSERT_EQ(r.exit_code, 0) << r.out;
   EXPECT_NE(r.out.find("smallest design meeting it: a = "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("the largest disc the placement found there is "), std::string::npos) << r.out;
+  // Smaller designs miss the file's home (0, 17): the report says which bound them.
+  EXPECT_NE(r.out.find("could not be built)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("the first not built: description.legs"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("does not reach its anchor at home"), std::string::npos) << r.out;
   const auto rows = rows_of(csv);
   ASSERT_FALSE(rows.empty());
   EXPECT_EQ(rows[0].at("meets"), "1");
