@@ -201,9 +201,7 @@ void write_leg(Writer& w, const Model& model, const Leg& leg, const LegState& ho
 // Linkscape's default one. Without it the actuated joints have only their
 // links' small inertia, and MuJoCo's loop constraints drive them unstably
 // (docs/model-export.md).
-std::vector<double> armatures(const Preset& preset) {
-  const auto mechanism = make_mechanism(preset);
-  const haptics::DeviceData data = haptics::device_data(preset, mechanism->info());
+std::vector<double> armatures(const haptics::DeviceData& data) {
   std::vector<double> out;
   for (std::size_t a = 0; a < data.actuators.size(); ++a) {
     const haptics::Rating& r = data.actuators[a];
@@ -215,14 +213,17 @@ std::vector<double> armatures(const Preset& preset) {
 }
 
 // The motor's force or torque limit at the joint, where the preset rates it.
-std::optional<double> actuator_limit(const Preset& preset, const Actuator& a) {
-  ActuatorRating rating = preset.actuator_data.all;
-  if (const auto it = preset.actuator_data.per_actuator.find(a.name); it != preset.actuator_data.per_actuator.end())
-    rating = it->second;
-  if (!rating.peak_torque_Nm) return std::nullopt;
-  if (!a.prismatic) return *rating.peak_torque_Nm;
-  if (!rating.lead_m_per_rev) return std::nullopt;
-  return *rating.peak_torque_Nm * 2.0 * M_PI / *rating.lead_m_per_rev;  // N through the screw or capstan
+// Each actuator's peak at its joint (MJCF ctrlrange: N m, or N through a
+// prismatic actuator's lead) as the haptic measures take the ratings: the
+// gear ratio and ratings given as --param included. None where the preset
+// rates no motor (Linkscape's default rating is no device's).
+std::optional<double> control_limit(const Preset& preset, const haptics::Rating& r) {
+  const bool rated = preset.actuator_data.given ||
+                     std::any_of(preset.parameters.begin(), preset.parameters.end(),
+                                 [](const auto& p) { return motor_parameter(p.first) != nullptr; });
+  if (!rated) return std::nullopt;
+  if (!r.lead_m_per_rev) return r.peak_torque_Nm;
+  return r.peak_torque_Nm * 2.0 * M_PI / *r.lead_m_per_rev;  // N through the screw or capstan
 }
 
 }  // namespace
@@ -272,7 +273,9 @@ std::string mjcf_model(const Preset& preset) {
 
   Writer w(metres);
   write_platform(w, model, coordinates, model.platform_frames(extras), metres);
-  const std::vector<double> armature = armatures(preset);
+  // The motors as the haptic measures rate them (the preset's, --param ratings, the gear ratio).
+  const haptics::DeviceData ratings = haptics::device_data(preset, make_mechanism(preset)->info());
+  const std::vector<double> armature = armatures(ratings);
   for (std::size_t l = 0; l < model.legs.size(); ++l)
     write_leg(w, model, model.legs[l], home.legs[l].state, metres, armature);
 
@@ -301,9 +304,11 @@ std::string mjcf_model(const Preset& preset) {
         << number(q.y()) << " " << number(q.z()) << "\"/>\n";
   }
   out << "  </equality>\n  <actuator>\n";
-  for (const Actuator& a : model.actuators) {
+  for (std::size_t k = 0; k < model.actuators.size(); ++k) {
+    const Actuator& a = model.actuators[k];
     out << "    <motor name=\"" << escaped(a.name) << "\" joint=\"" << escaped(a.name) << "\"";
-    if (const auto limit = actuator_limit(preset, a)) out << " ctrlrange=\"" << number(-*limit) << " " << number(*limit) << "\"";
+    if (const auto limit = control_limit(preset, ratings.actuators[k]))
+      out << " ctrlrange=\"" << number(-*limit) << " " << number(*limit) << "\"";
     out << "/>\n";
   }
   out << "  </actuator>\n</mujoco>\n";

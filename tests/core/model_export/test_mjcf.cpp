@@ -261,6 +261,29 @@ TEST(ModelExport, PassiveLimitsAndLinkRadiiReachMuJoCo) {
   EXPECT_EQ(links, 12);
 }
 
+// The motors' ranges are the peak torque at the joint as the haptic
+// measures take it: ratings given as parameters and the gear ratio count;
+// a preset that rates no motor gets no range (the default rating is no
+// device's).
+TEST(ModelExport, MotorRangesAreThePeakTorqueAtTheJoint) {
+  const auto ctrl_limits = [](const Preset& p) {
+    const auto path = std::filesystem::temp_directory_path() / "linkscape_mjcf_ctrl.xml";
+    std::ofstream(path) << mjcf_model(p);
+    char error[1000] = "";
+    mjModel* m = mj_loadXML(path.c_str(), nullptr, error, sizeof error);
+    std::filesystem::remove(path);
+    EXPECT_NE(m, nullptr) << error;
+    std::vector<double> out;
+    for (int a = 0; m && a < m->nu; ++a) out.push_back(m->actuator_ctrllimited[a] ? m->actuator_ctrlrange[2 * a + 1] : -1);
+    if (m) mj_deleteModel(m);
+    return out;
+  };
+  Preset rated = load_preset("delta-described");
+  EXPECT_EQ(ctrl_limits(rated), std::vector<double>(3, -1.0));  // no actuator_data: no range
+  apply_overrides(rated, {"peak_torque_Nm=0.5", "gear_ratio=2"});
+  EXPECT_EQ(ctrl_limits(rated), std::vector<double>(3, 1.0));  // 0.5 N m through 2:1
+}
+
 TEST(ModelExport, ACompiledDeviceIsRefusedWithAReason) {
   try {
     mjcf_model(load_preset("parallel-12r"));
