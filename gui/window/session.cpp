@@ -26,8 +26,9 @@ namespace {
 using nlohmann::json;
 
 json vec(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
-Eigen::Vector3d vec(const json& j) {
-  if (!j.is_array() || j.size() != 3) throw std::invalid_argument("expected an array of 3 numbers");
+Eigen::Vector3d vec(const json& j, const std::string& key) {
+  if (!j.is_array() || j.size() != 3 || !std::all_of(j.begin(), j.end(), [](const json& v) { return v.is_number(); }))
+    throw std::invalid_argument(key + " must be an array of 3 numbers, got " + j.dump());
   return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()};
 }
 
@@ -190,13 +191,14 @@ int whole_number(const json& j, const std::string& key) {
 }
 
 double finite(const json& j, const std::string& key) {
+  if (!j.is_number()) throw std::invalid_argument(key + " must be a number, got " + j.dump());
   const double v = j.get<double>();
   if (!std::isfinite(v)) throw std::invalid_argument(key + " must be a finite number");
   return v;
 }
 
 Eigen::Vector3d finite_vec(const json& j, const std::string& key) {
-  const Eigen::Vector3d v = vec(j);
+  const Eigen::Vector3d v = vec(j, key);
   if (!v.allFinite()) throw std::invalid_argument(key + " must be finite");
   return v;
 }
@@ -241,7 +243,7 @@ Eigen::VectorXd read_array(const json& j, const std::vector<Quantity>& names, co
     throw std::invalid_argument(key + " expects " + std::to_string(names.size()) + " numbers (" + joined(known) +
                                 ") for this device");
   Eigen::VectorXd v(Eigen::Index(names.size()));
-  for (std::size_t k = 0; k < names.size(); ++k) v(Eigen::Index(k)) = finite(j[k], key);
+  for (std::size_t k = 0; k < names.size(); ++k) v(Eigen::Index(k)) = finite(j[k], key + "[" + std::to_string(k) + "]");
   return v;
 }
 
@@ -353,10 +355,14 @@ Session parse_session(const std::string& text, const std::string& origin) {
                        "view"});
     if (j.contains("version") && whole_number(j["version"], "version") != 1)
       throw std::invalid_argument("version " + j["version"].dump() + " is not supported (this program reads 1)");
-    s.mechanism = portable_mechanism(j.at("mechanism").get<std::string>());
-    s.parameters = j.value("parameters", std::map<std::string, double>{});
-    for (const auto& [name, value] : s.parameters)
-      if (!std::isfinite(value)) throw std::invalid_argument("parameters." + name + " must be a finite number");
+    if (!j.contains("mechanism") || !j["mechanism"].is_string())
+      throw std::invalid_argument("mechanism must be a preset's name or file, got " +
+                                  (j.contains("mechanism") ? j["mechanism"].dump() : std::string("none")));
+    s.mechanism = portable_mechanism(j["mechanism"].get<std::string>());
+    if (j.contains("parameters")) {
+      if (!j["parameters"].is_object()) throw std::invalid_argument("parameters must be an object of numbers");
+      for (const auto& [name, value] : j["parameters"].items()) s.parameters[name] = finite(value, "parameters." + name);
+    }
     // The mechanism's own rules: a known preset, known parameter names, a
     // valid model (e.g. L1 > 0), known actuator names.
     Preset preset = load_preset(s.mechanism);
@@ -409,9 +415,11 @@ Session parse_session(const std::string& text, const std::string& origin) {
     if (j.contains("camera")) {
       const json& c = j["camera"];
       check_keys(c, "camera", {"position", "focal_point", "view_up", "view_angle_deg"});
-      s.camera = CameraState{finite_vec(c.at("position"), "camera.position"),
-                             finite_vec(c.at("focal_point"), "camera.focal_point"),
-                             finite_vec(c.at("view_up"), "camera.view_up"), 30.0};
+      for (const char* key : {"position", "focal_point", "view_up"})
+        if (!c.contains(key)) throw std::invalid_argument(std::string("camera.") + key + " is missing");
+      s.camera = CameraState{finite_vec(c["position"], "camera.position"),
+                             finite_vec(c["focal_point"], "camera.focal_point"),
+                             finite_vec(c["view_up"], "camera.view_up"), 30.0};
       if (c.contains("view_angle_deg")) s.camera->view_angle = finite(c["view_angle_deg"], "camera.view_angle_deg");
       // Beyond these the view is blank or degenerate (VTK's clipping range
       // and view-up arithmetic lose every digit): refused, not shown empty.

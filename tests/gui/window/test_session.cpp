@@ -84,6 +84,13 @@ TEST(Session, ValuesTheWindowCannotHonourAreErrorsNamingTheKey) {
       {"/version", 2, "version"},
       {"/platform_pose", json::array({0, 0, 22.5, 0, 0, 0, 7}), "platform_pose"},
       {"/extra", true, "extra"},
+      // Values of the wrong JSON type name their key (they gave "type must be number, but is string").
+      {"/parameters/L1", "15", "parameters.L1 must be a number"},
+      {"/field/threshold", "3", "field.threshold must be a number"},
+      {"/mechanism", 5, "mechanism must be a preset's name"},
+      {"/camera", json::parse(R"({"position": [1, 0, 0], "focal_point": [0, 0, 0]})"), "camera.view_up is missing"},
+      {"/camera", json::parse(R"({"position": [1, "0", 0], "focal_point": [0, 0, 0], "view_up": [0, 0, 1]})"),
+       "camera.position must be an array of 3 numbers"},
   };
   for (const Case& c : cases) {
     json s = good_12r();
