@@ -1,5 +1,6 @@
 #include "gui/cli/field_sampling.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
@@ -105,14 +106,16 @@ Grid box_grid(const Sampling& sampling, const std::vector<double>& box_option, c
   if (box.empty())
     box = {sampling.box_min().x(), sampling.box_max().x(), sampling.box_min().y(),
            sampling.box_max().y(), sampling.box_min().z(), sampling.box_max().z()};
-  if (box.size() != 6) throw std::invalid_argument("--box expects x_min,x_max,y_min,y_max,z_min,z_max");
+  if (box.size() != 6 || !std::all_of(box.begin(), box.end(), [](double v) { return std::abs(v) <= 1e300; }) ||
+      !(box[0] < box[1] && box[2] < box[3] && box[4] < box[5]))
+    throw std::invalid_argument("--box expects x_min,x_max,y_min,y_max,z_min,z_max: within ±1e300, min < max on each axis");
   return Grid::box({box[0], box[2], box[4]}, {box[1], box[3], box[5]}, parse_grid_size(resolution, "--resolution"));
 }
 
 std::string field_csv_legend() {
   return "CSV: a column's unit is its suffix (x_cm, reach_margin_cm, force_iso_N); no\n"
          "suffix: a ratio, count or code. An empty cell has no value: cond, residual,\n"
-         "method_used and the haptic arrays where the sample is unreachable.\n"
+         "method_used and the haptic arrays where the sample is not reachable (reachable 0).\n"
          "status: " + status_codes() + ".\n"
          "method_used: the device's code of the IK method that served (12R: 0 paper,\n"
          "1 planar, 2 newton, 3 dls; Delta: 0 closed, 1 newton; described devices:\n"

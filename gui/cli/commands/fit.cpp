@@ -50,6 +50,10 @@ fit::Problem make_problem(const FitOptions& o, const std::string& command) {
   if (std::none_of(problem.criteria.begin(), problem.criteria.end(), [](const task::Criterion& c) { return c.reach(); }))
     problem.criteria.insert(problem.criteria.begin(), task::parse_criterion("reach"));
   problem.variables = fit::variables(*base, o.free, o.equal, o.bounds, command);
+  // A task volume places x, y, z itself: the pose holds only what follows them.
+  if (device.pose && info.task.size() <= 3)
+    throw std::invalid_argument(command + ": --pose holds the task coordinates after x, y, z, and " + info.name +
+                                "'s task has none (the task's centre is --task ...,centre=x,y,z)");
   if (device.pose) problem.pose = *device.pose;
   problem.ik = device.ik;
   problem.torque = device.torque;

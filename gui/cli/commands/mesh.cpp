@@ -112,7 +112,16 @@ void run_mesh(const MeshOptions& o, std::ostream& out) {
   if (o.decimate > 0) full.emplace();
   const vtkSmartPointer<vtkPolyData> mesh = render::extract_surface(field, request, full ? &*full : nullptr);
   const render::MeshStats s = render::mesh_stats(mesh);
-  if (s.faces == 0) throw std::invalid_argument("mesh: the surface does not occur in the box (nothing written)");
+  if (s.faces == 0) {
+    // Cells wider than the device can step over its whole region.
+    const double cell = grid.spacing.maxCoeff(), size = sampling.mechanism->size();
+    throw std::invalid_argument("mesh: the surface does not occur on the grid (nothing written)" +
+                                (cell > 0.25 * size ? "; its cells are " + format_number(cell) + " " +
+                                                          sampling.mechanism->info().length_unit +
+                                                          " wide against the device's size " + format_number(size) +
+                                                          ": a smaller --box or a finer --resolution may find it"
+                                                    : std::string()));
+  }
   line.step("writing " + o.output);
   render::write_mesh(mesh, o.output, field, request, o.unit);
   line.clear();
