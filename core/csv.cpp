@@ -154,7 +154,8 @@ std::string format_number(double value) {
   return ec == std::errc() ? std::string(buf, ptr) : std::string("nan");
 }
 
-std::string csv_number(double value) { return std::isnan(value) ? std::string() : format_number(value); }
+// + 0.0: a cell of -0 is 0 (the sign of a zero is an artefact of its arithmetic).
+std::string csv_number(double value) { return std::isnan(value) ? std::string() : format_number(value + 0.0); }
 
 std::string csv_column(std::string_view name, std::string_view unit) {
   std::string column(name);

@@ -242,6 +242,10 @@ void apply_overrides(Preset& preset, const std::vector<std::string>& overrides) 
   }
   try {
     validate(preset);  // the new values
+    // Ratings given as parameters hold together (a continuous torque above
+    // the peak) in every command, not only where a haptic measure reads them.
+    if (std::any_of(given.begin(), given.end(), [](const std::string& k) { return motor_parameter(k) != nullptr; }))
+      haptics::device_data(preset, make_mechanism(preset)->info());
   } catch (const std::invalid_argument& e) {
     std::string with;
     for (const std::string& pair : overrides) with += (with.empty() ? "" : " ") + ("--param " + pair);

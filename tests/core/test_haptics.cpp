@@ -367,10 +367,10 @@ TEST(ActuatorData, RatingsAsParametersHoldForEveryActuatorOverTheFile) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("motor ratings: continuous_torque_Nm"), std::string::npos) << e.what();
   }
-  // A continuous rating above the peak is refused where the ratings are read.
+  // A continuous rating above the peak is refused as it is given, in every
+  // command (it was refused only where a haptic measure read the ratings).
   Preset over = load_preset("parallel-12r");
-  apply_overrides(over, {"continuous_torque_Nm=100"});
-  EXPECT_THROW(haptics::device_data(over, m->info()), std::invalid_argument);
+  EXPECT_THROW(apply_overrides(over, {"continuous_torque_Nm=100"}), std::invalid_argument);
 }
 
 // A preset without actuator_data gets the defaults, then the parameters over them.
