@@ -214,6 +214,7 @@ TEST(CliHardening, OptionsThatWouldBeIgnoredOrMeaninglessAreRefused) {
       {"sweep --task sphere:diameter=4 --bounds L1=5:5 --grid 3 -o x.csv", "holds it at one value"},
       {"verify --task sphere:diameter=5 --criterion 'cond<3' --time-limit inf", "seconds from 0 to 1e9"},
       {"describe", "which device?"},
+      {"slice -m pathos2-described --pose 0,0,22.5,0,0,0.5236,-7 -o x.png", "outside pathos2-described's range"},
       {"eval -m delta --param continuous_torque_Nm=5 --ik " + in.string(), "continuous_torque_Nm of q1 exceeds its peak"},
       {"mesh --box 0,1,0,1,0,nan --resolution 12 -o x.stl", "--box expects"},
       {"mesh --box 0,1,0,1,0,1e8 --resolution 12 -o x.stl", "wide against the device's size"},
