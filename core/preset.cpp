@@ -241,11 +241,11 @@ void apply_overrides(Preset& preset, const std::vector<std::string>& overrides) 
     preset.parameters[key] = parse_number_or_throw(text, "parameter " + key);
   }
   try {
-    validate(preset);  // the new values
+    const auto mechanism = make_mechanism(preset);  // the new values, validated
     // Ratings given as parameters hold together (a continuous torque above
     // the peak) in every command, not only where a haptic measure reads them.
     if (std::any_of(given.begin(), given.end(), [](const std::string& k) { return motor_parameter(k) != nullptr; }))
-      haptics::device_data(preset, make_mechanism(preset)->info());
+      haptics::device_data(preset, mechanism->info());
   } catch (const std::invalid_argument& e) {
     std::string with;
     for (const std::string& pair : overrides) with += (with.empty() ? "" : " ") + ("--param " + pair);

@@ -181,13 +181,13 @@ void check_window_options(const CLI::App& app, const WindowOptions& window, bool
   for (const char* option : {"--screenshot", "--view-image", "--session"})
     if (given(option) && app.get_option(option)->as<std::string>().empty())
       throw std::invalid_argument(std::string(option) + " is empty; give a file");
-  std::string runs;
+  std::vector<std::string> runs;
   for (const auto& [option, asked] : {std::pair{"--screenshot", !window.screenshot.empty()},
                                       {"--view-image", !window.view_image.empty()},
                                       {"--latency", window.latency},
                                       {"--shortcuts", shortcuts}})
-    if (asked) runs += (runs.empty() ? "" : " and ") + std::string(option);
-  if (runs.find(" and ") != std::string::npos) throw std::invalid_argument(runs + " each ask for a run of their own; give one");
+    if (asked) runs.push_back(option);
+  if (runs.size() > 1) throw std::invalid_argument(runs[0] + " and " + runs[1] + " each ask for a run of their own; give one");
   if (given("--criterion") && window.task.empty())
     throw std::invalid_argument("--criterion sets the criteria of --task, which is not given");
   if (!window.session.empty() && (given("--mechanism") || given("--param")))

@@ -212,7 +212,6 @@ std::vector<double> armatures(const haptics::DeviceData& data) {
   return out;
 }
 
-// The motor's force or torque limit at the joint, where the preset rates it.
 // Each actuator's peak at its joint (MJCF ctrlrange: N m, or N through a
 // prismatic actuator's lead) as the haptic measures take the ratings: the
 // gear ratio and ratings given as --param included. None where the preset

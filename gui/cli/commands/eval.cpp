@@ -133,23 +133,15 @@ void write_fk(const Mechanism& m, const Table& table, std::ostream& out) {
     (input ? input_index : result_index).push_back(int(k));
     if (input) used.push_back(input_col.emplace_back(table.column(info.task[k].name)));
   }
-  // Seeds: all of seed_<result coordinate> or none (a planar device's
-  // seed_z may be left out, as its targets' z: it is the plane's).
+  // Seeds: all of seed_<result coordinate> or none.
   std::vector<std::size_t> seed_col;
-  std::vector<int> seed_index;  // into info.task
   std::string seed_names;
-  std::size_t wanted = 0;
   for (int k : result_index) {
     const std::string name = "seed_" + info.task[std::size_t(k)].name;
-    const bool given = std::count(table.columns.begin(), table.columns.end(), name) > 0;
-    if (info.plane_z && name == "seed_z" && !given) continue;
     seed_names += (seed_names.empty() ? "" : ",") + name;
-    ++wanted;
-    if (!given) continue;
-    seed_col.push_back(table.column(name));
-    seed_index.push_back(k);
+    if (std::count(table.columns.begin(), table.columns.end(), name)) seed_col.push_back(table.column(name));
   }
-  if (!seed_col.empty() && seed_col.size() != wanted)
+  if (!seed_col.empty() && seed_col.size() != result_index.size())
     throw std::invalid_argument(table.origin + ": give all of the seed columns (" + seed_names + ") or none");
   used.insert(used.end(), seed_col.begin(), seed_col.end());
   require_finite(table, used);
@@ -170,7 +162,7 @@ void write_fk(const Mechanism& m, const Table& table, std::ostream& out) {
     FkOptions fo;
     fo.seed = home;
     for (std::size_t k = 0; k < input_index.size(); ++k) (*fo.seed)(input_index[k]) = row[input_col[k]];
-    for (std::size_t k = 0; k < seed_col.size(); ++k) (*fo.seed)(seed_index[k]) = row[seed_col[k]];
+    for (std::size_t k = 0; k < seed_col.size(); ++k) (*fo.seed)(result_index[k]) = row[seed_col[k]];
     for (std::size_t k = 0; k < q_col.size(); ++k) out << (k ? "," : "") << csv_number(row[q_col[k]]);
     for (std::size_t k = 0; k < input_col.size(); ++k) out << "," << csv_number(row[input_col[k]]);
     const FkResult r = m.forward(q, fo);
@@ -225,11 +217,17 @@ void run_eval(const EvalOptions& o, std::istream& stdin_stream, std::ostream& st
   ik.max_iterations = o.max_iterations;
   const auto start = std::chrono::steady_clock::now();
   Table table = read_input(o.ik_file.empty() ? o.fk_file : o.ik_file, stdin_stream);
-  // A planar device's targets may leave z out: it is the plane's.
-  if (!o.ik_file.empty() && m->info().plane_z &&
-      std::find(table.columns.begin(), table.columns.end(), "z") == table.columns.end()) {
-    table.columns.push_back("z");
-    for (std::vector<double>& row : table.rows) row.push_back(*m->info().plane_z);
+  // A planar device's z is its plane's: its targets, and its FK seeds, may leave it out.
+  const auto has = [&](const std::string& column) {
+    return std::find(table.columns.begin(), table.columns.end(), column) != table.columns.end();
+  };
+  const std::string z = o.ik_file.empty() ? "seed_z" : "z";
+  const bool fk_seeded = o.ik_file.empty() && std::any_of(table.columns.begin(), table.columns.end(), [](const auto& c) {
+                           return c.rfind("seed_", 0) == 0;
+                         });
+  if (info.plane_z && !has(z) && (!o.ik_file.empty() || fk_seeded)) {
+    table.columns.push_back(z);
+    for (std::vector<double>& row : table.rows) row.push_back(*info.plane_z);
   }
   std::ostringstream result;
   if (!o.ik_file.empty()) write_ik(*m, table, ik, result);
