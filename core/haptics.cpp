@@ -303,8 +303,11 @@ bool is_haptic_field(const std::string& name) {
 }
 
 bool add_fields(Field& f, const Mechanism& mechanism, const DeviceData& data, TorqueRating rating,
-                const VectorXd& fixed_task, const IkOptions& ik, int threads, const FieldProgress& progress) {
+                const VectorXd& fixed_task, const IkOptions& ik_options, int threads, const FieldProgress& progress) {
   const MechanismInfo& info = mechanism.info();
+  // The measures are the design branch's: solve that one only.
+  IkOptions ik = ik_options;
+  ik.branch = ik.branch.value_or(0);
   if (fixed_task.size() != Eigen::Index(info.task.size()))
     throw std::invalid_argument("haptic fields: the fixed task needs " + std::to_string(info.task.size()) +
                                 " coordinates, got " + std::to_string(fixed_task.size()));
@@ -324,7 +327,7 @@ bool add_fields(Field& f, const Mechanism& mechanism, const DeviceData& data, To
     for (auto& a : f.extras)
       if (a.name == fi.name) out.push_back(&a.values);
   const bool with_inertia = data.has_inertia();
-  const int branch = ik.branch.value_or(0);
+  const int branch = *ik.branch;
 
   constexpr std::int64_t kChunk = 256;
   const std::int64_t chunks = (std::int64_t(n) + kChunk - 1) / kChunk;

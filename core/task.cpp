@@ -339,8 +339,10 @@ PointValues evaluate_point(const Device& device, const std::vector<Criterion>& c
   const Mechanism& m = *device.mechanism;
   Eigen::VectorXd x = device.fixed_task;
   x.head<3>() = p;
-  const int branch = device.ik.branch.value_or(0);
-  const IkResult ik = m.inverse(x, device.ik);
+  IkOptions one_branch = device.ik;  // the criteria are the design branch's: solve that one only
+  one_branch.branch = device.ik.branch.value_or(0);
+  const int branch = *one_branch.branch;
+  const IkResult ik = m.inverse(x, one_branch);
   const IkSolution* solution = nullptr;
   for (const IkSolution& s : ik.solutions)
     if (s.branch == branch && s.status == Status::Ok) solution = &s;

@@ -81,43 +81,26 @@ class DeltaMechanism final : public Mechanism {
   VectorXd home_task() const override { return home_position(model_); }
   VectorXd home_actuators() const override { return home_pose(model_); }
 
+  // The closed form without a branch gives every branch's assembly, as a
+  // described device does (the design's first); Newton the branch it reaches.
   linkscape::IkResult inverse(const VectorXd& x, const linkscape::IkOptions& o) const override {
     const IkMethod method = parse_ik_method(o.method.empty() ? "closed" : o.method);
-    delta::IkOptions io;
-    io.branch = o.branch.value_or(0);
-    if (o.seed) io.seed = three(*o.seed, "seed");
-    io.tolerance = o.tolerance;
-    io.max_iterations = o.max_iterations;
     if (o.branch && (*o.branch < 0 || *o.branch >= kBranchCount))
       throw std::invalid_argument("delta: branch must be 0..7, got " + std::to_string(*o.branch));
     const Vector3d target = three(x, "x");
-    delta::IkResult r = delta::inverse(model_, target, method, io);
+    if (o.branch || method != IkMethod::Closed) return solve_branch(target, method, o);
     linkscape::IkResult out;
-    // A ball joint beyond its cone: out of limits, the leg and joint named.
-    int stopped_leg = -1;
-    if (r.status == Status::Ok) {
-      const JointStops st = joint_stops(model_, r.q_actuated, target);
-      if (!st.hold()) {
-        r.status = Status::OutOfLimits;
-        stopped_leg = st.leg;
-        out.status_text = "out-of-limits: " + stop_reason(st);
+    for (int b = 0; b < kBranchCount; ++b) {
+      linkscape::IkOptions one = o;
+      one.branch = b;
+      const linkscape::IkResult r = solve_branch(target, method, one);
+      if (b == 0 || (r.status == Status::Ok && out.status != Status::Ok)) {
+        out.status = r.status;
+        out.failing_part = r.failing_part;
+        out.status_text = r.status_text;
       }
+      out.solutions.insert(out.solutions.end(), r.solutions.begin(), r.solutions.end());
     }
-    // Each leg is regular at a type II singularity, but J is singular there:
-    // singular wherever measures() says so.
-    if (r.status == Status::Ok && delta::jacobian(model_, r.q_actuated, target).status != Status::Ok)
-      r.status = Status::Singular;
-    out.status = r.status;
-    if (stopped_leg >= 0) out.failing_part = std::to_string(stopped_leg + 1);
-    for (int k = 0; k < kLegCount; ++k)
-      if (r.leg_status[k] != Status::Ok && out.failing_part.empty()) out.failing_part = std::to_string(k + 1);
-    // Newton reports the branch it reached; a requested branch is kept only if met.
-    if (r.status == Status::Unreachable) return out;
-    if (o.branch && r.branch != *o.branch) {
-      out.status = Status::NotConverged;
-      return out;
-    }
-    out.solutions.push_back({r.q_actuated, r.branch, r.status, r.residual, r.iterations, std::string(to_string(r.method)), {}});
     return out;
   }
 
@@ -126,7 +109,11 @@ class DeltaMechanism final : public Mechanism {
     if (o.seed) fo.seed = three(*o.seed, "seed");
     fo.tolerance = o.tolerance;
     fo.max_iterations = o.max_iterations;
-    const delta::FkResult r = delta::forward(model_, three(q, "q"), parse_fk_method(o.method.empty() ? "closed" : o.method), fo);
+    delta::FkResult r = delta::forward(model_, three(q, "q"), parse_fk_method(o.method.empty() ? "closed" : o.method), fo);
+    // Of the closed form's two assembly modes, the one nearer the seed (the
+    // window's last pose: no jump to the mirror image through the elbows).
+    if (o.seed && r.method == FkMethod::Closed && (r.p_other_mode - *fo.seed).norm() < (r.p_base_platform - *fo.seed).norm())
+      std::swap(r.p_base_platform, r.p_other_mode);
     linkscape::FkResult out;
     out.status = r.status;
     // A pose beyond a ball joint's cone is out of limits, as IK says of it.
@@ -272,6 +259,42 @@ class DeltaMechanism final : public Mechanism {
   }
 
  private:
+  // One branch (o.branch, else 0) by the closed form, or Newton from its seed.
+  linkscape::IkResult solve_branch(const Vector3d& target, IkMethod method, const linkscape::IkOptions& o) const {
+    delta::IkOptions io;
+    io.branch = o.branch.value_or(0);
+    if (o.seed) io.seed = three(*o.seed, "seed");
+    io.tolerance = o.tolerance;
+    io.max_iterations = o.max_iterations;
+    delta::IkResult r = delta::inverse(model_, target, method, io);
+    linkscape::IkResult out;
+    // A ball joint beyond its cone: out of limits, the leg and joint named.
+    int stopped_leg = -1;
+    if (r.status == Status::Ok) {
+      const JointStops st = joint_stops(model_, r.q_actuated, target);
+      if (!st.hold()) {
+        r.status = Status::OutOfLimits;
+        stopped_leg = st.leg;
+        out.status_text = "out-of-limits: " + stop_reason(st);
+      }
+    }
+    // Each leg is regular at a type II singularity, but J is singular there:
+    // singular wherever measures() says so.
+    if (r.status == Status::Ok && delta::jacobian(model_, r.q_actuated, target).status != Status::Ok)
+      r.status = Status::Singular;
+    out.status = r.status;
+    if (stopped_leg >= 0) out.failing_part = std::to_string(stopped_leg + 1);
+    for (int k = 0; k < kLegCount; ++k)
+      if (r.leg_status[k] != Status::Ok && out.failing_part.empty()) out.failing_part = std::to_string(k + 1);
+    // Newton reports the branch it reached; a requested branch is kept only if met.
+    if (r.status == Status::Unreachable) return out;
+    if (o.branch && r.branch != *o.branch) {
+      out.status = Status::NotConverged;
+      return out;
+    }
+    out.solutions.push_back({r.q_actuated, r.branch, r.status, r.residual, r.iterations, std::string(to_string(r.method)), {}});
+    return out;
+  }
   Model model_;
   MechanismInfo info_;
 };

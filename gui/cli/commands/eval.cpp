@@ -159,8 +159,11 @@ void write_fk(const Mechanism& m, const Table& table, std::ostream& out) {
   for_each_row(table, [&](const std::vector<double>& row) {
     Eigen::VectorXd q(Eigen::Index(q_col.size()));
     for (std::size_t k = 0; k < q_col.size(); ++k) q(Eigen::Index(k)) = row[q_col[k]];
+    // A seed only where the row gives one (or the inputs it carries): a
+    // closed form's default mode is the device's working one, not the one
+    // nearer home.
     FkOptions fo;
-    fo.seed = home;
+    if (!seed_col.empty() || !input_col.empty()) fo.seed = home;
     for (std::size_t k = 0; k < input_index.size(); ++k) (*fo.seed)(input_index[k]) = row[input_col[k]];
     for (std::size_t k = 0; k < seed_col.size(); ++k) (*fo.seed)(result_index[k]) = row[seed_col[k]];
     for (std::size_t k = 0; k < q_col.size(); ++k) out << (k ? "," : "") << csv_number(row[q_col[k]]);

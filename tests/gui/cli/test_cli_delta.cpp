@@ -41,7 +41,7 @@ TEST(CliDelta, ForwardAndInverseRoundTripAtAHundredThousandPoints) {
     source.push_back(i);
   }
   ASSERT_GT(source.size(), 90000u);  // most of the box of ranges assembles
-  const auto ik = run_linkscape("eval -m delta --joint-limits off --ik " + temp_file("delta_x.csv", targets).string());
+  const auto ik = run_linkscape("eval -m delta --joint-limits off --branch 0 --ik " + temp_file("delta_x.csv", targets).string());
   ASSERT_EQ(ik.exit_code, 0) << ik.out.substr(0, 400);
   const auto ik_rows = parse_cells(ik.out);
   ASSERT_EQ(ik_rows.size(), source.size());
@@ -57,10 +57,7 @@ TEST(CliDelta, ForwardAndInverseRoundTripAtAHundredThousandPoints) {
     const auto& q0 = fk_rows[source[i]];
     const Eigen::Vector3d a(std::stod(q0.at("q1")), std::stod(q0.at("q2")), std::stod(q0.at("q3")));
     const Eigen::Vector3d b(std::stod(r.at("q1")), std::stod(r.at("q2")), std::stod(r.at("q3")));
-    Eigen::VectorXd x(3);
-    x << std::stod(r.at("x")), std::stod(r.at("y")), std::stod(r.at("z"));
-    linkscape::IkOptions probe;
-    if (m->inverse(x, probe).solutions.front().branch == 0 && (a - b).cwiseAbs().maxCoeff() < 0.5)
+    if ((a - b).cwiseAbs().maxCoeff() < 0.5)
       worst_angle = std::max(worst_angle, (a - b).cwiseAbs().maxCoeff());
   }
   EXPECT_GT(solved.size(), source.size() / 2);  // branch 0 serves most of the workspace
@@ -84,7 +81,7 @@ TEST(CliDelta, ForwardAndInverseRoundTripAtAHundredThousandPoints) {
 
 TEST(CliDelta, UnreachableTargetsGetAStatusAndBothIkMethodsAgree) {
   const fs::path in = temp_file("delta_targets.csv", "x,y,z\n0,0,-16.5\n3,2,-18\n-4,1,-20\n0,0,-40\n60,0,-10\n");
-  const auto closed = run_linkscape("eval -m delta --ik " + in.string());
+  const auto closed = run_linkscape("eval -m delta --branch 0 --ik " + in.string());
   const auto newton = run_linkscape("eval -m delta --ik " + in.string() + " --method newton");
   ASSERT_EQ(closed.exit_code, 0) << closed.out;
   ASSERT_EQ(newton.exit_code, 0) << newton.out;
@@ -100,6 +97,61 @@ TEST(CliDelta, UnreachableTargetsGetAStatusAndBothIkMethodsAgree) {
   EXPECT_EQ(a[3].at("status"), "unreachable");
   EXPECT_EQ(a[4].at("status"), "unreachable");
   EXPECT_EQ(a[3].at("q1"), "");  // never a number for a target that has none
+}
+
+// Without --branch, every assembly is a row, as the described Delta gives
+// them: the same branches, statuses and angles.
+TEST(CliDelta, WithoutABranchEveryAssemblyIsARowAsTheDescribedDeltaGives) {
+  const fs::path in = temp_file("delta_branches.csv", "x,y,z\n0,0,-20\n3,2,-18\n-4,1,-20\n0,0,-40\n");
+  const auto compiled = run_linkscape("eval -m delta --ik " + in.string());
+  const auto described = run_linkscape("eval -m delta-described --ik " + in.string());
+  ASSERT_EQ(compiled.exit_code, 0) << compiled.out;
+  ASSERT_EQ(described.exit_code, 0) << described.out;
+  const auto a = parse_cells(compiled.out), b = parse_cells(described.out);
+  ASSERT_EQ(a.size(), b.size());
+  ASSERT_GE(a.size(), 3u * 8u + 1u);  // three targets close on all eight branches
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    for (const char* c : {"x", "y", "z", "branch", "status"}) EXPECT_EQ(a[i].at(c), b[i].at(c)) << "row " << i << " " << c;
+    if (a[i].at("q1").empty()) continue;
+    for (const char* q : {"q1", "q2", "q3"}) EXPECT_NEAR(std::stod(a[i].at(q)), std::stod(b[i].at(q)), 1e-9) << "row " << i;
+  }
+  EXPECT_EQ(a.back().at("status"), "unreachable");
+}
+
+// The closed form's two assembly modes: without seed columns the working
+// one; seeded near the other (found by Newton from above), the other.
+TEST(CliDelta, ForwardSeedsPickTheAssemblyMode) {
+  const auto m = linkscape::make_mechanism(linkscape::load_preset("delta"));
+  const Eigen::VectorXd q = m->home_actuators();
+  const Eigen::VectorXd working = m->forward(q).x;
+  linkscape::FkOptions above;
+  above.method = "newton";
+  above.seed = working + Eigen::Vector3d(0, 0, 40);
+  const linkscape::FkResult other = m->forward(q, above);
+  // Its ball joints beyond their cones: out of limits, but a pose.
+  ASSERT_EQ(other.status, linkscape::Status::OutOfLimits);
+  ASSERT_GT((other.x - working).norm(), 5.0);
+  std::string rows = "q1,q2,q3,seed_x,seed_y,seed_z\n";
+  for (const Eigen::VectorXd& seed : {working, other.x}) {
+    for (int k = 0; k < 3; ++k) rows += linkscape::format_number(q(k)) + ",";
+    rows += linkscape::format_number(seed(0) + 0.5) + "," + linkscape::format_number(seed(1)) + "," +
+            linkscape::format_number(seed(2) - 0.5) + "\n";
+  }
+  std::string unseeded = "q1,q2,q3\n";
+  for (int k = 0; k < 3; ++k) unseeded += linkscape::format_number(q(k)) + (k < 2 ? "," : "\n");
+  const auto seeded = run_linkscape("eval -m delta --fk " + temp_file("delta_modes.csv", rows).string());
+  const auto plain = run_linkscape("eval -m delta --fk " + temp_file("delta_mode.csv", unseeded).string());
+  ASSERT_EQ(seeded.exit_code, 0) << seeded.out;
+  ASSERT_EQ(plain.exit_code, 0) << plain.out;
+  const auto a = parse_cells(seeded.out), b = parse_cells(plain.out);
+  ASSERT_EQ(a.size(), 2u);
+  ASSERT_EQ(b.size(), 1u);
+  const auto pose = [](const auto& row) {
+    return Eigen::Vector3d(std::stod(row.at("x")), std::stod(row.at("y")), std::stod(row.at("z")));
+  };
+  EXPECT_LT((pose(a[0]) - working).norm(), 1e-9);
+  EXPECT_LT((pose(a[1]) - other.x).norm(), 1e-9);
+  EXPECT_LT((pose(b[0]) - working).norm(), 1e-9);
 }
 
 TEST(CliDelta, SliceFieldAndMeshRun) {

@@ -140,6 +140,28 @@ TEST(DeviceState, ForwardKinematicsRoundTripsInverse) {
   }
 }
 
+// Actuator sliders on another branch than the design's (travel widened, the
+// ball joints' cones off): forward kinematics keeps the branch the arms
+// are on, on the compiled and the described Delta alike.
+TEST(DeviceState, ActuatorsOnAnotherBranchKeepIt) {
+  for (const char* name : {"delta", "delta-described"}) {
+    Preset p = load_preset(name);
+    for (const char* q : {"q1", "q2", "q3"}) p.limits_deg[q] = Range{-180.0, 180.0};
+    p.checks.joint_limits = false;
+    DeviceState s(p);
+    const Eigen::Vector3d target = s.endpoint() + Eigen::Vector3d(1.0, -0.5, 0.5);
+    for (int branch = 1; branch < 8; ++branch) {
+      ASSERT_TRUE(s.move_endpoint_to(target, branch)) << name << " branch " << branch << ": " << s.refusal();
+      ASSERT_EQ(s.branch(), branch) << name;
+      Eigen::VectorXd q = s.actuators();
+      q(0) += 0.01;
+      ASSERT_TRUE(s.set_actuators(q)) << name << ": " << s.refusal();
+      EXPECT_EQ(s.branch(), branch) << name;
+      EXPECT_LT(fk_error(s), 1e-9) << name;
+    }
+  }
+}
+
 TEST(DeviceState, PathosNamesTheFailingLeg) {
   DeviceState s(load_preset("pathos2"));
   const Eigen::VectorXd x = s.task();
