@@ -55,14 +55,20 @@ std::vector<double> turns(bool wraps, const Interval& a, const Range& range) {
 }  // namespace
 
 bool certainly_within(Interval c, Interval s, const Range& range, bool wraps) {
+  if (range.lo == -kInf && range.hi == kInf) return true;  // a range that cuts nothing
   const std::optional<Interval> a = angle_enclosure(c, s);
   if (!a) return false;
+  const auto holds = [&](double lo, double hi) { return lo >= range.lo + kAngleMargin && hi <= range.hi - kAngleMargin; };
+  // Without wrapping the device's angle is in (-pi, pi]: an enclosure around
+  // pi is two pieces, [lo, pi] and (-pi, hi - 2 pi], and both must hold.
+  if (!wraps && a->hi > kPi) return holds(a->lo, kPi) && holds(-kPi, a->hi - 2 * kPi);
   for (double shift : turns(wraps, *a, range))
-    if (a->lo + shift >= range.lo + kAngleMargin && a->hi + shift <= range.hi - kAngleMargin) return true;
+    if (holds(a->lo + shift, a->hi + shift)) return true;
   return false;
 }
 
 bool certainly_outside(Interval c, Interval s, const Range& range, bool wraps) {
+  if (range.lo == -kInf && range.hi == kInf) return false;
   const std::optional<Interval> a = angle_enclosure(c, s);
   if (!a) return false;
   // Without wrapping the device's angle is in (-pi, pi]: an enclosure around pi is both ends.
@@ -74,13 +80,18 @@ bool certainly_outside(Interval c, Interval s, const Range& range, bool wraps) {
 
 namespace {
 
-// Whether no range cuts the workspace: each holds `full` (or, where angles
-// wrap, spans a whole turn).
-bool full_turns(const std::array<Range, 3>& ranges, const std::array<Range, 3>& full, bool wraps) {
-  for (int k = 0; k < 3; ++k)
-    if ((ranges[k].lo > full[k].lo || ranges[k].hi < full[k].hi) && !(wraps && ranges[k].hi - ranges[k].lo >= 2 * kPi))
-      return false;
-  return true;
+// Each range that holds every angle the device takes (`full`, or, where
+// angles wrap, a whole turn) made the whole line, so that it is never
+// checked; whether any range is left that cuts the workspace.
+bool open_full_ranges(std::array<Range, 3>& ranges, const std::array<Range, 3>& full, bool wraps) {
+  bool cuts = false;
+  for (int k = 0; k < 3; ++k) {
+    if ((ranges[k].lo <= full[k].lo && ranges[k].hi >= full[k].hi) || (wraps && ranges[k].hi - ranges[k].lo >= 2 * kPi))
+      ranges[k] = Range{-kInf, kInf};
+    else
+      cuts = true;
+  }
+  return cuts;
 }
 
 // ---- Singular values of a point matrix ---------------------------------------------------
@@ -274,7 +285,7 @@ Certifier Certifier::from_preset(const Preset& preset, int branch, double cond_b
     c.L1 = m.L1, c.L2 = m.L2;
     c.ranges = {Range{m.alpha_limits.lo, m.alpha_limits.hi}, Range{m.beta_limits.lo, m.beta_limits.hi},
                 Range{m.gamma_limits.lo, m.gamma_limits.hi}};
-    c.check_ranges = !full_turns(c.ranges, {Range{-kPi / 2, kPi / 2}, Range{-kPi, kPi}, Range{-kPi, kPi}}, false);
+    c.check_ranges = open_full_ranges(c.ranges, {Range{-kPi / 2, kPi / 2}, Range{-kPi, kPi}, Range{-kPi, kPi}}, false);
     return c;
   }
   if (preset.mechanism == delta::kMechanismName) {
@@ -287,7 +298,7 @@ Certifier Certifier::from_preset(const Preset& preset, int branch, double cond_b
     c.delta = {m.R, m.r, m.La, m.Lb, branch};
     for (int k = 0; k < 3; ++k) c.ranges[k] = {m.q_limits[k].lo, m.q_limits[k].hi};
     c.wraps = true;
-    c.check_ranges = !full_turns(c.ranges, {Range{-kPi, kPi}, Range{-kPi, kPi}, Range{-kPi, kPi}}, true);
+    c.check_ranges = open_full_ranges(c.ranges, {Range{-kPi, kPi}, Range{-kPi, kPi}, Range{-kPi, kPi}}, true);
     return c;
   }
   if (preset.mechanism == described::kMechanismName) {

@@ -141,12 +141,20 @@ class DescribedMechanism final : public Mechanism {
       // solution nearest q with each leg closed on the fastest path; so
       // here, for the numerical solver, which at a stretched leg stops
       // about sqrt(residual) short of it (an ok row never carries c(J) = inf).
+      // A numerical answer within the tolerance of a fold that no leg
+      // closes exactly (a pose a hair past a stretched leg's reach) is
+      // singular too: measures() finds no exact solution there.
       if (s.status == Status::Ok) {
         const PoseSolution near = solver == LegSolver::Numeric ? kin_.inverse_near(xm, s.q) : PoseSolution{};
-        const JacobianParts parts = kin_.jacobian(xm, near.status == Status::Ok && !near.legs.empty() ? near : s);
-        if (parts.status != Status::Ok) {
+        if (solver == LegSolver::Numeric && near.status != Status::Ok) {
           s.status = Status::Singular;
-          s.failing_leg = parts.singular_leg;
+          s.failing_leg = near.failing_leg;
+        } else {
+          const JacobianParts parts = kin_.jacobian(xm, near.status == Status::Ok && !near.legs.empty() ? near : s);
+          if (parts.status != Status::Ok) {
+            s.status = Status::Singular;
+            s.failing_leg = parts.singular_leg;
+          }
         }
       }
       if (b == first || (s.status == Status::Ok && out.status != Status::Ok)) {

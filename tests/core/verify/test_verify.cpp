@@ -155,6 +155,38 @@ TEST(Verify, APartOutOfReachIsNeverProved) {
   }
 }
 
+// The 12R's angles are in (-pi, pi] and its ranges do not wrap: with beta's
+// travel 100 to 200 deg, a beta just past -180 deg is outside it. A sphere
+// whose boxes' beta enclosures cross pi holds such points (a cap about 1e-5
+// deep) and is never proved; a range that holds every angle (gamma's, and
+// beta's once opened) is not checked, so that a small sphere about the same
+// place is proved with alpha's travel cut.
+TEST(Verify, The12rRangesAreHeldAsTheDeviceHoldsItsAnglesAcrossPi) {
+  Preset wrapped = load_preset("parallel-12r");
+  wrapped.limits_deg["alpha"] = Range{-90, 90};
+  wrapped.limits_deg["beta"] = Range{100, 200};
+  wrapped.limits_deg["gamma"] = Range{-180, 180};
+  const task::TaskVolume sphere = task::parse_task("sphere:diameter=2,centre=3.74512453603,-3.89025038154,12.7999879042");
+  const Vector3d inside(4.16125344013357, -4.32250328021764, 11.9999927999929);  // beta = -179.99994 deg
+  ASSERT_TRUE(sphere.contains(inside, *sphere.centre));
+  const task::Device d = device_of(wrapped);
+  ASSERT_FALSE(task::evaluate_point(d, task::resolve(d, criteria({"reach"})), inside).reachable);
+  Options o;
+  o.time_limit_seconds = 20;
+  const Result r = verify(wrapped, sphere, criteria({"reach"}), o);
+  EXPECT_NE(r.verdict, Verdict::Proved);
+  if (r.counterexample)
+    EXPECT_FALSE(task::evaluate_point(d, task::resolve(d, criteria({"reach"})), r.counterexample->point).reachable);
+
+  Preset cut = load_preset("parallel-12r");
+  cut.limits_deg["alpha"] = Range{-80, 80};
+  const task::TaskVolume small = task::parse_task("sphere:diameter=0.2,centre=4.16125,-4.3225,12");
+  o.time_limit_seconds = 60;
+  const Result proved = verify(cut, small, criteria({"reach"}), o);
+  EXPECT_EQ(proved.verdict, Verdict::Proved);
+  EXPECT_LT(proved.boxes, 100);
+}
+
 TEST(Verify, BoxesOpenAtTheDepthLimitAreAnUndecidedVolume) {
   const double L = 1.01;
   const task::TaskVolume task = seed_task(L);

@@ -249,6 +249,22 @@ TEST(DescribedStatuses, AFoldedLegIsSingularForBothSolversAndKeepsItsRows) {
     }
     EXPECT_EQ(singular, 2) << method;
   }
+  // A hair past the fold (4e-10 and 1e-9 cm, within the tolerance) no leg closes
+  // exactly: the closed form says unreachable, and the numerical solver,
+  // closing within its tolerance, singular, never ok with c(J) = inf.
+  IkOptions newton;
+  newton.method = "newton";
+  for (double past : {4e-10, 1e-9}) {
+    const VectorXd beyond = (VectorXd(3) << -3, -4 + past, 0).finished();
+    EXPECT_EQ(m->inverse(beyond).status, Status::Unreachable) << past;
+    const IkResult r = m->inverse(beyond, newton);
+    int singular = 0;
+    for (const IkSolution& s : r.solutions) {
+      EXPECT_NE(s.status, Status::Ok) << past << " branch " << s.branch;
+      singular += s.status == Status::Singular;
+    }
+    EXPECT_EQ(singular, 2) << past;
+  }
 }
 
 }  // namespace
