@@ -1,5 +1,6 @@
 // Forward kinematics of a described mechanism, and its construction: each
 // leg solved at home on every branch, the mobility checked.
+#include <Eigen/Cholesky>
 #include <Eigen/LU>
 #include <atomic>
 #include <set>
@@ -16,6 +17,25 @@ using namespace internal;  // its Eigen names too
 
 namespace {
 std::atomic<std::uint64_t> next_id{1};
+
+// How well an ok forward answer knows the pose, a fraction of the size: as
+// IK's default tolerance.
+constexpr double kPoseAccuracy = 1e-10;
+
+// |(J^+)_pose| |e| (Frobenius over the first `pose` unknowns), the pose's
+// first-order error for a closure error of norm `e`: the square root of the
+// pose block's trace of (J^T J)^-1, each singular direction weighted by its
+// pose part over its singular value. A tiny ridge keeps the null directions
+// of passive joints alone (no pose part) from dividing by zero.
+double pose_error_bound(const MatrixXd& J, int pose, double e) {
+  if (e == 0.0) return 0.0;
+  MatrixXd N = J.transpose() * J;
+  N.diagonal().array() += 1e-28 * N.trace();
+  const Eigen::LDLT<MatrixXd> ldlt(N);
+  const MatrixXd X = ldlt.solve(MatrixXd::Identity(N.rows(), pose));
+  const double trace = X.topRows(pose).trace();
+  return std::isfinite(trace) && trace >= 0 ? e * std::sqrt(trace) : kInf;
+}
 }  // namespace
 
 // ---- Forward kinematics -------------------------------------------------------------
@@ -23,7 +43,8 @@ std::atomic<std::uint64_t> next_id{1};
 ForwardSolution Kinematics::forward(const VectorXd& q, const VectorXd& seed, double tolerance,
                                     int max_iterations) const {
   ForwardSolution out = forward_from(q, seed, tolerance, max_iterations);
-  if (out.status == Status::Ok) return out;
+  const auto answers = [](const ForwardSolution& f) { return f.status == Status::Ok || f.status == Status::Singular; };
+  if (answers(out)) return out;
   // Far from the seed, Gauss-Newton can stall where the closure's rank drops
   // on the way (a parallelogram leg's redundant orientation rows): follow the
   // actuators from the seed's to q in equal steps, each solved from the last,
@@ -41,9 +62,9 @@ ForwardSolution Kinematics::forward(const VectorXd& q, const VectorXd& seed, dou
       step = forward_from(k == pieces ? q : VectorXd(start.q + path * (double(k) / pieces)), step.x, tolerance,
                           max_iterations);
       iterations += step.iterations;
-      if (step.status != Status::Ok) break;
+      if (step.status != Status::Ok) break;  // a singular end only at q itself
     }
-    if (step.status == Status::Ok) {
+    if (answers(step)) {
       step.iterations = iterations;
       return step;
     }
@@ -129,7 +150,8 @@ ForwardSolution Kinematics::forward_from(const VectorXd& q, const VectorXd& seed
   VectorXd e = errors(x, legs, p, chains);
   double norm = e.norm();
   int it = 0;
-  for (; it < max_iterations && norm > 1e-15; ++it) {
+  // The closure's derivative in the unknowns at the current pose and chains.
+  auto closure_jacobian = [&] {
     MatrixXd J = MatrixXd::Zero(rows, unknowns);
     for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
       const Leg& l = model_.legs[leg];
@@ -143,6 +165,10 @@ ForwardSolution Kinematics::forward_from(const VectorXd& q, const VectorXd& seed
         if (v != act_var)
           J.block(Index(leg) * m, offset[leg] + col++, m, 1) = rows_of(twist(c, v, r, model_.size), model_.planar);
     }
+    return J;
+  };
+  for (; it < max_iterations && norm > 1e-15; ++it) {
+    const MatrixXd J = closure_jacobian();
     VectorXd d = damped_step(J, e);
     limit_step(d, length_unknowns, model_.size);
     bool accepted = false;
@@ -179,6 +205,14 @@ ForwardSolution Kinematics::forward_from(const VectorXd& q, const VectorXd& seed
   out.residual = norm * model_.size;
   out.iterations = std::min(it, max_iterations);
   out.status = norm <= tolerance ? Status::Ok : Status::NotConverged;
+  // A small closure error pins the pose only where the closure is well
+  // conditioned in it: at a type II singularity a residual of 1e-15 leaves
+  // the pose 1e-7 of the size off. Where the first-order pose error,
+  // |(J^+)_pose| |e|, exceeds what an ok IK answer promises (1e-10 of the
+  // size), the pose is not known: singular. Null directions of the legs'
+  // passive joints alone (a parallelogram's) have no pose part.
+  if (out.status == Status::Ok && pose_error_bound(closure_jacobian(), n, norm) > std::max(tolerance, kPoseAccuracy))
+    out.status = Status::Singular;
   // An assembly whose legs break the design's own branch rules (a "sign" in
   // the description) is not this device: report it as not converged.
   if (out.status == Status::Ok) {

@@ -538,6 +538,23 @@ TEST_F(StewartDevice, StabilitySweepsApproachTheParallelSet) {
         EXPECT_NEAR(smallest(a.target(eps, k)) / far, eps / 1e-2, 0.05 * eps / 1e-2) << "path " << k << " eps " << eps;
       EXPECT_GT(screws(a.target(1e-2, k)).determinant() * home_det, 0.0) << "path " << k << " starts on home's side";
       EXPECT_LT(screws(a.target(-1e-3, k)).determinant() * home_det, 0.0) << "path " << k << " crosses the set";
+      // Forward kinematics of the slides there, from a seed nearby: the
+      // closure pins no pose to 1e-10 of the size, so never ok (a pose
+      // 1e-7 off had been); 1e-2 of the way back, the pose itself (the
+      // paths ignore the slides' travel).
+      for (const double eps : {0.0, 1e-2}) {
+        const IkResult ik = m->inverse(a.target(eps, k));
+        ASSERT_FALSE(ik.solutions.empty()) << "path " << k;
+        FkOptions o;
+        o.seed = a.target(eps + 1e-3, k);
+        const FkResult fk = m->forward(ik.solutions.front().q, o);
+        if (eps == 0.0) {
+          EXPECT_EQ(fk.status, Status::Singular) << "path " << k;
+        } else {
+          EXPECT_TRUE(fk.status == Status::Ok || fk.status == Status::OutOfLimits) << "path " << k;  // slides' travel
+          EXPECT_LT((fk.x - a.target(eps, k)).norm(), 1e-9 * m->size()) << "path " << k;
+        }
+      }
     }
   }
   EXPECT_GE(paths, 3);
