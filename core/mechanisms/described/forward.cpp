@@ -395,6 +395,20 @@ Kinematics::Kinematics(Model model) : model_(std::move(model)), id_(next_id++) {
       throw std::invalid_argument(msg.str());
     }
   }
+  // A rule that is 0 at home chooses nothing there (a direction normal to
+  // a planar device's plane, a triple that names one joint twice, a leg
+  // folded at home): its branches would be one assembly.
+  const PlatformPose home_pose = pose(model_.home);
+  for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
+    const Leg& l = model_.legs[leg];
+    const std::vector<double> scales = rule_scales(int(leg), *home_states_[leg][0], anchor(int(leg), home_pose));
+    for (std::size_t r = 0; r < scales.size(); ++r)
+      if (std::abs(scales[r]) <= 1e-9)
+        throw std::invalid_argument("description.legs \"" + l.name + "\": branch rule " + std::to_string(r + 1) +
+                                    " is 0 at home, so it does not tell the assemblies apart there (a direction "
+                                    "normal to a planar device's plane, a triple naming one joint twice, or a leg "
+                                    "folded or stretched at home?)");
+  }
 }
 
 bool Kinematics::home_toward(int leg, int combo, const Isometry3d& anchor, LegState& out) const {

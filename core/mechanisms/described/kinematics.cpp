@@ -64,20 +64,32 @@ double Kinematics::wrap(double a) const {
 // ---- Branch rules ------------------------------------------------------------
 
 namespace {
+// A triple or along rule's value at a walked chain (length^2 or length).
+double rule_value(const BranchRule& r, const Chain& c, const Isometry3d& anchor) {
+  auto centre = [&](int step) { return step == -2 ? anchor.translation() : c.step_centre[std::size_t(step)]; };
+  if (r.kind == BranchRule::Kind::Along) return (centre(r.steps[1]) - centre(r.steps[0])).dot(r.direction);
+  const Vector3d a = centre(r.steps[0]), b = centre(r.steps[1]);
+  return (b - a).cross(centre(r.steps[2]) - b).dot(c.step_axis[std::size_t(r.steps[0])]);
+}
+
 // The sign of one rule at a walked chain.
 int rule_sign(const BranchRule& r, const Leg& l, const Chain& c, const LegState& state, const Isometry3d& anchor) {
-  auto centre = [&](int step) { return step == -2 ? anchor.translation() : c.step_centre[std::size_t(step)]; };
   if (r.kind == BranchRule::Kind::Angle) return sine_sign(state.values(l.steps[std::size_t(r.steps[0])].variable));
-  double v = 0;
-  if (r.kind == BranchRule::Kind::Along) {
-    v = (centre(r.steps[1]) - centre(r.steps[0])).dot(r.direction);
-  } else {
-    const Vector3d a = centre(r.steps[0]), b = centre(r.steps[1]);
-    v = (b - a).cross(centre(r.steps[2]) - b).dot(c.step_axis[std::size_t(r.steps[0])]);
-  }
+  const double v = rule_value(r, c, anchor);
   return v > 0 ? 1 : v < 0 ? -1 : 0;
 }
 }  // namespace
+
+std::vector<double> Kinematics::rule_scales(int leg, const LegState& state, const Isometry3d& anchor) const {
+  const Leg& l = model_.legs[std::size_t(leg)];
+  const Chain c = walk(l, state);
+  std::vector<double> out;
+  for (const BranchRule& r : l.rules) {
+    if (r.kind == BranchRule::Kind::Angle) out.push_back(std::sin(state.values(l.steps[std::size_t(r.steps[0])].variable)));
+    else out.push_back(rule_value(r, c, anchor) / std::pow(model_.size, r.kind == BranchRule::Kind::Along ? 1 : 2));
+  }
+  return out;
+}
 
 std::vector<int> Kinematics::rule_signs(int leg, const LegState& state, const Isometry3d& anchor) const {
   const Leg& l = model_.legs[std::size_t(leg)];

@@ -225,6 +225,9 @@ class Kinematics {
   // states none or they are switched off).
   bool leg_limits_hold(int leg, const LegState& state) const;
   std::vector<int> rule_signs(int leg, const LegState& state, const Eigen::Isometry3d& anchor) const;
+  // Each rule's value over the size (a triple over its square, an angle's
+  // sine): how far the state is from the rule's zero.
+  std::vector<double> rule_scales(int leg, const LegState& state, const Eigen::Isometry3d& anchor) const;
 
   Model model_;
   Mobility mobility_;

@@ -149,6 +149,27 @@ TEST(DescriptionErrors, ADeviceSingularAtHomeIsRefused) {
   EXPECT_EQ(error_after([](json&) {}), "no error");
 }
 
+// A branch rule that is 0 at home cannot choose an assembly there: a
+// direction normal to a planar device's plane, a triple naming one joint
+// twice. Each had loaded, and a field mixed both elbows.
+TEST(DescriptionErrors, ABranchRuleThatIsZeroAtHomeIsRefused) {
+  const auto five_bar_after = [](const std::function<void(json&)>& edit) {
+    std::ifstream in(std::string(LINKSCAPE_TEST_ASSETS) + "/mechanisms/five-bar.json");
+    json d = json::parse(in);
+    edit(d);
+    return error_of_text(d.dump());
+  };
+  const std::string normal = five_bar_after([](json& d) {
+    d["description"]["legs"][0]["branch"] = {{"along", {"q1", "elbow1"}}, {"direction", {0, 0, 1}}};
+  });
+  expect_contains(normal, {"broken.json", "legs \"left\"", "branch rule 1 is 0 at home", "planar"});
+  const std::string twice = five_bar_after([](json& d) {
+    d["description"]["legs"][1]["branch"] = {{"triple", {"q2", "q2", "tip2"}}};
+  });
+  expect_contains(twice, {"legs \"right\"", "branch rule 1 is 0 at home", "one joint twice"});
+  EXPECT_EQ(five_bar_after([](json&) {}), "no error");
+}
+
 TEST(DescriptionErrors, UnknownKeyIsNamedWithTheKnownOnes) {
   const std::string m = error_after([](json& d) { d["description"]["legs"][0]["anchors"] = json::array(); });
   expect_contains(m, {"description.legs[0]", "unknown key 'anchors'", "anchor"});
