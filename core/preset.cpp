@@ -242,14 +242,16 @@ void apply_overrides(Preset& preset, const std::vector<std::string>& overrides) 
   }
   try {
     const auto mechanism = make_mechanism(preset);  // the new values, validated
-    // Ratings given as parameters hold together (a continuous torque above
-    // the peak) in every command, not only where a haptic measure reads them.
-    if (std::any_of(given.begin(), given.end(), [](const std::string& k) { return motor_parameter(k) != nullptr; }))
+    // Ratings, the preset's and those given as parameters, hold together (a
+    // continuous torque above the peak, an actuator the device lacks) in
+    // every command, not only where a haptic measure reads them.
+    if (preset.actuator_data.given ||
+        std::any_of(given.begin(), given.end(), [](const std::string& k) { return motor_parameter(k) != nullptr; }))
       haptics::device_data(preset, mechanism->info());
   } catch (const std::invalid_argument& e) {
     std::string with;
-    for (const std::string& pair : overrides) with += (with.empty() ? "" : " ") + ("--param " + pair);
-    throw std::invalid_argument(preset_reference(preset) + " with " + with + ": " + e.what());
+    for (const std::string& pair : overrides) with += (with.empty() ? " with " : " ") + ("--param " + pair);
+    throw std::invalid_argument(preset_reference(preset) + with + ": " + e.what());
   }
 }
 

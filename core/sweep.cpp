@@ -338,7 +338,7 @@ Checkpoint::Checkpoint(const std::filesystem::path& path, const Plan& plan, std:
     if (!std::getline(lines, line) || line != first)
       throw std::invalid_argument("sweep: the checkpoint '" + path.string() +
                                   "' is of another sweep (its first line differs from this command's plan); "
-                                  "run without --resume to start again");
+                                  "remove it (or give another --checkpoint) to start again");
     for (int number = 2; std::getline(lines, line); ++number) {
       const std::string where = path.string() + ":" + std::to_string(number);
       const std::optional<double> index = parse_number(line.substr(0, line.find(',')));

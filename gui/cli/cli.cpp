@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "core/preset.h"
 #include "core/spelling.h"
 #include "gui/cli/command.h"
 #include "gui/cli/completion.h"
@@ -75,7 +76,10 @@ std::string headless_hint(const DeviceHelp& help, const std::vector<Command>& co
       if (gap != std::string::npos) hint += "      " + example.substr(example.find_first_not_of(' ', gap)) + "\n";
     }
   }
-  hint += "\nDevices (--mechanism NAME): " + help.per_device([](const MechanismInfo& i) { return i.title; }) + "\n";
+  hint += "\nDevices (--mechanism NAME): " + help.per_device([](const MechanismInfo& i) { return i.title; }) + ".\n";
+  std::string described;
+  for (const std::string& name : described_presets()) described += (described.empty() ? "" : ", ") + name;
+  hint += "Devices written as files (linkscape describe NAME): " + described + "; or your own .json file.\n";
   return hint + "Run 'linkscape --help' or 'linkscape eval --help' for every option.\n";
 }
 

@@ -44,6 +44,12 @@ void prepare_window(WindowOptions& options) {
     throw std::invalid_argument("--param: a session brings its own design; open it and change the design in the window");
   if (!options.session.empty()) load_session(options.session);
   else make_mechanism(chosen_preset(options.mechanism));
+  // The rest of the window's input, checked here too: bad input is exit 2,
+  // with a display or without.
+  if (!options.task.empty()) task::parse_task(options.task);
+  for (const std::string& c : options.criteria) task::parse_criterion(c);
+  pixel_size(options.size, "--size", 200, 150);
+  if (!options.view_image.empty()) pixel_size(options.view_size, "--view-size", 16, 16);
 }
 
 int run_window(const WindowOptions& options, int argc, char** argv) {
@@ -52,8 +58,6 @@ int run_window(const WindowOptions& options, int argc, char** argv) {
   // A session brings its own mechanism.
   Preset preset = load_preset(session ? session->mechanism : options.mechanism.name_or_path);
   apply_overrides(preset, options.mechanism.params);
-  if (!options.task.empty()) task::parse_task(options.task);  // bad text: exit code 2 before any window
-  for (const std::string& c : options.criteria) task::parse_criterion(c);
   const auto [width, height] = pixel_size(options.size, "--size", 200, 150);
   const auto [view_width, view_height] =
       options.view_image.empty() ? std::array<int, 2>{} : pixel_size(options.view_size, "--view-size", 16, 16);

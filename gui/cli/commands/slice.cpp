@@ -51,7 +51,13 @@ void run_slice(const SliceOptions& o) {
       !o.plane.empty() ? o.plane : std::string(1, "xyz"[int(default_normal)]) + "=" + format_number(default_position);
   const auto eq = plane.find('=');
   if (eq == std::string::npos) throw std::invalid_argument("--plane expects axis=position, e.g. x=0.25, got '" + plane + "'");
-  const Axis normal = parse_axis(plane.substr(0, eq));
+  const Axis normal = [&] {
+    try {
+      return parse_axis(plane.substr(0, eq));
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string("--plane: ") + e.what());
+    }
+  }();
   const double position = parse_numbers(plane.substr(eq + 1), 1, "--plane expects axis=position, e.g. x=0.25")[0];
   std::vector<double> extent = o.extent;
   const auto [au, av] = Grid::slice_axes(normal);

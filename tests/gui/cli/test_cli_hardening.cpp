@@ -230,6 +230,24 @@ TEST(CliHardening, OptionsThatWouldBeIgnoredOrMeaninglessAreRefused) {
     EXPECT_EQ(r.exit_code, 2) << args << ": " << r.out;
     EXPECT_TRUE(contains(r.out, why)) << args << ": " << r.out;
   }
+  // Found in every command, not only where they are read: a preset's motor
+  // ratings for an actuator the device lacks; a plane's axis, named by its
+  // option; the window's sizes, with a display or without.
+  const fs::path ratings = temp_file(
+      "hard_ratings.json", R"({"mechanism": "delta", "length_unit": "cm", "parameters": {"R": 9.5, "r": 5.445, "La": 8, "Lb": 17},
+      "actuator_data": {"all": {"peak_torque_Nm": 1, "continuous_torque_Nm": 0.18}, "q9": {"peak_torque_Nm": 1}}})");
+  const std::vector<std::tuple<std::string, std::string, std::string>> found{
+      {"slice --size 32x32 -q -m " + ratings.string() + " -o x.png", "", "'q9' is not an actuator of delta"},
+      {"slice --size 32x32 --plane q=1 -o x.png", "", "--plane: axis must be x, y or z, got 'q'"},
+      {"--size 100000x100000 --screenshot a.png", "env -u DISPLAY -u WAYLAND_DISPLAY -u QT_QPA_PLATFORM",
+       "--size expects WIDTHxHEIGHT"},
+      {"--view-size 9x9 --view-image v.png", "env -u DISPLAY -u WAYLAND_DISPLAY -u QT_QPA_PLATFORM",
+       "--view-size expects WIDTHxHEIGHT"}};
+  for (const auto& [args, env, why] : found) {
+    const auto r = run_linkscape(args, env);
+    EXPECT_EQ(r.exit_code, 2) << args << ": " << r.out;
+    EXPECT_TRUE(contains(r.out, why)) << args << ": " << r.out;
+  }
   // Out of limits, the pose exists: FK gives it, as IK gives such a row's actuators.
   const fs::path beyond = temp_file("hard_round_beyond.csv", "q1,q2,q3\n1.5,1.5,1.5\n");
   const auto out = run_linkscape("eval -m delta --fk " + beyond.string());

@@ -193,6 +193,7 @@ TEST(CliSweep, BadInputsExitWithTwoAndWriteNothing) {
   const CommandResult other = run_linkscape(kSmall + " -o " + file + " --resume");
   EXPECT_EQ(other.exit_code, 2) << other.out;
   EXPECT_NE(other.out.find("is of another sweep"), std::string::npos) << other.out;
+  EXPECT_NE(other.out.find("remove it (or give another --checkpoint) to start again"), std::string::npos) << other.out;
   fs::remove(file + ".checkpoint");
 }
 
