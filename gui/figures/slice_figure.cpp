@@ -118,8 +118,13 @@ void draw(QPainter& p, const QSize& page, const Field& field, const render::Slic
   QString params;
   for (const auto& [k, val] : field.parameters) {
     if (six_dof && (pathos_design ? !design.contains(k) : held.contains(k))) continue;
-    params += six_dof && !pathos_design ? QString("%1 = %2, ").arg(QString::fromStdString(k)).arg(val)
-                                        : QString("%1 = %2 %3, ").arg(QString::fromStdString(k)).arg(val).arg(unit);
+    // Each parameter's own unit where the device gives it (an angle is not
+    // a length); without one, the length unit but for described six-DOF models.
+    const auto own = field.parameter_units.find(k);
+    const QString u = own != field.parameter_units.end() ? QString::fromStdString(own->second)
+                      : six_dof && !pathos_design    ? QString()
+                                                     : unit;
+    params += QString("%1 = %2%3, ").arg(QString::fromStdString(k)).arg(val).arg(u.isEmpty() ? QString() : " " + u);
   }
   params.chop(2);
   const auto g4 = [](double v) { return QString::number(v, 'g', 4); };

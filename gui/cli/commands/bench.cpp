@@ -69,6 +69,11 @@ struct Row {
 
 // The bench's tables (docs/file-formats.md): a unit suffix where a column
 // has one unit; unit columns where it varies by row; no value empty.
+// "name = value unit", in the parameter's own unit (an angle is not a length).
+std::string with_unit(const Quantity& q, double value) {
+  return q.name + " = " + format_number(value) + (q.unit.empty() ? "" : " " + q.unit);
+}
+
 std::string measurements_csv(const std::vector<Row>& rows) {
   std::string csv = "measurement,value,unit\n";
   for (const Row& r : rows) csv += csv_text(r.what) + "," + csv_number(r.value) + "," + csv_text(r.unit) + "\n";
@@ -144,9 +149,9 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
   auto field = [&](const Grid& grid, int t) { return m->compute_field(grid, home, {}, t, {}); };
   std::string design;
   for (const Quantity& q : info.parameters)
-    if (q.in_panel) design += (design.empty() ? "" : ", ") + q.name + " = " + format_number(m->parameters().at(q.name));
+    if (q.in_panel) design += (design.empty() ? "" : ", ") + with_unit(q, m->parameters().at(q.name));
   simd::apply_environment();
-  out << "linkscape bench: " << info.name << " (" << design << " " << unit << "), " << threads
+  out << "linkscape bench: " << info.name << " (" << design << "), " << threads
       << " threads available, SIMD target " << simd::current_target() << "\n\n";
 
   // Throughput of the main measure's field over the device's default box.
@@ -303,7 +308,7 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
   for (const auto& device : devices) {
     std::string design;
     for (const Quantity& q : device->info().parameters)
-      if (q.in_panel) design += (design.empty() ? "" : ", ") + q.name + " = " + format_number(device->parameters().at(q.name));
+      if (q.in_panel) design += (design.empty() ? "" : ", ") + with_unit(q, device->parameters().at(q.name));
     title += QString(title.isEmpty() ? "" : "; ") + QString::fromStdString(device->info().name + " (" + design + ")");
   }
   if (!o.chart.empty()) {
