@@ -315,6 +315,8 @@ Model build_model(const std::string& description_json, const std::map<std::strin
         if (!valid_name(name)) fail(at, "a joint name must be an identifier");
         if (!joint_names.insert(name).second) fail(at, "joint name '" + name + "' is used twice");
         const bool actuated = bool_or(step, "actuated", false, at);
+        if (type != "revolute" && type != "prismatic" && type != "universal" && type != "spherical")
+          fail(at + ".joint", "unknown joint type '" + type + "' (known: revolute, prismatic, universal, spherical)");
         if (actuated && type != "revolute" && type != "prismatic")
           fail(at, "only revolute and prismatic joints can be actuated");
         flush();
@@ -376,8 +378,6 @@ Model build_model(const std::string& description_json, const std::map<std::strin
           check_keys(step, {"joint", "name", "cone"}, at);
           if (m.planar) fail(at, "a planar device has no spherical joints");
           add(Step::Kind::Spherical, Vector3d::UnitZ(), name);
-        } else {
-          fail(at + ".joint", "unknown joint type '" + type + "' (known: revolute, prismatic, universal, spherical)");
         }
         read_joint_limits(step, type, actuated, eval, at, leg, first_step);
       }

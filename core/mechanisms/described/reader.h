@@ -179,6 +179,14 @@ inline bool bool_or(const json& object, const std::string& key, bool fallback, c
 inline bool transform_step(const json& step, Evaluator& eval, const std::string& where, Isometry3d& out,
                            bool link = false) {
   out = Isometry3d::Identity();
+  // One transform a step: {"rz": 30, "ry": 0} would be a guess at their order.
+  if (step.is_object()) {
+    std::string given;
+    for (const char* key : {"translate", "rx", "ry", "rz", "rotate"})
+      if (step.contains(key)) given += (given.empty() ? "" : ", ") + std::string(key);
+    if (given.find(',') != std::string::npos)
+      fail(where, "one transform a step, got " + given + ": write each as a step of its own, in the order they apply");
+  }
   if (step.contains("translate")) {
     check_keys(step, link ? std::set<std::string>{"translate", "radius", "link"} : std::set<std::string>{"translate"},
                where);

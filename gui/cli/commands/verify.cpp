@@ -42,8 +42,9 @@ Command add_verify(CLI::App& program, const DeviceHelp&) {
       "verify",
       "Prove that every point of a task volume meets every criterion (interval arithmetic through the device's "
       "closed forms), or disprove it with a counterexample; exit 0 proved, 3 disproved, 4 undecided, 2 bad input. "
-      "The 12R, the Delta, and described devices whose legs are crank-rod, slide-rod or extensible (their "
-      "passive-joint limits and links not covered) (docs/task-volumes.md, \"Certified verdicts\")");
+      "The 12R, the Delta, and spatial described devices whose legs are crank-rod, slide-rod or extensible, each "
+      "ending in a spherical joint (not in a universal one), with one actuator per leg (their passive-joint limits "
+      "and links not covered; planar devices are not) (docs/task-volumes.md, \"Certified verdicts\")");
   add_mechanism_options(*cmd, o->mechanism);
   cmd->add_option("--task", o->task, "sphere:diameter=D,centre=x,y,z or box:size=X,Y,Z,centre=x,y,z (length unit)")
       ->required();

@@ -180,6 +180,18 @@ TEST(DescriptionErrors, ExpressionWithAnUnknownVariable) {
   expect_contains(m, {"description.legs[0] \"1\": chain[1].translate[0]", "cannot evaluate 'Lc'", "La"});
 }
 
+// A mistyped joint type is named as such on an actuated joint too (it had
+// said "only revolute and prismatic joints can be actuated"); two transforms
+// in one step are refused, not read in a guessed order.
+TEST(DescriptionErrors, AMistypedActuatedJointAndTwoTransformsInOneStep) {
+  const std::string typo = error_after([](json& d) { d["description"]["legs"][0]["chain"][0]["joint"] = "revolut"; });
+  expect_contains(typo, {"chain[0]", "unknown joint type 'revolut'", "known: revolute"});
+  const std::string two = error_after([](json& d) {
+    d["description"]["legs"][0]["chain"].insert(d["description"]["legs"][0]["chain"].begin(), json{{"rz", 30}, {"ry", 0}});
+  });
+  expect_contains(two, {"chain[0]", "one transform a step, got ry, rz", "a step of its own"});
+}
+
 TEST(DescriptionErrors, ActuatedSphericalJointIsRefused) {
   const std::string m = error_after([](json& d) { d["description"]["legs"][0]["chain"][2]["actuated"] = true; });
   expect_contains(m, {"chain[2] (joint \"elbow1\")", "only revolute and prismatic joints can be actuated"});
