@@ -74,6 +74,20 @@ std::string describe(const Preset& preset) {
   if (!m.extras.empty()) s << ", " << m.extras.size() << " extra(s)";
   s << "\n";
   s << "branches: " << k.branches() << "\n";
+  // Home is where every command and the window start: a home outside an
+  // actuator's travel (a travel written in radians where degrees are read)
+  // makes every pose out of limits.
+  const PoseSolution home = k.inverse(m.home, 0, 1e-10);
+  s << "home: " << to_string(home.status);
+  for (std::size_t a = 0; a < m.actuators.size(); ++a) {
+    const Actuator& act = m.actuators[a];
+    const double v = home.q.size() ? home.q(Eigen::Index(a)) : 0.0;
+    if (home.q.size() == 0 || !act.limited || act.range.contains(v)) continue;
+    const double scale = act.prismatic ? 1.0 : 180 / M_PI;
+    s << "; " << act.name << " = " << v * scale << (act.prismatic ? " " + unit : " deg") << " is outside its travel "
+      << act.range.lo * scale << " .. " << act.range.hi * scale << (act.prismatic ? " " + unit : " deg");
+  }
+  s << "\n";
   int closed = 0;
   for (std::size_t leg = 0; leg < m.legs.size(); ++leg) closed += k.closed_form(int(leg)) != nullptr;
   s << "legs: " << m.legs.size() << " (" << closed << " in closed form, " << m.legs.size() - std::size_t(closed)

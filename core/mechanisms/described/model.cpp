@@ -201,7 +201,9 @@ Model build_model(const std::string& description_json, const std::map<std::strin
   for (const Extra& e : m.extras)
     if (!seen.count(e.name)) fail(top + ".extras." + e.name, "is not listed in the task");
   if (!m.free[0] || !m.free[1] || (!m.planar && !m.free[2]))
-    fail(top + ".task", m.planar ? "a planar task needs x and y" : "a spatial task needs x, y and z");
+    fail(top + ".task", m.planar ? "a planar task needs x and y"
+                                 : "a spatial task needs x, y and z: the task lists the platform's driven coordinates, "
+                                   "and a device whose x and y follow the others (a 3-RPS, a 3-PRS) is not modelled");
   if (m.planar && (m.free[2] || m.free[3] || m.free[4]))
     fail(top + ".task", "a planar device moves in the xy plane: its task may list x, y, rz (and extras)");
   // Position first: generic code reads the task's x, y, z at indices 0..2.

@@ -28,6 +28,18 @@ TEST(DescribedDescribe, FiveBarLegsPatternsRulesAndReach) {
   EXPECT_TRUE(has(text, "    reach: 4 .. 24 cm from its base to its anchor\n")) << text;
 }
 
+// Where every command starts: a home outside a travel (written in radians
+// where degrees are read) is named with the actuator's angle.
+TEST(DescribedDescribe, HomeAndAnActuatorOutsideItsTravel) {
+  Preset p = load_preset("five-bar");
+  EXPECT_TRUE(has(describe(p), "home: ok\n")) << describe(p);
+  p.limits_deg["q1"] = Range{0.17, 3.5};
+  const std::string text = describe(p);
+  EXPECT_TRUE(has(text, "home: out-of-limits; q1 = ")) << text;
+  EXPECT_TRUE(has(text, " deg is outside its travel 0.17 .. 3.5 deg\n")) << text;
+  EXPECT_FALSE(has(text, "q2 = ")) << text;
+}
+
 TEST(DescribedDescribe, StewartAndPathosLegs) {
   const std::string stewart = describe(load_preset("stewart"));
   EXPECT_TRUE(has(stewart, "  leg 6: extensible\n")) << stewart;  // named "leg 6": not "leg leg 6"
