@@ -1,5 +1,5 @@
 // Closed-form inverse kinematics of the leg patterns parallel devices are
-// built from, recognised from a leg's steps (docs/described-mechanisms.md,
+// built from, recognised from a leg's steps (docs/described-internals.md,
 // "How each leg is solved"). A recognised leg yields every solution of its
 // closure at once (up to four), each a full leg state; the caller keeps the
 // one the branch rules and the travel select. Legs of no known pattern keep

@@ -1,5 +1,5 @@
-// The text of `linkscape describe FILE` (docs/described-mechanisms.md, "How
-// each leg is solved").
+// The text of `linkscape describe FILE` (docs/described-mechanisms.md,
+// "Checking a file: `linkscape describe`").
 #include <cmath>
 #include <sstream>
 #include <stdexcept>

@@ -1,4 +1,4 @@
-// A described device's field in SIMD lanes (docs/described-mechanisms.md,
+// A described device's field in SIMD lanes (docs/described-internals.md,
 // "Fields in SIMD lanes"): for spatial devices whose legs are all point
 // legs (crank-rod, slide-rod, extensible) or crank-parallelograms, and planar
 // ones of dyads, and three-revolute legs. In a field the platform's rotation

@@ -108,7 +108,7 @@ TEST(DescribedDelta, AgreesWithTheCompiledDeltaAt1e5Poses) {
 
 // At the Delta's home two singular values of J meet; the compiled closed
 // form of c(J) loses digits there and the described SVD does not
-// (docs/described-mechanisms.md quotes these figures).
+// (docs/described-internals.md quotes these figures).
 TEST(DescribedDelta, AtHomeTheConditionNumberIsSettledByALongDoubleSvd) {
   const auto compiled = make_mechanism(load_preset("delta"));
   const auto described = make_mechanism(testing_support::without_stops(load_preset("delta-described")));
