@@ -121,6 +121,7 @@ std::vector<methods::MethodRow> Mechanism::measure_methods(const methods::Harnes
   for (const NamedItem& method : info.ik_methods) {
     IkOptions io;
     io.method = method.name;
+    io.branch = 0;  // the samples' branch: every method solves that one (not every branch, nor some)
     io.tolerance = options.ik.tolerance;
     io.max_iterations = options.ik.max_iterations;
     const bool going = measure("ik", method.name, joint_unit(info), [&](const Sample& s) -> std::optional<double> {
@@ -160,6 +161,7 @@ std::vector<stability::SweepRow> Mechanism::stability_sweeps(const stability::Sw
         for (const NamedItem& method : info.ik_methods) {
           IkOptions io;
           io.method = method.name;
+          io.branch = 0;  // the approaches are branch 0's
           const IkResult r = inverse(x, io);
           stability::SweepRow row;
           row.mechanism = info.name;

@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "gui/figures/painted_file.h"
+#include "gui/figures/plot_axes.h"
 
 namespace linkscape::gui {
 namespace {
@@ -273,10 +274,10 @@ double draw_header(QPainter& p, const QRectF& area, const QString& title, const 
   font.setBold(true);
   p.setFont(font);
   p.setPen(Qt::black);
-  p.drawText(QRectF(area.left(), area.top() + 0.4 * fh, area.width(), 1.2 * fh), Qt::AlignCenter, title);
+  draw_fitting(p, QRectF(area.left() + 0.5 * fh, area.top() + 0.4 * fh, area.width() - fh, 1.2 * fh), title);
   font.setBold(false);
   p.setFont(font);
-  p.drawText(QRectF(area.left(), area.top() + 1.6 * fh, area.width(), 1.2 * fh), Qt::AlignCenter, subtitle);
+  draw_fitting(p, QRectF(area.left() + 0.5 * fh, area.top() + 1.6 * fh, area.width() - fh, 1.2 * fh), subtitle);
   return fh;
 }
 

@@ -1,7 +1,10 @@
 #include "gui/figures/plot_axes.h"
 
+#include <QFont>
 #include <QFontMetricsF>
 #include <QPainter>
+
+#include <algorithm>
 
 #include "render/slice_image.h"
 
@@ -27,6 +30,19 @@ void draw_axes(QPainter& p, const PlotFrame& f, const QString& x_title, const QS
   p.rotate(-90);
   p.drawText(QRectF(-f.plot.height() / 2, -fh / 2, f.plot.height(), fh), Qt::AlignCenter, y_title);
   p.restore();
+}
+
+// `text` centred in `box` in the painter's font, made smaller (to two
+// thirds at most) where it is wider than the box, then elided in the middle.
+void draw_fitting(QPainter& p, const QRectF& box, const QString& text) {
+  const QFont original = p.font();
+  QFont font = original;
+  const int smallest = std::max(8, original.pixelSize() * 2 / 3);
+  while (QFontMetricsF(font).horizontalAdvance(text) > box.width() && font.pixelSize() > smallest)
+    font.setPixelSize(font.pixelSize() - 1);
+  p.setFont(font);
+  p.drawText(box, Qt::AlignCenter, QFontMetricsF(font).elidedText(text, Qt::ElideMiddle, box.width()));
+  p.setFont(original);
 }
 
 }  // namespace linkscape::gui

@@ -24,4 +24,9 @@ struct PlotFrame {
 // axis titles (the y title turned upright), in the painter's font.
 void draw_axes(QPainter& p, const PlotFrame& frame, const QString& x_title, const QString& y_title, int ticks = 6);
 
+// `text` centred in `box` in the painter's font (a pixel size), made smaller
+// (to two thirds at most) where it is wider than the box, then elided in the
+// middle: a title naming every parameter of two devices still fits.
+void draw_fitting(QPainter& p, const QRectF& box, const QString& text);
+
 }  // namespace linkscape::gui

@@ -14,6 +14,7 @@
 #include <stdexcept>
 
 #include "gui/figures/painted_file.h"
+#include "gui/figures/plot_axes.h"
 
 namespace linkscape::gui {
 namespace {
@@ -56,19 +57,6 @@ void draw_lines(QPainter& p, const QRectF& plot, int nu, int nv, const render::S
   p.setPen(QPen(QColor(60, 60, 60), 2.2, Qt::SolidLine, Qt::RoundCap, Qt::RoundJoin));
   p.drawPath(path_of(lines.boundary));
   p.restore();
-}
-
-// `text` centred in `box` in the painter's font, made smaller (to two
-// thirds at most) where it is wider than the box, then elided in the middle.
-void draw_fitting(QPainter& p, const QRectF& box, const QString& text) {
-  const QFont original = p.font();
-  QFont font = original;
-  const int smallest = std::max(8, original.pixelSize() * 2 / 3);
-  while (QFontMetricsF(font).horizontalAdvance(text) > box.width() && font.pixelSize() > smallest)
-    font.setPixelSize(font.pixelSize() - 1);
-  p.setFont(font);
-  p.drawText(box, Qt::AlignCenter, QFontMetricsF(font).elidedText(text, Qt::ElideMiddle, box.width()));
-  p.setFont(original);
 }
 
 void draw(QPainter& p, const QSize& page, const Field& field, const render::SliceStyle& style, const QImage& image) {

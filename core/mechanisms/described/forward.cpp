@@ -1,7 +1,7 @@
 // Forward kinematics of a described mechanism, and its construction: each
 // leg solved at home on every branch, the mobility checked.
-#include <Eigen/Cholesky>
 #include <Eigen/LU>
+#include <Eigen/QR>
 #include <atomic>
 #include <set>
 #include <sstream>
@@ -23,18 +23,14 @@ std::atomic<std::uint64_t> next_id{1};
 constexpr double kPoseAccuracy = 1e-10;
 
 // |(J^+)_pose| |e| (Frobenius over the first `pose` unknowns), the pose's
-// first-order error for a closure error of norm `e`: the square root of the
-// pose block's trace of (J^T J)^-1, each singular direction weighted by its
-// pose part over its singular value. A tiny ridge keeps the null directions
-// of passive joints alone (no pose part) from dividing by zero.
+// first-order error for a closure error of norm `e`. The pseudo-inverse by a
+// rank-revealing (complete orthogonal) decomposition: the null directions of
+// passive joints alone (a rod spinning about itself), zero to rounding, are
+// dropped rather than divided by.
 double pose_error_bound(const MatrixXd& J, int pose, double e) {
   if (e == 0.0) return 0.0;
-  MatrixXd N = J.transpose() * J;
-  N.diagonal().array() += 1e-28 * N.trace();
-  const Eigen::LDLT<MatrixXd> ldlt(N);
-  const MatrixXd X = ldlt.solve(MatrixXd::Identity(N.rows(), pose));
-  const double trace = X.topRows(pose).trace();
-  return std::isfinite(trace) && trace >= 0 ? e * std::sqrt(trace) : kInf;
+  const Eigen::CompleteOrthogonalDecomposition<MatrixXd> cod(J);
+  return e * cod.pseudoInverse().topRows(pose).norm();
 }
 }  // namespace
 
@@ -57,14 +53,16 @@ ForwardSolution Kinematics::forward(const VectorXd& q, const VectorXd& seed, dou
   for (int pieces = 4; pieces <= 64; pieces *= 4) {
     ForwardSolution step;
     step.x = seed;
-    int iterations = 0;
-    for (int k = 1; k <= pieces; ++k) {
+    int iterations = 0, k = 1;
+    // A step on the way that pins its pose less well than an answer must
+    // (singular) still seeds the next; only the last step is the answer.
+    for (; k <= pieces; ++k) {
       step = forward_from(k == pieces ? q : VectorXd(start.q + path * (double(k) / pieces)), step.x, tolerance,
                           max_iterations);
       iterations += step.iterations;
-      if (step.status != Status::Ok) break;  // a singular end only at q itself
+      if (!answers(step)) break;
     }
-    if (answers(step)) {
+    if (k > pieces && answers(step)) {
       step.iterations = iterations;
       return step;
     }

@@ -146,7 +146,10 @@ class DescribedMechanism final : public Mechanism {
       // singular too: measures() finds no exact solution there.
       if (s.status == Status::Ok) {
         const PoseSolution near = solver == LegSolver::Numeric ? kin_.inverse_near(xm, s.q) : PoseSolution{};
-        if (solver == LegSolver::Numeric && near.status != Status::Ok) {
+        // (Only where a closed form says so: a numerical re-solve that stops
+        // short proves nothing.)
+        if (solver == LegSolver::Numeric && near.status != Status::Ok && near.failing_leg >= 0 &&
+            kin_.closed_form(near.failing_leg) != nullptr) {
           s.status = Status::Singular;
           s.failing_leg = near.failing_leg;
         } else {

@@ -173,4 +173,35 @@ TEST(OmnidDeltaDevice, TheFirmwaresWorkspaceBoxWithAndWithoutTheTravel) {
   EXPECT_EQ(plate.blocked, 0);
 }
 
+// Far from home, forward kinematics walks the actuators there in steps; a
+// step that converged slowly (the rods' idle spin) had been called
+// singular and returned as the answer, a pose for other actuators. Each
+// answer is the pose whose IK gives q back.
+TEST(OmnidDeltaDevice, ForwardKinematicsFarFromHomeAnswersForTheActuatorsAsked) {
+  const auto m = load_device("omnid-delta.json");
+  std::mt19937_64 rng(7);
+  std::vector<Eigen::VectorXd> targets = {(Eigen::VectorXd(3) << 0.7755431616088554, 1.0950509542314932, 0.14815669566823902).finished()};
+  for (int i = 0; i < 40; ++i) {
+    Eigen::VectorXd q(3);
+    for (int k = 0; k < 3; ++k) {
+      const Range r = m->info().actuators[std::size_t(k)].range;
+      q(k) = std::uniform_real_distribution<double>(r.lo, r.hi)(rng);
+    }
+    targets.push_back(q);
+  }
+  int ok = 0;
+  for (const Eigen::VectorXd& q : targets) {
+    const FkResult fk = m->forward(q);
+    EXPECT_NE(fk.status, Status::Singular) << q.transpose();
+    if (fk.status != Status::Ok) continue;
+    ++ok;
+    IkOptions near;
+    near.seed = q;
+    double closest = INFINITY;
+    for (const IkSolution& s : m->inverse(fk.x, near).solutions) closest = std::min(closest, (s.q - q).cwiseAbs().maxCoeff());
+    EXPECT_LT(closest, 1e-9) << q.transpose();
+  }
+  EXPECT_GT(ok, 30);
+}
+
 }  // namespace
