@@ -29,6 +29,19 @@ namespace linkscape::gui {
 namespace {
 
 constexpr int kSurfaceResolution = 24;  // latitude bands of the drawn sphere, grid of each box face
+constexpr double kFlattened = 0.02;        // a planar task drawn as a slab this thin (of its height)
+
+// A planar device's task is its section by the plane (as fit takes it):
+// its surface flattened onto the plane.
+vtkSmartPointer<vtkPolyData> on_plane(vtkSmartPointer<vtkPolyData> surface, std::optional<double> plane) {
+  if (!plane) return surface;
+  for (vtkIdType i = 0; i < surface->GetNumberOfPoints(); ++i) {
+    double p[3];
+    surface->GetPoint(i, p);
+    surface->GetPoints()->SetPoint(i, p[0], p[1], *plane + kFlattened * (p[2] - *plane));
+  }
+  return surface;
+}
 
 QString number(double v) {
   if (std::isnan(v)) return "n/a";
@@ -350,14 +363,18 @@ void TaskPanel::evaluateNow() {
   if (!mechanism_ || !show_box_->isChecked()) return;
   try {
     const std::vector<task::Criterion> c = criteria();
-    const task::TaskVolume t = volume();
+    task::TaskVolume t = volume();
     const task::Device d = device();
+    // A planar device's task: each point of the flattened surface evaluated on the plane.
+    const std::optional<double> plane = mechanism_->info().plane_z;
+    if (plane) t.centre->z() = *plane;
     report_ = task::evaluate(d, c, t, *t.centre, task::kTaskResolution);  // fit's evaluation: one verdict
-    const vtkSmartPointer<vtkPolyData> surface = render::task_surface(t, *t.centre, kSurfaceResolution);
+    const vtkSmartPointer<vtkPolyData> surface = on_plane(render::task_surface(t, *t.centre, kSurfaceResolution), plane);
     std::vector<std::uint8_t> meets(std::size_t(surface->GetNumberOfPoints()));
     for (vtkIdType i = 0; i < surface->GetNumberOfPoints(); ++i) {
       Eigen::Vector3d p;
       surface->GetPoint(i, p.data());
+      if (plane) p.z() = *plane;
       meets[std::size_t(i)] = task::evaluate_point(d, c, p).meets;
     }
     scene_->set_task(surface, meets);
@@ -420,7 +437,8 @@ void TaskPanel::placeAtLargest() {
     if (found->found) {
       task::TaskVolume shape = t;
       shape.size = t.shape == task::Shape::Sphere ? Eigen::Vector3d::Constant(found->size) : Eigen::Vector3d(found->size * t.size);
-      scene_->set_inscribed(render::task_surface(shape, found->centre, kSurfaceResolution / 2));
+      scene_->set_inscribed(
+          on_plane(render::task_surface(shape, found->centre, kSurfaceResolution / 2), mechanism_->info().plane_z));
       for (int k = 0; k < 3; ++k) {
         const QSignalBlocker b(centre_[k]);
         centre_[k]->setValue(found->centre(k));

@@ -89,6 +89,26 @@ class TaskPanelTest : public QObject {
     }
   }
 
+  // A planar device's task is its section by the plane, as fit takes it: a
+  // sphere whose centre the placement left off the plane (z = 4) is
+  // evaluated on it, drawn flattened onto it, and read out in fit's words
+  // (it had shown the solver's "x has z = 4 cm, but five-bar is planar").
+  void aPlanarDevicesTaskIsItsSectionByThePlane() {
+    for (const char* name : {"five-bar", "haply-2diy", "three-rrr"}) {
+      MechanismWindow w(load_preset(name));
+      w.resize(1000, 700);
+      w.show();
+      QVERIFY(QTest::qWaitForWindowExposed(&w));
+      const Eigen::Vector3d home = w.mechanism().home_task().head<3>();
+      const double size = w.mechanism().size();
+      const task::TaskVolume t = task::parse_task(sphere_at(0.05 * size, home + Eigen::Vector3d(0, 0, 0.2 * size)));
+      w.taskPanel()->setTask(t.text, {"cond<20"});
+      QVERIFY2(w.taskPanel()->report() && w.taskPanel()->report()->meets(), name);
+      QVERIFY2(w.findChild<QLabel*>("taskReadout")->text().contains("Meets every criterion"), name);
+      QCOMPARE(w.taskScene().failing_points(), std::size_t(0));
+    }
+  }
+
   // Without a centre the task goes to the largest sphere of the good region:
   // the 12R's c(J) < 3 holds about 1.22 x 15 cm; a 5 cm task there meets it.
   // Verify in the Task tab: seed 001's 15 cm sphere, where fit places it at

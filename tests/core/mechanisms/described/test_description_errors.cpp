@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <functional>
@@ -152,13 +153,15 @@ TEST(DescriptionErrors, ADeviceSingularAtHomeIsRefused) {
 // A branch rule that is 0 at home cannot choose an assembly there: a
 // direction normal to a planar device's plane, a triple naming one joint
 // twice. Each had loaded, and a field mixed both elbows.
+// The message parse_preset gives for the five-bar's preset after `edit`.
+std::string five_bar_after(const std::function<void(json&)>& edit) {
+  std::ifstream in(std::string(LINKSCAPE_TEST_ASSETS) + "/mechanisms/five-bar.json");
+  json d = json::parse(in);
+  edit(d);
+  return error_of_text(d.dump());
+}
+
 TEST(DescriptionErrors, ABranchRuleThatIsZeroAtHomeIsRefused) {
-  const auto five_bar_after = [](const std::function<void(json&)>& edit) {
-    std::ifstream in(std::string(LINKSCAPE_TEST_ASSETS) + "/mechanisms/five-bar.json");
-    json d = json::parse(in);
-    edit(d);
-    return error_of_text(d.dump());
-  };
   const std::string normal = five_bar_after([](json& d) {
     d["description"]["legs"][0]["branch"] = {{"along", {"q1", "elbow1"}}, {"direction", {0, 0, 1}}};
   });
@@ -168,6 +171,16 @@ TEST(DescriptionErrors, ABranchRuleThatIsZeroAtHomeIsRefused) {
   });
   expect_contains(twice, {"legs \"right\"", "branch rule 1 is 0 at home", "one joint twice"});
   EXPECT_EQ(five_bar_after([](json&) {}), "no error");
+}
+
+// Distal links of no length (b = 0, home where the cranks' tips meet): the
+// freedom count fails, and the message names the link, not only the count.
+TEST(DescriptionErrors, ALinkOfNoLengthIsNamedWhereTheFreedomsDoNotMatch) {
+  const std::string m = five_bar_after([](json& d) {
+    d["parameters"]["b"] = 0;
+    d["description"]["home"] = {{"x", 0}, {"y", std::sqrt(91.0)}};
+  });
+  expect_contains(m, {"0 freedom(s) at home", "leg \"left\" has a link of no length after joint elbow1"});
 }
 
 TEST(DescriptionErrors, UnknownKeyIsNamedWithTheKnownOnes) {
