@@ -481,6 +481,15 @@ Session parse_session(const std::string& text, const std::string& origin) {
       d.method.clear();
     }
     check_offered(d.normal, std::vector<std::string>{"x", "y", "z"}, "field.normal");
+    // A slice outside the device's box is drawn nowhere.
+    if (j.contains("field") && j["field"].contains("position")) {
+      const Eigen::AlignedBox3d box = mechanism->default_box();
+      const int axis = d.normal == "x" ? 0 : d.normal == "y" ? 1 : 2;
+      if (!(d.position >= box.min()(axis) && d.position <= box.max()(axis)))
+        throw std::invalid_argument("field.position " + format_number(d.position) + " is outside the device's box along " +
+                                    d.normal + " [" + format_number(box.min()(axis)) + ", " +
+                                    format_number(box.max()(axis)) + "]");
+    }
     check_offered(d.slice_resolution, choices.slice_resolutions, "field.slice_resolution");
     check_offered(d.volume_resolution, choices.volume_resolutions, "field.volume_resolution");
     if (!(d.threshold >= 1.05 && d.threshold <= 100)) throw std::invalid_argument("field.threshold must be in [1.05, 100]");
@@ -490,6 +499,13 @@ Session parse_session(const std::string& text, const std::string& origin) {
       throw std::invalid_argument("field.range_min and field.range_max come together");
     if (d.range_min && !(*d.range_min < *d.range_max))
       throw std::invalid_argument("field.range_min must be below field.range_max");
+    // A range the view cannot draw would leave the slice and its colour bar blank.
+    render::SliceStyle style;
+    style.field = d.field;
+    style.log_scale = d.log_scale;
+    if (d.range_min && render::uses_log_scale(style) && !(*d.range_min > 0))
+      throw std::invalid_argument("field.range_min must be above 0 on a logarithmic colour scale (\"log_scale\": "
+                                  "false draws a linear one), got " + format_number(*d.range_min));
     if (j.contains("task_volume")) {
       const json& t = j["task_volume"];
       check_keys(t, "task_volume", {"volume", "criteria", "shown"});

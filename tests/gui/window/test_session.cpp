@@ -80,6 +80,8 @@ TEST(Session, ValuesTheWindowCannotHonourAreErrorsNamingTheKey) {
       {"/camera", json::parse(R"({"position": [1e-12, 0, 0], "focal_point": [0, 0, 0], "view_up": [0, 0, 1]})"), "position must be at least"},
       {"/camera", json::parse(R"({"position": [1, 0, 0], "focal_point": [0, 0, 0], "view_up": [1, 0, 0]})"), "view_up"},
       {"/camera", json::parse(R"({"position": [1, 0, 0], "focal_point": [0, 0, 0], "view_up": [0, 0, 1], "view_angle_deg": 1e-9})"), "view_angle"},
+      {"/field", json::parse(R"({"range_min": 0, "range_max": 3})"), "field.range_min must be above 0 on a logarithmic"},
+      {"/field", json::parse(R"({"position": 1e9})"), "field.position 1e+09 is outside the device's box"},
       {"/mechanism", "no-such-mechanism", "no-such-mechanism"},
       {"/version", 2, "version"},
       {"/platform_pose", json::array({0, 0, 22.5, 0, 0, 0, 7}), "platform_pose"},
