@@ -141,6 +141,9 @@ class Kinematics {
   const Range& reach(int leg) const { return leg_reach_[std::size_t(leg)]; }
   // The bound about its first joint, which the numerical solver takes first.
   const FirstJointReach& reach_about_first_joint(int leg) const { return leg_reach_about_first_[std::size_t(leg)]; }
+  // How far the anchor lies outside the leg's reach bounds (> 0: it cannot
+  // close): from its base, and about its first joint unless told not to.
+  double reach_outside(int leg, const Eigen::Isometry3d& anchor, bool about_first_joint = true) const;
   // The rank of the leg's passive joints' twists at home: one less than the
   // closure's rows where the leg transmits one wrench (its closed wrench serves).
   int passive_rank(int leg) const { return passive_rank_[std::size_t(leg)]; }
@@ -193,9 +196,6 @@ class Kinematics {
   // `crawl` (relative) away from a solution.
   LegSolveResult solve_leg(int leg, const Eigen::Isometry3d& anchor, LegState state, int max_iterations,
                            double crawl) const;
-  // How far the anchor lies outside the leg's reach bounds (> 0: it cannot
-  // close): from its base, and about its first joint unless told not to.
-  double reach_outside(int leg, const Eigen::Isometry3d& anchor, bool about_first_joint = true) const;
   // Beyond how far outside a bound the numerical solver's legs are refused:
   // its tolerance (at least 1e-9), times the size.
   double refusal_cut(double tolerance) const { return std::max(1e-9, tolerance) * model_.size; }

@@ -244,7 +244,18 @@ class DescribedMechanism final : public Mechanism {
     r.distances.assign(std::size_t(legs + 1), kInf);
     if (s.status != Status::Ok) return r;
     const JacobianParts parts = kin_.jacobian(xm, s);
-    for (int l = 0; l < legs; ++l) r.distances[std::size_t(l)] = parts.serial_margin[std::size_t(l)];
+    const PlatformPose pose = kin_.pose(xm);
+    for (int l = 0; l < legs; ++l) {
+      // Where a leg's reach bounds are exact (a planar dyad, a crank and a
+      // rod ending in a ball), its serial set is their boundary: the distance
+      // to it, in the length unit, as the compiled Delta gives it; else the
+      // leg's margin (size times its actuation wrench's moment).
+      const ClosedFormLeg* form = kin_.closed_form(l);
+      const bool exact = form && (form->pattern == LegPattern::PlanarDyad ||
+                                  (form->pattern == LegPattern::CrankRod && form->end_joints == 1));
+      r.distances[std::size_t(l)] = exact ? std::max(0.0, -kin_.reach_outside(l, kin_.anchor(l, pose)))
+                                          : parts.serial_margin[std::size_t(l)];
+    }
     r.distances[std::size_t(legs)] = parallel_distance(xm, s);
     r.nearest = int(std::min_element(r.distances.begin(), r.distances.end()) - r.distances.begin());
     r.distance = r.distances[std::size_t(r.nearest)];
