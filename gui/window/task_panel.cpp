@@ -12,6 +12,7 @@
 #include <QStringList>
 #include <QTimer>
 #include <QVBoxLayout>
+#include <cmath>
 #include <sstream>
 
 #include <vtkPolyData.h>
@@ -405,8 +406,11 @@ QString TaskPanel::readout() const {
   for (const task::CriterionReport& c : r.criteria) {
     const std::string unit_text = task::criterion_unit(c.criterion, mechanism_->info().length_unit);
     const QString u = unit_text.empty() ? QString() : " " + QString::fromStdString(unit_text);
-    text += tr("<br>%1: worst %2%3, margin %4%3, %5")
-                .arg(QString::fromStdString(c.criterion.text).toHtmlEscaped(), number(c.worst), u, number(c.margin()),
+    // A sample out of reach has no value: said so, not as an infinite worst.
+    const QString worst = std::isfinite(c.worst) ? tr("worst %1%2, margin %3%2").arg(number(c.worst), u, number(c.margin()))
+                                                 : tr("worst out of reach");
+    text += tr("<br>%1: %2, %3")
+                .arg(QString::fromStdString(c.criterion.text).toHtmlEscaped(), worst,
                      QString::fromStdString(task::samples_text(r.samples - c.failing, r.samples)));
   }
   if (r.failing > 0)
