@@ -137,7 +137,7 @@ struct Field {
   std::string mechanism;
   std::string length_unit;
   std::map<std::string, double> parameters;
-  std::map<std::string, std::string> parameter_units;  // where known (a figure's title); else length_unit
+  std::map<std::string, std::string> parameter_units;  // where the device gives them (a figure's title); else length_unit
   std::string method;
   int branch = 0;
   // Titles of cond and cond_orientation, from the device's description

@@ -339,6 +339,7 @@ PointValues evaluate_point(const Device& device, const std::vector<Criterion>& c
   const Mechanism& m = *device.mechanism;
   Eigen::VectorXd x = device.fixed_task;
   x.head<3>() = p;
+  if (const std::optional<double> plane = m.info().plane_z) x(2) = *plane;  // a planar task is its section
   IkOptions one_branch = device.ik;  // the criteria are the design branch's: solve that one only
   one_branch.branch = device.ik.branch.value_or(0);
   const int branch = *one_branch.branch;

@@ -133,6 +133,7 @@ std::vector<Criterion> resolve(const Device& device, const std::vector<Criterion
 // the interface): reach is the reach margin; measures are +inf (forces and
 // margins 0) where the branch has no solution. An extra field's value is the
 // device's field kernel's at that one sample. `meets` is whether all criteria hold.
+// On a planar device p's z is taken as the plane's (its section).
 struct PointValues {
   bool reachable = false;
   std::vector<double> values;  // per criterion

@@ -55,7 +55,7 @@ std::vector<double> turns(bool wraps, const Interval& a, const Range& range) {
 }  // namespace
 
 bool certainly_within(Interval c, Interval s, const Range& range, bool wraps) {
-  if (range.lo == -kInf && range.hi == kInf) return true;  // a range that cuts nothing
+  if (cuts_nothing(range)) return true;
   const std::optional<Interval> a = angle_enclosure(c, s);
   if (!a) return false;
   const auto holds = [&](double lo, double hi) { return lo >= range.lo + kAngleMargin && hi <= range.hi - kAngleMargin; };
@@ -68,7 +68,7 @@ bool certainly_within(Interval c, Interval s, const Range& range, bool wraps) {
 }
 
 bool certainly_outside(Interval c, Interval s, const Range& range, bool wraps) {
-  if (range.lo == -kInf && range.hi == kInf) return false;
+  if (cuts_nothing(range)) return false;
   const std::optional<Interval> a = angle_enclosure(c, s);
   if (!a) return false;
   // Without wrapping the device's angle is in (-pi, pi]: an enclosure around pi is both ends.

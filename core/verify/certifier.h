@@ -24,6 +24,8 @@ enum class Device { Parallel12r, Delta, Described };
 // range of actuator angles (rad), or certainly outside it; `wraps`: an angle
 // counts as inside if some q + 2 pi k is.
 bool certainly_within(Interval c, Interval s, const Range& range, bool wraps);
+// A range that cuts nothing (the whole line: one the device's angles never leave).
+inline bool cuts_nothing(const Range& range) { return range.lo == -kInf && range.hi == kInf; }
 bool certainly_outside(Interval c, Interval s, const Range& range, bool wraps);
 
 struct Certifier {

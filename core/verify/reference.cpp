@@ -24,7 +24,7 @@ constexpr LD kInfL = std::numeric_limits<LD>::infinity();
 
 
 bool inside(LD q, const Range& range, bool wraps) {
-  if (range.lo == -kInf && range.hi == kInf) return true;  // a range that cuts nothing
+  if (cuts_nothing(range)) return true;
   if (!wraps) return q >= range.lo && q <= range.hi;
   const LD centre = 0.5L * (LD(range.lo) + LD(range.hi));
   const LD q_near = centre + std::remainder(q - centre, 2 * kPiL);

@@ -96,8 +96,7 @@ void draw(QPainter& p, const QSize& page, const Field& field, const render::Slic
   const bool six_dof = !field.cond_orientation.empty();
   auto value = [&](const char* key) { return field.parameters.contains(key) ? field.parameters.at(key) : 0.0; };
   // PATHOS-II's design lengths where the model has them; other six-DOF
-  // models (described ones) name all of their own, without a unit (their
-  // parameters may be angles).
+  // models (described ones) name all of their own.
   static const std::set<std::string> design = {"l0", "l2", "l3", "lp"};
   const bool pathos_design = std::any_of(design.begin(), design.end(), [&](const std::string& k) {
     return field.parameters.contains(k);
@@ -106,12 +105,10 @@ void draw(QPainter& p, const QSize& page, const Field& field, const render::Slic
   QString params;
   for (const auto& [k, val] : field.parameters) {
     if (six_dof && (pathos_design ? !design.contains(k) : held.contains(k))) continue;
-    // Each parameter's own unit where the device gives it (an angle is not
-    // a length); without one, the length unit but for described six-DOF models.
+    // Each parameter's own unit where the field gives it (an angle is not a
+    // length), else the length unit (the compiled devices' are lengths).
     const auto own = field.parameter_units.find(k);
-    const QString u = own != field.parameter_units.end() ? QString::fromStdString(own->second)
-                      : six_dof && !pathos_design    ? QString()
-                                                     : unit;
+    const QString u = own != field.parameter_units.end() ? QString::fromStdString(own->second) : unit;
     params += QString("%1 = %2%3, ").arg(QString::fromStdString(k)).arg(val).arg(u.isEmpty() ? QString() : " " + u);
   }
   params.chop(2);

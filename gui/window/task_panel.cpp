@@ -366,7 +366,8 @@ void TaskPanel::evaluateNow() {
     const std::vector<task::Criterion> c = criteria();
     task::TaskVolume t = volume();
     const task::Device d = device();
-    // A planar device's task: each point of the flattened surface evaluated on the plane.
+    // A planar device's task: centred on the plane, its surface flattened
+    // onto it (task::evaluate_point takes a point's z as the plane's).
     const std::optional<double> plane = mechanism_->info().plane_z;
     if (plane) t.centre->z() = *plane;
     report_ = task::evaluate(d, c, t, *t.centre, task::kTaskResolution);  // fit's evaluation: one verdict
@@ -375,7 +376,6 @@ void TaskPanel::evaluateNow() {
     for (vtkIdType i = 0; i < surface->GetNumberOfPoints(); ++i) {
       Eigen::Vector3d p;
       surface->GetPoint(i, p.data());
-      if (plane) p.z() = *plane;
       meets[std::size_t(i)] = task::evaluate_point(d, c, p).meets;
     }
     scene_->set_task(surface, meets);

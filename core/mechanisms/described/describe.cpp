@@ -79,10 +79,10 @@ std::string describe(const Preset& preset) {
   // makes every pose out of limits.
   const PoseSolution home = k.inverse(m.home, 0, 1e-10);
   s << "home: " << to_string(home.status);
-  for (std::size_t a = 0; a < m.actuators.size(); ++a) {
-    const Actuator& act = m.actuators[a];
-    const double v = home.q.size() ? home.q(Eigen::Index(a)) : 0.0;
-    if (home.q.size() == 0 || !act.limited || act.range.contains(v)) continue;
+  for (Eigen::Index a = 0; a < home.q.size(); ++a) {
+    const Actuator& act = m.actuators[std::size_t(a)];
+    const double v = home.q(a);
+    if (!act.limited || act.range.contains(v)) continue;
     const double scale = act.prismatic ? 1.0 : 180 / M_PI;
     s << "; " << act.name << " = " << v * scale << (act.prismatic ? " " + unit : " deg") << " is outside its travel "
       << act.range.lo * scale << " .. " << act.range.hi * scale << (act.prismatic ? " " + unit : " deg");

@@ -141,15 +141,12 @@ class DescribedMechanism final : public Mechanism {
       // solution nearest q with each leg closed on the fastest path; so
       // here, for the numerical solver, which at a stretched leg stops
       // about sqrt(residual) short of it (an ok row never carries c(J) = inf).
-      // A numerical answer within the tolerance of a fold that no leg
-      // closes exactly (a pose a hair past a stretched leg's reach) is
-      // singular too: measures() finds no exact solution there.
+      // A numerical answer within the tolerance of a fold that a leg's
+      // closed form cannot close exactly (a hair past a stretched leg's
+      // reach) is singular too: measures() finds no exact solution there.
       if (s.status == Status::Ok) {
         const PoseSolution near = solver == LegSolver::Numeric ? kin_.inverse_near(xm, s.q) : PoseSolution{};
-        // (Only where a closed form says so: a numerical re-solve that stops
-        // short proves nothing.)
-        if (solver == LegSolver::Numeric && near.status != Status::Ok && near.failing_leg >= 0 &&
-            kin_.closed_form(near.failing_leg) != nullptr) {
+        if (near.status != Status::Ok && near.failing_leg >= 0 && kin_.closed_form(near.failing_leg) != nullptr) {
           s.status = Status::Singular;
           s.failing_leg = near.failing_leg;
         } else {
@@ -382,6 +379,7 @@ class DescribedMechanism final : public Mechanism {
     f.mechanism = info_.name;
     f.length_unit = kin_.model().length_unit;
     f.parameters = parameters();
+    for (const Quantity& q : info_.parameters) f.parameter_units[q.name] = q.unit;  // an angle is not a length
     f.method = lanes ? kLanesName : method_name(solver);
     for (LegSolver k : {LegSolver::Fastest, LegSolver::Numeric}) f.method_names.emplace_back(method_name(k));  // by LegSolver
     f.method_names.emplace_back(kLanesName);  // kLanesCode

@@ -111,8 +111,7 @@ void run_slice(const SliceOptions& o) {
 
   const auto start = std::chrono::steady_clock::now();
   ProgressLine line(o.sampling.quiet);
-  Field field = sample(sampling, grid, line);
-  for (const Quantity& q : info.parameters) field.parameter_units[q.name] = q.unit;
+  const Field field = sample(sampling, grid, line);
   line.step("writing " + o.output);
   if (ext == ".csv") render::write_field_csv(field, o.output);
   else if (o.figure) write_slice_figure(field, style, o.output);
