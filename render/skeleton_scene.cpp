@@ -395,8 +395,11 @@ void SkeletonScene::set_labels_in_front(bool on) {
 vtkTextActor* SkeletonScene::joint_front_label(int joint) const { return joints_.at(joint).front_label; }
 
 void SkeletonScene::reset_camera(vtkRenderer* renderer, const Eigen::AlignedBox3d& workspace_box) const {
-  // From the front-left, above.
-  frame(renderer, workspace_box, Eigen::Vector3d(-0.95, -1.45, 0.85), Eigen::Vector3d::UnitZ());
+  // From the front-left, above; a flat workspace (a planar device's) from
+  // higher up, so that its plane is not seen nearly edge-on.
+  const Eigen::Vector3d sizes = workspace_box.sizes();
+  const bool flat = sizes.z() < 0.1 * std::max(sizes.x(), sizes.y());
+  frame(renderer, workspace_box, Eigen::Vector3d(-0.95, -1.45, flat ? 2.6 : 0.85), Eigen::Vector3d::UnitZ());
 }
 
 Eigen::AlignedBox3d SkeletonScene::device_box() const {
@@ -430,8 +433,10 @@ void SkeletonScene::frame(vtkRenderer* renderer, const Eigen::AlignedBox3d& box,
   if (!back.allFinite() || (up_in - up_in.dot(back) * back).norm() < 1e-9 * up_in.norm())
     throw std::invalid_argument("SkeletonScene::frame: expected a view direction and an up vector not parallel to it");
   // The base does not move: framing it with the box keeps the view steady
-  // while the device moves.
+  // while the device moves. The device as it stands is framed too (a
+  // hexapod's cranks reach below its workspace).
   Eigen::AlignedBox3d frame_box = box;
+  frame_box.extend(device_box());
   for (std::size_t b = 0; b < model_.bodies.size(); ++b) {
     if (!model_.bodies[b].ground) continue;
     const Eigen::Isometry3d& T = pose_.X_world_body[b];

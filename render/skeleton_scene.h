@@ -59,11 +59,12 @@ class SkeletonScene {
   const SkeletonModel& model() const { return model_; }
   const SkeletonPose& pose() const { return pose_; }
 
-  // Camera from the front-left, above, framing `workspace_box` (base frame)
-  // together with the device's base.
+  // Camera from the front-left, above (higher for a flat workspace, a planar
+  // device's), framing `workspace_box` (base frame) with the device as it
+  // stands and its base.
   void reset_camera(vtkRenderer* renderer, const Eigen::AlignedBox3d& workspace_box) const;
   // The camera looking along -`back` (focal point -> camera is `back`) with
-  // `up` up, framing `box` with the device's base. Throws
+  // `up` up, framing `box` with the device as it stands and its base. Throws
   // std::invalid_argument for a null renderer, an empty or non-finite box, or
   // `up` parallel to `back`.
   void frame(vtkRenderer* renderer, const Eigen::AlignedBox3d& box, const Eigen::Vector3d& back,

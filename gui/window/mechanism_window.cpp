@@ -76,7 +76,7 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   task_scene_->add_to(renderer_);
   scene_->add_to(renderer_);
   renderer_->SetUseDepthPeeling(false);  // plain alpha blending: interactive under software GL
-  fitCamera();
+  fitCamera();  // a first camera; fitted again once the device is posed
 
   buildDocks();
   fields_->placeLegend();
@@ -103,7 +103,6 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
                                     return qs(p.title.empty() ? state_.mechanism().info().title : p.title);
                                   },
                                   [this] { return preset_file(state_.preset()); }});
-  document_->cameraFitted(camera_state(renderer_));  // as fitCamera() put it above
   buildMenus();
   compute_label_ = add_field_status(this, view_, {fields_->sliceRunner(), fields_->volumeRunner()}, [this] {
                      fields_->markSettled();  // nothing more is coming
@@ -112,6 +111,7 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   // Neither the drive nor the layout is remembered, so screenshots are reproducible.
   setDrive(Drive::Task);
   showPose(state_.task(), state_.branch());
+  fitCamera();  // the device as posed (a hexapod's cranks reach beyond its workspace)
   fields_->request(true, true);
   history()->reset({});
   document_->updateTitle();
