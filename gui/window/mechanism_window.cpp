@@ -7,6 +7,7 @@
 #include <QFileInfo>
 #include <QLabel>
 #include <QStatusBar>
+#include <QTabBar>
 #include <QTimer>
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkPolyData.h>
@@ -187,7 +188,12 @@ void MechanismWindow::buildDocks() {
   tools_->addDock(this, drive);
   methods_ = add_methods_dock(this, state_.preset(), drive);
   drive->raise();
-  QTimer::singleShot(0, this, [this, drive] { resizeDocks({drive}, {std::max(drive->width(), 440)}, Qt::Horizontal); });
+  // The column as wide as its tabs' labels, within 440 px and two fifths of the window.
+  QTimer::singleShot(0, this, [this, drive] {
+    int labels = 0;
+    for (const QTabBar* bar : findChildren<QTabBar*>()) labels = std::max(labels, bar->sizeHint().width());
+    resizeDocks({drive}, {std::clamp(labels, 440, std::max(440, 2 * width() / 5))}, Qt::Horizontal);
+  });
 }
 
 void MechanismWindow::noteChange() {

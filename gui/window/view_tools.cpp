@@ -97,11 +97,9 @@ ViewTools::~ViewTools() = default;
 QDockWidget* ViewTools::addDock(QMainWindow* window, QDockWidget* tab_with) {
   QDockWidget* dock = add_dock(window, tr("Probe"), "probeDock", panel_);
   window->tabifyDockWidget(tab_with, dock);
-  dock->hide();  // its tab would widen the dock column before anything is picked
-  connect(picker_.get(), &PickTool::clicked, dock, [dock] {
-    dock->show();
-    dock->raise();
-  });
+  // Shown from the start: its tab, first shown by a click, would widen the
+  // dock column and move the view under the pointer.
+  connect(picker_.get(), &PickTool::clicked, dock, [dock] { dock->raise(); });
   return dock;
 }
 
