@@ -98,12 +98,11 @@ FieldScene::FieldScene() {
   colour_bar_->SetPosition(0.89, 0.10);
   colour_bar_->SetWidth(0.10);
   colour_bar_->SetHeight(0.80);
-  colour_bar_->SetMaximumWidthInPixels(110);
+  set_pixel_scale(1.0);
   colour_bar_->SetLabelFormat("%g");
   colour_bar_->SetUseCustomLabels(true);
   colour_bar_->SetBarRatio(0.3);
   colour_bar_->UnconstrainedFontSizeOn();
-  colour_bar_->SetVerticalTitleSeparation(10);  // pixels between the title and the top label
   for (vtkTextProperty* t : {colour_bar_->GetTitleTextProperty(), colour_bar_->GetLabelTextProperty()}) {
     t->SetColor(0.15, 0.15, 0.2);
     t->ShadowOff();
@@ -409,6 +408,11 @@ bool FieldScene::surface_visible(Surface which) const {
 
 std::size_t FieldScene::surface_faces(Surface which) const {
   return std::size_t(meshes_[index(which)]->GetNumberOfCells());
+}
+
+void FieldScene::set_pixel_scale(double scale) {
+  colour_bar_->SetMaximumWidthInPixels(int(std::lround(110 * scale)));
+  colour_bar_->SetVerticalTitleSeparation(int(std::lround(10 * scale)));  // between the title and the top label
 }
 
 bool FieldScene::colour_bar_visible() const { return colour_bar_flag_ && slice_visible(); }

@@ -95,6 +95,9 @@ class FieldScene {
   // drawn in the end colours (a robust automatic range clipped them): a
   // swatch with "clipped" past each such end. Taken at the next set_slice.
   void set_clipped_ends(bool low, bool high);
+  // Pixel sizes (the colour bar's widest, the gap under its title) times
+  // `scale`: a picture drawn larger than the screen keeps the bar's share.
+  void set_pixel_scale(double scale);
 
   // Hides everything and drops all field data (visibility and opacity
   // settings are kept for the next data).

@@ -224,7 +224,8 @@ int run(int argc, char** argv, const WindowLauncher* launcher) {
   app.add_option("--size", window.size, "Window size for --screenshot and --latency, WIDTHxHEIGHT")->capture_default_str();
   app.add_option("--view-image", window.view_image,
                  "Open the window, wait until the fields are computed, save the 3-D view alone as PNG, drawn at "
-                 "--view-size (not scaled), and exit");
+                 "--view-size (rendered at that size, not scaled; text and the colour bar grow with it, so the picture is the "
+                 "view's, sharper), and exit");
   app.add_option("--view-size", window.view_size, "Pixel size of --view-image, WIDTHxHEIGHT")->capture_default_str();
   app.add_option("--task", window.task,
                  "Show a task volume in the Task tab: sphere:diameter=D or box:size=X,Y,Z, optionally ,centre=x,y,z "

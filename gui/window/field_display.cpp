@@ -217,7 +217,9 @@ void FieldDisplay::placeLegend() {
   // About 120 pixels wide, at most a quarter of the view; the whole view is
   // the scene's while no colour bar is shown.
   const bool shown = scene_->colour_bar_visible();
-  const double width = shown ? std::min(0.25, 120.0 / std::max(1, view_->width())) : 0.0;
+  const double scale = view_->textScale();  // larger while the view is drawn as a large picture
+  const double width = shown ? std::min(0.25, 120.0 * scale / std::max(1, view_->width())) : 0.0;
+  scene_->set_pixel_scale(scale);
   renderer_->SetViewport(0, 0, 1 - width, 1);
   legend_->SetDraw(shown);
   if (shown) legend_->SetViewport(1 - width, 0, 1, 1);

@@ -236,7 +236,7 @@ void VtkWidget::resizeGL() {
   interactor_->UpdateSize(static_cast<int>(std::lround(window_->width() * dpr)),
                           static_cast<int>(std::lround(window_->height() * dpr)));
   // Keeps text and line widths the same physical size on HiDPI screens.
-  renderWindow_->SetDPI(static_cast<int>(std::lround(72 * dpr)));
+  renderWindow_->SetDPI(static_cast<int>(std::lround(72 * dpr * textScale_)));
   if (const QScreen* s = window_->screen()) {
     const QSize screenSize = s->size() * dpr;
     renderWindow_->SetScreenSize(screenSize.width(), screenSize.height());
@@ -436,10 +436,14 @@ QImage VtkWidget::imageAt(int width, int height) {
   if (width < 16 || height < 16 || width > kMaxWindowSide || height > kMaxWindowSide)
     throw std::invalid_argument("the view image must be 16..8192 pixels a side, got " + std::to_string(width) + "x" +
                                 std::to_string(height));
-  const QSize min = minimumSize(), max = maximumSize();
+  const QSize min = minimumSize(), max = maximumSize(), before = size();
+  textScale_ = double(height) / std::max(1, before.height());
   setFixedSize(width, height);  // the window grows or shrinks around it for this frame
   QCoreApplication::processEvents();
   const QImage image = grabFramebuffer();
+  textScale_ = 1.0;
+  setFixedSize(before);  // back at once, so the next picture starts from the view as it was
+  QCoreApplication::processEvents();
   setMinimumSize(min);
   setMaximumSize(max);
   if (image.isNull()) throw std::runtime_error("the view has no picture yet: the window is not on screen");

@@ -65,9 +65,13 @@ class VtkWidget : public QWidget {
   // image before the view has been shown).
   QImage grabFramebuffer();
   // The view alone drawn at width x height pixels (the view is resized for
-  // one frame, so the picture is rendered at that size, not scaled). Throws
-  // std::invalid_argument outside 16..kMaxWindowSide pixels a side.
+  // one frame, so the picture is rendered at that size, not scaled; text
+  // and the colour bar's strip grow with the height, so they keep their
+  // share of the picture). Throws std::invalid_argument outside
+  // 16..kMaxWindowSide pixels a side.
   QImage imageAt(int width, int height);
+  // How much larger than on screen text is drawn: 1 but while imageAt() draws.
+  double textScale() const { return textScale_; }
   // The view's two renderers: the scene's, on a gradient, and at its right
   // the colour bar's strip (not interactive), so the bar never covers the data.
   struct Renderers {
@@ -119,6 +123,7 @@ class VtkWidget : public QWidget {
   bool inPaint_ = false;
   bool renderPosted_ = false;  // a paint event is on its way to window_
   int wheelDelta_ = 0;  // Accumulates high-resolution wheel deltas into notches.
+  double textScale_ = 1.0;
 };
 
 }  // namespace linkscape::gui

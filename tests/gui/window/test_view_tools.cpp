@@ -14,6 +14,7 @@
 #include <QTabBar>
 #include <QTemporaryDir>
 #include <QtTest>
+#include <cstdio>
 #include <vtkActor.h>
 #include <vtkCamera.h>
 #include <vtkMapper.h>
@@ -187,6 +188,30 @@ class ViewToolsTest : public QObject {
     if (auto* dock = w.findChild<QDockWidget*>("probeDock")) dock->raise();
     window_checks::frame(w);
     window_checks::save_screenshot(w, "view-tools-probe.png");
+  }
+
+  // A view image larger than the view is the same picture, sharper: text
+  // and the colour bar's strip grow with it (at screen size they would
+  // shrink to a corner of a 4K picture), and the view is as before after.
+  void aLargeViewImageIsTheViewsPictureSharper() {
+    MechanismWindow w(load_preset("delta"));
+    w.resize(1280, 800);
+    w.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    window_checks::wait_settled(w);
+    window_checks::frame(w);
+    const int width = w.view()->width(), height = w.view()->height();
+    const QImage screen = w.viewImage(width, height);
+    const QImage large = w.viewImage(3 * width, 3 * height);
+    QCOMPARE(large.size(), QSize(3 * width, 3 * height));
+    const QImage shrunk = large.scaled(width, height, Qt::IgnoreAspectRatio, Qt::SmoothTransformation);
+    const double changed = window_checks::changed_fraction(screen.convertToFormat(QImage::Format_RGB32),
+                                                           shrunk.convertToFormat(QImage::Format_RGB32));
+    std::printf("view image at 3x, shrunk: %.4f of its pixels differ from the view's\n", changed);
+    QVERIFY2(changed < 0.02, qPrintable(QString::number(changed)));
+    const QImage after = w.viewImage(width, height);
+    std::printf("after: %.4f differ\n", window_checks::changed_fraction(screen.convertToFormat(QImage::Format_RGB32), after.convertToFormat(QImage::Format_RGB32)));
+    QVERIFY2(window_checks::changed_fraction(screen, after) < 0.001, "the view is as before");
   }
 
   void clickOnASurfaceReadsTheSampledVolume() {
