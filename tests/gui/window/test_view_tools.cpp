@@ -92,6 +92,13 @@ std::vector<Target> slice_targets(MechanismWindow& w, const Field& slice) {
   return out;
 }
 
+// At 1280x800, on screen.
+void show_on_screen(MechanismWindow& w) {
+  w.resize(1280, 800);
+  w.show();
+  QVERIFY(QTest::qWaitForWindowExposed(&w));
+}
+
 }  // namespace
 
 class ViewToolsTest : public QObject {
@@ -100,9 +107,7 @@ class ViewToolsTest : public QObject {
  private slots:
   void clickOnTheSliceReadsTheFieldThere() {
     MechanismWindow w(load_preset("delta"));
-    w.resize(1280, 800);
-    w.show();
-    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    show_on_screen(w);
     window_checks::wait_settled(w);
     window_checks::frame(w);
     gui::ProbePanel* panel = w.viewTools()->panel();
@@ -195,9 +200,7 @@ class ViewToolsTest : public QObject {
   // shrink to a corner of a 4K picture), and the view is as before after.
   void aLargeViewImageIsTheViewsPictureSharper() {
     MechanismWindow w(load_preset("delta"));
-    w.resize(1280, 800);
-    w.show();
-    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    show_on_screen(w);
     window_checks::wait_settled(w);
     window_checks::frame(w);
     const int width = w.view()->width(), height = w.view()->height();
@@ -216,9 +219,7 @@ class ViewToolsTest : public QObject {
 
   void clickOnASurfaceReadsTheSampledVolume() {
     MechanismWindow w(load_preset("delta"));
-    w.resize(1280, 800);
-    w.show();
-    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    show_on_screen(w);
     gui::FieldSettings f = w.fieldSettings();
     f.show_slice = false;
     w.applyFieldSettings(f);
@@ -275,9 +276,7 @@ class ViewToolsTest : public QObject {
 
   void aRefusedTargetPutsTheSlidersBack() {
     MechanismWindow w(load_preset("delta"));
-    w.resize(1280, 800);
-    w.show();
-    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    show_on_screen(w);
     const std::string x = w.mechanism().info().task[0].name;
     auto* box = w.findChild<QDoubleSpinBox*>(QString::fromStdString(x + "Box"));
     QVERIFY(box);
@@ -295,9 +294,7 @@ class ViewToolsTest : public QObject {
 
   void colourBarsSayWhatTheyShow() {
     MechanismWindow w(load_preset("delta"));
-    w.resize(1280, 800);
-    w.show();
-    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    show_on_screen(w);
     window_checks::wait_settled(w);
     auto show = [&](const std::string& field, const std::string& map) {
       gui::FieldSettings f = w.fieldSettings();
@@ -368,9 +365,7 @@ class ViewToolsTest : public QObject {
 
   void theSliceCanBeSeenThrough() {
     MechanismWindow w(load_preset("delta"));
-    w.resize(1280, 800);
-    w.show();
-    QVERIFY(QTest::qWaitForWindowExposed(&w));
+    show_on_screen(w);
     window_checks::wait_settled(w);
     auto* slider = w.findChild<QSlider*>("sliceOpacitySlider");
     QVERIFY(slider);
