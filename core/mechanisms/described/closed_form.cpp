@@ -273,7 +273,7 @@ struct Builder {
     for (double sign : {1.0, -1.0}) {
       const double q = sign * n - form.offset;
       partial.values(var(form.actuator_step)) = q;
-      point_ball(partial, form.base, axis, sign * d, Eigen::Translation3d(axis * q) * form.rod);
+      point_ball(partial, form.base, axis, sign * d, form.after_actuator * Eigen::Translation3d(axis * q) * form.rod);
     }
   }
 
@@ -522,17 +522,20 @@ std::optional<ClosedFormLeg> recognise_pattern(const Model& model, const Leg& le
     const Vector3d p = f[1].translation();
     return actuator != Type::Revolute || (p - c.actuator_axis * c.actuator_axis.dot(p)).norm() > tiny;
   };
-  // A ball, an actuated slide (a fixed length along it), the end joint.
+  // A ball, an actuated slide (fixed lengths along it before and after: a
+  // cylinder's body, its rod's end), the end joint.
   const auto extensible_leg = [&](Type b, Type e) {
-    if (!match(tokens, {b, Type::Prismatic, e}, j, f) || !j[1]->actuated || !f[1].isApprox(Isometry3d::Identity()) ||
+    if (!match(tokens, {b, Type::Prismatic, e}, j, f) || !j[1]->actuated || !pure_translation(f[1]) ||
         !pure_translation(f[2]) || !end_ok(b, e))
       return false;
-    const Vector3d s = leg.steps[std::size_t(j[1]->step)].axis, t = f[2].translation();
-    if ((t - s * s.dot(t)).norm() > tiny || !points_anywhere(*j[0], s)) return false;
+    const Vector3d s = leg.steps[std::size_t(j[1]->step)].axis, t1 = f[1].translation(), t2 = f[2].translation();
+    const auto along = [&](const Vector3d& t) { return (t - s * s.dot(t)).norm() <= tiny; };
+    if (!along(t1) || !along(t2) || !points_anywhere(*j[0], s)) return false;
     start(*j[1], LegPattern::Extensible);
     ball(*j[0]);
+    c.after_actuator = f[1];  // here the ball's link to the slide
     c.rod = f[2];
-    c.offset = s.dot(t);
+    c.offset = s.dot(t1 + t2);
     return true;
   };
   // In the plane a revolute stands for each ball: a crank carrying a rod (a

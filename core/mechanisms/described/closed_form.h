@@ -54,7 +54,7 @@ struct ClosedFormLeg {
   int actuator_step = -1;
   Eigen::Vector3d actuator_axis = Eigen::Vector3d::UnitZ();  // local
   // The fixed transforms between the joints (identity where absent).
-  Eigen::Isometry3d after_actuator = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d after_actuator = Eigen::Isometry3d::Identity();  // Extensible: ball -> slide
   Eigen::Isometry3d rod = Eigen::Isometry3d::Identity();   // ball -> last joint
   Eigen::Isometry3d tail = Eigen::Isometry3d::Identity();  // last joint -> end
   // The ball (spherical, universal or, planar, a revolute) after the actuator

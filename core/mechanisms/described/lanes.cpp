@@ -369,6 +369,8 @@ std::string build(const Kinematics& kin, const VectorXd& fixed, int branch, Lane
     } else if (g.pattern == LegPattern::SlideRod) {
       g.origin = form->base * form->after_actuator.translation();
     } else {
+      // The lanes take the slide's centre at the ball's.
+      if (!form->after_actuator.isApprox(Isometry3d::Identity())) return leg + "a fixed length between its ball and its slide";
       g.origin = g.actuator_centre;
       g.offset = form->offset;
       link = l.steps[std::size_t(form->actuator_step)].axis;

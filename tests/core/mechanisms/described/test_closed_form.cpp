@@ -321,6 +321,35 @@ TEST(DescribedClosedForm, PlanarSlideLegsAgreeWithTheNumericalSolver) {
     }
 }
 
+// A cylinder as a designer writes it: a body of fixed length after the
+// universal joint, the stroke, then the rod's end. Still extensible, and
+// the Gough-Stewart platform's own answers with the stroke shifted.
+TEST(DescribedClosedForm, ACylindersBodyBeforeItsSlideIsStillExtensible) {
+  const Preset p = load_preset("stewart");
+  nlohmann::json d = nlohmann::json::parse(p.description);
+  for (nlohmann::json& leg : d["legs"]) {
+    nlohmann::json& chain = leg["chain"];
+    chain[1]["range"] = {"lmin - 6", "lmax - 6"};
+    chain.insert(chain.begin() + 1, nlohmann::json{{"translate", {0, 0, 4}}});
+    chain.insert(chain.begin() + 3, nlohmann::json{{"translate", {0, 0, 2}}});
+  }
+  const Kinematics k(build_model(d.dump(), p.parameters, p.limits_deg, p.length_unit));
+  const Kinematics plain = load("stewart");
+  EXPECT_EQ(patterns(k), std::vector<std::string>(6, "extensible"));
+  EXPECT_GT(compare(k, "stewart with cylinder bodies", 3000).ok, 300);
+  std::mt19937_64 rng(5);
+  int ok = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const VectorXd x = random_pose(k.model(), 0.3, rng);
+    const PoseSolution s = k.inverse(x, 0, 1e-10, LegSolver::Fastest), t = plain.inverse(x, 0, 1e-10, LegSolver::Fastest);
+    ASSERT_EQ(s.status, t.status) << "pose " << i;
+    if (s.status != Status::Ok) continue;
+    ++ok;
+    EXPECT_LE((s.q.array() + 6 - t.q.array()).abs().maxCoeff(), 1e-12 * k.model().size) << "pose " << i;
+  }
+  EXPECT_GT(ok, 200);
+}
+
 TEST(DescribedClosedForm, RandomDesignsAgreeWithTheNumericalSolver) {
   std::mt19937_64 rng(11);
   int ok = 0, mismatches = 0;
