@@ -50,8 +50,12 @@ QString number(double v) {
   return QString::number(v, 'g', 4);
 }
 
-QString point_text(const Eigen::Vector3d& p, const QString& unit) {
-  return QString("(%1, %2, %3) %4").arg(number(p.x()), number(p.y()), number(p.z()), unit);
+// To 1e-4 of the device's size: a centroid of samples carries their
+// rounding (-0.00016 for 0), which would read as a position.
+QString point_text(const Eigen::Vector3d& p, const QString& unit, double size) {
+  const double quantum = 1e-4 * size;
+  const auto rounded = [&](double v) { return number(std::round(v / quantum) * quantum + 0.0); };
+  return QString("(%1, %2, %3) %4").arg(rounded(p.x()), rounded(p.y()), rounded(p.z()), unit);
 }
 
 QDoubleSpinBox* length_box(QWidget* parent) {
@@ -393,6 +397,7 @@ QString TaskPanel::readout() const {
   if (!report_ || !mechanism_) return {};
   const task::TaskReport& r = *report_;
   const QString unit = QString::fromStdString(mechanism_->info().length_unit);
+  const auto at = [&](const Eigen::Vector3d& p) { return point_text(p, unit, mechanism_->size()); };
   QString text;
   // The words of fit's report (task::verdict_text), at its resolution.
   QString verdict = QString::fromStdString(task::verdict_text(r)).toHtmlEscaped();
@@ -401,7 +406,7 @@ QString TaskPanel::readout() const {
   if (const std::optional<Eigen::Vector3d> centre = volume().centre) {
     const Eigen::Vector3d home = mechanism_->home_task().head<3>();
     text += "<br>" + centre_from_home_text(*centre, home, mechanism_->size(), unit) +
-            tr(", the home point at %1").arg(point_text(home, unit));
+            tr(", the home point at %1").arg(at(home));
   }
   for (const task::CriterionReport& c : r.criteria) {
     const std::string unit_text = task::criterion_unit(c.criterion, mechanism_->info().length_unit);
@@ -414,13 +419,13 @@ QString TaskPanel::readout() const {
                      QString::fromStdString(task::samples_text(r.samples - c.failing, r.samples)));
   }
   if (r.failing > 0)
-    text += tr("<br>fails at %1 of %2 samples, around %3").arg(r.failing).arg(r.samples).arg(point_text(r.failing_centroid, unit));
+    text += tr("<br>fails at %1 of %2 samples, around %3").arg(r.failing).arg(r.samples).arg(at(r.failing_centroid));
   if (largest_) {
     if (!largest_->found) text += tr("<br>no sample of the box meets every criterion");
     else if (shape_box_->currentIndex() == 0)
-      text += tr("<br>largest sphere: %1 %2 across at %3").arg(number(largest_->size), unit, point_text(largest_->centre, unit));
+      text += tr("<br>largest sphere: %1 %2 across at %3").arg(number(largest_->size), unit, at(largest_->centre));
     else
-      text += tr("<br>largest box: %1 times this one at %2").arg(number(largest_->size), point_text(largest_->centre, unit));
+      text += tr("<br>largest box: %1 times this one at %2").arg(number(largest_->size), at(largest_->centre));
   }
   return text;
 }
