@@ -368,14 +368,18 @@ Kinematics::Kinematics(Model model) : model_(std::move(model)), id_(next_id++) {
         << " actuator(s); each freedom of the task needs one actuator (Gruebler-Kutzbach count "
         << mobility_.gruebler << ", " << mobility_.fixed << " platform coordinate(s) held by the description)";
     // A link written with no length joins two joints at one point (a
-    // parameter set to 0): the likely cause, named.
+    // parameter set to 0), or with none beside the device's size (another
+    // one absurdly long): the likely cause, named.
     for (const Leg& l : model_.legs)
       for (std::size_t i = 1; i + 1 < l.steps.size(); ++i) {
         const Step& st = l.steps[i];
-        if (st.kind != Step::Kind::Fixed || !st.transform.linear().isIdentity(0) ||
-            st.transform.translation().norm() > 1e-12 * model_.size)
+        const double length = st.transform.translation().norm();
+        if (st.kind != Step::Kind::Fixed || !st.transform.linear().isIdentity(0) || length > 1e-12 * model_.size)
           continue;
-        msg << "; leg \"" << l.name << "\" has a link of no length after joint " << l.steps[i - 1].joint;
+        msg << "; leg \"" << l.name << "\" has a link of ";
+        if (length == 0) msg << "no length";
+        else msg << length << " " << model_.length_unit << ", nothing beside the device's size of " << model_.size << " " << model_.length_unit;
+        msg << " after joint " << l.steps[i - 1].joint;
         break;
       }
     throw std::invalid_argument(msg.str());

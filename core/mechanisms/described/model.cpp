@@ -466,6 +466,8 @@ Model build_model(const std::string& description_json, const std::map<std::strin
       if (s.kind == Step::Kind::Fixed) m.size += s.transform.translation().norm();
   }
   if (!(m.size > 0)) fail(top + ".size", "the device's size must be positive (give \"size\" explicitly)");
+  if (!std::isfinite(m.size))
+    fail(top + ".size", "the device's size is not finite (a length far too large?)");
 
   if (doc.contains("box")) {
     const json& box = doc.at("box");

@@ -181,6 +181,10 @@ TEST(DescriptionErrors, ALinkOfNoLengthIsNamedWhereTheFreedomsDoNotMatch) {
     d["description"]["home"] = {{"x", 0}, {"y", std::sqrt(91.0)}};
   });
   expect_contains(m, {"0 freedom(s) at home", "leg \"left\" has a link of no length after joint elbow1"});
+  // A length so large that the size is not finite is named as such, not as
+  // the other links' lack of length.
+  const std::string huge = five_bar_after([](json& d) { d["parameters"]["b"] = 1e300; });
+  expect_contains(huge, {"description.size", "not finite", "a length far too large?"});
 }
 
 TEST(DescriptionErrors, UnknownKeyIsNamedWithTheKnownOnes) {
