@@ -7,7 +7,6 @@
 #include <QFileInfo>
 #include <QLabel>
 #include <QStatusBar>
-#include <QTabBar>
 #include <QTimer>
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkPolyData.h>
@@ -183,17 +182,14 @@ void MechanismWindow::buildDocks() {
     if (!setParameters(design)) return;
     if (const auto centre = fit_panel_->chosenCentre()) task_panel_->setCentre(*centre);  // where it fits
   });
-  // One column of tabs: the drive (with every read-out) in front.
+  // One column of tabs down its right edge (every label whole at any width
+  // of the column): the drive (with every read-out) in front.
+  setTabPosition(Qt::RightDockWidgetArea, QTabWidget::East);
   for (QDockWidget* d : {design, field, animation, task, fit}) tabifyDockWidget(drive, d);
   tools_->addDock(this, drive);
   methods_ = add_methods_dock(this, state_.preset(), drive);
   drive->raise();
-  // The column as wide as its tabs' labels, within 440 px and two fifths of the window.
-  QTimer::singleShot(0, this, [this, drive] {
-    int labels = 0;
-    for (const QTabBar* bar : findChildren<QTabBar*>()) labels = std::max(labels, bar->sizeHint().width());
-    resizeDocks({drive}, {std::clamp(labels, 440, std::max(440, 2 * width() / 5))}, Qt::Horizontal);
-  });
+  QTimer::singleShot(0, this, [this, drive] { resizeDocks({drive}, {std::max(drive->width(), 440)}, Qt::Horizontal); });
 }
 
 void MechanismWindow::noteChange() {

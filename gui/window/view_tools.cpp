@@ -97,8 +97,7 @@ ViewTools::~ViewTools() = default;
 QDockWidget* ViewTools::addDock(QMainWindow* window, QDockWidget* tab_with) {
   QDockWidget* dock = add_dock(window, tr("Probe"), "probeDock", panel_);
   window->tabifyDockWidget(tab_with, dock);
-  // Shown from the start: its tab, first shown by a click, would widen the
-  // dock column and move the view under the pointer.
+  // Shown from the start, so that its tab says the view can be probed.
   connect(picker_.get(), &PickTool::clicked, dock, [dock] { dock->raise(); });
   return dock;
 }
