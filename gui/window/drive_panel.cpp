@@ -113,6 +113,8 @@ DrivePanel::DrivePanel(const MechanismInfo& info, QWidget* parent) : QWidget(par
   form->addRow(tr("Branch"), branch_label_);
   for (QLabel* l : {task_label_, actuator_label_, det_label_, singular_label_, branch_label_})
     l->setTextInteractionFlags(Qt::TextSelectableByMouse);
+  // Read-outs wrap rather than widen the dock past its width (cutting its controls).
+  for (QLabel* l : state->findChildren<QLabel*>()) l->setWordWrap(true);
   column->addWidget(state);
   auto* extra = new QWidget(w);
   extra_form_ = new QFormLayout(extra);
@@ -130,7 +132,12 @@ void DrivePanel::showForces(const DeviceState& state) {
     const haptics::Measures h = haptics::measures(state.mechanism().jacobian(state.actuators(), state.task()), data,
                                                   haptics::TorqueRating::Continuous);
     // Which torque, and where the ratings come from (the preset, parameters or defaults).
-    const QString rating = tr(" (continuous torque %1 N·m)").arg(number(data.actuators.front().continuous_torque_Nm));
+    // A motor driving a slide: its force there.
+    const haptics::Rating& first = data.actuators.front();
+    const QString rating =
+        first.lead_m_per_rev
+            ? tr(" (continuous %1 N a slide)").arg(number(first.continuous_torque_Nm / data.metres_per_motor_radian(0)))
+            : tr(" (continuous torque %1 N·m)").arg(number(first.continuous_torque_Nm));
     force_iso_label_->setText(number(h.force_iso_N) + " N" + rating);
     force_max_label_->setText((std::isfinite(h.force_max_N) ? number(h.force_max_N) + " N" : QString::fromUtf8("∞ (singular)")) +
                               rating);
@@ -185,7 +192,9 @@ QString DrivePanel::showReadouts(const DeviceState& state) {
   }
   auto lines = [](const QStringList& items) {
     QString text;
-    for (int i = 0; i < items.size(); ++i) text += (i == 0 ? "" : i % 3 == 0 ? "\n" : ", ") + items[i];
+    // Three to a line, each kept whole where a narrow dock wraps the line.
+    for (int i = 0; i < items.size(); ++i)
+      text += (i == 0 ? "" : i % 3 == 0 ? "\n" : ", ") + QString(items[i]).replace(' ', QChar::Nbsp);
     return text;
   };
   task_label_->setText(lines(task));
