@@ -1,5 +1,8 @@
 #include "core/mechanisms/described/skeleton.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace linkscape::described {
 
 using Eigen::Vector3d;
@@ -9,11 +12,19 @@ Skeleton::Skeleton(const Kinematics& kin) {
   const Model& m = kin.model();
   SkeletonModel& sk = model;
   sk.scale = m.size / 3;
+  // The base: a ring through the legs' bases at each height (PATHOS-II's
+  // two plates, not one ring zigzagging between them), in the legs' order.
   Body ground{"base", {}, {}, true};
-  std::vector<Vector3d> base_points;
-  for (const Leg& l : m.legs) base_points.push_back(l.base.translation());
-  if (base_points.size() >= 2) {
-    std::vector<Vector3d> ring = base_points;
+  std::vector<std::vector<Vector3d>> rings;
+  for (const Leg& l : m.legs) {
+    const Vector3d p = l.base.translation();
+    auto ring = std::find_if(rings.begin(), rings.end(),
+                             [&](const auto& r) { return std::abs(r.front().z() - p.z()) <= 1e-9 * m.size; });
+    if (ring == rings.end()) rings.push_back({p});
+    else ring->push_back(p);
+  }
+  for (std::vector<Vector3d>& ring : rings) {
+    if (ring.size() < 2) continue;
     if (ring.size() >= 3) ring.push_back(ring.front());
     ground.polylines.push_back(ring);
   }
