@@ -15,6 +15,9 @@
 #include <cmath>
 #include <sstream>
 
+#include <vtkCellArray.h>
+#include <vtkFeatureEdges.h>
+#include <vtkIdList.h>
 #include <vtkPolyData.h>
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkRendererCollection.h>
@@ -33,14 +36,26 @@ constexpr int kSurfaceResolution = 24;  // latitude bands of the drawn sphere, g
 constexpr double kFlattened = 0.02;        // a planar task drawn as a slab this thin (of its height)
 
 // A planar device's task is its section by the plane (as fit takes it):
-// its surface flattened onto the plane.
+// the half of its surface above the plane, flattened onto it (both halves
+// would lie one in the other and show each other's facets through).
 vtkSmartPointer<vtkPolyData> on_plane(vtkSmartPointer<vtkPolyData> surface, std::optional<double> plane) {
   if (!plane) return surface;
+  std::vector<bool> above(std::size_t(surface->GetNumberOfPoints()));
   for (vtkIdType i = 0; i < surface->GetNumberOfPoints(); ++i) {
     double p[3];
     surface->GetPoint(i, p);
+    above[std::size_t(i)] = p[2] >= *plane - 1e-9 * std::abs(*plane);
     surface->GetPoints()->SetPoint(i, p[0], p[1], *plane + kFlattened * (p[2] - *plane));
   }
+  vtkNew<vtkCellArray> kept;
+  vtkNew<vtkIdList> cell;
+  vtkCellArray* polys = surface->GetPolys();
+  for (polys->InitTraversal(); polys->GetNextCell(cell);) {
+    bool keep = true;
+    for (vtkIdType k = 0; k < cell->GetNumberOfIds(); ++k) keep = keep && above[std::size_t(cell->GetId(k))];
+    if (keep) kept->InsertNextCell(cell);
+  }
+  surface->SetPolys(kept);
   return surface;
 }
 
@@ -446,8 +461,19 @@ void TaskPanel::placeAtLargest() {
     if (found->found) {
       task::TaskVolume shape = t;
       shape.size = t.shape == task::Shape::Sphere ? Eigen::Vector3d::Constant(found->size) : Eigen::Vector3d(found->size * t.size);
-      scene_->set_inscribed(
-          on_plane(render::task_surface(shape, found->centre, kSurfaceResolution / 2), mechanism_->info().plane_z));
+      const std::optional<double> plane = mechanism_->info().plane_z;
+      vtkSmartPointer<vtkPolyData> surface = on_plane(render::task_surface(shape, found->centre, kSurfaceResolution / 2), plane);
+      if (plane) {  // in the plane, its outline (its facets would be a web of spokes)
+        vtkNew<vtkFeatureEdges> edges;
+        edges->SetInputData(surface);
+        edges->BoundaryEdgesOn();
+        edges->FeatureEdgesOff();
+        edges->NonManifoldEdgesOff();
+        edges->ManifoldEdgesOff();
+        edges->Update();
+        surface = edges->GetOutput();
+      }
+      scene_->set_inscribed(surface);
       for (int k = 0; k < 3; ++k) {
         const QSignalBlocker b(centre_[k]);
         centre_[k]->setValue(found->centre(k));

@@ -317,7 +317,7 @@ TEST(TaskVerdict, ASampleShareIsNeverRoundedToAllOrNone) {
   r.failing = 1;
   r.resolution = 24;
   EXPECT_FALSE(r.meets());
-  EXPECT_EQ(verdict_text(r), "fails: 7783 of 7784 samples (99.99 %) meet every criterion (evaluated at resolution 24)");
+  EXPECT_EQ(verdict_text(r), "fails: only 7783 of 7784 samples (99.99 %) meet every criterion (evaluated at resolution 24)");
   r.failing = 0;
   EXPECT_TRUE(r.meets());
   EXPECT_EQ(verdict_text(r), "meets every criterion at all 7784 samples (evaluated at resolution 24)");
