@@ -116,10 +116,10 @@ DrivePanel::DrivePanel(const MechanismInfo& info, QWidget* parent) : QWidget(par
   // Read-outs wrap rather than widen the dock past its width (cutting its controls).
   for (QLabel* l : state->findChildren<QLabel*>()) l->setWordWrap(true);
   column->addWidget(state);
-  auto* extra = new QWidget(w);
-  extra_form_ = new QFormLayout(extra);
-  extra_form_->setContentsMargins(0, 0, 0, 0);
-  column->addWidget(extra);
+  // The device's own read-outs (mobility, joint margin, clearance) follow
+  // in the same form, aligned with these.
+  state_form_ = form;
+  fixed_rows_ = form->rowCount();
   column->addWidget(new QLabel(tr("Or drag the red handle on the driven point in the view."), w));
   column->addStretch(1);
 }
@@ -219,11 +219,12 @@ QString DrivePanel::showReadouts(const DeviceState& state) {
     problem = qs(e.what());
   }
   branch_label_->setText(qs(info.branches.at(state.branch())));
-  while (extra_form_->rowCount() > 0) extra_form_->removeRow(0);
+  while (state_form_->rowCount() > fixed_rows_) state_form_->removeRow(fixed_rows_);
   for (const auto& [label, text] : state.mechanism().readouts(state.actuators(), state.task())) {
     auto* value = new QLabel(qs(text));
     value->setTextInteractionFlags(Qt::TextSelectableByMouse);
-    extra_form_->addRow(qs(label), value);
+    value->setWordWrap(true);
+    state_form_->addRow(qs(label), value);
   }
   return problem;
 }

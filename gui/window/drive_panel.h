@@ -67,7 +67,8 @@ class DrivePanel : public QWidget {
   std::vector<QLabel*> measure_labels_;
   QLabel *force_iso_label_ = nullptr, *force_max_label_ = nullptr;  // at the pose, continuous torque
   void showForces(const DeviceState& state);
-  QFormLayout* extra_form_ = nullptr;  // the device's own read-outs
+  QFormLayout* state_form_ = nullptr;  // the State box's rows, the device's own read-outs last
+  int fixed_rows_ = 0;                 // the rows before them
 };
 
 }  // namespace linkscape::gui

@@ -280,6 +280,11 @@ void TaskPanel::setDevice(std::shared_ptr<const Mechanism> mechanism, const Pres
     centre_label_->setText(tr("Centre (%1)").arg(QString::fromStdString(mechanism_->info().length_unit)));
     centred_ = true;
   }
+  // A planar device's task is its section by its plane: z is the plane's.
+  const std::optional<double> plane = mechanism_->info().plane_z;
+  centre_[2]->setEnabled(!plane);
+  centre_[2]->setToolTip(plane ? tr("A planar device's task is its section by its plane, z = %1").arg(*plane)
+                               : tr("The task's centre, z in the base frame"));
   // Fine enough to hold a centre fit places (fit::centre_step) exactly.
   const int decimals = std::max(2, int(std::lround(-std::log10(fit::centre_step(mechanism_->size())))));
   for (QDoubleSpinBox* box : centre_) {

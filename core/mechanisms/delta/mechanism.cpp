@@ -193,7 +193,7 @@ class DeltaMechanism final : public Mechanism {
     if (st.leg < 0) return {};
     std::ostringstream margin;
     margin.precision(3);
-    margin << st.margin_deg << " deg (leg " << st.leg + 1 << " ball joint " << (st.joint == 0 ? "elbow" : "wrist")
+    margin << st.margin_deg << "° (leg " << st.leg + 1 << " ball joint " << (st.joint == 0 ? "elbow" : "wrist")
            << st.leg + 1 << ")";
     std::vector<std::pair<std::string, std::string>> out{{"joint margin", margin.str()}};
     if (!st.hold()) out.push_back({"stops", stop_reason(st)});

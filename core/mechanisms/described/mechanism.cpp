@@ -536,12 +536,12 @@ class DescribedMechanism final : public Mechanism {
     auto number = [](double v, const std::string& unit) {
       std::ostringstream s;
       s.precision(3);
-      s << v << " " << unit;
+      s << v << (unit == "°" ? "" : " ") << unit;
       return s.str();
     };
     if (kin_.has_joint_limits() && st.joint_leg >= 0) {
       const Leg& leg = m.legs[std::size_t(st.joint_leg)];
-      out.push_back({"joint margin", number(st.joint_margin_deg, "deg") + " (" + leg.label() + " " +
+      out.push_back({"joint margin", number(st.joint_margin_deg, "°") + " (" + leg.label() + " " +
                                          leg.limits[std::size_t(st.joint_limit)].label + ")"});
     }
     if (kin_.has_capsules() && st.pair[0] >= 0) {

@@ -244,7 +244,7 @@ class Pathos2Mechanism final : public Mechanism {
     std::ostringstream margin;
     margin.precision(3);
     if (st.joint_leg >= 0)
-      margin << st.joint_margin_deg << " deg (leg " << st.joint_leg + 1 << (st.joint == 0 ? " globular joint)" : st.joint == 1 ? " R2)" : " R3)");
+      margin << st.joint_margin_deg << "° (leg " << st.joint_leg + 1 << (st.joint == 0 ? " globular joint)" : st.joint == 1 ? " R2)" : " R3)");
     if (st.joint_leg >= 0) out.push_back({"joint margin", margin.str()});
     std::ostringstream gap;
     gap.precision(3);

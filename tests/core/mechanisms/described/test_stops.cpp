@@ -203,7 +203,7 @@ TEST(DescribedStops, FalconIkAndFkNameTheJointBeyondItsStop) {
   EXPECT_EQ(falcon->inverse(home).status, Status::Ok);
   bool readout = false;
   for (const auto& [name, text] : falcon->readouts(falcon->home_actuators(), home))
-    readout |= name == "joint margin" && text.find("deg (leg ") != std::string::npos;
+    readout |= name == "joint margin" && text.find("° (leg ") != std::string::npos;
   EXPECT_TRUE(readout);
 }
 
