@@ -214,15 +214,14 @@ void FieldDisplay::setMoving(Moving source, bool on) {
 }
 
 void FieldDisplay::placeLegend() {
-  // About 120 pixels wide, at most a quarter of the view; the whole view is
-  // the scene's while no colour bar is shown.
-  const bool shown = scene_->colour_bar_visible();
+  // About 120 pixels wide, at most a quarter of the view, kept with or
+  // without a colour bar: the scene's framing does not move when the bar
+  // comes and goes (and the camera fitted to the view does not depend on it).
   const double scale = view_->textScale();  // larger while the view is drawn as a large picture
-  const double width = shown ? std::min(0.25, 120.0 * scale / std::max(1, view_->width())) : 0.0;
+  const double width = std::min(0.25, 120.0 * scale / std::max(1, view_->width()));
   scene_->set_pixel_scale(scale);
   renderer_->SetViewport(0, 0, 1 - width, 1);
-  legend_->SetDraw(shown);
-  if (shown) legend_->SetViewport(1 - width, 0, 1, 1);
+  legend_->SetViewport(1 - width, 0, 1, 1);
 }
 
 }  // namespace linkscape::gui

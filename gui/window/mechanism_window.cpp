@@ -69,6 +69,13 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   renderer_ = renderers.scene;
   legend_ = renderers.legend;
   view_->installEventFilter(this);
+  // A camera this window placed and no one has moved frames the device in
+  // the view's new shape (not a session's or a reload's, nor for a picture).
+  connect(view_, &VtkWidget::resized, this, [this] {
+    if (!document_ || camera_given_ || view_->drawingPicture() || !document_->cameraUntouched(camera_state(renderer_))) return;
+    fitCamera();
+    view_->requestRender();
+  });
   scene_->set_model(state_.mechanism().skeleton_model());
   // Translucent props blend in the order they were added (render/scene_renderer.h):
   // the fields first, the task volume, then the device (its joint labels last).
@@ -407,6 +414,7 @@ void MechanismWindow::applySession(const Session& s) {
   adoptDesign(plan);
   applyFieldSettings(s.field);
   if (s.camera) apply_camera(renderer_, *s.camera);
+  camera_given_ = camera_given_ || s.camera.has_value();
   if (plan.kept == DesignPlan::Kept::Home)
     statusBar()->showMessage(tr("The session's pose is not reachable; the device is at its home pose."), 8000);
   if (s.task_volume) {
@@ -423,6 +431,7 @@ void MechanismWindow::applySession(const Session& s) {
 void MechanismWindow::applyViewSession(const Session& s) {
   apply_window_session(this, s);
   if (s.camera) apply_camera(renderer_, *s.camera);  // as saved, after toggles that frame the view
+  camera_given_ = camera_given_ || s.camera.has_value();
   view_->requestRender();
 }
 

@@ -225,6 +225,7 @@ class MechanismWindow : public QMainWindow {
   QByteArray initial_layout_;                 // for View > Reset layout
   ErrorPanel* error_panel_ = nullptr;
   PresetWatcher* preset_watcher_ = nullptr;  // reloads the device when its file changes
+  bool camera_given_ = false;  // a session or a reload placed the camera
 };
 
 }  // namespace linkscape::gui

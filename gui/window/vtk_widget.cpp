@@ -241,6 +241,7 @@ void VtkWidget::resizeGL() {
     const QSize screenSize = s->size() * dpr;
     renderWindow_->SetScreenSize(screenSize.width(), screenSize.height());
   }
+  emit resized();
 }
 
 void VtkWidget::renderForReading() {
@@ -438,12 +439,14 @@ QImage VtkWidget::imageAt(int width, int height) {
                                 std::to_string(height));
   const QSize min = minimumSize(), max = maximumSize(), before = size();
   textScale_ = double(height) / std::max(1, before.height());
+  drawingPicture_ = true;
   setFixedSize(width, height);  // the window grows or shrinks around it for this frame
   QCoreApplication::processEvents();
   const QImage image = grabFramebuffer();
   textScale_ = 1.0;
   setFixedSize(before);  // back at once, so the next picture starts from the view as it was
   QCoreApplication::processEvents();
+  drawingPicture_ = false;
   setMinimumSize(min);
   setMaximumSize(max);
   if (image.isNull()) throw std::runtime_error("the view has no picture yet: the window is not on screen");

@@ -72,6 +72,8 @@ class VtkWidget : public QWidget {
   QImage imageAt(int width, int height);
   // How much larger than on screen text is drawn: 1 but while imageAt() draws.
   double textScale() const { return textScale_; }
+  // Whether imageAt() is drawing (the view is resized for the picture only).
+  bool drawingPicture() const { return drawingPicture_; }
   // The view's two renderers: the scene's, on a gradient, and at its right
   // the colour bar's strip (not interactive), so the bar never covers the data.
   struct Renderers {
@@ -89,6 +91,8 @@ class VtkWidget : public QWidget {
   // the copy of its image into the window took (software OpenGL rasterises
   // until the copy).
   void rendered(double milliseconds);
+  // The render window has taken the view's new size (after resizeGL()).
+  void resized();
 
  protected:
   // Input arrives at the native window, which hands it here; events sent
@@ -124,6 +128,7 @@ class VtkWidget : public QWidget {
   bool renderPosted_ = false;  // a paint event is on its way to window_
   int wheelDelta_ = 0;  // Accumulates high-resolution wheel deltas into notches.
   double textScale_ = 1.0;
+  bool drawingPicture_ = false;
 };
 
 }  // namespace linkscape::gui

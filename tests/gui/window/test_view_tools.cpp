@@ -197,6 +197,30 @@ class ViewToolsTest : public QObject {
     window_checks::save_screenshot(w, "view-tools-probe.png");
   }
 
+  // A camera nobody moved frames the device in the view's new shape; one
+  // the user turned stays as it is.
+  void anUntouchedCameraFollowsTheViewsShape() {
+    MechanismWindow w(load_preset("delta"));
+    show_on_screen(w);
+    window_checks::wait_settled(w);
+    vtkCamera* camera = scene_renderer(w)->GetActiveCamera();
+    const auto position = [&] {
+      double p[3];
+      camera->GetPosition(p);
+      return Eigen::Vector3d(p[0], p[1], p[2]);
+    };
+    const Eigen::Vector3d narrow = position();
+    w.resize(1920, 800);  // a wider view: the same framing needs less distance
+    QTRY_VERIFY((position() - narrow).norm() > 1e-3 * w.mechanism().size());
+    w.resize(1280, 800);
+    QTRY_VERIFY((position() - narrow).norm() < 1e-9 * w.mechanism().size());
+    camera->Azimuth(20);  // as a drag turns it
+    const Eigen::Vector3d turned = position();
+    w.resize(1920, 800);
+    QTest::qWait(200);
+    QVERIFY((position() - turned).norm() < 1e-12 * w.mechanism().size());
+  }
+
   // A view image larger than the view is the same picture, sharper: text
   // and the colour bar's strip grow with it (at screen size they would
   // shrink to a corner of a 4K picture), and the view is as before after.
