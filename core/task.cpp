@@ -415,7 +415,8 @@ std::string samples_text(int counted, int samples) {
 std::string verdict_text(const TaskReport& r) {
   const std::string at = " (evaluated at resolution " + std::to_string(r.resolution) + ")";
   if (r.meets()) return "meets every criterion at all " + std::to_string(r.samples) + " samples" + at;
-  return "fails: only " + samples_text(r.samples - r.failing, r.samples) + " meet every criterion" + at;
+  const int meeting = r.samples - r.failing;
+  return std::string("fails: ") + (meeting > 0 ? "only " : "") + samples_text(meeting, r.samples) + " meet every criterion" + at;
 }
 
 double CriterionReport::margin() const {

@@ -402,10 +402,12 @@ void SkeletonScene::reset_camera(vtkRenderer* renderer, const Eigen::AlignedBox3
   frame(renderer, workspace_box, Eigen::Vector3d(-0.95, -1.45, flat ? 2.6 : 0.85), Eigen::Vector3d::UnitZ());
 }
 
-Eigen::AlignedBox3d SkeletonScene::device_box() const {
+Eigen::AlignedBox3d SkeletonScene::device_box() const { return device_box(pose_); }
+
+Eigen::AlignedBox3d SkeletonScene::device_box(const SkeletonPose& pose) const {
   Eigen::AlignedBox3d box;
-  for (std::size_t b = 0; b < model_.bodies.size() && b < pose_.X_world_body.size(); ++b) {
-    const Eigen::Isometry3d& T = pose_.X_world_body[b];
+  for (std::size_t b = 0; b < model_.bodies.size() && b < pose.X_world_body.size(); ++b) {
+    const Eigen::Isometry3d& T = pose.X_world_body[b];
     for (const auto& line : model_.bodies[b].polylines)
       for (const Eigen::Vector3d& p : line) box.extend(T * p);
     for (const auto& face : model_.bodies[b].faces)
@@ -433,10 +435,8 @@ void SkeletonScene::frame(vtkRenderer* renderer, const Eigen::AlignedBox3d& box,
   if (!back.allFinite() || (up_in - up_in.dot(back) * back).norm() < 1e-9 * up_in.norm())
     throw std::invalid_argument("SkeletonScene::frame: expected a view direction and an up vector not parallel to it");
   // The base does not move: framing it with the box keeps the view steady
-  // while the device moves. The device as it stands is framed too (a
-  // hexapod's cranks reach below its workspace).
+  // while the device moves.
   Eigen::AlignedBox3d frame_box = box;
-  frame_box.extend(device_box());
   for (std::size_t b = 0; b < model_.bodies.size(); ++b) {
     if (!model_.bodies[b].ground) continue;
     const Eigen::Isometry3d& T = pose_.X_world_body[b];

@@ -60,11 +60,10 @@ class SkeletonScene {
   const SkeletonPose& pose() const { return pose_; }
 
   // Camera from the front-left, above (higher for a flat workspace, a planar
-  // device's), framing `workspace_box` (base frame) with the device as it
-  // stands and its base.
+  // device's), framing `workspace_box` (base frame) with the device's base.
   void reset_camera(vtkRenderer* renderer, const Eigen::AlignedBox3d& workspace_box) const;
   // The camera looking along -`back` (focal point -> camera is `back`) with
-  // `up` up, framing `box` with the device as it stands and its base. Throws
+  // `up` up, framing `box` with the device's base. Throws
   // std::invalid_argument for a null renderer, an empty or non-finite box, or
   // `up` parallel to `back`.
   void frame(vtkRenderer* renderer, const Eigen::AlignedBox3d& box, const Eigen::Vector3d& back,
@@ -72,6 +71,8 @@ class SkeletonScene {
   // The device's own extent in its current pose: every body's polylines and
   // faces (empty for a model without geometry).
   Eigen::AlignedBox3d device_box() const;
+  // The same at `pose` (e.g. the device at home).
+  Eigen::AlignedBox3d device_box(const SkeletonPose& pose) const;
   // Joint labels drawn over the scene (on a light plate) instead of in it,
   // so a slice, a surface or the base in front never hides them. Default off.
   void set_labels_in_front(bool on);

@@ -136,7 +136,7 @@ void DrivePanel::showForces(const DeviceState& state) {
     const haptics::Rating& first = data.actuators.front();
     const QString rating =
         first.lead_m_per_rev
-            ? tr(" (continuous %1 N a slide)").arg(number(first.continuous_torque_Nm / data.metres_per_motor_radian(0)))
+            ? tr(" (continuous %1 N per slide)").arg(number(first.continuous_torque_Nm / data.metres_per_motor_radian(0)))
             : tr(" (continuous torque %1 N·m)").arg(number(first.continuous_torque_Nm));
     force_iso_label_->setText(number(h.force_iso_N) + " N" + rating);
     force_max_label_->setText((std::isfinite(h.force_max_N) ? number(h.force_max_N) + " N" : QString::fromUtf8("∞ (singular)")) +

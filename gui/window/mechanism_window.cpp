@@ -41,12 +41,19 @@ namespace linkscape::gui {
 
 namespace {
 
-// The camera frames the middle of the sampling box: the box's corners hold
-// no workspace, and framing them would make the device small.
-Eigen::AlignedBox3d view_box(const Mechanism& m) {
+// The camera frames the middle of the sampling box (its corners hold no
+// workspace, and framing them would make the device small) and the device
+// at home (a hexapod's cranks reach beyond the box): not where it stands,
+// so that the framing does not depend on the pose.
+Eigen::AlignedBox3d view_box(const Mechanism& m, const render::SkeletonScene& scene) {
   const Eigen::AlignedBox3d box = m.default_box();
   const Eigen::Vector3d half = 0.5 * 0.7 * box.sizes();
-  return {box.center() - half, box.center() + half};
+  Eigen::AlignedBox3d out(box.center() - half, box.center() + half);
+  try {
+    out.extend(scene.device_box(m.skeleton_pose(m.home_actuators(), m.home_task())));
+  } catch (const std::invalid_argument&) {  // a home that does not assemble: the box alone
+  }
+  return out;
 }
 
 }  // namespace
@@ -83,7 +90,7 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   task_scene_->add_to(renderer_);
   scene_->add_to(renderer_);
   renderer_->SetUseDepthPeeling(false);  // plain alpha blending: interactive under software GL
-  fitCamera();  // a first camera; fitted again once the device is posed
+  fitCamera();  // a first camera; fitted again as the view takes its size
 
   buildDocks();
   fields_->placeLegend();
@@ -118,7 +125,7 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   // Neither the drive nor the layout is remembered, so screenshots are reproducible.
   setDrive(Drive::Task);
   showPose(state_.task(), state_.branch());
-  fitCamera();  // the device as posed (a hexapod's cranks reach beyond its workspace)
+  fitCamera();  // the view at its size beside the docks
   fields_->request(true, true);
   history()->reset({});
   document_->updateTitle();
@@ -214,9 +221,11 @@ bool MechanismWindow::eventFilter(QObject* watched, QEvent* event) {
 QImage MechanismWindow::viewImage(int width, int height) { return view_->imageAt(width, height); }
 
 void MechanismWindow::fitCamera() {
-  if (tools_) tools_->reframe(view_box(state_.mechanism()));  // the view and framing chosen last
-  else scene_->reset_camera(renderer_, view_box(state_.mechanism()));
+  const Eigen::AlignedBox3d box = view_box(state_.mechanism(), *scene_);
+  if (tools_) tools_->reframe(box);  // the view and framing chosen last
+  else scene_->reset_camera(renderer_, box);
   if (document_) document_->cameraFitted(camera_state(renderer_));
+  camera_given_ = false;  // this window's own again
 }
 
 MechanismWindow::~MechanismWindow() {
@@ -258,8 +267,11 @@ void MechanismWindow::buildMenus() {
     for (QDockWidget* dock : findChildren<QDockWidget*>()) dock->show();
   };
   a.view_tools = [this](QMenu* menu) {
-    tools_->addViewActions(menu, [this] { return view_box(state_.mechanism()); },
-                           [this] { document_->cameraFitted(camera_state(renderer_)); });
+    tools_->addViewActions(menu, [this] { return view_box(state_.mechanism(), *scene_); },
+                           [this] {
+                             document_->cameraFitted(camera_state(renderer_));
+                             camera_given_ = false;
+                           });
   };
   a.exact_transparency = [this](bool on) { renderer_->SetUseDepthPeeling(on), view_->requestRender(); };
   add_menus(this, a);

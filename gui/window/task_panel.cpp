@@ -41,10 +41,11 @@ constexpr double kFlattened = 0.02;        // a planar task drawn as a slab this
 vtkSmartPointer<vtkPolyData> on_plane(vtkSmartPointer<vtkPolyData> surface, std::optional<double> plane) {
   if (!plane) return surface;
   std::vector<bool> above(std::size_t(surface->GetNumberOfPoints()));
+  const double tolerance = 1e-9 * surface->GetLength();  // of its size: the plane may be z = 0
   for (vtkIdType i = 0; i < surface->GetNumberOfPoints(); ++i) {
     double p[3];
     surface->GetPoint(i, p);
-    above[std::size_t(i)] = p[2] >= *plane - 1e-9 * std::abs(*plane);
+    above[std::size_t(i)] = p[2] >= *plane - tolerance;
     surface->GetPoints()->SetPoint(i, p[0], p[1], *plane + kFlattened * (p[2] - *plane));
   }
   vtkNew<vtkCellArray> kept;
@@ -283,6 +284,10 @@ void TaskPanel::setDevice(std::shared_ptr<const Mechanism> mechanism, const Pres
   // A planar device's task is its section by its plane: z is the plane's.
   const std::optional<double> plane = mechanism_->info().plane_z;
   centre_[2]->setEnabled(!plane);
+  if (plane) {
+    const QSignalBlocker b(centre_[2]);
+    centre_[2]->setValue(*plane);
+  }
   centre_[2]->setToolTip(plane ? tr("A planar device's task is its section by its plane, z = %1").arg(*plane)
                                : tr("The task's centre, z in the base frame"));
   // Fine enough to hold a centre fit places (fit::centre_step) exactly.

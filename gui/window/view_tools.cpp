@@ -98,7 +98,10 @@ QDockWidget* ViewTools::addDock(QMainWindow* window, QDockWidget* tab_with) {
   QDockWidget* dock = add_dock(window, tr("Probe"), "probeDock", panel_);
   window->tabifyDockWidget(tab_with, dock);
   // Shown from the start, so that its tab says the view can be probed.
-  connect(picker_.get(), &PickTool::clicked, dock, [dock] { dock->raise(); });
+  connect(picker_.get(), &PickTool::clicked, dock, [dock] {
+    dock->show();  // closed since
+    dock->raise();
+  });
   return dock;
 }
 

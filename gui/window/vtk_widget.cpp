@@ -236,7 +236,7 @@ void VtkWidget::resizeGL() {
   interactor_->UpdateSize(static_cast<int>(std::lround(window_->width() * dpr)),
                           static_cast<int>(std::lround(window_->height() * dpr)));
   // Keeps text and line widths the same physical size on HiDPI screens.
-  renderWindow_->SetDPI(static_cast<int>(std::lround(72 * dpr * textScale_)));
+  renderWindow_->SetDPI(std::max(1, static_cast<int>(std::lround(72 * dpr * textScale_))));
   if (const QScreen* s = window_->screen()) {
     const QSize screenSize = s->size() * dpr;
     renderWindow_->SetScreenSize(screenSize.width(), screenSize.height());

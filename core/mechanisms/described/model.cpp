@@ -1,6 +1,7 @@
 #include "core/mechanisms/described/model.h"
 
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <regex>
 

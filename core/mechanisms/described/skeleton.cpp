@@ -13,7 +13,8 @@ Skeleton::Skeleton(const Kinematics& kin) {
   SkeletonModel& sk = model;
   sk.scale = m.size / 3;
   // The base: a ring through the legs' bases at each height (PATHOS-II's
-  // two plates, not one ring zigzagging between them), in the legs' order.
+  // two plates, not one ring zigzagging between them), in the legs' order,
+  // where each height holds three or more.
   Body ground{"base", {}, {}, true};
   std::vector<std::vector<Vector3d>> rings;
   for (const Leg& l : m.legs) {
@@ -22,6 +23,12 @@ Skeleton::Skeleton(const Kinematics& kin) {
                              [&](const auto& r) { return std::abs(r.front().z() - p.z()) <= 1e-9 * m.size; });
     if (ring == rings.end()) rings.push_back({p});
     else ring->push_back(p);
+  }
+  // Bases at many heights (a tilted base): one ring through them all.
+  if (std::any_of(rings.begin(), rings.end(), [](const auto& r) { return r.size() < 3; })) {
+    std::vector<Vector3d> all;
+    for (const Leg& l : m.legs) all.push_back(l.base.translation());
+    rings = {all};
   }
   for (std::vector<Vector3d>& ring : rings) {
     if (ring.size() < 2) continue;
