@@ -204,7 +204,8 @@ bool reflects(const LaneLeg& a, const LaneLeg& b, double size, double tolerance)
                        near(-reflect(a.universal_axis), b.universal_axis, tolerance)))
     return false;
   for (const auto& [x, y, scale] : {std::tuple{a.reach.lo, b.reach.lo, at}, {a.reach.hi, b.reach.hi, at},
-                                    {a.rho, b.rho, at}, {a.rod, b.rod, at}, {a.offset, b.offset, at}})
+                                    {a.rho, b.rho, at}, {a.rod, b.rod, at}, {a.offset, b.offset, at},
+                                    {a.slide_start, b.slide_start, at}})
     if (!near(x, y, scale)) return false;
   // The travel: the same, or negated with the angles.
   const double travel = a.prismatic ? at : tolerance;
@@ -369,11 +370,10 @@ std::string build(const Kinematics& kin, const VectorXd& fixed, int branch, Lane
     } else if (g.pattern == LegPattern::SlideRod) {
       g.origin = form->base * form->after_actuator.translation();
     } else {
-      // The lanes take the slide's centre at the ball's.
-      if (!form->after_actuator.isApprox(Isometry3d::Identity())) return leg + "a fixed length between its ball and its slide";
       g.origin = g.actuator_centre;
       g.offset = form->offset;
       link = l.steps[std::size_t(form->actuator_step)].axis;
+      g.slide_start = link.dot(form->after_actuator.translation());
       before_ball = R;
     }
     g.rod = form->rod.translation().norm();

@@ -77,6 +77,7 @@ struct LaneLeg {
   // `origin` the ball's centre.
   Eigen::Vector3d actuator_centre, origin, axis, u, v;
   double rho = 0, rod = 0, offset = 0;
+  double slide_start = 0;  // Extensible: where the slide starts along the leg from the ball (a cylinder's body)
   bool prismatic = false, limited = false;
   double lo = 0, hi = 0, mid = 0, half_width = 0;  // the travel (revolute: mid +- half_width)
   int width = -1;  // a revolute travel's index in LaneDevice::travel_widths (-1: its own arctangent)

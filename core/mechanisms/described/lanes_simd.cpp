@@ -61,7 +61,8 @@ using namespace linkscape::simd::HWY_NAMESPACE;  // D, V, M, Block and the share
 
 HWY_INLINE V3 PointOf(LanePoint p, const LaneLeg& g, const Candidate& c, const V3& end, const V3& anchor, D d) {
   switch (p) {
-    case LanePoint::Actuator: return g.pattern == LegPattern::Extensible ? c.ball : Splat(d, g.actuator_centre);
+    case LanePoint::Actuator:  // a slide's start: along the leg from its ball
+      return g.pattern == LegPattern::Extensible ? c.ball + hn::Set(d, g.slide_start) * c.axis : Splat(d, g.actuator_centre);
     case LanePoint::Ball: return c.ball;
     case LanePoint::End: return end;
     case LanePoint::Knee: return c.knee;

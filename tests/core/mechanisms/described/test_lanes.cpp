@@ -15,6 +15,8 @@
 #include <random>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "core/field.h"
 #include "core/mechanism.h"
 #include "core/mechanisms/described/chain.h"
@@ -157,6 +159,27 @@ TEST(DescribedLanes, ShippedDevicesAgreeWithTheScalarClosedPath) {
     }
     std::printf("%s: %zu samples ok, %zu of them in lanes; %zu stopped\n", name, tally.ok, tally.lanes, tally.stopped);
   }
+}
+
+// A cylinder as designers write it (universal joint, the body's length,
+// the stroke, the rod's end): the slide starts along the leg from the ball.
+TEST(DescribedLanes, ACylindersBodyBeforeItsSlideAgreesWithTheScalarClosedPath) {
+  Preset p = load_preset("stewart");
+  nlohmann::json d = nlohmann::json::parse(p.description);
+  for (nlohmann::json& leg : d["legs"]) {
+    nlohmann::json& chain = leg["chain"];
+    chain[1]["range"] = {"lmin - 6", "lmax - 6"};
+    chain.insert(chain.begin() + 1, nlohmann::json{{"translate", {0, 0, 4}}});
+    chain.insert(chain.begin() + 3, nlohmann::json{{"translate", {0, 0, 2}}});
+  }
+  p.description = d.dump();
+  EXPECT_NE(described::describe(p).find("field: lanes"), std::string::npos);
+  Tally tally;
+  const auto m = make_mechanism(p);
+  check_device(*m, "stewart with cylinder bodies", tally);
+  check_device(*m, "stewart with cylinder bodies, turned", tally, true);
+  EXPECT_GT(tally.ok, 500u);
+  EXPECT_GT(double(tally.lanes), 0.95 * double(tally.ok));
 }
 
 // In the plane, slides between revolutes (3-RPR) and slides carrying rods
