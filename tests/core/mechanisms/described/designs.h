@@ -38,6 +38,22 @@ inline Preset omnid_with_universal_joints(const nlohmann::json& knee_ranges = nu
   return p;
 }
 
+// The Gough-Stewart platform with its cylinders written as designers write
+// them: universal joint, a 4 cm body, the stroke (6 cm shorter), a 2 cm rod
+// end, the ball: the same device, its actuators shifted by 6 cm.
+inline Preset stewart_with_cylinder_bodies() {
+  Preset p = load_preset("stewart");
+  nlohmann::json d = nlohmann::json::parse(p.description);
+  for (nlohmann::json& leg : d["legs"]) {
+    nlohmann::json& chain = leg["chain"];
+    chain[1]["range"] = {"lmin - 6", "lmax - 6"};
+    chain.insert(chain.begin() + 1, nlohmann::json{{"translate", {0, 0, 4}}});
+    chain.insert(chain.begin() + 3, nlohmann::json{{"translate", {0, 0, 2}}});
+  }
+  p.description = d.dump();
+  return p;
+}
+
 // Planar legs whose revolutes stand for the balls of the slide patterns:
 // a 3-RPR (an actuated slide between two revolutes: extensible) or, with
 // `carried`, a 3-PRR (tangential slides carrying rods: slide-rod), on

@@ -325,15 +325,8 @@ TEST(DescribedClosedForm, PlanarSlideLegsAgreeWithTheNumericalSolver) {
 // universal joint, the stroke, then the rod's end. Still extensible, and
 // the Gough-Stewart platform's own answers with the stroke shifted.
 TEST(DescribedClosedForm, ACylindersBodyBeforeItsSlideIsStillExtensible) {
-  const Preset p = load_preset("stewart");
-  nlohmann::json d = nlohmann::json::parse(p.description);
-  for (nlohmann::json& leg : d["legs"]) {
-    nlohmann::json& chain = leg["chain"];
-    chain[1]["range"] = {"lmin - 6", "lmax - 6"};
-    chain.insert(chain.begin() + 1, nlohmann::json{{"translate", {0, 0, 4}}});
-    chain.insert(chain.begin() + 3, nlohmann::json{{"translate", {0, 0, 2}}});
-  }
-  const Kinematics k(build_model(d.dump(), p.parameters, p.limits_deg, p.length_unit));
+  const Preset p = testing_support::stewart_with_cylinder_bodies();
+  const Kinematics k(build_model(p.description, p.parameters, p.limits_deg, p.length_unit));
   const Kinematics plain = load("stewart");
   EXPECT_EQ(patterns(k), std::vector<std::string>(6, "extensible"));
   EXPECT_GT(compare(k, "stewart with cylinder bodies", 3000).ok, 300);

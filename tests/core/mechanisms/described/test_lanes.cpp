@@ -15,8 +15,6 @@
 #include <random>
 #include <string>
 
-#include <nlohmann/json.hpp>
-
 #include "core/field.h"
 #include "core/mechanism.h"
 #include "core/mechanisms/described/chain.h"
@@ -164,15 +162,7 @@ TEST(DescribedLanes, ShippedDevicesAgreeWithTheScalarClosedPath) {
 // A cylinder as designers write it (universal joint, the body's length,
 // the stroke, the rod's end): the slide starts along the leg from the ball.
 TEST(DescribedLanes, ACylindersBodyBeforeItsSlideAgreesWithTheScalarClosedPath) {
-  Preset p = load_preset("stewart");
-  nlohmann::json d = nlohmann::json::parse(p.description);
-  for (nlohmann::json& leg : d["legs"]) {
-    nlohmann::json& chain = leg["chain"];
-    chain[1]["range"] = {"lmin - 6", "lmax - 6"};
-    chain.insert(chain.begin() + 1, nlohmann::json{{"translate", {0, 0, 4}}});
-    chain.insert(chain.begin() + 3, nlohmann::json{{"translate", {0, 0, 2}}});
-  }
-  p.description = d.dump();
+  const Preset p = testing_support::stewart_with_cylinder_bodies();
   EXPECT_NE(described::describe(p).find("field: lanes"), std::string::npos);
   Tally tally;
   const auto m = make_mechanism(p);
