@@ -90,7 +90,7 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   task_scene_->add_to(renderer_);
   scene_->add_to(renderer_);
   renderer_->SetUseDepthPeeling(false);  // plain alpha blending: interactive under software GL
-  fitCamera();  // a first camera; fitted again as the view takes its size
+  fitCamera();  // fitted again as the view takes its size
 
   buildDocks();
   fields_->placeLegend();
@@ -117,6 +117,7 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
                                     return qs(p.title.empty() ? state_.mechanism().info().title : p.title);
                                   },
                                   [this] { return preset_file(state_.preset()); }});
+  document_->cameraFitted(camera_state(renderer_));  // as fitCamera() put it above
   buildMenus();
   compute_label_ = add_field_status(this, view_, {fields_->sliceRunner(), fields_->volumeRunner()}, [this] {
                      fields_->markSettled();  // nothing more is coming
@@ -125,7 +126,6 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   // Neither the drive nor the layout is remembered, so screenshots are reproducible.
   setDrive(Drive::Task);
   showPose(state_.task(), state_.branch());
-  fitCamera();  // the view at its size beside the docks
   fields_->request(true, true);
   history()->reset({});
   document_->updateTitle();

@@ -14,6 +14,7 @@
 
 #include "core/atomic_file.h"
 #include "core/csv.h"
+#include "core/field.h"
 #include "core/field_names.h"
 #include "core/json_checked.h"
 #include "core/preset.h"
@@ -484,7 +485,7 @@ Session parse_session(const std::string& text, const std::string& origin) {
     // A slice outside the device's box is drawn nowhere.
     if (j.contains("field") && j["field"].contains("position")) {
       const Eigen::AlignedBox3d box = mechanism->default_box();
-      const int axis = d.normal == "x" ? 0 : d.normal == "y" ? 1 : 2;
+      const int axis = int(parse_axis(d.normal));
       if (!(d.position >= box.min()(axis) && d.position <= box.max()(axis)))
         throw std::invalid_argument("field.position " + format_number(d.position) + " is outside the device's box along " +
                                     d.normal + " [" + format_number(box.min()(axis)) + ", " +

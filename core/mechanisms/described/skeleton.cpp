@@ -16,20 +16,17 @@ Skeleton::Skeleton(const Kinematics& kin) {
   // two plates, not one ring zigzagging between them), in the legs' order,
   // where each height holds three or more.
   Body ground{"base", {}, {}, true};
+  std::vector<Vector3d> bases;
+  for (const Leg& l : m.legs) bases.push_back(l.base.translation());
   std::vector<std::vector<Vector3d>> rings;
-  for (const Leg& l : m.legs) {
-    const Vector3d p = l.base.translation();
+  for (const Vector3d& p : bases) {
     auto ring = std::find_if(rings.begin(), rings.end(),
                              [&](const auto& r) { return std::abs(r.front().z() - p.z()) <= 1e-9 * m.size; });
     if (ring == rings.end()) rings.push_back({p});
     else ring->push_back(p);
   }
   // Bases at many heights (a tilted base): one ring through them all.
-  if (std::any_of(rings.begin(), rings.end(), [](const auto& r) { return r.size() < 3; })) {
-    std::vector<Vector3d> all;
-    for (const Leg& l : m.legs) all.push_back(l.base.translation());
-    rings = {all};
-  }
+  if (std::any_of(rings.begin(), rings.end(), [](const auto& r) { return r.size() < 3; })) rings = {bases};
   for (std::vector<Vector3d>& ring : rings) {
     if (ring.size() < 2) continue;
     if (ring.size() >= 3) ring.push_back(ring.front());

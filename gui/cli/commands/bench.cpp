@@ -67,13 +67,13 @@ struct Row {
   std::string unit;
 };
 
-// The bench's tables (docs/file-formats.md): a unit suffix where a column
-// has one unit; unit columns where it varies by row; no value empty.
 // "name = value unit", in the parameter's own unit (an angle is not a length).
 std::string with_unit(const Quantity& q, double value) {
   return q.name + " = " + format_number(value) + (q.unit.empty() ? "" : " " + q.unit);
 }
 
+// The bench's tables (docs/file-formats.md): a unit suffix where a column
+// has one unit; unit columns where it varies by row; no value empty.
 std::string measurements_csv(const std::vector<Row>& rows) {
   std::string csv = "measurement,value,unit\n";
   for (const Row& r : rows) csv += csv_text(r.what) + "," + csv_number(r.value) + "," + csv_text(r.unit) + "\n";
