@@ -167,7 +167,7 @@ void FieldScene::set_slice(const Field& slice, const SliceStyle& style) {
 
   // Cell edges along u and v; the sample plane along the normal.
   Eigen::Vector3d origin = g.origin;
-  origin(n) += 0.5 * g.spacing(n);
+  origin(n) += 0.5 * g.spacing(n) + slice_offset_;
   Eigen::Vector3d p1 = origin, p2 = origin;
   p1(u) += g.dims[u] * g.spacing(u);
   p2(v) += g.dims[v] * g.spacing(v);

@@ -57,6 +57,10 @@ class FieldScene {
   // render_slice_rgba (bad field or style, no axis with one sample); the
   // scene is unchanged then.
   void set_slice(const Field& slice, const SliceStyle& style);
+  // Draws the next slice this far along its normal from where it was sampled
+  // (0 by default): a planar device's slice, the same at every height, lies
+  // just below its linkage rather than through it.
+  void set_slice_offset(double along_normal) { slice_offset_ = along_normal; }
   void set_slice_visible(bool visible);
   // 0..1, default 1. Throws std::invalid_argument outside [0, 1].
   void set_slice_opacity(double opacity);
@@ -137,6 +141,7 @@ class FieldScene {
   vtkNew<vtkTexture> texture_;
   vtkNew<vtkActor> slice_actor_;
   bool has_slice_ = false;
+  double slice_offset_ = 0;
   bool slice_flag_ = true;
 
   // Isosurfaces: each actor draws its own copy (shallow) of the mesh; the

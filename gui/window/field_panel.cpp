@@ -23,6 +23,7 @@ constexpr int kPositionSteps = 400;  // either side of the sampling box's centre
 FieldPanel::FieldPanel(const Mechanism& device, QWidget* parent) : QWidget(parent) {
   const MechanismInfo& info = device.info();
   const FieldChoices choices = field_choices(info);
+  plane_z_ = info.plane_z;
   has_methods_ = !choices.methods.empty();
   QWidget* w = this;
   auto* form = new QFormLayout(w);
@@ -188,6 +189,8 @@ FieldPanel::FieldPanel(const Mechanism& device, QWidget* parent) : QWidget(paren
 
 double FieldPanel::sliceOpacity() const { return slice_opacity_slider_->value() / 100.0; }
 
+bool FieldPanel::sliceInPlane() const { return plane_z_ && normal() == Axis::Z; }
+
 FieldSettings FieldPanel::settings(const Mechanism& device, const Eigen::VectorXd& x) const {
   FieldSettings f;
   f.field = field_box_->currentData().toString().toStdString();
@@ -195,10 +198,10 @@ FieldSettings FieldPanel::settings(const Mechanism& device, const Eigen::VectorX
   f.normal = normal_box_->currentText().toStdString();
   const int n = normal_box_->currentIndex();
   const Eigen::AlignedBox3d box = device.default_box();
-  f.position = follow_box_->isChecked()
-                   ? x(n)
-                   : box.center()(n) + 0.5 * (box.max()(n) - box.min()(n)) * position_slider_->value() / kPositionSteps;
-  f.follow_endpoint = follow_box_->isChecked();
+  f.position = sliceInPlane()          ? *plane_z_
+               : follow_box_->isChecked() ? x(n)
+                                          : box.center()(n) + 0.5 * (box.max()(n) - box.min()(n)) * position_slider_->value() / kPositionSteps;
+  f.follow_endpoint = follow_box_->isChecked() && !sliceInPlane();
   f.threshold = threshold_box_->value();
   if (!auto_range_box_->isChecked()) {
     f.range_min = range_min_box_->value();
@@ -263,14 +266,17 @@ void FieldPanel::showPosition(double position, const Mechanism& device) {
   const Eigen::AlignedBox3d box = device.default_box();
   const Eigen::Vector3d lo = box.min(), hi = box.max();
   const int n = normal_box_->currentIndex();
-  if (follow_box_->isChecked()) {
+  const bool in_plane = sliceInPlane();
+  if (follow_box_->isChecked() && !in_plane) {
     const QSignalBlocker block(position_slider_);
     position_slider_->setValue(
         int(std::lround((position - 0.5 * (lo(n) + hi(n))) / (0.5 * (hi(n) - lo(n))) * kPositionSteps)));
   }
-  position_label_->setText(QString("%1 = %2 %3 (%4 %)")
-                               .arg(normal_box_->currentText(), fixed(position, 2), qs(device.info().length_unit))
-                               .arg(std::lround(100.0 * (position - lo(n)) / (hi(n) - lo(n)))));
+  position_slider_->setEnabled(!in_plane);
+  follow_box_->setEnabled(!in_plane);
+  const QString where = QString("%1 = %2 %3").arg(normal_box_->currentText(), fixed(position, 2), qs(device.info().length_unit));
+  position_label_->setText(in_plane ? tr("%1, the plane").arg(where)
+                                    : QString("%1 (%2 %)").arg(where).arg(std::lround(100.0 * (position - lo(n)) / (hi(n) - lo(n)))));
 }
 
 void FieldPanel::showColourRange(double lo, double hi) {

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 #include <QWidget>
+#include <optional>
 
 #include "core/field.h"
 #include "core/mechanism.h"
@@ -40,6 +41,8 @@ class FieldPanel : public QWidget {
   void enableColourRange(bool typed);
   // The slice's opacity, 0..1 (FieldSettings::slice_opacity).
   double sliceOpacity() const;
+  // A planar device's slice in its plane: normal z, which no position changes.
+  bool sliceInPlane() const;
 
  signals:
   void sliceChanged();       // the slice must be sampled again
@@ -57,6 +60,7 @@ class FieldPanel : public QWidget {
   QCheckBox *log_scale_box_ = nullptr, *follow_box_ = nullptr, *auto_range_box_ = nullptr, *show_slice_box_ = nullptr,
             *show_reach_box_ = nullptr, *show_well_box_ = nullptr;
   QDoubleSpinBox *threshold_box_ = nullptr, *range_min_box_ = nullptr, *range_max_box_ = nullptr;
+  std::optional<double> plane_z_;  // a planar device's plane: its field is the same at every height
   QSlider *reach_opacity_slider_ = nullptr, *well_opacity_slider_ = nullptr, *slice_opacity_slider_ = nullptr;
   bool has_methods_ = false;
 };

@@ -297,6 +297,34 @@ class WindowDocumentTest : public QObject {
     QVERIFY(delta_z && delta_z->isVisible());
   }
 
+  // A planar device's field is the same at every height: its slice is taken
+  // in the plane (no position to choose) and drawn below the linkage's rods,
+  // not through them; a spatial device's slice lies where it was sampled.
+  void aPlanarDevicesSliceLiesBelowItsLinkage() {
+    MechanismWindow w(load_preset("five-bar"));
+    QVERIFY(show_settled(w));
+    QVERIFY(w.fieldScene().slice_visible());
+    const double plane = *w.mechanism().info().plane_z;
+    QCOMPARE(w.fieldSettings().position, plane);
+    QVERIFY(!w.findChild<QSlider*>("positionSlider")->isEnabled());
+    QVERIFY(w.findChild<QLabel*>("positionLabel")->text().contains("the plane"));
+    double bounds[6];
+    w.fieldScene().slice_actor()->GetBounds(bounds);
+    QVERIFY2(bounds[5] < plane - 0.01 * w.mechanism().size(), qPrintable(QString::number(bounds[5])));
+    // The normal x gives a slice the position slider moves again.
+    w.findChild<QComboBox*>("normalBox")->setCurrentText("x");
+    QVERIFY(QTest::qWaitFor([&] { return w.fieldsSettled(); }, 30000));
+    QVERIFY(w.findChild<QSlider*>("positionSlider")->isEnabled());
+    QVERIFY(w.findChild<QLabel*>("positionLabel")->text().contains("%"));
+
+    MechanismWindow spatial(load_preset("delta"));
+    QVERIFY(show_settled(spatial));
+    spatial.fieldScene().slice_actor()->GetBounds(bounds);
+    const gui::FieldSettings f = spatial.fieldSettings();
+    const int n = int(parse_axis(f.normal));
+    QVERIFY2(std::abs(bounds[2 * n] - f.position) < 0.02 * spatial.mechanism().size(), qPrintable(QString::number(bounds[2 * n])));
+  }
+
   // The status bar is the user's: compute and frame times only from View > Show timings.
   void timingsShowOnlyWhenAsked() {
     MechanismWindow w(load_preset("parallel-12r"));
