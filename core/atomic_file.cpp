@@ -156,6 +156,8 @@ struct Target {
 
 Target check_target(const fs::path& target) {
   if (target.empty()) throw std::invalid_argument("the output path is empty");
+  if (!target.has_filename())
+    throw std::invalid_argument("cannot write '" + target.string() + "': it names a folder (it ends in '/'), not a file");
   Target t{followed_links(target)};
   std::error_code ec;
   const fs::file_status status = fs::status(t.path, ec);

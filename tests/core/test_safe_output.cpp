@@ -101,6 +101,15 @@ TEST(SafeOutput, RefusesFoldersAndEmptyPaths) {
   bool called = false;
   EXPECT_THROW(write_atomically(dir / "sub", [&](const fs::path&) { called = true; }), std::invalid_argument);
   EXPECT_THROW(write_atomically("", [&](const fs::path&) { called = true; }), std::invalid_argument);
+  // A path ending in '/' names a folder, whether or not one is there.
+  for (const fs::path& p : {dir / "sub/", dir / "missing.csv/"}) {
+    try {
+      write_atomically(p, [&](const fs::path&) { called = true; });
+      ADD_FAILURE() << "expected an error for " << p;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("names a folder"), std::string::npos) << e.what();
+    }
+  }
   EXPECT_FALSE(called);  // refused before any work
 }
 
