@@ -94,8 +94,9 @@ void draw_pareto(QPainter& p, const QRectF& area, const fit::Problem& problem, c
   std::vector<Point> pts;
   for (std::size_t i = 0; i < r.rows.size(); ++i) {
     const fit::Row& row = r.rows[i];
+    if (!row.invalid.empty()) continue;  // a design that could not be built has no criteria
     const double y = y_of(row);
-    if (row.invalid.empty() && std::isfinite(y) && (!log || y > 0)) pts.push_back({x_of(row), y, row.meets, i});
+    if (std::isfinite(y) && (!log || y > 0)) pts.push_back({x_of(row), y, row.meets, i});
   }
   QFont font("DejaVu Sans");
   font.setPixelSize(std::max(10, int(area.height() / 45)));  // readable in a dock too

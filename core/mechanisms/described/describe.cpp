@@ -68,7 +68,7 @@ std::string describe(const Preset& preset) {
   const std::string& unit = m.length_unit;
   std::ostringstream s;
   s << preset.title << "\n";
-  s << "space: " << (m.planar ? "planar" : "spatial") << ", size " << m.size << " " << unit << "\n";
+  s << "space: " << (m.planar ? "planar" : "spatial") << ", size " << m.size << " " << unit << " (" << m.size_text << ")\n";
   s << "mobility: " << mb.freedoms << " (Gruebler-Kutzbach " << mb.gruebler << ", " << mb.fixed << " held, " << mb.idle
     << " idle, closure rank " << mb.closure_rank << "); " << m.actuators.size() << " actuator(s)";
   if (!m.extras.empty()) s << ", " << m.extras.size() << " extra(s)";

@@ -48,7 +48,7 @@ class DescribedMechanism final : public Mechanism {
     i.name = preset.source.empty() ? std::string(kMechanismName) : preset.source.stem().string();
     i.title = preset.title;
     i.length_unit = m.length_unit;
-    i.size_description = "the description's size";
+    i.size_description = m.size_text;
     for (const auto& [name, value] : m.parameters) {
       Quantity q{name, m.length_unit, "", value, value != 0 ? Range{std::min(0.5 * value, 2 * value), std::max(0.5 * value, 2 * value)} : Range{-1, 1}};
       if (auto it = m.parameter_info.find(name); it != m.parameter_info.end()) {

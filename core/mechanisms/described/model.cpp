@@ -66,6 +66,26 @@ void name_chain_links(Leg& leg) {
   }
 }
 
+// What the device's size measures, for reports and the fit's free lengths:
+// the "size" expression as written, else the first leg's chain translations
+// when each lies along one axis ("a + b"), else said in words.
+std::string size_text(const json& doc) {
+  auto text = [](const json& v) { return v.is_string() ? v.get<std::string>() : v.dump(); };
+  if (doc.contains("size")) return text(doc.at("size"));
+  std::string out;
+  for (const json& step : doc.at("legs").at(0).at("chain")) {
+    if (!step.is_object() || !step.contains("translate")) continue;
+    std::vector<std::string> along;
+    for (const json& c : step.at("translate"))
+      if (!(c.is_number() && c.get<double>() == 0)) along.push_back(text(c));
+    if (along.size() != 1) return "the first leg's link lengths";
+    std::string term = along.front();
+    if (term.size() > 1 && term.front() == '-') term.erase(0, 1);  // a length either way along its axis
+    out += (out.empty() ? "" : " + ") + term;
+  }
+  return out.empty() ? "the first leg's link lengths" : out;
+}
+
 }  // namespace
 
 // The platform bodies' frames as functions of the extras: the JSON steps are
@@ -459,6 +479,7 @@ Model build_model(const std::string& description_json, const std::map<std::strin
   if (m.free_rules > 12) fail(top + ".legs", "more than 12 free branch rules (4096 branches)");
 
   // The device's typical size.
+  m.size_text = size_text(doc);
   if (doc.contains("size")) {
     m.size = eval.number(doc.at("size"), top + ".size");
   } else {

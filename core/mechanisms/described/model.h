@@ -127,6 +127,7 @@ struct Model {
   std::vector<Actuator> actuators;
   int free_rules = 0;                // assembly branches: 2^free_rules
   double size = 1.0;
+  std::string size_text;  // what size measures, as written ("a + b") or said
   std::map<std::string, double> parameters;
   struct ParameterInfo {
     Range range;

@@ -56,6 +56,21 @@ TEST(CliFit, EqualLinksFirstRowIsTheSmallestMeetingDesign) {
   EXPECT_TRUE(fs::exists(chart));
 }
 
+// The five-bar's home is fixed at (0, 17) cm: the designs too short to
+// reach it cannot be built. They are counted, left out of the CSV and the
+// chart (which had crashed reading their missing criteria).
+TEST(CliFit, DesignsThatCannotBeBuiltAreCountedAndLeftOutOfTheChart) {
+  const std::string csv = out("unbuilt.csv"), chart = out("unbuilt.png");
+  const CommandResult r = run_linkscape("fit -m five-bar --task sphere:diameter=5 --criterion 'cond<3' --output " + csv +
+                                        " --chart " + chart + kCoarse);
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.out.find("could not be built"), std::string::npos) << r.out;
+  EXPECT_FALSE(rows_of(csv).empty());
+  EXPECT_GT(fs::file_size(chart), 1000u);
+  for (const auto& entry : fs::directory_iterator(kOut))  // no temporary left
+    EXPECT_EQ(entry.path().filename().string().find(".unbuilt.tmp"), std::string::npos) << entry.path();
+}
+
 TEST(CliFit, WithoutEqualTheLinksVaryIndependently) {
   const std::string csv = out("free.csv");
   const CommandResult r = run_linkscape("fit --task sphere:diameter=15 --criterion 'cond<3' --output " + csv + kCoarse);

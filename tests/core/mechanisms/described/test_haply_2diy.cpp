@@ -154,7 +154,7 @@ TEST_F(Haply2diy, TheFileStatesThePublishedGeometry) {
 // What `linkscape describe -m haply-2diy` prints of the legs and their bounds.
 TEST_F(Haply2diy, DescribeListsTheLegsTravelStopsAndArms) {
   const std::string text = described::describe(load_preset("haply-2diy"));
-  for (const char* line : {"space: planar, size 179 mm\n", "branches: 1\n", "  leg left: planar-dyad\n",
+  for (const char* line : {"space: planar, size 179 mm (d/2 + l + L)\n", "branches: 1\n", "  leg left: planar-dyad\n",
                            "    actuator q2 (revolute), travel 12 .. 168 deg\n",
                            "    reach: 20 .. 160 mm from its base to its anchor\n",
                            "    limit: joint elbow1: -170 .. -10 deg\n",
