@@ -44,8 +44,21 @@ struct Sample {
   VectorXd q, x;
 };
 
+// The branch the configuration (q at the pose x) is on: the one whose
+// solution by the first IK method is q (to 1e-7 rad or length unit); -1 if
+// none is. Every method is measured on branch 0, so a drawn q on another
+// branch would be compared with branch 0's solution, radians away.
+int branch_of(const Mechanism& m, const VectorXd& q, const VectorXd& x) {
+  int branch = -1;
+  double nearest = 1e-7;
+  for (const IkSolution& s : m.inverse(x, IkOptions{}).solutions)
+    if (s.status == Status::Ok)
+      if (const double d = joint_distance(m.info(), s.q, q); d < nearest) nearest = d, branch = s.branch;
+  return branch;
+}
+
 // Seeded actuator values in their ranges whose FK succeeds and whose main
-// measure is finite and below 1e3 (away from singular sets); where too few
+// measure is finite and below 1e3 (away from singular sets), on branch 0; where too few
 // assemble, seeded task poses (below).
 std::vector<Sample> reachable_samples(const Mechanism& m, std::size_t count, unsigned seed) {
   const MechanismInfo& info = m.info();
@@ -60,6 +73,7 @@ std::vector<Sample> reachable_samples(const Mechanism& m, std::size_t count, uns
     if (fk.status != Status::Ok) return;
     const Measures meas = m.measures(q, fk.x);
     if (meas.status != Status::Ok || meas.values.empty() || !(meas.values[0] < 1e3)) return;
+    if (info.branches.size() > 1 && branch_of(m, q, fk.x) != 0) return;
     out.push_back({q, fk.x});
   };
   for (std::size_t tries = 0; out.size() < count && tries < 20 * count; ++tries) {
@@ -95,9 +109,12 @@ std::vector<methods::MethodRow> Mechanism::measure_methods(const methods::Harnes
   const std::vector<Sample> samples = reachable_samples(*this, options.samples, options.seed);
   std::vector<methods::MethodRow> rows;
   const double stages = double(info.ik_methods.size() + info.fk_methods.size());
-  // One row: `error` gives a sample's error, or nothing where the method is not ok.
+  // One row: `solve` gives a sample's answer, or nothing where the method is
+  // not ok (timed); `error` that answer's error (after the timing).
+  using Answer = std::optional<VectorXd>;
   auto measure = [&](const std::string& family, const std::string& method, const std::string& unit,
-                     const std::function<std::optional<double>(const Sample&)>& error) {
+                     const std::function<Answer(const Sample&)>& solve,
+                     const std::function<double(const Sample&, const VectorXd&)>& error) {
     if (options.cancel && options.cancel->load()) return false;
     if (options.progress) options.progress(double(rows.size()) / stages, family + " " + method);
     methods::MethodRow row;
@@ -105,15 +122,16 @@ std::vector<methods::MethodRow> Mechanism::measure_methods(const methods::Harnes
     row.family = family;
     row.method = method;
     row.error_unit = unit;
-    std::vector<double> errors;
+    std::vector<Answer> answers(samples.size());
     row.seconds_per_evaluation = methods::median_pass_seconds(options.repeats, [&] {
-      errors.clear();
-      row.failures = 0;
-      for (const Sample& s : samples) {
-        if (const std::optional<double> e = error(s)) errors.push_back(*e);
-        else ++row.failures;
-      }
+      for (std::size_t i = 0; i < samples.size(); ++i) answers[i] = solve(samples[i]);
     }) / double(std::max<std::size_t>(samples.size(), 1));
+    std::vector<double> errors;
+    row.failures = 0;
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+      if (answers[i]) errors.push_back(error(samples[i], *answers[i]));
+      else ++row.failures;
+    }
     methods::fill_statistics(row, errors);
     rows.push_back(row);
     return true;
@@ -124,24 +142,36 @@ std::vector<methods::MethodRow> Mechanism::measure_methods(const methods::Harnes
     io.branch = 0;  // the samples' branch: every method solves that one (not every branch, nor some)
     io.tolerance = options.ik.tolerance;
     io.max_iterations = options.ik.max_iterations;
-    const bool going = measure("ik", method.name, joint_unit(info), [&](const Sample& s) -> std::optional<double> {
-      double best = INFINITY;
-      for (const IkSolution& sol : inverse(s.x, io).solutions)
-        if (sol.status == Status::Ok) best = std::min(best, joint_distance(info, sol.q, s.q));
-      if (!std::isfinite(best)) return std::nullopt;
-      return best;
-    });
+    const bool going = measure(
+        "ik", method.name, joint_unit(info),
+        [&](const Sample& s) -> Answer {
+          const IkResult r = inverse(s.x, io);
+          if (r.status != Status::Ok) return std::nullopt;
+          return r.solutions.front().q;
+        },
+        [&](const Sample& s, const VectorXd& q) { return joint_distance(info, q, s.q); });
     if (!going) return rows;
   }
   for (const NamedItem& method : info.fk_methods) {
     FkOptions fo;
     fo.method = method.name;
     fo.seed = home_task();
-    const bool going = measure("fk", method.name, "relative", [&](const Sample& s) -> std::optional<double> {
-      const FkResult r = forward(s.q, fo);
-      if (r.status != Status::Ok) return std::nullopt;
-      return (r.x - s.x).head<3>().norm() / size();
-    });
+    // Against the drawn actuator values: FK's pose must give them back by
+    // the first IK method on some branch (FK may find another assembly than
+    // the sample's; the sample's own pose would be FK's where drawn from q).
+    const bool going = measure(
+        "fk", method.name, joint_unit(info),
+        [&](const Sample& s) -> Answer {
+          const FkResult r = forward(s.q, fo);
+          if (r.status != Status::Ok) return std::nullopt;
+          return r.x;
+        },
+        [&](const Sample& s, const VectorXd& x) {
+          double nearest = INFINITY;  // no branch gives q back: wrong
+          for (const IkSolution& sol : inverse(x, IkOptions{}).solutions)
+            if (sol.status == Status::Ok) nearest = std::min(nearest, joint_distance(info, sol.q, s.q));
+          return nearest;
+        });
     if (!going) return rows;
   }
   if (options.progress) options.progress(1.0, "done");

@@ -234,7 +234,8 @@ void run_bench(const BenchOptions& o, std::ostream& out) {
     sweeps.insert(sweeps.end(), device_sweeps.begin(), device_sweeps.end());
   }
   out << "\nmethods: median time per evaluation (one thread; per field on " << threads
-      << " threads) and error against a long-double reference over " << h.samples << " workspace targets\n";
+      << " threads) and error against each device's reference (the 12R's and PATHOS-II's in long double; the others' "
+         "drawn actuator values, docs/methods.md) over " << h.samples << " workspace targets\n";
   out << std::left << std::setw(14) << "family" << std::setw(20) << "method" << std::setw(11) << "parameter"
       << std::right << std::setw(12) << "time (s)" << std::setw(12) << "median" << std::setw(12) << "p99"
       << std::setw(12) << "max" << std::setw(9) << "not ok" << "  unit\n";
