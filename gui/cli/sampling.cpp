@@ -76,6 +76,16 @@ IkOptions checked_ik(const MechanismInfo& info, const std::string& method, std::
   return ik;
 }
 
+void check_read_coordinates(const MechanismInfo& info, const Eigen::VectorXd& x, const std::string& what) {
+  for (std::size_t k = 0; k < info.task.size() && Eigen::Index(k) < x.size(); ++k) {
+    const Quantity& c = info.task[k];
+    const double v = x(Eigen::Index(k));
+    if (std::count(info.fk_inputs.begin(), info.fk_inputs.end(), c.name) && !c.range.contains(v))
+      throw std::invalid_argument(what + c.name + " = " + format_number(v) + " is outside " + info.name + "'s range " +
+                                  format_number(c.range.lo) + " to " + format_number(c.range.hi) + " " + c.unit);
+  }
+}
+
 SampledDevice check_sampling_options(const SamplingOptions& s, const std::string& command) {
   SampledDevice out;
   out.preset = chosen_preset(s.mechanism);
@@ -87,14 +97,7 @@ SampledDevice check_sampling_options(const SamplingOptions& s, const std::string
     const auto v = parse_numbers(s.pose, info.task.size(),
                                  command + ": --pose expects " + joined_names(info.task) + " for " + info.name);
     out.pose = Eigen::Map<const Eigen::VectorXd>(v.data(), Eigen::Index(v.size()));
-    // A coordinate read by a sensor (a grip) beyond the range the device states is no pose of it.
-    for (std::size_t k = 0; k < info.task.size(); ++k) {
-      const Quantity& c = info.task[k];
-      if (std::count(info.fk_inputs.begin(), info.fk_inputs.end(), c.name) && !c.range.contains(v[k]))
-        throw std::invalid_argument(command + ": --pose gives " + c.name + " = " + format_number(v[k]) + ", outside " +
-                                    info.name + "'s range " + format_number(c.range.lo) + " to " +
-                                    format_number(c.range.hi) + " " + c.unit);
-    }
+    check_read_coordinates(info, *out.pose, command + ": --pose: ");
   }
   out.ik = checked_ik(info, s.method, s.branch, command);
   if (s.branch == 0) out.ik.branch.reset();

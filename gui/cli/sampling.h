@@ -64,6 +64,11 @@ struct SampledDevice {
 // not all of its task coordinates.
 SampledDevice check_sampling_options(const SamplingOptions& options, const std::string& command);
 
+// A coordinate read by a sensor (a grip, info.fk_inputs) beyond the range the
+// device states is no pose of it: throws std::invalid_argument, `what` first
+// ("slice: --pose: ").
+void check_read_coordinates(const MechanismInfo& info, const Eigen::VectorXd& x, const std::string& what);
+
 // The IK method and branch of `info`'s, checked (eval's optional branch included).
 IkOptions checked_ik(const MechanismInfo& info, const std::string& method, std::optional<int> branch,
                      const std::string& command);

@@ -92,6 +92,7 @@ void write_ik(const Mechanism& m, const Table& table, const IkOptions& ik, std::
       x(Eigen::Index(k)) = row[col[k]];
       where += csv_number(row[col[k]]) + ",";
     }
+    check_read_coordinates(info, x, "");
     const IkResult r = m.inverse(x, ik);
     for (const IkSolution& s : r.solutions) {
       out << where;
