@@ -235,7 +235,12 @@ void apply_overrides(Preset& preset, const std::vector<std::string>& overrides) 
       std::string known, motors;
       for (const auto& k : names) known += (known.empty() ? "" : ", ") + k;
       for (const MotorParameter& p : motor_parameters()) motors += (motors.empty() ? "" : ", ") + std::string(p.name);
-      throw std::invalid_argument("unknown parameter '" + key + "' for " + preset.mechanism + " (known: " + known +
+      std::vector<std::string> candidates = names;
+      for (const MotorParameter& p : motor_parameters()) candidates.push_back(p.name);
+      const std::optional<std::string> meant = closest_name(key, candidates);
+      const std::string device = preset.source.empty() ? preset.mechanism : preset.source.stem().string();
+      throw std::invalid_argument("unknown parameter '" + key + "' for " + device +
+                                  (meant ? "; did you mean '" + *meant + "'?" : std::string()) + " (known: " + known +
                                   "; motor ratings: " + motors + ")");
     }
     preset.parameters[key] = parse_number_or_throw(text, "parameter " + key);
