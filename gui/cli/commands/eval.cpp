@@ -29,7 +29,7 @@ struct EvalOptions {
   std::optional<int> branch;
   std::string seed;     // actuator values, comma separated
   double tolerance = 1e-10;
-  int max_iterations = 100;
+  std::optional<int> max_iterations;  // default IkOptions' (100)
   std::string output = "-";  // file, or "-" for stdout
   bool quiet = false;        // no summary on stderr
 };
@@ -199,12 +199,12 @@ void run_eval(const EvalOptions& o, std::istream& stdin_stream, std::ostream& st
   // the options of IK would be quietly ignored.
   if (!o.fk_file.empty())
     for (const auto& [given, option] : {std::pair{!o.method.empty(), "--method"}, {o.branch.has_value(), "--branch"},
-                                        {!o.seed.empty(), "--seed"}})
+                                        {!o.seed.empty(), "--seed"}, {o.max_iterations.has_value(), "--max-iterations"}})
       if (given)
         throw std::invalid_argument(std::string("eval: ") + option + " applies to --ik; forward kinematics starts from "
                                     "the home pose or the row's seed_<coordinate> columns");
-  if (o.max_iterations < 1)
-    throw std::invalid_argument("eval: --max-iterations must be at least 1, got " + std::to_string(o.max_iterations));
+  if (o.max_iterations && *o.max_iterations < 1)
+    throw std::invalid_argument("eval: --max-iterations must be at least 1, got " + std::to_string(*o.max_iterations));
   Preset preset = chosen_preset(o.mechanism);
   apply_stop_switches(o.stops, preset, "eval");
   const std::shared_ptr<const Mechanism> m = make_mechanism(preset);
@@ -218,7 +218,7 @@ void run_eval(const EvalOptions& o, std::istream& stdin_stream, std::ostream& st
     ik.seed = Eigen::Map<const Eigen::VectorXd>(seed.data(), Eigen::Index(seed.size()));
   }
   ik.tolerance = o.tolerance;
-  ik.max_iterations = o.max_iterations;
+  if (o.max_iterations) ik.max_iterations = *o.max_iterations;
   const auto start = std::chrono::steady_clock::now();
   Table table = read_input(o.ik_file.empty() ? o.fk_file : o.ik_file, stdin_stream);
   // A planar device's z is its plane's: its targets, and its FK seeds, may leave it out.
@@ -285,8 +285,7 @@ Command add_eval(CLI::App& program, const DeviceHelp& help) {
       ->capture_default_str();
   cmd->add_option("--max-iterations", o->max_iterations,
                   "Iteration limit of the compiled devices' newton/dls (a described device's numerical solver takes "
-                  "up to 40 a seed, its seeds as docs/described-mechanisms.md says)")
-      ->capture_default_str();
+                  "up to 40 a seed, its seeds as docs/described-mechanisms.md says); default 100");
   cmd->add_option("-o,--output", o->output, "Output CSV file (written atomically); '-' = stdout")->capture_default_str();
   cmd->add_flag("-q,--quiet", o->quiet, "No summary on stderr (there is none when the rows go to stdout)");
   return {cmd, Runs::Headless,

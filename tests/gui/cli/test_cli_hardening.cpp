@@ -203,6 +203,7 @@ TEST(CliHardening, OptionsThatWouldBeIgnoredOrMeaninglessAreRefused) {
       {"eval -m delta --fk " + q.string() + " --branch 5", "--branch applies to --ik"},
       {"eval -m delta --fk " + q.string() + " --method newton", "--method applies to --ik"},
       {"eval -m delta --fk " + q.string() + " --seed 1,2,3", "--seed applies to --ik"},
+      {"eval -m delta --fk " + q.string() + " --max-iterations 3", "--max-iterations applies to --ik"},
       {"eval --ik " + in.string() + " --param L1=12 --param L1=13", "--param L1 is given twice"},
       {"eval --ik " + in.string() + " --method newton --tolerance 1e300", "--tolerance must lie between"},
       {"slice --tolerance 0.01 -o x.png", "--tolerance must lie between"},
