@@ -167,6 +167,7 @@ void write_fk(const Mechanism& m, const Table& table, std::ostream& out) {
     if (!seed_col.empty() || !input_col.empty()) fo.seed = home;
     for (std::size_t k = 0; k < input_index.size(); ++k) (*fo.seed)(input_index[k]) = row[input_col[k]];
     for (std::size_t k = 0; k < seed_col.size(); ++k) (*fo.seed)(result_index[k]) = row[seed_col[k]];
+    if (fo.seed) check_read_coordinates(info, *fo.seed, "");
     for (std::size_t k = 0; k < q_col.size(); ++k) out << (k ? "," : "") << csv_number(row[q_col[k]]);
     for (std::size_t k = 0; k < input_col.size(); ++k) out << "," << csv_number(row[input_col[k]]);
     const FkResult r = m.forward(q, fo);

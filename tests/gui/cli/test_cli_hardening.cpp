@@ -199,6 +199,8 @@ TEST(CliHardening, OptionsThatWouldBeIgnoredOrMeaninglessAreRefused) {
   const fs::path in = temp_file("hard_round.csv", kTargets);
   const fs::path q = temp_file("hard_round_q.csv", "q1,q2,q3\n0.1,0.2,0.3\n");
   const fs::path grip = temp_file("hard_grip.csv", "x,y,z,rx,ry,rz,h0\n0,0,22.5,0,0,0.5236,7\n0,0,22.5,0,0,0.5236,20\n");
+  const fs::path grip_q = temp_file("hard_grip_q.csv", "q1,q2,q3,q4,q5,q6,h0\n2.66,2.66,2.66,-2.66,-2.66,-2.66,7\n"
+                                                       "2.66,2.66,2.66,-2.66,-2.66,-2.66,0\n");
   const std::vector<std::pair<std::string, std::string>> refused{
       {"eval -m delta --fk " + q.string() + " --branch 5", "--branch applies to --ik"},
       {"eval -m delta --fk " + q.string() + " --method newton", "--method applies to --ik"},
@@ -222,6 +224,7 @@ TEST(CliHardening, OptionsThatWouldBeIgnoredOrMeaninglessAreRefused) {
       // So is a target row's grip (it had been solved as if the grip could open that far).
       {"eval -m pathos2 --ik " + grip.string(), ":3: h0 = 20 is outside pathos2's range 2.1 to 10.5 cm"},
       {"eval -m pathos2-described --ik " + grip.string(), ":3: h0 = 20 is outside pathos2-described's range"},
+      {"eval -m pathos2 --fk " + grip_q.string(), ":3: h0 = 0 is outside pathos2's range"},
       {"eval -m delta --param continuous_torque_Nm=5 --ik " + in.string(), "continuous_torque_Nm of q1 exceeds its peak"},
       {"mesh --box 0,1,0,1,0,nan --resolution 12 -o x.stl", "--box expects"},
       {"mesh --box 0,1,0,1,0,1e8 --resolution 12 -o x.stl", "wide against the device's size"},
