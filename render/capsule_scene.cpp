@@ -94,7 +94,9 @@ CapsuleScene::CapsuleScene() {
     style(ends_[k], kGapColour, 1.0);
   }
   style_world_label(label_);
-  label_->GetTextProperty()->SetVerticalJustificationToBottom();
+  label_anchor_->SetCoordinateSystemToWorld();
+  label_->GetPositionCoordinate()->SetCoordinateSystemToDisplay();
+  label_->GetPositionCoordinate()->SetReferenceCoordinate(label_anchor_);
   for (vtkProp* p : gap_props()) p->PickableOff();
   apply_visibility();
 }
@@ -150,12 +152,43 @@ void CapsuleScene::set_links(const interference::LinkCapsules& c, const std::str
       end_sources_[k]->SetRadius(0.25 * std::max(thinner, 1e-9));
     }
     const Eigen::Vector3d middle = 0.5 * (ends[0] + ends[1]);
-    label_->GetPositionCoordinate()->SetValue(middle.data());
+    label_anchor_->SetValue(middle.data());
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    for (const interference::Link& l : c.links) centre += 0.5 * (l.capsule.a + l.capsule.b) / double(c.links.size());
+    place_label(middle, centre);
     label_->SetInput(gap_text(c, gap_, length_unit).c_str());
     const Colour& frame = close ? kCloseColour : kPairColour;
     label_->GetTextProperty()->SetFrameColor(frame[0], frame[1], frame[2]);
   }
   apply_visibility();
+}
+
+// The label stands a little off the gap on the screen, on the side away
+// from the links' centre (down and to the left before the view has a size),
+// its text growing away from the gap.
+void CapsuleScene::place_label(const Eigen::Vector3d& gap, const Eigen::Vector3d& centre) {
+  Eigen::Vector2d away(-1, -1);
+  for (vtkRenderer* r : renderers_) {
+    if (!r || !r->GetRenderWindow() || r->GetSize()[0] <= 0) continue;
+    vtkNew<vtkCoordinate> at;
+    at->SetCoordinateSystemToWorld();
+    auto display = [&](const Eigen::Vector3d& p) {
+      at->SetValue(p.x(), p.y(), p.z());
+      const double* d = at->GetComputedDoubleDisplayValue(r);
+      return Eigen::Vector2d(d[0], d[1]);
+    };
+    const Eigen::Vector2d d = display(gap) - display(centre);
+    if (d.norm() > 1) away = d;  // pixels
+    break;
+  }
+  away.normalize();
+  constexpr double kStandOff = 24;  // pixels
+  label_->GetPositionCoordinate()->SetValue(kStandOff * away.x(), kStandOff * away.y());
+  vtkTextProperty* t = label_->GetTextProperty();
+  if (away.x() < 0) t->SetJustificationToRight();
+  else t->SetJustificationToLeft();
+  if (away.y() < 0) t->SetVerticalJustificationToTop();
+  else t->SetVerticalJustificationToBottom();
 }
 
 void CapsuleScene::set_visible(bool on) {

@@ -1,8 +1,9 @@
 // A device's links as capsules (Mechanism::link_capsules) over its
 // skeleton: each link a translucent capsule, the pair that sets the
 // clearance highlighted in a colour-blind-safe orange (Okabe-Ito), a line
-// across the gap between their surfaces and the clearance as a label at its
-// middle. Where the pair is closer than the thinner link's radius the pair
+// across the gap between their surfaces and the clearance as a label beside
+// its middle (on the side away from the links, so it stays off the joints'
+// labels). Where the pair is closer than the thinner link's radius the pair
 // turns vermillion and nearly opaque and the label says so ("close";
 // "overlap" where they interfere), so a contact reads without the colour.
 //
@@ -24,6 +25,7 @@
 class vtkActor;
 class vtkActor2D;
 class vtkCapsuleSource;
+class vtkCoordinate;
 class vtkLineSource;
 class vtkProp;
 class vtkRenderer;
@@ -58,6 +60,7 @@ class CapsuleScene {
   vtkActor2D* gap_line() const;  // drawn over the scene
   Gap gap() const { return gap_; }
   std::string label_text() const;
+  vtkTextActor* label() const { return label_; }
 
  private:
   struct LinkProps {
@@ -65,6 +68,7 @@ class CapsuleScene {
     vtkSmartPointer<vtkActor> actor;
   };
   void apply_visibility();
+  void place_label(const Eigen::Vector3d& gap, const Eigen::Vector3d& centre);
   std::array<vtkProp*, 4> gap_props() const;  // the gap's line, its ends and the label
 
   std::vector<LinkProps> links_;
@@ -77,6 +81,7 @@ class CapsuleScene {
   vtkNew<vtkSphereSource> end_sources_[2];
   vtkNew<vtkActor> ends_[2];
   vtkNew<vtkTextActor> label_;
+  vtkNew<vtkCoordinate> label_anchor_;  // the gap's middle; the label stands off it in pixels
 };
 
 }  // namespace linkscape::render

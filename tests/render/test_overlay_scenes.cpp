@@ -7,6 +7,11 @@
 #include <gtest/gtest.h>
 #include <vtkActor.h>
 #include <vtkActor2D.h>
+#include <vtkCamera.h>
+#include <vtkCoordinate.h>
+#include <vtkRenderWindow.h>
+#include <vtkRenderer.h>
+#include <vtkTextActor.h>
 #include <vtkAlgorithm.h>
 #include <vtkLineSource.h>
 #include <vtkMapper.h>
@@ -114,6 +119,39 @@ TEST(CapsuleScene, TheClosestPairIsHighlightedWithItsGap) {
   double close[3];
   scene.link_actor(0)->GetProperty()->GetColor(close);
   EXPECT_GT(std::abs(close[1] - pair[1]), 0.15);  // orange to vermillion
+}
+
+// The label stands beside the gap on the screen, on the side away from the
+// links' centre, so that it does not cover the linkage's joints and labels.
+TEST(CapsuleScene, TheLabelStandsOffTheGapAwayFromTheLinks) {
+  vtkNew<vtkRenderer> renderer;
+  vtkNew<vtkRenderWindow> window;
+  window->SetOffScreenRendering(1);
+  window->SetSize(400, 300);
+  window->AddRenderer(renderer);
+  vtkCamera* camera = renderer->GetActiveCamera();
+  camera->ParallelProjectionOn();
+  camera->SetFocalPoint(0, 0, 0);
+  camera->SetPosition(0, 0, 50);  // looking down z, x to the right
+  camera->SetViewUp(0, 1, 0);
+  camera->SetParallelScale(10);
+  CapsuleScene scene;
+  scene.add_to(renderer);
+  for (const double shift : {-20.0, 20.0}) {  // the pair left of the third link, then right of it
+    LinkCapsules c = three_links(1.0);
+    c.links[2].capsule.a.x() -= shift;
+    c.links[2].capsule.b.x() -= shift;
+    scene.set_links(c, "mm");
+    const auto ends = c.gap();
+    vtkNew<vtkCoordinate> at;
+    at->SetCoordinateSystemToWorld();
+    const Vector3d middle = 0.5 * (ends[0] + ends[1]);
+    at->SetValue(middle.data());
+    const double gap_x = at->GetComputedDoubleDisplayValue(renderer)[0];
+    const double label_x = scene.label()->GetPositionCoordinate()->GetComputedDoubleDisplayValue(renderer)[0];
+    // The third link's centre lies on the side `shift` points away from.
+    EXPECT_GT(shift > 0 ? label_x - gap_x : gap_x - label_x, 10) << "shift " << shift;
+  }
 }
 
 TEST(CapsuleScene, PosesReuseTheActors) {
