@@ -18,6 +18,7 @@
 #include "gui/cli/terminal.h"
 #include "gui/figures/slice_figure.h"
 #include "render/field_vtk.h"
+#include "render/colour_scale.h"
 #include "render/slice_image.h"
 
 namespace linkscape::gui {
@@ -100,6 +101,12 @@ void run_slice(const SliceOptions& o) {
   if (style.field == "method" && o.figure)
     throw std::invalid_argument("--field method is written without --figure (.png image or .csv)");
   if (style.field == "method") style.log_scale = false;
+  // A field of categories (status, method) has no scale to make linear or range to give.
+  if (render::is_categorical(style.field))
+    for (const auto& [given, option] : {std::pair{o.linear, "--linear"}, {!o.range.empty(), "--range"}})
+      if (given)
+        throw std::invalid_argument(std::string(option) + " sets a colour scale; --field " + style.field +
+                                    " is drawn in a colour for each of its categories");
   // A joint margin or clearance is signed (< 0 past the stop): linear.
   for (const NamedItem& extra : info.extra_fields)
     if (style.field == extra.name) style.log_scale = false;

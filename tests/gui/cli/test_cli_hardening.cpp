@@ -213,6 +213,8 @@ TEST(CliHardening, OptionsThatWouldBeIgnoredOrMeaninglessAreRefused) {
       {"slice --size 32x32 --contour nan --figure -o x.png", "--contour levels are condition numbers"},
       {"slice --size 32x32 --contour -5 -o x.png", "--contour levels are condition numbers"},
       {"slice --size 32x32 --range 5,1 -o x.png", "--range expects min,max"},
+      {"slice --size 32x32 --field status --linear -o x.png", "--linear sets a colour scale; --field status"},
+      {"slice --size 32x32 --field status --range 0,3 -o x.png", "--range sets a colour scale"},
       {"slice --size 32x32 --extent -1e308,1e308,0,2 -o x.png", "--extent expects"},
       {"eval -m five-bar --param a=50 --ik " + in.string(), "five-bar with --param a=50: "},
       {"sweep --task sphere:diameter=4 --bounds L1=5:5 --grid 3 -o x.csv", "holds it at one value"},
