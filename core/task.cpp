@@ -43,7 +43,11 @@ void check_bound(const Criterion& c) {
 
 std::string quoting_hint(const std::string& text) {
   if (text.empty() || text.find_first_of("<>") != std::string::npos || text == "reach" || text == "reachable") return "";
-  const std::string example = text + (text.rfind("force", 0) == 0 ? ">1" : "<3");
+  // Forces and the margins to a stop are bounded from below (task.h's examples).
+  const std::string example = text + (text.rfind("force", 0) == 0 ? ">1"
+                                      : text == "joint_margin"     ? ">5"
+                                      : text == "clearance"        ? ">0.5"
+                                                                   : "<3");
   return "; quote the criterion: '" + example + "' (unquoted, a shell takes the < or > for a redirection, drops "
          "it and the number, and may create a file named after the number)";
 }

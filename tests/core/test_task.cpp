@@ -384,6 +384,14 @@ TEST(TaskCriteria, ListsTakeCommasSemicolonsOrSpaces) {
   EXPECT_EQ(parse_criteria("cond<3, force_iso>1").size(), 2u);
   expect_error([] { parse_criteria("cond<3, cond"); }, "quote the criterion: 'cond<3'");
   expect_error([] { parse_criteria("force_max"); }, "quote the criterion: 'force_max>1'");
+  // A margin to a stop is bounded from below too: its example is one the parser takes.
+  for (const std::string margin : {"joint_margin", "clearance"}) {
+    const std::string hint = quoting_hint(margin);
+    const std::size_t from = hint.find('\'') + 1;
+    const std::string example = hint.substr(from, hint.find('\'', from) - from);
+    EXPECT_EQ(example.rfind(margin + ">", 0), 0u) << hint;
+    EXPECT_TRUE(parse_criterion(example).above) << example;
+  }
   EXPECT_EQ(quoting_hint("cond<3"), "");
   EXPECT_EQ(quoting_hint("reach"), "");
 }
