@@ -24,11 +24,11 @@ namespace linkscape::detail {
 inline void check_grid(const Grid& g, std::size_t bytes_per_sample, std::size_t memory_limit_bytes) {
   for (int k = 0; k < 3; ++k)
     if (g.dims[k] < 1 || !(g.spacing(k) > 0) || !std::isfinite(g.origin(k)))
-      throw std::invalid_argument("field: grid needs positive sizes and spacings and a finite origin");
+      throw std::invalid_argument("the sampling grid needs positive sizes and spacings and a finite origin");
   const double bytes = double(g.size()) * double(bytes_per_sample);
   if (bytes > double(memory_limit_bytes)) {
     std::ostringstream msg;
-    msg << "field: " << g.dims[0] << "x" << g.dims[1] << "x" << g.dims[2] << " samples need "
+    msg << "a grid of " << g.dims[0] << "x" << g.dims[1] << "x" << g.dims[2] << " samples needs "
         << bytes / (1 << 20) << " MiB, over the limit of " << memory_limit_bytes / (1 << 20)
         << " MiB; lower the resolution";
     throw std::invalid_argument(msg.str());
