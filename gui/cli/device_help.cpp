@@ -1,5 +1,7 @@
 #include "gui/cli/device_help.h"
 
+#include <algorithm>
+
 #include <exception>
 
 #include "core/preset.h"
@@ -24,6 +26,13 @@ DeviceHelp device_help() {
     }
   }
   return help;
+}
+
+std::vector<Quantity> fk_columns(const MechanismInfo& info) {
+  std::vector<Quantity> columns = info.actuators;
+  for (const Quantity& q : info.task)
+    if (std::count(info.fk_inputs.begin(), info.fk_inputs.end(), q.name)) columns.push_back(q);
+  return columns;
 }
 
 std::string with_units(const std::vector<Quantity>& items) {

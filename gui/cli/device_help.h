@@ -32,6 +32,9 @@ std::string names(const Items& items, const char* separator, bool described = fa
 
 // "x,y,z (cm), rx,ry,rz (rad)": the names, each run of one unit followed by it.
 std::string with_units(const std::vector<Quantity>& items);
+// The columns eval --fk reads: the actuators, then the task coordinates FK
+// takes as inputs (a grip read by its own sensor).
+std::vector<Quantity> fk_columns(const MechanismInfo& info);
 
 // Each device's assembly branches: "parallel-12r: up, down; ...".
 std::string branches_help(const DeviceHelp& help);

@@ -3,8 +3,10 @@
 #include <stdexcept>
 
 #include "core/mechanisms/described/mechanism.h"
+#include "core/mechanism.h"
 #include "core/preset.h"
 #include "gui/cli/command.h"
+#include "gui/cli/device_help.h"
 #include "gui/cli/sampling.h"
 
 namespace linkscape::gui {
@@ -36,6 +38,10 @@ Command add_describe(CLI::App& program, const DeviceHelp&) {
                                           " is compiled (C++), not described; describe reads a preset with a "
                                           "\"description\" (docs/described-mechanisms.md)");
             out << described::describe(preset);
+            // The columns eval reads, as its help gives them for the compiled devices.
+            const std::shared_ptr<const Mechanism> device = make_mechanism(preset);
+            const MechanismInfo& info = device->info();
+            out << "eval columns: --ik " << with_units(info.task) << "; --fk " << with_units(fk_columns(info)) << "\n";
             return 0;
           }};
 }

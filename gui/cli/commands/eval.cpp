@@ -259,18 +259,13 @@ Command add_eval(CLI::App& program, const DeviceHelp& help) {
       "--ik", o->ik_file,
       "Inverse kinematics of the targets in a CSV whose header names the device's task coordinates (" +
           help.per_device([](const MechanismInfo& i) { return with_units(i.task); }) +
-          "; '-' = stdin). Writes one row per branch found: the target, branch, status, actuators, measures and "
+          "; a described device's: linkscape describe NAME; '-' = stdin). Writes one row per branch found: the target, branch, status, actuators, measures and "
           "diagnostics, as far as the device reports them");
   auto* fk = cmd->add_option(
       "--fk", o->fk_file,
       "Forward kinematics of a CSV whose header names the device's actuators and FK inputs (" +
-          help.per_device([](const MechanismInfo& i) {
-            std::vector<Quantity> header = i.actuators;
-            for (const Quantity& q : i.task)
-              if (std::count(i.fk_inputs.begin(), i.fk_inputs.end(), q.name)) header.push_back(q);
-            return with_units(header);
-          }) +
-          "). Iterative FK starts from the home pose, or from the row's seed_<coordinate> columns when given, so "
+          help.per_device([](const MechanismInfo& i) { return with_units(fk_columns(i)); }) +
+          "; a described device's: linkscape describe NAME). Iterative FK starts from the home pose, or from the row's seed_<coordinate> columns when given, so "
           "each row's answer depends on that row alone; writes the actuators, the task coordinates, and the "
           "status, measures and diagnostics as far as the device reports them");
   ik->excludes(fk);

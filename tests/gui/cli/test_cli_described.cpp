@@ -82,4 +82,14 @@ TEST(CliDescribed, EveryHeadlessCommandRunsADescribedDevice) {
   EXPECT_EQ(rows[0].at("status"), "ok");
 }
 
+// describe names the columns eval reads for the device, which eval's help
+// gives only for the compiled devices: the grip is an input of FK too.
+TEST(CliDescribed, DescribeNamesTheColumnsEvalReads) {
+  const auto r = run_linkscape("describe pathos2-described");
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_TRUE(contains(r.out, "eval columns: --ik x,y,z (cm), rx,ry,rz (rad), h0 (cm); --fk q1,q2,q3,q4,q5,q6 (rad), "
+                              "h0 (cm)\n"))
+      << r.out;
+}
+
 }  // namespace
