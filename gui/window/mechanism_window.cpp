@@ -100,7 +100,8 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
       ViewHandles::Hooks{[this](const Eigen::Vector3d& p) { moveEndpointTo(p); },
                          [this] { handles_->place(endpoint()); },
                          [this](bool on) { fields_->setMoving(FieldDisplay::kHandleDrag, on); },
-                         [this](bool on) { fields_->setMoving(FieldDisplay::kCameraDrag, on); }});
+                         [this](bool on) { fields_->setMoving(FieldDisplay::kCameraDrag, on); },
+                         [this] { return state_.mechanism().info().plane_z; }});
   document_ = new WindowDocument(
       this, WindowDocument::Hooks{[this] { return session(); }, [this](const Session& s) { applySession(s); },
                                   [this](const Session& s, const Preset& preset, const QString& path) {

@@ -76,6 +76,7 @@ class MechanismWindow : public QMainWindow {
   Drive drive() const { return drive_; }
   VtkWidget* view() const { return view_; }
   const render::FieldScene& fieldScene() const { return *field_scene_; }
+  const ViewHandles& handles() const { return *handles_; }
   const render::SkeletonScene& scene() const { return *scene_; }
   const render::TaskScene& taskScene() const { return *task_scene_; }
   TaskPanel* taskPanel() const { return task_panel_; }

@@ -1,12 +1,16 @@
 #include "gui/window/view_handles.h"
 
 #include <vtkCallbackCommand.h>
+#include <vtkCamera.h>
 #include <vtkCommand.h>
 #include <vtkHandleWidget.h>
 #include <vtkInteractorObserver.h>
 #include <vtkPointHandleRepresentation3D.h>
 #include <vtkProperty.h>
 #include <vtkRenderWindowInteractor.h>
+#include <vtkRenderer.h>
+
+#include <cmath>
 
 namespace linkscape::gui {
 
@@ -29,7 +33,8 @@ ViewHandles::ViewHandles(vtkRenderWindowInteractor* interactor, Hooks hooks)
     if (event == vtkCommand::StartInteractionEvent) return;
     double p[3];
     self->rep_->GetWorldPosition(p);
-    self->hooks_.dragged_to(Eigen::Vector3d(p[0], p[1], p[2]));
+    if (const std::optional<Eigen::Vector3d> at = self->inPlane(Eigen::Vector3d(p[0], p[1], p[2])))
+      self->hooks_.dragged_to(*at);
     if (event == vtkCommand::EndInteractionEvent) self->hooks_.released();
   });
   handle_->AddObserver(vtkCommand::StartInteractionEvent, handle_callback_);
@@ -51,6 +56,23 @@ ViewHandles::ViewHandles(vtkRenderWindowInteractor* interactor, Hooks hooks)
 ViewHandles::~ViewHandles() {
   handle_->EnabledOff();
   if (vtkInteractorObserver* style = interactor_->GetInteractorStyle()) style->RemoveObserver(camera_callback_);
+}
+
+// The handle moves in a plane facing the camera; a planar device's point is
+// where the line of sight through it meets the device's plane (none where
+// the view looks along the plane).
+std::optional<Eigen::Vector3d> ViewHandles::inPlane(const Eigen::Vector3d& p) const {
+  const std::optional<double> plane = hooks_.plane_z ? hooks_.plane_z() : std::nullopt;
+  vtkRenderer* renderer = rep_->GetRenderer();
+  if (!plane || !renderer) return p;
+  vtkCamera* camera = renderer->GetActiveCamera();
+  Eigen::Vector3d eye, focus;
+  camera->GetPosition(eye.data());
+  camera->GetFocalPoint(focus.data());
+  // Along the projection's direction under parallel projection, else from the eye.
+  const Eigen::Vector3d along = camera->GetParallelProjection() ? Eigen::Vector3d(focus - eye) : Eigen::Vector3d(p - eye);
+  if (std::abs(along.z()) < 1e-9 * along.norm()) return std::nullopt;
+  return Eigen::Vector3d(p + (*plane - p.z()) / along.z() * along);
 }
 
 void ViewHandles::place(const Eigen::Vector3d& p) {

@@ -1,10 +1,12 @@
 // What the mouse does in the view besides turning the camera: a handle on
-// the driven point that the user drags (solved by IK as it moves), and the
+// the driven point that the user drags (solved by IK as it moves; on a
+// planar device, where the mouse's ray meets its plane), and the
 // start and end of camera drags (the picture moves every frame meanwhile).
 #pragma once
 
 #include <Eigen/Core>
 #include <functional>
+#include <optional>
 #include <vtkSmartPointer.h>
 
 class vtkCallbackCommand;
@@ -21,6 +23,7 @@ class ViewHandles {
     std::function<void()> released;                          // the drag ended (after its last move)
     std::function<void(bool)> handle_held;                   // a drag of the handle starts or ends
     std::function<void(bool)> camera_held;                   // a drag of the camera starts or ends
+    std::function<std::optional<double>()> plane_z;          // a planar device's plane: drags stay in it
   };
   ViewHandles(vtkRenderWindowInteractor* interactor, Hooks hooks);
   ~ViewHandles();
@@ -29,6 +32,8 @@ class ViewHandles {
 
   // The handle at the driven point.
   void place(const Eigen::Vector3d& p);
+  // Where a drag to p asks the driven point to go.
+  std::optional<Eigen::Vector3d> inPlane(const Eigen::Vector3d& p) const;
 
  private:
   Hooks hooks_;

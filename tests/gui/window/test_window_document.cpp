@@ -30,6 +30,7 @@
 #include "gui/window/session_history.h"
 #include "settled.h"
 #include "gui/window/task_panel.h"
+#include "gui/window/view_handles.h"
 #include "gui/window/vtk_widget.h"
 #include "render/field_scene.h"
 
@@ -297,6 +298,27 @@ class WindowDocumentTest : public QObject {
     QVERIFY(delta_z && delta_z->isVisible());
   }
 
+  // The handle on the driven point moves in a plane facing the camera; on a
+  // planar device a drag asks for the point where the line of sight through
+  // the handle meets the device's plane (the five-bar had refused every
+  // drag that left z = 0).
+  void aPlanarDevicesHandleIsDraggedInItsPlane() {
+    MechanismWindow w(load_preset("five-bar"));
+    QVERIFY(show_settled(w));
+    const double plane = *w.mechanism().info().plane_z;
+    vtkCamera* camera = w.view()->renderWindow()->GetRenderers()->GetFirstRenderer()->GetActiveCamera();
+    Eigen::Vector3d eye;
+    camera->GetPosition(eye.data());
+    const Eigen::Vector3d x = w.endpoint();
+    const Eigen::Vector3d handle = x + Eigen::Vector3d(0.5, -0.4, 0.3);  // off the plane, as a drag puts it
+    const std::optional<Eigen::Vector3d> target = w.handles().inPlane(handle);
+    QVERIFY(target);
+    QCOMPARE(target->z(), plane);
+    QVERIFY((target->head<3>() - eye).normalized().cross((handle - eye).normalized()).norm() < 1e-9);
+    QVERIFY2(w.moveEndpointTo(*target), qPrintable(w.refusal()));
+    QVERIFY((w.endpoint() - *target).norm() < 1e-9 * w.mechanism().size());
+  }
+
   // A planar device's field is the same at every height: its slice is taken
   // in the plane (no position to choose) and drawn below the linkage's rods,
   // not through them; a spatial device's slice lies where it was sampled.
@@ -320,6 +342,9 @@ class WindowDocumentTest : public QObject {
     MechanismWindow spatial(load_preset("delta"));
     QVERIFY(show_settled(spatial));
     spatial.fieldScene().slice_actor()->GetBounds(bounds);
+    // A drag of the handle asks a spatial device's point to go where the handle is.
+    const Eigen::Vector3d off(1, 2, 3);
+    QCOMPARE(*spatial.handles().inPlane(off), off);
     const gui::FieldSettings f = spatial.fieldSettings();
     const int n = int(parse_axis(f.normal));
     QVERIFY2(std::abs(bounds[2 * n] - f.position) < 0.02 * spatial.mechanism().size(), qPrintable(QString::number(bounds[2 * n])));
