@@ -111,7 +111,7 @@ void add_rows(const QMenu* menu, const QString& path, QStringList& rows) {
     const QString name = path + " > " + action->text().remove('&');
     if (action->menu()) add_rows(action->menu(), name, rows);
     else if (!action->shortcut().isEmpty())
-      rows << name + "\t" + action->shortcut().toString(QKeySequence::NativeText);
+      rows << name + "\t" + QKeySequence::listToString(action->shortcuts(), QKeySequence::NativeText);
   }
 }
 

@@ -1,8 +1,10 @@
 #include "gui/window/window_menus.h"
 
+#include <QAbstractSpinBox>
 #include <QAction>
 #include <QApplication>
 #include <QDockWidget>
+#include <QKeyEvent>
 #include <QLabel>
 #include <QMainWindow>
 #include <QMenu>
@@ -22,6 +24,24 @@
 namespace linkscape::gui {
 
 namespace {
+
+// A spin box keeps Undo and Redo for its text, which it has already
+// entered: the window's Undo and Redo (of the value entered) take the keys.
+class EditKeysToWindow : public QObject {
+ public:
+  using QObject::QObject;
+
+ protected:
+  bool eventFilter(QObject* watched, QEvent* event) override {
+    if (event->type() != QEvent::ShortcutOverride) return false;
+    const bool in_spin_box = qobject_cast<QAbstractSpinBox*>(watched) ||
+                             (watched->parent() && qobject_cast<QAbstractSpinBox*>(watched->parent()));
+    const auto* key = static_cast<QKeyEvent*>(event);
+    // Left unaccepted, the override lets the window's shortcut have the key.
+    return in_spin_box && (key->matches(QKeySequence::Undo) || key->matches(QKeySequence::Redo) ||
+                           key->keyCombination() == QKeyCombination(Qt::CTRL, Qt::Key_Y));
+  }
+};
 
 // The View menu's checkable actions, its submenus' too, without the docks' toggles.
 std::vector<QAction*> toggles_of(const QMainWindow* window) {
@@ -85,9 +105,11 @@ void add_menus(QMainWindow* window, const MenuActions& actions) {
 
   QMenu* edit = window->menuBar()->addMenu(QObject::tr("&Edit"));
   QAction* undo = actions.undo_stack->createUndoAction(window, QObject::tr("&Undo"));
-  undo->setShortcut(QKeySequence::Undo);
+  undo->setShortcut(QKeySequence(Qt::CTRL | Qt::Key_Z));
+  qApp->installEventFilter(new EditKeysToWindow(window));  // removed with the window
   QAction* redo = actions.undo_stack->createRedoAction(window, QObject::tr("&Redo"));
-  redo->setShortcut(QKeySequence::Redo);
+  // Both common keys: Qt's standard one on X11 is Ctrl+Shift+Z only.
+  redo->setShortcuts({QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_Z), QKeySequence(Qt::CTRL | Qt::Key_Y)});
   edit->addAction(undo);
   edit->addAction(redo);
 

@@ -86,6 +86,33 @@ class WindowDocumentTest : public QObject {
     QTRY_COMPARE(w.mechanism().parameters().at("L1"), l1);
   }
 
+  // A value typed into a spin box and entered is undone by Ctrl+Z there and
+  // then, and redone by Ctrl+Y or Ctrl+Shift+Z (the box had kept the keys for
+  // its own text).
+  void undoAndRedoKeysWorkInASpinBox() {
+    MechanismWindow w(load_preset("delta"));
+    QVERIFY(show_settled(w));
+    w.activateWindow();
+    auto* box = w.findChild<QDoubleSpinBox*>("xBox");
+    QVERIFY(box && box->isVisible());
+    const double x0 = w.task()(0);
+    box->setFocus();
+    QTRY_VERIFY(box->hasFocus());
+    box->selectAll();
+    QTest::keyClicks(box, "1.5");
+    QTest::keyClick(box, Qt::Key_Return);
+    QTRY_VERIFY(std::abs(w.task()(0) - 1.5) < 1e-9);
+    w.history()->flush();
+    QTest::keyClick(box, Qt::Key_Z, Qt::ControlModifier);
+    QTRY_VERIFY(std::abs(w.task()(0) - x0) < 1e-9);
+    QTest::keyClick(box, Qt::Key_Y, Qt::ControlModifier);
+    QTRY_VERIFY(std::abs(w.task()(0) - 1.5) < 1e-9);
+    QTest::keyClick(box, Qt::Key_Z, Qt::ControlModifier);
+    QTRY_VERIFY(std::abs(w.task()(0) - x0) < 1e-9);
+    QTest::keyClick(box, Qt::Key_Z, Qt::ControlModifier | Qt::ShiftModifier);
+    QTRY_VERIFY(std::abs(w.task()(0) - 1.5) < 1e-9);
+  }
+
   void undoAndRedoEveryKindOfChange() {
     MechanismWindow w(load_preset("parallel-12r"));
     QVERIFY(show_settled(w));
