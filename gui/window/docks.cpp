@@ -1,11 +1,13 @@
 #include "gui/window/docks.h"
 
+#include <QComboBox>
 #include <QDockWidget>
 #include <QElapsedTimer>
 #include <QLabel>
 #include <QMainWindow>
 #include <QProgressBar>
 #include <QScrollArea>
+#include <QScrollBar>
 #include <QStatusBar>
 #include <memory>
 
@@ -18,12 +20,20 @@ namespace linkscape::gui {
 QDockWidget* add_dock(QMainWindow* window, const QString& title, const QString& name, QWidget* content) {
   auto* d = new QDockWidget(title, window);
   d->setObjectName(name);
+  // A choice as wide as its longest item would widen the panel past the
+  // dock (cut off under its tabs): each shows what fits, the list the rest.
+  for (QComboBox* box : content->findChildren<QComboBox*>()) {
+    box->setSizeAdjustPolicy(QComboBox::AdjustToMinimumContentsLengthWithIcon);
+    box->setMinimumContentsLength(6);
+  }
   // Scrollable, so a tall panel never makes the window taller than the screen.
   auto* scroll = new QScrollArea(d);
   scroll->setWidget(content);
   scroll->setWidgetResizable(true);
   scroll->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);  // panels fit the dock's width
   scroll->setFrameShape(QFrame::NoFrame);
+  // As wide as the panel needs, so nothing is cut off under the dock's tabs.
+  scroll->setMinimumWidth(content->minimumSizeHint().width() + scroll->verticalScrollBar()->sizeHint().width());
   d->setWidget(scroll);
   window->addDockWidget(Qt::RightDockWidgetArea, d);
   return d;

@@ -9,6 +9,7 @@
 #include <QDir>
 #include <QDockWidget>
 #include <QDoubleSpinBox>
+#include <QScrollArea>
 #include <QSlider>
 #include <QStatusBar>
 #include <QTabBar>
@@ -125,6 +126,18 @@ class ViewToolsTest : public QObject {
           QVERIFY2(std::max(bar->tabRect(i).width(), bar->tabRect(i).height()) >  // along the text, turned or not
                        bar->fontMetrics().horizontalAdvance(bar->tabText(i)),
                    qPrintable(bar->tabText(i)));
+    // No panel is cut off under the tabs: each fits its dock's width (the
+    // Field panel's colour controls had run under them at every size).
+    for (QDockWidget* dock : w.findChildren<QDockWidget*>()) {
+      dock->raise();
+      QApplication::processEvents();
+      const auto* scroll = qobject_cast<QScrollArea*>(dock->widget());
+      if (!scroll || !dock->isVisible()) continue;
+      QVERIFY2(scroll->widget()->width() <= scroll->viewport()->width(),
+               qPrintable(QString("%1: %2 > %3").arg(dock->windowTitle()).arg(scroll->widget()->width())
+                              .arg(scroll->viewport()->width())));
+      QVERIFY2(dock->geometry().right() < w.width() - 8, qPrintable(dock->windowTitle()));  // left of the tabs
+    }
     const render::ProbeSample& s = *panel->sample();
     // The point hit lies on the slice within a pixel of the aimed sample,
     // whose value the read-out gives there.
