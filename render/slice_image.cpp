@@ -271,6 +271,9 @@ std::vector<double> colour_bar_ticks(double lo, double hi, bool log, int count) 
           if (t >= lo * (1 - 1e-9) && t <= hi * (1 + 1e-9)) ticks.push_back(t);
         }
       }
+      // Under a decade wide, fewer than three of them: round linear steps,
+      // at their places on the log scale (1.1, 1.15, 1.2, ... over 1.09-1.36).
+      if (ticks.size() < 3) return nice_ticks(lo, hi, count);
       if (int(ticks.size()) <= 2 * count) return ticks;
       if (mantissas.size() > 1) break;  // try fewer mantissas before skipping decades
     }

@@ -75,7 +75,8 @@ std::array<double, 3> method_colour(std::uint8_t method);
 vtkSmartPointer<vtkLookupTable> colour_lookup_table(const std::string& map = "viridis", int entries = 256);
 // Round tick values for a colour bar over [lo, hi]: 1, 2, 3, 5 times the
 // powers of ten on a log scale, steps of 1, 2 or 5 times a power of ten
-// otherwise (about `count`). The window's bar and the figures use these.
+// otherwise (about `count`; also on a log scale too narrow for three of the
+// former). The window's bar and the figures use these.
 std::vector<double> colour_bar_ticks(double lo, double hi, bool log, int count = 5);
 // Round steps of 1, 2 or 5 times a power of ten over [lo, hi], about `count` of them.
 std::vector<double> nice_ticks(double lo, double hi, int count);

@@ -95,6 +95,12 @@ TEST(SliceImage, ColourBarTicksAreRoundNumbers) {
   EXPECT_EQ(render::colour_bar_ticks(0.00895, 3.76, true), (std::vector<double>{0.01, 0.03, 0.1, 0.3, 1, 3}));
   // Twelve decades: every second one.
   EXPECT_EQ(render::colour_bar_ticks(1e-12, 1, true), (std::vector<double>{1e-12, 1e-10, 1e-8, 1e-6, 1e-4, 1e-2, 1}));
+  // Under a decade, with no 1-2-3-5 value inside (an isotropic force over
+  // 1.085-1.363 N had a bar without a number): round linear steps.
+  EXPECT_EQ(render::colour_bar_ticks(1.085, 1.363, true), render::nice_ticks(1.085, 1.363, 5));
+  EXPECT_GE(render::colour_bar_ticks(1.085, 1.363, true).size(), 3u);
+  EXPECT_EQ(render::colour_bar_ticks(1.5, 4.5, true), render::nice_ticks(1.5, 4.5, 5));  // only 2 and 3 inside
+  EXPECT_EQ(render::colour_bar_ticks(1, 5, true), (std::vector<double>{1, 2, 3, 5}));  // three or more: as before
   const std::vector<double> linear = render::colour_bar_ticks(-0.37, 14.6, false);
   EXPECT_EQ(linear, (std::vector<double>{0, 2, 4, 6, 8, 10, 12, 14}));
 }
