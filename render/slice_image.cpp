@@ -295,6 +295,10 @@ vtkSmartPointer<vtkLookupTable> colour_lookup_table(const std::string& map, int 
   return lut;
 }
 
+bool centres_zero(const std::string& field, double lo, double hi) {
+  return field == "reach" || field == "joint_margin" || field == "clearance" || (lo < 0 && hi > 0);
+}
+
 std::pair<double, double> colour_range(const Field& field, const SliceStyle& style) {
   const Quantity q = parse_quantity(style.field);
   check_field(field);
@@ -323,8 +327,8 @@ std::pair<double, double> colour_range(const Field& field, const SliceStyle& sty
       lo = log ? lo / 2 : lo - 0.5;
       hi = log ? hi * 2 : hi + 0.5;
     }
-    // A diverging map centres 0 where the data has both signs.
-    if (style.colour_map == "diverging" && !log && lo < 0 && hi > 0) hi = -(lo = -std::max(-lo, hi));
+    if (style.colour_map == "diverging" && !log && centres_zero(style.field, lo, hi))
+      hi = -(lo = -std::max(std::abs(lo), std::abs(hi)));
   }
   if (style.min) lo = *style.min;
   if (style.max) hi = *style.max;

@@ -86,6 +86,11 @@ std::vector<double> nice_ticks(double lo, double hi, int count);
 // unknown style.field, an empty field, min >= max, or a non-positive bound
 // on a logarithmic scale.
 std::pair<double, double> colour_range(const Field& field, const SliceStyle& style);
+// Whether a diverging map's automatic range is symmetric about 0 for
+// `field` over the data range [lo, hi]: for a margin (reach, joint_margin,
+// clearance; negative past its limit) and for data of both signs, not for
+// a field of one sign (a force), which would be drawn in one half of the map.
+bool centres_zero(const std::string& field, double lo, double hi);
 // `style` with min and max filled in from colour_range().
 SliceStyle resolved_style(const Field& field, const SliceStyle& style);
 // Where `v` falls in the colour range of `style` (0..1, clamped; log10 on a

@@ -63,6 +63,15 @@ TEST(ColourScale, TheDivergingMapIsCentredOnZero) {
   const AutoRange r = robust_range(f, style);  // every reachable margin is positive
   EXPECT_DOUBLE_EQ(r.lo, -r.hi);
   EXPECT_GT(r.hi, 1.4);
+  // A field of one sign keeps its own range: centred on 0 it had been drawn
+  // in one half of the map (an isotropic force of 1.09-1.36 N, one shade).
+  style.field = "residual";
+  style.log_scale = false;
+  const AutoRange positive = robust_range(f, style);
+  EXPECT_GE(positive.lo, 0);
+  EXPECT_FALSE(render::centres_zero("force_iso", 1.09, 1.36));
+  EXPECT_TRUE(render::centres_zero("force_iso", -1, 1));
+  EXPECT_TRUE(render::centres_zero("clearance", 1, 2));
 }
 
 TEST(ColourScale, CountsGetWholeNumbers) {
