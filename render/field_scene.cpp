@@ -232,7 +232,7 @@ void FieldScene::update_colour_bar(const Field& slice, const SliceStyle& resolve
   std::string shown = title;
   if (const auto unit = shown.rfind(" ("); shown.size() > 12 && unit != std::string::npos) shown[unit] = '\n';
   if (!categorical && (clip_low_ || clip_high_))
-    shown += clip_low_ && clip_high_ ? "\nboth ends clipped" : clip_high_ ? "\ntop clipped" : "\nbottom clipped";
+    shown += clip_low_ && clip_high_ ? "\nends clipped" : clip_high_ ? "\ntop clipped" : "\nbottom clipped";
   colour_bar_->SetTitle(shown.c_str());
   colour_bar_->Modified();
   bar_range_ = range;

@@ -85,6 +85,7 @@ ForceEllipsoidScene::~ForceEllipsoidScene() = default;
 void ForceEllipsoidScene::add_to(vtkRenderer* renderer) {
   if (!renderer) throw std::invalid_argument("force ellipsoid scene: expected a renderer, got null");
   for (vtkProp* p : std::initializer_list<vtkProp*>{axes_actor_, shape_actor_, label_}) renderer->AddViewProp(p);
+  keep_in_view(label_, renderer);  // a device at the view's right edge had its caption cut off
 }
 
 void ForceEllipsoidScene::set_ellipsoid(const Shown& s) {

@@ -68,6 +68,9 @@ MarkScene::MarkScene() {
   style_marker(pick_actor_, pick_source_, pick_colour);
   style_segment(ruler_, ruler_colour);
   style_segment(probe_, probe_colour);
+  // Below its line, the ruler's above its own: two segments across the same
+  // place keep their lengths apart.
+  probe_.label->GetTextProperty()->SetVerticalJustificationToTop();
   set_marker_size(radius_);
 }
 

@@ -3,9 +3,11 @@
 // per unit, the view's centre at pixel (200, 150), y up).
 #pragma once
 
+#include <vtkCamera.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
 #include <vtkRenderWindow.h>
+#include <vtkRenderer.h>
 #include <vtkSmartPointer.h>
 #include <vtkWindowToImageFilter.h>
 
@@ -26,6 +28,21 @@ inline vtkSmartPointer<vtkImageData> grab(vtkRenderWindow* window) {
   auto image = vtkSmartPointer<vtkImageData>::New();
   image->DeepCopy(filter->GetOutput());
   return image;
+}
+
+// A 400 x 300 offscreen window showing `renderer` in parallel projection,
+// from `eye` towards the origin, `scale` units from the centre to the top.
+inline void set_up(vtkRenderWindow* window, vtkRenderer* renderer, const std::array<double, 3>& eye,
+                   const std::array<double, 3>& up, double scale) {
+  window->SetOffScreenRendering(1);
+  window->SetSize(400, 300);
+  window->AddRenderer(renderer);
+  vtkCamera* camera = renderer->GetActiveCamera();
+  camera->ParallelProjectionOn();
+  camera->SetFocalPoint(0, 0, 0);
+  camera->SetPosition(eye[0], eye[1], eye[2]);
+  camera->SetViewUp(up[0], up[1], up[2]);
+  camera->SetParallelScale(scale);
 }
 
 inline Rgb pixel(vtkImageData* image, int x, int y) {

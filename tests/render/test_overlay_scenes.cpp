@@ -12,6 +12,7 @@
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
 #include <vtkTextActor.h>
+#include <vtkTextProperty.h>
 #include <vtkAlgorithm.h>
 #include <vtkLineSource.h>
 #include <vtkMapper.h>
@@ -27,6 +28,7 @@
 #include "core/preset.h"
 #include "render/capsule_scene.h"
 #include "render/force_ellipsoid_scene.h"
+#include "tests/render/offscreen_view.h"
 
 namespace linkscape::render {
 namespace {
@@ -126,15 +128,7 @@ TEST(CapsuleScene, TheClosestPairIsHighlightedWithItsGap) {
 TEST(CapsuleScene, TheLabelStandsOffTheGapAwayFromTheLinks) {
   vtkNew<vtkRenderer> renderer;
   vtkNew<vtkRenderWindow> window;
-  window->SetOffScreenRendering(1);
-  window->SetSize(400, 300);
-  window->AddRenderer(renderer);
-  vtkCamera* camera = renderer->GetActiveCamera();
-  camera->ParallelProjectionOn();
-  camera->SetFocalPoint(0, 0, 0);
-  camera->SetPosition(0, 0, 50);  // looking down z, x to the right
-  camera->SetViewUp(0, 1, 0);
-  camera->SetParallelScale(10);
+  offscreen_view::set_up(window, renderer, {0, 0, 50}, {0, 1, 0}, 10);  // looking down z, x to the right
   CapsuleScene scene;
   scene.add_to(renderer);
   for (const double shift : {-20.0, 20.0}) {  // the pair left of the third link, then right of it
