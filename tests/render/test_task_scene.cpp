@@ -34,16 +34,8 @@ TEST(TaskScene, AFailingSampleOnTheFarSideShows) {
   vtkNew<vtkRenderer> renderer;
   renderer->SetBackground(1, 1, 1);
   vtkNew<vtkRenderWindow> window;
-  window->SetOffScreenRendering(1);
-  window->SetSize(400, 300);
-  window->AddRenderer(renderer);
-  vtkCamera* camera = renderer->GetActiveCamera();
-  camera->ParallelProjectionOn();
-  camera->SetFocalPoint(0, 0, 0);
-  camera->SetPosition(0, 10, 0);
-  camera->SetViewUp(0, 0, 1);
-  camera->SetParallelScale(1.5);
-  camera->SetClippingRange(1, 20);
+  offscreen_view::set_up(window, renderer, {0, 10, 0}, {0, 0, 1}, 1.5);
+  renderer->GetActiveCamera()->SetClippingRange(1, 20);
   scene.add_to(renderer);
   scene.set_task(surface, meets);
   scene.set_visible(true);
