@@ -416,13 +416,13 @@ Eigen::AlignedBox3d SkeletonScene::device_box(const SkeletonPose& pose) const {
   return box;
 }
 
-std::vector<vtkActor*> SkeletonScene::pickable_actors() const {
-  std::vector<vtkActor*> out;
-  for (const BodyProps& b : bodies_)
-    for (vtkActor* a : {b.tube.Get(), b.plate.Get()})
-      if (a) out.push_back(a);
-  for (const JointProps& j : joints_) out.push_back(j.knuckle);
-  out.push_back(endpoint_actor_);
+std::vector<SkeletonScene::Part> SkeletonScene::pickable_parts() const {
+  std::vector<Part> out;
+  for (std::size_t b = 0; b < bodies_.size(); ++b)
+    for (vtkActor* a : {bodies_[b].tube.Get(), bodies_[b].plate.Get()})
+      if (a) out.push_back({a, "link " + model_.bodies[b].name});
+  for (std::size_t j = 0; j < joints_.size(); ++j) out.push_back({joints_[j].knuckle, "joint " + model_.joints[j].name});
+  out.push_back({endpoint_actor_, "driven point"});
   return out;
 }
 

@@ -79,8 +79,13 @@ class SkeletonScene {
   bool labels_in_front() const { return labels_in_front_; }
   // A joint's label drawn over the scene (null where the label is empty).
   vtkTextActor* joint_front_label(int joint) const;
-  // The actors a pick can land on: tubes, plates, knuckles, the endpoint.
-  std::vector<vtkActor*> pickable_actors() const;
+  // The actors a pick can land on, each with what it shows: tubes and
+  // plates ("link NAME"), knuckles ("joint NAME"), the endpoint.
+  struct Part {
+    vtkActor* actor;
+    std::string what;
+  };
+  std::vector<Part> pickable_parts() const;
 
   // The props, for tests and picking: per body its tube and plate actors
   // (null where the body has no polylines or no faces), per joint its knuckle

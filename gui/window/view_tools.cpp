@@ -75,7 +75,8 @@ ViewTools::ViewTools(const Scene& scene, QObject* parent)
   picker_->setTargets([this] {
     PickTool::Targets t;
     t.opaque.push_back({scene_.fields->slice_actor(), tr("slice")});
-    for (vtkActor* a : scene_.skeleton->pickable_actors()) t.opaque.push_back({a, tr("linkage")});
+    for (const render::SkeletonScene::Part& part : scene_.skeleton->pickable_parts())
+      t.opaque.push_back({part.actor, QString::fromStdString(part.what)});
     t.translucent = {{scene_.fields->surface_actor(render::Surface::WellConditioned), tr("well-conditioned surface")},
                      {scene_.fields->surface_actor(render::Surface::Reach), tr("reach surface")},
                      {scene_.task->task_actor(), tr("task volume")}};

@@ -163,6 +163,12 @@ TEST(SkeletonScene, OnePropPerBodyPartJointLabelEndpointAndAxes) {
   EXPECT_NE(scene.joint_label(0), nullptr);
   EXPECT_EQ(scene.joint_label(1), nullptr);  // empty label
   EXPECT_STREQ(scene.joint_label(0)->GetInput(), "q1");
+  // What a pick lands on is named: the base's tube and plate, the link, both joints, the driven point.
+  std::vector<std::string> parts;
+  for (const SkeletonScene::Part& p : scene.pickable_parts()) parts.push_back(p.what);
+  EXPECT_EQ(parts, (std::vector<std::string>{"link base", "link base", "link link", "joint hinge", "joint tip",
+                                             "driven point"}));
+  EXPECT_EQ(scene.pickable_parts()[3].actor, scene.joint_actor(0));
   EXPECT_THROW(scene.add_to(nullptr), std::invalid_argument);
   EXPECT_THROW(scene.body_tube_actor(2), std::out_of_range);
   EXPECT_THROW(scene.joint_actor(-1), std::out_of_range);
