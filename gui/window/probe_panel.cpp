@@ -18,6 +18,7 @@
 
 #include "gui/window/profile_chart.h"
 #include "render/mark_scene.h"
+#include "render/slice_image.h"
 
 namespace linkscape::gui {
 
@@ -142,7 +143,8 @@ void ProbePanel::read(const Eigen::Vector3d& p, const QString& what) {
     html += "<table cellspacing=4>";
     auto row = [&html](const render::ProbeValue& v, const QString& how) {
       QString value = v.label.empty() ? number(v.value) : QString::fromStdString(v.label);
-      if (!v.unit.empty() && v.label.empty() && !std::isnan(v.value)) value += " " + QString::fromStdString(v.unit);
+      if (!v.unit.empty() && v.label.empty() && !std::isnan(v.value))
+        value += v.unit == "deg" ? QString("°") : " " + QString::fromStdString(v.unit);  // as the Drive tab writes angles
       html += QString("<tr><td>%1</td><td align=right><b>%2</b></td><td><i>%3</i></td></tr>")
                   .arg(QString::fromStdString(v.title).toHtmlEscaped(), value.toHtmlEscaped(),
                        std::isnan(v.value) ? QString() : how);
@@ -181,11 +183,14 @@ void ProbePanel::updateRuler() {
 }
 
 void ProbePanel::fillFields(const Field& field) {
-  const QString kept = field_box_->currentText();
+  const QVariant kept = field_box_->currentData();
   QSignalBlocker quiet(field_box_);
   field_box_->clear();
-  for (const std::string& name : render::probed_fields(field)) field_box_->addItem(QString::fromStdString(name));
-  const int k = field_box_->findText(kept);
+  // Titled as the colour bar and the chart title them ("c(J)"), by name underneath.
+  for (const std::string& name : render::probed_fields(field))
+    field_box_->addItem(QString::fromStdString(name == "reachable" ? name : render::field_title(field, name)),
+                        QString::fromStdString(name));
+  const int k = field_box_->findData(kept);
   field_box_->setCurrentIndex(k >= 0 ? k : 0);
 }
 
@@ -207,7 +212,7 @@ void ProbePanel::updateProfile() {
   }
   fillFields(*field);
   try {
-    profile_ = render::probe_line(*field, field_box_->currentText().toStdString(), *line_[0], *line_[1],
+    profile_ = render::probe_line(*field, field_box_->currentData().toString().toStdString(), *line_[0], *line_[1],
                                   kProfileSamples);
   } catch (const std::invalid_argument& e) {
     chart_->clearProfile();

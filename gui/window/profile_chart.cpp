@@ -62,6 +62,9 @@ void ProfileChart::showProfile(const render::LineProfile& profile) {
     const double pad = hi > lo ? 0.05 * (hi - lo) : std::max(std::abs(hi) * 0.05, 1e-9);
     y_axis->setRange(lo - pad, hi + pad);
   }
+  // Ticks at round numbers (the range widened to them), not at fifths of the segment.
+  x_axis->applyNiceNumbers();
+  y_axis->applyNiceNumbers();
   chart()->setTitle(lo <= hi ? QString() : tr("No value along this segment"));
 }
 
