@@ -120,7 +120,13 @@ void add_menus(QMainWindow* window, const MenuActions& actions) {
   view->addSeparator();
   if (actions.view_tools) actions.view_tools(view);
   view->addSeparator();
-  for (QDockWidget* dock : window->findChildren<QDockWidget*>()) view->addAction(dock->toggleViewAction());
+  for (QDockWidget* dock : window->findChildren<QDockWidget*>()) {
+    view->addAction(dock->toggleViewAction());
+    // A panel brought back comes to the front of its tabs.
+    QObject::connect(dock->toggleViewAction(), &QAction::triggered, dock, [dock](bool on) {
+      if (on) dock->raise();
+    });
+  }
   view->addSeparator();
   // Depth peeling composites the translucent surfaces exactly but costs
   // several full-screen passes per frame (docs/performance.md), so

@@ -305,6 +305,12 @@ class WindowDocumentTest : public QObject {
     for (QDockWidget* dock : docks) dock->close();
     action(w, "Reset &layout")->trigger();
     for (QDockWidget* dock : docks) QVERIFY(dock->isVisible());
+    // One panel closed and brought back from the menu comes to the front of its tabs.
+    QDockWidget* field = w.findChild<QDockWidget*>("fieldDock");
+    QVERIFY(field);
+    field->close();
+    field->toggleViewAction()->trigger();
+    QTRY_VERIFY(field->isVisible() && !field->visibleRegion().isEmpty());
   }
 
   // A planar device's plane is not a freedom: the five-bar has x and y sliders, no z.
