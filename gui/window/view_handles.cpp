@@ -59,8 +59,7 @@ ViewHandles::~ViewHandles() {
 }
 
 // The handle moves in a plane facing the camera; a planar device's point is
-// where the line of sight through it meets the device's plane (none where
-// the view looks along the plane).
+// where the line of sight through it meets the device's plane.
 std::optional<Eigen::Vector3d> ViewHandles::inPlane(const Eigen::Vector3d& p) const {
   const std::optional<double> plane = hooks_.plane_z ? hooks_.plane_z() : std::nullopt;
   vtkRenderer* renderer = rep_->GetRenderer();
@@ -69,8 +68,12 @@ std::optional<Eigen::Vector3d> ViewHandles::inPlane(const Eigen::Vector3d& p) co
   Eigen::Vector3d eye, focus;
   camera->GetPosition(eye.data());
   camera->GetFocalPoint(focus.data());
+  // A view along the plane (the front and side views) has no line of sight
+  // across it: the handle's point dropped straight onto the plane.
+  const Eigen::Vector3d view = focus - eye;
+  if (std::abs(view.z()) < 0.1 * view.norm()) return Eigen::Vector3d(p.x(), p.y(), *plane);
   // Along the projection's direction under parallel projection, else from the eye.
-  const Eigen::Vector3d along = camera->GetParallelProjection() ? Eigen::Vector3d(focus - eye) : Eigen::Vector3d(p - eye);
+  const Eigen::Vector3d along = camera->GetParallelProjection() ? view : Eigen::Vector3d(p - eye);
   if (std::abs(along.z()) < 1e-9 * along.norm()) return std::nullopt;
   return Eigen::Vector3d(p + (*plane - p.z()) / along.z() * along);
 }

@@ -83,7 +83,13 @@ ViewTools::ViewTools(const Scene& scene, QObject* parent)
     marks_->set_marker_size(0.012 * scene_.skeleton->model().scale);
     return t;
   });
-  auto pick = [this](const PickTool::Hit& hit, bool click, bool shift) { panel_->pick(hit.point, hit.what, click, shift); };
+  auto pick = [this](const PickTool::Hit& hit, bool click, bool shift) {
+    // A planar device's fields and measures are its plane's: a point picked
+    // on its slice (drawn under the linkage) or a surface is read there.
+    Eigen::Vector3d p = hit.point;
+    if (const std::optional<double> plane = scene_.state->mechanism().info().plane_z) p.z() = *plane;
+    panel_->pick(p, hit.what, click, shift);
+  };
   connect(picker_.get(), &PickTool::clicked, this, [pick](const PickTool::Hit& h, bool shift) { pick(h, true, shift); });
   connect(picker_.get(), &PickTool::hovered, this, [pick](const PickTool::Hit& h) { pick(h, false, false); });
   connect(panel_, &ProbePanel::hoverToggled, picker_.get(), &PickTool::setHover);

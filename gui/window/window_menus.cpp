@@ -1,6 +1,6 @@
 #include "gui/window/window_menus.h"
 
-#include <QAbstractSpinBox>
+#include <QDoubleSpinBox>
 #include <QAction>
 #include <QApplication>
 #include <QDockWidget>
@@ -25,8 +25,9 @@ namespace linkscape::gui {
 
 namespace {
 
-// A spin box keeps Undo and Redo for its text, which it has already
-// entered: the window's Undo and Redo (of the value entered) take the keys.
+// A spin box keeps Undo and Redo for its text even once the text is
+// entered: then the window's Undo and Redo (of the value entered) take the
+// keys; while a value is being typed, the box keeps them.
 class EditKeysToWindow : public QObject {
  public:
   using QObject::QObject;
@@ -34,12 +35,13 @@ class EditKeysToWindow : public QObject {
  protected:
   bool eventFilter(QObject* watched, QEvent* event) override {
     if (event->type() != QEvent::ShortcutOverride) return false;
-    const bool in_spin_box = qobject_cast<QAbstractSpinBox*>(watched) ||
-                             (watched->parent() && qobject_cast<QAbstractSpinBox*>(watched->parent()));
+    auto* box = qobject_cast<QDoubleSpinBox*>(watched);
+    if (!box && watched->parent()) box = qobject_cast<QDoubleSpinBox*>(watched->parent());
+    if (!box || box->cleanText() != box->textFromValue(box->value())) return false;
     const auto* key = static_cast<QKeyEvent*>(event);
     // Left unaccepted, the override lets the window's shortcut have the key.
-    return in_spin_box && (key->matches(QKeySequence::Undo) || key->matches(QKeySequence::Redo) ||
-                           key->keyCombination() == QKeyCombination(Qt::CTRL, Qt::Key_Y));
+    return key->matches(QKeySequence::Undo) || key->matches(QKeySequence::Redo) ||
+           key->keyCombination() == QKeyCombination(Qt::CTRL, Qt::Key_Y);
   }
 };
 

@@ -368,6 +368,24 @@ class ViewToolsTest : public QObject {
     window_checks::save_screenshot(w, "colour-residual.png");
   }
 
+  // A planar device's slice is drawn under its linkage: a click on it reads
+  // the slice in the plane (the point had been read where the slice is
+  // drawn, outside the slice's one sample of thickness).
+  void clickOnAPlanarDevicesSliceReadsItInThePlane() {
+    MechanismWindow w(load_preset("five-bar"));
+    show_on_screen(w);
+    window_checks::wait_settled(w);
+    window_checks::frame(w);
+    const std::vector<Target> targets = slice_targets(w, *fieldOf(w));
+    QVERIFY2(targets.size() >= 3, "the slice is in view");
+    click(w.view()->interactor(), targets[targets.size() / 2].pixel);
+    gui::ProbePanel* panel = w.viewTools()->panel();
+    QVERIFY(panel->sample());
+    QCOMPARE(panel->sample()->point.z(), *w.mechanism().info().plane_z);
+    QVERIFY2(panel->readout().contains("From the slice's samples"), qPrintable(panel->readout()));
+    QVERIFY2(panel->readout().contains("computed at the point"), qPrintable(panel->readout()));
+  }
+
   void framingTheDeviceFillsTheView() {
     MechanismWindow w(load_preset("parallel-12r"));
     w.resize(1920, 1080);
