@@ -3,10 +3,11 @@
 // the interface alone, so every device has them.
 //
 // Ground truth without a higher-precision model: targets are made by the
-// device's forward kinematics from seeded actuator values q*, so the IK
-// error of a method is the joint distance of its solution to q* (the
-// solution on q*'s branch, the nearest of those returned), and the FK error
-// is the task distance to the target, relative to size().
+// device's forward kinematics from seeded actuator values q* on branch 0
+// (the branch every IK method solves), so the IK error of a method is the
+// joint distance of its branch-0 solution to q*, and the FK error is the
+// joint distance to q* of the actuator values its pose gives back (the
+// first IK method, nearest branch): FK is not measured against itself.
 #include <algorithm>
 #include <cmath>
 #include <functional>

@@ -477,4 +477,8 @@ void SkeletonScene::frame(vtkRenderer* renderer, const Eigen::AlignedBox3d& box,
   renderer->ResetCameraClippingRange();
 }
 
+double knuckle_reach(double scale) {
+  return 0.5 * std::max({kRevoluteLength, kPrismaticDiameter, kBallDiameter}) * kActuatedGrowth * scale;
+}
+
 }  // namespace linkscape::render

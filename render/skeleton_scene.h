@@ -130,4 +130,9 @@ class SkeletonScene {
   vtkNew<vtkAxesActor> axes_;
 };
 
+// How far a skeleton of `scale` reaches from a joint along the joint's
+// axis: half its largest knuckle (an actuated revolute's). A planar
+// device's slice lies this far (and a little more) below its plane.
+double knuckle_reach(double scale);
+
 }  // namespace linkscape::render

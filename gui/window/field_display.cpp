@@ -12,6 +12,7 @@
 #include "gui/window/vtk_widget.h"
 #include "render/colour_scale.h"
 #include "render/field_scene.h"
+#include "render/skeleton_scene.h"
 
 namespace linkscape::gui {
 
@@ -178,9 +179,9 @@ void FieldDisplay::restyle() {
   scene_->set_clipped_ends(clipped_low, clipped_high);
   style.scale = std::max(1, 768 / f.slice_resolution);
   style.unreachable_alpha = 50;
-  // Below the linkage's rods and knuckles (the skeleton's are within 2 % of
-  // the size of its plane), not through them.
-  scene_->set_slice_offset(panel_->sliceInPlane() ? -0.02 * state_.mechanism().size() : 0.0);
+  // Below the linkage's rods and knuckles, not through them.
+  scene_->set_slice_offset(
+      panel_->sliceInPlane() ? -1.2 * render::knuckle_reach(state_.mechanism().skeleton_model().scale) : 0.0);
   try {
     scene_->set_slice(*slice_field_, style);
   } catch (const std::invalid_argument& e) {
