@@ -67,23 +67,42 @@ void name_chain_links(Leg& leg) {
 }
 
 // What the device's size measures, for reports and the fit's free lengths:
-// the "size" expression as written, else the first leg's chain translations
-// when each lies along one axis ("a + b"), else said in words.
+// the "size" expression as written, else the first leg's fixed steps (runs
+// of steps between joints, each one transform, whose lengths the size
+// sums) when each run holds one translation along one axis ("a + b"), else
+// said in words.
 std::string size_text(const json& doc) {
   auto text = [](const json& v) { return v.is_string() ? v.get<std::string>() : v.dump(); };
   if (doc.contains("size")) return text(doc.at("size"));
-  std::string out;
+  const std::string words = "the first leg's link lengths";
+  std::vector<std::string> terms;
+  std::optional<std::string> run;  // the current run's term
+  bool run_open = false;
+  auto close_run = [&] {
+    if (run) terms.push_back(*run);
+    run.reset();
+    run_open = false;
+  };
   for (const json& step : doc.at("legs").at(0).at("chain")) {
-    if (!step.is_object() || !step.contains("translate")) continue;
+    if (!step.is_object() || step.contains("joint")) {
+      close_run();
+      continue;
+    }
+    if (!step.contains("translate")) continue;
     std::vector<std::string> along;
     for (const json& c : step.at("translate"))
       if (!(c.is_number() && c.get<double>() == 0)) along.push_back(text(c));
-    if (along.size() != 1) return "the first leg's link lengths";
+    if (along.empty()) continue;
+    if (along.size() != 1 || run_open) return words;  // a length that is no sum of the terms
     std::string term = along.front();
     if (term.size() > 1 && term.front() == '-') term.erase(0, 1);  // a length either way along its axis
-    out += (out.empty() ? "" : " + ") + term;
+    run = term;
+    run_open = true;
   }
-  return out.empty() ? "the first leg's link lengths" : out;
+  close_run();
+  std::string out;
+  for (const std::string& t : terms) out += (out.empty() ? "" : " + ") + t;
+  return out.empty() ? words : out;
 }
 
 }  // namespace

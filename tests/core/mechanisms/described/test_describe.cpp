@@ -28,6 +28,22 @@ TEST(DescribedDescribe, FiveBarLegsPatternsRulesAndReach) {
   EXPECT_TRUE(has(text, "    reach: 4 .. 24 cm from its base to its anchor\n")) << text;
 }
 
+// The size is named by the lengths it sums: one per run of fixed steps
+// between joints. Two translations in one run make one length that is not
+// their sum, so the size is then said in words.
+TEST(DescribedDescribe, TheSizeIsNamedByTheLengthsItSums) {
+  Preset p = load_preset("five-bar");
+  EXPECT_TRUE(has(describe(p), "size 24 cm (a + b)\n")) << describe(p);
+  nlohmann::json doc = nlohmann::json::parse(p.description);
+  nlohmann::json& chain = doc["legs"][0]["chain"];
+  ASSERT_TRUE(chain[1].contains("translate"));
+  chain.insert(chain.begin() + 2, nlohmann::json{{"translate", {0, "d", 0}}});  // beside a, before the elbow
+  p.description = doc.dump();
+  const std::string text = describe(p);
+  EXPECT_TRUE(has(text, "(the first leg's link lengths)\n")) << text;
+  EXPECT_FALSE(has(text, "a + d")) << text;
+}
+
 // Where every command starts: a home outside a travel (written in radians
 // where degrees are read) is named with the actuator's angle.
 TEST(DescribedDescribe, HomeAndAnActuatorOutsideItsTravel) {
