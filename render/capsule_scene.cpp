@@ -2,6 +2,7 @@
 
 #include <vtkActor.h>
 #include <vtkCapsuleSource.h>
+#include <vtkCommand.h>
 #include <vtkCoordinate.h>
 #include <vtkLineSource.h>
 #include <vtkMatrix4x4.h>
@@ -101,12 +102,17 @@ CapsuleScene::CapsuleScene() {
   apply_visibility();
 }
 
-CapsuleScene::~CapsuleScene() = default;
+CapsuleScene::~CapsuleScene() {
+  for (std::size_t i = 0; i < renderers_.size(); ++i)
+    if (renderers_[i]) renderers_[i]->RemoveObserver(frame_observers_[i]);
+}
 
 void CapsuleScene::add_to(vtkRenderer* renderer) {
   if (!renderer) throw std::invalid_argument("capsule scene: expected a renderer, got null");
   if (std::find(renderers_.begin(), renderers_.end(), renderer) != renderers_.end()) return;
   renderers_.push_back(renderer);
+  // The side the label stands on follows the camera: placed before each frame.
+  frame_observers_.push_back(renderer->AddObserver(vtkCommand::StartEvent, this, &CapsuleScene::place_label));
   for (const LinkProps& l : links_) renderer->AddViewProp(l.actor);
   // The gap's marks after the capsules, so they are not blended under them.
   for (vtkProp* p : gap_props()) renderer->AddViewProp(p);
@@ -153,9 +159,10 @@ void CapsuleScene::set_links(const interference::LinkCapsules& c, const std::str
     }
     const Eigen::Vector3d middle = 0.5 * (ends[0] + ends[1]);
     label_anchor_->SetValue(middle.data());
-    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-    for (const interference::Link& l : c.links) centre += 0.5 * (l.capsule.a + l.capsule.b) / double(c.links.size());
-    place_label(middle, centre);
+    gap_middle_ = middle;
+    links_centre_ = Eigen::Vector3d::Zero();
+    for (const interference::Link& l : c.links) links_centre_ += 0.5 * (l.capsule.a + l.capsule.b) / double(c.links.size());
+    place_label();
     label_->SetInput(gap_text(c, gap_, length_unit).c_str());
     const Colour& frame = close ? kCloseColour : kPairColour;
     label_->GetTextProperty()->SetFrameColor(frame[0], frame[1], frame[2]);
@@ -166,7 +173,9 @@ void CapsuleScene::set_links(const interference::LinkCapsules& c, const std::str
 // The label stands a little off the gap on the screen, on the side away
 // from the links' centre (down and to the left before the view has a size),
 // its text growing away from the gap.
-void CapsuleScene::place_label(const Eigen::Vector3d& gap, const Eigen::Vector3d& centre) {
+void CapsuleScene::place_label() {
+  const Eigen::Vector3d& gap = gap_middle_;
+  const Eigen::Vector3d& centre = links_centre_;
   Eigen::Vector2d away(-1, -1);
   for (vtkRenderer* r : renderers_) {
     if (!r || !r->GetRenderWindow() || r->GetSize()[0] <= 0) continue;

@@ -68,7 +68,7 @@ class CapsuleScene {
     vtkSmartPointer<vtkActor> actor;
   };
   void apply_visibility();
-  void place_label(const Eigen::Vector3d& gap, const Eigen::Vector3d& centre);
+  void place_label();
   std::array<vtkProp*, 4> gap_props() const;  // the gap's line, its ends and the label
 
   std::vector<LinkProps> links_;
@@ -76,6 +76,8 @@ class CapsuleScene {
   bool visible_ = true;
   Gap gap_ = Gap::None;
   std::vector<vtkWeakPointer<vtkRenderer>> renderers_;
+  std::vector<unsigned long> frame_observers_;  // per renderer: the label placed before each frame
+  Eigen::Vector3d gap_middle_ = Eigen::Vector3d::Zero(), links_centre_ = Eigen::Vector3d::Zero();
   vtkNew<vtkLineSource> line_;
   vtkNew<vtkActor2D> line_actor_;
   vtkNew<vtkSphereSource> end_sources_[2];

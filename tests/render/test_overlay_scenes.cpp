@@ -8,6 +8,7 @@
 #include <vtkActor.h>
 #include <vtkActor2D.h>
 #include <vtkCamera.h>
+#include <vtkCommand.h>
 #include <vtkCoordinate.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
@@ -145,6 +146,13 @@ TEST(CapsuleScene, TheLabelStandsOffTheGapAwayFromTheLinks) {
     const double label_x = scene.label()->GetPositionCoordinate()->GetComputedDoubleDisplayValue(renderer)[0];
     // The third link's centre lies on the side `shift` points away from.
     EXPECT_GT(shift > 0 ? label_x - gap_x : gap_x - label_x, 10) << "shift " << shift;
+    // Seen from below (x now to the left on the screen), the next frame puts it on the other side.
+    renderer->GetActiveCamera()->SetPosition(0, 0, -50);
+    renderer->InvokeEvent(vtkCommand::StartEvent);  // what a frame starts with
+    const double turned_gap_x = at->GetComputedDoubleDisplayValue(renderer)[0];
+    const double turned_x = scene.label()->GetPositionCoordinate()->GetComputedDoubleDisplayValue(renderer)[0];
+    EXPECT_GT(shift > 0 ? turned_gap_x - turned_x : turned_x - turned_gap_x, 10) << "shift " << shift;
+    renderer->GetActiveCamera()->SetPosition(0, 0, 50);
   }
 }
 
