@@ -60,8 +60,7 @@ AutoRange robust_range(const Field& field, const SliceStyle& style_in, double lo
     lo = std::floor(lo);
     hi = std::ceil(hi);
   }
-  if (style.colour_map == "diverging" && !log && centres_zero(style.field, lo, hi))
-    hi = -(lo = -std::max(std::abs(lo), std::abs(hi)));
+  if (style.colour_map == "diverging" && !log) centre_diverging_range(style.field, lo, hi);
   if (!(lo < hi)) return out;  // all equal: colour_range's widened range
   out = {lo, hi, min < lo, max > hi};
   return out;

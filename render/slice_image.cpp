@@ -299,6 +299,10 @@ bool centres_zero(const std::string& field, double lo, double hi) {
   return field == "reach" || field == "joint_margin" || field == "clearance" || (lo < 0 && hi > 0);
 }
 
+void centre_diverging_range(const std::string& field, double& lo, double& hi) {
+  if (centres_zero(field, lo, hi)) hi = -(lo = -std::max(std::abs(lo), std::abs(hi)));
+}
+
 std::pair<double, double> colour_range(const Field& field, const SliceStyle& style) {
   const Quantity q = parse_quantity(style.field);
   check_field(field);
@@ -327,8 +331,7 @@ std::pair<double, double> colour_range(const Field& field, const SliceStyle& sty
       lo = log ? lo / 2 : lo - 0.5;
       hi = log ? hi * 2 : hi + 0.5;
     }
-    if (style.colour_map == "diverging" && !log && centres_zero(style.field, lo, hi))
-      hi = -(lo = -std::max(std::abs(lo), std::abs(hi)));
+    if (style.colour_map == "diverging" && !log) centre_diverging_range(style.field, lo, hi);
   }
   if (style.min) lo = *style.min;
   if (style.max) hi = *style.max;

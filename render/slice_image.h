@@ -91,6 +91,9 @@ std::pair<double, double> colour_range(const Field& field, const SliceStyle& sty
 // clearance; negative past its limit) and for data of both signs, not for
 // a field of one sign (a force), which would be drawn in one half of the map.
 bool centres_zero(const std::string& field, double lo, double hi);
+// A diverging map's automatic range: [lo, hi] made symmetric about 0 where
+// centres_zero says so, else as it is.
+void centre_diverging_range(const std::string& field, double& lo, double& hi);
 // `style` with min and max filled in from colour_range().
 SliceStyle resolved_style(const Field& field, const SliceStyle& style);
 // Where `v` falls in the colour range of `style` (0..1, clamped; log10 on a
