@@ -1,9 +1,9 @@
 #include "gui/window/window_menus.h"
 
-#include <QDoubleSpinBox>
 #include <QAction>
 #include <QApplication>
 #include <QDockWidget>
+#include <QDoubleSpinBox>
 #include <QKeyEvent>
 #include <QLabel>
 #include <QMainWindow>
