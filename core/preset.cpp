@@ -82,9 +82,8 @@ fs::path resolve_preset(const std::string& name_or_path) {
   const std::vector<std::string> presets = available_presets();
   std::string known;
   for (const auto& n : presets) known += (known.empty() ? "" : ", ") + n;
-  const std::optional<std::string> meant = closest_name(name_or_path, presets);
-  throw std::invalid_argument("unknown mechanism '" + name_or_path + "'" +
-                              (meant ? "; did you mean '" + *meant + "'?" : std::string()) + " (known presets: " +
+  throw std::invalid_argument("unknown mechanism '" + name_or_path + "'" + did_you_mean(name_or_path, presets) +
+                              " (known presets: " +
                               (known.empty() ? "none found" : known) + "; or give a path to a .json preset)");
 }
 
@@ -237,10 +236,9 @@ void apply_overrides(Preset& preset, const std::vector<std::string>& overrides) 
       for (const MotorParameter& p : motor_parameters()) motors += (motors.empty() ? "" : ", ") + std::string(p.name);
       std::vector<std::string> candidates = names;
       for (const MotorParameter& p : motor_parameters()) candidates.push_back(p.name);
-      const std::optional<std::string> meant = closest_name(key, candidates);
       const std::string device = preset.source.empty() ? preset.mechanism : preset.source.stem().string();
-      throw std::invalid_argument("unknown parameter '" + key + "' for " + device +
-                                  (meant ? "; did you mean '" + *meant + "'?" : std::string()) + " (known: " + known +
+      throw std::invalid_argument("unknown parameter '" + key + "' for " + device + did_you_mean(key, candidates) +
+                                  " (known: " + known +
                                   "; motor ratings: " + motors + ")");
     }
     preset.parameters[key] = parse_number_or_throw(text, "parameter " + key);

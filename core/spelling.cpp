@@ -1,6 +1,7 @@
 #include "core/spelling.h"
 
 #include <algorithm>
+#include <cctype>
 
 namespace linkscape {
 namespace {
@@ -20,17 +21,39 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
   return d[a.size()][b.size()];
 }
 
+// Every candidate at the least distance from `word` within the limit
+// (a third of its length, at least 1), in the candidates' order.
+std::vector<std::string> closest_names(const std::string& word, const std::vector<std::string>& candidates) {
+  // The same name in another case is what was meant ("A" for "a", not "b").
+  const auto lower = [](std::string t) {
+    std::transform(t.begin(), t.end(), t.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return t;
+  };
+  for (const std::string& c : candidates)
+    if (lower(c) == lower(word)) return {c};
+  std::vector<std::string> best;
+  std::size_t best_distance = std::max<std::size_t>(1, word.size() / 3) + 1;
+  for (const std::string& c : candidates) {
+    const std::size_t d = edit_distance(word, c);
+    if (d < best_distance) best.clear(), best_distance = d;
+    if (d == best_distance) best.push_back(c);
+  }
+  return best;
+}
+
 }  // namespace
 
 std::optional<std::string> closest_name(const std::string& word, const std::vector<std::string>& candidates) {
-  std::optional<std::string> best;
-  std::size_t best_distance = std::max<std::size_t>(1, word.size() / 3) + 1;
-  for (const std::string& c : candidates)
-    if (const std::size_t d = edit_distance(word, c); d < best_distance) {
-      best_distance = d;
-      best = c;
-    }
-  return best;
+  const std::vector<std::string> best = closest_names(word, candidates);
+  if (best.empty()) return std::nullopt;
+  return best.front();
+}
+
+std::string did_you_mean(const std::string& word, const std::vector<std::string>& candidates) {
+  const std::vector<std::string> best = closest_names(word, candidates);
+  std::string out;
+  for (std::size_t i = 0; i < best.size(); ++i) out += (i ? (i + 1 == best.size() ? " or '" : ", '") : "'") + best[i] + "'";
+  return best.empty() ? "" : "; did you mean " + out + "?";
 }
 
 }  // namespace linkscape

@@ -11,4 +11,8 @@ namespace linkscape {
 // transpositions at most a third of its length, at least 1), if any.
 std::optional<std::string> closest_name(const std::string& word, const std::vector<std::string>& candidates);
 
+// "; did you mean 'a'?" (or "'a' or 'b'?" where candidates tie at the
+// closest distance), empty where none is close enough.
+std::string did_you_mean(const std::string& word, const std::vector<std::string>& candidates);
+
 }  // namespace linkscape

@@ -331,6 +331,13 @@ TEST(Spelling, AMistypedWordGetsTheNearestName) {
   EXPECT_EQ(closest_name("silce", commands), "slice");  // two letters swapped: one step
   EXPECT_EQ(closest_name("--plnae", {"--plane", "--pose"}), "--plane");
   EXPECT_FALSE(closest_name("frobnicate", commands));
+  // Ties are all offered; the same name in another case is what was meant.
+  const std::vector<std::string> presets = {"three-rpr", "three-rrr", "delta"};
+  EXPECT_EQ(did_you_mean("three-rr", presets), "; did you mean 'three-rpr' or 'three-rrr'?");
+  EXPECT_EQ(did_you_mean("delat", presets), "; did you mean 'delta'?");
+  EXPECT_EQ(did_you_mean("A", {"a", "b", "d"}), "; did you mean 'a'?");
+  EXPECT_EQ(did_you_mean("x", {"a", "b", "d"}), "; did you mean 'a', 'b' or 'd'?");
+  EXPECT_EQ(did_you_mean("frobnicate", presets), "");
 }
 
 TEST(Preset, AMistypedPresetNameGetsASuggestion) {
