@@ -31,10 +31,12 @@ std::vector<std::string> closest_names(const std::string& word, const std::vecto
   };
   for (const std::string& c : candidates)
     if (lower(c) == lower(word)) return {c};
+  const std::size_t limit = std::max<std::size_t>(1, word.size() / 3);
   std::vector<std::string> best;
-  std::size_t best_distance = std::max<std::size_t>(1, word.size() / 3) + 1;
+  std::size_t best_distance = limit;
   for (const std::string& c : candidates) {
     const std::size_t d = edit_distance(word, c);
+    if (d > limit) continue;
     if (d < best_distance) best.clear(), best_distance = d;
     if (d == best_distance) best.push_back(c);
   }
