@@ -45,17 +45,26 @@ struct Sample {
   VectorXd q, x;
 };
 
-// The branch the configuration (q at the pose x) is on: the one whose
-// solution by the first IK method is q (to 1e-7 rad or length unit); -1 if
-// none is. Every method is measured on branch 0, so a drawn q on another
-// branch would be compared with branch 0's solution, radians away.
-int branch_of(const Mechanism& m, const VectorXd& q, const VectorXd& x) {
+// Of the first IK method's solutions at x on every branch, the one nearest
+// q: its branch and joint distance (-1 and +inf where none is ok).
+struct Nearest {
   int branch = -1;
-  double nearest = 1e-7;
+  double distance = INFINITY;
+};
+Nearest nearest_solution(const Mechanism& m, const VectorXd& x, const VectorXd& q) {
+  Nearest out;
   for (const IkSolution& s : m.inverse(x, IkOptions{}).solutions)
     if (s.status == Status::Ok)
-      if (const double d = joint_distance(m.info(), s.q, q); d < nearest) nearest = d, branch = s.branch;
-  return branch;
+      if (const double d = joint_distance(m.info(), s.q, q); d < out.distance) out = {s.branch, d};
+  return out;
+}
+
+// Whether q at the pose x is on branch 0, the branch every method is
+// measured on: branch 0's solution is q (to 1e-7 rad or length unit). A
+// drawn q on another branch would be compared with branch 0's, radians away.
+bool on_branch_0(const Mechanism& m, const VectorXd& q, const VectorXd& x) {
+  const Nearest n = nearest_solution(m, x, q);
+  return n.branch == 0 && n.distance < 1e-7;
 }
 
 // Seeded actuator values in their ranges whose FK succeeds and whose main
@@ -74,7 +83,7 @@ std::vector<Sample> reachable_samples(const Mechanism& m, std::size_t count, uns
     if (fk.status != Status::Ok) return;
     const Measures meas = m.measures(q, fk.x);
     if (meas.status != Status::Ok || meas.values.empty() || !(meas.values[0] < 1e3)) return;
-    if (info.branches.size() > 1 && branch_of(m, q, fk.x) != 0) return;
+    if (info.branches.size() > 1 && !on_branch_0(m, q, fk.x)) return;
     out.push_back({q, fk.x});
   };
   for (std::size_t tries = 0; out.size() < count && tries < 20 * count; ++tries) {
@@ -167,12 +176,7 @@ std::vector<methods::MethodRow> Mechanism::measure_methods(const methods::Harnes
           if (r.status != Status::Ok) return std::nullopt;
           return r.x;
         },
-        [&](const Sample& s, const VectorXd& x) {
-          double nearest = INFINITY;  // no branch gives q back: wrong
-          for (const IkSolution& sol : inverse(x, IkOptions{}).solutions)
-            if (sol.status == Status::Ok) nearest = std::min(nearest, joint_distance(info, sol.q, s.q));
-          return nearest;
-        });
+        [&](const Sample& s, const VectorXd& x) { return nearest_solution(*this, x, s.q).distance; });  // +inf: wrong
     if (!going) return rows;
   }
   if (options.progress) options.progress(1.0, "done");

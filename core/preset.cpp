@@ -232,10 +232,12 @@ void apply_overrides(Preset& preset, const std::vector<std::string>& overrides) 
     }
     if (std::find(names.begin(), names.end(), key) == names.end()) {
       std::string known, motors;
-      for (const auto& k : names) known += (known.empty() ? "" : ", ") + k;
-      for (const MotorParameter& p : motor_parameters()) motors += (motors.empty() ? "" : ", ") + std::string(p.name);
       std::vector<std::string> candidates = names;
-      for (const MotorParameter& p : motor_parameters()) candidates.push_back(p.name);
+      for (const auto& k : names) known += (known.empty() ? "" : ", ") + k;
+      for (const MotorParameter& p : motor_parameters()) {
+        motors += (motors.empty() ? "" : ", ") + std::string(p.name);
+        candidates.push_back(p.name);
+      }
       const std::string device = preset.source.empty() ? preset.mechanism : preset.source.stem().string();
       throw std::invalid_argument("unknown parameter '" + key + "' for " + device + did_you_mean(key, candidates) +
                                   " (known: " + known +

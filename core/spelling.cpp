@@ -54,7 +54,8 @@ std::optional<std::string> closest_name(const std::string& word, const std::vect
 std::string did_you_mean(const std::string& word, const std::vector<std::string>& candidates) {
   const std::vector<std::string> best = closest_names(word, candidates);
   std::string out;
-  for (std::size_t i = 0; i < best.size(); ++i) out += (i ? (i + 1 == best.size() ? " or '" : ", '") : "'") + best[i] + "'";
+  for (std::size_t i = 0; i < best.size(); ++i)
+    out += std::string(i == 0 ? "" : i + 1 == best.size() ? " or " : ", ") + "'" + best[i] + "'";
   return best.empty() ? "" : "; did you mean " + out + "?";
 }
 

@@ -159,7 +159,6 @@ void CapsuleScene::set_links(const interference::LinkCapsules& c, const std::str
     }
     const Eigen::Vector3d middle = 0.5 * (ends[0] + ends[1]);
     label_anchor_->SetValue(middle.data());
-    gap_middle_ = middle;
     links_centre_ = Eigen::Vector3d::Zero();
     for (const interference::Link& l : c.links) links_centre_ += 0.5 * (l.capsule.a + l.capsule.b) / double(c.links.size());
     place_label();
@@ -174,7 +173,7 @@ void CapsuleScene::set_links(const interference::LinkCapsules& c, const std::str
 // from the links' centre (down and to the left before the view has a size),
 // its text growing away from the gap.
 void CapsuleScene::place_label() {
-  const Eigen::Vector3d& gap = gap_middle_;
+  const Eigen::Vector3d gap = Eigen::Map<const Eigen::Vector3d>(label_anchor_->GetValue());  // the gap's middle
   const Eigen::Vector3d& centre = links_centre_;
   Eigen::Vector2d away(-1, -1);
   for (vtkRenderer* r : renderers_) {

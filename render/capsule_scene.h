@@ -77,7 +77,7 @@ class CapsuleScene {
   Gap gap_ = Gap::None;
   std::vector<vtkWeakPointer<vtkRenderer>> renderers_;
   std::vector<unsigned long> frame_observers_;  // per renderer: the label placed before each frame
-  Eigen::Vector3d gap_middle_ = Eigen::Vector3d::Zero(), links_centre_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d links_centre_ = Eigen::Vector3d::Zero();  // the label stands away from it
   vtkNew<vtkLineSource> line_;
   vtkNew<vtkActor2D> line_actor_;
   vtkNew<vtkSphereSource> end_sources_[2];

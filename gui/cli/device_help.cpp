@@ -1,7 +1,6 @@
 #include "gui/cli/device_help.h"
 
 #include <algorithm>
-
 #include <exception>
 
 #include "core/preset.h"

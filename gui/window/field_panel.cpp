@@ -198,9 +198,8 @@ FieldSettings FieldPanel::settings(const Mechanism& device, const Eigen::VectorX
   f.normal = normal_box_->currentText().toStdString();
   const int n = normal_box_->currentIndex();
   const Eigen::AlignedBox3d box = device.default_box();
-  f.position = sliceInPlane()          ? *plane_z_
-               : follow_box_->isChecked() ? x(n)
-                                          : box.center()(n) + 0.5 * (box.max()(n) - box.min()(n)) * position_slider_->value() / kPositionSteps;
+  const double slid = box.center()(n) + 0.5 * box.sizes()(n) * position_slider_->value() / kPositionSteps;
+  f.position = sliceInPlane() ? *plane_z_ : follow_box_->isChecked() ? x(n) : slid;
   f.follow_endpoint = follow_box_->isChecked() && !sliceInPlane();
   f.threshold = threshold_box_->value();
   if (!auto_range_box_->isChecked()) {

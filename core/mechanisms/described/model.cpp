@@ -77,15 +77,10 @@ std::string size_text(const json& doc) {
   const std::string words = "the first leg's link lengths";
   std::vector<std::string> terms;
   std::optional<std::string> run;  // the current run's term
-  bool run_open = false;
-  auto close_run = [&] {
-    if (run) terms.push_back(*run);
-    run.reset();
-    run_open = false;
-  };
   for (const json& step : doc.at("legs").at(0).at("chain")) {
     if (!step.is_object() || step.contains("joint")) {
-      close_run();
+      if (run) terms.push_back(*run);
+      run.reset();
       continue;
     }
     if (!step.contains("translate")) continue;
@@ -93,13 +88,11 @@ std::string size_text(const json& doc) {
     for (const json& c : step.at("translate"))
       if (!(c.is_number() && c.get<double>() == 0)) along.push_back(text(c));
     if (along.empty()) continue;
-    if (along.size() != 1 || run_open) return words;  // a length that is no sum of the terms
-    std::string term = along.front();
-    if (term.size() > 1 && term.front() == '-') term.erase(0, 1);  // a length either way along its axis
-    run = term;
-    run_open = true;
+    if (along.size() != 1 || run) return words;  // a length that is no sum of the terms
+    run = along.front();
+    if (run->size() > 1 && run->front() == '-') run->erase(0, 1);  // a length either way along its axis
   }
-  close_run();
+  if (run) terms.push_back(*run);
   std::string out;
   for (const std::string& t : terms) out += (out.empty() ? "" : " + ") + t;
   return out.empty() ? words : out;

@@ -259,15 +259,15 @@ Command add_eval(CLI::App& program, const DeviceHelp& help) {
       "--ik", o->ik_file,
       "Inverse kinematics of the targets in a CSV whose header names the device's task coordinates (" +
           help.per_device([](const MechanismInfo& i) { return with_units(i.task); }) +
-          "; a described device's: linkscape describe NAME; '-' = stdin). Writes one row per branch found: the target, branch, status, actuators, measures and "
-          "diagnostics, as far as the device reports them");
+          "; a described device's: linkscape describe NAME; '-' = stdin). Writes one row per branch found: the "
+          "target, branch, status, actuators, measures and diagnostics, as far as the device reports them");
   auto* fk = cmd->add_option(
       "--fk", o->fk_file,
       "Forward kinematics of a CSV whose header names the device's actuators and FK inputs (" +
           help.per_device([](const MechanismInfo& i) { return with_units(fk_columns(i)); }) +
-          "; a described device's: linkscape describe NAME). Iterative FK starts from the home pose, or from the row's seed_<coordinate> columns when given, so "
-          "each row's answer depends on that row alone; writes the actuators, the task coordinates, and the "
-          "status, measures and diagnostics as far as the device reports them");
+          "; a described device's: linkscape describe NAME). Iterative FK starts from the home pose, or from the "
+          "row's seed_<coordinate> columns when given, so each row's answer depends on that row alone; writes the "
+          "actuators, the task coordinates, and the status, measures and diagnostics as far as the device reports them");
   ik->excludes(fk);
   cmd->add_option("--method", o->method,
                   "IK method, one of the device's (default: its first). " +

@@ -195,8 +195,8 @@ Command add_fit(CLI::App& program, const DeviceHelp& devices) {
   CLI::App* cmd = program.add_subcommand(
       "fit", "Size a device to a task: the smallest design (within bounds on its free parameters) whose task volume "
              "meets every criterion at every sample evaluated, or with --size the design of that size with the largest "
-             "ratio; prints it with the verdict and each criterion's margin, writes every design built as CSV and a Pareto chart of size against the worst "
-             "measure (docs/task-volumes.md)");
+             "ratio; prints it with the verdict and each criterion's margin, writes every design built as CSV and a "
+             "Pareto chart of size against the worst measure (docs/task-volumes.md)");
   add_problem_options(*cmd, *o, devices);
   cmd->add_option("--size", o->size,
                   "Largest ratio at this size instead of the smallest size: among designs of this size (the "
@@ -209,7 +209,8 @@ Command add_fit(CLI::App& program, const DeviceHelp& devices) {
   cmd->add_option("-o,--output", o->output,
                   "CSV: the design parameters, cx,cy,cz, size, meets (1: every sample evaluated meets every "
                   "criterion), samples, failing, the largest shape, fraction, ratio, each criterion's worst value, "
-                  "margin and failing samples; the smallest design first, then every design built by size (one that could not be built is counted in the summary)");
+                  "margin and failing samples; the smallest design first, then every design built by size (one that "
+                  "could not be built is counted in the summary)");
   cmd->add_option("--chart", o->chart, "Pareto chart, size against the worst measure (.png, .svg, .pdf)");
   cmd->add_flag("-q,--quiet", o->quiet, "No progress line on stderr");
   cmd->add_flag("--certify", o->certify,

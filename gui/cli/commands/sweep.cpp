@@ -127,14 +127,13 @@ void run_sweep(const SweepOptions& o, std::ostream& out) {
   sweep::Plan plan;
   plan.problem = make_problem(o.problem, "sweep");
   plan.problem.threads = 1;  // designs run in parallel, each on one thread (gui/cli/sweep_ranks.h)
-  // A variable held at one value would repeat every design along it.
   fit::check_bounds(plan.problem.variables, "sweep");  // lo <= hi, within reason
-  for (const fit::Variable& v : plan.problem.variables) {
+  // A variable held at one value would repeat every design along it.
+  for (const fit::Variable& v : plan.problem.variables)
     if (!(v.lo < v.hi))
       throw std::invalid_argument("sweep: --bounds " + v.name() + "=" + format_number(v.lo) + ":" + format_number(v.hi) +
                                   " holds it at one value (each design would repeat); give --param " +
                                   v.parameters.front() + "=VALUE instead");
-  }
   plan.sampling = o.grid ? sweep::Sampling::Grid : sweep::Sampling::Random;
   plan.levels = o.grid.value_or(0);
   plan.count = o.random;
