@@ -146,13 +146,14 @@ double font_height(QPainter& p, const QRectF& area) {
   return QFontMetricsF(font).height();
 }
 
-QString family_title(const std::string& f, const std::string& mechanism, bool label_mechanism) {
-  if (!label_mechanism) return method_family_title(f);
+QString family_title(const std::string& f, const std::string& unit, const std::string& mechanism,
+                     bool label_mechanism) {
+  if (!label_mechanism) return method_family_title(f, unit);
   // Two mechanisms: four narrow columns, short titles.
   QString t;
-  if (f == "ik") t = "IK: joint error (rad)";
-  else if (f == "leg-ik") t = "leg IK: joint error (rad)";
-  else if (f == "fk") t = "FK: pose error";
+  if (f == "ik") t = "IK: " + method_error_label(f, unit);
+  else if (f == "leg-ik") t = "leg IK: " + method_error_label(f, unit);
+  else if (f == "fk") t = "FK: " + (unit == "pose" ? QString("pose error") : method_error_label(f, unit));
   else if (f == "jacobian") t = "Jacobian: |J - J*| / |J*|";
   else if (f == "conditioning") t = "conditioning: |c - c*| / c*";
   else t = "fields: volume, extents";
@@ -210,8 +211,10 @@ void draw_family(QPainter& p, const QRectF& cell, double fh, const std::vector<m
   const double f = std::min(0.6, (legend.size() * 1.15 * fh + 1.4 * fh) / panel.plot.height());
   const double top = std::log10(emax) + 0.3;
   panel.y1 = std::ceil((top - f * panel.y0) / (1 - f));
-  panel.draw_axes(p, fh, family_title(family, mechanism, label_mechanism), field ? "time per field, all threads" : "time per evaluation, one thread",
-                  method_error_label(family),
+  const std::string& unit = all[idx.front()].error_unit;  // one unit a panel: one device's family
+  panel.draw_axes(p, fh, family_title(family, unit, mechanism, label_mechanism),
+                  field ? "time per field, all threads" : "time per evaluation, one thread",
+                  method_error_label(family, unit),
                   time_label);
   p.save();
   p.setClipRect(panel.plot.adjusted(-fh, -fh, fh, fh));
@@ -283,10 +286,10 @@ double draw_header(QPainter& p, const QRectF& area, const QString& title, const 
 
 }  // namespace
 
-QString method_family_title(const std::string& f) {
-  if (f == "ik") return "Inverse kinematics: joint error (rad)";
-  if (f == "leg-ik") return "Leg IK: joint error (rad)";
-  if (f == "fk") return "Forward kinematics: pose error";
+QString method_family_title(const std::string& f, const std::string& unit) {
+  if (f == "ik") return "Inverse kinematics: " + method_error_label(f, unit);
+  if (f == "leg-ik") return "Leg IK: " + method_error_label(f, unit);
+  if (f == "fk") return "Forward kinematics: " + (unit == "pose" ? QString("pose error") : method_error_label(f, unit));
   if (f == "jacobian") return "Jacobian: |J - J*| / |J*|";
   if (f == "conditioning") return "Condition numbers: |c - c*| / c*";
   return "Workspace fields: volume and extent errors";
@@ -294,9 +297,13 @@ QString method_family_title(const std::string& f) {
 
 QColor method_colour(int k) { return kPalette[k % 8]; }
 
-QString method_error_label(const std::string& family) {
-  if (family == "ik" || family == "leg-ik") return "joint error (rad)";
-  if (family == "fk") return "max(|dp| / size, angle)";
+QString method_error_label(const std::string& family, const std::string& unit) {
+  const QString u = QString::fromStdString(unit);
+  if (family == "ik" || family == "leg-ik") return "joint error (" + u + ")";
+  if (family == "fk" && unit == "pose") return "max(|dp| / size, angle)";
+  // The default harness: the actuator values FK's pose gives back (docs/methods.md).
+  if (family == "fk" && unit != "relative") return "joint error of q back (" + u + ")";
+  if (family == "fk") return "|dp| / size";
   return "relative error";
 }
 

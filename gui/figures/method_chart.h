@@ -30,9 +30,10 @@ namespace linkscape::gui {
 inline constexpr double kExactErrorFloor = 1e-18;
 
 // A family's panel title ("Inverse kinematics: joint error (rad)") and the
-// label of its error axis ("joint error (rad)"), shared by both charts.
-QString method_family_title(const std::string& family);
-QString method_error_label(const std::string& family);
+// label of its error axis ("joint error (rad)"), shared by both charts, for
+// its rows' error_unit ("rad", "cm", "pose", "relative").
+QString method_family_title(const std::string& family, const std::string& unit);
+QString method_error_label(const std::string& family, const std::string& unit);
 // The label of the decade 10^k: "10⁻⁶".
 QString decade_label(int k);
 // The colour of the k-th method of a family (Tableau 10: distinct under

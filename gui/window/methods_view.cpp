@@ -217,11 +217,16 @@ void MethodsView::setRows(const std::vector<MethodRow>& rows) {
   rows_ = rows;
   const QString keep = family();
   QStringList names;
+  std::vector<std::string> units;  // of each family's first row
   for (const auto& r : rows_)
-    if (!names.contains(QString::fromStdString(r.family))) names << QString::fromStdString(r.family);
+    if (!names.contains(QString::fromStdString(r.family))) {
+      names << QString::fromStdString(r.family);
+      units.push_back(r.error_unit);
+    }
   const QSignalBlocker block(family_);
   family_->clear();
-  for (const QString& f : names) family_->addItem(method_family_title(f.toStdString()), f);
+  for (int k = 0; k < names.size(); ++k)
+    family_->addItem(method_family_title(names[k].toStdString(), units[std::size_t(k)]), names[k]);
   family_->setCurrentIndex(std::max(0, int(names.indexOf(keep))));
   family_->setEnabled(!names.isEmpty());
   show_family();
@@ -272,7 +277,7 @@ void MethodsView::show_family() {
     }
     const bool field = fam == "field";
     auto* x = new DecadeAxis(field ? "time per field" : "time per evaluation", lo.x(), hi.x(), time_at);
-    auto* y = new DecadeAxis(method_error_label(fam), lo.y(), hi.y(), error_at);
+    auto* y = new DecadeAxis(method_error_label(fam, rows_[shown.front()].error_unit), lo.y(), hi.y(), error_at);
     chart->addAxis(x, Qt::AlignBottom);
     chart->addAxis(y, Qt::AlignLeft);
     connect(x, &QValueAxis::rangeChanged, this, [this] { fit_ticks(); });
