@@ -14,15 +14,18 @@
 
 namespace linkscape::gui {
 
-ViewHandles::ViewHandles(vtkRenderWindowInteractor* interactor, Hooks hooks)
+ViewHandles::ViewHandles(vtkRenderWindowInteractor* interactor, vtkRenderer* renderer, Hooks hooks)
     : hooks_(std::move(hooks)), interactor_(interactor) {
   rep_ = vtkSmartPointer<vtkPointHandleRepresentation3D>::New();
-  rep_->SetHandleSize(18);
-  rep_->AllOff();
+  rep_->SetHandleSize(24);
+  rep_->AllOff();  // a cross of three lines, no box or shadows
   rep_->GetProperty()->SetColor(0.95, 0.1, 0.1);
+  rep_->GetProperty()->SetLineWidth(2);
+  rep_->GetSelectedProperty()->SetLineWidth(2);
   rep_->GetSelectedProperty()->SetColor(1.0, 0.6, 0.0);
   handle_ = vtkSmartPointer<vtkHandleWidget>::New();
   handle_->SetInteractor(interactor);
+  handle_->SetDefaultRenderer(renderer);
   handle_->SetRepresentation(rep_);
   handle_callback_ = vtkSmartPointer<vtkCallbackCommand>::New();
   handle_callback_->SetClientData(this);

@@ -13,6 +13,7 @@ class vtkCallbackCommand;
 class vtkHandleWidget;
 class vtkPointHandleRepresentation3D;
 class vtkRenderWindowInteractor;
+class vtkRenderer;
 
 namespace linkscape::gui {
 
@@ -25,7 +26,8 @@ class ViewHandles {
     std::function<void(bool)> camera_held;                   // a drag of the camera starts or ends
     std::function<std::optional<double>()> plane_z;          // a planar device's plane: drags stay in it
   };
-  ViewHandles(vtkRenderWindowInteractor* interactor, Hooks hooks);
+  // The handle is drawn by `renderer` (the view's layer over the scene).
+  ViewHandles(vtkRenderWindowInteractor* interactor, vtkRenderer* renderer, Hooks hooks);
   ~ViewHandles();
   ViewHandles(const ViewHandles&) = delete;
   ViewHandles& operator=(const ViewHandles&) = delete;

@@ -14,6 +14,7 @@
 #include <QVBoxLayout>
 #include <QWheelEvent>
 
+#include <vtkCallbackCommand.h>
 #include <vtkCommand.h>
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkGenericRenderWindowInteractor.h>
@@ -466,7 +467,22 @@ VtkWidget::Renderers VtkWidget::addRenderers() {
   legend->SetBackground2(renderer->GetBackground2());
   legend->InteractiveOff();
   renderWindow()->AddRenderer(legend);
-  return {renderer, legend};
+  // What the user grips is drawn over the scene (a layer of its own, its depth
+  // cleared), so that no surface, slice or grip hides it: it sees through the
+  // scene's camera and keeps to the scene's viewport.
+  vtkNew<vtkRenderer> handles;
+  handles->SetLayer(1);
+  handles->InteractiveOff();
+  handles->SetActiveCamera(renderer->GetActiveCamera());
+  vtkNew<vtkCallbackCommand> follow;
+  follow->SetClientData(renderer.GetPointer());
+  follow->SetCallback([](vtkObject* caller, unsigned long, void* scene, void*) {
+    static_cast<vtkRenderer*>(caller)->SetViewport(static_cast<vtkRenderer*>(scene)->GetViewport());
+  });
+  handles->AddObserver(vtkCommand::StartEvent, follow);
+  renderWindow()->SetNumberOfLayers(2);
+  renderWindow()->AddRenderer(handles);
+  return {renderer, legend, handles};
 }
 
 }  // namespace linkscape::gui

@@ -74,11 +74,13 @@ class VtkWidget : public QWidget {
   double textScale() const { return textScale_; }
   // Whether imageAt() is drawing (the view is resized for the picture only).
   bool drawingPicture() const { return drawingPicture_; }
-  // The view's two renderers: the scene's, on a gradient, and at its right
-  // the colour bar's strip (not interactive), so the bar never covers the data.
+  // The view's renderers: the scene's, on a gradient; at its right the colour
+  // bar's strip (not interactive), so the bar never covers the data; and over
+  // the scene, with its camera and viewport, the handles the user drags.
   struct Renderers {
     vtkRenderer* scene;
     vtkRenderer* legend;
+    vtkRenderer* handles;
   };
   Renderers addRenderers();
   // `window` as grab() shows it, with every visible view inside it painted in.

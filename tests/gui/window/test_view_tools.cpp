@@ -1,7 +1,8 @@
 // The view as an instrument: a click on the slice reads the field there, two
 // Shift+clicks measure a distance, two clicks in Line probe mode plot a
-// field and export it as CSV, the standard views look along their axes, and
-// a refused target puts the sliders back on the pose the device holds.
+// field and export it as CSV, the standard views look along their axes, a
+// refused target puts the sliders back on the pose the device holds, and
+// the handle on the driven point is seen over everything and dragged.
 // LINKSCAPE_SCREENSHOTS=<folder> saves the window after the picks, to look at.
 #include <QAction>
 #include <QApplication>
@@ -422,6 +423,57 @@ class ViewToolsTest : public QObject {
       if (a->text() == "&Top view") a->trigger();
     window_checks::frame(w);
     window_checks::save_screenshot(w, "top-parallel-12r.png");
+  }
+
+  // The handle the user drags is drawn over the scene: PATHOS-II's driven
+  // point lies inside its grip and its slice, which had hidden the handle.
+  void theHandleIsSeenOverTheGripAndTheSlice() {
+    MechanismWindow w(load_preset("pathos2"));
+    show_on_screen(w);
+    window_checks::wait_settled(w);
+    const QImage image = window_checks::frame(w);
+    const auto at = to_display(scene_renderer(w), w.endpoint());
+    const double ratio = double(image.height()) / w.view()->height();  // device pixels
+    int red = 0;
+    for (int dy = -20; dy <= 20; ++dy)
+      for (int dx = -20; dx <= 20; ++dx) {
+        const QColor c = image.pixelColor(int(at[0] * ratio) + dx, image.height() - 1 - int(at[1] * ratio) + dy);
+        red += c.red() > 180 && c.green() < 90 && c.blue() < 90;
+      }
+    QVERIFY2(red >= 20, qPrintable(QString("%1 red pixels about the driven point").arg(red)));
+  }
+
+  // A press on the handle, a move and a release drag the driven point; the
+  // camera stays where it was.
+  void theMouseDragsTheHandle() {
+    MechanismWindow w(load_preset("delta"));
+    show_on_screen(w);
+    window_checks::wait_settled(w);
+    vtkRenderWindowInteractor* i = w.view()->interactor();
+    vtkCamera* camera = scene_renderer(w)->GetActiveCamera();
+    Eigen::Vector3d eye_before;
+    camera->GetPosition(eye_before.data());
+    const Eigen::Vector3d before = w.endpoint();
+    auto at = to_display(scene_renderer(w), before);
+    i->SetEventInformation(at[0], at[1]);
+    i->InvokeEvent(vtkCommand::MouseMoveEvent);  // the handle lights up under the pointer
+    i->InvokeEvent(vtkCommand::LeftButtonPressEvent);
+    for (int step = 1; step <= 5; ++step) {
+      i->SetEventInformation(at[0] + 4 * step, at[1] + 2 * step);
+      i->InvokeEvent(vtkCommand::MouseMoveEvent);
+    }
+    i->InvokeEvent(vtkCommand::LeftButtonReleaseEvent);
+    Eigen::Vector3d eye_after;
+    camera->GetPosition(eye_after.data());
+    QVERIFY(eye_after == eye_before);
+    const Eigen::Vector3d moved = w.endpoint();
+    QVERIFY2((moved - before).norm() > 0.01 * w.mechanism().size(),
+             qPrintable(QString("the driven point moved %1 cm").arg((moved - before).norm())));
+    // The point follows the pointer to where it was released.
+    const auto now = to_display(scene_renderer(w), moved);
+    QVERIFY2(std::abs(now[0] - (at[0] + 20)) <= 2 && std::abs(now[1] - (at[1] + 10)) <= 2,
+             qPrintable(QString("released at (%1, %2), the point drawn at (%3, %4)")
+                            .arg(at[0] + 20).arg(at[1] + 10).arg(now[0]).arg(now[1])));
   }
 
   void theSliceCanBeSeenThrough() {

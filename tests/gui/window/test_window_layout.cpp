@@ -105,9 +105,14 @@ class WindowLayoutTest : public QObject {
 
     // The colour bar has a strip of its own: the scene's viewport ends where it begins.
     vtkRendererCollection* renderers = w.view()->renderWindow()->GetRenderers();
-    QCOMPARE(renderers->GetNumberOfItems(), 2);
+    QCOMPARE(renderers->GetNumberOfItems(), 3);
     vtkRenderer* scene = renderers->GetFirstRenderer();
     auto* legend = vtkRenderer::SafeDownCast(renderers->GetItemAsObject(1));
+    // The handles' layer lies over the scene, through its camera and viewport.
+    auto* handles = vtkRenderer::SafeDownCast(renderers->GetItemAsObject(2));
+    QCOMPARE(handles->GetLayer(), 1);
+    QCOMPARE(handles->GetActiveCamera(), scene->GetActiveCamera());
+    for (int k = 0; k < 4; ++k) QCOMPARE(handles->GetViewport()[k], scene->GetViewport()[k]);
     QVERIFY(w.fieldScene().colour_bar_visible());
     QVERIFY(legend->GetDraw());
     QVERIFY(scene->GetViewport()[2] <= legend->GetViewport()[0] + 1e-12);
