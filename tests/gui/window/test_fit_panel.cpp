@@ -28,7 +28,7 @@ namespace fs = std::filesystem;
 namespace {
 
 // Coarse sampling: these tests check the panel, not the search (tests/core/test_fit.cpp).
-void coarse(FitPanel* panel) { panel->setSearchSettings({24, 1, 1}, 8, 1e-2); }
+void coarse(FitPanel* panel) { panel->setSearchSettings({24, 1, 1, {}, {}}, 8, 1e-2); }
 
 bool run_and_wait(FitPanel* panel, int timeout_ms = 120000) {
   QSignalSpy finished(panel, &FitPanel::runFinished);
@@ -131,7 +131,7 @@ class FitPanelTest : public QObject {
     MechanismWindow w(load_preset("parallel-12r"));
     FitPanel* panel = seed_001(w);
     QVERIFY(panel);
-    panel->setSearchSettings({24, 1, 1}, task::kTaskResolution, 1e-2);
+    panel->setSearchSettings({24, 1, 1, {}, {}}, task::kTaskResolution, 1e-2);
     panel->setBounds("L1", 5, 40);
     QVERIFY(run_and_wait(panel));
     QVERIFY(panel->result()->best);
@@ -284,7 +284,7 @@ class FitPanelTest : public QObject {
              qPrintable(panel->statusText()));
     QCOMPARE(panel->chosenDesign().at("L2"), 5.0);
 
-    panel->setSearchSettings({96, 2, 3}, 24, 1e-3);  // long enough to cancel
+    panel->setSearchSettings({96, 2, 3, {}, {}}, 24, 1e-3);  // long enough to cancel
     QSignalSpy finished(panel, &FitPanel::runFinished);
     panel->run();
     QVERIFY(panel->isRunning());

@@ -155,7 +155,7 @@ class TaskPanelTest : public QObject {
     QVERIFY(edit->placeholderText().contains("commas, semicolons or spaces"));
     w.taskPanel()->setTask("sphere:diameter=5,centre=0,15,15", {"cond<3; force_iso>0.1", "force_max>0.1"});
     QCOMPARE(edit->text(), QString("cond<3, force_iso>0.1, force_max>0.1"));
-    for (const QString& text : {"cond<3, force_iso>0.1;force_max>0.1", "cond<3 force_iso>0.1 force_max>0.1;"}) {
+    for (const char* text : {"cond<3, force_iso>0.1;force_max>0.1", "cond<3 force_iso>0.1 force_max>0.1;"}) {
       edit->setText(text);
       const auto criteria = w.taskPanel()->criteria();
       QCOMPARE(criteria.size(), std::size_t(4));

@@ -179,7 +179,7 @@ class WindowSessionTest : public QObject {
       QVERIFY(show_settled(w));
       w.taskPanel()->setTask("sphere:diameter=8", {"cond<3"});
       gui::FitPanel* fit = w.fitPanel();
-      fit->setSearchSettings({24, 1, 1}, 8, 1e-2);  // coarse: the session is tested, not the search
+      fit->setSearchSettings({24, 1, 1, {}, {}}, 8, 1e-2);  // coarse: the session is tested, not the search
       fit->setEqual("L1,L2");
       fit->setCentreFree(true);
       fit->setCentreRegion(region);
@@ -295,7 +295,7 @@ class WindowSessionTest : public QObject {
     gui::Session state;
     gui::WindowDocument document(&window, {[&] { return state; }, [&](const gui::Session& s) { state = s; },
                                            [](const gui::Session&, const Preset&, const QString&) {},
-                                           [] { return QString("device"); }});
+                                           [] { return QString("device"); }, [] { return QString(); }});
     QVERIFY(document.mayReload());  // nothing changed: no question
     state.parameters["L1"] = 12;
     document.history()->noteChange();
