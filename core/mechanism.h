@@ -69,6 +69,9 @@ struct MechanismInfo {
   // field extruded along z. Unset for a spatial device.
   std::optional<double> plane_z;
   std::vector<NamedItem> ik_methods;  // the first is the default
+  // The IK methods that start from IkOptions::seed; the others ignore it (a
+  // closed form; a described device's legs, solved from seeds of their own).
+  std::vector<std::string> seeded_ik_methods;
   std::vector<NamedItem> fk_methods;  // the first is the default
   // Conditioning measures, the first the main one (fields' "cond"); a second
   // one, where defined, fills the fields' second condition array.

@@ -427,6 +427,13 @@ FkResult forward(const Model& m, const Vector3d& q, FkMethod method, const FkOpt
     double closest = kInf;
     for (int i = 0; i < kLegCount; ++i) closest = std::min(closest, (sp.c[i] - sp.c[(i + 1) % 3]).norm());
     result.status = closest <= tol ? Status::Singular : Status::Unreachable;
+    // Coincident centres (every forearm parallel): the platform anywhere on
+    // the sphere of radius Lb about them; the point below them, which closes
+    // every leg, stands for it.
+    if (result.status == Status::Singular) {
+      result.p_base_platform = sp.circumcentre - m.Lb * Vector3d::UnitZ();
+      result.p_other_mode = sp.circumcentre + m.Lb * Vector3d::UnitZ();
+    }
     result.residual = closure_error(m, q, result.p_base_platform);
     return result;
   }
@@ -534,9 +541,12 @@ JacobianResult jacobian(const Model& m, const Vector3d& q, const Vector3d& p) {
     r.status = Status::Singular;
     r.cond = kInf;
   } else {
-    r.status = Status::Ok;
-    // cond(J) = cond(J^-1), and J^-1 stays finite up to type II.
+    // cond(J) = cond(J^-1), and J^-1 stays finite up to type II. Beyond
+    // kSingularCondition the rounding of the pose decides its digits: every
+    // forearm parallel (coincident sphere centres) passes the gap's test.
     r.cond = condition_number_closed_form(r.J_actuated_from_task);
+    r.status = r.cond <= kSingularCondition ? Status::Ok : Status::Singular;
+    if (r.status == Status::Singular) r.cond = kInf;
   }
   return r;
 }

@@ -47,6 +47,8 @@ inline constexpr int kBranchCount = 8;  // 2^kLegCount elbow choices
 // Tolerances are relative to Model::size(); a closed form's discriminant
 // within kSingularTolerance * size() of zero counts as singular (see docs).
 inline constexpr double kSingularTolerance = 1e-12;
+// A c(J) beyond this is singular (a described device's Jx likewise).
+inline constexpr double kSingularCondition = 1e12;
 
 using Interval = Range;  // core/range.h
 

@@ -55,6 +55,7 @@ class DeltaMechanism final : public Mechanism {
               {"z", u, "", p0.z(), {-1.1 * s, 0.4 * s}}};
     i.ik_methods = {{"closed", "closed form", "Tangent half-angle per leg"},
                     {"newton", "newton", "Newton on each leg's closure from a seed"}};
+    i.seeded_ik_methods = {"newton"};
     i.fk_methods = {{"closed", "closed form", "Intersection of three spheres"},
                     {"newton", "newton", "Newton on the three closures from a seed"}};
     i.measures = {{"cond", "c(J)", "sigma_max / sigma_min of J = dp/dq"}};

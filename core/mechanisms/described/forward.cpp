@@ -396,6 +396,7 @@ Kinematics::Kinematics(Model model) : model_(std::move(model)), id_(next_id++) {
   const PoseSolution at_home = inverse(model_.home, 0, 1e-10);
   if (at_home.status == Status::Ok) {
     const JacobianParts parts = jacobian(model_.home, at_home);
+    constraint_rank_ = parts.constraint_rank;  // the rank every pose's constraint wrenches keep
     if (parts.status == Status::Singular) {
       std::ostringstream msg;
       msg << "description: the device is singular at home: ";

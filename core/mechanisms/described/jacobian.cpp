@@ -112,6 +112,11 @@ void Kinematics::jacobian_into(const PlatformPose& p, const PoseSolution& solved
   out.singular_leg = -1;
   const int m = model_.planar ? 3 : 6;
   thread_local Chain c;
+  // The legs' constraint wrenches side by side (at most m per leg).
+  using Constraints = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, Eigen::Dynamic>;
+  thread_local Constraints constraints;
+  constraints.resize(m, m * Index(model_.legs.size()));
+  int constraint_columns = 0;
   Rows w(m);
   int row = 0;
   for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
@@ -155,6 +160,13 @@ void Kinematics::jacobian_into(const PlatformPose& p, const PoseSolution& solved
       if (actuation.norm() > 0) w = reciprocal * actuation.normalized();
       else w = reciprocal.col(reciprocal.cols() - 1);
       passive_singular = rank < expected_rank;
+      if (reciprocal.cols() > 1 && actuation.norm() > 0) {
+        // The wrenches that do no work on any of the leg's joints: its
+        // reciprocal ones with the actuation wrench's share taken out.
+        const Rows a = actuation.normalized();
+        constraints.middleCols(constraint_columns, reciprocal.cols()) = reciprocal - w * a.transpose();
+        constraint_columns += int(reciprocal.cols());
+      }
     }
     const PlatformColumns cols = platform_columns(model_, p, r);
     for (Index j = 0; j < cols.cols(); ++j) out.Jx(row, j) = w.dot(rows_of(cols.col(j), model_.planar));
@@ -169,12 +181,21 @@ void Kinematics::jacobian_into(const PlatformPose& p, const PoseSolution& solved
     }
     ++row;
   }
+  if (constraint_columns > 0) {
+    const Eigen::ColPivHouseholderQR<Constraints> qr(constraints.leftCols(constraint_columns));
+    const auto R = qr.matrixQR().diagonal().cwiseAbs();
+    for (Index i = 0; i < R.size(); ++i) out.constraint_rank += R(i) > 1e-10 * R(0);
+    if (out.constraint_rank < constraint_rank_) {
+      out.constraint_singular = true;
+      out.status = Status::Singular;
+    }
+  }
   thread_local Eigen::PartialPivLU<MatrixXd> lu;
   lu.compute(out.Jx);
   // The closed forms take the LU's estimate (1-norm, within a small factor of
   // the 2-norm's): an SVD of Jx would cost more than the rest of the sample.
   out.jx_condition = solver == LegSolver::Fastest ? 1 / lu.rcond() : condition_number(out.Jx);
-  if (!(out.jx_condition <= 1e12)) out.status = Status::Singular;
+  if (!(out.jx_condition <= kSingularCondition)) out.status = Status::Singular;
   out.J = lu.solve(out.Jq);
 }
 

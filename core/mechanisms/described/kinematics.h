@@ -75,14 +75,23 @@ struct PoseSolution {
 // Every leg closes (ok, or ok but outside its actuator's travel).
 bool assembled(const PoseSolution& s);
 
+// A condition of Jx beyond this is singular (type II).
+inline constexpr double kSingularCondition = 1e12;
+
 struct JacobianParts {
   Eigen::MatrixXd Jx, Jq, J;  // J = -Jx^-1 Jq (driven task rows x actuators), physical units
   std::vector<double> serial_margin;  // per leg: size * |Jq_ii| for the unit wrench (length)
   // Of the dimensionless Jx (+inf if singular): 2-norm by an SVD (solver
   // Numeric), else the LU's 1-norm estimate.
   double jx_condition = 0.0;
-  Status status = Status::Ok;  // Singular at a type I or type II singularity
+  Status status = Status::Ok;  // Singular at a type I, type II or constraint singularity
   int singular_leg = -1;       // type I: the leg
+  // The rank of the constraint wrenches the legs transmit besides their
+  // actuation wrenches (a universal joint's couple, a parallelogram's), and
+  // whether it fell below its rank at home: the platform gains a freedom
+  // that the legs held there (a 3-UPU's legs' couples in one plane).
+  int constraint_rank = 0;
+  bool constraint_singular = false;
 };
 
 struct ForwardSolution {
@@ -246,6 +255,7 @@ class Kinematics {
   // Per leg: the rank of its passive joints' twists at home (6 less the
   // wrenches the leg transmits: the actuation wrench and any constraint ones).
   std::vector<int> passive_rank_;
+  int constraint_rank_ = 0;  // JacobianParts::constraint_rank at home
   std::vector<std::optional<ClosedFormLeg>> closed_;
   bool has_joint_limits_ = false, has_capsules_ = false;
 };

@@ -225,7 +225,11 @@ class DescribedMechanism final : public Mechanism {
     const JacobianParts parts = kin_.jacobian(xm, s);
     out.status = parts.status;
     out.values = measure_values(parts);
-    out.det = parts.status == Status::Ok ? parts.J.determinant() : 0.0;
+    // det J = det Jq / det Jx: 0 where a leg's actuator loses its hold
+    // (type I), unbounded where Jx is singular (type II); at a constraint
+    // singularity J itself keeps its value.
+    const bool type_two = parts.singular_leg < 0 && !(parts.jx_condition <= kSingularCondition);
+    out.det = parts.singular_leg >= 0 ? 0.0 : type_two ? kInf : parts.J.determinant();
     return out;
   }
 

@@ -51,6 +51,7 @@ class Parallel12rMechanism final : public Mechanism {
                     {"newton", "newton", "Newton-Raphson with backtracking from a seed"},
                     {"dls", "dls", "Damped least squares (Levenberg-Marquardt) from a seed"},
                     {"fallback", "fallback", "Planar; where it misses the tolerance, Newton from its candidate"}};
+    i.seeded_ik_methods = {"newton", "dls"};
     i.fk_methods = {{"closed", "closed form", "Eqs. 11-13"}};
     i.measures = {{"cond", "c(J)", "sigma_max / sigma_min of the 3x3 Jacobian"}};
     i.singular_sets = {{"actuator-plane", "actuator plane", "cos(alpha) = 0: endpoint in the x-z plane"},

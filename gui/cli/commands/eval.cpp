@@ -13,6 +13,7 @@
 #include "core/atomic_file.h"
 #include "core/csv.h"
 #include "core/mechanism.h"
+#include "core/spelling.h"
 #include "gui/cli/command.h"
 #include "gui/cli/sampling.h"
 #include "gui/cli/terminal.h"
@@ -55,6 +56,18 @@ void require_finite(const Table& table, const std::vector<std::size_t>& columns)
                                     " is not a finite number");
 }
 
+// A column the command does not read is refused (a mistyped seed_x had left
+// FK starting from home without a word), naming the columns it reads.
+void refuse_unread(const Table& table, const std::vector<std::size_t>& used, const std::vector<std::string>& reads) {
+  for (std::size_t c = 0; c < table.columns.size(); ++c) {
+    if (std::count(used.begin(), used.end(), c)) continue;
+    std::string list;
+    for (const std::string& name : reads) list += (list.empty() ? "" : ",") + name;
+    throw std::invalid_argument(table.origin + ":1: column '" + table.columns[c] + "' is not one this reads (" + list +
+                                ")" + did_you_mean(table.columns[c], reads));
+  }
+}
+
 // Runs `body` for each row; an invalid_argument thrown for a row is reported
 // with the row's file and line.
 template <typename Body>
@@ -77,7 +90,12 @@ void write_ik(const Mechanism& m, const Table& table, const IkOptions& ik, std::
   const MechanismInfo& info = m.info();
   const auto& c = info.eval_columns;
   std::vector<std::size_t> col;
-  for (const Quantity& q : info.task) col.push_back(table.column(q.name));
+  std::vector<std::string> reads;
+  for (const Quantity& q : info.task) {
+    col.push_back(table.column(q.name));
+    reads.push_back(q.name);
+  }
+  refuse_unread(table, col, reads);
   require_finite(table, col);
   out << joined_names(info.task) << (c.ik_branch ? ",branch" : "") << ",status"
       << (c.ik_failing_part.empty() ? "" : "," + c.ik_failing_part) << "," << joined_names(info.actuators);
@@ -145,6 +163,11 @@ void write_fk(const Mechanism& m, const Table& table, std::ostream& out) {
   if (!seed_col.empty() && seed_col.size() != result_index.size())
     throw std::invalid_argument(table.origin + ": give all of the seed columns (" + seed_names + ") or none");
   used.insert(used.end(), seed_col.begin(), seed_col.end());
+  std::vector<std::string> reads;
+  for (const Quantity& q : info.actuators) reads.push_back(q.name);
+  for (int k : input_index) reads.push_back(info.task[std::size_t(k)].name);
+  for (int k : result_index) reads.push_back("seed_" + info.task[std::size_t(k)].name);
+  refuse_unread(table, used, reads);
   require_finite(table, used);
 
   out << joined_names(info.actuators);
@@ -217,6 +240,13 @@ void run_eval(const EvalOptions& o, std::istream& stdin_stream, std::ostream& st
                       "eval: --seed expects " + joined_names(info.actuators) + " (" +
                           std::to_string(info.actuators.size()) + " finite values, comma separated) for " + info.name);
     ik.seed = Eigen::Map<const Eigen::VectorXd>(seed.data(), Eigen::Index(seed.size()));
+    const std::string method = o.method.empty() ? info.ik_methods.front().name : o.method;
+    const std::vector<std::string>& seeded = info.seeded_ik_methods;
+    if (std::find(seeded.begin(), seeded.end(), method) == seeded.end())
+      throw std::invalid_argument("eval: --seed: " + info.name + "'s IK method '" + method +
+                                  "' does not start from a seed (" +
+                                  (seeded.empty() ? "none of its methods does: each leg is solved from seeds of its own"
+                                                  : "with --method " + seeded.front() + " it does") + ")");
   }
   ik.tolerance = o.tolerance;
   if (o.max_iterations) ik.max_iterations = *o.max_iterations;
@@ -275,7 +305,8 @@ Command add_eval(CLI::App& program, const DeviceHelp& help) {
       ->capture_default_str();
   cmd->add_option("--branch", o->branch, "Only this assembly branch, an index of the device's (" + branches_help(help) + ")");
   cmd->add_option("--seed", o->seed,
-                  "Start for iterative IK methods (closed forms do not use it): the device's actuator values, "
+                  "Start for the IK methods that iterate from a seed (refused for the others: a closed form, a "
+                  "described device's legs, solved from seeds of their own): the device's actuator values, "
                   "comma separated (default: each branch's home pose)");
   cmd->add_option("--tolerance", o->tolerance, "Accept a solution when residual <= tolerance * the device's size")
       ->capture_default_str();

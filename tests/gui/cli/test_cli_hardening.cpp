@@ -201,7 +201,13 @@ TEST(CliHardening, OptionsThatWouldBeIgnoredOrMeaninglessAreRefused) {
   const fs::path grip = temp_file("hard_grip.csv", "x,y,z,rx,ry,rz,h0\n0,0,22.5,0,0,0.5236,7\n0,0,22.5,0,0,0.5236,20\n");
   const fs::path grip_q = temp_file("hard_grip_q.csv", "q1,q2,q3,q4,q5,q6,h0\n2.66,2.66,2.66,-2.66,-2.66,-2.66,7\n"
                                                        "2.66,2.66,2.66,-2.66,-2.66,-2.66,0\n");
+  const fs::path typo = temp_file("hard_typo_q.csv", "q1,q2,q3,sed_x,sed_y,sed_z\n0.1,0.2,0.3,0,0,-20\n");
+  const fs::path extra = temp_file("hard_extra.csv", "x,y,z,rz\n0,0,-20,0.1\n");
   const std::vector<std::pair<std::string, std::string>> refused{
+      // Columns it does not read (a mistyped seed had left FK starting from home).
+      {"eval -m delta --fk " + typo.string(), ":1: column 'sed_x' is not one this reads (q1,q2,q3,seed_x,seed_y,seed_z); "
+                                                "did you mean 'seed_x'?"},
+      {"eval -m delta --ik " + extra.string(), ":1: column 'rz' is not one this reads (x,y,z)"},
       {"eval -m delta --fk " + q.string() + " --branch 5", "--branch applies to --ik"},
       {"eval -m delta --fk " + q.string() + " --method newton", "--method applies to --ik"},
       {"eval -m delta --fk " + q.string() + " --seed 1,2,3", "--seed applies to --ik"},
@@ -210,6 +216,10 @@ TEST(CliHardening, OptionsThatWouldBeIgnoredOrMeaninglessAreRefused) {
       {"eval --ik " + in.string() + " --method newton --tolerance 1e300", "--tolerance must lie between"},
       {"slice --tolerance 0.01 -o x.png", "--tolerance must lie between"},
       {"eval -m delta --ik " + in.string() + " --method newton --seed 0.4,0.4,0.4,", "--seed expects q1,q2,q3"},
+      // A seed for a method that takes none (it had been ignored).
+      {"eval -m delta --ik " + in.string() + " --seed 0.4,0.4,0.4", "'closed' does not start from a seed (with --method newton"},
+      {"eval -m delta-described --ik " + in.string() + " --method newton --seed 0.4,0.4,0.4",
+       "none of its methods does: each leg is solved from seeds of its own"},
       {"slice --size 32x32 --contour nan --figure -o x.png", "--contour levels are condition numbers"},
       {"slice --size 32x32 --contour -5 -o x.png", "--contour levels are condition numbers"},
       {"slice --size 32x32 --range 5,1 -o x.png", "--range expects min,max"},

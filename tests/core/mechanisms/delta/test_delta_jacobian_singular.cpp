@@ -324,3 +324,39 @@ TEST(DeltaSingular, DistancesAreTheLegMarginsAndHalfTheAssemblyGap) {
   }
   EXPECT_THROW(jacobian(m, home_pose(m), home_position(m) + Vector3d(0, 0, 1)), std::invalid_argument);
 }
+
+// Every forearm parallel: the three spheres' centres coincide where
+// R - r + La cos q = 0 (a platform wider than the base), and the platform
+// may lie anywhere on the sphere of radius Lb about them. FK had returned
+// that centre, which closes no leg (and the device's read-outs threw);
+// IK there had been ok with c(J) 4e15, the rounding of the pose its digits.
+TEST(DeltaSingular, EveryForearmParallelIsSingularForwardAndInverse) {
+  Model m;
+  m.R = 5;
+  m.r = 9;
+  for (Interval& range : m.q_limits) range = {-std::numbers::pi, std::numbers::pi};
+  const double q0 = std::acos(-(m.R - m.r) / m.La);
+  const Vector3d q = Vector3d::Constant(q0);
+  const FkResult fk = forward(m, q);
+  EXPECT_EQ(fk.status, Status::Singular);
+  EXPECT_LE(fk.residual, 1e-12 * m.size()) << "the point given closes every leg";
+  const JacobianResult j = jacobian(m, q, fk.p_base_platform);
+  EXPECT_EQ(j.status, Status::Singular);
+  EXPECT_TRUE(std::isinf(j.cond));
+  // The same pose through IK: the elbows of q0, c(J) not finite.
+  bool found = false;
+  for (int branch = 0; branch < kBranchCount; ++branch) {
+    IkOptions options;
+    options.branch = branch;
+    const IkResult ik = inverse(m, fk.p_base_platform, IkMethod::Closed, options);
+    if (angle_distance(ik.q_actuated, q) > 1e-6) continue;
+    found = true;
+    EXPECT_EQ(jacobian(m, ik.q_actuated, fk.p_base_platform).status, Status::Singular);
+  }
+  EXPECT_TRUE(found) << "an IK branch has the elbows of q0";
+  // A degree away the forearms part and the device holds.
+  const Vector3d apart = q + Vector3d(0, 0.02, -0.02);
+  const FkResult near = forward(m, apart);
+  ASSERT_EQ(near.status, Status::Ok);
+  EXPECT_EQ(jacobian(m, apart, near.p_base_platform).status, Status::Ok);
+}
