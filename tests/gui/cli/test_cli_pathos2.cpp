@@ -65,6 +65,26 @@ TEST(CliPathos2, EvalInverseThenForwardRecoversThePose) {
   }
 }
 
+// A pose 3e-9 from a J-singular one (its 6x6 J's condition past the
+// device's bound): the row is singular with c(J) inf, as the measures say
+// (it had been ok beside them); 1e-7 away it is ok with finite ones.
+TEST(CliPathos2, APoseWhoseJacobianIsSingularIsASingularRow) {
+  const std::string poses = "x,y,z,rx,ry,rz,h0\n"
+                            "-3.061771302330916,3.9049519876790533,20.855703346809335,0.3456525370457612,"
+                            "0.11389359550488122,0.44547817268925294,7\n"
+                            "-3.061771363566344,3.904952065778095,20.8557033139234,0.3456525439588122,"
+                            "0.1138935977827532,0.44547817112684085,7\n";
+  const auto ik = run_linkscape("eval -m pathos2 --ik " + temp_file("p2_near_singular.csv", poses).string() +
+                                " --joint-limits off --interference off");
+  ASSERT_EQ(ik.exit_code, 0) << ik.out;
+  const auto rows = parse_cells(ik.out);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].at("status"), "ok");
+  EXPECT_TRUE(std::isfinite(std::stod(rows[0].at("cond_jp"))));
+  EXPECT_EQ(rows[1].at("status"), "singular");
+  EXPECT_EQ(rows[1].at("cond_jp"), "inf");
+}
+
 TEST(CliPathos2, SliceFieldAndMeshAtAPose) {
   const fs::path dir = fs::temp_directory_path() / "linkscape_cli_tests";
   fs::create_directories(dir);
