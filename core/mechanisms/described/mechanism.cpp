@@ -251,11 +251,13 @@ class DescribedMechanism final : public Mechanism {
       // rod ending in a ball), its serial set is their boundary: the distance
       // to it, in the length unit, as the compiled Delta gives it; else the
       // leg's margin (size times its actuation wrench's moment).
+      // An extensible leg has no serial set: its slide always pushes along its rod.
       const ClosedFormLeg* form = kin_.closed_form(l);
       const bool exact = form && (form->pattern == LegPattern::PlanarDyad ||
                                   (form->pattern == LegPattern::CrankRod && form->end_joints == 1));
-      r.distances[std::size_t(l)] = exact ? std::max(0.0, -kin_.reach_outside(l, kin_.anchor(l, pose)))
-                                          : parts.serial_margin[std::size_t(l)];
+      r.distances[std::size_t(l)] = form && form->pattern == LegPattern::Extensible ? kInf
+                                    : exact ? std::max(0.0, -kin_.reach_outside(l, kin_.anchor(l, pose)))
+                                            : parts.serial_margin[std::size_t(l)];
     }
     r.distances[std::size_t(legs)] = parallel_distance(xm, s);
     r.nearest = int(std::min_element(r.distances.begin(), r.distances.end()) - r.distances.begin());

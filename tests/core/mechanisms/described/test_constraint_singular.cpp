@@ -109,5 +109,20 @@ TEST(DescribedConstraintSingular, LegsWithoutConstraintWrenchesHaveNone) {
   EXPECT_FALSE(parts.constraint_singular);
 }
 
+// An extensible leg's slide always pushes along its rod: no serial set, so
+// the window's "nearest singular" never names one (it had said "leg 1
+// (type I), 17 cm" on the 3-UPU, and likewise on the Stewart platform).
+TEST(DescribedConstraintSingular, ExtensibleLegsHaveNoSerialSet) {
+  for (const Preset& p : {three_upu_preset(), load_preset("stewart")}) {
+    const std::shared_ptr<const Mechanism> device = described::make_mechanism(p);
+    const VectorXd x = device->home_task();
+    const SingularityReport r = device->nearest_singularity(device->home_actuators(), x);
+    const std::size_t legs = r.distances.size() - 1;
+    for (std::size_t l = 0; l < legs; ++l) EXPECT_TRUE(std::isinf(r.distances[l])) << p.title << " leg " << l;
+    EXPECT_EQ(device->info().singular_sets[std::size_t(r.nearest)].name, "parallel") << p.title;
+    EXPECT_TRUE(std::isfinite(r.distance)) << p.title;
+  }
+}
+
 }  // namespace
 }  // namespace linkscape::described
