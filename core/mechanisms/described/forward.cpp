@@ -456,4 +456,17 @@ bool Kinematics::home_toward(int leg, int combo, const Isometry3d& anchor, LegSt
   return true;
 }
 
+double Kinematics::closure_residual(const VectorXd& x, const PoseSolution& s) const {
+  const PlatformPose p = pose(x);
+  double worst = 0.0;
+  for (std::size_t leg = 0; leg < model_.legs.size() && leg < s.legs.size(); ++leg) {
+    const LegSolution& l = s.legs[leg];
+    if ((l.status != Status::Ok && l.status != Status::OutOfLimits) || l.open_end) continue;
+    const Chain c = walk(model_.legs[leg], l.state);
+    const double e = rows_of(closure_error(c, anchor(int(leg), p), model_.size), model_.planar).norm();
+    worst = std::max(worst, e * model_.size);
+  }
+  return worst;
+}
+
 }  // namespace linkscape::described

@@ -129,6 +129,9 @@ class Kinematics {
   // The leg's anchor frame in the base frame at this pose.
   Eigen::Isometry3d anchor(int leg, const PlatformPose& pose) const;
 
+  // The largest closure error of the legs that close in `s` (length unit):
+  // a closed form's, which inverse() leaves at 0, evaluated in double.
+  double closure_residual(const Eigen::VectorXd& x, const PoseSolution& s) const;
   // Every leg on `branch` (bits of the free rules). Seeds: the thread's last
   // solution, the leg at home on the branch, spread seeds.
   PoseSolution inverse(const Eigen::VectorXd& x, int branch, double tolerance,

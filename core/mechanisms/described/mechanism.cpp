@@ -136,6 +136,7 @@ class DescribedMechanism final : public Mechanism {
     const int first = o.branch.value_or(0), last = o.branch ? *o.branch : kin_.branches() - 1;
     for (int b = first; b <= last; ++b) {
       PoseSolution s = kin_.inverse(xm, b, o.tolerance, solver);
+      if (solver != LegSolver::Numeric && assembled(s)) s.residual = kin_.closure_residual(xm, s);
       // Singular at a type I (a leg's) or a type II (the platform's)
       // singularity: wherever measures() reports J singular. It takes the
       // solution nearest q with each leg closed on the fastest path; so
@@ -386,7 +387,10 @@ class DescribedMechanism final : public Mechanism {
     f.length_unit = kin_.model().length_unit;
     f.parameters = parameters();
     for (const Quantity& q : info_.parameters) f.parameter_units[q.name] = q.unit;  // an angle is not a length
-    f.method = lanes ? kLanesName : method_name(solver);
+    // "closed" where some leg has a closed form; a device with none is solved numerically throughout.
+    bool any_closed = false;
+    for (int l = 0; l < int(kin_.model().legs.size()); ++l) any_closed = any_closed || kin_.closed_form(l);
+    f.method = lanes ? kLanesName : method_name(any_closed ? solver : LegSolver::Numeric);
     for (LegSolver k : {LegSolver::Fastest, LegSolver::Numeric}) f.method_names.emplace_back(method_name(k));  // by LegSolver
     f.method_names.emplace_back(kLanesName);  // kLanesCode
     f.branch = branch;
