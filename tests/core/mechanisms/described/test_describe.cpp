@@ -125,6 +125,28 @@ TEST(DescribedDescribe, ALegOfNoKnownPatternIsNumeric) {
   }
 }
 
+// The described Delta's elbows written as two revolutes at one point: a
+// universal joint the patterns do not read so, named in a hint; written as
+// a universal, the legs take their closed form.
+TEST(DescribedDescribe, TwoRevolutesAtOnePointGetAHint) {
+  Preset p = load_preset("delta-described");
+  nlohmann::json d = nlohmann::json::parse(p.description);
+  nlohmann::json& chain = d["legs"][0]["chain"];
+  chain[2] = {{"joint", "revolute"}, {"name", "elbow#"}, {"axis", {0, 1, 0}}};  // the branch rule names it
+  chain.insert(chain.begin() + 3, nlohmann::json{{"joint", "revolute"}, {"name", "eb#"}, {"axis", {0, 0, 1}}});
+  p.description = d.dump();
+  const std::string text = describe(p);
+  EXPECT_TRUE(has(text, "legs: 3 (0 in closed form, 3 numeric)")) << text;
+  EXPECT_TRUE(has(text, "    hint: revolutes elbow1 and eb1 meet at one point with crossing axes; written as one "
+                        "universal joint")) << text;
+  chain.erase(chain.begin() + 3);
+  chain[2] = {{"joint", "universal"}, {"name", "elbow#"}, {"axes", {{0, 1, 0}, {0, 0, 1}}}};
+  p.description = d.dump();
+  const std::string universal = describe(p);
+  EXPECT_TRUE(has(universal, "legs: 3 (3 in closed form, 0 numeric)")) << universal;
+  EXPECT_FALSE(has(universal, "hint:")) << universal;
+}
+
 TEST(DescribedDescribe, AnAssertedPatternIsChecked) {
   EXPECT_NO_THROW(describe(five_bar_with("planar-dyad")));
   try {
