@@ -124,6 +124,7 @@ std::string describe(const Preset& preset) {
     s << "\n";
     if (l.rules.empty()) s << "    branch: none\n";
     for (const BranchRule& r : l.rules) s << "    branch: " << rule_text(l, r) << "\n";
+    if (const std::string w = k.branch_warning(int(leg)); !w.empty()) s << "    warning: " << w << "\n";
     const Range& reach = k.reach(int(leg));
     s << "    reach: " << reach.lo << " .. ";
     if (std::isinf(reach.hi)) s << "unbounded";

@@ -292,6 +292,7 @@ Kinematics::Kinematics(Model model) : model_(std::move(model)), id_(next_id++) {
   for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
     const Leg& l = model_.legs[leg];
     std::optional<ClosedFormLeg> form = recognise(model_, l);
+    std::string warning;
     if (form) {
       LegCandidates c;
       solve_closed(*form, model_, l, anchor(int(leg), home), c);
@@ -301,7 +302,9 @@ Kinematics::Kinematics(Model model) : model_(std::move(model)), id_(next_id++) {
                                    model_.planar)
                                    .norm() <= 1e-9;
       if (!closes) form.reset();
+      if (form) warning = unseparated(int(leg), c, anchor(int(leg), home));
     }
+    branch_warnings_.push_back(warning);
     const std::string found = pattern_name(form ? form->pattern : LegPattern::Numeric);
     std::optional<LegPattern> named;
     try {
@@ -454,6 +457,37 @@ bool Kinematics::home_toward(int leg, int combo, const Isometry3d& anchor, LegSt
   out = *home;
   out.values(first->variable) += move;
   return true;
+}
+
+// Two of a leg's closed-form solutions at home with different actuator
+// values within its travel and the same sign for every branch rule: the
+// rules choose nothing between them (the first is taken). Empty where they do.
+std::string Kinematics::unseparated(int leg, const LegCandidates& c, const Isometry3d& at) const {
+  const Leg& l = model_.legs[std::size_t(leg)];
+  const Actuator& a = model_.actuators[std::size_t(l.actuators.front())];
+  const int v = l.steps[std::size_t(a.step)].variable;
+  auto signs = [&](const LegState& s) {
+    std::vector<int> out;
+    for (double r : rule_scales(leg, s, at)) out.push_back(r > 0 ? 1 : r < 0 ? -1 : 0);
+    return out;
+  };
+  const double scale = a.prismatic ? model_.size : 1.0;
+  for (int i = 0; i < c.count; ++i)
+    for (int j = i + 1; j < c.count; ++j) {
+      const double qi = c.states[std::size_t(i)].values(v), qj = c.states[std::size_t(j)].values(v);
+      // The travel chooses where it holds one of them only (a slide's negative length).
+      const bool both_in_travel = !a.limited || (a.range.contains(qi) && a.range.contains(qj));
+      if (!both_in_travel || std::abs(qi - qj) <= 1e-6 * scale ||
+          signs(c.states[std::size_t(i)]) != signs(c.states[std::size_t(j)]))
+        continue;
+      std::ostringstream msg;
+      const double shown = a.prismatic ? 1.0 : 180 / M_PI;
+      msg << (l.rules.empty() ? "no branch rule tells apart" : "its branch rules give the same signs to")
+          << " two of its assemblies at home (" << a.name << " = " << qi * shown << " and " << qj * shown
+          << (a.prismatic ? " " + model_.length_unit : " deg") << "): the first is taken";
+      return msg.str();
+    }
+  return "";
 }
 
 double Kinematics::closure_residual(const VectorXd& x, const PoseSolution& s) const {

@@ -159,6 +159,10 @@ class Kinematics {
   // The rank of the leg's passive joints' twists at home: one less than the
   // closure's rows where the leg transmits one wrench (its closed wrench serves).
   int passive_rank(int leg) const { return passive_rank_[std::size_t(leg)]; }
+  // Where the leg's branch rules do not tell its assemblies at home apart; empty where they do.
+  std::string branch_warning(int leg) const {
+    return std::size_t(leg) < branch_warnings_.size() ? branch_warnings_[std::size_t(leg)] : std::string();
+  }
   // At a solved pose (its legs' states).
   // Solver Fastest: each recognised leg's reciprocal wrench in closed form.
   JacobianParts jacobian(const Eigen::VectorXd& x, const PoseSolution& solved,
@@ -240,6 +244,7 @@ class Kinematics {
   // Each rule's value over the size (a triple over its square, an angle's
   // sine): how far the state is from the rule's zero.
   std::vector<double> rule_scales(int leg, const LegState& state, const Eigen::Isometry3d& anchor) const;
+  std::string unseparated(int leg, const LegCandidates& c, const Eigen::Isometry3d& anchor) const;
 
   Model model_;
   Mobility mobility_;
@@ -259,6 +264,9 @@ class Kinematics {
   // wrenches the leg transmits: the actuation wrench and any constraint ones).
   std::vector<int> passive_rank_;
   int constraint_rank_ = 0;  // JacobianParts::constraint_rank at home
+  // Per closed-form leg (empty for the others): where its branch rules do not
+  // tell its assemblies at home apart (Kinematics::unseparated).
+  std::vector<std::string> branch_warnings_;
   std::vector<std::optional<ClosedFormLeg>> closed_;
   bool has_joint_limits_ = false, has_capsules_ = false;
 };

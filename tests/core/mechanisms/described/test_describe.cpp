@@ -165,6 +165,21 @@ TEST(DescribedDescribe, AnAssertedPatternIsChecked) {
   }
 }
 
+// A rule that gives both of a leg's assemblies at home the same sign
+// chooses nothing between them: describe says so (the rule a designer had
+// written for a biglide picked both carriages on one side, a singular pose).
+TEST(DescribedDescribe, ARuleThatDoesNotSeparateTheAssembliesIsNamed) {
+  EXPECT_FALSE(has(describe(load_preset("five-bar")), "warning:"));
+  Preset p = load_preset("five-bar");
+  nlohmann::json d = nlohmann::json::parse(p.description);
+  d["legs"][0]["branch"] = {{"along", {"q1", "elbow1"}}, {"direction", {0, 1, 0}}};  // both elbows lie above
+  p.description = d.dump();
+  const std::string text = describe(p);
+  EXPECT_TRUE(has(text, "    warning: its branch rules give the same signs to two of its assemblies at home (q1 = "))
+      << text;
+  EXPECT_EQ(text.find("warning:"), text.rfind("warning:")) << "the right leg's triple separates them: " << text;
+}
+
 // The "along" rule names two joints and a unit direction.
 TEST(DescribedDescribe, AnAlongRuleIsChecked) {
   auto with_rule = [](const nlohmann::json& rule) {
