@@ -75,7 +75,6 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   const VtkWidget::Renderers renderers = view_->addRenderers();
   renderer_ = renderers.scene;
   legend_ = renderers.legend;
-  handles_renderer_ = renderers.handles;
   view_->installEventFilter(this);
   // A camera this window placed and no one has moved frames the device in
   // the view's new shape (not a session's or a reload's, nor for a picture).
@@ -97,7 +96,7 @@ MechanismWindow::MechanismWindow(const Preset& preset, QWidget* parent)
   fields_->placeLegend();
   // Drag the driven point: a handle on it, solved by IK as it moves.
   handles_ = std::make_unique<ViewHandles>(
-      view_->interactor(), handles_renderer_,
+      view_->interactor(), renderers.handles,
       ViewHandles::Hooks{[this](const Eigen::Vector3d& p) { moveEndpointTo(p); },
                          [this] { handles_->place(endpoint()); },
                          [this](bool on) { fields_->setMoving(FieldDisplay::kHandleDrag, on); },

@@ -209,7 +209,6 @@ class MechanismWindow : public QMainWindow {
   std::unique_ptr<render::TaskScene> task_scene_;
   vtkRenderer* renderer_ = nullptr;  // owned by the view's render window
   vtkRenderer* legend_ = nullptr;    // the colour bar's strip, likewise
-  vtkRenderer* handles_renderer_ = nullptr;  // the handles' layer over the scene, likewise
   VtkWidget* view_ = nullptr;
   std::unique_ptr<ViewHandles> handles_;
   ViewTools* tools_ = nullptr;  // picking, ruler, line probe, standard views

@@ -104,8 +104,7 @@ std::string describe(const Preset& preset) {
       << act.range.lo * scale << " .. " << act.range.hi * scale << (act.prismatic ? " " + unit : " deg");
   }
   s << "\n";
-  int closed = 0;
-  for (std::size_t leg = 0; leg < m.legs.size(); ++leg) closed += k.closed_form(int(leg)) != nullptr;
+  const int closed = k.closed_form_count();
   s << "legs: " << m.legs.size() << " (" << closed << " in closed form, " << m.legs.size() - std::size_t(closed)
     << " numeric)\n";
   for (std::size_t leg = 0; leg < m.legs.size(); ++leg) {

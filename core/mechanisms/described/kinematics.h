@@ -150,6 +150,10 @@ class Kinematics {
   // The leg's closed form (nullptr: solved numerically) and the bounds of the
   // distance from its base to its anchor (outside them it cannot close).
   const ClosedFormLeg* closed_form(int leg) const;
+  // How many legs have a closed form (the others are solved numerically).
+  int closed_form_count() const {
+    return int(std::count_if(closed_.begin(), closed_.end(), [](const auto& f) { return f.has_value(); }));
+  }
   const Range& reach(int leg) const { return leg_reach_[std::size_t(leg)]; }
   // The bound about its first joint, which the numerical solver takes first.
   const FirstJointReach& reach_about_first_joint(int leg) const { return leg_reach_about_first_[std::size_t(leg)]; }

@@ -388,9 +388,7 @@ class DescribedMechanism final : public Mechanism {
     f.parameters = parameters();
     for (const Quantity& q : info_.parameters) f.parameter_units[q.name] = q.unit;  // an angle is not a length
     // "closed" where some leg has a closed form; a device with none is solved numerically throughout.
-    bool any_closed = false;
-    for (int l = 0; l < int(kin_.model().legs.size()); ++l) any_closed = any_closed || kin_.closed_form(l);
-    f.method = lanes ? kLanesName : method_name(any_closed ? solver : LegSolver::Numeric);
+    f.method = lanes ? kLanesName : method_name(kin_.closed_form_count() > 0 ? solver : LegSolver::Numeric);
     for (LegSolver k : {LegSolver::Fastest, LegSolver::Numeric}) f.method_names.emplace_back(method_name(k));  // by LegSolver
     f.method_names.emplace_back(kLanesName);  // kLanesCode
     f.branch = branch;

@@ -124,9 +124,14 @@ class Pathos2Mechanism final : public Mechanism {
       ik.failing_leg = st->leg_at_fault();
       out.status_text = "out-of-limits: " + stop_reason(*st);
     }
+    // Where the 6x6 J is singular (its condition past kMaxJacobianCondition),
+    // as measures() says: the legs close, the device does not hold the pose.
+    if (ik.status == Status::Ok && pathos2::jacobian(geometry_, pose, ik).status == Status::Singular)
+      ik.status = Status::Singular;
     out.status = ik.status;
     if (ik.failing_leg >= 0) out.failing_part = std::to_string(ik.failing_leg + 1);
-    if (ik.status == Status::Ok) out.solutions.push_back(linkscape::IkSolution{ik.q_active, 0, Status::Ok, 0.0, 0, "closed", {}});
+    if (ik.status == Status::Ok || ik.status == Status::Singular)
+      out.solutions.push_back(linkscape::IkSolution{ik.q_active, 0, ik.status, 0.0, 0, "closed", {}});
     return out;
   }
 

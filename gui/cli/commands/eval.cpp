@@ -113,17 +113,14 @@ void write_ik(const Mechanism& m, const Table& table, const IkOptions& ik, std::
     check_read_coordinates(info, x, "");
     const IkResult r = m.inverse(x, ik);
     for (const IkSolution& s : r.solutions) {
+      out << where;
+      if (c.ik_branch) out << s.branch << ",";
+      out << to_string(s.status);
+      if (!c.ik_failing_part.empty()) out << "," << csv_text(s.failing_part);
+      for (Eigen::Index k = 0; k < s.q.size(); ++k) out << "," << csv_number(s.q(k));
       // Measures only where the legs close (not where the solver stopped short or missed).
       const bool closes = s.status == Status::Ok || s.status == Status::OutOfLimits || s.status == Status::Singular;
       const Measures meas = closes ? m.measures(s.q, x) : Measures{};
-      // An ok solution whose J the device finds singular is singular (PATHOS-II's
-      // IK had been ok beside c(J) inf).
-      const Status status = s.status == Status::Ok && meas.status == Status::Singular ? Status::Singular : s.status;
-      out << where;
-      if (c.ik_branch) out << s.branch << ",";
-      out << to_string(status);
-      if (!c.ik_failing_part.empty()) out << "," << csv_text(s.failing_part);
-      for (Eigen::Index k = 0; k < s.q.size(); ++k) out << "," << csv_number(s.q(k));
       for (std::size_t k = 0; k < info.measures.size(); ++k)
         out << "," << (k < meas.values.size() ? csv_number(meas.values[k]) : "");
       if (c.ik_det) out << "," << (closes ? csv_number(meas.det) : "");
