@@ -24,6 +24,11 @@ struct ThreadSeeds {
   std::vector<std::vector<std::optional<LegState>>> legs;  // per leg, per combination
 };
 thread_local ThreadSeeds thread_seeds;
+
+// The travel search's paths start from the seeds' assemblies, home, and this
+// many spread seeds: on an arm with offset elbows, enough to find every
+// assembly within the travel a finer scan finds (docs/described-mechanisms.md).
+constexpr int kTravelSearchSpreadSeeds = 3;
 }  // namespace
 
 
@@ -133,7 +138,7 @@ bool Kinematics::within_travel(int leg, const LegState& state) const {
 // ---- Leg inverse kinematics ----------------------------------------------------
 
 Kinematics::LegSolveResult Kinematics::solve_leg(int leg, const Isometry3d& anchor, LegState s, int max_iterations,
-                                                 double crawl) const {
+                                                 double crawl, int held) const {
   const Leg& l = model_.legs[std::size_t(leg)];
   const double size = model_.size;
   // Scratch chains and states reused across iterations (no allocation in the loop).
@@ -147,6 +152,7 @@ Kinematics::LegSolveResult Kinematics::solve_leg(int leg, const Isometry3d& anch
   int it = 0;
   for (; it < max_iterations && norm > 1e-15; ++it) {
     for (int v = 0; v < l.variables; ++v) J.col(v) = rows_of(twist(c, v, c.end.translation(), size), model_.planar);
+    if (held >= 0) J.col(held).setZero();
     auto d = damped_step(J, e, 1e-6);
     limit_step(d, c.sliding, size);
     bool accepted = false;
@@ -171,6 +177,7 @@ Kinematics::LegSolveResult Kinematics::solve_leg(int leg, const Isometry3d& anch
     if (!accepted) break;  // no decrease along the step: a least-squares minimum
   }
   for (int v = 0; v < l.variables; ++v) J.col(v) = rows_of(twist(c, v, c.end.translation(), size), model_.planar);
+  if (held >= 0) J.col(held).setZero();
   const VectorXd gradient = MatrixXd(J).transpose() * VectorXd(e);
   out.stationary = gradient.norm() <= 1e-6 * J.norm() * norm;
   out.state = std::move(s);
@@ -364,6 +371,22 @@ LegSolution Kinematics::solve_leg_numeric(int leg, const Isometry3d& anchor, int
       if (r.stationary && ++stationary_misses >= 2 && !found_other_branch) break;
     }
   }
+  // The seeds closed the leg, but not on the branch within its travel: that
+  // tells nothing of the assemblies they did not find. The actuator swept
+  // over its travel looks for one.
+  if (outside_travel || found_other_branch) {
+    std::vector<const LegState*> starts;
+    if (outside_travel) starts.push_back(&outside_travel->state);
+    if (found_other_branch) starts.push_back(&best.state);
+    if (const auto& home = home_states_[std::size_t(leg)][std::size_t(combo)]) starts.push_back(&*home);
+    for (int i = 0; i < kTravelSearchSpreadSeeds; ++i) starts.push_back(&spread_seeds_[std::size_t(leg)][std::size_t(i)]);
+    LegSolution inside;
+    if (search_travel(leg, anchor, branch, tolerance, starts, inside, iterations)) {
+      inside.iterations = iterations;
+      tls.legs[std::size_t(leg)][std::size_t(combo)] = inside.state;
+      return inside;
+    }
+  }
   if (outside_travel) {
     // The next sample starts from the fixed seeds, which decide such an
     // answer anyway: the thread's last solution, within the travel and now
@@ -377,6 +400,71 @@ LegSolution Kinematics::solve_leg_numeric(int leg, const Isometry3d& anchor, int
   best.status = found_other_branch ? Status::NotConverged : Status::Unreachable;
   best.iterations = iterations;
   return best;
+}
+
+bool Kinematics::same_assembly(int leg, const LegState& a, const LegState& b) const {
+  constexpr double kApart = 1e-2;  // radians, or the size's fraction
+  for (const Step& step : model_.legs[std::size_t(leg)].steps) {
+    const double d = a.values(step.variable) - b.values(step.variable);
+    if (step.kind == Kind::Revolute && std::abs(wrap(d)) > kApart) return false;
+    if (step.kind == Kind::Prismatic && std::abs(d) > kApart * model_.size) return false;
+  }
+  for (std::size_t i = 0; i < a.spheres.size(); ++i)
+    if ((a.spheres[i] - b.spheres[i]).norm() > kApart) return false;
+  return true;
+}
+
+bool Kinematics::search_travel(int leg, const Isometry3d& anchor, int branch, double tolerance,
+                               const std::vector<const LegState*>& starts, LegSolution& out, int& iterations) const {
+  const Leg& l = model_.legs[std::size_t(leg)];
+  if (l.actuators.size() != 1) return false;
+  const Actuator& act = model_.actuators[std::size_t(l.actuators.front())];
+  if (!act.limited) return false;  // the seeds' assemblies are all within it
+  const int variable = l.steps[std::size_t(act.step)].variable;
+  // Steps over the travel, each from the last (the passive joints follow the
+  // actuator as one branch of the leg's motion).
+  constexpr int kSteps = 8;
+  thread_local std::vector<LegSolveResult> path;
+  thread_local std::vector<LegState> taken;  // the paths' steps, path by path
+  thread_local std::vector<int> minima;
+  taken.clear();
+  for (const LegState* start : starts) {
+    path.clear();
+    LegState s = *start;
+    for (int i = 0; i < kSteps; ++i) {
+      s.values(variable) = act.range.lo + (i + 0.5) / kSteps * (act.range.hi - act.range.lo);
+      path.push_back(solve_leg(leg, anchor, s, 8, 1e-2, variable));
+      iterations += path.back().iterations;
+      s = path.back().state;
+      // A path that joins one already taken would repeat it.
+      bool joins = false;
+      for (std::size_t t = std::size_t(i); t < taken.size() && !joins; t += std::size_t(kSteps))
+        joins = same_assembly(leg, s, taken[t]);
+      if (joins) break;
+    }
+    if (int(path.size()) < kSteps) continue;
+    for (const LegSolveResult& r : path) taken.push_back(r.state);
+    // Released where the error is least along the path (a local minimum; an
+    // assembly within the travel is one), the least first.
+    minima.clear();
+    for (int i = 0; i < kSteps; ++i) {
+      const double e = path[std::size_t(i)].error;
+      if ((i == 0 || e <= path[std::size_t(i - 1)].error) && (i + 1 == kSteps || e <= path[std::size_t(i + 1)].error))
+        minima.push_back(i);
+    }
+    std::sort(minima.begin(), minima.end(),
+              [&](int a, int b) { return path[std::size_t(a)].error < path[std::size_t(b)].error; });
+    for (int i : minima) {
+      LegSolveResult r = solve_leg(leg, anchor, path[std::size_t(i)].state, 40, 1e-3);
+      iterations += r.iterations;
+      if (r.error > tolerance || !within_travel(leg, r.state) || !signs_match(leg, r.state, anchor, branch)) continue;
+      out.state = std::move(r.state);
+      out.status = Status::Ok;
+      out.residual = r.error * model_.size;
+      return true;
+    }
+  }
+  return false;
 }
 
 PoseSolution Kinematics::inverse(const VectorXd& x, int branch, double tolerance, LegSolver solver) const {

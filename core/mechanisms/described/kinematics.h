@@ -213,9 +213,10 @@ class Kinematics {
   ForwardSolution forward_from(const Eigen::VectorXd& q, const Eigen::VectorXd& seed, double tolerance,
                                int max_iterations) const;
   // Damped Gauss-Newton on one leg; stops when an iteration gains less than
-  // `crawl` (relative) away from a solution.
+  // `crawl` (relative) away from a solution. The variable `held` (>= 0)
+  // stays where the state has it.
   LegSolveResult solve_leg(int leg, const Eigen::Isometry3d& anchor, LegState state, int max_iterations,
-                           double crawl) const;
+                           double crawl, int held = -1) const;
   // Beyond how far outside a bound the numerical solver's legs are refused:
   // its tolerance (at least 1e-9), times the size.
   double refusal_cut(double tolerance) const { return std::max(1e-9, tolerance) * model_.size; }
@@ -228,6 +229,16 @@ class Kinematics {
   // depends on the anchor alone. False where the turn is not defined (the
   // anchor or the end on the axis, or at the centre).
   bool home_toward(int leg, int combo, const Eigen::Isometry3d& anchor, LegState& out) const;
+  // Where the seeds closed the leg only outside its travel or off the branch:
+  // the actuator swept over its travel (the passive joints following it),
+  // released where the closure error is least. An assembly found on the
+  // branch within the travel goes to `out`; false where none is.
+  // Whether two states of a leg are one assembly (within 0.01 rad, or 0.01
+  // of the size).
+  bool same_assembly(int leg, const LegState& a, const LegState& b) const;
+  // Its iterations are added to `iterations`.
+  bool search_travel(int leg, const Eigen::Isometry3d& anchor, int branch, double tolerance,
+                     const std::vector<const LegState*>& starts, LegSolution& out, int& iterations) const;
   // The numerical solver from seeds (after the reach bounds).
   LegSolution solve_leg_numeric(int leg, const Eigen::Isometry3d& anchor, int branch, double tolerance,
                                 const LegState* extra_seed) const;
