@@ -28,7 +28,7 @@ thread_local ThreadSeeds thread_seeds;
 // The travel search's paths start from the seeds' assemblies, home, and this
 // many spread seeds: on an arm with offset elbows, enough to find every
 // assembly within the travel a finer scan finds (docs/described-mechanisms.md).
-constexpr int kTravelSearchSpreadSeeds = 3;
+constexpr int kTravelSearchSpreadSeeds = 2;
 }  // namespace
 
 
@@ -262,6 +262,13 @@ double Kinematics::reach_outside(int leg, const Isometry3d& anchor, bool about_f
   return std::max(from_base, leg_reach_about_first_[std::size_t(leg)].outside(anchor.translation()));
 }
 
+double Kinematics::travel_outside(int leg, const Isometry3d& anchor) const {
+  const double distance = (anchor.translation() - model_.legs[std::size_t(leg)].base.translation()).norm();
+  const Range& reach = leg_travel_reach_[std::size_t(leg)];
+  return std::max({distance - reach.hi, reach.lo - distance,
+                   leg_travel_about_first_[std::size_t(leg)].outside(anchor.translation())});
+}
+
 void Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int branch, double tolerance,
                               const LegState* extra_seed, LegSolver solver, LegSolution& out, bool close) const {
   // Outside a bound no seed can help: the miss is at least the distance
@@ -373,8 +380,8 @@ LegSolution Kinematics::solve_leg_numeric(int leg, const Isometry3d& anchor, int
   }
   // The seeds closed the leg, but not on the branch within its travel: that
   // tells nothing of the assemblies they did not find. The actuator swept
-  // over its travel looks for one.
-  if (outside_travel || found_other_branch) {
+  // over its travel looks for one, where the bounds within the travel allow one.
+  if ((outside_travel || found_other_branch) && !(travel_outside(leg, anchor) > refusal_cut(tolerance))) {
     std::vector<const LegState*> starts;
     if (outside_travel) starts.push_back(&outside_travel->state);
     if (found_other_branch) starts.push_back(&best.state);

@@ -160,6 +160,9 @@ class Kinematics {
   // How far the anchor lies outside the leg's reach bounds (> 0: it cannot
   // close): from its base, and about its first joint unless told not to.
   double reach_outside(int leg, const Eigen::Isometry3d& anchor, bool about_first_joint = true) const;
+  // The same with the leg's actuators held within their travel (> 0: no
+  // assembly of the leg within its travel reaches the anchor).
+  double travel_outside(int leg, const Eigen::Isometry3d& anchor) const;
   // The rank of the leg's passive joints' twists at home: one less than the
   // closure's rows where the leg transmits one wrench (its closed wrench serves).
   int passive_rank(int leg) const { return passive_rank_[std::size_t(leg)]; }
@@ -267,6 +270,9 @@ class Kinematics {
   // Per leg, per combination of its free rules' signs: the leg at home.
   std::vector<std::vector<std::optional<LegState>>> home_states_;
   std::vector<std::vector<LegState>> spread_seeds_;
+  // Per leg: its reach bounds with its actuators within their travel.
+  std::vector<Range> leg_travel_reach_;
+  std::vector<FirstJointReach> leg_travel_about_first_;
   // Per leg, per combination: the end's centre at home; per leg: its first
   // joint (home_toward).
   std::vector<std::vector<Eigen::Vector3d>> home_ends_;

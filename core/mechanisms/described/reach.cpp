@@ -9,19 +9,40 @@ namespace linkscape::described {
 
 namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kPi = 3.14159265358979323846;
 using Kind = Step::Kind;
 }  // namespace
 
-Range chain_reach(const Leg& leg, std::size_t first) {
-  double sum = 0, longest = 0;
+namespace {
+// The travel of the actuator a step drives, where `travel` is given and
+// limits it; null otherwise.
+const Range* travel_of(const Step& step, const std::vector<Actuator>* travel) {
+  if (!travel || step.actuator < 0) return nullptr;
+  const Actuator& a = (*travel)[std::size_t(step.actuator)];
+  return a.limited ? &a.range : nullptr;
+}
+}  // namespace
+
+Range chain_reach(const Leg& leg, std::size_t first, const std::vector<Actuator>* travel) {
+  // Each link between its least and its most length: the end is at most
+  // the sum of the most, at least any link's least less the others' most.
+  std::vector<Range> links;
   for (std::size_t i = first; i < leg.steps.size(); ++i) {
     const Step& step = leg.steps[i];
-    if (step.kind == Kind::Prismatic) return {0.0, kInf};  // IK solves without the travel
-    const double length = step.kind == Kind::Fixed ? step.transform.translation().norm() : 0.0;
-    sum += length;
-    longest = std::max(longest, length);
+    if (step.kind == Kind::Prismatic) {
+      const Range* r = travel_of(step, travel);
+      if (!r) return {0.0, kInf};  // IK solves without the travel
+      const double least = r->lo <= 0 && r->hi >= 0 ? 0.0 : std::min(std::abs(r->lo), std::abs(r->hi));
+      links.push_back({least, std::max(std::abs(r->lo), std::abs(r->hi))});
+    } else if (step.kind == Kind::Fixed) {
+      const double length = step.transform.translation().norm();
+      links.push_back({length, length});
+    }
   }
-  return {std::max(0.0, 2 * longest - sum), sum};
+  double most = 0, least = 0;
+  for (const Range& l : links) most += l.hi;
+  for (const Range& l : links) least = std::max(least, l.lo - (most - l.hi));
+  return {least, most};
 }
 
 FirstJoint first_joint(const Leg& leg) {
@@ -31,7 +52,7 @@ FirstJoint first_joint(const Leg& leg) {
   return f;
 }
 
-FirstJointReach first_joint_reach(const Leg& leg) {
+FirstJointReach first_joint_reach(const Leg& leg, const std::vector<Actuator>* travel) {
   FirstJointReach r;
   const FirstJoint first = first_joint(leg);
   const Eigen::Isometry3d& T = first.frame;
@@ -42,7 +63,8 @@ FirstJointReach first_joint_reach(const Leg& leg) {
   Eigen::Isometry3d links = Eigen::Isometry3d::Identity();
   while (i < leg.steps.size() && leg.steps[i].kind == Kind::Fixed) links = links * leg.steps[i++].transform;
   const Eigen::Vector3d carried = T.linear() * links.translation();  // P - the joint's point, at zero
-  r.rest = chain_reach(leg, i);
+  r.rest = chain_reach(leg, i, travel);
+  if (const Range* values = travel_of(joint, travel)) r.values = *values;
   if (std::isinf(r.rest.hi)) return r;  // a slide further on: no bound
   r.centre = T.translation();
   switch (joint.kind) {
@@ -51,6 +73,7 @@ FirstJointReach first_joint_reach(const Leg& leg) {
       r.axis = T.linear() * joint.axis;
       r.height = carried.dot(r.axis);
       r.radius = (carried - r.height * r.axis).norm();
+      if (r.radius > 0) r.zero = (carried - r.height * r.axis) / r.radius;
       break;
     }
     case Kind::Spherical:
@@ -79,9 +102,26 @@ double FirstJointReach::outside(const Eigen::Vector3d& p) const {
       return -kInf;
     case Motion::Turn: {
       const double along = w.dot(axis), z = along - height;
-      const double rho = (w - along * axis).norm();
-      nearest = std::hypot(z, rho - radius);
-      farthest = std::hypot(z, rho + radius);
+      const Eigen::Vector3d radial = w - along * axis;
+      const double rho = radial.norm();
+      // P at angle t: its distance from p grows with |t - the angle of p|
+      // (modulo a turn); on an arc, the nearest and the farthest angle are
+      // those of p and its opposite where the arc holds them, else an end.
+      double near_turn = 0, far_turn = kPi;
+      if (values.hi - values.lo < 2 * kPi) {
+        const double at = std::atan2(radial.dot(axis.cross(zero)), radial.dot(zero));
+        const auto apart = [&](double t, double from) { return std::abs(std::remainder(t - from, 2 * kPi)); };
+        const auto within = [&](double from) {
+          return values.contains(values.lo + std::fmod(std::fmod(from - values.lo, 2 * kPi) + 2 * kPi, 2 * kPi));
+        };
+        near_turn = within(at) ? 0.0 : std::min(apart(values.lo, at), apart(values.hi, at));
+        far_turn = within(at + kPi) ? kPi : std::max(apart(values.lo, at), apart(values.hi, at));
+      }
+      const auto from_p = [&](double turn) {
+        return std::sqrt(std::max(0.0, z * z + rho * rho + radius * radius - 2 * rho * radius * std::cos(turn)));
+      };
+      nearest = from_p(near_turn);
+      farthest = from_p(far_turn);
       break;
     }
     case Motion::Ball: {
@@ -90,9 +130,14 @@ double FirstJointReach::outside(const Eigen::Vector3d& p) const {
       farthest = n + radius;
       break;
     }
-    case Motion::Slide:
-      nearest = (w - w.dot(axis) * axis).norm();
+    case Motion::Slide: {
+      const double along = w.dot(axis);
+      const double off = (w - along * axis).norm();
+      nearest = std::hypot(off, along - std::clamp(along, values.lo, values.hi));
+      if (std::isfinite(values.lo) && std::isfinite(values.hi))
+        farthest = std::hypot(off, std::max(along - values.lo, values.hi - along));
       break;
+    }
   }
   return std::max(nearest - rest.hi, rest.lo - farthest);
 }

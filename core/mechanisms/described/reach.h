@@ -5,6 +5,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
+#include <vector>
 
 #include "core/mechanisms/described/model.h"
 #include "core/range.h"
@@ -13,8 +15,10 @@ namespace linkscape::described {
 
 // The distance from the end of the steps before `first` to the leg's end:
 // at least the longest link less all the others, at most their sum,
-// whatever the joints do (unbounded with a slide).
-Range chain_reach(const Leg& leg, std::size_t first = 0);
+// whatever the joints do (unbounded with a slide). Given `travel` (the
+// model's actuators), the actuated slides within their travel instead: a
+// link of a length between the least and the most the travel gives.
+Range chain_reach(const Leg& leg, std::size_t first = 0, const std::vector<Actuator>* travel = nullptr);
 
 // The leg's end about its first joint: the point P the joint carries (the
 // start of the next joint's links) moves on a circle about a revolute's
@@ -27,6 +31,10 @@ struct FirstJointReach {
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();   // Turn, Slide: unit
   double radius = 0;  // Turn: the circle's; Ball: the sphere's
   double height = 0;  // Turn: the circle's plane along the axis from `centre`
+  Eigen::Vector3d zero = Eigen::Vector3d::UnitX();  // Turn: P's direction from the axis at the joint's zero
+  // The joint's values P takes (an actuator held within its travel: an arc,
+  // a segment); unbounded otherwise.
+  Range values{-std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
   Range rest;
   // How far the end at p is outside the bound (> 0: the leg cannot reach p
   // and misses it by at least that much); -inf with no bound.
@@ -43,6 +51,8 @@ struct FirstJoint {
 FirstJoint first_joint(const Leg& leg);
 
 // Motion None for a leg without joints or with a slide after its first joint.
-FirstJointReach first_joint_reach(const Leg& leg);
+// Given `travel` (the model's actuators), an actuated first joint within its
+// travel, and the rest's slides too (chain_reach).
+FirstJointReach first_joint_reach(const Leg& leg, const std::vector<Actuator>* travel = nullptr);
 
 }  // namespace linkscape::described

@@ -41,6 +41,17 @@ Isometry3d anchor_near(const Model& m, const Leg& l, std::mt19937_64& rng) {
   return anchor;
 }
 
+// A leg's state at random joint values (lengths up to the size).
+LegState random_state(const Model& m, const Leg& l, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> unit(-1, 1);
+  LegState s;
+  s.values.resize(l.variables);
+  for (int v = 0; v < l.variables; ++v) s.values(v) = 4 * unit(rng) * (v % 2 ? 1.0 : m.size / 4);
+  for (int b = 0; b < l.spheres; ++b)
+    s.spheres.push_back(internal::rotation_of(Vector3d(unit(rng), unit(rng), unit(rng)) * 2.0));
+  return s;
+}
+
 TEST(DescribedReach, ChainsAtRandomJointValuesLieWithinTheirBounds) {
   std::mt19937_64 rng(21);
   std::uniform_real_distribution<double> unit(-1, 1);
@@ -54,11 +65,7 @@ TEST(DescribedReach, ChainsAtRandomJointValuesLieWithinTheirBounds) {
         const FirstJointReach& about = k.reach_about_first_joint(int(leg));
         bounded += about.motion != FirstJointReach::Motion::None;
         for (int i = 0; i < 3000; ++i, ++checked) {
-          LegState s;
-          s.values.resize(l.variables);
-          for (int v = 0; v < l.variables; ++v) s.values(v) = 4 * unit(rng) * (v % 2 ? 1.0 : m.size / 4);
-          for (int b = 0; b < l.spheres; ++b)
-            s.spheres.push_back(internal::rotation_of(Vector3d(unit(rng), unit(rng), unit(rng)) * 2.0));
+          const LegState s = random_state(m, l, rng);
           const Vector3d end = internal::walk(l, s).end.translation();
           const double distance = (end - l.base.translation()).norm();
           EXPECT_LE(distance, k.reach(int(leg)).hi + tolerance) << name << " leg " << l.name;
@@ -128,6 +135,71 @@ TEST(DescribedReach, ACrankAndARodAreBoundExactly) {
       }
     }
   EXPECT_GT(compared, 20000);
+}
+
+// Whether a state's actuators lie within their travel (a revolute's: some turn of it).
+bool within_travel(const Model& m, const Leg& l, const LegState& s) {
+  for (int a : l.actuators) {
+    const Actuator& act = m.actuators[std::size_t(a)];
+    const double v = s.values(l.steps[std::size_t(act.step)].variable);
+    const bool inside = act.prismatic ? act.range.contains(v)
+                                      : act.range.contains(act.range.lo + std::fmod(std::fmod(v - act.range.lo, 2 * M_PI) + 2 * M_PI, 2 * M_PI));
+    if (act.limited && !inside) return false;
+  }
+  return true;
+}
+
+// The bounds with the actuators within their travel, which decide whether
+// the numerical solver searches the travel for an assembly its seeds did
+// not find: a chain whose actuators are within their travel lies within
+// them, and where they refuse an anchor no closed-form solution is within
+// the travel. For a crank and a rod, or a slide and a rod, they are exact.
+TEST(DescribedReach, TheTravelBoundsHoldEveryAssemblyWithinTheTravel) {
+  std::mt19937_64 rng(27);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  int chains = 0, refused = 0, admitted_exactly = 0;
+  for (const std::string& name : shipped_descriptions())
+    for (const Kinematics& k : designs_of(name, rng)) {
+      const Model& m = k.model();
+      const double tolerance = 1e-9 * m.size;
+      for (std::size_t leg = 0; leg < m.legs.size(); ++leg) {
+        const Leg& l = m.legs[leg];
+        for (int i = 0; i < 1000; ++i) {
+          LegState s = random_state(m, l, rng);
+          for (int a : l.actuators) {  // within the travel
+            const Actuator& act = m.actuators[std::size_t(a)];
+            if (act.limited)
+              s.values(l.steps[std::size_t(act.step)].variable) = act.range.lo + 0.5 * (1 + unit(rng)) * (act.range.hi - act.range.lo);
+          }
+          const Isometry3d end = internal::walk(l, s).end;
+          EXPECT_LE(k.travel_outside(int(leg), end), tolerance) << name << " leg " << l.name;
+          ++chains;
+        }
+        if (!k.closed_form(int(leg))) continue;
+        const LegPattern pattern = k.closed_form(int(leg))->pattern;
+        const bool exact = pattern == LegPattern::CrankRod || pattern == LegPattern::SlideRod;
+        for (int i = 0; i < 1000; ++i) {
+          const Isometry3d anchor = anchor_near(m, l, rng);
+          LegCandidates c;
+          solve_closed(*k.closed_form(int(leg)), m, l, anchor, c);
+          if (c.undecided) continue;
+          bool any_within = false;
+          for (int j = 0; j < c.count; ++j) any_within = any_within || within_travel(m, l, c.states[std::size_t(j)]);
+          const double outside = k.travel_outside(int(leg), anchor);
+          if (outside > tolerance) {
+            ++refused;
+            EXPECT_FALSE(any_within) << name << " leg " << l.name << " refused by " << outside;
+          } else if (exact && outside < -tolerance) {
+            ++admitted_exactly;
+            EXPECT_TRUE(any_within) << name << " leg " << l.name << " within by " << -outside;
+          }
+        }
+      }
+    }
+  std::printf("travel bounds: %d chains within them, %d anchors refused, %d admitted exactly\n", chains, refused,
+              admitted_exactly);
+  EXPECT_GT(refused, 20000);
+  EXPECT_GT(admitted_exactly, 1000);
 }
 
 // The numerical solver: a pose a bound rules out costs no iteration, its
