@@ -234,8 +234,8 @@ Kinematics::Kinematics(Model model) : model_(std::move(model)), id_(next_id++) {
   for (const Leg& l : model_.legs) {
     leg_reach_.push_back(chain_reach(l));
     leg_reach_about_first_.push_back(model_.planar ? FirstJointReach{} : first_joint_reach(l));
-    leg_travel_reach_.push_back(chain_reach(l, 0, &model_.actuators));
-    leg_travel_about_first_.push_back(model_.planar ? FirstJointReach{} : first_joint_reach(l, &model_.actuators));
+    leg_travel_reach_.push_back(chain_reach(l, 0, &model_.actuators, model_.planar));
+    leg_travel_about_first_.push_back(first_joint_reach(l, &model_.actuators, model_.planar));
   }
   // Spread seeds: the chain as written, then joint values spread over a turn.
   for (const Leg& l : model_.legs) {

@@ -263,7 +263,9 @@ double Kinematics::reach_outside(int leg, const Isometry3d& anchor, bool about_f
 }
 
 double Kinematics::travel_outside(int leg, const Isometry3d& anchor) const {
-  const double distance = (anchor.translation() - model_.legs[std::size_t(leg)].base.translation()).norm();
+  Vector3d from_base = anchor.translation() - model_.legs[std::size_t(leg)].base.translation();
+  if (model_.planar) from_base.z() = 0;
+  const double distance = from_base.norm();
   const Range& reach = leg_travel_reach_[std::size_t(leg)];
   return std::max({distance - reach.hi, reach.lo - distance,
                    leg_travel_about_first_[std::size_t(leg)].outside(anchor.translation())});
@@ -428,9 +430,11 @@ bool Kinematics::search_travel(int leg, const Isometry3d& anchor, int branch, do
   const Actuator& act = model_.actuators[std::size_t(l.actuators.front())];
   if (!act.limited) return false;  // the seeds' assemblies are all within it
   const int variable = l.steps[std::size_t(act.step)].variable;
-  // Steps over the travel, each from the last (the passive joints follow the
-  // actuator as one branch of the leg's motion).
-  constexpr int kSteps = 8;
+  // Steps over the travel, each from the last: the passive joints follow the
+  // actuator as one branch of the leg's motion, by three iterations a step
+  // (to follow, not to settle on the least error). Six steps and three
+  // iterations find, on the arm with offset elbows, what eight and eight do.
+  constexpr int kSteps = 6;
   thread_local std::vector<LegSolveResult> path;
   thread_local std::vector<LegState> taken;  // the paths' steps, path by path
   thread_local std::vector<int> minima;
@@ -440,7 +444,7 @@ bool Kinematics::search_travel(int leg, const Isometry3d& anchor, int branch, do
     LegState s = *start;
     for (int i = 0; i < kSteps; ++i) {
       s.values(variable) = act.range.lo + (i + 0.5) / kSteps * (act.range.hi - act.range.lo);
-      path.push_back(solve_leg(leg, anchor, s, 8, 1e-2, variable));
+      path.push_back(solve_leg(leg, anchor, s, 3, 1e-2, variable));
       iterations += path.back().iterations;
       s = path.back().state;
       // A path that joins one already taken would repeat it.

@@ -21,9 +21,11 @@ const Range* travel_of(const Step& step, const std::vector<Actuator>* travel) {
   const Actuator& a = (*travel)[std::size_t(step.actuator)];
   return a.limited ? &a.range : nullptr;
 }
+
+double length_of(const Eigen::Vector3d& v, bool in_plane) { return in_plane ? v.head<2>().norm() : v.norm(); }
 }  // namespace
 
-Range chain_reach(const Leg& leg, std::size_t first, const std::vector<Actuator>* travel) {
+Range chain_reach(const Leg& leg, std::size_t first, const std::vector<Actuator>* travel, bool in_plane) {
   // Each link between its least and its most length: the end is at most
   // the sum of the most, at least any link's least less the others' most.
   std::vector<Range> links;
@@ -33,9 +35,10 @@ Range chain_reach(const Leg& leg, std::size_t first, const std::vector<Actuator>
       const Range* r = travel_of(step, travel);
       if (!r) return {0.0, kInf};  // IK solves without the travel
       const double least = r->lo <= 0 && r->hi >= 0 ? 0.0 : std::min(std::abs(r->lo), std::abs(r->hi));
-      links.push_back({least, std::max(std::abs(r->lo), std::abs(r->hi))});
+      const double scale = length_of(step.axis, in_plane);  // a planar device turns its steps about z only
+      links.push_back({scale * least, scale * std::max(std::abs(r->lo), std::abs(r->hi))});
     } else if (step.kind == Kind::Fixed) {
-      const double length = step.transform.translation().norm();
+      const double length = length_of(step.transform.translation(), in_plane);
       links.push_back({length, length});
     }
   }
@@ -52,7 +55,7 @@ FirstJoint first_joint(const Leg& leg) {
   return f;
 }
 
-FirstJointReach first_joint_reach(const Leg& leg, const std::vector<Actuator>* travel) {
+FirstJointReach first_joint_reach(const Leg& leg, const std::vector<Actuator>* travel, bool in_plane) {
   FirstJointReach r;
   const FirstJoint first = first_joint(leg);
   const Eigen::Isometry3d& T = first.frame;
@@ -62,8 +65,17 @@ FirstJointReach first_joint_reach(const Leg& leg, const std::vector<Actuator>* t
   // The links between the first joint and the next one, in the joint's frame at zero.
   Eigen::Isometry3d links = Eigen::Isometry3d::Identity();
   while (i < leg.steps.size() && leg.steps[i].kind == Kind::Fixed) links = links * leg.steps[i++].transform;
-  const Eigen::Vector3d carried = T.linear() * links.translation();  // P - the joint's point, at zero
-  r.rest = chain_reach(leg, i, travel);
+  Eigen::Vector3d carried = T.linear() * links.translation();  // P - the joint's point, at zero
+  r.rest = chain_reach(leg, i, travel, in_plane);
+  r.in_plane = in_plane;
+  if (in_plane) {
+    // A turn about the plane's normal or a slide along the plane, in it.
+    const Eigen::Vector3d axis = T.linear() * joint.axis;
+    const bool stays = (joint.kind == Kind::Revolute && std::abs(std::abs(axis.z()) - 1) < 1e-12) ||
+                       (joint.kind == Kind::Prismatic && std::abs(axis.z()) < 1e-12);
+    if (!stays) return r;
+    carried.z() = 0;
+  }
   if (const Range* values = travel_of(joint, travel)) r.values = *values;
   if (std::isinf(r.rest.hi)) return r;  // a slide further on: no bound
   r.centre = T.translation();
@@ -92,7 +104,8 @@ FirstJointReach first_joint_reach(const Leg& leg, const std::vector<Actuator>* t
 }
 
 double FirstJointReach::outside(const Eigen::Vector3d& p) const {
-  const Eigen::Vector3d w = p - centre;
+  Eigen::Vector3d w = p - centre;
+  if (in_plane) w.z() = 0;
   // The nearest and farthest points of P's path from p: the end is within
   // [rest.lo, rest.hi] of one of them, so (triangle rule) at least
   // nearest - rest.hi and rest.lo - farthest from p.

@@ -18,7 +18,9 @@ namespace linkscape::described {
 // whatever the joints do (unbounded with a slide). Given `travel` (the
 // model's actuators), the actuated slides within their travel instead: a
 // link of a length between the least and the most the travel gives.
-Range chain_reach(const Leg& leg, std::size_t first = 0, const std::vector<Actuator>* travel = nullptr);
+// `in_plane`: a planar device's distances, in its plane.
+Range chain_reach(const Leg& leg, std::size_t first = 0, const std::vector<Actuator>* travel = nullptr,
+                  bool in_plane = false);
 
 // The leg's end about its first joint: the point P the joint carries (the
 // start of the next joint's links) moves on a circle about a revolute's
@@ -36,6 +38,7 @@ struct FirstJointReach {
   // a segment); unbounded otherwise.
   Range values{-std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
   Range rest;
+  bool in_plane = false;  // a planar device's: distances in its plane (a turn's axis its normal)
   // How far the end at p is outside the bound (> 0: the leg cannot reach p
   // and misses it by at least that much); -inf with no bound.
   double outside(const Eigen::Vector3d& p) const;
@@ -52,7 +55,9 @@ FirstJoint first_joint(const Leg& leg);
 
 // Motion None for a leg without joints or with a slide after its first joint.
 // Given `travel` (the model's actuators), an actuated first joint within its
-// travel, and the rest's slides too (chain_reach).
-FirstJointReach first_joint_reach(const Leg& leg, const std::vector<Actuator>* travel = nullptr);
+// travel, and the rest's slides too (chain_reach). `in_plane`: a planar
+// device's, in its plane (Motion None where the joint leaves it).
+FirstJointReach first_joint_reach(const Leg& leg, const std::vector<Actuator>* travel = nullptr,
+                                  bool in_plane = false);
 
 }  // namespace linkscape::described
