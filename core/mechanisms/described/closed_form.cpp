@@ -24,6 +24,17 @@ struct Token {
 };
 using Type = Token::Type;
 
+}  // namespace
+
+bool meets_as_universal(const Leg& leg, std::size_t step) {
+  if (step + 1 >= leg.steps.size()) return false;
+  const Step &a = leg.steps[step], &b = leg.steps[step + 1];
+  return a.kind == Kind::Revolute && b.kind == Kind::Revolute && a.actuator < 0 && b.actuator < 0 &&
+         a.joint != b.joint && a.axis.cross(b.axis).norm() > 1e-6;
+}
+
+namespace {
+
 std::vector<Token> tokens_of(const Leg& leg) {
   std::vector<Token> out;
   for (std::size_t i = 0; i < leg.steps.size(); ++i) {
@@ -34,7 +45,7 @@ std::vector<Token> tokens_of(const Leg& leg) {
       continue;
     }
     if (s.kind == Kind::Revolute && !out.empty() && out.back().type == Type::Revolute &&
-        leg.steps[std::size_t(out.back().step)].joint == s.joint) {
+        (leg.steps[std::size_t(out.back().step)].joint == s.joint || meets_as_universal(leg, i - 1))) {
       out.back().type = Type::Universal;
       continue;
     }

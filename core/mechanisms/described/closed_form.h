@@ -39,6 +39,11 @@ enum class LegPattern {
 
 // The pattern's name as a description names it ("crank-rod", ..., "numeric").
 std::string pattern_name(LegPattern p);
+
+// Whether the leg's step and the next are two passive revolutes of two
+// joints as written, one right after the other (so at one point) with
+// crossing axes: a universal joint, recognised as one.
+bool meets_as_universal(const Leg& leg, std::size_t step);
 // The pattern a description names; throws std::invalid_argument listing the names.
 LegPattern pattern_of_name(const std::string& name);
 // A leg's joints in order as the patterns read them, the actuated one

@@ -15,17 +15,13 @@ namespace {
 // Two passive revolutes one after the other, with no link between them and
 // axes that cross, are a universal joint: a numeric leg written so may
 // take a closed form once written as one.
-std::string universal_hint(const Leg& l) {
-  for (std::size_t i = 0; i + 1 < l.steps.size(); ++i) {
-    const Step &a = l.steps[i], &b = l.steps[i + 1];
-    if (a.kind != Step::Kind::Revolute || b.kind != Step::Kind::Revolute || a.actuator >= 0 || b.actuator >= 0 ||
-        a.joint == b.joint || a.axis.cross(b.axis).norm() < 1e-6)
-      continue;
-    return "    hint: revolutes " + a.name + " and " + b.name +
-           " meet at one point with crossing axes; written as one universal joint (\"axes\": [their axes]) the "
-           "leg may take a closed form\n";
-  }
-  return "";
+std::string universal_note(const Leg& l) {
+  std::string out;
+  for (std::size_t i = 0; i + 1 < l.steps.size(); ++i)
+    if (meets_as_universal(l, i))
+      out += "    revolutes " + l.steps[i].name + " and " + l.steps[i + 1].name +
+             " meet at one point with crossing axes: taken as one universal joint\n";
+  return out;
 }
 
 std::string joint_name(const Leg& l, int step) { return step == -2 ? "anchor" : l.steps[std::size_t(step)].name; }
@@ -114,7 +110,7 @@ std::string describe(const Preset& preset) {
     if (!form) s << " (its joints: " << joint_sequence(l) << "; the closed forms' steps: docs/described-mechanisms.md)";
     if (form && form->end_joints == 2) s << " (ending in a universal joint: it holds the orientation too)";
     s << "\n";
-    if (!form) s << universal_hint(l);
+    s << universal_note(l);
     const Actuator& a = m.actuators[std::size_t(l.actuators.front())];
     s << "    actuator " << a.name << " (" << (a.prismatic ? "prismatic" : "revolute") << "), travel ";
     if (!a.limited) s << "a full turn";

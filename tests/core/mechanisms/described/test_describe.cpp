@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/mechanisms/described/kinematics.h"
 #include "core/mechanisms/described/mechanism.h"
 #include "core/preset.h"
 #include "tests/core/mechanisms/described/designs.h"
@@ -128,23 +129,43 @@ TEST(DescribedDescribe, ALegOfNoKnownPatternIsNumeric) {
 // The described Delta's elbows written as two revolutes at one point: a
 // universal joint the patterns do not read so, named in a hint; written as
 // a universal, the legs take their closed form.
-TEST(DescribedDescribe, TwoRevolutesAtOnePointGetAHint) {
+// Two revolutes at one point with crossing axes, written as two joints,
+// are solved as the universal joint they make: in closed form, with the
+// same actuators as the leg written with a universal.
+TEST(DescribedDescribe, TwoRevolutesAtOnePointAreTakenAsAUniversal) {
   Preset p = load_preset("delta-described");
   nlohmann::json d = nlohmann::json::parse(p.description);
   nlohmann::json& chain = d["legs"][0]["chain"];
-  chain[2] = {{"joint", "revolute"}, {"name", "elbow#"}, {"axis", {0, 1, 0}}};  // the branch rule names it
-  chain.insert(chain.begin() + 3, nlohmann::json{{"joint", "revolute"}, {"name", "eb#"}, {"axis", {0, 0, 1}}});
-  p.description = d.dump();
-  const std::string text = describe(p);
-  EXPECT_TRUE(has(text, "legs: 3 (0 in closed form, 3 numeric)")) << text;
-  EXPECT_TRUE(has(text, "    hint: revolutes elbow1 and eb1 meet at one point with crossing axes; written as one "
-                        "universal joint")) << text;
-  chain.erase(chain.begin() + 3);
   chain[2] = {{"joint", "universal"}, {"name", "elbow#"}, {"axes", {{0, 1, 0}, {0, 0, 1}}}};
   p.description = d.dump();
   const std::string universal = describe(p);
   EXPECT_TRUE(has(universal, "legs: 3 (3 in closed form, 0 numeric)")) << universal;
-  EXPECT_FALSE(has(universal, "hint:")) << universal;
+  EXPECT_FALSE(has(universal, "taken as one universal joint")) << universal;
+  const Kinematics written_universal(build_model(p.description, p.parameters, p.limits_deg, p.length_unit));
+
+  chain[2] = {{"joint", "revolute"}, {"name", "elbow#"}, {"axis", {0, 1, 0}}};  // the branch rule names it
+  chain.insert(chain.begin() + 3, nlohmann::json{{"joint", "revolute"}, {"name", "eb#"}, {"axis", {0, 0, 1}}});
+  p.description = d.dump();
+  const std::string text = describe(p);
+  EXPECT_TRUE(has(text, "legs: 3 (3 in closed form, 0 numeric)")) << text;
+  EXPECT_TRUE(has(text, "    revolutes elbow1 and eb1 meet at one point with crossing axes: taken as one universal "
+                        "joint\n")) << text;
+  const Kinematics two_revolutes(build_model(p.description, p.parameters, p.limits_deg, p.length_unit));
+  int compared = 0;
+  for (const double x : {-8.0, 0.0, 5.0})
+    for (const double z : {-30.0, -22.0, -14.0}) {
+      const Eigen::Vector3d at(x, 2.0, z);
+      const PoseSolution a = written_universal.inverse(at, 0, 1e-10), b = two_revolutes.inverse(at, 0, 1e-10);
+      ASSERT_EQ(a.status, b.status) << at.transpose();
+      if (a.status != Status::Ok) continue;
+      ++compared;
+      EXPECT_LT((a.q - b.q).norm(), 1e-12) << at.transpose();
+      // And as the numerical reference solves the two revolutes.
+      const PoseSolution n = two_revolutes.inverse(at, 0, 1e-10, LegSolver::Numeric);
+      ASSERT_EQ(n.status, Status::Ok) << at.transpose();
+      EXPECT_LT((n.q - b.q).norm(), 1e-9) << at.transpose();
+    }
+  EXPECT_GE(compared, 4);
 }
 
 TEST(DescribedDescribe, AnAssertedPatternIsChecked) {
