@@ -85,6 +85,13 @@ std::string describe(const Preset& preset) {
     << " idle, closure rank " << mb.closure_rank << "); " << m.actuators.size() << " actuator(s)";
   if (!m.extras.empty()) s << ", " << m.extras.size() << " extra(s)";
   s << "\n";
+  if (!mb.held_by_description_alone.empty()) {
+    s << "  held by the description alone: ";
+    for (std::size_t i = 0; i < mb.held_by_description_alone.size(); ++i)
+      s << (i ? ", " : "") << mb.held_by_description_alone[i];
+    s << " (the legs as written leave the platform free so: right for a point platform or parallelograms drawn as "
+         "single rods; else the device needs legs that hold it)\n";
+  }
   s << "branches: " << k.branches() << "\n";
   // Home is where every command and the window start: a home outside an
   // actuator's travel (a travel written in radians where degrees are read)

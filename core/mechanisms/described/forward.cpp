@@ -364,6 +364,25 @@ Kinematics::Kinematics(Model model) : model_(std::move(model)), id_(next_id++) {
     Eigen::FullPivLU<MatrixXd> lu(C);
     lu.setThreshold(1e-9);
     mobility_.closure_rank = columns - int(lu.rank());
+    // Each held coordinate released on its own: where the closure's rank
+    // does not grow with its column, the legs do not hold it.
+    static const char* const kNames[6] = {"x", "y", "z", "rx", "ry", "rz"};
+    for (int coordinate = 0; coordinate < 6; ++coordinate) {
+      if (model_.free[std::size_t(coordinate)] || (model_.planar && coordinate >= 2 && coordinate <= 4)) continue;
+      MatrixXd released(C.rows(), C.cols() + 1);
+      released << C, MatrixXd::Zero(C.rows(), 1);
+      for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
+        const Vector3d r = walk(model_.legs[leg], *home_states_[leg][0]).end.translation();
+        Vector6d twist;
+        if (coordinate < 3) twist << Vector3d::Zero(), Vector3d::Unit(coordinate) / model_.size;
+        else twist << Vector3d::Unit(coordinate - 3), Vector3d::Unit(coordinate - 3).cross(r - home.p) / model_.size;
+        const int m_rows = model_.planar ? 3 : 6;
+        released.block(Index(leg) * m_rows, C.cols(), m_rows, 1) = -rows_of(twist, model_.planar);
+      }
+      Eigen::FullPivLU<MatrixXd> with(released);
+      with.setThreshold(1e-9);
+      if (with.rank() == lu.rank()) mobility_.held_by_description_alone.push_back(kNames[coordinate]);
+    }
   }
   mobility_.freedoms = mobility_.closure_rank - mobility_.idle;
   if (mobility_.freedoms != int(model_.actuators.size())) {

@@ -108,6 +108,9 @@ struct Mobility {
   int idle = 0;          // idle freedoms at home (rank of the passive joints' null space)
   int closure_rank = 0;  // numerical mobility of the closure at home (held extras)
   int freedoms = 0;      // device freedoms: closure_rank - idle (+ extras)
+  // The held platform coordinates that the legs as written leave free ("rx",
+  // ...): with the actuators locked the platform could still move so.
+  std::vector<std::string> held_by_description_alone;
 };
 
 // How legs are solved: in closed form where a leg's pattern is recognised

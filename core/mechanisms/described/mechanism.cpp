@@ -307,6 +307,8 @@ class DescribedMechanism final : public Mechanism {
     s << mb.freedoms << " (Gruebler-Kutzbach " << mb.gruebler << ", " << mb.fixed << " held, " << mb.idle << " idle";
     if (!kin_.model().extras.empty()) s << ", " << kin_.model().extras.size() << " extra";
     s << ")";
+    for (std::size_t i = 0; i < mb.held_by_description_alone.size(); ++i)
+      s << (i ? ", " : "; held by the description alone: ") << mb.held_by_description_alone[i];
     std::vector<std::pair<std::string, std::string>> out{{"mobility", s.str()}};
     if (kin_.has_joint_limits() || kin_.has_capsules()) {
       const VectorXd xm = to_model(x, "x");
