@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/mechanisms/described/kinematics.h"
+#include "core/mechanisms/described/mechanism.h"
 #include "core/preset.h"
 
 namespace linkscape::testing_support {
@@ -35,6 +36,26 @@ inline Preset omnid_with_universal_joints(const nlohmann::json& knee_ranges = nu
   if (!knee_ranges.is_null()) chain[2]["ranges_deg"] = knee_ranges;
   chain[4] = {{"joint", "universal"}, {"name", "platform#"}, {"axes", {{0, 0, 1}, {0, 1, 0}}}};
   p.description = d.dump();
+  return p;
+}
+
+// Tsai's 3-UPU (Tsai 1996): slides between universal joints whose axes are
+// parallel in pairs, the base's on a circle of radius R, the platform's of r
+// (cm); it holds the platform's orientation by its legs.
+inline Preset tsai_three_upu(double R = 12, double r = 5) {
+  Preset p;
+  p.mechanism = described::kMechanismName;
+  p.length_unit = "cm";
+  p.parameters = {{"R", R}, {"r", r}};
+  p.description = R"({
+    "space": "spatial", "task": ["x", "y", "z"], "home": {"x": 0, "y": 0, "z": 16}, "size": "R + r",
+    "legs": [{ "name": "#", "copies": 3,
+      "base": [{"rz": "k*120*deg"}, {"translate": ["R", 0, 0]}],
+      "chain": [
+        {"joint": "universal", "name": "base#", "axes": [[0, 1, 0], [1, 0, 0]]},
+        {"joint": "prismatic", "name": "l#", "axis": [0, 0, 1], "actuated": true, "range": [5, 40]},
+        {"joint": "universal", "name": "top#", "axes": [[1, 0, 0], [0, 1, 0]]}],
+      "anchor": [{"rz": "k*120*deg"}, {"translate": ["r", 0, 0]}]}]})";
   return p;
 }
 

@@ -13,6 +13,7 @@
 #include "core/mechanisms/described/kinematics.h"
 #include "core/mechanisms/described/mechanism.h"
 #include "core/preset.h"
+#include "tests/core/mechanisms/described/designs.h"
 
 namespace linkscape::described {
 namespace {
@@ -23,24 +24,7 @@ using Eigen::VectorXd;
 
 constexpr double kBase = 12, kPlatform = 5;  // radii of the universal joints' centres (cm)
 
-const char* kThreeUpu = R"({
-  "space": "spatial", "task": ["x", "y", "z"], "home": {"x": 0, "y": 0, "z": 16}, "size": "R + r",
-  "legs": [{ "name": "#", "copies": 3,
-    "base": [{"rz": "k*120*deg"}, {"translate": ["R", 0, 0]}],
-    "chain": [
-      {"joint": "universal", "name": "base#", "axes": [[0, 1, 0], [1, 0, 0]]},
-      {"joint": "prismatic", "name": "l#", "axis": [0, 0, 1], "actuated": true, "range": [5, 40]},
-      {"joint": "universal", "name": "top#", "axes": [[1, 0, 0], [0, 1, 0]]}],
-    "anchor": [{"rz": "k*120*deg"}, {"translate": ["r", 0, 0]}]}]})";
-
-Preset three_upu_preset() {
-  Preset p;
-  p.mechanism = kMechanismName;
-  p.length_unit = "cm";
-  p.parameters = {{"R", kBase}, {"r", kPlatform}};
-  p.description = kThreeUpu;
-  return p;
-}
+Preset three_upu_preset() { return testing_support::tsai_three_upu(kBase, kPlatform); }
 
 Kinematics three_upu() {
   const Preset p = three_upu_preset();

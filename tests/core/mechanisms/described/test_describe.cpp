@@ -172,27 +172,17 @@ TEST(DescribedDescribe, TwoRevolutesAtOnePointAreTakenAsAUniversal) {
 // the legs as written do not: Tsai's 3-UPU holds its orientation by its
 // legs, the same device with balls at the top (3-UPS) does not.
 TEST(DescribedDescribe, CoordinatesHeldByTheDescriptionAloneAreNamed) {
-  const auto three_legs = [](const char* top) {
-    Preset p;
-    p.mechanism = kMechanismName;
-    p.length_unit = "cm";
-    p.parameters = {{"R", 12}, {"r", 5}};
-    p.description = std::string(R"({
-      "space": "spatial", "task": ["x", "y", "z"], "home": {"x": 0, "y": 0, "z": 16}, "size": "R + r",
-      "legs": [{ "name": "#", "copies": 3,
-        "base": [{"rz": "k*120*deg"}, {"translate": ["R", 0, 0]}],
-        "chain": [
-          {"joint": "universal", "name": "base#", "axes": [[0, 1, 0], [1, 0, 0]]},
-          {"joint": "prismatic", "name": "l#", "axis": [0, 0, 1], "actuated": true, "range": [5, 40]},
-          )") + top + R"(],
-        "anchor": [{"rz": "k*120*deg"}, {"translate": ["r", 0, 0]}]}]})";
-    return p;
-  };
-  const std::string upu = describe(three_legs(R"({"joint": "universal", "name": "top#", "axes": [[1, 0, 0], [0, 1, 0]]})"));
-  EXPECT_TRUE(has(upu, "3 held")) << upu;
-  EXPECT_FALSE(has(upu, "held by the description alone")) << upu;
-  const std::string ups = describe(three_legs(R"({"joint": "spherical", "name": "top#"})"));
-  EXPECT_TRUE(has(ups, "  held by the description alone: rx, ry, rz (the legs as written leave the platform free")) << ups;
+  const Preset upu = testing_support::tsai_three_upu();
+  const std::string upu_text = describe(upu);
+  EXPECT_TRUE(has(upu_text, "3 held")) << upu_text;
+  EXPECT_FALSE(has(upu_text, "held by the description alone")) << upu_text;
+  Preset ups = upu;
+  nlohmann::json d = nlohmann::json::parse(ups.description);
+  d["legs"][0]["chain"][2] = {{"joint", "spherical"}, {"name", "top#"}};
+  ups.description = d.dump();
+  const std::string ups_text = describe(ups);
+  EXPECT_TRUE(has(ups_text, "  held by the description alone: rx, ry, rz (the legs as written leave the platform free"))
+      << ups_text;
   const std::string falcon = describe(load_preset("falcon"));
   EXPECT_FALSE(has(falcon, "held by the description alone")) << falcon;
   const std::string five_bar = describe(load_preset("five-bar"));
