@@ -13,8 +13,8 @@ namespace linkscape::described {
 namespace {
 
 // Two passive revolutes one after the other, with no link between them and
-// axes that cross, are a universal joint: a numeric leg written so may
-// take a closed form once written as one.
+// axes that cross, are taken as a universal joint: said, since the file
+// names two joints.
 std::string universal_note(const Leg& l) {
   std::string out;
   for (std::size_t i = 0; i + 1 < l.steps.size(); ++i)

@@ -376,8 +376,7 @@ Kinematics::Kinematics(Model model) : model_(std::move(model)), id_(next_id++) {
         Vector6d twist;
         if (coordinate < 3) twist << Vector3d::Zero(), Vector3d::Unit(coordinate) / model_.size;
         else twist << Vector3d::Unit(coordinate - 3), Vector3d::Unit(coordinate - 3).cross(r - home.p) / model_.size;
-        const int m_rows = model_.planar ? 3 : 6;
-        released.block(Index(leg) * m_rows, C.cols(), m_rows, 1) = -rows_of(twist, model_.planar);
+        released.block(Index(leg) * m, C.cols(), m, 1) = -rows_of(twist, model_.planar);
       }
       Eigen::FullPivLU<MatrixXd> with(released);
       with.setThreshold(1e-9);

@@ -27,7 +27,7 @@ thread_local ThreadSeeds thread_seeds;
 
 // The travel search's paths start from the seeds' assemblies, home, and this
 // many spread seeds: on an arm with offset elbows, enough to find every
-// assembly within the travel a finer scan finds (docs/described-mechanisms.md).
+// assembly within the travel a finer scan finds (docs/described-internals.md).
 constexpr int kTravelSearchSpreadSeeds = 2;
 }  // namespace
 

@@ -235,14 +235,14 @@ class Kinematics {
   // depends on the anchor alone. False where the turn is not defined (the
   // anchor or the end on the axis, or at the centre).
   bool home_toward(int leg, int combo, const Eigen::Isometry3d& anchor, LegState& out) const;
-  // Where the seeds closed the leg only outside its travel or off the branch:
-  // the actuator swept over its travel (the passive joints following it),
-  // released where the closure error is least. An assembly found on the
-  // branch within the travel goes to `out`; false where none is.
   // Whether two states of a leg are one assembly (within 0.01 rad, or 0.01
   // of the size).
   bool same_assembly(int leg, const LegState& a, const LegState& b) const;
-  // Its iterations are added to `iterations`.
+  // Where the seeds closed the leg only outside its travel or off the branch:
+  // the actuator swept over its travel (the passive joints following it),
+  // released where the closure error is least. An assembly found on the
+  // branch within the travel goes to `out`; false where none is. Its
+  // iterations are added to `iterations`.
   bool search_travel(int leg, const Eigen::Isometry3d& anchor, int branch, double tolerance,
                      const std::vector<const LegState*>& starts, LegSolution& out, int& iterations) const;
   // The numerical solver from seeds (after the reach bounds).

@@ -11,9 +11,7 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kPi = 3.14159265358979323846;
 using Kind = Step::Kind;
-}  // namespace
 
-namespace {
 // The travel of the actuator a step drives, where `travel` is given and
 // limits it; null otherwise.
 const Range* travel_of(const Step& step, const std::vector<Actuator>* travel) {
