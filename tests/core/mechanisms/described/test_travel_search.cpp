@@ -84,22 +84,23 @@ TEST(DescribedTravelSearch, AnArmWithOffsetElbowsIsOkWhereverEveryLegHasAnAssemb
   const Kinematics arm = offset_elbow_arm();
   ASSERT_EQ(arm.closed_form_count(), 0) << "the arm's legs are solved numerically";
   int within = 0, decided = 0;
-  constexpr int kGrid = 48;
-  for (int i = 0; i < kGrid; ++i)
-    for (int j = 0; j < kGrid; ++j) {
-      const Vector3d p(-20 + 40.0 * (i + 0.5) / kGrid, 0, -35 + 30.0 * (j + 0.5) / kGrid);
-      Verdict all = Verdict::Within;
-      for (int k = 0; k < 3 && all == Verdict::Within; ++k) all = leg_within_travel(k, p);
-      if (all == Verdict::Unclear) continue;
-      ++decided;
-      const PoseSolution s = arm.inverse(p, 0, 1e-10);
-      if (all == Verdict::Within) {
-        ++within;
-        EXPECT_EQ(s.status, Status::Ok) << "every leg has an assembly within its travel at " << p.transpose();
-      } else {
-        EXPECT_NE(s.status, Status::Ok) << "a leg has none within its travel at " << p.transpose();
+  constexpr int kGrid = 40;
+  for (const double y : {0.0, 4.0})  // the plane of leg 1, and one off every leg's
+    for (int i = 0; i < kGrid; ++i)
+      for (int j = 0; j < kGrid; ++j) {
+        const Vector3d p(-20 + 40.0 * (i + 0.5) / kGrid, y, -35 + 30.0 * (j + 0.5) / kGrid);
+        Verdict all = Verdict::Within;
+        for (int k = 0; k < 3 && all == Verdict::Within; ++k) all = leg_within_travel(k, p);
+        if (all == Verdict::Unclear) continue;
+        ++decided;
+        const PoseSolution s = arm.inverse(p, 0, 1e-10);
+        if (all == Verdict::Within) {
+          ++within;
+          EXPECT_EQ(s.status, Status::Ok) << "every leg has an assembly within its travel at " << p.transpose();
+        } else {
+          EXPECT_NE(s.status, Status::Ok) << "a leg has none within its travel at " << p.transpose();
+        }
       }
-    }
   std::cout << within << " of " << decided << " decided samples within the travel\n";
   // The grid crosses the reachable region and its surroundings.
   EXPECT_GT(within, 200);
