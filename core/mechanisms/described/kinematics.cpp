@@ -412,14 +412,14 @@ LegSolution Kinematics::solve_leg_numeric(int leg, const Isometry3d& anchor, int
 }
 
 bool Kinematics::same_assembly(int leg, const LegState& a, const LegState& b) const {
-  constexpr double kApart = 1e-2;  // radians, or the size's fraction
-  for (const Step& step : model_.legs[std::size_t(leg)].steps) {
-    const double d = a.values(step.variable) - b.values(step.variable);
-    if (step.kind == Kind::Revolute && std::abs(wrap(d)) > kApart) return false;
-    if (step.kind == Kind::Prismatic && std::abs(d) > kApart * model_.size) return false;
-  }
-  for (std::size_t i = 0; i < a.spheres.size(); ++i)
-    if ((a.spheres[i] - b.spheres[i]).norm() > kApart) return false;
+  // By the joints' centres: a rod spinning about itself between two balls
+  // (an idle freedom) leaves the assembly as it is.
+  thread_local Chain ca, cb;
+  const Leg& l = model_.legs[std::size_t(leg)];
+  walk_into(l, a, ca);
+  walk_into(l, b, cb);
+  for (std::size_t i = 0; i < ca.step_centre.size(); ++i)
+    if ((ca.step_centre[i] - cb.step_centre[i]).norm() > 1e-2 * model_.size) return false;
   return true;
 }
 

@@ -235,8 +235,8 @@ class Kinematics {
   // depends on the anchor alone. False where the turn is not defined (the
   // anchor or the end on the axis, or at the centre).
   bool home_toward(int leg, int combo, const Eigen::Isometry3d& anchor, LegState& out) const;
-  // Whether two states of a leg are one assembly (within 0.01 rad, or 0.01
-  // of the size).
+  // Whether two states of a leg are one assembly (every joint's centre
+  // within 0.01 of the size).
   bool same_assembly(int leg, const LegState& a, const LegState& b) const;
   // Where the seeds closed the leg only outside its travel or off the branch:
   // the actuator swept over its travel (the passive joints following it),
