@@ -341,10 +341,12 @@ Kinematics::Kinematics(Model model) : model_(std::move(model)), id_(next_id++) {
     for (const Leg& l : model_.legs) columns += l.variables;
     MatrixXd C = MatrixXd::Zero(m * Index(model_.legs.size()), columns);
     int col = model_.driven();
+    std::vector<Vector3d> ends;  // each leg's end at home
     for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
       const Leg& l = model_.legs[leg];
       const Chain c = walk(l, *home_states_[leg][0]);
       const Vector3d r = c.end.translation();
+      ends.push_back(r);
       const MatrixXd pc = platform_columns(model_, home, r);
       for (Index j = 0; j < pc.cols(); ++j) C.block(Index(leg) * m, j, m, 1) = -rows_of(pc.col(j), model_.planar);
       MatrixXd passive(m, l.variables);
@@ -372,10 +374,9 @@ Kinematics::Kinematics(Model model) : model_(std::move(model)), id_(next_id++) {
       MatrixXd released(C.rows(), C.cols() + 1);
       released << C, MatrixXd::Zero(C.rows(), 1);
       for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
-        const Vector3d r = walk(model_.legs[leg], *home_states_[leg][0]).end.translation();
         Vector6d twist;
         if (coordinate < 3) twist << Vector3d::Zero(), Vector3d::Unit(coordinate) / model_.size;
-        else twist << Vector3d::Unit(coordinate - 3), Vector3d::Unit(coordinate - 3).cross(r - home.p) / model_.size;
+        else twist << Vector3d::Unit(coordinate - 3), Vector3d::Unit(coordinate - 3).cross(ends[leg] - home.p) / model_.size;
         released.block(Index(leg) * m, C.cols(), m, 1) = -rows_of(twist, model_.planar);
       }
       Eigen::FullPivLU<MatrixXd> with(released);
@@ -486,11 +487,6 @@ std::string Kinematics::unseparated(int leg, const LegCandidates& c, const Isome
   const Leg& l = model_.legs[std::size_t(leg)];
   const Actuator& a = model_.actuators[std::size_t(l.actuators.front())];
   const int v = l.steps[std::size_t(a.step)].variable;
-  auto signs = [&](const LegState& s) {
-    std::vector<int> out;
-    for (double r : rule_scales(leg, s, at)) out.push_back(r > 0 ? 1 : r < 0 ? -1 : 0);
-    return out;
-  };
   const double scale = a.prismatic ? model_.size : 1.0;
   for (int i = 0; i < c.count; ++i)
     for (int j = i + 1; j < c.count; ++j) {
@@ -498,7 +494,7 @@ std::string Kinematics::unseparated(int leg, const LegCandidates& c, const Isome
       // The travel chooses where it holds one of them only (a slide's negative length).
       const bool both_in_travel = !a.limited || (a.range.contains(qi) && a.range.contains(qj));
       if (!both_in_travel || std::abs(qi - qj) <= 1e-6 * scale ||
-          signs(c.states[std::size_t(i)]) != signs(c.states[std::size_t(j)]))
+          rule_signs(leg, c.states[std::size_t(i)], at) != rule_signs(leg, c.states[std::size_t(j)], at))
         continue;
       std::ostringstream msg;
       const double shown = a.prismatic ? 1.0 : 180 / M_PI;

@@ -29,6 +29,18 @@ thread_local ThreadSeeds thread_seeds;
 // many spread seeds: on an arm with offset elbows, enough to find every
 // assembly within the travel a finer scan finds (docs/described-internals.md).
 constexpr int kTravelSearchSpreadSeeds = 2;
+
+// How far p lies outside a leg's bounds: the shell `reach` about its base
+// (distances in the plane where asked), and the bound about its first joint
+// where given.
+double outside_bounds(const Vector3d& base, const Vector3d& p, const Range& reach, const FirstJointReach* about,
+                      bool in_plane) {
+  Vector3d from_base = p - base;
+  if (in_plane) from_base.z() = 0;
+  const double distance = from_base.norm();
+  const double outside = std::max(distance - reach.hi, reach.lo - distance);
+  return about ? std::max(outside, about->outside(p)) : outside;
+}
 }  // namespace
 
 
@@ -254,21 +266,15 @@ void Kinematics::close_end(int leg, const Isometry3d& anchor, LegSolution& s) co
 }
 
 double Kinematics::reach_outside(int leg, const Isometry3d& anchor, bool about_first_joint) const {
-  const Leg& l = model_.legs[std::size_t(leg)];
-  const double distance = (anchor.translation() - l.base.translation()).norm();
-  const Range& reach = leg_reach_[std::size_t(leg)];
-  const double from_base = std::max(distance - reach.hi, reach.lo - distance);
-  if (!about_first_joint) return from_base;
-  return std::max(from_base, leg_reach_about_first_[std::size_t(leg)].outside(anchor.translation()));
+  return outside_bounds(model_.legs[std::size_t(leg)].base.translation(), anchor.translation(),
+                        leg_reach_[std::size_t(leg)],
+                        about_first_joint ? &leg_reach_about_first_[std::size_t(leg)] : nullptr, false);
 }
 
 double Kinematics::travel_outside(int leg, const Isometry3d& anchor) const {
-  Vector3d from_base = anchor.translation() - model_.legs[std::size_t(leg)].base.translation();
-  if (model_.planar) from_base.z() = 0;
-  const double distance = from_base.norm();
-  const Range& reach = leg_travel_reach_[std::size_t(leg)];
-  return std::max({distance - reach.hi, reach.lo - distance,
-                   leg_travel_about_first_[std::size_t(leg)].outside(anchor.translation())});
+  return outside_bounds(model_.legs[std::size_t(leg)].base.translation(), anchor.translation(),
+                        leg_travel_reach_[std::size_t(leg)], &leg_travel_about_first_[std::size_t(leg)],
+                        model_.planar);
 }
 
 void Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int branch, double tolerance,
@@ -384,7 +390,8 @@ LegSolution Kinematics::solve_leg_numeric(int leg, const Isometry3d& anchor, int
   // tells nothing of the assemblies they did not find. The actuator swept
   // over its travel looks for one, where the bounds within the travel allow one.
   if ((outside_travel || found_other_branch) && !(travel_outside(leg, anchor) > refusal_cut(tolerance))) {
-    std::vector<const LegState*> starts;
+    thread_local std::vector<const LegState*> starts;
+    starts.clear();
     if (outside_travel) starts.push_back(&outside_travel->state);
     if (found_other_branch) starts.push_back(&best.state);
     if (const auto& home = home_states_[std::size_t(leg)][std::size_t(combo)]) starts.push_back(&*home);
