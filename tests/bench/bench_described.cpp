@@ -10,12 +10,16 @@
 // task, 2 threads (compiled and lanes also on one). The newton cases run once, in the first round (they take
 // seconds). The CPU column is every thread's time; the rate is per
 // wall-clock second.
+// BM_Kinematics / BM_KinematicsSampled: a device's Kinematics built, without
+// and with every leg's sampled reach.
 // Run: build/tests/bench/bench_described (--benchmark_filter=Stewart etc.)
 #include <benchmark/benchmark.h>
 
 #include <string>
 
 #include "core/mechanism.h"
+#include "core/mechanisms/described/kinematics.h"
+#include "core/mechanisms/described/model.h"
 #include "core/preset.h"
 
 namespace {
@@ -74,6 +78,22 @@ void add(const std::string& name, const std::string& compiled, const std::string
   if (round == 0) reg("described-newton", described, "newton");
 }
 
+// A device's Kinematics built from its model, with every leg's sampled
+// reach (sampled_reach.h) or without: what the numerical solver pays once
+// per design where it has searched a leg's travel often enough.
+void kinematics(benchmark::State& state, const std::string& preset, bool sampled) {
+  const linkscape::Preset p = linkscape::load_preset(preset);
+  const linkscape::described::Model model =
+      linkscape::described::build_model(p.description, p.parameters, p.limits_deg, p.length_unit);
+  int built = 0;
+  for (auto _ : state) {
+    const linkscape::described::Kinematics k(model);
+    built = 0;
+    for (std::size_t leg = 0; sampled && leg < model.legs.size(); ++leg) built += k.sampled_reach(int(leg)).built;
+  }
+  state.counters["legs_sampled"] = double(built);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -93,6 +113,12 @@ int main(int argc, char** argv) {
   };
   for (int round = 0; round < 3; ++round)
     for (const Case& c : cases) add(c.name, c.compiled, c.described, c.n, c.slice, round);
+  for (const char* preset : {"five-bar", "haply-2diy", "three-rrr", "pathos2-described", "hexapod-rus", "stewart"})
+    for (const bool sampled : {false, true})
+      benchmark::RegisterBenchmark(
+          ((sampled ? "BM_KinematicsSampled/" : "BM_Kinematics/") + std::string(preset)).c_str(), kinematics, preset,
+          sampled)
+          ->Unit(benchmark::kMillisecond);
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();

@@ -212,6 +212,22 @@ inline int free_rules_of(const Leg& l) {
   for (const BranchRule& r : l.rules) n += r.free_index >= 0;
   return n;
 }
+
+// A triple or along rule's value at a walked chain (length^2 or length).
+inline double rule_value(const BranchRule& r, const Chain& c, const Isometry3d& anchor) {
+  auto centre = [&](int step) { return step == -2 ? anchor.translation() : c.step_centre[std::size_t(step)]; };
+  if (r.kind == BranchRule::Kind::Along) return (centre(r.steps[1]) - centre(r.steps[0])).dot(r.direction);
+  const Vector3d a = centre(r.steps[0]), b = centre(r.steps[1]);
+  return (b - a).cross(centre(r.steps[2]) - b).dot(c.step_axis[std::size_t(r.steps[0])]);
+}
+
+// The sign of one rule at a walked chain.
+inline int rule_sign(const BranchRule& r, const Leg& l, const Chain& c, const LegState& state, const Isometry3d& anchor) {
+  if (r.kind == BranchRule::Kind::Angle) return sine_sign(state.values(l.steps[std::size_t(r.steps[0])].variable));
+  const double v = rule_value(r, c, anchor);
+  return v > 0 ? 1 : v < 0 ? -1 : 0;
+}
+
 // The platform's twists about r for each driven coordinate (translation:
 // [0; e]; rotation: [w; w x (r - p)], w the angular velocity of a unit rate:
 // the base axes where all three rotations are free, else the Euler rates).

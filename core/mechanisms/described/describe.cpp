@@ -1,6 +1,7 @@
 // The text of `linkscape describe FILE` (docs/described-mechanisms.md,
 // "Checking a file: `linkscape describe`").
 #include <cmath>
+#include <iomanip>
 #include <sstream>
 #include <stdexcept>
 
@@ -134,6 +135,13 @@ std::string describe(const Preset& preset) {
     s << " " << unit << " from its base to its anchor\n";
     const std::string about = first_joint_text(l, k.reach_about_first_joint(int(leg)), unit);
     if (!about.empty()) s << "    reach about its first joint: " << about << "\n";
+    const SampledReach& sampled = k.sampled_reach(int(leg));
+    if (!sampled.built) s << "    reach sampled within its travel: no (" << sampled.why_not << ")\n";
+    else {
+      s << "    reach sampled within its travel: " << sampled.samples << " samples of the " << sampled.joints
+        << " joints that move its end; every assembly within " << std::setprecision(2)
+        << sampled.travel.front().margin() << std::setprecision(6) << " " << unit << " of a sample's end\n";
+    }
     for (const JointLimit& j : l.limits) s << "    limit: " << limit_text(j) << "\n";
     for (const LinkCapsule& c : l.capsules)
       s << "    link: " << c.name << ", radius " << c.radius << " " << unit << ", length " << (c.b - c.a).norm() << " "

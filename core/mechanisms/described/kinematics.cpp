@@ -29,6 +29,9 @@ thread_local ThreadSeeds thread_seeds;
 // many spread seeds: on an arm with offset elbows, enough to find every
 // assembly within the travel a finer scan finds (docs/described-internals.md).
 constexpr int kTravelSearchSpreadSeeds = 2;
+// Searches of a leg's travel before its sampled reach is built to rule
+// searches out: a grid takes about as long as a few hundred searches.
+constexpr int kSearchesBeforeSampling = 256;
 
 // How far p lies outside a leg's bounds: the shell `reach` about its base
 // (distances in the plane where asked), and the bound about its first joint
@@ -79,23 +82,6 @@ double Kinematics::wrap(double a) const {
 }
 
 // ---- Branch rules ------------------------------------------------------------
-
-namespace {
-// A triple or along rule's value at a walked chain (length^2 or length).
-double rule_value(const BranchRule& r, const Chain& c, const Isometry3d& anchor) {
-  auto centre = [&](int step) { return step == -2 ? anchor.translation() : c.step_centre[std::size_t(step)]; };
-  if (r.kind == BranchRule::Kind::Along) return (centre(r.steps[1]) - centre(r.steps[0])).dot(r.direction);
-  const Vector3d a = centre(r.steps[0]), b = centre(r.steps[1]);
-  return (b - a).cross(centre(r.steps[2]) - b).dot(c.step_axis[std::size_t(r.steps[0])]);
-}
-
-// The sign of one rule at a walked chain.
-int rule_sign(const BranchRule& r, const Leg& l, const Chain& c, const LegState& state, const Isometry3d& anchor) {
-  if (r.kind == BranchRule::Kind::Angle) return sine_sign(state.values(l.steps[std::size_t(r.steps[0])].variable));
-  const double v = rule_value(r, c, anchor);
-  return v > 0 ? 1 : v < 0 ? -1 : 0;
-}
-}  // namespace
 
 std::vector<double> Kinematics::rule_scales(int leg, const LegState& state, const Isometry3d& anchor) const {
   const Leg& l = model_.legs[std::size_t(leg)];
@@ -265,16 +251,27 @@ void Kinematics::close_end(int leg, const Isometry3d& anchor, LegSolution& s) co
   s.open_end = false;
 }
 
+const SampledReach& Kinematics::sampled_reach(int leg) const {
+  std::call_once(sampled_->built[std::size_t(leg)], [&] {
+    sampled_->legs[std::size_t(leg)] = linkscape::described::sample_reach(
+        model_.legs[std::size_t(leg)], model_.actuators, model_.planar, spread_seeds_[std::size_t(leg)].front());
+  });
+  return sampled_->legs[std::size_t(leg)];
+}
+
 double Kinematics::reach_outside(int leg, const Isometry3d& anchor, bool about_first_joint) const {
   return outside_bounds(model_.legs[std::size_t(leg)].base.translation(), anchor.translation(),
                         leg_reach_[std::size_t(leg)],
                         about_first_joint ? &leg_reach_about_first_[std::size_t(leg)] : nullptr, false);
 }
 
-double Kinematics::travel_outside(int leg, const Isometry3d& anchor) const {
-  return outside_bounds(model_.legs[std::size_t(leg)].base.translation(), anchor.translation(),
-                        leg_travel_reach_[std::size_t(leg)], &leg_travel_about_first_[std::size_t(leg)],
-                        model_.planar);
+double Kinematics::travel_outside(int leg, const Isometry3d& anchor, int branch, bool sampled) const {
+  const double bounds = outside_bounds(model_.legs[std::size_t(leg)].base.translation(), anchor.translation(),
+                                       leg_travel_reach_[std::size_t(leg)], &leg_travel_about_first_[std::size_t(leg)],
+                                       model_.planar);
+  if (!sampled || !sampled_reach(leg).built) return bounds;
+  const int combo = leg_combination(model_.legs[std::size_t(leg)], branch);
+  return std::max(bounds, sampled_reach(leg).travel[std::size_t(combo)].outside(anchor.translation()));
 }
 
 void Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int branch, double tolerance,
@@ -389,7 +386,16 @@ LegSolution Kinematics::solve_leg_numeric(int leg, const Isometry3d& anchor, int
   // The seeds closed the leg, but not on the branch within its travel: that
   // tells nothing of the assemblies they did not find. The actuator swept
   // over its travel looks for one, where the bounds within the travel allow one.
-  if ((outside_travel || found_other_branch) && !(travel_outside(leg, anchor) > refusal_cut(tolerance))) {
+  // The sampled reach only once the shells have let the leg search often
+  // enough to pay for its grid (the answers are the same with it or without).
+  const auto ruled_out = [&] {
+    const double cut = refusal_cut(tolerance);
+    if (travel_outside(leg, anchor, branch, false) > cut) return true;
+    const bool sampled =
+        sampled_->searches[std::size_t(leg)].fetch_add(1, std::memory_order_relaxed) >= kSearchesBeforeSampling;
+    return sampled && travel_outside(leg, anchor, branch) > cut;
+  };
+  if ((outside_travel || found_other_branch) && !ruled_out()) {
     thread_local std::vector<const LegState*> starts;
     starts.clear();
     if (outside_travel) starts.push_back(&outside_travel->state);

@@ -15,8 +15,11 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -25,6 +28,7 @@
 #include "core/mechanisms/described/closed_form.h"
 #include "core/mechanisms/described/model.h"
 #include "core/mechanisms/described/reach.h"
+#include "core/mechanisms/described/sampled_reach.h"
 #include "core/range.h"
 #include "core/status.h"
 
@@ -163,9 +167,14 @@ class Kinematics {
   // How far the anchor lies outside the leg's reach bounds (> 0: it cannot
   // close): from its base, and about its first joint unless told not to.
   double reach_outside(int leg, const Eigen::Isometry3d& anchor, bool about_first_joint = true) const;
-  // The same with the leg's actuators held within their travel (> 0: no
-  // assembly of the leg within its travel reaches the anchor).
-  double travel_outside(int leg, const Eigen::Isometry3d& anchor) const;
+  // The leg's joints sampled on a grid within their travel (sampled_reach.h):
+  // built at its first use, once per design.
+  const SampledReach& sampled_reach(int leg) const;
+  // The same bounds with the leg's actuators held within their travel, and
+  // (unless told not to) its sampled reach on the device branch `branch`
+  // (> 0: no assembly of the leg within its travel on that branch reaches
+  // the anchor).
+  double travel_outside(int leg, const Eigen::Isometry3d& anchor, int branch, bool sampled = true) const;
   // The rank of the leg's passive joints' twists at home: one less than the
   // closure's rows where the leg transmits one wrench (its closed wrench serves).
   int passive_rank(int leg) const { return passive_rank_[std::size_t(leg)]; }
@@ -284,6 +293,16 @@ class Kinematics {
   // its end, and its reach about its first joint (reach.h).
   std::vector<Range> leg_reach_;
   std::vector<FirstJointReach> leg_reach_about_first_;
+  // Per leg: its sampled reach, built at its first use, and how often the
+  // numerical solver has searched its travel (shared by copies: they depend
+  // on the model alone).
+  struct SampledReaches {
+    std::vector<std::once_flag> built;
+    std::vector<SampledReach> legs;
+    std::vector<std::atomic<int>> searches;
+    explicit SampledReaches(std::size_t n) : built(n), legs(n), searches(n) {}
+  };
+  std::shared_ptr<SampledReaches> sampled_;
   // Per leg: the rank of its passive joints' twists at home (6 less the
   // wrenches the leg transmits: the actuation wrench and any constraint ones).
   std::vector<int> passive_rank_;

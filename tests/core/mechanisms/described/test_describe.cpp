@@ -80,6 +80,17 @@ TEST(DescribedDescribe, ReachAboutTheFirstJoint) {
   EXPECT_FALSE(has(describe(load_preset("stewart")), "reach about its first joint")) << "a slide further on: no bound";
 }
 
+// The sampled reach: the five-bar's two revolutes on a grid; a Delta's rod
+// turns on a ball before its last link, which a grid does not sample.
+TEST(DescribedDescribe, TheSampledReachIsNamed) {
+  const std::string five_bar = describe(load_preset("five-bar"));
+  EXPECT_TRUE(has(five_bar, "    reach sampled within its travel: 33124 samples of the 2 joints that move its end; every "
+                            "assembly within 0.48 cm of a sample's end\n"))
+      << five_bar;
+  const std::string delta = describe(load_preset("delta-described"));
+  EXPECT_TRUE(has(delta, "    reach sampled within its travel: no (a spherical joint moves its end)\n")) << delta;
+}
+
 // The five-bar with its left leg changed: `pattern` asserted (if not empty),
 // `steps` appended to its chain.
 Preset five_bar_with(const std::string& pattern, const nlohmann::json& steps = nlohmann::json::array()) {

@@ -13,6 +13,7 @@
 #include "core/mechanisms/described/chain.h"
 #include "core/mechanisms/described/closed_form.h"
 #include "core/mechanisms/described/kinematics.h"
+#include "core/mechanisms/described/sampled_reach.h"
 #include "tests/core/mechanisms/described/designs.h"
 
 namespace linkscape::described {
@@ -49,6 +50,17 @@ LegState random_state(const Model& m, const Leg& l, std::mt19937_64& rng) {
   for (int v = 0; v < l.variables; ++v) s.values(v) = 4 * unit(rng) * (v % 2 ? 1.0 : m.size / 4);
   for (int b = 0; b < l.spheres; ++b)
     s.spheres.push_back(internal::rotation_of(Vector3d(unit(rng), unit(rng), unit(rng)) * 2.0));
+  return s;
+}
+
+// The same with the actuators within their travel.
+LegState random_state_within_travel(const Model& m, const Leg& l, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> unit(0, 1);
+  LegState s = random_state(m, l, rng);
+  for (int a : l.actuators) {
+    const Actuator& act = m.actuators[std::size_t(a)];
+    if (act.limited) s.values(l.steps[std::size_t(act.step)].variable) = act.range.lo + unit(rng) * (act.range.hi - act.range.lo);
+  }
   return s;
 }
 
@@ -149,6 +161,19 @@ bool within_travel(const Model& m, const Leg& l, const LegState& s) {
   return true;
 }
 
+// The combination of the leg's free rules a state takes (leg_combination),
+// or -1 where a rule's sign is zero or a fixed rule's is not the design's.
+int combination_of(const Leg& l, const LegState& s) {
+  const internal::Chain c = internal::walk(l, s);
+  int combo = 0, bit = 0;
+  for (const BranchRule& r : l.rules) {
+    const int sign = internal::rule_sign(r, l, c, s, c.end);
+    if (sign == 0 || (r.free_index < 0 && sign != r.fixed_sign)) return -1;
+    if (r.free_index >= 0) combo |= int(sign < 0) << bit++;
+  }
+  return combo;
+}
+
 // The bounds with the actuators within their travel, which decide whether
 // the numerical solver searches the travel for an assembly its seeds did
 // not find: a chain whose actuators are within their travel lies within
@@ -165,14 +190,12 @@ TEST(DescribedReach, TheTravelBoundsHoldEveryAssemblyWithinTheTravel) {
       for (std::size_t leg = 0; leg < m.legs.size(); ++leg) {
         const Leg& l = m.legs[leg];
         for (int i = 0; i < 1000; ++i) {
-          LegState s = random_state(m, l, rng);
-          for (int a : l.actuators) {  // within the travel
-            const Actuator& act = m.actuators[std::size_t(a)];
-            if (act.limited)
-              s.values(l.steps[std::size_t(act.step)].variable) = act.range.lo + 0.5 * (1 + unit(rng)) * (act.range.hi - act.range.lo);
-          }
+          const LegState s = random_state_within_travel(m, l, rng);
           const Isometry3d end = internal::walk(l, s).end;
-          EXPECT_LE(k.travel_outside(int(leg), end), tolerance) << name << " leg " << l.name;
+          const int combo = combination_of(l, s);
+          // Not on a branch the design takes: the bounds without the sampled reach.
+          const int branch = combo < 0 ? 0 : internal::device_branch(l, combo);
+          EXPECT_LE(k.travel_outside(int(leg), end, branch, combo >= 0), tolerance) << name << " leg " << l.name;
           ++chains;
         }
         if (!k.closed_form(int(leg))) continue;
@@ -185,7 +208,7 @@ TEST(DescribedReach, TheTravelBoundsHoldEveryAssemblyWithinTheTravel) {
           if (c.undecided) continue;
           bool any_within = false;
           for (int j = 0; j < c.count; ++j) any_within = any_within || within_travel(m, l, c.states[std::size_t(j)]);
-          const double outside = k.travel_outside(int(leg), anchor);
+          const double outside = k.travel_outside(int(leg), anchor, 0, false);
           if (outside > tolerance) {
             ++refused;
             EXPECT_FALSE(any_within) << name << " leg " << l.name << " refused by " << outside;
@@ -200,6 +223,91 @@ TEST(DescribedReach, TheTravelBoundsHoldEveryAssemblyWithinTheTravel) {
               admitted_exactly);
   EXPECT_GT(refused, 20000);
   EXPECT_GT(admitted_exactly, 1000);
+}
+
+// The sampled reach (sampled_reach.h) on each branch: every assembly within
+// the travel on a branch lies within the branch's bound, and where the bound
+// refuses an anchor the closed form (independent of the sampling) finds no
+// assembly within the travel on that branch. It refuses anchors the shells
+// admit: it follows the chain's shape.
+TEST(DescribedReach, TheSampledReachHoldsEveryAssemblyOnItsBranch) {
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  int legs = 0, chains = 0, edges = 0, refused = 0, refused_beyond_shells = 0;
+  for (const std::string& name : shipped_descriptions())
+    for (const Kinematics& k : designs_of(name, rng)) {
+      const Model& m = k.model();
+      const double tolerance = 1e-9 * m.size;
+      for (std::size_t leg = 0; leg < m.legs.size(); ++leg) {
+        const Leg& l = m.legs[leg];
+        const SampledReach& sampled = k.sampled_reach(int(leg));
+        if (!sampled.built) continue;
+        ++legs;
+        for (int i = 0; i < 2000; ++i) {
+          const LegState s = random_state_within_travel(m, l, rng);
+          const int combo = combination_of(l, s);
+          if (combo < 0) continue;
+          const Vector3d end = internal::walk(l, s).end.translation();
+          EXPECT_LE(sampled.travel[std::size_t(combo)].outside(end), tolerance) << name << " leg " << l.name;
+          ++chains;
+          // Where the grid tells branches apart least: a passive revolute
+          // turned to just either side of where the state changes branch.
+          if (i % 20 || l.rules.empty()) continue;
+          for (const Step& step : l.steps) {
+            if (step.kind != Step::Kind::Revolute || step.actuator >= 0) continue;
+            LegState t = s;
+            double before = -M_PI;
+            for (int j = 1; j <= 64; ++j) {
+              const double after = -M_PI + j * 2 * M_PI / 64;
+              t.values(step.variable) = before;
+              const int from = combination_of(l, t);
+              t.values(step.variable) = after;
+              const int to = combination_of(l, t);
+              if (from >= 0 && to >= 0 && from != to) {
+                double lo = before, hi = after;
+                for (int b = 0; b < 50; ++b) {
+                  t.values(step.variable) = 0.5 * (lo + hi);
+                  (combination_of(l, t) == from ? lo : hi) = t.values(step.variable);
+                }
+                for (const double side : {lo, hi}) {
+                  t.values(step.variable) = side;
+                  const int c = combination_of(l, t);
+                  if (c < 0) continue;
+                  EXPECT_LE(sampled.travel[std::size_t(c)].outside(internal::walk(l, t).end.translation()), tolerance)
+                      << name << " leg " << l.name << " next to a branch's edge";
+                  ++edges;
+                }
+              }
+              before = after;
+            }
+          }
+        }
+        if (!k.closed_form(int(leg))) continue;
+        for (int i = 0; i < 1000; ++i) {
+          const Isometry3d anchor = anchor_near(m, l, rng);
+          LegCandidates c;
+          solve_closed(*k.closed_form(int(leg)), m, l, anchor, c);
+          if (c.undecided) continue;
+          for (std::size_t combo = 0; combo < sampled.travel.size(); ++combo) {
+            const int branch = internal::device_branch(l, int(combo));
+            if (!(k.travel_outside(int(leg), anchor, branch) > tolerance)) continue;
+            ++refused;
+            refused_beyond_shells += !(k.travel_outside(int(leg), anchor, branch, false) > tolerance);
+            for (int j = 0; j < c.count; ++j) {
+              const LegState& s = c.states[std::size_t(j)];
+              EXPECT_FALSE(within_travel(m, l, s) && combination_of(l, s) == int(combo))
+                  << name << " leg " << l.name << " branch " << branch;
+            }
+          }
+        }
+      }
+    }
+  std::printf("sampled reach on %d legs: %d chains within it (%d next to a branch's edge), %d anchors refused (%d the "
+              "shells admit)\n",
+              legs, chains, edges, refused, refused_beyond_shells);
+  EXPECT_GT(legs, 100);
+  EXPECT_GT(edges, 1000);
+  EXPECT_GT(refused_beyond_shells, 1000);
 }
 
 // The numerical solver: a pose a bound rules out costs no iteration, its

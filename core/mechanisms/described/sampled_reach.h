@@ -1,0 +1,68 @@
+// A leg's reach from its joints sampled on a grid: a bound that follows the
+// chain's shape, where the shells of reach.h know only its lengths.
+//
+// Every assembly's joint values lie within half a step of a sample's, and a
+// joint moved by at most half a step moves the end by at most that times
+// its lever (a revolute's: the longest the links after it reach; a slide's:
+// one). So every assembly's end lies within a margin (the sum of those) of
+// some sample's end, and an anchor farther than that from every sample's
+// end cannot be reached: the bound is sound, not a guess. With the actuators
+// within their travel, per combination of the leg's branch rules: the
+// numerical solver's search for an assembly within the travel
+// (kinematics.cpp) is left out where no sample on the branch comes near.
+//
+// Built for a leg whose end point moves with at most three revolute or
+// prismatic joints (the joints after its last link only turn it) over
+// bounded ranges (a passive slide has none).
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "core/mechanisms/described/closed_form.h"
+#include "core/mechanisms/described/model.h"
+
+namespace linkscape::described {
+
+// A lower bound on the distance from a point to a set of points, each
+// standing for a ball of radius `margin`: their ends on a voxel grid, with
+// the Euclidean distance transform of the voxels that hold one. In a planar
+// device's plane where asked (z ignored).
+class BallSetDistance {
+ public:
+  BallSetDistance() = default;
+  BallSetDistance(const std::vector<Eigen::Vector3d>& points, double margin, bool in_plane);
+  // How far p lies outside every ball (a lower bound; > 0: outside them
+  // all); +inf for an empty set.
+  double outside(const Eigen::Vector3d& p) const;
+  double margin() const { return margin_; }
+  bool empty() const { return distance_.empty(); }
+
+ private:
+  Eigen::Vector3d lo_ = Eigen::Vector3d::Zero(), hi_ = Eigen::Vector3d::Zero();  // the points' box
+  double voxel_ = 1, slack_ = 0, margin_ = 0;
+  std::array<int, 3> n_{0, 0, 0};
+  std::vector<float> distance_;  // per voxel: to the nearest voxel that holds a point (length unit)
+  bool in_plane_ = false;
+};
+
+struct SampledReach {
+  bool built = false;
+  std::string why_not;  // where not built: what moves the end that a grid cannot sample
+  int joints = 0;       // the joints that move the end point
+  int samples = 0;
+  // Per combination of the leg's free rules (leg_combination): the
+  // assemblies with the actuators within their travel on that branch. A
+  // sample whose rule changes sign towards a neighbouring sample counts on
+  // both branches.
+  std::vector<BallSetDistance> travel;
+};
+
+// Samples the leg within its travel (its state `seed` for the joints that
+// only turn the end).
+SampledReach sample_reach(const Leg& leg, const std::vector<Actuator>& actuators, bool planar, const LegState& seed);
+
+}  // namespace linkscape::described
