@@ -13,9 +13,9 @@ using namespace internal;
 
 namespace {
 // Samples by the number of joints that move the end.
-constexpr std::array<double, 3> kSamples{1 << 12, 1 << 15, 1 << 16};
+constexpr std::array<double, 3> kSamples{1 << 7, 1 << 15, 1 << 16};
 // Voxels per grid, at most (in a plane, in space).
-constexpr double kVoxelsInPlane = 1 << 16, kVoxels = 1 << 16;
+constexpr double kVoxelsInPlane = 1 << 16, kVoxels = 1 << 16, kSide = 256;
 constexpr double kFar = 1e30;  // a voxel's squared distance before any point is near
 
 // The squared distance transform of f along one line of n values, `stride`
@@ -50,42 +50,55 @@ void transform_line(float* f, int n, int stride, std::vector<double>& in, std::v
   for (int q = 0; q < n; ++q) f[std::size_t(q) * std::size_t(stride)] = float(std::min(out[std::size_t(q)], kFar));
 }
 
-// One joint that moves the end point, sampled over [lo, hi] in `count`
-// steps (their centres); `turn`: a full turn, whose ends are neighbours.
+// One dimension of the grid over [lo, hi] in `count` steps (their
+// centres): a revolute's angle, a slide's travel, or a ball joint's
+// direction for the link after it (polar angle from the link's direction
+// as written, then azimuth; its spin about the link moves nothing sampled).
+// `wraps`: a full turn, whose ends are neighbours.
 struct SampledJoint {
+  enum class Kind { Turn, Slide, Polar, Azimuth };
+  Kind kind = Kind::Turn;
   int step = 0;
-  bool sliding = false;
-  double lever = 0;  // a revolute's: the most its later links reach
+  double lever = 0;  // how far a unit of it moves the end, at most
   double lo = 0, hi = 0;
-  bool turn = false;
+  bool wraps = false;
   int count = 1;
   double half_step() const { return 0.5 * (hi - lo) / count; }
   double value(int i) const { return lo + (i + 0.5) * (hi - lo) / count; }
 };
 
-// Counts per joint for about `budget` samples, each joint's half step times
-// its lever alike; returns the margin (the sum of those).
+// Counts per dimension for about `budget` samples, each one's half step
+// times its lever alike; returns the margin (the sum of those).
 double allot(std::vector<SampledJoint>& joints, double budget) {
-  const auto weight = [](const SampledJoint& j) { return (j.hi - j.lo) * (j.sliding ? 1.0 : j.lever); };
+  const auto weight = [](const SampledJoint& j) { return (j.hi - j.lo) * j.lever; };
   double product = 1;
   for (const SampledJoint& j : joints) product *= std::max(weight(j), 1e-300);
   const double per = std::pow(product / budget, 1.0 / double(joints.size()));
   double margin = 0;
   for (SampledJoint& j : joints) {
     j.count = std::clamp(int(std::ceil(weight(j) / per)), 1, int(budget));
-    margin += j.half_step() * (j.sliding ? 1.0 : j.lever);
+    margin += j.half_step() * j.lever;
   }
   return margin;
 }
 
-// The leg as the frames its sampled joints move: the frame after joint j
-// is frame j times lead[j] times the joint's motion; every step's frame
-// (before it) is one of those times a fixed offset. The joints it does not
-// sample keep the seed's values.
+// An orthonormal basis whose first column is the unit u.
+Eigen::Matrix3d basis_along(const Eigen::Vector3d& u) {
+  Eigen::Matrix3d b;
+  b.col(0) = u;
+  b.col(1) = u.unitOrthogonal();
+  b.col(2) = u.cross(b.col(1));
+  return b;
+}
+
+// The leg as the frames its sampled joints move: the frame after motion m
+// is frame m times lead[m] times its motion; every step's frame (before
+// it) is one of those times a fixed offset. The joints it does not sample
+// keep the seed's values.
 struct Frames {
-  std::vector<Eigen::Isometry3d> lead;      // per sampled joint
-  std::vector<int> frame_of_step;           // per step: the frame it follows (0: the base's, j + 1: joint j's)
-  std::vector<Eigen::Isometry3d> offset;    // per step: from that frame to the step
+  std::vector<Eigen::Isometry3d> lead;    // per motion (a revolute, a slide, a ball)
+  std::vector<int> frame_of_step;         // per step: the frame it follows (0: the base's, m + 1: motion m's)
+  std::vector<Eigen::Isometry3d> offset;  // per step: from that frame to the step
   Eigen::Isometry3d tail = Eigen::Isometry3d::Identity();  // from the last frame to the end
 };
 
@@ -98,27 +111,27 @@ Frames frames_of(const Leg& leg, const std::vector<SampledJoint>& joints, const 
     const Step& step = leg.steps[i];
     f.frame_of_step.push_back(frame);
     f.offset.push_back(acc);
+    sphere += step.kind == Step::Kind::Spherical;
     if (next < joints.size() && joints[next].step == int(i)) {
       f.lead.push_back(acc);
       acc.setIdentity();
       ++frame;
-      ++next;
+      while (next < joints.size() && joints[next].step == int(i)) ++next;  // a ball's two dimensions
       continue;
     }
     switch (step.kind) {
       case Step::Kind::Fixed: acc = acc * step.transform; break;
       case Step::Kind::Revolute: acc.rotate(Eigen::AngleAxisd(seed.values(step.variable), step.axis)); break;
       case Step::Kind::Prismatic: acc.translate(step.axis * seed.values(step.variable)); break;
-      case Step::Kind::Spherical: acc.rotate(seed.spheres[std::size_t(sphere)]); break;
+      case Step::Kind::Spherical: acc.rotate(seed.spheres[std::size_t(sphere - 1)]); break;
     }
-    sphere += step.kind == Step::Kind::Spherical;
   }
   f.tail = acc;
   return f;
 }
 
-// The end's point and every rule's sign at each sample, the last joint
-// fastest; each frame recomputed only where a joint before it moved.
+// The end's point and every rule's sign at each sample, the last dimension
+// fastest; each frame recomputed only where a motion before it moved.
 struct Samples {
   std::vector<Eigen::Vector3d> ends;
   std::vector<std::int8_t> signs;  // per sample, per rule
@@ -126,29 +139,62 @@ struct Samples {
 
 Samples walk_samples(const Leg& leg, const std::vector<SampledJoint>& joints, const Frames& f) {
   const std::size_t k = joints.size();
-  std::vector<std::vector<Eigen::Isometry3d>> moved(k);  // per joint, per value: lead times motion
+  // Per motion: its first dimension and, per value (a ball's per pair of
+  // values, the azimuth fastest), its lead times its motion.
+  std::vector<std::size_t> motion_of(k), first;
+  std::vector<std::vector<Eigen::Isometry3d>> moved;
   std::size_t total = 1;
   for (std::size_t j = 0; j < k; ++j) {
-    const Step& step = leg.steps[std::size_t(joints[j].step)];
-    for (int i = 0; i < joints[j].count; ++i) {
-      Eigen::Isometry3d m = f.lead[j];
-      if (joints[j].sliding) m.translate(step.axis * joints[j].value(i));
-      else m.rotate(Eigen::AngleAxisd(joints[j].value(i), step.axis));
-      moved[j].push_back(m);
-    }
     total *= std::size_t(joints[j].count);
+    if (joints[j].kind == SampledJoint::Kind::Azimuth) {
+      motion_of[j] = motion_of[j - 1];
+      continue;
+    }
+    motion_of[j] = moved.size();
+    first.push_back(j);
+    const std::size_t m = moved.size();
+    const Step& step = leg.steps[std::size_t(joints[j].step)];
+    moved.emplace_back();
+    for (int i = 0; i < joints[j].count; ++i) {
+      if (joints[j].kind == SampledJoint::Kind::Polar) {
+        // The link after the ball (the tail: a ball is the last motion)
+        // turned from its direction as written to the sampled direction.
+        const Eigen::Vector3d link = f.tail.translation().normalized();
+        const Eigen::Matrix3d written = basis_along(link);
+        const double polar = joints[j].value(i);
+        for (int az = 0; az < joints[j + 1].count; ++az) {
+          const double azimuth = joints[j + 1].value(az);
+          const Eigen::Vector3d d = written * Eigen::Vector3d(std::cos(polar), std::sin(polar) * std::cos(azimuth),
+                                                              std::sin(polar) * std::sin(azimuth));
+          Eigen::Isometry3d mm = f.lead[m];
+          mm.linear() = mm.linear() * (basis_along(d) * written.transpose());
+          moved[m].push_back(mm);
+        }
+        continue;
+      }
+      Eigen::Isometry3d mm = f.lead[m];
+      if (joints[j].kind == SampledJoint::Kind::Slide) mm.translate(step.axis * joints[j].value(i));
+      else mm.rotate(Eigen::AngleAxisd(joints[j].value(i), step.axis));
+      moved[m].push_back(mm);
+    }
   }
-  const std::size_t rules = leg.rules.size();
+  const std::size_t motions = moved.size(), rules = leg.rules.size();
   Samples out;
   out.ends.resize(total);
   out.signs.resize(total * rules);
   std::array<Eigen::Isometry3d, 4> frame;
   frame[0].setIdentity();
   std::array<int, 3> at{0, 0, 0};
-  std::size_t changed = 0;  // the first joint whose value changed
+  std::size_t changed = 0;  // the first dimension whose value changed
   for (std::size_t index = 0; index < total; ++index) {
-    for (std::size_t j = changed; j < k; ++j) frame[j + 1] = frame[j] * moved[j][std::size_t(at[j])];
-    const Eigen::Vector3d end = frame[k] * f.tail.translation();
+    for (std::size_t m = motion_of[std::min(changed, k - 1)]; m < motions; ++m) {
+      const std::size_t j = first[m];
+      const std::size_t value = joints[j].kind == SampledJoint::Kind::Polar
+                                    ? std::size_t(at[j]) * std::size_t(joints[j + 1].count) + std::size_t(at[j + 1])
+                                    : std::size_t(at[j]);
+      frame[m + 1] = frame[m] * moved[m][value];
+    }
+    const Eigen::Vector3d end = frame[motions] * f.tail.translation();
     out.ends[index] = end;
     const auto centre = [&](int step) {
       return step == -2 ? end : Eigen::Vector3d(frame[std::size_t(f.frame_of_step[std::size_t(step)])] *
@@ -171,7 +217,7 @@ Samples walk_samples(const Leg& leg, const std::vector<SampledJoint>& joints, co
       }
       out.signs[index * rules + r] = std::int8_t(value > 0 ? 1 : value < 0 ? -1 : 0);
     }
-    // The next sample: the last joint fastest.
+    // The next sample: the last dimension fastest.
     changed = k;
     while (changed > 0) {
       --changed;
@@ -196,7 +242,9 @@ BallSetDistance::BallSetDistance(const std::vector<Eigen::Vector3d>& points, dou
   // to the margin.
   const Eigen::Vector3d extent = (hi_ - lo_).cwiseMax(1e-12 * std::max(1.0, (hi_ - lo_).maxCoeff()));
   const double volume = in_plane ? extent.x() * extent.y() : extent.prod();
-  voxel_ = std::max(0.25 * margin, in_plane ? std::sqrt(volume / kVoxelsInPlane) : std::cbrt(volume / kVoxels));
+  // (At most kVoxels, and a flat or thin set of points at most kSide along its longest side.)
+  voxel_ = std::max({0.25 * margin, in_plane ? std::sqrt(volume / kVoxelsInPlane) : std::cbrt(volume / kVoxels),
+                     extent.maxCoeff() / kSide});
   for (int d = 0; d < 3; ++d) n_[std::size_t(d)] = int((hi_(d) - lo_(d)) / voxel_) + 2;
   if (in_plane) n_[2] = 1;
   // A point and the centre of its voxel are at most half a diagonal apart,
@@ -253,83 +301,126 @@ SampledReach sample_reach(const Leg& leg, const std::vector<Actuator>& actuators
         step.kind == Step::Kind::Prismatic)
       last = int(i);
   }
-  // The joints up to it, each over a full turn or its actuator's travel.
+  // The joints up to it, each over a full turn or its actuator's travel; a
+  // ball joint (the last of them) over every direction of its link.
   std::vector<SampledJoint> joints;
+  int ball = -1;  // its step
   for (int i = 0; i <= last; ++i) {
     const Step& step = leg.steps[std::size_t(i)];
     if (step.kind == Step::Kind::Fixed) continue;
-    if (step.kind == Step::Kind::Spherical) {
-      out.why_not = "a spherical joint moves its end";
+    if (ball >= 0 || (step.kind == Step::Kind::Spherical && planar)) {
+      out.why_not = "a spherical joint moves its end before another joint";
       return out;
     }
     const Actuator* act = step.actuator >= 0 ? &actuators[std::size_t(step.actuator)] : nullptr;
-    SampledJoint j;
-    j.step = i;
-    j.sliding = step.kind == Step::Kind::Prismatic;
-    if (j.sliding && !(act && act->limited)) {
+    // Its lever: what the links after it reach at most.
+    double lever = step.kind == Step::Kind::Prismatic ? length(step.axis) : 0.0;
+    for (int after = i + 1; after <= last && step.kind != Step::Kind::Prismatic; ++after) {
+      const Step& s = leg.steps[std::size_t(after)];
+      if (s.kind == Step::Kind::Fixed) lever += length(s.transform.translation());
+      if (s.kind == Step::Kind::Prismatic) {
+        const Range& r = actuators[std::size_t(s.actuator)].range;
+        lever += length(s.axis) * std::max(std::abs(r.lo), std::abs(r.hi));
+      }
+    }
+    if (step.kind == Step::Kind::Spherical) {
+      ball = i;
+      joints.push_back({SampledJoint::Kind::Polar, i, lever, 0.0, kPi, false});
+      joints.push_back({SampledJoint::Kind::Azimuth, i, lever, -kPi, kPi, true});
+      continue;
+    }
+    const bool sliding = step.kind == Step::Kind::Prismatic;
+    if (sliding && !(act && act->limited)) {
       out.why_not = "a slide without travel moves its end";
       return out;
     }
-    j.turn = !(act && act->limited);
-    j.lo = j.turn ? -kPi : act->range.lo;
-    j.hi = j.turn ? kPi : act->range.hi;
-    // A revolute's lever: what the links after it reach at most.
-    for (int after = i + 1; after <= last; ++after) {
-      const Step& s = leg.steps[std::size_t(after)];
-      if (s.kind == Step::Kind::Fixed) j.lever += length(s.transform.translation());
-      if (s.kind == Step::Kind::Prismatic) {
-        const Range& r = actuators[std::size_t(s.actuator)].range;
-        j.lever += length(s.axis) * std::max(std::abs(r.lo), std::abs(r.hi));
-      }
-    }
-    joints.push_back(j);
+    const bool limited = act && act->limited;
+    joints.push_back({sliding ? SampledJoint::Kind::Slide : SampledJoint::Kind::Turn, i, lever,
+                      limited ? act->range.lo : -kPi, limited ? act->range.hi : kPi, !limited});
   }
-  out.joints = int(joints.size());
+  out.joints = int(joints.size()) - (ball >= 0);
   if (joints.empty() || joints.size() > 3) {
     out.why_not = joints.empty() ? "no joint moves its end"
-                                 : std::to_string(joints.size()) + " joints move its end (a grid samples three at most)";
+                                 : std::to_string(joints.size()) +
+                                       " freedoms move its end; a grid samples three at most";
     return out;
   }
   const double margin = allot(joints, kSamples[joints.size() - 1]);
   const Samples samples = walk_samples(leg, joints, frames_of(leg, joints, seed));
   out.samples = int(samples.ends.size());
 
-  // Which rules a sample tells: not an angle of a joint it does not sample,
-  // nor a triple about an axis that a joint it does not sample turns.
+  // Which rules a sample tells: an angle of a revolute it samples; a centre
+  // the ball's spin does not move (not one between the ball and the end);
+  // an axis that no joint turns that it does not sample in full (a ball's
+  // spin, a joint after the last link).
+  int turned_from = ball >= 0 ? ball + 1 : int(leg.steps.size());
+  for (int i = last + 1; i < int(leg.steps.size()); ++i)
+    if (leg.steps[std::size_t(i)].kind != Step::Kind::Fixed) turned_from = std::min(turned_from, i + 1);
+  const auto centre_told = [&](int step) { return step == -2 || step > last || ball < 0 || step <= ball; };
   const std::size_t rules = leg.rules.size();
   std::vector<bool> told(rules, true);
   for (std::size_t r = 0; r < rules; ++r) {
     const BranchRule& rule = leg.rules[r];
-    const auto sampled = [&](int step) {
-      return std::any_of(joints.begin(), joints.end(), [&](const SampledJoint& j) { return j.step == step; });
-    };
-    if (rule.kind == BranchRule::Kind::Angle) told[r] = sampled(rule.steps[0]);
+    if (rule.kind == BranchRule::Kind::Angle)
+      told[r] = std::any_of(joints.begin(), joints.end(), [&](const SampledJoint& j) {
+        return j.step == rule.steps[0] && j.kind == SampledJoint::Kind::Turn;
+      });
+    if (rule.kind == BranchRule::Kind::Along) told[r] = centre_told(rule.steps[0]) && centre_told(rule.steps[1]);
     if (rule.kind == BranchRule::Kind::Triple)
-      for (int i = last + 1; i < rule.steps[0]; ++i)
-        told[r] = told[r] && leg.steps[std::size_t(i)].kind == Step::Kind::Fixed;
+      told[r] = rule.steps[0] < turned_from &&
+                std::all_of(rule.steps.begin(), rule.steps.end(), [&](int step) { return centre_told(step); });
   }
-  // Where a rule's sign changes between two neighbouring samples, its zero
-  // lies between them: both stand for assemblies of either sign.
+  // Where a rule's sign differs between two neighbouring samples its zero
+  // passes between them: they and every sample next to them (diagonally
+  // too) stand for assemblies of either sign. The samples next to a ball's
+  // poles are all neighbours of one another.
   const std::size_t k = joints.size(), total = samples.ends.size();
-  std::vector<std::uint8_t> both(total * rules, 0);
-  for (std::size_t r = 0; r < rules; ++r)
-    for (std::size_t index = 0; index < total; ++index)
-      both[index * rules + r] = !told[r] || samples.signs[index * rules + r] == 0;
-  std::size_t stride = 1;  // the last joint fastest
-  for (std::size_t j = k; j-- > 0;) {
-    const std::size_t count = std::size_t(joints[j].count), block = stride * count;
+  std::array<std::size_t, 3> strides{1, 1, 1};  // the last dimension fastest
+  for (std::size_t j = k - 1; j > 0; --j) strides[j - 1] = strides[j] * std::size_t(joints[j].count);
+  // Calls pair(a, b) for each two samples next to each other along dimension j.
+  const auto for_each_pair = [&](std::size_t j, auto&& pair) {
+    const std::size_t count = std::size_t(joints[j].count), stride = strides[j], block = stride * count;
+    const std::size_t pairs = joints[j].wraps && count > 2 ? count : count - 1;
     for (std::size_t outer = 0; outer < total; outer += block)
-      for (std::size_t a = 0; a < count; ++a) {
-        if (a + 1 == count && !(joints[j].turn && count > 1)) break;
-        const std::size_t b = a + 1 == count ? 0 : a + 1;
-        for (std::size_t inner = 0; inner < stride; ++inner) {
-          const std::size_t p = (outer + a * stride + inner) * rules, q = (outer + b * stride + inner) * rules;
-          for (std::size_t r = 0; r < rules; ++r)
-            if (samples.signs[p + r] != samples.signs[q + r]) both[p + r] = both[q + r] = 1;
-        }
+      for (std::size_t a = 0; a < pairs; ++a)
+        for (std::size_t inner = 0; inner < stride; ++inner)
+          pair(outer + a * stride + inner, outer + (a + 1) % count * stride + inner);
+  };
+  std::vector<std::uint8_t> near_zero(total * rules, 0);
+  for (std::size_t j = 0; j < k; ++j)
+    for_each_pair(j, [&](std::size_t a, std::size_t b) {
+      for (std::size_t r = 0; r < rules; ++r)
+        if (samples.signs[a * rules + r] != samples.signs[b * rules + r]) near_zero[a * rules + r] = near_zero[b * rules + r] = 1;
+    });
+  for (std::size_t j = 0; j < k; ++j) {
+    if (joints[j].kind != SampledJoint::Kind::Polar) continue;
+    const SampledJoint& azimuth = joints[j + 1];
+    for (std::size_t index = 0; index < total; index += strides[j]) {
+      const int row = int(index / strides[j] % std::size_t(joints[j].count));
+      if (row != 0 && row + 1 != joints[j].count) continue;
+      for (std::size_t r = 0; r < rules; ++r) {
+        bool differs = false;
+        for (int az = 1; az < azimuth.count; ++az)
+          differs = differs || samples.signs[(index + std::size_t(az) * strides[j + 1]) * rules + r] != samples.signs[index * rules + r];
+        for (int az = 0; az < azimuth.count && differs; ++az) near_zero[(index + std::size_t(az) * strides[j + 1]) * rules + r] = 1;
       }
-    stride = block;
+    }
   }
+  // Spread by one sample along each dimension in turn: to the diagonal
+  // neighbours too.
+  for (std::size_t j = 0; j < k; ++j) {
+    const std::vector<std::uint8_t> before = near_zero;
+    for_each_pair(j, [&](std::size_t a, std::size_t b) {
+      for (std::size_t r = 0; r < rules; ++r) {
+        near_zero[a * rules + r] |= before[b * rules + r];
+        near_zero[b * rules + r] |= before[a * rules + r];
+      }
+    });
+  }
+  std::vector<std::uint8_t> both(total * rules, 0);
+  for (std::size_t index = 0; index < total; ++index)
+    for (std::size_t r = 0; r < rules; ++r)
+      both[index * rules + r] = !told[r] || samples.signs[index * rules + r] == 0 || near_zero[index * rules + r];
   const int combos = 1 << free_rules_of(leg);
   std::vector<std::vector<Eigen::Vector3d>> points;
   points.resize(std::size_t(combos));

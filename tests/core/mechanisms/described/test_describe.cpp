@@ -80,15 +80,21 @@ TEST(DescribedDescribe, ReachAboutTheFirstJoint) {
   EXPECT_FALSE(has(describe(load_preset("stewart")), "reach about its first joint")) << "a slide further on: no bound";
 }
 
-// The sampled reach: the five-bar's two revolutes on a grid; a Delta's rod
-// turns on a ball before its last link, which a grid does not sample.
+// The sampled reach: the five-bar's two revolutes on a grid, the Delta's
+// crank and the ball its rod turns on; the Falcon's knee and ankle move its
+// end too, more than a grid samples.
 TEST(DescribedDescribe, TheSampledReachIsNamed) {
   const std::string five_bar = describe(load_preset("five-bar"));
   EXPECT_TRUE(has(five_bar, "    reach sampled within its travel: 33124 samples of the 2 joints that move its end; every "
                             "assembly within 0.48 cm of a sample's end\n"))
       << five_bar;
   const std::string delta = describe(load_preset("delta-described"));
-  EXPECT_TRUE(has(delta, "    reach sampled within its travel: no (a spherical joint moves its end)\n")) << delta;
+  EXPECT_TRUE(has(delta, "    reach sampled within its travel: 67270 samples of the 2 joints that move its end; every "
+                         "assembly within 2.6 cm of a sample's end\n"))
+      << delta;
+  const std::string falcon = describe(load_preset("falcon"));
+  EXPECT_TRUE(has(falcon, "    reach sampled within its travel: no (4 freedoms move its end; a grid samples three at most)\n"))
+      << falcon;
 }
 
 // The five-bar with its left leg changed: `pattern` asserted (if not empty),

@@ -251,34 +251,33 @@ TEST(DescribedReach, TheSampledReachHoldsEveryAssemblyOnItsBranch) {
           EXPECT_LE(sampled.travel[std::size_t(combo)].outside(end), tolerance) << name << " leg " << l.name;
           ++chains;
           // Where the grid tells branches apart least: a passive revolute
-          // turned to just either side of where the state changes branch.
+          // (or a ball, about a random axis) turned to just either side of
+          // where the state changes branch.
           if (i % 20 || l.rules.empty()) continue;
+          int sphere = 0;
           for (const Step& step : l.steps) {
-            if (step.kind != Step::Kind::Revolute || step.actuator >= 0) continue;
+            const bool ball = step.kind == Step::Kind::Spherical;
+            sphere += ball;
+            if (!(ball || step.kind == Step::Kind::Revolute) || step.actuator >= 0) continue;
+            const Vector3d axis = Vector3d(unit(rng), unit(rng), unit(rng)).normalized();
             LegState t = s;
-            double before = -M_PI;
-            for (int j = 1; j <= 64; ++j) {
-              const double after = -M_PI + j * 2 * M_PI / 64;
-              t.values(step.variable) = before;
-              const int from = combination_of(l, t);
-              t.values(step.variable) = after;
-              const int to = combination_of(l, t);
-              if (from >= 0 && to >= 0 && from != to) {
-                double lo = before, hi = after;
-                for (int b = 0; b < 50; ++b) {
-                  t.values(step.variable) = 0.5 * (lo + hi);
-                  (combination_of(l, t) == from ? lo : hi) = t.values(step.variable);
-                }
-                for (const double side : {lo, hi}) {
-                  t.values(step.variable) = side;
-                  const int c = combination_of(l, t);
-                  if (c < 0) continue;
-                  EXPECT_LE(sampled.travel[std::size_t(c)].outside(internal::walk(l, t).end.translation()), tolerance)
-                      << name << " leg " << l.name << " next to a branch's edge";
-                  ++edges;
-                }
+            const auto turn = [&](double angle) {
+              if (ball) t.spheres[std::size_t(sphere - 1)] = s.spheres[std::size_t(sphere - 1)] * Eigen::AngleAxisd(angle, axis);
+              else t.values(step.variable) = angle;
+              return combination_of(l, t);
+            };
+            for (int j = 0; j < 64; ++j) {
+              double lo = -M_PI + j * 2 * M_PI / 64, hi = lo + 2 * M_PI / 64;
+              const int from = turn(lo), to = turn(hi);
+              if (from < 0 || to < 0 || from == to) continue;
+              for (int b = 0; b < 50; ++b) (turn(0.5 * (lo + hi)) == from ? lo : hi) = 0.5 * (lo + hi);
+              for (const double side : {lo, hi}) {
+                const int c = turn(side);
+                if (c < 0) continue;
+                EXPECT_LE(sampled.travel[std::size_t(c)].outside(internal::walk(l, t).end.translation()), tolerance)
+                    << name << " leg " << l.name << " next to a branch's edge";
+                ++edges;
               }
-              before = after;
             }
           }
         }
@@ -308,6 +307,47 @@ TEST(DescribedReach, TheSampledReachHoldsEveryAssemblyOnItsBranch) {
   EXPECT_GT(legs, 100);
   EXPECT_GT(edges, 1000);
   EXPECT_GT(refused_beyond_shells, 1000);
+}
+
+// A sample whose neighbour is on the other side of a rule's zero stands for
+// both branches. One revolute turning a link of 10 cm, its branch the sign
+// of the end along a direction turned so that the zero lies just past a
+// sample: an end just across the zero lies farther than the margin from
+// every sample on its own side, within it of that sample.
+TEST(DescribedReach, ASampleNextToARulesZeroCountsOnBothBranches) {
+  Leg leg;
+  leg.variables = 1;
+  Step turn;
+  turn.kind = Step::Kind::Revolute;
+  turn.actuator = 0;
+  Step link;
+  link.transform = Isometry3d(Eigen::Translation3d(10, 0, 0));
+  leg.steps = {turn, link};
+  leg.actuators = {0};
+  Actuator motor;  // a full turn
+  const int samples = 128;
+  const double half_step = M_PI / samples;
+  // The samples' angles: -pi + (i + 0.5) 2 pi / samples; the one at pi/2 + half_step,
+  // the zero 0.05 half steps past it.
+  const double zero = M_PI / 2 + 1.05 * half_step;
+  BranchRule along;
+  along.kind = BranchRule::Kind::Along;
+  along.steps = {0, -2, -1};
+  along.direction = Vector3d(std::cos(zero - M_PI / 2), std::sin(zero - M_PI / 2), 0);
+  along.free_index = 0;
+  leg.rules = {along};
+  LegState seed;
+  seed.values = Eigen::VectorXd::Zero(1);
+  const SampledReach sampled = sample_reach(leg, {motor}, false, seed);
+  ASSERT_TRUE(sampled.built);
+  ASSERT_EQ(sampled.samples, samples);
+  ASSERT_EQ(sampled.travel.size(), 2u);
+  for (const double side : {-1.0, 1.0}) {
+    const double angle = zero + side * 1e-9;
+    const Vector3d end(10 * std::cos(angle), 10 * std::sin(angle), 0);
+    const int combo = end.dot(along.direction) < 0;
+    EXPECT_LE(sampled.travel[std::size_t(combo)].outside(end), 1e-9) << "the side " << side;
+  }
 }
 
 // The numerical solver: a pose a bound rules out costs no iteration, its
