@@ -113,7 +113,8 @@ int main(int argc, char** argv) {
   };
   for (int round = 0; round < 3; ++round)
     for (const Case& c : cases) add(c.name, c.compiled, c.described, c.n, c.slice, round);
-  for (const char* preset : {"five-bar", "haply-2diy", "three-rrr", "pathos2-described", "hexapod-rus", "stewart"})
+  for (const char* preset : {"five-bar", "haply-2diy", "three-rrr", "pathos2-described", "hexapod-rus", "stewart",
+                             "delta-described", "linear-delta"})
     for (const bool sampled : {false, true})
       benchmark::RegisterBenchmark(
           ((sampled ? "BM_KinematicsSampled/" : "BM_Kinematics/") + std::string(preset)).c_str(), kinematics, preset,

@@ -29,9 +29,10 @@ thread_local ThreadSeeds thread_seeds;
 // many spread seeds: on an arm with offset elbows, enough to find every
 // assembly within the travel a finer scan finds (docs/described-internals.md).
 constexpr int kTravelSearchSpreadSeeds = 2;
-// Searches of a leg's travel before its sampled reach is built to rule
-// searches out: a grid takes about as long as a few hundred searches.
-constexpr int kSearchesBeforeSampling = 256;
+// The iterations a leg's travel searches take before its sampled reach is
+// built to rule searches out: about what a grid costs (a few milliseconds),
+// so that a field never pays much more than twice what the searches would.
+constexpr int kSearchIterationsBeforeSampling = 20000;
 
 // How far p lies outside a leg's bounds: the shell `reach` about its base
 // (distances in the plane where asked), and the bound about its first joint
@@ -386,14 +387,14 @@ LegSolution Kinematics::solve_leg_numeric(int leg, const Isometry3d& anchor, int
   // The seeds closed the leg, but not on the branch within its travel: that
   // tells nothing of the assemblies they did not find. The actuator swept
   // over its travel looks for one, where the bounds within the travel allow one.
-  // The sampled reach only once the shells have let the leg search often
-  // enough to pay for its grid (the answers are the same with it or without).
+  // The sampled reach only once the leg's searches have cost about what its
+  // grid does (the answers are the same with it or without).
+  std::atomic<int>& searched = sampled_->search_iterations[std::size_t(leg)];
   const auto ruled_out = [&] {
     const double cut = refusal_cut(tolerance);
     if (travel_outside(leg, anchor, branch, false) > cut) return true;
-    const bool sampled =
-        sampled_->searches[std::size_t(leg)].fetch_add(1, std::memory_order_relaxed) >= kSearchesBeforeSampling;
-    return sampled && travel_outside(leg, anchor, branch) > cut;
+    return searched.load(std::memory_order_relaxed) >= kSearchIterationsBeforeSampling &&
+           travel_outside(leg, anchor, branch) > cut;
   };
   if ((outside_travel || found_other_branch) && !ruled_out()) {
     thread_local std::vector<const LegState*> starts;
@@ -403,7 +404,10 @@ LegSolution Kinematics::solve_leg_numeric(int leg, const Isometry3d& anchor, int
     if (const auto& home = home_states_[std::size_t(leg)][std::size_t(combo)]) starts.push_back(&*home);
     for (int i = 0; i < kTravelSearchSpreadSeeds; ++i) starts.push_back(&spread_seeds_[std::size_t(leg)][std::size_t(i)]);
     LegSolution inside;
-    if (search_travel(leg, anchor, branch, tolerance, starts, inside, iterations)) {
+    const int before = iterations;
+    const bool found = search_travel(leg, anchor, branch, tolerance, starts, inside, iterations);
+    searched.fetch_add(iterations - before, std::memory_order_relaxed);
+    if (found) {
       inside.iterations = iterations;
       tls.legs[std::size_t(leg)][std::size_t(combo)] = inside.state;
       return inside;

@@ -293,14 +293,14 @@ class Kinematics {
   // its end, and its reach about its first joint (reach.h).
   std::vector<Range> leg_reach_;
   std::vector<FirstJointReach> leg_reach_about_first_;
-  // Per leg: its sampled reach, built at its first use, and how often the
-  // numerical solver has searched its travel (shared by copies: they depend
-  // on the model alone).
+  // Per leg: its sampled reach, built at its first use, and the iterations
+  // the numerical solver's searches of its travel have taken (shared by
+  // copies: they depend on the model alone).
   struct SampledReaches {
     std::vector<std::once_flag> built;
     std::vector<SampledReach> legs;
-    std::vector<std::atomic<int>> searches;
-    explicit SampledReaches(std::size_t n) : built(n), legs(n), searches(n) {}
+    std::vector<std::atomic<int>> search_iterations;
+    explicit SampledReaches(std::size_t n) : built(n), legs(n), search_iterations(n) {}
   };
   std::shared_ptr<SampledReaches> sampled_;
   // Per leg: the rank of its passive joints' twists at home (6 less the
