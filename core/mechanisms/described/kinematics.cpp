@@ -406,7 +406,8 @@ LegSolution Kinematics::solve_leg_numeric(int leg, const Isometry3d& anchor, int
     LegSolution inside;
     const int before = iterations;
     const bool found = search_travel(leg, anchor, branch, tolerance, starts, inside, iterations);
-    searched.fetch_add(iterations - before, std::memory_order_relaxed);
+    if (searched.load(std::memory_order_relaxed) < kSearchIterationsBeforeSampling)  // (no count past it)
+      searched.fetch_add(iterations - before, std::memory_order_relaxed);
     if (found) {
       inside.iterations = iterations;
       tls.legs[std::size_t(leg)][std::size_t(combo)] = inside.state;
