@@ -301,6 +301,14 @@ SampledReach sample_reach(const Leg& leg, const std::vector<Actuator>& actuators
         step.kind == Step::Kind::Prismatic)
       last = int(i);
   }
+  // A slide has a range only as an actuator with a travel.
+  for (int i = 0; i <= last; ++i) {
+    const Step& step = leg.steps[std::size_t(i)];
+    if (step.kind == Step::Kind::Prismatic && !(step.actuator >= 0 && actuators[std::size_t(step.actuator)].limited)) {
+      out.why_not = "a slide without travel moves its end";
+      return out;
+    }
+  }
   // The joints up to it, each over a full turn or its actuator's travel; a
   // ball joint (the last of them) over every direction of its link.
   std::vector<SampledJoint> joints;
@@ -309,7 +317,7 @@ SampledReach sample_reach(const Leg& leg, const std::vector<Actuator>& actuators
     const Step& step = leg.steps[std::size_t(i)];
     if (step.kind == Step::Kind::Fixed) continue;
     if (ball >= 0 || (step.kind == Step::Kind::Spherical && planar)) {
-      out.why_not = "a spherical joint moves its end before another joint";
+      out.why_not = planar ? "a spherical joint in a planar device" : "a spherical joint moves its end before another joint";
       return out;
     }
     const Actuator* act = step.actuator >= 0 ? &actuators[std::size_t(step.actuator)] : nullptr;
@@ -330,10 +338,6 @@ SampledReach sample_reach(const Leg& leg, const std::vector<Actuator>& actuators
       continue;
     }
     const bool sliding = step.kind == Step::Kind::Prismatic;
-    if (sliding && !(act && act->limited)) {
-      out.why_not = "a slide without travel moves its end";
-      return out;
-    }
     const bool limited = act && act->limited;
     joints.push_back({sliding ? SampledJoint::Kind::Slide : SampledJoint::Kind::Turn, i, lever,
                       limited ? act->range.lo : -kPi, limited ? act->range.hi : kPi, !limited});

@@ -350,6 +350,33 @@ TEST(DescribedReach, ASampleNextToARulesZeroCountsOnBothBranches) {
   }
 }
 
+// What a grid cannot sample is said, not sampled: a passive slide after an
+// actuated revolute (no range), four freedoms.
+TEST(DescribedReach, TheSampledReachSaysWhatItCannotSample) {
+  Leg leg;
+  Step turn, slide, link;
+  turn.kind = Step::Kind::Revolute;
+  turn.actuator = 0;
+  slide.kind = Step::Kind::Prismatic;
+  slide.axis = Vector3d::UnitX();
+  slide.variable = 1;
+  link.transform = Isometry3d(Eigen::Translation3d(10, 0, 0));
+  leg.steps = {turn, slide, link};
+  leg.variables = 2;
+  LegState seed;
+  seed.values = Eigen::VectorXd::Zero(2);
+  const SampledReach passive = sample_reach(leg, {Actuator{}}, false, seed);
+  EXPECT_FALSE(passive.built);
+  EXPECT_EQ(passive.why_not, "a slide without travel moves its end");
+  leg.steps = {turn, link, turn, link, turn, link, turn, link};
+  for (int i = 0; i < 4; ++i) leg.steps[std::size_t(2 * i)].variable = i;
+  leg.variables = 4;
+  seed.values = Eigen::VectorXd::Zero(4);
+  const SampledReach four = sample_reach(leg, {Actuator{}}, false, seed);
+  EXPECT_FALSE(four.built);
+  EXPECT_EQ(four.why_not, "4 freedoms move its end; a grid samples three at most");
+}
+
 // The numerical solver: a pose a bound rules out costs no iteration, its
 // status is the closed forms' and, where the legs' bounds are exact (cranks
 // and rods, three-revolute legs), its miss is the largest of the legs'
