@@ -12,7 +12,7 @@ namespace linkscape::described {
 using namespace internal;
 
 namespace {
-// Samples by the number of joints that move the end.
+// Samples by the number of freedoms that move the end.
 constexpr std::array<double, 3> kSamples{1 << 7, 1 << 15, 1 << 16};
 // Voxels per grid, at most (in a plane, in space).
 constexpr double kVoxelsInPlane = 1 << 16, kVoxels = 1 << 16, kSide = 256;
@@ -50,12 +50,12 @@ void transform_line(float* f, int n, int stride, std::vector<double>& in, std::v
   for (int q = 0; q < n; ++q) f[std::size_t(q) * std::size_t(stride)] = float(std::min(out[std::size_t(q)], kFar));
 }
 
-// One dimension of the grid over [lo, hi] in `count` steps (their
-// centres): a revolute's angle, a slide's travel, or a ball joint's
+// One freedom (a dimension of the grid) over [lo, hi] in `count` steps
+// (their centres): a revolute's angle, a slide's travel, or a ball joint's
 // direction for the link after it (polar angle from the link's direction
 // as written, then azimuth; its spin about the link moves nothing sampled).
 // `wraps`: a full turn, whose ends are neighbours.
-struct SampledJoint {
+struct Freedom {
   enum class Kind { Turn, Slide, Polar, Azimuth };
   Kind kind = Kind::Turn;
   int step = 0;
@@ -69,13 +69,13 @@ struct SampledJoint {
 
 // Counts per dimension for about `budget` samples, each one's half step
 // times its lever alike; returns the margin (the sum of those).
-double allot(std::vector<SampledJoint>& joints, double budget) {
-  const auto weight = [](const SampledJoint& j) { return (j.hi - j.lo) * j.lever; };
+double allot(std::vector<Freedom>& freedoms, double budget) {
+  const auto weight = [](const Freedom& j) { return (j.hi - j.lo) * j.lever; };
   double product = 1;
-  for (const SampledJoint& j : joints) product *= std::max(weight(j), 1e-300);
-  const double per = std::pow(product / budget, 1.0 / double(joints.size()));
+  for (const Freedom& j : freedoms) product *= std::max(weight(j), 1e-300);
+  const double per = std::pow(product / budget, 1.0 / double(freedoms.size()));
   double margin = 0;
-  for (SampledJoint& j : joints) {
+  for (Freedom& j : freedoms) {
     j.count = std::clamp(int(std::ceil(weight(j) / per)), 1, int(budget));
     margin += j.half_step() * j.lever;
   }
@@ -102,7 +102,7 @@ struct Frames {
   Eigen::Isometry3d tail = Eigen::Isometry3d::Identity();  // from the last frame to the end
 };
 
-Frames frames_of(const Leg& leg, const std::vector<SampledJoint>& joints, const LegState& seed) {
+Frames frames_of(const Leg& leg, const std::vector<Freedom>& freedoms, const LegState& seed) {
   Frames f;
   Eigen::Isometry3d acc = leg.base;
   int frame = 0, sphere = 0;
@@ -112,11 +112,11 @@ Frames frames_of(const Leg& leg, const std::vector<SampledJoint>& joints, const 
     f.frame_of_step.push_back(frame);
     f.offset.push_back(acc);
     sphere += step.kind == Step::Kind::Spherical;
-    if (next < joints.size() && joints[next].step == int(i)) {
+    if (next < freedoms.size() && freedoms[next].step == int(i)) {
       f.lead.push_back(acc);
       acc.setIdentity();
       ++frame;
-      while (next < joints.size() && joints[next].step == int(i)) ++next;  // a ball's two dimensions
+      while (next < freedoms.size() && freedoms[next].step == int(i)) ++next;  // a ball's two dimensions
       continue;
     }
     switch (step.kind) {
@@ -137,33 +137,33 @@ struct Samples {
   std::vector<std::int8_t> signs;  // per sample, per rule
 };
 
-Samples walk_samples(const Leg& leg, const std::vector<SampledJoint>& joints, const Frames& f) {
-  const std::size_t k = joints.size();
+Samples walk_samples(const Leg& leg, const std::vector<Freedom>& freedoms, const Frames& f) {
+  const std::size_t k = freedoms.size();
   // Per motion: its first dimension and, per value (a ball's per pair of
   // values, the azimuth fastest), its lead times its motion.
   std::vector<std::size_t> motion_of(k), first;
   std::vector<std::vector<Eigen::Isometry3d>> moved;
   std::size_t total = 1;
   for (std::size_t j = 0; j < k; ++j) {
-    total *= std::size_t(joints[j].count);
-    if (joints[j].kind == SampledJoint::Kind::Azimuth) {
+    total *= std::size_t(freedoms[j].count);
+    if (freedoms[j].kind == Freedom::Kind::Azimuth) {
       motion_of[j] = motion_of[j - 1];
       continue;
     }
     motion_of[j] = moved.size();
     first.push_back(j);
     const std::size_t m = moved.size();
-    const Step& step = leg.steps[std::size_t(joints[j].step)];
+    const Step& step = leg.steps[std::size_t(freedoms[j].step)];
     moved.emplace_back();
-    for (int i = 0; i < joints[j].count; ++i) {
-      if (joints[j].kind == SampledJoint::Kind::Polar) {
+    for (int i = 0; i < freedoms[j].count; ++i) {
+      if (freedoms[j].kind == Freedom::Kind::Polar) {
         // The link after the ball (the tail: a ball is the last motion)
         // turned from its direction as written to the sampled direction.
         const Eigen::Vector3d link = f.tail.translation().normalized();
         const Eigen::Matrix3d written = basis_along(link);
-        const double polar = joints[j].value(i);
-        for (int az = 0; az < joints[j + 1].count; ++az) {
-          const double azimuth = joints[j + 1].value(az);
+        const double polar = freedoms[j].value(i);
+        for (int az = 0; az < freedoms[j + 1].count; ++az) {
+          const double azimuth = freedoms[j + 1].value(az);
           const Eigen::Vector3d d = written * Eigen::Vector3d(std::cos(polar), std::sin(polar) * std::cos(azimuth),
                                                               std::sin(polar) * std::sin(azimuth));
           Eigen::Isometry3d mm = f.lead[m];
@@ -173,8 +173,8 @@ Samples walk_samples(const Leg& leg, const std::vector<SampledJoint>& joints, co
         continue;
       }
       Eigen::Isometry3d mm = f.lead[m];
-      if (joints[j].kind == SampledJoint::Kind::Slide) mm.translate(step.axis * joints[j].value(i));
-      else mm.rotate(Eigen::AngleAxisd(joints[j].value(i), step.axis));
+      if (freedoms[j].kind == Freedom::Kind::Slide) mm.translate(step.axis * freedoms[j].value(i));
+      else mm.rotate(Eigen::AngleAxisd(freedoms[j].value(i), step.axis));
       moved[m].push_back(mm);
     }
   }
@@ -189,8 +189,8 @@ Samples walk_samples(const Leg& leg, const std::vector<SampledJoint>& joints, co
   for (std::size_t index = 0; index < total; ++index) {
     for (std::size_t m = motion_of[std::min(changed, k - 1)]; m < motions; ++m) {
       const std::size_t j = first[m];
-      const std::size_t value = joints[j].kind == SampledJoint::Kind::Polar
-                                    ? std::size_t(at[j]) * std::size_t(joints[j + 1].count) + std::size_t(at[j + 1])
+      const std::size_t value = freedoms[j].kind == Freedom::Kind::Polar
+                                    ? std::size_t(at[j]) * std::size_t(freedoms[j + 1].count) + std::size_t(at[j + 1])
                                     : std::size_t(at[j]);
       frame[m + 1] = frame[m] * moved[m][value];
     }
@@ -205,7 +205,7 @@ Samples walk_samples(const Leg& leg, const std::vector<SampledJoint>& joints, co
       double value = 0;
       if (rule.kind == BranchRule::Kind::Angle) {
         for (std::size_t j = 0; j < k; ++j)
-          if (joints[j].step == rule.steps[0]) value = sine_sign(joints[j].value(at[j]));
+          if (freedoms[j].step == rule.steps[0]) value = sine_sign(freedoms[j].value(at[j]));
       } else if (rule.kind == BranchRule::Kind::Along) {
         value = (centre(rule.steps[1]) - centre(rule.steps[0])).dot(rule.direction);
       } else {
@@ -221,7 +221,7 @@ Samples walk_samples(const Leg& leg, const std::vector<SampledJoint>& joints, co
     changed = k;
     while (changed > 0) {
       --changed;
-      if (++at[changed] < joints[changed].count) break;
+      if (++at[changed] < freedoms[changed].count) break;
       at[changed] = 0;
     }
   }
@@ -286,7 +286,8 @@ double BallSetDistance::outside(const Eigen::Vector3d& p) const {
     index += std::size_t(std::clamp(i, 0, n_[std::size_t(d)] - 1)) * stride;
     stride *= std::size_t(n_[std::size_t(d)]);
   }
-  const double within = std::max(0.0, double(distance_[index]) - slack_);
+  // (The distance rounded to float: taken a little short.)
+  const double within = std::max(0.0, double(distance_[index]) * (1 - 1e-6) - slack_);
   return std::sqrt((q - near).squaredNorm() + within * within) - margin_;
 }
 
@@ -311,13 +312,14 @@ SampledReach sample_reach(const Leg& leg, const std::vector<Actuator>& actuators
   }
   // The joints up to it, each over a full turn or its actuator's travel; a
   // ball joint (the last of them) over every direction of its link.
-  std::vector<SampledJoint> joints;
+  std::vector<Freedom> freedoms;
   int ball = -1;  // its step
   for (int i = 0; i <= last; ++i) {
     const Step& step = leg.steps[std::size_t(i)];
     if (step.kind == Step::Kind::Fixed) continue;
     if (ball >= 0 || (step.kind == Step::Kind::Spherical && planar)) {
-      out.why_not = planar ? "a spherical joint in a planar device" : "a spherical joint moves its end before another joint";
+      out.why_not =
+          planar ? "a spherical joint in a planar device" : "a spherical joint moves its end before another joint";
       return out;
     }
     const Actuator* act = step.actuator >= 0 ? &actuators[std::size_t(step.actuator)] : nullptr;
@@ -333,24 +335,24 @@ SampledReach sample_reach(const Leg& leg, const std::vector<Actuator>& actuators
     }
     if (step.kind == Step::Kind::Spherical) {
       ball = i;
-      joints.push_back({SampledJoint::Kind::Polar, i, lever, 0.0, kPi, false});
-      joints.push_back({SampledJoint::Kind::Azimuth, i, lever, -kPi, kPi, true});
+      freedoms.push_back({Freedom::Kind::Polar, i, lever, 0.0, kPi, false});
+      freedoms.push_back({Freedom::Kind::Azimuth, i, lever, -kPi, kPi, true});
       continue;
     }
     const bool sliding = step.kind == Step::Kind::Prismatic;
     const bool limited = act && act->limited;
-    joints.push_back({sliding ? SampledJoint::Kind::Slide : SampledJoint::Kind::Turn, i, lever,
-                      limited ? act->range.lo : -kPi, limited ? act->range.hi : kPi, !limited});
+    freedoms.push_back({sliding ? Freedom::Kind::Slide : Freedom::Kind::Turn, i, lever,
+                        limited ? act->range.lo : -kPi, limited ? act->range.hi : kPi, !limited});
   }
-  out.joints = int(joints.size()) - (ball >= 0);
-  if (joints.empty() || joints.size() > 3) {
-    out.why_not = joints.empty() ? "no joint moves its end"
-                                 : std::to_string(joints.size()) +
-                                       " freedoms move its end; a grid samples three at most";
+  out.joints = int(freedoms.size()) - (ball >= 0);
+  if (freedoms.empty() || freedoms.size() > 3) {
+    out.why_not = freedoms.empty()
+                      ? "no joint moves its end"
+                      : std::to_string(freedoms.size()) + " freedoms move its end; a grid samples three at most";
     return out;
   }
-  const double margin = allot(joints, kSamples[joints.size() - 1]);
-  const Samples samples = walk_samples(leg, joints, frames_of(leg, joints, seed));
+  const double margin = allot(freedoms, kSamples[freedoms.size() - 1]);
+  const Samples samples = walk_samples(leg, freedoms, frames_of(leg, freedoms, seed));
   out.samples = int(samples.ends.size());
 
   // Which rules a sample tells: an angle of a revolute it samples; a centre
@@ -366,8 +368,8 @@ SampledReach sample_reach(const Leg& leg, const std::vector<Actuator>& actuators
   for (std::size_t r = 0; r < rules; ++r) {
     const BranchRule& rule = leg.rules[r];
     if (rule.kind == BranchRule::Kind::Angle)
-      told[r] = std::any_of(joints.begin(), joints.end(), [&](const SampledJoint& j) {
-        return j.step == rule.steps[0] && j.kind == SampledJoint::Kind::Turn;
+      told[r] = std::any_of(freedoms.begin(), freedoms.end(), [&](const Freedom& j) {
+        return j.step == rule.steps[0] && j.kind == Freedom::Kind::Turn;
       });
     if (rule.kind == BranchRule::Kind::Along) told[r] = centre_told(rule.steps[0]) && centre_told(rule.steps[1]);
     if (rule.kind == BranchRule::Kind::Triple)
@@ -378,35 +380,36 @@ SampledReach sample_reach(const Leg& leg, const std::vector<Actuator>& actuators
   // passes between them: they and every sample next to them (diagonally
   // too) stand for assemblies of either sign. The samples next to a ball's
   // poles are all neighbours of one another.
-  const std::size_t k = joints.size(), total = samples.ends.size();
+  const std::size_t k = freedoms.size(), total = samples.ends.size();
   std::array<std::size_t, 3> strides{1, 1, 1};  // the last dimension fastest
-  for (std::size_t j = k - 1; j > 0; --j) strides[j - 1] = strides[j] * std::size_t(joints[j].count);
+  for (std::size_t j = k - 1; j > 0; --j) strides[j - 1] = strides[j] * std::size_t(freedoms[j].count);
   // Calls pair(a, b) for each two samples next to each other along dimension j.
   const auto for_each_pair = [&](std::size_t j, auto&& pair) {
-    const std::size_t count = std::size_t(joints[j].count), stride = strides[j], block = stride * count;
-    const std::size_t pairs = joints[j].wraps && count > 2 ? count : count - 1;
+    const std::size_t count = std::size_t(freedoms[j].count), stride = strides[j], block = stride * count;
+    const std::size_t pairs = freedoms[j].wraps && count > 2 ? count : count - 1;
     for (std::size_t outer = 0; outer < total; outer += block)
       for (std::size_t a = 0; a < pairs; ++a)
         for (std::size_t inner = 0; inner < stride; ++inner)
           pair(outer + a * stride + inner, outer + (a + 1) % count * stride + inner);
   };
+  const auto sign = [&](std::size_t sample, std::size_t r) { return samples.signs[sample * rules + r]; };
   std::vector<std::uint8_t> near_zero(total * rules, 0);
+  const auto mark = [&](std::size_t sample, std::size_t r) { near_zero[sample * rules + r] = 1; };
   for (std::size_t j = 0; j < k; ++j)
     for_each_pair(j, [&](std::size_t a, std::size_t b) {
       for (std::size_t r = 0; r < rules; ++r)
-        if (samples.signs[a * rules + r] != samples.signs[b * rules + r]) near_zero[a * rules + r] = near_zero[b * rules + r] = 1;
+        if (sign(a, r) != sign(b, r)) mark(a, r), mark(b, r);
     });
-  for (std::size_t j = 0; j < k; ++j) {
-    if (joints[j].kind != SampledJoint::Kind::Polar) continue;
-    const SampledJoint& azimuth = joints[j + 1];
-    for (std::size_t index = 0; index < total; index += strides[j]) {
-      const int row = int(index / strides[j] % std::size_t(joints[j].count));
-      if (row != 0 && row + 1 != joints[j].count) continue;
+  // A ball is the last motion: its polar angle the second last dimension.
+  if (ball >= 0) {
+    const std::size_t polar = k - 2, azimuths = std::size_t(freedoms[k - 1].count);
+    for (std::size_t row = 0; row < total; row += azimuths) {
+      const int at = int(row / azimuths % std::size_t(freedoms[polar].count));
+      if (at != 0 && at + 1 != freedoms[polar].count) continue;
       for (std::size_t r = 0; r < rules; ++r) {
         bool differs = false;
-        for (int az = 1; az < azimuth.count; ++az)
-          differs = differs || samples.signs[(index + std::size_t(az) * strides[j + 1]) * rules + r] != samples.signs[index * rules + r];
-        for (int az = 0; az < azimuth.count && differs; ++az) near_zero[(index + std::size_t(az) * strides[j + 1]) * rules + r] = 1;
+        for (std::size_t az = 1; az < azimuths; ++az) differs = differs || sign(row + az, r) != sign(row, r);
+        for (std::size_t az = 0; az < azimuths && differs; ++az) mark(row + az, r);
       }
     }
   }

@@ -2,18 +2,19 @@
 // chain's shape, where the shells of reach.h know only its lengths.
 //
 // Every assembly's joint values lie within half a step of a sample's, and a
-// joint moved by at most half a step moves the end by at most that times
-// its lever (a revolute's: the longest the links after it reach; a slide's:
-// one). So every assembly's end lies within a margin (the sum of those) of
-// some sample's end, and an anchor farther than that from every sample's
-// end cannot be reached: the bound is sound, not a guess. With the actuators
-// within their travel, per combination of the leg's branch rules: the
-// numerical solver's search for an assembly within the travel
-// (kinematics.cpp) is left out where no sample on the branch comes near.
+// freedom moved by at most half a step moves the end by at most that times
+// its lever (a revolute's or a ball's: the longest the links after it
+// reach; a slide's: one). So every assembly's end lies within a margin (the
+// sum of those) of some sample's end, and an anchor farther than that from
+// every sample's end cannot be reached. With the actuators within their
+// travel, per combination of the leg's branch rules: the numerical solver's
+// search for an assembly within the travel (kinematics.cpp) is left out
+// where no sample on the branch comes near.
 //
-// Built for a leg whose end point moves with at most three revolute or
-// prismatic joints (the joints after its last link only turn it) over
-// bounded ranges (a passive slide has none).
+// Built for a leg whose end point moves with at most three freedoms (the
+// joints after its last link only turn it): revolutes, slides with a
+// travel, and a ball joint as the last of them (its link's direction; its
+// spin moves nothing sampled).
 #pragma once
 
 #include <Eigen/Core>
@@ -39,7 +40,6 @@ class BallSetDistance {
   // all); +inf for an empty set.
   double outside(const Eigen::Vector3d& p) const;
   double margin() const { return margin_; }
-  bool empty() const { return distance_.empty(); }
 
  private:
   Eigen::Vector3d lo_ = Eigen::Vector3d::Zero(), hi_ = Eigen::Vector3d::Zero();  // the points' box
@@ -52,12 +52,11 @@ class BallSetDistance {
 struct SampledReach {
   bool built = false;
   std::string why_not;  // where not built: what moves the end that a grid cannot sample
-  int joints = 0;       // the joints that move the end point
+  int joints = 0;       // the joints that move the end point (a ball one)
   int samples = 0;
   // Per combination of the leg's free rules (leg_combination): the
   // assemblies with the actuators within their travel on that branch. A
-  // sample whose rule changes sign towards a neighbouring sample counts on
-  // both branches.
+  // sample next to where a rule changes sign counts on both branches.
   std::vector<BallSetDistance> travel;
 };
 
