@@ -432,22 +432,20 @@ SampledReach sample_reach(const Leg& leg, const std::vector<Actuator>& actuators
   std::vector<std::vector<Eigen::Vector3d>> points;
   points.resize(std::size_t(combos));
   for (std::size_t index = 0; index < total; ++index) {
-    std::uint32_t allowed = (std::uint32_t(1) << combos) - 1;
-    int bit = 0;
+    // The combinations its signs allow: a combination's bit b set where its
+    // free rule b is negative.
+    int negative = 0, positive = 0, bit = 0;
+    bool off_design = false;
     for (std::size_t r = 0; r < rules; ++r) {
       const BranchRule& rule = leg.rules[r];
       const int free_bit = rule.free_index >= 0 ? bit++ : -1;
-      const int sign = samples.signs[index * rules + r];
       if (both[index * rules + r]) continue;
-      if (free_bit < 0) {
-        if (sign != rule.fixed_sign) allowed = 0;
-        continue;
-      }
-      for (int combo = 0; combo < combos; ++combo)
-        if ((((combo >> free_bit) & 1) != 0) != (sign < 0)) allowed &= ~(std::uint32_t(1) << combo);
+      const int s = sign(index, r);
+      if (free_bit < 0) off_design = off_design || s != rule.fixed_sign;
+      else (s < 0 ? negative : positive) |= 1 << free_bit;
     }
-    for (int combo = 0; combo < combos; ++combo)
-      if (allowed >> combo & 1) points[std::size_t(combo)].push_back(samples.ends[index]);
+    for (int combo = 0; combo < combos && !off_design; ++combo)
+      if ((combo & negative) == negative && (combo & positive) == 0) points[std::size_t(combo)].push_back(samples.ends[index]);
   }
   for (const auto& p : points) out.travel.emplace_back(p, margin, planar);
   out.built = true;
