@@ -213,12 +213,20 @@ inline int free_rules_of(const Leg& l) {
   return n;
 }
 
-// A triple or along rule's value at a walked chain (length^2 or length).
-inline double rule_value(const BranchRule& r, const Chain& c, const Isometry3d& anchor) {
-  auto centre = [&](int step) { return step == -2 ? anchor.translation() : c.step_centre[std::size_t(step)]; };
+// A triple or along rule's value (length^2 or length) from the centres and
+// axes of the steps it reads (centre(-2): the anchor's).
+template <class Centre, class Axis>
+double rule_value_from(const BranchRule& r, Centre&& centre, Axis&& axis) {
   if (r.kind == BranchRule::Kind::Along) return (centre(r.steps[1]) - centre(r.steps[0])).dot(r.direction);
   const Vector3d a = centre(r.steps[0]), b = centre(r.steps[1]);
-  return (b - a).cross(centre(r.steps[2]) - b).dot(c.step_axis[std::size_t(r.steps[0])]);
+  return (b - a).cross(centre(r.steps[2]) - b).dot(axis(r.steps[0]));
+}
+
+// The same at a walked chain.
+inline double rule_value(const BranchRule& r, const Chain& c, const Isometry3d& anchor) {
+  return rule_value_from(
+      r, [&](int step) -> Vector3d { return step == -2 ? anchor.translation() : c.step_centre[std::size_t(step)]; },
+      [&](int step) -> Vector3d { return c.step_axis[std::size_t(step)]; });
 }
 
 // The sign of one rule at a walked chain.

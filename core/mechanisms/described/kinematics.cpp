@@ -270,9 +270,14 @@ double Kinematics::travel_outside(int leg, const Isometry3d& anchor, int branch,
   const double bounds = outside_bounds(model_.legs[std::size_t(leg)].base.translation(), anchor.translation(),
                                        leg_travel_reach_[std::size_t(leg)], &leg_travel_about_first_[std::size_t(leg)],
                                        model_.planar);
-  if (!sampled || !sampled_reach(leg).built) return bounds;
+  return sampled ? std::max(bounds, sampled_outside(leg, anchor, branch)) : bounds;
+}
+
+double Kinematics::sampled_outside(int leg, const Isometry3d& anchor, int branch) const {
+  const SampledReach& sampled = sampled_reach(leg);
+  if (!sampled.built) return -kInf;
   const int combo = leg_combination(model_.legs[std::size_t(leg)], branch);
-  return std::max(bounds, sampled_reach(leg).travel[std::size_t(combo)].outside(anchor.translation()));
+  return sampled.travel[std::size_t(combo)].outside(anchor.translation());
 }
 
 void Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int branch, double tolerance,
@@ -394,7 +399,7 @@ LegSolution Kinematics::solve_leg_numeric(int leg, const Isometry3d& anchor, int
     const double cut = refusal_cut(tolerance);
     if (travel_outside(leg, anchor, branch, false) > cut) return true;
     return searched.load(std::memory_order_relaxed) >= kSearchIterationsBeforeSampling &&
-           travel_outside(leg, anchor, branch) > cut;
+           sampled_outside(leg, anchor, branch) > cut;
   };
   if ((outside_travel || found_other_branch) && !ruled_out()) {
     thread_local std::vector<const LegState*> starts;

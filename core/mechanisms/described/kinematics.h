@@ -232,6 +232,9 @@ class Kinematics {
   // stays where the state has it.
   LegSolveResult solve_leg(int leg, const Eigen::Isometry3d& anchor, LegState state, int max_iterations,
                            double crawl, int held = -1) const;
+  // How far the anchor lies outside the leg's sampled reach on `branch`
+  // (-inf where it has none).
+  double sampled_outside(int leg, const Eigen::Isometry3d& anchor, int branch) const;
   // Beyond how far outside a bound the numerical solver's legs are refused:
   // its tolerance (at least 1e-9), times the size.
   double refusal_cut(double tolerance) const { return std::max(1e-9, tolerance) * model_.size; }

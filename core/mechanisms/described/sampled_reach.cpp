@@ -196,25 +196,20 @@ Samples walk_samples(const Leg& leg, const std::vector<Freedom>& freedoms, const
     }
     const Eigen::Vector3d end = frame[motions] * f.tail.translation();
     out.ends[index] = end;
-    const auto centre = [&](int step) {
-      return step == -2 ? end : Eigen::Vector3d(frame[std::size_t(f.frame_of_step[std::size_t(step)])] *
-                                                f.offset[std::size_t(step)].translation());
+    const auto centre = [&](int step) -> Eigen::Vector3d {
+      return step == -2 ? end : frame[std::size_t(f.frame_of_step[std::size_t(step)])] * f.offset[std::size_t(step)].translation();
+    };
+    const auto axis = [&](int step) -> Eigen::Vector3d {
+      return frame[std::size_t(f.frame_of_step[std::size_t(step)])].linear() *
+             (f.offset[std::size_t(step)].linear() * leg.steps[std::size_t(step)].axis);
     };
     for (std::size_t r = 0; r < rules; ++r) {
       const BranchRule& rule = leg.rules[r];
       double value = 0;
-      if (rule.kind == BranchRule::Kind::Angle) {
+      if (rule.kind != BranchRule::Kind::Angle) value = rule_value_from(rule, centre, axis);
+      else
         for (std::size_t j = 0; j < k; ++j)
           if (freedoms[j].step == rule.steps[0]) value = sine_sign(freedoms[j].value(at[j]));
-      } else if (rule.kind == BranchRule::Kind::Along) {
-        value = (centre(rule.steps[1]) - centre(rule.steps[0])).dot(rule.direction);
-      } else {
-        const int a = rule.steps[0];
-        const Eigen::Vector3d axis = frame[std::size_t(f.frame_of_step[std::size_t(a)])].linear() *
-                                     (f.offset[std::size_t(a)].linear() * leg.steps[std::size_t(a)].axis);
-        const Eigen::Vector3d b = centre(rule.steps[1]);
-        value = (b - centre(a)).cross(centre(rule.steps[2]) - b).dot(axis);
-      }
       out.signs[index * rules + r] = std::int8_t(value > 0 ? 1 : value < 0 ? -1 : 0);
     }
     // The next sample: the last dimension fastest.
