@@ -110,6 +110,8 @@ void Kinematics::jacobian_into(const PlatformPose& p, const PoseSolution& solved
   out.serial_margin.assign(model_.legs.size(), kInf);
   out.status = Status::Ok;
   out.singular_leg = -1;
+  out.constraint_rank = 0;  // (`out` is often a thread's scratch, reused from the last sample)
+  out.constraint_singular = false;
   const int m = model_.planar ? 3 : 6;
   thread_local Chain c;
   // The legs' constraint wrenches side by side (at most m per leg).

@@ -488,6 +488,8 @@ void Geometry(const LaneDevice& dev, const Grid& g, const detail::GridRow& row, 
       M near = None(d);  // a threshold the scalar path decides at, where the device assembles
       V Jx[N][N], jq[N];
       V serial = inf, travel = inf, cones = inf;
+      V3 couples[N];
+      int parallelograms = 0;
       Widest widest_cone[kMaxLaneSizes], widest_travel[kMaxLaneSizes];
       for (std::size_t k = 0; k < kMaxLaneSizes; ++k) widest_cone[k] = widest_travel[k] = {zero, one};
       // A revolute travel's margin, or its angle kept for its width's.
@@ -508,6 +510,8 @@ void Geometry(const LaneDevice& dev, const Grid& g, const detail::GridRow& row, 
           cones = hn::Min(cones, StopMargin(d, stop, c, s));
         }
         if (g.parallelogram) {
+          // Its constraint couple: square to its knee's axis and its upper bar's.
+          couples[parallelograms++] = Cross(Splat(d, g.axis), Turn(d, g.axis, Eigen::Vector3d(g.frame * g.upper_axis), a.cqk, a.sqk));
           ParallelogramRow<N>(d, g, dev.coordinate, size, legs[i], Jx[i], jq[i], near);
           near = hn::Or(near, jq[i] < hn::Set(d, 1e-6));
           serial = hn::Min(serial, jq[i] * hn::Set(d, size));
@@ -555,6 +559,20 @@ void Geometry(const LaneDevice& dev, const Grid& g, const detail::GridRow& row, 
         serial = hn::Min(serial, hn::Abs(jq[i]) * hn::Set(d, g.prismatic ? size * size : size));
         if (g.limited && g.prismatic) travel = hn::Min(travel, hn::Min(a.q - hn::Set(d, g.lo), hn::Set(d, g.hi) - a.q));
         else if (g.limited) travel_of(g, a);
+      }
+      // A constraint singularity (Kinematics::jacobian's rank of the legs'
+      // constraint wrenches, the parallelograms' couples): near where the
+      // couples come within 1e-6 of losing their rank (the scalar path's
+      // test at 1e-10 lies within), the scalar path decides.
+      if (parallelograms == 1) near = hn::Or(near, Dot(couples[0], couples[0]) < hn::Set(d, 1e-12));
+      if (parallelograms == 2) {
+        const V3 k = Cross(couples[0], couples[1]);
+        near = hn::Or(near, Dot(k, k) < hn::Set(d, 1e-12) * Dot(couples[0], couples[0]) * Dot(couples[1], couples[1]));
+      }
+      if (parallelograms == 3) {
+        const V det = Dot(couples[0], Cross(couples[1], couples[2]));
+        near = hn::Or(near, det * det < hn::Set(d, 1e-12) * Dot(couples[0], couples[0]) * Dot(couples[1], couples[1]) *
+                                            Dot(couples[2], couples[2]));
       }
       for (std::size_t k = 0; k < dev.cone_sizes.size(); ++k)
         cones = hn::Min(cones, hn::Set(d, dev.cone_sizes[k]) - Atan2(d, widest_cone[k].s, widest_cone[k].c) * hn::Set(d, kDeg));

@@ -159,6 +159,64 @@ TEST(DescribedLanes, ShippedDevicesAgreeWithTheScalarClosedPath) {
   }
 }
 
+// The Falcon's crank-parallelograms each hold the platform's orientation
+// by a couple square to their knee's and upper bar's axes; where the three
+// couples lie in one plane the platform gains a turn the legs held (a
+// constraint singularity). Found from the legs' joint axes alone (the
+// couples' determinant, bisected) and sampled there: the lanes call it
+// singular as the scalar path does, and a millimetre off it ok.
+TEST(DescribedLanes, AConstraintSingularityIsSingularInLanes) {
+  using namespace described;
+  // Without its travel and stops: the singular surface lies where the
+  // shipped device's knees are beyond theirs.
+  Preset preset = load_preset("falcon");
+  preset.limits_deg.clear();
+  for (std::size_t at; (at = preset.description.find(R"(,"range_deg":)")) != std::string::npos;)
+    preset.description.erase(at, preset.description.find(']', at) + 1 - at);
+  const Kinematics kin(build_model(preset.description, preset.parameters, preset.limits_deg, preset.length_unit));
+  const auto determinant = [&](const Eigen::Vector3d& x) {
+    const PoseSolution s = kin.inverse(x, 0, 1e-12);
+    if (s.status != Status::Ok) return std::numeric_limits<double>::quiet_NaN();
+    Eigen::Matrix3d couples;
+    internal::Chain c;
+    for (int leg = 0; leg < 3; ++leg) {
+      internal::walk_into(kin.model().legs[std::size_t(leg)], s.legs[std::size_t(leg)].state, c);
+      couples.col(leg) = c.axis[1].cross(c.axis[2]).normalized();  // knee x upper
+    }
+    return couples.determinant();
+  };
+  // A sign change between two poses 5 mm apart in z, both assembled, bisected.
+  Eigen::Vector3d lo, hi;
+  bool found = false;
+  for (double x = -100; x <= 100 && !found; x += 10)
+    for (double z = -150; z <= 200 && !found; z += 5) {
+      lo = {x, 10, z}, hi = {x, 10, z + 5};
+      found = determinant(lo) * determinant(hi) < 0;
+    }
+  ASSERT_TRUE(found) << "no sign change of the couples' determinant";
+  for (int i = 0; i < 80; ++i) {
+    const Eigen::Vector3d mid = 0.5 * (lo + hi);
+    (determinant(lo) * determinant(mid) <= 0 ? hi : lo) = mid;
+  }
+  // Three samples on one thread, 1 mm apart in z, the root last (a thread's
+  // scratch carries nothing from one sample to the next).
+  const Eigen::Vector3d root = 0.5 * (lo + hi);
+  const Grid g = Grid::box(root - Eigen::Vector3d(1, 1, 2.5), root + Eigen::Vector3d(1, 1, 0.5), {1, 1, 3});
+  ASSERT_LT((g.point(0, 0, 2) - root).norm(), 1e-12);
+  ASSERT_LT(std::abs(determinant(g.point(0, 0, 2))), 1e-12) << root.transpose();
+  const auto m = linkscape::make_mechanism(preset);
+  for (const char* method : {"closed-scalar", "closed"}) {
+    IkOptions o;
+    o.method = method;
+    const std::optional<Field> f = m->compute_field(g, m->home_task(), o, 1, {});
+    ASSERT_TRUE(f);
+    if (std::string(method) == "closed") EXPECT_EQ(f->method, "lanes");
+    for (int k = 0; k < 3; ++k)
+      EXPECT_EQ(Status(f->status[std::size_t(k)]), k == 2 ? Status::Singular : Status::Ok)
+          << method << " at " << g.point(0, 0, k).transpose();
+  }
+}
+
 // A cylinder as designers write it (universal joint, the body's length,
 // the stroke, the rod's end): the slide starts along the leg from the ball.
 TEST(DescribedLanes, ACylindersBodyBeforeItsSlideAgreesWithTheScalarClosedPath) {
