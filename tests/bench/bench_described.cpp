@@ -7,14 +7,17 @@
 // and the whole list three times over (rounds), so that a change of the
 // machine's load shows in every column alike. Fields over the device's
 // default box (n^3) and slices on its default plane (n x n), at the home
-// task, 2 threads (compiled and lanes also on one). The newton cases run once, in the first round (they take
-// seconds). The CPU column is every thread's time; the rate is per
-// wall-clock second.
+// task, 2 threads (compiled and lanes also on one). The newton cases run
+// once a round, in the first two rounds (they take seconds), each beside
+// the same solver unaided (LINKSCAPE_NUMERIC_AIDS=off: no reach bounds, no
+// row seeding; what a leg of no known pattern gains from them). The CPU
+// column is every thread's time; the rate is per wall-clock second.
 // BM_Kinematics / BM_KinematicsSampled: a device's Kinematics built, without
 // and with every leg's sampled reach.
 // Run: build/tests/bench/bench_described (--benchmark_filter=Stewart etc.)
 #include <benchmark/benchmark.h>
 
+#include <cstdlib>
 #include <string>
 
 #include "core/mechanism.h"
@@ -36,8 +39,12 @@ Grid grid_of(const linkscape::Mechanism& m, int n, bool slice) {
 }
 
 void field(benchmark::State& state, const std::string& preset, const std::string& method, int n, bool slice,
-           int threads) {
+           int threads, bool unaided) {
+  // Unaided: the numerical solver without its reach bounds and row seeding
+  // (read when the device is built).
+  if (unaided) setenv("LINKSCAPE_NUMERIC_AIDS", "off", 1);
   const auto mechanism = linkscape::make_mechanism(linkscape::load_preset(preset));
+  unsetenv("LINKSCAPE_NUMERIC_AIDS");
   // The compiled devices' grids are those of the described copies, so both sample the same points.
   const std::string grid_preset = preset == "delta" ? "delta-described" : preset == "pathos2" ? "pathos2-described" : preset;
   const Grid g = grid_of(*linkscape::make_mechanism(linkscape::load_preset(grid_preset)), n, slice);
@@ -59,10 +66,11 @@ void field(benchmark::State& state, const std::string& preset, const std::string
 void add(const std::string& name, const std::string& compiled, const std::string& described, int n, bool slice,
          int round) {
   const std::string shape = slice ? "Slice" + std::to_string(n) : "Box" + std::to_string(n);
-  auto reg = [&](const std::string& label, const std::string& preset, const std::string& method, int threads = 2) {
+  auto reg = [&](const std::string& label, const std::string& preset, const std::string& method, int threads = 2,
+                 bool unaided = false) {
     auto* b = benchmark::RegisterBenchmark(
                   ("BM_" + name + shape + "/" + label + (threads == 1 ? "-1thread" : "") + "/round:" + std::to_string(round)).c_str(),
-                  field, preset, method, n, slice, threads)
+                  field, preset, method, n, slice, threads, unaided)
                   ->Unit(benchmark::kMillisecond)
                   ->MeasureProcessCPUTime()
                   ->UseRealTime();
@@ -75,7 +83,10 @@ void add(const std::string& name, const std::string& compiled, const std::string
   if (!compiled.empty()) reg("compiled", compiled, "", 1);
   reg("described-lanes", described, "closed", 1);
   reg("described-closed", described, "closed-scalar");
-  if (round == 0) reg("described-newton", described, "newton");
+  if (round < 2) {
+    reg("described-newton", described, "newton");
+    reg("described-newton-unaided", described, "newton", 2, true);
+  }
 }
 
 // A device's Kinematics built from its model, with every leg's sampled

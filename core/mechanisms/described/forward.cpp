@@ -229,6 +229,8 @@ ForwardSolution Kinematics::forward_from(const VectorXd& q, const VectorXd& seed
 Kinematics::Kinematics(Model model) : model_(std::move(model)), id_(next_id++) {
   has_joint_limits_ = model_.has_joint_limits();
   has_capsules_ = model_.has_capsules();
+  const char* aids = std::getenv("LINKSCAPE_NUMERIC_AIDS");
+  aided_ = !(aids && std::string(aids) == "off");
   sampled_ = std::make_shared<SampledReaches>(model_.legs.size());
   // Each leg's reach bounds (reach.h). About the first joint only for a
   // spatial device: a planar one closes x and y, not z.

@@ -296,9 +296,10 @@ void Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int branch, dou
   // (as the SIMD lanes take it); before the numerical solver, every bound.
   const bool closed = solver == LegSolver::Fastest && closed_[std::size_t(leg)];
   const double numeric_cut = refusal_cut(tolerance);
-  if (missed_by(reach_outside(leg, anchor, !closed), closed ? 1e-9 * model_.size : numeric_cut)) return;
+  if ((closed || aided_) && missed_by(reach_outside(leg, anchor, !closed), closed ? 1e-9 * model_.size : numeric_cut))
+    return;
   if (closed && solve_leg_closed(leg, anchor, branch, out, close)) return;
-  if (closed && missed_by(reach_outside(leg, anchor), numeric_cut)) return;
+  if (closed && aided_ && missed_by(reach_outside(leg, anchor), numeric_cut)) return;
   out = solve_leg_numeric(leg, anchor, branch, tolerance, extra_seed);
 }
 
@@ -320,7 +321,8 @@ LegSolution Kinematics::solve_leg_numeric(int leg, const Isometry3d& anchor, int
   // seeds decide, so that an unreachable pose's miss distance does not depend
   // on what the thread solved before.
   std::vector<const LegState*> fast, fixed;
-  if (tls.legs[std::size_t(leg)][std::size_t(combo)]) fast.push_back(&*tls.legs[std::size_t(leg)][std::size_t(combo)]);
+  if (aided_ && tls.legs[std::size_t(leg)][std::size_t(combo)])
+    fast.push_back(&*tls.legs[std::size_t(leg)][std::size_t(combo)]);
   if (extra_seed) fast.push_back(extra_seed);
   // The leg at home on this branch turned towards the anchor first, then at
   // home on this branch, then at home on its other branches: listed only
@@ -396,6 +398,7 @@ LegSolution Kinematics::solve_leg_numeric(int leg, const Isometry3d& anchor, int
   // grid does (the answers are the same with it or without).
   std::atomic<int>& searched = sampled_->search_iterations[std::size_t(leg)];
   const auto ruled_out = [&] {
+    if (!aided_) return false;
     const double cut = refusal_cut(tolerance);
     if (travel_outside(leg, anchor, branch, false) > cut) return true;
     return searched.load(std::memory_order_relaxed) >= kSearchIterationsBeforeSampling &&
@@ -536,7 +539,7 @@ void Kinematics::inverse_into(const PlatformPose& p, int branch, double toleranc
   outside.assign(model_.legs.size(), -kInf);
   bool ruled_out = false;
   for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {
-    if (numeric(leg)) outside[leg] = reach_outside(int(leg), anchor(int(leg), p));
+    if (numeric(leg) && aided_) outside[leg] = reach_outside(int(leg), anchor(int(leg), p));
     ruled_out = ruled_out || outside[leg] > cut;
   }
   for (std::size_t leg = 0; leg < model_.legs.size(); ++leg) {

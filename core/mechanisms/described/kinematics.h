@@ -315,6 +315,12 @@ class Kinematics {
   std::vector<std::string> branch_warnings_;
   std::vector<std::optional<ClosedFormLeg>> closed_;
   bool has_joint_limits_ = false, has_capsules_ = false;
+  // The numerical solver's aids: its reach bounds' refusals and its row
+  // seeding (the thread's last solution). Off (LINKSCAPE_NUMERIC_AIDS=off
+  // when the device is built), the solver decides every leg from its fixed
+  // seeds alone: the reference their speed-up is measured against, with the
+  // same verdicts.
+  bool aided_ = true;
 };
 
 }  // namespace linkscape::described
