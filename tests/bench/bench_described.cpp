@@ -8,10 +8,11 @@
 // machine's load shows in every column alike. Fields over the device's
 // default box (n^3) and slices on its default plane (n x n), at the home
 // task, 2 threads (compiled and lanes also on one). The newton cases run
-// once a round, in the first two rounds (they take seconds), each beside
-// the same solver unaided (LINKSCAPE_NUMERIC_AIDS=off: no reach bounds, no
-// row seeding; what a leg of no known pattern gains from them). The CPU
-// column is every thread's time; the rate is per wall-clock second.
+// once a round, in the first two rounds (they take seconds), each slice
+// and small box beside the same solver unaided (LINKSCAPE_NUMERIC_AIDS=off:
+// no reach bounds, no row seeding; what a leg of no known pattern gains
+// from them). The CPU column is every thread's time; the rate is per
+// wall-clock second.
 // BM_Kinematics / BM_KinematicsSampled: a device's Kinematics built, without
 // and with every leg's sampled reach.
 // Run: build/tests/bench/bench_described (--benchmark_filter=Stewart etc.)
@@ -85,7 +86,8 @@ void add(const std::string& name, const std::string& compiled, const std::string
   reg("described-closed", described, "closed-scalar");
   if (round < 2) {
     reg("described-newton", described, "newton");
-    reg("described-newton-unaided", described, "newton", 2, true);
+    // (Unaided, a 64^3 box takes minutes.)
+    if (slice || n <= 24) reg("described-newton-unaided", described, "newton", 2, true);
   }
 }
 
