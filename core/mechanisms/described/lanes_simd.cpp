@@ -511,7 +511,8 @@ void Geometry(const LaneDevice& dev, const Grid& g, const detail::GridRow& row, 
         }
         if (g.parallelogram) {
           // Its constraint couple: square to its knee's axis and its upper bar's.
-          couples[parallelograms++] = Cross(Splat(d, g.axis), Turn(d, g.axis, Eigen::Vector3d(g.frame * g.upper_axis), a.cqk, a.sqk));
+          const V3 upper = Turn(d, g.axis, Eigen::Vector3d(g.frame * g.upper_axis), a.cqk, a.sqk);
+          couples[parallelograms++] = Cross(Splat(d, g.axis), upper);
           ParallelogramRow<N>(d, g, dev.coordinate, size, legs[i], Jx[i], jq[i], near);
           near = hn::Or(near, jq[i] < hn::Set(d, 1e-6));
           serial = hn::Min(serial, jq[i] * hn::Set(d, size));

@@ -455,34 +455,40 @@ TEST(DescribedReach, AnOutOfLimitsAnswerDoesNotDependOnTheSampleBefore) {
 // The reach bounds and row seeding only save work: with them and without
 // (LINKSCAPE_NUMERIC_AIDS=off, the fixed seeds deciding every leg), the
 // numerical solver's verdicts are the same, pose for pose, along rows
-// through every shipped description's home (the thread's last solution the
-// next pose's seed, as in a field).
+// through the home of every shipped description and of a random design of
+// each (the thread's last solution the next pose's seed, as in a field).
 TEST(DescribedReach, BoundsAndRowSeedingLeaveEveryVerdictAsItIs) {
   for (const std::string& name : shipped_descriptions()) {
-    setenv("LINKSCAPE_NUMERIC_AIDS", "off", 1);
-    const Kinematics unaided = load_described(name);
-    unsetenv("LINKSCAPE_NUMERIC_AIDS");
-    const Kinematics aided = load_described(name);
-    const Model& m = aided.model();
-    const int n = 36;
-    int differ = 0, refused = 0, assembled = 0;
-    for (int row = 0; row < n; ++row)
-      for (int column = 0; column < n; ++column) {
-        Eigen::VectorXd x = m.home;
-        x(0) += 0.8 * m.size * (2.0 * (column + 0.5) / n - 1);
-        x(1) += 0.8 * m.size * (2.0 * (row + 0.5) / n - 1);
-        const PoseSolution with = aided.inverse(x, 0, 1e-10, LegSolver::Numeric);
-        const PoseSolution without = unaided.inverse(x, 0, 1e-10, LegSolver::Numeric);
-        refused += with.status == Status::Unreachable && with.iterations < without.iterations;
-        assembled += with.status == Status::Ok || with.status == Status::OutOfLimits;
-        if (with.status != without.status && differ++ < 5)
-          ADD_FAILURE() << name << " at " << x.transpose() << ": " << to_string(with.status) << " with the aids, "
-                        << to_string(without.status) << " without";
-      }
-    std::printf("%s: %d poses assemble, %d unreachable ones decided in fewer iterations with the aids\n", name.c_str(),
-                assembled, refused);
-    EXPECT_EQ(differ, 0) << name;
-    EXPECT_GT(assembled, 0) << name;
+    // The same designs twice: unaided, then aided.
+    std::vector<Kinematics> unaided, aided;
+    for (std::vector<Kinematics>* designs : {&unaided, &aided}) {
+      if (designs == &unaided) setenv("LINKSCAPE_NUMERIC_AIDS", "off", 1);
+      std::mt19937_64 rng(31);
+      *designs = random_designs(name, 1, rng);
+      designs->push_back(load_described(name));
+      unsetenv("LINKSCAPE_NUMERIC_AIDS");
+    }
+    for (std::size_t design = 0; design < aided.size(); ++design) {
+      const Model& m = aided[design].model();
+      const std::string what = name + (design + 1 < aided.size() ? " (random design)" : "");
+      const int n = design + 1 < aided.size() ? 20 : 36;
+      int differ = 0, assembled = 0;
+      for (int row = 0; row < n; ++row)
+        for (int column = 0; column < n; ++column) {
+          Eigen::VectorXd x = m.home;
+          x(0) += 0.8 * m.size * (2.0 * (column + 0.5) / n - 1);
+          x(1) += 0.8 * m.size * (2.0 * (row + 0.5) / n - 1);
+          const PoseSolution with = aided[design].inverse(x, 0, 1e-10, LegSolver::Numeric);
+          const PoseSolution without = unaided[design].inverse(x, 0, 1e-10, LegSolver::Numeric);
+          assembled += with.status == Status::Ok || with.status == Status::OutOfLimits;
+          if (with.status != without.status && differ++ < 5)
+            ADD_FAILURE() << what << " at " << x.transpose() << ": " << to_string(with.status) << " with the aids, "
+                          << to_string(without.status) << " without";
+        }
+      std::printf("%s: %d of %d poses assemble\n", what.c_str(), assembled, n * n);
+      EXPECT_EQ(differ, 0) << what;
+      EXPECT_GT(assembled, 0) << what;
+    }
   }
 }
 
