@@ -148,7 +148,12 @@ std::string describe(const Preset& preset) {
         << unit << "\n";
   }
   const std::string refusal = lanes_refusal(k);
+  const int legs = int(m.legs.size());
   if (refusal.empty()) s << "field: lanes (the legs' closed forms in SIMD lanes; the scalar closed forms near thresholds)\n";
+  else if (closed == 0) s << "field: the numerical solver, one pose at a time (no leg in closed form)\n";
+  else if (closed < legs)
+    s << "field: the closed forms of " << closed << " legs and the numerical solver for the others, one pose at a "
+      << "time (not in lanes: " << refusal << ")\n";
   else s << "field: closed, one pose at a time (not in lanes: " << refusal << ")\n";
   if (!m.has_joint_limits()) s << "passive-joint limits: none stated\n";
   if (!m.has_capsules()) s << "links: none given a radius (no interference checked)\n";

@@ -134,6 +134,16 @@ TEST(DescribedDescribe, ALegOfNoKnownPatternIsNumeric) {
                         "steps: docs/described-mechanisms.md)\n"))
       << text;
   EXPECT_TRUE(has(text, "  leg 4: three-revolute\n")) << text;
+  // The field's path: the closed forms and the numerical solver.
+  EXPECT_TRUE(has(text, "field: the closed forms of 3 legs and the numerical solver for the others, one pose at a "
+                        "time (not in lanes: leg 1: "))
+      << text;
+  // With every leg of no known pattern, the numerical solver alone.
+  d["legs"][1]["chain"][1]["translate"][0] = 0.5;
+  p.description = d.dump();
+  EXPECT_TRUE(has(describe(p), "legs: 6 (0 in closed form, 6 numeric)")) << describe(p);
+  EXPECT_TRUE(has(describe(p), "field: the numerical solver, one pose at a time (no leg in closed form)\n"))
+      << describe(p);
   // The same leg asserted numeric where it is a planar dyad is refused.
   try {
     describe(five_bar_with("numeric"));
