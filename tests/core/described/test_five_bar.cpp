@@ -163,7 +163,8 @@ class FiveBarDevice : public ::testing::Test {
 
 // The description as the interface shows it: actuators q1, q2 in rad with
 // the file's travel, the task x, y (and the unmodelled z), c(J), the four
-// elbow branches, home at (0, 17) with both elbows out.
+// elbow branches, home where both elbows are square (0, sqrt(a^2 + b^2 -
+// d^2/4)) and out.
 TEST_F(FiveBarDevice, DescriptionHomeAndTravel) {
   const MechanismInfo& info = m->info();
   ASSERT_EQ(info.actuators.size(), 2u);
@@ -181,18 +182,18 @@ TEST_F(FiveBarDevice, DescriptionHomeAndTravel) {
 
   const VectorXd home = m->home_task();
   EXPECT_DOUBLE_EQ(home(ix), 0.0);
-  EXPECT_DOUBLE_EQ(home(iy), 17.0);
+  EXPECT_DOUBLE_EQ(home(iy), std::sqrt(10.0 * 10.0 + 14.0 * 14.0 - 6.0 * 6.0 / 4));
   const Vector2d q = *geometry.ik(point(home), 0);
   const VectorXd qh = m->home_actuators();
   ASSERT_EQ(qh.size(), 2);
   EXPECT_NEAR(angle_difference(qh(0), q(0)), 0.0, 1e-9);
   EXPECT_NEAR(angle_difference(qh(1), q(1)), 0.0, 1e-9);
-  // Elbows out at home: q1 = 134.18 deg, q2 = 45.82 deg (symmetric).
-  EXPECT_NEAR(q(0) / kDeg, 134.18, 0.01);
+  // Elbows out at home: q1 = 134.42 deg, q2 = 45.58 deg (symmetric).
+  EXPECT_NEAR(q(0) / kDeg, 134.42, 0.01);
   EXPECT_NEAR(q(0) + q(1), std::numbers::pi, 1e-12);
-  // Nearly isotropic there: c(J) = 1.0143.
+  // Nearly isotropic there: c(J) = 1.0204.
   const double c = svd_condition(geometry.jacobian(q, point(home)));
-  EXPECT_NEAR(c, 1.0143, 1e-4);
+  EXPECT_NEAR(c, 1.0204, 1e-4);
   const Measures mh = m->measures(qh, home);
   ASSERT_EQ(mh.status, Status::Ok);
   EXPECT_NEAR(mh.values.at(0), c, 1e-9 * c);
