@@ -66,7 +66,7 @@ TEST(CliFit, DesignsThatCannotBeBuiltAreCountedAndLeftOutOfTheChart) {
   std::stringstream text;
   text << in.rdbuf();
   std::string five_bar = text.str();
-  const std::string home = R"json("y": "sqrt(a^2 + b^2 - d^2 / 4)")json";
+  const std::string home = R"json("y": "sqrt(max(a^2 + b^2 - d^2 / 4, 0))")json";
   ASSERT_NE(five_bar.find(home), std::string::npos);
   five_bar.replace(five_bar.find(home), home.size(), R"("y": 17)");
   const std::string fixed = out("five-bar-fixed-home.json");

@@ -226,7 +226,7 @@ TEST(CliHardening, OptionsThatWouldBeIgnoredOrMeaninglessAreRefused) {
       {"slice --size 32x32 --field status --linear -o x.png", "--linear sets a colour scale; --field status"},
       {"slice --size 32x32 --field status --range 0,3 -o x.png", "--range sets a colour scale"},
       {"slice --size 32x32 --extent -1e308,1e308,0,2 -o x.png", "--extent expects"},
-      {"eval -m five-bar --param a=50 --ik " + in.string(), "five-bar with --param a=50: "},
+      {"eval -m five-bar --param d=50 --ik " + in.string(), "five-bar with --param d=50: description.legs"},
       {"sweep --task sphere:diameter=4 --bounds L1=5:5 --grid 3 -o x.csv", "holds it at one value"},
       {"sweep --task sphere:diameter=4 --bounds L1=20:10 --grid 3 -o x.csv", "with lo <= hi, got 20:10"},
       {"eval -m five-bar --param A=10 --ik " + in.string(), "unknown parameter 'A' for five-bar; did you mean 'a'?"},
