@@ -182,8 +182,12 @@ TEST(DescriptionErrors, ALinkOfNoLengthIsNamedWhereTheFreedomsDoNotMatch) {
   });
   expect_contains(m, {"0 freedom(s) at home", "leg \"left\" has a link of no length after joint elbow1"});
   // A length so large that the size is not finite is named as such, not as
-  // the other links' lack of length.
-  const std::string huge = five_bar_after([](json& d) { d["parameters"]["b"] = 1e300; });
+  // the other links' lack of length (the home a fixed point, not one that
+  // follows the links).
+  const std::string huge = five_bar_after([](json& d) {
+    d["parameters"]["b"] = 1e300;
+    d["description"]["home"] = {{"x", 0}, {"y", 17}};
+  });
   expect_contains(huge, {"description.size", "not finite", "a length far too large?"});
 }
 
