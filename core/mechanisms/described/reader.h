@@ -90,7 +90,10 @@ class Evaluator {
       if (p.GetNumResults() != 1)
         fail(where, "'" + text + "' is " + std::to_string(p.GetNumResults()) +
                         " expressions (a comma separates only a function's arguments)");
-      if (!std::isfinite(v)) fail(where, "'" + text + "' evaluates to " + std::to_string(v));
+      if (!std::isfinite(v))
+        fail(where, "'" + text + "' evaluates to " +
+                        (std::isnan(v) ? std::string("no number (NaN: a square root or logarithm of a negative value?)")
+                                       : std::string(v > 0 ? "+" : "-") + "infinity (a division by zero, or past 1e308?)"));
       return v;
     } catch (const mu::Parser::exception_type& e) {
       if (e.GetCode() == mu::ecUNEXPECTED_OPERATOR && e.GetToken() == "=")

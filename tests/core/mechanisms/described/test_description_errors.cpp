@@ -80,7 +80,9 @@ TEST(DescriptionErrors, BadRangesNameTheirPlace) {
   expect_contains(error_after([](json& d) { d["description"]["legs"][0]["chain"][0]["range_deg"] = {30}; }),
                   {"chain[0] (joint \"q1\").range_deg", "must be [lo, hi]"});
   expect_contains(error_after([](json& d) { d["description"]["parameter_info"]["La"]["range"] = {5, "La / 0"}; }),
-                  {"parameter_info.La.range[1]", "evaluates to"});
+                  {"parameter_info.La.range[1]", "'La / 0' evaluates to +infinity (a division by zero, or past 1e308?)"});
+  expect_contains(error_after([](json& d) { d["description"]["parameter_info"]["La"]["range"] = {5, "sqrt(-La)"}; }),
+                  {"parameter_info.La.range[1]", "'sqrt(-La)' evaluates to no number (NaN: a square root"});
   expect_contains(error_after([](json& d) { d["description"]["parameter_info"]["La"]["range"] = {9, 3}; }),
                   {"parameter_info.La.range", "needs lo < hi"});
   expect_contains(error_after([](json& d) {
