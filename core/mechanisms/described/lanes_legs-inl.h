@@ -332,12 +332,15 @@ HWY_NOINLINE V3 ThreeRevoluteForce(D d, const LaneLeg& g, const Candidate& a, co
 // of losing their rank (the product of Gram-Schmidt's pivots bounds
 // sigma_min / sigma_max from below by it over |T|_F^4; the scalar path calls
 // the leg singular below 1e-10).
+// `couple`: the constraint couple the leg holds the platform by, square to
+// its knee's and upper bar's axes.
 template <int N>
 HWY_NOINLINE void ParallelogramRow(D d, const LaneLeg& g, const std::vector<int>& coordinate, double size,
-                                 const LegLanes& leg, V (&row)[N], V& jq, M& near) {
+                                 const LegLanes& leg, V (&row)[N], V& jq, M& near, V3& couple) {
   const Candidate& a = leg.at;
   const V inv_size = hn::Set(d, 1 / size), zero = hn::Zero(d);
   const V3 axis = Splat(d, g.axis), upper = Turn(d, g.axis, Eigen::Vector3d(g.frame * g.upper_axis), a.cqk, a.sqk);
+  couple = Cross(axis, upper);
   const auto twist = [&](const V3& w, const V3& centre, V (&t)[6]) {
     const V3 v = inv_size * Cross(w, leg.anchor - centre);
     t[0] = w.x, t[1] = w.y, t[2] = w.z, t[3] = v.x, t[4] = v.y, t[5] = v.z;
@@ -372,6 +375,24 @@ HWY_NOINLINE void ParallelogramRow(D d, const LaneLeg& g, const std::vector<int>
   jq = hn::Sqrt(dot(actuator, actuator));
   const V scale = inv_size / jq;
   for (int j = 0; j < N; ++j) row[j] = actuator[3 + coordinate[std::size_t(j)]] * scale;
+}
+
+// A constraint singularity (Kinematics::jacobian's rank of the legs'
+// constraint wrenches, here the parallelograms' couples): `near` where the
+// `count` couples come within 1e-6 of losing their rank (the scalar path's
+// test at 1e-10 lies within), so that the scalar path decides.
+HWY_INLINE M CouplesNearRankLoss(D d, const V3* c, int count) {
+  const V eps2 = hn::Set(d, 1e-12);
+  if (count == 1) return Dot(c[0], c[0]) < eps2;
+  if (count == 2) {
+    const V3 k = Cross(c[0], c[1]);
+    return Dot(k, k) < eps2 * Dot(c[0], c[0]) * Dot(c[1], c[1]);
+  }
+  if (count == 3) {
+    const V det = Dot(c[0], Cross(c[1], c[2]));
+    return det * det < eps2 * Dot(c[0], c[0]) * Dot(c[1], c[1]) * Dot(c[2], c[2]);
+  }
+  return None(d);
 }
 
 // The smallest gap between the capsules of the pairs the scalar path checks,
