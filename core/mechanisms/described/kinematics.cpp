@@ -260,6 +260,18 @@ const SampledReach& Kinematics::sampled_reach(int leg) const {
   return sampled_->legs[std::size_t(leg)];
 }
 
+const TurnedReach& Kinematics::turned_reach(int leg) const {
+  std::call_once(sampled_->turned_built[std::size_t(leg)], [&] {
+    const Leg& l = model_.legs[std::size_t(leg)];
+    const TurnedReach* like = nullptr;  // a copy's, sampled already
+    for (int other = 0; other < leg && !like; ++other)
+      if (same_from_first_joint(model_.legs[std::size_t(other)], l)) like = &turned_reach(other);
+    sampled_->turned[std::size_t(leg)] =
+        sample_turned_reach(l, model_.actuators, model_.planar, spread_seeds_[std::size_t(leg)].front(), like);
+  });
+  return sampled_->turned[std::size_t(leg)];
+}
+
 double Kinematics::reach_outside(int leg, const Isometry3d& anchor, bool about_first_joint) const {
   return outside_bounds(model_.legs[std::size_t(leg)].base.translation(), anchor.translation(),
                         leg_reach_[std::size_t(leg)],
@@ -300,6 +312,10 @@ void Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int branch, dou
     return;
   if (closed && solve_leg_closed(leg, anchor, branch, out, close)) return;
   if (closed && aided_ && missed_by(reach_outside(leg, anchor), numeric_cut)) return;
+  // A leg of no known pattern: its reach about its first joint, sampled
+  // finely (a leg with a closed form never needs it but with `newton`).
+  if (aided_ && !closed_[std::size_t(leg)] && missed_by(turned_reach(leg).outside(anchor.translation()), numeric_cut))
+    return;
   out = solve_leg_numeric(leg, anchor, branch, tolerance, extra_seed);
 }
 

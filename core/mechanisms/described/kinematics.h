@@ -170,6 +170,10 @@ class Kinematics {
   // The leg's joints sampled on a grid within their travel (sampled_reach.h):
   // built at its first use, once per design.
   const SampledReach& sampled_reach(int leg) const;
+  // The rest of the leg sampled about a first joint that turns, whatever
+  // the travel (sampled_reach.h): built at the numerical solver's first
+  // use of the leg, once per design.
+  const TurnedReach& turned_reach(int leg) const;
   // The same bounds with the leg's actuators held within their travel, and
   // (unless told not to) its sampled reach on the device branch `branch`
   // (> 0: no assembly of the leg within its travel on that branch reaches
@@ -300,10 +304,12 @@ class Kinematics {
   // the numerical solver's searches of its travel have taken (shared by
   // copies: they depend on the model alone).
   struct SampledReaches {
-    std::vector<std::once_flag> built;
+    std::vector<std::once_flag> built, turned_built;
     std::vector<SampledReach> legs;
+    std::vector<TurnedReach> turned;
     std::vector<std::atomic<int>> search_iterations;
-    explicit SampledReaches(std::size_t n) : built(n), legs(n), search_iterations(n) {}
+    explicit SampledReaches(std::size_t n)
+        : built(n), turned_built(n), legs(n), turned(n), search_iterations(n) {}
   };
   std::shared_ptr<SampledReaches> sampled_;
   // Per leg: the rank of its passive joints' twists at home (6 less the

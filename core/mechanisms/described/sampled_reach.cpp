@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "core/mechanisms/described/chain.h"
+#include "core/mechanisms/described/reach.h"
 
 namespace linkscape::described {
 
@@ -16,6 +17,8 @@ namespace {
 constexpr std::array<double, 3> kSamples{1 << 7, 1 << 15, 1 << 16};
 // Voxels per grid, at most (in a plane, in space).
 constexpr double kVoxelsInPlane = 1 << 16, kVoxels = 1 << 16, kSide = 256;
+// The same for the turned reach's two coordinates.
+constexpr double kTurnedSamples = 1 << 18, kTurnedVoxels = 1 << 18, kTurnedPad = 0.25;
 constexpr double kFar = 1e30;  // a voxel's squared distance before any point is near
 
 // The squared distance transform of f along one line of n values, `stride`
@@ -222,101 +225,47 @@ Samples walk_samples(const Leg& leg, const std::vector<Freedom>& freedoms, const
   }
   return out;
 }
-}  // namespace
+// The joints that move a leg's end point, as the freedoms a grid samples:
+// up to its last link or slide (the joints after it only turn the end),
+// each revolute over its actuator's travel (where `within_travel` and it has
+// one) or a full turn, a slide over its actuator's travel, a ball joint (the
+// last of them) over every direction of its link. None, and why not, where
+// they cannot be sampled so.
+struct EndFreedoms {
+  std::vector<Freedom> freedoms;
+  int last = -1;  // the last step that moves the end
+  int ball = -1;  // the ball joint's step
+  std::string why_not;
+};
 
-BallSetDistance::BallSetDistance(const std::vector<Eigen::Vector3d>& points, double margin, bool in_plane)
-    : margin_(margin), in_plane_(in_plane) {
-  if (points.empty()) return;
-  lo_ = hi_ = points.front();
-  for (const Eigen::Vector3d& p : points) {
-    lo_ = lo_.cwiseMin(p);
-    hi_ = hi_.cwiseMax(p);
-  }
-  if (in_plane) hi_.z() = lo_.z();
-  // A quarter of the margin, where the voxels allow: the slack below adds
-  // to the margin.
-  const Eigen::Vector3d extent = (hi_ - lo_).cwiseMax(1e-12 * std::max(1.0, (hi_ - lo_).maxCoeff()));
-  const double volume = in_plane ? extent.x() * extent.y() : extent.prod();
-  // (At most kVoxels, and a flat or thin set of points at most kSide along its longest side.)
-  voxel_ = std::max({0.25 * margin, in_plane ? std::sqrt(volume / kVoxelsInPlane) : std::cbrt(volume / kVoxels),
-                     extent.maxCoeff() / kSide});
-  for (int d = 0; d < 3; ++d) n_[std::size_t(d)] = int((hi_(d) - lo_(d)) / voxel_) + 2;
-  if (in_plane) n_[2] = 1;
-  // A point and the centre of its voxel are at most half a diagonal apart,
-  // and so are the query and its voxel's centre.
-  slack_ = voxel_ * std::sqrt(in_plane ? 2.0 : 3.0);
-  distance_.assign(std::size_t(n_[0]) * std::size_t(n_[1]) * std::size_t(n_[2]), float(kFar));
-  for (const Eigen::Vector3d& p : points) {
-    std::size_t index = 0, stride = 1;
-    for (int d = 0; d < 3; ++d) {
-      const int i = in_plane && d == 2 ? 0 : int((p(d) - lo_(d)) / voxel_ + 0.5);  // p >= lo_: rounds
-      index += std::size_t(std::clamp(i, 0, n_[std::size_t(d)] - 1)) * stride;
-      stride *= std::size_t(n_[std::size_t(d)]);
-    }
-    distance_[index] = 0;
-  }
-  std::vector<double> in, out, z;
-  std::vector<int> v;
-  const std::size_t nx = std::size_t(n_[0]), ny = std::size_t(n_[1]), nz = std::size_t(n_[2]);
-  for (std::size_t k = 0; k < nz; ++k)
-    for (std::size_t j = 0; j < ny; ++j) transform_line(&distance_[(k * ny + j) * nx], n_[0], 1, in, out, v, z);
-  for (std::size_t k = 0; k < nz; ++k)
-    for (std::size_t i = 0; i < nx; ++i) transform_line(&distance_[k * ny * nx + i], n_[1], int(nx), in, out, v, z);
-  if (nz > 1)
-    for (std::size_t j = 0; j < ny; ++j)
-      for (std::size_t i = 0; i < nx; ++i) transform_line(&distance_[j * nx + i], n_[2], int(nx * ny), in, out, v, z);
-  for (float& d : distance_) d = float(std::sqrt(double(d)) * voxel_);
-}
-
-double BallSetDistance::outside(const Eigen::Vector3d& p) const {
-  if (distance_.empty()) return std::numeric_limits<double>::infinity();
-  // Beyond the points' box, the distance to a point in it is at least the
-  // hypotenuse of the distance to the box and that from the box's nearest point.
-  Eigen::Vector3d q = p;
-  if (in_plane_) q.z() = lo_.z();
-  const Eigen::Vector3d near = q.cwiseMax(lo_).cwiseMin(hi_);
-  std::size_t index = 0, stride = 1;
-  for (int d = 0; d < 3; ++d) {
-    const int i = int(std::lround((near(d) - lo_(d)) / voxel_));
-    index += std::size_t(std::clamp(i, 0, n_[std::size_t(d)] - 1)) * stride;
-    stride *= std::size_t(n_[std::size_t(d)]);
-  }
-  // (The distance rounded to float: taken a little short.)
-  const double within = std::max(0.0, double(distance_[index]) * (1 - 1e-6) - slack_);
-  return std::sqrt((q - near).squaredNorm() + within * within) - margin_;
-}
-
-SampledReach sample_reach(const Leg& leg, const std::vector<Actuator>& actuators, bool planar, const LegState& seed) {
-  SampledReach out;
+EndFreedoms end_freedoms(const Leg& leg, const std::vector<Actuator>& actuators, bool planar, bool within_travel) {
+  EndFreedoms out;
   const auto length = [&](const Eigen::Vector3d& v) { return planar ? v.head<2>().norm() : v.norm(); };
-  // The last step that moves the end point: the joints after it only turn it.
-  int last = -1;
+  const auto fail = [&](std::string why) {
+    out.freedoms.clear();
+    out.why_not = std::move(why);
+    return out;
+  };
+  int& last = out.last;
   for (std::size_t i = 0; i < leg.steps.size(); ++i) {
     const Step& step = leg.steps[i];
     if ((step.kind == Step::Kind::Fixed && length(step.transform.translation()) > 0) ||
         step.kind == Step::Kind::Prismatic)
       last = int(i);
   }
-  // A slide has a range only as an actuator with a travel.
+  // A slide has a range only as an actuator with a travel, and only within it.
   for (int i = 0; i <= last; ++i) {
     const Step& step = leg.steps[std::size_t(i)];
-    if (step.kind == Step::Kind::Prismatic && !(step.actuator >= 0 && actuators[std::size_t(step.actuator)].limited)) {
-      out.why_not = "a slide without travel moves its end";
-      return out;
-    }
+    if (step.kind != Step::Kind::Prismatic) continue;
+    if (!(step.actuator >= 0 && actuators[std::size_t(step.actuator)].limited))
+      return fail("a slide without travel moves its end");
+    if (!within_travel) return fail("a slide moves its end, beyond its travel too");
   }
-  // The joints up to it, each over a full turn or its actuator's travel; a
-  // ball joint (the last of them) over every direction of its link.
-  std::vector<Freedom> freedoms;
-  int ball = -1;  // its step
   for (int i = 0; i <= last; ++i) {
     const Step& step = leg.steps[std::size_t(i)];
     if (step.kind == Step::Kind::Fixed) continue;
-    if (ball >= 0 || (step.kind == Step::Kind::Spherical && planar)) {
-      out.why_not =
-          planar ? "a spherical joint in a planar device" : "a spherical joint moves its end before another joint";
-      return out;
-    }
+    if (out.ball >= 0 || (step.kind == Step::Kind::Spherical && planar))
+      return fail(planar ? "a spherical joint in a planar device" : "a spherical joint moves its end before another joint");
     const Actuator* act = step.actuator >= 0 ? &actuators[std::size_t(step.actuator)] : nullptr;
     // Its lever: what the links after it reach at most.
     double lever = step.kind == Step::Kind::Prismatic ? length(step.axis) : 0.0;
@@ -329,27 +278,27 @@ SampledReach sample_reach(const Leg& leg, const std::vector<Actuator>& actuators
       }
     }
     if (step.kind == Step::Kind::Spherical) {
-      ball = i;
-      freedoms.push_back({Freedom::Kind::Polar, i, lever, 0.0, kPi, false});
-      freedoms.push_back({Freedom::Kind::Azimuth, i, lever, -kPi, kPi, true});
+      out.ball = i;
+      out.freedoms.push_back({Freedom::Kind::Polar, i, lever, 0.0, kPi, false});
+      out.freedoms.push_back({Freedom::Kind::Azimuth, i, lever, -kPi, kPi, true});
       continue;
     }
     const bool sliding = step.kind == Step::Kind::Prismatic;
-    const bool limited = act && act->limited;
-    freedoms.push_back({sliding ? Freedom::Kind::Slide : Freedom::Kind::Turn, i, lever,
-                        limited ? act->range.lo : -kPi, limited ? act->range.hi : kPi, !limited});
+    const bool limited = act && act->limited && (within_travel || sliding);
+    out.freedoms.push_back({sliding ? Freedom::Kind::Slide : Freedom::Kind::Turn, i, lever,
+                            limited ? act->range.lo : -kPi, limited ? act->range.hi : kPi, !limited});
   }
-  out.joints = int(freedoms.size()) - (ball >= 0);
-  if (freedoms.empty() || freedoms.size() > 3) {
-    out.why_not = freedoms.empty()
-                      ? "no joint moves its end"
-                      : std::to_string(freedoms.size()) + " freedoms move its end; a grid samples three at most";
-    return out;
-  }
-  const double margin = allot(freedoms, kSamples[freedoms.size() - 1]);
-  const Samples samples = walk_samples(leg, freedoms, frames_of(leg, freedoms, seed));
-  out.samples = int(samples.ends.size());
-
+  if (out.freedoms.empty()) return fail("no joint moves its end");
+  return out;
+}
+// Per sample, the combinations of the leg's free rules (at most six) it
+// stands for: bit c set for combination c. From its signs, where it tells
+// them; a sample next to where a rule's sign changes stands for both signs.
+// `turned_about`: the samples leave the first joint as the seed has it (the
+// turned reach), and a rule along a direction not that joint's axis changes
+// as it turns (a triple of the leg's centres and axes turns with them).
+std::vector<std::uint64_t> combinations_of(const Leg& leg, const std::vector<Freedom>& freedoms, const Samples& samples,
+                                           int last, int ball, const Eigen::Vector3d* turned_about) {
   // Which rules a sample tells: an angle of a revolute it samples; a centre
   // the ball's spin does not move (not one between the ball and the end);
   // an axis that no joint turns that it does not sample in full (a ball's
@@ -366,7 +315,9 @@ SampledReach sample_reach(const Leg& leg, const std::vector<Actuator>& actuators
       told[r] = std::any_of(freedoms.begin(), freedoms.end(), [&](const Freedom& j) {
         return j.step == rule.steps[0] && j.kind == Freedom::Kind::Turn;
       });
-    if (rule.kind == BranchRule::Kind::Along) told[r] = centre_told(rule.steps[0]) && centre_told(rule.steps[1]);
+    if (rule.kind == BranchRule::Kind::Along)
+      told[r] = centre_told(rule.steps[0]) && centre_told(rule.steps[1]) &&
+                (!turned_about || rule.direction.cross(*turned_about).norm() < 1e-12);
     if (rule.kind == BranchRule::Kind::Triple)
       told[r] = rule.steps[0] < turned_from &&
                 std::all_of(rule.steps.begin(), rule.steps.end(), [&](int step) { return centre_told(step); });
@@ -424,8 +375,7 @@ SampledReach sample_reach(const Leg& leg, const std::vector<Actuator>& actuators
     for (std::size_t r = 0; r < rules; ++r)
       both[index * rules + r] = !told[r] || samples.signs[index * rules + r] == 0 || near_zero[index * rules + r];
   const int combos = 1 << free_rules_of(leg);
-  std::vector<std::vector<Eigen::Vector3d>> points;
-  points.resize(std::size_t(combos));
+  std::vector<std::uint64_t> out(total, 0);
   for (std::size_t index = 0; index < total; ++index) {
     // The combinations its signs allow: a combination's bit b set where its
     // free rule b is negative.
@@ -440,9 +390,176 @@ SampledReach sample_reach(const Leg& leg, const std::vector<Actuator>& actuators
       else (s < 0 ? negative : positive) |= 1 << free_bit;
     }
     for (int combo = 0; combo < combos && !off_design; ++combo)
-      if ((combo & negative) == negative && (combo & positive) == 0) points[std::size_t(combo)].push_back(samples.ends[index]);
+      if ((combo & negative) == negative && (combo & positive) == 0) out[index] |= std::uint64_t(1) << combo;
   }
+  return out;
+}
+}  // namespace
+
+BallSetDistance::BallSetDistance(const std::vector<Eigen::Vector3d>& points, double margin, bool in_plane,
+                                 double voxels, double pad)
+    : margin_(margin), in_plane_(in_plane) {
+  if (voxels <= 0) voxels = in_plane ? kVoxelsInPlane : kVoxels;
+  const double side = in_plane ? std::sqrt(voxels) : kSide;
+  if (points.empty()) return;
+  lo_ = hi_ = points.front();
+  for (const Eigen::Vector3d& p : points) {
+    lo_ = lo_.cwiseMin(p);
+    hi_ = hi_.cwiseMax(p);
+  }
+  const Eigen::Vector3d grown = pad * (hi_ - lo_);
+  lo_ -= grown;
+  hi_ += grown;
+  if (in_plane) hi_.z() = lo_.z();
+  // A quarter of the margin, where the voxels allow: the slack below adds
+  // to the margin.
+  const Eigen::Vector3d extent = (hi_ - lo_).cwiseMax(1e-12 * std::max(1.0, (hi_ - lo_).maxCoeff()));
+  const double volume = in_plane ? extent.x() * extent.y() : extent.prod();
+  // (At most kVoxels, and a flat or thin set of points at most kSide along its longest side.)
+  voxel_ = std::max({0.25 * margin, in_plane ? std::sqrt(volume / voxels) : std::cbrt(volume / voxels),
+                     extent.maxCoeff() / side});
+  for (int d = 0; d < 3; ++d) n_[std::size_t(d)] = int((hi_(d) - lo_(d)) / voxel_) + 2;
+  if (in_plane) n_[2] = 1;
+  // A point and the centre of its voxel are at most half a diagonal apart,
+  // and so are the query and its voxel's centre.
+  slack_ = voxel_ * std::sqrt(in_plane ? 2.0 : 3.0);
+  distance_.assign(std::size_t(n_[0]) * std::size_t(n_[1]) * std::size_t(n_[2]), float(kFar));
+  for (const Eigen::Vector3d& p : points) {
+    std::size_t index = 0, stride = 1;
+    for (int d = 0; d < 3; ++d) {
+      const int i = in_plane && d == 2 ? 0 : int((p(d) - lo_(d)) / voxel_ + 0.5);  // p >= lo_: rounds
+      index += std::size_t(std::clamp(i, 0, n_[std::size_t(d)] - 1)) * stride;
+      stride *= std::size_t(n_[std::size_t(d)]);
+    }
+    distance_[index] = 0;
+  }
+  std::vector<double> in, out, z;
+  std::vector<int> v;
+  const std::size_t nx = std::size_t(n_[0]), ny = std::size_t(n_[1]), nz = std::size_t(n_[2]);
+  for (std::size_t k = 0; k < nz; ++k)
+    for (std::size_t j = 0; j < ny; ++j) transform_line(&distance_[(k * ny + j) * nx], n_[0], 1, in, out, v, z);
+  for (std::size_t k = 0; k < nz; ++k)
+    for (std::size_t i = 0; i < nx; ++i) transform_line(&distance_[k * ny * nx + i], n_[1], int(nx), in, out, v, z);
+  if (nz > 1)
+    for (std::size_t j = 0; j < ny; ++j)
+      for (std::size_t i = 0; i < nx; ++i) transform_line(&distance_[j * nx + i], n_[2], int(nx * ny), in, out, v, z);
+  for (float& d : distance_) d = float(std::sqrt(double(d)) * voxel_);
+}
+
+double BallSetDistance::outside(const Eigen::Vector3d& p) const {
+  if (distance_.empty()) return std::numeric_limits<double>::infinity();
+  // Beyond the points' box, the distance to a point in it is at least the
+  // hypotenuse of the distance to the box and that from the box's nearest point.
+  Eigen::Vector3d q = p;
+  if (in_plane_) q.z() = lo_.z();
+  const Eigen::Vector3d near = q.cwiseMax(lo_).cwiseMin(hi_);
+  std::size_t index = 0, stride = 1;
+  for (int d = 0; d < 3; ++d) {
+    const int i = int(std::lround((near(d) - lo_(d)) / voxel_));
+    index += std::size_t(std::clamp(i, 0, n_[std::size_t(d)] - 1)) * stride;
+    stride *= std::size_t(n_[std::size_t(d)]);
+  }
+  // (The distance rounded to float: taken a little short.)
+  const double within = std::max(0.0, double(distance_[index]) * (1 - 1e-6) - slack_);
+  return std::sqrt((q - near).squaredNorm() + within * within) - margin_;
+}
+
+SampledReach sample_reach(const Leg& leg, const std::vector<Actuator>& actuators, bool planar, const LegState& seed) {
+  SampledReach out;
+  EndFreedoms end = end_freedoms(leg, actuators, planar, true);
+  std::vector<Freedom>& freedoms = end.freedoms;
+  const int last = end.last, ball = end.ball;
+  out.why_not = end.why_not;
+  if (freedoms.empty()) return out;
+  out.joints = int(freedoms.size()) - (ball >= 0);
+  if (free_rules_of(leg) > 6) {
+    out.why_not = "more than six free branch rules";
+    return out;
+  }
+  if (freedoms.size() > 3) {
+    out.why_not = std::to_string(freedoms.size()) + " freedoms move its end; a grid samples three at most";
+    return out;
+  }
+  const double margin = allot(freedoms, kSamples[freedoms.size() - 1]);
+  const Samples samples = walk_samples(leg, freedoms, frames_of(leg, freedoms, seed));
+  out.samples = int(samples.ends.size());
+
+  const std::vector<std::uint64_t> combinations = combinations_of(leg, freedoms, samples, last, ball, nullptr);
+  std::vector<std::vector<Eigen::Vector3d>> points(std::size_t(1) << free_rules_of(leg));
+  for (std::size_t index = 0; index < samples.ends.size(); ++index)
+    for (std::size_t combo = 0; combo < points.size(); ++combo)
+      if (combinations[index] >> combo & 1) points[combo].push_back(samples.ends[index]);
   for (const auto& p : points) out.travel.emplace_back(p, margin, planar);
+  out.built = true;
+  return out;
+}
+
+namespace {
+// p as (distance from the axis, height along it, 0): in a plane, the distance alone.
+Eigen::Vector3d turned_coordinates(const TurnedReach& t, const Eigen::Vector3d& p) {
+  const Eigen::Vector3d d = p - t.centre;
+  if (t.in_plane) return {d.head<2>().norm(), 0, 0};
+  const double height = t.axis.dot(d);
+  return {(d - height * t.axis).norm(), height, 0};
+}
+}  // namespace
+
+double TurnedReach::outside(const Eigen::Vector3d& p) const {
+  return built ? rest.outside(turned_coordinates(*this, p)) : -std::numeric_limits<double>::infinity();
+}
+
+bool same_from_first_joint(const Leg& a, const Leg& b) {
+  const std::size_t from_a = first_joint(a).step, from_b = first_joint(b).step;
+  if (a.steps.size() - from_a != b.steps.size() - from_b) return false;
+  for (std::size_t i = 0; i < a.steps.size() - from_a; ++i) {
+    const Step &sa = a.steps[from_a + i], &sb = b.steps[from_b + i];
+    if (sa.kind != sb.kind || sa.axis != sb.axis || sa.variable != sb.variable ||
+        !(sa.transform.matrix() == sb.transform.matrix()))
+      return false;
+  }
+  return true;
+}
+
+TurnedReach sample_turned_reach(const Leg& leg, const std::vector<Actuator>& actuators, bool planar,
+                                const LegState& seed, const TurnedReach* like) {
+  TurnedReach out;
+  if (like) {
+    // Its rest at the same distances and heights about this leg's first joint.
+    out = *like;
+    if (!out.built) return out;
+    const FirstJoint first = first_joint(leg);
+    out.axis = (first.frame.linear() * leg.steps[first.step].axis).normalized();
+    out.centre = first.frame.translation();
+    return out;
+  }
+  const EndFreedoms end = end_freedoms(leg, actuators, planar, false);
+  out.why_not = end.why_not;
+  if (end.freedoms.empty()) return out;
+  const FirstJoint first = first_joint(leg);
+  if (end.freedoms.front().kind != Freedom::Kind::Turn || end.freedoms.front().step != int(first.step)) {
+    out.why_not = "its first joint does not turn";
+    return out;
+  }
+  const std::vector<Freedom> rest(end.freedoms.begin() + 1, end.freedoms.end());
+  if (rest.empty() || rest.size() > 3) {
+    out.why_not = rest.empty() ? "its first joint alone moves its end" : "more than three freedoms after its first joint";
+    return out;
+  }
+  out.axis = (first.frame.linear() * leg.steps[first.step].axis).normalized();
+  out.centre = first.frame.translation();
+  out.in_plane = planar;
+  if (planar && std::abs(std::abs(out.axis.z()) - 1) > 1e-12) {
+    out.why_not = "its first joint leaves the plane";
+    return out;
+  }
+  std::vector<Freedom> sampled = rest;
+  const double margin = allot(sampled, kTurnedSamples);
+  const Samples samples = walk_samples(leg, sampled, frames_of(leg, sampled, seed));
+  std::vector<Eigen::Vector3d> points;
+  points.reserve(samples.ends.size());
+  for (const Eigen::Vector3d& p : samples.ends) points.push_back(turned_coordinates(out, p));
+  out.rest = BallSetDistance(points, margin, true, kTurnedVoxels, kTurnedPad);
+  out.samples = int(points.size());
   out.built = true;
   return out;
 }

@@ -35,11 +35,16 @@ namespace linkscape::described {
 class BallSetDistance {
  public:
   BallSetDistance() = default;
-  BallSetDistance(const std::vector<Eigen::Vector3d>& points, double margin, bool in_plane);
+  // At most `voxels` voxels (0: a default that suits a leg's reach within
+  // its travel) over the points' box grown by `pad` of its extent each way
+  // (beyond the box the bound is looser).
+  BallSetDistance(const std::vector<Eigen::Vector3d>& points, double margin, bool in_plane, double voxels = 0,
+                  double pad = 0);
   // How far p lies outside every ball (a lower bound; > 0: outside them
   // all); +inf for an empty set.
   double outside(const Eigen::Vector3d& p) const;
   double margin() const { return margin_; }
+  double slack() const { return slack_; }  // what the voxels add to the margin, at most
 
  private:
   Eigen::Vector3d lo_ = Eigen::Vector3d::Zero(), hi_ = Eigen::Vector3d::Zero();  // the points' box
@@ -63,5 +68,33 @@ struct SampledReach {
 // Samples the leg within its travel (its state `seed` for the joints that
 // only turn the end).
 SampledReach sample_reach(const Leg& leg, const std::vector<Actuator>& actuators, bool planar, const LegState& seed);
+
+// A leg whose first joint turns (a revolute): the ends of the rest of its
+// chain at every value of their joints, whatever the travel, as distance
+// from that joint's axis and height along it, which its turn leaves as they
+// are. Every assembly's end, at any turn, lies within the margin of one of
+// them in those two coordinates: an anchor farther from all of them cannot
+// be reached. Two coordinates where a grid over the whole chain needs three,
+// so the margin is a few times finer: it refuses anchors near the reach's
+// edge that the shells of reach.h admit, where every seed of the numerical
+// solver would crawl to a least-squares minimum off the anchor.
+struct TurnedReach {
+  bool built = false;
+  std::string why_not;  // where not built
+  int samples = 0;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero(), axis = Eigen::Vector3d::UnitZ();  // the first joint's
+  bool in_plane = false;  // a planar device's: the distance from the axis alone
+  BallSetDistance rest;   // the ends as (distance from the axis, height along it, 0)
+  // How far an end at p lies outside (a lower bound on the miss; > 0: no
+  // assembly reaches p); -inf where not built.
+  double outside(const Eigen::Vector3d& p) const;
+};
+
+// `like`: one built for a leg with the same chain from its first joint on
+// (a copy of this one: same_from_first_joint), taken about this leg's first
+// joint rather than sampled again.
+TurnedReach sample_turned_reach(const Leg& leg, const std::vector<Actuator>& actuators, bool planar,
+                                const LegState& seed, const TurnedReach* like = nullptr);
+bool same_from_first_joint(const Leg& a, const Leg& b);
 
 }  // namespace linkscape::described

@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <iostream>
+#include <random>
 
 #include "core/mechanisms/described/kinematics.h"
 #include "core/mechanisms/described/mechanism.h"
@@ -78,6 +79,66 @@ Verdict leg_within_travel(int k, const Vector3d& p) {
     }
   }
   return unclear ? Verdict::Unclear : Verdict::None;
+}
+
+// Leg k's least distance to the anchor for the platform at p, over all its
+// joint values: about the actuator's axis (y in the leg's frame) the end is at
+// height Lb sin(eb) and at a distance from the axis between |La - |w|| and
+// La + |w|, w = e + Lb cos(eb). Scanned over eb, then refined.
+double leg_miss(int k, const Vector3d& p) {
+  const double turn = k * 2 * M_PI / 3;
+  const Eigen::Matrix3d to_leg = Eigen::AngleAxisd(-turn, Vector3d::UnitZ()).toRotationMatrix();
+  const Vector3d a = to_leg * p + Vector3d(kr - kR, 0, 0);
+  const double rho = std::hypot(a.x(), a.z()), height = a.y();
+  const auto miss_at = [&](double eb) {
+    const double w = std::abs(ke + kLb * std::cos(eb)), lo = std::abs(kLa - w), hi = kLa + w;
+    const double off = rho < lo ? lo - rho : rho > hi ? rho - hi : 0.0;
+    return std::hypot(off, height - kLb * std::sin(eb));
+  };
+  constexpr int kScan = 4000;
+  double best = miss_at(0), at = 0;
+  for (int i = 1; i < kScan; ++i) {
+    const double eb = 2 * M_PI * i / kScan;
+    if (miss_at(eb) < best) best = miss_at(eb), at = eb;
+  }
+  double lo = at - 2 * M_PI / kScan, hi = at + 2 * M_PI / kScan;  // (the scan's minimum lies within a step)
+  for (int i = 0; i < 100; ++i) {
+    const double a1 = lo + (hi - lo) / 3, a2 = hi - (hi - lo) / 3;
+    (miss_at(a1) < miss_at(a2) ? hi : lo) = miss_at(a1) < miss_at(a2) ? a2 : a1;
+  }
+  return std::min(best, miss_at(0.5 * (lo + hi)));
+}
+
+// The turned reach (sampled_reach.h) about each leg's actuator: never more
+// than the exact miss (sound), and within its margin and voxels of it (it
+// follows the arm's shape where the shells about the base do not).
+TEST(DescribedTravelSearch, TheTurnedReachBoundsAnArmsMissFromBelowAndClosely) {
+  const Kinematics arm = offset_elbow_arm();
+  const TurnedReach& turned = arm.turned_reach(1);
+  ASSERT_TRUE(turned.built) << turned.why_not;
+  // (The voxels' slack twice: a sample's and the anchor's place each rounded to a voxel.)
+  const double looseness = turned.rest.margin() + 2 * turned.rest.slack();
+  std::cout << "turned reach: " << turned.samples << " samples, margin " << turned.rest.margin() << " cm, voxels add "
+            << turned.rest.slack() << " cm\n";
+  EXPECT_LT(looseness, 0.5);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  int refused = 0, beyond_shells = 0;
+  double worst = 0;
+  for (int i = 0; i < 10000; ++i) {
+    const Vector3d p = Vector3d(0, 0, -12) + 30 * Vector3d(unit(rng), unit(rng), unit(rng));
+    PlatformPose pose = arm.pose(p);
+    const Eigen::Isometry3d anchor = arm.anchor(1, pose);
+    const double miss = leg_miss(1, p), bound = turned.outside(anchor.translation());
+    EXPECT_LE(bound, miss + 1e-9) << "at " << p.transpose();
+    if (miss > 3) continue;  // (beyond the grid the bound is looser; the shells refuse such anchors)
+    EXPECT_GE(bound, miss - looseness - 1e-9) << "at " << p.transpose();
+    worst = std::max(worst, miss - bound);
+    if (bound > 0) ++refused, beyond_shells += !(arm.reach_outside(1, anchor) > 0);
+  }
+  std::cout << refused << " of the anchors missed by under 3 cm refused (" << beyond_shells << " that the shells admit); at most " << worst
+            << " cm below the miss where it is under 3 cm\n";
+  EXPECT_GT(beyond_shells, 100);
 }
 
 TEST(DescribedTravelSearch, AnArmWithOffsetElbowsIsOkWhereverEveryLegHasAnAssemblyWithinItsTravel) {
