@@ -12,7 +12,9 @@
 // and small box beside the same solver unaided (LINKSCAPE_NUMERIC_AIDS=off:
 // no reach bounds, no row seeding; what a leg of no known pattern gains
 // from them). The CPU column is every thread's time; the rate is per
-// wall-clock second.
+// wall-clock second. OffsetElbowArm (offset-elbow-arm.json beside this
+// file): legs of no known pattern, the numerical solver alone, aided and
+// unaided.
 // BM_Kinematics / BM_KinematicsSampled: a device's Kinematics built, without
 // and with every leg's sampled reach.
 // Run: build/tests/bench/bench_described (--benchmark_filter=Stewart etc.)
@@ -77,6 +79,10 @@ void add(const std::string& name, const std::string& compiled, const std::string
                   ->UseRealTime();
     if (method == "newton") b->Iterations(1);
   };
+  if (compiled == "-") {  // legs of no known pattern: the numerical solver alone
+    if (round < 2) reg("described-newton", described, "newton"), reg("described-newton-unaided", described, "newton", 2, true);
+    return;
+  }
   if (!compiled.empty()) reg("compiled", compiled, "");
   reg("described-lanes", described, "closed");
   // On one thread: the kernels' own cost, which a loaded machine's scheduling
@@ -91,10 +97,12 @@ void add(const std::string& name, const std::string& compiled, const std::string
   }
 }
 
-// A device's Kinematics built from its model, with every leg's sampled
-// reach (sampled_reach.h) or without: what the numerical solver pays once
-// per design where it has searched a leg's travel often enough.
-void kinematics(benchmark::State& state, const std::string& preset, bool sampled) {
+// A device's Kinematics built from its model, alone, with every leg's
+// sampled reach or with every leg's turned reach (sampled_reach.h): what the
+// numerical solver pays once per design where it has searched a leg's
+// travel often enough, and where a leg is of no known pattern.
+enum class Reach { None, Sampled, Turned };
+void kinematics(benchmark::State& state, const std::string& preset, Reach reach) {
   const linkscape::Preset p = linkscape::load_preset(preset);
   const linkscape::described::Model model =
       linkscape::described::build_model(p.description, p.parameters, p.limits_deg, p.length_unit);
@@ -102,7 +110,8 @@ void kinematics(benchmark::State& state, const std::string& preset, bool sampled
   for (auto _ : state) {
     const linkscape::described::Kinematics k(model);
     built = 0;
-    for (std::size_t leg = 0; sampled && leg < model.legs.size(); ++leg) built += k.sampled_reach(int(leg)).built;
+    for (std::size_t leg = 0; reach != Reach::None && leg < model.legs.size(); ++leg)
+      built += reach == Reach::Sampled ? k.sampled_reach(int(leg)).built : k.turned_reach(int(leg)).built;
   }
   state.counters["legs_sampled"] = double(built);
 }
@@ -123,16 +132,18 @@ int main(int argc, char** argv) {
       {"FiveBar", "", "five-bar", 192, true},               {"ThreeRrr", "", "three-rrr", 192, true},
       {"Falcon", "", "falcon", 96, true},                   {"Falcon", "", "falcon", 24, false},
       {"Falcon", "", "falcon", 48, false},                  {"Haply2diy", "", "haply-2diy", 192, true},
+      {"OffsetElbowArm", "-", LINKSCAPE_BENCH_DIR "/offset-elbow-arm.json", 128, true},
   };
   for (int round = 0; round < 3; ++round)
     for (const Case& c : cases) add(c.name, c.compiled, c.described, c.n, c.slice, round);
-  for (const char* preset : {"five-bar", "haply-2diy", "three-rrr", "pathos2-described", "hexapod-rus", "stewart",
-                             "delta-described", "linear-delta"})
-    for (const bool sampled : {false, true})
-      benchmark::RegisterBenchmark(
-          ((sampled ? "BM_KinematicsSampled/" : "BM_Kinematics/") + std::string(preset)).c_str(), kinematics, preset,
-          sampled)
-          ->Unit(benchmark::kMillisecond);
+  const std::string arm = LINKSCAPE_BENCH_DIR "/offset-elbow-arm.json";
+  for (const std::string preset : {"five-bar", "haply-2diy", "three-rrr", "pathos2-described", "hexapod-rus", "stewart",
+                                   "delta-described", "linear-delta", "falcon", arm.c_str()}) {
+    const std::string name = preset == arm ? "offset-elbow-arm" : preset;
+    for (const auto& [label, reach] : {std::pair{"BM_Kinematics/", Reach::None}, {"BM_KinematicsSampled/", Reach::Sampled},
+                                       {"BM_KinematicsTurned/", Reach::Turned}})
+      benchmark::RegisterBenchmark((label + name).c_str(), kinematics, preset, reach)->Unit(benchmark::kMillisecond);
+  }
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();

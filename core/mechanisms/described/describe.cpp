@@ -142,6 +142,16 @@ std::string describe(const Preset& preset) {
         << " joints that move its end; every assembly within " << std::setprecision(2)
         << sampled.travel.front().margin() << std::setprecision(6) << " " << unit << " of a sample's end\n";
     }
+    if (!form) {  // what the numerical solver refuses near the reach's edge
+      const TurnedReach& turned = k.turned_reach(int(leg));
+      s << "    reach sampled about its first joint: ";
+      if (!turned.built) s << "no (" << turned.why_not << ")\n";
+      else
+        s << turned.samples << " samples of the joints after it, as distance from its axis and height along it; "
+          << "every assembly within " << std::setprecision(2) << turned.rest.margin() << std::setprecision(6) << " "
+          << unit << " of one"
+          << (turned.binned ? "; within the travel, the azimuths they take" : "") << "\n";
+    }
     for (const JointLimit& j : l.limits) s << "    limit: " << limit_text(j) << "\n";
     for (const LinkCapsule& c : l.capsules)
       s << "    link: " << c.name << ", radius " << c.radius << " " << unit << ", length " << (c.b - c.a).norm() << " "

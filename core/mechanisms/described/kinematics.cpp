@@ -265,7 +265,7 @@ const TurnedReach& Kinematics::turned_reach(int leg) const {
     const Leg& l = model_.legs[std::size_t(leg)];
     const TurnedReach* like = nullptr;  // a copy's, sampled already
     for (int other = 0; other < leg && !like; ++other)
-      if (same_from_first_joint(model_.legs[std::size_t(other)], l)) like = &turned_reach(other);
+      if (same_from_first_joint(model_.legs[std::size_t(other)], l, model_.actuators)) like = &turned_reach(other);
     sampled_->turned[std::size_t(leg)] =
         sample_turned_reach(l, model_.actuators, model_.planar, spread_seeds_[std::size_t(leg)].front(), like);
   });
@@ -417,6 +417,10 @@ LegSolution Kinematics::solve_leg_numeric(int leg, const Isometry3d& anchor, int
     if (!aided_) return false;
     const double cut = refusal_cut(tolerance);
     if (travel_outside(leg, anchor, branch, false) > cut) return true;
+    // A leg of no known pattern: its turned reach's azimuths, finer than the
+    // sampled reach (not built then).
+    if (!closed_[std::size_t(leg)] && turned_reach(leg).binned)
+      return turned_reach(leg).rules_out_within_travel(anchor.translation(), combo);
     return searched.load(std::memory_order_relaxed) >= kSearchIterationsBeforeSampling &&
            sampled_outside(leg, anchor, branch) > cut;
   };

@@ -134,6 +134,11 @@ TEST(DescribedDescribe, ALegOfNoKnownPatternIsNumeric) {
                         "steps: docs/described-mechanisms.md)\n"))
       << text;
   EXPECT_TRUE(has(text, "  leg 4: three-revolute\n")) << text;
+  // What refuses its anchors near the reach's edge: its joints after the
+  // actuator sampled about the actuator's axis (a full turn: no azimuths binned).
+  EXPECT_TRUE(has(text, "    reach sampled about its first joint: 262735 samples of the joints after it, as distance "
+                        "from its axis and height along it; every assembly within 0.13 cm of one\n"))
+      << text;
   // The field's path: the closed forms and the numerical solver.
   EXPECT_TRUE(has(text, "field: the closed forms of 3 legs and the numerical solver for the others, one pose at a "
                         "time (not in lanes: leg 1: "))

@@ -175,6 +175,45 @@ int combination_of(const Leg& l, const LegState& s) {
   return combo;
 }
 
+// No closed-form candidate within the travel on combination `combo`.
+void expect_none_within_travel(const Model& m, const Leg& l, const LegCandidates& c, int combo, const std::string& name) {
+  for (int j = 0; j < c.count; ++j) {
+    const LegState& s = c.states[std::size_t(j)];
+    EXPECT_FALSE(within_travel(m, l, s) && combination_of(l, s) == combo)
+        << name << " leg " << l.name << " combination " << combo;
+  }
+}
+
+// Where a grid tells branches apart least: each passive revolute of the
+// state (or ball, about a random axis) turned to just either side of where
+// the state changes branch; `at(state, combination)` for each.
+template <class At>
+void beside_branch_edges(const Leg& l, const LegState& s, std::mt19937_64& rng, At&& at) {
+  if (l.rules.empty()) return;
+  std::uniform_real_distribution<double> unit(-1, 1);
+  int sphere = 0;
+  for (const Step& step : l.steps) {
+    const bool ball = step.kind == Step::Kind::Spherical;
+    sphere += ball;
+    if (!(ball || step.kind == Step::Kind::Revolute) || step.actuator >= 0) continue;
+    const Vector3d axis = Vector3d(unit(rng), unit(rng), unit(rng)).normalized();
+    LegState t = s;
+    const auto turn = [&](double angle) {
+      if (ball) t.spheres[std::size_t(sphere - 1)] = s.spheres[std::size_t(sphere - 1)] * Eigen::AngleAxisd(angle, axis);
+      else t.values(step.variable) = angle;
+      return combination_of(l, t);
+    };
+    for (int j = 0; j < 64; ++j) {
+      double lo = -M_PI + j * 2 * M_PI / 64, hi = lo + 2 * M_PI / 64;
+      const int from = turn(lo), to = turn(hi);
+      if (from < 0 || to < 0 || from == to) continue;
+      for (int b = 0; b < 50; ++b) (turn(0.5 * (lo + hi)) == from ? lo : hi) = 0.5 * (lo + hi);
+      for (const double side : {lo, hi})
+        if (const int c = turn(side); c >= 0) at(t, c);
+    }
+  }
+}
+
 // The bounds with the actuators within their travel, which decide whether
 // the numerical solver searches the travel for an assembly its seeds did
 // not find: a chain whose actuators are within their travel lies within
@@ -251,36 +290,12 @@ TEST(DescribedReach, TheSampledReachHoldsEveryAssemblyOnItsBranch) {
           const Vector3d end = internal::walk(l, s).end.translation();
           EXPECT_LE(sampled.travel[std::size_t(combo)].outside(end), tolerance) << name << " leg " << l.name;
           ++chains;
-          // Where the grid tells branches apart least: a passive revolute
-          // (or a ball, about a random axis) turned to just either side of
-          // where the state changes branch.
-          if (i % 20 || l.rules.empty()) continue;
-          int sphere = 0;
-          for (const Step& step : l.steps) {
-            const bool ball = step.kind == Step::Kind::Spherical;
-            sphere += ball;
-            if (!(ball || step.kind == Step::Kind::Revolute) || step.actuator >= 0) continue;
-            const Vector3d axis = Vector3d(unit(rng), unit(rng), unit(rng)).normalized();
-            LegState t = s;
-            const auto turn = [&](double angle) {
-              if (ball) t.spheres[std::size_t(sphere - 1)] = s.spheres[std::size_t(sphere - 1)] * Eigen::AngleAxisd(angle, axis);
-              else t.values(step.variable) = angle;
-              return combination_of(l, t);
-            };
-            for (int j = 0; j < 64; ++j) {
-              double lo = -M_PI + j * 2 * M_PI / 64, hi = lo + 2 * M_PI / 64;
-              const int from = turn(lo), to = turn(hi);
-              if (from < 0 || to < 0 || from == to) continue;
-              for (int b = 0; b < 50; ++b) (turn(0.5 * (lo + hi)) == from ? lo : hi) = 0.5 * (lo + hi);
-              for (const double side : {lo, hi}) {
-                const int c = turn(side);
-                if (c < 0) continue;
-                EXPECT_LE(sampled.travel[std::size_t(c)].outside(internal::walk(l, t).end.translation()), tolerance)
-                    << name << " leg " << l.name << " next to a branch's edge";
-                ++edges;
-              }
-            }
-          }
+          if (i % 20 == 0)
+            beside_branch_edges(l, s, rng, [&](const LegState& t, int c) {
+              EXPECT_LE(sampled.travel[std::size_t(c)].outside(internal::walk(l, t).end.translation()), tolerance)
+                  << name << " leg " << l.name << " next to a branch's edge";
+              ++edges;
+            });
         }
         if (!k.closed_form(int(leg))) continue;
         for (int i = 0; i < 1000; ++i) {
@@ -293,11 +308,7 @@ TEST(DescribedReach, TheSampledReachHoldsEveryAssemblyOnItsBranch) {
             if (!(k.travel_outside(int(leg), anchor, branch) > tolerance)) continue;
             ++refused;
             refused_beyond_shells += !(k.travel_outside(int(leg), anchor, branch, false) > tolerance);
-            for (int j = 0; j < c.count; ++j) {
-              const LegState& s = c.states[std::size_t(j)];
-              EXPECT_FALSE(within_travel(m, l, s) && combination_of(l, s) == int(combo))
-                  << name << " leg " << l.name << " branch " << branch;
-            }
+            expect_none_within_travel(m, l, c, int(combo), name);
           }
         }
       }
@@ -308,6 +319,63 @@ TEST(DescribedReach, TheSampledReachHoldsEveryAssemblyOnItsBranch) {
   EXPECT_GT(legs, 100);
   EXPECT_GT(edges, 1000);
   EXPECT_GT(refused_beyond_shells, 1000);
+}
+
+// The turned reach (sampled_reach.h) about each leg's first revolute: every
+// chain's end within it, and, where its azimuths are binned, no chain within
+// the travel (nor one turned to either side of a branch's edge) ruled out on
+// its branch; where the bins rule an anchor out on a branch, the closed form
+// (independent of the sampling) finds no assembly within the travel on it.
+TEST(DescribedReach, TheTurnedReachHoldsEveryChainAndItsBinsEveryOneWithinTheTravel) {
+  std::mt19937_64 rng(37);
+  int legs = 0, binned = 0, edges = 0, refused = 0, refused_beyond_bounds = 0;
+  for (const std::string& name : shipped_descriptions())
+    for (const Kinematics& k : designs_of(name, rng)) {
+      const Model& m = k.model();
+      const double tolerance = 1e-9 * m.size;
+      for (std::size_t leg = 0; leg < m.legs.size(); ++leg) {
+        const Leg& l = m.legs[leg];
+        const TurnedReach& turned = k.turned_reach(int(leg));
+        if (!turned.built) continue;
+        ++legs;
+        for (int i = 0; i < 1000; ++i) {
+          const LegState s = random_state(m, l, rng);
+          EXPECT_LE(turned.outside(internal::walk(l, s).end.translation()), tolerance) << name << " leg " << l.name;
+        }
+        if (!turned.binned) continue;
+        ++binned;
+        const auto held = [&](const LegState& s, int combo) {
+          EXPECT_FALSE(turned.rules_out_within_travel(internal::walk(l, s).end.translation(), combo))
+              << name << " leg " << l.name << " combination " << combo;
+        };
+        for (int i = 0; i < 2000; ++i) {
+          const LegState s = random_state_within_travel(m, l, rng);
+          if (const int combo = combination_of(l, s); combo >= 0) held(s, combo);
+          if (i % 20 == 0) beside_branch_edges(l, s, rng, [&](const LegState& t, int c) { held(t, c), ++edges; });
+        }
+        if (!k.closed_form(int(leg))) continue;
+        for (int i = 0; i < 1000; ++i) {
+          const Isometry3d anchor = anchor_near(m, l, rng);
+          LegCandidates c;
+          solve_closed(*k.closed_form(int(leg)), m, l, anchor, c);
+          if (c.undecided) continue;
+          for (std::size_t combo = 0; combo < turned.azimuths.size(); ++combo) {
+            if (!turned.rules_out_within_travel(anchor.translation(), int(combo))) continue;
+            ++refused;
+            const int branch = internal::device_branch(l, int(combo));
+            refused_beyond_bounds += !(k.travel_outside(int(leg), anchor, branch) > tolerance);
+            expect_none_within_travel(m, l, c, int(combo), name);
+          }
+        }
+      }
+    }
+  std::printf("turned reach on %d legs, binned on %d: %d chains next to a branch's edge held, %d anchors ruled out "
+              "within the travel (%d the other bounds admit)\n",
+              legs, binned, edges, refused, refused_beyond_bounds);
+  EXPECT_GT(legs, 100);
+  EXPECT_GT(binned, 50);
+  EXPECT_GT(edges, 1000);
+  EXPECT_GT(refused_beyond_bounds, 1000);
 }
 
 // A sample whose neighbour is on the other side of a rule's zero stands for

@@ -116,6 +116,7 @@ TEST(DescribedTravelSearch, TheTurnedReachBoundsAnArmsMissFromBelowAndClosely) {
   const Kinematics arm = offset_elbow_arm();
   const TurnedReach& turned = arm.turned_reach(1);
   ASSERT_TRUE(turned.built) << turned.why_not;
+  EXPECT_TRUE(turned.binned) << "the actuator's travel: its azimuths binned";
   // (The voxels' slack twice: a sample's and the anchor's place each rounded to a voxel.)
   const double looseness = turned.rest.margin() + 2 * turned.rest.slack();
   std::cout << "turned reach: " << turned.samples << " samples, margin " << turned.rest.margin() << " cm, voxels add "
