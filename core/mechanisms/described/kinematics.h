@@ -29,6 +29,7 @@
 #include "core/mechanisms/described/model.h"
 #include "core/mechanisms/described/reach.h"
 #include "core/mechanisms/described/sampled_reach.h"
+#include "core/mechanisms/described/turned_reach.h"
 #include "core/range.h"
 #include "core/status.h"
 
@@ -171,7 +172,7 @@ class Kinematics {
   // built at its first use, once per design.
   const SampledReach& sampled_reach(int leg) const;
   // The rest of the leg sampled about a first joint that turns, whatever
-  // the travel (sampled_reach.h): built at the numerical solver's first
+  // the travel (turned_reach.h): built at the numerical solver's first
   // use of the leg, once per design.
   const TurnedReach& turned_reach(int leg) const;
   // The same bounds with the leg's actuators held within their travel, and
