@@ -297,28 +297,4 @@ std::vector<std::uint64_t> combinations_of(const Leg& leg, const std::vector<Fre
   return out;
 }
 
-Eigen::Vector3d end_at(const Leg& leg, const std::vector<Freedom>& freedoms, const Frames& f,
-                       const std::vector<double>& values) {
-  // As walk_samples composes its frames, at one sample.
-  Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();
-  for (std::size_t j = 0, m = 0; j < freedoms.size(); ++j, ++m) {
-    const Freedom& freedom = freedoms[j];
-    const Step& step = leg.steps[std::size_t(freedom.step)];
-    Eigen::Isometry3d moved = f.lead[m];
-    if (freedom.kind == Freedom::Kind::Polar) {
-      const Eigen::Matrix3d written = basis_along(f.tail.translation().normalized());
-      const double polar = values[j], azimuth = values[++j];
-      const Eigen::Vector3d d = written * Eigen::Vector3d(std::cos(polar), std::sin(polar) * std::cos(azimuth),
-                                                          std::sin(polar) * std::sin(azimuth));
-      moved.linear() = moved.linear() * (basis_along(d) * written.transpose());
-    } else if (freedom.kind == Freedom::Kind::Slide) {
-      moved.translate(step.axis * values[j]);
-    } else {
-      moved.rotate(Eigen::AngleAxisd(values[j], step.axis));
-    }
-    frame = frame * moved;
-  }
-  return frame * f.tail.translation();
-}
-
 }  // namespace linkscape::described::joint_grid

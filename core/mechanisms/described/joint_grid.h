@@ -85,8 +85,4 @@ EndFreedoms end_freedoms(const Leg& leg, const std::vector<Actuator>& actuators,
 std::vector<std::uint64_t> combinations_of(const Leg& leg, const std::vector<Freedom>& freedoms, const Samples& samples,
                                            int last, int ball, const Eigen::Vector3d* turned_about);
 
-// The end at the freedoms' `values` (one per freedom, as value(i) gives).
-Eigen::Vector3d end_at(const Leg& leg, const std::vector<Freedom>& freedoms, const Frames& f,
-                       const std::vector<double>& values);
-
 }  // namespace linkscape::described::joint_grid
