@@ -313,7 +313,8 @@ void Kinematics::solve_leg_on(int leg, const Isometry3d& anchor, int branch, dou
   if (closed && solve_leg_closed(leg, anchor, branch, out, close)) return;
   if (closed && aided_ && missed_by(reach_outside(leg, anchor), numeric_cut)) return;
   // A leg of no known pattern: its reach about its first joint, sampled
-  // finely (a leg with a closed form never needs it but with `newton`).
+  // finely (not a leg with a closed form, which `newton` alone solves
+  // numerically: the reference, where the build would cost more than it saves).
   if (aided_ && !closed_[std::size_t(leg)] && missed_by(turned_reach(leg).outside(anchor.translation()), numeric_cut))
     return;
   out = solve_leg_numeric(leg, anchor, branch, tolerance, extra_seed);

@@ -22,9 +22,7 @@ constexpr std::array<double, 3> kTurnedSamples{1 << 12, 1 << 18, 1 << 18};
 // transform's grid grown by a quarter of the samples' extent each way.
 constexpr double kTurnedVoxels = 1 << 18, kTurnedPad = 0.25, kBinnedCells = 1 << 16;
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
-}  // namespace
 
-namespace {
 // p as (distance from the axis, height along it, 0): in a plane, the distance alone.
 Eigen::Vector3d turned_coordinates(const TurnedReach& t, const Eigen::Vector3d& p) {
   const Eigen::Vector3d d = p - t.centre;
@@ -94,7 +92,8 @@ double TurnedReach::outside(const Eigen::Vector3d& p) const {
 }
 
 bool same_from_first_joint(const Leg& a, const Leg& b, const std::vector<Actuator>& actuators) {
-  const std::size_t from_a = first_joint(a).step, from_b = first_joint(b).step;
+  const FirstJoint first_a = first_joint(a), first_b = first_joint(b);
+  const std::size_t from_a = first_a.step, from_b = first_b.step;
   if (a.steps.size() - from_a != b.steps.size() - from_b || a.rules.size() != b.rules.size()) return false;
   const auto limited = [&](const Step& s) { return s.actuator >= 0 && actuators[std::size_t(s.actuator)].limited; };
   for (std::size_t i = 0; i < a.steps.size() - from_a; ++i) {
@@ -103,7 +102,8 @@ bool same_from_first_joint(const Leg& a, const Leg& b, const std::vector<Actuato
         !(sa.transform.matrix() == sb.transform.matrix()) || (i > 0 && limited(sa) != limited(sb)))
       return false;
   }
-  // The same branch rules, on the same steps (the first joint's travel may differ).
+  // The same branch rules, on the same steps, an `along` rule's direction
+  // the same in the first joint's frame (the first joint's travel may differ).
   for (std::size_t r = 0; r < a.rules.size(); ++r) {
     const BranchRule &ra = a.rules[r], &rb = b.rules[r];
     const auto from_first = [](const BranchRule& rule, std::size_t from) {
@@ -111,7 +111,10 @@ bool same_from_first_joint(const Leg& a, const Leg& b, const std::vector<Actuato
       for (int& step : steps) step = step >= 0 ? step - int(from) : step;
       return steps;
     };
-    if (ra.kind != rb.kind || from_first(ra, from_a) != from_first(rb, from_b) || ra.direction != rb.direction ||
+    const Eigen::Vector3d along_a = first_a.frame.linear().transpose() * ra.direction,
+                          along_b = first_b.frame.linear().transpose() * rb.direction;
+    if (ra.kind != rb.kind || from_first(ra, from_a) != from_first(rb, from_b) ||
+        (ra.kind == BranchRule::Kind::Along && !along_a.isApprox(along_b, 1e-12)) ||
         ra.fixed_sign != rb.fixed_sign || (ra.free_index >= 0) != (rb.free_index >= 0))
       return false;
   }
