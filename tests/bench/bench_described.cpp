@@ -12,9 +12,9 @@
 // and small box beside the same solver unaided (LINKSCAPE_NUMERIC_AIDS=off:
 // no reach bounds, no row seeding; what a leg of no known pattern gains
 // from them). The CPU column is every thread's time; the rate is per
-// wall-clock second. OffsetElbowArm (offset-elbow-arm.json beside this
-// file): legs of no known pattern, the numerical solver alone, aided and
-// unaided.
+// wall-clock second. OffsetElbowArm (the arm of test_travel_search.cpp,
+// tests/core/mechanisms/described/offset-elbow-arm.json): legs of no known
+// pattern, the numerical solver alone, aided and unaided.
 // BM_Kinematics / BM_KinematicsSampled: a device's Kinematics built, without
 // and with every leg's sampled reach.
 // Run: build/tests/bench/bench_described (--benchmark_filter=Stewart etc.)
@@ -66,8 +66,9 @@ void field(benchmark::State& state, const std::string& preset, const std::string
   state.counters["in_lanes"] = double(in_lanes);
 }
 
+// `numeric`: legs of no known pattern, the numerical solver's alone (no lanes, no closed forms).
 void add(const std::string& name, const std::string& compiled, const std::string& described, int n, bool slice,
-         int round) {
+         int round, bool numeric) {
   const std::string shape = slice ? "Slice" + std::to_string(n) : "Box" + std::to_string(n);
   auto reg = [&](const std::string& label, const std::string& preset, const std::string& method, int threads = 2,
                  bool unaided = false) {
@@ -79,17 +80,15 @@ void add(const std::string& name, const std::string& compiled, const std::string
                   ->UseRealTime();
     if (method == "newton") b->Iterations(1);
   };
-  if (compiled == "-") {  // legs of no known pattern: the numerical solver alone
-    if (round < 2) reg("described-newton", described, "newton"), reg("described-newton-unaided", described, "newton", 2, true);
-    return;
+  if (!numeric) {
+    if (!compiled.empty()) reg("compiled", compiled, "");
+    reg("described-lanes", described, "closed");
+    // On one thread: the kernels' own cost, which a loaded machine's scheduling
+    // of two threads (a sub-millisecond field waits for the second) does not blur.
+    if (!compiled.empty()) reg("compiled", compiled, "", 1);
+    reg("described-lanes", described, "closed", 1);
+    reg("described-closed", described, "closed-scalar");
   }
-  if (!compiled.empty()) reg("compiled", compiled, "");
-  reg("described-lanes", described, "closed");
-  // On one thread: the kernels' own cost, which a loaded machine's scheduling
-  // of two threads (a sub-millisecond field waits for the second) does not blur.
-  if (!compiled.empty()) reg("compiled", compiled, "", 1);
-  reg("described-lanes", described, "closed", 1);
-  reg("described-closed", described, "closed-scalar");
   if (round < 2) {
     reg("described-newton", described, "newton");
     // (Unaided, a 64^3 box takes minutes.)
@@ -98,7 +97,8 @@ void add(const std::string& name, const std::string& compiled, const std::string
 }
 
 // A device's Kinematics built from its model, alone, with every leg's
-// sampled reach or with every leg's turned reach (sampled_reach.h): what the
+// sampled reach or with every leg's turned reach (sampled_reach.h,
+// turned_reach.h): what the
 // numerical solver pays once per design where it has searched a leg's
 // travel often enough, and where a leg is of no known pattern.
 enum class Reach { None, Sampled, Turned };
@@ -122,7 +122,7 @@ int main(int argc, char** argv) {
   struct Case {
     const char *name, *compiled, *described;
     int n;
-    bool slice;
+    bool slice, numeric = false;
   };
   const Case cases[] = {
       {"Delta", "delta", "delta-described", 96, true},      {"Delta", "delta", "delta-described", 64, false},
@@ -132,14 +132,13 @@ int main(int argc, char** argv) {
       {"FiveBar", "", "five-bar", 192, true},               {"ThreeRrr", "", "three-rrr", 192, true},
       {"Falcon", "", "falcon", 96, true},                   {"Falcon", "", "falcon", 24, false},
       {"Falcon", "", "falcon", 48, false},                  {"Haply2diy", "", "haply-2diy", 192, true},
-      {"OffsetElbowArm", "-", LINKSCAPE_BENCH_DIR "/offset-elbow-arm.json", 128, true},
+      {"OffsetElbowArm", "", LINKSCAPE_ARM_FILE, 128, true, true},
   };
   for (int round = 0; round < 3; ++round)
-    for (const Case& c : cases) add(c.name, c.compiled, c.described, c.n, c.slice, round);
-  const std::string arm = LINKSCAPE_BENCH_DIR "/offset-elbow-arm.json";
+    for (const Case& c : cases) add(c.name, c.compiled, c.described, c.n, c.slice, round, c.numeric);
   for (const std::string preset : {"five-bar", "haply-2diy", "three-rrr", "pathos2-described", "hexapod-rus", "stewart",
-                                   "delta-described", "linear-delta", "falcon", arm.c_str()}) {
-    const std::string name = preset == arm ? "offset-elbow-arm" : preset;
+                                   "delta-described", "linear-delta", "falcon", LINKSCAPE_ARM_FILE}) {
+    const std::string name = preset == LINKSCAPE_ARM_FILE ? "offset-elbow-arm" : preset;
     for (const auto& [label, reach] : {std::pair{"BM_Kinematics/", Reach::None}, {"BM_KinematicsSampled/", Reach::Sampled},
                                        {"BM_KinematicsTurned/", Reach::Turned}})
       benchmark::RegisterBenchmark((label + name).c_str(), kinematics, preset, reach)->Unit(benchmark::kMillisecond);

@@ -55,8 +55,8 @@ void bin_azimuths(TurnedReach& out, const Samples& samples, const std::vector<Ei
     hi = hi.cwiseMax(p.head<2>());
   }
   const Eigen::Vector2d extent = (hi - lo).cwiseMax(1e-12);
-  out.cell = std::max({0.25 * out.margin, std::sqrt(extent.prod() / kBinnedCells), extent.maxCoeff() / 256});
-  const int reach = int(std::ceil(out.margin / out.cell + std::sqrt(2.0)));  // cells
+  out.cell = std::max({0.25 * out.rest.margin(), std::sqrt(extent.prod() / kBinnedCells), extent.maxCoeff() / 256});
+  const int reach = int(std::ceil(out.rest.margin() / out.cell + std::sqrt(2.0)));  // cells
   out.grid_lo = lo - Eigen::Vector2d::Constant((reach + 1) * out.cell);
   out.columns = int(extent.x() / out.cell) + 2 * reach + 4;
   out.rows = int(extent.y() / out.cell) + 2 * reach + 4;
@@ -182,7 +182,6 @@ TurnedReach sample_turned_reach(const Leg& leg, const std::vector<Actuator>& act
   if (limited && rest_free && free_rules_of(leg) <= 6) {
     out.travel = actuators[std::size_t(joint.actuator)].range;
     out.seed_value = seed.values(joint.variable);
-    out.margin = margin;
     bin_azimuths(out, samples, points, combinations_of(leg, sampled, samples, end.last, end.ball, &out.axis),
                  std::size_t(1) << free_rules_of(leg));
   }
@@ -196,7 +195,7 @@ bool TurnedReach::rules_out_within_travel(const Eigen::Vector3d& p, int combo) c
   if (column < 0 || row < 0 || column >= columns || row >= rows) return true;  // no sample within the margin
   // The azimuths that turn onto p's within the travel, widened by the angle
   // the margin subtends at p's distance from the axis.
-  const double widen = t.x() > margin ? std::asin(margin / t.x()) : kPi;
+  const double margin = rest.margin(), widen = t.x() > margin ? std::asin(margin / t.x()) : kPi;
   const double from = azimuth_of(*this, p) + seed_value - travel.hi - widen;
   const double span = travel.hi - travel.lo + 2 * widen;
   std::uint64_t window = ~std::uint64_t(0);

@@ -49,7 +49,7 @@ struct TurnedReach {
   // each other), the way the joint turns an end.
   Eigen::Vector3d zero = Eigen::Vector3d::UnitX(), onwards = Eigen::Vector3d::UnitY();
   Range travel;
-  double seed_value = 0, margin = 0, cell = 1;
+  double seed_value = 0, cell = 1;
   Eigen::Vector2d grid_lo = Eigen::Vector2d::Zero();
   int columns = 0, rows = 0;
   std::vector<std::vector<std::uint64_t>> azimuths;  // per combination, per cell (row-major)

@@ -214,6 +214,29 @@ void beside_branch_edges(const Leg& l, const LegState& s, std::mt19937_64& rng, 
   }
 }
 
+// Each leg of every shipped description and of four random designs of it:
+// at(name, kinematics, leg).
+template <class At>
+void for_each_leg(std::mt19937_64& rng, At&& at) {
+  for (const std::string& name : shipped_descriptions())
+    for (const Kinematics& k : designs_of(name, rng))
+      for (std::size_t leg = 0; leg < k.model().legs.size(); ++leg) at(name, k, int(leg));
+}
+
+// A thousand anchors about a leg's base, each the closed form decides:
+// at(anchor, its candidates).
+template <class At>
+void closed_form_anchors(const Kinematics& k, int leg, std::mt19937_64& rng, At&& at) {
+  const Model& m = k.model();
+  const Leg& l = m.legs[std::size_t(leg)];
+  for (int i = 0; i < 1000; ++i) {
+    const Isometry3d anchor = anchor_near(m, l, rng);
+    LegCandidates c;
+    solve_closed(*k.closed_form(leg), m, l, anchor, c);
+    if (!c.undecided) at(anchor, c);
+  }
+}
+
 // The bounds with the actuators within their travel, which decide whether
 // the numerical solver searches the travel for an assembly its seeds did
 // not find: a chain whose actuators are within their travel lies within
@@ -221,44 +244,36 @@ void beside_branch_edges(const Leg& l, const LegState& s, std::mt19937_64& rng, 
 // the travel. For a crank and a rod, or a slide and a rod, they are exact.
 TEST(DescribedReach, TheTravelBoundsHoldEveryAssemblyWithinTheTravel) {
   std::mt19937_64 rng(27);
-  std::uniform_real_distribution<double> unit(-1, 1);
   int chains = 0, refused = 0, admitted_exactly = 0;
-  for (const std::string& name : shipped_descriptions())
-    for (const Kinematics& k : designs_of(name, rng)) {
-      const Model& m = k.model();
-      const double tolerance = 1e-9 * m.size;
-      for (std::size_t leg = 0; leg < m.legs.size(); ++leg) {
-        const Leg& l = m.legs[leg];
-        for (int i = 0; i < 1000; ++i) {
-          const LegState s = random_state_within_travel(m, l, rng);
-          const Isometry3d end = internal::walk(l, s).end;
-          const int combo = combination_of(l, s);
-          // Not on a branch the design takes: the bounds without the sampled reach.
-          const int branch = combo < 0 ? 0 : internal::device_branch(l, combo);
-          EXPECT_LE(k.travel_outside(int(leg), end, branch, combo >= 0), tolerance) << name << " leg " << l.name;
-          ++chains;
-        }
-        if (!k.closed_form(int(leg))) continue;
-        const LegPattern pattern = k.closed_form(int(leg))->pattern;
-        const bool exact = pattern == LegPattern::CrankRod || pattern == LegPattern::SlideRod;
-        for (int i = 0; i < 1000; ++i) {
-          const Isometry3d anchor = anchor_near(m, l, rng);
-          LegCandidates c;
-          solve_closed(*k.closed_form(int(leg)), m, l, anchor, c);
-          if (c.undecided) continue;
-          bool any_within = false;
-          for (int j = 0; j < c.count; ++j) any_within = any_within || within_travel(m, l, c.states[std::size_t(j)]);
-          const double outside = k.travel_outside(int(leg), anchor, 0, false);
-          if (outside > tolerance) {
-            ++refused;
-            EXPECT_FALSE(any_within) << name << " leg " << l.name << " refused by " << outside;
-          } else if (exact && outside < -tolerance) {
-            ++admitted_exactly;
-            EXPECT_TRUE(any_within) << name << " leg " << l.name << " within by " << -outside;
-          }
-        }
-      }
+  for_each_leg(rng, [&](const std::string& name, const Kinematics& k, int leg) {
+    const Model& m = k.model();
+    const Leg& l = m.legs[std::size_t(leg)];
+    const double tolerance = 1e-9 * m.size;
+    for (int i = 0; i < 1000; ++i) {
+      const LegState s = random_state_within_travel(m, l, rng);
+      const Isometry3d end = internal::walk(l, s).end;
+      const int combo = combination_of(l, s);
+      // Not on a branch the design takes: the bounds without the sampled reach.
+      const int branch = combo < 0 ? 0 : internal::device_branch(l, combo);
+      EXPECT_LE(k.travel_outside(leg, end, branch, combo >= 0), tolerance) << name << " leg " << l.name;
+      ++chains;
     }
+    if (!k.closed_form(leg)) return;
+    const LegPattern pattern = k.closed_form(leg)->pattern;
+    const bool exact = pattern == LegPattern::CrankRod || pattern == LegPattern::SlideRod;
+    closed_form_anchors(k, leg, rng, [&](const Isometry3d& anchor, const LegCandidates& c) {
+      bool any_within = false;
+      for (int j = 0; j < c.count; ++j) any_within = any_within || within_travel(m, l, c.states[std::size_t(j)]);
+      const double outside = k.travel_outside(leg, anchor, 0, false);
+      if (outside > tolerance) {
+        ++refused;
+        EXPECT_FALSE(any_within) << name << " leg " << l.name << " refused by " << outside;
+      } else if (exact && outside < -tolerance) {
+        ++admitted_exactly;
+        EXPECT_TRUE(any_within) << name << " leg " << l.name << " within by " << -outside;
+      }
+    });
+  });
   std::printf("travel bounds: %d chains within them, %d anchors refused, %d admitted exactly\n", chains, refused,
               admitted_exactly);
   EXPECT_GT(refused, 20000);
@@ -272,47 +287,39 @@ TEST(DescribedReach, TheTravelBoundsHoldEveryAssemblyWithinTheTravel) {
 // admit: it follows the chain's shape.
 TEST(DescribedReach, TheSampledReachHoldsEveryAssemblyOnItsBranch) {
   std::mt19937_64 rng(31);
-  std::uniform_real_distribution<double> unit(-1, 1);
   int legs = 0, chains = 0, edges = 0, refused = 0, refused_beyond_shells = 0;
-  for (const std::string& name : shipped_descriptions())
-    for (const Kinematics& k : designs_of(name, rng)) {
-      const Model& m = k.model();
-      const double tolerance = 1e-9 * m.size;
-      for (std::size_t leg = 0; leg < m.legs.size(); ++leg) {
-        const Leg& l = m.legs[leg];
-        const SampledReach& sampled = k.sampled_reach(int(leg));
-        if (!sampled.built) continue;
-        ++legs;
-        for (int i = 0; i < 2000; ++i) {
-          const LegState s = random_state_within_travel(m, l, rng);
-          const int combo = combination_of(l, s);
-          if (combo < 0) continue;
-          const Vector3d end = internal::walk(l, s).end.translation();
-          EXPECT_LE(sampled.travel[std::size_t(combo)].outside(end), tolerance) << name << " leg " << l.name;
-          ++chains;
-          if (i % 20 == 0)
-            beside_branch_edges(l, s, rng, [&](const LegState& t, int c) {
-              EXPECT_LE(sampled.travel[std::size_t(c)].outside(internal::walk(l, t).end.translation()), tolerance)
-                  << name << " leg " << l.name << " next to a branch's edge";
-              ++edges;
-            });
-        }
-        if (!k.closed_form(int(leg))) continue;
-        for (int i = 0; i < 1000; ++i) {
-          const Isometry3d anchor = anchor_near(m, l, rng);
-          LegCandidates c;
-          solve_closed(*k.closed_form(int(leg)), m, l, anchor, c);
-          if (c.undecided) continue;
-          for (std::size_t combo = 0; combo < sampled.travel.size(); ++combo) {
-            const int branch = internal::device_branch(l, int(combo));
-            if (!(k.travel_outside(int(leg), anchor, branch) > tolerance)) continue;
-            ++refused;
-            refused_beyond_shells += !(k.travel_outside(int(leg), anchor, branch, false) > tolerance);
-            expect_none_within_travel(m, l, c, int(combo), name);
-          }
-        }
-      }
+  for_each_leg(rng, [&](const std::string& name, const Kinematics& k, int leg) {
+    const Model& m = k.model();
+    const Leg& l = m.legs[std::size_t(leg)];
+    const double tolerance = 1e-9 * m.size;
+    const SampledReach& sampled = k.sampled_reach(leg);
+    if (!sampled.built) return;
+    ++legs;
+    for (int i = 0; i < 2000; ++i) {
+      const LegState s = random_state_within_travel(m, l, rng);
+      const int combo = combination_of(l, s);
+      if (combo < 0) continue;
+      const Vector3d end = internal::walk(l, s).end.translation();
+      EXPECT_LE(sampled.travel[std::size_t(combo)].outside(end), tolerance) << name << " leg " << l.name;
+      ++chains;
+      if (i % 20 == 0)
+        beside_branch_edges(l, s, rng, [&](const LegState& t, int c) {
+          EXPECT_LE(sampled.travel[std::size_t(c)].outside(internal::walk(l, t).end.translation()), tolerance)
+              << name << " leg " << l.name << " next to a branch's edge";
+          ++edges;
+        });
     }
+    if (!k.closed_form(leg)) return;
+    closed_form_anchors(k, leg, rng, [&](const Isometry3d& anchor, const LegCandidates& c) {
+      for (std::size_t combo = 0; combo < sampled.travel.size(); ++combo) {
+        const int branch = internal::device_branch(l, int(combo));
+        if (!(k.travel_outside(leg, anchor, branch) > tolerance)) continue;
+        ++refused;
+        refused_beyond_shells += !(k.travel_outside(leg, anchor, branch, false) > tolerance);
+        expect_none_within_travel(m, l, c, int(combo), name);
+      }
+    });
+  });
   std::printf("sampled reach on %d legs: %d chains within it (%d next to a branch's edge), %d anchors refused (%d the "
               "shells admit)\n",
               legs, chains, edges, refused, refused_beyond_shells);
@@ -321,7 +328,7 @@ TEST(DescribedReach, TheSampledReachHoldsEveryAssemblyOnItsBranch) {
   EXPECT_GT(refused_beyond_shells, 1000);
 }
 
-// The turned reach (sampled_reach.h) about each leg's first revolute: every
+// The turned reach (turned_reach.h) about each leg's first revolute: every
 // chain's end within it, and, where its azimuths are binned, no chain within
 // the travel (nor one turned to either side of a branch's edge) ruled out on
 // its branch; where the bins rule an anchor out on a branch, the closed form
@@ -329,46 +336,39 @@ TEST(DescribedReach, TheSampledReachHoldsEveryAssemblyOnItsBranch) {
 TEST(DescribedReach, TheTurnedReachHoldsEveryChainAndItsBinsEveryOneWithinTheTravel) {
   std::mt19937_64 rng(37);
   int legs = 0, binned = 0, edges = 0, refused = 0, refused_beyond_bounds = 0;
-  for (const std::string& name : shipped_descriptions())
-    for (const Kinematics& k : designs_of(name, rng)) {
-      const Model& m = k.model();
-      const double tolerance = 1e-9 * m.size;
-      for (std::size_t leg = 0; leg < m.legs.size(); ++leg) {
-        const Leg& l = m.legs[leg];
-        const TurnedReach& turned = k.turned_reach(int(leg));
-        if (!turned.built) continue;
-        ++legs;
-        for (int i = 0; i < 1000; ++i) {
-          const LegState s = random_state(m, l, rng);
-          EXPECT_LE(turned.outside(internal::walk(l, s).end.translation()), tolerance) << name << " leg " << l.name;
-        }
-        if (!turned.binned) continue;
-        ++binned;
-        const auto held = [&](const LegState& s, int combo) {
-          EXPECT_FALSE(turned.rules_out_within_travel(internal::walk(l, s).end.translation(), combo))
-              << name << " leg " << l.name << " combination " << combo;
-        };
-        for (int i = 0; i < 2000; ++i) {
-          const LegState s = random_state_within_travel(m, l, rng);
-          if (const int combo = combination_of(l, s); combo >= 0) held(s, combo);
-          if (i % 20 == 0) beside_branch_edges(l, s, rng, [&](const LegState& t, int c) { held(t, c), ++edges; });
-        }
-        if (!k.closed_form(int(leg))) continue;
-        for (int i = 0; i < 1000; ++i) {
-          const Isometry3d anchor = anchor_near(m, l, rng);
-          LegCandidates c;
-          solve_closed(*k.closed_form(int(leg)), m, l, anchor, c);
-          if (c.undecided) continue;
-          for (std::size_t combo = 0; combo < turned.azimuths.size(); ++combo) {
-            if (!turned.rules_out_within_travel(anchor.translation(), int(combo))) continue;
-            ++refused;
-            const int branch = internal::device_branch(l, int(combo));
-            refused_beyond_bounds += !(k.travel_outside(int(leg), anchor, branch) > tolerance);
-            expect_none_within_travel(m, l, c, int(combo), name);
-          }
-        }
-      }
+  for_each_leg(rng, [&](const std::string& name, const Kinematics& k, int leg) {
+    const Model& m = k.model();
+    const Leg& l = m.legs[std::size_t(leg)];
+    const double tolerance = 1e-9 * m.size;
+    const TurnedReach& turned = k.turned_reach(leg);
+    if (!turned.built) return;
+    ++legs;
+    for (int i = 0; i < 1000; ++i) {
+      const LegState s = random_state(m, l, rng);
+      EXPECT_LE(turned.outside(internal::walk(l, s).end.translation()), tolerance) << name << " leg " << l.name;
     }
+    if (!turned.binned) return;
+    ++binned;
+    const auto held = [&](const LegState& s, int combo) {
+      EXPECT_FALSE(turned.rules_out_within_travel(internal::walk(l, s).end.translation(), combo))
+          << name << " leg " << l.name << " combination " << combo;
+    };
+    for (int i = 0; i < 2000; ++i) {
+      const LegState s = random_state_within_travel(m, l, rng);
+      if (const int combo = combination_of(l, s); combo >= 0) held(s, combo);
+      if (i % 20 == 0) beside_branch_edges(l, s, rng, [&](const LegState& t, int c) { held(t, c), ++edges; });
+    }
+    if (!k.closed_form(leg)) return;
+    closed_form_anchors(k, leg, rng, [&](const Isometry3d& anchor, const LegCandidates& c) {
+      for (std::size_t combo = 0; combo < turned.azimuths.size(); ++combo) {
+        if (!turned.rules_out_within_travel(anchor.translation(), int(combo))) continue;
+        ++refused;
+        const int branch = internal::device_branch(l, int(combo));
+        refused_beyond_bounds += !(k.travel_outside(leg, anchor, branch) > tolerance);
+        expect_none_within_travel(m, l, c, int(combo), name);
+      }
+    });
+  });
   std::printf("turned reach on %d legs, binned on %d: %d chains next to a branch's edge held, %d anchors ruled out "
               "within the travel (%d the other bounds admit)\n",
               legs, binned, edges, refused, refused_beyond_bounds);
