@@ -150,7 +150,7 @@ std::string describe(const Preset& preset) {
         s << turned.samples << " samples of the joints after it, as distance from its axis and height along it; "
           << "every assembly within " << std::setprecision(2) << turned.rest.margin() << std::setprecision(6) << " "
           << unit << " of one"
-          << (turned.binned ? "; within the travel, the azimuths they take" : "") << "\n";
+          << (turned.limited ? "; within the travel, the turns that bring them onto an anchor" : "") << "\n";
     }
     for (const JointLimit& j : l.limits) s << "    limit: " << limit_text(j) << "\n";
     for (const LinkCapsule& c : l.capsules)

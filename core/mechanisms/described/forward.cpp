@@ -419,9 +419,10 @@ Kinematics::Kinematics(Model model) : model_(std::move(model)), id_(next_id++) {
   }
   // The count can hold where the actuators hold nothing: a crank of zero
   // length turns without moving its rod. At a singular home the device does
-  // not do what its actuators say.
+  // not do what its actuators say (whether or not the assembly found there
+  // keeps a joint within its limits: the rod spins with the idle crank).
   const PoseSolution at_home = inverse(model_.home, 0, 1e-10);
-  if (at_home.status == Status::Ok) {
+  if (at_home.status == Status::Ok || at_home.status == Status::OutOfLimits) {
     const JacobianParts parts = jacobian(model_.home, at_home);
     constraint_rank_ = parts.constraint_rank;  // the rank every pose's constraint wrenches keep
     if (parts.status == Status::Singular) {

@@ -341,11 +341,16 @@ LegSolution Kinematics::solve_leg_numeric(int leg, const Isometry3d& anchor, int
   if (aided_ && tls.legs[std::size_t(leg)][std::size_t(combo)])
     fast.push_back(&*tls.legs[std::size_t(leg)][std::size_t(combo)]);
   if (extra_seed) fast.push_back(extra_seed);
-  // The leg at home on this branch turned towards the anchor first, then at
-  // home on this branch, then at home on its other branches: listed only
-  // once the fast seeds have not served.
+  // The leg at its turned reach's sample nearest the anchor first (a leg of
+  // no known pattern); then at home on this branch turned towards the
+  // anchor, at home on this branch, at home on its other branches: listed
+  // only once the fast seeds have not served (each depends on the anchor alone).
+  const bool turned = aided_ && !closed_[std::size_t(leg)];
+  bool nearest_first = false;
   const auto list_fixed = [&] {
-    thread_local LegState toward;  // its storage reused
+    thread_local LegState nearest, toward;  // their storage reused
+    nearest_first = turned && turned_reach(leg).seed_towards(anchor.translation(), combo, nearest);
+    if (nearest_first) fixed.push_back(&nearest);
     const auto& homes = home_states_[std::size_t(leg)];
     if (home_toward(leg, combo, anchor, toward)) fixed.push_back(&toward);
     if (homes[std::size_t(combo)]) fixed.push_back(&*homes[std::size_t(combo)]);
@@ -406,6 +411,18 @@ LegSolution Kinematics::solve_leg_numeric(int leg, const Isometry3d& anchor, int
       // target (not merely slow): the leg cannot reach it (more seeds would
       // repeat the verdict).
       if (r.stationary && ++stationary_misses >= 2 && !found_other_branch) break;
+      // The seed at the nearest sample missed, and no seed has closed the
+      // leg: near the reach's edge, where the seeds after it would crawl to
+      // a least-squares minimum, the samples' boxes may prove that none can.
+      if (i == 0 && nearest_first && !found_other_branch && !outside_travel) {
+        const double outside = turned_reach(leg).outside_finely(anchor.translation(), refusal_cut(tolerance));
+        if (outside > refusal_cut(tolerance)) {
+          LegSolution refused;
+          leave_unsolved(leg, Status::Unreachable, outside, refused);
+          refused.iterations = iterations;
+          return refused;
+        }
+      }
     }
   }
   // The seeds closed the leg, but not on the branch within its travel: that
@@ -418,10 +435,9 @@ LegSolution Kinematics::solve_leg_numeric(int leg, const Isometry3d& anchor, int
     if (!aided_) return false;
     const double cut = refusal_cut(tolerance);
     if (travel_outside(leg, anchor, branch, false) > cut) return true;
-    // A leg of no known pattern: its turned reach's azimuths, finer than the
-    // sampled reach (not built then).
-    if (!closed_[std::size_t(leg)] && turned_reach(leg).binned)
-      return turned_reach(leg).rules_out_within_travel(anchor.translation(), combo);
+    // A leg of no known pattern: its turned reach's samples near the anchor,
+    // finer than the sampled reach (not built then).
+    if (turned && turned_reach(leg).nearest) return !turned_reach(leg).within_travel(anchor.translation(), combo);
     return searched.load(std::memory_order_relaxed) >= kSearchIterationsBeforeSampling &&
            sampled_outside(leg, anchor, branch) > cut;
   };

@@ -6,6 +6,8 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -35,27 +37,44 @@ struct TurnedReach {
   // assembly reaches p); -inf where not built.
   double outside(const Eigen::Vector3d& p) const;
 
-  // Within the travel of an actuator that drives the first joint (where no
-  // other joint that moves the end has a travel), per combination of the
-  // leg's free rules: on a grid of (distance, height), the azimuths about
-  // the axis (in 64 bins, from `zero`) that the samples within the margin
-  // of each cell take with the joint at `seed_value`. A joint value q turns
-  // a sample at azimuth psi to psi + q - seed_value: where no sample near
-  // the anchor's cell has an azimuth that a value within the travel turns
-  // onto the anchor's (widened by the angle the margin subtends), no
-  // assembly within the travel on that combination reaches it.
-  bool binned = false;
-  // Azimuths from `zero` towards `onwards` (units square to the axis and to
-  // each other), the way the joint turns an end.
+  // Azimuths about the axis from `zero` towards `onwards` (units square to
+  // the axis and to each other), the way the joint turns an end: a joint
+  // value q turns a sample at azimuth psi (taken with the joint at
+  // `seed_value`) to psi + q - seed_value.
   Eigen::Vector3d zero = Eigen::Vector3d::UnitX(), onwards = Eigen::Vector3d::UnitY();
+  bool limited = false;  // the first joint's actuator has a travel (`travel`)
   Range travel;
-  double seed_value = 0, cell = 1;
+  double seed_value = 0;
+  // The grid of cells over the samples' (distance, height), row-major.
+  double cell = 1;
   Eigen::Vector2d grid_lo = Eigen::Vector2d::Zero();
   int columns = 0, rows = 0;
-  std::vector<std::vector<std::uint64_t>> azimuths;  // per combination, per cell (row-major)
-  // True where the bins prove that no assembly within the travel on
-  // combination `combo` reaches p (false where not binned).
-  bool rules_out_within_travel(const Eigen::Vector3d& p, int combo) const;
+
+  // The samples by their cell, with their azimuths and the combinations of
+  // the leg's free rules (at most six) they stand for: shared by copies;
+  // null where not built.
+  struct Nearest;
+  std::shared_ptr<const Nearest> nearest;
+  // The leg at the sample on combination `combo` nearest p (in p's cell and
+  // its neighbours, or within the margin's cells), turned onto p's azimuth
+  // (a turn beyond the travel counted as the arc it moves the end by), into
+  // `seed`: where p is reached, its end lies within a few margins of p, and
+  // the numerical solver converges from it in a few steps. False where no
+  // sample is near.
+  bool seed_towards(const Eigen::Vector3d& p, int combo, LegState& seed) const;
+  // Whether a sample on the combination within the margin of p turns onto
+  // p's azimuth within the travel widened by the angle the margin subtends
+  // (false: no assembly within the travel on it reaches p); true where not
+  // built or without a travel.
+  bool within_travel(const Eigen::Vector3d& p, int combo) const;
+  // A lower bound on the miss, a few times closer than outside() near the
+  // reach's edge, where every joint after the first is a revolute or a
+  // slide: each sample's box of joint values maps into its first-order image
+  // (a zonogon in distance and height) grown by a bound on the second-order
+  // rest, which is small where the margin is first-order. At most `cut`
+  // (stopping at the first box that may come within it) where it cannot
+  // prove more; -inf where there is no such refinement.
+  double outside_finely(const Eigen::Vector3d& p, double cut) const;
 };
 
 // `like`: one built for a leg with the same chain from its first joint on,

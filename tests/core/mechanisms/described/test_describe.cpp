@@ -135,7 +135,7 @@ TEST(DescribedDescribe, ALegOfNoKnownPatternIsNumeric) {
       << text;
   EXPECT_TRUE(has(text, "  leg 4: three-revolute\n")) << text;
   // What refuses its anchors near the reach's edge: its joints after the
-  // actuator sampled about the actuator's axis (a full turn: no azimuths binned).
+  // actuator sampled about the actuator's axis (without a travel: no turns within it).
   EXPECT_TRUE(has(text, "    reach sampled about its first joint: 262735 samples of the joints after it, as distance "
                         "from its axis and height along it; every assembly within 0.13 cm of one\n"))
       << text;

@@ -14,7 +14,9 @@
 #include "core/mechanisms/described/chain.h"
 #include "core/mechanisms/described/closed_form.h"
 #include "core/mechanisms/described/kinematics.h"
+#include "core/mechanisms/described/reach.h"
 #include "core/mechanisms/described/sampled_reach.h"
+#include "core/mechanisms/described/turned_reach.h"
 #include "tests/core/mechanisms/described/designs.h"
 
 namespace linkscape::described {
@@ -329,13 +331,15 @@ TEST(DescribedReach, TheSampledReachHoldsEveryAssemblyOnItsBranch) {
 }
 
 // The turned reach (turned_reach.h) about each leg's first revolute: every
-// chain's end within it, and, where its azimuths are binned, no chain within
-// the travel (nor one turned to either side of a branch's edge) ruled out on
-// its branch; where the bins rule an anchor out on a branch, the closed form
-// (independent of the sampling) finds no assembly within the travel on it.
-TEST(DescribedReach, TheTurnedReachHoldsEveryChainAndItsBinsEveryOneWithinTheTravel) {
+// chain's end within it, and, where its first joint has a travel, no chain
+// within the travel (nor one turned to either side of a branch's edge) ruled
+// out on its branch; where it rules an anchor out within the travel on a
+// branch, the closed form (independent of the sampling) finds no assembly
+// within the travel on it. Its finer bound near the reach's edge never
+// refuses a chain's end, nor an anchor the closed form reaches.
+TEST(DescribedReach, TheTurnedReachHoldsEveryChainAndEveryOneWithinTheTravel) {
   std::mt19937_64 rng(37);
-  int legs = 0, binned = 0, edges = 0, refused = 0, refused_beyond_bounds = 0;
+  int legs = 0, limited = 0, edges = 0, refused = 0, refused_beyond_bounds = 0, finely = 0;
   for_each_leg(rng, [&](const std::string& name, const Kinematics& k, int leg) {
     const Model& m = k.model();
     const Leg& l = m.legs[std::size_t(leg)];
@@ -345,12 +349,14 @@ TEST(DescribedReach, TheTurnedReachHoldsEveryChainAndItsBinsEveryOneWithinTheTra
     ++legs;
     for (int i = 0; i < 1000; ++i) {
       const LegState s = random_state(m, l, rng);
-      EXPECT_LE(turned.outside(internal::walk(l, s).end.translation()), tolerance) << name << " leg " << l.name;
+      const Vector3d end = internal::walk(l, s).end.translation();
+      EXPECT_LE(turned.outside(end), tolerance) << name << " leg " << l.name;
+      if (i % 10 == 0) EXPECT_LE(turned.outside_finely(end, 0), tolerance) << name << " leg " << l.name;
     }
-    if (!turned.binned) return;
-    ++binned;
+    if (!turned.nearest || !turned.limited) return;
+    ++limited;
     const auto held = [&](const LegState& s, int combo) {
-      EXPECT_FALSE(turned.rules_out_within_travel(internal::walk(l, s).end.translation(), combo))
+      EXPECT_TRUE(turned.within_travel(internal::walk(l, s).end.translation(), combo))
           << name << " leg " << l.name << " combination " << combo;
     };
     for (int i = 0; i < 2000; ++i) {
@@ -360,22 +366,73 @@ TEST(DescribedReach, TheTurnedReachHoldsEveryChainAndItsBinsEveryOneWithinTheTra
     }
     if (!k.closed_form(leg)) return;
     closed_form_anchors(k, leg, rng, [&](const Isometry3d& anchor, const LegCandidates& c) {
-      for (std::size_t combo = 0; combo < turned.azimuths.size(); ++combo) {
-        if (!turned.rules_out_within_travel(anchor.translation(), int(combo))) continue;
+      if (c.count > 0) {
+        EXPECT_LE(turned.outside_finely(anchor.translation(), 0), tolerance) << name << " leg " << l.name;
+        ++finely;
+      }
+      for (int combo = 0; combo < 1 << internal::free_rules_of(l); ++combo) {
+        if (turned.within_travel(anchor.translation(), combo)) continue;
         ++refused;
-        const int branch = internal::device_branch(l, int(combo));
+        const int branch = internal::device_branch(l, combo);
         refused_beyond_bounds += !(k.travel_outside(leg, anchor, branch) > tolerance);
-        expect_none_within_travel(m, l, c, int(combo), name);
+        expect_none_within_travel(m, l, c, combo, name);
       }
     });
   });
-  std::printf("turned reach on %d legs, binned on %d: %d chains next to a branch's edge held, %d anchors ruled out "
-              "within the travel (%d the other bounds admit)\n",
-              legs, binned, edges, refused, refused_beyond_bounds);
+  std::printf("turned reach on %d legs, %d with a travel: %d chains next to a branch's edge held, %d anchors ruled out "
+              "within the travel (%d the other bounds admit), %d anchors reached held finely\n",
+              legs, limited, edges, refused, refused_beyond_bounds, finely);
   EXPECT_GT(legs, 100);
-  EXPECT_GT(binned, 50);
+  EXPECT_GT(limited, 50);
   EXPECT_GT(edges, 1000);
   EXPECT_GT(refused_beyond_bounds, 1000);
+  EXPECT_GT(finely, 10000);
+}
+
+// The turned reach's nearest sample as the numerical solver's seed, for an
+// anchor that a chain within the travel reaches on a combination. Some
+// sample's end lies within the margin m of the chain's (in distance and
+// height, and in azimuth within w, the angle m subtends at the anchor's
+// distance r from the axis), so the one chosen scores at most m^2 + (r w)^2:
+// its end (turned onto the anchor's azimuth) lies within the root of that
+// of the anchor, and its turn beyond the travel is within sqrt(2) w.
+TEST(DescribedReach, TheTurnedReachSeedsALegNearEveryAnchorWithinItsTravel) {
+  std::mt19937_64 rng(41);
+  int legs = 0, seeded = 0;
+  double worst = 0;  // the seed's end from the anchor, as a share of its bound
+  for_each_leg(rng, [&](const std::string& name, const Kinematics& k, int leg) {
+    const Model& m = k.model();
+    const Leg& l = m.legs[std::size_t(leg)];
+    const TurnedReach& turned = k.turned_reach(leg);
+    if (!turned.nearest) return;
+    ++legs;
+    const double margin = turned.rest.margin();
+    const int turned_variable = l.steps[first_joint(l).step].variable;
+    LegState seed;
+    for (int i = 0; i < 500; ++i) {
+      const LegState s = random_state_within_travel(m, l, rng);
+      const int combo = combination_of(l, s);
+      if (combo < 0) continue;
+      const Vector3d anchor = internal::walk(l, s).end.translation();
+      ASSERT_TRUE(turned.seed_towards(anchor, combo, seed)) << name << " leg " << l.name;
+      ++seeded;
+      const Vector3d d = anchor - turned.centre;
+      const double r = (d - turned.axis.dot(d) * turned.axis).norm();
+      const double w = r > margin ? std::asin(margin / r) : internal::kPi;
+      const double bound = turned.limited ? std::hypot(margin, r * w) : margin;
+      const double off = (internal::walk(l, seed).end.translation() - anchor).norm();
+      worst = std::max(worst, off / bound);
+      EXPECT_LE(off, bound + 1e-9 * m.size) << name << " leg " << l.name;
+      if (!turned.limited) continue;
+      const double turn = seed.values(turned_variable);
+      EXPECT_GE(turn, turned.travel.lo - std::sqrt(2.0) * w - 1e-9) << name << " leg " << l.name;
+      EXPECT_LE(turn, turned.travel.hi + std::sqrt(2.0) * w + 1e-9) << name << " leg " << l.name;
+    }
+  });
+  std::printf("turned reach's seeds on %d legs: %d anchors, the worst seed's end %.2f of its bound away\n", legs,
+              seeded, worst);
+  EXPECT_GT(legs, 100);
+  EXPECT_GT(seeded, 20000);
 }
 
 // A sample whose neighbour is on the other side of a rule's zero stands for

@@ -103,7 +103,7 @@ TEST(DescribedTravelSearch, TheTurnedReachBoundsAnArmsMissFromBelowAndClosely) {
   const Kinematics arm = offset_elbow_arm();
   const TurnedReach& turned = arm.turned_reach(1);
   ASSERT_TRUE(turned.built) << turned.why_not;
-  EXPECT_TRUE(turned.binned) << "the actuator's travel: its azimuths binned";
+  EXPECT_TRUE(turned.limited && turned.nearest) << "the actuator's travel: turns within it";
   // (The voxels' slack twice: a sample's and the anchor's place each rounded to a voxel.)
   const double looseness = turned.rest.margin() + 2 * turned.rest.slack();
   std::cout << "turned reach: " << turned.samples << " samples, margin " << turned.rest.margin() << " cm, voxels add "
@@ -111,8 +111,8 @@ TEST(DescribedTravelSearch, TheTurnedReachBoundsAnArmsMissFromBelowAndClosely) {
   EXPECT_LT(looseness, 0.5);
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> unit(-1, 1);
-  int refused = 0, beyond_shells = 0;
-  double worst = 0;
+  int refused = 0, beyond_shells = 0, proved = 0;
+  double worst = 0, unproved = 0;  // the largest miss the finer bound leaves unproved
   for (int i = 0; i < 10000; ++i) {
     const Vector3d p = Vector3d(0, 0, -12) + 30 * Vector3d(unit(rng), unit(rng), unit(rng));
     PlatformPose pose = arm.pose(p);
@@ -123,7 +123,16 @@ TEST(DescribedTravelSearch, TheTurnedReachBoundsAnArmsMissFromBelowAndClosely) {
     EXPECT_GE(bound, miss - looseness - 1e-9) << "at " << p.transpose();
     worst = std::max(worst, miss - bound);
     if (bound > 0) ++refused, beyond_shells += !(arm.reach_outside(1, anchor) > 0);
+    // The finer bound: never above the miss either, and it proves an anchor
+    // unreachable wherever the miss is more than its second-order rest.
+    const double fine = turned.outside_finely(anchor.translation(), 0);
+    EXPECT_LE(fine, miss + 1e-9) << "at " << p.transpose();
+    if (miss > 0 && !(fine > 0)) unproved = std::max(unproved, miss);
+    proved += miss > 0 && fine > 0;
   }
+  std::cout << proved << " anchors missed by under 3 cm proved so finely; the largest miss it left: " << unproved
+            << " cm\n";
+  EXPECT_LT(unproved, 0.02);
   std::cout << refused << " of the anchors missed by under 3 cm refused (" << beyond_shells << " that the shells admit); at most " << worst
             << " cm below the miss where it is under 3 cm\n";
   EXPECT_GT(beyond_shells, 100);
