@@ -345,12 +345,11 @@ LegSolution Kinematics::solve_leg_numeric(int leg, const Isometry3d& anchor, int
   // no known pattern); then at home on this branch turned towards the
   // anchor, at home on this branch, at home on its other branches: listed
   // only once the fast seeds have not served (each depends on the anchor alone).
-  const bool turned = aided_ && !closed_[std::size_t(leg)];
-  bool nearest_first = false;
+  std::optional<TurnedReach::Nearby> nearby;
   const auto list_fixed = [&] {
     thread_local LegState nearest, toward;  // their storage reused
-    nearest_first = turned && turned_reach(leg).seed_towards(anchor.translation(), combo, nearest);
-    if (nearest_first) fixed.push_back(&nearest);
+    if (aided_ && !closed_[std::size_t(leg)]) nearby = turned_reach(leg).nearby(anchor.translation(), combo, nearest);
+    if (nearby && nearby->seeded) fixed.push_back(&nearest);
     const auto& homes = home_states_[std::size_t(leg)];
     if (home_toward(leg, combo, anchor, toward)) fixed.push_back(&toward);
     if (homes[std::size_t(combo)]) fixed.push_back(&*homes[std::size_t(combo)]);
@@ -414,7 +413,7 @@ LegSolution Kinematics::solve_leg_numeric(int leg, const Isometry3d& anchor, int
       // The seed at the nearest sample missed, and no seed has closed the
       // leg: near the reach's edge, where the seeds after it would crawl to
       // a least-squares minimum, the samples' boxes may prove that none can.
-      if (i == 0 && nearest_first && !found_other_branch && !outside_travel) {
+      if (i == 0 && nearby && nearby->seeded && !found_other_branch && !outside_travel) {
         const double outside = turned_reach(leg).outside_finely(anchor.translation(), refusal_cut(tolerance));
         if (outside > refusal_cut(tolerance)) {
           LegSolution refused;
@@ -437,7 +436,7 @@ LegSolution Kinematics::solve_leg_numeric(int leg, const Isometry3d& anchor, int
     if (travel_outside(leg, anchor, branch, false) > cut) return true;
     // A leg of no known pattern: its turned reach's samples near the anchor,
     // finer than the sampled reach (not built then).
-    if (turned && turned_reach(leg).nearest) return !turned_reach(leg).within_travel(anchor.translation(), combo);
+    if (nearby) return !nearby->within_travel;
     return searched.load(std::memory_order_relaxed) >= kSearchIterationsBeforeSampling &&
            sampled_outside(leg, anchor, branch) > cut;
   };

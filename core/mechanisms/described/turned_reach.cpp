@@ -284,7 +284,9 @@ double nearest_to(double turn, double middle) {
   return turn;
 }
 
-// The stored samples' rounding (floats), generously, about t.
+// The stored samples' rounding (floats), generously: their azimuths', and
+// their distances' and heights' about t.
+constexpr double kAngleRounding = 1e-6;
 double rounding_at(const Eigen::Vector3d& t) { return 1e-6 * (1 + t.head<2>().lpNorm<Eigen::Infinity>()); }
 
 // The distance from q to the zonogon of generators g (about the origin).
@@ -359,46 +361,33 @@ double TurnedReach::outside_finely(const Eigen::Vector3d& p, double cut) const {
   return std::min(least, covered - margin - rounding);
 }
 
-bool TurnedReach::seed_towards(const Eigen::Vector3d& p, int combo, LegState& seed) const {
-  if (!nearest) return false;
-  const Eigen::Vector3d t = turned_coordinates(*this, p);
-  const double azimuth = azimuth_of(*this, p), middle = 0.5 * (travel.lo + travel.hi);
-  const Nearest::Entry* best = nullptr;
-  double best_score = kInfinity, best_turn = 0;
-  // In p's cell and its neighbours; then, unless one there is nearer than
-  // any sample farther out can be (a cell), within the margin's cells.
-  for (const int around : {1, margin_cells(*this)}) {
-    scan_near(*this, t, around, [&](const Nearest::Entry& entry) {
-      const double squared = (Eigen::Vector2d(entry.distance, entry.height) - t.head<2>()).squaredNorm();
-      if (!(entry.combinations >> combo & 1) || !(squared < best_score)) return true;
-      const double turn = nearest_to(seed_value + azimuth - entry.azimuth, middle);
-      const double excess = limited ? std::max({0.0, travel.lo - turn, turn - travel.hi}) : 0.0;
-      const double score = squared + std::pow(excess * t.x(), 2);
-      if (score < best_score) best_score = score, best = &entry, best_turn = turn;
-      return true;
-    });
-    if (best_score <= cell * cell) break;
-  }
-  if (best) nearest->state_of(best->sample, best_turn, seed);
-  return best;
-}
-
-bool TurnedReach::within_travel(const Eigen::Vector3d& p, int combo) const {
-  if (!nearest || !limited) return true;
+TurnedReach::Nearby TurnedReach::nearby(const Eigen::Vector3d& p, int combo, LegState& seed) const {
+  Nearby out;
+  if (!nearest) return out;
   const Eigen::Vector3d t = turned_coordinates(*this, p);
   const double azimuth = azimuth_of(*this, p), middle = 0.5 * (travel.lo + travel.hi);
   const double margin = rest.margin(), rounding = rounding_at(t);
   const double widen = t.x() > margin ? std::asin(margin / t.x()) : kPi;
-  bool within = false;
+  const double close = (margin + rounding) * (margin + rounding);
+  // The nearest sample that turns onto p within the (widened) travel, of
+  // those within the margin; and the nearest of all.
+  const Nearest::Entry *within = nullptr, *any = nullptr;
+  double within_squared = kInfinity, any_squared = kInfinity, within_turn = 0, any_turn = 0;
   scan_near(*this, t, margin_cells(*this), [&](const Nearest::Entry& entry) {
-    if (!(entry.combinations >> combo & 1) ||
-        (Eigen::Vector2d(entry.distance, entry.height) - t.head<2>()).norm() > margin + rounding)
+    const double squared = (Eigen::Vector2d(entry.distance, entry.height) - t.head<2>()).squaredNorm();
+    if (!(entry.combinations >> combo & 1) || !(squared < any_squared || (squared <= close && squared < within_squared)))
       return true;
     const double turn = nearest_to(seed_value + azimuth - entry.azimuth, middle);
-    within = std::max({0.0, travel.lo - turn, turn - travel.hi}) <= widen + rounding;
-    return !within;
+    if (squared < any_squared) any_squared = squared, any = &entry, any_turn = turn;
+    const bool in_travel = !limited || std::max({0.0, travel.lo - turn, turn - travel.hi}) <= widen + kAngleRounding;
+    if (in_travel && squared <= close && squared < within_squared) within_squared = squared, within = &entry, within_turn = turn;
+    return true;
   });
-  return within;
+  out.within_travel = within || !limited;
+  out.seeded = any;
+  if (within) nearest->state_of(within->sample, within_turn, seed);
+  else if (any) nearest->state_of(any->sample, any_turn, seed);
+  return out;
 }
 
 }  // namespace linkscape::described

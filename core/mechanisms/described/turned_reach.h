@@ -55,18 +55,20 @@ struct TurnedReach {
   // null where not built.
   struct Nearest;
   std::shared_ptr<const Nearest> nearest;
-  // The leg at the sample on combination `combo` nearest p (in p's cell and
-  // its neighbours, or within the margin's cells), turned onto p's azimuth
-  // (a turn beyond the travel counted as the arc it moves the end by), into
-  // `seed`: where p is reached, its end lies within a few margins of p, and
-  // the numerical solver converges from it in a few steps. False where no
-  // sample is near.
-  bool seed_towards(const Eigen::Vector3d& p, int combo, LegState& seed) const;
-  // Whether a sample on the combination within the margin of p turns onto
-  // p's azimuth within the travel widened by the angle the margin subtends
-  // (false: no assembly within the travel on it reaches p); true where not
-  // built or without a travel.
-  bool within_travel(const Eigen::Vector3d& p, int combo) const;
+  // What the samples on combination `combo` within a few cells of p tell:
+  struct Nearby {
+    // Whether one within the margin of p turns onto p's azimuth within the
+    // travel widened by the angle the margin subtends (false: no assembly
+    // within the travel on that combination reaches p); true without a travel.
+    bool within_travel = true;
+    // `seed` set: the leg at the nearest such sample, or else at the nearest
+    // of all, turned onto p's azimuth. Where p is reached, its end lies
+    // within the margin of p (its turn within the widened travel where an
+    // assembly within the travel reaches p), and the numerical solver
+    // converges from it in a few steps.
+    bool seeded = false;
+  };
+  Nearby nearby(const Eigen::Vector3d& p, int combo, LegState& seed) const;
   // A lower bound on the miss, a few times closer than outside() near the
   // reach's edge, where every joint after the first is a revolute or a
   // slide: each sample's box of joint values maps into its first-order image

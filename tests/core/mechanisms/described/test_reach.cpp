@@ -355,8 +355,9 @@ TEST(DescribedReach, TheTurnedReachHoldsEveryChainAndEveryOneWithinTheTravel) {
     }
     if (!turned.nearest || !turned.limited) return;
     ++limited;
+    LegState seed;
     const auto held = [&](const LegState& s, int combo) {
-      EXPECT_TRUE(turned.within_travel(internal::walk(l, s).end.translation(), combo))
+      EXPECT_TRUE(turned.nearby(internal::walk(l, s).end.translation(), combo, seed).within_travel)
           << name << " leg " << l.name << " combination " << combo;
     };
     for (int i = 0; i < 2000; ++i) {
@@ -371,7 +372,7 @@ TEST(DescribedReach, TheTurnedReachHoldsEveryChainAndEveryOneWithinTheTravel) {
         ++finely;
       }
       for (int combo = 0; combo < 1 << internal::free_rules_of(l); ++combo) {
-        if (turned.within_travel(anchor.translation(), combo)) continue;
+        if (turned.nearby(anchor.translation(), combo, seed).within_travel) continue;
         ++refused;
         const int branch = internal::device_branch(l, combo);
         refused_beyond_bounds += !(k.travel_outside(leg, anchor, branch) > tolerance);
@@ -390,16 +391,15 @@ TEST(DescribedReach, TheTurnedReachHoldsEveryChainAndEveryOneWithinTheTravel) {
 }
 
 // The turned reach's nearest sample as the numerical solver's seed, for an
-// anchor that a chain within the travel reaches on a combination. Some
-// sample's end lies within the margin m of the chain's (in distance and
-// height, and in azimuth within w, the angle m subtends at the anchor's
-// distance r from the axis), so the one chosen scores at most m^2 + (r w)^2:
-// its end (turned onto the anchor's azimuth) lies within the root of that
-// of the anchor, and its turn beyond the travel is within sqrt(2) w.
+// anchor that a chain within the travel reaches on a combination: some
+// sample lies within the margin m of the chain's end (in distance and
+// height; in azimuth within w, the angle m subtends at the anchor's distance
+// from the axis), so the seed, the nearest such, ends within m of the anchor
+// and turns within w of the travel.
 TEST(DescribedReach, TheTurnedReachSeedsALegNearEveryAnchorWithinItsTravel) {
   std::mt19937_64 rng(41);
   int legs = 0, seeded = 0;
-  double worst = 0;  // the seed's end from the anchor, as a share of its bound
+  double worst = 0;  // the seed's end from the anchor, in margins
   for_each_leg(rng, [&](const std::string& name, const Kinematics& k, int leg) {
     const Model& m = k.model();
     const Leg& l = m.legs[std::size_t(leg)];
@@ -414,22 +414,21 @@ TEST(DescribedReach, TheTurnedReachSeedsALegNearEveryAnchorWithinItsTravel) {
       const int combo = combination_of(l, s);
       if (combo < 0) continue;
       const Vector3d anchor = internal::walk(l, s).end.translation();
-      ASSERT_TRUE(turned.seed_towards(anchor, combo, seed)) << name << " leg " << l.name;
+      ASSERT_TRUE(turned.nearby(anchor, combo, seed).seeded) << name << " leg " << l.name;
       ++seeded;
+      const double off = (internal::walk(l, seed).end.translation() - anchor).norm();
+      worst = std::max(worst, off / margin);
+      EXPECT_LE(off, margin + 1e-5 * m.size) << name << " leg " << l.name;
+      if (!turned.limited) continue;
       const Vector3d d = anchor - turned.centre;
       const double r = (d - turned.axis.dot(d) * turned.axis).norm();
       const double w = r > margin ? std::asin(margin / r) : internal::kPi;
-      const double bound = turned.limited ? std::hypot(margin, r * w) : margin;
-      const double off = (internal::walk(l, seed).end.translation() - anchor).norm();
-      worst = std::max(worst, off / bound);
-      EXPECT_LE(off, bound + 1e-9 * m.size) << name << " leg " << l.name;
-      if (!turned.limited) continue;
       const double turn = seed.values(turned_variable);
-      EXPECT_GE(turn, turned.travel.lo - std::sqrt(2.0) * w - 1e-9) << name << " leg " << l.name;
-      EXPECT_LE(turn, turned.travel.hi + std::sqrt(2.0) * w + 1e-9) << name << " leg " << l.name;
+      EXPECT_GE(turn, turned.travel.lo - w - 1e-5) << name << " leg " << l.name;
+      EXPECT_LE(turn, turned.travel.hi + w + 1e-5) << name << " leg " << l.name;
     }
   });
-  std::printf("turned reach's seeds on %d legs: %d anchors, the worst seed's end %.2f of its bound away\n", legs,
+  std::printf("turned reach's seeds on %d legs: %d anchors, the worst seed's end %.2f margins away\n", legs,
               seeded, worst);
   EXPECT_GT(legs, 100);
   EXPECT_GT(seeded, 20000);
