@@ -59,7 +59,6 @@ std::size_t cell_of(const TurnedReach& t, const Eigen::Vector3d& turned) {
   return row * std::size_t(t.columns) + column;
 }
 
-
 }  // namespace
 
 // The samples sorted by cell: a cell's are entries[first[cell], first[cell + 1]).
@@ -89,6 +88,29 @@ struct TurnedReach::Nearest {
   double second_order = 0;
 };
 
+void TurnedReach::Nearest::state_of(std::uint32_t sample, double first, LegState& out) const {
+  out = seed;
+  out.values(turned_variable) = first;
+  std::size_t index = sample;
+  thread_local std::vector<int> at;
+  at.resize(freedoms.size());
+  for (std::size_t j = at.size(); j-- > 0;) {
+    at[j] = int(index % std::size_t(freedoms[j].count));
+    index /= std::size_t(freedoms[j].count);
+  }
+  for (std::size_t j = 0; j < at.size(); ++j) {
+    const Freedom& f = freedoms[j];
+    if (sphere_of[j] < 0) {
+      out.values(variable_of[j]) = f.value(at[j]);
+    } else if (f.kind == Freedom::Kind::Polar) {  // (its azimuth: the next)
+      const double polar = f.value(at[j]), spin = freedoms[j + 1].value(at[j + 1]);
+      const Eigen::Vector3d d =
+          written * Eigen::Vector3d(std::cos(polar), std::sin(polar) * std::cos(spin), std::sin(polar) * std::sin(spin));
+      out.spheres[std::size_t(sphere_of[j])] = basis_along(d) * written.transpose();
+    }
+  }
+}
+
 namespace {
 
 std::shared_ptr<const TurnedReach::Nearest> sort_nearest(const TurnedReach& t, const Leg& leg, const Samples& samples,
@@ -111,8 +133,8 @@ std::shared_ptr<const TurnedReach::Nearest> sort_nearest(const TurnedReach& t, c
   n->turned_variable = turned_variable;
   int sphere = 0;
   for (std::size_t s = 0, f = 0; s < leg.steps.size(); ++s) {
-    sphere += leg.steps[s].kind == Step::Kind::Spherical;
     const bool ball = leg.steps[s].kind == Step::Kind::Spherical;
+    sphere += ball;
     for (; f < freedoms.size() && freedoms[f].step == int(s); ++f) {
       n->sphere_of.push_back(ball ? sphere - 1 : -1);
       n->variable_of.push_back(ball ? -1 : leg.steps[s].variable);
@@ -132,6 +154,66 @@ std::shared_ptr<const TurnedReach::Nearest> sort_nearest(const TurnedReach& t, c
     for (std::size_t j = 0; j < freedoms.size(); ++j)
       n->second_order += 0.5 * freedoms[i].half_step() * freedoms[j].half_step() * freedoms[std::max(i, j)].lever;
   return n;
+}
+
+// Calls f(entry) for each sample in the cells within `around` of t's (in
+// turned coordinates) until f returns false; returns the distance within
+// which every sample was visited (0 where f stopped it).
+template <class F>
+double scan_near(const TurnedReach& reach, const Eigen::Vector3d& t, long around, F f) {
+  const long column = std::lround((t.x() - reach.grid_lo.x()) / reach.cell);
+  const long row = std::lround((t.y() - reach.grid_lo.y()) / reach.cell);
+  const TurnedReach::Nearest& n = *reach.nearest;
+  for (long r = std::max(0L, row - around); r <= std::min(long(reach.rows) - 1, row + around); ++r)
+    for (long c = std::max(0L, column - around); c <= std::min(long(reach.columns) - 1, column + around); ++c) {
+      const std::size_t cell = std::size_t(r) * std::size_t(reach.columns) + std::size_t(c);
+      for (std::uint32_t e = n.first[cell]; e < n.first[cell + 1]; ++e)
+        if (!f(n.entries[e])) return 0;
+    }
+  return double(around - 1) * reach.cell;
+}
+
+// Of the joint values a full turn apart from `turn`, the nearest `middle`.
+double nearest_to(double turn, double middle) {
+  while (turn - middle > kPi) turn -= 2 * kPi;
+  while (turn - middle < -kPi) turn += 2 * kPi;
+  return turn;
+}
+
+// The stored samples' rounding (floats), generously: their azimuths', and
+// their distances' and heights' about t.
+constexpr double kAngleRounding = 1e-6;
+double rounding_at(const Eigen::Vector3d& t) { return 1e-6 * (1 + t.head<2>().lpNorm<Eigen::Infinity>()); }
+
+// The distance from q to the zonogon of generators g (about the origin).
+double zonogon_distance(const Eigen::Vector2d& q, const std::vector<Eigen::Vector2d>& g) {
+  const auto cross = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); };
+  // Inside where it has an area and q lies within its extent across every edge.
+  bool area = false, inside = true;
+  for (const Eigen::Vector2d& edge : g) {
+    double extent = 0;
+    for (const Eigen::Vector2d& other : g) {
+      extent += std::abs(cross(edge, other));
+      area = area || cross(edge, other) != 0;
+    }
+    inside = inside && std::abs(cross(edge, q)) <= extent;
+  }
+  if (area && inside) return 0;
+  // Else the nearest of its edges (and the segments within it: never nearer).
+  double nearest = kInfinity;
+  const std::size_t k = g.size();
+  for (std::size_t j = 0; j < k; ++j)
+    for (std::size_t signs = 0; signs < (std::size_t(1) << k); ++signs) {
+      if (signs >> j & 1) continue;
+      Eigen::Vector2d a = Eigen::Vector2d::Zero();
+      for (std::size_t i = 0; i < k; ++i)
+        if (i != j) a += (signs >> i & 1 ? 1.0 : -1.0) * g[i];
+      const Eigen::Vector2d along = 2 * g[j], from = a - g[j];
+      const double length = along.squaredNorm();
+      const double at = length > 0 ? std::clamp((q - from).dot(along) / length, 0.0, 1.0) : 0.0;
+      nearest = std::min(nearest, (q - from - at * along).norm());
+    }
+  return nearest;
 }
 
 }  // namespace
@@ -234,94 +316,6 @@ TurnedReach sample_turned_reach(const Leg& leg, const std::vector<Actuator>& act
   return out;
 }
 
-
-void TurnedReach::Nearest::state_of(std::uint32_t sample, double first, LegState& out) const {
-  out = seed;
-  out.values(turned_variable) = first;
-  std::size_t index = sample;
-  thread_local std::vector<int> at;
-  at.resize(freedoms.size());
-  for (std::size_t j = at.size(); j-- > 0;) {
-    at[j] = int(index % std::size_t(freedoms[j].count));
-    index /= std::size_t(freedoms[j].count);
-  }
-  for (std::size_t j = 0; j < at.size(); ++j) {
-    const Freedom& f = freedoms[j];
-    if (sphere_of[j] < 0) {
-      out.values(variable_of[j]) = f.value(at[j]);
-    } else if (f.kind == Freedom::Kind::Polar) {  // (its azimuth: the next)
-      const double polar = f.value(at[j]), spin = freedoms[j + 1].value(at[j + 1]);
-      const Eigen::Vector3d d =
-          written * Eigen::Vector3d(std::cos(polar), std::sin(polar) * std::cos(spin), std::sin(polar) * std::sin(spin));
-      out.spheres[std::size_t(sphere_of[j])] = basis_along(d) * written.transpose();
-    }
-  }
-}
-
-namespace {
-
-// Calls f(entry) for each sample in the cells within `around` of t's (in
-// turned coordinates) until f returns false; returns the distance within
-// which every sample was visited (0 where f stopped it).
-template <class F>
-double scan_near(const TurnedReach& reach, const Eigen::Vector3d& t, long around, F f) {
-  const long column = std::lround((t.x() - reach.grid_lo.x()) / reach.cell);
-  const long row = std::lround((t.y() - reach.grid_lo.y()) / reach.cell);
-  const TurnedReach::Nearest& n = *reach.nearest;
-  for (long r = std::max(0L, row - around); r <= std::min(long(reach.rows) - 1, row + around); ++r)
-    for (long c = std::max(0L, column - around); c <= std::min(long(reach.columns) - 1, column + around); ++c) {
-      const std::size_t cell = std::size_t(r) * std::size_t(reach.columns) + std::size_t(c);
-      for (std::uint32_t e = n.first[cell]; e < n.first[cell + 1]; ++e)
-        if (!f(n.entries[e])) return 0;
-    }
-  return double(around - 1) * reach.cell;
-}
-
-// Of the joint values a full turn apart from `turn`, the nearest `middle`.
-double nearest_to(double turn, double middle) {
-  while (turn - middle > kPi) turn -= 2 * kPi;
-  while (turn - middle < -kPi) turn += 2 * kPi;
-  return turn;
-}
-
-// The stored samples' rounding (floats), generously: their azimuths', and
-// their distances' and heights' about t.
-constexpr double kAngleRounding = 1e-6;
-double rounding_at(const Eigen::Vector3d& t) { return 1e-6 * (1 + t.head<2>().lpNorm<Eigen::Infinity>()); }
-
-// The distance from q to the zonogon of generators g (about the origin).
-double zonogon_distance(const Eigen::Vector2d& q, const std::vector<Eigen::Vector2d>& g) {
-  const auto cross = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); };
-  // Inside where it has an area and q lies within its extent across every edge.
-  bool area = false, inside = true;
-  for (const Eigen::Vector2d& edge : g) {
-    double extent = 0;
-    for (const Eigen::Vector2d& other : g) {
-      extent += std::abs(cross(edge, other));
-      area = area || cross(edge, other) != 0;
-    }
-    inside = inside && std::abs(cross(edge, q)) <= extent;
-  }
-  if (area && inside) return 0;
-  // Else the nearest of its edges (and the segments within it: never nearer).
-  double nearest = kInfinity;
-  const std::size_t k = g.size();
-  for (std::size_t j = 0; j < k; ++j)
-    for (std::size_t signs = 0; signs < (std::size_t(1) << k); signs += 1) {
-      if (signs >> j & 1) continue;
-      Eigen::Vector2d a = Eigen::Vector2d::Zero();
-      for (std::size_t i = 0; i < k; ++i)
-        if (i != j) a += (signs >> i & 1 ? 1.0 : -1.0) * g[i];
-      const Eigen::Vector2d along = 2 * g[j], from = a - g[j];
-      const double length = along.squaredNorm();
-      const double at = length > 0 ? std::clamp((q - from).dot(along) / length, 0.0, 1.0) : 0.0;
-      nearest = std::min(nearest, (q - from - at * along).norm());
-    }
-  return nearest;
-}
-
-}  // namespace
-
 double TurnedReach::outside_finely(const Eigen::Vector3d& p, double cut) const {
   if (!nearest || !nearest->refinable) return -kInfinity;
   const Nearest& n = *nearest;
@@ -341,8 +335,7 @@ double TurnedReach::outside_finely(const Eigen::Vector3d& p, double cut) const {
     const double height = n.axis.dot(from);
     const Eigen::Vector3d radial = from - height * n.axis;
     const double distance = radial.norm();
-    // The distance's curvature over the box: |first-order move|^2 / (2 r).
-    if (distance <= margin) return least = std::min(least, coarse), false;
+    if (distance <= margin) return least = std::min(least, coarse), false;  // (on the axis: no curvature bound)
     const Eigen::Vector3d unit = radial / distance;
     generators.clear();
     for (const Freedom& f : n.freedoms) {
@@ -353,6 +346,8 @@ double TurnedReach::outside_finely(const Eigen::Vector3d& p, double cut) const {
       generators.emplace_back(f.half_step() * unit.dot(move), in_plane ? 0.0 : f.half_step() * n.axis.dot(move));
     }
     const Eigen::Vector2d q = t.head<2>() - Eigen::Vector2d(distance, in_plane ? 0.0 : height);
+    // The second-order rest: the end's, and the distance's own curvature
+    // over the box (|first-order move|^2 / 2r, r at least distance - margin).
     const double rest_bound = n.second_order + 0.5 * margin * margin / (distance - margin);
     const double fine = std::max(coarse, zonogon_distance(q, generators) - rest_bound - rounding);
     least = std::min(least, fine);
