@@ -1,12 +1,10 @@
 // A leg's reach about a first joint that turns, sampled in the two
 // coordinates that turn leaves as they are (sampled_reach.h samples all
-// three): the numerical solver's refusal of an anchor near the reach's
-// edge, and of its travel search, for a leg of no known pattern.
+// three): for a leg of no known pattern, the numerical solver's first seed,
+// its refusal of an anchor near the reach's edge, and of its travel search.
 #pragma once
 
 #include <Eigen/Core>
-#include <cstdint>
-#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
