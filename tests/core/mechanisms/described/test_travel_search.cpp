@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <cstdlib>
 #include <iostream>
 #include <map>
 #include <random>
@@ -163,6 +164,41 @@ TEST(DescribedTravelSearch, AnArmWithOffsetElbowsIsOkWhereverEveryLegHasAnAssemb
   // The grid crosses the reachable region and its surroundings.
   EXPECT_GT(within, 200);
   EXPECT_GT(decided - within, 200);
+}
+
+// The aids against the fixed seeds alone (LINKSCAPE_NUMERIC_AIDS=off), pose
+// for pose along rows (the thread's last solution seeding the next, as in a
+// field): the same verdicts, but where the seed at the turned reach's
+// nearest sample finds an assembly on the branch outside the travel that the
+// fixed seeds missed (they closed the leg on its other branch only):
+// out-of-limits aided, not-converged unaided, every aided leg closed.
+TEST(DescribedTravelSearch, TheAidsChangeAnArmsVerdictOnlyWhereTheyFindAnAssembly) {
+  setenv("LINKSCAPE_NUMERIC_AIDS", "off", 1);
+  const Kinematics unaided = offset_elbow_arm();
+  unsetenv("LINKSCAPE_NUMERIC_AIDS");
+  const Kinematics aided = offset_elbow_arm();
+  const double closed = 1e-9 * aided.model().size;
+  int compared = 0, found = 0, assembled = 0;
+  constexpr int kGrid = 48;
+  for (const double y : {0.0, 3.0})
+    for (int j = 0; j < kGrid; ++j)
+      for (int i = 0; i < kGrid; ++i) {
+        const Vector3d p(-25 + 50.0 * (i + 0.5) / kGrid, y, -37 + 37.0 * (j + 0.5) / kGrid);
+        const PoseSolution with = aided.inverse(p, 0, 1e-10), without = unaided.inverse(p, 0, 1e-10);
+        ++compared;
+        assembled += with.status == Status::Ok || with.status == Status::OutOfLimits;
+        if (with.status == without.status) continue;
+        ++found;
+        EXPECT_EQ(with.status, Status::OutOfLimits) << "at " << p.transpose();
+        EXPECT_EQ(without.status, Status::NotConverged) << "at " << p.transpose();
+        for (const LegSolution& leg : with.legs)
+          EXPECT_TRUE(leg.status == Status::Ok || (leg.status == Status::OutOfLimits && leg.residual <= closed))
+              << "at " << p.transpose();
+      }
+  std::cout << compared << " poses, " << assembled << " assembled; " << found
+            << " out of limits where the fixed seeds alone did not converge\n";
+  EXPECT_EQ(compared, 2 * kGrid * kGrid);
+  EXPECT_GT(assembled, 500);
 }
 
 }  // namespace
